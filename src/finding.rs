@@ -1,0 +1,140 @@
+//! Findings: what latheguard reports about a program, one value per problem.
+//!
+//! Every stage (reader, interpreter, checker) produces [`Finding`]s; the reporters turn them into
+//! text, JSON, JUnit or SARIF. A finding always names a physical 1-based source line.
+
+use serde::Serialize;
+
+/// What kind of problem a finding is. The names are a stable contract (JSON `kind`, SARIF rule ids,
+/// `--explain`): never rename one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Kind {
+    Collision,
+    RapidIntoStock,
+    SpindleStopped,
+    NearMiss,
+    Overtravel,
+    Syntax,
+    Program,
+    Unsupported,
+}
+
+impl Kind {
+    pub const ALL: [Kind; 8] = [
+        Kind::Collision,
+        Kind::RapidIntoStock,
+        Kind::SpindleStopped,
+        Kind::NearMiss,
+        Kind::Overtravel,
+        Kind::Syntax,
+        Kind::Program,
+        Kind::Unsupported,
+    ];
+
+    /// The stable name used in reports (`rapid_into_stock`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Collision => "collision",
+            Kind::RapidIntoStock => "rapid_into_stock",
+            Kind::SpindleStopped => "spindle_stopped",
+            Kind::NearMiss => "near_miss",
+            Kind::Overtravel => "overtravel",
+            Kind::Syntax => "syntax",
+            Kind::Program => "program",
+            Kind::Unsupported => "unsupported",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Kind> {
+        Kind::ALL.into_iter().find(|k| k.name() == name)
+    }
+}
+
+impl std::fmt::Display for Kind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Severity {
+    Error,
+    Warning,
+}
+
+impl Severity {
+    pub fn name(self) -> &'static str {
+        match self {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        }
+    }
+}
+
+/// One problem at one place of one program.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Finding {
+    /// Physical 1-based line where the problem begins.
+    pub line: u32,
+    /// Physical 1-based line where a collision episode ends (same as `line` otherwise).
+    pub end_line: u32,
+    /// 1-based column (in characters) on `line`, 0 when the finding is about the whole line.
+    #[serde(skip)]
+    pub col: u32,
+    /// The block's N number, when it has one.
+    pub n: Option<u64>,
+    pub kind: Kind,
+    pub severity: Severity,
+    /// The parts involved, for collisions (`["T03 holder", "chuck"]`).
+    pub objects: Vec<String>,
+    /// Machine time at first contact, seconds from program start.
+    pub time_s: Option<f64>,
+    /// Largest penetration depth of the episode, mm.
+    pub depth_mm: Option<f64>,
+    /// Programmed point at first contact, in program coordinates (X as the program writes it).
+    pub x: Option<f64>,
+    pub z: Option<f64>,
+    pub message: String,
+}
+
+impl Finding {
+    /// A finding about a place in the source with no motion data.
+    pub fn at(kind: Kind, severity: Severity, line: u32, col: u32, message: impl Into<String>) -> Finding {
+        Finding {
+            line,
+            end_line: line,
+            col,
+            n: None,
+            kind,
+            severity,
+            objects: Vec::new(),
+            time_s: None,
+            depth_mm: None,
+            x: None,
+            z: None,
+            message: message.into(),
+        }
+    }
+
+    pub fn syntax(line: u32, col: u32, message: impl Into<String>) -> Finding {
+        Finding::at(Kind::Syntax, Severity::Error, line, col, message)
+    }
+
+    pub fn program(line: u32, col: u32, message: impl Into<String>) -> Finding {
+        Finding::at(Kind::Program, Severity::Error, line, col, message)
+    }
+
+    pub fn with_n(mut self, n: Option<u64>) -> Finding {
+        self.n = n;
+        self
+    }
+}
+
+/// Findings in report order: by line, then column, then kind.
+pub fn sort_findings(findings: &mut [Finding]) {
+    findings.sort_by(|a, b| {
+        (a.line, a.col, a.kind, &a.message).cmp(&(b.line, b.col, b.kind, &b.message))
+    });
+}

@@ -1,0 +1,198 @@
+//! Reading G-code: physical lines → blocks of words with byte spans.
+//!
+//! Reading never fails: [`parse`] returns every block it could read and a `syntax` finding for
+//! every problem, each with line and column. Values are not evaluated here: a word's value is a
+//! number or an expression (`[…]`, `#1`, `#<name>`, `ABS[…]`) that the interpreter evaluates.
+//!
+//! Storage is flat for speed: words, expressions and assignments live in arenas in [`Program`]
+//! and blocks hold index ranges into them.
+
+mod lexer;
+
+use crate::finding::Finding;
+use crate::source::{LineIndex, Span};
+use std::ops::Range;
+
+pub use lexer::parse;
+
+/// Index of an expression in [`Program::exprs`].
+pub type ExprId = u32;
+/// Index of a name in [`Program::names`].
+pub type NameId = u32;
+
+/// A whole program as read.
+#[derive(Clone, Debug, Default)]
+pub struct Program {
+    pub blocks: Vec<Block>,
+    pub words: Vec<Word>,
+    pub assigns: Vec<Assign>,
+    pub exprs: Vec<Expr>,
+    /// Interned parameter and subroutine names, lower case, spaces removed.
+    pub names: Vec<String>,
+    /// `syntax` findings, in source order.
+    pub errors: Vec<Finding>,
+    pub lines: LineIndex,
+}
+
+impl Program {
+    pub fn words_of(&self, block: &Block) -> &[Word] {
+        &self.words[block.words.start as usize..block.words.end as usize]
+    }
+
+    pub fn assigns_of(&self, block: &Block) -> &[Assign] {
+        &self.assigns[block.assigns.start as usize..block.assigns.end as usize]
+    }
+
+    pub fn expr(&self, id: ExprId) -> &Expr {
+        &self.exprs[id as usize]
+    }
+
+    pub fn name(&self, id: NameId) -> &str {
+        &self.names[id as usize]
+    }
+}
+
+/// One physical line that holds something to execute (words, assignments, an O-word, `%`).
+/// Lines that hold only comments or white space produce no block.
+#[derive(Clone, Debug)]
+pub struct Block {
+    /// Physical 1-based line.
+    pub line: u32,
+    /// The line's bytes without terminator.
+    pub span: Span,
+    /// The N number, when the block has one.
+    pub n: Option<u64>,
+    /// The block starts with `/` (skipped when block delete is on).
+    pub block_delete: bool,
+    pub words: Range<u32>,
+    /// Parameter assignments (`#1=…`), executed after the block's words are read.
+    pub assigns: Range<u32>,
+    pub oword: Option<OWord>,
+    /// A line that is just `%` (program start/end marker).
+    pub percent: bool,
+    /// `(MSG,…)`, `(PRINT,…)`, `(DEBUG,…)`: the text after the comma.
+    pub message: Option<Span>,
+    /// The line had a syntax error; what could be read is kept, but the block is not executed.
+    pub bad: bool,
+}
+
+/// One word: a letter and its value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Word {
+    /// Upper-case ASCII letter.
+    pub letter: u8,
+    pub value: Value,
+    /// The number was written with a decimal point (Fanuc `decimal_point` rule).
+    pub has_point: bool,
+    /// From the letter to the end of the value.
+    pub span: Span,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Value {
+    Num(f64),
+    Expr(ExprId),
+}
+
+/// `#target = value`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Assign {
+    pub target: Param,
+    pub value: ExprId,
+    pub span: Span,
+}
+
+/// A parameter reference.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Param {
+    /// `#123`
+    Numbered(u32),
+    /// `#[expr]`, `##1`
+    Indirect(ExprId),
+    /// `#<name>` (a leading `_` makes it global).
+    Named(NameId),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Expr {
+    Num(f64),
+    Param(Param),
+    Neg(ExprId),
+    Not(ExprId),
+    Binary(BinOp, ExprId, ExprId),
+    Func(Func, ExprId),
+    /// `ATAN[y]/[x]`
+    Atan(ExprId, ExprId),
+    /// `EXISTS[#<name>]`
+    Exists(NameId),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BinOp {
+    Pow,
+    Mul,
+    Div,
+    Mod,
+    Add,
+    Sub,
+    Eq,
+    Ne,
+    Gt,
+    Ge,
+    Lt,
+    Le,
+    And,
+    Or,
+    Xor,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Func {
+    Abs,
+    Acos,
+    Asin,
+    Cos,
+    Exp,
+    Fix,
+    Fup,
+    Round,
+    Ln,
+    Sin,
+    Sqrt,
+    Tan,
+}
+
+/// An O-word statement: LinuxCNC `o<name> sub`, `o100 while […]`, … or a Fanuc program number.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OWord {
+    pub name: OName,
+    pub op: OOp,
+    pub span: Span,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum OName {
+    Number(u32),
+    Named(NameId),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum OOp {
+    /// `O1234` or `:1234` alone: a Fanuc program or subprogram number.
+    ProgramNumber,
+    Sub,
+    EndSub(Option<ExprId>),
+    Call(Vec<ExprId>),
+    Return(Option<ExprId>),
+    Do,
+    While(ExprId),
+    EndWhile,
+    If(ExprId),
+    ElseIf(ExprId),
+    Else,
+    EndIf,
+    Break,
+    Continue,
+    Repeat(ExprId),
+    EndRepeat,
+}

@@ -1,0 +1,76 @@
+//! The 2D geometry kernel of the section checker.
+//!
+//! Coordinates: a point's `x` is the machine x (radius, toward the turret) and its `y` is the
+//! machine z (along the spindle axis). All lengths are mm.
+
+mod polygon;
+
+pub use polygon::{Polygon, PolygonError};
+
+/// A point of the working plane: `x` = radius, `y` = z.
+pub type P2 = nalgebra::Point2<f64>;
+/// A displacement in the working plane.
+pub type V2 = nalgebra::Vector2<f64>;
+
+/// Build a point from machine `[x, z]`.
+pub fn p2(x: f64, z: f64) -> P2 {
+    P2::new(x, z)
+}
+
+/// Two parts collide when they overlap by more than this (DESIGN §4).
+pub const TOUCH_EPS: f64 = 1e-6;
+
+/// Axis-aligned bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: P2,
+    pub max: P2,
+}
+
+impl Aabb {
+    pub fn empty() -> Aabb {
+        Aabb { min: P2::new(f64::INFINITY, f64::INFINITY), max: P2::new(f64::NEG_INFINITY, f64::NEG_INFINITY) }
+    }
+
+    pub fn of_points<'a>(pts: impl IntoIterator<Item = &'a P2>) -> Aabb {
+        let mut b = Aabb::empty();
+        for p in pts {
+            b.add(*p);
+        }
+        b
+    }
+
+    pub fn add(&mut self, p: P2) {
+        self.min.x = self.min.x.min(p.x);
+        self.min.y = self.min.y.min(p.y);
+        self.max.x = self.max.x.max(p.x);
+        self.max.y = self.max.y.max(p.y);
+    }
+
+    pub fn union(&self, o: &Aabb) -> Aabb {
+        Aabb {
+            min: P2::new(self.min.x.min(o.min.x), self.min.y.min(o.min.y)),
+            max: P2::new(self.max.x.max(o.max.x), self.max.y.max(o.max.y)),
+        }
+    }
+
+    pub fn translate(&self, v: V2) -> Aabb {
+        Aabb { min: self.min + v, max: self.max + v }
+    }
+
+    pub fn inflate(&self, d: f64) -> Aabb {
+        Aabb { min: P2::new(self.min.x - d, self.min.y - d), max: P2::new(self.max.x + d, self.max.y + d) }
+    }
+
+    /// Overlap with a margin: boxes closer than `margin` count as meeting.
+    pub fn meets(&self, o: &Aabb, margin: f64) -> bool {
+        self.min.x <= o.max.x + margin
+            && o.min.x <= self.max.x + margin
+            && self.min.y <= o.max.y + margin
+            && o.min.y <= self.max.y + margin
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.min.x > self.max.x || self.min.y > self.max.y
+    }
+}

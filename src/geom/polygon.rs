@@ -1,0 +1,168 @@
+//! Simple polygons: normalisation and validation.
+
+use super::{Aabb, P2};
+use robust::{orient2d, Coord};
+
+/// A simple polygon, counter-clockwise (positive area, `x` right, `y` up), with no repeated and no
+/// collinear consecutive vertices. Construct it with [`Polygon::new`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polygon {
+    pts: Vec<P2>,
+    aabb: Aabb,
+}
+
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PolygonError {
+    #[error("a coordinate is not a finite number")]
+    NotFinite,
+    #[error("fewer than 3 distinct, non-collinear points")]
+    Degenerate,
+    #[error("edges {0} and {1} cross or touch: the outline intersects itself")]
+    SelfIntersecting(usize, usize),
+}
+
+/// Sign of the turn a→b→c: > 0 left (counter-clockwise), < 0 right, 0 collinear. Exact.
+pub fn orient(a: P2, b: P2, c: P2) -> f64 {
+    orient2d(Coord { x: a.x, y: a.y }, Coord { x: b.x, y: b.y }, Coord { x: c.x, y: c.y })
+}
+
+impl Polygon {
+    /// Normalise an outline: drop repeated points and collinear vertices, make it
+    /// counter-clockwise, and reject it if it is degenerate or self-intersecting.
+    pub fn new(points: &[P2]) -> Result<Polygon, PolygonError> {
+        if points.iter().any(|p| !p.x.is_finite() || !p.y.is_finite()) {
+            return Err(PolygonError::NotFinite);
+        }
+        let mut pts: Vec<P2> = Vec::with_capacity(points.len());
+        for &p in points {
+            if pts.last() != Some(&p) {
+                pts.push(p);
+            }
+        }
+        while pts.len() > 1 && pts.first() == pts.last() {
+            pts.pop();
+        }
+        // Remove collinear vertices until none is left (removing one can make its neighbour
+        // collinear, e.g. a spike that doubles back).
+        loop {
+            let n = pts.len();
+            if n < 3 {
+                return Err(PolygonError::Degenerate);
+            }
+            let mut removed = false;
+            let mut out = Vec::with_capacity(n);
+            for i in 0..n {
+                let prev = if out.is_empty() { pts[(i + n - 1) % n] } else { *out.last().unwrap() };
+                let cur = pts[i];
+                let next = pts[(i + 1) % n];
+                if orient(prev, cur, next) == 0.0 {
+                    removed = true;
+                } else {
+                    out.push(cur);
+                }
+            }
+            pts = out;
+            if !removed {
+                break;
+            }
+        }
+        if pts.len() < 3 {
+            return Err(PolygonError::Degenerate);
+        }
+        if signed_area2(&pts) < 0.0 {
+            pts.reverse();
+        }
+        check_simple(&pts)?;
+        let aabb = Aabb::of_points(&pts);
+        Ok(Polygon { pts, aabb })
+    }
+
+    pub fn points(&self) -> &[P2] {
+        &self.pts
+    }
+
+    pub fn aabb(&self) -> &Aabb {
+        &self.aabb
+    }
+
+    /// Twice the signed area (positive: counter-clockwise).
+    pub fn area(&self) -> f64 {
+        signed_area2(&self.pts) / 2.0
+    }
+
+    /// Edges as (start, end) pairs, closing edge included.
+    pub fn edges(&self) -> impl Iterator<Item = (P2, P2)> + '_ {
+        let n = self.pts.len();
+        (0..n).map(move |i| (self.pts[i], self.pts[(i + 1) % n]))
+    }
+
+    /// The polygon mirrored about the spindle axis (x → −x), still counter-clockwise.
+    pub fn mirrored_x(&self) -> Polygon {
+        let mut pts: Vec<P2> = self.pts.iter().map(|p| P2::new(-p.x, p.y)).collect();
+        pts.reverse();
+        let aabb = Aabb::of_points(&pts);
+        Polygon { pts, aabb }
+    }
+
+    /// The polygon moved by `v`. Translation keeps it simple and counter-clockwise; collinearity
+    /// after rounding is harmless.
+    pub fn translated(&self, v: super::V2) -> Polygon {
+        let pts: Vec<P2> = self.pts.iter().map(|p| p + v).collect();
+        Polygon { aabb: self.aabb.translate(v), pts }
+    }
+
+    /// Build from points already known to be simple and counter-clockwise (internal use, e.g.
+    /// after a rigid motion). The caller guarantees the invariant.
+    pub(crate) fn from_ccw_unchecked(pts: Vec<P2>) -> Polygon {
+        let aabb = Aabb::of_points(&pts);
+        Polygon { pts, aabb }
+    }
+}
+
+fn signed_area2(pts: &[P2]) -> f64 {
+    let n = pts.len();
+    // Shoelace about the first point, to keep precision far from the origin.
+    let o = pts[0];
+    let mut s = 0.0;
+    for i in 1..n.saturating_sub(1) {
+        let a = pts[i] - o;
+        let b = pts[i + 1] - o;
+        s += a.x * b.y - a.y * b.x;
+    }
+    s
+}
+
+/// Do closed segments ab and cd share a point? Exact.
+pub fn segments_meet(a: P2, b: P2, c: P2, d: P2) -> bool {
+    let d1 = orient(c, d, a);
+    let d2 = orient(c, d, b);
+    let d3 = orient(a, b, c);
+    let d4 = orient(a, b, d);
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
+        return true;
+    }
+    let on = |p: P2, q: P2, r: P2| {
+        // r collinear with pq: is it within the box of pq?
+        r.x >= p.x.min(q.x) && r.x <= p.x.max(q.x) && r.y >= p.y.min(q.y) && r.y <= p.y.max(q.y)
+    };
+    (d1 == 0.0 && on(c, d, a)) || (d2 == 0.0 && on(c, d, b)) || (d3 == 0.0 && on(a, b, c)) || (d4 == 0.0 && on(a, b, d))
+}
+
+fn check_simple(pts: &[P2]) -> Result<(), PolygonError> {
+    let n = pts.len();
+    for i in 0..n {
+        let (a, b) = (pts[i], pts[(i + 1) % n]);
+        for j in (i + 1)..n {
+            // Adjacent edges share a vertex by construction; they are bad only if they overlap
+            // (a spike), which collinear removal already ruled out.
+            if j == i + 1 || (i == 0 && j == n - 1) {
+                continue;
+            }
+            let (c, d) = (pts[j], pts[(j + 1) % n]);
+            if segments_meet(a, b, c, d) {
+                return Err(PolygonError::SelfIntersecting(i, j));
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,10 @@
+//! latheguard: verifies CNC lathe programs against a machine description.
+//!
+//! The library does no file I/O and never panics on any input. See `ARCHITECTURE.md` for the
+//! pipeline: [`gcode`] → [`interp`] → [`motion`] → [`scene`] → [`check`] → [`report`].
+
+pub mod finding;
+pub mod gcode;
+pub mod geom;
+pub mod machine;
+pub mod source;
