@@ -101,7 +101,13 @@ pub struct Finding {
 
 impl Finding {
     /// A finding about a place in the source with no motion data.
-    pub fn at(kind: Kind, severity: Severity, line: u32, col: u32, message: impl Into<String>) -> Finding {
+    pub fn at(
+        kind: Kind,
+        severity: Severity,
+        line: u32,
+        col: u32,
+        message: impl Into<String>,
+    ) -> Finding {
         Finding {
             line,
             end_line: line,

@@ -6,5 +6,8 @@
 pub mod finding;
 pub mod gcode;
 pub mod geom;
+pub mod interp;
 pub mod machine;
+pub mod pipeline;
+pub mod report;
 pub mod source;

@@ -9,7 +9,10 @@ pub struct Span {
 
 impl Span {
     pub fn new(start: usize, end: usize) -> Span {
-        Span { start: start as u32, end: end as u32 }
+        Span {
+            start: start as u32,
+            end: end as u32,
+        }
     }
 
     pub fn range(self) -> std::ops::Range<usize> {
@@ -45,7 +48,10 @@ impl LineIndex {
         if starts.len() > 1 && *starts.last().unwrap() as usize == src.len() {
             starts.pop();
         }
-        LineIndex { starts, len: src.len() as u32 }
+        LineIndex {
+            starts,
+            len: src.len() as u32,
+        }
     }
 
     pub fn line_count(&self) -> usize {
@@ -64,7 +70,11 @@ impl LineIndex {
     pub fn line_span(&self, src: &[u8], line: u32) -> Span {
         let i = (line.max(1) - 1) as usize;
         let start = self.starts.get(i).copied().unwrap_or(self.len) as usize;
-        let mut end = self.starts.get(i + 1).map(|&s| s as usize).unwrap_or(src.len());
+        let mut end = self
+            .starts
+            .get(i + 1)
+            .map(|&s| s as usize)
+            .unwrap_or(src.len());
         while end > start && (src[end - 1] == b'\n' || src[end - 1] == b'\r') {
             end -= 1;
         }

@@ -29,7 +29,10 @@ pub struct Aabb {
 
 impl Aabb {
     pub fn empty() -> Aabb {
-        Aabb { min: P2::new(f64::INFINITY, f64::INFINITY), max: P2::new(f64::NEG_INFINITY, f64::NEG_INFINITY) }
+        Aabb {
+            min: P2::new(f64::INFINITY, f64::INFINITY),
+            max: P2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+        }
     }
 
     pub fn of_points<'a>(pts: impl IntoIterator<Item = &'a P2>) -> Aabb {
@@ -55,11 +58,17 @@ impl Aabb {
     }
 
     pub fn translate(&self, v: V2) -> Aabb {
-        Aabb { min: self.min + v, max: self.max + v }
+        Aabb {
+            min: self.min + v,
+            max: self.max + v,
+        }
     }
 
     pub fn inflate(&self, d: f64) -> Aabb {
-        Aabb { min: P2::new(self.min.x - d, self.min.y - d), max: P2::new(self.max.x + d, self.max.y + d) }
+        Aabb {
+            min: P2::new(self.min.x - d, self.min.y - d),
+            max: P2::new(self.max.x + d, self.max.y + d),
+        }
     }
 
     /// Overlap with a margin: boxes closer than `margin` count as meeting.

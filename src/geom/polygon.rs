@@ -23,7 +23,11 @@ pub enum PolygonError {
 
 /// Sign of the turn a→b→c: > 0 left (counter-clockwise), < 0 right, 0 collinear. Exact.
 pub fn orient(a: P2, b: P2, c: P2) -> f64 {
-    orient2d(Coord { x: a.x, y: a.y }, Coord { x: b.x, y: b.y }, Coord { x: c.x, y: c.y })
+    orient2d(
+        Coord { x: a.x, y: a.y },
+        Coord { x: b.x, y: b.y },
+        Coord { x: c.x, y: c.y },
+    )
 }
 
 impl Polygon {
@@ -52,7 +56,11 @@ impl Polygon {
             let mut removed = false;
             let mut out = Vec::with_capacity(n);
             for i in 0..n {
-                let prev = if out.is_empty() { pts[(i + n - 1) % n] } else { *out.last().unwrap() };
+                let prev = if out.is_empty() {
+                    pts[(i + n - 1) % n]
+                } else {
+                    *out.last().unwrap()
+                };
                 let cur = pts[i];
                 let next = pts[(i + 1) % n];
                 if orient(prev, cur, next) == 0.0 {
@@ -108,7 +116,10 @@ impl Polygon {
     /// after rounding is harmless.
     pub fn translated(&self, v: super::V2) -> Polygon {
         let pts: Vec<P2> = self.pts.iter().map(|p| p + v).collect();
-        Polygon { aabb: self.aabb.translate(v), pts }
+        Polygon {
+            aabb: self.aabb.translate(v),
+            pts,
+        }
     }
 
     /// Build from points already known to be simple and counter-clockwise (internal use, e.g.
@@ -138,14 +149,19 @@ pub fn segments_meet(a: P2, b: P2, c: P2, d: P2) -> bool {
     let d2 = orient(c, d, b);
     let d3 = orient(a, b, c);
     let d4 = orient(a, b, d);
-    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
         return true;
     }
     let on = |p: P2, q: P2, r: P2| {
         // r collinear with pq: is it within the box of pq?
         r.x >= p.x.min(q.x) && r.x <= p.x.max(q.x) && r.y >= p.y.min(q.y) && r.y <= p.y.max(q.y)
     };
-    (d1 == 0.0 && on(c, d, a)) || (d2 == 0.0 && on(c, d, b)) || (d3 == 0.0 && on(a, b, c)) || (d4 == 0.0 && on(a, b, d))
+    (d1 == 0.0 && on(c, d, a))
+        || (d2 == 0.0 && on(c, d, b))
+        || (d3 == 0.0 && on(a, b, c))
+        || (d4 == 0.0 && on(a, b, d))
 }
 
 fn check_simple(pts: &[P2]) -> Result<(), PolygonError> {

@@ -18,5 +18,11 @@ pub struct MachineError {
 /// Parse and validate a machine description. `file` is only used in error messages.
 pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
     let _ = text;
-    Err(MachineError { file: file.into(), line: 0, col: 0, key: String::new(), message: "not implemented".into() })
+    Err(MachineError {
+        file: file.into(),
+        line: 0,
+        col: 0,
+        key: String::new(),
+        message: "not implemented".into(),
+    })
 }

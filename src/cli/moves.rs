@@ -1,0 +1,75 @@
+//! `latheguard moves`: the interpreted motion.
+
+use super::args::{MovesArgs, MovesFormat};
+use super::{emit, load_machine, Trouble, EXIT_CLEAN, EXIT_FINDINGS};
+use latheguard::finding::{sort_findings, Severity};
+use latheguard::interp::{canon, Feed, MoveKind};
+use latheguard::pipeline;
+use serde_json::json;
+
+pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
+    let machine = load_machine(a.machine.as_deref())?;
+    let src = std::fs::read(&a.program)
+        .map_err(|e| format!("{}: cannot read: {e}", a.program.display()))?;
+    let (prog, run) = pipeline::interpret(&src, &machine);
+    let mut findings = prog.errors;
+    findings.extend(run.findings);
+    sort_findings(&mut findings);
+    for f in &findings {
+        eprintln!(
+            "{}:{}: {}[{}]: {}",
+            a.program.display(),
+            f.line,
+            f.severity.name(),
+            f.kind,
+            f.message
+        );
+    }
+    let mut out = String::new();
+    match a.format {
+        MovesFormat::Canon => canon::write(&run.moves, &mut out),
+        MovesFormat::Json => {
+            let list: Vec<_> = run
+                .moves
+                .iter()
+                .map(|m| {
+                    let (sx, sz) = m.frame.to_program(m.start);
+                    let (ex, ez) = m.frame.to_program(m.end);
+                    let (kind, extra) = match m.kind {
+                        MoveKind::Rapid => ("rapid", json!(null)),
+                        MoveKind::Line => ("line", json!(null)),
+                        MoveKind::Arc { center, sweep } => {
+                            let (cx, cz) = m.frame.to_program(center);
+                            (
+                                "arc",
+                                json!({"center": [cx, cz], "sweep_deg": sweep.to_degrees()}),
+                            )
+                        }
+                        MoveKind::Dwell { seconds } => ("dwell", json!({"seconds": seconds})),
+                        MoveKind::ToolChange { from, to } => {
+                            ("tool_change", json!({"from": from, "to": to}))
+                        }
+                    };
+                    let feed = match m.feed {
+                        Feed::Rapid => json!(null),
+                        Feed::PerMinute(f) => json!({"mm_per_min": f}),
+                        Feed::PerRev(f) => json!({"mm_per_rev": f}),
+                    };
+                    json!({
+                        "line": m.line, "n": m.n, "kind": kind, "station": m.station,
+                        "from": [sx, sz], "to": [ex, ez], "feed": feed,
+                        "spindle_rpm": m.spindle.rpm_at(m.start.x), "arc": extra,
+                    })
+                })
+                .collect();
+            out = serde_json::to_string_pretty(&list).unwrap_or_default();
+            out.push('\n');
+        }
+    }
+    emit(None, &out)?;
+    Ok(if findings.iter().any(|f| f.severity == Severity::Error) {
+        EXIT_FINDINGS
+    } else {
+        EXIT_CLEAN
+    })
+}

@@ -1,0 +1,223 @@
+//! The interpreter: blocks → moves in the spindle frame, for the Fanuc and LinuxCNC dialects.
+//!
+//! It keeps the modal state (units, distance and diameter modes, feed and spindle modes, the
+//! active tool, offsets), evaluates parameters and expressions, runs LinuxCNC o-word flow and
+//! subroutines and Fanuc M98/M99 subprograms, and emits one [`Move`] per motion with its source
+//! line. Problems become `program` findings, codes it does not model `unsupported` findings; it
+//! never stops at the first one, and a bounded execution budget stops endless loops.
+
+mod arc;
+mod block;
+pub mod canon;
+mod eval;
+mod flow;
+mod state;
+
+use crate::finding::Finding;
+use crate::gcode::Program;
+use crate::geom::{P2, V2};
+use crate::machine::Machine;
+
+pub use arc::{arc_from_center, arc_from_radius, ArcError, ArcTolerance};
+
+/// Direction of the spindle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpindleDir {
+    Off,
+    Cw,
+    Ccw,
+}
+
+/// How the spindle speed is commanded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SpindleSpeed {
+    /// G97: revolutions per minute.
+    Rpm(f64),
+    /// G96: constant surface speed in m/min, clamped to `max_rpm`.
+    Css { m_per_min: f64, max_rpm: f64 },
+}
+
+/// The spindle as a move sees it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spindle {
+    pub dir: SpindleDir,
+    pub speed: SpindleSpeed,
+}
+
+impl Spindle {
+    pub fn is_on(&self) -> bool {
+        self.dir != SpindleDir::Off
+    }
+
+    /// Speed in rpm with the tool tip at radius `r` mm (0 when stopped).
+    pub fn rpm_at(&self, r: f64) -> f64 {
+        if !self.is_on() {
+            return 0.0;
+        }
+        match self.speed {
+            SpindleSpeed::Rpm(s) => s,
+            SpindleSpeed::Css { m_per_min, max_rpm } => {
+                let r = r.abs();
+                let rpm = if r > 1e-9 {
+                    m_per_min * 1000.0 / (2.0 * std::f64::consts::PI * r)
+                } else {
+                    f64::INFINITY
+                };
+                rpm.min(max_rpm)
+            }
+        }
+    }
+}
+
+/// The feed of a move.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Feed {
+    /// A rapid: each axis at the machine's rapid rate.
+    Rapid,
+    /// mm/min.
+    PerMinute(f64),
+    /// mm per spindle revolution (G95/G99, and threading where it is the lead).
+    PerRev(f64),
+}
+
+/// How to turn a spindle-frame point back into the program's coordinates (for reports).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProgFrame {
+    /// Spindle-frame point of program X0 Z0.
+    pub origin: P2,
+    /// mm per program unit (1 or 25.4).
+    pub scale: f64,
+    /// X words are diameters.
+    pub diameter: bool,
+}
+
+impl ProgFrame {
+    /// Program (X as written, Z) of a spindle-frame point.
+    pub fn to_program(&self, p: P2) -> (f64, f64) {
+        let x = (p.x - self.origin.x) / self.scale;
+        let z = (p.y - self.origin.y) / self.scale;
+        (if self.diameter { 2.0 * x } else { x }, z)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MoveKind {
+    /// G0, and the legs of G28/G53 moves.
+    Rapid,
+    /// G1 (and G32/G33 threading, with a per-revolution feed).
+    Line,
+    /// G2/G3: the programmed point turns about `center` by `sweep` radians (positive =
+    /// counter-clockwise in the (x, z) plane with x right and z up, which is G2 seen from +Y).
+    /// Its radius may change linearly from start to end (rs274ngc tolerates a small spiral).
+    Arc { center: P2, sweep: f64 },
+    /// G4: the machine stands still.
+    Dwell { seconds: f64 },
+    /// The turret indexes from one station to another (at the T word on Fanuc, at M6 on
+    /// LinuxCNC); the reference point stays where it is.
+    ToolChange { from: u32, to: u32 },
+}
+
+/// One motion of the machine.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Move {
+    pub kind: MoveKind,
+    /// Physical 1-based source line.
+    pub line: u32,
+    pub n: Option<u64>,
+    /// Programmed point (tool tip) at the start and end, spindle frame. The turret reference
+    /// point is `start - tip` / `end - tip`.
+    pub start: P2,
+    pub end: P2,
+    /// The active tool's tip relative to the turret reference point.
+    pub tip: V2,
+    /// Station facing the spindle during the move (after the change for a tool change).
+    pub station: u32,
+    pub feed: Feed,
+    pub spindle: Spindle,
+    pub frame: ProgFrame,
+}
+
+impl Move {
+    pub fn ref_start(&self) -> P2 {
+        self.start - self.tip
+    }
+
+    pub fn ref_end(&self) -> P2 {
+        self.end - self.tip
+    }
+
+    /// The programmed point at fraction `t` ∈ [0, 1] of the path (arcs: of the angle).
+    pub fn point_at(&self, t: f64) -> P2 {
+        match self.kind {
+            MoveKind::Arc { center, sweep } => {
+                let a = self.start - center;
+                let r0 = a.norm();
+                let r1 = (self.end - center).norm();
+                let r = r0 + (r1 - r0) * t;
+                let ang = a.y.atan2(a.x) + sweep * t;
+                P2::new(center.x + r * ang.cos(), center.y + r * ang.sin())
+            }
+            _ => self.start + (self.end - self.start) * t,
+        }
+    }
+
+    /// Path length of the programmed point, mm.
+    pub fn length(&self) -> f64 {
+        match self.kind {
+            MoveKind::Arc { center, sweep } => {
+                let r0 = (self.start - center).norm();
+                let r1 = (self.end - center).norm();
+                let r = 0.5 * (r0 + r1);
+                let arc = r * sweep.abs();
+                (arc * arc + (r1 - r0) * (r1 - r0)).sqrt()
+            }
+            MoveKind::Dwell { .. } | MoveKind::ToolChange { .. } => 0.0,
+            _ => (self.end - self.start).norm(),
+        }
+    }
+}
+
+/// What the interpreter produced.
+#[derive(Clone, Debug, Default)]
+pub struct Interpretation {
+    pub moves: Vec<Move>,
+    /// `program` and `unsupported` findings (syntax findings stay with the reader).
+    pub findings: Vec<Finding>,
+    /// Blocks executed (a block in a loop counts each time).
+    pub blocks_executed: u64,
+}
+
+/// Limits that keep a run bounded whatever the program does.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// Most blocks executed before the run stops with a `program` finding (endless loops).
+    pub max_blocks: u64,
+    /// Deepest subroutine nesting.
+    pub max_call_depth: usize,
+}
+
+impl Limits {
+    /// Enough for any real program: 10 million blocks, or 4 times the program's length.
+    pub fn for_program(prog: &Program) -> Limits {
+        Limits {
+            max_blocks: (prog.blocks.len() as u64 * 4).max(10_000_000),
+            max_call_depth: 64,
+        }
+    }
+}
+
+/// Interpret a program read by [`crate::gcode::parse`] on a machine.
+pub fn interpret(prog: &Program, src: &[u8], machine: &Machine) -> Interpretation {
+    interpret_with(prog, src, machine, Limits::for_program(prog))
+}
+
+pub fn interpret_with(
+    prog: &Program,
+    src: &[u8],
+    machine: &Machine,
+    limits: Limits,
+) -> Interpretation {
+    let mut run = flow::Run::new(prog, src, machine, limits);
+    run.run();
+    run.finish()
+}

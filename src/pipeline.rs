@@ -1,0 +1,79 @@
+//! One program through the whole pipeline: read → interpret → (motion → scene → check).
+//!
+//! This is the library's entry point for checking; it does no I/O: the caller hands it the
+//! program's bytes and gets findings and statistics back.
+
+use crate::finding::{sort_findings, Finding};
+use crate::gcode;
+use crate::interp::{self, Interpretation};
+use crate::machine::Machine;
+use serde::Serialize;
+
+/// How a check runs (DESIGN §5, §6).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Settings {
+    pub mode: Mode,
+    pub dt_ms: f64,
+    pub tolerance_mm: f64,
+    pub clearance_mm: f64,
+}
+
+impl Default for Settings {
+    fn default() -> Settings {
+        Settings {
+            mode: Mode::Step,
+            dt_ms: 1.0,
+            tolerance_mm: 0.01,
+            clearance_mm: 0.0,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Mode {
+    /// Sample the scene every `dt` of machine time.
+    Step,
+    /// Check every move as a continuous sweep.
+    Exact,
+}
+
+/// What a check cost and which effects ran (the JSON report's `stats`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Stats {
+    pub blocks: u64,
+    pub machine_time_s: f64,
+    pub steps: u64,
+    pub pair_tests: u64,
+    pub pair_tests_skipped: u64,
+    pub effects: Vec<String>,
+    pub elapsed_ms: f64,
+}
+
+/// The result of checking one program.
+#[derive(Clone, Debug, Default)]
+pub struct Outcome {
+    pub findings: Vec<Finding>,
+    pub stats: Stats,
+}
+
+/// Read and interpret a program: the syntax, program and unsupported findings, and the moves.
+pub fn interpret(src: &[u8], machine: &Machine) -> (gcode::Program, Interpretation) {
+    let prog = gcode::parse(src);
+    let run = interp::interpret(&prog, src, machine);
+    (prog, run)
+}
+
+/// Check one program on a machine.
+pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
+    let _ = settings;
+    let (prog, run) = interpret(src, machine);
+    let mut findings = prog.errors;
+    findings.extend(run.findings);
+    sort_findings(&mut findings);
+    let stats = Stats {
+        blocks: run.blocks_executed,
+        ..Stats::default()
+    };
+    Outcome { findings, stats }
+}

@@ -1,0 +1,93 @@
+//! The JSON report of DESIGN §6.
+
+use super::{Report, Summary};
+use crate::finding::Finding;
+use crate::pipeline::{Settings, Stats};
+use serde::Serialize;
+
+#[derive(Serialize)]
+struct Doc<'a> {
+    tool: &'static str,
+    version: &'static str,
+    machine: &'a str,
+    settings: &'a Settings,
+    files: Vec<FileDoc<'a>>,
+    summary: Summary,
+}
+
+#[derive(Serialize)]
+struct FileDoc<'a> {
+    path: &'a str,
+    status: &'static str,
+    findings: Vec<FindingDoc<'a>>,
+    stats: &'a Stats,
+}
+
+#[derive(Serialize)]
+struct FindingDoc<'a> {
+    line: u32,
+    end_line: u32,
+    column: Option<u32>,
+    n: Option<u64>,
+    kind: &'static str,
+    severity: &'static str,
+    objects: &'a [String],
+    time_s: Option<f64>,
+    depth_mm: Option<f64>,
+    x: Option<f64>,
+    z: Option<f64>,
+    message: &'a str,
+}
+
+impl<'a> From<&'a Finding> for FindingDoc<'a> {
+    fn from(f: &'a Finding) -> FindingDoc<'a> {
+        FindingDoc {
+            line: f.line,
+            end_line: f.end_line,
+            column: (f.col > 0).then_some(f.col),
+            n: f.n,
+            kind: f.kind.name(),
+            severity: f.severity.name(),
+            objects: &f.objects,
+            time_s: f.time_s.map(round6),
+            depth_mm: f.depth_mm.map(round6),
+            x: f.x.map(round6),
+            z: f.z.map(round6),
+            message: &f.message,
+        }
+    }
+}
+
+/// Six decimals: nm and µs, stable across platforms' last-bit differences.
+fn round6(v: f64) -> f64 {
+    (v * 1e6).round() / 1e6
+}
+
+/// The whole batch as one pretty-printed JSON document, with a trailing newline.
+pub fn json(r: &Report) -> String {
+    let doc = Doc {
+        tool: "latheguard",
+        version: env!("CARGO_PKG_VERSION"),
+        machine: &r.machine,
+        settings: &r.settings,
+        files: r
+            .files
+            .iter()
+            .map(|f| FileDoc {
+                path: &f.path,
+                status: if f.findings.is_empty() {
+                    "clean"
+                } else {
+                    "findings"
+                },
+                findings: f.findings.iter().map(FindingDoc::from).collect(),
+                stats: &f.stats,
+            })
+            .collect(),
+        summary: r.summary(),
+    };
+    let mut s =
+        serde_json::to_string_pretty(&doc).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
+    s.push('\n');
+    s
+}

@@ -1,0 +1,71 @@
+//! Reporters: the findings of a batch as text, JSON (and later JUnit, SARIF).
+//!
+//! Every reporter takes the same [`Report`] and returns a string; choosing one is the binary's
+//! job. Reporters never reorder findings: the caller sorts files by path and findings by line.
+
+mod json;
+mod text;
+
+use crate::finding::{Finding, Severity};
+use crate::pipeline::{Settings, Stats};
+
+pub use json::json;
+pub use text::{text, TextOptions};
+
+/// One checked file.
+#[derive(Clone, Debug)]
+pub struct FileReport {
+    pub path: String,
+    pub findings: Vec<Finding>,
+    pub stats: Stats,
+    /// The program's bytes, for showing source lines (text reports).
+    pub source: Vec<u8>,
+}
+
+/// A whole batch.
+#[derive(Clone, Debug)]
+pub struct Report {
+    pub machine: String,
+    pub settings: Settings,
+    pub files: Vec<FileReport>,
+}
+
+/// Counts over a batch.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Summary {
+    pub files: usize,
+    pub clean: usize,
+    pub with_findings: usize,
+    pub errors: usize,
+    pub warnings: usize,
+}
+
+impl Report {
+    pub fn summary(&self) -> Summary {
+        let mut s = Summary {
+            files: self.files.len(),
+            ..Summary::default()
+        };
+        for f in &self.files {
+            if f.findings.is_empty() {
+                s.clean += 1;
+            } else {
+                s.with_findings += 1;
+            }
+            for x in &f.findings {
+                match x.severity {
+                    Severity::Error => s.errors += 1,
+                    Severity::Warning => s.warnings += 1,
+                }
+            }
+        }
+        s
+    }
+
+    /// Exit status of DESIGN §6: 1 when any finding is an error, else 0.
+    pub fn has_errors(&self) -> bool {
+        self.files
+            .iter()
+            .any(|f| f.findings.iter().any(|x| x.severity == Severity::Error))
+    }
+}

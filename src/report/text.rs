@@ -1,0 +1,145 @@
+//! The text report: compiler-style, `path:line: error[kind]: message`, the source line under it,
+//! and a summary line.
+
+use super::Report;
+use crate::finding::{Finding, Severity};
+use crate::source::LineIndex;
+use std::fmt::Write;
+
+#[derive(Clone, Copy, Debug, Default)]
+pub struct TextOptions {
+    /// ANSI colours.
+    pub color: bool,
+    /// Only the summary line and errors (no warnings, no source lines).
+    pub quiet: bool,
+}
+
+/// Longest piece of a source line shown under a finding.
+const SHOW: usize = 160;
+
+pub fn text(r: &Report, opt: TextOptions) -> String {
+    let mut out = String::new();
+    let (red, yellow, bold, dim, reset) = if opt.color {
+        ("\x1b[31;1m", "\x1b[33;1m", "\x1b[1m", "\x1b[2m", "\x1b[0m")
+    } else {
+        ("", "", "", "", "")
+    };
+    for f in &r.files {
+        let lines = (!f.findings.is_empty()).then(|| LineIndex::new(&f.source));
+        for x in &f.findings {
+            if opt.quiet && x.severity != Severity::Error {
+                continue;
+            }
+            let sev_color = if x.severity == Severity::Error {
+                red
+            } else {
+                yellow
+            };
+            let col = if x.col > 0 {
+                format!(":{}", x.col)
+            } else {
+                String::new()
+            };
+            let _ = writeln!(
+                out,
+                "{bold}{}:{}{col}:{reset} {sev_color}{}[{}]{reset}{bold}: {}{reset}",
+                f.path,
+                x.line,
+                x.severity.name(),
+                x.kind,
+                describe(x)
+            );
+            if opt.quiet {
+                continue;
+            }
+            if let Some(li) = &lines {
+                if x.line >= 1 && (x.line as usize) <= li.line_count() {
+                    let span = li.line_span(&f.source, x.line);
+                    let raw = String::from_utf8_lossy(&f.source[span.range()]);
+                    let chars: Vec<char> = raw
+                        .chars()
+                        .map(|c| if c == '\t' { ' ' } else { c })
+                        .collect();
+                    let caret = x.col.saturating_sub(1) as usize;
+                    let from = if chars.len() > SHOW && caret > SHOW / 2 {
+                        (caret - SHOW / 2).min(chars.len() - SHOW)
+                    } else {
+                        0
+                    };
+                    let to = (from + SHOW).min(chars.len());
+                    let shown: String = chars[from..to].iter().collect();
+                    let more_l = if from > 0 { "…" } else { "" };
+                    let more_r = if to < chars.len() { "…" } else { "" };
+                    let gutter = format!("{:>5}", x.line);
+                    let _ = writeln!(out, "{dim}{gutter} |{reset} {more_l}{shown}{more_r}");
+                    if x.col > 0 {
+                        let pad = caret - from + more_l.chars().count();
+                        let _ = writeln!(
+                            out,
+                            "{dim}{:>5} |{reset} {}{sev_color}^{reset}",
+                            "",
+                            " ".repeat(pad)
+                        );
+                    }
+                }
+            }
+        }
+    }
+    let s = r.summary();
+    let _ = writeln!(
+        out,
+        "{bold}checked {} file{}: {} clean, {} with findings ({} error{}, {} warning{}){reset}",
+        s.files,
+        plural(s.files),
+        s.clean,
+        s.with_findings,
+        s.errors,
+        plural(s.errors),
+        s.warnings,
+        plural(s.warnings)
+    );
+    out
+}
+
+fn plural(n: usize) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
+/// The message with the motion facts a machinist looks for.
+fn describe(x: &Finding) -> String {
+    let mut s = x.message.clone();
+    let mut facts = Vec::new();
+    if let Some(d) = x.depth_mm {
+        facts.push(format!("depth {d:.3} mm"));
+    }
+    if let Some(t) = x.time_s {
+        facts.push(format!("at {t:.3} s"));
+    }
+    if let (Some(px), Some(pz)) = (x.x, x.z) {
+        facts.push(format!("X{} Z{}", fmt_num(px), fmt_num(pz)));
+    }
+    if x.end_line != x.line {
+        facts.push(format!("until line {}", x.end_line));
+    }
+    if let Some(n) = x.n {
+        facts.push(format!("N{n}"));
+    }
+    if !facts.is_empty() {
+        let _ = write!(s, " ({})", facts.join(", "));
+    }
+    s
+}
+
+fn fmt_num(v: f64) -> String {
+    let s = format!("{v:.3}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
