@@ -3,11 +3,14 @@
 //! The library does no file I/O and never panics on any input. See `ARCHITECTURE.md` for the
 //! pipeline: [`gcode`] → [`interp`] → [`motion`] → [`scene`] → [`check`] → [`report`].
 
+pub mod check;
 pub mod finding;
 pub mod gcode;
 pub mod geom;
 pub mod interp;
 pub mod machine;
+pub mod motion;
 pub mod pipeline;
 pub mod report;
+pub mod scene;
 pub mod source;

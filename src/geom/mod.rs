@@ -4,6 +4,9 @@
 //! machine z (along the spindle axis). All lengths are mm.
 
 mod polygon;
+mod stub;
+
+pub use stub::{distance, overlap};
 
 pub use polygon::{Polygon, PolygonError};
 

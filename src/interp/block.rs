@@ -700,7 +700,6 @@ impl Run<'_> {
                         true,
                     );
                     self.modal.motion = None;
-                    w.used = w.has;
                     return;
                 }
             }

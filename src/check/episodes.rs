@@ -1,0 +1,129 @@
+//! Collision episodes: one finding per pair from the sample where contact begins to the last
+//! sample in contact.
+
+use crate::finding::{Finding, Kind, Severity};
+use std::collections::BTreeMap;
+
+/// What is known at one contact sample.
+#[derive(Clone, Debug)]
+pub struct Contact {
+    pub kind: Kind,
+    pub objects: [String; 2],
+    pub line: u32,
+    pub n: Option<u64>,
+    pub time: f64,
+    /// Programmed point in program coordinates.
+    pub x: f64,
+    pub z: f64,
+    /// Penetration depth (collisions), or the gap (near misses).
+    pub depth: Option<f64>,
+    pub message: String,
+}
+
+struct Open {
+    first: Contact,
+    end_line: u32,
+    max_depth: Option<f64>,
+    /// Smallest gap seen, for near misses.
+    min_gap: Option<f64>,
+    /// The episode was touched in the current round.
+    seen: bool,
+}
+
+/// Open episodes by pair key.
+#[derive(Default)]
+pub struct Episodes {
+    open: BTreeMap<u64, Open>,
+    pub findings: Vec<Finding>,
+}
+
+impl Episodes {
+    /// Record contact of pair `key` at a sample.
+    pub fn contact(&mut self, key: u64, c: Contact) {
+        match self.open.get_mut(&key) {
+            Some(o) => {
+                o.end_line = c.line;
+                o.seen = true;
+                if c.kind == Kind::NearMiss {
+                    o.min_gap = Some(
+                        o.min_gap
+                            .map_or(c.depth.unwrap_or(0.0), |g| g.min(c.depth.unwrap_or(0.0))),
+                    );
+                } else if let Some(d) = c.depth {
+                    o.max_depth = Some(o.max_depth.map_or(d, |m| m.max(d)));
+                }
+            }
+            None => {
+                let gap = (c.kind == Kind::NearMiss).then_some(c.depth).flatten();
+                let depth = (c.kind != Kind::NearMiss).then_some(c.depth).flatten();
+                self.open.insert(
+                    key,
+                    Open {
+                        end_line: c.line,
+                        max_depth: depth,
+                        min_gap: gap,
+                        first: c,
+                        seen: true,
+                    },
+                );
+            }
+        }
+    }
+
+    /// Pair `key` was tested and is clear: close its episode.
+    pub fn clear(&mut self, key: u64) {
+        if let Some(o) = self.open.remove(&key) {
+            self.emit(o);
+        }
+    }
+
+    /// Close every open episode whose key is not in `keep`.
+    pub fn close_except(&mut self, keep: impl Fn(u64) -> bool) {
+        let keys: Vec<u64> = self.open.keys().copied().filter(|k| !keep(*k)).collect();
+        for k in keys {
+            self.clear(k);
+        }
+    }
+
+    pub fn close_all(&mut self) {
+        let open = std::mem::take(&mut self.open);
+        for (_, o) in open {
+            self.emit(o);
+        }
+    }
+
+    pub fn is_open(&self, key: u64) -> bool {
+        self.open.contains_key(&key)
+    }
+
+    fn emit(&mut self, o: Open) {
+        let c = o.first;
+        let severity = if c.kind == Kind::NearMiss {
+            Severity::Warning
+        } else {
+            Severity::Error
+        };
+        let message = match (c.kind, o.min_gap) {
+            (Kind::NearMiss, Some(g)) => format!("{} (closest {:.4} mm)", c.message, g),
+            _ => c.message,
+        };
+        self.findings.push(Finding {
+            line: c.line,
+            end_line: o.end_line.max(c.line),
+            col: 0,
+            n: c.n,
+            kind: c.kind,
+            severity,
+            objects: c.objects.to_vec(),
+            time_s: Some(c.time),
+            depth_mm: if c.kind == Kind::NearMiss {
+                None
+            } else {
+                o.max_depth
+            },
+            x: Some(c.x),
+            z: Some(c.z),
+            message,
+        });
+    }
+}

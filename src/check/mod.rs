@@ -1,0 +1,766 @@
+//! The checks of DESIGN §4: which parts may never touch which, and what an overlap means.
+//!
+//! Moving parts: the turret body, the active tool's holder and insert, and the tools of the other
+//! stations. Obstacles: the chuck, the tailstock and the (in-process) stock. Rules:
+//! - holder, turret and other stations against chuck, tailstock or stock: `collision`;
+//! - the insert against chuck or tailstock: `collision`;
+//! - the insert in the stock: `rapid_into_stock` in a rapid, `spindle_stopped` in a feed with the
+//!   spindle stopped, machining otherwise (the stock loses what the insert sweeps);
+//! - any of those pairs closer than `--clearance` without touching: `near_miss` (a warning);
+//! - the turret reference point outside the axis limits: `overtravel`.
+//!
+//! One finding per episode and pair (see [`episodes`]). Per move, each pair's motion envelope
+//! (the part's box swept over the move) is tested against the obstacle's box first; pairs whose
+//! envelopes never meet cost nothing, and a move with no such pair is not sampled at all.
+
+pub mod episodes;
+
+use crate::finding::{Finding, Kind, Severity};
+use crate::geom::{self, Aabb, Polygon, P2, V2};
+use crate::interp::{Move, MoveKind};
+use crate::machine::Machine;
+use crate::motion::{self, Timed, Timeline};
+use crate::pipeline::{Mode, Settings, Stats};
+use crate::scene::{DexelStock, Revolved, Scene};
+use episodes::{Contact, Episodes};
+
+/// A moving part.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    Turret,
+    Holder,
+    Insert,
+    /// A tool in another station, out of the working plane.
+    OtherHolder(u32),
+    OtherInsert(u32),
+}
+
+/// A static, revolved obstacle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Obstacle {
+    Chuck,
+    Tailstock,
+    Stock,
+}
+
+const OBSTACLES: [Obstacle; 3] = [Obstacle::Chuck, Obstacle::Tailstock, Obstacle::Stock];
+
+fn key(part: Part, obs: Obstacle, kind: Kind) -> u64 {
+    let p = match part {
+        Part::Turret => 0,
+        Part::Holder => 1,
+        Part::Insert => 2,
+        Part::OtherHolder(s) => 3 + 2 * s as u64,
+        Part::OtherInsert(s) => 4 + 2 * s as u64,
+    };
+    (p << 16) | ((obs as u64) << 8) | kind as u64
+}
+
+/// What a check found and what it cost.
+pub struct CheckResult {
+    pub findings: Vec<Finding>,
+    pub stats: Stats,
+    /// The stock at the end, when the program reached it.
+    pub stock: Option<DexelStock>,
+    pub timeline: Timeline,
+}
+
+struct Checker<'a> {
+    moves: &'a [Move],
+    machine: &'a Machine,
+    scene: Scene,
+    settings: Settings,
+    stock: Option<DexelStock>,
+    /// Box of the raw stock, both halves of the section.
+    stock_box: Option<Aabb>,
+    episodes: Episodes,
+    stats: Stats,
+    cut_any: bool,
+    indexed: bool,
+    others_tested: bool,
+    overtravel_open: bool,
+}
+
+/// Check a program's moves on a machine.
+pub fn check(moves: &[Move], machine: &Machine, settings: &Settings) -> CheckResult {
+    let timeline = motion::timeline(moves, machine);
+    let scene = Scene::new(machine, settings.tolerance_mm);
+    let stock_box = machine.stock.as_ref().map(|s| Aabb {
+        min: P2::new(-s.diameter / 2.0, s.front - s.length),
+        max: P2::new(s.diameter / 2.0, s.front),
+    });
+    let mut c = Checker {
+        moves,
+        machine,
+        scene,
+        settings: *settings,
+        stock: None,
+        stock_box,
+        episodes: Episodes::default(),
+        stats: Stats::default(),
+        cut_any: false,
+        indexed: false,
+        others_tested: false,
+        overtravel_open: false,
+    };
+    c.static_pairs();
+    for item in &timeline.items {
+        c.one_move(item);
+    }
+    c.episodes.close_all();
+    let mut findings = std::mem::take(&mut c.episodes.findings);
+    for &i in &timeline.feed_without_speed {
+        let m = &moves[i];
+        findings.push(
+            Finding::program(m.line, 0, "feed per revolution with no spindle speed: the move would never finish (timed at 100 mm/min)")
+                .with_n(m.n),
+        );
+    }
+    let mut stats = c.stats;
+    stats.machine_time_s = timeline.total;
+    if c.cut_any {
+        stats.effects.push("stock_removal".into());
+    }
+    if c.indexed {
+        stats.effects.push("turret_index".into());
+    }
+    if c.others_tested {
+        stats.effects.push("other_stations".into());
+    }
+    if settings.clearance_mm > 0.0 {
+        stats.effects.push("near_miss".into());
+    }
+    CheckResult {
+        findings,
+        stats,
+        stock: c.stock,
+        timeline,
+    }
+}
+
+impl Checker<'_> {
+    fn obstacle(&self, o: Obstacle) -> Option<&Revolved> {
+        match o {
+            Obstacle::Chuck => self.scene.chuck.as_ref(),
+            Obstacle::Tailstock => self.scene.tailstock.as_ref(),
+            Obstacle::Stock => None,
+        }
+    }
+
+    fn obstacle_box(&self, o: Obstacle) -> Option<Aabb> {
+        match o {
+            Obstacle::Stock => self.stock_box,
+            _ => self.obstacle(o).map(|r| r.aabb),
+        }
+    }
+
+    fn ensure_stock(&mut self) -> Option<&mut DexelStock> {
+        if self.stock.is_none() {
+            let s = self.machine.stock.as_ref()?;
+            self.stock = Some(DexelStock::new(
+                s.diameter,
+                s.bore,
+                s.length,
+                s.front,
+                self.settings.tolerance_mm,
+            ));
+        }
+        self.stock.as_mut()
+    }
+
+    /// The tailstock against the raw stock and the chuck, once, at program start.
+    fn static_pairs(&mut self) {
+        let Some(ts) = self.scene.tailstock.clone() else {
+            return;
+        };
+        let line = self.moves.first().map_or(1, |m| m.line);
+        if let Some(ch) = self.scene.chuck.clone() {
+            if let Some(d) = geom::overlap(&ts.outline, &ch.outline) {
+                let mut f = Finding::at(
+                    Kind::Collision,
+                    Severity::Error,
+                    line,
+                    0,
+                    "the tailstock overlaps the chuck in the setup",
+                );
+                f.objects = vec!["tailstock".into(), "chuck".into()];
+                f.depth_mm = Some(d);
+                f.time_s = Some(0.0);
+                self.episodes.findings.push(f);
+            }
+        }
+        if self.machine.stock.is_some() {
+            let pts = ts.outline.points().to_vec();
+            if let Some(hit) = self
+                .ensure_stock()
+                .and_then(|s| s.overlap(&pts, geom::TOUCH_EPS))
+            {
+                let mut f = Finding::at(
+                    Kind::Collision,
+                    Severity::Error,
+                    line,
+                    0,
+                    "the tailstock overlaps the stock in the setup",
+                );
+                f.objects = vec!["tailstock".into(), "stock".into()];
+                f.depth_mm = Some(hit.depth);
+                f.time_s = Some(0.0);
+                self.episodes.findings.push(f);
+            }
+        }
+    }
+
+    fn parts(&self, active: u32) -> Vec<Part> {
+        let mut v = vec![Part::Turret];
+        if self.scene.tool(active).is_some() {
+            v.push(Part::Holder);
+            v.push(Part::Insert);
+        }
+        for t in &self.scene.tools {
+            if t.station != active {
+                v.push(Part::OtherHolder(t.station));
+                v.push(Part::OtherInsert(t.station));
+            }
+        }
+        v
+    }
+
+    fn name(&self, part: Part, active: u32) -> String {
+        match part {
+            Part::Turret => "turret".into(),
+            Part::Holder => format!("T{active:02} holder"),
+            Part::Insert => format!("T{active:02} insert"),
+            Part::OtherHolder(s) => format!("T{s:02} holder"),
+            Part::OtherInsert(s) => format!("T{s:02} insert"),
+        }
+    }
+
+    /// The part's polygon when the reference point is at `r`, and whether it lies in the working
+    /// plane (else it is already in the radial section).
+    fn pose(&self, part: Part, r: P2, active: f64) -> Option<(Polygon, bool)> {
+        match part {
+            Part::Turret => Some((self.scene.turret.translated(r.coords), true)),
+            Part::Holder | Part::Insert => {
+                let t = self.scene.tool(active.round() as u32)?;
+                let shape = if part == Part::Holder {
+                    &t.holder
+                } else {
+                    &t.insert
+                };
+                Some((shape.translated(r.coords + t.tip), true))
+            }
+            Part::OtherHolder(s) | Part::OtherInsert(s) => {
+                let t = self.scene.tool(s)?;
+                let shape = if matches!(part, Part::OtherHolder(_)) {
+                    &t.holder
+                } else {
+                    &t.insert
+                };
+                let angle = self.scene.station_angle(s, active);
+                self.scene
+                    .map_to_section(shape, t.tip, r, angle)
+                    .map(|p| (p, false))
+            }
+        }
+    }
+
+    /// Box of a part over a move whose reference point stays in `rb`.
+    fn envelope(&self, part: Part, rb: &Aabb, active: u32) -> Option<Aabb> {
+        match part {
+            Part::Turret => Some(minkowski(self.scene.turret.aabb(), rb)),
+            Part::Holder | Part::Insert => {
+                let t = self.scene.tool(active)?;
+                let shape = if part == Part::Holder {
+                    &t.holder
+                } else {
+                    &t.insert
+                };
+                Some(minkowski(&shape.aabb().translate(t.tip), rb))
+            }
+            Part::OtherHolder(_) | Part::OtherInsert(_) => {
+                // r grows with the reference point's x: the boxes at the two x extremes bound it.
+                let lo = self
+                    .pose(part, P2::new(rb.min.x, rb.min.y), active as f64)?
+                    .0;
+                let hi = self
+                    .pose(part, P2::new(rb.max.x, rb.max.y), active as f64)?
+                    .0;
+                let b = lo.aabb().union(hi.aabb());
+                Some(Aabb {
+                    min: P2::new(b.min.x, b.min.y.min(lo.aabb().min.y)),
+                    max: b.max,
+                })
+            }
+        }
+    }
+
+    /// Overlap depth (> TOUCH_EPS) or gap (< clearance) of a posed part with an obstacle.
+    fn test(
+        &mut self,
+        poly: &Polygon,
+        in_plane: bool,
+        obs: Obstacle,
+    ) -> (Option<f64>, Option<f64>) {
+        self.stats.pair_tests += 1;
+        let clearance = self.settings.clearance_mm;
+        match obs {
+            Obstacle::Stock => {
+                let Some(stock) = self.ensure_stock() else {
+                    return (None, None);
+                };
+                (
+                    stock
+                        .overlap(poly.points(), geom::TOUCH_EPS)
+                        .map(|h| h.depth),
+                    None,
+                )
+            }
+            _ => {
+                let Some(rev) = self.obstacle(obs) else {
+                    return (None, None);
+                };
+                let mut depth = geom::overlap(poly, &rev.outline);
+                if in_plane {
+                    if let Some(d) = geom::overlap(poly, &rev.mirror) {
+                        depth = Some(depth.map_or(d, |e: f64| e.max(d)));
+                    }
+                }
+                if depth.is_some() || clearance <= 0.0 {
+                    return (depth, None);
+                }
+                let mut gap = geom::distance(poly, &rev.outline);
+                if in_plane {
+                    gap = gap.min(geom::distance(poly, &rev.mirror));
+                }
+                (None, (gap < clearance).then_some(gap))
+            }
+        }
+    }
+
+    fn one_move(&mut self, item: &Timed) {
+        let m = &self.moves[item.index];
+        self.overtravel(m, item);
+        match m.kind {
+            MoveKind::ToolChange { from, to } => {
+                self.episodes.close_all();
+                self.index_sweep(m, item, from, to);
+            }
+            MoveKind::Dwell { .. } => {
+                // Nothing moves: contacts in progress stay as they are.
+                self.stats.steps += self.samples_in(item.t0, item.t1());
+            }
+            _ => self.motion(m, item),
+        }
+    }
+
+    fn samples_in(&self, t0: f64, t1: f64) -> u64 {
+        let dt = self.settings.dt_ms / 1000.0;
+        let k0 = (t0 / dt - 1e-9).ceil().max(0.0);
+        let k1 = (t1 / dt - 1e-9).ceil().max(0.0);
+        (k1 - k0).max(0.0) as u64
+    }
+
+    fn motion(&mut self, m: &Move, item: &Timed) {
+        let active = m.station;
+        let rb = motion::reference_box(m, item);
+        let rapid = m.kind == MoveKind::Rapid;
+        let feed = !rapid;
+        let insert_rule = if rapid {
+            Some(Kind::RapidIntoStock)
+        } else if !m.spindle.is_on() {
+            Some(Kind::SpindleStopped)
+        } else {
+            None
+        };
+        let margin = self.settings.clearance_mm + 1e-6;
+        let parts = self.parts(active);
+        let mut cands: Vec<(Part, Obstacle)> = Vec::new();
+        let mut insert_box = None;
+        for &p in &parts {
+            let Some(pb) = self.envelope(p, &rb, active) else {
+                continue;
+            };
+            if p == Part::Insert {
+                insert_box = Some(pb);
+            }
+            for o in OBSTACLES {
+                if p == Part::Insert && o == Obstacle::Stock && insert_rule.is_none() {
+                    continue;
+                }
+                if let Some(ob) = self.obstacle_box(o) {
+                    let mg = if o == Obstacle::Stock { 1e-6 } else { margin };
+                    if pb.meets(&ob, mg) {
+                        cands.push((p, o));
+                    }
+                }
+            }
+        }
+        let total_pairs = parts.len() as u64 * 3;
+        let samples = self.samples_in(item.t0, item.t1());
+        self.stats.steps += samples;
+        // Pairs that cannot touch during this move end their episodes.
+        let live: Vec<u64> = cands.iter().flat_map(|&(p, o)| pair_keys(p, o)).collect();
+        self.episodes
+            .close_except(|k| k == u64::MAX || live.contains(&k));
+        let cuts = feed
+            && insert_box
+                .zip(self.stock_box)
+                .is_some_and(|(a, b)| a.meets(&b, 1e-6));
+        if cuts && insert_rule == Some(Kind::SpindleStopped) {
+            // The insert meets the material as it was before this move.
+            let first: Vec<_> = cands
+                .iter()
+                .copied()
+                .filter(|c| *c == (Part::Insert, Obstacle::Stock))
+                .collect();
+            self.sample(m, item, &first, active, insert_rule);
+            cands.retain(|c| *c != (Part::Insert, Obstacle::Stock));
+        }
+        if cuts {
+            self.cut(m);
+        }
+        self.stats.pair_tests_skipped += (total_pairs - cands.len() as u64) * samples;
+        if cands.is_empty() {
+            return;
+        }
+        if matches!(self.settings.mode, Mode::Step | Mode::Exact) {
+            self.sample(m, item, &cands, active, insert_rule);
+        }
+    }
+
+    /// Fixed-timestep sampling of the candidate pairs over one move.
+    fn sample(
+        &mut self,
+        m: &Move,
+        item: &Timed,
+        cands: &[(Part, Obstacle)],
+        active: u32,
+        insert_rule: Option<Kind>,
+    ) {
+        if cands.is_empty() {
+            return;
+        }
+        let dt = self.settings.dt_ms / 1000.0;
+        let mut k = (item.t0 / dt - 1e-9).ceil().max(0.0) as u64;
+        let t1 = item.t1();
+        let mut posed: Vec<(Part, Option<(Polygon, bool)>)> = Vec::new();
+        loop {
+            let t = k as f64 * dt;
+            if t >= t1 - 1e-12 {
+                break;
+            }
+            let r = motion::reference_at(m, item, t - item.t0);
+            posed.clear();
+            for &(p, o) in cands {
+                let idx = match posed.iter().position(|(q, _)| *q == p) {
+                    Some(i) => i,
+                    None => {
+                        if matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_)) {
+                            self.others_tested = true;
+                        }
+                        posed.push((p, self.pose(p, r, active as f64)));
+                        posed.len() - 1
+                    }
+                };
+                let Some((poly, in_plane)) = posed[idx].1.clone() else {
+                    continue;
+                };
+                let (depth, gap) = self.test(&poly, in_plane, o);
+                let kind = if p == Part::Insert && o == Obstacle::Stock {
+                    match insert_rule {
+                        Some(k) => k,
+                        None => continue,
+                    }
+                } else {
+                    Kind::Collision
+                };
+                let hit_key = key(p, o, kind);
+                let near_key = key(p, o, Kind::NearMiss);
+                match (depth, gap) {
+                    (Some(d), _) => {
+                        self.episodes.clear(near_key);
+                        let c = self.contact(m, r, p, o, kind, Some(d), t, active);
+                        self.episodes.contact(hit_key, c);
+                    }
+                    (None, Some(g)) => {
+                        self.episodes.clear(hit_key);
+                        let c = self.contact(m, r, p, o, Kind::NearMiss, Some(g), t, active);
+                        self.episodes.contact(near_key, c);
+                    }
+                    (None, None) => {
+                        self.episodes.clear(hit_key);
+                        self.episodes.clear(near_key);
+                    }
+                }
+            }
+            k += 1;
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn contact(
+        &self,
+        m: &Move,
+        r: P2,
+        p: Part,
+        o: Obstacle,
+        kind: Kind,
+        depth: Option<f64>,
+        t: f64,
+        active: u32,
+    ) -> Contact {
+        let a = self.name(p, active);
+        let b = match o {
+            Obstacle::Chuck => "chuck",
+            Obstacle::Tailstock => "tailstock",
+            Obstacle::Stock => "stock",
+        };
+        let message = match kind {
+            Kind::RapidIntoStock => format!("rapid move drives the {a} into the stock"),
+            Kind::SpindleStopped => format!("the {a} cuts the stock with the spindle stopped"),
+            Kind::NearMiss => format!(
+                "the {a} passes within {:.3} mm of the {b}",
+                self.settings.clearance_mm
+            ),
+            _ => {
+                let other = if matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_)) {
+                    " (a tool in another station)"
+                } else {
+                    ""
+                };
+                format!("the {a}{other} hits the {b}")
+            }
+        };
+        let (x, z) = m.frame.to_program(r + m.tip);
+        Contact {
+            kind,
+            objects: [a, b.to_string()],
+            line: m.line,
+            n: m.n,
+            time: t,
+            x,
+            z,
+            depth,
+            message,
+        }
+    }
+
+    /// Remove what the insert sweeps in a feed move.
+    fn cut(&mut self, m: &Move) {
+        let Some(tool) = self.scene.tool(m.station) else {
+            return;
+        };
+        let insert: Vec<P2> = tool.insert.points().to_vec();
+        let tol = self.settings.tolerance_mm;
+        // The programmed path as chords within the tolerance.
+        let mut path = vec![m.start];
+        if let MoveKind::Arc { center, sweep } = m.kind {
+            let r = (m.start - center)
+                .norm()
+                .max((m.end - center).norm())
+                .max(tol);
+            let step = 2.0 * (1.0 - (tol / r).min(1.0)).acos().max(1e-4);
+            let n = ((sweep.abs() / step).ceil() as usize).clamp(1, 100_000);
+            for j in 1..=n {
+                path.push(m.point_at(j as f64 / n as f64));
+            }
+        } else {
+            path.push(m.end);
+        }
+        let Some(stock) = self.ensure_stock() else {
+            return;
+        };
+        let mut any = false;
+        let posed = |p: P2| -> Vec<P2> { insert.iter().map(|q| p + q.coords).collect() };
+        any |= stock.cut(&posed(path[0]));
+        for w in path.windows(2) {
+            let d: V2 = w[1] - w[0];
+            let at = posed(w[0]);
+            let n = at.len();
+            for i in 0..n {
+                let (a, b) = (at[i], at[(i + 1) % n]);
+                any |= stock.cut(&[a, b, b + d, a + d]);
+            }
+            any |= stock.cut(&posed(w[1]));
+        }
+        self.cut_any |= any;
+    }
+
+    /// Every tool's sweep while the turret indexes, at the T word's line.
+    fn index_sweep(&mut self, m: &Move, item: &Timed, from: u32, to: u32) {
+        self.indexed = true;
+        let n = self.scene.stations;
+        let dir = motion::index_direction(from, to, n);
+        if dir == 0 {
+            return;
+        }
+        let r = m.ref_start();
+        let tools: Vec<_> = self
+            .scene
+            .tools
+            .iter()
+            .map(|t| (t.station, t.tip))
+            .collect();
+        let tol = self.settings.tolerance_mm;
+        for (station, tip) in tools {
+            let t = self.scene.tool(station).unwrap();
+            let shapes = [
+                (Part::OtherHolder(station), t.holder.clone()),
+                (Part::OtherInsert(station), t.insert.clone()),
+            ];
+            for (part, shape) in shapes {
+                // Farthest point from the turret axis sets the angular step.
+                let rho = shape
+                    .points()
+                    .iter()
+                    .map(|q| ((q.x + tip.x - self.scene.turret_axis).powi(2)).sqrt())
+                    .fold(0.0f64, f64::max)
+                    .max(1.0);
+                let c = r.x + self.scene.turret_axis;
+                let zb = shape.aabb().translate(tip + r.coords);
+                let env = Aabb {
+                    min: P2::new((c - rho).abs().min(0.0f64.max(c - rho)), zb.min.y),
+                    max: P2::new(c + rho, zb.max.y),
+                };
+                let near: Vec<Obstacle> = OBSTACLES
+                    .into_iter()
+                    .filter(|&o| self.obstacle_box(o).is_some_and(|b| env.meets(&b, 1e-6)))
+                    .collect();
+                if near.is_empty() {
+                    continue;
+                }
+                let span = (dir.unsigned_abs() as f64) * std::f64::consts::TAU / n as f64;
+                let step = (8.0 * tol / rho).sqrt().max(1e-4);
+                let k = ((span / step).ceil() as usize).clamp(2, 100_000);
+                for j in 0..=k {
+                    let u = j as f64 / k as f64;
+                    let active = from as f64 + dir as f64 * u;
+                    let angle = self.scene.station_angle(station, active);
+                    let Some(poly) = self.scene.map_to_section(&shape, tip, r, angle) else {
+                        continue;
+                    };
+                    self.others_tested = true;
+                    for &o in &near {
+                        let (depth, _) = self.test(&poly, false, o);
+                        let kk = key(part, o, Kind::Collision);
+                        match depth {
+                            Some(d) => {
+                                let time = item.t0 + item.duration * u;
+                                let mut c = self.contact(
+                                    m,
+                                    r,
+                                    part,
+                                    o,
+                                    Kind::Collision,
+                                    Some(d),
+                                    time,
+                                    from,
+                                );
+                                c.message = format!(
+                                    "indexing T{from:02} → T{to:02} swings the {} into the {}",
+                                    c.objects[0], c.objects[1]
+                                );
+                                self.episodes.contact(kk, c);
+                            }
+                            None => self.episodes.clear(kk),
+                        }
+                    }
+                }
+                for &o in &near {
+                    self.episodes.clear(key(part, o, Kind::Collision));
+                }
+            }
+        }
+    }
+
+    /// The turret reference point against the axis limits, on the exact path.
+    fn overtravel(&mut self, m: &Move, item: &Timed) {
+        let ax = (self.machine.x, self.machine.z);
+        let out = |p: P2| -> f64 {
+            let dx = (ax.0.min - p.x).max(p.x - ax.0.max).max(0.0);
+            let dz = (ax.1.min - p.y).max(p.y - ax.1.max).max(0.0);
+            dx.max(dz)
+        };
+        let rb = motion::reference_box(m, item);
+        let worst = out(rb.min)
+            .max(out(rb.max))
+            .max(out(P2::new(rb.min.x, rb.max.y)))
+            .max(out(P2::new(rb.max.x, rb.min.y)));
+        if worst <= 1e-9 {
+            if self.overtravel_open {
+                self.overtravel_open = false;
+                self.episodes.clear(u64::MAX);
+            }
+            return;
+        }
+        // First time out of travel: scan then bisect.
+        let at = |u: f64| motion::reference_at(m, item, u * item.duration);
+        let n = 256;
+        let mut first = None;
+        let mut depth: f64 = 0.0;
+        for j in 0..=n {
+            let u = j as f64 / n as f64;
+            let e = out(at(u));
+            depth = depth.max(e);
+            if e > 1e-9 && first.is_none() {
+                first = Some(j);
+            }
+        }
+        let Some(j) = first else { return };
+        let (mut lo, mut hi) = (
+            if j == 0 {
+                0.0
+            } else {
+                (j - 1) as f64 / n as f64
+            },
+            j as f64 / n as f64,
+        );
+        if j > 0 {
+            for _ in 0..50 {
+                let mid = 0.5 * (lo + hi);
+                if out(at(mid)) > 1e-9 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+        }
+        let r = at(hi);
+        let (x, z) = m.frame.to_program(r + m.tip);
+        let axis = if (ax.0.min - r.x).max(r.x - ax.0.max) > 1e-9 {
+            "X"
+        } else {
+            "Z"
+        };
+        let c = Contact {
+            kind: Kind::Overtravel,
+            objects: ["turret".into(), format!("{axis} travel")],
+            line: m.line,
+            n: m.n,
+            time: item.t0 + hi * item.duration,
+            x,
+            z,
+            depth: Some(depth),
+            message: format!("the turret reference point leaves the {axis} travel limits"),
+        };
+        self.overtravel_open = true;
+        self.episodes.contact(u64::MAX, c);
+    }
+}
+
+fn pair_keys(p: Part, o: Obstacle) -> [u64; 4] {
+    [
+        key(p, o, Kind::Collision),
+        key(p, o, Kind::NearMiss),
+        key(p, o, Kind::RapidIntoStock),
+        key(p, o, Kind::SpindleStopped),
+    ]
+}
+
+/// Box of a shape box swept over a box of reference points.
+fn minkowski(shape: &Aabb, refs: &Aabb) -> Aabb {
+    Aabb {
+        min: P2::new(shape.min.x + refs.min.x, shape.min.y + refs.min.y),
+        max: P2::new(shape.max.x + refs.max.x, shape.max.y + refs.max.y),
+    }
+}

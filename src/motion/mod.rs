@@ -1,0 +1,240 @@
+//! Motion: when the machine is where. Every move gets a duration from its feed (per-revolution
+//! feeds with the spindle speed in force, CSS at the current radius), rapids run at the
+//! machine's per-axis rates (`dogleg`: each axis at its own rate, a bent path; `linear`: both
+//! interpolated), dwells stand still, and a turret index takes `index_time` per station.
+//!
+//! [`Timeline`] answers "where is the turret reference point at machine time t"; the fixed-step
+//! sampler of the checker and the exact sweeps both read it.
+
+use crate::geom::{P2, V2};
+use crate::interp::{Feed, Move, MoveKind};
+use crate::machine::{Machine, RapidMode};
+
+/// Pieces used to integrate a per-revolution feed under constant surface speed.
+const CSS_PIECES: usize = 32;
+
+/// Slowest feed assumed when a per-revolution feed meets a stopped spindle with no speed set.
+pub const FALLBACK_FEED_MM_MIN: f64 = 100.0;
+
+/// One move with its timing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Timed {
+    /// Index into the move list.
+    pub index: usize,
+    pub t0: f64,
+    pub duration: f64,
+    pub path: Path,
+}
+
+/// How the turret reference point travels during a move.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Path {
+    /// Standing still (dwell, tool change).
+    Still(P2),
+    /// Straight at constant speed.
+    Line { from: P2, to: P2 },
+    /// Dogleg rapid: each axis at its own rate; `tx`/`tz` are when each axis arrives.
+    Dogleg { from: P2, to: P2, tx: f64, tz: f64 },
+    /// A feed whose speed varies along the path (CSS): arc-length fraction at equally spaced
+    /// times, `table[k]` is the path fraction at time `k/(len-1) * duration`.
+    Varying { table: Vec<f64> },
+    /// Constant speed along an arc or line of the programmed point (path fraction = t/duration).
+    Uniform,
+}
+
+impl Timed {
+    pub fn t1(&self) -> f64 {
+        self.t0 + self.duration
+    }
+}
+
+/// All moves of a program, timed back to back.
+#[derive(Clone, Debug, Default)]
+pub struct Timeline {
+    pub items: Vec<Timed>,
+    pub total: f64,
+    /// Moves whose per-revolution feed met a stopped spindle with no speed: timed at
+    /// [`FALLBACK_FEED_MM_MIN`]. (Move indices.)
+    pub feed_without_speed: Vec<usize>,
+}
+
+/// Time a move list.
+pub fn timeline(moves: &[Move], machine: &Machine) -> Timeline {
+    let mut t = 0.0;
+    let mut items = Vec::with_capacity(moves.len());
+    let mut stalled = Vec::new();
+    for (i, m) in moves.iter().enumerate() {
+        let (duration, path) = time_move(m, machine, &mut || stalled.push(i));
+        let duration = if duration.is_finite() && duration >= 0.0 {
+            duration
+        } else {
+            0.0
+        };
+        items.push(Timed {
+            index: i,
+            t0: t,
+            duration,
+            path,
+        });
+        t += duration;
+    }
+    Timeline {
+        items,
+        total: t,
+        feed_without_speed: stalled,
+    }
+}
+
+fn time_move(m: &Move, machine: &Machine, stalled: &mut dyn FnMut()) -> (f64, Path) {
+    let from = m.ref_start();
+    let to = m.ref_end();
+    match m.kind {
+        MoveKind::Dwell { seconds } => (seconds, Path::Still(from)),
+        MoveKind::ToolChange { from: a, to: b } => {
+            let steps = index_steps(a, b, machine.turret.stations);
+            (steps as f64 * machine.turret.index_time, Path::Still(from))
+        }
+        MoveKind::Rapid => {
+            let d = to - from;
+            let tx = d.x.abs() / (machine.x.rapid / 60.0);
+            let tz = d.y.abs() / (machine.z.rapid / 60.0);
+            match machine.rapid {
+                RapidMode::Dogleg => (tx.max(tz), Path::Dogleg { from, to, tx, tz }),
+                RapidMode::Linear => (tx.max(tz), Path::Line { from, to }),
+            }
+        }
+        MoveKind::Line | MoveKind::Arc { .. } => {
+            let len = m.length();
+            match m.feed {
+                Feed::Rapid => (0.0, Path::Uniform),
+                Feed::PerMinute(f) => (len / (f / 60.0), Path::Uniform),
+                Feed::PerRev(f) => {
+                    let mut sp = m.spindle;
+                    if !sp.is_on() {
+                        // Timing as if on: the check reports cutting with the spindle stopped.
+                        sp.dir = crate::interp::SpindleDir::Cw;
+                    }
+                    let css = matches!(sp.speed, crate::interp::SpindleSpeed::Css { .. });
+                    if !css {
+                        let rpm = sp.rpm_at(m.start.x);
+                        if rpm <= 0.0 {
+                            stalled();
+                            return (len / (FALLBACK_FEED_MM_MIN / 60.0), Path::Uniform);
+                        }
+                        return (len / (f * rpm / 60.0), Path::Uniform);
+                    }
+                    // Integrate dt = ds / (f · rpm(r)) over the path, then tabulate the
+                    // inverse (fraction at equal times).
+                    let n = CSS_PIECES;
+                    let mut cum = vec![0.0f64; n + 1];
+                    for k in 0..n {
+                        let u = (k as f64 + 0.5) / n as f64;
+                        let r = m.point_at(u).x.abs();
+                        let v = f * sp.rpm_at(r) / 60.0;
+                        cum[k + 1] = cum[k] + (len / n as f64) / v.max(1e-9);
+                    }
+                    let total = cum[n];
+                    let mut table = Vec::with_capacity(n + 1);
+                    let mut k = 0;
+                    for j in 0..=n {
+                        let target = total * j as f64 / n as f64;
+                        while k < n && cum[k + 1] < target {
+                            k += 1;
+                        }
+                        let span = cum[(k + 1).min(n)] - cum[k];
+                        let frac = if span > 0.0 {
+                            (target - cum[k]) / span
+                        } else {
+                            0.0
+                        };
+                        table.push(((k as f64 + frac.clamp(0.0, 1.0)) / n as f64).min(1.0));
+                    }
+                    (total, Path::Varying { table })
+                }
+            }
+        }
+    }
+}
+
+/// Stations the turret passes to go from `a` to `b` the short way round.
+pub fn index_steps(a: u32, b: u32, stations: u32) -> u32 {
+    let n = stations.max(1);
+    let fwd = (b + n - a % n) % n;
+    fwd.min(n - fwd)
+}
+
+/// The signed station steps of an index the short way round (ties go forward).
+pub fn index_direction(a: u32, b: u32, stations: u32) -> i64 {
+    let n = stations.max(1) as i64;
+    let fwd = ((b as i64 - a as i64) % n + n) % n;
+    if fwd <= n - fwd {
+        fwd
+    } else {
+        fwd - n
+    }
+}
+
+/// Where the turret reference point is `dt` seconds into a move (clamped to the move).
+pub fn reference_at(m: &Move, item: &Timed, dt: f64) -> P2 {
+    let d = item.duration;
+    let u = if d > 0.0 {
+        (dt / d).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
+    match &item.path {
+        Path::Still(p) => *p,
+        Path::Line { from, to } => from + (to - from) * u,
+        Path::Dogleg { from, to, tx, tz } => {
+            let fx = if *tx > 0.0 {
+                (dt / tx).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+            let fz = if *tz > 0.0 {
+                (dt / tz).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+            P2::new(from.x + (to.x - from.x) * fx, from.y + (to.y - from.y) * fz)
+        }
+        Path::Uniform => m.point_at(u) - m.tip,
+        Path::Varying { table } => {
+            let n = table.len() - 1;
+            let x = u * n as f64;
+            let k = (x.floor() as usize).min(n.saturating_sub(1));
+            let f = table[k] + (table[(k + 1).min(n)] - table[k]) * (x - k as f64);
+            m.point_at(f) - m.tip
+        }
+    }
+}
+
+/// Axis-aligned box of the turret reference point over a whole move.
+pub fn reference_box(m: &Move, item: &Timed) -> crate::geom::Aabb {
+    let mut b = crate::geom::Aabb::of_points(&[m.ref_start(), m.ref_end()]);
+    if let MoveKind::Arc { center, sweep } = m.kind {
+        // Include the axis-extreme points the arc passes.
+        let a = m.start - center;
+        let r = a.norm().max((m.end - center).norm());
+        let a0 = a.y.atan2(a.x);
+        let tip = m.tip;
+        let (lo, hi) = if sweep >= 0.0 {
+            (a0, a0 + sweep)
+        } else {
+            (a0 + sweep, a0)
+        };
+        let first = (lo / std::f64::consts::FRAC_PI_2).ceil() as i64;
+        let last = (hi / std::f64::consts::FRAC_PI_2).floor() as i64;
+        let mut k = first;
+        while k <= last && k - first < 8 {
+            let ang = k as f64 * std::f64::consts::FRAC_PI_2;
+            b.add(center + V2::new(r * ang.cos(), r * ang.sin()) - tip);
+            k += 1;
+        }
+        // A spiral's radius lies between the two; pad by the difference.
+        let pad = ((m.end - center).norm() - a.norm()).abs();
+        b = b.inflate(pad);
+    }
+    let _ = item;
+    b
+}

@@ -1,0 +1,193 @@
+//! The scene: the machine's parts posed in the working plane.
+//!
+//! Static, revolved parts (chuck, tailstock, the stock) are outlines in the half plane `x ≥ 0`;
+//! their section through the working plane is the outline and its mirror about the axis.
+//! Moving parts translate with the turret reference point `R`: the turret body (`R` + outline),
+//! the active tool's insert and holder (`R + tip` + shape). Tools in the other stations sit on the
+//! turret rotated about its axis, out of the working plane; they are mapped into the radial
+//! section `(r, z)` (DESIGN §2), which is exact for collisions with revolved parts.
+
+pub mod stock;
+
+use crate::geom::{Aabb, Polygon, P2, V2};
+use crate::machine::Machine;
+use std::f64::consts::TAU;
+
+pub use stock::DexelStock;
+
+/// A revolved static part: its outline (x ≥ 0) and the mirror (x ≤ 0).
+#[derive(Clone, Debug)]
+pub struct Revolved {
+    pub name: &'static str,
+    pub outline: Polygon,
+    pub mirror: Polygon,
+    pub aabb: Aabb,
+}
+
+impl Revolved {
+    pub fn new(name: &'static str, outline: Polygon) -> Revolved {
+        let mirror = outline.mirrored_x();
+        let aabb = outline.aabb().union(mirror.aabb());
+        Revolved {
+            name,
+            outline,
+            mirror,
+            aabb,
+        }
+    }
+}
+
+/// A tool's shapes, relative to its programmed point.
+#[derive(Clone, Debug)]
+pub struct ToolShape {
+    pub station: u32,
+    /// "T03"
+    pub label: String,
+    pub tip: V2,
+    pub insert: Polygon,
+    pub holder: Polygon,
+}
+
+/// Everything the checker poses, built once per machine and tolerance.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub chuck: Option<Revolved>,
+    pub tailstock: Option<Revolved>,
+    /// The turret body relative to the reference point.
+    pub turret: Polygon,
+    pub turret_axis: f64,
+    pub stations: u32,
+    pub tools: Vec<ToolShape>,
+    pub tolerance: f64,
+}
+
+impl Scene {
+    pub fn new(machine: &Machine, tolerance: f64) -> Scene {
+        let tools = machine
+            .tools
+            .iter()
+            .map(|t| ToolShape {
+                station: t.station,
+                label: format!("T{:02}", t.station),
+                tip: t.tip.coords,
+                insert: round_tip(&t.insert, t.nose_radius, tolerance),
+                holder: t.holder.clone(),
+            })
+            .collect();
+        Scene {
+            chuck: machine.chuck.clone().map(|p| Revolved::new("chuck", p)),
+            tailstock: machine
+                .tailstock
+                .clone()
+                .map(|p| Revolved::new("tailstock", p)),
+            turret: machine.turret.outline.clone(),
+            turret_axis: machine.turret.axis,
+            stations: machine.turret.stations,
+            tools,
+            tolerance,
+        }
+    }
+
+    pub fn tool(&self, station: u32) -> Option<&ToolShape> {
+        self.tools.iter().find(|t| t.station == station)
+    }
+
+    /// Angle of a station on the turret when `active` faces the spindle.
+    pub fn station_angle(&self, station: u32, active: f64) -> f64 {
+        (station as f64 - active) * TAU / self.stations.max(1) as f64
+    }
+
+    /// A tool shape (relative to its programmed point) in the radial section `(r, z)` when the
+    /// turret reference point is at `r_ref` and the tool is turned `angle` out of the working
+    /// plane about the turret axis. At angle 0 this is the folded in-plane shape.
+    pub fn map_to_section(
+        &self,
+        shape: &Polygon,
+        tip: V2,
+        r_ref: P2,
+        angle: f64,
+    ) -> Option<Polygon> {
+        let (s, c) = angle.sin_cos();
+        let axis_x = r_ref.x + self.turret_axis;
+        let pts = shape.points();
+        let n = pts.len();
+        let mut out = Vec::with_capacity(n * 4);
+        let map = |q: P2| {
+            let p = q + tip; // relative to the reference point
+            let d = p.x - self.turret_axis; // from the turret axis, in the station's plane
+            let x3 = axis_x + d * c;
+            let y3 = d * s;
+            P2::new((x3 * x3 + y3 * y3).sqrt(), r_ref.y + p.y)
+        };
+        for i in 0..n {
+            let (a, b) = (pts[i], pts[(i + 1) % n]);
+            // Straight edges map to curves: split so chords stay within the tolerance.
+            let len = (b - a).norm();
+            let ra = map(a).x.max(1.0);
+            let step = (8.0 * ra * self.tolerance).sqrt().max(0.05);
+            let k = ((len / step).ceil() as usize).clamp(1, 64);
+            for j in 0..k {
+                out.push(map(a + (b - a) * (j as f64 / k as f64)));
+            }
+        }
+        Polygon::new(&out).ok()
+    }
+}
+
+/// Round the insert's tip corner (the vertex at the programmed point, or the one nearest to it)
+/// with the nose radius, by chords within `tol` lying inside the true arc.
+fn round_tip(insert: &Polygon, radius: f64, tol: f64) -> Polygon {
+    if radius <= 0.0 {
+        return insert.clone();
+    }
+    let pts = insert.points();
+    let n = pts.len();
+    let (k, _) = pts
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (i, p.coords.norm()))
+        .fold(
+            (0, f64::INFINITY),
+            |acc, x| if x.1 < acc.1 { x } else { acc },
+        );
+    let (prev, cur, next) = (pts[(k + n - 1) % n], pts[k], pts[(k + 1) % n]);
+    let u = (prev - cur).normalize();
+    let v = (next - cur).normalize();
+    let cos = u.dot(&v).clamp(-1.0, 1.0);
+    let half = cos.acos() / 2.0;
+    if !(half > 1e-6 && half < std::f64::consts::FRAC_PI_2 - 1e-6) {
+        return insert.clone();
+    }
+    // Tangent points at distance radius / tan(half) along both edges.
+    let d = radius / half.tan();
+    if d >= (prev - cur).norm() * 0.5 || d >= (next - cur).norm() * 0.5 {
+        return insert.clone();
+    }
+    let bis = (u + v).normalize();
+    let center = cur + bis * (radius / half.sin());
+    let t1 = cur + u * d;
+    let t2 = cur + v * d;
+    let a1 = (t1 - center).y.atan2((t1 - center).x);
+    let a2 = (t2 - center).y.atan2((t2 - center).x);
+    let mut sweep = a2 - a1;
+    while sweep > std::f64::consts::PI {
+        sweep -= TAU;
+    }
+    while sweep < -std::f64::consts::PI {
+        sweep += TAU;
+    }
+    let step = 2.0 * (1.0 - tol.min(radius) / radius).acos().max(1e-3);
+    let m = ((sweep.abs() / step).ceil() as usize).clamp(2, 64);
+    let mut out = Vec::with_capacity(n + m);
+    for (i, p) in pts.iter().enumerate() {
+        if i == k {
+            for j in 0..=m {
+                let a = a1 + sweep * j as f64 / m as f64;
+                out.push(center + V2::new(radius * a.cos(), radius * a.sin()));
+            }
+        } else {
+            out.push(*p);
+        }
+    }
+    Polygon::new(&out).unwrap_or_else(|_| insert.clone())
+}

@@ -1,0 +1,414 @@
+//! The in-process stock: a solid of revolution held as z-dexels.
+//!
+//! The stock's state is its outline in the `(r, z)` half plane. We hold it as columns of width
+//! `h` along z; column `j` stores the radial intervals of material on the plane `z = c_j` through
+//! its centre. Removing a region and asking whether a part overlaps the material both look at the
+//! same column centres with the same arithmetic, so re-entering exactly a pose a cut ended at
+//! finds exactly the surface it left: a touch, never an overlap.
+//!
+//! Error: the radius is exact (f64); along z the model is exact at the column centres and the
+//! boundary of a cut may sit up to `h/2` off — `h` is the `--tolerance`. The cost of a cut or a
+//! query is proportional to the number of columns the part spans, independent of how many cuts
+//! came before (no growth with program length). Blocks of columns keep their radial extremes so
+//! that parts far from the material are rejected without visiting columns.
+//!
+//! Rotating parts see the material through the radial section: a point `(x, z)` of a part is in
+//! the stock when `(|x|, z)` is, so parts in the working plane are folded about the axis.
+
+use crate::geom::{Aabb, P2};
+
+/// Columns per block of the quick-reject summary.
+const BLOCK: usize = 64;
+/// Most columns a stock may have (bounds memory on any machine file and tolerance).
+pub const MAX_COLUMNS: usize = 4_000_000;
+
+/// Material of one column: sorted, disjoint radial intervals `[lo, hi]`.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Column {
+    iv: Vec<(f64, f64)>,
+}
+
+#[derive(Clone, Debug)]
+pub struct DexelStock {
+    z0: f64,
+    h: f64,
+    cols: Vec<Column>,
+    /// Per block: largest `hi` and smallest `lo` of its columns' material.
+    blk_max: Vec<f64>,
+    blk_min: Vec<f64>,
+    /// Total radial length of material, for tests and monotonicity checks.
+    removed_columns: usize,
+    /// Scratch buffer of edge crossings.
+    scratch: Vec<(u32, f64)>,
+}
+
+/// One overlap of a part with the material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StockHit {
+    /// Penetration estimate: the smaller of the largest radial overlap in one column and the
+    /// axial extent of the overlapping columns.
+    pub depth: f64,
+}
+
+impl DexelStock {
+    /// A bar (`bore` = 0) or tube from `front - length` to `front`, columns of width about `h`.
+    pub fn new(diameter: f64, bore: f64, length: f64, front: f64, h: f64) -> DexelStock {
+        let n = ((length / h).ceil() as usize).clamp(1, MAX_COLUMNS);
+        let h = length / n as f64;
+        let iv = vec![(bore / 2.0, diameter / 2.0)];
+        let cols = vec![Column { iv }; n];
+        let nb = n.div_ceil(BLOCK);
+        let mut s = DexelStock {
+            z0: front - length,
+            h,
+            cols,
+            blk_max: vec![0.0; nb],
+            blk_min: vec![0.0; nb],
+            removed_columns: 0,
+            scratch: Vec::new(),
+        };
+        for b in 0..nb {
+            s.refresh_block(b);
+        }
+        s
+    }
+
+    pub fn column_width(&self) -> f64 {
+        self.h
+    }
+
+    pub fn columns(&self) -> usize {
+        self.cols.len()
+    }
+
+    fn center(&self, j: usize) -> f64 {
+        self.z0 + (j as f64 + 0.5) * self.h
+    }
+
+    /// Columns whose centre lies strictly inside `(zmin, zmax)`.
+    fn column_range(&self, zmin: f64, zmax: f64) -> Option<(usize, usize)> {
+        let n = self.cols.len();
+        let a = ((zmin - self.z0) / self.h - 0.5).floor() + 1.0;
+        let b = ((zmax - self.z0) / self.h - 0.5).ceil() - 1.0;
+        let a = a.max(0.0);
+        let b = b.min(n as f64 - 1.0);
+        if !(a <= b) {
+            return None;
+        }
+        let (mut a, mut b) = (a as usize, b as usize);
+        // Guard the strict inequalities against rounding in the formula above.
+        while a <= b && self.center(a) <= zmin {
+            a += 1;
+        }
+        while b >= a && self.center(b) >= zmax {
+            if b == 0 {
+                return None;
+            }
+            b -= 1;
+        }
+        (a <= b).then_some((a, b))
+    }
+
+    fn refresh_block(&mut self, b: usize) {
+        let (lo, hi) = (b * BLOCK, ((b + 1) * BLOCK).min(self.cols.len()));
+        let mut mx = f64::NEG_INFINITY;
+        let mut mn = f64::INFINITY;
+        for c in &self.cols[lo..hi] {
+            if let (Some(f), Some(l)) = (c.iv.first(), c.iv.last()) {
+                mn = mn.min(f.0);
+                mx = mx.max(l.1);
+            }
+        }
+        self.blk_max[b] = mx;
+        self.blk_min[b] = mn;
+    }
+
+    /// The polygon's crossings with the column centre planes, grouped by column:
+    /// fills `scratch` with (column, x) sorted by column then x. Returns the column range.
+    fn crossings(&mut self, pts: &[P2]) -> Option<(usize, usize)> {
+        let bb = Aabb::of_points(pts);
+        let (j0, j1) = self.column_range(bb.min.y, bb.max.y)?;
+        self.scratch.clear();
+        let n = pts.len();
+        for i in 0..n {
+            let (a, b) = (pts[i], pts[(i + 1) % n]);
+            if a.y == b.y {
+                continue;
+            }
+            let (lo, hi) = if a.y < b.y { (a, b) } else { (b, a) };
+            // Half-open rule: an edge covers centres c with lo.y <= c < hi.y.
+            let Some((k0, k1)) = self.column_range(lo.y - self.h, hi.y + self.h) else {
+                continue;
+            };
+            let (k0, k1) = (k0.max(j0), k1.min(j1));
+            for k in k0..=k1 {
+                let c = self.center(k);
+                if c >= lo.y && c < hi.y {
+                    let x = lo.x + (hi.x - lo.x) * ((c - lo.y) / (hi.y - lo.y));
+                    self.scratch.push((k as u32, x));
+                }
+            }
+        }
+        self.scratch
+            .sort_unstable_by(|p, q| p.0.cmp(&q.0).then(p.1.total_cmp(&q.1)));
+        Some((j0, j1))
+    }
+
+    /// Does a part (polygon in the working plane, `x` signed) overlap the material by more than
+    /// `eps`? Returns the penetration estimate.
+    pub fn overlap(&mut self, pts: &[P2], eps: f64) -> Option<StockHit> {
+        let bb = Aabb::of_points(pts);
+        let (rlo, rhi) = radial_range(bb.min.x, bb.max.x);
+        let (j0, j1) = self.column_range(bb.min.y, bb.max.y)?;
+        // Quick reject by blocks.
+        let any = (j0 / BLOCK..=j1 / BLOCK)
+            .any(|b| rlo < self.blk_max[b] - eps && rhi > self.blk_min[b] + eps);
+        if !any {
+            return None;
+        }
+        self.crossings(pts)?;
+        let mut best: f64 = 0.0;
+        let mut first: Option<usize> = None;
+        let mut last = 0usize;
+        let scratch = std::mem::take(&mut self.scratch);
+        let mut i = 0;
+        while i < scratch.len() {
+            let col = scratch[i].0 as usize;
+            let mut k = i;
+            while k < scratch.len() && scratch[k].0 as usize == col {
+                k += 1;
+            }
+            let b = col / BLOCK;
+            if rlo < self.blk_max[b] - eps && rhi > self.blk_min[b] + eps {
+                let mut o_col: f64 = 0.0;
+                for pair in scratch[i..k].chunks_exact(2) {
+                    let (r0, r1) = radial_range(pair[0].1, pair[1].1);
+                    for &(lo, hi) in &self.cols[col].iv {
+                        let o = r1.min(hi) - r0.max(lo);
+                        if o > o_col {
+                            o_col = o;
+                        }
+                    }
+                }
+                if o_col > eps {
+                    best = best.max(o_col);
+                    if first.is_none() {
+                        first = Some(col);
+                    }
+                    last = col;
+                }
+            }
+            i = k;
+        }
+        self.scratch = scratch;
+        let first = first?;
+        let axial = (self.center(last) - self.center(first) + self.h).min(bb.max.y - bb.min.y);
+        Some(StockHit {
+            depth: best.min(axial),
+        })
+    }
+
+    /// Remove the material inside a polygon (working plane, folded about the axis).
+    /// Returns whether anything was removed.
+    pub fn cut(&mut self, pts: &[P2]) -> bool {
+        let bb = Aabb::of_points(pts);
+        let (rlo, rhi) = radial_range(bb.min.x, bb.max.x);
+        let Some((j0, j1)) = self.column_range(bb.min.y, bb.max.y) else {
+            return false;
+        };
+        if !(j0 / BLOCK..=j1 / BLOCK).any(|b| rlo < self.blk_max[b] && rhi > self.blk_min[b]) {
+            return false;
+        }
+        if self.crossings(pts).is_none() {
+            return false;
+        }
+        let scratch = std::mem::take(&mut self.scratch);
+        let mut changed_any = false;
+        let mut dirty_block = usize::MAX;
+        let mut i = 0;
+        while i < scratch.len() {
+            let col = scratch[i].0 as usize;
+            let mut k = i;
+            while k < scratch.len() && scratch[k].0 as usize == col {
+                k += 1;
+            }
+            let mut changed = false;
+            for pair in scratch[i..k].chunks_exact(2) {
+                let (r0, r1) = radial_range(pair[0].1, pair[1].1);
+                changed |= subtract(&mut self.cols[col].iv, r0, r1);
+            }
+            if changed {
+                changed_any = true;
+                if self.cols[col].iv.is_empty() {
+                    self.removed_columns += 1;
+                }
+                let b = col / BLOCK;
+                if b != dirty_block {
+                    if dirty_block != usize::MAX {
+                        self.refresh_block(dirty_block);
+                    }
+                    dirty_block = b;
+                }
+            }
+            i = k;
+        }
+        if dirty_block != usize::MAX {
+            self.refresh_block(dirty_block);
+        }
+        self.scratch = scratch;
+        changed_any
+    }
+
+    /// Total revolved-section area of material, mm² (radial length × column width).
+    pub fn section_area(&self) -> f64 {
+        self.cols
+            .iter()
+            .map(|c| c.iv.iter().map(|(a, b)| b - a).sum::<f64>())
+            .sum::<f64>()
+            * self.h
+    }
+
+    /// Radial material intervals at the column nearest to `z` (for tests and drawings).
+    pub fn material_at(&self, z: f64) -> Vec<(f64, f64)> {
+        let j = ((z - self.z0) / self.h - 0.5).round();
+        if j < 0.0 || j >= self.cols.len() as f64 {
+            return Vec::new();
+        }
+        self.cols[j as usize].iv.clone()
+    }
+
+    /// The outline of the material in the `(x, z)` half plane as closed polylines of `[x, z]`
+    /// points (one per connected run of columns with the same number of intervals), merging
+    /// columns whose radii differ by less than `merge`.
+    pub fn outlines(&self, merge: f64) -> Vec<Vec<[f64; 2]>> {
+        let mut out = Vec::new();
+        let n = self.cols.len();
+        let mut j = 0;
+        while j < n {
+            if self.cols[j].iv.is_empty() {
+                j += 1;
+                continue;
+            }
+            // A run of columns with the same interval count; trace each interval layer.
+            let count = self.cols[j].iv.len();
+            let start = j;
+            while j < n && self.cols[j].iv.len() == count {
+                j += 1;
+            }
+            for layer in 0..count {
+                let mut top: Vec<[f64; 2]> = Vec::new();
+                let mut bottom: Vec<[f64; 2]> = Vec::new();
+                for k in start..j {
+                    let (lo, hi) = self.cols[k].iv[layer];
+                    let za = self.z0 + k as f64 * self.h;
+                    let zb = za + self.h;
+                    push_step(&mut top, za, zb, hi, merge);
+                    push_step(&mut bottom, za, zb, lo, merge);
+                }
+                bottom.reverse();
+                let mut poly = top;
+                poly.extend(bottom);
+                out.push(poly);
+            }
+        }
+        out
+    }
+}
+
+/// Append a column's flat top `[za, zb] × r` to a staircase, merging flats within `merge`.
+fn push_step(line: &mut Vec<[f64; 2]>, za: f64, zb: f64, r: f64, merge: f64) {
+    if let Some(last) = line.last_mut() {
+        if (last[0] - r).abs() <= merge {
+            last[1] = zb;
+            return;
+        }
+    }
+    line.push([r, za]);
+    line.push([r, zb]);
+}
+
+/// Radii covered by the segment `[x0, x1]` of a line through the axis plane, folded.
+fn radial_range(x0: f64, x1: f64) -> (f64, f64) {
+    let (a, b) = if x0 <= x1 { (x0, x1) } else { (x1, x0) };
+    if a <= 0.0 && b >= 0.0 {
+        (0.0, (-a).max(b))
+    } else if b < 0.0 {
+        (-b, -a)
+    } else {
+        (a, b)
+    }
+}
+
+/// Remove `[r0, r1]` from sorted disjoint intervals. Returns whether anything changed.
+fn subtract(iv: &mut Vec<(f64, f64)>, r0: f64, r1: f64) -> bool {
+    if !iv.iter().any(|&(lo, hi)| r0 < hi && r1 > lo) {
+        return false;
+    }
+    let mut out: Vec<(f64, f64)> = Vec::with_capacity(iv.len() + 1);
+    for &(lo, hi) in iv.iter() {
+        if r1 <= lo || r0 >= hi {
+            out.push((lo, hi));
+            continue;
+        }
+        if r0 > lo {
+            out.push((lo, r0));
+        }
+        if r1 < hi {
+            out.push((r1, hi));
+        }
+    }
+    *iv = out;
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::p2;
+
+    fn rect(x0: f64, z0: f64, x1: f64, z1: f64) -> Vec<P2> {
+        vec![p2(x0, z0), p2(x1, z0), p2(x1, z1), p2(x0, z1)]
+    }
+
+    #[test]
+    fn cut_then_reenter_same_pose_is_a_touch() {
+        let mut s = DexelStock::new(50.0, 0.0, 100.0, 0.0, 0.01);
+        let tool = rect(20.0, -30.0, 30.0, -10.0);
+        assert!(s.overlap(&tool, 1e-6).is_some());
+        assert!(s.cut(&tool));
+        assert!(s.overlap(&tool, 1e-6).is_none());
+    }
+
+    #[test]
+    fn removed_area_matches_a_rectangle() {
+        let mut s = DexelStock::new(50.0, 0.0, 100.0, 0.0, 0.01);
+        let before = s.section_area();
+        s.cut(&rect(20.0, -30.0, 30.0, -10.0));
+        let removed = before - s.section_area();
+        assert!((removed - 5.0 * 20.0).abs() < 5.0 * 0.02, "{removed}");
+    }
+
+    #[test]
+    fn a_tool_crossing_the_axis_cuts_both_sides() {
+        let mut s = DexelStock::new(50.0, 0.0, 100.0, 0.0, 0.1);
+        s.cut(&rect(-3.0, -1.0, 40.0, 0.5));
+        assert_eq!(s.material_at(-0.5), Vec::<(f64, f64)>::new());
+        assert_eq!(s.material_at(-2.0), vec![(0.0, 25.0)]);
+    }
+
+    #[test]
+    fn boring_leaves_two_radial_layers_only_where_a_groove_is_cut_inside() {
+        let mut s = DexelStock::new(50.0, 20.0, 100.0, 0.0, 0.1);
+        s.cut(&rect(15.0, -40.0, 20.0, -30.0)); // internal groove from r 15 to 20: one layer left
+        assert_eq!(s.material_at(-35.0), vec![(20.0, 25.0)]);
+        s.cut(&rect(21.0, -60.0, 22.0, -50.0)); // a slot in the wall: two layers
+        assert_eq!(s.material_at(-55.0).len(), 2);
+    }
+
+    #[test]
+    fn far_parts_do_not_touch() {
+        let mut s = DexelStock::new(50.0, 0.0, 100.0, 0.0, 0.01);
+        assert!(s.overlap(&rect(25.0, -50.0, 40.0, -40.0), 1e-6).is_none());
+        assert!(s.overlap(&rect(24.999, -50.0, 40.0, -40.0), 1e-6).is_some());
+    }
+}
