@@ -144,3 +144,31 @@ pub fn sort_findings(findings: &mut [Finding]) {
         (a.line, a.col, a.kind, &a.message).cmp(&(b.line, b.col, b.kind, &b.message))
     });
 }
+
+/// A short stable code per kind (for SARIF rule ids and the docs): never reuse one.
+pub fn code(kind: Kind) -> &'static str {
+    match kind {
+        Kind::Collision => "LG01",
+        Kind::RapidIntoStock => "LG02",
+        Kind::SpindleStopped => "LG03",
+        Kind::NearMiss => "LG04",
+        Kind::Overtravel => "LG05",
+        Kind::Syntax => "LG10",
+        Kind::Program => "LG11",
+        Kind::Unsupported => "LG12",
+    }
+}
+
+/// The documentation of a finding kind (Markdown): what it means, why it matters, an example.
+pub fn explain(kind: Kind) -> &'static str {
+    match kind {
+        Kind::Collision => include_str!("../docs/findings/collision.md"),
+        Kind::RapidIntoStock => include_str!("../docs/findings/rapid_into_stock.md"),
+        Kind::SpindleStopped => include_str!("../docs/findings/spindle_stopped.md"),
+        Kind::NearMiss => include_str!("../docs/findings/near_miss.md"),
+        Kind::Overtravel => include_str!("../docs/findings/overtravel.md"),
+        Kind::Syntax => include_str!("../docs/findings/syntax.md"),
+        Kind::Program => include_str!("../docs/findings/program.md"),
+        Kind::Unsupported => include_str!("../docs/findings/unsupported.md"),
+    }
+}

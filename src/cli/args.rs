@@ -27,8 +27,11 @@ pub enum Command {
 #[derive(Args, Debug)]
 pub struct CheckArgs {
     /// Programs, or folders walked for NC files.
-    #[arg(required = true)]
+    #[arg(required_unless_present = "explain")]
     pub paths: Vec<PathBuf>,
+    /// Print the documentation of a finding kind (collision, rapid_into_stock, …) and exit.
+    #[arg(long, value_name = "KIND")]
+    pub explain: Option<String>,
     /// Machine description (default: the built-in machine).
     #[arg(short, long, value_name = "FILE")]
     pub machine: Option<PathBuf>,

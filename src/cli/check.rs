@@ -2,13 +2,21 @@
 
 use super::args::{CheckArgs, FormatArg, ModeArg};
 use super::{emit, load_machine, walk, Trouble, EXIT_CLEAN, EXIT_FINDINGS};
-use latheguard::finding::Finding;
+use latheguard::finding::{Finding, Kind};
 use latheguard::pipeline::{self, Mode, Settings};
 use latheguard::report::{self, FileReport, Report, TextOptions};
 use std::io::IsTerminal;
 use std::time::Instant;
 
 pub fn run(a: CheckArgs) -> Result<u8, Trouble> {
+    if let Some(kind) = &a.explain {
+        let k = Kind::from_name(kind).ok_or_else(|| {
+            let all: Vec<_> = Kind::ALL.iter().map(|k| k.name()).collect();
+            format!("unknown finding kind `{kind}`; the kinds are: {}", all.join(", "))
+        })?;
+        emit(None, latheguard::finding::explain(k))?;
+        return Ok(EXIT_CLEAN);
+    }
     let machine = load_machine(a.machine.as_deref())?;
     let settings = Settings {
         mode: match a.mode {
