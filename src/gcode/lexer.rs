@@ -1,12 +1,572 @@
 //! The line reader: bytes → blocks. See the module docs of [`crate::gcode`].
+//!
+//! One [`Reader`] walks the physical lines given by the [`LineIndex`] and reads each line in a
+//! single left-to-right pass with a cursor that steps over spaces and tabs wherever it looks for
+//! the next byte (rs274ngc removes them before reading, so `X1 0.5` is `X10.5`). Items are read
+//! in place — no copy of the line, no per-line allocation — and pushed straight into the arenas of
+//! the [`Program`]. The first problem on a line becomes one `syntax` finding; the rest of the line
+//! is skipped. Values and expressions are read in `expr.rs`.
 
-use super::Program;
+use super::{Block, Comment, NameId, OName, OOp, OWord, Program, Word};
+use crate::finding::Finding;
+use crate::source::{LineIndex, Span};
+use std::collections::HashMap;
+
+/// How deep brackets, function calls and parameter indirections (`##1`) may nest in one value.
+/// Deeper nesting is a syntax error (the reader never recurses further).
+pub const MAX_NESTING: u32 = 64;
+
+const BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// Read a whole program. Never fails; problems become `syntax` findings in [`Program::errors`].
 pub fn parse(src: &[u8]) -> Program {
-    let lines = crate::source::LineIndex::new(src);
-    Program {
-        lines,
-        ..Program::default()
+    let lines = LineIndex::new(src);
+    let mut reader = Reader::new(src);
+    for i in 0..lines.line_count() {
+        let line = (i + 1) as u32;
+        let span = lines.line_span(src, line);
+        let mut start = span.start as usize;
+        let end = span.end as usize;
+        if i == 0 && src.starts_with(BOM) {
+            start = BOM.len().min(end);
+        }
+        reader.read_line(line, start, end);
+    }
+    let mut prog = reader.prog;
+    prog.lines = lines;
+    prog
+}
+
+/// A syntax error: where (byte offset in the source) and what.
+pub(super) struct Error {
+    pub at: usize,
+    pub msg: String,
+}
+
+pub(super) type Res<T> = Result<T, Error>;
+
+/// What has been read of the current line so far.
+#[derive(Default)]
+struct Partial {
+    n: Option<u64>,
+    block_delete: bool,
+    percent: bool,
+    oword: Option<OWord>,
+    message: Option<Span>,
+    /// A word, an assignment or an O-word was read.
+    started: bool,
+}
+
+pub(super) struct Reader<'a> {
+    pub src: &'a [u8],
+    pub prog: Program,
+    /// Reused buffer for names and long numbers.
+    pub scratch: Vec<u8>,
+    interned: HashMap<String, NameId>,
+    /// Cursor: byte offset in `src`.
+    pub pos: usize,
+    /// End of the current line (exclusive, without terminator).
+    pub end: usize,
+    line_start: usize,
+    line: u32,
+    /// Current nesting of brackets, functions and indirections.
+    pub depth: u32,
+}
+
+impl<'a> Reader<'a> {
+    fn new(src: &'a [u8]) -> Reader<'a> {
+        Reader {
+            src,
+            prog: Program::default(),
+            scratch: Vec::new(),
+            interned: HashMap::new(),
+            pos: 0,
+            end: 0,
+            line_start: 0,
+            line: 0,
+            depth: 0,
+        }
+    }
+
+    /// The next byte that is not a space or a tab, moving the cursor onto it; `None` at the end of
+    /// the line.
+    #[inline]
+    pub fn peek(&mut self) -> Option<u8> {
+        while self.pos < self.end {
+            let b = self.src[self.pos];
+            if b != b' ' && b != b'\t' {
+                return Some(b);
+            }
+            self.pos += 1;
+        }
+        None
+    }
+
+    /// If the next non-blank bytes spell `kw` (lower case, blanks allowed between its letters),
+    /// the offset just after it.
+    pub fn match_kw(&self, kw: &[u8]) -> Option<usize> {
+        let mut i = self.pos;
+        for &k in kw {
+            loop {
+                let b = *self.src[..self.end].get(i)?;
+                if b == b' ' || b == b'\t' {
+                    i += 1;
+                    continue;
+                }
+                if b.to_ascii_lowercase() != k {
+                    return None;
+                }
+                i += 1;
+                break;
+            }
+        }
+        Some(i)
+    }
+
+    /// `end` moved back over blanks, not before `start`.
+    pub fn trim_end(&self, start: usize, mut end: usize) -> usize {
+        while end > start && matches!(self.src[end - 1], b' ' | b'\t') {
+            end -= 1;
+        }
+        end
+    }
+
+    /// An error at `at`: "expected {what}, found …", with the special messages for bytes outside
+    /// ASCII and for a stray `)`.
+    pub fn expected(&self, at: usize, what: &str) -> Error {
+        Error {
+            at,
+            msg: self.expected_msg(at, what),
+        }
+    }
+
+    pub fn expected_msg(&self, at: usize, what: &str) -> String {
+        match self.src[..self.end].get(at) {
+            None => format!("expected {what}, found end of line"),
+            Some(&b) if b >= 0x80 => non_ascii_msg(b),
+            Some(&b')') => format!("expected {what}, found ')'{}", self.nesting_hint(at)),
+            Some(&b) => format!("expected {what}, found {}", show(b)),
+        }
+    }
+
+    /// When a stray `)` follows a comment that held a `(`: the likely cause.
+    fn nesting_hint(&self, at: usize) -> &'static str {
+        if self.src[self.line_start..at].contains(&b'(') {
+            " (comments do not nest: the first ')' closes a comment)"
+        } else {
+            ""
+        }
+    }
+
+    /// Intern the name in `scratch`.
+    pub fn intern_scratch(&mut self) -> NameId {
+        // The scratch holds ASCII only (callers reject other bytes).
+        let name = std::str::from_utf8(&self.scratch).unwrap_or("");
+        if let Some(&id) = self.interned.get(name) {
+            return id;
+        }
+        let id = self.prog.names.len() as NameId;
+        self.prog.names.push(name.to_owned());
+        self.interned.insert(name.to_owned(), id);
+        id
+    }
+
+    /// 1-based column in characters of a byte offset on the current line.
+    fn col(&self, at: usize) -> u32 {
+        let at = at.clamp(self.line_start, self.end);
+        let text = &self.src[self.line_start..at];
+        let chars = text.iter().filter(|&&b| (b & 0xC0) != 0x80).count();
+        chars as u32 + 1
+    }
+
+    fn read_line(&mut self, line: u32, start: usize, end: usize) {
+        self.pos = start;
+        self.end = end;
+        self.line_start = start;
+        self.line = line;
+        self.depth = 0;
+        let words0 = self.prog.words.len() as u32;
+        let assigns0 = self.prog.assigns.len() as u32;
+        let mut part = Partial::default();
+        let result = self.read_items(&mut part);
+        let bad = result.is_err();
+        if let Err(e) = result {
+            let col = self.col(e.at);
+            self.prog
+                .errors
+                .push(Finding::syntax(line, col, e.msg).with_n(part.n));
+        }
+        let words = words0..self.prog.words.len() as u32;
+        let assigns = assigns0..self.prog.assigns.len() as u32;
+        let something = part.started
+            || part.percent
+            || part.block_delete
+            || part.n.is_some()
+            || part.message.is_some();
+        if !(bad || something) {
+            return;
+        }
+        self.prog.blocks.push(Block {
+            line,
+            span: Span::new(start, end),
+            n: part.n,
+            block_delete: part.block_delete,
+            words,
+            assigns,
+            oword: part.oword,
+            percent: part.percent,
+            message: part.message,
+            bad,
+        });
+    }
+
+    fn read_items(&mut self, part: &mut Partial) -> Res<()> {
+        if self.peek() == Some(b'%') {
+            part.percent = true;
+            self.pos += 1;
+        }
+        while let Some(c) = self.peek() {
+            let at = self.pos;
+            if part.oword.is_some() && c != b'(' && c != b';' {
+                return Err(self.expected(at, "nothing but comments after an O-word statement"));
+            }
+            match c {
+                b'(' => self.comment(part)?,
+                b';' => return Ok(()),
+                b'/' => {
+                    if part.started || part.n.is_some() || part.block_delete {
+                        return Err(Error {
+                            at,
+                            msg: "'/' (block delete) must be the first character of the block"
+                                .into(),
+                        });
+                    }
+                    part.block_delete = true;
+                    self.pos += 1;
+                }
+                b'n' | b'N' => {
+                    if part.started || part.n.is_some() {
+                        return Err(Error {
+                            at,
+                            msg: "an N word (line number) must be at the start of the block".into(),
+                        });
+                    }
+                    self.pos += 1;
+                    part.n = Some(self.line_number(at)?);
+                }
+                b'o' | b'O' | b':' => {
+                    if part.started {
+                        return Err(Error {
+                            at,
+                            msg: "an O-word must be the first word of the block".into(),
+                        });
+                    }
+                    part.started = true;
+                    part.oword = Some(self.oword(at)?);
+                }
+                b'#' => {
+                    part.started = true;
+                    self.pos += 1;
+                    let target = self.param()?;
+                    if self.peek() != Some(b'=') {
+                        let what = "'=' after the parameter (outside a value a parameter can only be set, as in #1=2)";
+                        return Err(self.expected(self.pos, what));
+                    }
+                    self.pos += 1;
+                    let value = self.value_expr()?;
+                    let span = Span::new(at, self.trim_end(at, self.pos));
+                    self.prog.assigns.push(super::Assign {
+                        target,
+                        value,
+                        span,
+                    });
+                }
+                b'%' => {
+                    return Err(Error {
+                        at,
+                        msg: "'%' must be the first character of its line".into(),
+                    })
+                }
+                _ if c.is_ascii_alphabetic() => {
+                    part.started = true;
+                    let letter = c.to_ascii_uppercase();
+                    self.pos += 1;
+                    let (value, has_point) = self.value(letter)?;
+                    let span = Span::new(at, self.trim_end(at, self.pos));
+                    self.prog.words.push(Word {
+                        letter,
+                        value,
+                        has_point,
+                        span,
+                    });
+                }
+                b')' => {
+                    return Err(Error {
+                        at,
+                        msg: format!("')' outside a comment{}", self.nesting_hint(at)),
+                    })
+                }
+                _ => return Err(self.expected(at, "a word (a letter and a value)")),
+            }
+        }
+        Ok(())
+    }
+
+    /// `( … )` at the cursor; the first `)` closes it.
+    fn comment(&mut self, part: &mut Partial) -> Res<()> {
+        let open = self.pos;
+        let body = open + 1;
+        let Some(k) = self.src[body..self.end].iter().position(|&b| b == b')') else {
+            return Err(Error {
+                at: open,
+                msg: "unclosed comment: '(' has no ')' on its line".into(),
+            });
+        };
+        let close = body + k;
+        self.prog.comments.push(Comment {
+            line: self.line,
+            text: Span::new(body, close),
+        });
+        if part.message.is_none() {
+            part.message = message_text(self.src, body, close);
+        }
+        self.pos = close + 1;
+        Ok(())
+    }
+
+    /// Digits of an N word, the `N` already consumed at `at`.
+    fn line_number(&mut self, at: usize) -> Res<u64> {
+        match self.peek() {
+            Some(b) if b.is_ascii_digit() => {}
+            _ => return Err(self.expected(self.pos, "a line number after N")),
+        }
+        let n = self.uint(at, u64::MAX, "line number")?;
+        if self.peek() == Some(b'.') {
+            return Err(Error {
+                at: self.pos,
+                msg: "a line number must be a whole number".into(),
+            });
+        }
+        Ok(n)
+    }
+
+    /// Unsigned decimal digits (blanks allowed between them) at the cursor, at most `max`.
+    fn uint(&mut self, at: usize, max: u64, what: &str) -> Res<u64> {
+        let mut n: u64 = 0;
+        let mut overflow = false;
+        let mut last = self.pos;
+        while let Some(b) = self.peek() {
+            if !b.is_ascii_digit() {
+                break;
+            }
+            match n
+                .checked_mul(10)
+                .and_then(|v| v.checked_add((b - b'0') as u64))
+            {
+                Some(v) if v <= max => n = v,
+                _ => overflow = true,
+            }
+            self.pos += 1;
+            last = self.pos;
+        }
+        self.pos = last;
+        if overflow {
+            return Err(Error {
+                at,
+                msg: format!("{what} is too large (at most {max})"),
+            });
+        }
+        Ok(n)
+    }
+
+    /// An O-word statement, or a Fanuc program number (`O1234`, `:1234`), at `at`.
+    fn oword(&mut self, at: usize) -> Res<OWord> {
+        let colon = self.src[at] == b':';
+        self.pos += 1;
+        let name = match self.peek() {
+            Some(b) if b.is_ascii_digit() => {
+                let n = self.uint(at, u32::MAX as u64, "an O number")?;
+                if self.peek() == Some(b'.') {
+                    return Err(Error {
+                        at: self.pos,
+                        msg: "an O number must be a whole number".into(),
+                    });
+                }
+                OName::Number(n as u32)
+            }
+            Some(b'<') if !colon => OName::Named(self.name()?),
+            _ => {
+                let what = if colon {
+                    "a program number after ':'"
+                } else {
+                    "a number or <name> after O"
+                };
+                return Err(self.expected(self.pos, what));
+            }
+        };
+        let name_end = self.pos;
+        let after_name = self.peek();
+        let keyword = matches!(after_name, Some(b) if b.is_ascii_alphabetic());
+        if colon || !keyword {
+            if let OName::Named(_) = name {
+                return Err(self.expected(self.pos, "sub, endsub, call, return, do, while, endwhile, if, elseif, else, endif, break, continue, repeat or endrepeat after the O-word name"));
+            }
+            return Ok(OWord {
+                name,
+                op: OOp::ProgramNumber,
+                span: Span::new(at, name_end),
+            });
+        }
+        let kw_at = self.pos;
+        let mut kw = [0u8; 10];
+        let mut len = 0;
+        let mut last = self.pos;
+        while let Some(b) = self.peek() {
+            if !b.is_ascii_alphabetic() {
+                break;
+            }
+            if len < kw.len() {
+                kw[len] = b.to_ascii_lowercase();
+            }
+            len += 1;
+            self.pos += 1;
+            last = self.pos;
+        }
+        self.pos = last;
+        let op = match &kw[..len.min(kw.len())] {
+            _ if len > kw.len() => None,
+            b"sub" => Some(OOp::Sub),
+            b"endsub" => Some(OOp::EndSub(self.optional_bracketed()?)),
+            b"call" => {
+                let mut args = Vec::new();
+                while self.peek() == Some(b'[') {
+                    args.push(self.bracketed()?);
+                }
+                Some(OOp::Call(args))
+            }
+            b"return" => Some(OOp::Return(self.optional_bracketed()?)),
+            b"do" => Some(OOp::Do),
+            b"while" => Some(OOp::While(self.condition("WHILE")?)),
+            b"endwhile" => Some(OOp::EndWhile),
+            b"if" => Some(OOp::If(self.condition("IF")?)),
+            b"elseif" => Some(OOp::ElseIf(self.condition("ELSEIF")?)),
+            b"else" => Some(OOp::Else),
+            b"endif" => Some(OOp::EndIf),
+            b"break" => Some(OOp::Break),
+            b"continue" => Some(OOp::Continue),
+            b"repeat" => Some(OOp::Repeat(self.condition("REPEAT")?)),
+            b"endrepeat" => Some(OOp::EndRepeat),
+            _ => None,
+        };
+        let Some(op) = op else {
+            // One letter: most likely a word after a Fanuc program number.
+            if let (OName::Number(n), 1) = (name, len) {
+                let found = show(self.src[kw_at].to_ascii_uppercase());
+                return Err(Error {
+                    at: kw_at,
+                    msg: format!("expected an O-word keyword (sub, call, if, …) or nothing after O{n} (a program number stands alone on its line), found {found}"),
+                });
+            }
+            let word = String::from_utf8_lossy(&kw[..len.min(kw.len())]);
+            let dots = if len > kw.len() { "…" } else { "" };
+            return Err(Error {
+                at: kw_at,
+                msg: format!("unknown O-word keyword '{word}{dots}' (expected sub, endsub, call, return, do, while, endwhile, if, elseif, else, endif, break, continue, repeat or endrepeat)"),
+            });
+        };
+        Ok(OWord {
+            name,
+            op,
+            span: Span::new(at, self.trim_end(at, self.pos)),
+        })
+    }
+
+    /// The bracketed expression a WHILE, IF, ELSEIF or REPEAT needs.
+    fn condition(&mut self, what: &str) -> Res<super::ExprId> {
+        if self.peek() != Some(b'[') {
+            return Err(self.expected(self.pos, &format!("'[' after {what}")));
+        }
+        self.bracketed()
+    }
+
+    fn optional_bracketed(&mut self) -> Res<Option<super::ExprId>> {
+        if self.peek() == Some(b'[') {
+            return self.bracketed().map(Some);
+        }
+        Ok(None)
+    }
+
+    /// `<name>` at the cursor (on the `<`): lower case, blanks removed, interned.
+    pub fn name(&mut self) -> Res<NameId> {
+        let open = self.pos;
+        self.scratch.clear();
+        let mut i = open + 1;
+        loop {
+            let Some(&b) = self.src[..self.end].get(i) else {
+                return Err(Error {
+                    at: open,
+                    msg: "unclosed name: '<' has no '>'".into(),
+                });
+            };
+            match b {
+                b'>' => break,
+                b' ' | b'\t' => {}
+                0x80.. => {
+                    return Err(Error {
+                        at: i,
+                        msg: non_ascii_msg(b),
+                    })
+                }
+                _ => self.scratch.push(b.to_ascii_lowercase()),
+            }
+            i += 1;
+        }
+        if self.scratch.is_empty() {
+            return Err(Error {
+                at: open,
+                msg: "empty name '<>'".into(),
+            });
+        }
+        self.pos = i + 1;
+        Ok(self.intern_scratch())
+    }
+}
+
+/// `MSG,`, `PRINT,` or `DEBUG,` (any case, blanks allowed) opening the comment text
+/// `src[body..close]`: the span of the text after the comma.
+fn message_text(src: &[u8], body: usize, close: usize) -> Option<Span> {
+    let text = &src[body..close];
+    let mut i = 0;
+    while i < text.len() && (text[i] == b' ' || text[i] == b'\t') {
+        i += 1;
+    }
+    for kw in [&b"msg"[..], b"print", b"debug"] {
+        let Some(word) = text.get(i..i + kw.len()) else {
+            continue;
+        };
+        if !word.eq_ignore_ascii_case(kw) {
+            continue;
+        }
+        let mut j = i + kw.len();
+        while j < text.len() && (text[j] == b' ' || text[j] == b'\t') {
+            j += 1;
+        }
+        if text.get(j) == Some(&b',') {
+            return Some(Span::new(body + j + 1, close));
+        }
+    }
+    None
+}
+
+pub(super) fn non_ascii_msg(b: u8) -> String {
+    format!("byte 0x{b:02X} outside a comment (only comments may hold text that is not ASCII)")
+}
+
+/// A byte as a message shows it.
+pub(super) fn show(b: u8) -> String {
+    if b.is_ascii_graphic() {
+        format!("'{}'", b as char)
+    } else {
+        format!("control byte 0x{b:02X}")
     }
 }

@@ -7,13 +7,16 @@
 //! Storage is flat for speed: words, expressions and assignments live in arenas in [`Program`]
 //! and blocks hold index ranges into them.
 
+mod expr;
 mod lexer;
+#[cfg(test)]
+mod tests;
 
 use crate::finding::Finding;
 use crate::source::{LineIndex, Span};
 use std::ops::Range;
 
-pub use lexer::parse;
+pub use lexer::{parse, MAX_NESTING};
 
 /// Index of an expression in [`Program::exprs`].
 pub type ExprId = u32;
@@ -31,6 +34,10 @@ pub struct Program {
     pub names: Vec<String>,
     /// `syntax` findings, in source order.
     pub errors: Vec<Finding>,
+    /// Every `( … )` comment, in source order (also those on lines that produce no block), for
+    /// reporters that echo comments (rs274ngc's `COMMENT(…)` canonical call). `;` comments are not
+    /// kept.
+    pub comments: Vec<Comment>,
     pub lines: LineIndex,
 }
 
@@ -52,8 +59,9 @@ impl Program {
     }
 }
 
-/// One physical line that holds something to execute (words, assignments, an O-word, `%`).
-/// Lines that hold only comments or white space produce no block.
+/// One physical line that holds something to execute (words, assignments, an O-word, `%`, `/`,
+/// an N number, a `(MSG,…)`-style message) or that has a syntax error. Lines that hold only
+/// comments or white space produce no block.
 #[derive(Clone, Debug)]
 pub struct Block {
     /// Physical 1-based line.
@@ -68,12 +76,21 @@ pub struct Block {
     /// Parameter assignments (`#1=…`), executed after the block's words are read.
     pub assigns: Range<u32>,
     pub oword: Option<OWord>,
-    /// A line that is just `%` (program start/end marker).
+    /// The line starts with `%` (program start/end marker); what follows it is read as usual.
     pub percent: bool,
     /// `(MSG,…)`, `(PRINT,…)`, `(DEBUG,…)`: the text after the comma.
     pub message: Option<Span>,
     /// The line had a syntax error; what could be read is kept, but the block is not executed.
     pub bad: bool,
+}
+
+/// A `( … )` comment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Comment {
+    /// Physical 1-based line.
+    pub line: u32,
+    /// The text between the parentheses.
+    pub text: Span,
 }
 
 /// One word: a letter and its value.
@@ -82,7 +99,8 @@ pub struct Word {
     /// Upper-case ASCII letter.
     pub letter: u8,
     pub value: Value,
-    /// The number was written with a decimal point (Fanuc `decimal_point` rule).
+    /// The number was written with a decimal point (Fanuc `decimal_point` rule). Always false
+    /// for [`Value::Expr`].
     pub has_point: bool,
     /// From the letter to the end of the value.
     pub span: Span,

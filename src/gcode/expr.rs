@@ -1,0 +1,386 @@
+//! Values: numbers, parameters, bracketed expressions and functions.
+//!
+//! value   := [ '+' | '-' ] ( number | '#' param | '[' expr ']' | function )
+//! number  := digits with at most one '.', at least one digit (no exponent: `E` is a word)
+//! param   := digits | '#' param | '[' expr ']' | '<' name '>'
+//! expr    := value { binop value }      binary operators are left-associative, lowest first:
+//!            AND OR XOR · EQ NE GT GE LT LE · + - · * / MOD · **
+//! function:= ABS ACOS ASIN COS EXP FIX FUP ROUND LN SIN SQRT TAN '[' expr ']'
+//!          | ATAN '[' expr ']' '/' '[' expr ']' | EXISTS '[' '#' '<' name '>' ']'
+//!
+//! Recursion only follows brackets, functions and `#` indirections, and stops with a syntax error
+//! past [`MAX_NESTING`](super::MAX_NESTING) levels; within one bracket level the precedence
+//! climbing recurses at most once per precedence level.
+
+use super::lexer::{Error, Reader, Res};
+use super::{BinOp, Expr, ExprId, Func, Param, Value, MAX_NESTING};
+
+/// Exact powers of ten for the fast number path.
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// Mantissas up to this are exact in an f64.
+const EXACT_MANTISSA: u64 = 1 << 53;
+
+const FUNCS: [(&[u8], Func); 12] = [
+    (b"abs", Func::Abs),
+    (b"acos", Func::Acos),
+    (b"asin", Func::Asin),
+    (b"cos", Func::Cos),
+    (b"exp", Func::Exp),
+    (b"fix", Func::Fix),
+    (b"fup", Func::Fup),
+    (b"round", Func::Round),
+    (b"ln", Func::Ln),
+    (b"sin", Func::Sin),
+    (b"sqrt", Func::Sqrt),
+    (b"tan", Func::Tan),
+];
+
+/// Where a value is read, for messages.
+#[derive(Clone, Copy)]
+enum Ctx {
+    /// After a word letter.
+    Word(u8),
+    /// After `=` of an assignment.
+    Assign,
+    /// An operand inside an expression.
+    Operand,
+}
+
+impl Ctx {
+    fn what(self) -> String {
+        match self {
+            Ctx::Word(letter) => format!("a value after {}", letter as char),
+            Ctx::Assign => "a value after '='".into(),
+            Ctx::Operand => "a number, a parameter, '[' or a function".into(),
+        }
+    }
+}
+
+/// A value as read: a plain number (with its `has_point`) or an expression.
+enum Val {
+    Num(f64, bool),
+    Expr(ExprId),
+}
+
+impl Reader<'_> {
+    fn push(&mut self, e: Expr) -> ExprId {
+        let id = self.prog.exprs.len() as ExprId;
+        self.prog.exprs.push(e);
+        id
+    }
+
+    fn expr_of(&mut self, v: Val) -> ExprId {
+        match v {
+            Val::Num(x, _) => self.push(Expr::Num(x)),
+            Val::Expr(id) => id,
+        }
+    }
+
+    /// The value of a word whose letter was just read.
+    pub(super) fn value(&mut self, letter: u8) -> Res<(Value, bool)> {
+        Ok(match self.signed(Ctx::Word(letter))? {
+            Val::Num(x, point) => (Value::Num(x), point),
+            Val::Expr(id) => (Value::Expr(id), false),
+        })
+    }
+
+    /// The value of an assignment (after `=`), as an expression.
+    pub(super) fn value_expr(&mut self) -> Res<ExprId> {
+        let v = self.signed(Ctx::Assign)?;
+        Ok(self.expr_of(v))
+    }
+
+    /// An optional sign, then a number, a parameter, a bracketed expression or a function.
+    fn signed(&mut self, ctx: Ctx) -> Res<Val> {
+        let sign = match self.peek() {
+            Some(s @ (b'+' | b'-')) => {
+                self.pos += 1;
+                Some(s)
+            }
+            _ => None,
+        };
+        let v = match sign {
+            None => self.primary(ctx)?,
+            Some(s) => {
+                match self.peek() {
+                    Some(b) if b.is_ascii_alphanumeric() || matches!(b, b'.' | b'#' | b'[') => {}
+                    _ => {
+                        let what = format!(
+                            "a number, a parameter, '[' or a function after '{}'",
+                            s as char
+                        );
+                        return Err(self.expected(self.pos, &what));
+                    }
+                }
+                self.primary(Ctx::Operand)?
+            }
+        };
+        Ok(match (sign, v) {
+            (Some(b'-'), Val::Num(x, p)) => Val::Num(-x, p),
+            (Some(b'-'), Val::Expr(id)) => Val::Expr(self.push(Expr::Neg(id))),
+            (_, v) => v,
+        })
+    }
+
+    fn primary(&mut self, ctx: Ctx) -> Res<Val> {
+        let at = self.pos;
+        match self.peek() {
+            Some(b) if b.is_ascii_digit() || b == b'.' => {
+                let (x, point) = self.number()?;
+                Ok(Val::Num(x, point))
+            }
+            Some(b'#') => {
+                self.pos += 1;
+                let p = self.param()?;
+                Ok(Val::Expr(self.push(Expr::Param(p))))
+            }
+            Some(b'[') => Ok(Val::Expr(self.bracketed()?)),
+            Some(b) if b.is_ascii_alphabetic() => self.function(ctx).map(Val::Expr),
+            _ => Err(self.expected(at, &ctx.what())),
+        }
+    }
+
+    /// A number at the cursor (a digit or '.'), without sign.
+    fn number(&mut self) -> Res<(f64, bool)> {
+        let start = self.pos;
+        let mut mant: u64 = 0;
+        let mut exact = true;
+        let mut digits = 0usize;
+        let mut frac = 0usize;
+        let mut point = false;
+        let mut last = start;
+        while let Some(b) = self.peek() {
+            if b.is_ascii_digit() {
+                digits += 1;
+                frac += point as usize;
+                if mant < EXACT_MANTISSA / 10 {
+                    mant = mant * 10 + (b - b'0') as u64;
+                } else {
+                    exact = false;
+                }
+            } else if b == b'.' {
+                if point {
+                    return Err(Error {
+                        at: self.pos,
+                        msg: "number has two decimal points".into(),
+                    });
+                }
+                point = true;
+            } else {
+                break;
+            }
+            self.pos += 1;
+            last = self.pos;
+        }
+        self.pos = last;
+        if digits == 0 {
+            return Err(Error {
+                at: start,
+                msg: "number has no digits (a '.' alone is not a number)".into(),
+            });
+        }
+        let x = if exact && frac < POW10.len() {
+            mant as f64 / POW10[frac]
+        } else {
+            self.scratch.clear();
+            let text = &self.src[start..last];
+            self.scratch
+                .extend(text.iter().filter(|&&b| b != b' ' && b != b'\t'));
+            std::str::from_utf8(&self.scratch)
+                .ok()
+                .and_then(|s| s.parse::<f64>().ok())
+                .unwrap_or(f64::INFINITY)
+        };
+        if !x.is_finite() {
+            return Err(Error {
+                at: start,
+                msg: "number is too large (not a finite value)".into(),
+            });
+        }
+        Ok((x, point))
+    }
+
+    /// A parameter reference, the `#` already consumed.
+    pub(super) fn param(&mut self) -> Res<Param> {
+        let at = self.pos;
+        match self.peek() {
+            Some(b) if b.is_ascii_digit() || b == b'.' => {
+                let (x, _) = self.number()?;
+                if x.fract() != 0.0 || x > u32::MAX as f64 {
+                    return Err(Error {
+                        at,
+                        msg: "a parameter number must be a whole number (at most 4294967295)"
+                            .into(),
+                    });
+                }
+                Ok(Param::Numbered(x as u32))
+            }
+            Some(b'#') => {
+                self.nest(at)?;
+                self.pos += 1;
+                let inner = self.param()?;
+                self.depth -= 1;
+                Ok(Param::Indirect(self.push(Expr::Param(inner))))
+            }
+            Some(b'[') => Ok(Param::Indirect(self.bracketed()?)),
+            Some(b'<') => Ok(Param::Named(self.name()?)),
+            _ => Err(self.expected(at, "a parameter number, '#', '[' or '<name>' after '#'")),
+        }
+    }
+
+    fn nest(&mut self, at: usize) -> Res<()> {
+        self.depth += 1;
+        if self.depth > MAX_NESTING {
+            return Err(Error {
+                at,
+                msg: format!("value nested deeper than {MAX_NESTING} levels"),
+            });
+        }
+        Ok(())
+    }
+
+    /// `[ expr ]` at the cursor (on the `[`).
+    pub(super) fn bracketed(&mut self) -> Res<ExprId> {
+        let open = self.pos;
+        self.nest(open)?;
+        self.pos += 1;
+        let e = self.expr(1)?;
+        match self.peek() {
+            Some(b']') => self.pos += 1,
+            None => {
+                return Err(Error {
+                    at: open,
+                    msg: "unclosed '[': no ']' on its line".into(),
+                });
+            }
+            Some(_) => return Err(self.expected(self.pos, "an operator or ']'")),
+        }
+        self.depth -= 1;
+        Ok(e)
+    }
+
+    /// Binary operators of precedence `min_prec` and up, left-associative.
+    fn expr(&mut self, min_prec: u8) -> Res<ExprId> {
+        let v = self.signed(Ctx::Operand)?;
+        let mut lhs = self.expr_of(v);
+        while let Some((op, prec, end)) = self.binop() {
+            if prec < min_prec {
+                break;
+            }
+            self.pos = end;
+            let rhs = self.expr(prec + 1)?;
+            lhs = self.push(Expr::Binary(op, lhs, rhs));
+        }
+        Ok(lhs)
+    }
+
+    /// The binary operator at the cursor: operator, precedence (1 lowest), offset after it.
+    fn binop(&mut self) -> Option<(BinOp, u8, usize)> {
+        let c = self.peek()?;
+        let one = self.pos + 1;
+        let op = match c.to_ascii_lowercase() {
+            b'*' => {
+                return Some(match self.match_kw(b"**") {
+                    Some(end) => (BinOp::Pow, 5, end),
+                    None => (BinOp::Mul, 4, one),
+                })
+            }
+            b'/' => (BinOp::Div, 4, one),
+            b'+' => (BinOp::Add, 3, one),
+            b'-' => (BinOp::Sub, 3, one),
+            b'a' => self.kw_op(b"and", BinOp::And, 1)?,
+            b'o' => self.kw_op(b"or", BinOp::Or, 1)?,
+            b'x' => self.kw_op(b"xor", BinOp::Xor, 1)?,
+            b'e' => self.kw_op(b"eq", BinOp::Eq, 2)?,
+            b'n' => self.kw_op(b"ne", BinOp::Ne, 2)?,
+            b'g' => self
+                .kw_op(b"gt", BinOp::Gt, 2)
+                .or_else(|| self.kw_op(b"ge", BinOp::Ge, 2))?,
+            b'l' => self
+                .kw_op(b"lt", BinOp::Lt, 2)
+                .or_else(|| self.kw_op(b"le", BinOp::Le, 2))?,
+            b'm' => self.kw_op(b"mod", BinOp::Mod, 4)?,
+            _ => return None,
+        };
+        Some(op)
+    }
+
+    fn kw_op(&self, kw: &[u8], op: BinOp, prec: u8) -> Option<(BinOp, u8, usize)> {
+        self.match_kw(kw).map(|end| (op, prec, end))
+    }
+
+    /// A function call at the cursor (on a letter).
+    fn function(&mut self, ctx: Ctx) -> Res<ExprId> {
+        let at = self.pos;
+        if let Some(end) = self.match_kw(b"atan") {
+            self.pos = end;
+            let y = self.func_arg("ATAN")?;
+            if self.peek() != Some(b'/') {
+                return Err(self.expected(self.pos, "'/' after ATAN[y] (the form is ATAN[y]/[x])"));
+            }
+            self.pos += 1;
+            let x = self.func_arg("ATAN[y]/")?;
+            return Ok(self.push(Expr::Atan(y, x)));
+        }
+        if let Some(end) = self.match_kw(b"exists") {
+            self.pos = end;
+            let form = "the form is EXISTS[#<name>]";
+            if self.peek() != Some(b'[') {
+                return Err(self.expected(self.pos, &format!("'[' after EXISTS ({form})")));
+            }
+            self.pos += 1;
+            if self.peek() != Some(b'#') {
+                return Err(self.expected(self.pos, &format!("'#' ({form})")));
+            }
+            self.pos += 1;
+            if self.peek() != Some(b'<') {
+                return Err(self.expected(self.pos, &format!("'<' ({form})")));
+            }
+            let name = self.name()?;
+            if self.peek() != Some(b']') {
+                return Err(self.expected(self.pos, &format!("']' ({form})")));
+            }
+            self.pos += 1;
+            return Ok(self.push(Expr::Exists(name)));
+        }
+        for (kw, f) in FUNCS {
+            if let Some(end) = self.match_kw(kw) {
+                self.pos = end;
+                let name = std::str::from_utf8(kw).unwrap_or("").to_ascii_uppercase();
+                let arg = self.func_arg(&name)?;
+                return Ok(self.push(Expr::Func(f, arg)));
+            }
+        }
+        match ctx {
+            Ctx::Word(_) => Err(self.expected(at, &ctx.what())),
+            _ => {
+                let mut i = at;
+                let mut name = String::new();
+                while let Some(&b) = self.src[..self.end].get(i) {
+                    if b.is_ascii_alphabetic() && name.len() < 16 {
+                        name.push(b.to_ascii_uppercase() as char);
+                    } else if b != b' ' && b != b'\t' {
+                        break;
+                    }
+                    i += 1;
+                }
+                Err(Error {
+                    at,
+                    msg: format!("unknown function '{name}' (expected ABS, ACOS, ASIN, ATAN, COS, EXISTS, EXP, FIX, FUP, LN, ROUND, SIN, SQRT or TAN)"),
+                })
+            }
+        }
+    }
+
+    /// The bracketed argument of a function.
+    fn func_arg(&mut self, name: &str) -> Res<ExprId> {
+        if self.peek() != Some(b'[') {
+            return Err(self.expected(self.pos, &format!("'[' after {name}")));
+        }
+        self.bracketed()
+    }
+}
