@@ -1,0 +1,105 @@
+//! Data-driven tests: every `*.nc` / `*.ngc` under `tests/cases/` and `programs/` is checked, and
+//! its findings must equal the `.expected` file beside it.
+//!
+//! Expected-file format: one finding a line, `LINE[:COL] KIND[ OBJECT, OBJECT]`, sorted as
+//! latheguard reports them; `# …` lines are comments. A case's first line may set options in a
+//! comment: `(latheguard: machine=linuxcnc-small-lathe mode=exact dt=0.5 tolerance=0.01 clearance=0.2)`.
+//! Run with `UPDATE_EXPECT=1` to rewrite the expected files from the current output (then review
+//! the diff: a test that is updated blindly proves nothing).
+
+use latheguard::machine::{self, Machine};
+use latheguard::pipeline::{self, Mode, Settings};
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn cases(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(rd) = std::fs::read_dir(dir) else { return };
+    for e in rd.flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            cases(&p, out);
+        } else if matches!(p.extension().and_then(|e| e.to_str()), Some("nc" | "ngc")) {
+            out.push(p);
+        }
+    }
+}
+
+fn options(src: &[u8]) -> (Machine, Settings) {
+    let first = src.split(|&b| b == b'\n').next().unwrap_or(&[]);
+    let first = String::from_utf8_lossy(first);
+    let mut machine = Machine::builtin();
+    let mut s = Settings::default();
+    if let Some(rest) = first.split("latheguard:").nth(1) {
+        for kv in rest.trim_end_matches([')', '\r', ' ']).split_whitespace() {
+            let (k, v) = kv.split_once('=').unwrap_or((kv, ""));
+            match k {
+                "machine" => {
+                    let mut path = root().join("machines").join(format!("{v}.toml"));
+                    if !path.exists() {
+                        path = root().join("tests/machines").join(format!("{v}.toml"));
+                    }
+                    let text = std::fs::read_to_string(&path).unwrap();
+                    machine = machine::from_toml(&text, &path.display().to_string()).unwrap();
+                }
+                "mode" => s.mode = if v == "exact" { Mode::Exact } else { Mode::Step },
+                "dt" => s.dt_ms = v.parse().unwrap(),
+                "tolerance" => s.tolerance_mm = v.parse().unwrap(),
+                "clearance" => s.clearance_mm = v.parse().unwrap(),
+                other => panic!("unknown case option {other}"),
+            }
+        }
+    }
+    (machine, s)
+}
+
+fn render(src: &[u8], machine: &Machine, settings: &Settings) -> String {
+    let out = pipeline::check(src, machine, settings);
+    let mut s = String::new();
+    for f in &out.findings {
+        let col = if f.col > 0 { format!(":{}", f.col) } else { String::new() };
+        let objects = if f.objects.is_empty() { String::new() } else { format!(" {}", f.objects.join(", ")) };
+        let _ = writeln!(s, "{}{col} {}{objects}", f.line, f.kind);
+    }
+    s
+}
+
+fn strip(expected: &str) -> String {
+    expected.lines().filter(|l| !l.trim_start().starts_with('#') && !l.trim().is_empty()).map(|l| format!("{}\n", l.trim_end())).collect()
+}
+
+#[test]
+fn every_case_reports_exactly_its_expected_findings() {
+    let mut files = Vec::new();
+    cases(&root().join("tests/cases"), &mut files);
+    cases(&root().join("programs"), &mut files);
+    files.sort();
+    assert!(files.len() >= 10, "too few cases found: {}", files.len());
+    let update = std::env::var_os("UPDATE_EXPECT").is_some();
+    let mut failures = Vec::new();
+    for f in &files {
+        let src = std::fs::read(f).unwrap();
+        let (machine, settings) = options(&src);
+        let got = render(&src, &machine, &settings);
+        let exp_path = f.with_extension("expected");
+        let exp_text = std::fs::read_to_string(&exp_path).unwrap_or_default();
+        if update {
+            let header: String = exp_text.lines().filter(|l| l.starts_with('#')).map(|l| format!("{l}\n")).collect();
+            std::fs::write(&exp_path, format!("{header}{got}")).unwrap();
+            continue;
+        }
+        if strip(&exp_text) != got {
+            failures.push(format!(
+                "{}\n--- expected ({})\n{}--- got\n{}",
+                f.display(),
+                exp_path.display(),
+                strip(&exp_text),
+                got
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{} of {} cases differ:\n\n{}", failures.len(), files.len(), failures.join("\n"));
+}
