@@ -19,6 +19,7 @@
 //!   * a finishing pass along the profile: front chamfer or corner radius, concave shoulder
 //!     fillets (G2, quarter circles), convex shoulder corners (G3) or chamfers, and shallow
 //!     circular grooves (G2 with both I and K non-zero, built from Pythagorean triples).
+//!
 //! Arcs are in I/K (centre, incremental, radius values) format; start and end radius are exactly
 //! equal (integer micrometre geometry), so rs274ngc's radius checks always pass. Comments and N
 //! numbers appear now and then; the tool is changed rarely (every few parts, cycling T1..T3).
@@ -104,7 +105,11 @@ impl<W: Write> Out<W> {
     /// A block with an N number in front.
     fn numbered(&mut self, s: &str) -> io::Result<()> {
         let n = self.n_next;
-        self.n_next = if self.n_next >= 99_980 { 10 } else { self.n_next + 10 };
+        self.n_next = if self.n_next >= 99_980 {
+            10
+        } else {
+            self.n_next + 10
+        };
         self.line(&format!("N{n} {s}"))
     }
     /// A length (Z, I, K, or an X already converted) in mm.
@@ -157,7 +162,8 @@ struct Profile {
 
 fn make_profile(rng: &mut Lcg) -> Profile {
     // Pythagorean triples (a, b): groove depth is c - a, half width b.
-    const TRIPLES: [(Um, Um, Um); 5] = [(4, 3, 5), (12, 5, 13), (24, 7, 25), (3, 4, 5), (15, 8, 17)];
+    const TRIPLES: [(Um, Um, Um); 5] =
+        [(4, 3, 5), (12, 5, 13), (24, 7, 25), (3, 4, 5), (15, 8, 17)];
     let n = rng.range(2, 5) as usize;
     let mut rs = Vec::with_capacity(n);
     let mut r = rng.stepped(6_000, 13_000, 50);
@@ -189,7 +195,13 @@ fn make_profile(rng: &mut Lcg) -> Profile {
     let mut z = 0;
     for i in 0..n {
         z -= lens[i];
-        let mut s = Section { r: rs[i], z_end: z, fillet: 0, corner: 0, groove: None };
+        let mut s = Section {
+            r: rs[i],
+            z_end: z,
+            fillet: 0,
+            corner: 0,
+            groove: None,
+        };
         if i + 1 < n {
             let h = rs[i + 1] - rs[i];
             if rng.chance(2, 3) {
@@ -203,20 +215,20 @@ fn make_profile(rng: &mut Lcg) -> Profile {
         sections.push(s);
     }
     // grooves where a section has room: usable length between the features at both ends
-    let mut start_z = 0 - front.abs();
-    for i in 0..n {
-        let end_z = sections[i].z_end + sections[i].fillet;
+    let mut start_z = -front.abs();
+    for sec in &mut sections {
+        let end_z = sec.z_end + sec.fillet;
         let room = start_z - end_z;
-        if room >= 8_000 && sections[i].r >= 5_000 && rng.chance(1, 2) {
+        if room >= 8_000 && sec.r >= 5_000 && rng.chance(1, 2) {
             let (a, b, c) = TRIPLES[rng.range(0, TRIPLES.len() as i64 - 1) as usize];
             let scale = rng.stepped(250, 1_000, 250);
             let depth = (c - a) * scale;
             let width = 2 * b * scale;
             if width + 3_000 <= room && depth <= 2_000 {
-                sections[i].groove = Some((a * scale, b * scale));
+                sec.groove = Some((a * scale, b * scale));
             }
         }
-        start_z = sections[i].z_end - sections[i].corner.abs();
+        start_z = sec.z_end - sec.corner.abs();
     }
     Profile { front, sections }
 }
@@ -269,13 +281,16 @@ impl<W: Write> Gen<W> {
         let seed_note = format!("SEED {}", self.seed);
         match self.o.dialect {
             Dialect::LinuxCnc => {
-                self.say(&format!("LATHEGUARD BENCHMARK PROGRAM, LINUXCNC, {seed_note}"))?;
+                self.say(&format!(
+                    "LATHEGUARD BENCHMARK PROGRAM, LINUXCNC, {seed_note}"
+                ))?;
                 self.say("50 MM BAR, X IS A RADIUS - G8, Z0 AT THE FACED FRONT")?;
                 self.o.line("G18 G21 G90 G8 G40 G95")?;
             }
             Dialect::Fanuc => {
                 self.o.line("%")?;
-                self.o.line(&format!("O1000 (LATHEGUARD BENCHMARK, FANUC, {seed_note})"))?;
+                self.o
+                    .line(&format!("O1000 (LATHEGUARD BENCHMARK, FANUC, {seed_note})"))?;
                 self.say("50 MM BAR, X IS A DIAMETER, Z0 AT THE FACED FRONT")?;
                 self.o.line("G18 G21 G40 G97 G99")?;
             }
@@ -348,7 +363,11 @@ impl<W: Write> Gen<W> {
                 format!("G1 Z{}", self.o.num(z_stop))
             };
             self.o.line(&s)?;
-            let s = format!("G1 X{} Z{}", self.o.x(level + 500), self.o.num(z_stop + 500));
+            let s = format!(
+                "G1 X{} Z{}",
+                self.o.x(level + 500),
+                self.o.num(z_stop + 500)
+            );
             self.o.line(&s)?;
             let s = format!("G0 Z{}", self.o.num(Z_CLEAR));
             self.o.line(&s)?;
@@ -363,11 +382,17 @@ impl<W: Write> Gen<W> {
         let e = p.front.abs();
         let s = format!("G0 X{}", self.o.x(r0 - e));
         self.o.numbered(&s)?;
-        let s = format!("G1 Z0 F{}", self.o.feed(f));
+        let s = format!("G1 Z{} F{}", self.o.num(0), self.o.feed(f));
         self.o.line(&s)?;
         if p.front > 0 {
             // convex front radius: from (Z0, r0-e) around centre (Z-e, r0-e) to (Z-e, r0)
-            let s = format!("G3 X{} Z{} I0 K{}", self.o.x(r0), self.o.num(-e), self.o.num(-e));
+            let s = format!(
+                "G3 X{} Z{} I{} K{}",
+                self.o.x(r0),
+                self.o.num(-e),
+                self.o.num(0),
+                self.o.num(-e)
+            );
             self.o.line(&s)?;
         } else if p.front < 0 {
             let s = format!("G1 X{} Z{}", self.o.x(r0), self.o.num(-e));
@@ -377,7 +402,11 @@ impl<W: Write> Gen<W> {
             let sec = &p.sections[i];
             if let Some((a, b)) = sec.groove {
                 // concave circular groove centred in the section's free length
-                let start = if i == 0 { -e } else { p.sections[i - 1].z_end - p.sections[i - 1].corner.abs() };
+                let start = if i == 0 {
+                    -e
+                } else {
+                    p.sections[i - 1].z_end - p.sections[i - 1].corner.abs()
+                };
                 let end = sec.z_end + sec.fillet;
                 let zg = (start + end) / 2 + b;
                 let zg = zg - zg.rem_euclid(10); // stay on a 0.01 mm grid
@@ -402,10 +431,11 @@ impl<W: Write> Gen<W> {
                 let s = format!("G1 Z{}", self.o.num(sec.z_end + fl));
                 self.o.line(&s)?;
                 let s = format!(
-                    "G2 X{} Z{} I{} K0",
+                    "G2 X{} Z{} I{} K{}",
                     self.o.x(sec.r + fl),
                     self.o.num(sec.z_end),
-                    self.o.num(fl)
+                    self.o.num(fl),
+                    self.o.num(0)
                 );
                 self.o.line(&s)?;
             } else {
@@ -417,9 +447,10 @@ impl<W: Write> Gen<W> {
                 let s = format!("G1 X{}", self.o.x(next.r - c));
                 self.o.line(&s)?;
                 let s = format!(
-                    "G3 X{} Z{} I0 K{}",
+                    "G3 X{} Z{} I{} K{}",
                     self.o.x(next.r),
                     self.o.num(sec.z_end - c),
+                    self.o.num(0),
                     self.o.num(-c)
                 );
                 self.o.line(&s)?;
@@ -507,7 +538,12 @@ fn main() -> ExitCode {
     }
     let stdout = io::stdout();
     let mut g = Gen {
-        o: Out { w: BufWriter::new(stdout.lock()), dialect, lines: 0, n_next: 10 },
+        o: Out {
+            w: BufWriter::new(stdout.lock()),
+            dialect,
+            lines: 0,
+            n_next: 10,
+        },
         rng: Lcg::new(seed),
         seed,
         target: lines,
