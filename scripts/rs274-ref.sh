@@ -8,13 +8,13 @@
 #      /opt/linuxcnc-ref): `apt-get download linuxcnc-uspace` into a temp dir
 #      and unpack it with `dpkg -x` into $LCNC_REF.  The package is NOT
 #      installed (no dpkg -i, none of its ~40 GUI/Tcl/Python dependencies).
-#   2. If libboost_python311.so.1.74.0 is not known to the dynamic linker:
-#      `apt-get install --no-install-recommends libboost-python1.74.0`
-#      (runs `apt-get update` first if the package is not in the apt lists).
-#      Every other shared library rs274 needs is either inside the unpacked
-#      tree ($LCNC_REF/usr/lib: librs274, libnml, liblinuxcnchal,
-#      liblinuxcncini, libpyplugin, libtooldata, libposemath) or part of a
-#      stock Debian 12 system (libpython3.11, libstdc++6, libtirpc3, ...).
+#   2. If `ldd` finds a shared library of rs274 (or of the unpacked LinuxCNC
+#      libraries it loads) missing: `apt-get install --no-install-recommends
+#      libboost-python1.74.0 libpython3.11 libedit2 libstdc++6` (running
+#      `apt-get update` first if the apt lists are empty).  On a stock Debian 12
+#      only libboost-python1.74.0 was missing.  Everything else rs274 needs is
+#      inside the unpacked tree ($LCNC_REF/usr/lib: librs274, libnml,
+#      liblinuxcnchal, liblinuxcncini, libpyplugin, libtooldata, libposemath).
 #   3. Runs `$LCNC_REF/usr/bin/rs274 -t <default tool table> "$@"` with
 #        LD_LIBRARY_PATH=$LCNC_REF/usr/lib   (the unpacked LinuxCNC libraries)
 #        HOME=<fresh temp dir>               (rs274 creates $HOME/.tool.mmap;
@@ -30,13 +30,16 @@
 #   on stderr; canonical calls go to stdout.
 #
 # Debian packages used: linuxcnc-uspace (downloaded + unpacked only, Debian 12
-# bookworm version 2.9.0~pre1+git20230208), libboost-python1.74.0 (installed).
+# bookworm version 2.9.0~pre1+git20230208); installed when missing:
+# libboost-python1.74.0, libpython3.11, libedit2, libstdc++6 (and their
+# dependencies, pulled in by apt).
 # Needs root (or write access to $LCNC_REF and apt) on the first run only.
 set -euo pipefail
 
 LCNC_REF="${LCNC_REF:-/opt/linuxcnc-ref}"
 RS274="$LCNC_REF/usr/bin/rs274"
 TOOL_TBL="$LCNC_REF/usr/share/doc/linuxcnc/examples/sample-configs/common/tool.tbl"
+RUNTIME_PKGS="libboost-python1.74.0 libpython3.11 libedit2 libstdc++6"
 
 if [ ! -x "$RS274" ]; then
     echo "rs274-ref: unpacking linuxcnc-uspace into $LCNC_REF" >&2
@@ -54,13 +57,23 @@ if [ ! -x "$RS274" ]; then
     mv "$LCNC_REF.tmp" "$LCNC_REF"
 fi
 
-if ! ldconfig -p | grep -q 'libboost_python311\.so\.1\.74\.0'; then
-    echo "rs274-ref: installing libboost-python1.74.0" >&2
+# Shared libraries missing for rs274 (ldd lists the whole dependency tree,
+# including what the unpacked LinuxCNC libraries need).
+missing_libs() {
+    LD_LIBRARY_PATH="$LCNC_REF/usr/lib" ldd "$RS274" | grep 'not found' || true
+}
+if [ -n "$(missing_libs)" ]; then
+    echo "rs274-ref: installing $RUNTIME_PKGS" >&2
     if ! apt-cache show libboost-python1.74.0 >/dev/null 2>&1; then
         apt-get update >/dev/null
     fi
+    # shellcheck disable=SC2086
     DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-        libboost-python1.74.0 >/dev/null
+        $RUNTIME_PKGS >/dev/null
+    if [ -n "$(missing_libs)" ]; then
+        echo "rs274-ref: still missing: $(missing_libs)" >&2
+        exit 127
+    fi
 fi
 
 run_home="$(mktemp -d)"
