@@ -561,3 +561,27 @@ fn main() -> ExitCode {
         }
     }
 }
+
+/// The generator as a function, for the benchmarks (which include this file with `#[path]`).
+#[allow(dead_code)]
+pub fn generate(lines: usize, fanuc: bool, seed: u64) -> Vec<u8> {
+    let mut buf = Vec::new();
+    {
+        let mut g = Gen {
+            o: Out {
+                w: BufWriter::new(&mut buf),
+                dialect: if fanuc { Dialect::Fanuc } else { Dialect::LinuxCnc },
+                lines: 0,
+                n_next: 10,
+            },
+            rng: Lcg::new(seed),
+            seed,
+            target: lines,
+            tool: 1,
+            part: 0,
+            rpm: 1200,
+        };
+        let _ = g.run().and_then(|_| g.o.w.flush());
+    }
+    buf
+}
