@@ -5,6 +5,8 @@
 //! Outlines are normalised [`Polygon`]s.
 
 mod load;
+#[cfg(test)]
+mod tests;
 
 use std::fmt::Write as _;
 
