@@ -1,6 +1,78 @@
-//! TOML → [`Machine`], with errors that name the file, line and key.
+//! TOML → [`Machine`], with errors that name the file, line, column and key.
+//!
+//! # The machine file
+//!
+//! The keys are those of DESIGN §3. Every table refuses keys it does not know. Lengths are mm in
+//! the spindle frame (`x` = radius, `+x` toward the turret; `z` along the spindle axis, `z = 0` at
+//! the jaw faces, `+z` toward the tailstock); points are `[x, z]`. Integers are accepted wherever
+//! a number is expected; `nan` and `inf` are refused everywhere.
+//!
+//! | key | required | default | rule |
+//! |---|---|---|---|
+//! | `machine.name` | yes | | not blank |
+//! | `machine.dialect` | no | `"fanuc"` | `"fanuc"` or `"linuxcnc"` |
+//! | `machine.diameter_mode` | no | `true` for fanuc, `false` for linuxcnc (G8) | |
+//! | `machine.rapid` | no | `"dogleg"` | `"dogleg"` or `"linear"` |
+//! | `machine.decimal_point` | no | `"calculator"` | `"calculator"` or `"increment"`; `"increment"` only with fanuc |
+//! | `axes.x`, `axes.z` | yes | | tables `{ min, max, rapid }`, all required, `min < max`, `rapid > 0` (mm/min) |
+//! | `axes.home` | no | `[axes.x.max, axes.z.max]` | inside both axes' limits |
+//! | `spindle.max_rpm` | yes | | `> 0` |
+//! | `[chuck]` | no | no chuck | `outline` required in it |
+//! | `[tailstock]` | no | no tailstock | `outline` required in it |
+//! | `[stock]` | no | no stock | `diameter > 0`, `length > 0`, `front` required; `bore` default `0`, `0 ≤ bore < diameter`; the bar spans `z` from `front − length` to `front` |
+//! | `[setup]` | no | | |
+//! | `setup.program_zero_z` | no | `stock.front` (program Z0 on the bar's face) when there is a stock, else `0` (the jaw faces) | |
+//! | `turret.stations` | yes | | `1 ..= 64` |
+//! | `turret.start_station` | no | `1` | `1 ..= stations` |
+//! | `turret.axis` | yes | | |
+//! | `turret.index_time` | yes | | `≥ 0` (seconds per station) |
+//! | `turret.outline` | yes | | |
+//! | `[[tools]]` | yes, at least one | | at most 256 tables |
+//! | `tools[i].station` | yes | | `1 ..= turret.stations`, not used by another tool |
+//! | `tools[i].name` | yes | | not blank |
+//! | `tools[i].tip` | yes | | `[x, z]` of the programmed point from the turret reference point |
+//! | `tools[i].insert`, `tools[i].holder` | yes | | outlines relative to the programmed point |
+//! | `tools[i].nose_radius` | no | `0` | `≥ 0` |
+//!
+//! An outline is an array of `[x, z]` points: a simple polygon in either winding. Repeated and
+//! collinear points are dropped; a self-intersecting or degenerate outline (fewer than three
+//! points that are not all on one line) is an error. To keep validation fast on any input, an
+//! outline may have at most [`MAX_OUTLINE_POINTS`] points and a file at most
+//! [`MAX_TOTAL_OUTLINE_POINTS`] in all; these limits are checked before any outline is
+//! normalised.
+//!
+//! # Errors
+//!
+//! Loading stops at the first error. A [`MachineError`] carries the file name, the 1-based line
+//! and column (in characters) and the dotted key path it is about: `axes.x.min`,
+//! `tools[2].holder`, `chuck.outline[3]`. Array indices count from 0, so `tools[0]` is the first
+//! `[[tools]]` table. A key that is missing is named as it would be written (`tools[1].station`)
+//! and placed at the table that lacks it; a missing top-level table or key is placed at line 1,
+//! column 1. A TOML syntax error is placed where the parser found it and named after the key
+//! being read there (or the table it is in); an error outside every table is named
+//! `(top level)`.
 
-use super::Machine;
+use std::ops::Range;
+
+use serde::Deserialize;
+use toml::de::{DeTable, DeValue};
+use toml::Spanned;
+
+use super::{Axis, DecimalPoint, Dialect, Machine, RapidMode, Stock, Tool, Turret};
+use crate::geom::{p2, Polygon, PolygonError, P2};
+use crate::source::LineIndex;
+
+/// At most this many points in one outline.
+pub const MAX_OUTLINE_POINTS: usize = 10_000;
+/// At most this many outline points in one machine file, all outlines together.
+pub const MAX_TOTAL_OUTLINE_POINTS: usize = 20_000;
+/// At most this many turret stations.
+pub const MAX_STATIONS: u32 = 64;
+/// At most this many `[[tools]]` tables.
+pub const MAX_TOOLS: usize = 256;
+
+/// The key shown for an error that is about no table or key in particular.
+pub const TOP_LEVEL: &str = "(top level)";
 
 /// A machine file that cannot be used: where and why.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -17,12 +89,850 @@ pub struct MachineError {
 
 /// Parse and validate a machine description. `file` is only used in error messages.
 pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
-    let _ = text;
-    Err(MachineError {
-        file: file.into(),
-        line: 0,
-        col: 0,
-        key: String::new(),
-        message: "not implemented".into(),
+    let cx = Cx {
+        text,
+        file,
+        lines: LineIndex::new(text.as_bytes()),
+    };
+    let (root, errors) = DeTable::parse_recoverable(text);
+    // The parser may report several errors, not in text order: the first in the text is the one
+    // the others follow from.
+    if let Some(e) = errors
+        .iter()
+        .min_by_key(|e| e.span().map_or(usize::MAX, |s| s.start))
+    {
+        let at = e.span().unwrap_or(0..0);
+        let key = syntax_key(&root, &at, e.message(), text);
+        return Err(cx.err(at, key, format!("TOML syntax error: {}", e.message())));
+    }
+    let tree = root.clone();
+    let raw = RawDoc::deserialize(toml::de::Deserializer::from(root))
+        .map_err(|e| cx.serde_error(&e, &tree))?;
+    validate(&cx, raw)
+}
+
+// ---------------------------------------------------------------------------------------------
+// The file as written.
+
+type Num = Spanned<f64>;
+type Point = Spanned<Vec<f64>>;
+type Outline = Spanned<Vec<Point>>;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawDoc {
+    machine: RawHeader,
+    axes: RawAxes,
+    spindle: RawSpindle,
+    chuck: Option<RawPart>,
+    tailstock: Option<RawPart>,
+    stock: Option<RawStock>,
+    setup: Option<RawSetup>,
+    turret: RawTurret,
+    tools: Option<Spanned<Vec<Spanned<RawTool>>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawHeader {
+    name: Spanned<String>,
+    dialect: Option<RawDialect>,
+    diameter_mode: Option<bool>,
+    rapid: Option<RawRapid>,
+    decimal_point: Option<Spanned<RawDecimalPoint>>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "lowercase", expecting = "\"fanuc\" or \"linuxcnc\"")]
+enum RawDialect {
+    Fanuc,
+    Linuxcnc,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "lowercase", expecting = "\"dogleg\" or \"linear\"")]
+enum RawRapid {
+    Dogleg,
+    Linear,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(
+    rename_all = "lowercase",
+    expecting = "\"calculator\" or \"increment\""
+)]
+enum RawDecimalPoint {
+    Calculator,
+    Increment,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawAxes {
+    x: RawAxis,
+    z: RawAxis,
+    home: Option<Point>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table { min, max, rapid }")]
+struct RawAxis {
+    min: Num,
+    max: Num,
+    rapid: Num,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawSpindle {
+    max_rpm: Num,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawPart {
+    outline: Outline,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawStock {
+    diameter: Num,
+    length: Num,
+    front: Num,
+    bore: Option<Num>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawSetup {
+    program_zero_z: Option<Num>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawTurret {
+    stations: Spanned<u32>,
+    start_station: Option<Spanned<u32>>,
+    axis: Num,
+    index_time: Num,
+    outline: Outline,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawTool {
+    station: Spanned<u32>,
+    name: Spanned<String>,
+    tip: Point,
+    insert: Outline,
+    holder: Outline,
+    nose_radius: Option<Num>,
+}
+
+// ---------------------------------------------------------------------------------------------
+// Validation.
+
+struct Cx<'a> {
+    text: &'a str,
+    file: &'a str,
+    lines: LineIndex,
+}
+
+impl Cx<'_> {
+    fn err(
+        &self,
+        at: Range<usize>,
+        key: impl Into<String>,
+        message: impl Into<String>,
+    ) -> MachineError {
+        let offset = at.start.min(self.text.len()).min(u32::MAX as usize) as u32;
+        let key = key.into();
+        MachineError {
+            file: self.file.to_string(),
+            line: self.lines.line_of(offset),
+            col: self.lines.col_of(self.text.as_bytes(), offset),
+            key: if key.is_empty() {
+                TOP_LEVEL.to_string()
+            } else {
+                key
+            },
+            message: message.into(),
+        }
+    }
+
+    /// A serde error (unknown key, wrong type, missing key): find the key from its span.
+    fn serde_error(&self, e: &toml::de::Error, tree: &Spanned<DeTable<'_>>) -> MachineError {
+        let at = e.span().unwrap_or(0..0);
+        let message = e.message();
+        if let Some(field) = message
+            .strip_prefix("missing field `")
+            .and_then(|m| m.strip_suffix('`'))
+        {
+            let mut path = table_at(tree, &at).unwrap_or_default();
+            path.push(Seg::Key(field.to_string()));
+            return self.err(at, render(&path), format!("missing required key `{field}`"));
+        }
+        let path = containing(tree, at.start).unwrap_or_default();
+        self.err(at, render(&path), plain_words(message))
+    }
+
+    fn finite(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
+        let x = *v.get_ref();
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(self.err(v.span(), key, format!("{} is not a finite number", show(x))))
+        }
+    }
+
+    fn positive(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
+        let x = self.finite(key, v)?;
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.err(
+                v.span(),
+                key,
+                format!("must be greater than 0, not {}", show(x)),
+            ))
+        }
+    }
+
+    fn non_negative(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
+        let x = self.finite(key, v)?;
+        if x >= 0.0 {
+            Ok(x)
+        } else {
+            Err(self.err(
+                v.span(),
+                key,
+                format!("must not be negative, not {}", show(x)),
+            ))
+        }
+    }
+
+    fn point(&self, key: &str, p: &Point) -> Result<P2, MachineError> {
+        match p.get_ref().as_slice() {
+            &[x, z] if x.is_finite() && z.is_finite() => Ok(p2(x, z)),
+            &[x, z] => Err(self.err(
+                p.span(),
+                key,
+                format!(
+                    "[{}, {}] is not a point: both numbers must be finite",
+                    show(x),
+                    show(z)
+                ),
+            )),
+            v => Err(self.err(
+                p.span(),
+                key,
+                format!("a point is [x, z]: expected 2 numbers, found {}", v.len()),
+            )),
+        }
+    }
+
+    fn outline(&self, key: &str, o: &Outline) -> Result<Polygon, MachineError> {
+        let mut pts = Vec::with_capacity(o.get_ref().len());
+        for (i, p) in o.get_ref().iter().enumerate() {
+            pts.push(self.point(&format!("{key}[{i}]"), p)?);
+        }
+        match Polygon::new(&pts) {
+            Ok(poly) => Ok(poly),
+            Err(e @ PolygonError::SelfIntersecting(..)) => match crossing_edges(&pts) {
+                Some(((a, b), (c, d))) => Err(self.err(
+                    o.get_ref()[a].span(),
+                    key,
+                    format!(
+                        "invalid outline: the edge from point [{a}] to point [{b}] meets the edge from point [{c}] to point [{d}] (counting from 0); after dropping repeated and collinear points: {e}"
+                    ),
+                )),
+                None => Err(self.err(o.span(), key, format!("invalid outline: {e}"))),
+            },
+            Err(e) => Err(self.err(o.span(), key, format!("invalid outline: {e}"))),
+        }
+    }
+
+    fn axis(&self, key: &str, a: &RawAxis) -> Result<Axis, MachineError> {
+        let min = self.finite(&format!("{key}.min"), &a.min)?;
+        let max = self.finite(&format!("{key}.max"), &a.max)?;
+        if min >= max {
+            return Err(self.err(
+                a.min.span(),
+                format!("{key}.min"),
+                format!("min = {} must be less than max = {}", show(min), show(max)),
+            ));
+        }
+        let rapid = self.positive(&format!("{key}.rapid"), &a.rapid)?;
+        Ok(Axis { min, max, rapid })
+    }
+}
+
+fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
+    let RawDoc {
+        machine: hdr,
+        axes,
+        spindle,
+        chuck,
+        tailstock,
+        stock,
+        setup,
+        turret,
+        tools,
+    } = raw;
+
+    // Bound the work before doing any of it.
+    let tools = match tools {
+        Some(t) if t.get_ref().is_empty() => {
+            return Err(cx.err(
+                t.span(),
+                "tools",
+                "missing tools: at least one [[tools]] table is required",
+            ))
+        }
+        Some(t) => t.into_inner(),
+        None => {
+            return Err(cx.err(
+                0..0,
+                "tools",
+                "missing tools: at least one [[tools]] table is required",
+            ))
+        }
+    };
+    if tools.len() > MAX_TOOLS {
+        return Err(cx.err(
+            tools[MAX_TOOLS].span(),
+            format!("tools[{MAX_TOOLS}]"),
+            format!(
+                "too many tools: {}; a machine file may have at most {MAX_TOOLS}",
+                tools.len()
+            ),
+        ));
+    }
+    let mut outlines: Vec<(String, &Outline)> = Vec::new();
+    if let Some(c) = &chuck {
+        outlines.push(("chuck.outline".into(), &c.outline));
+    }
+    if let Some(t) = &tailstock {
+        outlines.push(("tailstock.outline".into(), &t.outline));
+    }
+    outlines.push(("turret.outline".into(), &turret.outline));
+    for (i, t) in tools.iter().enumerate() {
+        outlines.push((format!("tools[{i}].insert"), &t.get_ref().insert));
+        outlines.push((format!("tools[{i}].holder"), &t.get_ref().holder));
+    }
+    let mut total = 0usize;
+    for (key, o) in &outlines {
+        let n = o.get_ref().len();
+        if n > MAX_OUTLINE_POINTS {
+            return Err(cx.err(
+                o.span(),
+                key.as_str(),
+                format!("too many points: {n}; an outline may have at most {MAX_OUTLINE_POINTS}"),
+            ));
+        }
+        total += n;
+        if total > MAX_TOTAL_OUTLINE_POINTS {
+            return Err(cx.err(
+                o.span(),
+                key.as_str(),
+                format!("too many outline points: the outlines up to this one have {total}; a machine file may have at most {MAX_TOTAL_OUTLINE_POINTS} in all"),
+            ));
+        }
+    }
+
+    // [machine]
+    let name = hdr.name.get_ref().trim().to_string();
+    if name.is_empty() {
+        return Err(cx.err(hdr.name.span(), "machine.name", "must not be blank"));
+    }
+    let dialect = match hdr.dialect.unwrap_or(RawDialect::Fanuc) {
+        RawDialect::Fanuc => Dialect::Fanuc,
+        RawDialect::Linuxcnc => Dialect::Linuxcnc,
+    };
+    let diameter_mode = hdr.diameter_mode.unwrap_or(dialect == Dialect::Fanuc);
+    let rapid = match hdr.rapid.unwrap_or(RawRapid::Dogleg) {
+        RawRapid::Dogleg => RapidMode::Dogleg,
+        RawRapid::Linear => RapidMode::Linear,
+    };
+    let decimal_point = match &hdr.decimal_point {
+        None => DecimalPoint::Calculator,
+        Some(d) => match d.get_ref() {
+            RawDecimalPoint::Calculator => DecimalPoint::Calculator,
+            RawDecimalPoint::Increment if dialect == Dialect::Fanuc => DecimalPoint::Increment,
+            RawDecimalPoint::Increment => {
+                return Err(cx.err(
+                    d.span(),
+                    "machine.decimal_point",
+                    "\"increment\" applies to fanuc only: linuxcnc always reads X60 as 60",
+                ))
+            }
+        },
+    };
+
+    // [axes]
+    let x = cx.axis("axes.x", &axes.x)?;
+    let z = cx.axis("axes.z", &axes.z)?;
+    let home = match &axes.home {
+        None => p2(x.max, z.max),
+        Some(h) => {
+            let p = cx.point("axes.home", h)?;
+            if p.x < x.min || p.x > x.max || p.y < z.min || p.y > z.max {
+                return Err(cx.err(
+                    h.span(),
+                    "axes.home",
+                    format!(
+                        "home [{}, {}] lies outside the axis limits (x {} .. {}, z {} .. {})",
+                        show(p.x),
+                        show(p.y),
+                        show(x.min),
+                        show(x.max),
+                        show(z.min),
+                        show(z.max)
+                    ),
+                ));
+            }
+            p
+        }
+    };
+
+    // [spindle]
+    let max_rpm = cx.positive("spindle.max_rpm", &spindle.max_rpm)?;
+
+    // [chuck], [tailstock]
+    let chuck = chuck
+        .map(|c| cx.outline("chuck.outline", &c.outline))
+        .transpose()?;
+    let tailstock = tailstock
+        .map(|t| cx.outline("tailstock.outline", &t.outline))
+        .transpose()?;
+
+    // [stock]
+    let stock = match &stock {
+        None => None,
+        Some(s) => {
+            let diameter = cx.positive("stock.diameter", &s.diameter)?;
+            let length = cx.positive("stock.length", &s.length)?;
+            let front = cx.finite("stock.front", &s.front)?;
+            let bore = match &s.bore {
+                None => 0.0,
+                Some(b) => cx.non_negative("stock.bore", b)?,
+            };
+            if bore >= diameter {
+                let at = s.bore.as_ref().map_or(0..0, |b| b.span());
+                return Err(cx.err(
+                    at,
+                    "stock.bore",
+                    format!(
+                        "the bore ({}) must be smaller than the diameter ({})",
+                        show(bore),
+                        show(diameter)
+                    ),
+                ));
+            }
+            Some(Stock {
+                diameter,
+                length,
+                front,
+                bore,
+            })
+        }
+    };
+
+    // [setup]
+    let program_zero_z = match setup.as_ref().and_then(|s| s.program_zero_z.as_ref()) {
+        Some(v) => cx.finite("setup.program_zero_z", v)?,
+        None => stock.as_ref().map_or(0.0, |s| s.front),
+    };
+
+    // [turret]
+    let stations = *turret.stations.get_ref();
+    if !(1..=MAX_STATIONS).contains(&stations) {
+        return Err(cx.err(
+            turret.stations.span(),
+            "turret.stations",
+            format!("{stations} stations: a turret has 1 to {MAX_STATIONS}"),
+        ));
+    }
+    let start_station = match &turret.start_station {
+        None => 1,
+        Some(s) => {
+            let v = *s.get_ref();
+            if !(1..=stations).contains(&v) {
+                return Err(cx.err(
+                    s.span(),
+                    "turret.start_station",
+                    format!("station {v} does not exist: the turret has stations 1 to {stations}"),
+                ));
+            }
+            v
+        }
+    };
+    let axis = cx.finite("turret.axis", &turret.axis)?;
+    let index_time = cx.non_negative("turret.index_time", &turret.index_time)?;
+    let turret_outline = cx.outline("turret.outline", &turret.outline)?;
+
+    // [[tools]]
+    let mut owner: Vec<Option<usize>> = vec![None; stations as usize + 1];
+    let mut out = Vec::with_capacity(tools.len());
+    for (i, t) in tools.iter().enumerate() {
+        let t = t.get_ref();
+        let key = |k: &str| format!("tools[{i}].{k}");
+        let station = *t.station.get_ref();
+        if !(1..=stations).contains(&station) {
+            return Err(cx.err(
+                t.station.span(),
+                key("station"),
+                format!(
+                    "station {station} does not exist: the turret has stations 1 to {stations}"
+                ),
+            ));
+        }
+        if let Some(j) = owner[station as usize] {
+            return Err(cx.err(
+                t.station.span(),
+                key("station"),
+                format!(
+                    "station {station} is already taken by tools[{j}] ({:?})",
+                    tools[j].get_ref().name.get_ref()
+                ),
+            ));
+        }
+        owner[station as usize] = Some(i);
+        let name = t.name.get_ref().trim().to_string();
+        if name.is_empty() {
+            return Err(cx.err(t.name.span(), key("name"), "must not be blank"));
+        }
+        let tip = cx.point(&key("tip"), &t.tip)?;
+        let insert = cx.outline(&key("insert"), &t.insert)?;
+        let holder = cx.outline(&key("holder"), &t.holder)?;
+        let nose_radius = match &t.nose_radius {
+            None => 0.0,
+            Some(r) => cx.non_negative(&key("nose_radius"), r)?,
+        };
+        out.push(Tool {
+            station,
+            name,
+            tip,
+            insert,
+            holder,
+            nose_radius,
+        });
+    }
+    out.sort_by_key(|t| t.station);
+
+    Ok(Machine {
+        name,
+        dialect,
+        diameter_mode,
+        rapid,
+        decimal_point,
+        x,
+        z,
+        home,
+        max_rpm,
+        chuck,
+        tailstock,
+        stock,
+        program_zero_z,
+        turret: Turret {
+            stations,
+            start_station,
+            axis,
+            index_time,
+            outline: turret_outline,
+        },
+        tools: out,
     })
+}
+
+/// A number as a machine file would write it: `inf`, `nan`, `1e90`, `-0.5`.
+fn show(x: f64) -> String {
+    if x.is_nan() {
+        "nan".to_string()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf" } else { "-inf" }.to_string()
+    } else if x != 0.0 && !(1e-6..1e15).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// Serde's words for Rust types, in the words of a machine file.
+fn plain_words(message: &str) -> String {
+    message
+        .replace("unknown field", "unknown key")
+        .replace("unknown variant", "unknown value")
+        .replace("expected f64", "expected a number")
+        .replace(
+            "expected u32",
+            "expected a whole number from 0 to 4294967295",
+        )
+        .replace("expected a sequence", "expected an array")
+        .replace("expected a boolean", "expected true or false")
+}
+
+/// The first two edges of a closed outline that are not neighbours and share a point, each as
+/// the file's indices of its two ends (repeated points are skipped). Only used to explain an
+/// outline that [`Polygon::new`] already refused, so plain floating point is good enough here.
+fn crossing_edges(pts: &[P2]) -> Option<((usize, usize), (usize, usize))> {
+    let mut kept: Vec<(usize, P2)> = Vec::with_capacity(pts.len());
+    for (i, &p) in pts.iter().enumerate() {
+        if kept.last().map(|k| k.1) != Some(p) {
+            kept.push((i, p));
+        }
+    }
+    while kept.len() > 1 && kept.first().map(|k| k.1) == kept.last().map(|k| k.1) {
+        kept.pop();
+    }
+    let n = kept.len();
+    let orient = |a: P2, b: P2, c: P2| (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    let within = |a: P2, b: P2, c: P2| {
+        c.x >= a.x.min(b.x) && c.x <= a.x.max(b.x) && c.y >= a.y.min(b.y) && c.y <= a.y.max(b.y)
+    };
+    let meet = |a: P2, b: P2, c: P2, d: P2| {
+        let (d1, d2, d3, d4) = (
+            orient(c, d, a),
+            orient(c, d, b),
+            orient(a, b, c),
+            orient(a, b, d),
+        );
+        (d1 * d2 < 0.0 && d3 * d4 < 0.0)
+            || (d1 == 0.0 && within(c, d, a))
+            || (d2 == 0.0 && within(c, d, b))
+            || (d3 == 0.0 && within(a, b, c))
+            || (d4 == 0.0 && within(a, b, d))
+    };
+    for i in 0..n {
+        let (a, b) = (kept[i], kept[(i + 1) % n]);
+        for j in (i + 2)..n {
+            if i == 0 && j == n - 1 {
+                continue;
+            }
+            let (c, d) = (kept[j], kept[(j + 1) % n]);
+            if meet(a.1, b.1, c.1, d.1) {
+                return Some(((a.0, b.0), (c.0, d.0)));
+            }
+        }
+    }
+    None
+}
+
+// ---------------------------------------------------------------------------------------------
+// Key paths from spans.
+
+#[derive(Clone, Debug)]
+enum Seg {
+    Key(String),
+    Index(usize),
+}
+
+fn render(path: &[Seg]) -> String {
+    let mut s = String::new();
+    for seg in path {
+        match seg {
+            Seg::Key(k) => {
+                if !s.is_empty() {
+                    s.push('.');
+                }
+                let bare = !k.is_empty()
+                    && k.chars()
+                        .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+                if bare {
+                    s.push_str(k);
+                } else {
+                    s.push_str(&format!("{k:?}"));
+                }
+            }
+            Seg::Index(i) => s.push_str(&format!("[{i}]")),
+        }
+    }
+    s
+}
+
+/// One entry of the parsed tree: its key's span (for table entries), its value's span, and
+/// whether the value is a table.
+struct Node<'p> {
+    path: &'p [Seg],
+    key: Option<Range<usize>>,
+    value: Range<usize>,
+    is_table: bool,
+}
+
+fn walk_table(t: &DeTable<'_>, path: &mut Vec<Seg>, f: &mut dyn FnMut(&Node<'_>)) {
+    for (k, v) in t.iter() {
+        path.push(Seg::Key(k.get_ref().to_string()));
+        visit(v, Some(k.span()), path, f);
+        path.pop();
+    }
+}
+
+fn visit(
+    v: &Spanned<DeValue<'_>>,
+    key: Option<Range<usize>>,
+    path: &mut Vec<Seg>,
+    f: &mut dyn FnMut(&Node<'_>),
+) {
+    f(&Node {
+        path,
+        key,
+        value: v.span(),
+        is_table: matches!(v.get_ref(), DeValue::Table(_)),
+    });
+    match v.get_ref() {
+        DeValue::Table(t) => walk_table(t, path, f),
+        DeValue::Array(a) => {
+            for (i, c) in a.iter().enumerate() {
+                path.push(Seg::Index(i));
+                visit(c, None, path, f);
+                path.pop();
+            }
+        }
+        _ => {}
+    }
+}
+
+/// The deepest table whose span is exactly `at` (serde places a missing key at its table).
+fn table_at(root: &Spanned<DeTable<'_>>, at: &Range<usize>) -> Option<Vec<Seg>> {
+    if root.span() == *at {
+        return Some(Vec::new());
+    }
+    let mut best: Option<Vec<Seg>> = None;
+    walk_table(root.get_ref(), &mut Vec::new(), &mut |n| {
+        if n.is_table && n.value == *at && deeper(&best, n.path) {
+            best = Some(n.path.to_vec());
+        }
+    });
+    best
+}
+
+fn deeper(best: &Option<Vec<Seg>>, path: &[Seg]) -> bool {
+    match best {
+        None => true,
+        Some(b) => path.len() >= b.len(),
+    }
+}
+
+fn contains(r: &Range<usize>, pos: usize) -> bool {
+    (r.start <= pos && pos < r.end) || (r.start == pos && r.end == pos)
+}
+
+/// The deepest key or value whose span contains `pos`.
+fn containing(root: &Spanned<DeTable<'_>>, pos: usize) -> Option<Vec<Seg>> {
+    let mut best: Option<Vec<Seg>> = None;
+    walk_table(root.get_ref(), &mut Vec::new(), &mut |n| {
+        let hit = contains(&n.value, pos) || n.key.as_ref().is_some_and(|k| contains(k, pos));
+        if hit && deeper(&best, n.path) {
+            best = Some(n.path.to_vec());
+        }
+    });
+    best
+}
+
+/// The key a syntax error at `at` is about. A table header is named by its own text; a
+/// duplicate key by its table and itself. Otherwise the recovered tree tells: the key or value
+/// the error lies in; else the key last written before it on the same line; else the table
+/// whose header or key-value pair comes last before it.
+fn syntax_key(root: &Spanned<DeTable<'_>>, at: &Range<usize>, message: &str, text: &str) -> String {
+    let pos = at.start.min(text.len());
+    let line_start = text[..floor_boundary(text, pos)]
+        .rfind('\n')
+        .map_or(0, |i| i + 1);
+    let line = text[line_start..].split('\n').next().unwrap_or("");
+    if let Some(header) = header_name(line) {
+        return header;
+    }
+    let mut path = syntax_path(root, pos, text);
+    // The parser recovers a missing key as an empty one: name what is around it instead.
+    if let Some(i) = path
+        .iter()
+        .position(|s| matches!(s, Seg::Key(k) if k.is_empty()))
+    {
+        path.truncate(i);
+    }
+    if message == "duplicate key" {
+        let key = text.get(at.clone()).unwrap_or("");
+        let bare = !key.is_empty()
+            && key
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+        if bare && !matches!(path.last(), Some(Seg::Key(k)) if k == key) {
+            path.push(Seg::Key(key.to_string()));
+        }
+    }
+    render(&path)
+}
+
+fn floor_boundary(text: &str, mut i: usize) -> usize {
+    while !text.is_char_boundary(i) {
+        i -= 1;
+    }
+    i
+}
+
+/// `stock` for a line that is (or begins to be) the table header `[stock]` or `[[stock]]`; None
+/// for any other line, such as one row of a multi-line array.
+fn header_name(line: &str) -> Option<String> {
+    let rest = line.trim_start().strip_prefix('[')?;
+    let rest = rest.strip_prefix('[').unwrap_or(rest).trim_start();
+    let first = rest.chars().next()?;
+    if !(first.is_ascii_alphabetic() || first == '_' || first == '"' || first == '\'') {
+        return None;
+    }
+    let name = rest.split([']', '#']).next().unwrap_or("");
+    let parts: Vec<&str> = name.split('.').map(str::trim).collect();
+    let ok = |p: &&str| {
+        !p.is_empty()
+            && p.chars().all(|c| {
+                c.is_ascii_alphanumeric()
+                    || c == '_'
+                    || c == '-'
+                    || c == '"'
+                    || c == '\''
+                    || c == ' '
+            })
+    };
+    if parts.iter().all(ok) {
+        Some(parts.join("."))
+    } else {
+        None
+    }
+}
+
+fn syntax_path(root: &Spanned<DeTable<'_>>, pos: usize, text: &str) -> Vec<Seg> {
+    if let Some(p) = containing(root, pos) {
+        return p;
+    }
+    let line_of = |offset: usize| {
+        text.as_bytes()[..offset.min(text.len())]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+    };
+    // (start, path, is a key-value pair)
+    let mut best: Option<(usize, Vec<Seg>, bool)> = None;
+    walk_table(root.get_ref(), &mut Vec::new(), &mut |n| {
+        let header = n.is_table && text.as_bytes().get(n.value.start) == Some(&b'[');
+        let anchor = match &n.key {
+            // A key written inside a table header (`[stock]`) is not a key-value pair.
+            Some(k) if !header && k.start < n.value.start => Some((k.start, true)),
+            _ if header => Some((n.value.start, false)),
+            _ => None,
+        };
+        if let Some((start, is_pair)) = anchor {
+            if start <= pos && best.as_ref().map_or(true, |b| start >= b.0) {
+                best = Some((start, n.path.to_vec(), is_pair));
+            }
+        }
+    });
+    match best {
+        None => Vec::new(),
+        Some((start, mut path, is_pair)) => {
+            if is_pair && line_of(start) != line_of(pos) {
+                path.pop();
+            }
+            path
+        }
+    }
 }

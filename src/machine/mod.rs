@@ -5,10 +5,17 @@
 //! Outlines are normalised [`Polygon`]s.
 
 mod load;
+#[cfg(test)]
+mod tests;
+
+use std::fmt::Write as _;
 
 use crate::geom::{Polygon, P2};
 
-pub use load::{from_toml, MachineError};
+pub use load::{
+    from_toml, MachineError, MAX_OUTLINE_POINTS, MAX_STATIONS, MAX_TOOLS, MAX_TOTAL_OUTLINE_POINTS,
+    TOP_LEVEL,
+};
 
 /// The built-in machine's TOML, embedded in the binary.
 pub const BUILTIN_TOML: &str = include_str!("../../machines/generic-slant-bed.toml");
@@ -20,12 +27,32 @@ pub enum Dialect {
     Linuxcnc,
 }
 
+impl Dialect {
+    /// The name used in machine files: `fanuc`, `linuxcnc`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Dialect::Fanuc => "fanuc",
+            Dialect::Linuxcnc => "linuxcnc",
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RapidMode {
     /// Each axis at its own rapid rate: the path bends.
     Dogleg,
     /// Both axes interpolated along the straight line.
     Linear,
+}
+
+impl RapidMode {
+    /// The name used in machine files: `dogleg`, `linear`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RapidMode::Dogleg => "dogleg",
+            RapidMode::Linear => "linear",
+        }
+    }
 }
 
 /// Fanuc: how a number without a decimal point is read for length words.
@@ -35,6 +62,16 @@ pub enum DecimalPoint {
     Calculator,
     /// `X60` = 60 least increments (0.001 mm, 0.0001 in).
     Increment,
+}
+
+impl DecimalPoint {
+    /// The name used in machine files: `calculator`, `increment`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            DecimalPoint::Calculator => "calculator",
+            DecimalPoint::Increment => "increment",
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -111,5 +148,149 @@ impl Machine {
 
     pub fn tool(&self, station: u32) -> Option<&Tool> {
         self.tools.iter().find(|t| t.station == station)
+    }
+
+    /// A human summary, several lines, for `latheguard machine FILE`: name, dialect and modes,
+    /// axis limits, the parts present, stock, turret, and one line per tool with its station,
+    /// name, tip, and the sizes (x × z, mm) of its insert and holder.
+    pub fn describe(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(s, "{}", self.name);
+        let mut modes = format!(
+            "{}, X words are {}, rapid {}",
+            self.dialect.as_str(),
+            if self.diameter_mode {
+                "diameters"
+            } else {
+                "radii"
+            },
+            match self.rapid {
+                RapidMode::Dogleg => "dogleg (each axis at its own rate)",
+                RapidMode::Linear => "linear (interpolated)",
+            }
+        );
+        if self.dialect == Dialect::Fanuc {
+            let _ = write!(
+                modes,
+                ", decimal point {}",
+                match self.decimal_point {
+                    DecimalPoint::Calculator => "calculator (X60 = 60 mm)",
+                    DecimalPoint::Increment => "increment (X60 = 0.060 mm)",
+                }
+            );
+        }
+        let _ = writeln!(s, "  dialect     {modes}");
+        for (name, a) in [("x", &self.x), ("z", &self.z)] {
+            let _ = writeln!(
+                s,
+                "  {name} axis      {} .. {} mm, rapid {} mm/min",
+                num(a.min),
+                num(a.max),
+                num(a.rapid)
+            );
+        }
+        let _ = writeln!(
+            s,
+            "  home        x {}, z {}",
+            num(self.home.x),
+            num(self.home.y)
+        );
+        let _ = writeln!(s, "  spindle     up to {} rpm", num(self.max_rpm));
+        for (name, part) in [("chuck", &self.chuck), ("tailstock", &self.tailstock)] {
+            let text = match part {
+                None => "none".to_string(),
+                Some(p) => {
+                    let b = p.aabb();
+                    format!(
+                        "x {} .. {}, z {} .. {} ({} points)",
+                        num(b.min.x),
+                        num(b.max.x),
+                        num(b.min.y),
+                        num(b.max.y),
+                        p.points().len()
+                    )
+                }
+            };
+            let _ = writeln!(s, "  {name:<11} {text}");
+        }
+        let stock = match &self.stock {
+            None => "none".to_string(),
+            Some(st) => {
+                let kind = if st.bore > 0.0 {
+                    format!("tube Ø{}/Ø{}", num(st.diameter), num(st.bore))
+                } else {
+                    format!("bar Ø{}", num(st.diameter))
+                };
+                format!(
+                    "{kind} × {} mm, z {} .. {}",
+                    num(st.length),
+                    num(st.front - st.length),
+                    num(st.front)
+                )
+            }
+        };
+        let _ = writeln!(s, "  stock       {stock}");
+        let _ = writeln!(s, "  program Z0  z {}", num(self.program_zero_z));
+        let t = &self.turret;
+        let b = t.outline.aabb();
+        let _ = writeln!(
+            s,
+            "  turret      {} stations, starts at {}, axis {} mm in +x, {} s per station; outline x {} .. {}, z {} .. {}",
+            t.stations,
+            t.start_station,
+            num(t.axis),
+            num(t.index_time),
+            num(b.min.x),
+            num(b.max.x),
+            num(b.min.y),
+            num(b.max.y)
+        );
+        let _ = writeln!(s, "  tools       {}", self.tools.len());
+        let size = |p: &Polygon| {
+            let b = p.aabb();
+            format!("{} × {} mm", num(b.max.x - b.min.x), num(b.max.y - b.min.y))
+        };
+        let rows: Vec<[String; 5]> = self
+            .tools
+            .iter()
+            .map(|t| {
+                [
+                    format!("{:>2}", t.station),
+                    t.name.clone(),
+                    format!("tip [{}, {}]", num(t.tip.x), num(t.tip.y)),
+                    format!("insert {}", size(&t.insert)),
+                    format!("holder {}", size(&t.holder)),
+                ]
+            })
+            .collect();
+        let mut widths = [0usize; 5];
+        for row in &rows {
+            for (w, cell) in widths.iter_mut().zip(row) {
+                *w = (*w).max(cell.chars().count());
+            }
+        }
+        for (tool, row) in self.tools.iter().zip(&rows) {
+            let mut line = String::from("   ");
+            for (cell, w) in row.iter().zip(widths) {
+                let _ = write!(line, " {cell}{} ", " ".repeat(w - cell.chars().count()));
+            }
+            if tool.nose_radius > 0.0 {
+                let _ = write!(line, " nose r{}", num(tool.nose_radius));
+            }
+            let _ = writeln!(s, "{}", line.trim_end());
+        }
+        s
+    }
+}
+
+/// A length for people: at most three decimals, no trailing zeros, no `-0`.
+fn num(v: f64) -> String {
+    let r = (v * 1000.0).round() / 1000.0;
+    if !r.is_finite() {
+        format!("{v}")
+    } else if r == 0.0 {
+        "0".to_string()
+    } else {
+        format!("{r}")
     }
 }

@@ -1,0 +1,857 @@
+//! Tests of the machine loader: the shipped machines, the defaults, and that every class of bad
+//! input is refused at the right line and key.
+
+use super::*;
+use crate::geom::p2;
+use proptest::prelude::*;
+
+const LINUXCNC_TOML: &str = include_str!("../../machines/linuxcnc-small-lathe.toml");
+
+/// A small machine that leaves every optional key to its default.
+const MINI: &str = r#"[machine]
+name = "mini"
+
+[axes]
+x = { min = -10.0, max = 300.0, rapid = 20000.0 }
+z = { min = -50.0, max = 600.0, rapid = 24000.0 }
+
+[spindle]
+max_rpm = 4000.0
+
+[chuck]
+outline = [[25, -100], [105, -100], [105, -30], [70, -30], [70, -12], [45, -12], [45, 0], [25, 0]]
+
+[stock]
+diameter = 50.0
+length = 120.0
+front = 80.0
+
+[turret]
+stations = 8
+axis = 140.0
+index_time = 0.5
+outline = [[0, -35], [280, -35], [280, 35], [0, 35]]
+
+[[tools]]
+station = 1
+name = "one"
+tip = [-60.0, -12.0]
+insert = [[0, 0], [12, 2], [14, 14], [2, 12]]
+holder = [[5, 8], [60, 8], [60, 33], [8, 33]]
+
+[[tools]]
+station = 2
+name = "two"
+tip = [-58.0, -10.0]
+insert = [[0, 0], [12, 2], [14, 14], [2, 12]]
+holder = [[5, 8], [60, 8], [60, 33], [8, 33]]
+
+[[tools]]
+station = 3
+name = "three"
+tip = [-31.0, -90.0]
+insert = [[0, 0], [-6, 0.5], [-6.5, 6.5], [-0.5, 6]]
+holder = [[-15, 2], [-3, 2], [-3, 50], [-15, 50]]
+"#;
+
+fn load(text: &str) -> Result<Machine, MachineError> {
+    from_toml(text, "test.toml")
+}
+
+#[track_caller]
+fn refused(text: &str) -> MachineError {
+    match load(text) {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+/// `text` with the first `from` replaced by `to`.
+#[track_caller]
+fn edit(text: &str, from: &str, to: &str) -> String {
+    assert!(text.contains(from), "{from:?} is not in the text");
+    text.replacen(from, to, 1)
+}
+
+/// 1-based line of the first line containing `needle`.
+#[track_caller]
+fn line_of(text: &str, needle: &str) -> u32 {
+    let i = text
+        .lines()
+        .position(|l| l.contains(needle))
+        .unwrap_or_else(|| panic!("{needle:?} not found"));
+    i as u32 + 1
+}
+
+/// 1-based line of the `n`th (from 0) line equal to `needle` after trimming.
+fn nth_line(text: &str, needle: &str, n: usize) -> u32 {
+    let i = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.trim() == needle)
+        .nth(n)
+        .expect("line not found")
+        .0;
+    i as u32 + 1
+}
+
+#[track_caller]
+fn assert_at(e: &MachineError, line: u32, key: &str) {
+    assert_eq!(
+        (e.line, e.key.as_str()),
+        (line, key),
+        "wrong place for: {e}"
+    );
+    assert_eq!(e.file, "test.toml");
+    assert!(e.col >= 1, "no column: {e}");
+}
+
+/// Same vertices in the same cyclic order.
+fn same_cycle(a: &Polygon, b: &Polygon) -> bool {
+    let (a, b) = (a.points(), b.points());
+    a.len() == b.len() && (0..a.len()).any(|k| (0..a.len()).all(|i| a[(i + k) % a.len()] == b[i]))
+}
+
+// --- the shipped machines -------------------------------------------------------------------
+
+#[test]
+fn builtin_machine_loads_with_eight_tools_in_stations_1_to_8() {
+    let m = Machine::builtin();
+    assert_eq!(m.name, "Generic 2-axis slant-bed lathe");
+    assert_eq!(m.dialect, Dialect::Fanuc);
+    assert!(m.diameter_mode);
+    assert_eq!(m.rapid, RapidMode::Dogleg);
+    assert_eq!(m.decimal_point, DecimalPoint::Calculator);
+    assert_eq!(m.turret.stations, 8);
+    assert_eq!(
+        m.tools.iter().map(|t| t.station).collect::<Vec<_>>(),
+        (1..=8).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        m.stock,
+        Some(Stock {
+            diameter: 50.0,
+            length: 120.0,
+            front: 80.0,
+            bore: 0.0
+        })
+    );
+    assert_eq!(m.program_zero_z, 78.0);
+    assert!(m.chuck.is_some());
+    assert!(m.tailstock.is_none());
+}
+
+/// DESIGN §3 quotes these values; the built-in machine must keep them.
+#[test]
+fn builtin_machine_keeps_the_values_design_quotes() {
+    let m = Machine::builtin();
+    assert_eq!(
+        (m.x, m.z),
+        (
+            Axis {
+                min: -10.0,
+                max: 300.0,
+                rapid: 20000.0
+            },
+            Axis {
+                min: -50.0,
+                max: 600.0,
+                rapid: 24000.0
+            }
+        )
+    );
+    assert_eq!(m.home, p2(300.0, 600.0));
+    assert_eq!(m.max_rpm, 4000.0);
+    assert_eq!(
+        (m.turret.start_station, m.turret.axis, m.turret.index_time),
+        (1, 140.0, 0.5)
+    );
+    let t1 = m.tool(1).unwrap();
+    assert_eq!(
+        (t1.name.as_str(), t1.tip, t1.nose_radius),
+        ("OD rough CNMG 80", p2(-60.0, -12.0), 0.8)
+    );
+    let chuck = [
+        [25, -100],
+        [105, -100],
+        [105, -30],
+        [70, -30],
+        [70, -12],
+        [45, -12],
+        [45, 0],
+        [25, 0],
+    ];
+    let chuck = Polygon::new(&chuck.map(|[x, z]| p2(x as f64, z as f64))).unwrap();
+    assert!(same_cycle(m.chuck.as_ref().unwrap(), &chuck));
+}
+
+/// The geometry other parts of latheguard rely on: the boring bar enters a 20 mm bore, the drill
+/// is on the axis, and the long bar reaches far past every other tool.
+#[test]
+fn builtin_tools_have_the_promised_geometry() {
+    let m = Machine::builtin();
+    let bar = m.tool(3).unwrap();
+    // Tip on the wall of a 20 mm bore (x = 10): the part of the tool within 60 mm of the tip
+    // (inside the bore) stays within radius 10.
+    for p in bar.holder.points().iter().chain(bar.insert.points()) {
+        if p.y < 45.0 {
+            assert!(
+                (10.0 + p.x).abs() <= 10.0,
+                "boring bar point {p:?} is outside a 20 mm bore"
+            );
+        }
+    }
+    let drill = m.tool(6).unwrap();
+    let b = drill.insert.aabb();
+    assert_eq!(
+        (b.min.x, b.max.x, b.min.y),
+        (-6.0, 6.0, 0.0),
+        "a 12 mm drill pointing toward -z"
+    );
+    let reach = |t: &Tool| t.tip.y + t.insert.aabb().min.y.min(t.holder.aabb().min.y);
+    let long = reach(m.tool(7).unwrap());
+    for t in m.tools.iter().filter(|t| t.station != 7) {
+        assert!(
+            reach(t) > long + 50.0,
+            "tool {} reaches as far as the long bar",
+            t.station
+        );
+    }
+}
+
+#[test]
+fn linuxcnc_machine_loads_in_radius_mode_with_a_tailstock() {
+    let m = load(LINUXCNC_TOML).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(m.dialect, Dialect::Linuxcnc);
+    assert!(!m.diameter_mode);
+    assert_eq!(m.rapid, RapidMode::Linear);
+    assert!(m.tailstock.is_some());
+    assert_eq!(m.stock.as_ref().map(|s| s.diameter), Some(25.0));
+    assert_eq!(m.turret.stations, 4);
+    assert_eq!(m.tools.len(), 4);
+}
+
+#[test]
+fn describe_names_the_machine_and_every_tool() {
+    let m = Machine::builtin();
+    let d = m.describe();
+    assert!(d.starts_with("Generic 2-axis slant-bed lathe\n"), "{d}");
+    for needle in [
+        "fanuc",
+        "diameters",
+        "dogleg",
+        "-10 .. 300",
+        "-50 .. 600",
+        "tailstock   none",
+        "bar Ø50",
+        "8 stations",
+    ] {
+        assert!(d.contains(needle), "{needle:?} missing from:\n{d}");
+    }
+    for t in &m.tools {
+        assert!(
+            d.lines()
+                .any(|l| l.contains(&t.name) && l.trim_start().starts_with(&t.station.to_string())),
+            "{}",
+            t.name
+        );
+    }
+    let d = load(LINUXCNC_TOML).unwrap().describe();
+    assert!(
+        d.contains("linuxcnc")
+            && d.contains("radii")
+            && d.contains("linear")
+            && !d.contains("decimal point"),
+        "{d}"
+    );
+}
+
+// --- defaults --------------------------------------------------------------------------------
+
+#[test]
+fn defaults_fill_every_optional_key() {
+    let m = load(MINI).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(m.dialect, Dialect::Fanuc);
+    assert!(m.diameter_mode);
+    assert_eq!(m.rapid, RapidMode::Dogleg);
+    assert_eq!(m.decimal_point, DecimalPoint::Calculator);
+    assert_eq!(m.home, p2(300.0, 600.0), "home defaults to both maxima");
+    assert_eq!(m.stock.as_ref().unwrap().bore, 0.0);
+    assert_eq!(
+        m.program_zero_z, 80.0,
+        "program Z0 defaults to the stock's front face"
+    );
+    assert_eq!(m.turret.start_station, 1);
+    assert!(m.tools.iter().all(|t| t.nose_radius == 0.0));
+    assert!(m.tailstock.is_none());
+}
+
+#[test]
+fn linuxcnc_defaults_to_radius_mode() {
+    let m = load(&edit(
+        MINI,
+        "name = \"mini\"",
+        "name = \"mini\"\ndialect = \"linuxcnc\"",
+    ))
+    .unwrap();
+    assert!(!m.diameter_mode);
+    let m = load(&edit(
+        MINI,
+        "name = \"mini\"",
+        "name = \"mini\"\ndialect = \"linuxcnc\"\ndiameter_mode = true",
+    ))
+    .unwrap();
+    assert!(m.diameter_mode);
+}
+
+#[test]
+fn program_zero_defaults_to_the_jaw_faces_without_stock() {
+    let text = edit(
+        MINI,
+        "[stock]\ndiameter = 50.0\nlength = 120.0\nfront = 80.0\n",
+        "",
+    );
+    let m = load(&text).unwrap();
+    assert!(m.stock.is_none());
+    assert_eq!(m.program_zero_z, 0.0);
+}
+
+#[test]
+fn chuck_tailstock_and_stock_are_optional() {
+    let text = edit(
+        MINI,
+        "[stock]\ndiameter = 50.0\nlength = 120.0\nfront = 80.0\n",
+        "",
+    );
+    let text = edit(&text, "[chuck]\n", "");
+    let text = edit(&text, "outline = [[25, -100], [105, -100], [105, -30], [70, -30], [70, -12], [45, -12], [45, 0], [25, 0]]\n", "");
+    let m = load(&text).unwrap_or_else(|e| panic!("{e}"));
+    assert!(m.chuck.is_none() && m.tailstock.is_none() && m.stock.is_none());
+}
+
+#[test]
+fn tools_are_sorted_by_station() {
+    let text = edit(MINI, "station = 1\n", "station = 7\n");
+    let m = load(&text).unwrap();
+    assert_eq!(
+        m.tools.iter().map(|t| t.station).collect::<Vec<_>>(),
+        [2, 3, 7]
+    );
+    assert_eq!(m.tool(7).unwrap().name, "one");
+}
+
+// --- outlines --------------------------------------------------------------------------------
+
+#[test]
+fn outline_winding_and_redundant_points_do_not_change_the_polygon() {
+    let base = load(MINI).unwrap().chuck.unwrap();
+    let forms = [
+        // clockwise
+        "[[25, 0], [45, 0], [45, -12], [70, -12], [70, -30], [105, -30], [105, -100], [25, -100]]",
+        // clockwise, starting elsewhere, closed explicitly
+        "[[70, -12], [70, -30], [105, -30], [105, -100], [25, -100], [25, 0], [45, 0], [45, -12], [70, -12]]",
+        // duplicates and collinear points on edges
+        "[[25, -100], [25, -100], [60, -100], [105, -100], [105, -60], [105, -30], [70, -30], [70, -30], [70, -12], [45, -12], [45, -6], [45, 0], [35, 0], [25, 0], [25, -50]]",
+    ];
+    for form in forms {
+        let text = edit(
+            MINI,
+            "outline = [[25, -100], [105, -100], [105, -30], [70, -30], [70, -12], [45, -12], [45, 0], [25, 0]]",
+            &format!("outline = {form}"),
+        );
+        let m = load(&text).unwrap_or_else(|e| panic!("{form}: {e}"));
+        let chuck = m.chuck.unwrap();
+        assert!(
+            same_cycle(&chuck, &base),
+            "{form} gave {:?}",
+            chuck.points()
+        );
+        assert!(chuck.area() > 0.0);
+    }
+}
+
+#[test]
+fn self_intersecting_chuck_outline_is_refused_at_its_key() {
+    let text = edit(
+        MINI,
+        "[[25, -100], [105, -100], [105, -30]",
+        "[[25, -100], [105, -30], [105, -100]",
+    );
+    let e = refused(&text);
+    assert_at(
+        &e,
+        line_of(&text, "[[25, -100], [105, -30]"),
+        "chuck.outline",
+    );
+    assert!(e.message.contains("intersects itself"), "{e}");
+    assert!(
+        e.message.contains("point [0]") || e.message.contains("point [1]"),
+        "{e}"
+    );
+}
+
+#[test]
+fn degenerate_holder_outline_is_refused_at_its_key() {
+    let text = edit(
+        MINI,
+        "holder = [[-15, 2], [-3, 2], [-3, 50], [-15, 50]]",
+        "holder = [[0, 0], [5, 5], [10, 10], [5, 5]]",
+    );
+    let e = refused(&text);
+    assert_at(
+        &e,
+        line_of(&text, "holder = [[0, 0], [5, 5]"),
+        "tools[2].holder",
+    );
+    assert!(e.message.contains("fewer than 3"), "{e}");
+}
+
+#[test]
+fn point_with_three_numbers_is_refused_at_its_index() {
+    let text = edit(
+        MINI,
+        "[[0, -35], [280, -35], [280, 35], [0, 35]]",
+        "[[0, -35], [280, -35, 1], [280, 35], [0, 35]]",
+    );
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "[280, -35, 1]"), "turret.outline[1]");
+    assert!(e.message.contains("expected 2 numbers, found 3"), "{e}");
+}
+
+#[test]
+fn outline_of_20000_points_is_refused_before_it_is_normalised() {
+    let pts: Vec<String> = (0..20_000)
+        .map(|i| {
+            let a = i as f64 / 20_000.0 * std::f64::consts::TAU;
+            format!("[{}, {}]", 30.0 + 20.0 * a.cos(), 20.0 * a.sin())
+        })
+        .collect();
+    let text = edit(
+        MINI,
+        "outline = [[0, -35], [280, -35], [280, 35], [0, 35]]",
+        &format!("outline = [{}]", pts.join(", ")),
+    );
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "outline = [[50, 0]"), "turret.outline");
+    assert!(e.message.contains("too many points: 20000"), "{e}");
+}
+
+#[test]
+fn outlines_over_the_file_limit_are_refused() {
+    // Three outlines of 7,000 points each: each under the outline limit, together over the file's.
+    let circle = |n: usize| -> String {
+        let pts: Vec<String> = (0..n)
+            .map(|i| {
+                let a = i as f64 / n as f64 * std::f64::consts::TAU;
+                format!("[{}, {}]", 20.0 * a.cos(), 20.0 * a.sin())
+            })
+            .collect();
+        format!("[{}]", pts.join(","))
+    };
+    let big = circle(7_000);
+    let text = edit(
+        MINI,
+        "holder = [[5, 8], [60, 8], [60, 33], [8, 33]]",
+        &format!("holder = {big}"),
+    );
+    let text = edit(
+        &text,
+        "holder = [[5, 8], [60, 8], [60, 33], [8, 33]]",
+        &format!("holder = {big}"),
+    );
+    let text = edit(
+        &text,
+        "holder = [[-15, 2], [-3, 2], [-3, 50], [-15, 50]]",
+        &format!("holder = {big}"),
+    );
+    let e = refused(&text);
+    assert_eq!(e.key, "tools[2].holder", "{e}");
+    assert!(e.message.contains("at most 20000 in all"), "{e}");
+}
+
+// --- each class of error, at its line and key -----------------------------------------------
+
+#[test]
+fn unknown_key_is_refused_at_its_line_and_key() {
+    let text = edit(MINI, "front = 80.0\n", "front = 80.0\ncolour = \"red\"\n");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "colour"), "stock.colour");
+    assert_eq!(e.col, 1);
+    assert!(e.message.contains("unknown key `colour`"), "{e}");
+}
+
+#[test]
+fn unknown_key_in_an_inline_table_is_refused_at_its_key() {
+    let text = edit(MINI, "rapid = 24000.0 }", "rapid = 24000.0, accel = 2 }");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "accel"), "axes.z.accel");
+}
+
+#[test]
+fn unknown_table_is_refused_at_its_header() {
+    let text = format!("{MINI}\n[coolant]\nflow = 3\n");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "[coolant]"), "coolant");
+}
+
+#[test]
+fn unknown_key_in_the_third_tool_names_its_index() {
+    let text = edit(
+        MINI,
+        "name = \"three\"\n",
+        "name = \"three\"\nlength = 90\n",
+    );
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "length = 90"), "tools[2].length");
+}
+
+#[test]
+fn wrong_type_is_refused_at_its_line_and_key() {
+    let text = edit(MINI, "diameter = 50.0", "diameter = \"fifty\"");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "diameter ="), "stock.diameter");
+    assert_eq!(e.col, 12, "the column of the value");
+    assert!(e.message.contains("expected a number"), "{e}");
+
+    let text = edit(
+        MINI,
+        "holder = [[-15, 2], [-3, 2], [-3, 50], [-15, 50]]",
+        "holder = 5",
+    );
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "holder = 5"), "tools[2].holder");
+    assert!(e.message.contains("expected an array"), "{e}");
+
+    let text = edit(MINI, "station = 2", "station = 2.5");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "station = 2.5"), "tools[1].station");
+
+    let text = edit(MINI, "x = { min = -10.0,", "x = { min = true,");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "min = true"), "axes.x.min");
+}
+
+#[test]
+fn unknown_dialect_is_refused_at_its_key() {
+    let text = edit(
+        MINI,
+        "name = \"mini\"",
+        "name = \"mini\"\ndialect = \"haas\"",
+    );
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "haas"), "machine.dialect");
+    assert!(
+        e.message.contains("fanuc") && e.message.contains("linuxcnc"),
+        "{e}"
+    );
+}
+
+#[test]
+fn missing_key_is_refused_at_its_table() {
+    let text = MINI.replacen("station = 2\n", "", 1);
+    let e = refused(&text);
+    assert_at(&e, nth_line(&text, "[[tools]]", 1), "tools[1].station");
+    assert!(e.message.contains("missing required key `station`"), "{e}");
+
+    let text = edit(MINI, "max = 300.0, ", "");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "x = {"), "axes.x.max");
+
+    let text = edit(MINI, "[spindle]\nmax_rpm = 4000.0\n", "");
+    let e = refused(&text);
+    assert_at(&e, 1, "spindle");
+}
+
+#[test]
+fn toml_syntax_error_is_refused_at_its_line_and_key() {
+    let text = edit(MINI, "max_rpm = 4000.0", "max_rpm = 4000.0.0");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "max_rpm"), "spindle.max_rpm");
+    assert!(e.message.starts_with("TOML syntax error"), "{e}");
+
+    let text = edit(MINI, "max = 300.0, rapid", "max = 300.0 rapid");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "max = 300.0 rapid"), "axes.x");
+
+    let text = edit(MINI, "name = \"two\"", "name = \"two");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "name = \"two"), "tools[1].name");
+
+    let e = refused("[machine\nname = \"x\"\n");
+    assert_eq!((e.line, e.key.as_str()), (1, "machine"), "{e}");
+
+    let e = refused("= 3\n[machine]\nname = \"x\"\n");
+    assert_eq!((e.line, e.key.as_str()), (1, TOP_LEVEL), "{e}");
+
+    // A broken row of a multi-line outline is not a table header.
+    let text = edit(
+        MINI,
+        "outline = [[0, -35], [280, -35], [280, 35], [0, 35]]",
+        "outline = [\n  [0, -35],\n  [280 -35],\n  [280, 35],\n]",
+    );
+    let e = refused(&text);
+    assert_eq!(e.line, line_of(&text, "[280 -35]"), "{e}");
+    assert!(e.key.starts_with("turret.outline["), "{e}");
+}
+
+#[test]
+fn duplicate_toml_key_is_refused_at_the_second() {
+    let text = edit(MINI, "length = 120.0\n", "length = 120.0\nlength = 100.0\n");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "length = 100.0"), "stock.length");
+    assert!(e.message.contains("duplicate key"), "{e}");
+
+    let text = format!("{MINI}\n[stock]\nbore = 3\n");
+    let e = refused(&text);
+    assert_eq!(
+        (e.line, e.key.as_str()),
+        (nth_line(&text, "[stock]", 1), "stock"),
+        "{e}"
+    );
+}
+
+#[test]
+fn negative_stock_diameter_is_refused() {
+    let text = edit(MINI, "diameter = 50.0", "diameter = -50.0");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "diameter ="), "stock.diameter");
+    assert!(e.message.contains("greater than 0"), "{e}");
+}
+
+#[test]
+fn bore_not_smaller_than_diameter_is_refused() {
+    for bore in ["50.0", "60"] {
+        let text = edit(
+            MINI,
+            "front = 80.0\n",
+            &format!("front = 80.0\nbore = {bore}\n"),
+        );
+        let e = refused(&text);
+        assert_at(&e, line_of(&text, "bore ="), "stock.bore");
+        assert!(e.message.contains("smaller than the diameter"), "{e}");
+    }
+    let text = edit(MINI, "front = 80.0\n", "front = 80.0\nbore = -1\n");
+    assert_at(&refused(&text), line_of(&text, "bore ="), "stock.bore");
+    let text = edit(MINI, "front = 80.0\n", "front = 80.0\nbore = 20\n");
+    assert_eq!(load(&text).unwrap().stock.unwrap().bore, 20.0);
+}
+
+#[test]
+fn duplicate_station_is_refused_at_the_second_tool() {
+    let text = edit(MINI, "station = 3", "station = 1");
+    let e = refused(&text);
+    assert_at(&e, nth_line(&text, "station = 1", 1), "tools[2].station");
+    assert!(e.message.contains("already taken by tools[0]"), "{e}");
+}
+
+#[test]
+fn station_out_of_range_is_refused() {
+    for bad in ["9", "0"] {
+        let text = edit(MINI, "station = 2", &format!("station = {bad}"));
+        let e = refused(&text);
+        assert_at(
+            &e,
+            line_of(&text, &format!("station = {bad}")),
+            "tools[1].station",
+        );
+        assert!(e.message.contains("stations 1 to 8"), "{e}");
+    }
+    let text = edit(MINI, "station = 2", "station = -2");
+    assert_at(
+        &refused(&text),
+        line_of(&text, "station = -2"),
+        "tools[1].station",
+    );
+}
+
+#[test]
+fn turret_station_count_and_start_are_checked() {
+    let text = edit(MINI, "stations = 8", "stations = 65");
+    assert_at(
+        &refused(&text),
+        line_of(&text, "stations = 65"),
+        "turret.stations",
+    );
+    let text = edit(MINI, "stations = 8", "stations = 0");
+    assert_at(
+        &refused(&text),
+        line_of(&text, "stations = 0"),
+        "turret.stations",
+    );
+    let text = edit(MINI, "stations = 8", "stations = 8\nstart_station = 9");
+    assert_at(
+        &refused(&text),
+        line_of(&text, "start_station"),
+        "turret.start_station",
+    );
+    let text = edit(MINI, "index_time = 0.5", "index_time = -0.5");
+    assert_at(
+        &refused(&text),
+        line_of(&text, "index_time"),
+        "turret.index_time",
+    );
+    let text = edit(MINI, "axis = 140.0", "axis = nan");
+    assert_at(&refused(&text), line_of(&text, "axis = nan"), "turret.axis");
+}
+
+#[test]
+fn no_tools_is_refused() {
+    let cut = MINI.find("[[tools]]").unwrap();
+    let e = refused(&MINI[..cut]);
+    assert_at(&e, 1, "tools");
+    assert!(e.message.contains("missing tools"), "{e}");
+
+    let text = format!("tools = []\n{}", &MINI[..cut]);
+    let e = refused(&text);
+    assert_at(&e, 1, "tools");
+    assert!(e.message.contains("missing tools"), "{e}");
+}
+
+#[test]
+fn too_many_tools_are_refused() {
+    let cut = MINI.find("[[tools]]").unwrap();
+    let mut text = MINI[..cut].to_string();
+    for i in 0..300 {
+        text.push_str(&format!("[[tools]]\nstation = {i}\nname = \"t\"\ntip = [0, 0]\ninsert = [[0, 0], [1, 0], [0, 1]]\nholder = [[0, 0], [1, 0], [0, 1]]\n"));
+    }
+    let e = refused(&text);
+    assert_at(&e, nth_line(&text, "[[tools]]", 256), "tools[256]");
+    assert!(e.message.contains("too many tools: 300"), "{e}");
+}
+
+#[test]
+fn blank_names_are_refused() {
+    let text = edit(MINI, "name = \"two\"", "name = \"  \"");
+    assert_at(
+        &refused(&text),
+        line_of(&text, "name = \"  \""),
+        "tools[1].name",
+    );
+    let text = edit(MINI, "name = \"mini\"", "name = \"\"");
+    assert_at(&refused(&text), 2, "machine.name");
+}
+
+#[test]
+fn home_outside_limits_is_refused() {
+    let text = edit(
+        MINI,
+        "rapid = 24000.0 }\n",
+        "rapid = 24000.0 }\nhome = [301.0, 600.0]\n",
+    );
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "home ="), "axes.home");
+    assert!(e.message.contains("outside"), "{e}");
+    let text = edit(
+        MINI,
+        "rapid = 24000.0 }\n",
+        "rapid = 24000.0 }\nhome = [300.0, -51]\n",
+    );
+    assert_at(&refused(&text), line_of(&text, "home ="), "axes.home");
+    let text = edit(
+        MINI,
+        "rapid = 24000.0 }\n",
+        "rapid = 24000.0 }\nhome = [0, 0]\n",
+    );
+    assert_eq!(load(&text).unwrap().home, p2(0.0, 0.0));
+}
+
+#[test]
+fn axis_limits_and_rates_are_checked() {
+    let text = edit(MINI, "min = -10.0", "min = 300.0");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "x = {"), "axes.x.min");
+    assert!(e.message.contains("less than max"), "{e}");
+    let text = edit(MINI, "rapid = 24000.0", "rapid = 0");
+    assert_at(&refused(&text), line_of(&text, "z = {"), "axes.z.rapid");
+    let text = edit(MINI, "max = 600.0", "max = inf");
+    assert_at(&refused(&text), line_of(&text, "z = {"), "axes.z.max");
+}
+
+#[test]
+fn spindle_speed_and_nose_radius_are_checked() {
+    let text = edit(MINI, "max_rpm = 4000.0", "max_rpm = 0");
+    assert_at(
+        &refused(&text),
+        line_of(&text, "max_rpm"),
+        "spindle.max_rpm",
+    );
+    let text = edit(MINI, "name = \"two\"", "name = \"two\"\nnose_radius = -0.4");
+    assert_at(
+        &refused(&text),
+        line_of(&text, "nose_radius"),
+        "tools[1].nose_radius",
+    );
+    let text = edit(MINI, "tip = [-58.0, -10.0]", "tip = [-58.0, inf]");
+    assert_at(&refused(&text), line_of(&text, "inf]"), "tools[1].tip");
+}
+
+#[test]
+fn increment_decimal_point_is_refused_for_linuxcnc() {
+    let text = edit(
+        MINI,
+        "name = \"mini\"",
+        "name = \"mini\"\ndialect = \"linuxcnc\"\ndecimal_point = \"increment\"",
+    );
+    assert_at(
+        &refused(&text),
+        line_of(&text, "decimal_point"),
+        "machine.decimal_point",
+    );
+    let text = edit(
+        MINI,
+        "name = \"mini\"",
+        "name = \"mini\"\ndecimal_point = \"increment\"",
+    );
+    assert_eq!(load(&text).unwrap().decimal_point, DecimalPoint::Increment);
+}
+
+#[test]
+fn error_display_names_file_line_column_and_key() {
+    let text = edit(MINI, "diameter = 50.0", "diameter = -5");
+    let e = refused(&text);
+    let line = line_of(&text, "diameter =");
+    assert_eq!(
+        e.to_string(),
+        format!("test.toml:{line}:12: stock.diameter: must be greater than 0, not -5")
+    );
+}
+
+// --- never a panic ---------------------------------------------------------------------------
+
+#[track_caller]
+fn check_error_shape(text: &str) {
+    if let Err(e) = load(text) {
+        assert!(e.line >= 1 && e.col >= 1, "{e}");
+        assert!(!e.key.is_empty(), "{e}");
+        let lines = crate::source::LineIndex::new(text.as_bytes()).line_count() as u32;
+        assert!(e.line <= lines.max(1), "line {} of {lines}: {e}", e.line);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+
+    #[test]
+    fn arbitrary_text_never_panics(text in "\\PC*") {
+        check_error_shape(&text);
+    }
+
+    #[test]
+    fn toml_like_text_never_panics(text in "([\\[\\]{}=,.\"' \n#a-z0-9_-]|tools|outline|station|\\[\\[tools\\]\\]|inf|nan){0,200}") {
+        check_error_shape(&text);
+    }
+
+    #[test]
+    fn damaged_builtin_machine_never_panics(
+        cut in 0usize..BUILTIN_TOML.len(),
+        len in 0usize..12,
+        insert in "([\\[\\]{}=,.\"' \n#0-9-]|inf|1e9|station|9){0,6}",
+    ) {
+        let mut text = BUILTIN_TOML.to_string();
+        let end = (cut + len).min(text.len());
+        if text.is_char_boundary(cut) && text.is_char_boundary(end) {
+            text.replace_range(cut..end, &insert);
+        }
+        check_error_shape(&text);
+    }
+}
