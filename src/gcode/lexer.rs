@@ -134,6 +134,10 @@ impl<'a> Reader<'a> {
     /// An error at `at`: "expected {what}, found …", with the special messages for bytes outside
     /// ASCII and for a stray `)`.
     pub fn expected(&self, at: usize, what: &str) -> Error {
+        let mut at = at;
+        while at < self.end && matches!(self.src[at], b' ' | b'\t') {
+            at += 1;
+        }
         Error {
             at,
             msg: self.expected_msg(at, what),

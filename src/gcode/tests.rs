@@ -741,6 +741,10 @@ fn bad_assignments_are_errors() {
     assert_eq!(col, 4);
     let (_, col, _) = error(b"#=1");
     assert_eq!(col, 2);
+    // The column and the message name the byte found, not the blanks before it.
+    let (_, col, msg) = error(b"G1 #  \t =1");
+    assert_eq!(col, 9);
+    assert!(msg.ends_with("found '='"), "{msg}");
     let (_, col, _) = error(b"#1=2+3");
     assert_eq!(col, 5);
     let (_, _, msg) = error(b"#99999999999=1");
