@@ -688,6 +688,22 @@ fn nesting_is_capped() {
     assert!(error(brackets.as_bytes()).2.contains("nested deeper"));
 }
 
+#[test]
+fn nesting_at_the_cap_through_every_precedence_level_fits_the_stack() {
+    // Each bracket level opens every precedence level: the deepest recursion the reader allows.
+    let levels = MAX_NESTING as usize;
+    let unit = "[1 or 1 eq 1 + 1 * 1 ** ";
+    let src = format!("X{}1{}", unit.repeat(levels), "]".repeat(levels));
+    // Unoptimised, this takes between 256 KiB and 512 KiB of stack; threads get 2 MiB by default.
+    let prog = std::thread::Builder::new()
+        .stack_size(1 << 20)
+        .spawn(move || p(&src))
+        .unwrap()
+        .join()
+        .unwrap();
+    assert!(prog.errors.is_empty(), "{:?}", prog.errors);
+}
+
 // ---- parameters and assignments ----
 
 #[test]
