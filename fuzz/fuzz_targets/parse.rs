@@ -28,5 +28,8 @@ fuzz_target!(|data: &[u8]| {
             assert!((a.value as usize) < prog.exprs.len());
         }
     }
-    assert_eq!(prog.errors.len(), prog.blocks.iter().filter(|b| b.bad).count());
+    assert_eq!(
+        prog.errors.len(),
+        prog.blocks.iter().filter(|b| b.bad).count()
+    );
 });
