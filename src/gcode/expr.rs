@@ -81,7 +81,24 @@ impl Reader<'_> {
     }
 
     /// The value of a word whose letter was just read.
+    #[inline]
     pub(super) fn value(&mut self, letter: u8) -> Res<(Value, bool)> {
+        // Fast path for the common case, a number right after the letter.
+        if let Some(b) = self.peek() {
+            if b.is_ascii_digit() {
+                let (x, point) = self.number()?;
+                return Ok((Value::Num(x), point));
+            }
+            if b == b'-'
+                && self.src[..self.end]
+                    .get(self.pos + 1)
+                    .is_some_and(u8::is_ascii_digit)
+            {
+                self.pos += 1;
+                let (x, point) = self.number()?;
+                return Ok((Value::Num(-x), point));
+            }
+        }
         Ok(match self.signed(Ctx::Word(letter))? {
             Val::Num(x, point) => (Value::Num(x), point),
             Val::Expr(id) => (Value::Expr(id), false),
@@ -146,36 +163,43 @@ impl Reader<'_> {
 
     /// A number at the cursor (a digit or '.'), without sign.
     fn number(&mut self) -> Res<(f64, bool)> {
+        let src = &self.src[..self.end];
         let start = self.pos;
+        let mut i = start;
         let mut mant: u64 = 0;
         let mut exact = true;
         let mut digits = 0usize;
-        let mut frac = 0usize;
-        let mut point = false;
+        let mut point: Option<usize> = None; // digits before the point
         let mut last = start;
-        while let Some(b) = self.peek() {
-            if b.is_ascii_digit() {
-                digits += 1;
-                frac += point as usize;
-                if mant < EXACT_MANTISSA / 10 {
-                    mant = mant * 10 + (b - b'0') as u64;
-                } else {
-                    exact = false;
+        loop {
+            match src.get(i) {
+                Some(&b) if b.is_ascii_digit() => {
+                    if mant < EXACT_MANTISSA / 10 {
+                        mant = mant * 10 + (b - b'0') as u64;
+                    } else {
+                        exact = false;
+                    }
+                    digits += 1;
+                    i += 1;
+                    last = i;
                 }
-            } else if b == b'.' {
-                if point {
-                    return Err(Error {
-                        at: self.pos,
-                        msg: "number has two decimal points".into(),
-                    });
+                Some(b'.') => {
+                    if point.is_some() {
+                        return Err(Error {
+                            at: i,
+                            msg: "number has two decimal points".into(),
+                        });
+                    }
+                    point = Some(digits);
+                    i += 1;
+                    last = i;
                 }
-                point = true;
-            } else {
-                break;
+                Some(b' ' | b'\t') => i += 1,
+                _ => break,
             }
-            self.pos += 1;
-            last = self.pos;
         }
+        let frac = point.map_or(0, |before| digits - before);
+        let point = point.is_some();
         self.pos = last;
         if digits == 0 {
             return Err(Error {
@@ -183,18 +207,23 @@ impl Reader<'_> {
                 msg: "number has no digits (a '.' alone is not a number)".into(),
             });
         }
-        let x = if exact && frac < POW10.len() {
-            mant as f64 / POW10[frac]
-        } else {
-            self.scratch.clear();
-            let text = &self.src[start..last];
-            self.scratch
-                .extend(text.iter().filter(|&&b| b != b' ' && b != b'\t'));
-            std::str::from_utf8(&self.scratch)
-                .ok()
-                .and_then(|s| s.parse::<f64>().ok())
-                .unwrap_or(f64::INFINITY)
-        };
+        if exact && frac < POW10.len() {
+            // Both operands are exact, so the quotient is correctly rounded.
+            let x = if frac == 0 {
+                mant as f64
+            } else {
+                mant as f64 / POW10[frac]
+            };
+            return Ok((x, point));
+        }
+        self.scratch.clear();
+        let text = &self.src[start..last];
+        self.scratch
+            .extend(text.iter().filter(|&&b| b != b' ' && b != b'\t'));
+        let x = std::str::from_utf8(&self.scratch)
+            .ok()
+            .and_then(|s| s.parse::<f64>().ok())
+            .unwrap_or(f64::INFINITY);
         if !x.is_finite() {
             return Err(Error {
                 at: start,

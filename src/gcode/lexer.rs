@@ -22,6 +22,10 @@ const BOM: &[u8] = b"\xEF\xBB\xBF";
 pub fn parse(src: &[u8]) -> Program {
     let lines = LineIndex::new(src);
     let mut reader = Reader::new(src);
+    // Most lines are blocks of a few words: reserving once saves the copies of growing (the
+    // memory a reservation does not use is never touched, and is given back below).
+    reader.prog.blocks.reserve(lines.line_count());
+    reader.prog.words.reserve(src.len() / 6);
     for i in 0..lines.line_count() {
         let line = (i + 1) as u32;
         let span = lines.line_span(src, line);
@@ -34,6 +38,12 @@ pub fn parse(src: &[u8]) -> Program {
     }
     let mut prog = reader.prog;
     prog.lines = lines;
+    if prog.blocks.capacity() > 2 * prog.blocks.len() {
+        prog.blocks.shrink_to_fit();
+    }
+    if prog.words.capacity() > 2 * prog.words.len() {
+        prog.words.shrink_to_fit();
+    }
     prog
 }
 
@@ -134,6 +144,10 @@ impl<'a> Reader<'a> {
     /// An error at `at`: "expected {what}, found …", with the special messages for bytes outside
     /// ASCII and for a stray `)`.
     pub fn expected(&self, at: usize, what: &str) -> Error {
+        let mut at = at;
+        while at < self.end && matches!(self.src[at], b' ' | b'\t') {
+            at += 1;
+        }
         Error {
             at,
             msg: self.expected_msg(at, what),

@@ -6,6 +6,42 @@
 //!
 //! Storage is flat for speed: words, expressions and assignments live in arenas in [`Program`]
 //! and blocks hold index ranges into them.
+//!
+//! # What the reader accepts
+//!
+//! The reference is LinuxCNC's rs274ngc, with the Fanuc program-number forms added. Choices where
+//! the rules in `DESIGN.md` §2 are silent:
+//!
+//! - Lines end at LF, CRLF or a lone CR. A UTF-8 byte-order mark at the start of the file is
+//!   skipped and is not counted in the columns of line 1 (editors do not show it).
+//! - Spaces and tabs are dropped everywhere outside comments, also inside words, numbers,
+//!   keywords and names: `X1 0.5` is `X10.5`, `G 0 1` is `G1`, `o100 end sub` is `endsub`,
+//!   `#<z start>` is `#<zstart>`. No other byte counts as a blank (a form feed or a DOS end-of-file
+//!   byte 0x1A is an error).
+//! - Comments: `( … )` closes at the first `)` (`(a (b) c)` leaves ` c)` outside, an error whose
+//!   message says comments do not nest); `;` hides the rest of the line. Comments may stand
+//!   between words, not inside a value. Every `( … )` is kept in [`Program::comments`]. The first
+//!   `(MSG,…)`, `(PRINT,…)` or `(DEBUG,…)` of a line (any case; blanks allowed before the keyword
+//!   and the comma) gives [`Block::message`], and such a line is a block even with no words.
+//! - Outside comments only ASCII is allowed.
+//! - `%` must be the first non-blank byte; the rest of its line is read as usual (`%O1200`).
+//!   `/` must come before everything but `%` and comments. `N` must come before every word,
+//!   assignment and O-word (comments may precede it), holds only digits and fits a `u64`.
+//! - An O-word must be the first word of its block, and only comments may follow its statement.
+//!   `O123` or `:123` with no keyword is [`OOp::ProgramNumber`]; `o<name>` needs a keyword.
+//!   Numbers are compared as numbers (`O0002` is `O2`). Call arguments are bracketed
+//!   expressions.
+//! - A value is an optional single sign and then a number, a parameter, `[expr]` or a function
+//!   (`X--1` is an error; `X-#1` and `X-[1]` are negations). Parameter numbers may be written
+//!   `#1.0`. Expressions have the rs274ngc operators, all left-associative (`2**3**2` is
+//!   `(2**3)**2`); operator and function names are matched as in rs274ngc, by their letters, so
+//!   `[1ltabs[2]]` is `1 LT ABS[2]`. There is no `NOT` (rs274ngc has none); [`Expr::Not`] is
+//!   never produced by the reader. Brackets, functions and `#` indirections nest at most
+//!   [`MAX_NESTING`] deep.
+//! - Not read (syntax errors): Fanuc Macro B statements (`IF […] GOTO`, `WHILE […] DO1`, `END1`,
+//!   `GOTOn`), Okuma and Philips variable syntax (`X=VAR+5`, `N1=…`).
+//! - Not rejected here, left to the interpreter: repeated words, letters that no code uses,
+//!   values out of range for their letter (`G1.5`).
 
 mod expr;
 mod lexer;

@@ -688,6 +688,22 @@ fn nesting_is_capped() {
     assert!(error(brackets.as_bytes()).2.contains("nested deeper"));
 }
 
+#[test]
+fn nesting_at_the_cap_through_every_precedence_level_fits_the_stack() {
+    // Each bracket level opens every precedence level: the deepest recursion the reader allows.
+    let levels = MAX_NESTING as usize;
+    let unit = "[1 or 1 eq 1 + 1 * 1 ** ";
+    let src = format!("X{}1{}", unit.repeat(levels), "]".repeat(levels));
+    // Unoptimised, this takes between 256 KiB and 512 KiB of stack; threads get 2 MiB by default.
+    let prog = std::thread::Builder::new()
+        .stack_size(1 << 20)
+        .spawn(move || p(&src))
+        .unwrap()
+        .join()
+        .unwrap();
+    assert!(prog.errors.is_empty(), "{:?}", prog.errors);
+}
+
 // ---- parameters and assignments ----
 
 #[test]
@@ -741,6 +757,10 @@ fn bad_assignments_are_errors() {
     assert_eq!(col, 4);
     let (_, col, _) = error(b"#=1");
     assert_eq!(col, 2);
+    // The column and the message name the byte found, not the blanks before it.
+    let (_, col, msg) = error(b"G1 #  \t =1");
+    assert_eq!(col, 9);
+    assert!(msg.ends_with("found '='"), "{msg}");
     let (_, col, _) = error(b"#1=2+3");
     assert_eq!(col, 5);
     let (_, _, msg) = error(b"#99999999999=1");
