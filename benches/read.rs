@@ -32,12 +32,22 @@ fn time<F: FnMut()>(runs: usize, mut f: F) -> f64 {
 }
 
 fn time_cmd(runs: usize, cmd: &str, args: &[&str]) -> Option<f64> {
-    let ok = Command::new(cmd).args(args).stdout(Stdio::null()).stderr(Stdio::null()).status().ok()?.success();
+    let ok = Command::new(cmd)
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .ok()?
+        .success();
     if !ok {
         return None;
     }
     Some(time(runs, || {
-        let _ = Command::new(cmd).args(args).stdout(Stdio::null()).stderr(Stdio::null()).status();
+        let _ = Command::new(cmd)
+            .args(args)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status();
     }))
 }
 
@@ -45,16 +55,23 @@ fn main() {
     let mut lines = 100_000usize;
     let args: Vec<String> = std::env::args().collect();
     if let Some(i) = args.iter().position(|a| a == "--lines") {
-        lines = args.get(i + 1).and_then(|v| v.parse().ok()).unwrap_or(lines);
+        lines = args
+            .get(i + 1)
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(lines);
     }
     let root = env!("CARGO_MANIFEST_DIR");
-    let lcnc_text = std::fs::read_to_string(format!("{root}/machines/linuxcnc-small-lathe.toml")).unwrap();
+    let lcnc_text =
+        std::fs::read_to_string(format!("{root}/machines/linuxcnc-small-lathe.toml")).unwrap();
     let lcnc = machine::from_toml(&lcnc_text, "linuxcnc-small-lathe.toml").unwrap();
     let fanuc = Machine::builtin();
     let dir = std::env::temp_dir().join(format!("latheguard-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     println!("reading + interpreting a generated program, one core, median of 7 runs");
-    println!("{:<10} {:>9} {:>12} {:>14} {:>12}", "dialect", "lines", "ms", "lines/s", "moves");
+    println!(
+        "{:<10} {:>9} {:>12} {:>14} {:>12}",
+        "dialect", "lines", "ms", "lines/s", "moves"
+    );
     for (name, fan, m) in [("linuxcnc", false, &lcnc), ("fanuc", true, &fanuc)] {
         let src = gen::generate(lines, fan, 1);
         let n = src.iter().filter(|&&b| b == b'\n').count();
@@ -67,11 +84,21 @@ fn main() {
         let tp = time(7, || {
             std::hint::black_box(gcode::parse(&src));
         });
-        println!("{name:<10} {n:>9} {:>12.2} {:>14.0} {moves:>12}   (reading alone: {:.0} lines/s)", t * 1e3, n as f64 / t, n as f64 / tp);
+        println!(
+            "{name:<10} {n:>9} {:>12.2} {:>14.0} {moves:>12}   (reading alone: {:.0} lines/s)",
+            t * 1e3,
+            n as f64 / t,
+            n as f64 / tp
+        );
         let path = dir.join(format!("p-{name}.ngc"));
         std::fs::write(&path, &src).unwrap();
         if let Some(wc) = time_cmd(7, "wc", &["-l", path.to_str().unwrap()]) {
-            println!("{:<10} wc -l: {:.2} ms; latheguard read+interpret / wc -l = {:.1}x", "", wc * 1e3, t / wc);
+            println!(
+                "{:<10} wc -l: {:.2} ms; latheguard read+interpret / wc -l = {:.1}x",
+                "",
+                wc * 1e3,
+                t / wc
+            );
         }
     }
     // moves --format canon against rs274 on the LinuxCNC program.
@@ -79,11 +106,23 @@ fn main() {
     let p = path.to_str().unwrap();
     let exe = env!("CARGO_BIN_EXE_latheguard");
     let machine_file = format!("{root}/machines/linuxcnc-small-lathe.toml");
-    let ours = time_cmd(5, exe, &["moves", "--format", "canon", "-m", &machine_file, p]);
+    let ours = time_cmd(
+        5,
+        exe,
+        &["moves", "--format", "canon", "-m", &machine_file, p],
+    );
     let rs274 = time_cmd(3, &format!("{root}/scripts/rs274-ref.sh"), &["-g", p]);
     match (ours, rs274) {
-        (Some(o), Some(r)) => println!("moves --format canon: {:.1} ms; rs274 -g: {:.1} ms; rs274 / latheguard = {:.1}x", o * 1e3, r * 1e3, r / o),
-        (Some(o), None) => println!("moves --format canon: {:.1} ms; rs274 not available (scripts/rs274-ref.sh failed)", o * 1e3),
+        (Some(o), Some(r)) => println!(
+            "moves --format canon: {:.1} ms; rs274 -g: {:.1} ms; rs274 / latheguard = {:.1}x",
+            o * 1e3,
+            r * 1e3,
+            r / o
+        ),
+        (Some(o), None) => println!(
+            "moves --format canon: {:.1} ms; rs274 not available (scripts/rs274-ref.sh failed)",
+            o * 1e3
+        ),
         _ => println!("latheguard moves failed on the generated program"),
     }
     let _ = std::fs::remove_dir_all(&dir);

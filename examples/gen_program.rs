@@ -570,7 +570,11 @@ pub fn generate(lines: usize, fanuc: bool, seed: u64) -> Vec<u8> {
         let mut g = Gen {
             o: Out {
                 w: BufWriter::new(&mut buf),
-                dialect: if fanuc { Dialect::Fanuc } else { Dialect::LinuxCnc },
+                dialect: if fanuc {
+                    Dialect::Fanuc
+                } else {
+                    Dialect::LinuxCnc
+                },
                 lines: 0,
                 n_next: 10,
             },

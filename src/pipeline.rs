@@ -66,14 +66,13 @@ pub fn interpret(src: &[u8], machine: &Machine) -> (gcode::Program, Interpretati
 
 /// Check one program on a machine.
 pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
-    let _ = settings;
     let (prog, run) = interpret(src, machine);
     let mut findings = prog.errors;
     findings.extend(run.findings);
+    let result = crate::check::check(&run.moves, machine, settings);
+    findings.extend(result.findings);
     sort_findings(&mut findings);
-    let stats = Stats {
-        blocks: run.blocks_executed,
-        ..Stats::default()
-    };
+    let mut stats = result.stats;
+    stats.blocks = run.blocks_executed;
     Outcome { findings, stats }
 }

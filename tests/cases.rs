@@ -17,7 +17,9 @@ fn root() -> PathBuf {
 }
 
 fn cases(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(rd) = std::fs::read_dir(dir) else { return };
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return;
+    };
     for e in rd.flatten() {
         let p = e.path();
         if p.is_dir() {
@@ -45,7 +47,13 @@ fn options(src: &[u8]) -> (Machine, Settings) {
                     let text = std::fs::read_to_string(&path).unwrap();
                     machine = machine::from_toml(&text, &path.display().to_string()).unwrap();
                 }
-                "mode" => s.mode = if v == "exact" { Mode::Exact } else { Mode::Step },
+                "mode" => {
+                    s.mode = if v == "exact" {
+                        Mode::Exact
+                    } else {
+                        Mode::Step
+                    }
+                }
                 "dt" => s.dt_ms = v.parse().unwrap(),
                 "tolerance" => s.tolerance_mm = v.parse().unwrap(),
                 "clearance" => s.clearance_mm = v.parse().unwrap(),
@@ -60,15 +68,27 @@ fn render(src: &[u8], machine: &Machine, settings: &Settings) -> String {
     let out = pipeline::check(src, machine, settings);
     let mut s = String::new();
     for f in &out.findings {
-        let col = if f.col > 0 { format!(":{}", f.col) } else { String::new() };
-        let objects = if f.objects.is_empty() { String::new() } else { format!(" {}", f.objects.join(", ")) };
+        let col = if f.col > 0 {
+            format!(":{}", f.col)
+        } else {
+            String::new()
+        };
+        let objects = if f.objects.is_empty() {
+            String::new()
+        } else {
+            format!(" {}", f.objects.join(", "))
+        };
         let _ = writeln!(s, "{}{col} {}{objects}", f.line, f.kind);
     }
     s
 }
 
 fn strip(expected: &str) -> String {
-    expected.lines().filter(|l| !l.trim_start().starts_with('#') && !l.trim().is_empty()).map(|l| format!("{}\n", l.trim_end())).collect()
+    expected
+        .lines()
+        .filter(|l| !l.trim_start().starts_with('#') && !l.trim().is_empty())
+        .map(|l| format!("{}\n", l.trim_end()))
+        .collect()
 }
 
 #[test]
@@ -87,7 +107,11 @@ fn every_case_reports_exactly_its_expected_findings() {
         let exp_path = f.with_extension("expected");
         let exp_text = std::fs::read_to_string(&exp_path).unwrap_or_default();
         if update {
-            let header: String = exp_text.lines().filter(|l| l.starts_with('#')).map(|l| format!("{l}\n")).collect();
+            let header: String = exp_text
+                .lines()
+                .filter(|l| l.starts_with('#'))
+                .map(|l| format!("{l}\n"))
+                .collect();
             std::fs::write(&exp_path, format!("{header}{got}")).unwrap();
             continue;
         }
@@ -101,5 +125,11 @@ fn every_case_reports_exactly_its_expected_findings() {
             ));
         }
     }
-    assert!(failures.is_empty(), "{} of {} cases differ:\n\n{}", failures.len(), files.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases differ:\n\n{}",
+        failures.len(),
+        files.len(),
+        failures.join("\n")
+    );
 }

@@ -15,14 +15,19 @@ fn corpus_dir() -> PathBuf {
 }
 
 fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(rd) = std::fs::read_dir(dir) else { return };
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return;
+    };
     for e in rd.flatten() {
         let p = e.path();
         if p.is_dir() {
             walk(&p, out);
         } else {
             let name = p.file_name().unwrap().to_string_lossy().to_lowercase();
-            let skip = name == "expected" || name.ends_with(".md") || name.ends_with(".tbl") || name == "result";
+            let skip = name == "expected"
+                || name.ends_with(".md")
+                || name.ends_with(".tbl")
+                || name == "result";
             if !skip {
                 out.push(p);
             }
@@ -32,14 +37,22 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
 
 fn linuxcnc() -> Machine {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("machines/linuxcnc-small-lathe.toml");
-    machine::from_toml(&std::fs::read_to_string(&path).unwrap(), "linuxcnc-small-lathe.toml").unwrap()
+    machine::from_toml(
+        &std::fs::read_to_string(&path).unwrap(),
+        "linuxcnc-small-lathe.toml",
+    )
+    .unwrap()
 }
 
 /// The machine a corpus program is meant for: LinuxCNC for `.ngc` and generic G-code, the
 /// built-in Fanuc lathe for `.nc` files.
 fn machine_for(p: &Path, fanuc: &Machine, lcnc: &Machine) -> Machine {
     let name = p.to_string_lossy().to_lowercase();
-    if name.ends_with(".nc") { fanuc.clone() } else { lcnc.clone() }
+    if name.ends_with(".nc") {
+        fanuc.clone()
+    } else {
+        lcnc.clone()
+    }
 }
 
 #[test]
@@ -52,7 +65,11 @@ fn every_corpus_program_is_read_interpreted_and_checked() {
     let mut files = Vec::new();
     walk(&dir, &mut files);
     files.sort();
-    assert!(files.len() >= 50, "corpus looks incomplete: {} files", files.len());
+    assert!(
+        files.len() >= 50,
+        "corpus looks incomplete: {} files",
+        files.len()
+    );
     let fanuc = Machine::builtin();
     let lcnc = linuxcnc();
     let mut table: BTreeMap<String, BTreeMap<Kind, usize>> = BTreeMap::new();
@@ -71,7 +88,15 @@ fn every_corpus_program_is_read_interpreted_and_checked() {
             *totals.entry(x.kind).or_default() += 1;
         }
     }
-    let kinds = [Kind::Syntax, Kind::Program, Kind::Unsupported, Kind::Collision, Kind::RapidIntoStock, Kind::SpindleStopped, Kind::Overtravel];
+    let kinds = [
+        Kind::Syntax,
+        Kind::Program,
+        Kind::Unsupported,
+        Kind::Collision,
+        Kind::RapidIntoStock,
+        Kind::SpindleStopped,
+        Kind::Overtravel,
+    ];
     let mut s = format!("{:<72}", "program");
     for k in kinds {
         s += &format!(" {:>7}", &k.name()[..k.name().len().min(7)]);
@@ -84,10 +109,16 @@ fn every_corpus_program_is_read_interpreted_and_checked() {
         }
         println!("{s}");
     }
-    let mut s = format!("{:<72}", format!("TOTAL ({} files, {} moves)", files.len(), moves_total));
+    let mut s = format!(
+        "{:<72}",
+        format!("TOTAL ({} files, {} moves)", files.len(), moves_total)
+    );
     for k in kinds {
         s += &format!(" {:>7}", totals.get(&k).copied().unwrap_or(0));
     }
     println!("{s}");
-    assert!(moves_total > 10_000, "the corpus should produce real motion, got {moves_total} moves");
+    assert!(
+        moves_total > 10_000,
+        "the corpus should produce real motion, got {moves_total} moves"
+    );
 }

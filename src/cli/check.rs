@@ -12,7 +12,10 @@ pub fn run(a: CheckArgs) -> Result<u8, Trouble> {
     if let Some(kind) = &a.explain {
         let k = Kind::from_name(kind).ok_or_else(|| {
             let all: Vec<_> = Kind::ALL.iter().map(|k| k.name()).collect();
-            format!("unknown finding kind `{kind}`; the kinds are: {}", all.join(", "))
+            format!(
+                "unknown finding kind `{kind}`; the kinds are: {}",
+                all.join(", ")
+            )
         })?;
         emit(None, latheguard::finding::explain(k))?;
         return Ok(EXIT_CLEAN);

@@ -50,7 +50,7 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
         Command::Moves(a) => moves::run(a),
         Command::Machine(a) => {
             let m = load_machine(Some(&a.file))?;
-            println!("{}: valid", m.name);
+            print!("{}", m.describe());
             Ok(EXIT_CLEAN)
         }
     }
