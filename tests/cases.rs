@@ -4,6 +4,8 @@
 //! Expected-file format: one finding a line, `LINE[:COL] KIND[ OBJECT, OBJECT]`, sorted as
 //! latheguard reports them; `# …` lines are comments. A case's first line may set options in a
 //! comment: `(latheguard: machine=linuxcnc-small-lathe mode=exact dt=0.5 tolerance=0.01 clearance=0.2)`.
+//! Cases under `tests/cases/interp/` also pin their interpreted motion in a `.moves` file
+//! (`latheguard moves --format canon`).
 //! Run with `UPDATE_EXPECT=1` to rewrite the expected files from the current output (then review
 //! the diff: a test that is updated blindly proves nothing).
 
@@ -107,6 +109,12 @@ fn every_case_reports_exactly_its_expected_findings() {
         let exp_path = f.with_extension("expected");
         let exp_text = std::fs::read_to_string(&exp_path).unwrap_or_default();
         if update {
+            if f.components().any(|c| c.as_os_str() == "interp") {
+                let (_, run) = pipeline::interpret(&src, &machine);
+                let mut canon = String::new();
+                latheguard::interp::canon::write(&run.moves, &mut canon);
+                std::fs::write(f.with_extension("moves"), &canon).unwrap();
+            }
             let header: String = exp_text
                 .lines()
                 .filter(|l| l.starts_with('#'))
@@ -114,6 +122,22 @@ fn every_case_reports_exactly_its_expected_findings() {
                 .collect();
             std::fs::write(&exp_path, format!("{header}{got}")).unwrap();
             continue;
+        }
+        // Cases under tests/cases/interp/ also pin the interpreted motion (canonical calls).
+        if f.components().any(|c| c.as_os_str() == "interp") {
+            let (_, run) = pipeline::interpret(&src, &machine);
+            let mut canon = String::new();
+            latheguard::interp::canon::write(&run.moves, &mut canon);
+            let moves_path = f.with_extension("moves");
+            if update {
+                std::fs::write(&moves_path, &canon).unwrap();
+            } else if std::fs::read_to_string(&moves_path).unwrap_or_default() != canon {
+                failures.push(format!(
+                    "{}: moves differ from {}:\n{canon}",
+                    f.display(),
+                    moves_path.display()
+                ));
+            }
         }
         if strip(&exp_text) != got {
             failures.push(format!(

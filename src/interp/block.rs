@@ -531,12 +531,7 @@ impl Run<'_> {
         if w.has_m(70).is_some() || w.has_m(73).is_some() {
             if w.has_m(73).is_some() {
                 let m = self.modal.clone();
-                match self
-                    .frames
-                    .iter_mut()
-                    .rev()
-                    .find(|f| f.return_pc != usize::MAX)
-                {
+                match self.frames.last_mut() {
                     Some(f) => f.autorestore = Some(m),
                     None => self.saved_modal = Some(m),
                 }
@@ -560,6 +555,7 @@ impl Run<'_> {
         }
 
         // 7. Plane, compensation, length offsets, coordinate systems, path mode.
+        let plane_error_here = w.has_g(170).is_some() || w.has_g(190).is_some();
         if let Some(at) = w.has_g(170).or(w.has_g(190)) {
             self.error(
                 b,
@@ -705,8 +701,15 @@ impl Run<'_> {
             }
         }
         let g53 = w.has_g(530);
-        if (axis || w.peek(b'Y')) && !axes_used_by_nonmodal {
-            self.motion(b, &mut w, g53.is_some());
+        if unknown && axis {
+            // An unknown code may be the one that uses the axis words: do not guess a motion.
+        } else if (axis || w.peek(b'Y')) && !axes_used_by_nonmodal {
+            let before = self.findings.len();
+            self.motion(b, &mut w, g53.is_some(), plane_error_here);
+            if self.findings.len() > before {
+                // The move was refused: its words are accounted for by that finding.
+                w.used = w.has;
+            }
         } else if let Some(at) = g53 {
             if !axis {
                 self.error(b, Some(at), "G53 without axis words".into());
@@ -923,7 +926,7 @@ impl Run<'_> {
         Some(P2::new(x, z))
     }
 
-    fn motion(&mut self, b: &Block, w: &mut Words, g53: bool) {
+    fn motion(&mut self, b: &Block, w: &mut Words, g53: bool, plane_error_here: bool) {
         let Some(mut end) = self.target(b, w) else {
             return;
         };
@@ -944,7 +947,15 @@ impl Run<'_> {
             end = r + tip;
         }
         if !self.modal.plane_xz {
-            self.error(b, None, "motion outside the XZ plane".into());
+            if !plane_error_here {
+                self.error(
+                    b,
+                    None,
+                    "motion in the G17/G19 plane is not checked: select G18".into(),
+                );
+            } else {
+                w.used = w.has;
+            }
             return;
         }
         let motion = match self.modal.motion {

@@ -203,6 +203,8 @@ pub(crate) struct Run<'a> {
     pub last_value: f64,
     pub value_returned: bool,
     pub saved_modal: Option<Modal>,
+    /// Remaining passes of `repeat` loops of the main program.
+    pub main_repeats: HashMap<usize, u64>,
     /// `Y0` was already reported once.
     pub y_reported: bool,
     /// The "no motion mode" problem was already reported.
@@ -253,6 +255,7 @@ impl<'a> Run<'a> {
             last_value: 0.0,
             value_returned: false,
             saved_modal: None,
+            main_repeats: HashMap::new(),
             y_reported: false,
             motion_reported: false,
         }
@@ -334,9 +337,6 @@ impl<'a> Run<'a> {
             }
             self.execute(b);
         }
-        if !self.stopped && self.frames.iter().any(|f| !f.fanuc) {
-            // Ran off the end inside a subroutine: nothing more to do.
-        }
     }
 
     fn cond(&mut self, b: &Block, e: crate::gcode::ExprId) -> Option<bool> {
@@ -400,11 +400,11 @@ impl<'a> Run<'a> {
                 }
             }
             OOp::Repeat(c) => {
-                let count = match self
-                    .frames
-                    .last()
-                    .and_then(|f| f.repeat_counts.get(&i).copied())
-                {
+                let counts = match self.frames.last() {
+                    Some(f) => &f.repeat_counts,
+                    None => &self.main_repeats,
+                };
+                let count = match counts.get(&i).copied() {
                     Some(c) => c,
                     None => match self.eval(*c) {
                         Ok(v) if v >= 0.0 => v.round().min(u64::MAX as f64) as u64,
@@ -482,25 +482,10 @@ impl<'a> Run<'a> {
     }
 
     fn repeat_counts_mut(&mut self) -> &mut HashMap<usize, u64> {
-        if self.frames.is_empty() {
-            self.frames_root_repeat();
+        match self.frames.last_mut() {
+            Some(f) => &mut f.repeat_counts,
+            None => &mut self.main_repeats,
         }
-        &mut self.frames.last_mut().unwrap().repeat_counts
-    }
-
-    /// Repeat counters of the main program live in a frame that never returns.
-    fn frames_root_repeat(&mut self) {
-        self.frames.push(Frame {
-            return_pc: usize::MAX,
-            body_pc: 0,
-            repeats_left: 0,
-            saved_locals: [0.0; 33],
-            locals: HashMap::new(),
-            autorestore: None,
-            repeat_counts: HashMap::new(),
-            fanuc: false,
-            call_line: 0,
-        });
     }
 
     fn locals_snapshot(&self) -> [f64; 33] {
@@ -562,7 +547,6 @@ impl<'a> Run<'a> {
             autorestore: None,
             repeat_counts: HashMap::new(),
             fanuc: false,
-            call_line: b.line,
         });
         for k in 1..=30 {
             self.params.numbered[k] = values.get(k - 1).copied().unwrap_or(0.0);
@@ -572,26 +556,17 @@ impl<'a> Run<'a> {
     }
 
     fn call_depth(&self) -> usize {
-        self.frames
-            .iter()
-            .filter(|f| f.return_pc != usize::MAX)
-            .count()
+        self.frames.len()
     }
 
     /// Return from the innermost o-word call (endsub/return).
     fn return_from_call(&mut self) {
-        while let Some(f) = self.frames.pop() {
-            if f.return_pc == usize::MAX {
-                // The main program's repeat frame: an endsub with no call; keep going.
-                self.frames.push(f);
-                return;
-            }
+        if let Some(f) = self.frames.pop() {
             self.params.numbered[1..34].copy_from_slice(&f.saved_locals);
             if let Some(m) = f.autorestore {
                 self.modal = m;
             }
             self.pc = f.return_pc;
-            return;
         }
     }
 
@@ -657,23 +632,21 @@ impl<'a> Run<'a> {
             autorestore: None,
             repeat_counts: HashMap::new(),
             fanuc: true,
-            call_line: b.line,
         });
         self.pc = start + 1;
     }
 
     /// `M99`: end of a subprogram pass.
     pub(crate) fn m99(&mut self, b: &Block) {
-        let top_real = self.frames.iter().rposition(|f| f.return_pc != usize::MAX);
-        match top_real {
-            Some(k) if self.frames[k].fanuc => {
-                self.frames.truncate(k + 1);
+        match self.frames.last() {
+            Some(f) if f.fanuc => {
                 let f = self.frames.last_mut().unwrap();
                 if f.repeats_left > 0 {
                     f.repeats_left -= 1;
                     self.pc = f.body_pc;
                 } else {
                     let f = self.frames.pop().unwrap();
+                    self.params.numbered[1..34].copy_from_slice(&f.saved_locals);
                     self.pc = f.return_pc;
                 }
             }
@@ -686,11 +659,7 @@ impl<'a> Run<'a> {
                 self.return_from_call();
             }
             None => {
-                self.error(
-                    b,
-                    None,
-                    "M99 in the main program restarts it without end (a bar-feed loop); checked once".into(),
-                );
+                self.error(b, None, "M99 in the main program restarts it without end (a bar-feed loop); checked once".into());
                 self.stopped = true;
             }
         }

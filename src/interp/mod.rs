@@ -197,10 +197,10 @@ pub struct Limits {
 }
 
 impl Limits {
-    /// Enough for any real program: 10 million blocks, or 4 times the program's length.
+    /// Enough for any real program: 2 million blocks, or 4 times the program's length.
     pub fn for_program(prog: &Program) -> Limits {
         Limits {
-            max_blocks: (prog.blocks.len() as u64 * 4).max(10_000_000),
+            max_blocks: (prog.blocks.len() as u64 * 4).max(2_000_000),
             max_call_depth: 64,
         }
     }

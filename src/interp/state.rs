@@ -71,6 +71,4 @@ pub(crate) struct Frame {
     pub repeat_counts: HashMap<usize, u64>,
     /// A Fanuc M98 subprogram (ended by M99) rather than an o-word subroutine.
     pub fanuc: bool,
-    /// Line of the call, for messages.
-    pub call_line: u32,
 }
