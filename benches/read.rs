@@ -55,14 +55,10 @@ fn main() {
     let mut lines = 100_000usize;
     let args: Vec<String> = std::env::args().collect();
     if let Some(i) = args.iter().position(|a| a == "--lines") {
-        lines = args
-            .get(i + 1)
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(lines);
+        lines = args.get(i + 1).and_then(|v| v.parse().ok()).unwrap_or(lines);
     }
     let root = env!("CARGO_MANIFEST_DIR");
-    let lcnc_text =
-        std::fs::read_to_string(format!("{root}/machines/linuxcnc-small-lathe.toml")).unwrap();
+    let lcnc_text = std::fs::read_to_string(format!("{root}/machines/linuxcnc-small-lathe.toml")).unwrap();
     let lcnc = machine::from_toml(&lcnc_text, "linuxcnc-small-lathe.toml").unwrap();
     let fanuc = Machine::builtin();
     let dir = std::env::temp_dir().join(format!("latheguard-bench-{}", std::process::id()));
@@ -106,11 +102,7 @@ fn main() {
     let p = path.to_str().unwrap();
     let exe = env!("CARGO_BIN_EXE_latheguard");
     let machine_file = format!("{root}/machines/linuxcnc-small-lathe.toml");
-    let ours = time_cmd(
-        5,
-        exe,
-        &["moves", "--format", "canon", "-m", &machine_file, p],
-    );
+    let ours = time_cmd(5, exe, &["moves", "--format", "canon", "-m", &machine_file, p]);
     let rs274 = time_cmd(3, &format!("{root}/scripts/rs274-ref.sh"), &["-g", p]);
     match (ours, rs274) {
         (Some(o), Some(r)) => println!(

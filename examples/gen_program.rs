@@ -105,11 +105,7 @@ impl<W: Write> Out<W> {
     /// A block with an N number in front.
     fn numbered(&mut self, s: &str) -> io::Result<()> {
         let n = self.n_next;
-        self.n_next = if self.n_next >= 99_980 {
-            10
-        } else {
-            self.n_next + 10
-        };
+        self.n_next = if self.n_next >= 99_980 { 10 } else { self.n_next + 10 };
         self.line(&format!("N{n} {s}"))
     }
     /// A length (Z, I, K, or an X already converted) in mm.
@@ -162,8 +158,7 @@ struct Profile {
 
 fn make_profile(rng: &mut Lcg) -> Profile {
     // Pythagorean triples (a, b): groove depth is c - a, half width b.
-    const TRIPLES: [(Um, Um, Um); 5] =
-        [(4, 3, 5), (12, 5, 13), (24, 7, 25), (3, 4, 5), (15, 8, 17)];
+    const TRIPLES: [(Um, Um, Um); 5] = [(4, 3, 5), (12, 5, 13), (24, 7, 25), (3, 4, 5), (15, 8, 17)];
     let n = rng.range(2, 5) as usize;
     let mut rs = Vec::with_capacity(n);
     let mut r = rng.stepped(6_000, 13_000, 50);
@@ -281,9 +276,7 @@ impl<W: Write> Gen<W> {
         let seed_note = format!("SEED {}", self.seed);
         match self.o.dialect {
             Dialect::LinuxCnc => {
-                self.say(&format!(
-                    "LATHEGUARD BENCHMARK PROGRAM, LINUXCNC, {seed_note}"
-                ))?;
+                self.say(&format!("LATHEGUARD BENCHMARK PROGRAM, LINUXCNC, {seed_note}"))?;
                 self.say("50 MM BAR, X IS A RADIUS - G8, Z0 AT THE FACED FRONT")?;
                 self.o.line("G18 G21 G90 G8 G40 G95")?;
             }
@@ -363,11 +356,7 @@ impl<W: Write> Gen<W> {
                 format!("G1 Z{}", self.o.num(z_stop))
             };
             self.o.line(&s)?;
-            let s = format!(
-                "G1 X{} Z{}",
-                self.o.x(level + 500),
-                self.o.num(z_stop + 500)
-            );
+            let s = format!("G1 X{} Z{}", self.o.x(level + 500), self.o.num(z_stop + 500));
             self.o.line(&s)?;
             let s = format!("G0 Z{}", self.o.num(Z_CLEAR));
             self.o.line(&s)?;
@@ -570,11 +559,7 @@ pub fn generate(lines: usize, fanuc: bool, seed: u64) -> Vec<u8> {
         let mut g = Gen {
             o: Out {
                 w: BufWriter::new(&mut buf),
-                dialect: if fanuc {
-                    Dialect::Fanuc
-                } else {
-                    Dialect::LinuxCnc
-                },
+                dialect: if fanuc { Dialect::Fanuc } else { Dialect::LinuxCnc },
                 lines: 0,
                 n_next: 10,
             },

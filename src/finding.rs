@@ -101,13 +101,7 @@ pub struct Finding {
 
 impl Finding {
     /// A finding about a place in the source with no motion data.
-    pub fn at(
-        kind: Kind,
-        severity: Severity,
-        line: u32,
-        col: u32,
-        message: impl Into<String>,
-    ) -> Finding {
+    pub fn at(kind: Kind, severity: Severity, line: u32, col: u32, message: impl Into<String>) -> Finding {
         Finding {
             line,
             end_line: line,
@@ -140,9 +134,7 @@ impl Finding {
 
 /// Findings in report order: by line, then column, then kind.
 pub fn sort_findings(findings: &mut [Finding]) {
-    findings.sort_by(|a, b| {
-        (a.line, a.col, a.kind, &a.message).cmp(&(b.line, b.col, b.kind, &b.message))
-    });
+    findings.sort_by(|a, b| (a.line, a.col, a.kind, &a.message).cmp(&(b.line, b.col, b.kind, &b.message)));
 }
 
 /// A short stable code per kind (for SARIF rule ids and the docs): never reuse one.

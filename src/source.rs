@@ -70,11 +70,7 @@ impl LineIndex {
     pub fn line_span(&self, src: &[u8], line: u32) -> Span {
         let i = (line.max(1) - 1) as usize;
         let start = self.starts.get(i).copied().unwrap_or(self.len) as usize;
-        let mut end = self
-            .starts
-            .get(i + 1)
-            .map(|&s| s as usize)
-            .unwrap_or(src.len());
+        let mut end = self.starts.get(i + 1).map(|&s| s as usize).unwrap_or(src.len());
         while end > start && (src[end - 1] == b'\n' || src[end - 1] == b'\r') {
             end -= 1;
         }

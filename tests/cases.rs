@@ -49,13 +49,7 @@ fn options(src: &[u8]) -> (Machine, Settings) {
                     let text = std::fs::read_to_string(&path).unwrap();
                     machine = machine::from_toml(&text, &path.display().to_string()).unwrap();
                 }
-                "mode" => {
-                    s.mode = if v == "exact" {
-                        Mode::Exact
-                    } else {
-                        Mode::Step
-                    }
-                }
+                "mode" => s.mode = if v == "exact" { Mode::Exact } else { Mode::Step },
                 "dt" => s.dt_ms = v.parse().unwrap(),
                 "tolerance" => s.tolerance_mm = v.parse().unwrap(),
                 "clearance" => s.clearance_mm = v.parse().unwrap(),

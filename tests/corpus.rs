@@ -24,10 +24,7 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
             walk(&p, out);
         } else {
             let name = p.file_name().unwrap().to_string_lossy().to_lowercase();
-            let skip = name == "expected"
-                || name.ends_with(".md")
-                || name.ends_with(".tbl")
-                || name == "result";
+            let skip = name == "expected" || name.ends_with(".md") || name.ends_with(".tbl") || name == "result";
             if !skip {
                 out.push(p);
             }
@@ -37,11 +34,7 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
 
 fn linuxcnc() -> Machine {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("machines/linuxcnc-small-lathe.toml");
-    machine::from_toml(
-        &std::fs::read_to_string(&path).unwrap(),
-        "linuxcnc-small-lathe.toml",
-    )
-    .unwrap()
+    machine::from_toml(&std::fs::read_to_string(&path).unwrap(), "linuxcnc-small-lathe.toml").unwrap()
 }
 
 /// The machine a corpus program is meant for: LinuxCNC for `.ngc` and generic G-code, the
@@ -65,11 +58,7 @@ fn every_corpus_program_is_read_interpreted_and_checked() {
     let mut files = Vec::new();
     walk(&dir, &mut files);
     files.sort();
-    assert!(
-        files.len() >= 50,
-        "corpus looks incomplete: {} files",
-        files.len()
-    );
+    assert!(files.len() >= 50, "corpus looks incomplete: {} files", files.len());
     let fanuc = Machine::builtin();
     let lcnc = linuxcnc();
     let mut table: BTreeMap<String, BTreeMap<Kind, usize>> = BTreeMap::new();

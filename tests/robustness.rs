@@ -14,11 +14,7 @@ fn gcode_like() -> impl Strategy<Value = String> {
         ";[ -~]{0,8}",
         "[ \\t/%\\[\\]]",
     ];
-    prop::collection::vec(
-        prop::collection::vec(word, 0..8).prop_map(|w| w.join(" ")),
-        0..30,
-    )
-    .prop_map(|l| l.join("\n"))
+    prop::collection::vec(prop::collection::vec(word, 0..8).prop_map(|w| w.join(" ")), 0..30).prop_map(|l| l.join("\n"))
 }
 
 proptest! {
@@ -57,10 +53,7 @@ fn an_endless_loop_stops_with_a_program_finding_at_the_looping_line() {
 fn m99_in_the_main_program_is_checked_once() {
     let src = b"G21 G18\nG0 X100 Z50\nM99\n";
     let (_, run) = pipeline::interpret(src, &Machine::builtin());
-    assert!(run
-        .findings
-        .iter()
-        .any(|f| f.line == 3 && f.message.contains("M99")));
+    assert!(run.findings.iter().any(|f| f.line == 3 && f.message.contains("M99")));
     assert_eq!(run.moves.len(), 1);
 }
 

@@ -116,11 +116,7 @@ impl Episodes {
             severity,
             objects: c.objects.to_vec(),
             time_s: Some(c.time),
-            depth_mm: if c.kind == Kind::NearMiss {
-                None
-            } else {
-                o.max_depth
-            },
+            depth_mm: if c.kind == Kind::NearMiss { None } else { o.max_depth },
             x: Some(c.x),
             z: Some(c.z),
             message,

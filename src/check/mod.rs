@@ -45,13 +45,15 @@ pub enum Obstacle {
 
 const OBSTACLES: [Obstacle; 3] = [Obstacle::Chuck, Obstacle::Tailstock, Obstacle::Stock];
 
-fn key(part: Part, obs: Obstacle, kind: Kind) -> u64 {
+/// Episode key of a pair and rule. Tools are keyed by station, whatever station is active, so a
+/// contact that goes on through a turret index stays one episode.
+fn key(part: Part, active: u32, obs: Obstacle, kind: Kind) -> u64 {
     let p = match part {
         Part::Turret => 0,
-        Part::Holder => 1,
-        Part::Insert => 2,
-        Part::OtherHolder(s) => 3 + 2 * s as u64,
-        Part::OtherInsert(s) => 4 + 2 * s as u64,
+        Part::Holder => 1 + 2 * active as u64,
+        Part::Insert => 2 + 2 * active as u64,
+        Part::OtherHolder(s) => 1 + 2 * s as u64,
+        Part::OtherInsert(s) => 2 + 2 * s as u64,
     };
     (p << 16) | ((obs as u64) << 8) | kind as u64
 }
@@ -112,8 +114,12 @@ pub fn check(moves: &[Move], machine: &Machine, settings: &Settings) -> CheckRes
     for &i in &timeline.feed_without_speed {
         let m = &moves[i];
         findings.push(
-            Finding::program(m.line, 0, "feed per revolution with no spindle speed: the move would never finish (timed at 100 mm/min)")
-                .with_n(m.n),
+            Finding::program(
+                m.line,
+                0,
+                "feed per revolution with no spindle speed: the move would never finish (timed at 100 mm/min)",
+            )
+            .with_n(m.n),
         );
     }
     let mut stats = c.stats;
@@ -191,10 +197,7 @@ impl Checker<'_> {
         }
         if self.machine.stock.is_some() {
             let pts = ts.outline.points().to_vec();
-            if let Some(hit) = self
-                .ensure_stock()
-                .and_then(|s| s.overlap(&pts, geom::TOUCH_EPS))
-            {
+            if let Some(hit) = self.ensure_stock().and_then(|s| s.overlap(&pts, geom::TOUCH_EPS)) {
                 let mut f = Finding::at(
                     Kind::Collision,
                     Severity::Error,
@@ -242,11 +245,7 @@ impl Checker<'_> {
             Part::Turret => Some((self.scene.turret.translated(r.coords), true)),
             Part::Holder | Part::Insert => {
                 let t = self.scene.tool(active.round() as u32)?;
-                let shape = if part == Part::Holder {
-                    &t.holder
-                } else {
-                    &t.insert
-                };
+                let shape = if part == Part::Holder { &t.holder } else { &t.insert };
                 Some((shape.translated(r.coords + t.tip), true))
             }
             Part::OtherHolder(s) | Part::OtherInsert(s) => {
@@ -257,9 +256,7 @@ impl Checker<'_> {
                     &t.insert
                 };
                 let angle = self.scene.station_angle(s, active);
-                self.scene
-                    .map_to_section(shape, t.tip, r, angle)
-                    .map(|p| (p, false))
+                self.scene.map_to_section(shape, t.tip, r, angle).map(|p| (p, false))
             }
         }
     }
@@ -270,21 +267,13 @@ impl Checker<'_> {
             Part::Turret => Some(minkowski(self.scene.turret.aabb(), rb)),
             Part::Holder | Part::Insert => {
                 let t = self.scene.tool(active)?;
-                let shape = if part == Part::Holder {
-                    &t.holder
-                } else {
-                    &t.insert
-                };
+                let shape = if part == Part::Holder { &t.holder } else { &t.insert };
                 Some(minkowski(&shape.aabb().translate(t.tip), rb))
             }
             Part::OtherHolder(_) | Part::OtherInsert(_) => {
                 // r grows with the reference point's x: the boxes at the two x extremes bound it.
-                let lo = self
-                    .pose(part, P2::new(rb.min.x, rb.min.y), active as f64)?
-                    .0;
-                let hi = self
-                    .pose(part, P2::new(rb.max.x, rb.max.y), active as f64)?
-                    .0;
+                let lo = self.pose(part, P2::new(rb.min.x, rb.min.y), active as f64)?.0;
+                let hi = self.pose(part, P2::new(rb.max.x, rb.max.y), active as f64)?.0;
                 let b = lo.aabb().union(hi.aabb());
                 Some(Aabb {
                     min: P2::new(b.min.x, b.min.y.min(lo.aabb().min.y)),
@@ -295,12 +284,7 @@ impl Checker<'_> {
     }
 
     /// Overlap depth (> TOUCH_EPS) or gap (< clearance) of a posed part with an obstacle.
-    fn test(
-        &mut self,
-        poly: &Polygon,
-        in_plane: bool,
-        obs: Obstacle,
-    ) -> (Option<f64>, Option<f64>) {
+    fn test(&mut self, poly: &Polygon, in_plane: bool, obs: Obstacle) -> (Option<f64>, Option<f64>) {
         self.stats.pair_tests += 1;
         let clearance = self.settings.clearance_mm;
         match obs {
@@ -308,12 +292,7 @@ impl Checker<'_> {
                 let Some(stock) = self.ensure_stock() else {
                     return (None, None);
                 };
-                (
-                    stock
-                        .overlap(poly.points(), geom::TOUCH_EPS)
-                        .map(|h| h.depth),
-                    None,
-                )
+                (stock.overlap(poly.points(), geom::TOUCH_EPS).map(|h| h.depth), None)
             }
             _ => {
                 let Some(rev) = self.obstacle(obs) else {
@@ -341,10 +320,7 @@ impl Checker<'_> {
         let m = &self.moves[item.index];
         self.overtravel(m, item);
         match m.kind {
-            MoveKind::ToolChange { from, to } => {
-                self.episodes.close_all();
-                self.index_sweep(m, item, from, to);
-            }
+            MoveKind::ToolChange { from, to } => self.index_sweep(m, item, from, to),
             MoveKind::Dwell { .. } => {
                 // Nothing moves: contacts in progress stay as they are.
                 self.stats.steps += self.samples_in(item.t0, item.t1());
@@ -353,11 +329,13 @@ impl Checker<'_> {
         }
     }
 
+    /// Samples of a move: every multiple of dt in [t0, t1), and the end pose (where the control
+    /// stops at the programmed point) when it is not one of them.
     fn samples_in(&self, t0: f64, t1: f64) -> u64 {
         let dt = self.settings.dt_ms / 1000.0;
         let k0 = (t0 / dt - 1e-9).ceil().max(0.0);
         let k1 = (t1 / dt - 1e-9).ceil().max(0.0);
-        (k1 - k0).max(0.0) as u64
+        (k1 - k0).max(0.0) as u64 + 1
     }
 
     fn motion(&mut self, m: &Move, item: &Timed) {
@@ -399,13 +377,9 @@ impl Checker<'_> {
         let samples = self.samples_in(item.t0, item.t1());
         self.stats.steps += samples;
         // Pairs that cannot touch during this move end their episodes.
-        let live: Vec<u64> = cands.iter().flat_map(|&(p, o)| pair_keys(p, o)).collect();
-        self.episodes
-            .close_except(|k| k == u64::MAX || live.contains(&k));
-        let cuts = feed
-            && insert_box
-                .zip(self.stock_box)
-                .is_some_and(|(a, b)| a.meets(&b, 1e-6));
+        let live: Vec<u64> = cands.iter().flat_map(|&(p, o)| pair_keys(p, active, o)).collect();
+        self.episodes.close_except(|k| k == u64::MAX || live.contains(&k));
+        let cuts = feed && insert_box.zip(self.stock_box).is_some_and(|(a, b)| a.meets(&b, 1e-6));
         if cuts && insert_rule == Some(Kind::SpindleStopped) {
             // The insert meets the material as it was before this move.
             let first: Vec<_> = cands
@@ -429,14 +403,7 @@ impl Checker<'_> {
     }
 
     /// Fixed-timestep sampling of the candidate pairs over one move.
-    fn sample(
-        &mut self,
-        m: &Move,
-        item: &Timed,
-        cands: &[(Part, Obstacle)],
-        active: u32,
-        insert_rule: Option<Kind>,
-    ) {
+    fn sample(&mut self, m: &Move, item: &Timed, cands: &[(Part, Obstacle)], active: u32, insert_rule: Option<Kind>) {
         if cands.is_empty() {
             return;
         }
@@ -444,11 +411,14 @@ impl Checker<'_> {
         let mut k = (item.t0 / dt - 1e-9).ceil().max(0.0) as u64;
         let t1 = item.t1();
         let mut posed: Vec<(Part, Option<(Polygon, bool)>)> = Vec::new();
-        loop {
-            let t = k as f64 * dt;
+        let mut last = false;
+        while !last {
+            let mut t = k as f64 * dt;
             if t >= t1 - 1e-12 {
-                break;
+                t = t1;
+                last = true;
             }
+
             let r = motion::reference_at(m, item, t - item.t0);
             posed.clear();
             for &(p, o) in cands {
@@ -474,8 +444,8 @@ impl Checker<'_> {
                 } else {
                     Kind::Collision
                 };
-                let hit_key = key(p, o, kind);
-                let near_key = key(p, o, Kind::NearMiss);
+                let hit_key = key(p, active, o, kind);
+                let near_key = key(p, active, o, Kind::NearMiss);
                 match (depth, gap) {
                     (Some(d), _) => {
                         self.episodes.clear(near_key);
@@ -518,10 +488,7 @@ impl Checker<'_> {
         let message = match kind {
             Kind::RapidIntoStock => format!("rapid move drives the {a} into the stock"),
             Kind::SpindleStopped => format!("the {a} cuts the stock with the spindle stopped"),
-            Kind::NearMiss => format!(
-                "the {a} passes within {:.3} mm of the {b}",
-                self.settings.clearance_mm
-            ),
+            Kind::NearMiss => format!("the {a} passes within {:.3} mm of the {b}", self.settings.clearance_mm),
             _ => {
                 let other = if matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_)) {
                     " (a tool in another station)"
@@ -555,10 +522,7 @@ impl Checker<'_> {
         // The programmed path as chords within the tolerance.
         let mut path = vec![m.start];
         if let MoveKind::Arc { center, sweep } = m.kind {
-            let r = (m.start - center)
-                .norm()
-                .max((m.end - center).norm())
-                .max(tol);
+            let r = (m.start - center).norm().max((m.end - center).norm()).max(tol);
             let step = 2.0 * (1.0 - (tol / r).min(1.0)).acos().max(1e-4);
             let n = ((sweep.abs() / step).ceil() as usize).clamp(1, 100_000);
             for j in 1..=n {
@@ -595,12 +559,7 @@ impl Checker<'_> {
             return;
         }
         let r = m.ref_start();
-        let tools: Vec<_> = self
-            .scene
-            .tools
-            .iter()
-            .map(|t| (t.station, t.tip))
-            .collect();
+        let tools: Vec<_> = self.scene.tools.iter().map(|t| (t.station, t.tip)).collect();
         let tol = self.settings.tolerance_mm;
         for (station, tip) in tools {
             let t = self.scene.tool(station).unwrap();
@@ -642,20 +601,11 @@ impl Checker<'_> {
                     self.others_tested = true;
                     for &o in &near {
                         let (depth, _) = self.test(&poly, false, o);
-                        let kk = key(part, o, Kind::Collision);
+                        let kk = key(part, from, o, Kind::Collision);
                         match depth {
                             Some(d) => {
                                 let time = item.t0 + item.duration * u;
-                                let mut c = self.contact(
-                                    m,
-                                    r,
-                                    part,
-                                    o,
-                                    Kind::Collision,
-                                    Some(d),
-                                    time,
-                                    from,
-                                );
+                                let mut c = self.contact(m, r, part, o, Kind::Collision, Some(d), time, from);
                                 c.message = format!(
                                     "indexing T{from:02} → T{to:02} swings the {} into the {}",
                                     c.objects[0], c.objects[1]
@@ -665,9 +615,6 @@ impl Checker<'_> {
                             None => self.episodes.clear(kk),
                         }
                     }
-                }
-                for &o in &near {
-                    self.episodes.clear(key(part, o, Kind::Collision));
                 }
             }
         }
@@ -708,11 +655,7 @@ impl Checker<'_> {
         }
         let Some(j) = first else { return };
         let (mut lo, mut hi) = (
-            if j == 0 {
-                0.0
-            } else {
-                (j - 1) as f64 / n as f64
-            },
+            if j == 0 { 0.0 } else { (j - 1) as f64 / n as f64 },
             j as f64 / n as f64,
         );
         if j > 0 {
@@ -748,13 +691,14 @@ impl Checker<'_> {
     }
 }
 
-fn pair_keys(p: Part, o: Obstacle) -> [u64; 4] {
+fn pair_keys(p: Part, active: u32, o: Obstacle) -> [u64; 4] {
     [
-        key(p, o, Kind::Collision),
-        key(p, o, Kind::NearMiss),
-        key(p, o, Kind::RapidIntoStock),
-        key(p, o, Kind::SpindleStopped),
+        Kind::Collision,
+        Kind::NearMiss,
+        Kind::RapidIntoStock,
+        Kind::SpindleStopped,
     ]
+    .map(|k| key(p, active, o, k))
 }
 
 /// Box of a shape box swept over a box of reference points.

@@ -12,10 +12,7 @@ pub fn run(a: CheckArgs) -> Result<u8, Trouble> {
     if let Some(kind) = &a.explain {
         let k = Kind::from_name(kind).ok_or_else(|| {
             let all: Vec<_> = Kind::ALL.iter().map(|k| k.name()).collect();
-            format!(
-                "unknown finding kind `{kind}`; the kinds are: {}",
-                all.join(", ")
-            )
+            format!("unknown finding kind `{kind}`; the kinds are: {}", all.join(", "))
         })?;
         emit(None, latheguard::finding::explain(k))?;
         return Ok(EXIT_CLEAN);
@@ -62,23 +59,11 @@ pub fn run(a: CheckArgs) -> Result<u8, Trouble> {
     };
     let text = match a.format {
         FormatArg::Text => {
-            let color = a.output.is_none()
-                && std::io::stdout().is_terminal()
-                && std::env::var_os("NO_COLOR").is_none();
-            report::text(
-                &report,
-                TextOptions {
-                    color,
-                    quiet: a.quiet,
-                },
-            )
+            let color = a.output.is_none() && std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+            report::text(&report, TextOptions { color, quiet: a.quiet })
         }
         FormatArg::Json => report::json(&report),
     };
     emit(a.output.as_deref(), &text)?;
-    Ok(if report.has_errors() {
-        EXIT_FINDINGS
-    } else {
-        EXIT_CLEAN
-    })
+    Ok(if report.has_errors() { EXIT_FINDINGS } else { EXIT_CLEAN })
 }

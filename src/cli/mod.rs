@@ -22,11 +22,7 @@ pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(c) => c,
         Err(e) => {
-            let code = if e.use_stderr() {
-                EXIT_TROUBLE
-            } else {
-                EXIT_CLEAN
-            };
+            let code = if e.use_stderr() { EXIT_TROUBLE } else { EXIT_CLEAN };
             let _ = e.print();
             return ExitCode::from(code);
         }
@@ -61,8 +57,8 @@ pub fn load_machine(path: Option<&std::path::Path>) -> Result<Machine, Trouble> 
     match path {
         None => Ok(Machine::builtin()),
         Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .map_err(|e| format!("{}: cannot read machine file: {e}", p.display()))?;
+            let text =
+                std::fs::read_to_string(p).map_err(|e| format!("{}: cannot read machine file: {e}", p.display()))?;
             machine::from_toml(&text, &p.display().to_string()).map_err(|e| e.to_string())
         }
     }
@@ -72,8 +68,7 @@ pub fn load_machine(path: Option<&std::path::Path>) -> Result<Machine, Trouble> 
 pub fn emit(output: Option<&std::path::Path>, text: &str) -> Result<(), Trouble> {
     use std::io::Write;
     match output {
-        Some(p) => std::fs::write(p, text)
-            .map_err(|e| format!("{}: cannot write report: {e}", p.display())),
+        Some(p) => std::fs::write(p, text).map_err(|e| format!("{}: cannot write report: {e}", p.display())),
         None => {
             let mut out = std::io::stdout().lock();
             match out.write_all(text.as_bytes()).and_then(|_| out.flush()) {

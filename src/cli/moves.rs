@@ -9,8 +9,7 @@ use serde_json::json;
 
 pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     let machine = load_machine(a.machine.as_deref())?;
-    let src = std::fs::read(&a.program)
-        .map_err(|e| format!("{}: cannot read: {e}", a.program.display()))?;
+    let src = std::fs::read(&a.program).map_err(|e| format!("{}: cannot read: {e}", a.program.display()))?;
     let (prog, run) = pipeline::interpret(&src, &machine);
     let mut findings = prog.errors;
     findings.extend(run.findings);
@@ -40,15 +39,10 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
                         MoveKind::Line => ("line", json!(null)),
                         MoveKind::Arc { center, sweep } => {
                             let (cx, cz) = m.frame.to_program(center);
-                            (
-                                "arc",
-                                json!({"center": [cx, cz], "sweep_deg": sweep.to_degrees()}),
-                            )
+                            ("arc", json!({"center": [cx, cz], "sweep_deg": sweep.to_degrees()}))
                         }
                         MoveKind::Dwell { seconds } => ("dwell", json!({"seconds": seconds})),
-                        MoveKind::ToolChange { from, to } => {
-                            ("tool_change", json!({"from": from, "to": to}))
-                        }
+                        MoveKind::ToolChange { from, to } => ("tool_change", json!({"from": from, "to": to})),
                     };
                     let feed = match m.feed {
                         Feed::Rapid => json!(null),

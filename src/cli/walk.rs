@@ -34,10 +34,7 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>, depth: usize) {
         let p = e.path();
         let Ok(ft) = e.file_type() else { continue };
         if ft.is_dir() {
-            if !p
-                .file_name()
-                .is_some_and(|n| n.to_string_lossy().starts_with('.'))
-            {
+            if !p.file_name().is_some_and(|n| n.to_string_lossy().starts_with('.')) {
                 walk(&p, out, depth + 1);
             }
         } else if is_nc(&p) {

@@ -17,8 +17,8 @@ use super::{BinOp, Expr, ExprId, Func, Param, Value, MAX_NESTING};
 
 /// Exact powers of ten for the fast number path.
 const POW10: [f64; 23] = [
-    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
-    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
+    1e21, 1e22,
 ];
 
 /// Mantissas up to this are exact in an f64.
@@ -89,11 +89,7 @@ impl Reader<'_> {
                 let (x, point) = self.number()?;
                 return Ok((Value::Num(x), point));
             }
-            if b == b'-'
-                && self.src[..self.end]
-                    .get(self.pos + 1)
-                    .is_some_and(u8::is_ascii_digit)
-            {
+            if b == b'-' && self.src[..self.end].get(self.pos + 1).is_some_and(u8::is_ascii_digit) {
                 self.pos += 1;
                 let (x, point) = self.number()?;
                 return Ok((Value::Num(-x), point));
@@ -126,10 +122,7 @@ impl Reader<'_> {
                 match self.peek() {
                     Some(b) if b.is_ascii_alphanumeric() || matches!(b, b'.' | b'#' | b'[') => {}
                     _ => {
-                        let what = format!(
-                            "a number, a parameter, '[' or a function after '{}'",
-                            s as char
-                        );
+                        let what = format!("a number, a parameter, '[' or a function after '{}'", s as char);
                         return Err(self.expected(self.pos, &what));
                     }
                 }
@@ -218,8 +211,7 @@ impl Reader<'_> {
         }
         self.scratch.clear();
         let text = &self.src[start..last];
-        self.scratch
-            .extend(text.iter().filter(|&&b| b != b' ' && b != b'\t'));
+        self.scratch.extend(text.iter().filter(|&&b| b != b' ' && b != b'\t'));
         let x = std::str::from_utf8(&self.scratch)
             .ok()
             .and_then(|s| s.parse::<f64>().ok())
@@ -242,8 +234,7 @@ impl Reader<'_> {
                 if x.fract() != 0.0 || x > u32::MAX as f64 {
                     return Err(Error {
                         at,
-                        msg: "a parameter number must be a whole number (at most 4294967295)"
-                            .into(),
+                        msg: "a parameter number must be a whole number (at most 4294967295)".into(),
                     });
                 }
                 Ok(Param::Numbered(x as u32))

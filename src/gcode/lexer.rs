@@ -206,17 +206,11 @@ impl<'a> Reader<'a> {
         let bad = result.is_err();
         if let Err(e) = result {
             let col = self.col(e.at);
-            self.prog
-                .errors
-                .push(Finding::syntax(line, col, e.msg).with_n(part.n));
+            self.prog.errors.push(Finding::syntax(line, col, e.msg).with_n(part.n));
         }
         let words = words0..self.prog.words.len() as u32;
         let assigns = assigns0..self.prog.assigns.len() as u32;
-        let something = part.started
-            || part.percent
-            || part.block_delete
-            || part.n.is_some()
-            || part.message.is_some();
+        let something = part.started || part.percent || part.block_delete || part.n.is_some() || part.message.is_some();
         if !(bad || something) {
             return;
         }
@@ -251,8 +245,7 @@ impl<'a> Reader<'a> {
                     if part.started || part.n.is_some() || part.block_delete {
                         return Err(Error {
                             at,
-                            msg: "'/' (block delete) must be the first character of the block"
-                                .into(),
+                            msg: "'/' (block delete) must be the first character of the block".into(),
                         });
                     }
                     part.block_delete = true;
@@ -289,11 +282,7 @@ impl<'a> Reader<'a> {
                     self.pos += 1;
                     let value = self.value_expr()?;
                     let span = Span::new(at, self.trim_end(at, self.pos));
-                    self.prog.assigns.push(super::Assign {
-                        target,
-                        value,
-                        span,
-                    });
+                    self.prog.assigns.push(super::Assign { target, value, span });
                 }
                 b'%' => {
                     return Err(Error {
@@ -373,10 +362,7 @@ impl<'a> Reader<'a> {
             if !b.is_ascii_digit() {
                 break;
             }
-            match n
-                .checked_mul(10)
-                .and_then(|v| v.checked_add((b - b'0') as u64))
-            {
+            match n.checked_mul(10).and_then(|v| v.checked_add((b - b'0') as u64)) {
                 Some(v) if v <= max => n = v,
                 _ => overflow = true,
             }

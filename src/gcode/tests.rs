@@ -137,10 +137,7 @@ fn g1_5_is_a_plain_number_word() {
 
 #[test]
 fn numbers_are_exact() {
-    assert_eq!(
-        words("X0.1 Z-.3 F123456.789"),
-        ["X0.1", "Z-0.3", "F123456.789"]
-    );
+    assert_eq!(words("X0.1 Z-.3 F123456.789"), ["X0.1", "Z-0.3", "F123456.789"]);
     // Beyond the fast path: more digits than an f64 mantissa.
     let prog = p("X0.12345678901234567890123456789 Z12345678901234567890");
     let w = prog.words_of(&prog.blocks[0]);
@@ -153,10 +150,7 @@ fn numbers_are_exact() {
 fn double_sign_is_an_error() {
     let (line, col, msg) = error(b"G1 X--60");
     assert_eq!((line, col), (1, 6));
-    assert!(
-        msg.contains("after '-'") && msg.contains("found '-'"),
-        "{msg}"
-    );
+    assert!(msg.contains("after '-'") && msg.contains("found '-'"), "{msg}");
 }
 
 #[test]
@@ -205,10 +199,7 @@ fn letter_without_value_is_an_error() {
 
 #[test]
 fn repeated_and_unknown_letters_are_left_to_the_interpreter() {
-    assert_eq!(
-        words("G1 G1 X1 X2 Q1 Y3"),
-        ["G1", "G1", "X1", "X2", "Q1", "Y3"]
-    );
+    assert_eq!(words("G1 G1 X1 X2 Q1 Y3"), ["G1", "G1", "X1", "X2", "Q1", "Y3"]);
 }
 
 #[test]
@@ -243,10 +234,7 @@ fn comments_do_not_nest() {
     // The first ')' closes: " c)" is outside the comment.
     let (_, col, msg) = error(b"(a (b) c)");
     assert_eq!(col, 9);
-    assert!(
-        msg.contains("found ')'") && msg.contains("do not nest"),
-        "{msg}"
-    );
+    assert!(msg.contains("found ')'") && msg.contains("do not nest"), "{msg}");
     let (_, col, msg) = error(b"G1 (a (b)) X1");
     assert_eq!(col, 10);
     assert!(msg.contains("do not nest"), "{msg}");
@@ -319,10 +307,7 @@ fn bytes_above_ascii_are_allowed_only_in_comments() {
         src.push(b);
         let (_, col, msg) = error(&src);
         assert_eq!(col, 7);
-        assert!(
-            msg.starts_with(&format!("byte 0x{b:02X} outside a comment")),
-            "{msg}"
-        );
+        assert!(msg.starts_with(&format!("byte 0x{b:02X} outside a comment")), "{msg}");
     }
 }
 
@@ -526,11 +511,7 @@ fn fanuc_program_numbers() {
         ("o1", 1),
     ] {
         let (_, o) = oword(src);
-        assert_eq!(
-            (o.name, o.op),
-            (OName::Number(n), OOp::ProgramNumber),
-            "{src}"
-        );
+        assert_eq!((o.name, o.op), (OName::Number(n), OOp::ProgramNumber), "{src}");
     }
     let (_, o) = oword("N5 O0002 (x)");
     assert_eq!(o.name, OName::Number(2));
@@ -551,10 +532,7 @@ fn bad_owords_are_errors() {
     assert!(msg.contains("'[' after WHILE"), "{msg}");
     let (_, col, msg) = error(b"O1234 G0 X1");
     assert_eq!(col, 7);
-    assert!(
-        msg.contains("stands alone") && msg.contains("found 'G'"),
-        "{msg}"
-    );
+    assert!(msg.contains("stands alone") && msg.contains("found 'G'"), "{msg}");
     let (_, col, msg) = error(b"O1234 (x) G0 X1");
     assert_eq!(col, 11);
     assert!(msg.contains("after an O-word"), "{msg}");
@@ -586,14 +564,8 @@ fn expression_precedence_follows_rs274ngc() {
     assert_eq!(assigned("#1=[1*2+3]"), "(+ (* 1 2) 3)");
     assert_eq!(assigned("#1=[2**3*2]"), "(* (** 2 3) 2)");
     assert_eq!(assigned("#1=[1+2 lt 3*4]"), "(lt (+ 1 2) (* 3 4))");
-    assert_eq!(
-        assigned("#1=[1 eq 2 and 3 ne 4]"),
-        "(and (eq 1 2) (ne 3 4))"
-    );
-    assert_eq!(
-        assigned("#1=[1 or 2 xor 3 and 4]"),
-        "(and (xor (or 1 2) 3) 4)"
-    );
+    assert_eq!(assigned("#1=[1 eq 2 and 3 ne 4]"), "(and (eq 1 2) (ne 3 4))");
+    assert_eq!(assigned("#1=[1 or 2 xor 3 and 4]"), "(and (xor (or 1 2) 3) 4)");
     assert_eq!(assigned("#1=[7 mod 4 / 2]"), "(/ (mod 7 4) 2)");
     assert_eq!(assigned("#1=[1 ge 2 le 3 gt 4]"), "(gt (le (ge 1 2) 3) 4)");
 }
@@ -710,13 +682,7 @@ fn nesting_at_the_cap_through_every_precedence_level_fits_the_stack() {
 fn parameter_references_in_words() {
     assert_eq!(
         words("X#1 Z-#<_z> F##2 S#[1+2] G#<mode>"),
-        [
-            "X=#1",
-            "Z=(neg #<_z>)",
-            "F=#[#2]",
-            "S=#[(+ 1 2)]",
-            "G=#<mode>"
-        ]
+        ["X=#1", "Z=(neg #<_z>)", "F=#[#2]", "S=#[(+ 1 2)]", "G=#<mode>"]
     );
     assert_eq!(words("X#1 2"), ["X=#12"]);
     assert_eq!(words("X#1.0"), ["X=#1"]);
@@ -735,11 +701,7 @@ fn assignments_anywhere_in_the_line() {
         .map(|a| format!("{}={}", px(&prog, a.target), sx(&prog, a.value)))
         .collect();
     assert_eq!(a, ["#1=2", "#<zstart>=(+ #1 1)", "#[3]=-4", "#[#5]=#6"]);
-    let spans: Vec<&str> = prog
-        .assigns_of(b)
-        .iter()
-        .map(|a| text(src, a.span))
-        .collect();
+    let spans: Vec<&str> = prog.assigns_of(b).iter().map(|a| text(src, a.span)).collect();
     assert_eq!(spans, ["#1=2", "#<Z Start>=[#1+1]", "#[3]=-4", "##5=#6"]);
     // Fanuc macro variables with a trailing comment.
     assert_eq!(assigned("#501=350.(FLANGE DIA.)"), "350");
@@ -783,11 +745,7 @@ fn one_error_per_line_and_the_rest_of_the_line_is_skipped() {
 fn block_span_and_line_are_physical() {
     let src = "\n\nG1 X1 (c)\n\n  G0\n";
     let prog = p(src);
-    let got: Vec<(u32, &str)> = prog
-        .blocks
-        .iter()
-        .map(|b| (b.line, text(src, b.span)))
-        .collect();
+    let got: Vec<(u32, &str)> = prog.blocks.iter().map(|b| (b.line, text(src, b.span))).collect();
     assert_eq!(got, [(3, "G1 X1 (c)"), (5, "  G0")]);
 }
 
@@ -822,11 +780,7 @@ fn check_invariants(src: &[u8]) {
     let prog = parse(src);
     let lines = prog.lines.line_count() as u32;
     for e in &prog.errors {
-        assert!(
-            e.line >= 1 && e.line <= lines,
-            "finding line {} of {lines}",
-            e.line
-        );
+        assert!(e.line >= 1 && e.line <= lines, "finding line {} of {lines}", e.line);
         assert!(e.col >= 1);
     }
     let mut last = 0;
@@ -848,12 +802,7 @@ fn check_invariants(src: &[u8]) {
         }
     }
     // One finding per line at most, and each names a line with a bad block.
-    let bad: Vec<u32> = prog
-        .blocks
-        .iter()
-        .filter(|b| b.bad)
-        .map(|b| b.line)
-        .collect();
+    let bad: Vec<u32> = prog.blocks.iter().filter(|b| b.bad).map(|b| b.line).collect();
     let err: Vec<u32> = prog.errors.iter().map(|e| e.line).collect();
     assert_eq!(bad, err);
     // Expressions only point backwards (the arena is a DAG built bottom-up).

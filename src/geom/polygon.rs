@@ -149,19 +149,14 @@ pub fn segments_meet(a: P2, b: P2, c: P2, d: P2) -> bool {
     let d2 = orient(c, d, b);
     let d3 = orient(a, b, c);
     let d4 = orient(a, b, d);
-    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
-        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
-    {
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
         return true;
     }
     let on = |p: P2, q: P2, r: P2| {
         // r collinear with pq: is it within the box of pq?
         r.x >= p.x.min(q.x) && r.x <= p.x.max(q.x) && r.y >= p.y.min(q.y) && r.y <= p.y.max(q.y)
     };
-    (d1 == 0.0 && on(c, d, a))
-        || (d2 == 0.0 && on(c, d, b))
-        || (d3 == 0.0 && on(a, b, c))
-        || (d4 == 0.0 && on(a, b, d))
+    (d1 == 0.0 && on(c, d, a)) || (d2 == 0.0 && on(c, d, b)) || (d3 == 0.0 && on(a, b, c)) || (d4 == 0.0 && on(a, b, d))
 }
 
 fn check_simple(pts: &[P2]) -> Result<(), PolygonError> {

@@ -127,11 +127,7 @@ pub fn arc_from_radius(
     let left = nalgebra::Vector2::new(-chord.y, chord.x) / (2.0 * half);
     // Counter-clockwise and at most 180°: the centre is to the left of start→end.
     let to_left = ccw == (radius > 0.0);
-    let center = if to_left {
-        mid + left * d
-    } else {
-        mid - left * d
-    };
+    let center = if to_left { mid + left * d } else { mid - left * d };
     Ok((center, sweep_between(start, end, center, ccw, turns)))
 }
 
@@ -143,59 +139,25 @@ mod tests {
 
     #[test]
     fn quarter_arcs_turn_the_right_way() {
-        let s = arc_from_center(
-            p2(1.0, 0.0),
-            p2(0.0, 1.0),
-            p2(0.0, 0.0),
-            true,
-            1,
-            ArcTolerance::MM,
-        )
-        .unwrap();
+        let s = arc_from_center(p2(1.0, 0.0), p2(0.0, 1.0), p2(0.0, 0.0), true, 1, ArcTolerance::MM).unwrap();
         assert!((s - PI / 2.0).abs() < 1e-12);
-        let s = arc_from_center(
-            p2(1.0, 0.0),
-            p2(0.0, 1.0),
-            p2(0.0, 0.0),
-            false,
-            1,
-            ArcTolerance::MM,
-        )
-        .unwrap();
+        let s = arc_from_center(p2(1.0, 0.0), p2(0.0, 1.0), p2(0.0, 0.0), false, 1, ArcTolerance::MM).unwrap();
         assert!((s + 3.0 * PI / 2.0).abs() < 1e-12);
     }
 
     #[test]
     fn full_circle_when_start_equals_end() {
-        let s = arc_from_center(
-            p2(1.0, 0.0),
-            p2(1.0, 0.0),
-            p2(0.0, 0.0),
-            false,
-            1,
-            ArcTolerance::MM,
-        )
-        .unwrap();
+        let s = arc_from_center(p2(1.0, 0.0), p2(1.0, 0.0), p2(0.0, 0.0), false, 1, ArcTolerance::MM).unwrap();
         assert!((s + TAU).abs() < 1e-12);
-        let s = arc_from_center(
-            p2(1.0, 0.0),
-            p2(1.0, 0.0),
-            p2(0.0, 0.0),
-            true,
-            2,
-            ArcTolerance::MM,
-        )
-        .unwrap();
+        let s = arc_from_center(p2(1.0, 0.0), p2(1.0, 0.0), p2(0.0, 0.0), true, 2, ArcTolerance::MM).unwrap();
         assert!((s - 2.0 * TAU).abs() < 1e-12);
     }
 
     #[test]
     fn negative_r_takes_the_long_way() {
-        let (c, s) =
-            arc_from_radius(p2(0.0, 0.0), p2(2.0, 0.0), 1.5, true, 1, ArcTolerance::MM).unwrap();
+        let (c, s) = arc_from_radius(p2(0.0, 0.0), p2(2.0, 0.0), 1.5, true, 1, ArcTolerance::MM).unwrap();
         assert!(s > 0.0 && s < PI, "{s}");
-        let (c2, s2) =
-            arc_from_radius(p2(0.0, 0.0), p2(2.0, 0.0), -1.5, true, 1, ArcTolerance::MM).unwrap();
+        let (c2, s2) = arc_from_radius(p2(0.0, 0.0), p2(2.0, 0.0), -1.5, true, 1, ArcTolerance::MM).unwrap();
         assert!(s2 > PI && s2 < TAU, "{s2}");
         assert!((c.x - 1.0).abs() < 1e-12 && (c2.x - 1.0).abs() < 1e-12);
         assert!((c.y + c2.y).abs() < 1e-12 && c.y != 0.0);

@@ -53,17 +53,11 @@ impl Words {
     }
 
     fn has_g(&self, code: u16) -> Option<u32> {
-        self.g[..self.ng]
-            .iter()
-            .find(|(c, _)| *c == code)
-            .map(|&(_, a)| a)
+        self.g[..self.ng].iter().find(|(c, _)| *c == code).map(|&(_, a)| a)
     }
 
     fn has_m(&self, code: u16) -> Option<u32> {
-        self.m[..self.nm]
-            .iter()
-            .find(|(c, _)| *c == code)
-            .map(|&(_, a)| a)
+        self.m[..self.nm].iter().find(|(c, _)| *c == code).map(|&(_, a)| a)
     }
 
     fn axis_words(&self) -> bool {
@@ -134,9 +128,7 @@ impl Run<'_> {
     }
 
     pub(crate) fn tip(&self) -> V2 {
-        self.machine
-            .tool(self.station)
-            .map_or(V2::zeros(), |t| t.tip.coords)
+        self.machine.tool(self.station).map_or(V2::zeros(), |t| t.tip.coords)
     }
 
     pub(crate) fn origin(&self) -> P2 {
@@ -185,10 +177,7 @@ impl Run<'_> {
     }
 
     fn push_move(&mut self, b: &Block, kind: MoveKind, start: P2, end: P2, feed: Feed) {
-        if matches!(
-            kind,
-            MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }
-        ) {
+        if matches!(kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }) {
             self.reference = end - self.tip();
         }
         self.moves.push(Move {
@@ -244,22 +233,14 @@ impl Run<'_> {
                         self.error(
                             b,
                             Some(at),
-                            format!(
-                                "{}{v}: a code number has at most one decimal",
-                                letter as char
-                            ),
+                            format!("{}{v}: a code number has at most one decimal", letter as char),
                         );
                         ok = false;
                         continue;
                     }
                     let code = code as u16;
                     if letter == b'M' && code % 10 != 0 {
-                        self.unsupported(
-                            b,
-                            Some(at),
-                            format!("M{v} is not a code latheguard knows"),
-                            false,
-                        );
+                        self.unsupported(b, Some(at), format!("M{v} is not a code latheguard knows"), false);
                         continue;
                     }
                     let (list, n) = if letter == b'G' {
@@ -271,10 +252,7 @@ impl Run<'_> {
                         self.error(
                             b,
                             Some(at),
-                            format!(
-                                "more than {MAX_CODES} {} codes in one block",
-                                letter as char
-                            ),
+                            format!("more than {MAX_CODES} {} codes in one block", letter as char),
                         );
                         ok = false;
                         continue;
@@ -286,18 +264,12 @@ impl Run<'_> {
                 _ => {
                     let bit = bit(letter);
                     if w.has & bit != 0 {
-                        self.error(
-                            b,
-                            Some(at),
-                            format!("{} word given twice in one block", letter as char),
-                        );
+                        self.error(b, Some(at), format!("{} word given twice in one block", letter as char));
                         ok = false;
                         continue;
                     }
                     let mut v = v;
-                    if increment
-                        && !word.has_point
-                        && matches!(letter, b'X' | b'Z' | b'U' | b'W' | b'I' | b'K' | b'R')
+                    if increment && !word.has_point && matches!(letter, b'X' | b'Z' | b'U' | b'W' | b'I' | b'K' | b'R')
                     {
                         v *= if self.modal.inch { 0.0001 } else { 0.001 };
                     }
@@ -385,11 +357,7 @@ impl Run<'_> {
             let grp = m_group(code) as usize;
             if let Some(prev) = mseen[grp] {
                 if prev != code && grp < 20 && !(grp == 8 && prev != 9 && code != 9) {
-                    self.error(
-                        b,
-                        Some(at),
-                        format!("M{prev} and M{code} are in the same modal group"),
-                    );
+                    self.error(b, Some(at), format!("M{prev} and M{code} are in the same modal group"));
                     return;
                 }
             }
@@ -450,12 +418,7 @@ impl Run<'_> {
                 self.modal.feed_per_rev = true;
             }
             if let Some(at) = w.has_g(930) {
-                self.unsupported(
-                    b,
-                    Some(at),
-                    "G93 inverse-time feed is not modelled".into(),
-                    false,
-                );
+                self.unsupported(b, Some(at), "G93 inverse-time feed is not modelled".into(), false);
             }
         }
         let thread_lead_f = fanuc && (w.has_g(320).is_some() || w.has_g(330).is_some());
@@ -520,11 +483,14 @@ impl Run<'_> {
         for &(code, at) in &w.m[..w.nm] {
             match code {
                 0..=9 | 30 | 48..=53 | 98 | 99 | 70..=73 => {}
-                41..=44 if fanuc => {} // gear range: no geometric effect
+                41..=44 if fanuc => {}       // gear range: no geometric effect
                 60 | 62..=68 if !fanuc => {} // pallet/IO: no geometric effect
-                21 | 22 if fanuc => {
-                    self.unsupported(b, Some(at), format!("M{code} moves the tailstock; latheguard keeps it where the machine file puts it"), true)
-                }
+                21 | 22 if fanuc => self.unsupported(
+                    b,
+                    Some(at),
+                    format!("M{code} moves the tailstock; latheguard keeps it where the machine file puts it"),
+                    true,
+                ),
                 _ => self.unsupported(b, Some(at), format!("M{code} is not a code latheguard models"), false),
             }
         }
@@ -557,11 +523,7 @@ impl Run<'_> {
         // 7. Plane, compensation, length offsets, coordinate systems, path mode.
         let plane_error_here = w.has_g(170).is_some() || w.has_g(190).is_some();
         if let Some(at) = w.has_g(170).or(w.has_g(190)) {
-            self.error(
-                b,
-                Some(at),
-                "only the XZ plane (G18) exists on a 2-axis lathe".into(),
-            );
+            self.error(b, Some(at), "only the XZ plane (G18) exists on a 2-axis lathe".into());
             self.modal.plane_xz = false;
         }
         if w.has_g(180).is_some() {
@@ -576,7 +538,10 @@ impl Run<'_> {
                 self.unsupported(
                     b,
                     Some(at),
-                    format!("{}: tool nose radius compensation is not modelled; the uncompensated path is checked", g_name(code)),
+                    format!(
+                        "{}: tool nose radius compensation is not modelled; the uncompensated path is checked",
+                        g_name(code)
+                    ),
                     false,
                 );
             }
@@ -616,22 +581,12 @@ impl Run<'_> {
             self.home_return(b, &mut w);
             axes_used_by_nonmodal = true;
         }
-        if let Some(at) = w
-            .has_g(300)
-            .or(w.has_g(281))
-            .or(w.has_g(301))
-            .or(w.has_g(100))
-        {
+        if let Some(at) = w.has_g(300).or(w.has_g(281)).or(w.has_g(301)).or(w.has_g(100)) {
             let code = [300u16, 281, 301, 100]
                 .into_iter()
                 .find(|&c| w.has_g(c).is_some())
                 .unwrap_or(300);
-            self.unsupported(
-                b,
-                Some(at),
-                format!("{} is not modelled", g_name(code)),
-                code == 300,
-            );
+            self.unsupported(b, Some(at), format!("{} is not modelled", g_name(code)), code == 300);
             w.used = w.has;
             axes_used_by_nonmodal = true;
         }
@@ -819,16 +774,10 @@ impl Run<'_> {
             return;
         }
         let from = self.station;
-        let start = self.programmed();
         self.station = station;
+        // The reference point stays; the programmed point becomes the new tool's tip.
         let end = self.programmed();
-        self.push_move(
-            b,
-            MoveKind::ToolChange { from, to: station },
-            start,
-            end,
-            Feed::Rapid,
-        );
+        self.push_move(b, MoveKind::ToolChange { from, to: station }, end, end, Feed::Rapid);
     }
 
     fn dwell(&mut self, b: &Block, w: &mut Words, fanuc: bool) {
@@ -948,11 +897,7 @@ impl Run<'_> {
         }
         if !self.modal.plane_xz {
             if !plane_error_here {
-                self.error(
-                    b,
-                    None,
-                    "motion in the G17/G19 plane is not checked: select G18".into(),
-                );
+                self.error(b, None, "motion in the G17/G19 plane is not checked: select G18".into());
             } else {
                 w.used = w.has;
             }
@@ -963,7 +908,12 @@ impl Run<'_> {
             None => {
                 if !self.motion_reported {
                     self.motion_reported = true;
-                    self.error(b, None, "axis words but no motion mode in force (no G0/G1 given yet, or G80); assuming G1 from here".into());
+                    self.error(
+                        b,
+                        None,
+                        "axis words but no motion mode in force (no G0/G1 given yet, or G80); assuming G1 from here"
+                            .into(),
+                    );
                 }
                 self.modal.motion = Some(Motion::Line);
                 Motion::Line
@@ -993,20 +943,11 @@ impl Run<'_> {
                     self.error(
                         b,
                         None,
-                        format!(
-                            "threading move needs its lead ({} word)",
-                            if fanuc { "F" } else { "K" }
-                        ),
+                        format!("threading move needs its lead ({} word)", if fanuc { "F" } else { "K" }),
                     );
                     return;
                 };
-                self.push_move(
-                    b,
-                    MoveKind::Line,
-                    start,
-                    end,
-                    Feed::PerRev(lead * self.scale()),
-                );
+                self.push_move(b, MoveKind::Line, start, end, Feed::PerRev(lead * self.scale()));
             }
             Motion::ArcCw | Motion::ArcCcw => {
                 // G2 turns from +X toward +Z: counter-clockwise in (x right, z up).
@@ -1018,9 +959,7 @@ impl Run<'_> {
                         self.error(
                             b,
                             w.at(b'P'),
-                            format!(
-                                "P{p}: the number of turns must be a whole number from 1 to 1000"
-                            ),
+                            format!("P{p}: the number of turns must be a whole number from 1 to 1000"),
                         );
                         return;
                     }
@@ -1059,9 +998,7 @@ impl Run<'_> {
                     return;
                 };
                 match result {
-                    Ok((center, sweep)) => {
-                        self.push_move(b, MoveKind::Arc { center, sweep }, start, end, feed)
-                    }
+                    Ok((center, sweep)) => self.push_move(b, MoveKind::Arc { center, sweep }, start, end, feed),
                     Err(e) => self.error(b, None, e.to_string()),
                 }
             }
@@ -1074,11 +1011,7 @@ impl Run<'_> {
 
     fn feed(&mut self, b: &Block, _w: &mut Words) -> Option<Feed> {
         if self.modal.feed <= 0.0 {
-            self.error(
-                b,
-                None,
-                "feed move without a feed rate (no F word in force)".into(),
-            );
+            self.error(b, None, "feed move without a feed rate (no F word in force)".into());
             return None;
         }
         let f = self.modal.feed * self.scale();

@@ -57,9 +57,9 @@ impl Run<'_> {
                 let n = self.eval_at(e, depth + 1)?;
                 self.numbered(param_index(n)?)
             }
-            Param::Named(name) => self.named(name).ok_or_else(|| {
-                format!("named parameter #<{}> is not defined", self.prog.name(name))
-            }),
+            Param::Named(name) => self
+                .named(name)
+                .ok_or_else(|| format!("named parameter #<{}> is not defined", self.prog.name(name))),
         }
     }
 
@@ -67,16 +67,12 @@ impl Run<'_> {
         if let Some(v) = self.system_param(n) {
             return Ok(v);
         }
-        self.params
-            .numbered
-            .get(n as usize)
-            .copied()
-            .ok_or_else(|| {
-                format!(
-                    "parameter #{n} does not exist (largest is #{})",
-                    self.params.numbered.len() - 1
-                )
-            })
+        self.params.numbered.get(n as usize).copied().ok_or_else(|| {
+            format!(
+                "parameter #{n} does not exist (largest is #{})",
+                self.params.numbered.len() - 1
+            )
+        })
     }
 
     /// A named parameter: a local of the current call, a global, or a predefined one.
@@ -137,13 +133,7 @@ impl Run<'_> {
         let (x, z) = self.program_position();
         Some(match n {
             5400 => self.station as f64,
-            5410 => {
-                2.0 * self
-                    .machine
-                    .tool(self.station)
-                    .map_or(0.0, |t| t.nose_radius)
-                    / self.scale()
-            }
+            5410 => 2.0 * self.machine.tool(self.station).map_or(0.0, |t| t.nose_radius) / self.scale(),
             5420 => x,
             5421 => 0.0,
             5422 => z,
@@ -203,9 +193,7 @@ fn bool_f(b: bool) -> f64 {
 fn param_index(v: f64) -> Result<u32, String> {
     let r = v.round();
     if (v - r).abs() > 1e-4 || r < 0.0 || r > u32::MAX as f64 {
-        return Err(format!(
-            "parameter number {v} is not a whole number in range"
-        ));
+        return Err(format!("parameter number {v} is not a whole number in range"));
     }
     Ok(r as u32)
 }
@@ -214,9 +202,7 @@ fn binary(op: BinOp, x: f64, y: f64) -> EvalResult {
     Ok(match op {
         BinOp::Pow => {
             if x < 0.0 && y.fract() != 0.0 {
-                return Err(format!(
-                    "{x} ** {y}: a negative number to a fractional power"
-                ));
+                return Err(format!("{x} ** {y}: a negative number to a fractional power"));
             }
             x.powf(y)
         }

@@ -72,10 +72,7 @@ impl Labels {
                         stack.truncate(k);
                         l.sub_end.insert(start, i);
                     }
-                    None => err(format!(
-                        "{} endsub without a matching sub",
-                        name_text(o.name)
-                    )),
+                    None => err(format!("{} endsub without a matching sub", name_text(o.name))),
                 },
                 OOp::Do => stack.push((o.name, Open::Do, i, i)),
                 OOp::While(_) => {
@@ -95,10 +92,7 @@ impl Labels {
                         l.jump.insert(start, i);
                         l.jump.insert(i, start);
                     }
-                    None => err(format!(
-                        "{} endwhile without a matching while",
-                        name_text(o.name)
-                    )),
+                    None => err(format!("{} endwhile without a matching while", name_text(o.name))),
                 },
                 OOp::Repeat(_) => stack.push((o.name, Open::Repeat, i, i)),
                 OOp::EndRepeat => match top(&stack, &[Open::Repeat]) {
@@ -108,10 +102,7 @@ impl Labels {
                         l.jump.insert(start, i);
                         l.jump.insert(i, start);
                     }
-                    None => err(format!(
-                        "{} endrepeat without a matching repeat",
-                        name_text(o.name)
-                    )),
+                    None => err(format!("{} endrepeat without a matching repeat", name_text(o.name))),
                 },
                 OOp::If(_) => stack.push((o.name, Open::If, i, i)),
                 OOp::ElseIf(_) | OOp::Else => match top(&stack, &[Open::If]) {
@@ -120,10 +111,7 @@ impl Labels {
                         l.jump.insert(last, i);
                         stack[k].3 = i;
                     }
-                    None => err(format!(
-                        "{} else/elseif without a matching if",
-                        name_text(o.name)
-                    )),
+                    None => err(format!("{} else/elseif without a matching if", name_text(o.name))),
                 },
                 OOp::EndIf => match top(&stack, &[Open::If]) {
                     Some(k) => {
@@ -166,9 +154,7 @@ impl Labels {
                 Open::If => "if without endif",
                 Open::Repeat => "repeat without endrepeat",
             };
-            findings.push(
-                Finding::program(b.line, 0, format!("{} {what}", name_text(name))).with_n(b.n),
-            );
+            findings.push(Finding::program(b.line, 0, format!("{} {what}", name_text(name))).with_n(b.n));
         }
         l
     }
@@ -275,19 +261,12 @@ impl<'a> Run<'a> {
 
     pub(crate) fn error(&mut self, b: &Block, col_offset: Option<u32>, msg: String) {
         let col = col_offset.map_or(0, |o| self.prog.lines.col_of(self.src, o));
-        self.findings
-            .push(Finding::program(b.line, col, msg).with_n(b.n));
+        self.findings.push(Finding::program(b.line, col, msg).with_n(b.n));
     }
 
     /// An `unsupported` finding: an error when the code moves the machine (the checked path is
     /// then incomplete), a warning when it does not.
-    pub(crate) fn unsupported(
-        &mut self,
-        b: &Block,
-        col_offset: Option<u32>,
-        msg: String,
-        moves_machine: bool,
-    ) {
+    pub(crate) fn unsupported(&mut self, b: &Block, col_offset: Option<u32>, msg: String, moves_machine: bool) {
         let col = col_offset.map_or(0, |o| self.prog.lines.col_of(self.src, o));
         let sev = if moves_machine {
             Severity::Error
@@ -511,10 +490,7 @@ impl<'a> Run<'a> {
             self.error(
                 b,
                 Some(at),
-                format!(
-                    "subroutine calls nested deeper than {}",
-                    self.limits.max_call_depth
-                ),
+                format!("subroutine calls nested deeper than {}", self.limits.max_call_depth),
             );
             self.stopped = true;
             return;
@@ -590,21 +566,13 @@ impl<'a> Run<'a> {
         let count = match l {
             Some(l) if l >= 0.0 && l.fract() == 0.0 => l as u64,
             Some(l) => {
-                self.error(
-                    b,
-                    col,
-                    format!("M98 L{l}: the repeat count must be a whole number"),
-                );
+                self.error(b, col, format!("M98 L{l}: the repeat count must be a whole number"));
                 return;
             }
             None => count.max(1),
         };
         let Some(&start) = self.labels.programs.get(&number) else {
-            self.error(
-                b,
-                col,
-                format!("M98: subprogram O{number} is not in this file"),
-            );
+            self.error(b, col, format!("M98: subprogram O{number} is not in this file"));
             return;
         };
         if count == 0 {
@@ -614,10 +582,7 @@ impl<'a> Run<'a> {
             self.error(
                 b,
                 col,
-                format!(
-                    "subprogram calls nested deeper than {}",
-                    self.limits.max_call_depth
-                ),
+                format!("subprogram calls nested deeper than {}", self.limits.max_call_depth),
             );
             self.stopped = true;
             return;
@@ -651,15 +616,15 @@ impl<'a> Run<'a> {
                 }
             }
             Some(_) => {
-                self.error(
-                    b,
-                    None,
-                    "M99 ends an o-word subroutine: use endsub or return".into(),
-                );
+                self.error(b, None, "M99 ends an o-word subroutine: use endsub or return".into());
                 self.return_from_call();
             }
             None => {
-                self.error(b, None, "M99 in the main program restarts it without end (a bar-feed loop); checked once".into());
+                self.error(
+                    b,
+                    None,
+                    "M99 in the main program restarts it without end (a bar-feed loop); checked once".into(),
+                );
                 self.stopped = true;
             }
         }

@@ -211,12 +211,7 @@ pub fn interpret(prog: &Program, src: &[u8], machine: &Machine) -> Interpretatio
     interpret_with(prog, src, machine, Limits::for_program(prog))
 }
 
-pub fn interpret_with(
-    prog: &Program,
-    src: &[u8],
-    machine: &Machine,
-    limits: Limits,
-) -> Interpretation {
+pub fn interpret_with(prog: &Program, src: &[u8], machine: &Machine, limits: Limits) -> Interpretation {
     let mut run = flow::Run::new(prog, src, machine, limits);
     run.run();
     run.finish()

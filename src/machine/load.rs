@@ -97,17 +97,13 @@ pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
     let (root, errors) = DeTable::parse_recoverable(text);
     // The parser may report several errors, not in text order: the first in the text is the one
     // the others follow from.
-    if let Some(e) = errors
-        .iter()
-        .min_by_key(|e| e.span().map_or(usize::MAX, |s| s.start))
-    {
+    if let Some(e) = errors.iter().min_by_key(|e| e.span().map_or(usize::MAX, |s| s.start)) {
         let at = e.span().unwrap_or(0..0);
         let key = syntax_key(&root, &at, e.message(), text);
         return Err(cx.err(at, key, format!("TOML syntax error: {}", e.message())));
     }
     let tree = root.clone();
-    let raw = RawDoc::deserialize(toml::de::Deserializer::from(root))
-        .map_err(|e| cx.serde_error(&e, &tree))?;
+    let raw = RawDoc::deserialize(toml::de::Deserializer::from(root)).map_err(|e| cx.serde_error(&e, &tree))?;
     validate(&cx, raw)
 }
 
@@ -157,10 +153,7 @@ enum RawRapid {
 }
 
 #[derive(Deserialize, Clone, Copy)]
-#[serde(
-    rename_all = "lowercase",
-    expecting = "\"calculator\" or \"increment\""
-)]
+#[serde(rename_all = "lowercase", expecting = "\"calculator\" or \"increment\"")]
 enum RawDecimalPoint {
     Calculator,
     Increment,
@@ -240,23 +233,14 @@ struct Cx<'a> {
 }
 
 impl Cx<'_> {
-    fn err(
-        &self,
-        at: Range<usize>,
-        key: impl Into<String>,
-        message: impl Into<String>,
-    ) -> MachineError {
+    fn err(&self, at: Range<usize>, key: impl Into<String>, message: impl Into<String>) -> MachineError {
         let offset = at.start.min(self.text.len()).min(u32::MAX as usize) as u32;
         let key = key.into();
         MachineError {
             file: self.file.to_string(),
             line: self.lines.line_of(offset),
             col: self.lines.col_of(self.text.as_bytes(), offset),
-            key: if key.is_empty() {
-                TOP_LEVEL.to_string()
-            } else {
-                key
-            },
+            key: if key.is_empty() { TOP_LEVEL.to_string() } else { key },
             message: message.into(),
         }
     }
@@ -291,11 +275,7 @@ impl Cx<'_> {
         if x > 0.0 {
             Ok(x)
         } else {
-            Err(self.err(
-                v.span(),
-                key,
-                format!("must be greater than 0, not {}", show(x)),
-            ))
+            Err(self.err(v.span(), key, format!("must be greater than 0, not {}", show(x))))
         }
     }
 
@@ -304,11 +284,7 @@ impl Cx<'_> {
         if x >= 0.0 {
             Ok(x)
         } else {
-            Err(self.err(
-                v.span(),
-                key,
-                format!("must not be negative, not {}", show(x)),
-            ))
+            Err(self.err(v.span(), key, format!("must not be negative, not {}", show(x))))
         }
     }
 
@@ -318,11 +294,7 @@ impl Cx<'_> {
             &[x, z] => Err(self.err(
                 p.span(),
                 key,
-                format!(
-                    "[{}, {}] is not a point: both numbers must be finite",
-                    show(x),
-                    show(z)
-                ),
+                format!("[{}, {}] is not a point: both numbers must be finite", show(x), show(z)),
             )),
             v => Err(self.err(
                 p.span(),
@@ -391,13 +363,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             ))
         }
         Some(t) => t.into_inner(),
-        None => {
-            return Err(cx.err(
-                0..0,
-                "tools",
-                "missing tools: at least one [[tools]] table is required",
-            ))
-        }
+        None => return Err(cx.err(0..0, "tools", "missing tools: at least one [[tools]] table is required")),
     };
     if tools.len() > MAX_TOOLS {
         return Err(cx.err(
@@ -500,9 +466,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
     let max_rpm = cx.positive("spindle.max_rpm", &spindle.max_rpm)?;
 
     // [chuck], [tailstock]
-    let chuck = chuck
-        .map(|c| cx.outline("chuck.outline", &c.outline))
-        .transpose()?;
+    let chuck = chuck.map(|c| cx.outline("chuck.outline", &c.outline)).transpose()?;
     let tailstock = tailstock
         .map(|t| cx.outline("tailstock.outline", &t.outline))
         .transpose()?;
@@ -583,9 +547,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             return Err(cx.err(
                 t.station.span(),
                 key("station"),
-                format!(
-                    "station {station} does not exist: the turret has stations 1 to {stations}"
-                ),
+                format!("station {station} does not exist: the turret has stations 1 to {stations}"),
             ));
         }
         if let Some(j) = owner[station as usize] {
@@ -665,10 +627,7 @@ fn plain_words(message: &str) -> String {
         .replace("unknown field", "unknown key")
         .replace("unknown variant", "unknown value")
         .replace("expected f64", "expected a number")
-        .replace(
-            "expected u32",
-            "expected a whole number from 0 to 4294967295",
-        )
+        .replace("expected u32", "expected a whole number from 0 to 4294967295")
         .replace("expected a sequence", "expected an array")
         .replace("expected a boolean", "expected true or false")
 }
@@ -688,16 +647,10 @@ fn crossing_edges(pts: &[P2]) -> Option<((usize, usize), (usize, usize))> {
     }
     let n = kept.len();
     let orient = |a: P2, b: P2, c: P2| (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-    let within = |a: P2, b: P2, c: P2| {
-        c.x >= a.x.min(b.x) && c.x <= a.x.max(b.x) && c.y >= a.y.min(b.y) && c.y <= a.y.max(b.y)
-    };
+    let within =
+        |a: P2, b: P2, c: P2| c.x >= a.x.min(b.x) && c.x <= a.x.max(b.x) && c.y >= a.y.min(b.y) && c.y <= a.y.max(b.y);
     let meet = |a: P2, b: P2, c: P2, d: P2| {
-        let (d1, d2, d3, d4) = (
-            orient(c, d, a),
-            orient(c, d, b),
-            orient(a, b, c),
-            orient(a, b, d),
-        );
+        let (d1, d2, d3, d4) = (orient(c, d, a), orient(c, d, b), orient(a, b, c), orient(a, b, d));
         (d1 * d2 < 0.0 && d3 * d4 < 0.0)
             || (d1 == 0.0 && within(c, d, a))
             || (d2 == 0.0 && within(c, d, b))
@@ -736,9 +689,7 @@ fn render(path: &[Seg]) -> String {
                 if !s.is_empty() {
                     s.push('.');
                 }
-                let bare = !k.is_empty()
-                    && k.chars()
-                        .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+                let bare = !k.is_empty() && k.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
                 if bare {
                     s.push_str(k);
                 } else {
@@ -768,12 +719,7 @@ fn walk_table(t: &DeTable<'_>, path: &mut Vec<Seg>, f: &mut dyn FnMut(&Node<'_>)
     }
 }
 
-fn visit(
-    v: &Spanned<DeValue<'_>>,
-    key: Option<Range<usize>>,
-    path: &mut Vec<Seg>,
-    f: &mut dyn FnMut(&Node<'_>),
-) {
+fn visit(v: &Spanned<DeValue<'_>>, key: Option<Range<usize>>, path: &mut Vec<Seg>, f: &mut dyn FnMut(&Node<'_>)) {
     f(&Node {
         path,
         key,
@@ -836,27 +782,19 @@ fn containing(root: &Spanned<DeTable<'_>>, pos: usize) -> Option<Vec<Seg>> {
 /// whose header or key-value pair comes last before it.
 fn syntax_key(root: &Spanned<DeTable<'_>>, at: &Range<usize>, message: &str, text: &str) -> String {
     let pos = at.start.min(text.len());
-    let line_start = text[..floor_boundary(text, pos)]
-        .rfind('\n')
-        .map_or(0, |i| i + 1);
+    let line_start = text[..floor_boundary(text, pos)].rfind('\n').map_or(0, |i| i + 1);
     let line = text[line_start..].split('\n').next().unwrap_or("");
     if let Some(header) = header_name(line) {
         return header;
     }
     let mut path = syntax_path(root, pos, text);
     // The parser recovers a missing key as an empty one: name what is around it instead.
-    if let Some(i) = path
-        .iter()
-        .position(|s| matches!(s, Seg::Key(k) if k.is_empty()))
-    {
+    if let Some(i) = path.iter().position(|s| matches!(s, Seg::Key(k) if k.is_empty())) {
         path.truncate(i);
     }
     if message == "duplicate key" {
         let key = text.get(at.clone()).unwrap_or("");
-        let bare = !key.is_empty()
-            && key
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+        let bare = !key.is_empty() && key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
         if bare && !matches!(path.last(), Some(Seg::Key(k)) if k == key) {
             path.push(Seg::Key(key.to_string()));
         }
@@ -884,14 +822,8 @@ fn header_name(line: &str) -> Option<String> {
     let parts: Vec<&str> = name.split('.').map(str::trim).collect();
     let ok = |p: &&str| {
         !p.is_empty()
-            && p.chars().all(|c| {
-                c.is_ascii_alphanumeric()
-                    || c == '_'
-                    || c == '-'
-                    || c == '"'
-                    || c == '\''
-                    || c == ' '
-            })
+            && p.chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '"' || c == '\'' || c == ' ')
     };
     if parts.iter().all(ok) {
         Some(parts.join("."))

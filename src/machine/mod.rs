@@ -13,8 +13,7 @@ use std::fmt::Write as _;
 use crate::geom::{Polygon, P2};
 
 pub use load::{
-    from_toml, MachineError, MAX_OUTLINE_POINTS, MAX_STATIONS, MAX_TOOLS, MAX_TOTAL_OUTLINE_POINTS,
-    TOP_LEVEL,
+    from_toml, MachineError, MAX_OUTLINE_POINTS, MAX_STATIONS, MAX_TOOLS, MAX_TOTAL_OUTLINE_POINTS, TOP_LEVEL,
 };
 
 /// The built-in machine's TOML, embedded in the binary.
@@ -159,11 +158,7 @@ impl Machine {
         let mut modes = format!(
             "{}, X words are {}, rapid {}",
             self.dialect.as_str(),
-            if self.diameter_mode {
-                "diameters"
-            } else {
-                "radii"
-            },
+            if self.diameter_mode { "diameters" } else { "radii" },
             match self.rapid {
                 RapidMode::Dogleg => "dogleg (each axis at its own rate)",
                 RapidMode::Linear => "linear (interpolated)",
@@ -189,12 +184,7 @@ impl Machine {
                 num(a.rapid)
             );
         }
-        let _ = writeln!(
-            s,
-            "  home        x {}, z {}",
-            num(self.home.x),
-            num(self.home.y)
-        );
+        let _ = writeln!(s, "  home        x {}, z {}", num(self.home.x), num(self.home.y));
         let _ = writeln!(s, "  spindle     up to {} rpm", num(self.max_rpm));
         for (name, part) in [("chuck", &self.chuck), ("tailstock", &self.tailstock)] {
             let text = match part {

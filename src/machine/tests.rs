@@ -97,11 +97,7 @@ fn nth_line(text: &str, needle: &str, n: usize) -> u32 {
 
 #[track_caller]
 fn assert_at(e: &MachineError, line: u32, key: &str) {
-    assert_eq!(
-        (e.line, e.key.as_str()),
-        (line, key),
-        "wrong place for: {e}"
-    );
+    assert_eq!((e.line, e.key.as_str()), (line, key), "wrong place for: {e}");
     assert_eq!(e.file, "test.toml");
     assert!(e.col >= 1, "no column: {e}");
 }
@@ -258,10 +254,7 @@ fn describe_names_the_machine_and_every_tool() {
     }
     let d = load(LINUXCNC_TOML).unwrap().describe();
     assert!(
-        d.contains("linuxcnc")
-            && d.contains("radii")
-            && d.contains("linear")
-            && !d.contains("decimal point"),
+        d.contains("linuxcnc") && d.contains("radii") && d.contains("linear") && !d.contains("decimal point"),
         "{d}"
     );
 }
@@ -277,10 +270,7 @@ fn defaults_fill_every_optional_key() {
     assert_eq!(m.decimal_point, DecimalPoint::Calculator);
     assert_eq!(m.home, p2(300.0, 600.0), "home defaults to both maxima");
     assert_eq!(m.stock.as_ref().unwrap().bore, 0.0);
-    assert_eq!(
-        m.program_zero_z, 80.0,
-        "program Z0 defaults to the stock's front face"
-    );
+    assert_eq!(m.program_zero_z, 80.0, "program Z0 defaults to the stock's front face");
     assert_eq!(m.turret.start_station, 1);
     assert!(m.tools.iter().all(|t| t.nose_radius == 0.0));
     assert!(m.tailstock.is_none());
@@ -306,11 +296,7 @@ fn linuxcnc_defaults_to_radius_mode() {
 
 #[test]
 fn program_zero_defaults_to_the_jaw_faces_without_stock() {
-    let text = edit(
-        MINI,
-        "[stock]\ndiameter = 50.0\nlength = 120.0\nfront = 80.0\n",
-        "",
-    );
+    let text = edit(MINI, "[stock]\ndiameter = 50.0\nlength = 120.0\nfront = 80.0\n", "");
     let m = load(&text).unwrap();
     assert!(m.stock.is_none());
     assert_eq!(m.program_zero_z, 0.0);
@@ -318,13 +304,13 @@ fn program_zero_defaults_to_the_jaw_faces_without_stock() {
 
 #[test]
 fn chuck_tailstock_and_stock_are_optional() {
+    let text = edit(MINI, "[stock]\ndiameter = 50.0\nlength = 120.0\nfront = 80.0\n", "");
+    let text = edit(&text, "[chuck]\n", "");
     let text = edit(
-        MINI,
-        "[stock]\ndiameter = 50.0\nlength = 120.0\nfront = 80.0\n",
+        &text,
+        "outline = [[25, -100], [105, -100], [105, -30], [70, -30], [70, -12], [45, -12], [45, 0], [25, 0]]\n",
         "",
     );
-    let text = edit(&text, "[chuck]\n", "");
-    let text = edit(&text, "outline = [[25, -100], [105, -100], [105, -30], [70, -30], [70, -12], [45, -12], [45, 0], [25, 0]]\n", "");
     let m = load(&text).unwrap_or_else(|e| panic!("{e}"));
     assert!(m.chuck.is_none() && m.tailstock.is_none() && m.stock.is_none());
 }
@@ -333,10 +319,7 @@ fn chuck_tailstock_and_stock_are_optional() {
 fn tools_are_sorted_by_station() {
     let text = edit(MINI, "station = 1\n", "station = 7\n");
     let m = load(&text).unwrap();
-    assert_eq!(
-        m.tools.iter().map(|t| t.station).collect::<Vec<_>>(),
-        [2, 3, 7]
-    );
+    assert_eq!(m.tools.iter().map(|t| t.station).collect::<Vec<_>>(), [2, 3, 7]);
     assert_eq!(m.tool(7).unwrap().name, "one");
 }
 
@@ -361,11 +344,7 @@ fn outline_winding_and_redundant_points_do_not_change_the_polygon() {
         );
         let m = load(&text).unwrap_or_else(|e| panic!("{form}: {e}"));
         let chuck = m.chuck.unwrap();
-        assert!(
-            same_cycle(&chuck, &base),
-            "{form} gave {:?}",
-            chuck.points()
-        );
+        assert!(same_cycle(&chuck, &base), "{form} gave {:?}", chuck.points());
         assert!(chuck.area() > 0.0);
     }
 }
@@ -378,11 +357,7 @@ fn self_intersecting_chuck_outline_is_refused_at_its_key() {
         "[[25, -100], [105, -30], [105, -100]",
     );
     let e = refused(&text);
-    assert_at(
-        &e,
-        line_of(&text, "[[25, -100], [105, -30]"),
-        "chuck.outline",
-    );
+    assert_at(&e, line_of(&text, "[[25, -100], [105, -30]"), "chuck.outline");
     assert!(e.message.contains("intersects itself"), "{e}");
     assert!(
         e.message.contains("point [0]") || e.message.contains("point [1]"),
@@ -398,11 +373,7 @@ fn degenerate_holder_outline_is_refused_at_its_key() {
         "holder = [[0, 0], [5, 5], [10, 10], [5, 5]]",
     );
     let e = refused(&text);
-    assert_at(
-        &e,
-        line_of(&text, "holder = [[0, 0], [5, 5]"),
-        "tools[2].holder",
-    );
+    assert_at(&e, line_of(&text, "holder = [[0, 0], [5, 5]"), "tools[2].holder");
     assert!(e.message.contains("fewer than 3"), "{e}");
 }
 
@@ -496,11 +467,7 @@ fn unknown_table_is_refused_at_its_header() {
 
 #[test]
 fn unknown_key_in_the_third_tool_names_its_index() {
-    let text = edit(
-        MINI,
-        "name = \"three\"\n",
-        "name = \"three\"\nlength = 90\n",
-    );
+    let text = edit(MINI, "name = \"three\"\n", "name = \"three\"\nlength = 90\n");
     let e = refused(&text);
     assert_at(&e, line_of(&text, "length = 90"), "tools[2].length");
 }
@@ -513,11 +480,7 @@ fn wrong_type_is_refused_at_its_line_and_key() {
     assert_eq!(e.col, 12, "the column of the value");
     assert!(e.message.contains("expected a number"), "{e}");
 
-    let text = edit(
-        MINI,
-        "holder = [[-15, 2], [-3, 2], [-3, 50], [-15, 50]]",
-        "holder = 5",
-    );
+    let text = edit(MINI, "holder = [[-15, 2], [-3, 2], [-3, 50], [-15, 50]]", "holder = 5");
     let e = refused(&text);
     assert_at(&e, line_of(&text, "holder = 5"), "tools[2].holder");
     assert!(e.message.contains("expected an array"), "{e}");
@@ -533,17 +496,10 @@ fn wrong_type_is_refused_at_its_line_and_key() {
 
 #[test]
 fn unknown_dialect_is_refused_at_its_key() {
-    let text = edit(
-        MINI,
-        "name = \"mini\"",
-        "name = \"mini\"\ndialect = \"haas\"",
-    );
+    let text = edit(MINI, "name = \"mini\"", "name = \"mini\"\ndialect = \"haas\"");
     let e = refused(&text);
     assert_at(&e, line_of(&text, "haas"), "machine.dialect");
-    assert!(
-        e.message.contains("fanuc") && e.message.contains("linuxcnc"),
-        "{e}"
-    );
+    assert!(e.message.contains("fanuc") && e.message.contains("linuxcnc"), "{e}");
 }
 
 #[test]
@@ -621,11 +577,7 @@ fn negative_stock_diameter_is_refused() {
 #[test]
 fn bore_not_smaller_than_diameter_is_refused() {
     for bore in ["50.0", "60"] {
-        let text = edit(
-            MINI,
-            "front = 80.0\n",
-            &format!("front = 80.0\nbore = {bore}\n"),
-        );
+        let text = edit(MINI, "front = 80.0\n", &format!("front = 80.0\nbore = {bore}\n"));
         let e = refused(&text);
         assert_at(&e, line_of(&text, "bore ="), "stock.bore");
         assert!(e.message.contains("smaller than the diameter"), "{e}");
@@ -649,47 +601,23 @@ fn station_out_of_range_is_refused() {
     for bad in ["9", "0"] {
         let text = edit(MINI, "station = 2", &format!("station = {bad}"));
         let e = refused(&text);
-        assert_at(
-            &e,
-            line_of(&text, &format!("station = {bad}")),
-            "tools[1].station",
-        );
+        assert_at(&e, line_of(&text, &format!("station = {bad}")), "tools[1].station");
         assert!(e.message.contains("stations 1 to 8"), "{e}");
     }
     let text = edit(MINI, "station = 2", "station = -2");
-    assert_at(
-        &refused(&text),
-        line_of(&text, "station = -2"),
-        "tools[1].station",
-    );
+    assert_at(&refused(&text), line_of(&text, "station = -2"), "tools[1].station");
 }
 
 #[test]
 fn turret_station_count_and_start_are_checked() {
     let text = edit(MINI, "stations = 8", "stations = 65");
-    assert_at(
-        &refused(&text),
-        line_of(&text, "stations = 65"),
-        "turret.stations",
-    );
+    assert_at(&refused(&text), line_of(&text, "stations = 65"), "turret.stations");
     let text = edit(MINI, "stations = 8", "stations = 0");
-    assert_at(
-        &refused(&text),
-        line_of(&text, "stations = 0"),
-        "turret.stations",
-    );
+    assert_at(&refused(&text), line_of(&text, "stations = 0"), "turret.stations");
     let text = edit(MINI, "stations = 8", "stations = 8\nstart_station = 9");
-    assert_at(
-        &refused(&text),
-        line_of(&text, "start_station"),
-        "turret.start_station",
-    );
+    assert_at(&refused(&text), line_of(&text, "start_station"), "turret.start_station");
     let text = edit(MINI, "index_time = 0.5", "index_time = -0.5");
-    assert_at(
-        &refused(&text),
-        line_of(&text, "index_time"),
-        "turret.index_time",
-    );
+    assert_at(&refused(&text), line_of(&text, "index_time"), "turret.index_time");
     let text = edit(MINI, "axis = 140.0", "axis = nan");
     assert_at(&refused(&text), line_of(&text, "axis = nan"), "turret.axis");
 }
@@ -722,11 +650,7 @@ fn too_many_tools_are_refused() {
 #[test]
 fn blank_names_are_refused() {
     let text = edit(MINI, "name = \"two\"", "name = \"  \"");
-    assert_at(
-        &refused(&text),
-        line_of(&text, "name = \"  \""),
-        "tools[1].name",
-    );
+    assert_at(&refused(&text), line_of(&text, "name = \"  \""), "tools[1].name");
     let text = edit(MINI, "name = \"mini\"", "name = \"\"");
     assert_at(&refused(&text), 2, "machine.name");
 }
@@ -741,17 +665,9 @@ fn home_outside_limits_is_refused() {
     let e = refused(&text);
     assert_at(&e, line_of(&text, "home ="), "axes.home");
     assert!(e.message.contains("outside"), "{e}");
-    let text = edit(
-        MINI,
-        "rapid = 24000.0 }\n",
-        "rapid = 24000.0 }\nhome = [300.0, -51]\n",
-    );
+    let text = edit(MINI, "rapid = 24000.0 }\n", "rapid = 24000.0 }\nhome = [300.0, -51]\n");
     assert_at(&refused(&text), line_of(&text, "home ="), "axes.home");
-    let text = edit(
-        MINI,
-        "rapid = 24000.0 }\n",
-        "rapid = 24000.0 }\nhome = [0, 0]\n",
-    );
+    let text = edit(MINI, "rapid = 24000.0 }\n", "rapid = 24000.0 }\nhome = [0, 0]\n");
     assert_eq!(load(&text).unwrap().home, p2(0.0, 0.0));
 }
 
@@ -770,17 +686,9 @@ fn axis_limits_and_rates_are_checked() {
 #[test]
 fn spindle_speed_and_nose_radius_are_checked() {
     let text = edit(MINI, "max_rpm = 4000.0", "max_rpm = 0");
-    assert_at(
-        &refused(&text),
-        line_of(&text, "max_rpm"),
-        "spindle.max_rpm",
-    );
+    assert_at(&refused(&text), line_of(&text, "max_rpm"), "spindle.max_rpm");
     let text = edit(MINI, "name = \"two\"", "name = \"two\"\nnose_radius = -0.4");
-    assert_at(
-        &refused(&text),
-        line_of(&text, "nose_radius"),
-        "tools[1].nose_radius",
-    );
+    assert_at(&refused(&text), line_of(&text, "nose_radius"), "tools[1].nose_radius");
     let text = edit(MINI, "tip = [-58.0, -10.0]", "tip = [-58.0, inf]");
     assert_at(&refused(&text), line_of(&text, "inf]"), "tools[1].tip");
 }

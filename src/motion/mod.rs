@@ -142,11 +142,7 @@ fn time_move(m: &Move, machine: &Machine, stalled: &mut dyn FnMut()) -> (f64, Pa
                             k += 1;
                         }
                         let span = cum[(k + 1).min(n)] - cum[k];
-                        let frac = if span > 0.0 {
-                            (target - cum[k]) / span
-                        } else {
-                            0.0
-                        };
+                        let frac = if span > 0.0 { (target - cum[k]) / span } else { 0.0 };
                         table.push(((k as f64 + frac.clamp(0.0, 1.0)) / n as f64).min(1.0));
                     }
                     (total, Path::Varying { table })
@@ -177,25 +173,13 @@ pub fn index_direction(a: u32, b: u32, stations: u32) -> i64 {
 /// Where the turret reference point is `dt` seconds into a move (clamped to the move).
 pub fn reference_at(m: &Move, item: &Timed, dt: f64) -> P2 {
     let d = item.duration;
-    let u = if d > 0.0 {
-        (dt / d).clamp(0.0, 1.0)
-    } else {
-        1.0
-    };
+    let u = if d > 0.0 { (dt / d).clamp(0.0, 1.0) } else { 1.0 };
     match &item.path {
         Path::Still(p) => *p,
         Path::Line { from, to } => from + (to - from) * u,
         Path::Dogleg { from, to, tx, tz } => {
-            let fx = if *tx > 0.0 {
-                (dt / tx).clamp(0.0, 1.0)
-            } else {
-                1.0
-            };
-            let fz = if *tz > 0.0 {
-                (dt / tz).clamp(0.0, 1.0)
-            } else {
-                1.0
-            };
+            let fx = if *tx > 0.0 { (dt / tx).clamp(0.0, 1.0) } else { 1.0 };
+            let fz = if *tz > 0.0 { (dt / tz).clamp(0.0, 1.0) } else { 1.0 };
             P2::new(from.x + (to.x - from.x) * fx, from.y + (to.y - from.y) * fz)
         }
         Path::Uniform => m.point_at(u) - m.tip,

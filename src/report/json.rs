@@ -75,19 +75,14 @@ pub fn json(r: &Report) -> String {
             .iter()
             .map(|f| FileDoc {
                 path: &f.path,
-                status: if f.findings.is_empty() {
-                    "clean"
-                } else {
-                    "findings"
-                },
+                status: if f.findings.is_empty() { "clean" } else { "findings" },
                 findings: f.findings.iter().map(FindingDoc::from).collect(),
                 stats: &f.stats,
             })
             .collect(),
         summary: r.summary(),
     };
-    let mut s =
-        serde_json::to_string_pretty(&doc).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
+    let mut s = serde_json::to_string_pretty(&doc).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
     s.push('\n');
     s
 }

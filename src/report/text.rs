@@ -30,11 +30,7 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
             if opt.quiet && x.severity != Severity::Error {
                 continue;
             }
-            let sev_color = if x.severity == Severity::Error {
-                red
-            } else {
-                yellow
-            };
+            let sev_color = if x.severity == Severity::Error { red } else { yellow };
             let col = if x.col > 0 {
                 format!(":{}", x.col)
             } else {
@@ -56,10 +52,7 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
                 if x.line >= 1 && (x.line as usize) <= li.line_count() {
                     let span = li.line_span(&f.source, x.line);
                     let raw = String::from_utf8_lossy(&f.source[span.range()]);
-                    let chars: Vec<char> = raw
-                        .chars()
-                        .map(|c| if c == '\t' { ' ' } else { c })
-                        .collect();
+                    let chars: Vec<char> = raw.chars().map(|c| if c == '\t' { ' ' } else { c }).collect();
                     let caret = x.col.saturating_sub(1) as usize;
                     let from = if chars.len() > SHOW && caret > SHOW / 2 {
                         (caret - SHOW / 2).min(chars.len() - SHOW)
@@ -74,12 +67,7 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
                     let _ = writeln!(out, "{dim}{gutter} |{reset} {more_l}{shown}{more_r}");
                     if x.col > 0 {
                         let pad = caret - from + more_l.chars().count();
-                        let _ = writeln!(
-                            out,
-                            "{dim}{:>5} |{reset} {}{sev_color}^{reset}",
-                            "",
-                            " ".repeat(pad)
-                        );
+                        let _ = writeln!(out, "{dim}{:>5} |{reset} {}{sev_color}^{reset}", "", " ".repeat(pad));
                     }
                 }
             }

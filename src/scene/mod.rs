@@ -76,10 +76,7 @@ impl Scene {
             .collect();
         Scene {
             chuck: machine.chuck.clone().map(|p| Revolved::new("chuck", p)),
-            tailstock: machine
-                .tailstock
-                .clone()
-                .map(|p| Revolved::new("tailstock", p)),
+            tailstock: machine.tailstock.clone().map(|p| Revolved::new("tailstock", p)),
             turret: machine.turret.outline.clone(),
             turret_axis: machine.turret.axis,
             stations: machine.turret.stations,
@@ -100,13 +97,7 @@ impl Scene {
     /// A tool shape (relative to its programmed point) in the radial section `(r, z)` when the
     /// turret reference point is at `r_ref` and the tool is turned `angle` out of the working
     /// plane about the turret axis. At angle 0 this is the folded in-plane shape.
-    pub fn map_to_section(
-        &self,
-        shape: &Polygon,
-        tip: V2,
-        r_ref: P2,
-        angle: f64,
-    ) -> Option<Polygon> {
+    pub fn map_to_section(&self, shape: &Polygon, tip: V2, r_ref: P2, angle: f64) -> Option<Polygon> {
         let (s, c) = angle.sin_cos();
         let axis_x = r_ref.x + self.turret_axis;
         let pts = shape.points();
@@ -146,10 +137,7 @@ fn round_tip(insert: &Polygon, radius: f64, tol: f64) -> Polygon {
         .iter()
         .enumerate()
         .map(|(i, p)| (i, p.coords.norm()))
-        .fold(
-            (0, f64::INFINITY),
-            |acc, x| if x.1 < acc.1 { x } else { acc },
-        );
+        .fold((0, f64::INFINITY), |acc, x| if x.1 < acc.1 { x } else { acc });
     let (prev, cur, next) = (pts[(k + n - 1) % n], pts[k], pts[(k + 1) % n]);
     let u = (prev - cur).normalize();
     let v = (next - cur).normalize();

@@ -161,8 +161,7 @@ impl DexelStock {
         let (rlo, rhi) = radial_range(bb.min.x, bb.max.x);
         let (j0, j1) = self.column_range(bb.min.y, bb.max.y)?;
         // Quick reject by blocks.
-        let any = (j0 / BLOCK..=j1 / BLOCK)
-            .any(|b| rlo < self.blk_max[b] - eps && rhi > self.blk_min[b] + eps);
+        let any = (j0 / BLOCK..=j1 / BLOCK).any(|b| rlo < self.blk_max[b] - eps && rhi > self.blk_min[b] + eps);
         if !any {
             return None;
         }
@@ -203,9 +202,7 @@ impl DexelStock {
         self.scratch = scratch;
         let first = first?;
         let axial = (self.center(last) - self.center(first) + self.h).min(bb.max.y - bb.min.y);
-        Some(StockHit {
-            depth: best.min(axial),
-        })
+        Some(StockHit { depth: best.min(axial) })
     }
 
     /// Remove the material inside a polygon (working plane, folded about the axis).
