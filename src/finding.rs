@@ -97,6 +97,9 @@ pub struct Finding {
     pub x: Option<f64>,
     pub z: Option<f64>,
     pub message: String,
+    /// The scene at first contact, when the check was asked for pictures.
+    #[serde(skip)]
+    pub snapshot: Option<Box<crate::scene::Snapshot>>,
 }
 
 impl Finding {
@@ -115,6 +118,7 @@ impl Finding {
             x: None,
             z: None,
             message: message.into(),
+            snapshot: None,
         }
     }
 

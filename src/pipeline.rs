@@ -16,6 +16,9 @@ pub struct Settings {
     pub dt_ms: f64,
     pub tolerance_mm: f64,
     pub clearance_mm: f64,
+    /// Record a [`crate::scene::Snapshot`] of the scene at each finding's first contact.
+    #[serde(skip)]
+    pub snapshots: bool,
 }
 
 impl Default for Settings {
@@ -25,6 +28,7 @@ impl Default for Settings {
             dt_ms: 1.0,
             tolerance_mm: 0.01,
             clearance_mm: 0.0,
+            snapshots: false,
         }
     }
 }

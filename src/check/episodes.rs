@@ -18,6 +18,7 @@ pub struct Contact {
     /// Penetration depth (collisions), or the gap (near misses).
     pub depth: Option<f64>,
     pub message: String,
+    pub snapshot: Option<Box<crate::scene::Snapshot>>,
 }
 
 struct Open {
@@ -120,6 +121,7 @@ impl Episodes {
             x: Some(c.x),
             z: Some(c.z),
             message,
+            snapshot: c.snapshot,
         });
     }
 }

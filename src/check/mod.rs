@@ -21,7 +21,8 @@ use crate::interp::{Move, MoveKind};
 use crate::machine::Machine;
 use crate::motion::{self, Timed, Timeline};
 use crate::pipeline::{Mode, Settings, Stats};
-use crate::scene::{DexelStock, Revolved, Scene};
+use crate::scene::{DexelStock, Revolved, Scene, Snapshot};
+
 use episodes::{Contact, Episodes};
 
 /// A moving part.
@@ -449,12 +450,18 @@ impl Checker<'_> {
                 match (depth, gap) {
                     (Some(d), _) => {
                         self.episodes.clear(near_key);
-                        let c = self.contact(m, r, p, o, kind, Some(d), t, active);
+                        let mut c = self.contact(m, r, p, o, kind, Some(d), t, active);
+                        if self.settings.snapshots && !self.episodes.is_open(hit_key) {
+                            c.snapshot = Some(Box::new(self.snapshot(m, item, r, active, &poly, Some(o), in_plane)));
+                        }
                         self.episodes.contact(hit_key, c);
                     }
                     (None, Some(g)) => {
                         self.episodes.clear(hit_key);
-                        let c = self.contact(m, r, p, o, Kind::NearMiss, Some(g), t, active);
+                        let mut c = self.contact(m, r, p, o, Kind::NearMiss, Some(g), t, active);
+                        if self.settings.snapshots && !self.episodes.is_open(near_key) {
+                            c.snapshot = Some(Box::new(self.snapshot(m, item, r, active, &poly, Some(o), in_plane)));
+                        }
                         self.episodes.contact(near_key, c);
                     }
                     (None, None) => {
@@ -499,8 +506,10 @@ impl Checker<'_> {
             }
         };
         let (x, z) = m.frame.to_program(r + m.tip);
+        let snapshot = None;
         Contact {
             kind,
+
             objects: [a, b.to_string()],
             line: m.line,
             n: m.n,
@@ -509,6 +518,81 @@ impl Checker<'_> {
             z,
             depth,
             message,
+            snapshot,
+        }
+    }
+
+    /// The scene when the reference point is at `r` (for pictures of findings).
+    #[allow(clippy::too_many_arguments)]
+    fn snapshot(
+        &self,
+        m: &Move,
+        item: &Timed,
+        r: P2,
+        active: u32,
+        part: &Polygon,
+        obstacle: Option<Obstacle>,
+        in_plane: bool,
+    ) -> Snapshot {
+        let pts = |p: &Polygon| p.points().to_vec();
+        let stock: Vec<Vec<P2>> = self
+            .stock
+            .as_ref()
+            .map(|s| {
+                s.outlines(self.settings.tolerance_mm)
+                    .into_iter()
+                    .map(|o| o.into_iter().map(|[x, z]| P2::new(x, z)).collect())
+                    .collect()
+            })
+            .unwrap_or_else(|| {
+                self.machine
+                    .stock
+                    .as_ref()
+                    .map(|s| {
+                        let (z0, z1) = (s.front - s.length, s.front);
+                        let (r0, r1) = (s.bore / 2.0, s.diameter / 2.0);
+                        vec![vec![P2::new(r0, z0), P2::new(r1, z0), P2::new(r1, z1), P2::new(r0, z1)]]
+                    })
+                    .unwrap_or_default()
+            });
+        let tool = self.scene.tool(active);
+        let posed = |shape: &Polygon, tip: V2| shape.translated(r.coords + tip).points().to_vec();
+        let mut others = Vec::new();
+        for t in &self.scene.tools {
+            if t.station == active {
+                continue;
+            }
+            let angle = self.scene.station_angle(t.station, active as f64);
+            for (what, shape) in [("holder", &t.holder), ("insert", &t.insert)] {
+                if let Some(p) = self.scene.map_to_section(shape, t.tip, r, angle) {
+                    others.push((format!("{} {what}", t.label), pts(&p)));
+                }
+            }
+        }
+        let mut path = Vec::new();
+        if item.index > 0 {
+            let prev = &self.moves[item.index - 1];
+            path.extend((0..=24).map(|k| prev.point_at(k as f64 / 24.0)));
+        }
+        path.extend((0..=48).map(|k| m.point_at(k as f64 / 48.0)));
+        let part_b = match obstacle {
+            Some(Obstacle::Stock) => stock.clone(),
+            Some(o) => self.obstacle(o).map(|rv| vec![pts(&rv.outline)]).unwrap_or_default(),
+            None => Vec::new(),
+        };
+        Snapshot {
+            chuck: self.scene.chuck.as_ref().map(|c| pts(&c.outline)),
+            tailstock: self.scene.tailstock.as_ref().map(|c| pts(&c.outline)),
+            stock,
+            turret: posed(&self.scene.turret, V2::zeros()),
+            insert: tool.map(|t| posed(&t.insert, t.tip)).unwrap_or_default(),
+            holder: tool.map(|t| posed(&t.holder, t.tip)).unwrap_or_default(),
+            others,
+            path,
+            at: r + m.tip,
+            part_a: pts(part),
+            part_b,
+            mirrored: in_plane,
         }
     }
 
@@ -610,6 +694,10 @@ impl Checker<'_> {
                                     "indexing T{from:02} → T{to:02} swings the {} into the {}",
                                     c.objects[0], c.objects[1]
                                 );
+                                if self.settings.snapshots && !self.episodes.is_open(kk) {
+                                    let s = self.snapshot(m, item, r, from, &poly, Some(o), false);
+                                    c.snapshot = Some(Box::new(s));
+                                }
                                 self.episodes.contact(kk, c);
                             }
                             None => self.episodes.clear(kk),
@@ -685,7 +773,14 @@ impl Checker<'_> {
             z,
             depth: Some(depth),
             message: format!("the turret reference point leaves the {axis} travel limits"),
+            snapshot: None,
         };
+        let mut c = c;
+        if self.settings.snapshots && !self.episodes.is_open(u64::MAX) {
+            let turret = self.scene.turret.translated(r.coords);
+            c.snapshot = Some(Box::new(self.snapshot(m, item, r, m.station, &turret, None, true)));
+        }
+
         self.overtravel_open = true;
         self.episodes.contact(u64::MAX, c);
     }

@@ -26,6 +26,7 @@ pub fn run(a: CheckArgs) -> Result<u8, Trouble> {
         dt_ms: a.dt,
         tolerance_mm: a.tolerance,
         clearance_mm: a.clearance,
+        snapshots: false,
     };
     let files = walk::collect(&a.paths);
     let mut reports = Vec::with_capacity(files.len());

@@ -121,13 +121,6 @@ impl Polygon {
             pts,
         }
     }
-
-    /// Build from points already known to be simple and counter-clockwise (internal use, e.g.
-    /// after a rigid motion). The caller guarantees the invariant.
-    pub(crate) fn from_ccw_unchecked(pts: Vec<P2>) -> Polygon {
-        let aabb = Aabb::of_points(&pts);
-        Polygon { pts, aabb }
-    }
 }
 
 fn signed_area2(pts: &[P2]) -> f64 {

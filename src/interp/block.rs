@@ -463,9 +463,8 @@ impl Run<'_> {
             if fanuc {
                 // Fanuc lathes index at the T word; M6 has nothing left to do.
             } else {
-                match self.selected {
-                    Some(t) => self.change_tool(b, t, Some(at)),
-                    None => {}
+                if let Some(t) = self.selected {
+                    self.change_tool(b, t, Some(at));
                 }
             }
         }

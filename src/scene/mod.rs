@@ -7,12 +7,14 @@
 //! turret rotated about its axis, out of the working plane; they are mapped into the radial
 //! section `(r, z)` (DESIGN §2), which is exact for collisions with revolved parts.
 
+pub mod snapshot;
 pub mod stock;
 
 use crate::geom::{Aabb, Polygon, P2, V2};
 use crate::machine::Machine;
 use std::f64::consts::TAU;
 
+pub use snapshot::Snapshot;
 pub use stock::DexelStock;
 
 /// A revolved static part: its outline (x ≥ 0) and the mirror (x ≤ 0).

@@ -92,7 +92,7 @@ impl DexelStock {
         let b = ((zmax - self.z0) / self.h - 0.5).ceil() - 1.0;
         let a = a.max(0.0);
         let b = b.min(n as f64 - 1.0);
-        if !(a <= b) {
+        if a.is_nan() || b.is_nan() || a > b {
             return None;
         }
         let (mut a, mut b) = (a as usize, b as usize);
