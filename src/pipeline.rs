@@ -59,6 +59,9 @@ pub struct Stats {
 pub struct Outcome {
     pub findings: Vec<Finding>,
     pub stats: Stats,
+    /// The stock at the end of the program: closed `[x, z]` outlines in the half plane x ≥ 0
+    /// (the raw stock when the program never reached it; empty when the machine has none).
+    pub stock: Vec<Vec<[f64; 2]>>,
 }
 
 /// Read and interpret a program: the syntax, program and unsupported findings, and the moves.
@@ -78,5 +81,13 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
     sort_findings(&mut findings);
     let mut stats = result.stats;
     stats.blocks = run.blocks_executed;
-    Outcome { findings, stats }
+    let stock = match (&result.stock, &machine.stock) {
+        (Some(s), _) => s.outlines(settings.tolerance_mm),
+        (None, Some(s)) => {
+            let (z0, z1, r0, r1) = (s.front - s.length, s.front, s.bore / 2.0, s.diameter / 2.0);
+            vec![vec![[r0, z0], [r1, z0], [r1, z1], [r0, z1]]]
+        }
+        (None, None) => Vec::new(),
+    };
+    Outcome { findings, stats, stock }
 }

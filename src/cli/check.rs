@@ -42,6 +42,7 @@ pub fn run(a: CheckArgs) -> Result<u8, Trouble> {
                     findings: out.findings,
                     stats: out.stats,
                     source: src,
+                    stock: out.stock,
                 }
             }
             Err(e) => FileReport {
@@ -49,6 +50,7 @@ pub fn run(a: CheckArgs) -> Result<u8, Trouble> {
                 findings: vec![Finding::syntax(1, 0, format!("cannot read the file: {e}"))],
                 stats: Default::default(),
                 source: Vec::new(),
+                stock: Vec::new(),
             },
         };
         reports.push(rep);

@@ -21,6 +21,7 @@ struct FileDoc<'a> {
     status: &'static str,
     findings: Vec<FindingDoc<'a>>,
     stats: &'a Stats,
+    stock: Vec<Vec<[f64; 2]>>,
 }
 
 #[derive(Serialize)]
@@ -78,6 +79,11 @@ pub fn json(r: &Report) -> String {
                 status: if f.findings.is_empty() { "clean" } else { "findings" },
                 findings: f.findings.iter().map(FindingDoc::from).collect(),
                 stats: &f.stats,
+                stock: f
+                    .stock
+                    .iter()
+                    .map(|o| o.iter().map(|p| [round6(p[0]), round6(p[1])]).collect())
+                    .collect(),
             })
             .collect(),
         summary: r.summary(),

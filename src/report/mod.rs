@@ -20,6 +20,8 @@ pub struct FileReport {
     pub stats: Stats,
     /// The program's bytes, for showing source lines (text reports).
     pub source: Vec<u8>,
+    /// The final stock outlines, `[x, z]` (see [`crate::pipeline::Outcome::stock`]).
+    pub stock: Vec<Vec<[f64; 2]>>,
 }
 
 /// A whole batch.

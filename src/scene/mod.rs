@@ -179,5 +179,29 @@ fn round_tip(insert: &Polygon, radius: f64, tol: f64) -> Polygon {
             out.push(*p);
         }
     }
-    Polygon::new(&out).unwrap_or_else(|_| insert.clone())
+    let rounded = Polygon::new(&out).unwrap_or_else(|_| insert.clone());
+    imaginary_tip(insert, rounded)
+}
+
+/// Place a rounded insert so that the programmed point is its imaginary tool tip, as the tool is
+/// set on a machine: the nose touches the lines through the programmed point parallel to the
+/// axes, on the side the insert lies. An axis along which the sharp corner was not the insert's
+/// extreme (a threading or grooving form symmetric about the tip) is left as it is.
+fn imaginary_tip(sharp: &Polygon, rounded: Polygon) -> Polygon {
+    let (sb, rb) = (sharp.aabb(), rounded.aabb());
+    let c = sharp.points().iter().fold(V2::zeros(), |a, p| a + p.coords) / sharp.points().len() as f64;
+    let size = (sb.max.x - sb.min.x).max(sb.max.y - sb.min.y);
+    let eps = 1e-9;
+    let mut shift = V2::zeros();
+    if c.x > 0.1 * size && sb.min.x.abs() < eps {
+        shift.x = -rb.min.x;
+    } else if c.x < -0.1 * size && sb.max.x.abs() < eps {
+        shift.x = -rb.max.x;
+    }
+    if c.y > 0.1 * size && sb.min.y.abs() < eps {
+        shift.y = -rb.min.y;
+    } else if c.y < -0.1 * size && sb.max.y.abs() < eps {
+        shift.y = -rb.max.y;
+    }
+    rounded.translated(shift)
 }

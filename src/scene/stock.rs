@@ -275,9 +275,10 @@ impl DexelStock {
     }
 
     /// The outline of the material in the `(x, z)` half plane as closed polylines of `[x, z]`
-    /// points (one per connected run of columns with the same number of intervals), merging
-    /// columns whose radii differ by less than `merge`.
-    pub fn outlines(&self, merge: f64) -> Vec<Vec<[f64; 2]>> {
+    /// points: one per run of adjacent columns with the same number of material layers and per
+    /// layer. Each column contributes its radii at its centre; the ends of a run are closed with
+    /// faces at the run's column edges; the polylines are simplified to within `eps`.
+    pub fn outlines(&self, eps: f64) -> Vec<Vec<[f64; 2]>> {
         let mut out = Vec::new();
         let n = self.cols.len();
         let mut j = 0;
@@ -286,25 +287,26 @@ impl DexelStock {
                 j += 1;
                 continue;
             }
-            // A run of columns with the same interval count; trace each interval layer.
             let count = self.cols[j].iv.len();
             let start = j;
             while j < n && self.cols[j].iv.len() == count {
                 j += 1;
             }
+            let (za, zb) = (self.z0 + start as f64 * self.h, self.z0 + j as f64 * self.h);
             for layer in 0..count {
-                let mut top: Vec<[f64; 2]> = Vec::new();
-                let mut bottom: Vec<[f64; 2]> = Vec::new();
-                for k in start..j {
-                    let (lo, hi) = self.cols[k].iv[layer];
-                    let za = self.z0 + k as f64 * self.h;
-                    let zb = za + self.h;
-                    push_step(&mut top, za, zb, hi, merge);
-                    push_step(&mut bottom, za, zb, lo, merge);
-                }
-                bottom.reverse();
-                let mut poly = top;
-                poly.extend(bottom);
+                let top: Vec<[f64; 2]> = (start..j).map(|k| [self.cols[k].iv[layer].1, self.center(k)]).collect();
+                let bottom: Vec<[f64; 2]> = (start..j)
+                    .rev()
+                    .map(|k| [self.cols[k].iv[layer].0, self.center(k)])
+                    .collect();
+                let mut poly = Vec::with_capacity(top.len() * 2 + 4);
+                poly.push([bottom[bottom.len() - 1][0], za]);
+                poly.push([top[0][0], za]);
+                poly.extend(simplify(&top, eps));
+                poly.push([top[top.len() - 1][0], zb]);
+                poly.push([bottom[0][0], zb]);
+                poly.extend(simplify(&bottom, eps));
+                poly.dedup();
                 out.push(poly);
             }
         }
@@ -312,16 +314,37 @@ impl DexelStock {
     }
 }
 
-/// Append a column's flat top `[za, zb] × r` to a staircase, merging flats within `merge`.
-fn push_step(line: &mut Vec<[f64; 2]>, za: f64, zb: f64, r: f64, merge: f64) {
-    if let Some(last) = line.last_mut() {
-        if (last[0] - r).abs() <= merge {
-            last[1] = zb;
-            return;
+/// Ramer–Douglas–Peucker simplification of an open polyline, keeping both ends.
+fn simplify(pts: &[[f64; 2]], eps: f64) -> Vec<[f64; 2]> {
+    if pts.len() < 3 {
+        return pts.to_vec();
+    }
+    let mut keep = vec![false; pts.len()];
+    keep[0] = true;
+    keep[pts.len() - 1] = true;
+    let mut stack = vec![(0usize, pts.len() - 1)];
+    while let Some((a, b)) = stack.pop() {
+        let (p, q) = (pts[a], pts[b]);
+        let (dx, dz) = (q[0] - p[0], q[1] - p[1]);
+        let len = (dx * dx + dz * dz).sqrt();
+        let mut far = (0.0, a);
+        for (k, r) in pts.iter().enumerate().take(b).skip(a + 1) {
+            let d = if len > 0.0 {
+                ((r[0] - p[0]) * dz - (r[1] - p[1]) * dx).abs() / len
+            } else {
+                ((r[0] - p[0]).powi(2) + (r[1] - p[1]).powi(2)).sqrt()
+            };
+            if d > far.0 {
+                far = (d, k);
+            }
+        }
+        if far.0 > eps {
+            keep[far.1] = true;
+            stack.push((a, far.1));
+            stack.push((far.1, b));
         }
     }
-    line.push([r, za]);
-    line.push([r, zb]);
+    pts.iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| *p).collect()
 }
 
 /// Radii covered by the segment `[x0, x1]` of a line through the axis plane, folded.
