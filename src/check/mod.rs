@@ -14,6 +14,7 @@
 //! envelopes never meet cost nothing, and a move with no such pair is not sampled at all.
 
 pub mod episodes;
+mod exact;
 
 use crate::finding::{Finding, Kind, Severity};
 use crate::geom::{self, Aabb, Polygon, P2, V2};
@@ -388,7 +389,7 @@ impl Checker<'_> {
                 .copied()
                 .filter(|c| *c == (Part::Insert, Obstacle::Stock))
                 .collect();
-            self.sample(m, item, &first, active, insert_rule);
+            self.check_pairs(m, item, &first, active, insert_rule);
             cands.retain(|c| *c != (Part::Insert, Obstacle::Stock));
         }
         if cuts {
@@ -398,8 +399,13 @@ impl Checker<'_> {
         if cands.is_empty() {
             return;
         }
-        if matches!(self.settings.mode, Mode::Step | Mode::Exact) {
-            self.sample(m, item, &cands, active, insert_rule);
+        self.check_pairs(m, item, &cands, active, insert_rule);
+    }
+
+    fn check_pairs(&mut self, m: &Move, item: &Timed, cands: &[(Part, Obstacle)], active: u32, rule: Option<Kind>) {
+        match self.settings.mode {
+            Mode::Step => self.sample(m, item, cands, active, rule),
+            Mode::Exact => self.exact(m, item, cands, active, rule),
         }
     }
 

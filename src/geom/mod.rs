@@ -6,7 +6,7 @@
 mod polygon;
 mod stub;
 
-pub use stub::{distance, overlap};
+pub use stub::{distance, overlap, sweep_arc_episodes, sweep_line_episodes, Contact};
 
 pub use polygon::{Polygon, PolygonError};
 

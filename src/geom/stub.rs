@@ -57,3 +57,54 @@ pub fn distance(a: &Polygon, b: &Polygon) -> f64 {
     }
     d
 }
+
+/// One contact episode of a sweep (temporary stand-in, replaced by the kernel's).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    pub t_start: f64,
+    pub t_end: f64,
+    pub max_depth: f64,
+}
+
+fn sampled(a: &Polygon, b: &Polygon, at: impl Fn(f64) -> super::V2) -> Vec<Contact> {
+    let n = 2000;
+    let mut out: Vec<Contact> = Vec::new();
+    let mut open: Option<Contact> = None;
+    for k in 0..=n {
+        let t = k as f64 / n as f64;
+        match overlap(&a.translated(at(t)), b) {
+            Some(d) => match &mut open {
+                Some(c) => {
+                    c.t_end = t;
+                    c.max_depth = c.max_depth.max(d);
+                }
+                None => {
+                    open = Some(Contact {
+                        t_start: t,
+                        t_end: t,
+                        max_depth: d,
+                    })
+                }
+            },
+            None => {
+                if let Some(c) = open.take() {
+                    out.push(c);
+                }
+            }
+        }
+    }
+    out.extend(open);
+    out
+}
+
+pub fn sweep_line_episodes(a: &Polygon, b: &Polygon, d: super::V2) -> Vec<Contact> {
+    sampled(a, b, |t| d * t)
+}
+
+pub fn sweep_arc_episodes(a: &Polygon, b: &Polygon, center: P2, start: P2, sweep_angle: f64) -> Vec<Contact> {
+    let v = start - center;
+    sampled(a, b, |t| {
+        let (s, c) = (sweep_angle * t).sin_cos();
+        super::V2::new(v.x * c - v.y * s, v.x * s + v.y * c) - v
+    })
+}

@@ -109,6 +109,21 @@ impl DexelStock {
         (a <= b).then_some((a, b))
     }
 
+    /// Blocks (from the one holding column `j0`) whose material the part's radial range within
+    /// the block's slab of z comes nearer than `eps`.
+    fn candidate_blocks(&self, pts: &[P2], j0: usize, j1: usize, eps: f64) -> (usize, Vec<bool>) {
+        let (b0, b1) = (j0 / BLOCK, j1 / BLOCK);
+        let mut out = Vec::with_capacity(b1 - b0 + 1);
+        for b in b0..=b1 {
+            let za = self.z0 + (b * BLOCK) as f64 * self.h;
+            let zb = self.z0 + ((b + 1) * BLOCK) as f64 * self.h;
+            let hit = slab_radial_range(pts, za, zb)
+                .is_some_and(|(rlo, rhi)| rlo < self.blk_max[b] - eps && rhi > self.blk_min[b] + eps);
+            out.push(hit);
+        }
+        (b0, out)
+    }
+
     fn refresh_block(&mut self, b: usize) {
         let (lo, hi) = (b * BLOCK, ((b + 1) * BLOCK).min(self.cols.len()));
         let mut mx = f64::NEG_INFINITY;
@@ -125,7 +140,7 @@ impl DexelStock {
 
     /// The polygon's crossings with the column centre planes, grouped by column:
     /// fills `scratch` with (column, x) sorted by column then x. Returns the column range.
-    fn crossings(&mut self, pts: &[P2]) -> Option<(usize, usize)> {
+    fn crossings(&mut self, pts: &[P2], blocks: &[bool], b0: usize) -> Option<(usize, usize)> {
         let bb = Aabb::of_points(pts);
         let (j0, j1) = self.column_range(bb.min.y, bb.max.y)?;
         self.scratch.clear();
@@ -142,6 +157,9 @@ impl DexelStock {
             };
             let (k0, k1) = (k0.max(j0), k1.min(j1));
             for k in k0..=k1 {
+                if !blocks[k / BLOCK - b0] {
+                    continue;
+                }
                 let c = self.center(k);
                 if c >= lo.y && c < hi.y {
                     let x = lo.x + (hi.x - lo.x) * ((c - lo.y) / (hi.y - lo.y));
@@ -160,12 +178,15 @@ impl DexelStock {
         let bb = Aabb::of_points(pts);
         let (rlo, rhi) = radial_range(bb.min.x, bb.max.x);
         let (j0, j1) = self.column_range(bb.min.y, bb.max.y)?;
-        // Quick reject by blocks.
-        let any = (j0 / BLOCK..=j1 / BLOCK).any(|b| rlo < self.blk_max[b] - eps && rhi > self.blk_min[b] + eps);
-        if !any {
+        // Quick reject by blocks: the part's radial range within each block's slab of z.
+        if !(j0 / BLOCK..=j1 / BLOCK).any(|b| rlo < self.blk_max[b] - eps && rhi > self.blk_min[b] + eps) {
             return None;
         }
-        self.crossings(pts)?;
+        let (b0, blocks) = self.candidate_blocks(pts, j0, j1, eps);
+        if !blocks.iter().any(|&c| c) {
+            return None;
+        }
+        self.crossings(pts, &blocks, b0)?;
         let mut best: f64 = 0.0;
         let mut first: Option<usize> = None;
         let mut last = 0usize;
@@ -177,8 +198,7 @@ impl DexelStock {
             while k < scratch.len() && scratch[k].0 as usize == col {
                 k += 1;
             }
-            let b = col / BLOCK;
-            if rlo < self.blk_max[b] - eps && rhi > self.blk_min[b] + eps {
+            {
                 let mut o_col: f64 = 0.0;
                 for pair in scratch[i..k].chunks_exact(2) {
                     let (r0, r1) = radial_range(pair[0].1, pair[1].1);
@@ -205,7 +225,35 @@ impl DexelStock {
         Some(StockHit { depth: best.min(axial) })
     }
 
+    /// A lower bound on the distance from a part (working plane, folded) to any material, looking
+    /// no further than `window` mm; returns `window` when nothing is that close. Uses the block
+    /// summaries only, so it costs a few comparisons per block the window spans.
+    pub fn gap_bound(&self, pts: &[P2], window: f64) -> f64 {
+        let bb = Aabb::of_points(pts);
+        let (rlo, rhi) = radial_range(bb.min.x, bb.max.x);
+        let Some((j0, j1)) = self.column_range(bb.min.y - window, bb.max.y + window) else {
+            return window;
+        };
+        let mut best = window;
+        for b in j0 / BLOCK..=j1 / BLOCK {
+            let (mn, mx) = (self.blk_min[b], self.blk_max[b]);
+            if mn > mx {
+                continue; // no material in this block
+            }
+            let za = self.z0 + (b * BLOCK) as f64 * self.h;
+            let zb = self.z0 + (((b + 1) * BLOCK).min(self.cols.len())) as f64 * self.h;
+            let dz = (za - bb.max.y).max(bb.min.y - zb).max(0.0);
+            let dr = (mn - rhi).max(rlo - mx).max(0.0);
+            best = best.min((dz * dz + dr * dr).sqrt());
+            if best <= 0.0 {
+                return 0.0;
+            }
+        }
+        best
+    }
+
     /// Remove the material inside a polygon (working plane, folded about the axis).
+
     /// Returns whether anything was removed.
     pub fn cut(&mut self, pts: &[P2]) -> bool {
         let bb = Aabb::of_points(pts);
@@ -216,7 +264,8 @@ impl DexelStock {
         if !(j0 / BLOCK..=j1 / BLOCK).any(|b| rlo < self.blk_max[b] && rhi > self.blk_min[b]) {
             return false;
         }
-        if self.crossings(pts).is_none() {
+        let (b0, blocks) = self.candidate_blocks(pts, j0, j1, 0.0);
+        if !blocks.iter().any(|&c| c) || self.crossings(pts, &blocks, b0).is_none() {
             return false;
         }
         let scratch = std::mem::take(&mut self.scratch);
@@ -345,6 +394,30 @@ fn simplify(pts: &[[f64; 2]], eps: f64) -> Vec<[f64; 2]> {
         }
     }
     pts.iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| *p).collect()
+}
+
+/// The folded radial range of the part of a polygon with `za <= z <= zb`, if any.
+fn slab_radial_range(pts: &[P2], za: f64, zb: f64) -> Option<(f64, f64)> {
+    let n = pts.len();
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for i in 0..n {
+        let (a, b) = (pts[i], pts[(i + 1) % n]);
+        let (p, q) = if a.y <= b.y { (a, b) } else { (b, a) };
+        if q.y < za || p.y > zb {
+            continue;
+        }
+        let at = |z: f64| {
+            if q.y > p.y {
+                p.x + (q.x - p.x) * ((z - p.y) / (q.y - p.y))
+            } else {
+                p.x
+            }
+        };
+        let (x0, x1) = (at(p.y.max(za)), at(q.y.min(zb)));
+        lo = lo.min(x0.min(x1));
+        hi = hi.max(x0.max(x1));
+    }
+    (lo <= hi).then(|| radial_range(lo, hi))
 }
 
 /// Radii covered by the segment `[x0, x1]` of a line through the axis plane, folded.

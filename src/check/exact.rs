@@ -1,0 +1,384 @@
+//! Exact mode (DESIGN §5): every move checked as a continuous motion.
+//!
+//! Between turret indexes the parts only translate, so the first contact of a part with a
+//! polygon obstacle (chuck, tailstock) along a straight piece or a circular arc is computed
+//! exactly by the kernel's sweeps ([`geom::sweep_line_episodes`], [`geom::sweep_arc_episodes`]).
+//! A dogleg rapid is two straight pieces. A spiral arc (end radius within rs274ngc's tolerance of
+//! the start radius) is swept as the circle through its start.
+//!
+//! Two kinds of pairs are not rigid polygon pairs: the in-process stock (a dexel field, exact to
+//! its own resolution, the tolerance) and tools of other stations (their radial section changes
+//! shape as the turret moves in x). Those are checked by conservative advancement: the part moves
+//! by the larger of the tolerance and a proven lower bound of its distance to the obstacle, so
+//! nothing deeper than the tolerance is stepped over, and the first and last contact of each
+//! episode are refined by bisection.
+
+use super::*;
+use crate::motion::Path;
+
+/// Farthest look-ahead of the stock's gap bound, mm.
+const GAP_WINDOW: f64 = 20.0;
+/// Bisection steps refining a sampled contact boundary (2^-40 of a step).
+const REFINE: usize = 40;
+
+#[derive(Clone, Copy)]
+enum Shape {
+    Line { from: P2, d: V2 },
+    Arc { center: P2, start: P2, sweep: f64 },
+}
+
+#[derive(Clone, Copy)]
+enum TimeMap<'a> {
+    /// Time goes linearly from the first to the second value along the piece.
+    Linear(f64, f64),
+    /// `table[k]` is the path fraction at time `k/(n) · duration` (CSS feeds).
+    Table(&'a [f64], f64),
+}
+
+/// A stretch of a move along which the reference point follows one line or arc.
+#[derive(Clone, Copy)]
+struct Piece<'a> {
+    shape: Shape,
+    time: TimeMap<'a>,
+}
+
+impl Piece<'_> {
+    fn at(&self, u: f64) -> P2 {
+        match self.shape {
+            Shape::Line { from, d } => from + d * u,
+            Shape::Arc { center, start, sweep } => {
+                let v = start - center;
+                let (s, c) = (sweep * u).sin_cos();
+                center + V2::new(v.x * c - v.y * s, v.x * s + v.y * c)
+            }
+        }
+    }
+
+    fn length(&self) -> f64 {
+        match self.shape {
+            Shape::Line { d, .. } => d.norm(),
+            Shape::Arc { center, start, sweep } => (start - center).norm() * sweep.abs(),
+        }
+    }
+
+    /// Seconds from the start of the move at path fraction `u`.
+    fn time(&self, u: f64) -> f64 {
+        match self.time {
+            TimeMap::Linear(a, b) => a + (b - a) * u,
+            TimeMap::Table(table, duration) => {
+                let n = table.len() - 1;
+                let k = table.partition_point(|&f| f < u).clamp(1, n);
+                let (f0, f1) = (table[k - 1], table[k]);
+                let frac = if f1 > f0 {
+                    ((u - f0) / (f1 - f0)).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                (k as f64 - 1.0 + frac) / n as f64 * duration
+            }
+        }
+    }
+}
+
+fn pieces<'a>(m: &Move, item: &'a Timed) -> Vec<Piece<'a>> {
+    let dur = item.duration;
+    let time = match &item.path {
+        Path::Varying { table } => TimeMap::Table(table, dur),
+        _ => TimeMap::Linear(0.0, dur),
+    };
+    match &item.path {
+        Path::Still(_) => Vec::new(),
+        Path::Line { from, to } => vec![Piece {
+            shape: Shape::Line {
+                from: *from,
+                d: to - from,
+            },
+            time,
+        }],
+        Path::Dogleg { from, to, tx, tz } => {
+            let (tx, tz) = (*tx, *tz);
+            let d = to - from;
+            let t1 = tx.min(tz);
+            let t2 = tx.max(tz);
+            let mid = P2::new(
+                from.x + d.x * if tx > 0.0 { (t1 / tx).min(1.0) } else { 1.0 },
+                from.y + d.y * if tz > 0.0 { (t1 / tz).min(1.0) } else { 1.0 },
+            );
+            let mut v = Vec::new();
+            if t1 > 0.0 {
+                v.push(Piece {
+                    shape: Shape::Line {
+                        from: *from,
+                        d: mid - from,
+                    },
+                    time: TimeMap::Linear(0.0, t1),
+                });
+            }
+            if t2 > t1 {
+                v.push(Piece {
+                    shape: Shape::Line { from: mid, d: to - mid },
+                    time: TimeMap::Linear(t1, t2),
+                });
+            }
+            v
+        }
+        Path::Uniform | Path::Varying { .. } => match m.kind {
+            MoveKind::Arc { center, sweep } => {
+                vec![Piece {
+                    shape: Shape::Arc {
+                        center: center - m.tip,
+                        start: m.ref_start(),
+                        sweep,
+                    },
+                    time,
+                }]
+            }
+            _ => vec![Piece {
+                shape: Shape::Line {
+                    from: m.ref_start(),
+                    d: m.ref_end() - m.ref_start(),
+                },
+                time,
+            }],
+        },
+    }
+}
+
+/// A contact interval found in one move: times in seconds from the move's start.
+struct Interval {
+    t0: f64,
+    t1: f64,
+    depth: f64,
+    /// Reference point at first contact.
+    at: P2,
+}
+
+impl Checker<'_> {
+    /// Check the candidate pairs of one move continuously.
+    pub(super) fn exact(
+        &mut self,
+        m: &Move,
+        item: &Timed,
+        cands: &[(Part, Obstacle)],
+        active: u32,
+        insert_rule: Option<Kind>,
+    ) {
+        let pieces = pieces(m, item);
+        if pieces.is_empty() {
+            return;
+        }
+        let dur = item.duration;
+        for &(p, o) in cands {
+            let kind = if p == Part::Insert && o == Obstacle::Stock {
+                match insert_rule {
+                    Some(k) => k,
+                    None => continue,
+                }
+            } else {
+                Kind::Collision
+            };
+            let k = key(p, active, o, kind);
+            let rigid = o != Obstacle::Stock && !matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_));
+            let mut found: Vec<Interval> = Vec::new();
+            for piece in &pieces {
+                if rigid {
+                    self.swept(p, o, piece, active, &mut found);
+                } else {
+                    self.advanced(p, o, piece, active, &mut found);
+                }
+            }
+            found.sort_by(|a, b| a.t0.total_cmp(&b.t0));
+            // Merge touching intervals (from the two halves of a revolved part, or two pieces).
+            let mut merged: Vec<Interval> = Vec::new();
+            for iv in found {
+                match merged.last_mut() {
+                    Some(last) if iv.t0 <= last.t1 + 1e-12 => {
+                        last.t1 = last.t1.max(iv.t1);
+                        last.depth = last.depth.max(iv.depth);
+                    }
+                    _ => merged.push(iv),
+                }
+            }
+            if merged.is_empty() {
+                self.episodes.clear(k);
+            }
+            for iv in merged {
+                if iv.t0 > 1e-12 {
+                    self.episodes.clear(k); // a contact from the previous move ended at its end
+                }
+                let mut c = self.contact(m, iv.at, p, o, kind, Some(iv.depth), item.t0 + iv.t0, active);
+                if self.settings.snapshots && !self.episodes.is_open(k) {
+                    if let Some((poly, in_plane)) = self.pose(p, iv.at, active as f64) {
+                        c.snapshot = Some(Box::new(self.snapshot(
+                            m,
+                            item,
+                            iv.at,
+                            active,
+                            &poly,
+                            Some(o),
+                            in_plane,
+                        )));
+                    }
+                }
+                self.episodes.contact(k, c);
+                if iv.t1 < dur - 1e-12 {
+                    self.episodes.clear(k);
+                }
+            }
+            if self.settings.clearance_mm > 0.0 && o != Obstacle::Stock {
+                self.exact_near_miss(m, item, &pieces, p, o, active);
+            }
+        }
+    }
+
+    /// Exact sweeps of a rigid part against a polygon obstacle (both halves of its section).
+    fn swept(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, out: &mut Vec<Interval>) {
+        let Some((a, _)) = self.pose(p, piece.at(0.0), active as f64) else {
+            return;
+        };
+        let Some(rev) = self.obstacle(o) else { return };
+        let halves = [rev.outline.clone(), rev.mirror.clone()];
+        for b in &halves {
+            self.stats.pair_tests += 1;
+            let eps = match piece.shape {
+                Shape::Line { d, .. } => geom::sweep_line_episodes(&a, b, d),
+                Shape::Arc { center, start, sweep } => geom::sweep_arc_episodes(&a, b, center, start, sweep),
+            };
+            for e in eps {
+                out.push(Interval {
+                    t0: piece.time(e.t_start),
+                    t1: piece.time(e.t_end),
+                    depth: e.max_depth,
+                    at: piece.at(e.t_start),
+                });
+            }
+        }
+    }
+
+    /// Depth of a pair at the reference point `r`, or the gap when clear (a lower bound).
+    fn probe(&mut self, p: Part, o: Obstacle, r: P2, active: u32) -> Result<f64, f64> {
+        let Some((poly, in_plane)) = self.pose(p, r, active as f64) else {
+            return Err(f64::INFINITY);
+        };
+        if matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_)) {
+            self.others_tested = true;
+        }
+        let (depth, _) = self.test(&poly, in_plane, o);
+        if let Some(d) = depth {
+            return Ok(d);
+        }
+        let gap = match o {
+            Obstacle::Stock => self
+                .stock
+                .as_ref()
+                .map_or(GAP_WINDOW, |s| s.gap_bound(poly.points(), GAP_WINDOW)),
+            _ => self.obstacle(o).map_or(GAP_WINDOW, |rev| {
+                let g = geom::distance(&poly, &rev.outline);
+                if in_plane {
+                    g.min(geom::distance(&poly, &rev.mirror))
+                } else {
+                    g
+                }
+            }),
+        };
+        Err(gap)
+    }
+
+    /// Conservative advancement along a piece: steps of at least the tolerance, and as long as
+    /// the proven gap allows; contact boundaries refined by bisection.
+    fn advanced(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, out: &mut Vec<Interval>) {
+        let len = piece.length();
+        let step = self.settings.tolerance_mm;
+        let mut u = 0.0;
+        let mut prev_u = 0.0;
+        let mut open: Option<Interval> = None;
+        loop {
+            let r = piece.at(u);
+            let res = self.probe(p, o, r, active);
+            match res {
+                Ok(d) => match &mut open {
+                    Some(iv) => iv.depth = iv.depth.max(d),
+                    None => {
+                        let u0 = if u > 0.0 {
+                            self.refine(p, o, piece, active, prev_u, u, true)
+                        } else {
+                            0.0
+                        };
+                        open = Some(Interval {
+                            t0: piece.time(u0),
+                            t1: piece.time(u),
+                            depth: d,
+                            at: piece.at(u0),
+                        });
+                    }
+                },
+                Err(_) => {
+                    if let Some(mut iv) = open.take() {
+                        let u1 = self.refine(p, o, piece, active, prev_u, u, false);
+                        iv.t1 = piece.time(u1);
+                        out.push(iv);
+                    }
+                }
+            }
+            if u >= 1.0 || len <= 0.0 {
+                break;
+            }
+            let advance = match res {
+                Err(gap) if open.is_none() => gap.max(step),
+                _ => step,
+            };
+            prev_u = u;
+            u = (u + advance / len).min(1.0);
+        }
+        if let Some(mut iv) = open {
+            iv.t1 = piece.time(1.0);
+            out.push(iv);
+        }
+    }
+
+    /// The boundary between `a` (one state) and `b` (the other) on a piece: the first fraction in
+    /// contact when `entering`, the last one in contact otherwise.
+    fn refine(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, a: f64, b: f64, entering: bool) -> f64 {
+        let (mut lo, mut hi) = (a, b);
+        for _ in 0..REFINE {
+            let mid = 0.5 * (lo + hi);
+            let hit = self.probe(p, o, piece.at(mid), active).is_ok();
+            if hit == entering {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        if entering {
+            hi
+        } else {
+            lo
+        }
+    }
+
+    /// Near misses in exact mode: the gap sampled every tolerance along the move.
+    fn exact_near_miss(&mut self, m: &Move, item: &Timed, pieces: &[Piece], p: Part, o: Obstacle, active: u32) {
+        let k = key(p, active, o, Kind::NearMiss);
+        let c = self.settings.clearance_mm;
+        let step = self.settings.tolerance_mm.min(c / 2.0);
+        for piece in pieces {
+            let len = piece.length();
+            let n = ((len / step).ceil() as usize).clamp(1, 1_000_000);
+            for j in 0..=n {
+                let u = j as f64 / n as f64;
+                let r = piece.at(u);
+                match self.probe(p, o, r, active) {
+                    Err(g) if g < c => {
+                        let contact =
+                            self.contact(m, r, p, o, Kind::NearMiss, Some(g), item.t0 + piece.time(u), active);
+                        self.episodes.contact(k, contact);
+                    }
+                    Ok(_) | Err(_) => self.episodes.clear(k),
+                }
+                if len <= 0.0 {
+                    break;
+                }
+            }
+        }
+    }
+}
