@@ -338,6 +338,7 @@ impl Checker<'_> {
 
     /// The boundary between `a` (one state) and `b` (the other) on a piece: the first fraction in
     /// contact when `entering`, the last one in contact otherwise.
+    #[allow(clippy::too_many_arguments)]
     fn refine(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, a: f64, b: f64, entering: bool) -> f64 {
         let (mut lo, mut hi) = (a, b);
         for _ in 0..REFINE {

@@ -253,7 +253,6 @@ impl DexelStock {
     }
 
     /// Remove the material inside a polygon (working plane, folded about the axis).
-
     /// Returns whether anything was removed.
     pub fn cut(&mut self, pts: &[P2]) -> bool {
         let bb = Aabb::of_points(pts);
