@@ -3,6 +3,7 @@
 //! The library does no file I/O and never panics on any input. See `ARCHITECTURE.md` for the
 //! pipeline: [`gcode`] → [`interp`] → [`motion`] → [`scene`] → [`check`] → [`report`].
 
+pub mod accuracy;
 pub mod check;
 pub mod finding;
 pub mod gcode;

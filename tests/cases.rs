@@ -3,7 +3,8 @@
 //!
 //! Expected-file format: one finding a line, `LINE[:COL] KIND[ OBJECT, OBJECT]`, sorted as
 //! latheguard reports them; `# …` lines are comments. A case's first line may set options in a
-//! comment: `(latheguard: machine=linuxcnc-small-lathe mode=exact dt=0.5 tolerance=0.01 clearance=0.2)`.
+//! comment: `(latheguard: machine=linuxcnc-small-lathe mode=exact dt=0.5 tolerance=0.01 clearance=0.2)`;
+//! `modes=step,exact` runs both modes and prefixes each expected line with the mode.
 //! Cases under `tests/cases/interp/` also pin their interpreted motion in a `.moves` file
 //! (`latheguard moves --format canon`).
 //! Run with `UPDATE_EXPECT=1` to rewrite the expected files from the current output (then review
@@ -32,11 +33,12 @@ fn cases(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-fn options(src: &[u8]) -> (Machine, Settings) {
+fn options(src: &[u8]) -> (Machine, Settings, Vec<Mode>) {
     let first = src.split(|&b| b == b'\n').next().unwrap_or(&[]);
     let first = String::from_utf8_lossy(first);
     let mut machine = Machine::builtin();
     let mut s = Settings::default();
+    let mut modes = Vec::new();
     if let Some(rest) = first.split("latheguard:").nth(1) {
         for kv in rest.trim_end_matches([')', '\r', ' ']).split_whitespace() {
             let (k, v) = kv.split_once('=').unwrap_or((kv, ""));
@@ -50,6 +52,12 @@ fn options(src: &[u8]) -> (Machine, Settings) {
                     machine = machine::from_toml(&text, &path.display().to_string()).unwrap();
                 }
                 "mode" => s.mode = if v == "exact" { Mode::Exact } else { Mode::Step },
+                "modes" => {
+                    modes = v
+                        .split(',')
+                        .map(|m| if m == "exact" { Mode::Exact } else { Mode::Step })
+                        .collect()
+                }
                 "dt" => s.dt_ms = v.parse().unwrap(),
                 "tolerance" => s.tolerance_mm = v.parse().unwrap(),
                 "clearance" => s.clearance_mm = v.parse().unwrap(),
@@ -57,7 +65,7 @@ fn options(src: &[u8]) -> (Machine, Settings) {
             }
         }
     }
-    (machine, s)
+    (machine, s, modes)
 }
 
 fn render(src: &[u8], machine: &Machine, settings: &Settings) -> String {
@@ -98,8 +106,21 @@ fn every_case_reports_exactly_its_expected_findings() {
     let mut failures = Vec::new();
     for f in &files {
         let src = std::fs::read(f).unwrap();
-        let (machine, settings) = options(&src);
-        let got = render(&src, &machine, &settings);
+        let (machine, settings, modes) = options(&src);
+        let got = if modes.is_empty() {
+            render(&src, &machine, &settings)
+        } else {
+            // One block of findings per mode, each line prefixed by the mode.
+            let mut all = String::new();
+            for mode in modes {
+                let name = if mode == Mode::Exact { "exact" } else { "step" };
+                let s = Settings { mode, ..settings };
+                for line in render(&src, &machine, &s).lines() {
+                    all += &format!("{name}: {line}\n");
+                }
+            }
+            all
+        };
         let exp_path = f.with_extension("expected");
         let exp_text = std::fs::read_to_string(&exp_path).unwrap_or_default();
         if update {

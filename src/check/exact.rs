@@ -323,10 +323,14 @@ impl Checker<'_> {
             if u >= 1.0 || len <= 0.0 {
                 break;
             }
+            // Clear: as far as the proven gap allows. In contact: only the episode's end matters
+            // (refined by bisection), so stride by half the depth.
             let advance = match res {
                 Err(gap) if open.is_none() => gap.max(step),
+                Ok(d) => (0.5 * d.min(GAP_WINDOW)).max(step),
                 _ => step,
             };
+
             prev_u = u;
             u = (u + advance / len).min(1.0);
         }

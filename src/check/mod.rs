@@ -377,7 +377,10 @@ impl Checker<'_> {
         }
         let total_pairs = parts.len() as u64 * 3;
         let samples = self.samples_in(item.t0, item.t1());
-        self.stats.steps += samples;
+        if self.settings.mode == Mode::Step {
+            self.stats.steps += samples;
+        }
+
         // Pairs that cannot touch during this move end their episodes.
         let live: Vec<u64> = cands.iter().flat_map(|&(p, o)| pair_keys(p, active, o)).collect();
         self.episodes.close_except(|k| k == u64::MAX || live.contains(&k));

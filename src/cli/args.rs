@@ -22,6 +22,27 @@ pub enum Command {
     Moves(MovesArgs),
     /// Validate and describe a machine file.
     Machine(MachineArgs),
+    /// The cost-of-accuracy table: exact mode against step mode at several timesteps and tolerances.
+    Accuracy(AccuracyArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct AccuracyArgs {
+    pub program: PathBuf,
+    #[arg(short, long, value_name = "FILE")]
+    pub machine: Option<PathBuf>,
+    /// Report format.
+    #[arg(long, value_enum, default_value_t = FormatArg::Text)]
+    pub format: FormatArg,
+    /// Also write a plot of run time against missed collisions (SVG).
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+    /// Runs of each setting; the median time is reported.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(usize))]
+    pub repeats: usize,
+    /// Clearance for near misses, mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.0, value_parser = non_negative)]
+    pub clearance: f64,
 }
 
 #[derive(Args, Debug)]

@@ -1,6 +1,7 @@
 //! Command-line front end (DESIGN §6). Exit status: 0 no error finding, 1 at least one, 2 when
 //! latheguard could not run (bad arguments, unreadable or invalid machine file).
 
+mod accuracy;
 mod args;
 mod check;
 mod moves;
@@ -44,6 +45,8 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
     match cli.command {
         Command::Check(a) => check::run(a),
         Command::Moves(a) => moves::run(a),
+        Command::Accuracy(a) => accuracy::run(a),
+
         Command::Machine(a) => {
             let m = load_machine(Some(&a.file))?;
             print!("{}", m.describe());

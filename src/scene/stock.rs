@@ -243,7 +243,14 @@ impl DexelStock {
             let za = self.z0 + (b * BLOCK) as f64 * self.h;
             let zb = self.z0 + (((b + 1) * BLOCK).min(self.cols.len())) as f64 * self.h;
             let dz = (za - bb.max.y).max(bb.min.y - zb).max(0.0);
-            let dr = (mn - rhi).max(rlo - mx).max(0.0);
+            // Within the part's z range, its radial range over this block's slab is sharper.
+            let (lo, hi) = if dz == 0.0 {
+                slab_radial_range(pts, za, zb).unwrap_or((rlo, rhi))
+            } else {
+                (rlo, rhi)
+            };
+            let dr = (mn - hi).max(lo - mx).max(0.0);
+
             best = best.min((dz * dz + dr * dr).sqrt());
             if best <= 0.0 {
                 return 0.0;
