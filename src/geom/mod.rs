@@ -2,10 +2,29 @@
 //!
 //! Coordinates: a point's `x` is the machine x (radius, toward the turret) and its `y` is the
 //! machine z (along the spindle axis). All lengths are mm.
+//!
+//! * [`polygon`]: simple polygons, normalised to counter-clockwise; the exact orientation
+//!   predicate.
+//! * [`query`]: static queries — point location, distances, whether two parts overlap and how
+//!   deep ([`overlap`], [`distance`]).
+//! * [`sweep`]: continuous first contact of a translating part along a line or a circular path
+//!   ([`sweep_line`], [`sweep_arc`]).
+//!
+//! Topology (touching or not, inside or not) is decided with exact predicates; lengths are
+//! computed relative to a local origin so that results do not depend on where the parts are.
 
-mod polygon;
+pub mod polygon;
+pub mod query;
+pub mod sweep;
 
-pub use polygon::{Polygon, PolygonError};
+#[cfg(test)]
+mod tests;
+
+pub use polygon::{orient, segments_meet, Polygon, PolygonError};
+pub use query::{
+    distance, interiors_overlap, locate, overlap, penetration_depth, point_segment_distance, segment_distance, Location,
+};
+pub use sweep::{sweep_arc, sweep_arc_episodes, sweep_line, sweep_line_episodes, Contact};
 
 /// A point of the working plane: `x` = radius, `y` = z.
 pub type P2 = nalgebra::Point2<f64>;
@@ -29,7 +48,10 @@ pub struct Aabb {
 
 impl Aabb {
     pub fn empty() -> Aabb {
-        Aabb { min: P2::new(f64::INFINITY, f64::INFINITY), max: P2::new(f64::NEG_INFINITY, f64::NEG_INFINITY) }
+        Aabb {
+            min: P2::new(f64::INFINITY, f64::INFINITY),
+            max: P2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+        }
     }
 
     pub fn of_points<'a>(pts: impl IntoIterator<Item = &'a P2>) -> Aabb {
@@ -55,11 +77,17 @@ impl Aabb {
     }
 
     pub fn translate(&self, v: V2) -> Aabb {
-        Aabb { min: self.min + v, max: self.max + v }
+        Aabb {
+            min: self.min + v,
+            max: self.max + v,
+        }
     }
 
     pub fn inflate(&self, d: f64) -> Aabb {
-        Aabb { min: P2::new(self.min.x - d, self.min.y - d), max: P2::new(self.max.x + d, self.max.y + d) }
+        Aabb {
+            min: P2::new(self.min.x - d, self.min.y - d),
+            max: P2::new(self.max.x + d, self.max.y + d),
+        }
     }
 
     /// Overlap with a margin: boxes closer than `margin` count as meeting.

@@ -23,7 +23,11 @@ pub enum PolygonError {
 
 /// Sign of the turn a→b→c: > 0 left (counter-clockwise), < 0 right, 0 collinear. Exact.
 pub fn orient(a: P2, b: P2, c: P2) -> f64 {
-    orient2d(Coord { x: a.x, y: a.y }, Coord { x: b.x, y: b.y }, Coord { x: c.x, y: c.y })
+    orient2d(
+        Coord { x: a.x, y: a.y },
+        Coord { x: b.x, y: b.y },
+        Coord { x: c.x, y: c.y },
+    )
 }
 
 impl Polygon {
@@ -52,7 +56,11 @@ impl Polygon {
             let mut removed = false;
             let mut out = Vec::with_capacity(n);
             for i in 0..n {
-                let prev = if out.is_empty() { pts[(i + n - 1) % n] } else { *out.last().unwrap() };
+                let prev = if out.is_empty() {
+                    pts[(i + n - 1) % n]
+                } else {
+                    *out.last().unwrap()
+                };
                 let cur = pts[i];
                 let next = pts[(i + 1) % n];
                 if orient(prev, cur, next) == 0.0 {
@@ -108,14 +116,10 @@ impl Polygon {
     /// after rounding is harmless.
     pub fn translated(&self, v: super::V2) -> Polygon {
         let pts: Vec<P2> = self.pts.iter().map(|p| p + v).collect();
-        Polygon { aabb: self.aabb.translate(v), pts }
-    }
-
-    /// Build from points already known to be simple and counter-clockwise (internal use, e.g.
-    /// after a rigid motion). The caller guarantees the invariant.
-    pub(crate) fn from_ccw_unchecked(pts: Vec<P2>) -> Polygon {
-        let aabb = Aabb::of_points(&pts);
-        Polygon { pts, aabb }
+        Polygon {
+            aabb: self.aabb.translate(v),
+            pts,
+        }
     }
 }
 
