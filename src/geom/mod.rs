@@ -2,13 +2,29 @@
 //!
 //! Coordinates: a point's `x` is the machine x (radius, toward the turret) and its `y` is the
 //! machine z (along the spindle axis). All lengths are mm.
+//!
+//! * [`polygon`]: simple polygons, normalised to counter-clockwise; the exact orientation
+//!   predicate.
+//! * [`query`]: static queries — point location, distances, whether two parts overlap and how
+//!   deep ([`overlap`], [`distance`]).
+//! * [`sweep`]: continuous first contact of a translating part along a line or a circular path
+//!   ([`sweep_line`], [`sweep_arc`]).
+//!
+//! Topology (touching or not, inside or not) is decided with exact predicates; lengths are
+//! computed relative to a local origin so that results do not depend on where the parts are.
 
-mod polygon;
-mod stub;
+pub mod polygon;
+pub mod query;
+pub mod sweep;
 
-pub use stub::{distance, overlap, sweep_arc_episodes, sweep_line_episodes, Contact};
+#[cfg(test)]
+mod tests;
 
-pub use polygon::{Polygon, PolygonError};
+pub use polygon::{orient, segments_meet, Polygon, PolygonError};
+pub use query::{
+    distance, interiors_overlap, locate, overlap, penetration_depth, point_segment_distance, segment_distance, Location,
+};
+pub use sweep::{sweep_arc, sweep_arc_episodes, sweep_line, sweep_line_episodes, Contact};
 
 /// A point of the working plane: `x` = radius, `y` = z.
 pub type P2 = nalgebra::Point2<f64>;
