@@ -201,8 +201,8 @@ fn builtin_tools_have_the_promised_geometry() {
     let b = drill.insert.aabb();
     assert_eq!(
         (b.min.x, b.max.x, b.min.y),
-        (-6.0, 6.0, 0.0),
-        "a 12 mm drill pointing toward -z"
+        (-10.0, 10.0, 0.0),
+        "a 20 mm drill pointing toward -z"
     );
     let reach = |t: &Tool| t.tip.y + t.insert.aabb().min.y.min(t.holder.aabb().min.y);
     let long = reach(m.tool(7).unwrap());

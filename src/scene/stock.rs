@@ -497,11 +497,11 @@ mod tests {
 
     #[test]
     fn boring_leaves_two_radial_layers_only_where_a_groove_is_cut_inside() {
-        let mut s = DexelStock::new(50.0, 20.0, 100.0, 0.0, 0.1);
-        s.cut(&rect(15.0, -40.0, 20.0, -30.0)); // internal groove from r 15 to 20: one layer left
-        assert_eq!(s.material_at(-35.0), vec![(20.0, 25.0)]);
-        s.cut(&rect(21.0, -60.0, 22.0, -50.0)); // a slot in the wall: two layers
-        assert_eq!(s.material_at(-55.0).len(), 2);
+        let mut s = DexelStock::new(50.0, 40.0, 100.0, 0.0, 0.1); // a 50 x 40 tube: wall r 20..25
+        s.cut(&rect(15.0, -40.0, 21.0, -30.0)); // an internal groove to r 21: one layer left
+        assert_eq!(s.material_at(-35.0), vec![(21.0, 25.0)]);
+        s.cut(&rect(22.0, -60.0, 23.0, -50.0)); // a slot inside the wall: two layers
+        assert_eq!(s.material_at(-55.0), vec![(20.0, 22.0), (23.0, 25.0)]);
     }
 
     #[test]
