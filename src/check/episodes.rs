@@ -71,7 +71,21 @@ impl Episodes {
         }
     }
 
+    /// Contact of pair `key` at a sample of an episode already open: extend it and return true;
+    /// false when no episode is open (the caller then builds a full [`Contact`]).
+    pub fn extend(&mut self, key: u64, line: u32, depth: f64, near_miss: bool) -> bool {
+        let Some(o) = self.open.get_mut(&key) else { return false };
+        o.end_line = line;
+        if near_miss {
+            o.min_gap = Some(o.min_gap.map_or(depth, |g| g.min(depth)));
+        } else {
+            o.max_depth = Some(o.max_depth.map_or(depth, |m| m.max(depth)));
+        }
+        true
+    }
+
     /// Pair `key` was tested and is clear: close its episode.
+
     pub fn clear(&mut self, key: u64) {
         if let Some(o) = self.open.remove(&key) {
             self.emit(o);

@@ -47,6 +47,10 @@ pub enum Obstacle {
 
 const OBSTACLES: [Obstacle; 3] = [Obstacle::Chuck, Obstacle::Tailstock, Obstacle::Stock];
 
+/// Inside an open episode against the stock, the full depth is computed at every this many
+/// samples; the others only confirm that the contact goes on.
+const FULL_DEPTH_EVERY: u64 = 16;
+
 /// Episode key of a pair and rule. Tools are keyed by station, whatever station is active, so a
 /// contact that goes on through a turret index stays one episode.
 fn key(part: Part, active: u32, obs: Obstacle, kind: Kind) -> u64 {
@@ -287,6 +291,13 @@ impl Checker<'_> {
 
     /// Overlap depth (> TOUCH_EPS) or gap (< clearance) of a posed part with an obstacle.
     fn test(&mut self, poly: &Polygon, in_plane: bool, obs: Obstacle) -> (Option<f64>, Option<f64>) {
+        self.test_with(poly, in_plane, obs, false)
+    }
+
+    /// With `quick`, a stock test stops at the first column that proves an overlap (used inside
+    /// an open episode, where only its continuation is in question; its depth is then a lower
+    /// bound, and the full depth is computed every [`FULL_DEPTH_EVERY`] samples).
+    fn test_with(&mut self, poly: &Polygon, in_plane: bool, obs: Obstacle, quick: bool) -> (Option<f64>, Option<f64>) {
         self.stats.pair_tests += 1;
         let clearance = self.settings.clearance_mm;
         match obs {
@@ -294,7 +305,12 @@ impl Checker<'_> {
                 let Some(stock) = self.ensure_stock() else {
                     return (None, None);
                 };
-                (stock.overlap(poly.points(), geom::TOUCH_EPS).map(|h| h.depth), None)
+                (
+                    stock
+                        .overlap_with(poly.points(), geom::TOUCH_EPS, quick)
+                        .map(|h| h.depth),
+                    None,
+                )
             }
             _ => {
                 let Some(rev) = self.obstacle(obs) else {
@@ -445,7 +461,6 @@ impl Checker<'_> {
                 let Some((poly, in_plane)) = posed[idx].1.clone() else {
                     continue;
                 };
-                let (depth, gap) = self.test(&poly, in_plane, o);
                 let kind = if p == Part::Insert && o == Obstacle::Stock {
                     match insert_rule {
                         Some(k) => k,
@@ -456,9 +471,14 @@ impl Checker<'_> {
                 };
                 let hit_key = key(p, active, o, kind);
                 let near_key = key(p, active, o, Kind::NearMiss);
+                let quick = k % FULL_DEPTH_EVERY != 0 && self.episodes.is_open(hit_key);
+                let (depth, gap) = self.test_with(&poly, in_plane, o, quick);
                 match (depth, gap) {
                     (Some(d), _) => {
                         self.episodes.clear(near_key);
+                        if self.episodes.extend(hit_key, m.line, d, false) {
+                            continue;
+                        }
                         let mut c = self.contact(m, r, p, o, kind, Some(d), t, active);
                         if self.settings.snapshots && !self.episodes.is_open(hit_key) {
                             c.snapshot = Some(Box::new(self.snapshot(m, item, r, active, &poly, Some(o), in_plane)));
@@ -467,7 +487,11 @@ impl Checker<'_> {
                     }
                     (None, Some(g)) => {
                         self.episodes.clear(hit_key);
+                        if self.episodes.extend(near_key, m.line, g, true) {
+                            continue;
+                        }
                         let mut c = self.contact(m, r, p, o, Kind::NearMiss, Some(g), t, active);
+
                         if self.settings.snapshots && !self.episodes.is_open(near_key) {
                             c.snapshot = Some(Box::new(self.snapshot(m, item, r, active, &poly, Some(o), in_plane)));
                         }

@@ -40,6 +40,8 @@ pub struct DexelStock {
     removed_columns: usize,
     /// Scratch buffer of edge crossings.
     scratch: Vec<(u32, f64)>,
+    sorted: Vec<(u32, f64)>,
+    counts: Vec<u32>,
 }
 
 /// One overlap of a part with the material.
@@ -66,6 +68,8 @@ impl DexelStock {
             blk_min: vec![0.0; nb],
             removed_columns: 0,
             scratch: Vec::new(),
+            sorted: Vec::new(),
+            counts: Vec::new(),
         };
         for b in 0..nb {
             s.refresh_block(b);
@@ -138,11 +142,9 @@ impl DexelStock {
         self.blk_min[b] = mn;
     }
 
-    /// The polygon's crossings with the column centre planes, grouped by column:
-    /// fills `scratch` with (column, x) sorted by column then x. Returns the column range.
-    fn crossings(&mut self, pts: &[P2], blocks: &[bool], b0: usize) -> Option<(usize, usize)> {
-        let bb = Aabb::of_points(pts);
-        let (j0, j1) = self.column_range(bb.min.y, bb.max.y)?;
+    /// The polygon's crossings with the centre planes of columns `j0..=j1`, grouped by column:
+    /// fills `scratch` with (column, x) sorted by column then x.
+    fn crossings(&mut self, pts: &[P2], j0: usize, j1: usize) -> Option<(usize, usize)> {
         self.scratch.clear();
         let n = pts.len();
         for i in 0..n {
@@ -157,9 +159,6 @@ impl DexelStock {
             };
             let (k0, k1) = (k0.max(j0), k1.min(j1));
             for k in k0..=k1 {
-                if !blocks[k / BLOCK - b0] {
-                    continue;
-                }
                 let c = self.center(k);
                 if c >= lo.y && c < hi.y {
                     let x = lo.x + (hi.x - lo.x) * ((c - lo.y) / (hi.y - lo.y));
@@ -167,14 +166,51 @@ impl DexelStock {
                 }
             }
         }
-        self.scratch
-            .sort_unstable_by(|p, q| p.0.cmp(&q.0).then(p.1.total_cmp(&q.1)));
+        // Group by column with a counting sort (columns are a small integer range), then order
+        // each column's few crossings: linear in the number of crossings.
+        let span = j1 - j0 + 1;
+        self.counts.clear();
+        self.counts.resize(span + 1, 0);
+        for &(k, _) in &self.scratch {
+            self.counts[k as usize - j0 + 1] += 1;
+        }
+        for i in 1..=span {
+            self.counts[i] += self.counts[i - 1];
+        }
+        self.sorted.clear();
+        self.sorted.resize(self.scratch.len(), (0, 0.0));
+        for &(k, x) in &self.scratch {
+            let slot = &mut self.counts[k as usize - j0];
+            self.sorted[*slot as usize] = (k, x);
+            *slot += 1;
+        }
+        let mut i = 0;
+        while i < self.sorted.len() {
+            let k = self.sorted[i].0;
+            let mut e = i + 1;
+            while e < self.sorted.len() && self.sorted[e].0 == k {
+                e += 1;
+            }
+            if e - i > 2 {
+                self.sorted[i..e].sort_unstable_by(|p, q| p.1.total_cmp(&q.1));
+            } else if e - i == 2 && self.sorted[i].1 > self.sorted[i + 1].1 {
+                self.sorted.swap(i, i + 1);
+            }
+            i = e;
+        }
+        std::mem::swap(&mut self.scratch, &mut self.sorted);
         Some((j0, j1))
     }
 
     /// Does a part (polygon in the working plane, `x` signed) overlap the material by more than
     /// `eps`? Returns the penetration estimate.
     pub fn overlap(&mut self, pts: &[P2], eps: f64) -> Option<StockHit> {
+        self.overlap_with(pts, eps, false)
+    }
+
+    /// [`Self::overlap`], or with `first_only` just whether there is an overlap: it stops at the
+    /// first column that proves one, and the depth is that column's (a lower bound).
+    pub fn overlap_with(&mut self, pts: &[P2], eps: f64, first_only: bool) -> Option<StockHit> {
         let bb = Aabb::of_points(pts);
         let (rlo, rhi) = radial_range(bb.min.x, bb.max.x);
         let (j0, j1) = self.column_range(bb.min.y, bb.max.y)?;
@@ -183,30 +219,31 @@ impl DexelStock {
             return None;
         }
         let (b0, blocks) = self.candidate_blocks(pts, j0, j1, eps);
-        if !blocks.iter().any(|&c| c) {
-            return None;
-        }
-        self.crossings(pts, &blocks, b0)?;
         let mut best: f64 = 0.0;
         let mut first: Option<usize> = None;
         let mut last = 0usize;
-        let scratch = std::mem::take(&mut self.scratch);
-        let mut i = 0;
-        while i < scratch.len() {
-            let col = scratch[i].0 as usize;
-            let mut k = i;
-            while k < scratch.len() && scratch[k].0 as usize == col {
-                k += 1;
+        for (bi, &cand) in blocks.iter().enumerate() {
+            if !cand {
+                continue;
             }
-            {
+            let b = b0 + bi;
+            let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
+            if self.crossings(pts, k0, k1).is_none() {
+                continue;
+            }
+            let scratch = std::mem::take(&mut self.scratch);
+            let mut i = 0;
+            while i < scratch.len() {
+                let col = scratch[i].0 as usize;
+                let mut k = i;
+                while k < scratch.len() && scratch[k].0 as usize == col {
+                    k += 1;
+                }
                 let mut o_col: f64 = 0.0;
                 for pair in scratch[i..k].chunks_exact(2) {
                     let (r0, r1) = radial_range(pair[0].1, pair[1].1);
                     for &(lo, hi) in &self.cols[col].iv {
-                        let o = r1.min(hi) - r0.max(lo);
-                        if o > o_col {
-                            o_col = o;
-                        }
+                        o_col = o_col.max(r1.min(hi) - r0.max(lo));
                     }
                 }
                 if o_col > eps {
@@ -216,10 +253,15 @@ impl DexelStock {
                     }
                     last = col;
                 }
+                i = k;
             }
-            i = k;
+            self.scratch = scratch;
+            if first_only && first.is_some() {
+                return Some(StockHit {
+                    depth: best.min(bb.max.y - bb.min.y),
+                });
+            }
         }
-        self.scratch = scratch;
         let first = first?;
         let axial = (self.center(last) - self.center(first) + self.h).min(bb.max.y - bb.min.y);
         Some(StockHit { depth: best.min(axial) })
@@ -271,7 +313,19 @@ impl DexelStock {
             return false;
         }
         let (b0, blocks) = self.candidate_blocks(pts, j0, j1, 0.0);
-        if !blocks.iter().any(|&c| c) || self.crossings(pts, &blocks, b0).is_none() {
+        let mut changed_any = false;
+        for (bi, &cand) in blocks.iter().enumerate() {
+            if cand {
+                let b = b0 + bi;
+                changed_any |= self.cut_columns(pts, (b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
+            }
+        }
+        changed_any
+    }
+
+    /// Subtract the polygon from columns `j0..=j1`.
+    fn cut_columns(&mut self, pts: &[P2], j0: usize, j1: usize) -> bool {
+        if self.crossings(pts, j0, j1).is_none() {
             return false;
         }
         let scratch = std::mem::take(&mut self.scratch);
