@@ -85,7 +85,6 @@ impl Episodes {
     }
 
     /// Pair `key` was tested and is clear: close its episode.
-
     pub fn clear(&mut self, key: u64) {
         if let Some(o) = self.open.remove(&key) {
             self.emit(o);
