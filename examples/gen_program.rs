@@ -13,7 +13,7 @@
 //! What the program does: a 50 mm bar (radius 25), program Z0 at the faced front, stock front at
 //! Z2. After a metric, XZ-plane, absolute header and a spindle start it machines "parts" one after
 //! another (as a bar-fed production run would), each with a new random stepped OD profile:
-//!   * facing passes at Z1 and Z0 (bar radius 25 down to the axis);
+//!   * facing passes at Z1 and Z0 (bar radius 25 to 0.8 mm past the axis, so no pip is left);
 //!   * roughing passes along Z at falling levels (G0 approach at Z2, G1 along Z, G1 45-degree
 //!     pull-off, G0 retract to Z2), stopping short of each shoulder by a finishing allowance;
 //!   * a finishing pass along the profile: front chamfer or corner radius, concave shoulder
@@ -22,7 +22,7 @@
 //!
 //! Arcs are in I/K (centre, incremental, radius values) format; start and end radius are exactly
 //! equal (integer micrometre geometry), so rs274ngc's radius checks always pass. Comments and N
-//! numbers appear now and then; the tool is changed rarely (every few parts, cycling T1..T3).
+//! numbers appear now and then; the tool is changed rarely (every few parts, alternating the OD tools T1 and T2).
 //! All positions stay within X (radius) 0..25 mm and Z -70..2 mm; tool changes happen at X25 Z2
 //! (radius 25, i.e. X50. on Fanuc).
 //!
@@ -313,7 +313,7 @@ impl<W: Write> Gen<W> {
             self.rapid_xz(STOCK_R, Z_CLEAR)?;
             let s = format!("G1 Z{} F{}", self.o.num(z), self.o.feed(f));
             self.o.line(&s)?;
-            let s = format!("G1 X{}", self.o.x(0));
+            let s = format!("G1 X{}", self.o.x(-800));
             self.o.line(&s)?;
             let s = format!("G0 Z{}", self.o.num(Z_CLEAR));
             self.o.line(&s)?;
@@ -469,7 +469,7 @@ impl<W: Write> Gen<W> {
             }
             self.part += 1;
             if self.part > 1 && self.rng.chance(1, 6) {
-                let t = self.tool % 3 + 1;
+                let t = self.tool % 2 + 1;
                 self.say("TOOL CHANGE")?;
                 self.tool_change(t)?;
             }

@@ -1,0 +1,112 @@
+//! Benchmarks of the checker (`cargo bench --bench check`; `-- --quick` for smaller sizes).
+//!
+//! 1. Step mode at dt = 1 ms on a long generated program (the built-in machine): scene samples
+//!    per second and pair tests per second; exact mode on the same program and the ratio.
+//! 2. A program of 1e8 samples at dt = 1 ms far from any obstacle, in both modes (what the
+//!    motion envelopes skip).
+//! 3. Per-block cost with stock removal for generated programs of 10k, 100k and 1M blocks of
+//!    repeated passes, and the ratio of the largest to the smallest.
+//!
+//! Figures are medians of several runs; compare ratios within one run (shared, noisy machines).
+
+#[allow(dead_code)]
+#[path = "../examples/gen_program.rs"]
+mod gen;
+
+use latheguard::machine::Machine;
+use latheguard::pipeline::{self, Mode, Settings};
+use std::time::Instant;
+
+fn median_run(runs: usize, src: &[u8], m: &Machine, s: &Settings) -> (f64, pipeline::Outcome) {
+    let mut times = Vec::new();
+    let mut last = None;
+    for _ in 0..runs {
+        let t = Instant::now();
+        let out = pipeline::check(src, m, s);
+        times.push(t.elapsed().as_secs_f64());
+        last = Some(out);
+    }
+    times.sort_by(f64::total_cmp);
+    (times[times.len() / 2], last.unwrap())
+}
+
+fn far_program(samples: f64) -> Vec<u8> {
+    // T01 far above the part at 10 mm/min: each 100 mm move takes 600 s = 600,000 samples.
+    let moves = (samples / 600_000.0).ceil() as usize;
+    let mut s = String::from("%\nG21 G18 G98 G97 S500 M3\nG0 X500. Z300.\n");
+    for k in 0..moves {
+        let z = if k % 2 == 0 { 400.0 } else { 300.0 };
+        s += &format!("G1 Z{z:.1} F10.\n");
+    }
+    s += "M30\n%\n";
+    s.into_bytes()
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick");
+    let m = Machine::builtin();
+    let step = Settings::default();
+    let exact = Settings {
+        mode: Mode::Exact,
+        ..step
+    };
+
+    let lines = if quick { 20_000 } else { 100_000 };
+    let src = gen::generate(lines, true, 1);
+    println!("1. generated program, {lines} lines, built-in machine, one core");
+    let (ts, out) = median_run(3, &src, &m, &step);
+    let st = &out.stats;
+    println!(
+        "   step dt=1ms: {:.2} s for {:.0} s of machine time: {:.2} M samples/s, {:.2} M pair tests/s, {} findings",
+        ts,
+        st.machine_time_s,
+        st.steps as f64 / ts / 1e6,
+        st.pair_tests as f64 / ts / 1e6,
+        out.findings.len()
+    );
+    println!(
+        "   pair tests done {} / skipped by envelopes {} ({:.2}% done)",
+        st.pair_tests,
+        st.pair_tests_skipped,
+        100.0 * st.pair_tests as f64 / (st.pair_tests + st.pair_tests_skipped).max(1) as f64
+    );
+    let (te, oute) = median_run(3, &src, &m, &exact);
+    println!(
+        "   exact: {:.2} s, {} findings; exact / step = {:.2}x",
+        te,
+        oute.findings.len(),
+        te / ts
+    );
+
+    println!("2. 1e8 samples at dt = 1 ms far from any obstacle");
+    let far = far_program(1e8);
+    for (name, s) in [("step", &step), ("exact", &exact)] {
+        let (t, out) = median_run(3, &far, &m, s);
+        println!(
+            "   {name:<5}: {:.4} s for {:.0} s of machine time ({} samples, {} pair tests, {} skipped)",
+            t, out.stats.machine_time_s, out.stats.steps, out.stats.pair_tests, out.stats.pair_tests_skipped
+        );
+    }
+
+    println!("3. per-block cost with stock removal (step mode, dt = 1 ms)");
+    let sizes: &[usize] = if quick {
+        &[10_000, 100_000]
+    } else {
+        &[10_000, 100_000, 1_000_000]
+    };
+    let mut first = None;
+    for &n in sizes {
+        let src = gen::generate(n, true, 7);
+        let (t, out) = median_run(if n >= 1_000_000 { 1 } else { 3 }, &src, &m, &step);
+        let per = t / out.stats.blocks as f64 * 1e6;
+        let base = *first.get_or_insert(per);
+        println!(
+            "   {:>8} blocks: {:.2} s, {:.2} us/block ({:.2}x the 10k cost), effects {:?}",
+            out.stats.blocks,
+            t,
+            per,
+            per / base,
+            out.stats.effects
+        );
+    }
+}
