@@ -1,0 +1,16 @@
+(latheguard: modes=step,exact)
+%
+O1109 (A RAPID GRAZES THE CORNER OF THE RAW BAR: 19 UM DEEP FOR A FRACTION OF A MILLISECOND)
+(Step mode at the default 1 ms samples the rapid every 0.3 mm and steps over the contact;)
+(exact mode finds it: rapid_into_stock at N70. See the accuracy table in the README.)
+N10 G21 G18 G40 G97 G99
+N20 G28 U0 W0
+N30 T0101
+N40 G97 S800 M3
+N50 G0 X48. Z3.67
+N60 Z2.67
+N70 X52. Z0.67 (DIAGONAL PAST THE CORNER OF THE 50 MM BAR AT Z2)
+N80 G0 X60.
+N90 G28 U0 W0
+N100 M30
+%
