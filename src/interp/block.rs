@@ -352,16 +352,19 @@ impl Run<'_> {
                 }
             }
         }
-        let mut mseen: [Option<u16>; 256] = [None; 256];
-        for &(code, at) in &w.m[..w.nm] {
-            let grp = m_group(code) as usize;
-            if let Some(prev) = mseen[grp] {
-                if prev != code && grp < 20 && !(grp == 8 && prev != 9 && code != 9) {
-                    self.error(b, Some(at), format!("M{prev} and M{code} are in the same modal group"));
-                    return;
-                }
+        for i in 0..w.nm {
+            let (code, at) = w.m[i];
+            let grp = m_group(code);
+            if grp >= 20 {
+                continue;
             }
-            mseen[grp] = Some(code);
+            let clash = w.m[..i]
+                .iter()
+                .find(|&&(prev, _)| m_group(prev) == grp && prev != code && !(grp == 8 && prev != 9 && code != 9));
+            if let Some(&(prev, _)) = clash {
+                self.error(b, Some(at), format!("M{prev} and M{code} are in the same modal group"));
+                return;
+            }
         }
         if w.nm > 4 {
             self.error(b, None, "more than four M codes in one block".into());

@@ -231,7 +231,7 @@ impl<'a> Run<'a> {
             spindle_dir: SpindleDir::Off,
             base_origin: P2::new(0.0, machine.program_zero_z),
             shift: V2::zeros(),
-            moves: Vec::new(),
+            moves: Vec::with_capacity(prog.blocks.len().min(1 << 22)),
             findings,
             executed: 0,
             pc: 0,
