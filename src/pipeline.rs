@@ -77,11 +77,14 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
     let mut findings = prog.errors;
     findings.extend(run.findings);
     let result = crate::check::check(&run.moves, machine, settings);
-        findings.extend(result.findings);
+    findings.extend(result.findings);
     sort_findings(&mut findings);
     // A block inside a loop or a repeated subprogram reports its problem once.
     findings.dedup_by(|a, b| {
-        a.time_s.is_none() && b.time_s.is_none() && (a.line, a.col, a.kind) == (b.line, b.col, b.kind) && a.message == b.message
+        a.time_s.is_none()
+            && b.time_s.is_none()
+            && (a.line, a.col, a.kind) == (b.line, b.col, b.kind)
+            && a.message == b.message
     });
     let mut stats = result.stats;
     stats.blocks = run.blocks_executed;

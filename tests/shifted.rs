@@ -27,12 +27,25 @@ fn shifted_machine() -> Machine {
 }
 
 fn summary(src: &[u8], m: &Machine, mode: Mode) -> Vec<(u32, u32, String, Vec<String>, i64, i64, i64)> {
-    let s = Settings { mode, ..Settings::default() };
+    let s = Settings {
+        mode,
+        ..Settings::default()
+    };
     let q = |v: Option<f64>| (v.unwrap_or(0.0) * 1e4).round() as i64; // 0.1 um, 0.1 ms
     pipeline::check(src, m, &s)
         .findings
         .into_iter()
-        .map(|f| (f.line, f.end_line, f.kind.name().to_string(), f.objects, q(f.time_s), q(f.x), q(f.z)))
+        .map(|f| {
+            (
+                f.line,
+                f.end_line,
+                f.kind.name().to_string(),
+                f.objects,
+                q(f.time_s),
+                q(f.x),
+                q(f.z),
+            )
+        })
         .collect()
 }
 

@@ -222,3 +222,34 @@ pub fn reference_box(m: &Move, item: &Timed) -> crate::geom::Aabb {
     let _ = item;
     b
 }
+
+/// An upper bound of the speed of the turret reference point during a move, mm/s.
+pub fn max_speed(m: &Move, item: &Timed) -> f64 {
+    let d = item.duration;
+    if d <= 0.0 {
+        return f64::INFINITY;
+    }
+    let upper_len = match m.kind {
+        MoveKind::Arc { center, sweep } => {
+            let (r0, r1) = ((m.start - center).norm(), (m.end - center).norm());
+            r0.max(r1) * sweep.abs() + (r1 - r0).abs()
+        }
+        _ => (m.end - m.start).norm(),
+    };
+    let v = match &item.path {
+        Path::Still(_) => 0.0,
+        Path::Line { from, to } => (to - from).norm() / d,
+        Path::Dogleg { from, to, tx, tz } => {
+            let vx = if *tx > 0.0 { (to.x - from.x).abs() / tx } else { 0.0 };
+            let vz = if *tz > 0.0 { (to.y - from.y).abs() / tz } else { 0.0 };
+            vx.hypot(vz)
+        }
+        Path::Uniform => upper_len / d,
+        Path::Varying { table } => {
+            let n = (table.len() - 1).max(1) as f64;
+            let step = table.windows(2).map(|w| w[1] - w[0]).fold(0.0f64, f64::max);
+            step * upper_len / (d / n)
+        }
+    };
+    v * (1.0 + 1e-9) + 1e-12
+}

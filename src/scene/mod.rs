@@ -96,6 +96,40 @@ impl Scene {
         (station as f64 - active) * TAU / self.stations.max(1) as f64
     }
 
+    /// The box of [`Self::map_to_section`]'s result, without building the polygon: the mapped
+    /// vertices and edge points, as the polygon has them.
+    pub fn map_box(&self, shape: &Polygon, tip: V2, r_ref: P2, angle: f64) -> Aabb {
+        let (s, c) = angle.sin_cos();
+        let axis_x = r_ref.x + self.turret_axis;
+        let mut b = Aabb::empty();
+        let pts = shape.points();
+        let n = pts.len();
+        for i in 0..n {
+            let (a, e) = (pts[i], pts[(i + 1) % n]);
+            // Distance from the spindle axis is convex along a straight 3D segment: its extremes
+            // are at the ends or at the closest point, which the polygon's chords do not go below.
+            for q in [a, e] {
+                let p = q + tip;
+                let d = p.x - self.turret_axis;
+                let (x3, y3) = (axis_x + d * c, d * s);
+                b.add(P2::new((x3 * x3 + y3 * y3).sqrt(), r_ref.y + p.y));
+            }
+            // The closest approach to the axis along the edge (a lower bound for r).
+            let (pa, pe) = (a + tip, e + tip);
+            let (da, de) = (pa.x - self.turret_axis, pe.x - self.turret_axis);
+            let (xa, ya) = (axis_x + da * c, da * s);
+            let (xe, ye) = (axis_x + de * c, de * s);
+            let (dx, dy) = (xe - xa, ye - ya);
+            let len2 = dx * dx + dy * dy;
+            if len2 > 0.0 {
+                let t = (-(xa * dx + ya * dy) / len2).clamp(0.0, 1.0);
+                let (x, y) = (xa + dx * t, ya + dy * t);
+                b.add(P2::new((x * x + y * y).sqrt(), r_ref.y + pa.y + (pe.y - pa.y) * t));
+            }
+        }
+        b
+    }
+
     /// A tool shape (relative to its programmed point) in the radial section `(r, z)` when the
     /// turret reference point is at `r_ref` and the tool is turned `angle` out of the working
     /// plane about the turret axis. At angle 0 this is the folded in-plane shape.

@@ -115,17 +115,11 @@ impl DexelStock {
 
     /// Blocks (from the one holding column `j0`) whose material the part's radial range within
     /// the block's slab of z comes nearer than `eps`.
-    fn candidate_blocks(&self, pts: &[P2], j0: usize, j1: usize, eps: f64) -> (usize, Vec<bool>) {
-        let (b0, b1) = (j0 / BLOCK, j1 / BLOCK);
-        let mut out = Vec::with_capacity(b1 - b0 + 1);
-        for b in b0..=b1 {
-            let za = self.z0 + (b * BLOCK) as f64 * self.h;
-            let zb = self.z0 + ((b + 1) * BLOCK) as f64 * self.h;
-            let hit = slab_radial_range(pts, za, zb)
-                .is_some_and(|(rlo, rhi)| rlo < self.blk_max[b] - eps && rhi > self.blk_min[b] + eps);
-            out.push(hit);
-        }
-        (b0, out)
+    fn block_candidate(&self, pts: &[P2], b: usize, eps: f64) -> bool {
+        let za = self.z0 + (b * BLOCK) as f64 * self.h;
+        let zb = self.z0 + ((b + 1) * BLOCK) as f64 * self.h;
+        slab_radial_range(pts, za, zb)
+            .is_some_and(|(rlo, rhi)| rlo < self.blk_max[b] - eps && rhi > self.blk_min[b] + eps)
     }
 
     fn refresh_block(&mut self, b: usize) {
@@ -218,15 +212,13 @@ impl DexelStock {
         if !(j0 / BLOCK..=j1 / BLOCK).any(|b| rlo < self.blk_max[b] - eps && rhi > self.blk_min[b] + eps) {
             return None;
         }
-        let (b0, blocks) = self.candidate_blocks(pts, j0, j1, eps);
         let mut best: f64 = 0.0;
         let mut first: Option<usize> = None;
         let mut last = 0usize;
-        for (bi, &cand) in blocks.iter().enumerate() {
-            if !cand {
+        for b in j0 / BLOCK..=j1 / BLOCK {
+            if !self.block_candidate(pts, b, eps) {
                 continue;
             }
-            let b = b0 + bi;
             let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
             if self.crossings(pts, k0, k1).is_none() {
                 continue;
@@ -312,11 +304,9 @@ impl DexelStock {
         if !(j0 / BLOCK..=j1 / BLOCK).any(|b| rlo < self.blk_max[b] && rhi > self.blk_min[b]) {
             return false;
         }
-        let (b0, blocks) = self.candidate_blocks(pts, j0, j1, 0.0);
         let mut changed_any = false;
-        for (bi, &cand) in blocks.iter().enumerate() {
-            if cand {
-                let b = b0 + bi;
+        for b in j0 / BLOCK..=j1 / BLOCK {
+            if self.block_candidate(pts, b, 0.0) {
                 changed_any |= self.cut_columns(pts, (b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
             }
         }
@@ -494,6 +484,23 @@ fn radial_range(x0: f64, x1: f64) -> (f64, f64) {
 
 /// Remove `[r0, r1]` from sorted disjoint intervals. Returns whether anything changed.
 fn subtract(iv: &mut Vec<(f64, f64)>, r0: f64, r1: f64) -> bool {
+    if iv.len() == 1 {
+        // The common case, in place: a column with one layer of material.
+        let (lo, hi) = iv[0];
+        if r1 <= lo || r0 >= hi {
+            return false;
+        }
+        match (r0 > lo, r1 < hi) {
+            (false, false) => iv.clear(),
+            (true, false) => iv[0].1 = r0,
+            (false, true) => iv[0].0 = r1,
+            (true, true) => {
+                iv[0].1 = r0;
+                iv.push((r1, hi));
+            }
+        }
+        return true;
+    }
     if !iv.iter().any(|&(lo, hi)| r0 < hi && r1 > lo) {
         return false;
     }
