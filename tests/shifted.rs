@@ -26,7 +26,10 @@ fn shifted_machine() -> Machine {
     m
 }
 
-fn summary(src: &[u8], m: &Machine, mode: Mode) -> Vec<(u32, u32, String, Vec<String>, i64, i64, i64)> {
+/// (line, end line, kind, objects, time, x, z), times and coordinates in units of 1e-4.
+type Row = (u32, u32, String, Vec<String>, i64, i64, i64);
+
+fn summary(src: &[u8], m: &Machine, mode: Mode) -> Vec<Row> {
     let s = Settings {
         mode,
         ..Settings::default()
