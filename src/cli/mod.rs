@@ -3,7 +3,9 @@
 
 mod args;
 mod check;
+mod config;
 mod moves;
+mod shell;
 mod walk;
 
 use args::{Cli, Command};
@@ -42,13 +44,15 @@ pub type Trouble = String;
 
 fn run(cli: Cli) -> Result<u8, Trouble> {
     match cli.command {
-        Command::Check(a) => check::run(a),
+        Command::Check(a) => check::run(a, cli.color),
         Command::Moves(a) => moves::run(a),
         Command::Machine(a) => {
             let m = load_machine(Some(&a.file))?;
             print!("{}", m.describe());
             Ok(EXIT_CLEAN)
         }
+        Command::Completions(a) => shell::completions(a),
+        Command::Man(a) => shell::man(a),
     }
 }
 
