@@ -4,7 +4,7 @@
 use super::args::{CheckArgs, ColorArg, FormatArg, ModeArg};
 use super::config::{ConfigError, Finder, MachineRef};
 use super::walk::{self, Entry, NC_EXTENSIONS};
-use super::{emit, load_machine, Trouble, EXIT_CLEAN, EXIT_FINDINGS, EXIT_TROUBLE};
+use super::{emit, load_machine, plain, Trouble, EXIT_CLEAN, EXIT_FINDINGS, EXIT_TROUBLE};
 use latheguard::finding::{Finding, Kind};
 use latheguard::machine::{self, Machine};
 use latheguard::pipeline::{self, Mode, Settings};
@@ -18,6 +18,9 @@ use std::time::Instant;
 
 /// Programs larger than this are not read (a finding says so).
 pub const MAX_PROGRAM_BYTES: u64 = 256 << 20;
+
+/// The machine and settings when no file gives others (the command line's, or the defaults).
+type Defaults = (Arc<Machine>, Settings);
 
 /// One file to check, with what applies to it.
 struct Job {
@@ -67,7 +70,7 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
                 ColorArg::Auto => {
                     a.output.is_none()
                         && std::io::stdout().is_terminal()
-                        && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
+                        && std::env::var_os("NO_COLOR").map_or(true, |v| v.is_empty())
                 }
             };
             report::text(&report, TextOptions { color, quiet: a.quiet })
@@ -88,7 +91,7 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
 
 /// The machine and settings of every file. Every configuration and machine file is read here,
 /// each once, so a bad one stops the run (exit 2) before anything is checked.
-fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<((Arc<Machine>, Settings), Vec<Job>), Trouble> {
+fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>), Trouble> {
     let cli_machine = match &a.machine {
         Some(p) => Some(Arc::new(load_machine(Some(p))?)),
         None => None,
@@ -155,11 +158,13 @@ fn machine_for(
     cache: &mut HashMap<PathBuf, Arc<Machine>>,
 ) -> Result<Arc<Machine>, Trouble> {
     let shown = finder.shown(&r.path);
-    let key = std::fs::canonicalize(&r.path).map_err(|e| format!("{}: cannot read machine file {shown}: {e}", r.at))?;
+    let key = std::fs::canonicalize(&r.path)
+        .map_err(|e| format!("{}: cannot read machine file {shown}: {}", r.at, plain(&e)))?;
     if let Some(m) = cache.get(&key) {
         return Ok(m.clone());
     }
-    let text = std::fs::read_to_string(&key).map_err(|e| format!("{}: cannot read machine file {shown}: {e}", r.at))?;
+    let text = std::fs::read_to_string(&key)
+        .map_err(|e| format!("{}: cannot read machine file {shown}: {}", r.at, plain(&e)))?;
     let m = machine::from_toml(&text, &shown).map_err(|e| format!("{e}\n  (the machine of {})", r.at))?;
     let m = Arc::new(m);
     cache.insert(key, m.clone());
@@ -293,18 +298,9 @@ fn read_program(path: &Path) -> Result<Vec<u8>, String> {
     Ok(src)
 }
 
-/// An I/O error without the OS error number, which differs between systems.
-fn plain(e: &std::io::Error) -> String {
-    let s = e.to_string();
-    match s.find(" (os error") {
-        Some(i) => s[..i].to_string(),
-        None => s,
-    }
-}
-
 /// The batch: the report's machine and settings are the first file's (or the command line's when
 /// there is no file); a file that differs carries its own.
-fn assemble(defaults: (Arc<Machine>, Settings), jobs: &[Job], files: Vec<FileReport>) -> Report {
+fn assemble(defaults: Defaults, jobs: &[Job], files: Vec<FileReport>) -> Report {
     let (machine, settings) = match jobs.first() {
         Some(j) => (j.machine.name.clone(), j.settings),
         None => (defaults.0.name.clone(), defaults.1),

@@ -73,6 +73,23 @@ impl Config {
     }
 }
 
+/// `a/b/../c` → `a/c`, without asking the file system.
+fn normalize(p: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for c in p.components() {
+        match c {
+            std::path::Component::CurDir => {}
+            std::path::Component::ParentDir => {
+                if !out.pop() {
+                    out.push("..");
+                }
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
 /// A path with `/` separators, as globs are written.
 fn slash_path(p: &Path) -> String {
     let parts: Vec<String> = p.iter().map(|c| c.to_string_lossy().into_owned()).collect();
@@ -143,7 +160,7 @@ impl Finder {
             line: 0,
             col: 0,
             key: TOP_LEVEL.into(),
-            message: format!("cannot read: {e}"),
+            message: format!("cannot read: {}", super::plain(&e)),
         })?;
         parse(&text, &shown, dir)
     }
@@ -230,7 +247,7 @@ impl Cx<'_> {
                 }
                 let (line, col) = self.place(m.span().start);
                 Some(MachineRef {
-                    path: self.dir.join(m.get_ref()),
+                    path: normalize(&self.dir.join(m.get_ref())),
                     at: format!("{}:{line}:{col}: {}", self.file, key("machine")),
                 })
             }

@@ -84,3 +84,12 @@ pub fn emit(output: Option<&std::path::Path>, text: &str) -> Result<(), Trouble>
         }
     }
 }
+
+/// An I/O error without the OS error number, which differs between systems.
+pub fn plain(e: &std::io::Error) -> String {
+    let s = e.to_string();
+    match s.find(" (os error") {
+        Some(i) => s[..i].to_string(),
+        None => s,
+    }
+}

@@ -25,7 +25,6 @@ const MIN_PLOT_H: f64 = 420.0;
 const MAX_PLOT_H: f64 = 760.0;
 /// Room above the plot for the caption, and below it for the legend and scale.
 const HEAD: f64 = 104.0;
-const FOOT: f64 = 82.0;
 const MARGIN: f64 = 16.0;
 
 const INK: &str = "#1f2328";
@@ -280,7 +279,23 @@ fn region(s: &Snapshot) -> Bounds {
     b.add_all(&s.part_a, false);
     b.add_all(&s.insert, false);
     b.add_all(&s.holder, false);
-    b.add_all(&s.path, false);
+    // The path near the contact only: the move before may come from far away.
+    let tool = {
+        let mut t = bounds_of(&s.holder);
+        t.add_all(&s.insert, false);
+        t.add_all(&s.part_a, false);
+        t
+    };
+    let near_r = if tool.is_empty() {
+        60.0
+    } else {
+        (1.5 * (tool.zmax - tool.zmin).max(tool.xmax - tool.xmin)).max(60.0)
+    };
+    for p in &s.path {
+        if (p - s.at).norm() <= near_r {
+            b.add(*p);
+        }
+    }
     b.add(s.at);
     for st in &s.stock {
         b.add_all(st, true);
@@ -479,7 +494,8 @@ impl Labels<'_> {
         let mut best: Option<(f64, f64, f64)> = None;
         for poly in polys {
             let b = bounds_of(poly).clip(&world);
-            if !(b.zmin < b.zmax && b.xmin < b.xmax) {
+            // Too small to carry its name.
+            if !(b.zmin < b.zmax && b.xmin < b.xmax) || (b.zmax - b.zmin) * v.scale < 1.2 * half_w {
                 continue;
             }
             const K: usize = 24;
@@ -505,7 +521,7 @@ impl Labels<'_> {
                     if clash || border < 0.0 {
                         continue;
                     }
-                    if best.is_none_or(|(s, _, _)| score > s + 1e-9) {
+                    if best.map_or(true, |(s, _, _)| score > s + 1e-9) {
                         best = Some((score, x, y + 0.35 * size));
                     }
                 }
@@ -523,23 +539,145 @@ impl Labels<'_> {
 /// The SVG of one finding.
 pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
     let v = View::fit(&region(s));
-    let total_h = HEAD + v.h + FOOT;
+    let swept = sweep(s);
+    let has_overlap = s.part_a.len() >= 3 && !s.part_b.is_empty();
     let mut o = String::new();
-    let _ = writeln!(
-        o,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">"#,
-        w = n(WIDTH),
-        h = n(total_h)
-    );
     let _ = writeln!(o, "<title>{}:{}: {}</title>", esc(&file.path), f.line, esc(&f.message));
     let _ = writeln!(o, r##"<rect width="100%" height="100%" fill="#ffffff"/>"##);
+    let _ = writeln!(
+        o,
+        r#"<defs><marker id="arrow" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse"><path d="M0,0L10,5L0,10Z" fill="{PATH_LINE}"/></marker></defs>"#
+    );
+    caption(&mut o, file, f);
+    scene(&mut o, &v, s, f, swept.as_deref(), "main");
+    labels(&mut o, &v, s, f);
+    if let Some(d) = detail(&v, s, swept.as_deref()) {
+        // Where the detail is, in the main view.
+        let _ = writeln!(
+            o,
+            r#"<rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="{INK}" stroke-width="1" stroke-dasharray="3 2"/>"#,
+            n(v.sx(d.region.zmin)),
+            n(v.sy(d.region.xmax)),
+            n((d.region.zmax - d.region.zmin) * v.scale),
+            n((d.region.xmax - d.region.xmin) * v.scale)
+        );
+        let _ = writeln!(
+            o,
+            r##"<rect x="{}" y="{}" width="{}" height="{}" fill="#ffffff" stroke="{INK}" stroke-width="1.5"/>"##,
+            n(d.view.left - 1.0),
+            n(d.view.top - 1.0),
+            n(d.view.w + 2.0),
+            n(d.view.h + 2.0)
+        );
+        scene(&mut o, &d.view, s, f, swept.as_deref(), "detail");
+        let _ = writeln!(
+            o,
+            r##"<text x="{}" y="{}" font-size="12" font-weight="bold" fill="{INK}" stroke="#ffffff" stroke-width="3" paint-order="stroke">detail ×{}</text>"##,
+            n(d.view.left + 6.0),
+            n(d.view.top + 16.0),
+            d.zoom
+        );
+    }
+    let bottom = footer(&mut o, &v, s, swept.is_some() && has_overlap);
+    let _ = writeln!(o, "</svg>");
+    let h = n(bottom + 10.0);
+    let mut svg = format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">"#,
+        w = n(WIDTH),
+    );
+    svg.push('\n');
+    svg.push_str(&o);
+    svg
+}
+
+/// An enlarged view of the contact, for contacts too small to see in the main view.
+struct Detail {
+    view: View,
+    /// The world region shown.
+    region: Bounds,
+    zoom: u32,
+}
+
+fn detail(main: &View, s: &Snapshot, swept: Option<&[Vec<P2>]>) -> Option<Detail> {
+    if s.part_a.len() < 3 || s.part_b.is_empty() {
+        return None;
+    }
+    let mut b = Bounds::empty();
+    for pb in &s.part_b {
+        b.add_all(pb, s.mirrored);
+    }
+    let mut core = bounds_of(&s.part_a).clip(&b);
+    if let Some(sw) = swept {
+        let mut sb = Bounds::empty();
+        for p in sw {
+            sb.add_all(p, false);
+        }
+        let c = sb.clip(&b);
+        if c.zmin <= c.zmax && c.xmin <= c.xmax {
+            core.add(P2::new(c.xmin, c.zmin));
+            core.add(P2::new(c.xmax, c.zmax));
+        }
+    }
+    if !(core.zmin <= core.zmax && core.xmin <= core.xmax) {
+        core = Bounds::empty();
+    }
+    core.add(s.at);
+    let span = (core.zmax - core.zmin).max(core.xmax - core.xmin).max(3.0);
+    let world = main.world();
+    if span > 0.12 * (world.zmax - world.zmin) {
+        return None;
+    }
+    // The inset's box: the plot corner farthest from the contact.
+    let (iw, ih) = (340.0, 250.0);
+    let (cx, cy) = (main.sx(s.at.y), main.sy(s.at.x));
+    let left = if cx > main.left + main.w / 2.0 {
+        main.left + 10.0
+    } else {
+        main.left + main.w - iw - 10.0
+    };
+    let top = if cy > main.top + main.h / 2.0 {
+        main.top + 10.0
+    } else {
+        main.top + main.h - ih - 10.0
+    };
+    // The region, centred on the contact, with the inset's aspect.
+    let c = P2::new((core.xmin + core.xmax) / 2.0, (core.zmin + core.zmax) / 2.0);
+    let half_z = (1.6 * span).max(1.6 * span * iw / ih) / 2.0;
+    let half_x = half_z * ih / iw;
+    let region = Bounds {
+        zmin: c.y - half_z,
+        zmax: c.y + half_z,
+        xmin: c.x - half_x,
+        xmax: c.x + half_x,
+    };
+    let scale = iw / (2.0 * half_z);
+    let zoom = (scale / main.scale).round() as u32;
+    if zoom < 3 {
+        return None;
+    }
+    Some(Detail {
+        view: View {
+            zmin: region.zmin,
+            xmax: region.xmax,
+            scale,
+            left,
+            top,
+            w: iw,
+            h: ih,
+        },
+        region,
+        zoom,
+    })
+}
+
+/// The scene in one view: every part, the overlap, the axis and the path, clipped to the view.
+fn scene(o: &mut String, v: &View, s: &Snapshot, f: &Finding, swept: Option<&[Vec<P2>]>, id: &str) {
     let part_b: Vec<&[P2]> = s.part_b.iter().map(|p| p.as_slice()).collect();
     let has_overlap = s.part_a.len() >= 3 && !part_b.is_empty();
-    let swept = sweep(s);
     let _ = writeln!(o, "<defs>");
     let _ = writeln!(
         o,
-        r#"<clipPath id="plot"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath>"#,
+        r#"<clipPath id="plot-{id}"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath>"#,
         n(v.left),
         n(v.top),
         n(v.w),
@@ -548,18 +686,11 @@ pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
     if has_overlap {
         let _ = writeln!(
             o,
-            r#"<clipPath id="part-b"><path clip-rule="nonzero" d="{}"/></clipPath>"#,
+            r#"<clipPath id="part-b-{id}"><path clip-rule="nonzero" d="{}"/></clipPath>"#,
             v.path(&part_b, s.mirrored)
         );
     }
-    let _ = writeln!(
-        o,
-        r#"<marker id="arrow" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse"><path d="M0,0L10,5L0,10Z" fill="{PATH_LINE}"/></marker>"#
-    );
     let _ = writeln!(o, "</defs>");
-
-    caption(&mut o, file, f);
-
     let _ = writeln!(
         o,
         r##"<rect x="{}" y="{}" width="{}" height="{}" fill="#fbfbfa" stroke="#d0d7de"/>"##,
@@ -568,7 +699,7 @@ pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
         n(v.w),
         n(v.h)
     );
-    let _ = writeln!(o, r#"<g clip-path="url(#plot)" stroke-linejoin="round">"#);
+    let _ = writeln!(o, r#"<g clip-path="url(#plot-{id})" stroke-linejoin="round">"#);
     let poly = |o: &mut String, pts: &[&[P2]], mirror: bool, fill: &str, line: &str, extra: &str| {
         if pts.iter().all(|p| p.is_empty()) {
             return;
@@ -585,19 +716,19 @@ pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
         );
     };
     if let Some(c) = &s.chuck {
-        poly(&mut o, &[c], true, CHUCK_FILL, CHUCK_LINE, "");
+        poly(o, &[c], true, CHUCK_FILL, CHUCK_LINE, "");
     }
     if let Some(t) = &s.tailstock {
-        poly(&mut o, &[t], true, CHUCK_FILL, CHUCK_LINE, "");
+        poly(o, &[t], true, CHUCK_FILL, CHUCK_LINE, "");
     }
     let stock: Vec<&[P2]> = s.stock.iter().map(|p| p.as_slice()).collect();
-    poly(&mut o, &stock, true, STOCK_FILL, STOCK_FILL, r#" stroke-width="0.6""#);
-    poly(&mut o, &[&s.turret], false, TURRET_FILL, TURRET_LINE, "");
+    poly(o, &stock, true, STOCK_FILL, STOCK_FILL, r#" stroke-width="0.6""#);
+    poly(o, &[&s.turret], false, TURRET_FILL, TURRET_LINE, "");
     for (_, p) in &s.others {
-        poly(&mut o, &[p], false, "none", OTHER_LINE, r#" stroke-dasharray="5 3""#);
+        poly(o, &[p], false, "none", OTHER_LINE, r#" stroke-dasharray="5 3""#);
     }
-    poly(&mut o, &[&s.holder], false, HOLDER_FILL, HOLDER_LINE, "");
-    poly(&mut o, &[&s.insert], false, INSERT_FILL, INSERT_LINE, "");
+    poly(o, &[&s.holder], false, HOLDER_FILL, HOLDER_LINE, "");
+    poly(o, &[&s.insert], false, INSERT_FILL, INSERT_LINE, "");
 
     // Spindle axis: dash-dot centre line.
     let ya = v.sy(0.0);
@@ -610,11 +741,11 @@ pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
     );
 
     if has_overlap {
-        if let Some(sw) = &swept {
+        if let Some(sw) = swept {
             let polys: Vec<&[P2]> = sw.iter().map(|p| p.as_slice()).collect();
             let _ = writeln!(
                 o,
-                r#"<path d="{}" fill="{OVERLAP}" fill-opacity="0.3" fill-rule="nonzero" stroke="none" clip-path="url(#part-b)"/>"#,
+                r#"<path d="{}" fill="{OVERLAP}" fill-opacity="0.3" fill-rule="nonzero" stroke="none" clip-path="url(#part-b-{id})"/>"#,
                 v.path(&polys, false)
             );
         }
@@ -622,7 +753,7 @@ pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
         // thick so that a sliver still shows.
         let _ = writeln!(
             o,
-            r#"<path d="{d}" fill="{OVERLAP}" stroke="{OVERLAP}" stroke-width="3" clip-path="url(#part-b)"/>"#,
+            r#"<path d="{d}" fill="{OVERLAP}" stroke="{OVERLAP}" stroke-width="3" clip-path="url(#part-b-{id})"/>"#,
             d = v.path(&[&s.part_a], false)
         );
     }
@@ -630,7 +761,7 @@ pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
     let is_tool = s.part_a == s.holder || s.part_a == s.insert;
     if s.part_a.len() >= 3 && !is_tool {
         poly(
-            &mut o,
+            o,
             &[&s.part_a],
             false,
             "none",
@@ -643,7 +774,7 @@ pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
     // programmed point (a station change, a dwell) adds nothing to draw.
     let mut path: Vec<P2> = Vec::new();
     for &p in &s.path {
-        if path.last().is_none_or(|q: &P2| (p - q).norm() > 1e-9) {
+        if path.last().map_or(true, |q: &P2| (p - q).norm() > 1e-9) {
             path.push(p);
         }
     }
@@ -666,12 +797,20 @@ pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
         x = n(cx),
         y = n(cy)
     );
+    if let (Some(px), Some(pz)) = (f.x, f.z) {
+        // The programmed point, as the program writes it.
+        let right = cx < v.left + v.w - 140.0;
+        let _ = writeln!(
+            o,
+            r##"<text x="{}" y="{}" font-size="12" fill="{PATH_LINE}" text-anchor="{}" stroke="#ffffff" stroke-width="3" paint-order="stroke">X{} Z{}</text>"##,
+            n(if right { cx + 8.0 } else { cx - 8.0 }),
+            n(cy - 8.0),
+            if right { "start" } else { "end" },
+            mm(px),
+            mm(pz)
+        );
+    }
     let _ = writeln!(o, "</g>");
-
-    labels(&mut o, &v, s, f);
-    footer(&mut o, &v, s, swept.is_some() && has_overlap);
-    let _ = writeln!(o, "</svg>");
-    o
 }
 
 /// Caption: where (file, line), what, the block, and the facts at first contact.
@@ -747,25 +886,21 @@ fn labels(o: &mut String, v: &View, s: &Snapshot, f: &Finding) {
         }
     };
     let mirror = |p: &[P2]| -> Vec<Vec<P2>> { vec![p.iter().map(|q| P2::new(-q.x, q.y)).collect(), p.to_vec()] };
+    // The active tool's station, when the finding is about it (not about another station's tool).
+    let other = s.others.iter().any(|(label, _)| f.objects.contains(label));
     let station = f
         .objects
         .iter()
         .find_map(|o| o.split_whitespace().next().filter(|w| w.starts_with('T')))
-        .unwrap_or("tool");
+        .filter(|_| !other);
+    let holder = station.map_or("holder".to_string(), |t| format!("{t} holder"));
     // The colliding part of another station first: it is the one to find.
     for (label, p) in &s.others {
         if f.objects.iter().any(|o| o == label) {
             put(o, &mut l, vec![s.part_a.clone(), p.clone()], label, OVERLAP, true);
         }
     }
-    put(
-        o,
-        &mut l,
-        vec![s.holder.clone()],
-        &format!("{station} holder"),
-        HOLDER_LINE,
-        false,
-    );
+    put(o, &mut l, vec![s.holder.clone()], &holder, HOLDER_LINE, false);
     put(o, &mut l, vec![s.insert.clone()], "insert", INSERT_LINE, false);
     if let Some(c) = &s.chuck {
         put(o, &mut l, mirror(c), "chuck", CHUCK_LINE, false);
@@ -789,7 +924,8 @@ fn area(p: &[P2]) -> f64 {
 }
 
 /// Scale bar, axis directions and the legend.
-fn footer(o: &mut String, v: &View, s: &Snapshot, swept: bool) {
+/// Returns the bottom of what it drew.
+fn footer(o: &mut String, v: &View, s: &Snapshot, swept: bool) -> f64 {
     let y = v.top + v.h + 24.0;
     // Scale bar: a round length near a sixth of the width.
     let len = nice(v.w / v.scale / 6.0);
@@ -885,11 +1021,13 @@ fn footer(o: &mut String, v: &View, s: &Snapshot, swept: bool) {
         );
         lx += w;
     }
+    let note_y = (y + 36.0).max(ly + 24.0);
     let _ = writeln!(
         o,
         r##"<text x="{}" y="{}" font-size="11" fill="#57606a">Section through the spindle axis, machine frame (z = 0 at the jaw faces); revolved parts are drawn on both sides of the centre line. latheguard {}</text>"##,
         n(v.left),
-        n(y + 36.0),
+        n(note_y),
         env!("CARGO_PKG_VERSION"),
     );
+    note_y
 }
