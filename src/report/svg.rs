@@ -540,7 +540,8 @@ impl Labels<'_> {
 pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
     let v = View::fit(&region(s));
     let swept = sweep(s);
-    let has_overlap = s.part_a.len() >= 3 && !s.part_b.is_empty();
+    // A near miss has no overlap to show: its parts stay apart.
+    let has_overlap = s.part_a.len() >= 3 && !s.part_b.is_empty() && f.kind != crate::finding::Kind::NearMiss;
     let mut o = String::new();
     let _ = writeln!(o, "<title>{}:{}: {}</title>", esc(&file.path), f.line, esc(&f.message));
     let _ = writeln!(o, r##"<rect width="100%" height="100%" fill="#ffffff"/>"##);
@@ -578,7 +579,7 @@ pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
             d.zoom
         );
     }
-    let bottom = footer(&mut o, &v, s, swept.is_some() && has_overlap);
+    let bottom = footer(&mut o, &v, s, has_overlap, swept.is_some() && has_overlap);
     let _ = writeln!(o, "</svg>");
     let h = n(bottom + 10.0);
     let mut svg = format!(
@@ -925,7 +926,7 @@ fn area(p: &[P2]) -> f64 {
 
 /// Scale bar, axis directions and the legend.
 /// Returns the bottom of what it drew.
-fn footer(o: &mut String, v: &View, s: &Snapshot, swept: bool) -> f64 {
+fn footer(o: &mut String, v: &View, s: &Snapshot, overlap: bool, swept: bool) -> f64 {
     let y = v.top + v.h + 24.0;
     // Scale bar: a round length near a sixth of the width.
     let len = nice(v.w / v.scale / 6.0);
@@ -980,7 +981,7 @@ fn footer(o: &mut String, v: &View, s: &Snapshot, swept: bool) -> f64 {
         ));
     }
     items.push(("programmed path", "none", PATH_LINE, ""));
-    if s.part_a.len() >= 3 && !s.part_b.is_empty() {
+    if overlap {
         items.push(("overlap at first contact", OVERLAP, OVERLAP, ""));
         if swept {
             items.push(("swept by the rest of the move", "#f5a3a5", "#f5a3a5", ""));
