@@ -46,6 +46,12 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
     if let Some(s) = a.shard {
         entries = walk::shard(entries, s.index, s.count);
     }
+    if entries.is_empty() && !a.quiet {
+        eprintln!(
+            "latheguard: no NC files to check (extensions: {}; see --ext)",
+            exts.join(", ")
+        );
+    }
     let (defaults, jobs) = plan(&a, entries)?;
     let show_progress = !a.quiet && std::io::stderr().is_terminal() && std::env::var_os("CI").is_none();
     let reports = check_all(&jobs, a.jobs, show_progress, !a.no_timing)?;
