@@ -1,6 +1,6 @@
 //! `latheguard accuracy`: the cost-of-accuracy table.
 
-use super::args::{AccuracyArgs, FormatArg};
+use super::args::{AccuracyArgs, TableFormat};
 use super::{emit, load_machine, Trouble, EXIT_CLEAN};
 use latheguard::accuracy;
 
@@ -14,12 +14,12 @@ pub fn run(a: AccuracyArgs) -> Result<u8, Trouble> {
             .map_err(|e| format!("{}: cannot write: {e}", p.display()))?;
     }
     let text = match a.format {
-        FormatArg::Json => {
+        TableFormat::Json => {
             let mut s = serde_json::to_string_pretty(&rows).unwrap_or_default();
             s.push('\n');
             s
         }
-        FormatArg::Text => format!("{}\n{}", a.program.display(), accuracy::table(&rows)),
+        TableFormat::Text => format!("{}\n{}", a.program.display(), accuracy::table(&rows)),
     };
     emit(None, &text)?;
     Ok(EXIT_CLEAN)

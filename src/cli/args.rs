@@ -10,6 +10,9 @@ use std::path::PathBuf;
     about = "Finds the lines of a CNC lathe program that would crash the machine"
 )]
 pub struct Cli {
+    /// When to colour the report: auto (a terminal without NO_COLOR), always, never.
+    #[arg(long, value_enum, global = true, default_value_t = ColorArg::Auto, value_name = "WHEN")]
+    pub color: ColorArg,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -24,6 +27,10 @@ pub enum Command {
     Machine(MachineArgs),
     /// The cost-of-accuracy table: exact mode against step mode at several timesteps and tolerances.
     Accuracy(AccuracyArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    Completions(CompletionsArgs),
+    /// Write the man pages (latheguard.1, latheguard-check.1, …).
+    Man(ManArgs),
 }
 
 #[derive(Args, Debug)]
@@ -32,8 +39,8 @@ pub struct AccuracyArgs {
     #[arg(short, long, value_name = "FILE")]
     pub machine: Option<PathBuf>,
     /// Report format.
-    #[arg(long, value_enum, default_value_t = FormatArg::Text)]
-    pub format: FormatArg,
+    #[arg(long, value_enum, default_value_t = TableFormat::Text)]
+    pub format: TableFormat,
     /// Also write a plot of run time against missed collisions (SVG).
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
@@ -45,6 +52,13 @@ pub struct AccuracyArgs {
     pub clearance: f64,
 }
 
+/// Formats of the accuracy table.
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
+pub enum TableFormat {
+    Text,
+    Json,
+}
+
 #[derive(Args, Debug)]
 pub struct CheckArgs {
     /// Programs, or folders walked for NC files.
@@ -53,31 +67,48 @@ pub struct CheckArgs {
     /// Print the documentation of a finding kind (collision, rapid_into_stock, …) and exit.
     #[arg(long, value_name = "KIND")]
     pub explain: Option<String>,
-    /// Machine description (default: the built-in machine).
+    /// Machine description (default: from latheguard.toml, else the built-in machine).
     #[arg(short, long, value_name = "FILE")]
     pub machine: Option<PathBuf>,
-    /// How moves are checked.
-    #[arg(long, value_enum, default_value_t = ModeArg::Step)]
-    pub mode: ModeArg,
-    /// Timestep in milliseconds of machine time (step mode).
-    #[arg(long, value_name = "MS", default_value_t = 1.0, value_parser = positive)]
-    pub dt: f64,
-    /// How far curves may be replaced by chords, in mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = positive)]
-    pub tolerance: f64,
-    /// Report parts closer than this as near misses, in mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.0, value_parser = non_negative)]
-    pub clearance: f64,
+    /// How moves are checked [default: step].
+    #[arg(long, value_enum)]
+    pub mode: Option<ModeArg>,
+    /// Timestep in milliseconds of machine time, step mode [default: 1].
+    #[arg(long, value_name = "MS", value_parser = positive)]
+    pub dt: Option<f64>,
+    /// How far curves may be replaced by chords, in mm [default: 0.01].
+    #[arg(long, value_name = "MM", value_parser = positive)]
+    pub tolerance: Option<f64>,
+    /// Report parts closer than this as near misses, in mm [default: 0].
+    #[arg(long, value_name = "MM", value_parser = non_negative)]
+    pub clearance: Option<f64>,
     /// Report format.
     #[arg(long, value_enum, default_value_t = FormatArg::Text)]
     pub format: FormatArg,
     /// Write the report here instead of standard output.
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
-    /// Files checked in parallel (default: all cores).
-    #[arg(short, long, value_name = "N")]
-    pub jobs: Option<usize>,
-    /// Only errors and the summary line.
+    /// Write a picture (SVG) of the working plane at each finding into this folder.
+    #[arg(long, value_name = "DIR")]
+    pub svg: Option<PathBuf>,
+    /// Files checked in parallel [default: all cores].
+    #[arg(short, long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    pub jobs: Option<u16>,
+    /// Extensions taken as NC programs when walking folders, comma-separated
+    /// [default: nc,ngc,tap,cnc,mpf,eia,gcode,txt].
+    #[arg(long, value_name = "EXT,…", value_delimiter = ',', value_parser = extension)]
+    pub ext: Option<Vec<String>>,
+    /// Check only the I-th of N equal parts of the files (1-based), to split a batch over runners.
+    #[arg(long, value_name = "I/N", value_parser = shard)]
+    pub shard: Option<Shard>,
+    /// Ignore latheguard.toml files.
+    #[arg(long)]
+    pub no_config: bool,
+    /// Leave run times out of the report (JSON elapsed_ms is 0, no JUnit times): byte-identical
+    /// output from run to run.
+    #[arg(long)]
+    pub no_timing: bool,
+    /// Only errors and the summary line; no progress bar.
     #[arg(short, long)]
     pub quiet: bool,
 }
@@ -96,7 +127,21 @@ pub struct MachineArgs {
     pub file: PathBuf,
 }
 
-#[derive(Clone, Copy, Debug, ValueEnum)]
+#[derive(Args, Debug)]
+pub struct CompletionsArgs {
+    /// The shell to complete for.
+    #[arg(value_enum)]
+    pub shell: clap_complete::Shell,
+}
+
+#[derive(Args, Debug)]
+pub struct ManArgs {
+    /// Folder to write one page per command into; without it, latheguard.1 goes to standard output.
+    #[arg(value_name = "DIR")]
+    pub dir: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
 pub enum ModeArg {
     Step,
     Exact,
@@ -106,6 +151,15 @@ pub enum ModeArg {
 pub enum FormatArg {
     Text,
     Json,
+    Junit,
+    Sarif,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
+pub enum ColorArg {
+    Auto,
+    Always,
+    Never,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -114,7 +168,35 @@ pub enum MovesFormat {
     Json,
 }
 
-fn positive(s: &str) -> Result<f64, String> {
+/// `--shard I/N`: the I-th (1-based) of N parts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+fn shard(s: &str) -> Result<Shard, String> {
+    let bad = || format!("`{s}` is not a shard: write I/N with 1 ≤ I ≤ N, e.g. 2/3");
+    let (i, n) = s.split_once('/').ok_or_else(bad)?;
+    let index: usize = i.trim().parse().map_err(|_| bad())?;
+    let count: usize = n.trim().parse().map_err(|_| bad())?;
+    if index >= 1 && index <= count {
+        Ok(Shard { index, count })
+    } else {
+        Err(bad())
+    }
+}
+
+fn extension(s: &str) -> Result<String, String> {
+    let e = s.trim().trim_start_matches('.');
+    if e.is_empty() || e.contains(['/', '\\']) {
+        Err(format!("`{s}` is not a file extension"))
+    } else {
+        Ok(e.to_string())
+    }
+}
+
+pub fn positive(s: &str) -> Result<f64, String> {
     let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
     if v.is_finite() && v > 0.0 {
         Ok(v)
@@ -123,7 +205,7 @@ fn positive(s: &str) -> Result<f64, String> {
     }
 }
 
-fn non_negative(s: &str) -> Result<f64, String> {
+pub fn non_negative(s: &str) -> Result<f64, String> {
     let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
     if v.is_finite() && v >= 0.0 {
         Ok(v)

@@ -4,7 +4,9 @@
 mod accuracy;
 mod args;
 mod check;
+mod config;
 mod moves;
+mod shell;
 mod walk;
 
 use args::{Cli, Command};
@@ -43,7 +45,7 @@ pub type Trouble = String;
 
 fn run(cli: Cli) -> Result<u8, Trouble> {
     match cli.command {
-        Command::Check(a) => check::run(a),
+        Command::Check(a) => check::run(a, cli.color),
         Command::Moves(a) => moves::run(a),
         Command::Accuracy(a) => accuracy::run(a),
 
@@ -52,6 +54,8 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
             print!("{}", m.describe());
             Ok(EXIT_CLEAN)
         }
+        Command::Completions(a) => shell::completions(a),
+        Command::Man(a) => shell::man(a),
     }
 }
 
@@ -81,5 +85,14 @@ pub fn emit(output: Option<&std::path::Path>, text: &str) -> Result<(), Trouble>
                 Err(e) => Err(format!("cannot write to standard output: {e}")),
             }
         }
+    }
+}
+
+/// An I/O error without the OS error number, which differs between systems.
+pub fn plain(e: &std::io::Error) -> String {
+    let s = e.to_string();
+    match s.find(" (os error") {
+        Some(i) => s[..i].to_string(),
+        None => s,
     }
 }

@@ -1,49 +1,116 @@
 //! Which files a `check` covers: the paths given, and NC files found in folders given.
+//!
+//! Folders are walked with the `ignore` crate, as git sees them: `.gitignore` (in a repository or
+//! not), `.git/info/exclude`, `.ignore` and `.latheguardignore` files are honoured, and hidden
+//! files and folders are skipped. The user's global git excludes are not read, so the same tree
+//! gives the same files on every machine. Symbolic links to files are taken; links to folders
+//! are not followed.
 
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 
 /// File extensions taken as NC programs when walking a folder (case-insensitive).
 pub const NC_EXTENSIONS: &[&str] = &["nc", "ngc", "tap", "cnc", "mpf", "eia", "gcode", "txt"];
 
-/// Files named directly are always checked; folders are walked recursively for NC files.
-/// The result is sorted by path and has no duplicates. A path that cannot be listed is kept, so
-/// that reading it reports the problem as a finding for that path.
-pub fn collect(paths: &[PathBuf]) -> Vec<PathBuf> {
+/// A file to check, or a path that could not be listed (reported as a finding for that path).
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Entry {
+    pub path: PathBuf,
+    /// Why the path could not be listed, when it could not.
+    pub problem: Option<String>,
+}
+
+/// Files named directly are always checked; folders are walked for files with one of `exts`.
+/// The result is sorted by path (component-wise) and has no duplicates.
+pub fn collect(paths: &[PathBuf], exts: &[String]) -> Vec<Entry> {
     let mut out = Vec::new();
     for p in paths {
         if p.is_dir() {
-            walk(p, &mut out, 0);
+            walk(p, exts, &mut out);
         } else {
-            out.push(p.clone());
+            out.push(Entry {
+                path: tidy(p),
+                problem: None,
+            });
         }
     }
     out.sort();
-    out.dedup();
+    out.dedup_by(|a, b| a.path == b.path);
     out
 }
 
-fn walk(dir: &Path, out: &mut Vec<PathBuf>, depth: usize) {
-    if depth > 64 {
-        return;
-    }
-    let Ok(rd) = std::fs::read_dir(dir) else {
-        out.push(dir.to_path_buf());
-        return;
-    };
-    for e in rd.flatten() {
-        let p = e.path();
-        let Ok(ft) = e.file_type() else { continue };
-        if ft.is_dir() {
-            if !p.file_name().is_some_and(|n| n.to_string_lossy().starts_with('.')) {
-                walk(&p, out, depth + 1);
+fn walk(root: &Path, exts: &[String], out: &mut Vec<Entry>) {
+    let walker = ignore::WalkBuilder::new(root)
+        .standard_filters(true)
+        .require_git(false)
+        .git_global(false)
+        .add_custom_ignore_filename(".latheguardignore")
+        .follow_links(false)
+        .build();
+    for item in walker {
+        match item {
+            Ok(e) => {
+                let Some(ft) = e.file_type() else { continue };
+                // A link is taken when it names a file, or names nothing (reading it then says why).
+                let file = ft.is_file() || (ft.is_symlink() && !e.path().is_dir());
+                if file && has_extension(e.path(), exts) {
+                    out.push(Entry {
+                        path: tidy(e.path()),
+                        problem: None,
+                    });
+                }
             }
-        } else if is_nc(&p) {
-            out.push(p);
+            Err(err) => {
+                if let Some(path) = error_path(&err) {
+                    out.push(Entry {
+                        path: tidy(&path),
+                        problem: Some(format!("cannot list: {}", error_cause(&err))),
+                    });
+                }
+            }
         }
     }
 }
 
-pub fn is_nc(p: &Path) -> bool {
+fn error_path(e: &ignore::Error) -> Option<PathBuf> {
+    match e {
+        ignore::Error::WithPath { path, .. } => Some(path.clone()),
+        ignore::Error::WithDepth { err, .. } | ignore::Error::WithLineNumber { err, .. } => error_path(err),
+        ignore::Error::Partial(errs) => errs.iter().find_map(error_path),
+        _ => None,
+    }
+}
+
+fn error_cause(e: &ignore::Error) -> String {
+    match e {
+        ignore::Error::WithPath { err, .. }
+        | ignore::Error::WithDepth { err, .. }
+        | ignore::Error::WithLineNumber { err, .. } => error_cause(err),
+        other => other.to_string(),
+    }
+}
+
+/// The path as reports show it: `./` components dropped.
+pub fn tidy(p: &Path) -> PathBuf {
+    let t: PathBuf = p.components().filter(|c| *c != Component::CurDir).collect();
+    if t.as_os_str().is_empty() {
+        p.to_path_buf()
+    } else {
+        t
+    }
+}
+
+pub fn has_extension(p: &Path, exts: &[String]) -> bool {
     p.extension()
-        .is_some_and(|e| NC_EXTENSIONS.iter().any(|x| e.eq_ignore_ascii_case(x)))
+        .is_some_and(|e| exts.iter().any(|x| e.eq_ignore_ascii_case(x.as_str())))
+}
+
+/// Keep the `index`-th (1-based) of `count` parts: file k of the sorted list goes to part
+/// `k mod count + 1`, so the parts differ in size by at most one file.
+pub fn shard<T>(files: Vec<T>, index: usize, count: usize) -> Vec<T> {
+    files
+        .into_iter()
+        .enumerate()
+        .filter(|(k, _)| k % count == index - 1)
+        .map(|(_, f)| f)
+        .collect()
 }

@@ -18,6 +18,11 @@ struct Doc<'a> {
 #[derive(Serialize)]
 struct FileDoc<'a> {
     path: &'a str,
+    /// Only for a file checked on another machine or with other settings than the report's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    machine: Option<&'a str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    settings: Option<&'a Settings>,
     status: &'static str,
     findings: Vec<FindingDoc<'a>>,
     stats: &'a Stats,
@@ -76,6 +81,8 @@ pub fn json(r: &Report) -> String {
             .iter()
             .map(|f| FileDoc {
                 path: &f.path,
+                machine: f.machine.as_deref(),
+                settings: f.settings.as_ref(),
                 status: if f.findings.is_empty() { "clean" } else { "findings" },
                 findings: f.findings.iter().map(FindingDoc::from).collect(),
                 stats: &f.stats,

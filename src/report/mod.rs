@@ -1,19 +1,25 @@
-//! Reporters: the findings of a batch as text, JSON (and later JUnit, SARIF).
+//! Reporters: the findings of a batch as text, JSON, JUnit and SARIF, and a picture (SVG) of
+//! each finding's scene.
 //!
 //! Every reporter takes the same [`Report`] and returns a string; choosing one is the binary's
 //! job. Reporters never reorder findings: the caller sorts files by path and findings by line.
 
 mod json;
+mod junit;
+mod sarif;
+pub mod svg;
 mod text;
 
 use crate::finding::{Finding, Severity};
 use crate::pipeline::{Settings, Stats};
 
 pub use json::json;
+pub use junit::{junit, JunitOptions};
+pub use sarif::sarif;
 pub use text::{text, TextOptions};
 
 /// One checked file.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct FileReport {
     pub path: String,
     pub findings: Vec<Finding>,
@@ -22,6 +28,10 @@ pub struct FileReport {
     pub source: Vec<u8>,
     /// The final stock outlines, `[x, z]` (see [`crate::pipeline::Outcome::stock`]).
     pub stock: Vec<Vec<[f64; 2]>>,
+    /// The machine's name, when it is not the report's (a per-folder `latheguard.toml`).
+    pub machine: Option<String>,
+    /// The settings, when they are not the report's.
+    pub settings: Option<Settings>,
 }
 
 /// A whole batch.

@@ -1,0 +1,460 @@
+//! `latheguard.toml`: per-folder machine and settings (the schema is in `docs/config.md`).
+//!
+//! The nearest `latheguard.toml` (in the program's folder or the closest parent) applies to a
+//! program; configurations are not merged. Its `[[override]]` tables whose glob matches the
+//! program's path (relative to the configuration's folder) apply on top, in file order. The
+//! command line applies on top of everything.
+
+use globset::{GlobBuilder, GlobMatcher};
+use latheguard::pipeline::Mode;
+use latheguard::source::LineIndex;
+use serde::Deserialize;
+use std::collections::HashMap;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use toml::de::{DeTable, DeValue};
+use toml::Spanned;
+
+/// The file name looked for in each folder.
+pub const FILE_NAME: &str = "latheguard.toml";
+
+/// At most this many `[[override]]` tables in one file.
+pub const MAX_OVERRIDES: usize = 1000;
+
+/// A configuration that cannot be used: where and why (`file:line:col: key: message`).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{file}:{line}:{col}: {key}: {message}")]
+pub struct ConfigError {
+    pub file: String,
+    pub line: u32,
+    pub col: u32,
+    pub key: String,
+    pub message: String,
+}
+
+/// Settings one table of a configuration sets; `None` leaves the value to the layer below.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Layer {
+    pub machine: Option<MachineRef>,
+    pub mode: Option<Mode>,
+    pub dt_ms: Option<f64>,
+    pub tolerance_mm: Option<f64>,
+    pub clearance_mm: Option<f64>,
+}
+
+/// A machine file named by a configuration: where it is, and where it was written (for errors).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MachineRef {
+    /// The path, resolved against the configuration's folder.
+    pub path: PathBuf,
+    /// `file:line:col: key`, to prefix an error about the machine file.
+    pub at: String,
+}
+
+/// One loaded `latheguard.toml`.
+#[derive(Debug)]
+pub struct Config {
+    /// Its folder, absolute.
+    pub dir: PathBuf,
+    pub base: Layer,
+    pub overrides: Vec<(GlobMatcher, Layer)>,
+}
+
+impl Config {
+    /// The layers that apply to `file` (absolute), lowest first.
+    pub fn layers_for(&self, file: &Path) -> Vec<&Layer> {
+        let mut out = vec![&self.base];
+        if let Ok(rel) = file.strip_prefix(&self.dir) {
+            let rel = slash_path(rel);
+            out.extend(self.overrides.iter().filter(|(g, _)| g.is_match(&rel)).map(|(_, l)| l));
+        }
+        out
+    }
+}
+
+/// `a/b/../c` → `a/c`, without asking the file system.
+fn normalize(p: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for c in p.components() {
+        match c {
+            std::path::Component::CurDir => {}
+            std::path::Component::ParentDir => {
+                if !out.pop() {
+                    out.push("..");
+                }
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// A path with `/` separators, as globs are written.
+fn slash_path(p: &Path) -> String {
+    let parts: Vec<String> = p.iter().map(|c| c.to_string_lossy().into_owned()).collect();
+    parts.join("/")
+}
+
+// ---------------------------------------------------------------------------------------------
+// Finding the configuration of a program.
+
+/// Finds and loads the nearest configuration of each program, each file once.
+pub struct Finder {
+    cwd: PathBuf,
+    /// Absolute folder → the configuration that applies in it.
+    nearest: HashMap<PathBuf, Option<Arc<Config>>>,
+}
+
+impl Finder {
+    pub fn new() -> Finder {
+        Finder {
+            cwd: std::env::current_dir().unwrap_or_default(),
+            nearest: HashMap::new(),
+        }
+    }
+
+    /// The absolute form of a path (not resolving links).
+    pub fn absolute(&self, p: &Path) -> PathBuf {
+        if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            self.cwd.join(p)
+        }
+    }
+
+    /// A path as shown in messages: relative to the working folder when under it.
+    pub fn shown(&self, p: &Path) -> String {
+        p.strip_prefix(&self.cwd).unwrap_or(p).display().to_string()
+    }
+
+    /// The configuration that applies to a program (absolute path), if any.
+    pub fn config_for(&mut self, file_abs: &Path) -> Result<Option<Arc<Config>>, ConfigError> {
+        let Some(dir) = file_abs.parent() else {
+            return Ok(None);
+        };
+        let mut visited = Vec::new();
+        let mut found = None;
+        for d in dir.ancestors() {
+            if let Some(c) = self.nearest.get(d) {
+                found = c.clone();
+                break;
+            }
+            visited.push(d.to_path_buf());
+            let candidate = d.join(FILE_NAME);
+            if candidate.is_file() {
+                found = Some(Arc::new(self.load(&candidate, d)?));
+                break;
+            }
+        }
+        for d in visited {
+            self.nearest.insert(d, found.clone());
+        }
+        Ok(found)
+    }
+
+    fn load(&self, file: &Path, dir: &Path) -> Result<Config, ConfigError> {
+        let shown = self.shown(file);
+        let text = std::fs::read_to_string(file).map_err(|e| ConfigError {
+            file: shown.clone(),
+            line: 0,
+            col: 0,
+            key: TOP_LEVEL.into(),
+            message: format!("cannot read: {}", super::plain(&e)),
+        })?;
+        parse(&text, &shown, dir)
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading one file.
+
+const TOP_LEVEL: &str = "(top level)";
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawConfig {
+    machine: Option<Spanned<String>>,
+    mode: Option<Spanned<RawMode>>,
+    dt: Option<Spanned<f64>>,
+    tolerance: Option<Spanned<f64>>,
+    clearance: Option<Spanned<f64>>,
+    #[serde(rename = "override", default)]
+    overrides: Vec<Spanned<RawOverride>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawOverride {
+    glob: Spanned<String>,
+    machine: Option<Spanned<String>>,
+    mode: Option<Spanned<RawMode>>,
+    dt: Option<Spanned<f64>>,
+    tolerance: Option<Spanned<f64>>,
+    clearance: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "lowercase")]
+enum RawMode {
+    Step,
+    Exact,
+}
+
+struct Cx<'a> {
+    file: &'a str,
+    dir: &'a Path,
+    lines: LineIndex,
+    text: &'a str,
+}
+
+impl Cx<'_> {
+    fn err(&self, at: Range<usize>, key: impl Into<String>, message: impl Into<String>) -> ConfigError {
+        let (line, col) = self.place(at.start);
+        ConfigError {
+            file: self.file.to_string(),
+            line,
+            col,
+            key: key.into(),
+            message: message.into(),
+        }
+    }
+
+    /// 1-based line and column (in characters) of a byte offset.
+    fn place(&self, offset: usize) -> (u32, u32) {
+        let offset = offset.min(self.text.len()) as u32;
+        (
+            self.lines.line_of(offset),
+            self.lines.col_of(self.text.as_bytes(), offset),
+        )
+    }
+
+    fn layer(
+        &self,
+        prefix: &str,
+        machine: Option<Spanned<String>>,
+        mode: Option<Spanned<RawMode>>,
+        dt: Option<Spanned<f64>>,
+        tolerance: Option<Spanned<f64>>,
+        clearance: Option<Spanned<f64>>,
+    ) -> Result<Layer, ConfigError> {
+        let key = |k: &str| format!("{prefix}{k}");
+        let machine = match machine {
+            None => None,
+            Some(m) => {
+                if m.get_ref().trim().is_empty() {
+                    return Err(self.err(m.span(), key("machine"), "the machine file name is empty"));
+                }
+                let (line, col) = self.place(m.span().start);
+                Some(MachineRef {
+                    path: normalize(&self.dir.join(m.get_ref())),
+                    at: format!("{}:{line}:{col}: {}", self.file, key("machine")),
+                })
+            }
+        };
+        let number = |v: Option<Spanned<f64>>, k: &str, zero_ok: bool| -> Result<Option<f64>, ConfigError> {
+            let Some(v) = v else { return Ok(None) };
+            let x = *v.get_ref();
+            let ok = x.is_finite() && (x > 0.0 || (zero_ok && x == 0.0));
+            if ok {
+                Ok(Some(x))
+            } else {
+                let rule = if zero_ok { "0 or more" } else { "greater than 0" };
+                Err(self.err(v.span(), key(k), format!("must be a finite number {rule}, not {x}")))
+            }
+        };
+        Ok(Layer {
+            machine,
+            mode: mode.map(|m| match m.into_inner() {
+                RawMode::Step => Mode::Step,
+                RawMode::Exact => Mode::Exact,
+            }),
+            dt_ms: number(dt, "dt", false)?,
+            tolerance_mm: number(tolerance, "tolerance", false)?,
+            clearance_mm: number(clearance, "clearance", true)?,
+        })
+    }
+}
+
+/// Parse and validate a configuration. `file` is used in messages; `dir` is the folder machine
+/// paths are relative to.
+pub fn parse(text: &str, file: &str, dir: &Path) -> Result<Config, ConfigError> {
+    let cx = Cx {
+        file,
+        dir,
+        lines: LineIndex::new(text.as_bytes()),
+        text,
+    };
+    let (root, errors) = DeTable::parse_recoverable(text);
+    if let Some(e) = errors.iter().min_by_key(|e| e.span().map_or(usize::MAX, |s| s.start)) {
+        let at = e.span().unwrap_or(0..0);
+        let key = render(&path_at(root.get_ref(), at.start));
+        return Err(cx.err(at, key, format!("TOML syntax error: {}", one_line(e.message()))));
+    }
+    let tree = root.clone();
+    let raw = RawConfig::deserialize(toml::de::Deserializer::from(root)).map_err(|e| {
+        let at = e.span().unwrap_or(0..0);
+        let mut path = path_at(tree.get_ref(), at.start);
+        let message = one_line(e.message());
+        if let Some(field) = message
+            .strip_prefix("missing field `")
+            .and_then(|m| m.strip_suffix('`'))
+        {
+            path.push(field.to_string());
+            return cx.err(at, render(&path), format!("missing required key `{field}`"));
+        }
+        cx.err(at, render(&path), message)
+    })?;
+    if raw.overrides.len() > MAX_OVERRIDES {
+        let at = raw.overrides[MAX_OVERRIDES].span();
+        return Err(cx.err(at, "override", format!("at most {MAX_OVERRIDES} [[override]] tables")));
+    }
+    let base = cx.layer("", raw.machine, raw.mode, raw.dt, raw.tolerance, raw.clearance)?;
+    let mut overrides = Vec::with_capacity(raw.overrides.len());
+    for (i, o) in raw.overrides.into_iter().enumerate() {
+        let prefix = format!("override[{i}].");
+        let o = o.into_inner();
+        let glob = GlobBuilder::new(o.glob.get_ref())
+            .literal_separator(true)
+            .build()
+            .map_err(|e| {
+                cx.err(
+                    o.glob.span(),
+                    format!("{prefix}glob"),
+                    format!("not a glob: {}", e.kind()),
+                )
+            })?;
+        let layer = cx.layer(&prefix, o.machine, o.mode, o.dt, o.tolerance, o.clearance)?;
+        overrides.push((glob.compile_matcher(), layer));
+    }
+    Ok(Config {
+        dir: dir.to_path_buf(),
+        base,
+        overrides,
+    })
+}
+
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+fn contains(r: &Range<usize>, pos: usize) -> bool {
+    r.start <= pos && (pos < r.end || r.start == r.end)
+}
+
+/// The dotted key path of the innermost key or value at a byte offset.
+fn path_at(t: &DeTable<'_>, pos: usize) -> Vec<String> {
+    for (k, v) in t.iter() {
+        if contains(&k.span(), pos) {
+            return vec![k.get_ref().to_string()];
+        }
+        match v.get_ref() {
+            DeValue::Table(inner) => {
+                let sub = path_at(inner, pos);
+                if !sub.is_empty() || contains(&v.span(), pos) {
+                    let mut p = vec![k.get_ref().to_string()];
+                    p.extend(sub);
+                    return p;
+                }
+            }
+            DeValue::Array(items) => {
+                for (i, item) in items.iter().enumerate() {
+                    let sub = match item.get_ref() {
+                        DeValue::Table(inner) => path_at(inner, pos),
+                        _ => Vec::new(),
+                    };
+                    if !sub.is_empty() || contains(&item.span(), pos) {
+                        let mut p = vec![format!("{}[{i}]", k.get_ref())];
+                        p.extend(sub);
+                        return p;
+                    }
+                }
+                if contains(&v.span(), pos) {
+                    return vec![k.get_ref().to_string()];
+                }
+            }
+            _ => {
+                if contains(&v.span(), pos) {
+                    return vec![k.get_ref().to_string()];
+                }
+            }
+        }
+    }
+    Vec::new()
+}
+
+fn render(path: &[String]) -> String {
+    if path.is_empty() {
+        TOP_LEVEL.to_string()
+    } else {
+        path.join(".")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn err(text: &str) -> String {
+        parse(text, "latheguard.toml", Path::new("/shop"))
+            .unwrap_err()
+            .to_string()
+    }
+
+    #[test]
+    fn full_file() {
+        let c = parse(
+            "machine = \"m/a.toml\"\nmode = \"exact\"\ndt = 2\ntolerance = 0.02\nclearance = 0\n\n\
+             [[override]]\nglob = \"legacy/*.nc\"\nclearance = 0.5\n\n[[override]]\nglob = \"**/*.tap\"\nmachine = \"b.toml\"\n",
+            "latheguard.toml",
+            Path::new("/shop"),
+        )
+        .unwrap();
+        assert_eq!(c.base.mode, Some(Mode::Exact));
+        assert_eq!(c.base.dt_ms, Some(2.0));
+        assert_eq!(c.base.clearance_mm, Some(0.0));
+        assert_eq!(c.base.machine.as_ref().unwrap().path, Path::new("/shop/m/a.toml"));
+        assert_eq!(c.base.machine.as_ref().unwrap().at, "latheguard.toml:1:11: machine");
+        let layers = c.layers_for(Path::new("/shop/legacy/x.nc"));
+        assert_eq!(layers.len(), 2);
+        assert_eq!(layers[1].clearance_mm, Some(0.5));
+        assert_eq!(c.layers_for(Path::new("/shop/legacy/deeper/x.nc")).len(), 1);
+        assert_eq!(c.layers_for(Path::new("/shop/a/b/c.tap")).len(), 2);
+        assert_eq!(c.layers_for(Path::new("/elsewhere/legacy/x.nc")).len(), 1);
+    }
+
+    #[test]
+    fn errors_name_file_line_and_key() {
+        assert_eq!(
+            err("mode = \"exact\"\nclerance = 1\n"),
+            "latheguard.toml:2:1: clerance: unknown field `clerance`, expected one of `machine`, `mode`, `dt`, \
+             `tolerance`, `clearance`, `override`"
+        );
+        assert_eq!(
+            err("mode = \"fast\"\n"),
+            "latheguard.toml:1:8: mode: unknown variant `fast`, expected `step` or `exact`"
+        );
+        assert_eq!(
+            err("dt = 0\n"),
+            "latheguard.toml:1:6: dt: must be a finite number greater than 0, not 0"
+        );
+        assert_eq!(
+            err("[[override]]\nglob = \"a/*\"\n[[override]]\nclearance = 1\n"),
+            "latheguard.toml:3:1: override[1].glob: missing required key `glob`"
+        );
+        assert_eq!(
+            err("[[override]]\nglob = \"a/*\"\nspeed = 1\n"),
+            "latheguard.toml:3:1: override[0].speed: unknown field `speed`, expected one of `glob`, `machine`, \
+             `mode`, `dt`, `tolerance`, `clearance`"
+        );
+        assert_eq!(
+            err("[[override]]\nglob = \"a/[\"\n"),
+            "latheguard.toml:2:8: override[0].glob: not a glob: unclosed character class; missing ']'"
+        );
+        assert_eq!(
+            err("clearance = \"big\"\n"),
+            "latheguard.toml:1:13: clearance: invalid type: string \"big\", expected f64"
+        );
+        assert!(err("mode = \n").starts_with("latheguard.toml:1:8: mode: TOML syntax error"));
+    }
+}

@@ -1,0 +1,351 @@
+//! SARIF 2.1.0 (OASIS): one rule per finding kind, documented from `docs/findings/`, and one
+//! result per finding with its file and line, so code review shows findings inline.
+//!
+//! Written with our own serde types for the handful of SARIF objects used (checked against the
+//! SARIF 2.1.0 JSON schema in the tests). Nothing in it depends on time: two runs on the same
+//! files give the same bytes.
+
+use super::Report;
+use crate::finding::{code, explain, Finding, Kind, Severity};
+use crate::source::LineIndex;
+use serde::Serialize;
+
+const SCHEMA: &str = "https://json.schemastore.org/sarif-2.1.0.json";
+
+#[derive(Serialize)]
+struct Log<'a> {
+    #[serde(rename = "$schema")]
+    schema: &'static str,
+    version: &'static str,
+    runs: Vec<Run<'a>>,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Run<'a> {
+    tool: Tool,
+    /// Where relative URIs are resolved: the folder latheguard ran in (the repository root in CI).
+    original_uri_base_ids: BaseIds,
+    artifacts: Vec<Artifact>,
+    results: Vec<SarifResult<'a>>,
+    column_kind: &'static str,
+    properties: RunProperties<'a>,
+}
+
+#[derive(Serialize)]
+struct BaseIds {
+    #[serde(rename = "%SRCROOT%")]
+    src_root: BaseId,
+}
+
+#[derive(Serialize)]
+struct BaseId {
+    description: Message,
+}
+
+#[derive(Serialize)]
+struct Tool {
+    driver: Driver,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Driver {
+    name: &'static str,
+    version: &'static str,
+    semantic_version: &'static str,
+    rules: Vec<Rule>,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Rule {
+    id: &'static str,
+    name: &'static str,
+    short_description: Message,
+    full_description: Message,
+    help: Help,
+    default_configuration: Configuration,
+}
+
+#[derive(Serialize)]
+struct Help {
+    text: String,
+    markdown: String,
+}
+
+#[derive(Serialize)]
+struct Configuration {
+    level: &'static str,
+}
+
+#[derive(Serialize)]
+struct Message {
+    text: String,
+}
+
+#[derive(Serialize)]
+struct Artifact {
+    location: ArtifactLocation,
+}
+
+#[derive(Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+struct ArtifactLocation {
+    uri: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    uri_base_id: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    index: Option<usize>,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct SarifResult<'a> {
+    rule_id: &'static str,
+    rule_index: usize,
+    level: &'static str,
+    message: Message,
+    locations: Vec<Location>,
+    properties: ResultProperties<'a>,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Location {
+    physical_location: PhysicalLocation,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct PhysicalLocation {
+    artifact_location: ArtifactLocation,
+    region: Region,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Region {
+    start_line: u32,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    start_column: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    end_line: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    snippet: Option<Message>,
+}
+
+/// The finding's facts beyond the message, under the names of the JSON report.
+#[derive(Serialize)]
+struct ResultProperties<'a> {
+    kind: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    n: Option<u64>,
+    #[serde(skip_serializing_if = "<[String]>::is_empty")]
+    objects: &'a [String],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    time_s: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    depth_mm: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    x: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    z: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    machine: Option<&'a str>,
+}
+
+#[derive(Serialize)]
+struct RunProperties<'a> {
+    machine: &'a str,
+    settings: &'a crate::pipeline::Settings,
+}
+
+fn rule(kind: Kind) -> Rule {
+    let doc = explain(kind);
+    let meaning = section(doc, "What it means").unwrap_or_else(|| kind.name().replace('_', " "));
+    let first = first_sentence(&meaning);
+    Rule {
+        id: code(kind),
+        name: kind.name(),
+        short_description: Message { text: first },
+        full_description: Message { text: meaning },
+        help: Help {
+            text: doc.to_string(),
+            markdown: doc.to_string(),
+        },
+        default_configuration: Configuration {
+            level: match kind {
+                Kind::NearMiss => "warning",
+                _ => "error",
+            },
+        },
+    }
+}
+
+/// The paragraph under a `## title` heading, joined into one line.
+fn section(doc: &str, title: &str) -> Option<String> {
+    let mut lines = doc.lines().skip_while(|l| l.trim() != format!("## {title}")).skip(1);
+    let mut out = Vec::new();
+    for l in lines.by_ref() {
+        if l.trim().is_empty() {
+            if out.is_empty() {
+                continue;
+            }
+            break;
+        }
+        if l.starts_with('#') {
+            break;
+        }
+        out.push(l.trim());
+    }
+    (!out.is_empty()).then(|| out.join(" "))
+}
+
+fn first_sentence(s: &str) -> String {
+    match s.find(". ") {
+        Some(i) => s[..=i].to_string(),
+        None => s.to_string(),
+    }
+}
+
+/// A report path as a URI reference: `/` separators, and percent-encoding of what a URI does not
+/// allow as is. Absolute paths become `file://` URIs.
+fn uri(path: &str) -> (String, Option<&'static str>) {
+    let slashed = path.replace('\\', "/");
+    let mut out = String::with_capacity(slashed.len());
+    for b in slashed.bytes() {
+        if b.is_ascii_alphanumeric() || b"-._~/!$&'()*+,;=:@".contains(&b) {
+            out.push(b as char);
+        } else {
+            out.push_str(&format!("%{b:02X}"));
+        }
+    }
+    if slashed.starts_with('/') {
+        (format!("file://{out}"), None)
+    } else {
+        (out, Some("%SRCROOT%"))
+    }
+}
+
+fn round6(v: f64) -> f64 {
+    (v * 1e6).round() / 1e6
+}
+
+/// The source text of a 1-based line, when the report has it.
+fn line_text(li: &LineIndex, source: &[u8], line: u32) -> Option<String> {
+    if line == 0 || line as usize > li.line_count() {
+        return None;
+    }
+    let text = String::from_utf8_lossy(&source[li.line_span(source, line).range()]).into_owned();
+    (!text.trim().is_empty()).then_some(text)
+}
+
+fn message(f: &Finding) -> String {
+    let mut s = f.message.clone();
+    let mut facts = Vec::new();
+    if let Some(d) = f.depth_mm {
+        facts.push(format!("depth {d:.3} mm"));
+    }
+    if let Some(t) = f.time_s {
+        facts.push(format!("at {t:.3} s"));
+    }
+    if f.end_line != f.line {
+        facts.push(format!("until line {}", f.end_line));
+    }
+    if !facts.is_empty() {
+        s.push_str(&format!(" ({})", facts.join(", ")));
+    }
+    s
+}
+
+/// The whole batch as one SARIF 2.1.0 log (pretty-printed, with a trailing newline).
+pub fn sarif(r: &Report) -> String {
+    let rules: Vec<Rule> = Kind::ALL.iter().map(|&k| rule(k)).collect();
+    let mut artifacts = Vec::new();
+    let mut results = Vec::new();
+    for f in &r.files {
+        if f.findings.is_empty() {
+            continue;
+        }
+        let (u, base) = uri(&f.path);
+        let index = artifacts.len();
+        artifacts.push(Artifact {
+            location: ArtifactLocation {
+                uri: u.clone(),
+                uri_base_id: base,
+                index: None,
+            },
+        });
+        let lines = (!f.source.is_empty()).then(|| LineIndex::new(&f.source));
+        for x in &f.findings {
+            let rule_index = Kind::ALL.iter().position(|&k| k == x.kind).unwrap_or(0);
+            let snippet = lines.as_ref().and_then(|li| line_text(li, &f.source, x.line));
+            results.push(SarifResult {
+                rule_id: code(x.kind),
+                rule_index,
+                level: match x.severity {
+                    Severity::Error => "error",
+                    Severity::Warning => "warning",
+                },
+                message: Message { text: message(x) },
+                locations: vec![Location {
+                    physical_location: PhysicalLocation {
+                        artifact_location: ArtifactLocation {
+                            uri: u.clone(),
+                            uri_base_id: base,
+                            index: Some(index),
+                        },
+                        region: Region {
+                            start_line: x.line.max(1),
+                            start_column: (x.col > 0).then_some(x.col),
+                            end_line: (x.end_line > x.line).then_some(x.end_line),
+                            snippet: snippet.map(|text| Message { text }),
+                        },
+                    },
+                }],
+                properties: ResultProperties {
+                    kind: x.kind.name(),
+                    n: x.n,
+                    objects: &x.objects,
+                    time_s: x.time_s.map(round6),
+                    depth_mm: x.depth_mm.map(round6),
+                    x: x.x.map(round6),
+                    z: x.z.map(round6),
+                    machine: f.machine.as_deref(),
+                },
+            });
+        }
+    }
+    let log = Log {
+        schema: SCHEMA,
+        version: "2.1.0",
+        runs: vec![Run {
+            tool: Tool {
+                driver: Driver {
+                    name: "latheguard",
+                    version: env!("CARGO_PKG_VERSION"),
+                    semantic_version: env!("CARGO_PKG_VERSION"),
+                    rules,
+                },
+            },
+            original_uri_base_ids: BaseIds {
+                src_root: BaseId {
+                    description: Message {
+                        text: "The folder latheguard ran in; report paths are relative to it.".into(),
+                    },
+                },
+            },
+            artifacts,
+            results,
+            column_kind: "unicodeCodePoints",
+            properties: RunProperties {
+                machine: &r.machine,
+                settings: &r.settings,
+            },
+        }],
+    };
+    let mut s = serde_json::to_string_pretty(&log).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
+    s.push('\n');
+    s
+}
