@@ -374,8 +374,17 @@ impl Checker<'_> {
                 let r = piece.at(u);
                 match self.probe(p, o, r, active) {
                     Err(g) if g < c => {
-                        let contact =
-                            self.contact(m, r, p, o, Kind::NearMiss, Some(g), item.t0 + piece.time(u), active);
+                        if self.episodes.extend(k, m.line, g, true) {
+                            continue;
+                        }
+                        let t = item.t0 + piece.time(u);
+                        let mut contact = self.contact(m, r, p, o, Kind::NearMiss, Some(g), t, active);
+                        if self.settings.snapshots {
+                            if let Some((poly, in_plane)) = self.pose(p, r, active as f64) {
+                                let s = self.snapshot(m, item, r, active, &poly, Some(o), in_plane);
+                                contact.snapshot = Some(Box::new(s));
+                            }
+                        }
                         self.episodes.contact(k, contact);
                     }
                     Ok(_) | Err(_) => self.episodes.clear(k),
