@@ -91,6 +91,9 @@ pub struct CheckArgs {
     /// Write a picture (SVG) of the working plane at each finding into this folder.
     #[arg(long, value_name = "DIR")]
     pub svg: Option<PathBuf>,
+    /// Write an SVG of the final part section (the stock at the end) of the one program checked.
+    #[arg(long, value_name = "FILE.svg")]
+    pub stock_out: Option<PathBuf>,
     /// Files checked in parallel [default: all cores].
     #[arg(short, long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
     pub jobs: Option<u16>,

@@ -58,6 +58,20 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
     let internal = reports.iter().any(|(_, crashed)| *crashed);
     let report = assemble(defaults, &jobs, reports.into_iter().map(|(r, _)| r).collect());
 
+    if let Some(out) = &a.stock_out {
+        match report.files.as_slice() {
+            [f] => {
+                let svg = report::part::part_svg(&f.path, &f.stock);
+                std::fs::write(out, svg).map_err(|e| format!("{}: cannot write: {e}", out.display()))?;
+            }
+            files => {
+                return Err(format!(
+                    "--stock-out draws one program's part; {} files were checked",
+                    files.len()
+                ))
+            }
+        }
+    }
     if let Some(dir) = &a.svg {
         let n = write_pictures(dir, &report)?;
         if !a.quiet && n > 0 {

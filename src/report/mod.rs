@@ -6,6 +6,7 @@
 
 mod json;
 mod junit;
+pub mod part;
 mod sarif;
 pub mod svg;
 mod text;
