@@ -239,6 +239,23 @@ struct Gen<W: Write> {
 }
 
 impl<W: Write> Gen<W> {
+    fn new(w: W, dialect: Dialect, target: usize, seed: u64) -> Gen<W> {
+        Gen {
+            o: Out {
+                w,
+                dialect,
+                lines: 0,
+                n_next: 10,
+            },
+            rng: Lcg::new(seed),
+            seed,
+            target,
+            tool: 1,
+            part: 0,
+            rpm: 1200,
+        }
+    }
+
     fn say(&mut self, comment: &str) -> io::Result<()> {
         self.o.line(&format!("({comment})"))
     }
@@ -526,20 +543,7 @@ fn main() -> ExitCode {
         }
     }
     let stdout = io::stdout();
-    let mut g = Gen {
-        o: Out {
-            w: BufWriter::new(stdout.lock()),
-            dialect,
-            lines: 0,
-            n_next: 10,
-        },
-        rng: Lcg::new(seed),
-        seed,
-        target: lines,
-        tool: 1,
-        part: 0,
-        rpm: 1200,
-    };
+    let mut g = Gen::new(BufWriter::new(stdout.lock()), dialect, lines, seed);
     let r = g.run().and_then(|_| g.o.w.flush());
     match r {
         Ok(()) => ExitCode::SUCCESS,
@@ -556,20 +560,8 @@ fn main() -> ExitCode {
 pub fn generate(lines: usize, fanuc: bool, seed: u64) -> Vec<u8> {
     let mut buf = Vec::new();
     {
-        let mut g = Gen {
-            o: Out {
-                w: BufWriter::new(&mut buf),
-                dialect: if fanuc { Dialect::Fanuc } else { Dialect::LinuxCnc },
-                lines: 0,
-                n_next: 10,
-            },
-            rng: Lcg::new(seed),
-            seed,
-            target: lines,
-            tool: 1,
-            part: 0,
-            rpm: 1200,
-        };
+        let dialect = if fanuc { Dialect::Fanuc } else { Dialect::LinuxCnc };
+        let mut g = Gen::new(BufWriter::new(&mut buf), dialect, lines, seed);
         let _ = g.run().and_then(|_| g.o.w.flush());
     }
     buf

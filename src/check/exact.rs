@@ -169,14 +169,7 @@ impl Checker<'_> {
         }
         let dur = item.duration;
         for &(p, o) in cands {
-            let kind = if p == Part::Insert && o == Obstacle::Stock {
-                match insert_rule {
-                    Some(k) => k,
-                    None => continue,
-                }
-            } else {
-                Kind::Collision
-            };
+            let Some(kind) = rule(p, o, insert_rule) else { continue };
             let k = key(p, active, o, kind);
             let rigid = o != Obstacle::Stock && !matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_));
             let mut found: Vec<Interval> = Vec::new();
@@ -267,21 +260,7 @@ impl Checker<'_> {
         if let Some(d) = depth {
             return Ok(d);
         }
-        let gap = match o {
-            Obstacle::Stock => self
-                .stock
-                .as_ref()
-                .map_or(GAP_WINDOW, |s| s.gap_bound(poly.points(), GAP_WINDOW)),
-            _ => self.obstacle(o).map_or(GAP_WINDOW, |rev| {
-                let g = geom::distance(&poly, &rev.outline);
-                if in_plane {
-                    g.min(geom::distance(&poly, &rev.mirror))
-                } else {
-                    g
-                }
-            }),
-        };
-        Err(gap)
+        Err(self.gap_lower_bound(&poly, in_plane, o).min(GAP_WINDOW))
     }
 
     /// Conservative advancement along a piece: steps of at least the tolerance, and as long as

@@ -492,14 +492,7 @@ impl Checker<'_> {
                 let Some((poly, in_plane)) = posed[idx].1.clone() else {
                     continue;
                 };
-                let kind = if p == Part::Insert && o == Obstacle::Stock {
-                    match insert_rule {
-                        Some(k) => k,
-                        None => continue,
-                    }
-                } else {
-                    Kind::Collision
-                };
+                let Some(kind) = rule(p, o, insert_rule) else { continue };
                 let hit_key = key(p, active, o, kind);
                 let near_key = key(p, active, o, Kind::NearMiss);
                 let quick = k % FULL_DEPTH_EVERY != 0 && self.episodes.is_open(hit_key);
@@ -878,6 +871,16 @@ impl Checker<'_> {
 
         self.overtravel_open = true;
         self.episodes.contact(u64::MAX, c);
+    }
+}
+
+/// The rule a contact of a pair breaks: `collision`, or for the insert in the stock the move's
+/// rule (`None` while machining).
+fn rule(p: Part, o: Obstacle, insert_rule: Option<Kind>) -> Option<Kind> {
+    if p == Part::Insert && o == Obstacle::Stock {
+        insert_rule
+    } else {
+        Some(Kind::Collision)
     }
 }
 
