@@ -48,11 +48,20 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
             if opt.quiet {
                 continue;
             }
-            if let Some(li) = &lines {
+            if let Some(li) = lines.as_ref().filter(|_| !f.source.is_empty()) {
                 if x.line >= 1 && (x.line as usize) <= li.line_count() {
                     let span = li.line_span(&f.source, x.line);
                     let raw = String::from_utf8_lossy(&f.source[span.range()]);
-                    let chars: Vec<char> = raw.chars().map(|c| if c == '\t' { ' ' } else { c }).collect();
+                    // Tabs as spaces; other control bytes (NUL, ^Z, escape sequences) never reach
+                    // the terminal: they show as U+FFFD, one column each like the caret counts.
+                    let chars: Vec<char> = raw
+                        .chars()
+                        .map(|c| match c {
+                            '\t' => ' ',
+                            c if c.is_control() => '\u{FFFD}',
+                            c => c,
+                        })
+                        .collect();
                     let caret = x.col.saturating_sub(1) as usize;
                     let from = if chars.len() > SHOW && caret > SHOW / 2 {
                         (caret - SHOW / 2).min(chars.len() - SHOW)
