@@ -103,13 +103,7 @@ fn n(v: f64) -> String {
 
 /// A length in mm for people: up to three decimals, no trailing zeros.
 fn mm(v: f64) -> String {
-    let s = format!("{v:.3}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" {
-        "0".into()
-    } else {
-        s.into()
-    }
+    super::text::fmt_num(v)
 }
 
 fn esc(s: &str) -> String {

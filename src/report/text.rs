@@ -131,7 +131,8 @@ fn describe(x: &Finding) -> String {
     s
 }
 
-fn fmt_num(v: f64) -> String {
+/// A length in mm for people: up to three decimals, no trailing zeros (shared with the pictures).
+pub(crate) fn fmt_num(v: f64) -> String {
     let s = format!("{v:.3}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
     if s == "-0" {
