@@ -7,7 +7,8 @@
 //! 3. Per-block cost with stock removal for generated programs of 10k, 100k and 1M blocks of
 //!    repeated passes, and the ratio of the largest to the smallest.
 //!
-//! Figures are medians of several runs; compare ratios within one run (shared, noisy machines).
+//! `-- --stock-only` runs section 3 alone. Figures are medians of several runs; compare ratios
+//! within one run (shared, noisy machines).
 
 #[allow(dead_code)]
 #[path = "../examples/gen_program.rs"]
@@ -51,6 +52,15 @@ fn main() {
         ..step
     };
 
+    let stock_only = std::env::args().any(|a| a == "--stock-only");
+    if !stock_only {
+        sections_1_and_2(quick, &m, &step, &exact);
+    }
+    section_3(quick, &m, &step);
+}
+
+fn sections_1_and_2(quick: bool, m: &Machine, step: &Settings, exact: &Settings) {
+    let (m, step, exact) = (m, *step, *exact);
     let lines = if quick { 20_000 } else { 100_000 };
     let src = gen::generate(lines, true, 1);
     println!("1. generated program, {lines} lines, built-in machine, one core");
@@ -87,7 +97,10 @@ fn main() {
             t, out.stats.machine_time_s, out.stats.steps, out.stats.pair_tests, out.stats.pair_tests_skipped
         );
     }
+}
 
+fn section_3(quick: bool, m: &Machine, step: &Settings) {
+    let step = *step;
     println!("3. per-block cost with stock removal (step mode, dt = 1 ms)");
     let sizes: &[usize] = if quick {
         &[10_000, 100_000]
