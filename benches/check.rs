@@ -64,7 +64,7 @@ fn sections_1_and_2(quick: bool, m: &Machine, step: &Settings, exact: &Settings)
     let lines = if quick { 20_000 } else { 100_000 };
     let src = gen::generate(lines, true, 1);
     println!("1. generated program, {lines} lines, built-in machine, one core");
-    let (ts, out) = median_run(3, &src, &m, &step);
+    let (ts, out) = median_run(3, &src, m, &step);
     let st = &out.stats;
     println!(
         "   step dt=1ms: {:.2} s for {:.0} s of machine time: {:.2} M samples/s, {:.2} M pair tests/s, {} findings",
@@ -80,7 +80,7 @@ fn sections_1_and_2(quick: bool, m: &Machine, step: &Settings, exact: &Settings)
         st.pair_tests_skipped,
         100.0 * st.pair_tests as f64 / (st.pair_tests + st.pair_tests_skipped).max(1) as f64
     );
-    let (te, oute) = median_run(3, &src, &m, &exact);
+    let (te, oute) = median_run(3, &src, m, &exact);
     println!(
         "   exact: {:.2} s, {} findings; exact / step = {:.2}x",
         te,
@@ -91,7 +91,7 @@ fn sections_1_and_2(quick: bool, m: &Machine, step: &Settings, exact: &Settings)
     println!("2. 1e8 samples at dt = 1 ms far from any obstacle");
     let far = far_program(1e8);
     for (name, s) in [("step", &step), ("exact", &exact)] {
-        let (t, out) = median_run(3, &far, &m, s);
+        let (t, out) = median_run(3, &far, m, s);
         println!(
             "   {name:<5}: {:.4} s for {:.0} s of machine time ({} samples, {} pair tests, {} skipped)",
             t, out.stats.machine_time_s, out.stats.steps, out.stats.pair_tests, out.stats.pair_tests_skipped
@@ -110,7 +110,7 @@ fn section_3(quick: bool, m: &Machine, step: &Settings) {
     let mut first = None;
     for &n in sizes {
         let src = gen::generate(n, true, 7);
-        let (t, out) = median_run(if n >= 1_000_000 { 1 } else { 3 }, &src, &m, &step);
+        let (t, out) = median_run(if n >= 1_000_000 { 1 } else { 3 }, &src, m, &step);
         let per = t / out.stats.blocks as f64 * 1e6;
         let base = *first.get_or_insert(per);
         println!(
