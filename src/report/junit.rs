@@ -26,24 +26,8 @@ impl Default for JunitOptions {
 }
 
 fn line(f: &Finding) -> String {
-    let mut s = format!("line {}: {}[{}]: {}", f.line, f.severity.name(), f.kind, f.message);
-    let mut facts = Vec::new();
-    if let Some(d) = f.depth_mm {
-        facts.push(format!("depth {d:.3} mm"));
-    }
-    if let Some(t) = f.time_s {
-        facts.push(format!("at {t:.3} s"));
-    }
-    if f.end_line != f.line {
-        facts.push(format!("until line {}", f.end_line));
-    }
-    if let Some(n) = f.n {
-        facts.push(format!("N{n}"));
-    }
-    if !facts.is_empty() {
-        s.push_str(&format!(" ({})", facts.join(", ")));
-    }
-    s
+    let head = format!("line {}: {}[{}]: {}", f.line, f.severity.name(), f.kind, f.message);
+    super::text::with_facts(head, f, false, true)
 }
 
 fn settings_properties(machine: &str, s: &Settings) -> Vec<Property> {

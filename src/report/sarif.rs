@@ -242,21 +242,7 @@ fn line_text(li: &LineIndex, source: &[u8], line: u32) -> Option<String> {
 }
 
 fn message(f: &Finding) -> String {
-    let mut s = f.message.clone();
-    let mut facts = Vec::new();
-    if let Some(d) = f.depth_mm {
-        facts.push(format!("depth {d:.3} mm"));
-    }
-    if let Some(t) = f.time_s {
-        facts.push(format!("at {t:.3} s"));
-    }
-    if f.end_line != f.line {
-        facts.push(format!("until line {}", f.end_line));
-    }
-    if !facts.is_empty() {
-        s.push_str(&format!(" ({})", facts.join(", ")));
-    }
-    s
+    super::text::with_facts(f.message.clone(), f, false, false)
 }
 
 /// The whole batch as one SARIF 2.1.0 log (pretty-printed, with a trailing newline).

@@ -108,7 +108,12 @@ fn plural(n: usize) -> &'static str {
 
 /// The message with the motion facts a machinist looks for.
 fn describe(x: &Finding) -> String {
-    let mut s = x.message.clone();
+    with_facts(x.message.clone(), x, true, true)
+}
+
+/// `message (depth …, at … s[, X… Z…], until line …[, N…])`: the motion facts of a finding after
+/// its message, as every reporter that writes one line per finding shows them.
+pub(crate) fn with_facts(mut s: String, x: &Finding, point: bool, n: bool) -> String {
     let mut facts = Vec::new();
     if let Some(d) = x.depth_mm {
         facts.push(format!("depth {d:.3} mm"));
@@ -116,14 +121,14 @@ fn describe(x: &Finding) -> String {
     if let Some(t) = x.time_s {
         facts.push(format!("at {t:.3} s"));
     }
-    if let (Some(px), Some(pz)) = (x.x, x.z) {
+    if let (true, Some(px), Some(pz)) = (point, x.x, x.z) {
         facts.push(format!("X{} Z{}", fmt_num(px), fmt_num(pz)));
     }
     if x.end_line != x.line {
         facts.push(format!("until line {}", x.end_line));
     }
-    if let Some(n) = x.n {
-        facts.push(format!("N{n}"));
+    if let (true, Some(nn)) = (n, x.n) {
+        facts.push(format!("N{nn}"));
     }
     if !facts.is_empty() {
         let _ = write!(s, " ({})", facts.join(", "));
