@@ -60,7 +60,7 @@ fn timed(src: &[u8], machine: &Machine, s: &Settings, repeats: usize) -> (pipeli
 pub fn run(src: &[u8], machine: &Machine, clearance_mm: f64, repeats: usize) -> Vec<Row> {
     let (prog, interp) = pipeline::interpret(src, machine);
     let _ = prog;
-    let timeline = motion::timeline(&interp.moves, machine);
+    let timeline = motion::timeline(&interp, machine);
     let mut rows = Vec::new();
     for &tol in &TOLERANCES {
         let base = Settings {

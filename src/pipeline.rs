@@ -73,10 +73,10 @@ pub fn interpret(src: &[u8], machine: &Machine) -> (gcode::Program, Interpretati
 
 /// Check one program on a machine.
 pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
-    let (prog, run) = interpret(src, machine);
+    let (prog, mut run) = interpret(src, machine);
     let mut findings = prog.errors;
-    findings.extend(run.findings);
-    let result = crate::check::check(&run.moves, machine, settings);
+    findings.append(&mut run.findings);
+    let result = crate::check::check(&run, machine, settings);
     findings.extend(result.findings);
     sort_findings(&mut findings);
     // A block inside a loop or a repeated subprogram reports its problem once.

@@ -54,6 +54,16 @@ impl LineIndex {
         }
     }
 
+    /// The index of lines that start at `starts` (ascending, `starts[0] == 0`, no start at the
+    /// end of the text) in a text of `len` bytes.
+    pub(crate) fn from_starts(starts: Vec<u32>, len: usize) -> LineIndex {
+        debug_assert!(starts.first() == Some(&0) && starts.windows(2).all(|w| w[0] < w[1]));
+        LineIndex {
+            starts,
+            len: len as u32,
+        }
+    }
+
     pub fn line_count(&self) -> usize {
         self.starts.len()
     }

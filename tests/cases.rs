@@ -127,7 +127,7 @@ fn every_case_reports_exactly_its_expected_findings() {
             if f.components().any(|c| c.as_os_str() == "interp") {
                 let (_, run) = pipeline::interpret(&src, &machine);
                 let mut canon = String::new();
-                latheguard::interp::canon::write(&run.moves, &mut canon);
+                latheguard::interp::canon::write(&run, &mut canon);
                 std::fs::write(f.with_extension("moves"), &canon).unwrap();
             }
             let header: String = exp_text
@@ -142,7 +142,7 @@ fn every_case_reports_exactly_its_expected_findings() {
         if f.components().any(|c| c.as_os_str() == "interp") {
             let (_, run) = pipeline::interpret(&src, &machine);
             let mut canon = String::new();
-            latheguard::interp::canon::write(&run.moves, &mut canon);
+            latheguard::interp::canon::write(&run, &mut canon);
             let moves_path = f.with_extension("moves");
             if update {
                 std::fs::write(&moves_path, &canon).unwrap();

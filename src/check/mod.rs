@@ -18,7 +18,7 @@ mod exact;
 
 use crate::finding::{Finding, Kind, Severity};
 use crate::geom::{self, Aabb, Polygon, P2, V2};
-use crate::interp::{Move, MoveKind};
+use crate::interp::{Interpretation, Move, MoveKind, MoveState};
 use crate::machine::Machine;
 use crate::motion::{self, Timed, Timeline};
 use crate::pipeline::{Mode, Settings, Stats};
@@ -75,6 +75,7 @@ pub struct CheckResult {
 
 struct Checker<'a> {
     moves: &'a [Move],
+    states: &'a [MoveState],
     machine: &'a Machine,
     scene: Scene,
     settings: Settings,
@@ -90,8 +91,9 @@ struct Checker<'a> {
 }
 
 /// Check a program's moves on a machine.
-pub fn check(moves: &[Move], machine: &Machine, settings: &Settings) -> CheckResult {
-    let timeline = motion::timeline(moves, machine);
+pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> CheckResult {
+    let moves = &run.moves[..];
+    let timeline = motion::timeline(run, machine);
     let scene = Scene::new(machine, settings.tolerance_mm);
     let stock_box = machine.stock.as_ref().map(|s| Aabb {
         min: P2::new(-s.diameter / 2.0, s.front - s.length),
@@ -99,6 +101,7 @@ pub fn check(moves: &[Move], machine: &Machine, settings: &Settings) -> CheckRes
     });
     let mut c = Checker {
         moves,
+        states: &run.states,
         machine,
         scene,
         settings: *settings,
@@ -372,7 +375,7 @@ impl Checker<'_> {
         let feed = !rapid;
         let insert_rule = if rapid {
             Some(Kind::RapidIntoStock)
-        } else if !m.spindle.is_on() {
+        } else if !self.states[m.state as usize].spindle.is_on() {
             Some(Kind::SpindleStopped)
         } else {
             None
@@ -593,7 +596,7 @@ impl Checker<'_> {
                 format!("the {a}{other} hits the {b}")
             }
         };
-        let (x, z) = m.frame.to_program(r + m.tip);
+        let (x, z) = self.states[m.state as usize].frame.to_program(r + m.tip);
         let snapshot = None;
         Contact {
             kind,
@@ -845,7 +848,7 @@ impl Checker<'_> {
             }
         }
         let r = at(hi);
-        let (x, z) = m.frame.to_program(r + m.tip);
+        let (x, z) = self.states[m.state as usize].frame.to_program(r + m.tip);
         let axis = if (ax.0.min - r.x).max(r.x - ax.0.max) > 1e-9 {
             "X"
         } else {

@@ -10,9 +10,9 @@ use serde_json::json;
 pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     let machine = load_machine(a.machine.as_deref())?;
     let src = std::fs::read(&a.program).map_err(|e| format!("{}: cannot read: {e}", a.program.display()))?;
-    let (prog, run) = pipeline::interpret(&src, &machine);
+    let (prog, mut run) = pipeline::interpret(&src, &machine);
     let mut findings = prog.errors;
-    findings.extend(run.findings);
+    findings.append(&mut run.findings);
     sort_findings(&mut findings);
     for f in &findings {
         eprintln!(
@@ -26,19 +26,19 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     }
     let mut out = String::new();
     match a.format {
-        MovesFormat::Canon => canon::write(&run.moves, &mut out),
+        MovesFormat::Canon => canon::write(&run, &mut out),
         MovesFormat::Json => {
             let list: Vec<_> = run
                 .moves
                 .iter()
                 .map(|m| {
-                    let (sx, sz) = m.frame.to_program(m.start);
-                    let (ex, ez) = m.frame.to_program(m.end);
+                    let (sx, sz) = run.frame(m).to_program(m.start);
+                    let (ex, ez) = run.frame(m).to_program(m.end);
                     let (kind, extra) = match m.kind {
                         MoveKind::Rapid => ("rapid", json!(null)),
                         MoveKind::Line => ("line", json!(null)),
                         MoveKind::Arc { center, sweep } => {
-                            let (cx, cz) = m.frame.to_program(center);
+                            let (cx, cz) = run.frame(m).to_program(center);
                             ("arc", json!({"center": [cx, cz], "sweep_deg": sweep.to_degrees()}))
                         }
                         MoveKind::Dwell { seconds } => ("dwell", json!({"seconds": seconds})),
@@ -52,7 +52,7 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
                     json!({
                         "line": m.line, "n": m.n, "kind": kind, "station": m.station,
                         "from": [sx, sz], "to": [ex, ez], "feed": feed,
-                        "spindle_rpm": m.spindle.rpm_at(m.start.x), "arc": extra,
+                        "spindle_rpm": run.spindle(m).rpm_at(m.start.x), "arc": extra,
                     })
                 })
                 .collect();

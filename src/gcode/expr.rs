@@ -66,6 +66,54 @@ enum Val {
     Expr(ExprId),
 }
 
+/// The usual number at `start`, read fast: at most 15 digits and one point, no blanks inside, and
+/// then a byte that cannot continue it (blanks may: `X1 0.5` is `X10.5`, so they are looked past).
+/// Its mantissa is exact, so one division rounds correctly. Returns the value, whether it has a
+/// point, and where it ends; `None` when the general reader must decide.
+#[inline(always)]
+pub(super) fn plain_number(src: &[u8], start: usize) -> Option<(f64, bool, usize)> {
+    let mut i = start;
+    let mut mant: u64 = 0;
+    while let Some(&b) = src.get(i) {
+        let d = b.wrapping_sub(b'0');
+        if d > 9 {
+            break;
+        }
+        mant = mant.wrapping_mul(10).wrapping_add(d as u64);
+        i += 1;
+    }
+    let mut digits = i - start;
+    let mut frac = 0;
+    let point = src.get(i) == Some(&b'.');
+    if point {
+        i += 1;
+        let frac_start = i;
+        while let Some(&b) = src.get(i) {
+            let d = b.wrapping_sub(b'0');
+            if d > 9 {
+                break;
+            }
+            mant = mant.wrapping_mul(10).wrapping_add(d as u64);
+            i += 1;
+        }
+        frac = i - frac_start;
+        digits += frac;
+    }
+    let mut after = i;
+    while matches!(src.get(after), Some(b' ' | b'\t')) {
+        after += 1;
+    }
+    if !(1..=15).contains(&digits) || matches!(src.get(after), Some(b'0'..=b'9' | b'.')) {
+        return None;
+    }
+    let x = if frac == 0 {
+        mant as f64
+    } else {
+        mant as f64 / POW10[frac]
+    };
+    Some((x, point, i))
+}
+
 impl Reader<'_> {
     fn push(&mut self, e: Expr) -> ExprId {
         let id = self.prog.exprs.len() as ExprId;
@@ -156,6 +204,17 @@ impl Reader<'_> {
 
     /// A number at the cursor (a digit or '.'), without sign.
     fn number(&mut self) -> Res<(f64, bool)> {
+        if let Some((x, point, end)) = plain_number(&self.src[..self.end], self.pos) {
+            self.pos = end;
+            return Ok((x, point));
+        }
+        self.number_general()
+    }
+
+    /// Any number: blanks between digits, long mantissas, and the errors.
+    #[cold]
+    #[inline(never)]
+    fn number_general(&mut self) -> Res<(f64, bool)> {
         let src = &self.src[..self.end];
         let start = self.pos;
         let mut i = start;

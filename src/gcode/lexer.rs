@@ -7,7 +7,7 @@
 //! the [`Program`]. The first problem on a line becomes one `syntax` finding; the rest of the line
 //! is skipped. Values and expressions are read in `expr.rs`.
 
-use super::{Block, Comment, NameId, OName, OOp, OWord, Program, Word};
+use super::{Block, Comment, NameId, OName, OOp, OWord, Program, Value, Word};
 use crate::finding::Finding;
 use crate::source::{LineIndex, Span};
 use std::collections::HashMap;
@@ -20,24 +20,49 @@ const BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// Read a whole program. Never fails; problems become `syntax` findings in [`Program::errors`].
 pub fn parse(src: &[u8]) -> Program {
-    let lines = LineIndex::new(src);
+    parse_with(src, true)
+}
+
+/// [`parse`], with or without the fast path for plain lines (tests compare the two).
+pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool) -> Program {
+    // One pass finds the line ends (LF, CRLF, lone CR) and reads each line as it is found; the
+    // line starts it records are the program's `LineIndex`.
+    let terminators = memchr::memchr2_iter(b'\n', b'\r', src).count();
+    let mut starts: Vec<u32> = Vec::with_capacity(terminators + 1);
     let mut reader = Reader::new(src);
+    reader.plain_lines_fast = plain_lines_fast;
     // Most lines are blocks of a few words: reserving once saves the copies of growing (the
     // memory a reservation does not use is never touched, and is given back below).
-    reader.prog.blocks.reserve(lines.line_count());
-    reader.prog.words.reserve(src.len() / 6);
-    for i in 0..lines.line_count() {
-        let line = (i + 1) as u32;
-        let span = lines.line_span(src, line);
-        let mut start = span.start as usize;
-        let end = span.end as usize;
-        if i == 0 && src.starts_with(BOM) {
-            start = BOM.len().min(end);
-        }
+    reader.prog.blocks.reserve(terminators + 1);
+    // Words of real programs lie three or more bytes apart; the reserved pages a program does not
+    // use are never touched.
+    reader.prog.words.reserve((src.len() / 3).min(1 << 24));
+    let mut line_start = 0usize;
+    let mut line = 1u32;
+    loop {
+        let (end, next) = match memchr::memchr2(b'\n', b'\r', &src[line_start..]) {
+            Some(k) => {
+                let end = line_start + k;
+                let crlf = src[end] == b'\r' && src.get(end + 1) == Some(&b'\n');
+                (end, end + 1 + crlf as usize)
+            }
+            None => (src.len(), src.len()),
+        };
+        starts.push(line_start as u32);
+        let start = if line == 1 && src.starts_with(BOM) {
+            BOM.len().min(end)
+        } else {
+            line_start
+        };
         reader.read_line(line, start, end);
+        if next >= src.len() {
+            break;
+        }
+        line_start = next;
+        line += 1;
     }
     let mut prog = reader.prog;
-    prog.lines = lines;
+    prog.lines = LineIndex::from_starts(starts, src.len());
     if prog.blocks.capacity() > 2 * prog.blocks.len() {
         prog.blocks.shrink_to_fit();
     }
@@ -61,7 +86,7 @@ struct Partial {
     n: Option<u64>,
     block_delete: bool,
     percent: bool,
-    oword: Option<OWord>,
+    oword: Option<Box<OWord>>,
     message: Option<Span>,
     /// A word, an assignment or an O-word was read.
     started: bool,
@@ -81,6 +106,8 @@ pub(super) struct Reader<'a> {
     line: u32,
     /// Current nesting of brackets, functions and indirections.
     pub depth: u32,
+    /// Try [`Reader::read_plain_line`] first.
+    plain_lines_fast: bool,
 }
 
 impl<'a> Reader<'a> {
@@ -95,6 +122,7 @@ impl<'a> Reader<'a> {
             line_start: 0,
             line: 0,
             depth: 0,
+            plain_lines_fast: true,
         }
     }
 
@@ -193,7 +221,89 @@ impl<'a> Reader<'a> {
         chars as u32 + 1
     }
 
+    /// The usual line, read fast: an optional N number, then words whose values are plain numbers
+    /// (an optional `-` and what [`plain_number`] reads), blanks between, nothing else. Returns
+    /// false, having stored nothing, for any other line: the general reader then reads it and gives
+    /// the same result this would have given.
+    fn read_plain_line(&mut self, line: u32, start: usize, end: usize) -> bool {
+        let src = &self.src[..end];
+        let words0 = self.prog.words.len();
+        let skip_blanks = |mut i: usize| {
+            while matches!(src.get(i), Some(b' ' | b'\t')) {
+                i += 1;
+            }
+            i
+        };
+        let mut i = skip_blanks(start);
+        let mut n = None;
+        if matches!(src.get(i), Some(b'N' | b'n')) {
+            let first = i + 1;
+            let mut j = first;
+            let mut v: u64 = 0;
+            while let Some(&b) = src.get(j) {
+                let d = b.wrapping_sub(b'0');
+                if d > 9 {
+                    break;
+                }
+                v = v.wrapping_mul(10).wrapping_add(d as u64);
+                j += 1;
+            }
+            let after = skip_blanks(j);
+            // At most 18 digits always fit; anything that may continue the number goes the long way.
+            if j == first || j - first > 18 || matches!(src.get(after), Some(b'0'..=b'9' | b'.')) {
+                return false;
+            }
+            n = Some(v);
+            i = after;
+        }
+        while i < end {
+            let c = src[i];
+            if !c.is_ascii_alphabetic() || matches!(c, b'N' | b'n' | b'O' | b'o') {
+                self.prog.words.truncate(words0);
+                return false;
+            }
+            let negative = src.get(i + 1) == Some(&b'-');
+            let v = i + 1 + negative as usize;
+            if !matches!(src.get(v), Some(b'0'..=b'9' | b'.')) {
+                self.prog.words.truncate(words0);
+                return false;
+            }
+            let Some((x, has_point, value_end)) = super::expr::plain_number(src, v) else {
+                self.prog.words.truncate(words0);
+                return false;
+            };
+            self.prog.words.push(Word {
+                letter: c.to_ascii_uppercase(),
+                value: Value::Num(if negative { -x } else { x }),
+                has_point,
+                span: Span::new(i, value_end),
+            });
+            i = skip_blanks(value_end);
+        }
+        let words = words0 as u32..self.prog.words.len() as u32;
+        if words.is_empty() && n.is_none() {
+            return true; // a blank line
+        }
+        let assigns = self.prog.assigns.len() as u32;
+        self.prog.blocks.push(Block {
+            line,
+            span: Span::new(start, end),
+            n,
+            block_delete: false,
+            words,
+            assigns: assigns..assigns,
+            oword: None,
+            percent: false,
+            message: None,
+            bad: false,
+        });
+        true
+    }
+
     fn read_line(&mut self, line: u32, start: usize, end: usize) {
+        if self.plain_lines_fast && self.read_plain_line(line, start, end) {
+            return;
+        }
         self.pos = start;
         self.end = end;
         self.line_start = start;
@@ -269,7 +379,7 @@ impl<'a> Reader<'a> {
                         });
                     }
                     part.started = true;
-                    part.oword = Some(self.oword(at)?);
+                    part.oword = Some(Box::new(self.oword(at)?));
                 }
                 b'#' => {
                     part.started = true;

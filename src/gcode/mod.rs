@@ -111,7 +111,8 @@ pub struct Block {
     pub words: Range<u32>,
     /// Parameter assignments (`#1=…`), executed after the block's words are read.
     pub assigns: Range<u32>,
-    pub oword: Option<OWord>,
+    /// Boxed: most blocks have none, and every block pays for the field.
+    pub oword: Option<Box<OWord>>,
     /// The line starts with `%` (program start/end marker); what follows it is read as usual.
     pub percent: bool,
     /// `(MSG,…)`, `(PRINT,…)`, `(DEBUG,…)`: the text after the comma.

@@ -439,7 +439,7 @@ fn findings_carry_the_block_n_number() {
 fn oword(src: &str) -> (Program, OWord) {
     let prog = p(src);
     assert!(prog.errors.is_empty(), "{src:?}: {:?}", prog.errors);
-    let o = prog.blocks[0].oword.clone().expect("an o-word");
+    let o = *prog.blocks[0].oword.clone().expect("an o-word");
     (prog, o)
 }
 
@@ -862,5 +862,20 @@ proptest! {
             let want: f64 = if *point { format!("{i}.{f:03}").parse().unwrap() } else { *i as f64 };
             prop_assert_eq!(w.1, Value::Num(want));
         }
+    }
+
+    #[test]
+    fn the_fast_line_reader_reads_as_the_general_reader(
+        lines in proptest::collection::vec(
+            "(([GXZUWFSTIKRgxz]|N|n|O|E|e)(-|\\+)?[0-9]{0,17}(\\.[0-9]{0,4})?(\\.)?[ \t]{0,2}|[0-9 .(;#\\[-]){0,9}",
+            1..12,
+        ),
+        crlf in any::<bool>(),
+    ) {
+        let src = lines.join(if crlf { "\r\n" } else { "\n" });
+        let fast = lexer::parse_with(src.as_bytes(), true);
+        let general = lexer::parse_with(src.as_bytes(), false);
+        let show = |p: &Program| format!("{:?}", (&p.blocks, &p.words, &p.assigns, &p.exprs, &p.errors, &p.comments));
+        prop_assert_eq!(show(&fast), show(&general));
     }
 }

@@ -3,7 +3,7 @@
 use super::arc::{arc_from_center, arc_from_radius, ArcTolerance};
 use super::flow::Run;
 use super::state::Motion;
-use super::{Feed, Move, MoveKind, ProgFrame, Spindle, SpindleDir, SpindleSpeed};
+use super::{Feed, Move, MoveKind, MoveState, ProgFrame, Spindle, SpindleDir, SpindleSpeed};
 use crate::gcode::Block;
 use crate::geom::{P2, V2};
 use crate::machine::{DecimalPoint, Dialect};
@@ -11,8 +11,66 @@ use crate::machine::{DecimalPoint, Dialect};
 /// Most G or M codes one block may hold.
 const MAX_CODES: usize = 16;
 
-/// The evaluated words of one block.
-struct Words {
+/// Every G code (×10) some dialect knows; its index is its bit in [`Words::gbits`].
+const KNOWN_G: [u16; 76] = [
+    0, 10, 20, 30, 330, 800, 320, 331, 760, 700, 710, 720, 711, 712, 721, 722, 730, 740, 750, 810, 820, 830, 840, 850,
+    860, 870, 880, 890, 170, 180, 190, 900, 910, 920, 940, 901, 911, 930, 950, 980, 990, 200, 210, 400, 410, 420, 411,
+    421, 430, 431, 490, 540, 550, 560, 570, 580, 590, 610, 611, 640, 960, 970, 70, 80, 40, 280, 281, 300, 301, 530,
+    100, 500, 520, 921, 922, 923,
+];
+
+/// Bit index of each G code below 1000 in [`KNOWN_G`]; 255 for the others.
+const G_INDEX: [u8; 1000] = {
+    let mut t = [255u8; 1000];
+    let mut i = 0;
+    while i < KNOWN_G.len() {
+        t[KNOWN_G[i] as usize] = i as u8;
+        i += 1;
+    }
+    t
+};
+
+/// The bit of a known G code (×10); a code outside [`KNOWN_G`] fails to compile where it is a
+/// constant, and has no bit otherwise.
+#[inline(always)]
+const fn gb(code: u16) -> u128 {
+    if code < 1000 && G_INDEX[code as usize] != 255 {
+        1u128 << G_INDEX[code as usize]
+    } else {
+        0
+    }
+}
+
+/// G7/G8, G20/G21, G90/G91, G90.1/G91.1: the codes that change how values read.
+const UNIT_AND_DISTANCE_CODES: u128 = gb(70) | gb(80) | gb(200) | gb(210) | gb(900) | gb(910) | gb(901) | gb(911);
+/// G93/G94/G95, G98/G99: the feed modes.
+const FEED_MODE_CODES: u128 = gb(930) | gb(940) | gb(950) | gb(980) | gb(990);
+
+/// G96/G97: constant surface speed on and off.
+const SPINDLE_CODES: u128 = gb(960) | gb(970);
+/// Plane, nose-radius compensation, length offsets, work offsets, path mode.
+const PLANE_COMP_OFFSET_CODES: u128 = gb(170)
+    | gb(180)
+    | gb(190)
+    | gb(410)
+    | gb(420)
+    | gb(411)
+    | gb(421)
+    | gb(430)
+    | gb(431)
+    | gb(550)
+    | gb(560)
+    | gb(570)
+    | gb(580)
+    | gb(590)
+    | gb(640);
+/// Non-modal codes that use the axis words themselves: G28, G30, G10, G50, G52, G92.
+const NONMODAL_CODES: u128 =
+    gb(280) | gb(281) | gb(300) | gb(301) | gb(100) | gb(500) | gb(520) | gb(920) | gb(921) | gb(922);
+
+/// The evaluated words of one block. Column offsets are looked up in the block's words only when
+/// a finding needs one.
+pub(super) struct Words {
     val: [f64; 26],
     /// Bit per letter: present.
     has: u32,
@@ -20,11 +78,15 @@ struct Words {
     point: u32,
     /// Byte offset of each letter's word, for columns.
     at: [u32; 26],
-    /// G codes ×10 (G33.1 → 331) with their offsets.
+    /// G codes ×10 (G33.1 → 331) with their offsets, in block order.
     g: [(u16, u32); MAX_CODES],
     ng: usize,
     m: [(u16, u32); MAX_CODES],
     nm: usize,
+    /// Bit per known G code present (see [`gb`]).
+    gbits: u128,
+    /// Bit per M code below 128 present.
+    mbits: u128,
     /// Bits of letters some code used.
     used: u32,
 }
@@ -34,6 +96,22 @@ const fn bit(letter: u8) -> u32 {
 }
 
 impl Words {
+    pub(super) fn new() -> Words {
+        Words {
+            val: [0.0; 26],
+            has: 0,
+            point: 0,
+            at: [0; 26],
+            g: [(0, 0); MAX_CODES],
+            ng: 0,
+            m: [(0, 0); MAX_CODES],
+            nm: 0,
+            gbits: 0,
+            mbits: 0,
+            used: 0,
+        }
+    }
+
     fn get(&mut self, letter: u8) -> Option<f64> {
         let b = bit(letter);
         if self.has & b != 0 {
@@ -52,17 +130,48 @@ impl Words {
         self.peek(letter).then(|| self.at[(letter - b'A') as usize])
     }
 
+    /// The G code (×10) is in the block.
+    #[inline(always)]
+    fn g(&self, code: u16) -> bool {
+        self.gbits & gb(code) != 0
+    }
+
+    /// Any of the G codes whose bits are in `mask`.
+    #[inline(always)]
+    fn any_g(&self, mask: u128) -> bool {
+        self.gbits & mask != 0
+    }
+
+    /// The M code is in the block.
+    #[inline(always)]
+    fn m(&self, code: u16) -> bool {
+        code < 128 && self.mbits & (1u128 << code) != 0
+    }
+
+    /// The offset of the G code's word, when it is in the block.
     fn has_g(&self, code: u16) -> Option<u32> {
+        if !self.g(code) {
+            return None;
+        }
         self.g[..self.ng].iter().find(|(c, _)| *c == code).map(|&(_, a)| a)
     }
 
+    /// The offset of the M code's word, when it is in the block.
     fn has_m(&self, code: u16) -> Option<u32> {
+        if !self.m(code) {
+            return None;
+        }
         self.m[..self.nm].iter().find(|(c, _)| *c == code).map(|&(_, a)| a)
     }
 
     fn axis_words(&self) -> bool {
         self.has & (bit(b'X') | bit(b'Z') | bit(b'U') | bit(b'W')) != 0
     }
+}
+
+/// The tip of the tool in a station (zero for an empty station).
+pub(super) fn tip_of(machine: &crate::machine::Machine, station: u32) -> V2 {
+    machine.tool(station).map_or(V2::zeros(), |t| t.tip.coords)
 }
 
 /// Modal group of a G code (×10) in a dialect; `None` for codes the dialect does not know.
@@ -127,8 +236,9 @@ impl Run<'_> {
         }
     }
 
+    /// The active tool's tip relative to the turret reference point.
     pub(crate) fn tip(&self) -> V2 {
-        self.machine.tool(self.station).map_or(V2::zeros(), |t| t.tip.coords)
+        self.tip
     }
 
     pub(crate) fn origin(&self) -> P2 {
@@ -180,6 +290,13 @@ impl Run<'_> {
         if matches!(kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }) {
             self.reference = end - self.tip();
         }
+        let state = MoveState {
+            spindle: self.spindle(),
+            frame: self.frame(),
+        };
+        if self.states.last() != Some(&state) {
+            self.states.push(state);
+        }
         self.moves.push(Move {
             kind,
             line: b.line,
@@ -189,24 +306,12 @@ impl Run<'_> {
             tip: self.tip(),
             station: self.station,
             feed,
-            spindle: self.spindle(),
-            frame: self.frame(),
+            state: (self.states.len() - 1) as u32,
         });
     }
 
     /// Read the words of a block. `None` when a value could not be evaluated (already reported).
-    fn read_words(&mut self, b: &Block) -> Option<Words> {
-        let mut w = Words {
-            val: [0.0; 26],
-            has: 0,
-            point: 0,
-            at: [0; 26],
-            g: [(0, 0); MAX_CODES],
-            ng: 0,
-            m: [(0, 0); MAX_CODES],
-            nm: 0,
-            used: 0,
-        };
+    fn read_words(&mut self, b: &Block, w: &mut Words) -> bool {
         let fanuc = self.machine.dialect == Dialect::Fanuc;
         let increment = fanuc && self.machine.decimal_point == DecimalPoint::Increment;
         let mut ok = true;
@@ -260,6 +365,11 @@ impl Run<'_> {
                     let code = if letter == b'M' { code / 10 } else { code };
                     list[*n] = (code, at);
                     *n += 1;
+                    if letter == b'G' {
+                        w.gbits |= gb(code);
+                    } else if code < 128 {
+                        w.mbits |= 1u128 << code;
+                    }
                 }
                 _ => {
                     let bit = bit(letter);
@@ -282,14 +392,29 @@ impl Run<'_> {
                 }
             }
         }
-        ok.then_some(w)
+        ok
     }
 
     /// Execute one block that is not an o-word.
     pub(crate) fn execute(&mut self, b: &Block) {
-        let Some(mut w) = self.read_words(b) else {
+        // One word table serves every block: only its masks and counts are reset (the values
+        // of a letter are read only when its bit is set).
+        let mut w = self.words.take().unwrap_or_else(|| Box::new(Words::new()));
+        w.has = 0;
+        w.point = 0;
+        w.used = 0;
+        w.ng = 0;
+        w.nm = 0;
+        w.gbits = 0;
+        w.mbits = 0;
+        self.execute_words(b, &mut w);
+        self.words = Some(w);
+    }
+
+    fn execute_words(&mut self, b: &Block, w: &mut Words) {
+        if !self.read_words(b, w) {
             return;
-        };
+        }
         // Parameter assignments: evaluate every right side first, then assign.
         let assigns = self.prog.assigns_of(b);
         if !assigns.is_empty() {
@@ -319,9 +444,14 @@ impl Run<'_> {
         // Modal group conflicts and unknown codes.
         let mut seen: [Option<u16>; 32] = [None; 32];
         let mut unknown = false;
+        // The motion code of the block (modal group 1), if any.
+        let mut motion_code: Option<(u16, u32)> = None;
         for &(code, at) in &w.g[..w.ng] {
             match g_group(code, d, axis) {
                 Some(grp) => {
+                    if grp == 1 && motion_code.is_none() {
+                        motion_code = Some((code, at));
+                    }
                     if grp != 0 {
                         if let Some(prev) = seen[grp as usize] {
                             if prev != code {
@@ -376,55 +506,59 @@ impl Run<'_> {
         }
 
         // 1. Lathe diameter/radius mode and units come first: they govern how values read.
-        if !fanuc {
-            if w.has_g(70).is_some() {
-                self.modal.diameter = true;
+        if w.any_g(UNIT_AND_DISTANCE_CODES) {
+            if !fanuc {
+                if w.g(70) {
+                    self.modal.diameter = true;
+                }
+                if w.g(80) {
+                    self.modal.diameter = false;
+                }
             }
-            if w.has_g(80).is_some() {
-                self.modal.diameter = false;
+            if w.g(200) {
+                self.modal.inch = true;
             }
-        }
-        if w.has_g(200).is_some() {
-            self.modal.inch = true;
-        }
-        if w.has_g(210).is_some() {
-            self.modal.inch = false;
-        }
-        if w.has_g(900).is_some() && !(fanuc && axis) {
-            self.modal.incremental = false;
-        }
-        if w.has_g(910).is_some() && !(fanuc && axis) {
-            self.modal.incremental = true;
-        }
-        if !fanuc {
-            if w.has_g(901).is_some() {
-                self.modal.arc_incremental = false;
+            if w.g(210) {
+                self.modal.inch = false;
             }
-            if w.has_g(911).is_some() {
-                self.modal.arc_incremental = true;
+            if w.g(900) && !(fanuc && axis) {
+                self.modal.incremental = false;
+            }
+            if w.g(910) && !(fanuc && axis) {
+                self.modal.incremental = true;
+            }
+            if !fanuc {
+                if w.g(901) {
+                    self.modal.arc_incremental = false;
+                }
+                if w.g(911) {
+                    self.modal.arc_incremental = true;
+                }
             }
         }
 
         // 2. Feed mode and feed.
-        if fanuc {
-            if w.has_g(980).is_some() || (w.has_g(940).is_some() && !axis) {
-                self.modal.feed_per_rev = false;
-            }
-            if w.has_g(990).is_some() || (w.has_g(950).is_some() && !axis) {
-                self.modal.feed_per_rev = true;
-            }
-        } else {
-            if w.has_g(940).is_some() {
-                self.modal.feed_per_rev = false;
-            }
-            if w.has_g(950).is_some() {
-                self.modal.feed_per_rev = true;
-            }
-            if let Some(at) = w.has_g(930) {
-                self.unsupported(b, Some(at), "G93 inverse-time feed is not modelled".into(), false);
+        if w.any_g(FEED_MODE_CODES) {
+            if fanuc {
+                if w.g(980) || (w.g(940) && !axis) {
+                    self.modal.feed_per_rev = false;
+                }
+                if w.g(990) || (w.g(950) && !axis) {
+                    self.modal.feed_per_rev = true;
+                }
+            } else {
+                if w.g(940) {
+                    self.modal.feed_per_rev = false;
+                }
+                if w.g(950) {
+                    self.modal.feed_per_rev = true;
+                }
+                if let Some(at) = w.has_g(930) {
+                    self.unsupported(b, Some(at), "G93 inverse-time feed is not modelled".into(), false);
+                }
             }
         }
-        let thread_lead_f = fanuc && (w.has_g(320).is_some() || w.has_g(330).is_some());
+        let thread_lead_f = fanuc && (w.g(320) || w.g(330));
         if !thread_lead_f {
             if let Some(f) = w.get(b'F') {
                 if f < 0.0 {
@@ -436,197 +570,201 @@ impl Run<'_> {
         }
 
         // 3. Spindle speed: S is a clamp with G50/G92 (Fanuc) and D with G96 (LinuxCNC).
-        let clamp_block = fanuc && (w.has_g(500).is_some() || w.has_g(920).is_some()) && !axis;
-        if let Some(s) = w.peek(b'S').then(|| w.get(b'S')).flatten() {
-            if s < 0.0 {
-                self.error(b, w.at(b'S'), format!("negative spindle speed S{s}"));
-            } else if clamp_block {
-                self.modal.css_clamp = Some(s);
-            } else {
-                self.modal.s = s;
-            }
-        }
-        if w.has_g(960).is_some() {
-            self.modal.spindle_css = true;
-            if !fanuc {
-                if let Some(dv) = w.get(b'D') {
-                    self.modal.css_clamp = Some(dv);
+        if w.peek(b'S') || w.any_g(SPINDLE_CODES) {
+            let clamp_block = fanuc && (w.g(500) || w.g(920)) && !axis;
+            if let Some(s) = w.peek(b'S').then(|| w.get(b'S')).flatten() {
+                if s < 0.0 {
+                    self.error(b, w.at(b'S'), format!("negative spindle speed S{s}"));
+                } else if clamp_block {
+                    self.modal.css_clamp = Some(s);
+                } else {
+                    self.modal.s = s;
                 }
             }
-        }
-        if w.has_g(970).is_some() {
-            self.modal.spindle_css = false;
+            if w.g(960) {
+                self.modal.spindle_css = true;
+                if !fanuc {
+                    if let Some(dv) = w.get(b'D') {
+                        self.modal.css_clamp = Some(dv);
+                    }
+                }
+            }
+            if w.g(970) {
+                self.modal.spindle_css = false;
+            }
         }
 
         // 4. Tool selection and change.
-        if let Some(t) = w.get(b'T') {
-            self.tool_word(b, t, w.at(b'T'), fanuc);
-        }
-        if let Some(at) = w.has_m(6) {
-            if fanuc {
-                // Fanuc lathes index at the T word; M6 has nothing left to do.
-            } else {
-                if let Some(t) = self.selected {
-                    self.change_tool(b, t, Some(at));
+        if w.peek(b'T') || w.nm > 0 {
+            if let Some(t) = w.get(b'T') {
+                self.tool_word(b, t, w.at(b'T'), fanuc);
+            }
+            if let Some(at) = w.has_m(6) {
+                if fanuc {
+                    // Fanuc lathes index at the T word; M6 has nothing left to do.
+                } else {
+                    if let Some(t) = self.selected {
+                        self.change_tool(b, t, Some(at));
+                    }
                 }
             }
         }
 
         // 5. Spindle and coolant.
-        if w.has_m(3).is_some() {
-            self.spindle_dir = SpindleDir::Cw;
-        }
-        if w.has_m(4).is_some() {
-            self.spindle_dir = SpindleDir::Ccw;
-        }
-        if w.has_m(5).is_some() {
-            self.spindle_dir = SpindleDir::Off;
-        }
-        for &(code, at) in &w.m[..w.nm] {
-            match code {
-                0..=9 | 30 | 48..=53 | 98 | 99 | 70..=73 => {}
-                41..=44 if fanuc => {}       // gear range: no geometric effect
-                60 | 62..=68 if !fanuc => {} // pallet/IO: no geometric effect
-                21 | 22 if fanuc => self.unsupported(
-                    b,
-                    Some(at),
-                    format!("M{code} moves the tailstock; latheguard keeps it where the machine file puts it"),
-                    true,
-                ),
-                _ => self.unsupported(b, Some(at), format!("M{code} is not a code latheguard models"), false),
+        if w.nm > 0 {
+            if w.m(3) {
+                self.spindle_dir = SpindleDir::Cw;
             }
-        }
-        if w.has_m(70).is_some() || w.has_m(73).is_some() {
-            if w.has_m(73).is_some() {
-                let m = self.modal.clone();
-                match self.frames.last_mut() {
-                    Some(f) => f.autorestore = Some(m),
-                    None => self.saved_modal = Some(m),
+            if w.m(4) {
+                self.spindle_dir = SpindleDir::Ccw;
+            }
+            if w.m(5) {
+                self.spindle_dir = SpindleDir::Off;
+            }
+            for &(code, at) in &w.m[..w.nm] {
+                match code {
+                    0..=9 | 30 | 48..=53 | 98 | 99 | 70..=73 => {}
+                    41..=44 if fanuc => {}       // gear range: no geometric effect
+                    60 | 62..=68 if !fanuc => {} // pallet/IO: no geometric effect
+                    21 | 22 if fanuc => self.unsupported(
+                        b,
+                        Some(at),
+                        format!("M{code} moves the tailstock; latheguard keeps it where the machine file puts it"),
+                        true,
+                    ),
+                    _ => self.unsupported(b, Some(at), format!("M{code} is not a code latheguard models"), false),
                 }
-            } else {
-                self.saved_modal = Some(self.modal.clone());
             }
-        }
-        if w.has_m(71).is_some() {
-            self.saved_modal = None;
-        }
-        if let Some(at) = w.has_m(72) {
-            match self.saved_modal.clone() {
-                Some(m) => self.modal = m,
-                None => self.error(b, Some(at), "M72 without a state saved by M70".into()),
+            if w.m(70) || w.m(73) {
+                if w.m(73) {
+                    let m = self.modal.clone();
+                    match self.frames.last_mut() {
+                        Some(f) => f.autorestore = Some(m),
+                        None => self.saved_modal = Some(m),
+                    }
+                } else {
+                    self.saved_modal = Some(self.modal.clone());
+                }
+            }
+            if w.m(71) {
+                self.saved_modal = None;
+            }
+            if let Some(at) = w.has_m(72) {
+                match self.saved_modal.clone() {
+                    Some(m) => self.modal = m,
+                    None => self.error(b, Some(at), "M72 without a state saved by M70".into()),
+                }
             }
         }
 
         // 6. Dwell.
-        if w.has_g(40).is_some() {
-            self.dwell(b, &mut w, fanuc);
+        if w.g(40) {
+            self.dwell(b, w, fanuc);
         }
 
         // 7. Plane, compensation, length offsets, coordinate systems, path mode.
-        let plane_error_here = w.has_g(170).is_some() || w.has_g(190).is_some();
-        if let Some(at) = w.has_g(170).or(w.has_g(190)) {
-            self.error(b, Some(at), "only the XZ plane (G18) exists on a 2-axis lathe".into());
-            self.modal.plane_xz = false;
-        }
-        if w.has_g(180).is_some() {
-            self.modal.plane_xz = true;
-        }
-        for code in [410u16, 420, 411, 421] {
-            if let Some(at) = w.has_g(code) {
-                if code > 420 || code == 411 {
-                    w.get(b'D');
-                    w.get(b'L');
-                }
-                self.unsupported(
-                    b,
-                    Some(at),
-                    format!(
-                        "{}: tool nose radius compensation is not modelled; the uncompensated path is checked",
-                        g_name(code)
-                    ),
-                    false,
-                );
+        let plane_error_here = w.g(170) || w.g(190);
+        if w.any_g(PLANE_COMP_OFFSET_CODES) {
+            if let Some(at) = w.has_g(170).or(w.has_g(190)) {
+                self.error(b, Some(at), "only the XZ plane (G18) exists on a 2-axis lathe".into());
+                self.modal.plane_xz = false;
             }
-        }
-        if w.has_g(430).is_some() {
-            w.get(b'H');
-        }
-        if let Some(at) = w.has_g(431) {
-            self.unsupported(
-                b,
-                Some(at),
-                "G43.1 dynamic tool length offset is not modelled".into(),
-                true,
-            );
-        }
-        for code in [550u16, 560, 570, 580, 590] {
-            if let Some(at) = w.has_g(code) {
+            if w.g(180) {
+                self.modal.plane_xz = true;
+            }
+            for code in [410u16, 420, 411, 421] {
+                if let Some(at) = w.has_g(code) {
+                    if code > 420 || code == 411 {
+                        w.get(b'D');
+                        w.get(b'L');
+                    }
+                    self.unsupported(
+                        b,
+                        Some(at),
+                        format!(
+                            "{}: tool nose radius compensation is not modelled; the uncompensated path is checked",
+                            g_name(code)
+                        ),
+                        false,
+                    );
+                }
+            }
+            if w.g(430) {
+                w.get(b'H');
+            }
+            if let Some(at) = w.has_g(431) {
                 self.unsupported(
                     b,
                     Some(at),
-                    format!("{}: work offsets other than G54 are not in the machine file; program zero stays at setup.program_zero_z", g_name(code)),
+                    "G43.1 dynamic tool length offset is not modelled".into(),
                     true,
                 );
             }
-        }
-        if w.has_g(640).is_some() {
-            w.get(b'P');
-            w.get(b'Q');
+            for code in [550u16, 560, 570, 580, 590] {
+                if let Some(at) = w.has_g(code) {
+                    self.unsupported(
+                        b,
+                        Some(at),
+                        format!("{}: work offsets other than G54 are not in the machine file; program zero stays at setup.program_zero_z", g_name(code)),
+                        true,
+                    );
+                }
+            }
+            if w.g(640) {
+                w.get(b'P');
+                w.get(b'Q');
+            }
         }
 
         // 8. Non-modal coordinate codes and returns home.
-        if !fanuc && w.has_g(980).is_some() | w.has_g(990).is_some() {
-            // LinuxCNC canned-cycle return level: no effect without canned cycles.
-        }
+        // (LinuxCNC G98/G99, the canned-cycle return level, has no effect without canned cycles.)
         let mut axes_used_by_nonmodal = false;
-        if w.has_g(280).is_some() {
-            self.home_return(b, &mut w);
-            axes_used_by_nonmodal = true;
-        }
-        if let Some(at) = w.has_g(300).or(w.has_g(281)).or(w.has_g(301)).or(w.has_g(100)) {
-            let code = [300u16, 281, 301, 100]
-                .into_iter()
-                .find(|&c| w.has_g(c).is_some())
-                .unwrap_or(300);
-            self.unsupported(b, Some(at), format!("{} is not modelled", g_name(code)), code == 300);
-            w.used = w.has;
-            axes_used_by_nonmodal = true;
-        }
-        if fanuc && w.has_g(500).is_some() && axis {
-            self.set_origin(b, &mut w);
-            axes_used_by_nonmodal = true;
-        }
-        if fanuc && w.has_g(920).is_some() && axis {
-            self.unsupported(
-                b,
-                w.has_g(920),
-                "G92 with axis words (a thread cycle or coordinate setting) is not modelled".into(),
-                true,
-            );
-            w.used = w.has;
-            axes_used_by_nonmodal = true;
-        }
-        if !fanuc {
-            if w.has_g(920).is_some() {
-                self.set_origin(b, &mut w);
+        if w.any_g(NONMODAL_CODES) {
+            if w.g(280) {
+                self.home_return(b, w);
                 axes_used_by_nonmodal = true;
             }
-            if w.has_g(921).is_some() || w.has_g(922).is_some() {
-                self.shift = V2::zeros();
-            }
-            if w.has_g(520).is_some() {
-                let x = w.get(b'X').map(|x| self.to_radius(x)).unwrap_or(0.0) * self.scale();
-                let z = w.get(b'Z').unwrap_or(0.0) * self.scale();
-                self.shift = V2::new(x, z);
+            if let Some(at) = w.has_g(300).or(w.has_g(281)).or(w.has_g(301)).or(w.has_g(100)) {
+                let code = [300u16, 281, 301, 100]
+                    .into_iter()
+                    .find(|&c| w.has_g(c).is_some())
+                    .unwrap_or(300);
+                self.unsupported(b, Some(at), format!("{} is not modelled", g_name(code)), code == 300);
+                w.used = w.has;
                 axes_used_by_nonmodal = true;
+            }
+            if fanuc && w.g(500) && axis {
+                self.set_origin(b, w);
+                axes_used_by_nonmodal = true;
+            }
+            if fanuc && w.g(920) && axis {
+                self.unsupported(
+                    b,
+                    w.has_g(920),
+                    "G92 with axis words (a thread cycle or coordinate setting) is not modelled".into(),
+                    true,
+                );
+                w.used = w.has;
+                axes_used_by_nonmodal = true;
+            }
+            if !fanuc {
+                if w.g(920) {
+                    self.set_origin(b, w);
+                    axes_used_by_nonmodal = true;
+                }
+                if w.g(921) || w.g(922) {
+                    self.shift = V2::zeros();
+                }
+                if w.g(520) {
+                    let x = w.get(b'X').map(|x| self.to_radius(x)).unwrap_or(0.0) * self.scale();
+                    let z = w.get(b'Z').unwrap_or(0.0) * self.scale();
+                    self.shift = V2::new(x, z);
+                    axes_used_by_nonmodal = true;
+                }
             }
         }
 
         // 9. Motion.
-        let motion_code = w.g[..w.ng]
-            .iter()
-            .map(|&(c, a)| (c, a))
-            .find(|&(c, _)| g_group(c, d, axis) == Some(1));
         if let Some((code, at)) = motion_code {
             match code {
                 0 => self.modal.motion = Some(Motion::Rapid),
@@ -662,7 +800,7 @@ impl Run<'_> {
             // An unknown code may be the one that uses the axis words: do not guess a motion.
         } else if (axis || w.peek(b'Y')) && !axes_used_by_nonmodal {
             let before = self.findings.len();
-            self.motion(b, &mut w, g53.is_some(), plane_error_here);
+            self.motion(b, w, g53.is_some(), plane_error_here);
             if self.findings.len() > before {
                 // The move was refused: its words are accounted for by that finding.
                 w.used = w.has;
@@ -674,14 +812,14 @@ impl Run<'_> {
         }
 
         // 10. Program flow.
-        if w.has_m(98).is_some() {
+        if w.m(98) {
             let p = w.get(b'P');
             let l = w.get(b'L');
-            self.check_unused(b, &w);
+            self.check_unused(b, w);
             self.m98(b, p, l, w.has_m(98));
             return;
         }
-        if w.has_m(99).is_some() {
+        if w.m(99) {
             if w.peek(b'P') {
                 self.unsupported(
                     b,
@@ -691,21 +829,26 @@ impl Run<'_> {
                 );
                 w.get(b'P');
             }
-            self.check_unused(b, &w);
+            self.check_unused(b, w);
             self.m99(b);
             return;
         }
-        self.check_unused(b, &w);
-        if w.has_m(2).is_some() || w.has_m(30).is_some() {
+        self.check_unused(b, w);
+        if w.m(2) || w.m(30) {
             self.stopped = true;
         }
     }
 
+    #[inline]
     fn check_unused(&mut self, b: &Block, w: &Words) {
         let unused = w.has & !w.used;
-        if unused == 0 {
-            return;
+        if unused != 0 {
+            self.report_unused(b, w, unused);
         }
+    }
+
+    #[cold]
+    fn report_unused(&mut self, b: &Block, w: &Words, unused: u32) {
         for i in 0..26u8 {
             if unused & (1 << i) != 0 {
                 let letter = (b'A' + i) as char;
@@ -777,6 +920,7 @@ impl Run<'_> {
         }
         let from = self.station;
         self.station = station;
+        self.tip = tip_of(self.machine, station);
         // The reference point stays; the programmed point becomes the new tool's tip.
         let end = self.programmed();
         self.push_move(b, MoveKind::ToolChange { from, to: station }, end, end, Feed::Rapid);

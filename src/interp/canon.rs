@@ -5,15 +5,16 @@
 //! them); in G18 `ARC_FEED`'s first coordinate is Z and its second X, and its rotation is +turns
 //! for G3 and −turns for G2.
 
-use super::{Move, MoveKind};
+use super::{Interpretation, MoveKind, ProgFrame};
 use std::f64::consts::TAU;
 use std::fmt::Write;
 
 /// One line per move: `STRAIGHT_TRAVERSE`, `STRAIGHT_FEED`, `ARC_FEED`, `DWELL`, `CHANGE_TOOL`.
-pub fn write(moves: &[Move], out: &mut String) {
-    out.reserve(moves.len() * 64);
-    for m in moves {
-        let (x, z) = radius_coords(m, m.end);
+pub fn write(run: &Interpretation, out: &mut String) {
+    out.reserve(run.moves.len() * 64);
+    for m in &run.moves {
+        let f = run.frame(m);
+        let (x, z) = radius_coords(f, m.end);
         let _ = write!(out, "{:>5} ", m.line);
         match m.kind {
             MoveKind::Rapid | MoveKind::Line => {
@@ -28,7 +29,7 @@ pub fn write(moves: &[Move], out: &mut String) {
                 out.push_str(", 0.0000, 0.0000, 0.0000)\n");
             }
             MoveKind::Arc { center, sweep } => {
-                let (cx, cz) = radius_coords(m, center);
+                let (cx, cz) = radius_coords(f, center);
                 let turns = (sweep.abs() / TAU - 1e-9).ceil().max(1.0) as i64;
                 let rotation = if sweep > 0.0 { -turns } else { turns };
                 out.push_str("ARC_FEED(");
@@ -68,8 +69,7 @@ fn f4(out: &mut String, v: f64) {
 }
 
 /// Program coordinates with X as a radius.
-fn radius_coords(m: &Move, p: crate::geom::P2) -> (f64, f64) {
-    let f = &m.frame;
+fn radius_coords(f: &ProgFrame, p: crate::geom::P2) -> (f64, f64) {
     ((p.x - f.origin.x) / f.scale, (p.y - f.origin.y) / f.scale)
 }
 

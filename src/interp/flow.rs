@@ -173,6 +173,8 @@ pub(crate) struct Run<'a> {
     /// Turret reference point, spindle frame.
     pub reference: P2,
     pub station: u32,
+    /// The tip of the tool in `station`, relative to the turret reference point.
+    pub tip: V2,
     /// LinuxCNC `T…` waiting for `M6`.
     pub selected: Option<u32>,
     pub spindle_dir: SpindleDir,
@@ -180,6 +182,7 @@ pub(crate) struct Run<'a> {
     pub base_origin: P2,
     pub shift: V2,
     pub moves: Vec<Move>,
+    pub states: Vec<super::MoveState>,
     pub findings: Vec<Finding>,
     pub executed: u64,
     pub pc: usize,
@@ -195,6 +198,8 @@ pub(crate) struct Run<'a> {
     pub y_reported: bool,
     /// The "no motion mode" problem was already reported.
     pub motion_reported: bool,
+    /// The word table of [`Run::execute`], kept between blocks.
+    pub(super) words: Option<Box<super::block::Words>>,
 }
 
 impl<'a> Run<'a> {
@@ -227,11 +232,13 @@ impl<'a> Run<'a> {
             frames: Vec::new(),
             reference: machine.home,
             station,
+            tip: super::block::tip_of(machine, station),
             selected: None,
             spindle_dir: SpindleDir::Off,
             base_origin: P2::new(0.0, machine.program_zero_z),
             shift: V2::zeros(),
             moves: Vec::with_capacity(prog.blocks.len().min(1 << 22)),
+            states: Vec::new(),
             findings,
             executed: 0,
             pc: 0,
@@ -244,12 +251,14 @@ impl<'a> Run<'a> {
             main_repeats: HashMap::new(),
             y_reported: false,
             motion_reported: false,
+            words: None,
         }
     }
 
     pub fn finish(self) -> Interpretation {
         Interpretation {
             moves: self.moves,
+            states: self.states,
             findings: self.findings,
             blocks_executed: self.executed,
         }

@@ -133,6 +133,14 @@ pub struct Move {
     /// Station facing the spindle during the move (after the change for a tool change).
     pub station: u32,
     pub feed: Feed,
+    /// Index of the move's spindle and frame in [`Interpretation::states`].
+    pub state: u32,
+}
+
+/// What runs of moves share and what changes rarely: the spindle and the program frame. Moves
+/// refer to it by index, which keeps a [`Move`] small (a program holds one per block).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MoveState {
     pub spindle: Spindle,
     pub frame: ProgFrame,
 }
@@ -181,10 +189,24 @@ impl Move {
 #[derive(Clone, Debug, Default)]
 pub struct Interpretation {
     pub moves: Vec<Move>,
+    /// The spindles and frames the moves refer to ([`Move::state`]).
+    pub states: Vec<MoveState>,
     /// `program` and `unsupported` findings (syntax findings stay with the reader).
     pub findings: Vec<Finding>,
     /// Blocks executed (a block in a loop counts each time).
     pub blocks_executed: u64,
+}
+
+impl Interpretation {
+    /// The spindle during a move.
+    pub fn spindle(&self, m: &Move) -> &Spindle {
+        &self.states[m.state as usize].spindle
+    }
+
+    /// How to turn a move's points back into program coordinates.
+    pub fn frame(&self, m: &Move) -> &ProgFrame {
+        &self.states[m.state as usize].frame
+    }
 }
 
 /// Limits that keep a run bounded whatever the program does.

@@ -7,7 +7,7 @@
 //! sampler of the checker and the exact sweeps both read it.
 
 use crate::geom::{P2, V2};
-use crate::interp::{Feed, Move, MoveKind};
+use crate::interp::{Feed, Interpretation, Move, MoveKind, Spindle};
 use crate::machine::{Machine, RapidMode};
 
 /// Pieces used to integrate a per-revolution feed under constant surface speed.
@@ -59,12 +59,14 @@ pub struct Timeline {
 }
 
 /// Time a move list.
-pub fn timeline(moves: &[Move], machine: &Machine) -> Timeline {
+pub fn timeline(run: &Interpretation, machine: &Machine) -> Timeline {
+    let moves = &run.moves;
     let mut t = 0.0;
     let mut items = Vec::with_capacity(moves.len());
     let mut stalled = Vec::new();
     for (i, m) in moves.iter().enumerate() {
-        let (duration, path) = time_move(m, machine, &mut || stalled.push(i));
+        let spindle = run.spindle(m);
+        let (duration, path) = time_move(m, spindle, machine, &mut || stalled.push(i));
         let duration = if duration.is_finite() && duration >= 0.0 {
             duration
         } else {
@@ -85,7 +87,7 @@ pub fn timeline(moves: &[Move], machine: &Machine) -> Timeline {
     }
 }
 
-fn time_move(m: &Move, machine: &Machine, stalled: &mut dyn FnMut()) -> (f64, Path) {
+fn time_move(m: &Move, spindle: &Spindle, machine: &Machine, stalled: &mut dyn FnMut()) -> (f64, Path) {
     let from = m.ref_start();
     let to = m.ref_end();
     match m.kind {
@@ -109,7 +111,7 @@ fn time_move(m: &Move, machine: &Machine, stalled: &mut dyn FnMut()) -> (f64, Pa
                 Feed::Rapid => (0.0, Path::Uniform),
                 Feed::PerMinute(f) => (len / (f / 60.0), Path::Uniform),
                 Feed::PerRev(f) => {
-                    let mut sp = m.spindle;
+                    let mut sp = *spindle;
                     if !sp.is_on() {
                         // Timing as if on: the check reports cutting with the spindle stopped.
                         sp.dir = crate::interp::SpindleDir::Cw;
