@@ -126,8 +126,9 @@ fn every_case_reports_exactly_its_expected_findings() {
         if update {
             if f.components().any(|c| c.as_os_str() == "interp") {
                 let (_, run) = pipeline::interpret(&src, &machine);
-                let mut canon = String::new();
-                latheguard::interp::canon::write(&run, &mut canon);
+                let mut canon = Vec::new();
+                latheguard::interp::canon::write(&run, &mut canon).unwrap();
+                let canon = String::from_utf8(canon).unwrap();
                 std::fs::write(f.with_extension("moves"), &canon).unwrap();
             }
             let header: String = exp_text
@@ -141,8 +142,9 @@ fn every_case_reports_exactly_its_expected_findings() {
         // Cases under tests/cases/interp/ also pin the interpreted motion (canonical calls).
         if f.components().any(|c| c.as_os_str() == "interp") {
             let (_, run) = pipeline::interpret(&src, &machine);
-            let mut canon = String::new();
-            latheguard::interp::canon::write(&run, &mut canon);
+            let mut canon = Vec::new();
+            latheguard::interp::canon::write(&run, &mut canon).unwrap();
+            let canon = String::from_utf8(canon).unwrap();
             let moves_path = f.with_extension("moves");
             if update {
                 std::fs::write(&moves_path, &canon).unwrap();

@@ -24,9 +24,19 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
             f.message
         );
     }
-    let mut out = String::new();
-    match a.format {
-        MovesFormat::Canon => canon::write(&run, &mut out),
+    let out = match a.format {
+        MovesFormat::Canon => {
+            // Streamed: a long program's canonical text is never whole in memory.
+            let mut sink = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
+            match canon::write(&run, &mut sink).and_then(|()| std::io::Write::flush(&mut sink)) {
+                // A closed pipe (`latheguard moves … | head`) is not a failure.
+                Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+                    return Err(format!("cannot write to standard output: {e}"))
+                }
+                _ => {}
+            }
+            String::new()
+        }
         MovesFormat::Json => {
             let list: Vec<_> = run
                 .moves
@@ -56,10 +66,11 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
                     })
                 })
                 .collect();
-            out = serde_json::to_string_pretty(&list).unwrap_or_default();
-            out.push('\n');
+            let mut text = serde_json::to_string_pretty(&list).unwrap_or_default();
+            text.push('\n');
+            text
         }
-    }
+    };
     emit(None, &out)?;
     Ok(if findings.iter().any(|f| f.severity == Severity::Error) {
         EXIT_FINDINGS

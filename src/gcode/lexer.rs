@@ -27,7 +27,8 @@ pub fn parse(src: &[u8]) -> Program {
 pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool) -> Program {
     // One pass finds the line ends (LF, CRLF, lone CR) and reads each line as it is found; the
     // line starts it records are the program's `LineIndex`.
-    let terminators = memchr::memchr2_iter(b'\n', b'\r', src).count();
+    // (Files with lone CRs grow the vectors instead.)
+    let terminators = count_lf(src);
     let mut starts: Vec<u32> = Vec::with_capacity(terminators + 1);
     let mut reader = Reader::new(src);
     reader.plain_lines_fast = plain_lines_fast;
@@ -40,9 +41,8 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool) -> Program {
     let mut line_start = 0usize;
     let mut line = 1u32;
     loop {
-        let (end, next) = match memchr::memchr2(b'\n', b'\r', &src[line_start..]) {
-            Some(k) => {
-                let end = line_start + k;
+        let (end, next) = match line_end(src, line_start) {
+            Some(end) => {
                 let crlf = src[end] == b'\r' && src.get(end + 1) == Some(&b'\n');
                 (end, end + 1 + crlf as usize)
             }
@@ -70,6 +70,45 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool) -> Program {
         prog.words.shrink_to_fit();
     }
     prog
+}
+
+/// Eight copies of a byte.
+const fn splat(b: u8) -> u64 {
+    0x0101_0101_0101_0101 * b as u64
+}
+
+/// 0x80 in each byte of `x` that is zero, 0 in the others (exact: no borrow between bytes).
+#[inline(always)]
+fn zero_bytes(x: u64) -> u64 {
+    const M: u64 = splat(0x7F);
+    !(((x & M) + M) | x | M)
+}
+
+/// The first LF or CR at or after `from`, eight bytes at a time (lines are short, so a search
+/// that must be set up for each line would cost more than it saves).
+#[inline]
+pub(super) fn line_end(src: &[u8], from: usize) -> Option<usize> {
+    let mut i = from;
+    while let Some(chunk) = src.get(i..i + 8) {
+        let w = u64::from_le_bytes(chunk.try_into().unwrap_or([0; 8]));
+        let hits = zero_bytes(w ^ splat(b'\n')) | zero_bytes(w ^ splat(b'\r'));
+        if hits != 0 {
+            return Some(i + (hits.trailing_zeros() / 8) as usize);
+        }
+        i += 8;
+    }
+    src[i..].iter().position(|&b| b == b'\n' || b == b'\r').map(|k| i + k)
+}
+
+/// The number of LF bytes.
+pub(super) fn count_lf(src: &[u8]) -> usize {
+    let mut chunks = src.chunks_exact(8);
+    let mut n = 0;
+    for c in &mut chunks {
+        let w = u64::from_le_bytes(c.try_into().unwrap_or([0; 8]));
+        n += zero_bytes(w ^ splat(b'\n')).count_ones() as usize;
+    }
+    n + chunks.remainder().iter().filter(|&&b| b == b'\n').count()
 }
 
 /// A syntax error: where (byte offset in the source) and what.

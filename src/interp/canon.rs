@@ -7,65 +7,117 @@
 
 use super::{Interpretation, MoveKind, ProgFrame};
 use std::f64::consts::TAU;
-use std::fmt::Write;
+use std::io::Write;
 
 /// One line per move: `STRAIGHT_TRAVERSE`, `STRAIGHT_FEED`, `ARC_FEED`, `DWELL`, `CHANGE_TOOL`.
-pub fn write(run: &Interpretation, out: &mut String) {
-    out.reserve(run.moves.len() * 64);
+/// Each line is built in a small buffer and written whole, so a long run streams without a copy
+/// of the whole output in memory.
+pub fn write<W: Write>(run: &Interpretation, sink: &mut W) -> std::io::Result<()> {
+    let mut line = Vec::with_capacity(128);
     for m in &run.moves {
-        let f = run.frame(m);
-        let (x, z) = radius_coords(f, m.end);
-        let _ = write!(out, "{:>5} ", m.line);
-        match m.kind {
-            MoveKind::Rapid | MoveKind::Line => {
-                out.push_str(if m.kind == MoveKind::Rapid {
-                    "STRAIGHT_TRAVERSE("
-                } else {
-                    "STRAIGHT_FEED("
-                });
-                f4(out, x);
-                out.push_str(", 0.0000, ");
-                f4(out, z);
-                out.push_str(", 0.0000, 0.0000, 0.0000)\n");
+        line.clear();
+        one_move(run, m, &mut line);
+        sink.write_all(&line)?;
+    }
+    Ok(())
+}
+
+fn one_move(run: &Interpretation, m: &super::Move, out: &mut Vec<u8>) {
+    let f = run.frame(m);
+    let (x, z) = radius_coords(f, m.end);
+    push_uint(out, m.line as u64, 5, b' ');
+    out.push(b' ');
+    match m.kind {
+        MoveKind::Rapid | MoveKind::Line => {
+            out.extend_from_slice(if m.kind == MoveKind::Rapid {
+                b"STRAIGHT_TRAVERSE("
+            } else {
+                b"STRAIGHT_FEED("
+            });
+            f4(out, x);
+            out.extend_from_slice(b", 0.0000, ");
+            f4(out, z);
+            out.extend_from_slice(b", 0.0000, 0.0000, 0.0000)\n");
+        }
+        MoveKind::Arc { center, sweep } => {
+            let (cx, cz) = radius_coords(f, center);
+            let turns = (sweep.abs() / TAU - 1e-9).ceil().max(1.0) as i64;
+            let rotation = if sweep > 0.0 { -turns } else { turns };
+            out.extend_from_slice(b"ARC_FEED(");
+            for v in [z, x, cz, cx] {
+                f4(out, v);
+                out.extend_from_slice(b", ");
             }
-            MoveKind::Arc { center, sweep } => {
-                let (cx, cz) = radius_coords(f, center);
-                let turns = (sweep.abs() / TAU - 1e-9).ceil().max(1.0) as i64;
-                let rotation = if sweep > 0.0 { -turns } else { turns };
-                out.push_str("ARC_FEED(");
-                for v in [z, x, cz, cx] {
-                    f4(out, v);
-                    out.push_str(", ");
-                }
-                let _ = writeln!(out, "{rotation}, 0.0000, 0.0000, 0.0000, 0.0000)");
+            if rotation < 0 {
+                out.push(b'-');
             }
-            MoveKind::Dwell { seconds } => {
-                out.push_str("DWELL(");
-                f4(out, seconds);
-                out.push_str(")\n");
-            }
-            MoveKind::ToolChange { to, .. } => {
-                let _ = writeln!(out, "CHANGE_TOOL({to})");
-            }
+            push_uint(out, rotation.unsigned_abs(), 1, b'0');
+            out.extend_from_slice(b", 0.0000, 0.0000, 0.0000, 0.0000)\n");
+        }
+        MoveKind::Dwell { seconds } => {
+            out.extend_from_slice(b"DWELL(");
+            f4(out, seconds);
+            out.extend_from_slice(b")\n");
+        }
+        MoveKind::ToolChange { to, .. } => {
+            out.extend_from_slice(b"CHANGE_TOOL(");
+            push_uint(out, to as u64, 1, b'0');
+            out.extend_from_slice(b")\n");
         }
     }
 }
 
 /// Append `v` with four decimals, as `%.4f` prints it (but a value that rounds to zero prints as
-/// `0.0000`, never `-0.0000`), without the
-/// standard library's exact float formatting, which dominates the cost of printing long runs.
-fn f4(out: &mut String, v: f64) {
+/// `0.0000`, never `-0.0000`), without the standard library's formatting machinery, which would
+/// cost more than the rest of the canonical output together.
+fn f4(out: &mut Vec<u8>, v: f64) {
     let scaled = (v * 1e4).round();
     if !scaled.is_finite() || scaled.abs() >= 9e15 {
         let _ = write!(out, "{v:.4}");
         return;
     }
     let n = scaled as i64;
-    if n < 0 {
-        out.push('-');
-    }
     let a = n.unsigned_abs();
-    let _ = write!(out, "{}.{:04}", a / 10_000, a % 10_000);
+    let (mut int, frac) = (a / 10_000, (a % 10_000) as u32);
+    let mut buf = [0u8; 24];
+    buf[19] = b'.';
+    buf[20] = b'0' + (frac / 1000) as u8;
+    buf[21] = b'0' + (frac / 100 % 10) as u8;
+    buf[22] = b'0' + (frac / 10 % 10) as u8;
+    buf[23] = b'0' + (frac % 10) as u8;
+    let mut i = 19;
+    loop {
+        i -= 1;
+        buf[i] = b'0' + (int % 10) as u8;
+        int /= 10;
+        if int == 0 {
+            break;
+        }
+    }
+    if n < 0 {
+        i -= 1;
+        buf[i] = b'-';
+    }
+    out.extend_from_slice(&buf[i..]);
+}
+
+/// Append `a` in decimal, filled on the left with `fill` to `width` characters.
+fn push_uint(out: &mut Vec<u8>, mut a: u64, width: usize, fill: u8) {
+    let mut buf = [0u8; 24];
+    let mut i = buf.len();
+    loop {
+        i -= 1;
+        buf[i] = b'0' + (a % 10) as u8;
+        a /= 10;
+        if a == 0 {
+            break;
+        }
+    }
+    while buf.len() - i < width.min(buf.len()) {
+        i -= 1;
+        buf[i] = fill;
+    }
+    out.extend_from_slice(&buf[i..]);
 }
 
 /// Program coordinates with X as a radius.
@@ -85,9 +137,34 @@ mod tests {
             (-25.4, "-25.4000"),
             (1e6, "1000000.0000"),
         ] {
-            let mut s = String::new();
+            let mut s = Vec::new();
             super::f4(&mut s, v);
-            assert_eq!(s, want, "{v}");
+            assert_eq!(String::from_utf8(s).unwrap(), want, "{v}");
+        }
+    }
+
+    #[test]
+    fn integers_pad_as_printf_does() {
+        for (a, width, fill, want) in [
+            (0u64, 1, b'0', "0"),
+            (7, 4, b'0', "0007"),
+            (12345, 4, b'0', "12345"),
+            (42, 5, b' ', "   42"),
+            (123456, 5, b' ', "123456"),
+            (u64::MAX, 1, b'0', "18446744073709551615"),
+        ] {
+            let mut s = Vec::new();
+            super::push_uint(&mut s, a, width, fill);
+            let s = String::from_utf8(s).unwrap();
+            assert_eq!(s, want);
+            assert_eq!(
+                s,
+                if fill == b' ' {
+                    format!("{a:>width$}")
+                } else {
+                    format!("{a:0width$}")
+                }
+            );
         }
     }
 }
