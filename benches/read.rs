@@ -14,21 +14,30 @@ use latheguard::{gcode, interp};
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
+/// Median and best of several runs, seconds.
+#[derive(Clone, Copy)]
+struct Times {
+    median: f64,
+    best: f64,
 }
 
-fn time<F: FnMut()>(runs: usize, mut f: F) -> f64 {
-    median(
-        (0..runs)
-            .map(|_| {
-                let t = Instant::now();
-                f();
-                t.elapsed().as_secs_f64()
-            })
-            .collect(),
-    )
+fn times<F: FnMut()>(runs: usize, mut f: F) -> Times {
+    let mut v: Vec<f64> = (0..runs)
+        .map(|_| {
+            let t = Instant::now();
+            f();
+            t.elapsed().as_secs_f64()
+        })
+        .collect();
+    v.sort_by(f64::total_cmp);
+    Times {
+        median: v[v.len() / 2],
+        best: v[0],
+    }
+}
+
+fn time<F: FnMut()>(runs: usize, f: F) -> f64 {
+    times(runs, f).median
 }
 
 fn time_cmd(runs: usize, cmd: &str, args: &[&str]) -> Option<f64> {
@@ -63,27 +72,30 @@ fn main() {
     let fanuc = Machine::builtin();
     let dir = std::env::temp_dir().join(format!("latheguard-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    println!("reading + interpreting a generated program, one core, median of 7 runs");
+    println!("reading + interpreting a generated program, one core, 15 runs: median (best)");
     println!(
-        "{:<10} {:>9} {:>12} {:>14} {:>12}",
+        "{:<10} {:>9} {:>16} {:>22} {:>8}",
         "dialect", "lines", "ms", "lines/s", "moves"
     );
     for (name, fan, m) in [("linuxcnc", false, &lcnc), ("fanuc", true, &fanuc)] {
         let src = gen::generate(lines, fan, 1);
         let n = src.iter().filter(|&&b| b == b'\n').count();
         let mut moves = 0;
-        let t = time(7, || {
+        let all = times(15, || {
             let p = gcode::parse(&src);
             let r = interp::interpret(&p, &src, m);
             moves = r.moves.len();
         });
-        let tp = time(7, || {
+        let t = all.median;
+        let tp = time(15, || {
             std::hint::black_box(gcode::parse(&src));
         });
         println!(
-            "{name:<10} {n:>9} {:>12.2} {:>14.0} {moves:>12}   (reading alone: {:.0} lines/s)",
+            "{name:<10} {n:>9} {:>7.2} ({:>6.2}) {:>11.0} ({:>8.0}) {moves:>8}   (reading alone: {:.0} lines/s)",
             t * 1e3,
+            all.best * 1e3,
             n as f64 / t,
+            n as f64 / all.best,
             n as f64 / tp
         );
         let path = dir.join(format!("p-{name}.ngc"));

@@ -18,9 +18,9 @@ fuzz_target!(|data: &[u8]| {
         assert!(b.span.start <= b.span.end && b.span.end as usize <= data.len());
         for w in prog.words_of(b) {
             assert!(w.letter.is_ascii_uppercase());
-            assert!(b.span.start <= w.span.start && w.span.start < w.span.end);
-            assert!(w.span.end <= b.span.end);
-            if let Value::Num(x) = w.value {
+            assert!(b.span.start <= w.span().start && w.span().start < w.span().end);
+            assert!(w.span().end <= b.span.end);
+            if let Value::Num(x) = w.value() {
                 assert!(x.is_finite());
             }
         }

@@ -311,12 +311,12 @@ impl<'a> Reader<'a> {
                 self.prog.words.truncate(words0);
                 return false;
             };
-            self.prog.words.push(Word {
-                letter: c.to_ascii_uppercase(),
-                value: Value::Num(if negative { -x } else { x }),
+            self.prog.words.push(Word::new(
+                c.to_ascii_uppercase(),
+                Value::Num(if negative { -x } else { x }),
                 has_point,
-                span: Span::new(i, value_end),
-            });
+                Span::new(i, value_end),
+            ));
             i = skip_blanks(value_end);
         }
         let words = words0 as u32..self.prog.words.len() as u32;
@@ -372,7 +372,7 @@ impl<'a> Reader<'a> {
             assigns,
             oword: part.oword,
             percent: part.percent,
-            message: part.message,
+            message: part.message.map(Box::new),
             bad,
         });
     }
@@ -445,12 +445,7 @@ impl<'a> Reader<'a> {
                     self.pos += 1;
                     let (value, has_point) = self.value(letter)?;
                     let span = Span::new(at, self.trim_end(at, self.pos));
-                    self.prog.words.push(Word {
-                        letter,
-                        value,
-                        has_point,
-                        span,
-                    });
+                    self.prog.words.push(Word::new(letter, value, has_point, span));
                 }
                 b')' => {
                     return Err(Error {

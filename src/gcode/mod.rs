@@ -115,8 +115,9 @@ pub struct Block {
     pub oword: Option<Box<OWord>>,
     /// The line starts with `%` (program start/end marker); what follows it is read as usual.
     pub percent: bool,
-    /// `(MSG,…)`, `(PRINT,…)`, `(DEBUG,…)`: the text after the comma.
-    pub message: Option<Span>,
+    /// `(MSG,…)`, `(PRINT,…)`, `(DEBUG,…)`: the text after the comma (boxed, as `oword`: rare,
+    /// and every block pays for the field).
+    pub message: Option<Box<Span>>,
     /// The line had a syntax error; what could be read is kept, but the block is not executed.
     pub bad: bool,
 }
@@ -130,17 +131,60 @@ pub struct Comment {
     pub text: Span,
 }
 
-/// One word: a letter and its value.
+/// One word: a letter and its value. (16 bytes: a program holds one for every word it has.)
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Word {
+    /// The value: a number (always finite), or a NaN that carries an [`ExprId`] (see
+    /// [`Word::value`]).
+    raw: f64,
+    /// Byte offset of the letter.
+    pub at: u32,
+    /// Bytes from the letter to the end of the value, at most `u16::MAX` (a longer word, a huge
+    /// expression, has its span cut there; its start is exact).
+    pub len: u16,
     /// Upper-case ASCII letter.
     pub letter: u8,
-    pub value: Value,
     /// The number was written with a decimal point (Fanuc `decimal_point` rule). Always false
     /// for [`Value::Expr`].
     pub has_point: bool,
+}
+
+/// A quiet NaN; an expression id goes in its low 32 bits.
+const EXPR_NAN: u64 = 0x7FF8_0000_0000_0000;
+
+impl Word {
+    pub fn new(letter: u8, value: Value, has_point: bool, span: Span) -> Word {
+        let raw = match value {
+            Value::Num(x) => {
+                debug_assert!(x.is_finite());
+                x
+            }
+            Value::Expr(id) => f64::from_bits(EXPR_NAN | id as u64),
+        };
+        Word {
+            raw,
+            at: span.start,
+            len: (span.end - span.start).min(u16::MAX as u32) as u16,
+            letter,
+            has_point,
+        }
+    }
+
+    pub fn value(&self) -> Value {
+        if self.raw.is_nan() {
+            Value::Expr(self.raw.to_bits() as u32)
+        } else {
+            Value::Num(self.raw)
+        }
+    }
+
     /// From the letter to the end of the value.
-    pub span: Span,
+    pub fn span(&self) -> Span {
+        Span {
+            start: self.at,
+            end: self.at + self.len as u32,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

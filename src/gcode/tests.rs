@@ -59,7 +59,7 @@ fn words(src: &str) -> Vec<String> {
 fn word_strings(prog: &Program, block: &Block) -> Vec<String> {
     prog.words_of(block)
         .iter()
-        .map(|w| match w.value {
+        .map(|w| match w.value() {
             Value::Num(x) => format!("{}{x}", w.letter as char),
             Value::Expr(e) => format!("{}={}", w.letter as char, sx(prog, e)),
         })
@@ -112,14 +112,14 @@ fn word_span_runs_from_letter_to_end_of_value() {
     let src = "G1  X 1 0.5  Z-3 ";
     let prog = p(src);
     let w = prog.words_of(&prog.blocks[0]);
-    assert_eq!(text(src, w[0].span), "G1");
-    assert_eq!(text(src, w[1].span), "X 1 0.5");
-    assert_eq!(text(src, w[2].span), "Z-3");
+    assert_eq!(text(src, w[0].span()), "G1");
+    assert_eq!(text(src, w[1].span()), "X 1 0.5");
+    assert_eq!(text(src, w[2].span()), "Z-3");
     let src = "X[1 + 2] y#<a b> ";
     let prog = p(src);
     let w = prog.words_of(&prog.blocks[0]);
-    assert_eq!(text(src, w[0].span), "X[1 + 2]");
-    assert_eq!(text(src, w[1].span), "y#<a b>");
+    assert_eq!(text(src, w[0].span()), "X[1 + 2]");
+    assert_eq!(text(src, w[1].span()), "y#<a b>");
 }
 
 #[test]
@@ -142,8 +142,8 @@ fn numbers_are_exact() {
     let prog = p("X0.12345678901234567890123456789 Z12345678901234567890");
     let w = prog.words_of(&prog.blocks[0]);
     let want: f64 = "0.12345678901234567890123456789".parse().unwrap();
-    assert_eq!(w[0].value, Value::Num(want));
-    assert_eq!(w[1].value, Value::Num(12345678901234567890.0));
+    assert_eq!(w[0].value(), Value::Num(want));
+    assert_eq!(w[1].value(), Value::Num(12345678901234567890.0));
 }
 
 #[test]
@@ -277,7 +277,7 @@ fn msg_print_debug_comments_give_the_message_text() {
     let msgs: Vec<(u32, Option<&str>)> = prog
         .blocks
         .iter()
-        .map(|b| (b.line, b.message.map(|m| text(src, m))))
+        .map(|b| (b.line, b.message.as_deref().map(|&m| text(src, m))))
         .collect();
     assert_eq!(
         msgs,
@@ -328,7 +328,7 @@ fn utf8_bom_is_skipped() {
     let prog = p(src);
     assert_eq!(word_strings(&prog, &prog.blocks[0]), ["G1", "X1"]);
     assert_eq!(prog.blocks[0].span, Span::new(3, 8));
-    assert_eq!(prog.words[0].span, Span::new(3, 5));
+    assert_eq!(prog.words[0].span(), Span::new(3, 5));
     let (line, col, _) = error("\u{FEFF}G1 X.".as_bytes());
     assert_eq!((line, col), (1, 5));
     // A BOM anywhere else is a byte outside a comment.
@@ -790,9 +790,9 @@ fn check_invariants(src: &[u8]) {
         assert!(b.span.start <= b.span.end && b.span.end as usize <= src.len());
         for w in prog.words_of(b) {
             assert!(w.letter.is_ascii_uppercase());
-            assert!(b.span.start <= w.span.start && w.span.start < w.span.end);
-            assert!(w.span.end <= b.span.end);
-            if let Value::Num(x) = w.value {
+            assert!(b.span.start <= w.span().start && w.span().start < w.span().end);
+            assert!(w.span().end <= b.span.end);
+            if let Value::Num(x) = w.value() {
                 assert!(x.is_finite());
             }
         }
@@ -854,8 +854,8 @@ proptest! {
         let a = p(&plain);
         let b = p(&spaced);
         prop_assert!(a.errors.is_empty() && b.errors.is_empty());
-        let wa: Vec<(u8, Value, bool)> = a.words.iter().map(|w| (w.letter, w.value, w.has_point)).collect();
-        let wb: Vec<(u8, Value, bool)> = b.words.iter().map(|w| (w.letter, w.value, w.has_point)).collect();
+        let wa: Vec<(u8, Value, bool)> = a.words.iter().map(|w| (w.letter, w.value(), w.has_point)).collect();
+        let wb: Vec<(u8, Value, bool)> = b.words.iter().map(|w| (w.letter, w.value(), w.has_point)).collect();
         prop_assert_eq!(&wa, &wb);
         for (w, (l, i, f, point)) in wa.iter().zip(&ws) {
             prop_assert_eq!(w.0, l.as_bytes()[0]);

@@ -68,6 +68,11 @@ const PLANE_COMP_OFFSET_CODES: u128 = gb(170)
 const NONMODAL_CODES: u128 =
     gb(280) | gb(281) | gb(300) | gb(301) | gb(100) | gb(500) | gb(520) | gb(920) | gb(921) | gb(922);
 
+/// The motion codes of a plain block (see [`Run::plain_block`]).
+const PLAIN_MOTION_CODES: u128 = gb(0) | gb(10) | gb(20) | gb(30);
+/// The letters of a plain block.
+const PLAIN_LETTERS: u32 = bit(b'F') | bit(b'I') | bit(b'K') | bit(b'R') | bit(b'X') | bit(b'Z');
+
 /// The evaluated words of one block. Column offsets are looked up in the block's words only when
 /// a finding needs one.
 pub(super) struct Words {
@@ -316,10 +321,10 @@ impl Run<'_> {
         let increment = fanuc && self.machine.decimal_point == DecimalPoint::Increment;
         let mut ok = true;
         for word in self.prog.words_of(b) {
-            let v = match self.value(word.value) {
+            let v = match self.value(word.value()) {
                 Ok(v) => v,
                 Err(m) => {
-                    self.error(b, Some(word.span.start), m);
+                    self.error(b, Some(word.at), m);
                     ok = false;
                     continue;
                 }
@@ -329,7 +334,7 @@ impl Run<'_> {
                 ok = false;
                 continue;
             }
-            let at = word.span.start;
+            let at = word.at;
             match letter {
                 b'G' | b'M' => {
                     let scaled = v * 10.0;
@@ -435,6 +440,11 @@ impl Run<'_> {
             }
         }
         if w.ng == 0 && w.nm == 0 && w.has == 0 {
+            return;
+        }
+        let plain_codes = w.ng == 0 || (w.ng == 1 && w.any_g(PLAIN_MOTION_CODES));
+        if self.plain_blocks_fast && plain_codes && w.nm == 0 && w.has & !PLAIN_LETTERS == 0 && assigns.is_empty() {
+            self.plain_block(b, w);
             return;
         }
         let d = self.machine.dialect;
@@ -560,13 +570,7 @@ impl Run<'_> {
         }
         let thread_lead_f = fanuc && (w.g(320) || w.g(330));
         if !thread_lead_f {
-            if let Some(f) = w.get(b'F') {
-                if f < 0.0 {
-                    self.error(b, w.at(b'F'), format!("negative feed F{f}"));
-                } else {
-                    self.modal.feed = f;
-                }
-            }
+            self.feed_word(b, w);
         }
 
         // 3. Spindle speed: S is a clamp with G50/G92 (Fanuc) and D with G96 (LinuxCNC).
@@ -837,6 +841,40 @@ impl Run<'_> {
         if w.m(2) || w.m(30) {
             self.stopped = true;
         }
+    }
+
+    /// The F word: the feed rate from here on.
+    fn feed_word(&mut self, b: &Block, w: &mut Words) {
+        if let Some(f) = w.get(b'F') {
+            if f < 0.0 {
+                self.error(b, w.at(b'F'), format!("negative feed F{f}"));
+            } else {
+                self.modal.feed = f;
+            }
+        }
+    }
+
+    /// A block of the commonest kind: at most one of G0–G3, and only X, Z, F, I, K, R words (no M
+    /// code, no assignment). What [`Run::execute_words`] would do with it, without the steps that
+    /// have nothing to do for it (tests run both ways and compare).
+    fn plain_block(&mut self, b: &Block, w: &mut Words) {
+        self.feed_word(b, w);
+        if w.ng == 1 {
+            self.modal.motion = Some(match w.g[0].0 {
+                0 => Motion::Rapid,
+                10 => Motion::Line,
+                20 => Motion::ArcCw,
+                _ => Motion::ArcCcw,
+            });
+        }
+        if w.axis_words() {
+            let before = self.findings.len();
+            self.motion(b, w, false, false);
+            if self.findings.len() > before {
+                w.used = w.has;
+            }
+        }
+        self.check_unused(b, w);
     }
 
     #[inline]

@@ -198,6 +198,8 @@ pub(crate) struct Run<'a> {
     pub y_reported: bool,
     /// The "no motion mode" problem was already reported.
     pub motion_reported: bool,
+    /// Take [`Run::plain_block`] for the blocks it serves (off only in tests that compare).
+    pub(crate) plain_blocks_fast: bool,
     /// The word table of [`Run::execute`], kept between blocks.
     pub(super) words: Option<Box<super::block::Words>>,
 }
@@ -252,6 +254,7 @@ impl<'a> Run<'a> {
             y_reported: false,
             motion_reported: false,
             words: None,
+            plain_blocks_fast: true,
         }
     }
 

@@ -12,6 +12,8 @@ pub mod canon;
 mod eval;
 mod flow;
 mod state;
+#[cfg(test)]
+mod tests;
 
 use crate::finding::Finding;
 use crate::gcode::Program;
