@@ -12,7 +12,7 @@ use crate::machine::{DecimalPoint, Dialect};
 const MAX_CODES: usize = 16;
 
 /// Every G code (×10) some dialect knows; its index is its bit in [`Words::gbits`].
-const KNOWN_G: [u16; 76] = [
+pub(super) const KNOWN_G: [u16; 76] = [
     0, 10, 20, 30, 330, 800, 320, 331, 760, 700, 710, 720, 711, 712, 721, 722, 730, 740, 750, 810, 820, 830, 840, 850,
     860, 870, 880, 890, 170, 180, 190, 900, 910, 920, 940, 901, 911, 930, 950, 980, 990, 200, 210, 400, 410, 420, 411,
     421, 430, 431, 490, 540, 550, 560, 570, 580, 590, 610, 611, 640, 960, 970, 70, 80, 40, 280, 281, 300, 301, 530,
@@ -30,8 +30,8 @@ const G_INDEX: [u8; 1000] = {
     t
 };
 
-/// The bit of a known G code (×10); a code outside [`KNOWN_G`] fails to compile where it is a
-/// constant, and has no bit otherwise.
+/// The bit of a known G code (×10); 0 for a code outside [`KNOWN_G`] (a test checks that every
+/// code this file asks about is in the list).
 #[inline(always)]
 const fn gb(code: u16) -> u128 {
     if code < 1000 && G_INDEX[code as usize] != 255 {
@@ -73,8 +73,7 @@ const PLAIN_MOTION_CODES: u128 = gb(0) | gb(10) | gb(20) | gb(30);
 /// The letters of a plain block.
 const PLAIN_LETTERS: u32 = bit(b'F') | bit(b'I') | bit(b'K') | bit(b'R') | bit(b'X') | bit(b'Z');
 
-/// The evaluated words of one block. Column offsets are looked up in the block's words only when
-/// a finding needs one.
+/// The evaluated words of one block.
 pub(super) struct Words {
     val: [f64; 26],
     /// Bit per letter: present.
