@@ -20,6 +20,80 @@ impl Span {
     }
 }
 
+/// The physical lines of a text: `(start, end)` of each, the end without its terminator (LF,
+/// CRLF or a lone CR). An empty text is one empty line; a terminator at the very end starts no
+/// further line.
+pub fn lines(src: &[u8]) -> Lines<'_> {
+    Lines {
+        src,
+        next: 0,
+        done: false,
+    }
+}
+
+/// The iterator of [`lines`].
+pub struct Lines<'a> {
+    src: &'a [u8],
+    next: usize,
+    done: bool,
+}
+
+impl Iterator for Lines<'_> {
+    type Item = (usize, usize);
+
+    #[inline]
+    fn next(&mut self) -> Option<(usize, usize)> {
+        if self.done {
+            return None;
+        }
+        let (src, start) = (self.src, self.next);
+        let end = line_end(src, start).unwrap_or(src.len());
+        let crlf = src.get(end) == Some(&b'\r') && src.get(end + 1) == Some(&b'\n');
+        self.next = end + 1 + crlf as usize;
+        self.done = self.next >= src.len();
+        Some((start, end))
+    }
+}
+
+/// Eight copies of a byte.
+const fn splat(b: u8) -> u64 {
+    0x0101_0101_0101_0101 * b as u64
+}
+
+/// 0x80 in each byte of `x` that is zero, 0 in the others (exact: no borrow between bytes).
+#[inline(always)]
+fn zero_bytes(x: u64) -> u64 {
+    const M: u64 = splat(0x7F);
+    !(((x & M) + M) | x | M)
+}
+
+/// The first LF or CR at or after `from`, eight bytes at a time (lines are short, so a search
+/// that must be set up for each line would cost more than it saves).
+#[inline]
+fn line_end(src: &[u8], from: usize) -> Option<usize> {
+    let mut i = from;
+    while let Some(chunk) = src.get(i..i + 8) {
+        let w = u64::from_le_bytes(chunk.try_into().unwrap_or([0; 8]));
+        let hits = zero_bytes(w ^ splat(b'\n')) | zero_bytes(w ^ splat(b'\r'));
+        if hits != 0 {
+            return Some(i + (hits.trailing_zeros() / 8) as usize);
+        }
+        i += 8;
+    }
+    src[i..].iter().position(|&b| b == b'\n' || b == b'\r').map(|k| i + k)
+}
+
+/// The number of LF bytes.
+pub(crate) fn count_lf(src: &[u8]) -> usize {
+    let mut chunks = src.chunks_exact(8);
+    let mut n = 0;
+    for c in &mut chunks {
+        let w = u64::from_le_bytes(c.try_into().unwrap_or([0; 8]));
+        n += zero_bytes(w ^ splat(b'\n')).count_ones() as usize;
+    }
+    n + chunks.remainder().iter().filter(|&&b| b == b'\n').count()
+}
+
 /// Where each physical line starts. Lines end at LF, CRLF or a lone CR.
 #[derive(Clone, Debug, Default)]
 pub struct LineIndex {
@@ -30,28 +104,9 @@ pub struct LineIndex {
 
 impl LineIndex {
     pub fn new(src: &[u8]) -> LineIndex {
-        let mut starts = vec![0u32];
-        let mut i = 0;
-        while i < src.len() {
-            match src[i] {
-                b'\n' => starts.push((i + 1) as u32),
-                b'\r' => {
-                    if src.get(i + 1) == Some(&b'\n') {
-                        i += 1;
-                    }
-                    starts.push((i + 1) as u32);
-                }
-                _ => {}
-            }
-            i += 1;
-        }
-        if starts.len() > 1 && *starts.last().unwrap() as usize == src.len() {
-            starts.pop();
-        }
-        LineIndex {
-            starts,
-            len: src.len() as u32,
-        }
+        let mut starts = Vec::with_capacity(count_lf(src) + 1);
+        starts.extend(lines(src).map(|(start, _)| start as u32));
+        LineIndex::from_starts(starts, src.len())
     }
 
     /// The index of lines that start at `starts` (ascending, `starts[0] == 0`, no start at the
@@ -95,5 +150,46 @@ impl LineIndex {
         let text = &src[start..end];
         // Count UTF-8 scalar starts; stray bytes count one each.
         text.iter().filter(|&&b| (b & 0xC0) != 0x80).count() as u32 + 1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn line_ends_are_found_at_every_offset_and_byte() {
+        // The word-at-a-time search against the plain one, for terminators at every position of a
+        // chunk and next to bytes that differ from them by one bit.
+        for len in 0..40 {
+            for at in 0..len {
+                for term in [b'\n', b'\r'] {
+                    for filler in [b'a', 0x0B, 0x0C, 0x8A, 0x8D, 0x00, 0xFF, b'\n' ^ 0x80] {
+                        let mut src = vec![filler; len];
+                        src[at] = term;
+                        for from in 0..=at {
+                            let want = src[from..]
+                                .iter()
+                                .position(|&b| b == b'\n' || b == b'\r')
+                                .map(|k| from + k);
+                            assert_eq!(super::line_end(&src, from), want, "len {len} at {at} from {from}");
+                        }
+                        let lf = src.iter().filter(|&&b| b == b'\n').count();
+                        assert_eq!(super::count_lf(&src), lf);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn lines_and_the_index_agree_on_every_terminator() {
+        for text in ["", "a", "a\n", "a\nb", "\n\n", "a\r\nb\rc\n", "\r", "\r\n", "a\r\r\nb"] {
+            let src = text.as_bytes();
+            let li = super::LineIndex::new(src);
+            let spans: Vec<(usize, usize)> = super::lines(src).collect();
+            assert_eq!(li.line_count(), spans.len(), "{text:?}");
+            for (k, &(s, e)) in spans.iter().enumerate() {
+                assert_eq!(li.line_span(src, k as u32 + 1), super::Span::new(s, e), "{text:?}");
+            }
+        }
     }
 }

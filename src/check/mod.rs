@@ -18,7 +18,7 @@ mod exact;
 
 use crate::finding::{Finding, Kind, Severity};
 use crate::geom::{self, Aabb, Polygon, P2, V2};
-use crate::interp::{Interpretation, Move, MoveKind, MoveState};
+use crate::interp::{Interpretation, Move, MoveKind};
 use crate::machine::Machine;
 use crate::motion::{self, Timed, Timeline};
 use crate::pipeline::{Mode, Settings, Stats};
@@ -74,8 +74,7 @@ pub struct CheckResult {
 }
 
 struct Checker<'a> {
-    moves: &'a [Move],
-    states: &'a [MoveState],
+    run: &'a Interpretation,
     machine: &'a Machine,
     scene: Scene,
     settings: Settings,
@@ -100,8 +99,7 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
         max: P2::new(s.diameter / 2.0, s.front),
     });
     let mut c = Checker {
-        moves,
-        states: &run.states,
+        run,
         machine,
         scene,
         settings: *settings,
@@ -188,38 +186,33 @@ impl Checker<'_> {
         let Some(ts) = self.scene.tailstock.clone() else {
             return;
         };
-        let line = self.moves.first().map_or(1, |m| m.line);
+        let line = self.run.moves.first().map_or(1, |m| m.line);
         if let Some(ch) = self.scene.chuck.clone() {
             if let Some(d) = geom::overlap(&ts.outline, &ch.outline) {
-                let mut f = Finding::at(
-                    Kind::Collision,
-                    Severity::Error,
-                    line,
-                    0,
-                    "the tailstock overlaps the chuck in the setup",
-                );
-                f.objects = vec!["tailstock".into(), "chuck".into()];
-                f.depth_mm = Some(d);
-                f.time_s = Some(0.0);
-                self.episodes.findings.push(f);
+                self.setup_overlap(line, "chuck", d);
             }
         }
         if self.machine.stock.is_some() {
             let pts = ts.outline.points().to_vec();
             if let Some(hit) = self.ensure_stock().and_then(|s| s.overlap(&pts, geom::TOUCH_EPS)) {
-                let mut f = Finding::at(
-                    Kind::Collision,
-                    Severity::Error,
-                    line,
-                    0,
-                    "the tailstock overlaps the stock in the setup",
-                );
-                f.objects = vec!["tailstock".into(), "stock".into()];
-                f.depth_mm = Some(hit.depth);
-                f.time_s = Some(0.0);
-                self.episodes.findings.push(f);
+                self.setup_overlap(line, "stock", hit.depth);
             }
         }
+    }
+
+    /// A collision of the tailstock with `other` in the setup, before anything moves.
+    fn setup_overlap(&mut self, line: u32, other: &str, depth: f64) {
+        let mut f = Finding::at(
+            Kind::Collision,
+            Severity::Error,
+            line,
+            0,
+            format!("the tailstock overlaps the {other} in the setup"),
+        );
+        f.objects = vec!["tailstock".into(), other.into()];
+        f.depth_mm = Some(depth);
+        f.time_s = Some(0.0);
+        self.episodes.findings.push(f);
     }
 
     fn parts(&self, active: u32) -> Vec<Part> {
@@ -347,7 +340,7 @@ impl Checker<'_> {
     }
 
     fn one_move(&mut self, item: &Timed) {
-        let m = &self.moves[item.index];
+        let m = &self.run.moves[item.index];
         self.overtravel(m, item);
         match m.kind {
             MoveKind::ToolChange { from, to } => self.index_sweep(m, item, from, to),
@@ -375,7 +368,7 @@ impl Checker<'_> {
         let feed = !rapid;
         let insert_rule = if rapid {
             Some(Kind::RapidIntoStock)
-        } else if !self.states[m.state as usize].spindle.is_on() {
+        } else if !self.run.spindle(m).is_on() {
             Some(Kind::SpindleStopped)
         } else {
             None
@@ -596,7 +589,7 @@ impl Checker<'_> {
                 format!("the {a}{other} hits the {b}")
             }
         };
-        let (x, z) = self.states[m.state as usize].frame.to_program(r + m.tip);
+        let (x, z) = self.run.frame(m).to_program(r + m.tip);
         let snapshot = None;
         Contact {
             kind,
@@ -662,7 +655,7 @@ impl Checker<'_> {
         }
         let mut path = Vec::new();
         if item.index > 0 {
-            let prev = &self.moves[item.index - 1];
+            let prev = &self.run.moves[item.index - 1];
             path.extend((0..=24).map(|k| prev.point_at(k as f64 / 24.0)));
         }
         path.extend((0..=48).map(|k| m.point_at(k as f64 / 48.0)));
@@ -848,7 +841,7 @@ impl Checker<'_> {
             }
         }
         let r = at(hi);
-        let (x, z) = self.states[m.state as usize].frame.to_program(r + m.tip);
+        let (x, z) = self.run.frame(m).to_program(r + m.tip);
         let axis = if (ax.0.min - r.x).max(r.x - ax.0.max) > 1e-9 {
             "X"
         } else {

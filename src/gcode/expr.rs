@@ -66,14 +66,10 @@ enum Val {
     Expr(ExprId),
 }
 
-/// The usual number at `start`, read fast: at most 15 digits and one point, no blanks inside, and
-/// then a byte that cannot continue it (blanks may: `X1 0.5` is `X10.5`, so they are looked past).
-/// Its mantissa is exact, so one division rounds correctly. Returns the value, whether it has a
-/// point, and where it ends; `None` when the general reader must decide.
+/// The run of decimal digits at `i`: where it ends, and `mant` with its digits appended (wrapping
+/// on overflow: callers bound the number of digits they accept).
 #[inline(always)]
-pub(super) fn plain_number(src: &[u8], start: usize) -> Option<(f64, bool, usize)> {
-    let mut i = start;
-    let mut mant: u64 = 0;
+pub(super) fn digit_run(src: &[u8], mut i: usize, mut mant: u64) -> (usize, u64) {
     while let Some(&b) = src.get(i) {
         let d = b.wrapping_sub(b'0');
         if d > 9 {
@@ -82,27 +78,35 @@ pub(super) fn plain_number(src: &[u8], start: usize) -> Option<(f64, bool, usize
         mant = mant.wrapping_mul(10).wrapping_add(d as u64);
         i += 1;
     }
+    (i, mant)
+}
+
+/// The first offset at or after `i` that does not hold a space or a tab.
+#[inline(always)]
+pub(super) fn skip_blanks(src: &[u8], mut i: usize) -> usize {
+    while matches!(src.get(i), Some(b' ' | b'\t')) {
+        i += 1;
+    }
+    i
+}
+
+/// The usual number at `start`, read fast: at most 15 digits and one point, no blanks inside, and
+/// then a byte that cannot continue it (blanks may: `X1 0.5` is `X10.5`, so they are looked past).
+/// Its mantissa is exact, so one division rounds correctly. Returns the value, whether it has a
+/// point, and where it ends; `None` when the general reader must decide.
+#[inline(always)]
+pub(super) fn plain_number(src: &[u8], start: usize) -> Option<(f64, bool, usize)> {
+    let (mut i, mut mant) = digit_run(src, start, 0);
     let mut digits = i - start;
     let mut frac = 0;
     let point = src.get(i) == Some(&b'.');
     if point {
-        i += 1;
-        let frac_start = i;
-        while let Some(&b) = src.get(i) {
-            let d = b.wrapping_sub(b'0');
-            if d > 9 {
-                break;
-            }
-            mant = mant.wrapping_mul(10).wrapping_add(d as u64);
-            i += 1;
-        }
+        let frac_start = i + 1;
+        (i, mant) = digit_run(src, frac_start, mant);
         frac = i - frac_start;
         digits += frac;
     }
-    let mut after = i;
-    while matches!(src.get(after), Some(b' ' | b'\t')) {
-        after += 1;
-    }
+    let after = skip_blanks(src, i);
     if !(1..=15).contains(&digits) || matches!(src.get(after), Some(b'0'..=b'9' | b'.')) {
         return None;
     }

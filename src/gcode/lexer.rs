@@ -7,9 +7,10 @@
 //! the [`Program`]. The first problem on a line becomes one `syntax` finding; the rest of the line
 //! is skipped. Values and expressions are read in `expr.rs`.
 
+use super::expr::{digit_run, plain_number, skip_blanks};
 use super::{Block, Comment, NameId, OName, OOp, OWord, Program, Value, Word};
 use crate::finding::Finding;
-use crate::source::{LineIndex, Span};
+use crate::source::{count_lf, lines, LineIndex, Span};
 use std::collections::HashMap;
 
 /// How deep brackets, function calls and parameter indirections (`##1`) may nest in one value.
@@ -25,9 +26,8 @@ pub fn parse(src: &[u8]) -> Program {
 
 /// [`parse`], with or without the fast path for plain lines (tests compare the two).
 pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool) -> Program {
-    // One pass finds the line ends (LF, CRLF, lone CR) and reads each line as it is found; the
-    // line starts it records are the program's `LineIndex`.
-    // (Files with lone CRs grow the vectors instead.)
+    // One pass over the lines reads each as it is found; the line starts it records are the
+    // program's `LineIndex`. (Files with lone CRs grow the vectors instead.)
     let terminators = count_lf(src);
     let mut starts: Vec<u32> = Vec::with_capacity(terminators + 1);
     let mut reader = Reader::new(src);
@@ -38,16 +38,7 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool) -> Program {
     // Words of real programs lie three or more bytes apart; the reserved pages a program does not
     // use are never touched.
     reader.prog.words.reserve((src.len() / 3).min(1 << 24));
-    let mut line_start = 0usize;
-    let mut line = 1u32;
-    loop {
-        let (end, next) = match line_end(src, line_start) {
-            Some(end) => {
-                let crlf = src[end] == b'\r' && src.get(end + 1) == Some(&b'\n');
-                (end, end + 1 + crlf as usize)
-            }
-            None => (src.len(), src.len()),
-        };
+    for (line, (line_start, end)) in (1u32..).zip(lines(src)) {
         starts.push(line_start as u32);
         let start = if line == 1 && src.starts_with(BOM) {
             BOM.len().min(end)
@@ -55,11 +46,6 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool) -> Program {
             line_start
         };
         reader.read_line(line, start, end);
-        if next >= src.len() {
-            break;
-        }
-        line_start = next;
-        line += 1;
     }
     let mut prog = reader.prog;
     prog.lines = LineIndex::from_starts(starts, src.len());
@@ -70,45 +56,6 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool) -> Program {
         prog.words.shrink_to_fit();
     }
     prog
-}
-
-/// Eight copies of a byte.
-const fn splat(b: u8) -> u64 {
-    0x0101_0101_0101_0101 * b as u64
-}
-
-/// 0x80 in each byte of `x` that is zero, 0 in the others (exact: no borrow between bytes).
-#[inline(always)]
-fn zero_bytes(x: u64) -> u64 {
-    const M: u64 = splat(0x7F);
-    !(((x & M) + M) | x | M)
-}
-
-/// The first LF or CR at or after `from`, eight bytes at a time (lines are short, so a search
-/// that must be set up for each line would cost more than it saves).
-#[inline]
-pub(super) fn line_end(src: &[u8], from: usize) -> Option<usize> {
-    let mut i = from;
-    while let Some(chunk) = src.get(i..i + 8) {
-        let w = u64::from_le_bytes(chunk.try_into().unwrap_or([0; 8]));
-        let hits = zero_bytes(w ^ splat(b'\n')) | zero_bytes(w ^ splat(b'\r'));
-        if hits != 0 {
-            return Some(i + (hits.trailing_zeros() / 8) as usize);
-        }
-        i += 8;
-    }
-    src[i..].iter().position(|&b| b == b'\n' || b == b'\r').map(|k| i + k)
-}
-
-/// The number of LF bytes.
-pub(super) fn count_lf(src: &[u8]) -> usize {
-    let mut chunks = src.chunks_exact(8);
-    let mut n = 0;
-    for c in &mut chunks {
-        let w = u64::from_le_bytes(c.try_into().unwrap_or([0; 8]));
-        n += zero_bytes(w ^ splat(b'\n')).count_ones() as usize;
-    }
-    n + chunks.remainder().iter().filter(|&&b| b == b'\n').count()
 }
 
 /// A syntax error: where (byte offset in the source) and what.
@@ -267,27 +214,12 @@ impl<'a> Reader<'a> {
     fn read_plain_line(&mut self, line: u32, start: usize, end: usize) -> bool {
         let src = &self.src[..end];
         let words0 = self.prog.words.len();
-        let skip_blanks = |mut i: usize| {
-            while matches!(src.get(i), Some(b' ' | b'\t')) {
-                i += 1;
-            }
-            i
-        };
-        let mut i = skip_blanks(start);
+        let mut i = skip_blanks(src, start);
         let mut n = None;
         if matches!(src.get(i), Some(b'N' | b'n')) {
             let first = i + 1;
-            let mut j = first;
-            let mut v: u64 = 0;
-            while let Some(&b) = src.get(j) {
-                let d = b.wrapping_sub(b'0');
-                if d > 9 {
-                    break;
-                }
-                v = v.wrapping_mul(10).wrapping_add(d as u64);
-                j += 1;
-            }
-            let after = skip_blanks(j);
+            let (j, v) = digit_run(src, first, 0);
+            let after = skip_blanks(src, j);
             // At most 18 digits always fit; anything that may continue the number goes the long way.
             if j == first || j - first > 18 || matches!(src.get(after), Some(b'0'..=b'9' | b'.')) {
                 return false;
@@ -295,29 +227,33 @@ impl<'a> Reader<'a> {
             n = Some(v);
             i = after;
         }
-        while i < end {
-            let c = src[i];
-            if !c.is_ascii_alphabetic() || matches!(c, b'N' | b'n' | b'O' | b'o') {
-                self.prog.words.truncate(words0);
-                return false;
+        let plain = 'words: {
+            while i < end {
+                let c = src[i];
+                if !c.is_ascii_alphabetic() || matches!(c, b'N' | b'n' | b'O' | b'o') {
+                    break 'words false;
+                }
+                let negative = src.get(i + 1) == Some(&b'-');
+                let v = i + 1 + negative as usize;
+                if !matches!(src.get(v), Some(b'0'..=b'9' | b'.')) {
+                    break 'words false;
+                }
+                let Some((x, has_point, value_end)) = plain_number(src, v) else {
+                    break 'words false;
+                };
+                self.prog.words.push(Word::new(
+                    c.to_ascii_uppercase(),
+                    Value::Num(if negative { -x } else { x }),
+                    has_point,
+                    Span::new(i, value_end),
+                ));
+                i = skip_blanks(src, value_end);
             }
-            let negative = src.get(i + 1) == Some(&b'-');
-            let v = i + 1 + negative as usize;
-            if !matches!(src.get(v), Some(b'0'..=b'9' | b'.')) {
-                self.prog.words.truncate(words0);
-                return false;
-            }
-            let Some((x, has_point, value_end)) = super::expr::plain_number(src, v) else {
-                self.prog.words.truncate(words0);
-                return false;
-            };
-            self.prog.words.push(Word::new(
-                c.to_ascii_uppercase(),
-                Value::Num(if negative { -x } else { x }),
-                has_point,
-                Span::new(i, value_end),
-            ));
-            i = skip_blanks(value_end);
+            true
+        };
+        if !plain {
+            self.prog.words.truncate(words0);
+            return false;
         }
         let words = words0 as u32..self.prog.words.len() as u32;
         if words.is_empty() && n.is_none() {

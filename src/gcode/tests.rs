@@ -879,28 +879,3 @@ proptest! {
         prop_assert_eq!(show(&fast), show(&general));
     }
 }
-
-#[test]
-fn line_ends_are_found_at_every_offset_and_byte() {
-    // The word-at-a-time search against the plain one, for terminators at every position of a
-    // chunk and next to bytes that differ from them by one bit.
-    for len in 0..40 {
-        for at in 0..len {
-            for term in [b'\n', b'\r'] {
-                for filler in [b'a', 0x0B, 0x0C, 0x8A, 0x8D, 0x00, 0xFF, b'\n' ^ 0x80] {
-                    let mut src = vec![filler; len];
-                    src[at] = term;
-                    for from in 0..=at {
-                        let want = src[from..]
-                            .iter()
-                            .position(|&b| b == b'\n' || b == b'\r')
-                            .map(|k| from + k);
-                        assert_eq!(lexer::line_end(&src, from), want, "len {len} at {at} from {from}");
-                    }
-                    let lf = src.iter().filter(|&&b| b == b'\n').count();
-                    assert_eq!(lexer::count_lf(&src), lf);
-                }
-            }
-        }
-    }
-}

@@ -116,6 +116,17 @@ impl Words {
         }
     }
 
+    /// Empty again: only the masks and counts (a letter's value is read only when its bit is set).
+    fn clear(&mut self) {
+        self.has = 0;
+        self.point = 0;
+        self.used = 0;
+        self.ng = 0;
+        self.nm = 0;
+        self.gbits = 0;
+        self.mbits = 0;
+    }
+
     fn get(&mut self, letter: u8) -> Option<f64> {
         let b = bit(letter);
         if self.has & b != 0 {
@@ -401,16 +412,9 @@ impl Run<'_> {
 
     /// Execute one block that is not an o-word.
     pub(crate) fn execute(&mut self, b: &Block) {
-        // One word table serves every block: only its masks and counts are reset (the values
-        // of a letter are read only when its bit is set).
+        // One word table serves every block (see `Words::clear`).
         let mut w = self.words.take().unwrap_or_else(|| Box::new(Words::new()));
-        w.has = 0;
-        w.point = 0;
-        w.used = 0;
-        w.ng = 0;
-        w.nm = 0;
-        w.gbits = 0;
-        w.mbits = 0;
+        w.clear();
         self.execute_words(b, &mut w);
         self.words = Some(w);
     }

@@ -78,22 +78,11 @@ fn f4(out: &mut Vec<u8>, v: f64) {
     }
     let n = scaled as i64;
     let a = n.unsigned_abs();
-    let (mut int, frac) = (a / 10_000, (a % 10_000) as u32);
     let mut buf = [0u8; 24];
-    buf[19] = b'.';
-    buf[20] = b'0' + (frac / 1000) as u8;
-    buf[21] = b'0' + (frac / 100 % 10) as u8;
-    buf[22] = b'0' + (frac / 10 % 10) as u8;
-    buf[23] = b'0' + (frac % 10) as u8;
-    let mut i = 19;
-    loop {
-        i -= 1;
-        buf[i] = b'0' + (int % 10) as u8;
-        int /= 10;
-        if int == 0 {
-            break;
-        }
-    }
+    let mut i = put_uint(&mut buf, 24, a % 10_000, 4, b'0');
+    i -= 1;
+    buf[i] = b'.';
+    i = put_uint(&mut buf, i, a / 10_000, 1, b'0');
     if n < 0 {
         i -= 1;
         buf[i] = b'-';
@@ -102,9 +91,16 @@ fn f4(out: &mut Vec<u8>, v: f64) {
 }
 
 /// Append `a` in decimal, filled on the left with `fill` to `width` characters.
-fn push_uint(out: &mut Vec<u8>, mut a: u64, width: usize, fill: u8) {
+fn push_uint(out: &mut Vec<u8>, a: u64, width: usize, fill: u8) {
     let mut buf = [0u8; 24];
-    let mut i = buf.len();
+    let i = put_uint(&mut buf, 24, a, width, fill);
+    out.extend_from_slice(&buf[i..]);
+}
+
+/// Write `a` in decimal into `buf` so that it ends before `end`, filled on the left with `fill`
+/// to `width` characters (at most `end`); returns where it starts.
+fn put_uint(buf: &mut [u8], end: usize, mut a: u64, width: usize, fill: u8) -> usize {
+    let mut i = end;
     loop {
         i -= 1;
         buf[i] = b'0' + (a % 10) as u8;
@@ -113,11 +109,11 @@ fn push_uint(out: &mut Vec<u8>, mut a: u64, width: usize, fill: u8) {
             break;
         }
     }
-    while buf.len() - i < width.min(buf.len()) {
+    while end - i < width.min(end) {
         i -= 1;
         buf[i] = fill;
     }
-    out.extend_from_slice(&buf[i..]);
+    i
 }
 
 /// Program coordinates with X as a radius.
