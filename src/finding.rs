@@ -97,9 +97,24 @@ pub struct Finding {
     pub x: Option<f64>,
     pub z: Option<f64>,
     pub message: String,
+    /// A contact that began while an earlier crash was still in progress (one part already
+    /// inside another): it exists because of that crash, and is reported as its follow-on, a
+    /// warning, rather than as a new crash.
+    pub follow_on: Option<FollowOn>,
+    /// Machine time of the last contact of the episode.
+    #[serde(skip)]
+    pub end_time_s: Option<f64>,
     /// The scene at first contact, when the check was asked for pictures.
     #[serde(skip)]
     pub snapshot: Option<Box<crate::scene::Snapshot>>,
+}
+
+/// The crash a follow-on contact comes from: its line, parts and time of first contact.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FollowOn {
+    pub line: u32,
+    pub objects: Vec<String>,
+    pub time_s: f64,
 }
 
 impl Finding {
@@ -118,6 +133,8 @@ impl Finding {
             x: None,
             z: None,
             message: message.into(),
+            follow_on: None,
+            end_time_s: None,
             snapshot: None,
         }
     }
@@ -136,9 +153,18 @@ impl Finding {
     }
 }
 
-/// Findings in report order: by line, then column, then kind.
+/// Findings in report order: by line, then column, then time (findings with no time first), then
+/// kind.
 pub fn sort_findings(findings: &mut [Finding]) {
-    findings.sort_by(|a, b| (a.line, a.col, a.kind, &a.message).cmp(&(b.line, b.col, b.kind, &b.message)));
+    findings.sort_by(|a, b| {
+        (a.line, a.col)
+            .cmp(&(b.line, b.col))
+            .then_with(|| match (a.time_s, b.time_s) {
+                (Some(x), Some(y)) => x.total_cmp(&y),
+                (x, y) => x.is_some().cmp(&y.is_some()),
+            })
+            .then_with(|| (a.kind, &a.message).cmp(&(b.kind, &b.message)))
+    });
 }
 
 /// A short stable code per kind (for SARIF rule ids and the docs): never reuse one.

@@ -1,9 +1,9 @@
 //! Data-driven tests: every `*.nc` / `*.ngc` under `tests/cases/` and `programs/` is checked, and
 //! its findings must equal the `.expected` file beside it.
 //!
-//! Expected-file format: one finding a line, `LINE[:COL] KIND[ OBJECT, OBJECT]`, sorted as
-//! latheguard reports them; `# …` lines are comments. A case's first line may set options in a
-//! comment: `(latheguard: machine=linuxcnc-small-lathe mode=exact dt=0.5 tolerance=0.01 clearance=0.2)`;
+//! Expected-file format: one finding a line,
+//! `LINE[:COL] KIND[ OBJECT, OBJECT][ follow-on of LINE]`, sorted as latheguard reports them (by
+//! line, then time); `# …` lines are comments. A case's first line may set options in a comment: `(latheguard: machine=linuxcnc-small-lathe mode=exact dt=0.5 tolerance=0.01 clearance=0.2)`;
 //! `modes=step,exact` runs both modes and prefixes each expected line with the mode.
 //! Cases under `tests/cases/interp/` also pin their interpreted motion in a `.moves` file
 //! (`latheguard moves --format canon`).
@@ -82,7 +82,11 @@ fn render(src: &[u8], machine: &Machine, settings: &Settings) -> String {
         } else {
             format!(" {}", f.objects.join(", "))
         };
-        let _ = writeln!(s, "{}{col} {}{objects}", f.line, f.kind);
+        let follow = match &f.follow_on {
+            Some(p) => format!(" follow-on of {}", p.line),
+            None => String::new(),
+        };
+        let _ = writeln!(s, "{}{col} {}{objects}{follow}", f.line, f.kind);
     }
     s
 }

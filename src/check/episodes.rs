@@ -1,7 +1,7 @@
 //! Collision episodes: one finding per pair from the sample where contact begins to the last
 //! sample in contact.
 
-use crate::finding::{Finding, Kind, Severity};
+use crate::finding::{Finding, FollowOn, Kind, Severity};
 use std::collections::BTreeMap;
 
 /// What is known at one contact sample.
@@ -29,6 +29,8 @@ struct Open {
     min_gap: Option<f64>,
     /// The episode was touched in the current round.
     seen: bool,
+    /// Time of the last contact seen.
+    end_time: f64,
 }
 
 /// Open episodes by pair key.
@@ -44,6 +46,7 @@ impl Episodes {
         match self.open.get_mut(&key) {
             Some(o) => {
                 o.end_line = c.line;
+                o.end_time = o.end_time.max(c.time);
                 o.seen = true;
                 if c.kind == Kind::NearMiss {
                     o.min_gap = Some(
@@ -57,6 +60,7 @@ impl Episodes {
             None => {
                 let gap = (c.kind == Kind::NearMiss).then_some(c.depth).flatten();
                 let depth = (c.kind != Kind::NearMiss).then_some(c.depth).flatten();
+                let time = c.time;
                 self.open.insert(
                     key,
                     Open {
@@ -65,6 +69,7 @@ impl Episodes {
                         min_gap: gap,
                         first: c,
                         seen: true,
+                        end_time: time,
                     },
                 );
             }
@@ -73,15 +78,23 @@ impl Episodes {
 
     /// Contact of pair `key` at a sample of an episode already open: extend it and return true;
     /// false when no episode is open (the caller then builds a full [`Contact`]).
-    pub fn extend(&mut self, key: u64, line: u32, depth: f64, near_miss: bool) -> bool {
+    pub fn extend(&mut self, key: u64, line: u32, time: f64, depth: f64, near_miss: bool) -> bool {
         let Some(o) = self.open.get_mut(&key) else { return false };
         o.end_line = line;
+        o.end_time = o.end_time.max(time);
         if near_miss {
             o.min_gap = Some(o.min_gap.map_or(depth, |g| g.min(depth)));
         } else {
             o.max_depth = Some(o.max_depth.map_or(depth, |m| m.max(depth)));
         }
         true
+    }
+
+    /// The contact of pair `key` lasts at least until `time`.
+    pub fn lasts_until(&mut self, key: u64, time: f64) {
+        if let Some(o) = self.open.get_mut(&key) {
+            o.end_time = o.end_time.max(time);
+        }
     }
 
     /// Pair `key` was tested and is clear: close its episode.
@@ -134,7 +147,35 @@ impl Episodes {
             x: Some(c.x),
             z: Some(c.z),
             message,
+            follow_on: None,
+            end_time_s: Some(o.end_time.max(c.time)),
             snapshot: c.snapshot,
         });
+    }
+}
+
+/// Mark every crash that began while an earlier one was still in progress (one part already
+/// inside another) as that crash's follow-on, a warning: it exists because of the first crash.
+/// Contacts that begin at the same instant are separate crashes; near misses are never either.
+pub fn mark_follow_ons(findings: &mut [Finding]) {
+    let crash = |f: &Finding| f.kind != Kind::NearMiss && f.time_s.is_some() && f.end_time_s.is_some();
+    let mut order: Vec<usize> = (0..findings.len()).filter(|&i| crash(&findings[i])).collect();
+    order.sort_by(|&a, &b| findings[a].time_s.unwrap().total_cmp(&findings[b].time_s.unwrap()));
+    // Crashes in progress: (start, end, index), the earliest first.
+    let mut active: Vec<(f64, f64, usize)> = Vec::new();
+    for i in order {
+        let (start, end) = (findings[i].time_s.unwrap(), findings[i].end_time_s.unwrap());
+        active.retain(|&(_, e, _)| e >= start - 1e-9);
+        if let Some(&(t, _, j)) = active.iter().find(|&&(t, _, _)| t < start - 1e-9) {
+            let parent = FollowOn {
+                line: findings[j].line,
+                objects: findings[j].objects.clone(),
+                time_s: t,
+            };
+            let f = &mut findings[i];
+            f.follow_on = Some(parent);
+            f.severity = Severity::Warning;
+        }
+        active.push((start, end, i));
     }
 }

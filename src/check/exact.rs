@@ -20,6 +20,34 @@ use crate::motion::Path;
 const GAP_WINDOW: f64 = 20.0;
 /// Bisection steps refining a sampled contact boundary (2^-40 of a step).
 const REFINE: usize = 40;
+/// Golden-section steps seeking the deepest point of a contact interval.
+const PEAK_STEPS: usize = 24;
+
+/// The deepest probe of a contact interval under conservative advancement, and the probes
+/// before and after it.
+#[derive(Clone, Copy, Default)]
+struct Peak {
+    before: f64,
+    at: f64,
+    after: Option<f64>,
+    depth: f64,
+}
+
+impl Peak {
+    /// A probe at `u` (the one before it at `prev`) found depth `d` (0: clear).
+    fn probe(&mut self, prev: f64, u: f64, d: f64) {
+        if d > self.depth {
+            *self = Peak {
+                before: prev,
+                at: u,
+                after: None,
+                depth: d,
+            };
+        } else if self.after.is_none() && u > self.at {
+            self.after = Some(u);
+        }
+    }
+}
 
 #[derive(Clone, Copy)]
 enum Shape {
@@ -151,6 +179,8 @@ struct Interval {
     depth: f64,
     /// Reference point at first contact.
     at: P2,
+    /// Path fraction of the piece at first contact.
+    u: f64,
 }
 
 impl Checker<'_> {
@@ -167,61 +197,101 @@ impl Checker<'_> {
         if pieces.is_empty() {
             return;
         }
-        let dur = item.duration;
         for &(p, o) in cands {
-            let Some(kind) = rule(p, o, insert_rule) else { continue };
-            let k = key(p, active, o, kind);
-            let rigid = o != Obstacle::Stock && !matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_));
-            let mut found: Vec<Interval> = Vec::new();
-            for piece in &pieces {
-                if rigid {
-                    self.swept(p, o, piece, active, &mut found);
-                } else {
-                    self.advanced(p, o, piece, active, &mut found);
-                }
-            }
-            found.sort_by(|a, b| a.t0.total_cmp(&b.t0));
-            // Merge touching intervals (from the two halves of a revolved part, or two pieces).
-            let mut merged: Vec<Interval> = Vec::new();
-            for iv in found {
-                match merged.last_mut() {
-                    Some(last) if iv.t0 <= last.t1 + 1e-12 => {
-                        last.t1 = last.t1.max(iv.t1);
-                        last.depth = last.depth.max(iv.depth);
-                    }
-                    _ => merged.push(iv),
-                }
-            }
-            if merged.is_empty() {
-                self.episodes.clear(k);
-            }
-            for iv in merged {
-                if iv.t0 > 1e-12 {
-                    self.episodes.clear(k); // a contact from the previous move ended at its end
-                }
-                let mut c = self.contact(m, iv.at, p, o, kind, Some(iv.depth), item.t0 + iv.t0, active);
-                if self.settings.snapshots && !self.episodes.is_open(k) {
-                    if let Some((poly, in_plane)) = self.pose(p, iv.at, active as f64) {
-                        c.snapshot = Some(Box::new(self.snapshot(
-                            m,
-                            item,
-                            iv.at,
-                            active,
-                            &poly,
-                            Some(o),
-                            in_plane,
-                        )));
-                    }
-                }
-                self.episodes.contact(k, c);
-                if iv.t1 < dur - 1e-12 {
-                    self.episodes.clear(k);
-                }
-            }
+            self.exact_pair(m, item, &pieces, p, o, active, insert_rule);
             if self.settings.clearance_mm > 0.0 && o != Obstacle::Stock {
                 self.exact_near_miss(m, item, &pieces, p, o, active);
             }
         }
+    }
+
+    /// Step mode found pair `(p, o)` in contact during this move: measure its contacts over the
+    /// whole move as exact mode does, so that where a contact begins and ends and how deep it
+    /// goes do not depend on the timestep. Returns false when the exact measure finds no contact
+    /// (a contact thinner than the tolerance, which conservative advancement may step over):
+    /// the sampler then keeps the sample's own contact.
+    pub(super) fn follow_exact(
+        &mut self,
+        m: &Move,
+        item: &Timed,
+        p: Part,
+        o: Obstacle,
+        active: u32,
+        insert_rule: Option<Kind>,
+    ) -> bool {
+        let pieces = pieces(m, item);
+        !pieces.is_empty() && self.exact_pair(m, item, &pieces, p, o, active, insert_rule)
+    }
+
+    /// The contact episodes of one pair over one move. Returns whether it found any.
+    #[allow(clippy::too_many_arguments)]
+    fn exact_pair(
+        &mut self,
+        m: &Move,
+        item: &Timed,
+        pieces: &[Piece],
+        p: Part,
+        o: Obstacle,
+        active: u32,
+        insert_rule: Option<Kind>,
+    ) -> bool {
+        let dur = item.duration;
+        let Some(kind) = rule(p, o, insert_rule) else {
+            return false;
+        };
+        let k = key(p, active, o, kind);
+        let rigid = o != Obstacle::Stock && !matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_));
+        let mut found: Vec<Interval> = Vec::new();
+        for piece in pieces {
+            if rigid {
+                self.swept(p, o, piece, active, &mut found);
+            } else {
+                self.advanced(p, o, piece, active, &mut found);
+            }
+        }
+        found.sort_by(|a, b| a.t0.total_cmp(&b.t0));
+        // Merge touching intervals (from the two halves of a revolved part, or two pieces).
+        let mut merged: Vec<Interval> = Vec::new();
+        for iv in found {
+            match merged.last_mut() {
+                Some(last) if iv.t0 <= last.t1 + 1e-12 => {
+                    last.t1 = last.t1.max(iv.t1);
+                    last.depth = last.depth.max(iv.depth);
+                }
+                _ => merged.push(iv),
+            }
+        }
+        if merged.is_empty() {
+            self.episodes.clear(k);
+            return false;
+        }
+        for iv in merged {
+            if iv.t0 > 1e-12 {
+                self.episodes.clear(k); // a contact from the previous move ended at its end
+            }
+            let mut c = self.contact(m, iv.at, p, o, kind, Some(iv.depth), item.t0 + iv.t0, active);
+            if self.settings.snapshots && !self.episodes.is_open(k) {
+                self.instant = iv.u;
+                self.refresh_swept();
+                if let Some((poly, in_plane)) = self.pose(p, iv.at, active as f64) {
+                    c.snapshot = Some(Box::new(self.snapshot(
+                        m,
+                        item,
+                        iv.at,
+                        active,
+                        &poly,
+                        Some(o),
+                        in_plane,
+                    )));
+                }
+            }
+            self.episodes.contact(k, c);
+            self.episodes.lasts_until(k, item.t0 + iv.t1);
+            if iv.t1 < dur - 1e-12 {
+                self.episodes.clear(k);
+            }
+        }
+        true
     }
 
     /// Exact sweeps of a rigid part against a polygon obstacle (both halves of its section).
@@ -243,13 +313,17 @@ impl Checker<'_> {
                     t1: piece.time(e.t_end),
                     depth: e.max_depth,
                     at: piece.at(e.t_start),
+                    u: e.t_start,
                 });
             }
         }
     }
 
-    /// Depth of a pair at the reference point `r`, or the gap when clear (a lower bound).
-    fn probe(&mut self, p: Part, o: Obstacle, r: P2, active: u32) -> Result<f64, f64> {
+    /// Depth of a pair at path fraction `u` of a piece, or the gap when clear (a lower bound).
+    /// The stock is seen as it is at that instant of the move.
+    fn probe(&mut self, p: Part, o: Obstacle, piece: &Piece, u: f64, active: u32) -> Result<f64, f64> {
+        let r = piece.at(u);
+        self.instant = u;
         let Some((poly, in_plane)) = self.pose(p, r, active as f64) else {
             return Err(f64::INFINITY);
         };
@@ -271,30 +345,38 @@ impl Checker<'_> {
         let mut u = 0.0;
         let mut prev_u = 0.0;
         let mut open: Option<Interval> = None;
+        // The deepest probe of the open interval and its neighbours (where the peak is sought).
+        let mut peak = Peak::default();
         loop {
-            let r = piece.at(u);
-            let res = self.probe(p, o, r, active);
+            let res = self.probe(p, o, piece, u, active);
             match res {
-                Ok(d) => match &mut open {
-                    Some(iv) => iv.depth = iv.depth.max(d),
-                    None => {
-                        let u0 = if u > 0.0 {
-                            self.refine(p, o, piece, active, prev_u, u, true)
-                        } else {
-                            0.0
-                        };
-                        open = Some(Interval {
-                            t0: piece.time(u0),
-                            t1: piece.time(u),
-                            depth: d,
-                            at: piece.at(u0),
-                        });
+                Ok(d) => {
+                    peak.probe(prev_u, u, d);
+                    match &mut open {
+                        Some(iv) => iv.depth = iv.depth.max(d),
+                        None => {
+                            let u0 = if u > 0.0 {
+                                self.refine(p, o, piece, active, prev_u, u, true)
+                            } else {
+                                0.0
+                            };
+                            open = Some(Interval {
+                                t0: piece.time(u0),
+                                t1: piece.time(u),
+                                depth: d,
+                                at: piece.at(u0),
+                                u: u0,
+                            });
+                        }
                     }
-                },
+                }
                 Err(_) => {
                     if let Some(mut iv) = open.take() {
+                        peak.probe(prev_u, u, 0.0);
                         let u1 = self.refine(p, o, piece, active, prev_u, u, false);
                         iv.t1 = piece.time(u1);
+                        iv.depth = iv.depth.max(self.peak_depth(p, o, piece, active, &peak));
+                        peak = Peak::default();
                         out.push(iv);
                     }
                 }
@@ -303,7 +385,8 @@ impl Checker<'_> {
                 break;
             }
             // Clear: as far as the proven gap allows. In contact: only the episode's end matters
-            // (refined by bisection), so stride by half the depth.
+            // (refined by bisection), so stride by half the depth; the deepest point is then
+            // sought between the neighbours of the deepest probe.
             let advance = match res {
                 Err(gap) if open.is_none() => gap.max(step),
                 Ok(d) => (0.5 * d.min(GAP_WINDOW)).max(step),
@@ -315,8 +398,49 @@ impl Checker<'_> {
         }
         if let Some(mut iv) = open {
             iv.t1 = piece.time(1.0);
+            iv.depth = iv.depth.max(self.peak_depth(p, o, piece, active, &peak));
             out.push(iv);
         }
+    }
+
+    /// The largest depth a golden-section search finds between the neighbours of the deepest
+    /// probe of an interval: the true peak within the tolerance when the depth is unimodal
+    /// there, a lower bound otherwise.
+    fn peak_depth(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, peak: &Peak) -> f64 {
+        let (mut a, mut b) = (peak.before, peak.after.unwrap_or(peak.at));
+        let mut best = peak.depth;
+        let len = piece.length();
+        if b <= a || len <= 0.0 {
+            return best;
+        }
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let depth = |c: &mut Self, u: f64| c.probe(p, o, piece, u, active).unwrap_or(0.0);
+        let mut x1 = b - g * (b - a);
+        let mut x2 = a + g * (b - a);
+        let mut f1 = depth(self, x1);
+        let mut f2 = depth(self, x2);
+        best = best.max(f1).max(f2);
+        for _ in 0..PEAK_STEPS {
+            if (b - a) * len <= 0.5 * self.settings.tolerance_mm {
+                break;
+            }
+            if f1 >= f2 {
+                b = x2;
+                x2 = x1;
+                f2 = f1;
+                x1 = b - g * (b - a);
+                f1 = depth(self, x1);
+                best = best.max(f1);
+            } else {
+                a = x1;
+                x1 = x2;
+                f1 = f2;
+                x2 = a + g * (b - a);
+                f2 = depth(self, x2);
+                best = best.max(f2);
+            }
+        }
+        best
     }
 
     /// The boundary between `a` (one state) and `b` (the other) on a piece: the first fraction in
@@ -326,7 +450,7 @@ impl Checker<'_> {
         let (mut lo, mut hi) = (a, b);
         for _ in 0..REFINE {
             let mid = 0.5 * (lo + hi);
-            let hit = self.probe(p, o, piece.at(mid), active).is_ok();
+            let hit = self.probe(p, o, piece, mid, active).is_ok();
             if hit == entering {
                 hi = mid;
             } else {
@@ -351,9 +475,10 @@ impl Checker<'_> {
             for j in 0..=n {
                 let u = j as f64 / n as f64;
                 let r = piece.at(u);
-                match self.probe(p, o, r, active) {
+                match self.probe(p, o, piece, u, active) {
                     Err(g) if g < c => {
-                        if self.episodes.extend(k, m.line, g, true) {
+                        let t = item.t0 + piece.time(u);
+                        if self.episodes.extend(k, m.line, t, g, true) {
                             continue;
                         }
                         let t = item.t0 + piece.time(u);

@@ -22,7 +22,7 @@ use crate::interp::{Interpretation, Move, MoveKind};
 use crate::machine::Machine;
 use crate::motion::{self, Timed, Timeline};
 use crate::pipeline::{Mode, Settings, Stats};
-use crate::scene::{DexelStock, Revolved, Scene, Snapshot};
+use crate::scene::{DexelStock, Revolved, Scene, Snapshot, Swept, View};
 
 use episodes::{Contact, Episodes};
 
@@ -87,6 +87,25 @@ struct Checker<'a> {
     indexed: bool,
     others_tested: bool,
     overtravel_open: bool,
+    /// The feed move whose cut is under way, if any: stock queries see the stock as it is at the
+    /// path fraction `instant` of that move.
+    cutting: Option<Cutting>,
+    /// The buffers of the last cutting move, reused by the next.
+    spare: Option<Cutting>,
+    instant: f64,
+    /// Stock queries see the stock as it was before the cutting move (the insert's own
+    /// spindle-stopped test).
+    pre_move: bool,
+}
+
+/// A feed move whose cut is under way (see [`DexelStock::begin_move`]).
+struct Cutting {
+    index: usize,
+    /// The path fraction `swept` was built for (NaN: none yet).
+    f: f64,
+    /// The insert's swept region from the move's start to fraction `f`.
+    swept: Swept,
+    empty: Swept,
 }
 
 /// Check a program's moves on a machine.
@@ -111,6 +130,10 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
         indexed: false,
         others_tested: false,
         overtravel_open: false,
+        cutting: None,
+        spare: None,
+        instant: 1.0,
+        pre_move: false,
     };
     c.static_pairs();
     for item in &timeline.items {
@@ -118,6 +141,7 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
     }
     c.episodes.close_all();
     let mut findings = std::mem::take(&mut c.episodes.findings);
+    episodes::mark_follow_ons(&mut findings);
     for &i in &timeline.feed_without_speed {
         let m = &moves[i];
         findings.push(
@@ -307,12 +331,19 @@ impl Checker<'_> {
         let clearance = self.settings.clearance_mm;
         match obs {
             Obstacle::Stock => {
-                let Some(stock) = self.ensure_stock() else {
+                self.ensure_stock();
+                self.refresh_swept();
+                let (Some(stock), cutting) = (self.stock.as_mut(), self.cutting.as_ref()) else {
                     return (None, None);
+                };
+                let view = match cutting {
+                    Some(c) if self.pre_move => View::Instant(&c.empty),
+                    Some(c) => View::Instant(&c.swept),
+                    None => View::Now,
                 };
                 (
                     stock
-                        .overlap_with(poly.points(), geom::TOUCH_EPS, quick)
+                        .overlap_view(poly.points(), geom::TOUCH_EPS, quick, view)
                         .map(|h| h.depth),
                     None,
                 )
@@ -406,6 +437,25 @@ impl Checker<'_> {
         let live: Vec<u64> = cands.iter().flat_map(|&(p, o)| pair_keys(p, active, o)).collect();
         self.episodes.close_except(|k| k == u64::MAX || live.contains(&k));
         let cuts = feed && insert_box.zip(self.stock_box).is_some_and(|(a, b)| a.meets(&b, 1e-6));
+        if cuts {
+            // The whole cut is applied now, but every stock query of this move sees the stock as
+            // it is at that instant: the material before the move less what the insert has swept
+            // up to then (ARCHITECTURE.md, "The stock at the instant").
+            if let Some(s) = self.ensure_stock() {
+                s.begin_move();
+            }
+            self.cut(m);
+            let (swept, empty) = match self.spare.take() {
+                Some(c) => (c.swept, c.empty),
+                None => (Swept::default(), Swept::default()),
+            };
+            self.cutting = Some(Cutting {
+                index: item.index,
+                f: f64::NAN,
+                swept,
+                empty,
+            });
+        }
         if cuts && insert_rule == Some(Kind::SpindleStopped) {
             // The insert meets the material as it was before this move.
             let first: Vec<_> = cands
@@ -413,17 +463,33 @@ impl Checker<'_> {
                 .copied()
                 .filter(|c| *c == (Part::Insert, Obstacle::Stock))
                 .collect();
+            self.pre_move = true;
             self.check_pairs(m, item, &first, active, insert_rule);
+            self.pre_move = false;
             cands.retain(|c| *c != (Part::Insert, Obstacle::Stock));
         }
-        if cuts {
-            self.cut(m);
-        }
         self.stats.pair_tests_skipped += (total_pairs - cands.len() as u64) * samples;
-        if cands.is_empty() {
-            return;
+        if !cands.is_empty() {
+            self.check_pairs(m, item, &cands, active, insert_rule);
         }
-        self.check_pairs(m, item, &cands, active, insert_rule);
+        if cuts {
+            if let Some(s) = self.stock.as_mut() {
+                s.end_move();
+            }
+            self.spare = self.cutting.take();
+        }
+    }
+
+    /// Rebuild the swept region of the cutting move for the current `instant` when it changed.
+    fn refresh_swept(&mut self) {
+        let f = self.instant;
+        let Some(mut c) = self.cutting.take() else { return };
+        if c.f != f {
+            let m = &self.run.moves[c.index];
+            self.swept_until(m, f, &mut c.swept);
+            c.f = f;
+        }
+        self.cutting = Some(c);
     }
 
     fn check_pairs(&mut self, m: &Move, item: &Timed, cands: &[(Part, Obstacle)], active: u32, rule: Option<Kind>) {
@@ -451,6 +517,10 @@ impl Checker<'_> {
         // pair is provably clear, jump straight to the earliest one.
         let vmax = motion::max_speed(m, item);
         let mut resume: Vec<u64> = vec![0; cands.len()];
+        // Per pair: its contacts in this move were measured exactly (see `follow_exact`), and
+        // whether that was tried.
+        let mut followed: Vec<bool> = vec![false; cands.len()];
+        let mut tried: Vec<bool> = vec![false; cands.len()];
         let k_end = (t1 / dt - 1e-9).ceil().max(0.0) as u64;
         let mut last = false;
         while !last {
@@ -467,8 +537,12 @@ impl Checker<'_> {
             }
 
             let r = motion::reference_at(m, item, t - item.t0);
+            self.instant = motion::fraction_at(item, t - item.t0);
             posed.clear();
             for (ci, &(p, o)) in cands.iter().enumerate() {
+                if followed[ci] {
+                    continue;
+                }
                 if let Some((r0, g)) = clear_until[ci] {
                     if (r - r0).norm() < g {
                         self.stats.pair_tests_skipped += 1;
@@ -496,7 +570,22 @@ impl Checker<'_> {
                 match (depth, gap) {
                     (Some(d), _) => {
                         self.episodes.clear(near_key);
-                        if self.episodes.extend(hit_key, m.line, d, false) {
+                        // Found by sampling; measured exactly (start, end, depth), so that the
+                        // facts of a contact do not depend on dt and a long contact costs what
+                        // it costs in exact mode.
+                        if !tried[ci] && {
+                            tried[ci] = true;
+                            self.follow_exact(m, item, p, o, active, insert_rule)
+                        } {
+                            followed[ci] = true;
+                            clear_until[ci] = None;
+                            resume[ci] = u64::MAX;
+                            continue;
+                        }
+                        // A quick test's depth is one column's, not the part's: it only says
+                        // the contact goes on.
+                        let d = if quick { 0.0 } else { d };
+                        if self.episodes.extend(hit_key, m.line, t, d, false) {
                             continue;
                         }
                         let mut c = self.contact(m, r, p, o, kind, Some(d), t, active);
@@ -507,7 +596,7 @@ impl Checker<'_> {
                     }
                     (None, Some(g)) => {
                         self.episodes.clear(hit_key);
-                        if self.episodes.extend(near_key, m.line, g, true) {
+                        if self.episodes.extend(near_key, m.line, t, g, true) {
                             continue;
                         }
                         let mut c = self.contact(m, r, p, o, Kind::NearMiss, Some(g), t, active);
@@ -619,9 +708,14 @@ impl Checker<'_> {
         in_plane: bool,
     ) -> Snapshot {
         let pts = |p: &Polygon| p.points().to_vec();
-        let stock: Vec<Vec<P2>> = self
-            .stock
+        // The stock as it is at this instant of a cutting move.
+        let instant = self.stock.as_ref().zip(self.cutting.as_ref()).map(|(s, c)| {
+            let sw = if self.pre_move { &c.empty } else { &c.swept };
+            s.view_copy(View::Instant(sw))
+        });
+        let stock: Vec<Vec<P2>> = instant
             .as_ref()
+            .or(self.stock.as_ref())
             .map(|s| {
                 s.outlines(self.settings.tolerance_mm)
                     .into_iter()
@@ -682,40 +776,61 @@ impl Checker<'_> {
 
     /// Remove what the insert sweeps in a feed move.
     fn cut(&mut self, m: &Move) {
+        let mut swept = Swept::default();
+        self.swept_until(m, 1.0, &mut swept);
+        let Some(stock) = self.ensure_stock() else {
+            return;
+        };
+        let mut any = false;
+        for p in swept.polygons() {
+            any |= stock.cut(p);
+        }
+        self.cut_any |= any;
+    }
+
+    /// The region the insert sweeps from the start of a feed move to path fraction `f`: the
+    /// insert at the start, each edge swept along every chord of the path (arcs as chords within
+    /// the tolerance), and the insert at each chord's end. With `f` = 1 this is exactly what
+    /// [`Self::cut`] removes, so the stock "at the end of the move" is the stock after it.
+    fn swept_until(&self, m: &Move, f: f64, out: &mut Swept) {
+        out.clear();
         let Some(tool) = self.scene.tool(m.station) else {
             return;
         };
-        let insert: Vec<P2> = tool.insert.points().to_vec();
+        let insert = tool.insert.points();
         let tol = self.settings.tolerance_mm;
-        // The programmed path as chords within the tolerance.
+        let f = if f.is_nan() { 1.0 } else { f.clamp(0.0, 1.0) };
+        // The programmed path as chords within the tolerance, up to f.
         let mut path = vec![m.start];
         if let MoveKind::Arc { center, sweep } = m.kind {
             let r = (m.start - center).norm().max((m.end - center).norm()).max(tol);
             let step = 2.0 * (1.0 - (tol / r).min(1.0)).acos().max(1e-4);
             let n = ((sweep.abs() / step).ceil() as usize).clamp(1, 100_000);
             for j in 1..=n {
-                path.push(m.point_at(j as f64 / n as f64));
+                let u = j as f64 / n as f64;
+                if u >= f {
+                    break;
+                }
+                path.push(m.point_at(u));
             }
-        } else {
-            path.push(m.end);
+            if f > 0.0 {
+                path.push(if f >= 1.0 { m.point_at(1.0) } else { m.point_at(f) });
+            }
+        } else if f > 0.0 {
+            path.push(if f >= 1.0 { m.end } else { m.point_at(f) });
         }
-        let Some(stock) = self.ensure_stock() else {
-            return;
-        };
-        let mut any = false;
         let posed = |p: P2| -> Vec<P2> { insert.iter().map(|q| p + q.coords).collect() };
-        any |= stock.cut(&posed(path[0]));
+        out.push(posed(path[0]));
         for w in path.windows(2) {
             let d: V2 = w[1] - w[0];
             let at = posed(w[0]);
             let n = at.len();
             for i in 0..n {
                 let (a, b) = (at[i], at[(i + 1) % n]);
-                any |= stock.cut(&[a, b, b + d, a + d]);
+                out.push(vec![a, b, b + d, a + d]);
             }
-            any |= stock.cut(&posed(w[1]));
+            out.push(posed(w[1]));
         }
-        self.cut_any |= any;
     }
 
     /// Every tool's sweep while the turret indexes, at the T word's line.

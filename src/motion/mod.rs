@@ -184,14 +184,7 @@ pub fn reference_at(m: &Move, item: &Timed, dt: f64) -> P2 {
             let fz = if *tz > 0.0 { (dt / tz).clamp(0.0, 1.0) } else { 1.0 };
             P2::new(from.x + (to.x - from.x) * fx, from.y + (to.y - from.y) * fz)
         }
-        Path::Uniform => m.point_at(u) - m.tip,
-        Path::Varying { table } => {
-            let n = table.len() - 1;
-            let x = u * n as f64;
-            let k = (x.floor() as usize).min(n.saturating_sub(1));
-            let f = table[k] + (table[(k + 1).min(n)] - table[k]) * (x - k as f64);
-            m.point_at(f) - m.tip
-        }
+        Path::Uniform | Path::Varying { .. } => m.point_at(fraction_at(item, dt)) - m.tip,
     }
 }
 
@@ -254,4 +247,21 @@ pub fn max_speed(m: &Move, item: &Timed) -> f64 {
         }
     };
     v * (1.0 + 1e-9) + 1e-12
+}
+
+/// The fraction of the programmed path a feed move has covered `dt` seconds into it (the
+/// parameter of [`Move::point_at`]); 1 for moves that do not follow the programmed path.
+pub fn fraction_at(item: &Timed, dt: f64) -> f64 {
+    let d = item.duration;
+    let u = if d > 0.0 { (dt / d).clamp(0.0, 1.0) } else { 1.0 };
+    match &item.path {
+        Path::Uniform => u,
+        Path::Varying { table } => {
+            let n = table.len() - 1;
+            let x = u * n as f64;
+            let k = (x.floor() as usize).min(n.saturating_sub(1));
+            table[k] + (table[(k + 1).min(n)] - table[k]) * (x - k as f64)
+        }
+        _ => 1.0,
+    }
 }

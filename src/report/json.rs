@@ -43,6 +43,9 @@ struct FindingDoc<'a> {
     x: Option<f64>,
     z: Option<f64>,
     message: &'a str,
+    /// The crash this contact is a follow-on of (absent for an independent finding).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    follow_on: Option<&'a crate::finding::FollowOn>,
 }
 
 impl<'a> From<&'a Finding> for FindingDoc<'a> {
@@ -60,6 +63,7 @@ impl<'a> From<&'a Finding> for FindingDoc<'a> {
             x: f.x.map(round6),
             z: f.z.map(round6),
             message: &f.message,
+            follow_on: f.follow_on.as_ref(),
         }
     }
 }

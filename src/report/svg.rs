@@ -857,6 +857,13 @@ fn caption(o: &mut String, file: &FileReport, f: &Finding) {
     if !f.objects.is_empty() {
         facts.push(f.objects.join(" × "));
     }
+    if let Some(p) = &f.follow_on {
+        facts.push(format!(
+            "follow-on of the crash at line {} ({})",
+            p.line,
+            p.objects.join(" × ")
+        ));
+    }
     let _ = writeln!(
         o,
         r##"<text x="{m}" y="90" font-size="13" fill="#57606a">first contact: {}</text>"##,

@@ -130,6 +130,13 @@ pub(crate) fn with_facts(mut s: String, x: &Finding, point: bool, n: bool) -> St
     if let (true, Some(nn)) = (n, x.n) {
         facts.push(format!("N{nn}"));
     }
+    if let Some(p) = &x.follow_on {
+        facts.push(format!(
+            "follow-on of the crash at line {}: {}",
+            p.line,
+            p.objects.join(" × ")
+        ));
+    }
     if !facts.is_empty() {
         let _ = write!(s, " ({})", facts.join(", "));
     }

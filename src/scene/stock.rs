@@ -42,6 +42,70 @@ pub struct DexelStock {
     scratch: Vec<(u32, f64)>,
     sorted: Vec<(u32, f64)>,
     counts: Vec<u32>,
+    /// The material the current move's cut removed, so that parts can meet the stock as it is
+    /// partway through the move.
+    journal: Journal,
+    /// Scratch buffers of instant queries: one column's material, and the swept polygons near
+    /// the part.
+    mat: Vec<(f64, f64)>,
+    near: Vec<usize>,
+}
+
+/// The columns the current move's cut changed, as they were before the move (see
+/// [`DexelStock::begin_move`]).
+#[derive(Clone, Debug, Default)]
+struct Journal {
+    active: bool,
+    gen: u32,
+    /// Per column: the generation it was saved in, and its slot in `saved`.
+    col_gen: Vec<u32>,
+    col_slot: Vec<u32>,
+    saved: Vec<Vec<(f64, f64)>>,
+    used: usize,
+    /// Per block: the generation its extremes were saved in, and the extremes before the move.
+    blk_gen: Vec<u32>,
+    pre_min: Vec<f64>,
+    pre_max: Vec<f64>,
+}
+
+/// The region the insert has swept so far in the current move: polygons in the working plane
+/// (signed x), each with its box. The stock "at an instant" of a cutting move is the material
+/// before the move less these polygons.
+#[derive(Clone, Debug, Default)]
+pub struct Swept {
+    polys: Vec<(Aabb, Vec<P2>)>,
+}
+
+impl Swept {
+    pub fn clear(&mut self) {
+        self.polys.clear();
+    }
+
+    pub fn push(&mut self, pts: Vec<P2>) {
+        self.polys.push((Aabb::of_points(&pts), pts));
+    }
+
+    pub fn polygons(&self) -> impl Iterator<Item = &[P2]> {
+        self.polys.iter().map(|(_, p)| &p[..])
+    }
+
+    pub fn len(&self) -> usize {
+        self.polys.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.polys.is_empty()
+    }
+}
+
+/// Which state of the stock a query sees.
+#[derive(Clone, Copy, Debug)]
+pub enum View<'a> {
+    /// The stock as it is now (after every cut so far).
+    Now,
+    /// During a move begun with [`DexelStock::begin_move`]: the material before the move less
+    /// the given swept region (empty: the stock before the move).
+    Instant(&'a Swept),
 }
 
 /// One overlap of a part with the material.
@@ -70,6 +134,9 @@ impl DexelStock {
             scratch: Vec::new(),
             sorted: Vec::new(),
             counts: Vec::new(),
+            journal: Journal::default(),
+            mat: Vec::new(),
+            near: Vec::new(),
         };
         for b in 0..nb {
             s.refresh_block(b);
@@ -114,12 +181,80 @@ impl DexelStock {
     }
 
     /// Blocks (from the one holding column `j0`) whose material the part's radial range within
-    /// the block's slab of z comes nearer than `eps`.
-    fn block_candidate(&self, pts: &[P2], b: usize, eps: f64) -> bool {
+    /// the block's slab of z comes nearer than `eps` (with `pre`, the material before the move).
+    fn block_candidate(&self, pts: &[P2], b: usize, eps: f64, pre: bool) -> bool {
         let za = self.z0 + (b * BLOCK) as f64 * self.h;
         let zb = self.z0 + ((b + 1) * BLOCK) as f64 * self.h;
-        slab_radial_range(pts, za, zb)
-            .is_some_and(|(rlo, rhi)| rlo < self.blk_max[b] - eps && rhi > self.blk_min[b] + eps)
+        let (mn, mx) = self.extremes(b, pre);
+        slab_radial_range(pts, za, zb).is_some_and(|(rlo, rhi)| rlo < mx - eps && rhi > mn + eps)
+    }
+
+    /// A block's smallest and largest radius of material; with `pre`, before the current move.
+    fn extremes(&self, b: usize, pre: bool) -> (f64, f64) {
+        let j = &self.journal;
+        if pre && j.active && j.blk_gen[b] == j.gen {
+            (j.pre_min[b], j.pre_max[b])
+        } else {
+            (self.blk_min[b], self.blk_max[b])
+        }
+    }
+
+    /// Start a move whose cut may be queried partway (see [`View::Instant`]): from now until
+    /// [`Self::end_move`], every column a cut changes keeps its material from before, so the
+    /// stock at any instant of the move is that material less what the insert has swept by then.
+    /// Costs one copy of each changed column.
+    pub fn begin_move(&mut self) {
+        let j = &mut self.journal;
+        if j.col_gen.len() != self.cols.len() {
+            j.col_gen = vec![0; self.cols.len()];
+            j.col_slot = vec![0; self.cols.len()];
+            j.blk_gen = vec![0; self.blk_max.len()];
+            j.pre_min = vec![0.0; self.blk_max.len()];
+            j.pre_max = vec![0.0; self.blk_max.len()];
+            j.gen = 0;
+        }
+        if j.gen == u32::MAX {
+            j.col_gen.iter_mut().for_each(|g| *g = 0);
+            j.blk_gen.iter_mut().for_each(|g| *g = 0);
+            j.gen = 0;
+        }
+        j.gen += 1;
+        j.used = 0;
+        j.active = true;
+    }
+
+    /// End the move begun with [`Self::begin_move`]: queries see the stock as it is now.
+    pub fn end_move(&mut self) {
+        self.journal.active = false;
+    }
+
+    /// The material of column `col` before the current move, when the move changed it.
+    fn saved(&self, col: usize) -> Option<&[(f64, f64)]> {
+        let j = &self.journal;
+        (j.active && j.col_gen[col] == j.gen).then(|| &j.saved[j.col_slot[col] as usize][..])
+    }
+
+    /// Keep column `col`'s material (and its block's extremes) before the move changes it.
+    fn save(&mut self, col: usize) {
+        let j = &mut self.journal;
+        if !j.active || j.col_gen[col] == j.gen {
+            return;
+        }
+        if j.used == j.saved.len() {
+            j.saved.push(Vec::new());
+        }
+        let slot = j.used;
+        j.used += 1;
+        j.saved[slot].clear();
+        j.saved[slot].extend_from_slice(&self.cols[col].iv);
+        j.col_gen[col] = j.gen;
+        j.col_slot[col] = slot as u32;
+        let b = col / BLOCK;
+        if j.blk_gen[b] != j.gen {
+            j.blk_gen[b] = j.gen;
+            j.pre_min[b] = self.blk_min[b];
+            j.pre_max[b] = self.blk_max[b];
+        }
     }
 
     fn refresh_block(&mut self, b: usize) {
@@ -205,18 +340,43 @@ impl DexelStock {
     /// [`Self::overlap`], or with `first_only` just whether there is an overlap: it stops at the
     /// first column that proves one, and the depth is that column's (a lower bound).
     pub fn overlap_with(&mut self, pts: &[P2], eps: f64, first_only: bool) -> Option<StockHit> {
+        self.overlap_view(pts, eps, first_only, View::Now)
+    }
+
+    /// [`Self::overlap_with`] against the stock as `view` sees it.
+    pub fn overlap_view(&mut self, pts: &[P2], eps: f64, first_only: bool, view: View) -> Option<StockHit> {
         let bb = Aabb::of_points(pts);
         let (rlo, rhi) = radial_range(bb.min.x, bb.max.x);
         let (j0, j1) = self.column_range(bb.min.y, bb.max.y)?;
+        let swept = match view {
+            View::Instant(sw) if self.journal.active => Some(sw),
+            _ => None,
+        };
+        let pre = swept.is_some();
         // Quick reject by blocks: the part's radial range within each block's slab of z.
-        if !(j0 / BLOCK..=j1 / BLOCK).any(|b| rlo < self.blk_max[b] - eps && rhi > self.blk_min[b] + eps) {
+        if !(j0 / BLOCK..=j1 / BLOCK).any(|b| {
+            let (mn, mx) = self.extremes(b, pre);
+            rlo < mx - eps && rhi > mn + eps
+        }) {
             return None;
         }
+        // The swept polygons that can change what the part meets: those within its box.
+        let mut near = std::mem::take(&mut self.near);
+        near.clear();
+        if let Some(sw) = swept {
+            for (i, (pb, _)) in sw.polys.iter().enumerate() {
+                let (plo, phi) = radial_range(pb.min.x, pb.max.x);
+                if pb.max.y >= bb.min.y && pb.min.y <= bb.max.y && phi > rlo && plo < rhi {
+                    near.push(i);
+                }
+            }
+        }
+        let mut mat = std::mem::take(&mut self.mat);
         let mut best: f64 = 0.0;
         let mut first: Option<usize> = None;
         let mut last = 0usize;
         for b in j0 / BLOCK..=j1 / BLOCK {
-            if !self.block_candidate(pts, b, eps) {
+            if !self.block_candidate(pts, b, eps, pre) {
                 continue;
             }
             let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
@@ -231,10 +391,19 @@ impl DexelStock {
                 while k < scratch.len() && scratch[k].0 as usize == col {
                     k += 1;
                 }
+                let material: &[(f64, f64)] = match (swept, self.saved(col)) {
+                    (Some(sw), Some(before)) => {
+                        mat.clear();
+                        mat.extend_from_slice(before);
+                        remove_swept(&mut mat, sw, &near, self.center(col));
+                        &mat
+                    }
+                    _ => &self.cols[col].iv,
+                };
                 let mut o_col: f64 = 0.0;
                 for pair in scratch[i..k].chunks_exact(2) {
                     let (r0, r1) = radial_range(pair[0].1, pair[1].1);
-                    for &(lo, hi) in &self.cols[col].iv {
+                    for &(lo, hi) in material {
                         o_col = o_col.max(r1.min(hi) - r0.max(lo));
                     }
                 }
@@ -249,14 +418,41 @@ impl DexelStock {
             }
             self.scratch = scratch;
             if first_only && first.is_some() {
-                return Some(StockHit {
-                    depth: best.min(bb.max.y - bb.min.y),
-                });
+                break;
             }
         }
+        self.mat = mat;
+        self.near = near;
         let first = first?;
+        if first_only {
+            return Some(StockHit {
+                depth: best.min(bb.max.y - bb.min.y),
+            });
+        }
         let axial = (self.center(last) - self.center(first) + self.h).min(bb.max.y - bb.min.y);
         Some(StockHit { depth: best.min(axial) })
+    }
+
+    /// A copy of the stock as `view` sees it (for pictures).
+    pub fn view_copy(&self, view: View) -> DexelStock {
+        let mut s = self.clone();
+        s.journal = Journal::default();
+        if let View::Instant(sw) = view {
+            if self.journal.active {
+                let all: Vec<usize> = (0..sw.polys.len()).collect();
+                for col in 0..self.cols.len() {
+                    if let Some(before) = self.saved(col) {
+                        let mut m = before.to_vec();
+                        remove_swept(&mut m, sw, &all, self.center(col));
+                        s.cols[col].iv = m;
+                    }
+                }
+                for b in 0..s.blk_max.len() {
+                    s.refresh_block(b);
+                }
+            }
+        }
+        s
     }
 
     /// A lower bound on the distance from a part (working plane, folded) to any material, looking
@@ -270,7 +466,8 @@ impl DexelStock {
         };
         let mut best = window;
         for b in j0 / BLOCK..=j1 / BLOCK {
-            let (mn, mx) = (self.blk_min[b], self.blk_max[b]);
+            // During a move, the material before it: a bound for every instant of the move.
+            let (mn, mx) = self.extremes(b, true);
             if mn > mx {
                 continue; // no material in this block
             }
@@ -306,7 +503,7 @@ impl DexelStock {
         }
         let mut changed_any = false;
         for b in j0 / BLOCK..=j1 / BLOCK {
-            if self.block_candidate(pts, b, 0.0) {
+            if self.block_candidate(pts, b, 0.0, false) {
                 changed_any |= self.cut_columns(pts, (b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
             }
         }
@@ -331,6 +528,9 @@ impl DexelStock {
             let mut changed = false;
             for pair in scratch[i..k].chunks_exact(2) {
                 let (r0, r1) = radial_range(pair[0].1, pair[1].1);
+                if self.journal.active && self.cols[col].iv.iter().any(|&(lo, hi)| r0 < hi && r1 > lo) {
+                    self.save(col);
+                }
                 changed |= subtract(&mut self.cols[col].iv, r0, r1);
             }
             if changed {
@@ -410,6 +610,47 @@ impl DexelStock {
             }
         }
         out
+    }
+}
+
+/// Remove from one column's material (at the centre plane `c`) the radial extent of the swept
+/// polygons `near`, with the same crossing rule and arithmetic as [`DexelStock::cut`], so that the
+/// whole move's swept region gives exactly the stock after the move.
+fn remove_swept(mat: &mut Vec<(f64, f64)>, sw: &Swept, near: &[usize], c: f64) {
+    let mut xs: [f64; 16] = [0.0; 16];
+    for &i in near {
+        let (bb, pts) = &sw.polys[i];
+        if c < bb.min.y || c >= bb.max.y || mat.is_empty() {
+            continue;
+        }
+        let n = pts.len();
+        let mut cnt = 0usize;
+        let mut heap: Vec<f64> = Vec::new();
+        for e in 0..n {
+            let (a, b) = (pts[e], pts[(e + 1) % n]);
+            if a.y == b.y {
+                continue;
+            }
+            let (lo, hi) = if a.y < b.y { (a, b) } else { (b, a) };
+            if c >= lo.y && c < hi.y {
+                let x = lo.x + (hi.x - lo.x) * ((c - lo.y) / (hi.y - lo.y));
+                if cnt < xs.len() {
+                    xs[cnt] = x;
+                } else {
+                    if heap.is_empty() {
+                        heap.extend_from_slice(&xs);
+                    }
+                    heap.push(x);
+                }
+                cnt += 1;
+            }
+        }
+        let list: &mut [f64] = if cnt <= xs.len() { &mut xs[..cnt] } else { &mut heap[..] };
+        list.sort_unstable_by(|p, q| p.total_cmp(q));
+        for pair in list.chunks_exact(2) {
+            let (r0, r1) = radial_range(pair[0], pair[1]);
+            subtract(mat, r0, r1);
+        }
     }
 }
 
