@@ -342,7 +342,7 @@ impl Run<'_> {
         let SpindleSpeed::Css { m_per_min, .. } = spindle.speed else {
             return;
         };
-        if !(m_per_min > 0.0) {
+        if m_per_min.is_nan() || m_per_min <= 0.0 {
             return; // no speed at all: the timing reports that move
         }
         // The smallest radius on the move (an arc is sampled; a sign change means the axis).

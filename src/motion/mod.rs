@@ -131,8 +131,8 @@ fn time_move(m: &Move, spindle: &Spindle, machine: &Machine, stalled: &mut dyn F
                     let fallback = (len / (FALLBACK_FEED_MM_MIN / 60.0), Path::Uniform);
                     if !css {
                         let rpm = sp.rpm_at(m.start.x);
-                        // `!(x >= min)` also catches NaN.
-                        if !(rpm >= MIN_RPM) {
+                        // NaN (no speed at all) counts as no speed.
+                        if rpm.is_nan() || rpm < MIN_RPM {
                             stalled();
                             return fallback;
                         }
@@ -148,7 +148,7 @@ fn time_move(m: &Move, spindle: &Spindle, machine: &Machine, stalled: &mut dyn F
                         let u = (k as f64 + 0.5) / n as f64;
                         let r = m.point_at(u).x.abs();
                         let rpm = sp.rpm_at(r);
-                        if !(rpm >= MIN_RPM) {
+                        if rpm.is_nan() || rpm < MIN_RPM {
                             stalled();
                             return fallback;
                         }
