@@ -4,6 +4,7 @@ use super::arc::{arc_from_center, arc_from_radius, ArcTolerance};
 use super::flow::Run;
 use super::state::Motion;
 use super::{Feed, Move, MoveKind, MoveState, ProgFrame, Spindle, SpindleDir, SpindleSpeed};
+use crate::finding::{Finding, Kind, Severity};
 use crate::gcode::Block;
 use crate::geom::{P2, V2};
 use crate::machine::{DecimalPoint, Dialect};
@@ -312,7 +313,7 @@ impl Run<'_> {
         if self.states.last() != Some(&state) {
             self.states.push(state);
         }
-        self.moves.push(Move {
+        let m = Move {
             kind,
             line: b.line,
             n: b.n,
@@ -322,7 +323,65 @@ impl Run<'_> {
             station: self.station,
             feed,
             state: (self.states.len() - 1) as u32,
-        });
+        };
+        if self.modal.spindle_css && feed != Feed::Rapid && self.spindle_dir != SpindleDir::Off {
+            self.css_above_max_rpm(b, &m, &state.spindle);
+        }
+        self.moves.push(m);
+    }
+
+    /// A feed move under constant surface speed that would need more than the machine's
+    /// `max_rpm` somewhere (near the axis) while the program set no lower limit (Fanuc G50 S,
+    /// LinuxCNC G96 D): the control holds the spindle at `max_rpm`; a warning at the move's line.
+    #[cold]
+    fn css_above_max_rpm(&mut self, b: &Block, m: &Move, spindle: &Spindle) {
+        let max = self.machine.max_rpm;
+        if self.modal.css_clamp.is_some_and(|c| c <= max) {
+            return;
+        }
+        let SpindleSpeed::Css { m_per_min, .. } = spindle.speed else {
+            return;
+        };
+        if m_per_min.is_nan() || m_per_min <= 0.0 {
+            return; // no speed at all: the timing reports that move
+        }
+        // The smallest radius on the move (an arc is sampled; a sign change means the axis).
+        let mut r_min = f64::INFINITY;
+        let mut prev_x = m.start.x;
+        let pieces = if matches!(m.kind, MoveKind::Arc { .. }) { 32 } else { 1 };
+        for k in 0..=pieces {
+            let x = m.point_at(k as f64 / pieces as f64).x;
+            r_min = if prev_x * x <= 0.0 { 0.0 } else { r_min.min(x.abs()) };
+            prev_x = x;
+        }
+        let needed = m_per_min * 1000.0 / (2.0 * std::f64::consts::PI * r_min);
+        if needed <= max {
+            return;
+        }
+        let msg = format!(
+            "constant surface speed S{} needs more than the machine's max_rpm ({} rpm) on this move: the spindle is held at {} rpm (set a lower limit with {})",
+            self.modal.s,
+            max,
+            max,
+            if self.machine.dialect == Dialect::Fanuc { "G50 S" } else { "G96 D" }
+        );
+        self.warn_once(b, None, msg);
+    }
+
+    /// A `program` warning, unless the same one was just reported for this line (a line in a
+    /// loop would repeat it on every pass).
+    pub(crate) fn warn_once(&mut self, b: &Block, col_offset: Option<u32>, msg: String) {
+        let col = col_offset.map_or(0, |o| self.prog.lines.col_of(self.src, o));
+        let repeat = self
+            .findings
+            .iter()
+            .rev()
+            .take(8)
+            .any(|f| f.line == b.line && f.col == col && f.message == msg);
+        if !repeat {
+            self.findings
+                .push(Finding::at(Kind::Program, Severity::Warning, b.line, col, msg).with_n(b.n));
+        }
     }
 
     /// Read the words of a block. `None` when a value could not be evaluated (already reported).
@@ -580,7 +639,9 @@ impl Run<'_> {
         if w.peek(b'S') || w.any_g(SPINDLE_CODES) {
             let clamp_block = fanuc && (w.g(500) || w.g(920)) && !axis;
             if let Some(s) = w.peek(b'S').then(|| w.get(b'S')).flatten() {
-                if s < 0.0 {
+                if !s.is_finite() {
+                    self.error(b, w.at(b'S'), format!("spindle speed S{s} is not a finite number"));
+                } else if s < 0.0 {
                     self.error(b, w.at(b'S'), format!("negative spindle speed S{s}"));
                 } else if clamp_block {
                     self.modal.css_clamp = Some(s);
@@ -598,6 +659,15 @@ impl Run<'_> {
             }
             if w.g(970) {
                 self.modal.spindle_css = false;
+            }
+            // A speed in rpm above the machine's limit: the control holds it at max_rpm.
+            let max = self.machine.max_rpm;
+            if w.peek(b'S') && !clamp_block && !self.modal.spindle_css && self.modal.s > max {
+                let msg = format!(
+                    "spindle speed S{} is above the machine's max_rpm ({max} rpm): the spindle runs at {max} rpm",
+                    self.modal.s
+                );
+                self.warn_once(b, w.at(b'S'), msg);
             }
         }
 
@@ -664,9 +734,14 @@ impl Run<'_> {
             }
         }
 
-        // 6. Dwell.
+        // 6. Dwell. On Fanuc lathes the X, U or P word of a G4 block is the dwell time and never
+        // an axis word: such a block does not move (a Z or W there has no use and is reported).
+        // LinuxCNC reads the time from P only; its axis words go to the modal motion, as in
+        // rs274ngc.
+        let mut dwell_took_axes = false;
         if w.g(40) {
             self.dwell(b, w, fanuc);
+            dwell_took_axes = fanuc;
         }
 
         // 7. Plane, compensation, length offsets, coordinate systems, path mode.
@@ -725,7 +800,7 @@ impl Run<'_> {
 
         // 8. Non-modal coordinate codes and returns home.
         // (LinuxCNC G98/G99, the canned-cycle return level, has no effect without canned cycles.)
-        let mut axes_used_by_nonmodal = false;
+        let mut axes_used_by_nonmodal = dwell_took_axes;
         if w.any_g(NONMODAL_CODES) {
             if w.g(280) {
                 self.home_return(b, w);
@@ -808,7 +883,7 @@ impl Run<'_> {
         } else if (axis || w.peek(b'Y')) && !axes_used_by_nonmodal {
             let before = self.findings.len();
             self.motion(b, w, g53.is_some(), plane_error_here);
-            if self.findings.len() > before {
+            if self.refused_since(before) {
                 // The move was refused: its words are accounted for by that finding.
                 w.used = w.has;
             }
@@ -873,11 +948,20 @@ impl Run<'_> {
         if w.axis_words() {
             let before = self.findings.len();
             self.motion(b, w, false, false);
-            if self.findings.len() > before {
+            if self.refused_since(before) {
                 w.used = w.has;
             }
         }
         self.check_unused(b, w);
+    }
+
+    /// A finding since `before` refused the move (the `program` warnings about a move that was
+    /// made, such as a clamped spindle speed, do not).
+    #[inline]
+    fn refused_since(&self, before: usize) -> bool {
+        self.findings[before..]
+            .iter()
+            .any(|f| !(f.kind == Kind::Program && f.severity == Severity::Warning))
     }
 
     #[inline]
@@ -970,14 +1054,26 @@ impl Run<'_> {
     fn dwell(&mut self, b: &Block, w: &mut Words, fanuc: bool) {
         let seconds = if fanuc {
             // P in milliseconds (seconds when written with a decimal point, as Haas reads it);
-            // X or U in seconds.
-            if let Some(p) = w.peek(b'P').then(|| w.get(b'P')).flatten() {
+            // X or U in seconds. Each of them is the dwell here, never an axis word.
+            let given = [b'P', b'X', b'U'].into_iter().filter(|&l| w.peek(l)).count();
+            let p = w.peek(b'P').then(|| w.get(b'P')).flatten();
+            let x = w.peek(b'X').then(|| w.get(b'X')).flatten();
+            let u = w.peek(b'U').then(|| w.get(b'U')).flatten();
+            if given > 1 {
+                self.error(
+                    b,
+                    w.has_g(40),
+                    "G4 takes one dwell time: P (ms), X or U (s), not several".into(),
+                );
+                return;
+            }
+            if let Some(p) = p {
                 if w.point & bit(b'P') != 0 {
                     p
                 } else {
                     p / 1000.0
                 }
-            } else if let Some(x) = w.get(b'X').or_else(|| w.get(b'U')) {
+            } else if let Some(x) = x.or(u) {
                 x
             } else {
                 self.error(b, w.has_g(40), "G4 needs P (ms), X or U (s)".into());

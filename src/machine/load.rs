@@ -14,9 +14,9 @@
 //! | `machine.diameter_mode` | no | `true` for fanuc, `false` for linuxcnc (G8) | |
 //! | `machine.rapid` | no | `"dogleg"` | `"dogleg"` or `"linear"` |
 //! | `machine.decimal_point` | no | `"calculator"` | `"calculator"` or `"increment"`; `"increment"` only with fanuc |
-//! | `axes.x`, `axes.z` | yes | | tables `{ min, max, rapid }`, all required, `min < max`, `rapid > 0` (mm/min) |
+//! | `axes.x`, `axes.z` | yes | | tables `{ min, max, rapid }`, all required, `min < max`, `rapid` 1 ..= 1e6 mm/min (a warning below 100) |
 //! | `axes.home` | no | `[axes.x.max, axes.z.max]` | inside both axes' limits |
-//! | `spindle.max_rpm` | yes | | `> 0` |
+//! | `spindle.max_rpm` | yes | | 1 ..= 1e6 (a warning below 100 or above 50,000) |
 //! | `[chuck]` | no | no chuck | `outline` required in it |
 //! | `[tailstock]` | no | no tailstock | `outline` required in it |
 //! | `[stock]` | no | no stock | `diameter > 0`, `length > 0`, `front` required; `bore` default `0`, `0 ≤ bore < diameter`; the bar spans `z` from `front − length` to `front` |
@@ -25,14 +25,25 @@
 //! | `turret.stations` | yes | | `1 ..= 64` |
 //! | `turret.start_station` | no | `1` | `1 ..= stations` |
 //! | `turret.axis` | yes | | |
-//! | `turret.index_time` | yes | | `≥ 0` (seconds per station) |
+//! | `turret.index_time` | yes | | 0 ..= 60 seconds per station (a warning above 5) |
 //! | `turret.outline` | yes | | |
 //! | `[[tools]]` | yes, at least one | | at most 256 tables |
 //! | `tools[i].station` | yes | | `1 ..= turret.stations`, not used by another tool |
 //! | `tools[i].name` | yes | | not blank |
 //! | `tools[i].tip` | yes | | `[x, z]` of the programmed point from the turret reference point |
 //! | `tools[i].insert`, `tools[i].holder` | yes | | outlines relative to the programmed point |
-//! | `tools[i].nose_radius` | no | `0` | `≥ 0` |
+//! | `tools[i].nose_radius` | no | `0` | 0 ..= 100 |
+//!
+//! Every coordinate (axis limits, home, points of outlines, tips, `stock.front`,
+//! `setup.program_zero_z`, `turret.axis`) lies within ±[`MAX_COORD_MM`] (100 m), and every length
+//! (`stock.diameter`, `stock.length`) is at most that: beyond it squared distances lose their
+//! precision and results would be silently wrong. A file is at most [`MAX_TEXT_BYTES`] (1 MiB),
+//! checked before it is parsed. Values in range that look like unit mistakes (a rapid of 1 mm/min)
+//! are accepted with a warning in [`Machine::warnings`].
+//!
+//! At home with the start station facing the spindle, the turret and every tool's holder and
+//! insert must be clear of the chuck and the tailstock (posed as the checker poses them);
+//! otherwise the error names the part: `turret.outline`, `tools[2].holder`.
 //!
 //! An outline is an array of `[x, z]` points: a simple polygon in either winding. Repeated and
 //! collinear points are dropped; a self-intersecting or degenerate outline (fewer than three
@@ -71,6 +82,22 @@ pub const MAX_STATIONS: u32 = 64;
 /// At most this many `[[tools]]` tables.
 pub const MAX_TOOLS: usize = 256;
 
+/// At most this many bytes in a machine file (1 MiB), checked before anything is parsed: a real
+/// machine file is a few kilobytes.
+pub const MAX_TEXT_BYTES: usize = 1 << 20;
+/// Every coordinate and length of a machine file lies within ±this many mm (100 m).
+pub const MAX_COORD_MM: f64 = 1e5;
+/// Rapid rates, mm/min.
+pub const RAPID_RANGE: (f64, f64) = (1.0, 1e6);
+/// Spindle speed limit, rpm.
+pub const MAX_RPM_RANGE: (f64, f64) = (1.0, 1e6);
+/// Seconds per station indexed.
+pub const INDEX_TIME_RANGE: (f64, f64) = (0.0, 60.0);
+/// Tool nose radius, mm.
+pub const NOSE_RADIUS_RANGE: (f64, f64) = (0.0, 100.0);
+/// The tolerance the home-clearance test rounds tool noses with (the default `--tolerance`).
+const HOME_CHECK_TOLERANCE: f64 = 0.01;
+
 /// The key shown for an error that is about no table or key in particular.
 pub const TOP_LEVEL: &str = "(top level)";
 
@@ -89,10 +116,23 @@ pub struct MachineError {
 
 /// Parse and validate a machine description. `file` is only used in error messages.
 pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
+    if text.len() > MAX_TEXT_BYTES {
+        return Err(MachineError {
+            file: file.to_string(),
+            line: 1,
+            col: 1,
+            key: TOP_LEVEL.to_string(),
+            message: format!(
+                "the file is {} bytes; a machine file may have at most {MAX_TEXT_BYTES} (1 MiB)",
+                text.len()
+            ),
+        });
+    }
     let cx = Cx {
         text,
         file,
         lines: LineIndex::new(text.as_bytes()),
+        warnings: std::cell::RefCell::new(Vec::new()),
     };
     let (root, errors) = DeTable::parse_recoverable(text);
     // The parser may report several errors, not in text order: the first in the text is the one
@@ -230,6 +270,8 @@ struct Cx<'a> {
     text: &'a str,
     file: &'a str,
     lines: LineIndex,
+    /// Values that are valid but look like unit mistakes, as `file:line:col: key: message`.
+    warnings: std::cell::RefCell<Vec<String>>,
 }
 
 impl Cx<'_> {
@@ -270,6 +312,52 @@ impl Cx<'_> {
         }
     }
 
+    fn warn(&self, at: Range<usize>, key: &str, message: String) {
+        let e = self.err(at, key, message);
+        self.warnings.borrow_mut().push(e.to_string());
+    }
+
+    /// A number within `lo ..= hi` (its physical range), else an error naming the range.
+    fn within(&self, key: &str, v: &Num, (lo, hi): (f64, f64), unit: &str) -> Result<f64, MachineError> {
+        let x = self.finite(key, v)?;
+        if (lo..=hi).contains(&x) {
+            Ok(x)
+        } else {
+            Err(self.err(
+                v.span(),
+                key,
+                format!(
+                    "{} is out of range: must be from {} to {} {unit}",
+                    show(x),
+                    show(lo),
+                    show(hi)
+                ),
+            ))
+        }
+    }
+
+    /// A coordinate: within ±[`MAX_COORD_MM`].
+    fn coord(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
+        self.within(key, v, (-MAX_COORD_MM, MAX_COORD_MM), "mm")
+    }
+
+    /// A length: greater than 0 and at most [`MAX_COORD_MM`].
+    fn length(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
+        let x = self.positive(key, v)?;
+        if x > MAX_COORD_MM {
+            return Err(self.err(
+                v.span(),
+                key,
+                format!(
+                    "{} is out of range: must be greater than 0 and at most {} mm",
+                    show(x),
+                    show(MAX_COORD_MM)
+                ),
+            ));
+        }
+        Ok(x)
+    }
+
     fn positive(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
         let x = self.finite(key, v)?;
         if x > 0.0 {
@@ -290,7 +378,18 @@ impl Cx<'_> {
 
     fn point(&self, key: &str, p: &Point) -> Result<P2, MachineError> {
         match p.get_ref().as_slice() {
-            &[x, z] if x.is_finite() && z.is_finite() => Ok(p2(x, z)),
+            &[x, z] if x.abs() <= MAX_COORD_MM && z.abs() <= MAX_COORD_MM => Ok(p2(x, z)),
+            &[x, z] if x.is_finite() && z.is_finite() => Err(self.err(
+                p.span(),
+                key,
+                format!(
+                    "[{}, {}] is out of range: coordinates must be from {} to {} mm",
+                    show(x),
+                    show(z),
+                    show(-MAX_COORD_MM),
+                    show(MAX_COORD_MM)
+                ),
+            )),
             &[x, z] => Err(self.err(
                 p.span(),
                 key,
@@ -326,8 +425,8 @@ impl Cx<'_> {
     }
 
     fn axis(&self, key: &str, a: &RawAxis) -> Result<Axis, MachineError> {
-        let min = self.finite(&format!("{key}.min"), &a.min)?;
-        let max = self.finite(&format!("{key}.max"), &a.max)?;
+        let min = self.coord(&format!("{key}.min"), &a.min)?;
+        let max = self.coord(&format!("{key}.max"), &a.max)?;
         if min >= max {
             return Err(self.err(
                 a.min.span(),
@@ -335,7 +434,17 @@ impl Cx<'_> {
                 format!("min = {} must be less than max = {}", show(min), show(max)),
             ));
         }
-        let rapid = self.positive(&format!("{key}.rapid"), &a.rapid)?;
+        let rapid = self.within(&format!("{key}.rapid"), &a.rapid, RAPID_RANGE, "mm/min")?;
+        if rapid < 100.0 {
+            self.warn(
+                a.rapid.span(),
+                &format!("{key}.rapid"),
+                format!(
+                    "rapid = {} mm/min is implausibly slow for a rapid: the unit is mm/min (was it m/min or inch/s?)",
+                    show(rapid)
+                ),
+            );
+        }
         Ok(Axis { min, max, rapid })
     }
 }
@@ -463,7 +572,26 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
     };
 
     // [spindle]
-    let max_rpm = cx.positive("spindle.max_rpm", &spindle.max_rpm)?;
+    let max_rpm = cx.within("spindle.max_rpm", &spindle.max_rpm, MAX_RPM_RANGE, "rpm")?;
+    if max_rpm < 100.0 {
+        cx.warn(
+            spindle.max_rpm.span(),
+            "spindle.max_rpm",
+            format!(
+                "max_rpm = {} is implausibly low for a lathe spindle: the unit is rev/min (was it rev/s?)",
+                show(max_rpm)
+            ),
+        );
+    } else if max_rpm > 50_000.0 {
+        cx.warn(
+            spindle.max_rpm.span(),
+            "spindle.max_rpm",
+            format!(
+                "max_rpm = {} is implausibly high for a lathe spindle: the unit is rev/min",
+                show(max_rpm)
+            ),
+        );
+    }
 
     // [chuck], [tailstock]
     let chuck = chuck.map(|c| cx.outline("chuck.outline", &c.outline)).transpose()?;
@@ -475,13 +603,25 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
     let stock = match &stock {
         None => None,
         Some(s) => {
-            let diameter = cx.positive("stock.diameter", &s.diameter)?;
-            let length = cx.positive("stock.length", &s.length)?;
-            let front = cx.finite("stock.front", &s.front)?;
+            let diameter = cx.length("stock.diameter", &s.diameter)?;
+            let length = cx.length("stock.length", &s.length)?;
+            let front = cx.coord("stock.front", &s.front)?;
             let bore = match &s.bore {
                 None => 0.0,
                 Some(b) => cx.non_negative("stock.bore", b)?,
             };
+            if front - length < -MAX_COORD_MM {
+                return Err(cx.err(
+                    s.length.span(),
+                    "stock.length",
+                    format!(
+                        "the bar's back end (front − length = {}) is out of range: coordinates must be from {} to {} mm",
+                        show(front - length),
+                        show(-MAX_COORD_MM),
+                        show(MAX_COORD_MM)
+                    ),
+                ));
+            }
             if bore >= diameter {
                 let at = s.bore.as_ref().map_or(0..0, |b| b.span());
                 return Err(cx.err(
@@ -505,7 +645,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
 
     // [setup]
     let program_zero_z = match setup.as_ref().and_then(|s| s.program_zero_z.as_ref()) {
-        Some(v) => cx.finite("setup.program_zero_z", v)?,
+        Some(v) => cx.coord("setup.program_zero_z", v)?,
         None => stock.as_ref().map_or(0.0, |s| s.front),
     };
 
@@ -532,8 +672,23 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             v
         }
     };
-    let axis = cx.finite("turret.axis", &turret.axis)?;
-    let index_time = cx.non_negative("turret.index_time", &turret.index_time)?;
+    let axis = cx.coord("turret.axis", &turret.axis)?;
+    let index_time = cx.within(
+        "turret.index_time",
+        &turret.index_time,
+        INDEX_TIME_RANGE,
+        "s per station",
+    )?;
+    if index_time > 5.0 {
+        cx.warn(
+            turret.index_time.span(),
+            "turret.index_time",
+            format!(
+                "index_time = {} s per station is implausibly slow: the unit is seconds",
+                show(index_time)
+            ),
+        );
+    }
     let turret_outline = cx.outline("turret.outline", &turret.outline)?;
 
     // [[tools]]
@@ -570,7 +725,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         let holder = cx.outline(&key("holder"), &t.holder)?;
         let nose_radius = match &t.nose_radius {
             None => 0.0,
-            Some(r) => cx.non_negative(&key("nose_radius"), r)?,
+            Some(r) => cx.within(&key("nose_radius"), r, NOSE_RADIUS_RANGE, "mm")?,
         };
         out.push(Tool {
             station,
@@ -583,7 +738,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
     }
     out.sort_by_key(|t| t.station);
 
-    Ok(Machine {
+    let machine = Machine {
         name,
         dialect,
         diameter_mode,
@@ -605,7 +760,78 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             outline: turret_outline,
         },
         tools: out,
+        warnings: Vec::new(),
+    };
+    clear_at_home(cx, &machine, &turret.outline, &tools)?;
+    Ok(Machine {
+        warnings: cx.warnings.take(),
+        ..machine
     })
+}
+
+/// At home with the start station facing the spindle, the turret and every tool (the start
+/// station's in the working plane, the others turned out of it) must be clear of the chuck and
+/// the tailstock: a machine whose parts already overlap before anything moves is a setup error.
+/// The test poses the parts as the checker does ([`Scene`](crate::scene::Scene)).
+fn clear_at_home(
+    cx: &Cx<'_>,
+    machine: &Machine,
+    turret_outline: &Outline,
+    raw_tools: &[Spanned<RawTool>],
+) -> Result<(), MachineError> {
+    use crate::geom::overlap;
+    use crate::scene::Scene;
+    if machine.chuck.is_none() && machine.tailstock.is_none() {
+        return Ok(());
+    }
+    let scene = Scene::new(machine, HOME_CHECK_TOLERANCE);
+    let home = machine.home;
+    let start = machine.turret.start_station;
+    let statics: Vec<_> = [&scene.chuck, &scene.tailstock].into_iter().flatten().collect();
+    let hit = |shape: &Polygon, in_plane: bool| -> Option<(&'static str, f64)> {
+        statics.iter().find_map(|r| {
+            let d = overlap(shape, &r.outline).or_else(|| if in_plane { overlap(shape, &r.mirror) } else { None });
+            d.map(|d| (r.name, d))
+        })
+    };
+    let where_ = format!(
+        "at home [{}, {}] with station {start} facing the spindle",
+        show(home.x),
+        show(home.y)
+    );
+    if let Some((what, d)) = hit(&scene.turret.translated(home.coords), true) {
+        return Err(cx.err(
+            turret_outline.span(),
+            "turret.outline",
+            format!("{where_}, the turret overlaps the {what} by {d:.3} mm: move axes.home or the parts"),
+        ));
+    }
+    for (i, raw) in raw_tools.iter().enumerate() {
+        let station = *raw.get_ref().station.get_ref();
+        let Some(t) = scene.tool(station) else { continue };
+        for (part, shape, span) in [
+            ("holder", &t.holder, raw.get_ref().holder.span()),
+            ("insert", &t.insert, raw.get_ref().insert.span()),
+        ] {
+            let (posed, in_plane) = if station == start {
+                (Some(shape.translated(home.coords + t.tip)), true)
+            } else {
+                let angle = scene.station_angle(station, start as f64);
+                (scene.map_to_section(shape, t.tip, home, angle), false)
+            };
+            let Some(posed) = posed else { continue };
+            if let Some((what, d)) = hit(&posed, in_plane) {
+                return Err(cx.err(
+                    span,
+                    format!("tools[{i}].{part}"),
+                    format!(
+                        "{where_}, the {part} of the tool in station {station} overlaps the {what} by {d:.3} mm: move axes.home or the tool"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// A number as a machine file would write it: `inf`, `nan`, `1e90`, `-0.5`.

@@ -13,7 +13,8 @@ use std::fmt::Write as _;
 use crate::geom::{Polygon, P2};
 
 pub use load::{
-    from_toml, MachineError, MAX_OUTLINE_POINTS, MAX_STATIONS, MAX_TOOLS, MAX_TOTAL_OUTLINE_POINTS, TOP_LEVEL,
+    from_toml, MachineError, INDEX_TIME_RANGE, MAX_COORD_MM, MAX_OUTLINE_POINTS, MAX_RPM_RANGE, MAX_STATIONS,
+    MAX_TEXT_BYTES, MAX_TOOLS, MAX_TOTAL_OUTLINE_POINTS, NOSE_RADIUS_RANGE, RAPID_RANGE, TOP_LEVEL,
 };
 
 /// The built-in machine's TOML, embedded in the binary.
@@ -137,6 +138,10 @@ pub struct Machine {
     pub turret: Turret,
     /// Sorted by station.
     pub tools: Vec<Tool>,
+    /// Values that were accepted but look like unit mistakes (`rapid = 1.0`), each as
+    /// `file:line:col: key: message`, for `latheguard machine` to print. Empty for the shipped
+    /// machines.
+    pub warnings: Vec<String>,
 }
 
 impl Machine {

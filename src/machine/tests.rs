@@ -667,8 +667,8 @@ fn home_outside_limits_is_refused() {
     assert!(e.message.contains("outside"), "{e}");
     let text = edit(MINI, "rapid = 24000.0 }\n", "rapid = 24000.0 }\nhome = [300.0, -51]\n");
     assert_at(&refused(&text), line_of(&text, "home ="), "axes.home");
-    let text = edit(MINI, "rapid = 24000.0 }\n", "rapid = 24000.0 }\nhome = [0, 0]\n");
-    assert_eq!(load(&text).unwrap().home, p2(0.0, 0.0));
+    let text = edit(MINI, "rapid = 24000.0 }\n", "rapid = 24000.0 }\nhome = [200, 0]\n");
+    assert_eq!(load(&text).unwrap().home, p2(200.0, 0.0));
 }
 
 #[test]
@@ -762,4 +762,214 @@ proptest! {
         }
         check_error_shape(&text);
     }
+}
+
+// --- hostile values: physical ranges, unit mistakes, home clearance, size -------------------
+
+#[test]
+fn shipped_machines_have_no_warnings() {
+    assert!(Machine::builtin().warnings.is_empty());
+    assert!(load(LINUXCNC_TOML).unwrap().warnings.is_empty());
+    assert!(load(MINI).unwrap().warnings.is_empty());
+}
+
+#[test]
+fn machine_values_that_never_finish_are_refused_with_their_range() {
+    // Each of these was accepted and made every check endless or lost its results.
+    let cases = [
+        (
+            "rapid = 20000.0",
+            "rapid = 1e-300",
+            "x = {",
+            "axes.x.rapid",
+            "1 to 1000000 mm/min",
+        ),
+        (
+            "max_rpm = 4000.0",
+            "max_rpm = 1e-300",
+            "max_rpm",
+            "spindle.max_rpm",
+            "1 to 1000000 rpm",
+        ),
+        (
+            "index_time = 0.5",
+            "index_time = 1e300",
+            "index_time",
+            "turret.index_time",
+            "0 to 60 s",
+        ),
+        (
+            "tip = [-58.0, -10.0]",
+            "tip = [1e300, 1e300]",
+            "1e300",
+            "tools[1].tip",
+            "-100000 to 100000 mm",
+        ),
+        (
+            "max_rpm = 4000.0",
+            "max_rpm = 2e6",
+            "max_rpm",
+            "spindle.max_rpm",
+            "1 to 1000000 rpm",
+        ),
+        (
+            "index_time = 0.5",
+            "index_time = -1",
+            "index_time",
+            "turret.index_time",
+            "0 to 60 s",
+        ),
+        (
+            "rapid = 24000.0",
+            "rapid = 0",
+            "z = {",
+            "axes.z.rapid",
+            "1 to 1000000 mm/min",
+        ),
+        (
+            "diameter = 50.0",
+            "diameter = 1e6",
+            "diameter",
+            "stock.diameter",
+            "at most 100000 mm",
+        ),
+        (
+            "front = 80.0",
+            "front = -2e5",
+            "front",
+            "stock.front",
+            "-100000 to 100000 mm",
+        ),
+        (
+            "axis = 140.0",
+            "axis = 1e9",
+            "axis = ",
+            "turret.axis",
+            "-100000 to 100000 mm",
+        ),
+    ];
+    for (from, to, at, key, range) in cases {
+        let text = edit(MINI, from, to);
+        let e = refused(&text);
+        assert_at(&e, line_of(&text, at), key);
+        assert!(
+            e.message.contains("out of range") && e.message.contains(range),
+            "{to}: {e}"
+        );
+    }
+}
+
+#[test]
+fn chuck_outline_at_1e155_is_refused_not_silently_lost() {
+    for big in ["1e155", "1e308"] {
+        let text = edit(MINI, "[105, -100], [105, -30]", &format!("[{big}, -100], [{big}, -30]"));
+        let e = refused(&text);
+        assert_at(&e, line_of(&text, big), "chuck.outline[1]");
+        assert!(e.message.contains("out of range"), "{e}");
+    }
+    // The largest coordinate allowed still loads.
+    let text = edit(MINI, "[105, -100], [105, -30]", "[100000, -100], [100000, -30]");
+    let text = edit(
+        &text,
+        "x = { min = -10.0, max = 300.0",
+        "x = { min = -10.0, max = 100000.0",
+    );
+    assert_eq!(load(&text).unwrap().home, p2(1e5, 600.0));
+}
+
+#[test]
+fn unit_mistakes_load_with_a_warning_naming_the_key() {
+    let m = load(&edit(MINI, "rapid = 20000.0", "rapid = 1.0")).unwrap();
+    assert_eq!(m.warnings.len(), 1, "{:?}", m.warnings);
+    assert!(m.warnings[0].starts_with("test.toml:5:"), "{:?}", m.warnings);
+    assert!(
+        m.warnings[0].contains("axes.x.rapid") && m.warnings[0].contains("m/min"),
+        "{:?}",
+        m.warnings
+    );
+    let m = load(&edit(MINI, "max_rpm = 4000.0", "max_rpm = 50")).unwrap();
+    assert!(
+        m.warnings.iter().any(|w| w.contains("spindle.max_rpm")),
+        "{:?}",
+        m.warnings
+    );
+    let m = load(&edit(MINI, "index_time = 0.5", "index_time = 30")).unwrap();
+    assert!(
+        m.warnings.iter().any(|w| w.contains("turret.index_time")),
+        "{:?}",
+        m.warnings
+    );
+}
+
+/// MINI with `home` moved next to the chuck and tool 1 reaching further toward the axis.
+fn home_by_the_chuck(tip: &str) -> String {
+    let text = edit(
+        MINI,
+        "z = { min = -50.0, max = 600.0, rapid = 24000.0 }",
+        "z = { min = -50.0, max = 600.0, rapid = 24000.0 }\nhome = [110.0, -10.0]",
+    );
+    edit(&text, "tip = [-60.0, -12.0]", &format!("tip = {tip}"))
+}
+
+#[test]
+fn tool_inside_the_chuck_at_home_is_refused_naming_the_tool() {
+    // Clear of the chuck (holder and insert lie above z = 0)…
+    load(&home_by_the_chuck("[-60.0, 20.0]")).unwrap();
+    // …but with the tip 40 mm further in, the holder sits in the jaws.
+    let text = home_by_the_chuck("[-100.0, -12.0]");
+    let e = refused(&text);
+    assert_at(
+        &e,
+        nth_line(&text, "holder = [[5, 8], [60, 8], [60, 33], [8, 33]]", 0),
+        "tools[0].holder",
+    );
+    assert!(e.message.contains("chuck") && e.message.contains("station 1"), "{e}");
+}
+
+#[test]
+fn turret_inside_the_chuck_at_home_is_refused() {
+    let text = edit(
+        MINI,
+        "z = { min = -50.0, max = 600.0, rapid = 24000.0 }",
+        "z = { min = -50.0, max = 600.0, rapid = 24000.0 }\nhome = [100.0, 100.0]",
+    );
+    // Turret x 100 .. 380, z 65 .. 135 is clear of the chuck (z ≤ 0): loads.
+    load(&text).unwrap();
+    let text = edit(&text, "home = [100.0, 100.0]", "home = [100.0, -10.0]");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "outline = [[0, -35]"), "turret.outline");
+}
+
+#[test]
+fn a_tool_turned_out_of_the_plane_is_checked_at_home_too() {
+    // Station 3 moved to station 5, half a turn from station 1 at start: it points back toward
+    // the spindle across the turret axis (140 mm from the reference point). With its tip 380 mm
+    // out, its bar comes within 23 .. 35 mm of the spindle axis, inside the chuck's section.
+    let text = edit(
+        MINI,
+        "z = { min = -50.0, max = 600.0, rapid = 24000.0 }",
+        "z = { min = -50.0, max = 600.0, rapid = 24000.0 }\nhome = [120.0, 40.0]",
+    );
+    load(&text).unwrap();
+    let text = edit(&text, "station = 3", "station = 5");
+    load(&text).unwrap();
+    let far = edit(&text, "tip = [-31.0, -90.0]", "tip = [380.0, -60.0]");
+    let e = refused(&far);
+    assert_eq!(e.key, "tools[2].holder", "{e}");
+    assert!(e.message.contains("station 5") && e.message.contains("chuck"), "{e}");
+}
+
+#[test]
+fn a_machine_file_over_one_mebibyte_is_refused_before_parsing() {
+    // 400,000 tools once took a 59 MB file through the whole parser before the tool limit.
+    let mut text = MINI.to_string();
+    let tool = "\n[[tools]]\nstation = 4\nname = \"x\"\ntip = [0, 0]\ninsert = [[0, 0], [1, 0], [0, 1]]\nholder = [[0, 0], [1, 0], [0, 1]]\n";
+    while text.len() <= MAX_TEXT_BYTES {
+        text.push_str(tool);
+    }
+    let t = std::time::Instant::now();
+    let e = refused(&text);
+    assert!(t.elapsed().as_secs_f64() < 0.5, "took {:?}", t.elapsed());
+    assert_eq!((e.line, e.col, e.key.as_str()), (1, 1, TOP_LEVEL));
+    assert!(e.message.contains("at most 1048576"), "{e}");
 }

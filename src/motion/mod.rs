@@ -13,8 +13,13 @@ use crate::machine::{Machine, RapidMode};
 /// Pieces used to integrate a per-revolution feed under constant surface speed.
 const CSS_PIECES: usize = 32;
 
-/// Slowest feed assumed when a per-revolution feed meets a stopped spindle with no speed set.
+/// The feed assumed for a per-revolution feed that has no usable spindle speed (no S, `S0`,
+/// `G96 S0`, a `G50 S0` clamp, or a speed below [`MIN_RPM`] anywhere on the move): the move is
+/// timed at this rate and reported, rather than taking forever.
 pub const FALLBACK_FEED_MM_MIN: f64 = 100.0;
+
+/// Below this spindle speed (rpm) a per-revolution feed counts as having no spindle speed.
+pub const MIN_RPM: f64 = 1.0;
 
 /// One move with its timing.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,8 +58,9 @@ impl Timed {
 pub struct Timeline {
     pub items: Vec<Timed>,
     pub total: f64,
-    /// Moves whose per-revolution feed met a stopped spindle with no speed: timed at
-    /// [`FALLBACK_FEED_MM_MIN`]. (Move indices.)
+    /// Moves whose per-revolution feed has no usable spindle speed (below [`MIN_RPM`] at some
+    /// point of the move, CSS included): timed at [`FALLBACK_FEED_MM_MIN`]. Move indices, the
+    /// first move of each source line only (a line in a loop is listed once).
     pub feed_without_speed: Vec<usize>,
 }
 
@@ -64,9 +70,14 @@ pub fn timeline(run: &Interpretation, machine: &Machine) -> Timeline {
     let mut t = 0.0;
     let mut items = Vec::with_capacity(moves.len());
     let mut stalled = Vec::new();
+    let mut stalled_lines = std::collections::HashSet::new();
     for (i, m) in moves.iter().enumerate() {
         let spindle = run.spindle(m);
-        let (duration, path) = time_move(m, spindle, machine, &mut || stalled.push(i));
+        let (duration, path) = time_move(m, spindle, machine, &mut || {
+            if stalled_lines.insert(m.line) {
+                stalled.push(i);
+            }
+        });
         let duration = if duration.is_finite() && duration >= 0.0 {
             duration
         } else {
@@ -117,23 +128,32 @@ fn time_move(m: &Move, spindle: &Spindle, machine: &Machine, stalled: &mut dyn F
                         sp.dir = crate::interp::SpindleDir::Cw;
                     }
                     let css = matches!(sp.speed, crate::interp::SpindleSpeed::Css { .. });
+                    let fallback = (len / (FALLBACK_FEED_MM_MIN / 60.0), Path::Uniform);
                     if !css {
                         let rpm = sp.rpm_at(m.start.x);
-                        if rpm <= 0.0 {
+                        // NaN (no speed at all) counts as no speed.
+                        if rpm.is_nan() || rpm < MIN_RPM {
                             stalled();
-                            return (len / (FALLBACK_FEED_MM_MIN / 60.0), Path::Uniform);
+                            return fallback;
                         }
                         return (len / (f * rpm / 60.0), Path::Uniform);
                     }
                     // Integrate dt = ds / (f · rpm(r)) over the path, then tabulate the
-                    // inverse (fraction at equal times).
+                    // inverse (fraction at equal times). A surface speed of 0 (G96 without S,
+                    // G96 S0), a clamp of 0, or a radius so large that the speed falls below
+                    // MIN_RPM has no usable speed: the whole move takes the fallback feed.
                     let n = CSS_PIECES;
                     let mut cum = vec![0.0f64; n + 1];
                     for k in 0..n {
                         let u = (k as f64 + 0.5) / n as f64;
                         let r = m.point_at(u).x.abs();
-                        let v = f * sp.rpm_at(r) / 60.0;
-                        cum[k + 1] = cum[k] + (len / n as f64) / v.max(1e-9);
+                        let rpm = sp.rpm_at(r);
+                        if rpm.is_nan() || rpm < MIN_RPM {
+                            stalled();
+                            return fallback;
+                        }
+                        let v = f * rpm / 60.0;
+                        cum[k + 1] = cum[k] + (len / n as f64) / v;
                     }
                     let total = cum[n];
                     let mut table = Vec::with_capacity(n + 1);
