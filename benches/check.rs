@@ -7,7 +7,11 @@
 //! 3. Per-block cost with stock removal for generated programs of 10k, 100k and 1M blocks of
 //!    repeated passes, and the ratio of the largest to the smallest.
 //!
-//! `-- --stock-only` runs section 3 alone. Figures are medians of several runs; compare ratios
+//! 4. Long contacts: a generated 10k-line program whose T01 holder stays buried in the bar for
+//!    every move (a crash that goes on), step mode against exact mode: step mode measures a
+//!    contact it finds as exact mode does, so the ratio should stay near 1 (issue 10: at most 2).
+//!
+//! `-- --stock-only` runs section 3 alone; `-- --contact-only` section 4 alone. Figures are medians of several runs; compare ratios
 //! within one run (shared, noisy machines).
 
 #[allow(dead_code)]
@@ -53,10 +57,45 @@ fn main() {
     };
 
     let stock_only = std::env::args().any(|a| a == "--stock-only");
-    if !stock_only {
+    let contact_only = std::env::args().any(|a| a == "--contact-only");
+    if !stock_only && !contact_only {
         sections_1_and_2(quick, &m, &step, &exact);
     }
-    section_3(quick, &m, &step);
+    if !contact_only {
+        section_3(quick, &m, &step);
+    }
+    if !stock_only {
+        section_4(quick, &m, &step, &exact);
+    }
+}
+
+/// T01 feeds back and forth along the bar at X20 (its holder 5 mm into the 50 mm bar above the
+/// insert's cut), one move a line.
+fn buried_program(lines: usize) -> Vec<u8> {
+    let mut s = String::from("%\nG21 G18 G40 G97 G99\nT0101\nG97 S1000 M3\nG0 X60. Z5.\nG1 X20. F0.2\n");
+    for k in 0..lines {
+        let z = if k % 2 == 0 { -30.0 } else { -5.0 };
+        s += &format!("G1 Z{z:.1}\n");
+    }
+    s += "G0 X120.\nM30\n%\n";
+    s.into_bytes()
+}
+
+fn section_4(quick: bool, m: &Machine, step: &Settings, exact: &Settings) {
+    let lines = if quick { 2_000 } else { 10_000 };
+    let src = buried_program(lines);
+    println!("4. long contact: {lines} moves with the T01 holder buried in the bar");
+    let (ts, out) = median_run(3, &src, m, step);
+    let (te, oute) = median_run(3, &src, m, exact);
+    println!(
+        "   step dt=1ms: {:.3} s ({} findings, {:.0} s machine time); exact: {:.3} s ({} findings); step / exact = {:.2}x",
+        ts,
+        out.findings.len(),
+        out.stats.machine_time_s,
+        te,
+        oute.findings.len(),
+        ts / te
+    );
 }
 
 fn sections_1_and_2(quick: bool, m: &Machine, step: &Settings, exact: &Settings) {

@@ -22,6 +22,11 @@ const GAP_WINDOW: f64 = 20.0;
 const REFINE: usize = 40;
 /// Golden-section steps seeking the deepest point of a contact interval.
 const PEAK_STEPS: usize = 24;
+/// Longest stretch of a piece whose motion envelope is tested as one, mm.
+const SPAN_MM: f64 = 50.0;
+/// Most probes conservative advancement (or the near-miss scan) spends on one pair along one
+/// move; past it the rest of the move is reported unchecked (ARCHITECTURE.md, bounded work).
+pub(super) const MAX_PROBES: u64 = 1_000_000;
 
 /// The deepest probe of a contact interval under conservative advancement, and the probes
 /// before and after it.
@@ -80,6 +85,23 @@ impl Piece<'_> {
                 center + V2::new(v.x * c - v.y * s, v.x * s + v.y * c)
             }
         }
+    }
+
+    /// A box holding the piece between fractions `a` and `b`.
+    fn box_between(&self, a: f64, b: f64) -> Aabb {
+        let mut bx = Aabb::of_points(&[self.at(a), self.at(b)]);
+        if let Shape::Arc { center, start, sweep } = self.shape {
+            let r = (start - center).norm();
+            let half = 0.5 * (sweep * (b - a)).abs();
+            // The arc leaves its chord by at most its sagitta (the whole radius past a half turn).
+            let pad = if half < std::f64::consts::FRAC_PI_2 {
+                r * (1.0 - half.cos())
+            } else {
+                r
+            };
+            bx = bx.inflate(pad + 1e-9 * r.max(1.0));
+        }
+        bx
     }
 
     fn length(&self) -> f64 {
@@ -340,14 +362,76 @@ impl Checker<'_> {
     /// Conservative advancement along a piece: steps of at least the tolerance, and as long as
     /// the proven gap allows; contact boundaries refined by bisection.
     fn advanced(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, out: &mut Vec<Interval>) {
+        let mut probes = 0u64;
+        for (a, b) in self.spans(p, o, piece, active) {
+            if !self.advanced_span(p, o, piece, active, a, b, out, &mut probes) {
+                return;
+            }
+        }
+    }
+
+    /// The stretches `[a, b]` of a piece along which the part's motion envelope can meet the
+    /// obstacle's box; the rest of the piece is provably clear and costs nothing (a move of
+    /// 1e11 mm, an arc of radius 1e9 mm, mostly far from everything).
+    fn spans(&self, p: Part, o: Obstacle, piece: &Piece, active: u32) -> Vec<(f64, f64)> {
+        let Some(ob) = self.obstacle_box(o) else {
+            return Vec::new();
+        };
+        let margin = self.settings.clearance_mm + 1e-6;
+        let len = piece.length();
+        let mut out: Vec<(f64, f64)> = Vec::new();
+        let mut stack = vec![(0.0f64, 1.0f64, 0u32)];
+        while let Some((a, b, depth)) = stack.pop() {
+            let rb = piece.box_between(a, b);
+            let meets = self.envelope(p, &rb, active).is_some_and(|e| e.meets(&ob, margin));
+            if !meets {
+                continue;
+            }
+            if (b - a) * len > SPAN_MM && depth < 48 {
+                let mid = 0.5 * (a + b);
+                stack.push((mid, b, depth + 1));
+                stack.push((a, mid, depth + 1));
+                continue;
+            }
+            match out.last_mut() {
+                Some(last) if last.1 >= a => last.1 = b,
+                _ => out.push((a, b)),
+            }
+        }
+        out
+    }
+
+    /// Conservative advancement from `a` to `b` of a piece. Returns false when the probe budget
+    /// ran out (the rest of the move is then unchecked, and a finding says so).
+    #[allow(clippy::too_many_arguments)]
+    fn advanced_span(
+        &mut self,
+        p: Part,
+        o: Obstacle,
+        piece: &Piece,
+        active: u32,
+        a: f64,
+        b: f64,
+        out: &mut Vec<Interval>,
+        probes: &mut u64,
+    ) -> bool {
         let len = piece.length();
         let step = self.settings.tolerance_mm;
-        let mut u = 0.0;
-        let mut prev_u = 0.0;
+        let mut u = a;
+        let mut prev_u = a;
         let mut open: Option<Interval> = None;
         // The deepest probe of the open interval and its neighbours (where the peak is sought).
         let mut peak = Peak::default();
         loop {
+            *probes += 1;
+            if *probes > MAX_PROBES {
+                self.out_of_budget(p, o, active);
+                if let Some(mut iv) = open.take() {
+                    iv.t1 = piece.time(u);
+                    out.push(iv);
+                }
+                return false;
+            }
             let res = self.probe(p, o, piece, u, active);
             match res {
                 Ok(d) => {
@@ -355,10 +439,10 @@ impl Checker<'_> {
                     match &mut open {
                         Some(iv) => iv.depth = iv.depth.max(d),
                         None => {
-                            let u0 = if u > 0.0 {
+                            let u0 = if u > a {
                                 self.refine(p, o, piece, active, prev_u, u, true)
                             } else {
-                                0.0
+                                a
                             };
                             open = Some(Interval {
                                 t0: piece.time(u0),
@@ -381,7 +465,7 @@ impl Checker<'_> {
                     }
                 }
             }
-            if u >= 1.0 || len <= 0.0 {
+            if u >= b || len <= 0.0 {
                 break;
             }
             // Clear: as far as the proven gap allows. In contact: only the episode's end matters
@@ -394,13 +478,14 @@ impl Checker<'_> {
             };
 
             prev_u = u;
-            u = (u + advance / len).min(1.0);
+            u = (u + advance / len).min(b);
         }
         if let Some(mut iv) = open {
-            iv.t1 = piece.time(1.0);
+            iv.t1 = piece.time(b);
             iv.depth = iv.depth.max(self.peak_depth(p, o, piece, active, &peak));
             out.push(iv);
         }
+        true
     }
 
     /// The largest depth a golden-section search finds between the neighbours of the deepest
@@ -469,34 +554,62 @@ impl Checker<'_> {
         let k = key(p, active, o, Kind::NearMiss);
         let c = self.settings.clearance_mm;
         let step = self.settings.tolerance_mm.min(c / 2.0);
+        let mut probes = 0u64;
         for piece in pieces {
             let len = piece.length();
-            let n = ((len / step).ceil() as usize).clamp(1, 1_000_000);
-            for j in 0..=n {
-                let u = j as f64 / n as f64;
-                let r = piece.at(u);
-                match self.probe(p, o, piece, u, active) {
-                    Err(g) if g < c => {
-                        let t = item.t0 + piece.time(u);
-                        if self.episodes.extend(k, m.line, t, g, true) {
-                            continue;
-                        }
-                        let t = item.t0 + piece.time(u);
-                        let mut contact = self.contact(m, r, p, o, Kind::NearMiss, Some(g), t, active);
-                        if self.settings.snapshots {
-                            if let Some((poly, in_plane)) = self.pose(p, r, active as f64) {
-                                let s = self.snapshot(m, item, r, active, &poly, Some(o), in_plane);
-                                contact.snapshot = Some(Box::new(s));
+            for (a, b) in self.spans(p, o, piece, active) {
+                let mut u = a;
+                loop {
+                    probes += 1;
+                    if probes > MAX_PROBES {
+                        self.out_of_budget(p, o, active);
+                        return;
+                    }
+                    let r = piece.at(u);
+                    let res = self.probe(p, o, piece, u, active);
+                    match res {
+                        Err(g) if g < c => {
+                            let t = item.t0 + piece.time(u);
+                            if !self.episodes.extend(k, m.line, t, g, true) {
+                                let mut contact = self.contact(m, r, p, o, Kind::NearMiss, Some(g), t, active);
+                                if self.settings.snapshots {
+                                    if let Some((poly, in_plane)) = self.pose(p, r, active as f64) {
+                                        let s = self.snapshot(m, item, r, active, &poly, Some(o), in_plane);
+                                        contact.snapshot = Some(Box::new(s));
+                                    }
+                                }
+                                self.episodes.contact(k, contact);
                             }
                         }
-                        self.episodes.contact(k, contact);
+                        Ok(_) | Err(_) => self.episodes.clear(k),
                     }
-                    Ok(_) | Err(_) => self.episodes.clear(k),
-                }
-                if len <= 0.0 {
-                    break;
+                    if u >= b || len <= 0.0 {
+                        break;
+                    }
+                    // The gap changes no faster than the part moves (and the stock only
+                    // shrinks): outside the clearance band it proves no near miss for g - c,
+                    // inside it proves the near miss goes on for c - g.
+                    let advance = match res {
+                        Err(g) if g.is_finite() => (g - c).abs().max(step),
+                        _ => step,
+                    };
+                    u = (u + advance / len).min(b);
                 }
             }
         }
+    }
+}
+
+impl Checker<'_> {
+    /// The probe budget of one pair along the current move ran out: say so at the move's line.
+    fn out_of_budget(&mut self, p: Part, o: Obstacle, active: u32) {
+        let line = self.current_line;
+        let a = self.name(p, active);
+        let b = obstacle_name(o);
+        let message = format!(
+            "latheguard stopped checking the {a} against the {b} along this move after {MAX_PROBES} probes: \
+             the rest of the move is unchecked (a larger --tolerance checks it)"
+        );
+        self.budget.push((line, message));
     }
 }

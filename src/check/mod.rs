@@ -47,6 +47,9 @@ pub enum Obstacle {
 
 const OBSTACLES: [Obstacle; 3] = [Obstacle::Chuck, Obstacle::Tailstock, Obstacle::Stock];
 
+/// Most samples step mode takes along one move; longer moves are checked as in exact mode.
+pub const MAX_STEP_SAMPLES: u64 = 200_000;
+
 /// Inside an open episode against the stock, the full depth is computed at every this many
 /// samples; the others only confirm that the contact goes on.
 const FULL_DEPTH_EVERY: u64 = 16;
@@ -96,11 +99,22 @@ struct Checker<'a> {
     /// Stock queries see the stock as it was before the cutting move (the insert's own
     /// spindle-stopped test).
     pre_move: bool,
+    /// The source line of the move being checked.
+    current_line: u32,
+    /// Moves whose check ran out of its work budget: (line, message).
+    budget: Vec<(u32, String)>,
+    /// Moves step mode checked as exact mode does because they had too many samples.
+    long_moves: bool,
 }
 
 /// A feed move whose cut is under way (see [`DexelStock::begin_move`]).
+#[derive(Default)]
 struct Cutting {
     index: usize,
+    /// Its programmed path as chords: (path fraction, point) at each vertex.
+    path: Vec<(f64, P2)>,
+    /// The chords (index of their first vertex) whose sweep can reach the raw stock.
+    kept: Vec<usize>,
     /// The path fraction `swept` was built for (NaN: none yet).
     f: f64,
     /// The insert's swept region from the move's start to fraction `f`.
@@ -134,6 +148,9 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
         spare: None,
         instant: 1.0,
         pre_move: false,
+        current_line: 0,
+        budget: Vec::new(),
+        long_moves: false,
     };
     c.static_pairs();
     for item in &timeline.items {
@@ -142,6 +159,10 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
     c.episodes.close_all();
     let mut findings = std::mem::take(&mut c.episodes.findings);
     episodes::mark_follow_ons(&mut findings);
+    c.budget.dedup();
+    for (line, message) in std::mem::take(&mut c.budget) {
+        findings.push(Finding::program(line, 0, message));
+    }
     for &i in &timeline.feed_without_speed {
         let m = &moves[i];
         findings.push(
@@ -163,6 +184,9 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
     }
     if c.others_tested {
         stats.effects.push("other_stations".into());
+    }
+    if c.long_moves {
+        stats.effects.push("long_moves_exact".into());
     }
     if settings.clearance_mm > 0.0 {
         stats.effects.push("near_miss".into());
@@ -372,6 +396,7 @@ impl Checker<'_> {
 
     fn one_move(&mut self, item: &Timed) {
         let m = &self.run.moves[item.index];
+        self.current_line = m.line;
         self.overtravel(m, item);
         match m.kind {
             MoveKind::ToolChange { from, to } => self.index_sweep(m, item, from, to),
@@ -444,17 +469,12 @@ impl Checker<'_> {
             if let Some(s) = self.ensure_stock() {
                 s.begin_move();
             }
-            self.cut(m);
-            let (swept, empty) = match self.spare.take() {
-                Some(c) => (c.swept, c.empty),
-                None => (Swept::default(), Swept::default()),
-            };
-            self.cutting = Some(Cutting {
-                index: item.index,
-                f: f64::NAN,
-                swept,
-                empty,
-            });
+            let mut c = self.spare.take().unwrap_or_default();
+            c.index = item.index;
+            c.f = f64::NAN;
+            self.chords(m, &mut c);
+            self.cutting = Some(c);
+            self.cut();
         }
         if cuts && insert_rule == Some(Kind::SpindleStopped) {
             // The insert meets the material as it was before this move.
@@ -485,8 +505,9 @@ impl Checker<'_> {
         let f = self.instant;
         let Some(mut c) = self.cutting.take() else { return };
         if c.f != f {
-            let m = &self.run.moves[c.index];
-            self.swept_until(m, f, &mut c.swept);
+            let mut swept = std::mem::take(&mut c.swept);
+            self.swept_until(&c, f, &mut swept);
+            c.swept = swept;
             c.f = f;
         }
         self.cutting = Some(c);
@@ -494,6 +515,13 @@ impl Checker<'_> {
 
     fn check_pairs(&mut self, m: &Move, item: &Timed, cands: &[(Part, Obstacle)], active: u32, rule: Option<Kind>) {
         match self.settings.mode {
+            // A move with more samples than the cap (a tiny dt, a crawl of F0.00001, a move of
+            // 1e11 mm) is checked as exact mode checks it: never less than sampling would find,
+            // with work bounded by its path instead of its time.
+            Mode::Step if self.samples_in(item.t0, item.t1()) > MAX_STEP_SAMPLES => {
+                self.long_moves = true;
+                self.exact(m, item, cands, active, rule)
+            }
             Mode::Step => self.sample(m, item, cands, active, rule),
             Mode::Exact => self.exact(m, item, cands, active, rule),
         }
@@ -660,11 +688,7 @@ impl Checker<'_> {
         active: u32,
     ) -> Contact {
         let a = self.name(p, active);
-        let b = match o {
-            Obstacle::Chuck => "chuck",
-            Obstacle::Tailstock => "tailstock",
-            Obstacle::Stock => "stock",
-        };
+        let b = obstacle_name(o);
         let message = match kind {
             Kind::RapidIntoStock => format!("rapid move drives the {a} into the stock"),
             Kind::SpindleStopped => format!("the {a} cuts the stock with the spindle stopped"),
@@ -774,10 +798,12 @@ impl Checker<'_> {
         }
     }
 
-    /// Remove what the insert sweeps in a feed move.
-    fn cut(&mut self, m: &Move) {
+    /// Remove what the insert sweeps in a feed move (its chords are in `self.cutting`).
+    fn cut(&mut self) {
+        let Some(c) = self.cutting.take() else { return };
         let mut swept = Swept::default();
-        self.swept_until(m, 1.0, &mut swept);
+        self.swept_until(&c, 1.0, &mut swept);
+        self.cutting = Some(c);
         let Some(stock) = self.ensure_stock() else {
             return;
         };
@@ -788,48 +814,75 @@ impl Checker<'_> {
         self.cut_any |= any;
     }
 
-    /// The region the insert sweeps from the start of a feed move to path fraction `f`: the
-    /// insert at the start, each edge swept along every chord of the path (arcs as chords within
-    /// the tolerance), and the insert at each chord's end. With `f` = 1 this is exactly what
-    /// [`Self::cut`] removes, so the stock "at the end of the move" is the stock after it.
-    fn swept_until(&self, m: &Move, f: f64, out: &mut Swept) {
-        out.clear();
-        let Some(tool) = self.scene.tool(m.station) else {
-            return;
-        };
-        let insert = tool.insert.points();
+    /// The programmed path of a feed move as chords within the tolerance (arcs; a line is one
+    /// chord), and which chords the insert's sweep along them can bring near the raw stock.
+    fn chords(&self, m: &Move, c: &mut Cutting) {
+        c.path.clear();
+        c.kept.clear();
         let tol = self.settings.tolerance_mm;
-        let f = if f.is_nan() { 1.0 } else { f.clamp(0.0, 1.0) };
-        // The programmed path as chords within the tolerance, up to f.
-        let mut path = vec![m.start];
+        c.path.push((0.0, m.start));
         if let MoveKind::Arc { center, sweep } = m.kind {
             let r = (m.start - center).norm().max((m.end - center).norm()).max(tol);
             let step = 2.0 * (1.0 - (tol / r).min(1.0)).acos().max(1e-4);
             let n = ((sweep.abs() / step).ceil() as usize).clamp(1, 100_000);
-            for j in 1..=n {
+            for j in 1..n {
                 let u = j as f64 / n as f64;
-                if u >= f {
-                    break;
-                }
-                path.push(m.point_at(u));
+                c.path.push((u, m.point_at(u)));
             }
-            if f > 0.0 {
-                path.push(if f >= 1.0 { m.point_at(1.0) } else { m.point_at(f) });
-            }
-        } else if f > 0.0 {
-            path.push(if f >= 1.0 { m.end } else { m.point_at(f) });
+            c.path.push((1.0, m.point_at(1.0)));
+        } else {
+            c.path.push((1.0, m.end));
         }
+        let (Some(tool), Some(sb)) = (self.scene.tool(m.station), self.stock_box) else {
+            return;
+        };
+        let ib = tool.insert.aabb();
+        for j in 0..c.path.len() - 1 {
+            let (a, b) = (c.path[j].1, c.path[j + 1].1);
+            let lo = P2::new(a.x.min(b.x) + ib.min.x, a.y.min(b.y) + ib.min.y);
+            let hi = P2::new(a.x.max(b.x) + ib.max.x, a.y.max(b.y) + ib.max.y);
+            if (Aabb { min: lo, max: hi }).meets(&sb, 1e-6) {
+                c.kept.push(j);
+            }
+        }
+    }
+
+    /// The region the insert sweeps from the start of a feed move to path fraction `f`: the
+    /// insert at the start, each edge swept along every chord of the path, and the insert at
+    /// each chord's end (at f for the chord holding f). Chords whose sweep cannot reach the raw
+    /// stock are left out: they remove nothing. With `f` = 1 this is exactly what [`Self::cut`]
+    /// removes, so the stock "at the end of the move" is the stock after it.
+    fn swept_until(&self, c: &Cutting, f: f64, out: &mut Swept) {
+        out.clear();
+        let Some(tool) = self.scene.tool(self.run.moves[c.index].station) else {
+            return;
+        };
+        let m = &self.run.moves[c.index];
+        let insert = tool.insert.points();
+        let f = if f.is_nan() { 1.0 } else { f.clamp(0.0, 1.0) };
         let posed = |p: P2| -> Vec<P2> { insert.iter().map(|q| p + q.coords).collect() };
-        out.push(posed(path[0]));
-        for w in path.windows(2) {
-            let d: V2 = w[1] - w[0];
-            let at = posed(w[0]);
+        out.push(posed(c.path[0].1));
+        for &j in &c.kept {
+            let (u0, a) = c.path[j];
+            let (u1, b) = c.path[j + 1];
+            if u0 >= f {
+                break;
+            }
+            let end = if u1 <= f {
+                b
+            } else if f >= 1.0 {
+                m.point_at(1.0)
+            } else {
+                m.point_at(f)
+            };
+            let d: V2 = end - a;
+            let at = posed(a);
             let n = at.len();
             for i in 0..n {
-                let (a, b) = (at[i], at[(i + 1) % n]);
-                out.push(vec![a, b, b + d, a + d]);
+                let (p, q) = (at[i], at[(i + 1) % n]);
+                out.push(vec![p, q, q + d, p + d]);
             }
-            out.push(posed(w[1]));
+            out.push(posed(end));
         }
     }
 
@@ -1003,6 +1056,14 @@ fn pair_keys(p: Part, active: u32, o: Obstacle) -> [u64; 4] {
         Kind::SpindleStopped,
     ]
     .map(|k| key(p, active, o, k))
+}
+
+fn obstacle_name(o: Obstacle) -> &'static str {
+    match o {
+        Obstacle::Chuck => "chuck",
+        Obstacle::Tailstock => "tailstock",
+        Obstacle::Stock => "stock",
+    }
 }
 
 /// Box of a shape box swept over a box of reference points.
