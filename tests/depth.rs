@@ -4,8 +4,10 @@
 use latheguard::machine::Machine;
 use latheguard::pipeline::{self, Mode, Settings};
 
-/// (line, kind, objects, time, depth) of every finding.
-fn facts(src: &[u8], s: Settings) -> Vec<(u32, String, Vec<String>, Option<f64>, Option<f64>)> {
+/// (line, kind, objects, time, depth) of a finding.
+type Facts = (u32, String, Vec<String>, Option<f64>, Option<f64>);
+
+fn facts(src: &[u8], s: Settings) -> Vec<Facts> {
     pipeline::check(src, &Machine::builtin(), &s)
         .findings
         .into_iter()
