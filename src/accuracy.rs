@@ -69,6 +69,7 @@ pub fn run(src: &[u8], machine: &Machine, clearance_mm: f64, repeats: usize) -> 
             tolerance_mm: tol,
             clearance_mm,
             snapshots: false,
+            ..Settings::default()
         };
         let (exact, ms) = timed(src, machine, &base, repeats);
         let reference: Vec<&Finding> = exact.findings.iter().filter(|f| is_crash(f.kind)).collect();

@@ -9,6 +9,9 @@ use crate::interp::{self, Interpretation};
 use crate::machine::Machine;
 use serde::Serialize;
 
+/// The default [`Settings::work_budget`]: about ten minutes of pair tests on one core.
+pub const DEFAULT_WORK_BUDGET: u64 = 1_000_000_000;
+
 /// How a check runs (DESIGN §5, §6).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Settings {
@@ -16,6 +19,10 @@ pub struct Settings {
     pub dt_ms: f64,
     pub tolerance_mm: f64,
     pub clearance_mm: f64,
+    /// Most pair tests one program may cost; past it the rest of the program is reported
+    /// unchecked (a `program` finding), so one file can never hold up a batch.
+    #[serde(skip)]
+    pub work_budget: u64,
     /// Record a [`crate::scene::Snapshot`] of the scene at each finding's first contact.
     #[serde(skip)]
     pub snapshots: bool,
@@ -28,6 +35,7 @@ impl Default for Settings {
             dt_ms: 1.0,
             tolerance_mm: 0.01,
             clearance_mm: 0.0,
+            work_budget: DEFAULT_WORK_BUDGET,
             snapshots: false,
         }
     }

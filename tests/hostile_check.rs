@@ -86,3 +86,21 @@ fn a_wide_clearance_at_a_fine_tolerance_finishes() {
     let found = check(&src, s);
     assert!(found.iter().all(|f| f.1 == Kind::NearMiss), "{found:?}");
 }
+
+#[test]
+fn a_program_that_uses_up_its_work_budget_says_where_the_check_stopped() {
+    let src = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/programs/od_turning.nc")).unwrap();
+    let s = Settings {
+        work_budget: 10,
+        ..Settings::default()
+    };
+    let out = pipeline::check(src.as_bytes(), &Machine::builtin(), &s);
+    let stop: Vec<_> = out
+        .findings
+        .iter()
+        .filter(|f| f.message.contains("work budget"))
+        .collect();
+    assert_eq!(stop.len(), 1, "{:?}", out.findings);
+    assert_eq!(stop[0].kind, Kind::Program);
+    assert!(out.stats.pair_tests < 1_000, "{}", out.stats.pair_tests);
+}

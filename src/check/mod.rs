@@ -154,6 +154,18 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
     };
     c.static_pairs();
     for item in &timeline.items {
+        if c.stats.pair_tests > settings.work_budget {
+            let m = &moves[item.index];
+            c.budget.push((
+                m.line,
+                format!(
+                    "latheguard stopped checking here: the program used up its work budget of {} pair tests; \
+                     this line and the ones after it are unchecked",
+                    settings.work_budget
+                ),
+            ));
+            break;
+        }
         c.one_move(item);
     }
     c.episodes.close_all();
