@@ -9,7 +9,7 @@
 
 use super::expr::{digit_run, plain_number, skip_blanks};
 use super::{Block, Comment, NameId, OName, OOp, OWord, Program, Value, Word};
-use crate::finding::Finding;
+use crate::finding::{push_capped, Finding};
 use crate::source::{count_lf, lines, LineIndex, Span};
 use std::collections::HashMap;
 
@@ -291,7 +291,8 @@ impl<'a> Reader<'a> {
         let bad = result.is_err();
         if let Err(e) = result {
             let col = self.col(e.at);
-            self.prog.errors.push(Finding::syntax(line, col, e.msg).with_n(part.n));
+            let f = Finding::syntax(line, col, e.msg).with_n(part.n);
+            push_capped(&mut self.prog.errors, &mut self.prog.errors_left_out, f);
         }
         let words = words0..self.prog.words.len() as u32;
         let assigns = assigns0..self.prog.assigns.len() as u32;

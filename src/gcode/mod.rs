@@ -68,8 +68,10 @@ pub struct Program {
     pub exprs: Vec<Expr>,
     /// Interned parameter and subroutine names, lower case, spaces removed.
     pub names: Vec<String>,
-    /// `syntax` findings, in source order.
+    /// `syntax` findings, in source order: at most [`crate::finding::MAX_FINDINGS`].
     pub errors: Vec<Finding>,
+    /// The syntax findings not kept in `errors`.
+    pub errors_left_out: crate::finding::LeftOut,
     /// Every `( … )` comment, in source order (also those on lines that produce no block), for
     /// reporters that echo comments (rs274ngc's `COMMENT(…)` canonical call). `;` comments are not
     /// kept.

@@ -806,9 +806,9 @@ impl Run<'_> {
         if unknown && axis {
             // An unknown code may be the one that uses the axis words: do not guess a motion.
         } else if (axis || w.peek(b'Y')) && !axes_used_by_nonmodal {
-            let before = self.findings.len();
+            let before = self.reports;
             self.motion(b, w, g53.is_some(), plane_error_here);
-            if self.findings.len() > before {
+            if self.reports > before {
                 // The move was refused: its words are accounted for by that finding.
                 w.used = w.has;
             }
@@ -871,9 +871,9 @@ impl Run<'_> {
             });
         }
         if w.axis_words() {
-            let before = self.findings.len();
+            let before = self.reports;
             self.motion(b, w, false, false);
-            if self.findings.len() > before {
+            if self.reports > before {
                 w.used = w.has;
             }
         }
