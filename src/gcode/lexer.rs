@@ -8,7 +8,7 @@
 //! is skipped. Values and expressions are read in `expr.rs`.
 
 use super::expr::{digit_run, plain_number, skip_blanks};
-use super::{Block, Comment, NameId, OName, OOp, OWord, Program, Value, Word};
+use super::{Block, Comment, NameId, OName, OOp, OWord, Program, Rare, Value, Word};
 use crate::finding::{push_capped, Finding};
 use crate::source::{count_lf, lines, LineIndex, Span};
 use std::collections::HashMap;
@@ -72,7 +72,7 @@ struct Partial {
     n: Option<u64>,
     block_delete: bool,
     percent: bool,
-    oword: Option<Box<OWord>>,
+    oword: Option<OWord>,
     message: Option<Span>,
     /// A word, an assignment or an O-word was read.
     started: bool,
@@ -259,17 +259,14 @@ impl<'a> Reader<'a> {
         if words.is_empty() && n.is_none() {
             return true; // a blank line
         }
-        let assigns = self.prog.assigns.len() as u32;
         self.prog.blocks.push(Block {
             line,
             span: Span::new(start, end),
             n,
-            block_delete: false,
             words,
-            assigns: assigns..assigns,
-            oword: None,
+            rare: None,
+            block_delete: false,
             percent: false,
-            message: None,
             bad: false,
         });
         true
@@ -300,16 +297,21 @@ impl<'a> Reader<'a> {
         if !(bad || something) {
             return;
         }
+        let rare = (!assigns.is_empty() || part.oword.is_some() || part.message.is_some()).then(|| {
+            Box::new(Rare {
+                assigns,
+                oword: part.oword,
+                message: part.message,
+            })
+        });
         self.prog.blocks.push(Block {
             line,
             span: Span::new(start, end),
             n: part.n,
-            block_delete: part.block_delete,
             words,
-            assigns,
-            oword: part.oword,
+            rare,
+            block_delete: part.block_delete,
             percent: part.percent,
-            message: part.message.map(Box::new),
             bad,
         });
     }
@@ -355,7 +357,7 @@ impl<'a> Reader<'a> {
                         });
                     }
                     part.started = true;
-                    part.oword = Some(Box::new(self.oword(at)?));
+                    part.oword = Some(self.oword(at)?);
                 }
                 b'#' => {
                     part.started = true;

@@ -277,7 +277,7 @@ fn msg_print_debug_comments_give_the_message_text() {
     let msgs: Vec<(u32, Option<&str>)> = prog
         .blocks
         .iter()
-        .map(|b| (b.line, b.message.as_deref().map(|&m| text(src, m))))
+        .map(|b| (b.line, b.message().map(|m| text(src, m))))
         .collect();
     assert_eq!(
         msgs,
@@ -374,13 +374,19 @@ fn a_one_megabyte_line_reads_fast() {
 // ---- %, /, N ----
 
 #[test]
+fn a_block_is_48_bytes() {
+    // A program holds one block per line: its size is most of the reader's memory.
+    assert_eq!(std::mem::size_of::<super::Block>(), 48);
+}
+
+#[test]
 fn percent_line_and_percent_with_program_number() {
     let prog = p("%\n%O1200(TOKARKA)\n % \n");
     assert!(prog.errors.is_empty());
     assert_eq!(prog.blocks.len(), 3);
     assert!(prog.blocks.iter().all(|b| b.percent));
-    assert_eq!(prog.blocks[0].oword, None);
-    let o = prog.blocks[1].oword.as_ref().unwrap();
+    assert_eq!(prog.blocks[0].oword(), None);
+    let o = prog.blocks[1].oword().unwrap();
     assert_eq!((o.name, &o.op), (OName::Number(1200), &OOp::ProgramNumber));
     let (_, col, msg) = error(b"G1 %");
     assert_eq!(col, 4);
@@ -439,7 +445,7 @@ fn findings_carry_the_block_n_number() {
 fn oword(src: &str) -> (Program, OWord) {
     let prog = p(src);
     assert!(prog.errors.is_empty(), "{src:?}: {:?}", prog.errors);
-    let o = *prog.blocks[0].oword.clone().expect("an o-word");
+    let o = prog.blocks[0].oword().cloned().expect("an o-word");
     (prog, o)
 }
 

@@ -84,7 +84,7 @@ impl Labels {
             OName::Named(id) => format!("o<{}>", prog.name(id)),
         };
         for (i, b) in prog.blocks.iter().enumerate() {
-            let Some(o) = &b.oword else { continue };
+            let Some(o) = b.oword() else { continue };
             if b.bad {
                 continue;
             }
@@ -377,9 +377,9 @@ impl<'a> Run<'a> {
                     break;
                 }
             }
-            if let Some(o) = &b.oword {
+            if let Some(o) = b.oword() {
                 self.oword(i, b, &o.op, o.name, o.span.start);
-                if b.words.is_empty() && b.assigns.is_empty() {
+                if b.words.is_empty() && b.assigns().is_empty() {
                     continue;
                 }
                 if !matches!(o.op, OOp::ProgramNumber) {
@@ -512,7 +512,7 @@ impl<'a> Run<'a> {
                         return;
                     };
                     let nb = self.block(next);
-                    match nb.oword.as_ref().map(|o| &o.op) {
+                    match nb.oword().map(|o| &o.op) {
                         Some(OOp::ElseIf(c2)) => {
                             // Each branch tested is a block executed: a long chain in a loop
                             // must not outlast the budget.
@@ -542,7 +542,7 @@ impl<'a> Run<'a> {
                 let Some(start) = end_of(self, i) else { return };
                 let is_break = matches!(op, OOp::Break);
                 let end = jump(self, start);
-                let start_op = self.block(start).oword.as_ref().map(|o| o.op.clone());
+                let start_op = self.block(start).oword().map(|o| o.op.clone());
                 match (is_break, start_op) {
                     (true, Some(OOp::Repeat(_))) => {
                         self.repeat_counts_mut().remove(&start);
