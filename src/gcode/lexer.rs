@@ -262,12 +262,13 @@ impl<'a> Reader<'a> {
         self.prog.blocks.push(Block {
             line,
             span: Span::new(start, end),
-            n,
+            n: n.unwrap_or(0),
             words,
             rare: None,
             block_delete: false,
             percent: false,
             bad: false,
+            has_n: n.is_some(),
         });
         true
     }
@@ -307,12 +308,13 @@ impl<'a> Reader<'a> {
         self.prog.blocks.push(Block {
             line,
             span: Span::new(start, end),
-            n: part.n,
+            n: part.n.unwrap_or(0),
             words,
             rare,
             block_delete: part.block_delete,
             percent: part.percent,
             bad,
+            has_n: part.n.is_some(),
         });
     }
 

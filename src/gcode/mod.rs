@@ -102,16 +102,16 @@ impl Program {
 /// an N number, a `(MSG,…)`-style message) or that has a syntax error. Lines that hold only
 /// comments or white space produce no block.
 ///
-/// 48 bytes: a program holds one per line. What most blocks lack (assignments, an O-word, a
-/// message) is in one box, [`Block::rare`].
+/// 40 bytes: a program holds one per line. What most blocks lack (assignments, an O-word, a
+/// message) is in one box, [`Block::rare`]; the N number is a value and a flag ([`Block::n`]).
 #[derive(Clone, Debug)]
 pub struct Block {
     /// Physical 1-based line.
     pub line: u32,
     /// The line's bytes without terminator.
     pub span: Span,
-    /// The N number, when the block has one.
-    pub n: Option<u64>,
+    /// The N number when `has_n` (see [`Block::n`]).
+    n: u64,
     pub words: Range<u32>,
     /// Assignments, O-word and message, when the block has any of them.
     pub rare: Option<Box<Rare>>,
@@ -121,6 +121,7 @@ pub struct Block {
     pub percent: bool,
     /// The line had a syntax error; what could be read is kept, but the block is not executed.
     pub bad: bool,
+    has_n: bool,
 }
 
 /// The parts of a block that most blocks lack.
@@ -134,6 +135,11 @@ pub struct Rare {
 }
 
 impl Block {
+    /// The N number, when the block has one.
+    pub fn n(&self) -> Option<u64> {
+        self.has_n.then_some(self.n)
+    }
+
     /// The block's parameter assignments, as a range of [`Program::assigns`].
     pub fn assigns(&self) -> Range<u32> {
         self.rare.as_ref().map_or(0..0, |r| r.assigns.clone())

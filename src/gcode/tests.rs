@@ -374,9 +374,9 @@ fn a_one_megabyte_line_reads_fast() {
 // ---- %, /, N ----
 
 #[test]
-fn a_block_is_48_bytes() {
+fn a_block_is_40_bytes() {
     // A program holds one block per line: its size is most of the reader's memory.
-    assert_eq!(std::mem::size_of::<super::Block>(), 48);
+    assert_eq!(std::mem::size_of::<super::Block>(), 40);
 }
 
 #[test]
@@ -398,7 +398,7 @@ fn slash_first_is_block_delete() {
     let prog = p("/G1 X1\n / N10 G0\n");
     assert!(prog.errors.is_empty());
     assert!(prog.blocks[0].block_delete && prog.blocks[1].block_delete);
-    assert_eq!(prog.blocks[1].n, Some(10));
+    assert_eq!(prog.blocks[1].n(), Some(10));
     assert!(!p("G1").blocks[0].block_delete);
     let (_, col, msg) = error(b"G1 /X1");
     assert_eq!(col, 4);
@@ -409,10 +409,10 @@ fn slash_first_is_block_delete() {
 fn n_number_at_block_start() {
     let prog = p("N10 G1\nN 2 0X1\nn0005\nN01G50S0600");
     assert!(prog.errors.is_empty());
-    let ns: Vec<Option<u64>> = prog.blocks.iter().map(|b| b.n).collect();
+    let ns: Vec<Option<u64>> = prog.blocks.iter().map(|b| b.n()).collect();
     assert_eq!(ns, [Some(10), Some(20), Some(5), Some(1)]);
     assert_eq!(word_strings(&prog, &prog.blocks[3]), ["G50", "S600"]);
-    assert_eq!(p(&format!("N{}", u64::MAX)).blocks[0].n, Some(u64::MAX));
+    assert_eq!(p(&format!("N{}", u64::MAX)).blocks[0].n(), Some(u64::MAX));
 }
 
 #[test]

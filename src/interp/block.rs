@@ -315,7 +315,7 @@ impl Run<'_> {
         self.moves.push(Move {
             kind,
             line: b.line,
-            n: b.n,
+            n: b.n(),
             start,
             end,
             tip: self.tip(),

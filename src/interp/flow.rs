@@ -89,7 +89,7 @@ impl Labels {
                 continue;
             }
             let mut err = |msg: String| {
-                push_capped(findings, left_out, Finding::program(b.line, 0, msg).with_n(b.n));
+                push_capped(findings, left_out, Finding::program(b.line, 0, msg).with_n(b.n()));
             };
             let top = |stack: &OpenStack, kinds: &[Open]| stack.top(o.name, kinds);
             match &o.op {
@@ -192,7 +192,7 @@ impl Labels {
                 Open::If => "if without endif",
                 Open::Repeat => "repeat without endrepeat",
             };
-            let f = Finding::program(b.line, 0, format!("{} {what}", name_text(name))).with_n(b.n);
+            let f = Finding::program(b.line, 0, format!("{} {what}", name_text(name))).with_n(b.n());
             push_capped(findings, left_out, f);
         }
         l
@@ -328,7 +328,7 @@ impl<'a> Run<'a> {
 
     pub(crate) fn error(&mut self, b: &Block, col_offset: Option<u32>, msg: String) {
         let col = col_offset.map_or(0, |o| self.cols.col_of(&self.prog.lines, self.src, o));
-        self.report(Finding::program(b.line, col, msg).with_n(b.n));
+        self.report(Finding::program(b.line, col, msg).with_n(b.n()));
     }
 
     /// Keep a finding of the run, once, up to the cap.
@@ -355,7 +355,7 @@ impl<'a> Run<'a> {
         } else {
             Severity::Warning
         };
-        self.report(Finding::at(Kind::Unsupported, sev, b.line, col, msg).with_n(b.n));
+        self.report(Finding::at(Kind::Unsupported, sev, b.line, col, msg).with_n(b.n()));
     }
 
     pub fn run(&mut self) {
