@@ -312,7 +312,12 @@ impl<'a> Run<'a> {
         }
     }
 
-    pub fn finish(self) -> Interpretation {
+    pub fn finish(mut self) -> Interpretation {
+        // The moves were reserved for one per block; give back a large unused part (address
+        // space counts against a memory cap even when never touched).
+        if self.moves.capacity() - self.moves.len() > self.moves.len() / 4 + 1024 {
+            self.moves.shrink_to_fit();
+        }
         Interpretation {
             moves: self.moves,
             states: self.states,
