@@ -173,3 +173,31 @@ fn a_block_in_a_loop_reports_its_problem_once_and_does_not_fill_the_cap() {
     let lines: Vec<u32> = run.findings.iter().map(|f| f.line).collect();
     assert_eq!(lines, [2, 4, 5, 6, 7, 8], "{:?}", run.findings);
 }
+
+#[test]
+fn many_findings_on_one_long_line_decode_the_line_once_in_the_text_report() {
+    // MAX_FINDINGS findings on one line of two megabytes: the text report decoded the whole line
+    // for each of them (2e10 characters, 40 s in a release build); it now decodes it once.
+    use latheguard::report::{text, FileReport, Report, TextOptions};
+    const N: usize = 640_000;
+    let out = within(30, || {
+        let src = "X1 ".repeat(N).into_bytes();
+        let outcome = pipeline::check(&src, &linuxcnc(), &Settings::default());
+        let report = Report {
+            machine: "m".into(),
+            settings: Settings::default(),
+            files: vec![FileReport {
+                path: "p.ngc".into(),
+                findings: outcome.findings,
+                stats: outcome.stats,
+                source: src,
+                stock: Vec::new(),
+                machine: None,
+                settings: None,
+            }],
+        };
+        text(&report, TextOptions::default())
+    });
+    assert!(out.contains("p.ngc:1:7: error[program]: X word given twice in one block"));
+    assert!(out.contains("more findings not listed"));
+}
