@@ -153,6 +153,63 @@ impl Finding {
     }
 }
 
+/// The most findings a file's report keeps (DESIGN: bounded work and memory on any input). Each
+/// stage stops storing findings at this many and counts the rest; the report then ends with one
+/// `program` finding that says how many were left out ([`LeftOut::finding`]).
+pub const MAX_FINDINGS: usize = 10_000;
+
+/// Findings a stage did not keep because it already held [`MAX_FINDINGS`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LeftOut {
+    pub count: u64,
+    /// The smallest line of a finding left out (meaningless when `count` is 0).
+    pub first_line: u32,
+}
+
+impl LeftOut {
+    pub fn add(&mut self, line: u32, count: u64) {
+        if count == 0 {
+            return;
+        }
+        self.first_line = if self.count == 0 {
+            line
+        } else {
+            self.first_line.min(line)
+        };
+        self.count = self.count.saturating_add(count);
+    }
+
+    pub fn merge(&mut self, other: LeftOut) {
+        self.add(other.first_line, other.count);
+    }
+
+    /// The `program` finding that reports what was left out, placed at the first line left out.
+    pub fn finding(&self) -> Option<Finding> {
+        (self.count > 0).then(|| {
+            let s = if self.count == 1 { "" } else { "s" };
+            Finding::program(
+                self.first_line,
+                0,
+                format!(
+                    "{} more finding{s} not listed, the first of them on this line: a report keeps at most {MAX_FINDINGS} findings per file",
+                    self.count
+                ),
+            )
+        })
+    }
+}
+
+/// Push `f` unless `list` already holds [`MAX_FINDINGS`]; count it in `left_out` then. Returns
+/// whether it was kept.
+pub fn push_capped(list: &mut Vec<Finding>, left_out: &mut LeftOut, f: Finding) -> bool {
+    if list.len() >= MAX_FINDINGS {
+        left_out.add(f.line, 1);
+        return false;
+    }
+    list.push(f);
+    true
+}
+
 /// Findings in report order: by line, then column, then time (findings with no time first), then
 /// kind.
 pub fn sort_findings(findings: &mut [Finding]) {

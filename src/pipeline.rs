@@ -3,7 +3,7 @@
 //! This is the library's entry point for checking; it does no I/O: the caller hands it the
 //! program's bytes and gets findings and statistics back.
 
-use crate::finding::{sort_findings, Finding};
+use crate::finding::{sort_findings, Finding, LeftOut, MAX_FINDINGS};
 use crate::gcode;
 use crate::interp::{self, Interpretation};
 use crate::machine::Machine;
@@ -79,13 +79,19 @@ pub fn interpret(src: &[u8], machine: &Machine) -> (gcode::Program, Interpretati
     (prog, run)
 }
 
-/// Check one program on a machine.
-pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
-    let (prog, mut run) = interpret(src, machine);
-    let mut findings = prog.errors;
+/// The reader's and the interpreter's findings, taken out of `prog` and `run`, with the count of
+/// those the stages left out.
+fn take_findings(prog: &mut gcode::Program, run: &mut Interpretation) -> (Vec<Finding>, LeftOut) {
+    let mut findings = std::mem::take(&mut prog.errors);
     findings.append(&mut run.findings);
-    let result = crate::check::check(&run, machine, settings);
-    findings.extend(result.findings);
+    let mut left_out = prog.errors_left_out;
+    left_out.merge(run.findings_left_out);
+    (findings, left_out)
+}
+
+/// Findings in report order, once each, at most [`MAX_FINDINGS`] of them and then one `program`
+/// finding that says how many more there were (counting those the stages already left out).
+fn report_order(mut findings: Vec<Finding>, mut left_out: LeftOut) -> Vec<Finding> {
     sort_findings(&mut findings);
     // A block inside a loop or a repeated subprogram reports its problem once.
     findings.dedup_by(|a, b| {
@@ -94,6 +100,35 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
             && (a.line, a.col, a.kind) == (b.line, b.col, b.kind)
             && a.message == b.message
     });
+    if findings.len() > MAX_FINDINGS {
+        for f in &findings[MAX_FINDINGS..] {
+            left_out.add(f.line, 1);
+        }
+        findings.truncate(MAX_FINDINGS);
+    }
+    if let Some(f) = left_out.finding() {
+        findings.push(f);
+        sort_findings(&mut findings);
+    }
+    findings
+}
+
+/// The syntax, program and unsupported findings of a read and interpreted program in report
+/// order (what [`check`] reports before the checker adds its own), capped as [`check`] caps them.
+pub fn read_findings(prog: &mut gcode::Program, run: &mut Interpretation) -> Vec<Finding> {
+    let (findings, left_out) = take_findings(prog, run);
+    report_order(findings, left_out)
+}
+
+/// Check one program on a machine.
+pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
+    let (mut prog, mut run) = interpret(src, machine);
+    let (mut findings, left_out) = take_findings(&mut prog, &mut run);
+    // The checker needs only the moves: the program's blocks and words go before it runs.
+    drop(prog);
+    let result = crate::check::check(&run, machine, settings);
+    findings.extend(result.findings);
+    let findings = report_order(findings, left_out);
     let mut stats = result.stats;
     stats.blocks = run.blocks_executed;
     let stock = match (&result.stock, &machine.stock) {

@@ -29,7 +29,7 @@ fuzz_target!(|data: &[u8]| {
         }
     }
     assert_eq!(
-        prog.errors.len(),
+        prog.errors.len() + prog.errors_left_out.count as usize,
         prog.blocks.iter().filter(|b| b.bad).count()
     );
 });

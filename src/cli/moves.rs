@@ -2,7 +2,7 @@
 
 use super::args::{MovesArgs, MovesFormat};
 use super::{emit, load_machine, Trouble, EXIT_CLEAN, EXIT_FINDINGS};
-use latheguard::finding::{sort_findings, Severity};
+use latheguard::finding::Severity;
 use latheguard::interp::{canon, Feed, MoveKind};
 use latheguard::pipeline;
 use serde_json::json;
@@ -10,10 +10,9 @@ use serde_json::json;
 pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     let machine = load_machine(a.machine.as_deref())?;
     let src = std::fs::read(&a.program).map_err(|e| format!("{}: cannot read: {e}", a.program.display()))?;
-    let (prog, mut run) = pipeline::interpret(&src, &machine);
-    let mut findings = prog.errors;
-    findings.append(&mut run.findings);
-    sort_findings(&mut findings);
+    let (mut prog, mut run) = pipeline::interpret(&src, &machine);
+    let findings = pipeline::read_findings(&mut prog, &mut run);
+    drop(prog);
     for f in &findings {
         eprintln!(
             "{}:{}: {}[{}]: {}",

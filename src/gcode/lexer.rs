@@ -8,8 +8,8 @@
 //! is skipped. Values and expressions are read in `expr.rs`.
 
 use super::expr::{digit_run, plain_number, skip_blanks};
-use super::{Block, Comment, NameId, OName, OOp, OWord, Program, Value, Word};
-use crate::finding::Finding;
+use super::{Block, Comment, NameId, OName, OOp, OWord, Program, Rare, Value, Word};
+use crate::finding::{push_capped, Finding};
 use crate::source::{count_lf, lines, LineIndex, Span};
 use std::collections::HashMap;
 
@@ -72,7 +72,7 @@ struct Partial {
     n: Option<u64>,
     block_delete: bool,
     percent: bool,
-    oword: Option<Box<OWord>>,
+    oword: Option<OWord>,
     message: Option<Span>,
     /// A word, an assignment or an O-word was read.
     started: bool,
@@ -259,18 +259,16 @@ impl<'a> Reader<'a> {
         if words.is_empty() && n.is_none() {
             return true; // a blank line
         }
-        let assigns = self.prog.assigns.len() as u32;
         self.prog.blocks.push(Block {
             line,
             span: Span::new(start, end),
-            n,
-            block_delete: false,
+            n: n.unwrap_or(0),
             words,
-            assigns: assigns..assigns,
-            oword: None,
+            rare: None,
+            block_delete: false,
             percent: false,
-            message: None,
             bad: false,
+            has_n: n.is_some(),
         });
         true
     }
@@ -291,7 +289,8 @@ impl<'a> Reader<'a> {
         let bad = result.is_err();
         if let Err(e) = result {
             let col = self.col(e.at);
-            self.prog.errors.push(Finding::syntax(line, col, e.msg).with_n(part.n));
+            let f = Finding::syntax(line, col, e.msg).with_n(part.n);
+            push_capped(&mut self.prog.errors, &mut self.prog.errors_left_out, f);
         }
         let words = words0..self.prog.words.len() as u32;
         let assigns = assigns0..self.prog.assigns.len() as u32;
@@ -299,17 +298,23 @@ impl<'a> Reader<'a> {
         if !(bad || something) {
             return;
         }
+        let rare = (!assigns.is_empty() || part.oword.is_some() || part.message.is_some()).then(|| {
+            Box::new(Rare {
+                assigns,
+                oword: part.oword,
+                message: part.message,
+            })
+        });
         self.prog.blocks.push(Block {
             line,
             span: Span::new(start, end),
-            n: part.n,
-            block_delete: part.block_delete,
+            n: part.n.unwrap_or(0),
             words,
-            assigns,
-            oword: part.oword,
+            rare,
+            block_delete: part.block_delete,
             percent: part.percent,
-            message: part.message.map(Box::new),
             bad,
+            has_n: part.n.is_some(),
         });
     }
 
@@ -354,7 +359,7 @@ impl<'a> Reader<'a> {
                         });
                     }
                     part.started = true;
-                    part.oword = Some(Box::new(self.oword(at)?));
+                    part.oword = Some(self.oword(at)?);
                 }
                 b'#' => {
                     part.started = true;

@@ -68,8 +68,10 @@ pub struct Program {
     pub exprs: Vec<Expr>,
     /// Interned parameter and subroutine names, lower case, spaces removed.
     pub names: Vec<String>,
-    /// `syntax` findings, in source order.
+    /// `syntax` findings, in source order: at most [`crate::finding::MAX_FINDINGS`].
     pub errors: Vec<Finding>,
+    /// The syntax findings not kept in `errors`.
+    pub errors_left_out: crate::finding::LeftOut,
     /// Every `( … )` comment, in source order (also those on lines that produce no block), for
     /// reporters that echo comments (rs274ngc's `COMMENT(…)` canonical call). `;` comments are not
     /// kept.
@@ -83,7 +85,8 @@ impl Program {
     }
 
     pub fn assigns_of(&self, block: &Block) -> &[Assign] {
-        &self.assigns[block.assigns.start as usize..block.assigns.end as usize]
+        let r = block.assigns();
+        &self.assigns[r.start as usize..r.end as usize]
     }
 
     pub fn expr(&self, id: ExprId) -> &Expr {
@@ -98,28 +101,58 @@ impl Program {
 /// One physical line that holds something to execute (words, assignments, an O-word, `%`, `/`,
 /// an N number, a `(MSG,…)`-style message) or that has a syntax error. Lines that hold only
 /// comments or white space produce no block.
+///
+/// 40 bytes: a program holds one per line. What most blocks lack (assignments, an O-word, a
+/// message) is in one box, [`Block::rare`]; the N number is a value and a flag ([`Block::n`]).
 #[derive(Clone, Debug)]
 pub struct Block {
     /// Physical 1-based line.
     pub line: u32,
     /// The line's bytes without terminator.
     pub span: Span,
-    /// The N number, when the block has one.
-    pub n: Option<u64>,
+    /// The N number when `has_n` (see [`Block::n`]).
+    n: u64,
+    pub words: Range<u32>,
+    /// Assignments, O-word and message, when the block has any of them.
+    pub rare: Option<Box<Rare>>,
     /// The block starts with `/` (skipped when block delete is on).
     pub block_delete: bool,
-    pub words: Range<u32>,
-    /// Parameter assignments (`#1=…`), executed after the block's words are read.
-    pub assigns: Range<u32>,
-    /// Boxed: most blocks have none, and every block pays for the field.
-    pub oword: Option<Box<OWord>>,
     /// The line starts with `%` (program start/end marker); what follows it is read as usual.
     pub percent: bool,
-    /// `(MSG,…)`, `(PRINT,…)`, `(DEBUG,…)`: the text after the comma (boxed, as `oword`: rare,
-    /// and every block pays for the field).
-    pub message: Option<Box<Span>>,
     /// The line had a syntax error; what could be read is kept, but the block is not executed.
     pub bad: bool,
+    has_n: bool,
+}
+
+/// The parts of a block that most blocks lack.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Rare {
+    /// Parameter assignments (`#1=…`), executed after the block's words are read.
+    pub assigns: Range<u32>,
+    pub oword: Option<OWord>,
+    /// `(MSG,…)`, `(PRINT,…)`, `(DEBUG,…)`: the text after the comma.
+    pub message: Option<Span>,
+}
+
+impl Block {
+    /// The N number, when the block has one.
+    pub fn n(&self) -> Option<u64> {
+        self.has_n.then_some(self.n)
+    }
+
+    /// The block's parameter assignments, as a range of [`Program::assigns`].
+    pub fn assigns(&self) -> Range<u32> {
+        self.rare.as_ref().map_or(0..0, |r| r.assigns.clone())
+    }
+
+    pub fn oword(&self) -> Option<&OWord> {
+        self.rare.as_ref().and_then(|r| r.oword.as_ref())
+    }
+
+    /// The text of the line's first `(MSG,…)`, `(PRINT,…)` or `(DEBUG,…)` after the comma.
+    pub fn message(&self) -> Option<Span> {
+        self.rare.as_ref().and_then(|r| r.message)
+    }
 }
 
 /// A `( … )` comment.

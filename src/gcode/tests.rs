@@ -277,7 +277,7 @@ fn msg_print_debug_comments_give_the_message_text() {
     let msgs: Vec<(u32, Option<&str>)> = prog
         .blocks
         .iter()
-        .map(|b| (b.line, b.message.as_deref().map(|&m| text(src, m))))
+        .map(|b| (b.line, b.message().map(|m| text(src, m))))
         .collect();
     assert_eq!(
         msgs,
@@ -374,13 +374,19 @@ fn a_one_megabyte_line_reads_fast() {
 // ---- %, /, N ----
 
 #[test]
+fn a_block_is_40_bytes() {
+    // A program holds one block per line: its size is most of the reader's memory.
+    assert_eq!(std::mem::size_of::<super::Block>(), 40);
+}
+
+#[test]
 fn percent_line_and_percent_with_program_number() {
     let prog = p("%\n%O1200(TOKARKA)\n % \n");
     assert!(prog.errors.is_empty());
     assert_eq!(prog.blocks.len(), 3);
     assert!(prog.blocks.iter().all(|b| b.percent));
-    assert_eq!(prog.blocks[0].oword, None);
-    let o = prog.blocks[1].oword.as_ref().unwrap();
+    assert_eq!(prog.blocks[0].oword(), None);
+    let o = prog.blocks[1].oword().unwrap();
     assert_eq!((o.name, &o.op), (OName::Number(1200), &OOp::ProgramNumber));
     let (_, col, msg) = error(b"G1 %");
     assert_eq!(col, 4);
@@ -392,7 +398,7 @@ fn slash_first_is_block_delete() {
     let prog = p("/G1 X1\n / N10 G0\n");
     assert!(prog.errors.is_empty());
     assert!(prog.blocks[0].block_delete && prog.blocks[1].block_delete);
-    assert_eq!(prog.blocks[1].n, Some(10));
+    assert_eq!(prog.blocks[1].n(), Some(10));
     assert!(!p("G1").blocks[0].block_delete);
     let (_, col, msg) = error(b"G1 /X1");
     assert_eq!(col, 4);
@@ -403,10 +409,10 @@ fn slash_first_is_block_delete() {
 fn n_number_at_block_start() {
     let prog = p("N10 G1\nN 2 0X1\nn0005\nN01G50S0600");
     assert!(prog.errors.is_empty());
-    let ns: Vec<Option<u64>> = prog.blocks.iter().map(|b| b.n).collect();
+    let ns: Vec<Option<u64>> = prog.blocks.iter().map(|b| b.n()).collect();
     assert_eq!(ns, [Some(10), Some(20), Some(5), Some(1)]);
     assert_eq!(word_strings(&prog, &prog.blocks[3]), ["G50", "S600"]);
-    assert_eq!(p(&format!("N{}", u64::MAX)).blocks[0].n, Some(u64::MAX));
+    assert_eq!(p(&format!("N{}", u64::MAX)).blocks[0].n(), Some(u64::MAX));
 }
 
 #[test]
@@ -439,7 +445,7 @@ fn findings_carry_the_block_n_number() {
 fn oword(src: &str) -> (Program, OWord) {
     let prog = p(src);
     assert!(prog.errors.is_empty(), "{src:?}: {:?}", prog.errors);
-    let o = *prog.blocks[0].oword.clone().expect("an o-word");
+    let o = prog.blocks[0].oword().cloned().expect("an o-word");
     (prog, o)
 }
 

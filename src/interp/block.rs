@@ -316,7 +316,7 @@ impl Run<'_> {
         let m = Move {
             kind,
             line: b.line,
-            n: b.n,
+            n: b.n(),
             start,
             end,
             tip: self.tip(),
@@ -378,9 +378,11 @@ impl Run<'_> {
             .rev()
             .take(8)
             .any(|f| f.line == b.line && f.col == col && f.message == msg);
-        if !repeat {
+        // A warning does not refuse the move, so it is kept apart from `report` (and its
+        // refusal count), under the same cap.
+        if !repeat && self.findings.len() < crate::finding::MAX_FINDINGS {
             self.findings
-                .push(Finding::at(Kind::Program, Severity::Warning, b.line, col, msg).with_n(b.n));
+                .push(Finding::at(Kind::Program, Severity::Warning, b.line, col, msg).with_n(b.n()));
         }
     }
 
@@ -881,9 +883,9 @@ impl Run<'_> {
         if unknown && axis {
             // An unknown code may be the one that uses the axis words: do not guess a motion.
         } else if (axis || w.peek(b'Y')) && !axes_used_by_nonmodal {
-            let before = self.findings.len();
+            let before = self.reports;
             self.motion(b, w, g53.is_some(), plane_error_here);
-            if self.refused_since(before) {
+            if self.reports > before {
                 // The move was refused: its words are accounted for by that finding.
                 w.used = w.has;
             }
@@ -946,22 +948,13 @@ impl Run<'_> {
             });
         }
         if w.axis_words() {
-            let before = self.findings.len();
+            let before = self.reports;
             self.motion(b, w, false, false);
-            if self.refused_since(before) {
+            if self.reports > before {
                 w.used = w.has;
             }
         }
         self.check_unused(b, w);
-    }
-
-    /// A finding since `before` refused the move (the `program` warnings about a move that was
-    /// made, such as a clamped spindle speed, do not).
-    #[inline]
-    fn refused_since(&self, before: usize) -> bool {
-        self.findings[before..]
-            .iter()
-            .any(|f| !(f.kind == Kind::Program && f.severity == Severity::Warning))
     }
 
     #[inline]

@@ -3,11 +3,11 @@
 
 use super::state::{Frame, Modal, Params};
 use super::{Interpretation, Limits, Move, SpindleDir};
-use crate::finding::{Finding, Kind, Severity};
+use crate::finding::{push_capped, Finding, Kind, LeftOut, Severity};
 use crate::gcode::{Block, OName, OOp, Program};
 use crate::geom::{P2, V2};
 use crate::machine::{Dialect, Machine};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// Where o-word structures jump, computed once before the run.
 #[derive(Default)]
@@ -25,7 +25,7 @@ pub(crate) struct Labels {
     pub end_of: HashMap<usize, usize>,
 }
 
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
 enum Open {
     Sub,
     While,
@@ -34,26 +34,64 @@ enum Open {
     Repeat,
 }
 
+/// The o-word structures open while [`Labels::build`] reads the program, with an index from
+/// (name, kind) to their places in the stack, so that finding the innermost open structure of a
+/// name costs the same however deep the stack is (a closer that matches nothing must not scan it).
+#[derive(Default)]
+struct OpenStack {
+    /// (name, kind, block index, last branch of an if)
+    items: Vec<(OName, Open, usize, usize)>,
+    /// Places in `items` of each (name, kind), ascending.
+    at: HashMap<(OName, Open), Vec<usize>>,
+}
+
+impl OpenStack {
+    fn push(&mut self, name: OName, kind: Open, block: usize) {
+        self.at.entry((name, kind)).or_default().push(self.items.len());
+        self.items.push((name, kind, block, block));
+    }
+
+    /// The place of the innermost open structure named `name` of one of `kinds`.
+    fn top(&self, name: OName, kinds: &[Open]) -> Option<usize> {
+        kinds
+            .iter()
+            .filter_map(|&k| self.at.get(&(name, k)).and_then(|v| v.last().copied()))
+            .max()
+    }
+
+    /// Close the structure at place `k` and every one opened inside it.
+    fn truncate(&mut self, k: usize) {
+        while self.items.len() > k {
+            let Some((name, kind, _, _)) = self.items.pop() else {
+                break;
+            };
+            if let Some(v) = self.at.get_mut(&(name, kind)) {
+                v.pop();
+                if v.is_empty() {
+                    self.at.remove(&(name, kind));
+                }
+            }
+        }
+    }
+}
+
 impl Labels {
-    fn build(prog: &Program, findings: &mut Vec<Finding>) -> Labels {
+    fn build(prog: &Program, findings: &mut Vec<Finding>, left_out: &mut LeftOut) -> Labels {
         let mut l = Labels::default();
-        // (name, kind, block index, last branch of an if)
-        let mut stack: Vec<(OName, Open, usize, usize)> = Vec::new();
+        let mut stack = OpenStack::default();
         let name_text = |n: OName| match n {
             OName::Number(k) => format!("o{k}"),
             OName::Named(id) => format!("o<{}>", prog.name(id)),
         };
         for (i, b) in prog.blocks.iter().enumerate() {
-            let Some(o) = &b.oword else { continue };
+            let Some(o) = b.oword() else { continue };
             if b.bad {
                 continue;
             }
-            let mut err = |msg: String| findings.push(Finding::program(b.line, 0, msg).with_n(b.n));
-            let top = |stack: &Vec<(OName, Open, usize, usize)>, kinds: &[Open]| {
-                stack
-                    .iter()
-                    .rposition(|&(n, k, _, _)| n == o.name && kinds.contains(&k))
+            let mut err = |msg: String| {
+                push_capped(findings, left_out, Finding::program(b.line, 0, msg).with_n(b.n()));
             };
+            let top = |stack: &OpenStack, kinds: &[Open]| stack.top(o.name, kinds);
             match &o.op {
                 OOp::ProgramNumber => {
                     if let OName::Number(n) = o.name {
@@ -64,58 +102,58 @@ impl Labels {
                     if l.subs.insert(o.name, i).is_some() {
                         err(format!("subroutine {} is defined twice", name_text(o.name)));
                     }
-                    stack.push((o.name, Open::Sub, i, i));
+                    stack.push(o.name, Open::Sub, i);
                 }
                 OOp::EndSub(_) => match top(&stack, &[Open::Sub]) {
                     Some(k) => {
-                        let (_, _, start, _) = stack[k];
+                        let (_, _, start, _) = stack.items[k];
                         stack.truncate(k);
                         l.sub_end.insert(start, i);
                     }
                     None => err(format!("{} endsub without a matching sub", name_text(o.name))),
                 },
-                OOp::Do => stack.push((o.name, Open::Do, i, i)),
+                OOp::Do => stack.push(o.name, Open::Do, i),
                 OOp::While(_) => {
-                    if let Some(k) = top(&stack, &[Open::Do]).filter(|&k| k + 1 == stack.len()) {
-                        let (_, _, start, _) = stack[k];
-                        stack.truncate(k);
+                    // A `while` right after its `do` (innermost open structure) closes it.
+                    if let Some(&(_, Open::Do, start, _)) = stack.items.last().filter(|t| t.0 == o.name) {
+                        stack.truncate(stack.items.len() - 1);
                         l.end_of.insert(i, start); // do … while: the while ends the loop
                         l.jump.insert(start, i);
                     } else {
-                        stack.push((o.name, Open::While, i, i));
+                        stack.push(o.name, Open::While, i);
                     }
                 }
                 OOp::EndWhile => match top(&stack, &[Open::While]) {
                     Some(k) => {
-                        let (_, _, start, _) = stack[k];
+                        let (_, _, start, _) = stack.items[k];
                         stack.truncate(k);
                         l.jump.insert(start, i);
                         l.jump.insert(i, start);
                     }
                     None => err(format!("{} endwhile without a matching while", name_text(o.name))),
                 },
-                OOp::Repeat(_) => stack.push((o.name, Open::Repeat, i, i)),
+                OOp::Repeat(_) => stack.push(o.name, Open::Repeat, i),
                 OOp::EndRepeat => match top(&stack, &[Open::Repeat]) {
                     Some(k) => {
-                        let (_, _, start, _) = stack[k];
+                        let (_, _, start, _) = stack.items[k];
                         stack.truncate(k);
                         l.jump.insert(start, i);
                         l.jump.insert(i, start);
                     }
                     None => err(format!("{} endrepeat without a matching repeat", name_text(o.name))),
                 },
-                OOp::If(_) => stack.push((o.name, Open::If, i, i)),
+                OOp::If(_) => stack.push(o.name, Open::If, i),
                 OOp::ElseIf(_) | OOp::Else => match top(&stack, &[Open::If]) {
                     Some(k) => {
-                        let last = stack[k].3;
+                        let last = stack.items[k].3;
                         l.jump.insert(last, i);
-                        stack[k].3 = i;
+                        stack.items[k].3 = i;
                     }
                     None => err(format!("{} else/elseif without a matching if", name_text(o.name))),
                 },
                 OOp::EndIf => match top(&stack, &[Open::If]) {
                     Some(k) => {
-                        let (_, _, start, last) = stack[k];
+                        let (_, _, start, last) = stack.items[k];
                         stack.truncate(k);
                         l.jump.insert(last, i);
                         // Every branch of the chain ends at this endif.
@@ -131,21 +169,21 @@ impl Labels {
                     None => err(format!("{} endif without a matching if", name_text(o.name))),
                 },
                 OOp::Break | OOp::Continue => {
-                    if top(&stack, &[Open::While, Open::Do, Open::Repeat]).is_none() {
-                        err(format!(
+                    // Resolved at run time from the loop's start (its end may not be known yet).
+                    match top(&stack, &[Open::While, Open::Do, Open::Repeat]) {
+                        Some(k) => {
+                            l.end_of.insert(i, stack.items[k].2);
+                        }
+                        None => err(format!(
                             "{} break/continue outside a loop of that name",
                             name_text(o.name)
-                        ));
-                    }
-                    // Resolved at run time from the loop's start (its end may not be known yet).
-                    if let Some(k) = top(&stack, &[Open::While, Open::Do, Open::Repeat]) {
-                        l.end_of.insert(i, stack[k].2);
+                        )),
                     }
                 }
                 OOp::Call(_) | OOp::Return(_) => {}
             }
         }
-        for (name, kind, i, _) in stack {
+        for (name, kind, i, _) in stack.items {
             let b = &prog.blocks[i];
             let what = match kind {
                 Open::Sub => "sub without endsub",
@@ -154,7 +192,8 @@ impl Labels {
                 Open::If => "if without endif",
                 Open::Repeat => "repeat without endrepeat",
             };
-            findings.push(Finding::program(b.line, 0, format!("{} {what}", name_text(name))).with_n(b.n));
+            let f = Finding::program(b.line, 0, format!("{} {what}", name_text(name))).with_n(b.n());
+            push_capped(findings, left_out, f);
         }
         l
     }
@@ -202,12 +241,23 @@ pub(crate) struct Run<'a> {
     pub(crate) plain_blocks_fast: bool,
     /// The word table of [`Run::execute`], kept between blocks.
     pub(super) words: Option<Box<super::block::Words>>,
+    /// Columns of findings, counted on from the last one (many findings on one long line).
+    cols: crate::source::ColCursor,
+    /// The findings kept so far (a block in a loop reports its problem once, and repeats do not
+    /// fill the [`crate::finding::MAX_FINDINGS`] cap).
+    reported: HashSet<(u32, u32, Kind, String)>,
+    /// Findings not kept: the cap was reached.
+    pub left_out: LeftOut,
+    /// Findings reported by blocks so far, kept or not (a block learns from it that a step of
+    /// its own was refused).
+    pub reports: u64,
 }
 
 impl<'a> Run<'a> {
     pub fn new(prog: &'a Program, src: &'a [u8], machine: &'a Machine, limits: Limits) -> Run<'a> {
         let mut findings = Vec::new();
-        let labels = Labels::build(prog, &mut findings);
+        let mut left_out = LeftOut::default();
+        let labels = Labels::build(prog, &mut findings, &mut left_out);
         let fanuc = machine.dialect == Dialect::Fanuc;
         let modal = Modal {
             inch: false,
@@ -255,14 +305,24 @@ impl<'a> Run<'a> {
             motion_reported: false,
             words: None,
             plain_blocks_fast: true,
+            cols: crate::source::ColCursor::new(),
+            reported: HashSet::new(),
+            left_out,
+            reports: 0,
         }
     }
 
-    pub fn finish(self) -> Interpretation {
+    pub fn finish(mut self) -> Interpretation {
+        // The moves were reserved for one per block; give back a large unused part (address
+        // space counts against a memory cap even when never touched).
+        if self.moves.capacity() - self.moves.len() > self.moves.len() / 4 + 1024 {
+            self.moves.shrink_to_fit();
+        }
         Interpretation {
             moves: self.moves,
             states: self.states,
             findings: self.findings,
+            findings_left_out: self.left_out,
             blocks_executed: self.executed,
         }
     }
@@ -272,21 +332,35 @@ impl<'a> Run<'a> {
     }
 
     pub(crate) fn error(&mut self, b: &Block, col_offset: Option<u32>, msg: String) {
-        let col = col_offset.map_or(0, |o| self.prog.lines.col_of(self.src, o));
-        self.findings.push(Finding::program(b.line, col, msg).with_n(b.n));
+        let col = col_offset.map_or(0, |o| self.cols.col_of(&self.prog.lines, self.src, o));
+        self.report(Finding::program(b.line, col, msg).with_n(b.n()));
+    }
+
+    /// Keep a finding of the run, once, up to the cap.
+    fn report(&mut self, f: Finding) {
+        self.reports += 1;
+        let key = (f.line, f.col, f.kind, f.message);
+        if self.reported.contains(&key) {
+            return;
+        }
+        let (line, col, kind, message) = key;
+        let f = Finding { message, ..f };
+        if self.findings.len() < crate::finding::MAX_FINDINGS {
+            self.reported.insert((line, col, kind, f.message.clone()));
+        }
+        push_capped(&mut self.findings, &mut self.left_out, f);
     }
 
     /// An `unsupported` finding: an error when the code moves the machine (the checked path is
     /// then incomplete), a warning when it does not.
     pub(crate) fn unsupported(&mut self, b: &Block, col_offset: Option<u32>, msg: String, moves_machine: bool) {
-        let col = col_offset.map_or(0, |o| self.prog.lines.col_of(self.src, o));
+        let col = col_offset.map_or(0, |o| self.cols.col_of(&self.prog.lines, self.src, o));
         let sev = if moves_machine {
             Severity::Error
         } else {
             Severity::Warning
         };
-        self.findings
-            .push(Finding::at(Kind::Unsupported, sev, b.line, col, msg).with_n(b.n));
+        self.report(Finding::at(Kind::Unsupported, sev, b.line, col, msg).with_n(b.n()));
     }
 
     pub fn run(&mut self) {
@@ -294,16 +368,7 @@ impl<'a> Run<'a> {
         while self.pc < n && !self.stopped {
             let i = self.pc;
             let b = self.block(i);
-            self.executed += 1;
-            if self.executed > self.limits.max_blocks {
-                self.error(
-                    b,
-                    None,
-                    format!(
-                        "stopped after executing {} blocks: the program seems to loop without end here",
-                        self.limits.max_blocks
-                    ),
-                );
+            if !self.count_executed(b) {
                 break;
             }
             self.current_line = b.line;
@@ -317,9 +382,9 @@ impl<'a> Run<'a> {
                     break;
                 }
             }
-            if let Some(o) = &b.oword {
+            if let Some(o) = b.oword() {
                 self.oword(i, b, &o.op, o.name, o.span.start);
-                if b.words.is_empty() && b.assigns.is_empty() {
+                if b.words.is_empty() && b.assigns().is_empty() {
                     continue;
                 }
                 if !matches!(o.op, OOp::ProgramNumber) {
@@ -328,6 +393,25 @@ impl<'a> Run<'a> {
             }
             self.execute(b);
         }
+    }
+
+    /// Count one block executed (or one `elseif` tested) against the budget; false, with a
+    /// `program` finding at `b`, when the budget is spent.
+    fn count_executed(&mut self, b: &Block) -> bool {
+        self.executed += 1;
+        if self.executed > self.limits.max_blocks {
+            self.error(
+                b,
+                None,
+                format!(
+                    "stopped after executing {} blocks: the program seems to loop without end here",
+                    self.limits.max_blocks
+                ),
+            );
+            self.stopped = true;
+            return false;
+        }
+        true
     }
 
     fn cond(&mut self, b: &Block, e: crate::gcode::ExprId) -> Option<bool> {
@@ -433,8 +517,13 @@ impl<'a> Run<'a> {
                         return;
                     };
                     let nb = self.block(next);
-                    match nb.oword.as_ref().map(|o| &o.op) {
+                    match nb.oword().map(|o| &o.op) {
                         Some(OOp::ElseIf(c2)) => {
+                            // Each branch tested is a block executed: a long chain in a loop
+                            // must not outlast the budget.
+                            if !self.count_executed(nb) {
+                                return;
+                            }
                             taken = self.cond(nb, *c2).unwrap_or(false);
                             k = next;
                         }
@@ -458,7 +547,7 @@ impl<'a> Run<'a> {
                 let Some(start) = end_of(self, i) else { return };
                 let is_break = matches!(op, OOp::Break);
                 let end = jump(self, start);
-                let start_op = self.block(start).oword.as_ref().map(|o| o.op.clone());
+                let start_op = self.block(start).oword().map(|o| o.op.clone());
                 match (is_break, start_op) {
                     (true, Some(OOp::Repeat(_))) => {
                         self.repeat_counts_mut().remove(&start);

@@ -195,6 +195,8 @@ pub struct Interpretation {
     pub states: Vec<MoveState>,
     /// `program` and `unsupported` findings (syntax findings stay with the reader).
     pub findings: Vec<Finding>,
+    /// The findings not kept in `findings` (at most [`crate::finding::MAX_FINDINGS`] are).
+    pub findings_left_out: crate::finding::LeftOut,
     /// Blocks executed (a block in a loop counts each time).
     pub blocks_executed: u64,
 }

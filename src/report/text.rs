@@ -26,6 +26,9 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
     };
     for f in &r.files {
         let lines = (!f.findings.is_empty()).then(|| LineIndex::new(&f.source));
+        // The characters of the last line shown: findings on one line are consecutive, and a
+        // long line with many findings must be decoded once, not once per finding.
+        let mut shown_line: (u32, Vec<char>) = (0, Vec::new());
         for x in &f.findings {
             if opt.quiet && x.severity != Severity::Error {
                 continue;
@@ -50,18 +53,20 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
             }
             if let Some(li) = lines.as_ref().filter(|_| !f.source.is_empty()) {
                 if x.line >= 1 && (x.line as usize) <= li.line_count() {
-                    let span = li.line_span(&f.source, x.line);
-                    let raw = String::from_utf8_lossy(&f.source[span.range()]);
-                    // Tabs as spaces; other control bytes (NUL, ^Z, escape sequences) never reach
-                    // the terminal: they show as U+FFFD, one column each like the caret counts.
-                    let chars: Vec<char> = raw
-                        .chars()
-                        .map(|c| match c {
+                    if shown_line.0 != x.line {
+                        let span = li.line_span(&f.source, x.line);
+                        let raw = String::from_utf8_lossy(&f.source[span.range()]);
+                        // Tabs as spaces; other control bytes (NUL, ^Z, escape sequences) never
+                        // reach the terminal: they show as U+FFFD, one column each like the caret
+                        // counts.
+                        let chars = raw.chars().map(|c| match c {
                             '\t' => ' ',
                             c if c.is_control() => '\u{FFFD}',
                             c => c,
-                        })
-                        .collect();
+                        });
+                        shown_line = (x.line, chars.collect());
+                    }
+                    let chars = &shown_line.1;
                     let caret = x.col.saturating_sub(1) as usize;
                     let from = if chars.len() > SHOW && caret > SHOW / 2 {
                         (caret - SHOW / 2).min(chars.len() - SHOW)
