@@ -824,10 +824,20 @@ fn caption(o: &mut String, file: &FileReport, f: &Finding) {
         esc(&place),
         esc(&head),
     );
+    // A follow-on says whose crash it comes from on the message line, where it is read first.
+    let message = match &f.follow_on {
+        Some(p) => format!(
+            "{} — follow-on of the crash at line {} ({})",
+            f.message,
+            p.line,
+            p.objects.join(" × ")
+        ),
+        None => f.message.clone(),
+    };
     let _ = writeln!(
         o,
         r#"<text x="{m}" y="46" font-size="15" fill="{INK}">{}</text>"#,
-        esc(&fit_text(&f.message, 115))
+        esc(&fit_text(&message, 115))
     );
     let block = block_text(file, f.line);
     if !block.is_empty() {
@@ -856,13 +866,6 @@ fn caption(o: &mut String, file: &FileReport, f: &Finding) {
     }
     if !f.objects.is_empty() {
         facts.push(f.objects.join(" × "));
-    }
-    if let Some(p) = &f.follow_on {
-        facts.push(format!(
-            "follow-on of the crash at line {} ({})",
-            p.line,
-            p.objects.join(" × ")
-        ));
     }
     let _ = writeln!(
         o,
