@@ -1,17 +1,23 @@
 //! `latheguard accuracy`: the cost-of-accuracy table.
 
 use super::args::{AccuracyArgs, TableFormat};
-use super::{emit, load_machine, Trouble, EXIT_CLEAN};
+use super::{emit, load_machine, read_capped, shown, Trouble, EXIT_CLEAN, MAX_PROGRAM_BYTES};
 use latheguard::accuracy;
 
 pub fn run(a: AccuracyArgs) -> Result<u8, Trouble> {
-    let machine = load_machine(a.machine.as_deref())?;
-    let src = std::fs::read(&a.program).map_err(|e| format!("{}: cannot read: {e}", a.program.display()))?;
-    let rows = accuracy::run(&src, &machine, a.clearance, a.repeats);
     if let Some(p) = &a.plot {
-        let title = format!("cost of accuracy: {}", a.program.display());
+        let mut inputs = vec![a.program.as_path()];
+        inputs.extend(a.machine.as_deref());
+        super::check::refuse_overwrite(p, "--plot", &inputs, &[])?;
+    }
+    let machine = load_machine(a.machine.as_deref())?;
+    let src = read_capped(&a.program, MAX_PROGRAM_BYTES)
+        .map_err(|why| format!("{}: cannot read: {why}", shown(&a.program)))?;
+    let rows = accuracy::run(&src, &machine, a.clearance, usize::from(a.repeats));
+    if let Some(p) = &a.plot {
+        let title = format!("cost of accuracy: {}", shown(&a.program));
         std::fs::write(p, accuracy::plot_svg(&rows, &title))
-            .map_err(|e| format!("{}: cannot write: {e}", p.display()))?;
+            .map_err(|e| format!("{}: cannot write: {}", shown(p), super::plain(&e)))?;
     }
     let text = match a.format {
         TableFormat::Json => {
@@ -19,7 +25,7 @@ pub fn run(a: AccuracyArgs) -> Result<u8, Trouble> {
             s.push('\n');
             s
         }
-        TableFormat::Text => format!("{}\n{}", a.program.display(), accuracy::table(&rows)),
+        TableFormat::Text => format!("{}\n{}", shown(&a.program), accuracy::table(&rows)),
     };
     emit(None, &text)?;
     Ok(EXIT_CLEAN)

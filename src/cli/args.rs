@@ -44,11 +44,11 @@ pub struct AccuracyArgs {
     /// Also write a plot of run time against missed collisions (SVG).
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
-    /// Runs of each setting; the median time is reported.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(usize))]
-    pub repeats: usize,
-    /// Clearance for near misses, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.0, value_parser = non_negative)]
+    /// Runs of each setting, 1 to 100; the median time is reported.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=MAX_REPEATS))]
+    pub repeats: u16,
+    /// Clearance for near misses, 0 to 10 mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.0, value_parser = clearance)]
     pub clearance: f64,
 }
 
@@ -73,14 +73,14 @@ pub struct CheckArgs {
     /// How moves are checked [default: step].
     #[arg(long, value_enum)]
     pub mode: Option<ModeArg>,
-    /// Timestep in milliseconds of machine time, step mode [default: 1].
-    #[arg(long, value_name = "MS", value_parser = positive)]
+    /// Timestep in milliseconds of machine time, step mode, 0.001 to 1000 [default: 1].
+    #[arg(long, value_name = "MS", value_parser = dt)]
     pub dt: Option<f64>,
-    /// How far curves may be replaced by chords, in mm [default: 0.01].
-    #[arg(long, value_name = "MM", value_parser = positive)]
+    /// How far curves may be replaced by chords, 0.001 to 1 mm [default: 0.01].
+    #[arg(long, value_name = "MM", value_parser = tolerance)]
     pub tolerance: Option<f64>,
-    /// Report parts closer than this as near misses, in mm [default: 0].
-    #[arg(long, value_name = "MM", value_parser = non_negative)]
+    /// Report parts closer than this as near misses, 0 to 10 mm [default: 0].
+    #[arg(long, value_name = "MM", value_parser = clearance)]
     pub clearance: Option<f64>,
     /// Report format.
     #[arg(long, value_enum, default_value_t = FormatArg::Text)]
@@ -94,8 +94,8 @@ pub struct CheckArgs {
     /// Write an SVG of the final part section (the stock at the end) of the one program checked.
     #[arg(long, value_name = "FILE.svg")]
     pub stock_out: Option<PathBuf>,
-    /// Files checked in parallel [default: all cores].
-    #[arg(short, long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    /// Files checked in parallel, 1 to 256, never more than the files [default: all cores].
+    #[arg(short, long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=MAX_JOBS))]
     pub jobs: Option<u16>,
     /// Extensions taken as NC programs when walking folders, comma-separated
     /// [default: nc,ngc,tap,cnc,mpf,eia,gcode,txt].
@@ -199,20 +199,42 @@ fn extension(s: &str) -> Result<String, String> {
     }
 }
 
-pub fn positive(s: &str) -> Result<f64, String> {
-    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
+/// `--jobs` above this is refused: each job is a thread.
+pub const MAX_JOBS: i64 = 256;
+/// `accuracy --repeats` above this is refused.
+pub const MAX_REPEATS: i64 = 100;
+/// The ranges of the numeric settings (command line and `latheguard.toml`): below the smallest
+/// timestep or tolerance a check's work grows without bound; a wider clearance makes every part
+/// a near miss of every other and costs exact mode minutes.
+pub const DT_MS: (f64, f64) = (1e-3, 1000.0);
+pub const TOLERANCE_MM: (f64, f64) = (1e-3, 1.0);
+pub const CLEARANCE_MM: (f64, f64) = (0.0, 10.0);
+
+/// Why `v` is outside `lo ..= hi` (NaN and infinities included), if it is.
+pub fn out_of_range(v: f64, (lo, hi): (f64, f64)) -> Option<String> {
+    if v.is_finite() && v >= lo && v <= hi {
+        None
     } else {
-        Err(format!("`{s}` must be a finite number greater than 0"))
+        Some(format!("must be a number from {lo} to {hi}, not {v}"))
     }
 }
 
-pub fn non_negative(s: &str) -> Result<f64, String> {
-    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
-    if v.is_finite() && v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(format!("`{s}` must be a finite number, 0 or more"))
+fn in_range(s: &str, range: (f64, f64)) -> Result<f64, String> {
+    let v: f64 = s.trim().parse().map_err(|_| format!("`{s}` is not a number"))?;
+    match out_of_range(v, range) {
+        None => Ok(v),
+        Some(why) => Err(why),
     }
+}
+
+fn dt(s: &str) -> Result<f64, String> {
+    in_range(s, DT_MS)
+}
+
+fn tolerance(s: &str) -> Result<f64, String> {
+    in_range(s, TOLERANCE_MM)
+}
+
+fn clearance(s: &str) -> Result<f64, String> {
+    in_range(s, CLEARANCE_MM)
 }

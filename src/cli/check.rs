@@ -4,20 +4,25 @@
 use super::args::{CheckArgs, ColorArg, FormatArg, ModeArg};
 use super::config::{ConfigError, Finder, MachineRef};
 use super::walk::{self, Entry, NC_EXTENSIONS};
-use super::{emit, load_machine, plain, Trouble, EXIT_CLEAN, EXIT_FINDINGS, EXIT_TROUBLE};
+use super::{
+    emit, load_machine, plain, read_capped, read_text, say, shown, Trouble, EXIT_CLEAN, EXIT_FINDINGS, EXIT_TROUBLE,
+    MAX_MACHINE_BYTES, MAX_PROGRAM_BYTES,
+};
 use latheguard::finding::{Finding, Kind};
 use latheguard::machine::{self, Machine};
 use latheguard::pipeline::{self, Mode, Settings};
 use latheguard::report::{self, FileReport, JunitOptions, Report, TextOptions};
 use rayon::prelude::*;
 use std::collections::HashMap;
-use std::io::{IsTerminal, Read};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-/// Programs larger than this are not read (a finding says so).
-pub const MAX_PROGRAM_BYTES: u64 = 256 << 20;
+/// At most this many pictures of one file's findings are written with `--svg`.
+pub const MAX_PICTURES_PER_FILE: usize = 100;
+/// At most this many pictures in all are written with `--svg`.
+pub const MAX_PICTURES: usize = 1000;
 
 /// The machine and settings when no file gives others (the command line's, or the defaults).
 type Defaults = (Arc<Machine>, Settings);
@@ -47,22 +52,31 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
         entries = walk::shard(entries, s.index, s.count);
     }
     if entries.is_empty() && !a.quiet {
-        eprintln!(
-            "latheguard: no NC files to check (extensions: {}; see --ext)",
+        say(&format!(
+            "no NC files to check (extensions: {}; see --ext)",
             exts.join(", ")
-        );
+        ));
     }
-    let (defaults, jobs) = plan(&a, entries)?;
+    let (defaults, jobs, inputs) = plan(&a, entries)?;
+    // Refuse before any work: a report or a picture written over a program is a program lost.
+    let mut protected: Vec<&Path> = jobs.iter().map(|j| j.entry.path.as_path()).collect();
+    protected.extend(inputs.iter().map(PathBuf::as_path));
+    if let Some(out) = &a.output {
+        refuse_overwrite(out, "--output", &protected, &exts)?;
+    }
+    if let Some(out) = &a.stock_out {
+        refuse_overwrite(out, "--stock-out", &protected, &exts)?;
+    }
     let show_progress = !a.quiet && std::io::stderr().is_terminal() && std::env::var_os("CI").is_none();
     let reports = check_all(&jobs, a.jobs, show_progress, !a.no_timing)?;
     let internal = reports.iter().any(|(_, crashed)| *crashed);
-    let report = assemble(defaults, &jobs, reports.into_iter().map(|(r, _)| r).collect());
+    let mut report = assemble(defaults, &jobs, reports.into_iter().map(|(r, _)| r).collect());
 
     if let Some(out) = &a.stock_out {
         match report.files.as_slice() {
             [f] => {
                 let svg = report::part::part_svg(&f.path, &f.stock);
-                std::fs::write(out, svg).map_err(|e| format!("{}: cannot write: {e}", out.display()))?;
+                std::fs::write(out, svg).map_err(|e| format!("{}: cannot write: {}", shown(out), plain(&e)))?;
             }
             files => {
                 return Err(format!(
@@ -73,13 +87,20 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
         }
     }
     if let Some(dir) = &a.svg {
+        let left_out = limit_pictures(&mut report);
         let n = write_pictures(dir, &report)?;
         if !a.quiet && n > 0 {
-            eprintln!(
-                "latheguard: wrote {n} picture{} to {}",
+            say(&format!(
+                "wrote {n} picture{} to {}",
                 if n == 1 { "" } else { "s" },
-                dir.display()
-            );
+                shown(dir)
+            ));
+        }
+        if left_out > 0 {
+            say(&format!(
+                "left out {left_out} picture{} (at most {MAX_PICTURES_PER_FILE} per file and {MAX_PICTURES} per run)",
+                if left_out == 1 { "" } else { "s" }
+            ));
         }
     }
     let text = match a.format {
@@ -110,8 +131,9 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
 }
 
 /// The machine and settings of every file. Every configuration and machine file is read here,
-/// each once, so a bad one stops the run (exit 2) before anything is checked.
-fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>), Trouble> {
+/// each once, so a bad one stops the run (exit 2) before anything is checked. Also returns the
+/// machine and configuration files read, which no output may overwrite.
+fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>, Vec<PathBuf>), Trouble> {
     let cli_machine = match &a.machine {
         Some(p) => Some(Arc::new(load_machine(Some(p))?)),
         None => None,
@@ -135,6 +157,7 @@ fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>), Trou
         cli(Settings::default()),
     );
 
+    let mut inputs: Vec<PathBuf> = a.machine.iter().cloned().collect();
     let mut finder = Finder::new();
     let mut machines: HashMap<PathBuf, Arc<Machine>> = HashMap::new();
     let mut jobs = Vec::with_capacity(entries.len());
@@ -144,6 +167,10 @@ fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>), Trou
         if !a.no_config {
             let abs = finder.absolute(&entry.path);
             if let Some(cfg) = finder.config_for(&abs).map_err(|e: ConfigError| e.to_string())? {
+                let file = cfg.dir.join(super::config::FILE_NAME);
+                if inputs.last() != Some(&file) {
+                    inputs.push(file);
+                }
                 for layer in cfg.layers_for(&abs) {
                     if let Some(m) = layer.mode {
                         settings.mode = m;
@@ -168,7 +195,8 @@ fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>), Trou
             settings: cli(settings),
         });
     }
-    Ok((defaults, jobs))
+    inputs.extend(machines.into_keys());
+    Ok((defaults, jobs, inputs))
 }
 
 /// Load a machine file named by a configuration, once per file.
@@ -183,9 +211,10 @@ fn machine_for(
     if let Some(m) = cache.get(&key) {
         return Ok(m.clone());
     }
-    let text = std::fs::read_to_string(&key)
-        .map_err(|e| format!("{}: cannot read machine file {shown}: {}", r.at, plain(&e)))?;
+    let text = read_text(&key, MAX_MACHINE_BYTES)
+        .map_err(|why| format!("{}: cannot read machine file {shown}: {why}", r.at))?;
     let m = machine::from_toml(&text, &shown).map_err(|e| format!("{e}\n  (the machine of {})", r.at))?;
+    super::warn_machine(&m);
     let m = Arc::new(m);
     cache.insert(key, m.clone());
     Ok(m)
@@ -201,7 +230,8 @@ fn check_all(
 ) -> Result<Vec<(FileReport, bool)>, Trouble> {
     let mut pool = rayon::ThreadPoolBuilder::new().thread_name(|i| format!("latheguard-{i}"));
     if let Some(n) = threads {
-        pool = pool.num_threads(n as usize);
+        // Never more threads than files.
+        pool = pool.num_threads(usize::from(n).min(jobs.len()).max(1));
     }
     let pool = pool.build().map_err(|e| format!("cannot start worker threads: {e}"))?;
     let bar = if progress {
@@ -292,31 +322,41 @@ fn check_one(job: &Job, timing: bool) -> (FileReport, bool) {
 
 /// The bytes of a program, or why they cannot be had.
 fn read_program(path: &Path) -> Result<Vec<u8>, String> {
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot read the file: {}", plain(&e)))?;
-    let meta = file
-        .metadata()
-        .map_err(|e| format!("cannot read the file: {}", plain(&e)))?;
-    if meta.is_dir() {
-        return Err("cannot read the file: it is a folder".into());
+    read_capped(path, MAX_PROGRAM_BYTES).map_err(|why| format!("cannot read the file: {why}"))
+}
+
+/// Refuse to write `out` (given as `flag`) when that would destroy an input: a program being
+/// checked, a machine or configuration file read (`inputs`, compared as canonical paths), any
+/// `latheguard.toml`, or any existing file with an NC extension of `exts` (but `.txt`, which
+/// reports are often written to; a `.txt` program being checked is still protected).
+pub fn refuse_overwrite(out: &Path, flag: &str, inputs: &[&Path], exts: &[String]) -> Result<(), Trouble> {
+    let refuse = |what: &str| {
+        Err(format!(
+            "{flag} {}: refusing to write over {what}; choose another file",
+            shown(out)
+        ))
+    };
+    if out.file_name().is_some_and(|n| n == super::config::FILE_NAME) {
+        return refuse("a latheguard configuration");
     }
-    if meta.len() > MAX_PROGRAM_BYTES {
-        return Err(format!(
-            "the file is {} bytes, more than the {} MiB latheguard reads",
-            meta.len(),
-            MAX_PROGRAM_BYTES >> 20
-        ));
+    let Ok(target) = std::fs::canonicalize(out) else {
+        return Ok(()); // nothing there yet
+    };
+    if inputs
+        .iter()
+        .any(|p| std::fs::canonicalize(p).is_ok_and(|c| c == target))
+    {
+        return refuse("an input of this run");
     }
-    let mut src = Vec::with_capacity(meta.len() as usize);
-    file.take(MAX_PROGRAM_BYTES + 1)
-        .read_to_end(&mut src)
-        .map_err(|e| format!("cannot read the file: {}", plain(&e)))?;
-    if src.len() as u64 > MAX_PROGRAM_BYTES {
-        return Err(format!(
-            "the file is more than the {} MiB latheguard reads",
-            MAX_PROGRAM_BYTES >> 20
-        ));
+    let nc: Vec<String> = exts
+        .iter()
+        .filter(|e| !e.eq_ignore_ascii_case("txt"))
+        .cloned()
+        .collect();
+    if walk::has_extension(&target, &nc) || walk::has_extension(out, &nc) {
+        return refuse("an existing NC program");
     }
-    Ok(src)
+    Ok(())
 }
 
 /// The batch: the report's machine and settings are the first file's (or the command line's when
@@ -346,13 +386,35 @@ fn assemble(defaults: Defaults, jobs: &[Job], files: Vec<FileReport>) -> Report 
     }
 }
 
+/// Drop the snapshots beyond [`MAX_PICTURES_PER_FILE`] of a file and [`MAX_PICTURES`] in all
+/// (in path and line order); returns how many were dropped.
+fn limit_pictures(report: &mut Report) -> usize {
+    let (mut kept, mut dropped) = (0, 0);
+    for f in &mut report.files {
+        let mut in_file = 0;
+        for x in &mut f.findings {
+            if x.snapshot.is_none() {
+                continue;
+            }
+            if in_file < MAX_PICTURES_PER_FILE && kept < MAX_PICTURES {
+                in_file += 1;
+                kept += 1;
+            } else {
+                x.snapshot = None;
+                dropped += 1;
+            }
+        }
+    }
+    dropped
+}
+
 /// One SVG per finding that has a snapshot; returns how many were written.
 fn write_pictures(dir: &Path, report: &Report) -> Result<usize, Trouble> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create folder: {}", dir.display(), plain(&e)))?;
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create folder: {}", shown(dir), plain(&e)))?;
     let mut n = 0;
     for (name, svg) in report::svg::pictures(report) {
         let p = dir.join(&name);
-        std::fs::write(&p, svg).map_err(|e| format!("{}: cannot write picture: {}", p.display(), plain(&e)))?;
+        std::fs::write(&p, svg).map_err(|e| format!("{}: cannot write picture: {}", shown(&p), plain(&e)))?;
         n += 1;
     }
     Ok(n)

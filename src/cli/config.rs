@@ -5,6 +5,7 @@
 //! program's path (relative to the configuration's folder) apply on top, in file order. The
 //! command line applies on top of everything.
 
+use super::args::{out_of_range, CLEARANCE_MM, DT_MS, TOLERANCE_MM};
 use globset::{GlobBuilder, GlobMatcher};
 use latheguard::pipeline::Mode;
 use latheguard::source::LineIndex;
@@ -125,7 +126,7 @@ impl Finder {
 
     /// A path as shown in messages: relative to the working folder when under it.
     pub fn shown(&self, p: &Path) -> String {
-        p.strip_prefix(&self.cwd).unwrap_or(p).display().to_string()
+        super::shown(p.strip_prefix(&self.cwd).unwrap_or(p))
     }
 
     /// The configuration that applies to a program (absolute path), if any.
@@ -155,12 +156,12 @@ impl Finder {
 
     fn load(&self, file: &Path, dir: &Path) -> Result<Config, ConfigError> {
         let shown = self.shown(file);
-        let text = std::fs::read_to_string(file).map_err(|e| ConfigError {
+        let text = super::read_text(file, super::MAX_CONFIG_BYTES).map_err(|why| ConfigError {
             file: shown.clone(),
             line: 0,
             col: 0,
             key: TOP_LEVEL.into(),
-            message: format!("cannot read: {}", super::plain(&e)),
+            message: format!("cannot read: {why}"),
         })?;
         parse(&text, &shown, dir)
     }
@@ -252,15 +253,11 @@ impl Cx<'_> {
                 })
             }
         };
-        let number = |v: Option<Spanned<f64>>, k: &str, zero_ok: bool| -> Result<Option<f64>, ConfigError> {
+        let number = |v: Option<Spanned<f64>>, k: &str, range: (f64, f64)| -> Result<Option<f64>, ConfigError> {
             let Some(v) = v else { return Ok(None) };
-            let x = *v.get_ref();
-            let ok = x.is_finite() && (x > 0.0 || (zero_ok && x == 0.0));
-            if ok {
-                Ok(Some(x))
-            } else {
-                let rule = if zero_ok { "0 or more" } else { "greater than 0" };
-                Err(self.err(v.span(), key(k), format!("must be a finite number {rule}, not {x}")))
+            match out_of_range(*v.get_ref(), range) {
+                None => Ok(Some(*v.get_ref())),
+                Some(why) => Err(self.err(v.span(), key(k), why)),
             }
         };
         Ok(Layer {
@@ -269,9 +266,9 @@ impl Cx<'_> {
                 RawMode::Step => Mode::Step,
                 RawMode::Exact => Mode::Exact,
             }),
-            dt_ms: number(dt, "dt", false)?,
-            tolerance_mm: number(tolerance, "tolerance", false)?,
-            clearance_mm: number(clearance, "clearance", true)?,
+            dt_ms: number(dt, "dt", DT_MS)?,
+            tolerance_mm: number(tolerance, "tolerance", TOLERANCE_MM)?,
+            clearance_mm: number(clearance, "clearance", CLEARANCE_MM)?,
         })
     }
 }
@@ -314,24 +311,64 @@ pub fn parse(text: &str, file: &str, dir: &Path) -> Result<Config, ConfigError> 
     for (i, o) in raw.overrides.into_iter().enumerate() {
         let prefix = format!("override[{i}].");
         let o = o.into_inner();
-        let glob = GlobBuilder::new(o.glob.get_ref())
-            .literal_separator(true)
-            .build()
-            .map_err(|e| {
-                cx.err(
-                    o.glob.span(),
-                    format!("{prefix}glob"),
-                    format!("not a glob: {}", e.kind()),
-                )
-            })?;
+        let matcher =
+            glob_matcher(o.glob.get_ref()).map_err(|why| cx.err(o.glob.span(), format!("{prefix}glob"), why))?;
         let layer = cx.layer(&prefix, o.machine, o.mode, o.dt, o.tolerance, o.clearance)?;
-        overrides.push((glob.compile_matcher(), layer));
+        overrides.push((matcher, layer));
     }
     Ok(Config {
         dir: dir.to_path_buf(),
         base,
         overrides,
     })
+}
+
+/// A glob longer than this is refused.
+pub const MAX_GLOB_CHARS: usize = 1000;
+/// Braces nested deeper than this are refused (`{a,{b,c}}` is depth 2).
+pub const MAX_GLOB_BRACE_DEPTH: usize = 8;
+
+/// Compile an override's glob, or say why not. The glob library turns a glob into a regular
+/// expression and panics when that expression is too deep or too large, so the size and the
+/// brace nesting are bounded first, and a panic that still escapes is an error too.
+fn glob_matcher(glob: &str) -> Result<GlobMatcher, String> {
+    if glob.chars().count() > MAX_GLOB_CHARS {
+        return Err(format!("not a glob: longer than {MAX_GLOB_CHARS} characters"));
+    }
+    if brace_depth(glob) > MAX_GLOB_BRACE_DEPTH {
+        return Err(format!(
+            "not a glob: braces nested more than {MAX_GLOB_BRACE_DEPTH} deep"
+        ));
+    }
+    let built = std::panic::catch_unwind(|| {
+        GlobBuilder::new(glob)
+            .literal_separator(true)
+            .build()
+            .map(|g| g.compile_matcher())
+    });
+    match built {
+        Ok(Ok(m)) => Ok(m),
+        Ok(Err(e)) => Err(format!("not a glob: {}", e.kind())),
+        Err(_) => Err("not a glob: too complex to match".into()),
+    }
+}
+
+/// The deepest nesting of `{…}` in a glob (a `\`-escaped brace does not count).
+fn brace_depth(glob: &str) -> usize {
+    let (mut depth, mut deepest, mut escaped) = (0usize, 0usize, false);
+    for c in glob.chars() {
+        match c {
+            _ if escaped => escaped = false,
+            '\\' => escaped = true,
+            '{' => {
+                depth += 1;
+                deepest = deepest.max(depth);
+            }
+            '}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    deepest
 }
 
 fn one_line(s: &str) -> String {
@@ -436,7 +473,7 @@ mod tests {
         );
         assert_eq!(
             err("dt = 0\n"),
-            "latheguard.toml:1:6: dt: must be a finite number greater than 0, not 0"
+            "latheguard.toml:1:6: dt: must be a number from 0.001 to 1000, not 0"
         );
         assert_eq!(
             err("[[override]]\nglob = \"a/*\"\n[[override]]\nclearance = 1\n"),

@@ -1,27 +1,35 @@
 //! `latheguard moves`: the interpreted motion.
 
 use super::args::{MovesArgs, MovesFormat};
-use super::{emit, load_machine, Trouble, EXIT_CLEAN, EXIT_FINDINGS};
+use super::{emit, load_machine, read_capped, shown, Trouble, EXIT_CLEAN, EXIT_FINDINGS, MAX_PROGRAM_BYTES};
 use latheguard::finding::Severity;
 use latheguard::interp::{canon, Feed, MoveKind};
 use latheguard::pipeline;
+use latheguard::report::terminal_safe;
 use serde_json::json;
 
 pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     let machine = load_machine(a.machine.as_deref())?;
-    let src = std::fs::read(&a.program).map_err(|e| format!("{}: cannot read: {e}", a.program.display()))?;
+    let src = read_capped(&a.program, MAX_PROGRAM_BYTES)
+        .map_err(|why| format!("{}: cannot read: {why}", shown(&a.program)))?;
     let (mut prog, mut run) = pipeline::interpret(&src, &machine);
     let findings = pipeline::read_findings(&mut prog, &mut run);
     drop(prog);
-    for f in &findings {
-        eprintln!(
-            "{}:{}: {}[{}]: {}",
-            a.program.display(),
-            f.line,
-            f.severity.name(),
-            f.kind,
-            f.message
-        );
+    {
+        use std::io::Write;
+        let name = shown(&a.program);
+        let mut err = std::io::stderr().lock();
+        for f in &findings {
+            // Standard error that cannot be written is ignored (nowhere left to say it).
+            let _ = writeln!(
+                err,
+                "{name}:{}: {}[{}]: {}",
+                f.line,
+                f.severity.name(),
+                f.kind,
+                terminal_safe(&f.message)
+            );
+        }
     }
     let out = match a.format {
         MovesFormat::Canon => {
@@ -30,7 +38,7 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
             match canon::write(&run, &mut sink).and_then(|()| std::io::Write::flush(&mut sink)) {
                 // A closed pipe (`latheguard moves … | head`) is not a failure.
                 Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-                    return Err(format!("cannot write to standard output: {e}"))
+                    return Err(format!("cannot write to standard output: {}", super::plain(&e)))
                 }
                 _ => {}
             }

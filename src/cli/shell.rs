@@ -25,9 +25,10 @@ pub fn man(a: ManArgs) -> Result<u8, Trouble> {
             emit(None, &String::from_utf8_lossy(&out))?;
         }
         Some(dir) => {
-            std::fs::create_dir_all(&dir).map_err(|e| format!("{}: cannot create folder: {e}", dir.display()))?;
+            std::fs::create_dir_all(&dir)
+                .map_err(|e| format!("{}: cannot create folder: {}", super::shown(&dir), super::plain(&e)))?;
             clap_mangen::generate_to(cmd, &dir)
-                .map_err(|e| format!("{}: cannot write man pages: {e}", dir.display()))?;
+                .map_err(|e| format!("{}: cannot write man pages: {}", super::shown(&dir), super::plain(&e)))?;
         }
     }
     Ok(EXIT_CLEAN)

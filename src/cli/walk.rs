@@ -4,7 +4,8 @@
 //! not), `.git/info/exclude`, `.ignore` and `.latheguardignore` files are honoured, and hidden
 //! files and folders are skipped. The user's global git excludes are not read, so the same tree
 //! gives the same files on every machine. Symbolic links to files are taken; links to folders
-//! are not followed.
+//! are not followed. FIFOs, sockets and devices found in a folder are skipped (a path named on the
+//! command line is always taken; reading it then says why it cannot be read).
 
 use std::path::{Component, Path, PathBuf};
 
@@ -50,8 +51,11 @@ fn walk(root: &Path, exts: &[String], out: &mut Vec<Entry>) {
         match item {
             Ok(e) => {
                 let Some(ft) = e.file_type() else { continue };
-                // A link is taken when it names a file, or names nothing (reading it then says why).
-                let file = ft.is_file() || (ft.is_symlink() && !e.path().is_dir());
+                // A link is taken when it names a regular file, or names nothing (reading it then
+                // says why). FIFOs, sockets and devices, and links to them, are skipped: opening a
+                // FIFO would wait for a writer.
+                let file =
+                    ft.is_file() || (ft.is_symlink() && std::fs::metadata(e.path()).map_or(true, |m| m.is_file()));
                 if file && has_extension(e.path(), exts) {
                     out.push(Entry {
                         path: tidy(e.path()),

@@ -79,6 +79,12 @@ fn nice(v: f64) -> f64 {
         .unwrap_or(10.0 * p)
 }
 
+/// Text for XML: markup escaped, control characters (not allowed in XML 1.0) as spaces.
 fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    s.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect::<String>()
+        .replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }

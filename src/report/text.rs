@@ -4,6 +4,7 @@
 use super::Report;
 use crate::finding::{Finding, Severity};
 use crate::source::LineIndex;
+use std::borrow::Cow;
 use std::fmt::Write;
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -42,11 +43,11 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
             let _ = writeln!(
                 out,
                 "{bold}{}:{}{col}:{reset} {sev_color}{}[{}]{reset}{bold}: {}{reset}",
-                f.path,
+                terminal_safe(&f.path),
                 x.line,
                 x.severity.name(),
                 x.kind,
-                describe(x)
+                terminal_safe(&describe(x))
             );
             if opt.quiet {
                 continue;
@@ -56,12 +57,12 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
                     if shown_line.0 != x.line {
                         let span = li.line_span(&f.source, x.line);
                         let raw = String::from_utf8_lossy(&f.source[span.range()]);
-                        // Tabs as spaces; other control bytes (NUL, ^Z, escape sequences) never
-                        // reach the terminal: they show as U+FFFD, one column each like the caret
-                        // counts.
+                        // Tabs as spaces; other control bytes (NUL, ^Z, escape sequences) and bidi
+                        // controls never reach the terminal: they show as U+FFFD, one column each
+                        // like the caret counts.
                         let chars = raw.chars().map(|c| match c {
                             '\t' => ' ',
-                            c if c.is_control() => '\u{FFFD}',
+                            c if c.is_control() || is_bidi_control(c) => '\u{FFFD}',
                             c => c,
                         });
                         shown_line = (x.line, chars.collect());
@@ -101,6 +102,37 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
         plural(s.warnings)
     );
     out
+}
+
+/// Unicode's bidirectional formatting characters: they reorder what a terminal shows (a file
+/// named `a\u{202e}cn.exe` shows as `aexe.nc`).
+pub fn is_bidi_control(c: char) -> bool {
+    matches!(c, '\u{061c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+}
+
+/// Text from outside (a file name, a message quoting a file) made safe to print on a terminal:
+/// control characters (ESC, newline, CR, DEL, C1) and bidirectional controls are written as
+/// escapes (`\x1b`, `\n`, `\u{202e}`); everything else, backslashes included, is unchanged.
+pub fn terminal_safe(s: &str) -> Cow<'_, str> {
+    if !s.chars().any(|c| c.is_control() || is_bidi_control(c)) {
+        return Cow::Borrowed(s);
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        match c {
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            c if c.is_ascii_control() => {
+                let _ = write!(out, "\\x{:02x}", c as u32);
+            }
+            c if c.is_control() || is_bidi_control(c) => {
+                let _ = write!(out, "\\u{{{:x}}}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    Cow::Owned(out)
 }
 
 fn plural(n: usize) -> &'static str {
