@@ -558,3 +558,21 @@ fn a_machine_value_that_looks_like_a_unit_mistake_is_warned_on_standard_error() 
         );
     }
 }
+
+#[test]
+fn sarif_of_one_long_line_with_many_findings_does_not_copy_the_line_per_finding() {
+    // 100,000 findings on one 1 MB line: each SARIF result used to quote the whole line (10 GB).
+    let dir = tmp();
+    let prog = format!("G0 X10 Z5\n{}\n", "G1 X10 Q1 ".repeat(100_000));
+    std::fs::write(dir.path().join("long.nc"), &prog).unwrap();
+    let o = run(dir.path(), &["check", "--format", "sarif", "long.nc"]);
+    no_panic(&o);
+    assert_eq!(o.status.code(), Some(1), "{}", err(&o));
+    let log = out(&o);
+    assert!(log.contains("\"ruleId\""), "{}", &log[..log.len().min(2000)]);
+    assert!(log.len() < 50 * prog.len(), "SARIF log of {} bytes", log.len());
+    // A short line is still quoted.
+    std::fs::write(dir.path().join("short.nc"), "G0 X10 Z5\nG1 X10 Q1\n").unwrap();
+    let o = run(dir.path(), &["check", "--format", "sarif", "short.nc"]);
+    assert!(out(&o).contains("\"snippet\""), "{}", out(&o));
+}

@@ -233,11 +233,20 @@ fn round6(v: f64) -> f64 {
 }
 
 /// The source text of a 1-based line, when the report has it.
+/// The longest source line quoted as a snippet. A longer line (a generated or hostile file) is
+/// not quoted: each finding would copy it whole, so a file of one long line with many findings
+/// made the log grow with findings × line length (10 GB for a 1 MB line).
+pub const MAX_SNIPPET_BYTES: usize = 1000;
+
 fn line_text(li: &LineIndex, source: &[u8], line: u32) -> Option<String> {
     if line == 0 || line as usize > li.line_count() {
         return None;
     }
-    let text = String::from_utf8_lossy(&source[li.line_span(source, line).range()]).into_owned();
+    let range = li.line_span(source, line).range();
+    if range.len() > MAX_SNIPPET_BYTES {
+        return None;
+    }
+    let text = String::from_utf8_lossy(&source[range]).into_owned();
     (!text.trim().is_empty()).then_some(text)
 }
 

@@ -48,8 +48,11 @@ pub fn pictures(r: &Report) -> Vec<(String, String)> {
     let mut out = Vec::new();
     let mut used = std::collections::HashSet::new();
     for f in &r.files {
+        // One line index per file (not per picture: a big file with many pictures).
+        let mut lines = None;
         for x in &f.findings {
             let Some(snap) = x.snapshot.as_deref() else { continue };
+            let li = lines.get_or_insert_with(|| LineIndex::new(&f.source));
             let base = name(&f.path, x);
             let mut file = format!("{base}.svg");
             let mut k = 2;
@@ -57,7 +60,8 @@ pub fn pictures(r: &Report) -> Vec<(String, String)> {
                 file = format!("{base}.{k}.svg");
                 k += 1;
             }
-            out.push((file, picture(f, x, snap)));
+            let block = block_text(f, li, x.line);
+            out.push((file, picture_with_caption(f, x, snap, &block)));
         }
     }
     out
@@ -332,11 +336,10 @@ fn nice(target: f64) -> f64 {
 }
 
 /// The block's source text, for the caption.
-fn block_text(f: &FileReport, line: u32) -> String {
+fn block_text(f: &FileReport, li: &LineIndex, line: u32) -> String {
     if f.source.is_empty() || line == 0 {
         return String::new();
     }
-    let li = LineIndex::new(&f.source);
     if line as usize > li.line_count() {
         return String::new();
     }
@@ -532,6 +535,12 @@ impl Labels<'_> {
 
 /// The SVG of one finding.
 pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
+    let block = block_text(file, &LineIndex::new(&file.source), f.line);
+    picture_with_caption(file, f, s, &block)
+}
+
+/// The SVG of one finding whose source block text is `block`.
+fn picture_with_caption(file: &FileReport, f: &Finding, s: &Snapshot, block: &str) -> String {
     let v = View::fit(&region(s));
     let swept = sweep(s);
     // A near miss has no overlap to show: its parts stay apart.
@@ -543,7 +552,7 @@ pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
         o,
         r#"<defs><marker id="arrow" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse"><path d="M0,0L10,5L0,10Z" fill="{PATH_LINE}"/></marker></defs>"#
     );
-    caption(&mut o, file, f);
+    caption(&mut o, file, f, block);
     scene(&mut o, &v, s, f, swept.as_deref(), "main");
     labels(&mut o, &v, s, f);
     if let Some(d) = detail(&v, s, swept.as_deref()) {
@@ -809,7 +818,7 @@ fn scene(o: &mut String, v: &View, s: &Snapshot, f: &Finding, swept: Option<&[Ve
 }
 
 /// Caption: where (file, line), what, the block, and the facts at first contact.
-fn caption(o: &mut String, file: &FileReport, f: &Finding) {
+fn caption(o: &mut String, file: &FileReport, f: &Finding, block: &str) {
     let sev_color = if f.severity == Severity::Error {
         OVERLAP
     } else {
@@ -839,13 +848,12 @@ fn caption(o: &mut String, file: &FileReport, f: &Finding) {
         r#"<text x="{m}" y="46" font-size="15" fill="{INK}">{}</text>"#,
         esc(&fit_text(&message, 115))
     );
-    let block = block_text(file, f.line);
     if !block.is_empty() {
         let _ = writeln!(
             o,
             r#"<text x="{m}" y="68" font-size="13" font-family="DejaVu Sans Mono, Menlo, Consolas, monospace" fill="{INK}" xml:space="preserve">{:>5} | {}</text>"#,
             f.line,
-            esc(&fit_text(&block, 112))
+            esc(&fit_text(block, 112))
         );
     }
     let mut facts = Vec::new();
