@@ -20,7 +20,7 @@ use crate::finding::{Finding, Kind, Severity};
 use crate::geom::{self, Aabb, Polygon, P2, V2};
 use crate::interp::{Interpretation, Move, MoveKind};
 use crate::machine::Machine;
-use crate::motion::{self, Timed, Timeline};
+use crate::motion::{self, Timed};
 use crate::pipeline::{Mode, Settings, Stats};
 use crate::scene::{DexelStock, Revolved, Scene, Snapshot, Swept, View};
 
@@ -73,7 +73,6 @@ pub struct CheckResult {
     pub stats: Stats,
     /// The stock at the end, when the program reached it.
     pub stock: Option<DexelStock>,
-    pub timeline: Timeline,
 }
 
 struct Checker<'a> {
@@ -125,7 +124,7 @@ struct Cutting {
 /// Check a program's moves on a machine.
 pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> CheckResult {
     let moves = &run.moves[..];
-    let timeline = motion::timeline(run, machine);
+    let mut timer = motion::Timer::new(run, machine);
     let scene = Scene::new(machine, settings.tolerance_mm);
     let stock_box = machine.stock.as_ref().map(|s| Aabb {
         min: P2::new(-s.diameter / 2.0, s.front - s.length),
@@ -153,7 +152,7 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
         long_moves: false,
     };
     c.static_pairs();
-    for item in &timeline.items {
+    for item in timer.by_ref() {
         if c.stats.pair_tests > settings.work_budget {
             let m = &moves[item.index];
             c.budget.push((
@@ -166,8 +165,9 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
             ));
             break;
         }
-        c.one_move(item);
+        c.one_move(&item);
     }
+    let (machine_time_s, feed_without_speed) = timer.finish();
     c.episodes.close_all();
     let mut findings = std::mem::take(&mut c.episodes.findings);
     episodes::mark_follow_ons(&mut findings);
@@ -175,7 +175,7 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
     for (line, message) in std::mem::take(&mut c.budget) {
         findings.push(Finding::program(line, 0, message));
     }
-    for &i in &timeline.feed_without_speed {
+    for &i in &feed_without_speed {
         let m = &moves[i];
         findings.push(
             Finding::program(
@@ -187,7 +187,7 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
         );
     }
     let mut stats = c.stats;
-    stats.machine_time_s = timeline.total;
+    stats.machine_time_s = machine_time_s;
     if c.cut_any {
         stats.effects.push("stock_removal".into());
     }
@@ -207,7 +207,6 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
         findings,
         stats,
         stock: c.stock,
-        timeline,
     }
 }
 

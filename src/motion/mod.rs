@@ -64,16 +64,59 @@ pub struct Timeline {
     pub feed_without_speed: Vec<usize>,
 }
 
-/// Time a move list.
+/// Time a move list (all of it at once; the checker times one move at a time with [`Timer`]).
 pub fn timeline(run: &Interpretation, machine: &Machine) -> Timeline {
-    let moves = &run.moves;
-    let mut t = 0.0;
-    let mut items = Vec::with_capacity(moves.len());
-    let mut stalled = Vec::new();
-    let mut stalled_lines = std::collections::HashSet::new();
-    for (i, m) in moves.iter().enumerate() {
-        let spindle = run.spindle(m);
-        let (duration, path) = time_move(m, spindle, machine, &mut || {
+    let mut timer = Timer::new(run, machine);
+    let items: Vec<Timed> = timer.by_ref().collect();
+    let (total, feed_without_speed) = timer.finish();
+    Timeline {
+        items,
+        total,
+        feed_without_speed,
+    }
+}
+
+/// The moves of a program timed back to back, one at a time: the checker needs only the move
+/// in hand, so a long program is never held as a second list beside its moves.
+pub struct Timer<'a> {
+    run: &'a Interpretation,
+    machine: &'a Machine,
+    next: usize,
+    t: f64,
+    stalled: Vec<usize>,
+    stalled_lines: std::collections::HashSet<u32>,
+}
+
+impl<'a> Timer<'a> {
+    pub fn new(run: &'a Interpretation, machine: &'a Machine) -> Self {
+        Timer {
+            run,
+            machine,
+            next: 0,
+            t: 0.0,
+            stalled: Vec::new(),
+            stalled_lines: std::collections::HashSet::new(),
+        }
+    }
+
+    /// Time the moves not taken yet, then return the total machine time and the moves whose
+    /// per-revolution feed had no usable spindle speed (see [`Timeline::feed_without_speed`]).
+    pub fn finish(mut self) -> (f64, Vec<usize>) {
+        for _ in self.by_ref() {}
+        (self.t, self.stalled)
+    }
+}
+
+impl Iterator for Timer<'_> {
+    type Item = Timed;
+
+    fn next(&mut self) -> Option<Timed> {
+        let i = self.next;
+        let m = self.run.moves.get(i)?;
+        self.next += 1;
+        let spindle = self.run.spindle(m);
+        let (stalled, stalled_lines) = (&mut self.stalled, &mut self.stalled_lines);
+        let (duration, path) = time_move(m, spindle, self.machine, &mut || {
             if stalled_lines.insert(m.line) {
                 stalled.push(i);
             }
@@ -83,18 +126,19 @@ pub fn timeline(run: &Interpretation, machine: &Machine) -> Timeline {
         } else {
             0.0
         };
-        items.push(Timed {
+        let item = Timed {
             index: i,
-            t0: t,
+            t0: self.t,
             duration,
             path,
-        });
-        t += duration;
+        };
+        self.t += duration;
+        Some(item)
     }
-    Timeline {
-        items,
-        total: t,
-        feed_without_speed: stalled,
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let left = self.run.moves.len() - self.next;
+        (left, Some(left))
     }
 }
 
