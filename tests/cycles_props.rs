@@ -47,8 +47,9 @@ struct Profile {
     pts: Vec<(f64, f64)>,
 }
 
-fn profile() -> impl Strategy<Value = Profile> {
-    let step = (0u8..3, 1u32..8000, 1u32..4000);
+/// With `pockets`, X may also fall (a type II profile): Z never rises, X stays above 1.
+fn profile(pockets: bool) -> impl Strategy<Value = Profile> {
+    let step = (0u8..if pockets { 4 } else { 3 }, 1u32..8000, 1u32..4000);
     (2000u32..15000, prop::collection::vec(step, 1..7)).prop_map(|(xa, steps)| {
         let mut x = xa as f64 / 1000.0;
         let mut z = 0.0;
@@ -58,9 +59,13 @@ fn profile() -> impl Strategy<Value = Profile> {
             match kind {
                 0 => z -= dz,
                 1 => x += dx,
-                _ => {
+                2 => {
                     z -= dz;
                     x += dx;
+                }
+                _ => {
+                    z -= dz;
+                    x = (x - dx).max(1.0);
                 }
             }
             pts.push((x, z));
@@ -93,81 +98,112 @@ proptest! {
 
     #[test]
     fn g71_type1_never_cuts_inside_the_allowance_leaves_at_most_one_depth_and_g70_ends_on_the_profile(
-        p in profile(),
+        p in profile(false),
         depth in 300u32..4000,
         du in 0u32..1000,
         dw in 0u32..500,
     ) {
-        let depth = depth as f64 / 1000.0;
-        let (du, dw) = (du as f64 / 1000.0, dw as f64 / 1000.0);
-        let top = p.pts.iter().map(|q| q.0).fold(0.0, f64::max);
-        let x0 = top + 2.0;
-        let z0 = 3.0;
-        let mut src = format!(
+        g71_properties(p, depth, du, dw, false)?;
+    }
+
+    #[test]
+    fn g71_type2_with_pockets_never_cuts_inside_the_allowance_and_leaves_at_most_one_depth(
+        p in profile(true),
+        depth in 300u32..4000,
+        du in 0u32..1000,
+        dw in 0u32..500,
+    ) {
+        g71_properties(p, depth, du, dw, true)?;
+    }
+}
+
+/// Run G71 (type I, or type II when `type2`: block P names Z too) and G70 on the profile and check
+/// the properties named by the tests above.
+fn g71_properties(p: Profile, depth: u32, du: u32, dw: u32, type2: bool) -> Result<(), TestCaseError> {
+    let depth = depth as f64 / 1000.0;
+    let (du, dw) = (du as f64 / 1000.0, dw as f64 / 1000.0);
+    let top = p.pts.iter().map(|q| q.0).fold(0.0, f64::max);
+    let x0 = top + 2.0;
+    let z0 = 3.0;
+    let mut src = format!(
             "G21 G18 G99 G97 S500 M3\nT0101\nG0 X{:.3} Z{z0:.3}\nG71 U{depth:.3} R0.5\nG71 P10 Q{} U{du:.3} W{dw:.3} F0.2\n",
             2.0 * x0,
             10 * p.pts.len()
         );
-        src += &format!("N10 G0 X{:.3}\n", 2.0 * p.pts[0].0);
-        for (i, q) in p.pts.iter().enumerate().skip(1) {
-            src += &format!("N{} G1 X{:.3} Z{:.3} F0.1\n", 10 * (i + 1), 2.0 * q.0, q.1);
-        }
-        src += &format!("G70 P10 Q{}\nM30\n", 10 * p.pts.len());
-        let (run, _) = canon_of(src.as_bytes());
-        prop_assert!(
-            run.findings.iter().all(|f| f.kind != latheguard::finding::Kind::Program),
-            "{:?}\n{src}",
-            run.findings
-        );
-        // The profile as programmed: the first point keeps the start's z (type I).
-        let mut pts = p.pts.clone();
-        pts[0].1 = z0;
-        let off = (du / 2.0, dw);
-        let o = run.frame(&run.moves[0]).origin;
-        let prog = |q: latheguard::geom::P2| (q.x - o.x, q.y - o.y);
-        let g71: Vec<_> = run.moves.iter().filter(|m| m.line == 5).collect();
-        let g70: Vec<_> = run.moves.iter().filter(|m| m.line as usize == 6 + p.pts.len()).collect();
-        prop_assert!(!g71.is_empty() && !g70.is_empty(), "{src}");
-        // 1. No feed move of G71 goes inside the offset profile.
-        let mut reached: Vec<(f64, f64, f64)> = Vec::new(); // (z from, z to, level) of Z passes
-        for m in &g71 {
-            if m.kind != MoveKind::Line {
-                continue;
-            }
-            let (s, e) = (prog(m.start), prog(m.end));
-            for k in 0..=20 {
-                let t = k as f64 / 20.0;
-                let (x, z) = (s.0 + (e.0 - s.0) * t, s.1 + (e.1 - s.1) * t);
-                if let Some(r) = radius_at(&pts, off, z) {
-                    prop_assert!(x >= r - 1e-6, "cuts inside at x {x} z {z} (profile {r})\n{src}");
-                }
-            }
-            if (s.0 - e.0).abs() < 1e-12 {
-                reached.push((s.1.min(e.1), s.1.max(e.1), s.0));
-            }
-        }
-        // 2. The Z passes leave at most one depth of cut above the offset profile.
-        // (In front of the start point, z > z0, is air: the start point lies outside the stock.)
-        let (zmin, zmax) = (pts.last().unwrap().1 + dw, z0);
-        for k in 0..=200 {
-            let z = zmax + (zmin - zmax) * k as f64 / 200.0;
-            let Some(r) = radius_at(&pts, off, z) else { continue };
-            let lowest = reached
-                .iter()
-                .filter(|(a, b, _)| *a <= z + 1e-9 && z <= *b + 1e-9)
-                .map(|p| p.2)
-                .fold(x0, f64::min);
-            prop_assert!(lowest - r <= depth + 1e-6, "leaves {} at z {z} (depth {depth})\n{src}", lowest - r);
-        }
-        // 3. G70 runs through every profile vertex, in order (the approach of N10 first), and ends on
-        // the last one.
-        let ends: Vec<_> = g70.iter().take(pts.len()).map(|m| prog(m.end)).collect();
-        prop_assert_eq!(ends.len(), pts.len());
-        for (got, want) in ends.iter().zip(&pts) {
-            prop_assert!((got.0 - want.0).abs() < 1e-9 && (got.1 - want.1).abs() < 1e-9, "{got:?} {want:?}");
-        }
-        // 4. Both cycles leave the machine at the start point.
-        let last = run.moves.last().unwrap();
-        prop_assert!((prog(last.end).0 - x0).abs() < 1e-9 && (prog(last.end).1 - z0).abs() < 1e-9);
+    src += &format!(
+        "N10 G0 X{:.3}{}\n",
+        2.0 * p.pts[0].0,
+        if type2 { format!(" Z{z0:.3}") } else { String::new() }
+    );
+    for (i, q) in p.pts.iter().enumerate().skip(1) {
+        src += &format!("N{} G1 X{:.3} Z{:.3} F0.1\n", 10 * (i + 1), 2.0 * q.0, q.1);
     }
+    src += &format!("G70 P10 Q{}\nM30\n", 10 * p.pts.len());
+    let (run, _) = canon_of(src.as_bytes());
+    prop_assert!(
+        run.findings
+            .iter()
+            .all(|f| f.kind != latheguard::finding::Kind::Program),
+        "{:?}\n{src}",
+        run.findings
+    );
+    // The profile as programmed: the first point keeps the start's z (type I).
+    let mut pts = p.pts.clone();
+    pts[0].1 = z0;
+    let off = (du / 2.0, dw);
+    let o = run.frame(&run.moves[0]).origin;
+    let prog = |q: latheguard::geom::P2| (q.x - o.x, q.y - o.y);
+    let g71: Vec<_> = run.moves.iter().filter(|m| m.line == 5).collect();
+    let g70: Vec<_> = run
+        .moves
+        .iter()
+        .filter(|m| m.line as usize == 6 + p.pts.len())
+        .collect();
+    prop_assert!(!g71.is_empty() && !g70.is_empty(), "{src}");
+    // 1. No move of G71 (feed or rapid) goes inside the offset profile.
+    let mut reached: Vec<(f64, f64, f64)> = Vec::new(); // (z from, z to, level) of Z passes
+    for m in &g71 {
+        let (s, e) = (prog(m.start), prog(m.end));
+        for k in 0..=20 {
+            let t = k as f64 / 20.0;
+            let (x, z) = (s.0 + (e.0 - s.0) * t, s.1 + (e.1 - s.1) * t);
+            if let Some(r) = radius_at(&pts, off, z) {
+                prop_assert!(x >= r - 1e-6, "cuts inside at x {x} z {z} (profile {r})\n{src}");
+            }
+        }
+        if m.kind == MoveKind::Line && (s.0 - e.0).abs() < 1e-12 {
+            reached.push((s.1.min(e.1), s.1.max(e.1), s.0));
+        }
+    }
+    // 2. The Z passes leave at most one depth of cut above the offset profile.
+    // (In front of the start point, z > z0, is air: the start point lies outside the stock.)
+    let (zmin, zmax) = (pts.last().unwrap().1 + dw, z0);
+    for k in 0..=200 {
+        let z = zmax + (zmin - zmax) * k as f64 / 200.0;
+        let Some(r) = radius_at(&pts, off, z) else { continue };
+        let lowest = reached
+            .iter()
+            .filter(|(a, b, _)| *a <= z + 1e-9 && z <= *b + 1e-9)
+            .map(|p| p.2)
+            .fold(x0, f64::min);
+        prop_assert!(
+            lowest - r <= depth + 1e-6,
+            "leaves {} at z {z} (depth {depth})\n{src}",
+            lowest - r
+        );
+    }
+    // 3. G70 runs through every profile vertex, in order (the approach of N10 first), and ends on
+    // the last one.
+    let ends: Vec<_> = g70.iter().take(pts.len()).map(|m| prog(m.end)).collect();
+    prop_assert_eq!(ends.len(), pts.len());
+    for (got, want) in ends.iter().zip(&pts) {
+        prop_assert!(
+            (got.0 - want.0).abs() < 1e-9 && (got.1 - want.1).abs() < 1e-9,
+            "{got:?} {want:?}"
+        );
+    }
+    // 4. Both cycles leave the machine at the start point.
+    let last = run.moves.last().unwrap();
+    prop_assert!((prog(last.end).0 - x0).abs() < 1e-9 && (prog(last.end).1 - z0).abs() < 1e-9);
+    Ok(())
 }

@@ -143,8 +143,8 @@ fn g71_g72(run: &mut Run<'_>, b: &Block, w: &mut Words, ax: Axes) {
     rough(run, b, &t, a, off, depth, retract.abs(), f, ax, name);
 }
 
-/// Check the profile runs one way on both axes (type I, and type II without pockets). The
-/// finding names the first profile block that turns back.
+/// Check the profile runs one way along the passes (both types) and in the stepping axis (type
+/// I; type II may have pockets). The finding names the first profile block that turns back.
 fn monotone(
     run: &mut Run<'_>,
     b: &Block,
@@ -161,24 +161,15 @@ fn monotone(
             let p = sgm.point_at(k as f64 / 16.0);
             let (dd, da) = (ax.dep(p) - ax.dep(prev), ax.along(p) - ax.along(prev));
             let (dep_axis, along_axis) = if ax.facing { ("Z", "X") } else { ("X", "Z") };
-            if dird * dd < -1e-6 {
-                if type2 {
-                    run.unsupported(
-                        b,
-                        None,
-                        format!("{name} type II with a pocket (line {}: {dep_axis} turns back) is not modelled yet: its moves are not checked", sgm.line),
-                        true,
-                    );
-                } else {
-                    run.error(
-                        b,
-                        None,
-                        format!(
-                            "{name} type I: the profile's {dep_axis} must move one way only, and line {} turns back",
-                            sgm.line
-                        ),
-                    );
-                }
+            if dird * dd < -1e-6 && !type2 {
+                run.error(
+                    b,
+                    None,
+                    format!(
+                        "{name} type I: the profile's {dep_axis} must move one way only, and line {} turns back",
+                        sgm.line
+                    ),
+                );
                 return false;
             }
             if dira * da < -1e-6 {
@@ -198,36 +189,92 @@ fn monotone(
     true
 }
 
-/// Where a pass at stepping level `level` meets the profile: the first point along it that
-/// reaches the level (the profile runs one way, so there is one), or its end.
-fn crossing(segs: &[Seg], level: f64, dird: f64, ax: Axes) -> (f64, u32) {
-    let reached = |p: P2| dird * (ax.dep(p) - level) >= 0.0;
-    for sgm in segs {
-        if !reached(sgm.end) {
+/// The profile cut in pieces short enough that each crosses a level at most once in practice:
+/// a line is one piece, an arc one piece per 1/64 turn. (segment, t from, t to)
+fn pieces(segs: &[Seg]) -> Vec<(usize, f64, f64)> {
+    let mut out = Vec::new();
+    for (i, s) in segs.iter().enumerate() {
+        let n = match s.kind {
+            MoveKind::Arc { sweep, .. } => {
+                ((sweep.abs() / (std::f64::consts::TAU / 64.0)).ceil() as usize).clamp(1, 64)
+            }
+            _ => 1,
+        };
+        for k in 0..n {
+            out.push((i, k as f64 / n as f64, (k + 1) as f64 / n as f64));
+        }
+    }
+    out
+}
+
+/// One stretch of a level where the profile lies beyond it (material to cut): from `from` to
+/// `to` along the pass; `from` is `None` for the stretch open toward the start point.
+struct Stretch {
+    from: Option<f64>,
+    to: f64,
+    /// The profile line where the stretch ends.
+    line: u32,
+}
+
+/// The stretches of level `level`: where the offset profile lies deeper than the level, in the
+/// order a pass meets them. A type I profile has one, open toward the start point; a type II
+/// profile one more per pocket.
+fn stretches(segs: &[Seg], pieces: &[(usize, f64, f64)], level: f64, dird: f64, ax: Axes) -> Vec<Stretch> {
+    let f = |p: P2| dird * (ax.dep(p) - level);
+    let mut out = Vec::new();
+    let Some(first) = segs.first() else { return out };
+    let mut inside = f(first.start) < 0.0;
+    let mut from: Option<f64> = None;
+    for &(i, t0, t1) in pieces {
+        let s = &segs[i];
+        let (p0, p1) = (s.point_at(t0), s.point_at(t1));
+        let (f0, f1) = (f(p0), f(p1));
+        let flips = if inside { f1 >= 0.0 } else { f1 < 0.0 };
+        if !flips {
             continue;
         }
-        if reached(sgm.start) {
-            return (ax.along(sgm.start), sgm.line);
-        }
-        let t = match sgm.kind {
+        // Where f changes sign on this piece: exact on a line, by bisection on an arc.
+        let t = match s.kind {
             MoveKind::Arc { .. } => {
-                let (mut lo, mut hi) = (0.0, 1.0);
+                let (mut lo, mut hi) = (t0, t1);
                 for _ in 0..60 {
                     let mid = 0.5 * (lo + hi);
-                    if reached(sgm.point_at(mid)) {
-                        hi = mid;
-                    } else {
+                    if (f(s.point_at(mid)) < 0.0) == (f0 < 0.0) {
                         lo = mid;
+                    } else {
+                        hi = mid;
                     }
                 }
                 hi
             }
-            _ => (level - ax.dep(sgm.start)) / (ax.dep(sgm.end) - ax.dep(sgm.start)),
+            _ if (f1 - f0).abs() > 0.0 => t0 + (t1 - t0) * (-f0 / (f1 - f0)).clamp(0.0, 1.0),
+            _ => t1,
         };
-        return (ax.along(sgm.point_at(t)), sgm.line);
+        let at = ax.along(s.point_at(t));
+        if inside {
+            out.push(Stretch {
+                from,
+                to: at,
+                line: s.line,
+            });
+        } else {
+            from = Some(at);
+        }
+        inside = !inside;
     }
-    segs.last().map_or((0.0, 0), |s| (ax.along(s.end), s.line))
+    if inside {
+        let last = segs.last().unwrap_or(first);
+        out.push(Stretch {
+            from,
+            to: ax.along(last.end),
+            line: last.line,
+        });
+    }
+    out
 }
+
+/// Most (pass level × profile piece) tests one cycle may spend.
+const MAX_LEVEL_WORK: f64 = 2e7;
 
 #[allow(clippy::too_many_arguments)]
 fn rough(run: &mut Run<'_>, b: &Block, t: &Traced, a: P2, off: V2, depth: f64, e: f64, f: Feed, ax: Axes, name: &str) {
@@ -239,29 +286,66 @@ fn rough(run: &mut Run<'_>, b: &Block, t: &Traced, a: P2, off: V2, depth: f64, e
     if !monotone(run, b, &prof, dird, dira, ax, t.p_names_both, name) {
         return;
     }
+    let pcs = pieces(&prof);
+    // The deepest point of the profile (type II: a pocket may lie deeper than its first point).
+    let mut deepest = dird * ax.dep(first);
+    for &(i, _, t1) in &pcs {
+        deepest = deepest.min(dird * ax.dep(prof[i].point_at(t1)));
+        if let MoveKind::Arc { .. } = prof[i].kind {
+            for k in 1..8 {
+                deepest = deepest.min(dird * ax.dep(prof[i].point_at(k as f64 / 8.0)));
+            }
+        }
+    }
     let infeed = |run: &mut Run<'_>, b: &Block, to: P2| match t.approach.map(|s| s.kind) {
         Some(MoveKind::Line) => emit(run, b, MoveKind::Line, to, f, t.approach.map_or(0, |s| s.line)),
         _ => rapid(run, b, to),
     };
-    let span = dird * (ax.dep(a) - ax.dep(first));
+    let span = dird * ax.dep(a) - deepest;
     let passes = if span > 1e-9 { (span / depth - 1e-9).ceil() } else { 0.0 };
-    if passes > MAX_PASSES as f64 {
+    if passes > MAX_PASSES as f64 || passes * pcs.len() as f64 > MAX_LEVEL_WORK {
         run.error(
             b,
             None,
-            format!("{name}: a depth of cut of {depth} mm over {span:.3} mm makes more than {MAX_PASSES} passes"),
+            format!(
+                "{name}: a depth of cut of {depth} mm over {span:.3} mm makes too many passes (at most {MAX_PASSES})"
+            ),
         );
         return;
     }
-    let a0 = ax.along(a);
+    let (a0, d0) = (ax.along(a), ax.dep(a));
+    let back = e.min(depth);
     for k in 1..passes as usize {
-        let level = ax.dep(a) - dird * depth * k as f64;
-        infeed(run, b, ax.pt(level, a0));
-        let (end, line) = crossing(&prof, level, dird, ax);
-        if dira * (end - a0) > 1e-9 {
-            emit(run, b, MoveKind::Line, ax.pt(level, end), f, line);
-            rapid(run, b, ax.pt(level + dird * e, end - dira * e));
-            rapid(run, b, ax.pt(level + dird * e, a0));
+        let level = d0 - dird * depth * k as f64;
+        let above = d0 - dird * depth * (k - 1) as f64;
+        for st in stretches(&prof, &pcs, level, dird, ax) {
+            let len = dira * (st.to - st.from.unwrap_or(a0));
+            if len <= 1e-9 {
+                continue;
+            }
+            let slide = e.min(len);
+            match st.from {
+                None => {
+                    // Open toward the start point: in at the start's Z, as type I.
+                    infeed(run, b, ax.pt(level, a0));
+                    emit(run, b, MoveKind::Line, ax.pt(level, st.to), f, st.line);
+                    rapid(run, b, ax.pt(level + dird * back, st.to - dira * slide));
+                    rapid(run, b, ax.pt(level + dird * back, a0));
+                }
+                Some(from) => {
+                    // A pocket: over it at the start level, down to the level above (cleared by
+                    // the pass before), feed down to this level, along, and out the same way.
+                    let here = run.programmed();
+                    rapid(run, b, ax.pt(d0, ax.along(here)));
+                    rapid(run, b, ax.pt(d0, from));
+                    rapid(run, b, ax.pt(above, from));
+                    emit(run, b, MoveKind::Line, ax.pt(level, from), f, st.line);
+                    emit(run, b, MoveKind::Line, ax.pt(level, st.to), f, st.line);
+                    rapid(run, b, ax.pt(level + dird * back, st.to - dira * slide));
+                    rapid(run, b, ax.pt(d0, st.to - dira * slide));
+                    rapid(run, b, a);
+                }
+            }
         }
     }
     // The last pass follows the profile offset by the allowance.
