@@ -9,10 +9,30 @@ use proptest::prelude::*;
 use std::path::PathBuf;
 
 fn canon_of(src: &[u8]) -> (Interpretation, String) {
-    let (_, run) = pipeline::interpret(src, &Machine::builtin());
+    canon_on(src, &Machine::builtin())
+}
+
+fn canon_on(src: &[u8], machine: &Machine) -> (Interpretation, String) {
+    let (_, run) = pipeline::interpret(src, machine);
     let mut out = Vec::new();
     canon::write(&run, &mut out).unwrap();
     (run, String::from_utf8(out).unwrap())
+}
+
+/// The machine a case names in its first line (`(latheguard: machine=NAME)`), as tests/cases.rs
+/// reads it; the built-in one otherwise.
+fn machine_of(src: &[u8]) -> Machine {
+    let first = String::from_utf8_lossy(src.split(|&c| c == b'\n').next().unwrap_or(&[])).to_string();
+    let Some(name) = first.split("machine=").nth(1) else {
+        return Machine::builtin();
+    };
+    let name = name.split([' ', ')']).next().unwrap_or("");
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let mut path = root.join("machines").join(format!("{name}.toml"));
+    if !path.exists() {
+        path = root.join("tests/machines").join(format!("{name}.toml"));
+    }
+    latheguard::machine::from_toml(&std::fs::read_to_string(&path).unwrap(), &path.display().to_string()).unwrap()
 }
 
 #[test]
@@ -29,7 +49,8 @@ fn every_cycle_case_matches_its_moves_file() {
     let update = std::env::var_os("UPDATE_EXPECT").is_some();
     let mut failures = Vec::new();
     for f in &files {
-        let (_, got) = canon_of(&std::fs::read(f).unwrap());
+        let src = std::fs::read(f).unwrap();
+        let (_, got) = canon_on(&src, &machine_of(&src));
         let path = f.with_extension("moves");
         if update {
             std::fs::write(&path, &got).unwrap();

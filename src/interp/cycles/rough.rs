@@ -314,7 +314,6 @@ fn rough(run: &mut Run<'_>, b: &Block, t: &Traced, a: P2, off: V2, depth: f64, e
         return;
     }
     let (a0, d0) = (ax.along(a), ax.dep(a));
-    let back = e.min(depth);
     for k in 1..passes as usize {
         let level = d0 - dird * depth * k as f64;
         let above = d0 - dird * depth * (k - 1) as f64;
@@ -329,8 +328,8 @@ fn rough(run: &mut Run<'_>, b: &Block, t: &Traced, a: P2, off: V2, depth: f64, e
                     // Open toward the start point: in at the start's Z, as type I.
                     infeed(run, b, ax.pt(level, a0));
                     emit(run, b, MoveKind::Line, ax.pt(level, st.to), f, st.line);
-                    rapid(run, b, ax.pt(level + dird * back, st.to - dira * slide));
-                    rapid(run, b, ax.pt(level + dird * back, a0));
+                    rapid(run, b, ax.pt(level + dird * e, st.to - dira * slide));
+                    rapid(run, b, ax.pt(level + dird * e, a0));
                 }
                 Some(from) => {
                     // A pocket: over it at the start level, down to the level above (cleared by
@@ -341,7 +340,7 @@ fn rough(run: &mut Run<'_>, b: &Block, t: &Traced, a: P2, off: V2, depth: f64, e
                     rapid(run, b, ax.pt(above, from));
                     emit(run, b, MoveKind::Line, ax.pt(level, from), f, st.line);
                     emit(run, b, MoveKind::Line, ax.pt(level, st.to), f, st.line);
-                    rapid(run, b, ax.pt(level + dird * back, st.to - dira * slide));
+                    rapid(run, b, ax.pt(level + dird * e, st.to - dira * slide));
                     rapid(run, b, ax.pt(d0, st.to - dira * slide));
                     rapid(run, b, a);
                 }
