@@ -228,3 +228,94 @@ fn g71_properties(p: Profile, depth: u32, du: u32, dw: u32, type2: bool) -> Resu
     prop_assert!((prog(last.end).0 - x0).abs() < 1e-9 && (prog(last.end).1 - z0).abs() < 1e-9);
     Ok(())
 }
+
+fn program_messages(run: &Interpretation) -> Vec<String> {
+    run.findings
+        .iter()
+        .filter(|f| f.kind == latheguard::finding::Kind::Program)
+        .map(|f| format!("{}: {}", f.line, f.message))
+        .collect()
+}
+
+#[test]
+fn a_tiny_depth_of_cut_is_a_finding_at_the_cycle_never_a_million_passes() {
+    let src = "G21 G99 S500 M3\nG0 X100 Z3\nG71 P10 Q20 U0 W0 D0.00001 F0.2\nN10 G0 X20\nN20 G1 Z-50\nM30\n";
+    let (run, _) = canon_of(src.as_bytes());
+    let msgs = program_messages(&run);
+    assert!(
+        msgs.len() == 1 && msgs[0].starts_with("3: G71") && msgs[0].contains("too many passes"),
+        "{msgs:?}"
+    );
+    assert!(run.moves.len() < 5, "{}", run.moves.len());
+}
+
+#[test]
+fn a_profile_longer_than_the_cap_is_a_finding_and_is_not_run() {
+    let mut src = String::from("G21 G99 S500 M3\nG0 X100 Z3\nG71 P1 Q99999 U0 W0 D1 F0.2\nN1 G0 X20\n");
+    for k in 0..2100 {
+        src += &format!("G1 Z-{}.0\n", k % 50);
+    }
+    src += "N99999 X102\nM30\n";
+    let (run, _) = canon_of(src.as_bytes());
+    let msgs = program_messages(&run);
+    assert!(msgs.len() == 1 && msgs[0].contains("at most 2000"), "{msgs:?}");
+    // Execution resumes nowhere inside the profile: only the start move and nothing of it.
+    assert_eq!(run.moves.len(), 1);
+}
+
+#[test]
+fn p_and_q_must_be_n_numbers_and_the_profile_must_not_hold_a_cycle_or_the_cycle_itself() {
+    let head = "G21 G99 S500 M3\nG0 X100 Z3\nG71 U1 R0.5\n";
+    for (body, want) in [
+        (
+            "G71 P10.5 Q20 U0 W0 F0.2\nN10 G0 X20\nN20 G1 Z-50\n",
+            "4: G71: P10.5 Q20 must be N numbers",
+        ),
+        (
+            "G71 P10 Q20 U0 W0 F0.2\nN10 G0 X20\nG70 P10 Q20\nN20 G1 Z-50\n",
+            "4: G71: the profile holds another cycle (line 6)",
+        ),
+        (
+            "N10 G0 X20\nG70 P10 Q20\nN20 G1 Z-50\n",
+            "5: G70: the profile N10–N20 holds the cycle block itself",
+        ),
+    ] {
+        let src = format!("{head}{body}M30\n");
+        let (run, _) = canon_of(src.as_bytes());
+        let msgs = program_messages(&run);
+        assert!(msgs.len() == 1 && msgs[0].starts_with(want), "{msgs:?}\n{src}");
+    }
+}
+
+/// A refused cycle still skips its profile: the blocks P..Q never run as plain moves (one
+/// full-depth cut through the bar, and noise after it).
+#[test]
+fn a_refused_cycle_does_not_run_its_profile_as_plain_moves() {
+    let src = "G21 G99 S500 M3\nG0 X100 Z3\nG71 P10 Q20 U0 W0 F0.2\nN10 G0 X20\nN20 G1 Z-50\nG0 X110\nM30\n";
+    let (run, canon) = canon_of(src.as_bytes());
+    assert!(program_messages(&run)[0].contains("needs a positive depth of cut"));
+    assert_eq!(
+        canon,
+        "    2 STRAIGHT_TRAVERSE(50.0000, 0.0000, 3.0000, 0.0000, 0.0000, 0.0000)\n    6 STRAIGHT_TRAVERSE(55.0000, 0.0000, 3.0000, 0.0000, 0.0000, 0.0000)\n"
+    );
+}
+
+#[test]
+fn inch_programs_scale_depth_allowance_and_retract() {
+    // G20: D0.1 in = 2.54 mm, U0.02 in (diameter) = 0.254 mm on the radius, R0.02 in = 0.508 mm.
+    let src = "G20 G99 S500 M3\nG0 X2.0 Z0.1\nG71 P10 Q20 U0.02 W0 D0.1 R0.02 F0.01\nN10 G0 X1.6\nN20 G1 Z-1.0\nG0 X3.0\nM30\n";
+    let (_, canon) = canon_of(src.as_bytes());
+    // Start radius 1.0 in, first point 0.8 + 0.01 = 0.81 in: span 0.19 in, D 0.1 in: 2 passes.
+    let want = "    2 STRAIGHT_TRAVERSE(1.0000, 0.0000, 0.1000, 0.0000, 0.0000, 0.0000)
+    3 STRAIGHT_TRAVERSE(0.9000, 0.0000, 0.1000, 0.0000, 0.0000, 0.0000)
+    3 STRAIGHT_FEED(0.9000, 0.0000, -1.0000, 0.0000, 0.0000, 0.0000)
+    3 STRAIGHT_TRAVERSE(0.9200, 0.0000, -0.9800, 0.0000, 0.0000, 0.0000)
+    3 STRAIGHT_TRAVERSE(0.9200, 0.0000, 0.1000, 0.0000, 0.0000, 0.0000)
+    3 STRAIGHT_TRAVERSE(0.8100, 0.0000, 0.1000, 0.0000, 0.0000, 0.0000)
+    3 STRAIGHT_FEED(0.8100, 0.0000, -1.0000, 0.0000, 0.0000, 0.0000)
+    3 STRAIGHT_TRAVERSE(1.0000, 0.0000, -1.0000, 0.0000, 0.0000, 0.0000)
+    3 STRAIGHT_TRAVERSE(1.0000, 0.0000, 0.1000, 0.0000, 0.0000, 0.0000)
+    6 STRAIGHT_TRAVERSE(1.5000, 0.0000, 0.1000, 0.0000, 0.0000, 0.0000)
+";
+    assert_eq!(canon, want);
+}

@@ -15,6 +15,23 @@ pub(crate) const MAX_PROFILE_BLOCKS: usize = 2000;
 /// error, never an unbounded list of moves).
 pub(crate) const MAX_PASSES: usize = 10_000;
 
+/// Most moves one cycle block may make (pockets on every level, or many G73 passes over a long
+/// profile, must not grow the move list without bound).
+pub(crate) const MAX_CYCLE_MOVES: usize = 1_000_000;
+
+/// A cycle that made too many moves: a finding at its line, and the caller stops expanding it.
+pub(crate) fn too_many_moves(run: &mut Run<'_>, b: &Block, m0: usize, name: &str) -> bool {
+    if run.moves.len() - m0 <= MAX_CYCLE_MOVES {
+        return false;
+    }
+    run.error(
+        b,
+        None,
+        format!("{name} makes more than {MAX_CYCLE_MOVES} moves; the rest of the cycle is not checked"),
+    );
+    true
+}
+
 /// One piece of a traced profile: where the programmed point went, and how.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Seg {
@@ -306,6 +323,14 @@ pub(crate) fn trace(
         p_names_both,
         q: qi,
     })
+}
+
+/// Execution resumes after block Q when Q follows the cycle block, whatever becomes of the cycle
+/// (a refused cycle must not leave its profile to run as plain moves, one full-depth cut).
+pub(crate) fn skip_profile(run: &mut Run<'_>, here: usize, q: f64) {
+    if let Some(qi) = n_word(q).and_then(|qn| find_n(run, qn, here)) {
+        resume_after(run, here, qi);
+    }
 }
 
 /// After a cycle whose profile follows it, execution resumes after block Q.

@@ -111,6 +111,8 @@ fn g71_g72(run: &mut Run<'_>, b: &Block, w: &mut Words, ax: Axes) {
         run.error(b, w.at(b'P'), format!("{name} P… needs Q, the profile's last block"));
         return;
     };
+    let at = here(run);
+    common::skip_profile(run, at, q);
     let mem = if ax.facing { run.cycles.g72 } else { run.cycles.g71 };
     let depth = match w.get(b'D') {
         Some(d) => Some(d * s),
@@ -135,7 +137,6 @@ fn g71_g72(run: &mut Run<'_>, b: &Block, w: &mut Words, ax: Axes) {
     };
     let Some(f) = feed(run, b, name) else { return };
     let a = run.programmed();
-    let at = here(run);
     let Some(t) = common::trace(run, b, at, p, q, name, false) else {
         return;
     };
@@ -314,7 +315,11 @@ fn rough(run: &mut Run<'_>, b: &Block, t: &Traced, a: P2, off: V2, depth: f64, e
         return;
     }
     let (a0, d0) = (ax.along(a), ax.dep(a));
+    let m0 = run.moves.len();
     for k in 1..passes as usize {
+        if common::too_many_moves(run, b, m0, name) {
+            return;
+        }
         let level = d0 - dird * depth * k as f64;
         let above = d0 - dird * depth * (k - 1) as f64;
         for st in stretches(&prof, &pcs, level, dird, ax) {
@@ -377,12 +382,13 @@ fn g70(run: &mut Run<'_>, b: &Block, w: &mut Words) {
         run.error(b, w.at(b'P'), "G70 P… needs Q, the profile's last block".into());
         return;
     };
+    let at = here(run);
+    common::skip_profile(run, at, q);
     // Haas programs often repeat G71's U W D in G70: the control ignores them.
     for l in [b'U', b'W', b'D', b'I', b'K'] {
         w.get(l);
     }
     let a = run.programmed();
-    let at = here(run);
     let Some(t) = common::trace(run, b, at, p, q, "G70", true) else {
         return;
     };
@@ -410,6 +416,8 @@ fn g73(run: &mut Run<'_>, b: &Block, w: &mut Words) {
         run.error(b, w.at(b'P'), "G73 P… needs Q, the profile's last block".into());
         return;
     };
+    let at = here(run);
+    common::skip_profile(run, at, q);
     let (mut ri, mut rk, mut n) = run.cycles.g73.unwrap_or((0.0, 0.0, 1.0));
     // Haas one-block form: I, K relief (radius, Z), D passes; U W allowance.
     let off = {
@@ -436,7 +444,6 @@ fn g73(run: &mut Run<'_>, b: &Block, w: &mut Words) {
     }
     let Some(f) = feed(run, b, "G73") else { return };
     let a = run.programmed();
-    let at = here(run);
     let Some(t) = common::trace(run, b, at, p, q, "G73", false) else {
         return;
     };
@@ -444,7 +451,11 @@ fn g73(run: &mut Run<'_>, b: &Block, w: &mut Words) {
     let first = t.approach.map_or(a, |s| s.end);
     let dird = sign(a.x - first.x, 1.0);
     let n = n as usize;
+    let m0 = run.moves.len();
     for k in 1..=n {
+        if common::too_many_moves(run, b, m0, "G73") {
+            return;
+        }
         let frac = if n == 1 { 0.0 } else { (n - k) as f64 / (n - 1) as f64 };
         let shift = off + V2::new(ri, rk) * frac;
         let to = first + shift;
