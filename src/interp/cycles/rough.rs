@@ -146,6 +146,7 @@ fn g71_g72(run: &mut Run<'_>, b: &Block, w: &mut Words, ax: Axes) {
 
 /// Check the profile runs one way along the passes (both types) and in the stepping axis (type
 /// I; type II may have pockets). The finding names the first profile block that turns back.
+#[allow(clippy::too_many_arguments)]
 fn monotone(
     run: &mut Run<'_>,
     b: &Block,
