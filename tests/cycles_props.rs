@@ -319,3 +319,91 @@ fn inch_programs_scale_depth_allowance_and_retract() {
 ";
     assert_eq!(canon, want);
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn g72_facing_never_cuts_inside_the_allowance_leaves_at_most_one_depth_and_g70_ends_on_the_profile(
+        p in profile(false),
+        depth in 300u32..4000,
+        du in 0u32..1000,
+        dw in 0u32..500,
+    ) {
+        g72_properties(p, depth, du, dw)?;
+    }
+}
+
+/// G72 on a type I facing profile made from a G71 one by exchanging the axes: radius 30 + z
+/// (falling toward the axis) and Z -30 + (x - x0) (rising toward the front); the start point lies
+/// outside radius 30 and in front of the profile.
+fn g72_properties(p: Profile, depth: u32, du: u32, dw: u32) -> Result<(), TestCaseError> {
+    let depth = depth as f64 / 1000.0;
+    let (du, dw) = (du as f64 / 1000.0, dw as f64 / 1000.0);
+    let x0 = 32.0;
+    let mut pts: Vec<(f64, f64)> = p.pts.iter().map(|q| (30.0 + q.1, -30.0 + (q.0 - p.pts[0].0))).collect();
+    pts[0].0 = x0; // block P names Z only: A' keeps the start's X
+    let z0 = pts.iter().map(|q| q.1).fold(f64::MIN, f64::max) + 2.0;
+    let mut src = format!(
+        "G21 G18 G99 G97 S500 M3\nT0101\nG0 X{:.3} Z{z0:.3}\nG72 W{depth:.3} R0.5\nG72 P10 Q{} U{du:.3} W{dw:.3} F0.2\n",
+        2.0 * x0,
+        10 * pts.len()
+    );
+    src += &format!("N10 G0 Z{:.3}\n", pts[0].1);
+    for (i, q) in pts.iter().enumerate().skip(1) {
+        src += &format!("N{} G1 X{:.3} Z{:.3} F0.1\n", 10 * (i + 1), 2.0 * q.0, q.1);
+    }
+    src += &format!("G70 P10 Q{}\nM30\n", 10 * pts.len());
+    let (run, _) = canon_of(src.as_bytes());
+    prop_assert!(program_messages(&run).is_empty(), "{:?}\n{src}", run.findings);
+    let o = run.frame(&run.moves[0]).origin;
+    let prog = |q: latheguard::geom::P2| (q.x - o.x, q.y - o.y);
+    // The same checks as G71's with the axes exchanged: (Z, X) pairs, the least Z at an X.
+    let swapped: Vec<(f64, f64)> = pts.iter().map(|q| (q.1, q.0)).collect();
+    let off = (dw, du / 2.0);
+    let g72: Vec<_> = run.moves.iter().filter(|m| m.line == 5).collect();
+    let g70: Vec<_> = run.moves.iter().filter(|m| m.line as usize == 6 + pts.len()).collect();
+    prop_assert!(!g72.is_empty() && !g70.is_empty(), "{src}");
+    let mut reached: Vec<(f64, f64, f64)> = Vec::new(); // (x from, x to, z) of X passes
+    for m in &g72 {
+        let (s, e) = (prog(m.start), prog(m.end));
+        for k in 0..=20 {
+            let t = k as f64 / 20.0;
+            let (x, z) = (s.0 + (e.0 - s.0) * t, s.1 + (e.1 - s.1) * t);
+            if let Some(face) = radius_at(&swapped, off, x) {
+                prop_assert!(z >= face - 1e-6, "cuts inside at x {x} z {z} (face {face})\n{src}");
+            }
+        }
+        if m.kind == MoveKind::Line && (s.1 - e.1).abs() < 1e-12 {
+            reached.push((s.0.min(e.0), s.0.max(e.0), s.1));
+        }
+    }
+    let (xmin, xmax) = (pts.last().unwrap().0 + du / 2.0, x0);
+    for k in 0..=200 {
+        let x = xmax + (xmin - xmax) * k as f64 / 200.0;
+        let Some(face) = radius_at(&swapped, off, x) else {
+            continue;
+        };
+        let lowest = reached
+            .iter()
+            .filter(|(a, b, _)| *a <= x + 1e-9 && x <= *b + 1e-9)
+            .map(|q| q.2)
+            .fold(z0, f64::min);
+        prop_assert!(
+            lowest - face <= depth + 1e-6,
+            "leaves {} at x {x} (depth {depth})\n{src}",
+            lowest - face
+        );
+    }
+    let ends: Vec<_> = g70.iter().take(pts.len()).map(|m| prog(m.end)).collect();
+    prop_assert_eq!(ends.len(), pts.len());
+    for (got, want) in ends.iter().zip(&pts) {
+        prop_assert!(
+            (got.0 - want.0).abs() < 1e-9 && (got.1 - want.1).abs() < 1e-9,
+            "{got:?} {want:?}"
+        );
+    }
+    let last = run.moves.last().unwrap();
+    prop_assert!((prog(last.end).0 - x0).abs() < 1e-9 && (prog(last.end).1 - z0).abs() < 1e-9);
+    Ok(())
+}
