@@ -23,3 +23,13 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
         _ => false,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    /// `Move::profile_line` (the profile block a cycle's move follows) fits in what was padding:
+    /// a program holds one move per block, so a move must not grow.
+    #[test]
+    fn a_move_stays_128_bytes_with_its_profile_line() {
+        assert_eq!(std::mem::size_of::<super::super::Move>(), 128);
+    }
+}
