@@ -407,3 +407,24 @@ fn g72_properties(p: Profile, depth: u32, du: u32, dw: u32) -> Result<(), TestCa
     prop_assert!((prog(last.end).0 - x0).abs() < 1e-9 && (prog(last.end).1 - z0).abs() < 1e-9);
     Ok(())
 }
+
+#[test]
+fn absurd_cycle_values_are_a_finding_not_moves_out_of_any_range() {
+    // (Numbers have no exponent in G-code: the large values are written out.)
+    let big = "1".to_string() + &"0".repeat(300);
+    for words in [
+        format!("D1 R{big}"),
+        format!("D1 U{big}"),
+        "D1 W-99999".into(),
+        format!("D{big}"),
+    ] {
+        let src = format!("G21 G99 S500 M3\nG0 X100 Z3\nG71 P10 Q20 {words} F0.2\nN10 G0 X20\nN20 G1 Z-50\nM30\n");
+        let (run, _) = canon_of(src.as_bytes());
+        let msgs = program_messages(&run);
+        assert!(msgs.len() == 1 && msgs[0].starts_with("3: G71"), "{words}: {msgs:?}");
+        assert_eq!(run.moves.len(), 1, "{words}");
+    }
+    let src = "G21 G99 S500 M3\nG0 X100 Z3\nG73 P10 Q20 I1000000000 D2 F0.2\nN10 G0 X20\nN20 G1 Z-50\nM30\n";
+    let (run, _) = canon_of(src.as_bytes());
+    assert!(program_messages(&run)[0].contains("beyond"), "{:?}", run.findings);
+}

@@ -86,6 +86,23 @@ fn allowance(run: &Run<'_>, w: &mut Words) -> V2 {
     V2::new(x, z)
 }
 
+/// Most a depth, retract, allowance or relief may be, mm: anything larger is a typing error, and
+/// it would put the passes out of any machine's range.
+const MAX_CYCLE_VALUE_MM: f64 = 10_000.0;
+
+/// The cycle's lengths are finite and within [`MAX_CYCLE_VALUE_MM`]; else a finding at its line.
+fn in_range(run: &mut Run<'_>, b: &Block, name: &str, values: &[f64]) -> bool {
+    if values.iter().all(|v| v.is_finite() && v.abs() <= MAX_CYCLE_VALUE_MM) {
+        return true;
+    }
+    run.error(
+        b,
+        None,
+        format!("{name}: a depth, retract, allowance or relief beyond {MAX_CYCLE_VALUE_MM} mm"),
+    );
+    false
+}
+
 fn here(run: &Run<'_>) -> usize {
     run.pc.saturating_sub(1)
 }
@@ -135,6 +152,9 @@ fn g71_g72(run: &mut Run<'_>, b: &Block, w: &mut Words, ax: Axes) {
         );
         return;
     };
+    if !in_range(run, b, name, &[depth, retract, off.x, off.y]) {
+        return;
+    }
     let Some(f) = feed(run, b, name) else { return };
     let a = run.programmed();
     let Some(t) = common::trace(run, b, at, p, q, name, false) else {
@@ -441,6 +461,9 @@ fn g73(run: &mut Run<'_>, b: &Block, w: &mut Words) {
             None,
             format!("G73: the number of passes must be a whole number from 1 to {MAX_PASSES}, not {n}"),
         );
+        return;
+    }
+    if !in_range(run, b, "G73", &[ri, rk, off.x, off.y]) {
         return;
     }
     let Some(f) = feed(run, b, "G73") else { return };
