@@ -428,3 +428,56 @@ fn absurd_cycle_values_are_a_finding_not_moves_out_of_any_range() {
     let (run, _) = canon_of(src.as_bytes());
     assert!(program_messages(&run)[0].contains("beyond"), "{:?}", run.findings);
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(100))]
+
+    /// G73 cuts the whole profile d times, shifted by the allowance plus (d - k)/(d - 1) of the
+    /// relief on pass k: the first pass furthest out, the last on the allowance.
+    #[test]
+    fn g73_repeats_the_profile_shifted_by_a_shrinking_relief(
+        p in profile(true),
+        passes in 1u32..6,
+        ri in 0u32..5000,
+        rk in 0u32..3000,
+        du in 0u32..1000,
+        dw in 0u32..500,
+    ) {
+        let (ri, rk) = (ri as f64 / 1000.0, rk as f64 / 1000.0);
+        let (du, dw) = (du as f64 / 1000.0, dw as f64 / 1000.0);
+        let top = p.pts.iter().map(|q| q.0).fold(0.0, f64::max);
+        let (x0, z0) = (top + ri + 3.0, 3.0 + rk + 1.0);
+        let mut src = format!(
+            "G21 G18 G99 G97 S500 M3\nT0101\nG0 X{:.3} Z{z0:.3}\nG73 U{ri:.3} W{rk:.3} R{passes}\nG73 P10 Q{} U{du:.3} W{dw:.3} F0.2\n",
+            2.0 * x0,
+            10 * p.pts.len()
+        );
+        src += &format!("N10 G0 X{:.3} Z3.000\n", 2.0 * p.pts[0].0);
+        for (i, q) in p.pts.iter().enumerate().skip(1) {
+            src += &format!("N{} G1 X{:.3} Z{:.3} F0.1\n", 10 * (i + 1), 2.0 * q.0, q.1);
+        }
+        src += "M30\n";
+        let (run, _) = canon_of(src.as_bytes());
+        prop_assert!(program_messages(&run).is_empty(), "{:?}\n{src}", run.findings);
+        let mut pts = p.pts.clone();
+        pts[0].1 = 3.0;
+        let o = run.frame(&run.moves[0]).origin;
+        let prog = |q: latheguard::geom::P2| (q.x - o.x, q.y - o.y);
+        let feeds: Vec<_> = run.moves.iter().filter(|m| m.line == 5 && m.kind == MoveKind::Line).map(|m| prog(m.end)).collect();
+        let n = passes as usize;
+        prop_assert_eq!(feeds.len(), n * (pts.len() - 1));
+        for k in 1..=n {
+            let frac = if n == 1 { 0.0 } else { (n - k) as f64 / (n - 1) as f64 };
+            let shift = (du / 2.0 + ri * frac, dw + rk * frac);
+            for (j, want) in pts.iter().skip(1).enumerate() {
+                let got = feeds[(k - 1) * (pts.len() - 1) + j];
+                prop_assert!(
+                    (got.0 - want.0 - shift.0).abs() < 1e-9 && (got.1 - want.1 - shift.1).abs() < 1e-9,
+                    "pass {k} point {j}: {got:?} want {want:?} + {shift:?}\n{src}"
+                );
+            }
+        }
+        let last = prog(run.moves.last().unwrap().end);
+        prop_assert!((last.0 - x0).abs() < 1e-9 && (last.1 - z0).abs() < 1e-9);
+    }
+}
