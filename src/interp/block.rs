@@ -128,7 +128,7 @@ impl Words {
         self.mbits = 0;
     }
 
-    fn get(&mut self, letter: u8) -> Option<f64> {
+    pub(super) fn get(&mut self, letter: u8) -> Option<f64> {
         let b = bit(letter);
         if self.has & b != 0 {
             self.used |= b;
@@ -138,11 +138,11 @@ impl Words {
         }
     }
 
-    fn peek(&self, letter: u8) -> bool {
+    pub(super) fn peek(&self, letter: u8) -> bool {
         self.has & bit(letter) != 0
     }
 
-    fn at(&self, letter: u8) -> Option<u32> {
+    pub(super) fn at(&self, letter: u8) -> Option<u32> {
         self.peek(letter).then(|| self.at[(letter - b'A') as usize])
     }
 
@@ -302,7 +302,7 @@ impl Run<'_> {
         }
     }
 
-    fn push_move(&mut self, b: &Block, kind: MoveKind, start: P2, end: P2, feed: Feed) {
+    pub(super) fn push_move(&mut self, b: &Block, kind: MoveKind, start: P2, end: P2, feed: Feed) {
         if matches!(kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }) {
             self.reference = end - self.tip();
         }
@@ -317,6 +317,7 @@ impl Run<'_> {
             kind,
             line: b.line,
             n: b.n(),
+            profile_line: 0,
             start,
             end,
             tip: self.tip(),
@@ -857,6 +858,8 @@ impl Run<'_> {
                 30 => self.modal.motion = Some(Motion::ArcCcw),
                 320 | 330 => self.modal.motion = Some(Motion::Thread),
                 800 => self.modal.motion = None,
+                // Canned cycles latheguard expands (src/interp/cycles): the cycle sets the modes.
+                _ if super::cycles::run(self, b, w, code, at) => return,
                 _ => {
                     let what = match code {
                         700..=760 => "lathe canned cycle",

@@ -241,6 +241,8 @@ pub(crate) struct Run<'a> {
     pub(crate) plain_blocks_fast: bool,
     /// The word table of [`Run::execute`], kept between blocks.
     pub(super) words: Option<Box<super::block::Words>>,
+    /// What canned cycles remember between blocks (Fanuc two-block forms, N-number index).
+    pub(super) cycles: super::cycles::Memory,
     /// Columns of findings, counted on from the last one (many findings on one long line).
     cols: crate::source::ColCursor,
     /// The findings kept so far (a block in a loop reports its problem once, and repeats do not
@@ -304,6 +306,7 @@ impl<'a> Run<'a> {
             y_reported: false,
             motion_reported: false,
             words: None,
+            cycles: Default::default(),
             plain_blocks_fast: true,
             cols: crate::source::ColCursor::new(),
             reported: HashSet::new(),
@@ -397,7 +400,7 @@ impl<'a> Run<'a> {
 
     /// Count one block executed (or one `elseif` tested) against the budget; false, with a
     /// `program` finding at `b`, when the budget is spent.
-    fn count_executed(&mut self, b: &Block) -> bool {
+    pub(super) fn count_executed(&mut self, b: &Block) -> bool {
         self.executed += 1;
         if self.executed > self.limits.max_blocks {
             self.error(

@@ -9,6 +9,7 @@
 mod arc;
 mod block;
 pub mod canon;
+mod cycles;
 mod eval;
 mod flow;
 mod state;
@@ -126,6 +127,9 @@ pub struct Move {
     /// Physical 1-based source line.
     pub line: u32,
     pub n: Option<u64>,
+    /// For a move a canned cycle made along its profile: the physical line of the profile
+    /// block it follows (so a finding can name both); 0 otherwise.
+    pub profile_line: u32,
     /// Programmed point (tool tip) at the start and end, spindle frame. The turret reference
     /// point is `start - tip` / `end - tip`.
     pub start: P2,

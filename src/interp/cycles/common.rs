@@ -1,0 +1,341 @@
+//! What the cycle families share: finding profile blocks by N number, tracing a profile through
+//! the interpreter's own block executor, and emitting moves at the cycle's line.
+
+use super::super::flow::Run;
+use super::super::{Feed, Move, MoveKind};
+use crate::gcode::Block;
+use crate::geom::{P2, V2};
+use std::collections::HashMap;
+
+/// Most blocks one profile (P to Q) may span. Fanuc controls allow far fewer; the cap keeps a
+/// hostile program (thousands of cycles over one huge range) linear in its size.
+pub(crate) const MAX_PROFILE_BLOCKS: usize = 2000;
+
+/// Most passes one roughing cycle may make (a tiny depth of cut on a large part is a program
+/// error, never an unbounded list of moves).
+pub(crate) const MAX_PASSES: usize = 10_000;
+
+/// Most moves one cycle block may make (pockets on every level, or many G73 passes over a long
+/// profile, must not grow the move list without bound).
+pub(crate) const MAX_CYCLE_MOVES: usize = 1_000_000;
+
+/// A cycle that made too many moves: a finding at its line, and the caller stops expanding it.
+pub(crate) fn too_many_moves(run: &mut Run<'_>, b: &Block, m0: usize, name: &str) -> bool {
+    if run.moves.len() - m0 <= MAX_CYCLE_MOVES {
+        return false;
+    }
+    run.error(
+        b,
+        None,
+        format!("{name} makes more than {MAX_CYCLE_MOVES} moves; the rest of the cycle is not checked"),
+    );
+    true
+}
+
+/// One piece of a traced profile: where the programmed point went, and how.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Seg {
+    pub kind: MoveKind,
+    pub start: P2,
+    pub end: P2,
+    /// Physical line of the profile block.
+    pub line: u32,
+}
+
+impl Seg {
+    pub fn shifted(&self, d: V2) -> Seg {
+        let kind = match self.kind {
+            MoveKind::Arc { center, sweep } => MoveKind::Arc {
+                center: center + d,
+                sweep,
+            },
+            k => k,
+        };
+        Seg {
+            kind,
+            start: self.start + d,
+            end: self.end + d,
+            line: self.line,
+        }
+    }
+
+    /// The point at fraction `t` of the path.
+    pub fn point_at(&self, t: f64) -> P2 {
+        match self.kind {
+            MoveKind::Arc { center, sweep } => {
+                let a = self.start - center;
+                let r0 = a.norm();
+                let r1 = (self.end - center).norm();
+                let r = r0 + (r1 - r0) * t;
+                let ang = a.y.atan2(a.x) + sweep * t;
+                P2::new(center.x + r * ang.cos(), center.y + r * ang.sin())
+            }
+            _ => self.start + (self.end - self.start) * t,
+        }
+    }
+}
+
+/// A profile traced from the cycle's start point.
+pub(crate) struct Traced {
+    /// The move of block P (start point → first profile point), when block P moves.
+    pub approach: Option<Seg>,
+    /// The profile proper, first point to last.
+    pub segs: Vec<Seg>,
+    /// Block P names both axes (X or U, and Z or W): Fanuc's type II.
+    pub p_names_both: bool,
+    /// Block indices of P and Q.
+    pub q: usize,
+}
+
+/// What the cycles remember between blocks.
+#[derive(Default, Debug)]
+pub(crate) struct Memory {
+    /// Fanuc `G71 U(Δd) R(e)`: depth of cut and retract, mm.
+    pub g71: Option<(f64, f64)>,
+    /// Fanuc `G72 W(Δd) R(e)`.
+    pub g72: Option<(f64, f64)>,
+    /// Fanuc `G73 U(Δi) W(Δk) R(d)`: relief in X (radius) and Z, mm, and the number of passes.
+    pub g73: Option<(f64, f64, f64)>,
+    /// N number → block indices holding it, ascending (built on first use).
+    n_index: Option<HashMap<u64, Vec<usize>>>,
+}
+
+/// The block with N number `n`: the first one after block `from`, else the first in the file.
+pub(crate) fn find_n(run: &mut Run<'_>, n: u64, from: usize) -> Option<usize> {
+    if run.cycles.n_index.is_none() {
+        let mut m: HashMap<u64, Vec<usize>> = HashMap::new();
+        for (i, b) in run.prog.blocks.iter().enumerate() {
+            if let Some(k) = b.n() {
+                m.entry(k).or_default().push(i);
+            }
+        }
+        run.cycles.n_index = Some(m);
+    }
+    let list = run.cycles.n_index.as_ref()?.get(&n)?;
+    let k = list.partition_point(|&i| i <= from);
+    list.get(k).or(list.first()).copied()
+}
+
+/// A P or Q word as an N number.
+pub(crate) fn n_word(v: f64) -> Option<u64> {
+    (v >= 0.0 && v.fract() == 0.0 && v < 1e15).then_some(v as u64)
+}
+
+/// The feed of a cutting move now, or a finding at the cycle's line.
+pub(crate) fn feed(run: &mut Run<'_>, b: &Block, what: &str) -> Option<Feed> {
+    if run.modal.feed <= 0.0 {
+        run.error(b, None, format!("{what} needs a feed rate (F) and none is in force"));
+        return None;
+    }
+    let f = run.modal.feed * run.scale();
+    Some(if run.modal.feed_per_rev {
+        Feed::PerRev(f)
+    } else {
+        Feed::PerMinute(f)
+    })
+}
+
+/// Emit a move from the current programmed point at the cycle's line (skipped when it goes
+/// nowhere), recording the profile block's line when there is one.
+pub(crate) fn emit(run: &mut Run<'_>, b: &Block, kind: MoveKind, end: P2, feed: Feed, profile_line: u32) {
+    let start = run.programmed();
+    if matches!(kind, MoveKind::Rapid | MoveKind::Line) && (end - start).norm() < 1e-9 {
+        return;
+    }
+    run.push_move(b, kind, start, end, feed);
+    if let Some(m) = run.moves.last_mut() {
+        m.profile_line = profile_line;
+    }
+}
+
+pub(crate) fn rapid(run: &mut Run<'_>, b: &Block, end: P2) {
+    emit(run, b, MoveKind::Rapid, end, Feed::Rapid, 0);
+}
+
+/// A segment of a profile followed at the given feed (rapids stay rapids).
+pub(crate) fn follow(run: &mut Run<'_>, b: &Block, s: &Seg, feed: Feed) {
+    let (kind, f) = match s.kind {
+        MoveKind::Rapid => (MoveKind::Rapid, Feed::Rapid),
+        k => (k, feed),
+    };
+    emit(run, b, kind, s.end, f, s.line);
+}
+
+/// A block of the profile that a cycle cannot run: a call, a return, an o-word, a program end.
+fn forbidden_in_profile(run: &Run<'_>, pb: &Block) -> Option<&'static str> {
+    if pb.oword().is_some() {
+        return Some("an o-word");
+    }
+    for w in run.prog.words_of(pb) {
+        if let crate::gcode::Value::Num(v) = w.value() {
+            if w.letter == b'M' && matches!(v as i64, 2 | 30 | 98 | 99) && v.fract() == 0.0 {
+                return Some("M2, M30, M98 or M99");
+            }
+            if w.letter == b'G' && (70.0..=76.0).contains(&v) {
+                return Some("another cycle");
+            }
+        }
+    }
+    None
+}
+
+/// Run blocks P..=Q from the current point through the block executor and collect the moves
+/// they make. With `keep` false (roughing) nothing of it stays: the moves, the modal state, the
+/// tool and the position are as before; with `keep` true (G70) the moves stay in the run and
+/// only the modal state is restored. `None` after a finding at the cycle's line.
+pub(crate) fn trace(
+    run: &mut Run<'_>,
+    b: &Block,
+    here: usize,
+    p: f64,
+    q: f64,
+    name: &str,
+    keep: bool,
+) -> Option<Traced> {
+    let (Some(pn), Some(qn)) = (n_word(p), n_word(q)) else {
+        run.error(b, None, format!("{name}: P{p} Q{q} must be N numbers"));
+        return None;
+    };
+    let Some(pi) = find_n(run, pn, here) else {
+        run.error(
+            b,
+            None,
+            format!("{name}: no block N{pn} (P, the profile's first block) in this file"),
+        );
+        return None;
+    };
+    let Some(qi) = find_n(run, qn, pi.max(here))
+        .filter(|&qi| qi >= pi)
+        .or_else(|| find_n(run, qn, pi))
+    else {
+        run.error(
+            b,
+            None,
+            format!("{name}: no block N{qn} (Q, the profile's last block) in this file"),
+        );
+        return None;
+    };
+    if qi < pi {
+        run.error(
+            b,
+            None,
+            format!(
+                "{name}: Q (N{qn}, line {}) comes before P (N{pn}, line {})",
+                run.block(qi).line,
+                run.block(pi).line
+            ),
+        );
+        return None;
+    }
+    if (pi..=qi).contains(&here) {
+        run.error(
+            b,
+            None,
+            format!("{name}: the profile N{pn}–N{qn} holds the cycle block itself"),
+        );
+        return None;
+    }
+    if qi - pi + 1 > MAX_PROFILE_BLOCKS {
+        run.error(
+            b,
+            None,
+            format!(
+                "{name}: the profile N{pn}–N{qn} spans {} blocks; latheguard reads at most {MAX_PROFILE_BLOCKS}",
+                qi - pi + 1
+            ),
+        );
+        return None;
+    }
+    for i in pi..=qi {
+        let pb = run.block(i);
+        if let Some(what) = forbidden_in_profile(run, pb) {
+            let line = pb.line;
+            run.error(
+                b,
+                None,
+                format!("{name}: the profile holds {what} (line {line}), which a cycle cannot run"),
+            );
+            return None;
+        }
+    }
+    let p_block = run.block(pi);
+    let names = |l: &[u8]| run.prog.words_of(p_block).iter().any(|w| l.contains(&w.letter));
+    let p_names_both = names(b"XU") && names(b"ZW");
+    let p_line = p_block.line;
+
+    let modal = run.modal.clone();
+    let (reference, station, tip, selected) = (run.reference, run.station, run.tip, run.selected);
+    let (shift, stopped, pc) = (run.shift, run.stopped, run.pc);
+    let (m0, s0) = (run.moves.len(), run.states.len());
+    let reports = run.reports;
+    for i in pi..=qi {
+        let pb = run.block(i);
+        if pb.bad {
+            continue;
+        }
+        if !run.count_executed(pb) {
+            return None;
+        }
+        run.execute(pb);
+    }
+    let refused = run.reports > reports;
+    let mut segs: Vec<Seg> = run.moves[m0..]
+        .iter()
+        .filter(|m| matches!(m.kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }))
+        .map(|m: &Move| Seg {
+            kind: m.kind,
+            start: m.start,
+            end: m.end,
+            line: m.line,
+        })
+        .collect();
+    run.modal = modal;
+    run.shift = shift;
+    run.stopped = stopped;
+    run.pc = pc;
+    if keep {
+        let line = b.line;
+        let n = b.n();
+        for m in &mut run.moves[m0..] {
+            m.profile_line = m.line;
+            m.line = line;
+            m.n = n;
+        }
+    } else {
+        run.moves.truncate(m0);
+        run.states.truncate(s0);
+        run.reference = reference;
+        run.station = station;
+        run.tip = tip;
+        run.selected = selected;
+    }
+    if refused {
+        return None;
+    }
+    let approach = if segs.first().is_some_and(|s| s.line == p_line) {
+        Some(segs.remove(0))
+    } else {
+        None
+    };
+    Some(Traced {
+        approach,
+        segs,
+        p_names_both,
+        q: qi,
+    })
+}
+
+/// Execution resumes after block Q when Q follows the cycle block, whatever becomes of the cycle
+/// (a refused cycle must not leave its profile to run as plain moves, one full-depth cut).
+pub(crate) fn skip_profile(run: &mut Run<'_>, here: usize, q: f64) {
+    if let Some(qi) = n_word(q).and_then(|qn| find_n(run, qn, here)) {
+        resume_after(run, here, qi);
+    }
+}
+
+/// After a cycle whose profile follows it, execution resumes after block Q.
+pub(crate) fn resume_after(run: &mut Run<'_>, here: usize, q: usize) {
+    if q > here {
+        run.pc = q + 1;
+    }
+}

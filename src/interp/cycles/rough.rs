@@ -1,0 +1,495 @@
+//! Fanuc / Haas stock removal: G71 (turning), G72 (facing), G73 (pattern repeat), G70
+//! (finishing). See docs/cycles.md for the words, the passes and which manual each rule follows.
+
+use super::common::{self, emit, feed, rapid, Seg, Traced, MAX_PASSES};
+use crate::gcode::Block;
+use crate::geom::{P2, V2};
+use crate::interp::block::Words;
+use crate::interp::flow::Run;
+use crate::interp::{Feed, MoveKind};
+use crate::machine::Dialect;
+
+/// Retract e when no `G71 U R` / `G72 W R` block set one (Haas: setting 73), mm.
+const DEFAULT_RETRACT_MM: f64 = 0.5;
+
+/// Which way the passes run: G71 cuts along Z and steps in X, G72 the reverse.
+#[derive(Clone, Copy)]
+struct Axes {
+    /// Steps in Z (G72) rather than in X (G71).
+    facing: bool,
+}
+
+impl Axes {
+    /// The stepping ("depth") coordinate.
+    fn dep(self, p: P2) -> f64 {
+        if self.facing {
+            p.y
+        } else {
+            p.x
+        }
+    }
+    /// The coordinate a pass runs along.
+    fn along(self, p: P2) -> f64 {
+        if self.facing {
+            p.x
+        } else {
+            p.y
+        }
+    }
+    fn pt(self, dep: f64, along: f64) -> P2 {
+        if self.facing {
+            P2::new(along, dep)
+        } else {
+            P2::new(dep, along)
+        }
+    }
+}
+
+fn sign(v: f64, default: f64) -> f64 {
+    if v > 1e-9 {
+        1.0
+    } else if v < -1e-9 {
+        -1.0
+    } else {
+        default
+    }
+}
+
+pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, _at: u32) -> bool {
+    if run.machine.dialect != Dialect::Fanuc {
+        return false; // LinuxCNC G70–G72 (o-word profiles) and G73 (drilling) are not here yet
+    }
+    match code {
+        700 => g70(run, b, w),
+        710 => g71_g72(run, b, w, Axes { facing: false }),
+        720 => g71_g72(run, b, w, Axes { facing: true }),
+        730 => g73(run, b, w),
+        _ => return false,
+    }
+    true
+}
+
+/// X as a radius in mm (a diameter in diameter mode).
+fn radius_mm(run: &Run<'_>, v: f64) -> f64 {
+    let r = if run.modal.diameter { v / 2.0 } else { v };
+    r * run.scale()
+}
+
+/// The finishing allowance (Δu/2, Δw) in mm: U (diameter) or Haas I (radius), W or Haas K.
+fn allowance(run: &Run<'_>, w: &mut Words) -> V2 {
+    let s = run.scale();
+    let x = match w.get(b'I') {
+        Some(i) => i * s,
+        None => radius_mm(run, w.get(b'U').unwrap_or(0.0)),
+    };
+    let z = w.get(b'K').or_else(|| w.get(b'W')).unwrap_or(0.0) * s;
+    V2::new(x, z)
+}
+
+/// Most a depth, retract, allowance or relief may be, mm: anything larger is a typing error, and
+/// it would put the passes out of any machine's range.
+const MAX_CYCLE_VALUE_MM: f64 = 10_000.0;
+
+/// The cycle's lengths are finite and within [`MAX_CYCLE_VALUE_MM`]; else a finding at its line.
+fn in_range(run: &mut Run<'_>, b: &Block, name: &str, values: &[f64]) -> bool {
+    if values.iter().all(|v| v.is_finite() && v.abs() <= MAX_CYCLE_VALUE_MM) {
+        return true;
+    }
+    run.error(
+        b,
+        None,
+        format!("{name}: a depth, retract, allowance or relief beyond {MAX_CYCLE_VALUE_MM} mm"),
+    );
+    false
+}
+
+fn here(run: &Run<'_>) -> usize {
+    run.pc.saturating_sub(1)
+}
+
+fn g71_g72(run: &mut Run<'_>, b: &Block, w: &mut Words, ax: Axes) {
+    let name = if ax.facing { "G72" } else { "G71" };
+    let s = run.scale();
+    if !w.peek(b'P') {
+        // First block of the two-block form: G71 U(Δd) R(e) / G72 W(Δd) R(e).
+        let d = w.get(if ax.facing { b'W' } else { b'U' });
+        let e = w.get(b'R');
+        let mem = if ax.facing {
+            &mut run.cycles.g72
+        } else {
+            &mut run.cycles.g71
+        };
+        let (d0, e0) = mem.unwrap_or((0.0, DEFAULT_RETRACT_MM));
+        *mem = Some((d.map_or(d0, |d| d * s), e.map_or(e0, |e| e * s)));
+        return;
+    }
+    let p = w.get(b'P').unwrap_or(0.0);
+    let Some(q) = w.get(b'Q') else {
+        run.error(b, w.at(b'P'), format!("{name} P… needs Q, the profile's last block"));
+        return;
+    };
+    let at = here(run);
+    common::skip_profile(run, at, q);
+    let mem = if ax.facing { run.cycles.g72 } else { run.cycles.g71 };
+    let depth = match w.get(b'D') {
+        Some(d) => Some(d * s),
+        None => mem.map(|m| m.0),
+    };
+    let retract = w
+        .get(b'R')
+        .map(|r| r * s)
+        .or(mem.map(|m| m.1))
+        .unwrap_or(DEFAULT_RETRACT_MM);
+    let off = allowance(run, w);
+    let Some(depth) = depth.filter(|d| *d > 0.0) else {
+        run.error(
+            b,
+            None,
+            format!(
+                "{name} needs a positive depth of cut: a {name} {}(Δd) R(e) block before it, or D in this block",
+                if ax.facing { "W" } else { "U" }
+            ),
+        );
+        return;
+    };
+    if !in_range(run, b, name, &[depth, retract, off.x, off.y]) {
+        return;
+    }
+    let Some(f) = feed(run, b, name) else { return };
+    let a = run.programmed();
+    let Some(t) = common::trace(run, b, at, p, q, name, false) else {
+        return;
+    };
+    common::resume_after(run, at, t.q);
+    rough(run, b, &t, a, off, depth, retract.abs(), f, ax, name);
+}
+
+/// Check the profile runs one way along the passes (both types) and in the stepping axis (type
+/// I; type II may have pockets). The finding names the first profile block that turns back.
+#[allow(clippy::too_many_arguments)]
+fn monotone(
+    run: &mut Run<'_>,
+    b: &Block,
+    segs: &[Seg],
+    dird: f64,
+    dira: f64,
+    ax: Axes,
+    type2: bool,
+    name: &str,
+) -> bool {
+    for sgm in segs {
+        let mut prev = sgm.start;
+        for k in 1..=16 {
+            let p = sgm.point_at(k as f64 / 16.0);
+            let (dd, da) = (ax.dep(p) - ax.dep(prev), ax.along(p) - ax.along(prev));
+            let (dep_axis, along_axis) = if ax.facing { ("Z", "X") } else { ("X", "Z") };
+            if dird * dd < -1e-6 && !type2 {
+                run.error(
+                    b,
+                    None,
+                    format!(
+                        "{name} type I: the profile's {dep_axis} must move one way only, and line {} turns back",
+                        sgm.line
+                    ),
+                );
+                return false;
+            }
+            if dira * da < -1e-6 {
+                run.error(
+                    b,
+                    None,
+                    format!(
+                        "{name}: the profile's {along_axis} must move one way only, and line {} turns back",
+                        sgm.line
+                    ),
+                );
+                return false;
+            }
+            prev = p;
+        }
+    }
+    true
+}
+
+/// The profile cut in pieces short enough that each crosses a level at most once in practice:
+/// a line is one piece, an arc one piece per 1/64 turn. (segment, t from, t to)
+fn pieces(segs: &[Seg]) -> Vec<(usize, f64, f64)> {
+    let mut out = Vec::new();
+    for (i, s) in segs.iter().enumerate() {
+        let n = match s.kind {
+            MoveKind::Arc { sweep, .. } => {
+                ((sweep.abs() / (std::f64::consts::TAU / 64.0)).ceil() as usize).clamp(1, 64)
+            }
+            _ => 1,
+        };
+        for k in 0..n {
+            out.push((i, k as f64 / n as f64, (k + 1) as f64 / n as f64));
+        }
+    }
+    out
+}
+
+/// One stretch of a level where the profile lies beyond it (material to cut): from `from` to
+/// `to` along the pass; `from` is `None` for the stretch open toward the start point.
+struct Stretch {
+    from: Option<f64>,
+    to: f64,
+    /// The profile line where the stretch ends.
+    line: u32,
+}
+
+/// The stretches of level `level`: where the offset profile lies deeper than the level, in the
+/// order a pass meets them. A type I profile has one, open toward the start point; a type II
+/// profile one more per pocket.
+fn stretches(segs: &[Seg], pieces: &[(usize, f64, f64)], level: f64, dird: f64, ax: Axes) -> Vec<Stretch> {
+    let f = |p: P2| dird * (ax.dep(p) - level);
+    let mut out = Vec::new();
+    let Some(first) = segs.first() else { return out };
+    let mut inside = f(first.start) < 0.0;
+    let mut from: Option<f64> = None;
+    for &(i, t0, t1) in pieces {
+        let s = &segs[i];
+        let (p0, p1) = (s.point_at(t0), s.point_at(t1));
+        let (f0, f1) = (f(p0), f(p1));
+        let flips = if inside { f1 >= 0.0 } else { f1 < 0.0 };
+        if !flips {
+            continue;
+        }
+        // Where f changes sign on this piece: exact on a line, by bisection on an arc.
+        let t = match s.kind {
+            MoveKind::Arc { .. } => {
+                let (mut lo, mut hi) = (t0, t1);
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    if (f(s.point_at(mid)) < 0.0) == (f0 < 0.0) {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                hi
+            }
+            _ if (f1 - f0).abs() > 0.0 => t0 + (t1 - t0) * (-f0 / (f1 - f0)).clamp(0.0, 1.0),
+            _ => t1,
+        };
+        let at = ax.along(s.point_at(t));
+        if inside {
+            out.push(Stretch {
+                from,
+                to: at,
+                line: s.line,
+            });
+        } else {
+            from = Some(at);
+        }
+        inside = !inside;
+    }
+    if inside {
+        let last = segs.last().unwrap_or(first);
+        out.push(Stretch {
+            from,
+            to: ax.along(last.end),
+            line: last.line,
+        });
+    }
+    out
+}
+
+/// Most (pass level × profile piece) tests one cycle may spend.
+const MAX_LEVEL_WORK: f64 = 2e7;
+
+#[allow(clippy::too_many_arguments)]
+fn rough(run: &mut Run<'_>, b: &Block, t: &Traced, a: P2, off: V2, depth: f64, e: f64, f: Feed, ax: Axes, name: &str) {
+    let first = t.approach.map_or(a, |s| s.end) + off;
+    let prof: Vec<Seg> = t.segs.iter().map(|s| s.shifted(off)).collect();
+    let last = prof.last().map_or(first, |s| s.end);
+    let dird = sign(ax.dep(a) - ax.dep(first), 1.0);
+    let dira = sign(ax.along(last) - ax.along(first), -1.0);
+    if !monotone(run, b, &prof, dird, dira, ax, t.p_names_both, name) {
+        return;
+    }
+    let pcs = pieces(&prof);
+    // The deepest point of the profile (type II: a pocket may lie deeper than its first point).
+    let mut deepest = dird * ax.dep(first);
+    for &(i, _, t1) in &pcs {
+        deepest = deepest.min(dird * ax.dep(prof[i].point_at(t1)));
+        if let MoveKind::Arc { .. } = prof[i].kind {
+            for k in 1..8 {
+                deepest = deepest.min(dird * ax.dep(prof[i].point_at(k as f64 / 8.0)));
+            }
+        }
+    }
+    let infeed = |run: &mut Run<'_>, b: &Block, to: P2| match t.approach.map(|s| s.kind) {
+        Some(MoveKind::Line) => emit(run, b, MoveKind::Line, to, f, t.approach.map_or(0, |s| s.line)),
+        _ => rapid(run, b, to),
+    };
+    let span = dird * ax.dep(a) - deepest;
+    let passes = if span > 1e-9 { (span / depth - 1e-9).ceil() } else { 0.0 };
+    if passes > MAX_PASSES as f64 || passes * pcs.len() as f64 > MAX_LEVEL_WORK {
+        run.error(
+            b,
+            None,
+            format!(
+                "{name}: a depth of cut of {depth} mm over {span:.3} mm makes too many passes (at most {MAX_PASSES})"
+            ),
+        );
+        return;
+    }
+    let (a0, d0) = (ax.along(a), ax.dep(a));
+    let m0 = run.moves.len();
+    for k in 1..passes as usize {
+        if common::too_many_moves(run, b, m0, name) {
+            return;
+        }
+        let level = d0 - dird * depth * k as f64;
+        let above = d0 - dird * depth * (k - 1) as f64;
+        for st in stretches(&prof, &pcs, level, dird, ax) {
+            let len = dira * (st.to - st.from.unwrap_or(a0));
+            if len <= 1e-9 {
+                continue;
+            }
+            let slide = e.min(len);
+            match st.from {
+                None => {
+                    // Open toward the start point: in at the start's Z, as type I.
+                    infeed(run, b, ax.pt(level, a0));
+                    emit(run, b, MoveKind::Line, ax.pt(level, st.to), f, st.line);
+                    rapid(run, b, ax.pt(level + dird * e, st.to - dira * slide));
+                    rapid(run, b, ax.pt(level + dird * e, a0));
+                }
+                Some(from) => {
+                    // A pocket: over it at the start level, down to the level above (cleared by
+                    // the pass before), feed down to this level, along, and out the same way.
+                    let here = run.programmed();
+                    rapid(run, b, ax.pt(d0, ax.along(here)));
+                    rapid(run, b, ax.pt(d0, from));
+                    rapid(run, b, ax.pt(above, from));
+                    emit(run, b, MoveKind::Line, ax.pt(level, from), f, st.line);
+                    emit(run, b, MoveKind::Line, ax.pt(level, st.to), f, st.line);
+                    rapid(run, b, ax.pt(level + dird * e, st.to - dira * slide));
+                    rapid(run, b, ax.pt(d0, st.to - dira * slide));
+                    rapid(run, b, a);
+                }
+            }
+        }
+    }
+    // The last pass follows the profile offset by the allowance.
+    infeed(run, b, first);
+    for sgm in &prof {
+        common::follow(run, b, sgm, f);
+    }
+    return_to(run, b, a, dird, ax);
+}
+
+/// Back to the start point at rapid, one axis at a time: first along the pass direction when
+/// the tool is already outside the start level, else first back to the start level.
+fn return_to(run: &mut Run<'_>, b: &Block, a: P2, dird: f64, ax: Axes) {
+    let here = run.programmed();
+    if dird * (ax.dep(here) - ax.dep(a)) >= -1e-9 {
+        rapid(run, b, ax.pt(ax.dep(here), ax.along(a)));
+    } else {
+        rapid(run, b, ax.pt(ax.dep(a), ax.along(here)));
+    }
+    rapid(run, b, a);
+}
+
+/// G70 P Q: the profile as programmed, with its own F, S and T, then back to the start point.
+fn g70(run: &mut Run<'_>, b: &Block, w: &mut Words) {
+    let Some(p) = w.get(b'P') else {
+        run.error(b, None, "G70 needs P and Q, the profile's first and last blocks".into());
+        return;
+    };
+    let Some(q) = w.get(b'Q') else {
+        run.error(b, w.at(b'P'), "G70 P… needs Q, the profile's last block".into());
+        return;
+    };
+    let at = here(run);
+    common::skip_profile(run, at, q);
+    // Haas programs often repeat G71's U W D in G70: the control ignores them.
+    for l in [b'U', b'W', b'D', b'I', b'K'] {
+        w.get(l);
+    }
+    let a = run.programmed();
+    let Some(t) = common::trace(run, b, at, p, q, "G70", true) else {
+        return;
+    };
+    common::resume_after(run, at, t.q);
+    let first = t.approach.map_or(a, |s| s.end);
+    let dird = sign(a.x - first.x, 1.0);
+    return_to(run, b, a, dird, Axes { facing: false });
+}
+
+/// G73: the profile repeated d times, shifted by the relief (Δi, Δk) on the first pass and by
+/// nothing but the allowance on the last.
+fn g73(run: &mut Run<'_>, b: &Block, w: &mut Words) {
+    let s = run.scale();
+    if !w.peek(b'P') {
+        // G73 U(Δi) W(Δk) R(d)
+        let (i0, k0, d0) = run.cycles.g73.unwrap_or((0.0, 0.0, 1.0));
+        let i = w.get(b'U').map_or(i0, |u| u * s);
+        let k = w.get(b'W').map_or(k0, |v| v * s);
+        let d = w.get(b'R').unwrap_or(d0);
+        run.cycles.g73 = Some((i, k, d));
+        return;
+    }
+    let p = w.get(b'P').unwrap_or(0.0);
+    let Some(q) = w.get(b'Q') else {
+        run.error(b, w.at(b'P'), "G73 P… needs Q, the profile's last block".into());
+        return;
+    };
+    let at = here(run);
+    common::skip_profile(run, at, q);
+    let (mut ri, mut rk, mut n) = run.cycles.g73.unwrap_or((0.0, 0.0, 1.0));
+    // Haas one-block form: I, K relief (radius, Z), D passes; U W allowance.
+    let off = {
+        let x = radius_mm(run, w.get(b'U').unwrap_or(0.0));
+        let z = w.get(b'W').unwrap_or(0.0) * s;
+        V2::new(x, z)
+    };
+    if let Some(i) = w.get(b'I') {
+        ri = i * s;
+    }
+    if let Some(k) = w.get(b'K') {
+        rk = k * s;
+    }
+    if let Some(d) = w.get(b'D') {
+        n = d;
+    }
+    if !(n >= 1.0 && n.fract() == 0.0 && n <= MAX_PASSES as f64) {
+        run.error(
+            b,
+            None,
+            format!("G73: the number of passes must be a whole number from 1 to {MAX_PASSES}, not {n}"),
+        );
+        return;
+    }
+    if !in_range(run, b, "G73", &[ri, rk, off.x, off.y]) {
+        return;
+    }
+    let Some(f) = feed(run, b, "G73") else { return };
+    let a = run.programmed();
+    let Some(t) = common::trace(run, b, at, p, q, "G73", false) else {
+        return;
+    };
+    common::resume_after(run, at, t.q);
+    let first = t.approach.map_or(a, |s| s.end);
+    let dird = sign(a.x - first.x, 1.0);
+    let n = n as usize;
+    let m0 = run.moves.len();
+    for k in 1..=n {
+        if common::too_many_moves(run, b, m0, "G73") {
+            return;
+        }
+        let frac = if n == 1 { 0.0 } else { (n - k) as f64 / (n - 1) as f64 };
+        let shift = off + V2::new(ri, rk) * frac;
+        let to = first + shift;
+        match t.approach.map(|s| s.kind) {
+            Some(MoveKind::Line) => emit(run, b, MoveKind::Line, to, f, t.approach.map_or(0, |s| s.line)),
+            _ => rapid(run, b, to),
+        }
+        for sgm in &t.segs {
+            common::follow(run, b, &sgm.shifted(shift), f);
+        }
+        return_to(run, b, a, dird, Axes { facing: false });
+    }
+}
