@@ -241,6 +241,8 @@ pub(crate) struct Run<'a> {
     pub(crate) plain_blocks_fast: bool,
     /// The word table of [`Run::execute`], kept between blocks.
     pub(super) words: Option<Box<super::block::Words>>,
+    /// The modal words of the canned cycle in force (Fanuc box and drilling cycles).
+    pub(super) cycle: super::cycles::Sticky,
     /// Columns of findings, counted on from the last one (many findings on one long line).
     cols: crate::source::ColCursor,
     /// The findings kept so far (a block in a loop reports its problem once, and repeats do not
@@ -304,6 +306,7 @@ impl<'a> Run<'a> {
             y_reported: false,
             motion_reported: false,
             words: None,
+            cycle: Default::default(),
             plain_blocks_fast: true,
             cols: crate::source::ColCursor::new(),
             reported: HashSet::new(),

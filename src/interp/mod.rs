@@ -8,6 +8,7 @@
 
 mod arc;
 mod block;
+mod cycles;
 pub mod canon;
 mod eval;
 mod flow;
