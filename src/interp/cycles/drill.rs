@@ -145,14 +145,6 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
         run.error(b, None, format!("G{}: the bottom Z is at the R plane", code / 10));
         return;
     }
-    if (r - z0) * dir > 1e-9 {
-        run.error(
-            b,
-            None,
-            format!("G{}: the R plane lies past the tool's position, toward the hole bottom", code / 10),
-        );
-        return;
-    }
     let pecks = match (code, run.cycle.q) {
         (830, Some(q)) if q > 0.0 => {
             let n = ((z - r).abs() / q).ceil();
