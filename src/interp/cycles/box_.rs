@@ -37,9 +37,10 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, _at: u
     if run.machine.dialect != Dialect::Fanuc {
         return false;
     }
-    if code == 920 && !axis_words(w) {
-        // `G92 S…` with no axis words: the spindle clamp (read in step 3), as most Fanuc-style
-        // programs written for G-code system A still use it; no cycle starts.
+    if !axis_words(w) {
+        // No axis words: no cycle. G90 is then the absolute mode (step 1), G94 the feed per
+        // minute (step 2) and G92 S the spindle clamp (step 3), as programs written for G-code
+        // system B or C use them; the motion mode in force stays.
         run.check_unused(b, w);
         return true;
     }
@@ -53,9 +54,7 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, _at: u
         run.cycle.code = code;
     }
     run.modal.motion = Some(Motion::Cycle(code));
-    if axis_words(w) || w.peek(b'R') {
-        one_box(run, b, w, code);
-    }
+    one_box(run, b, w, code);
     run.check_unused(b, w);
     true
 }
