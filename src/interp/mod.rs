@@ -8,8 +8,8 @@
 
 mod arc;
 mod block;
-mod cycles;
 pub mod canon;
+mod cycles;
 mod eval;
 mod flow;
 mod state;

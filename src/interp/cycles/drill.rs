@@ -118,7 +118,11 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     let z = if gz { Some(t.y) } else { run.cycle.z };
     let Some(z) = z else {
         if w.peek(b'X') || w.peek(b'U') || gz {
-            run.error(b, None, format!("G{} needs Z (or W), the bottom of the hole", code / 10));
+            run.error(
+                b,
+                None,
+                format!("G{} needs Z (or W), the bottom of the hole", code / 10),
+            );
         }
         return;
     };

@@ -53,8 +53,16 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
     if !axis {
         match w.get(b'R') {
             Some(e) if e >= 0.0 => run.cycle.groove_e = Some(e * run.scale()),
-            Some(e) => run.error(b, w.at(b'R'), format!("{name} R{e}: the return amount must not be negative")),
-            None => run.error(b, Some(at), format!("{name} needs R (return amount) or an end point X/Z")),
+            Some(e) => run.error(
+                b,
+                w.at(b'R'),
+                format!("{name} R{e}: the return amount must not be negative"),
+            ),
+            None => run.error(
+                b,
+                Some(at),
+                format!("{name} needs R (return amount) or an end point X/Z"),
+            ),
         }
         run.check_unused(b, w);
         return true;
@@ -78,7 +86,11 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
     let e = run.cycle.groove_e.unwrap_or(DEFAULT_RETURN_MM);
     if let Some(feed) = run.feed(b, w) {
         if di < 0.0 || dk < 0.0 {
-            run.error(b, None, format!("{name}: the peck and shift amounts are given without a sign"));
+            run.error(
+                b,
+                None,
+                format!("{name}: the peck and shift amounts are given without a sign"),
+            );
         } else {
             let s = run.programmed();
             // Peck along Z (G74) or X (G75); (peck coordinate, shift coordinate) ↔ P2.
@@ -112,16 +124,28 @@ fn grooves(
     let pdir = (p1 - p0).signum();
     let qdir = (q1 - q0).signum();
     if p1 == p0 {
-        run.error(b, None, format!("{name}: the end point does not move along the peck axis"));
+        run.error(
+            b,
+            None,
+            format!("{name}: the end point does not move along the peck axis"),
+        );
         return;
     }
     if q1 != q0 && shift == 0.0 {
-        run.error(b, None, format!("{name}: the end point is off the start's line but the shift amount is 0"));
+        run.error(
+            b,
+            None,
+            format!("{name}: the end point is off the start's line but the shift amount is 0"),
+        );
         return;
     }
     // Count before emitting: both counts are bounded by MAX_MOVES.
     let count = |len: f64, step: f64| if step > 0.0 { (len / step).ceil() } else { 1.0 };
-    let n_grooves = if q1 == q0 { 1.0 } else { count((q1 - q0).abs(), shift) + 1.0 };
+    let n_grooves = if q1 == q0 {
+        1.0
+    } else {
+        count((q1 - q0).abs(), shift) + 1.0
+    };
     let n_pecks = count((p1 - p0).abs(), peck).max(1.0);
     if n_grooves * (2.0 * n_pecks + 3.0) > MAX_MOVES as f64 {
         run.error(b, None, format!("{name} would make more than {MAX_MOVES} moves"));
@@ -134,7 +158,11 @@ fn grooves(
     let n_grooves = n_grooves as u64;
     let n_pecks = n_pecks as u64;
     for j in 0..n_grooves {
-        let q = if j + 1 == n_grooves { q1 } else { q0 + qdir * shift * j as f64 };
+        let q = if j + 1 == n_grooves {
+            q1
+        } else {
+            q0 + qdir * shift * j as f64
+        };
         let start = join(p0, q);
         go(run, b, MoveKind::Rapid, here, start, Feed::Rapid);
         here = start;

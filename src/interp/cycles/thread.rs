@@ -93,7 +93,11 @@ fn first_block(run: &mut Run<'_>, b: &Block, w: &mut Words, at: u32) {
     let mut g = run.cycle.g76;
     if let Some(p) = w.get(b'P') {
         if !(0.0..=999_999.0).contains(&p) || p.fract() != 0.0 {
-            run.error(b, w.at(b'P'), format!("G76 P{p}: P is six digits mmrraa (repetitions, chamfer, angle)"));
+            run.error(
+                b,
+                w.at(b'P'),
+                format!("G76 P{p}: P is six digits mmrraa (repetitions, chamfer, angle)"),
+            );
             return;
         }
         let p = p as u32;
@@ -125,7 +129,11 @@ fn first_block(run: &mut Run<'_>, b: &Block, w: &mut Words, at: u32) {
         g.d = r * run.scale();
     }
     if !(w.peek(b'P') || w.peek(b'Q') || w.peek(b'R')) {
-        run.error(b, Some(at), "G76 needs P, Q, R (first block) or X/Z with P, Q, F (second block)".into());
+        run.error(
+            b,
+            Some(at),
+            "G76 needs P, Q, R (first block) or X/Z with P, Q, F (second block)".into(),
+        );
     }
     run.cycle.g76 = g;
 }
@@ -151,7 +159,11 @@ fn second_block(run: &mut Run<'_>, b: &Block, w: &mut Words, _at: u32) {
     let Some(end) = run.target(b, w) else { return };
     let taper = w.get(b'R').unwrap_or(0.0) * run.scale();
     let (Some(k), Some(dd)) = (least(run, w, b'P'), least(run, w, b'Q')) else {
-        run.error(b, None, "G76 second block needs P (thread height) and Q (first depth of cut)".into());
+        run.error(
+            b,
+            None,
+            "G76 second block needs P (thread height) and Q (first depth of cut)".into(),
+        );
         return;
     };
     let Some(lead) = lead(run, b, w) else { return };
@@ -177,17 +189,29 @@ fn haas(run: &mut Run<'_>, b: &Block, w: &mut Words, _at: u32) {
     let s = run.scale();
     let taper = w.get(b'I').unwrap_or(0.0) * s;
     let (Some(k), Some(dd)) = (w.get(b'K'), w.get(b'D')) else {
-        run.error(b, None, "G76 (one-block form) needs K (thread height) and D (first depth of cut)".into());
+        run.error(
+            b,
+            None,
+            "G76 (one-block form) needs K (thread height) and D (first depth of cut)".into(),
+        );
         return;
     };
     let angle = w.get(b'A').unwrap_or(0.0);
     if !(0.0..=120.0).contains(&angle) {
-        run.error(b, w.at(b'A'), format!("G76 A{angle}: the tool angle is 0 to 120 degrees"));
+        run.error(
+            b,
+            w.at(b'A'),
+            format!("G76 A{angle}: the tool angle is 0 to 120 degrees"),
+        );
         return;
     }
     let method = w.get(b'P').unwrap_or(1.0);
     if !matches!(method as i64, 1..=4) || method.fract() != 0.0 {
-        run.error(b, w.at(b'P'), format!("G76 P{method}: the infeed method is 1, 2, 3 or 4"));
+        run.error(
+            b,
+            w.at(b'P'),
+            format!("G76 P{method}: the infeed method is 1, 2, 3 or 4"),
+        );
         return;
     }
     let method = method as u32;
@@ -279,7 +303,14 @@ fn passes(run: &mut Run<'_>, b: &Block, c: &Cut) {
         );
         return;
     }
-    let Some(depths) = depths(c.height, c.first, c.dmin, c.allowance, c.finish_passes, c.constant_depth) else {
+    let Some(depths) = depths(
+        c.height,
+        c.first,
+        c.dmin,
+        c.allowance,
+        c.finish_passes,
+        c.constant_depth,
+    ) else {
         run.error(b, None, format!("G76 would make more than {MAX_PASSES} passes"));
         return;
     };
