@@ -289,6 +289,10 @@ fn hostile_cycle_words_are_findings_with_bounded_work() {
             "G21 G99 S500 M3\nT0404\nG0 X60 Z-5\nG75 X50 Z-9 P1000 F0.1\n",
             "shift amount is 0",
         ),
+        (
+            "G21 G99 S500 M3\nT0606\nG0 X0 Z10\nG83 Z-20 R2. I3. J0.5 K1. F0.1\n",
+            "I/J/K",
+        ),
     ] {
         let i = run(src);
         assert!(i.moves.len() < 200_000, "{src}: {} moves", i.moves.len());
@@ -298,6 +302,15 @@ fn hostile_cycle_words_are_findings_with_bounded_work() {
             errors(&i)
         );
     }
+}
+
+#[test]
+fn m30_on_a_cycle_line_ends_the_program_and_m99_there_is_reported() {
+    let i = run("G21 G99 S500 M3\nT0101\nG0 X60 Z5\nG90 X50 Z-10 F0.2 M30\nG0 X80\n");
+    assert!(errors(&i).is_empty(), "{:?}", errors(&i));
+    assert!(line(&i, 5).is_empty(), "nothing runs after M30");
+    let i = run("G21 G99 S500 M3\nT0101\nG0 X60 Z5\nG90 X50 Z-10 F0.2 M99\n");
+    assert!(errors(&i).iter().any(|e| e.starts_with("4: M99")), "{:?}", errors(&i));
 }
 
 #[test]

@@ -178,7 +178,7 @@ impl Words {
     }
 
     /// The offset of the M code's word, when it is in the block.
-    fn has_m(&self, code: u16) -> Option<u32> {
+    pub(super) fn has_m(&self, code: u16) -> Option<u32> {
         if !self.m(code) {
             return None;
         }

@@ -82,6 +82,19 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
         );
         return;
     }
+    if code == 830 && (w.peek(b'I') || w.peek(b'J') || w.peek(b'K')) {
+        let at = w.at(b'I').or(w.at(b'J')).or(w.at(b'K'));
+        for l in [b'I', b'J', b'K'] {
+            w.get(l);
+        }
+        run.unsupported(
+            b,
+            at,
+            "G83 with I/J/K (Haas pecks shrinking from I by J down to K) is not modelled: give a constant Q".into(),
+            true,
+        );
+        return;
+    }
     // Words of the cycle (read before any early return, so none is reported unused).
     let r_word = w.get(b'R');
     let q_word = if w.peek(b'Q') {

@@ -43,12 +43,35 @@ pub(crate) struct Sticky {
 /// the cycle is one this module runs (its findings, if any, are reported); `false` leaves the
 /// code to the executor's `unsupported` report.
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
-    match code {
+    let handled = match code {
         740 | 750 => groove::run(run, b, w, code, at),
         760 => thread::g76(run, b, w, at),
         770 | 780 | 790 | 900 | 920 | 940 => box_::run(run, b, w, code, at),
         810..=890 => drill::run(run, b, w, code, at),
         _ => false,
+    };
+    // (G70–G73 arms, merged from the stock-removal family, handle their own lines.)
+    if handled && !(700..=730).contains(&code) {
+        flow_codes_on_a_cycle_line(run, b, w);
+    }
+    handled
+}
+
+/// The executor returns after a cycle: program flow written on the cycle's own line is done
+/// here (M2/M30 end the program) or reported (M98/M99), never dropped.
+fn flow_codes_on_a_cycle_line(run: &mut Run<'_>, b: &Block, w: &Words) {
+    if w.has_m(2).is_some() || w.has_m(30).is_some() {
+        run.stopped = true;
+    }
+    for m in [98u16, 99] {
+        if let Some(at) = w.has_m(m) {
+            run.unsupported(
+                b,
+                Some(at),
+                format!("M{m} on a cycle's line is not run: write it on a line of its own"),
+                true,
+            );
+        }
     }
 }
 
