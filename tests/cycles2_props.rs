@@ -320,3 +320,18 @@ fn cycles_carry_the_cycle_blocks_line() {
     assert!(five.len() >= 8);
     assert!(i.moves.iter().all(|m| [2, 3, 5, 6].contains(&m.line)));
 }
+
+#[test]
+fn g75_relief_is_in_the_least_increment_and_goes_back_toward_the_start() {
+    // R500 = 0.5 mm; the grooves advance toward -Z, so the relief at the bottom goes +Z.
+    let i = run("G21 G99 S500 M3\nT0404\nG0 X54 Z-10\nG75 R0.5\nG75 X40 Z-16 P3000 Q2500 R500 F0.08\n");
+    assert!(errors(&i).is_empty(), "{:?}", errors(&i));
+    let reliefs: Vec<Move> = line(&i, 5)
+        .into_iter()
+        .filter(|m| m.feed != Feed::Rapid && close(m.start.x, 20.0) && close(m.end.x, 20.0))
+        .collect();
+    assert_eq!(reliefs.len(), 4, "one relief per groove");
+    for r in reliefs {
+        assert!(close(r.end.y - r.start.y, 0.5), "{r:?}");
+    }
+}

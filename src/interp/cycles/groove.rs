@@ -5,7 +5,7 @@
 //! sets the return amount e after each peck (kept until the next such block); then
 //! `G74 X(U) Z(W) P(Δi) Q(Δk) R(Δd) F` / `G75 X(U) Z(W) P(Δi) Q(Δk) R(Δd) F`: Δi the X step
 //! (radius), Δk the Z step, both in the least input increment unless written with a decimal point;
-//! Δd the relief at the bottom of each groove.
+//! Δd the relief at the bottom of each groove (also in the least increment without a decimal point).
 //!
 //! One-block form (Haas lathe operator's manual): `G74 X(U) Z(W) K I [D] F` (K the Z peck, I the
 //! X shift) and `G75 X(U) Z(W) I K [D] F` (I the X peck, K the Z shift), in program units; the
@@ -81,7 +81,7 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
     } else {
         let i = least(run, w, b'P').unwrap_or(0.0);
         let k = least(run, w, b'Q').unwrap_or(0.0);
-        (i, k, w.get(b'R').unwrap_or(0.0) * s_)
+        (i, k, least(run, w, b'R').unwrap_or(0.0))
     };
     let e = run.cycle.groove_e.unwrap_or(DEFAULT_RETURN_MM);
     if let Some(feed) = run.feed(b, w) {

@@ -8,7 +8,8 @@
 //! increment (0.001 mm, 0.0001 in) unless written with a decimal point.
 //!
 //! One-block form (Haas lathe operator's manual, G76): `G76 X(U) Z(W) K D F [A] [I] [P]`: K the
-//! thread height, D the first depth, A the tool angle (default 0: radial infeed), I the taper,
+//! thread height, D the first depth, A the tool angle (default 0: radial infeed), I the taper, Q the
+//! thread start angle (no effect on the path), F (or E) the lead,
 //! P the infeed method (1 single edge, constant area, the default; 2 both edges, constant area;
 //! 3 single edge, constant depth; 4 both edges, constant depth).
 //!
@@ -205,6 +206,8 @@ fn haas(run: &mut Run<'_>, b: &Block, w: &mut Words, _at: u32) {
         );
         return;
     }
+    // Q: the thread start angle (where on the circle the thread begins): no effect on the path.
+    w.get(b'Q');
     let method = w.get(b'P').unwrap_or(1.0);
     if !matches!(method as i64, 1..=4) || method.fract() != 0.0 {
         run.error(
@@ -235,7 +238,7 @@ fn haas(run: &mut Run<'_>, b: &Block, w: &mut Words, _at: u32) {
 
 /// The lead in mm: F of the block (also the modal F, as on the control), or the modal F.
 fn lead(run: &mut Run<'_>, b: &Block, w: &mut Words) -> Option<f64> {
-    let f = w.get(b'F').unwrap_or(run.modal.feed);
+    let f = w.get(b'F').or_else(|| w.get(b'E')).unwrap_or(run.modal.feed);
     if f.is_nan() || f <= 0.0 {
         run.error(b, None, "G76 needs the thread lead (F word)".into());
         return None;
