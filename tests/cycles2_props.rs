@@ -335,3 +335,9 @@ fn g75_relief_is_in_the_least_increment_and_goes_back_toward_the_start() {
         assert!(close(r.end.y - r.start.y, 0.5), "{r:?}");
     }
 }
+
+#[test]
+fn an_unsupported_drilling_block_is_one_finding_not_a_list_of_unused_words() {
+    let i = run("G21 G99 S500 M3\nT0606\nG0 X0 Z10\nG83 X20 C90 Z-20 R2. Q3000 F0.1\n");
+    assert_eq!(errors(&i).len(), 1, "{:?}", errors(&i));
+}

@@ -91,12 +91,12 @@ pub(super) fn end_point(run: &mut Run<'_>, b: &Block, w: &mut Words, what: &str)
 fn one_box(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     let k = kind(code);
     let name = format!("G{}", code / 10);
-    let Some(e) = end_point(run, b, w, &name) else {
-        return;
-    };
     if let Some(r) = w.get(b'R') {
         run.cycle.r = Some(r * run.scale());
     }
+    let Some(e) = end_point(run, b, w, &name) else {
+        return;
+    };
     let r = run.cycle.r.unwrap_or(0.0);
     let s = run.programmed();
     let feed = match k {
