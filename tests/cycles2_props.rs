@@ -341,3 +341,19 @@ fn an_unsupported_drilling_block_is_one_finding_not_a_list_of_unused_words() {
     let i = run("G21 G99 S500 M3\nT0606\nG0 X0 Z10\nG83 X20 C90 Z-20 R2. Q3000 F0.1\n");
     assert_eq!(errors(&i).len(), 1, "{:?}", errors(&i));
 }
+
+#[test]
+fn many_long_cycles_stop_at_the_work_budget() {
+    // 400 G76 blocks of 2,000+ passes each: far more moves than the 2,000,000 budget allows.
+    let mut src = String::from("G21 G99 S500 M3\nT0505\nG0 X60 Z5\nG76 P010060 Q1 R0\n");
+    for _ in 0..400 {
+        src += "G76 X40 Z-30 P9000 Q200 F1\n";
+    }
+    let i = run(&src);
+    assert!(i.moves.len() <= 2_100_000, "{} moves", i.moves.len());
+    assert!(
+        errors(&i).iter().any(|e| e.contains("work budget")),
+        "{:?}",
+        errors(&i).last()
+    );
+}

@@ -187,6 +187,9 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
         run.cycle.initial_z
     };
 
+    if !super::charge(run, b, pecks * 3 + 6) {
+        return;
+    }
     let at_x = P2::new(x, z0);
     go(run, b, MoveKind::Rapid, start, at_x, Feed::Rapid);
     let rp = P2::new(x, r);

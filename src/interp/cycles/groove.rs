@@ -151,6 +151,9 @@ fn grooves(
         run.error(b, None, format!("{name} would make more than {MAX_MOVES} moves"));
         return;
     }
+    if !super::charge(run, b, (n_grooves * (2.0 * n_pecks + 3.0)) as u64) {
+        return;
+    }
     // The relief goes back toward the start along the shift axis.
     let rel = if qdir != 0.0 { -qdir * relief.abs() } else { relief };
     let mut here = join(p0, q0);

@@ -75,6 +75,26 @@ fn flow_codes_on_a_cycle_line(run: &mut Run<'_>, b: &Block, w: &Words) {
     }
 }
 
+/// Charge the moves a cycle is about to make to the run's execution budget (`Limits::max_blocks`
+/// counts executed blocks and cycle moves alike), so that a program of many long cycles stays
+/// bounded. `false` (reported at the cycle's line, the run stops) when the budget is spent.
+pub(super) fn charge(run: &mut Run<'_>, b: &Block, moves: u64) -> bool {
+    run.executed = run.executed.saturating_add(moves);
+    if run.executed > run.limits.max_blocks {
+        run.error(
+            b,
+            None,
+            format!(
+                "this cycle's {moves} moves exceed the program's work budget ({} blocks and cycle moves): stopped here",
+                run.limits.max_blocks
+            ),
+        );
+        run.stopped = true;
+        return false;
+    }
+    true
+}
+
 /// A block with axis words and no motion code while the modal cycle `code` is in force.
 pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     match code {

@@ -317,6 +317,9 @@ fn passes(run: &mut Run<'_>, b: &Block, c: &Cut) {
         run.error(b, None, format!("G76 would make more than {MAX_PASSES} passes"));
         return;
     };
+    if !super::charge(run, b, depths.len() as u64 * 5) {
+        return;
+    }
     let tan = if c.flank {
         (c.angle_deg.to_radians() / 2.0).tan()
     } else {
