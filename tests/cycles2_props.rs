@@ -357,3 +357,61 @@ fn many_long_cycles_stop_at_the_work_budget() {
         errors(&i).last()
     );
 }
+
+#[test]
+fn box_cycles_read_u_and_w_from_the_start_point() {
+    let abs = run("G21 G99 S500 M3\nT0101\nG0 X60 Z5\nG90 X52 Z-20 F0.2\n");
+    let inc = run("G21 G99 S500 M3\nT0101\nG0 X60 Z5\nG90 U-8 W-25 F0.2\n");
+    assert!(errors(&inc).is_empty(), "{:?}", errors(&inc));
+    assert_eq!(line(&abs, 4), line(&inc, 4));
+}
+
+#[test]
+fn g76_in_inch_reads_p_and_q_in_ten_thousandths() {
+    // P500 = 0.05 in = 1.27 mm thread height; Q200 = 0.02 in first depth; X in inches.
+    let i = run("G20 G99 S500 M3\nT0505\nG0 X2. Z0.2\nG76 P010060 Q0 R0\nG76 X1.8 Z-1. P500 Q200 F0.0625\n");
+    assert!(errors(&i).is_empty(), "{:?}", errors(&i));
+    let threads: Vec<Move> = line(&i, 5).into_iter().filter(|m| m.feed != Feed::Rapid).collect();
+    let first = threads[0];
+    // Depth 0.02 in of 0.05: X = root + 0.03 in (radius), root radius 0.9 in.
+    assert!(close(first.end.x, (0.9 + 0.03) * 25.4), "{first:?}");
+    assert_eq!(first.feed, Feed::PerRev(0.0625 * 25.4));
+    assert!(close(threads.last().unwrap().end.x, 0.9 * 25.4));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+
+    /// G74 (Fanuc form): feeds along Z no longer than the peck, grooves stepping along X by at
+    /// most the shift, the last at the end X, and the cycle back at its start point.
+    #[test]
+    fn g74_face_grooves_step_along_x_and_peck_along_z(
+        depth in 1.0f64..10.0, peck_um in 300u32..4000, width in 0.5f64..8.0, shift_um in 500u32..3000,
+    ) {
+        let src = format!(
+            "G21 G99 S500 M3\nT0404\nG0 X40 Z2\nG74 R0.2\nG74 X{:.3} Z{:.3} P{shift_um} Q{peck_um} F0.05\n",
+            40.0 - 2.0 * width,
+            2.0 - depth
+        );
+        let i = run(&src);
+        prop_assert!(errors(&i).is_empty(), "{:?}", errors(&i));
+        let ms = line(&i, 5);
+        let (peck, shift) = (peck_um as f64 / 1000.0, shift_um as f64 / 1000.0);
+        let bottom = Z0 + r3(2.0 - depth);
+        let mut xs = Vec::new();
+        for m in &ms {
+            if m.feed != Feed::Rapid {
+                prop_assert!((m.start.y - m.end.y).abs() <= peck + 0.2 + 1e-9);
+                if close(m.end.y, bottom) && close(m.start.x, m.end.x) {
+                    xs.push(m.end.x);
+                }
+            }
+        }
+        for w in xs.windows(2) {
+            prop_assert!(w[0] > w[1] && w[0] - w[1] <= shift + 1e-9);
+        }
+        prop_assert!(close(*xs.last().unwrap(), r3(40.0 - 2.0 * width) / 2.0));
+        let last = ms.last().unwrap().end;
+        prop_assert!(close(last.x, 20.0) && close(last.y, Z0 + 2.0));
+    }
+}
