@@ -273,8 +273,8 @@ fn hostile_cycle_words_are_findings_with_bounded_work() {
         ),
         ("G21 G99 S500 M3\nT0606\nG0 X0 Z10\nG83 Z-100000 R2. Q1 F0.1\n", "pecks"),
         (
-            "G21 G99 S500 M3\nT0606\nG0 X0 Z10\nG81 Z-5 R2. F0.1\nX20\n",
-            "off the spindle axis",
+            "G21 G99 S500 M3\nT0606\nG0 X0 Z10\nG81 Z-5 R2. F0.1\nX3.\n",
+            "a hole at X3 is off the spindle axis",
         ),
         (
             "G21 G99 S500 M3\nT0101\nG0 X60 Z5\nG90 X40 F0.2\n",

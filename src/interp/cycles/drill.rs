@@ -146,7 +146,7 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
             format!(
                 "G{}: a hole at X{} is off the spindle axis; drilling there needs a live tool, which this lathe has not (X must be 0)",
                 code / 10,
-                run.frame().to_program(P2::new(x, t.y)).0
+                short(run.frame().to_program(P2::new(x, t.y)).0)
             ),
         );
         return;
@@ -256,5 +256,16 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
 fn consume_all(w: &mut Words) {
     for l in b'A'..=b'Z' {
         w.get(l);
+    }
+}
+
+/// A coordinate as a program would write it: at most four decimals, no trailing zeros.
+fn short(v: f64) -> String {
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
     }
 }
