@@ -415,3 +415,42 @@ proptest! {
         prop_assert!(close(last.x, 20.0) && close(last.y, Z0 + 2.0));
     }
 }
+
+/// One cycle block of random words (any code of this family, any subset of its letters, values
+/// from tiny to huge, with and without a decimal point).
+fn cycle_block() -> impl Strategy<Value = String> {
+    let code = prop::sample::select(vec![
+        "G90", "G92", "G94", "G76", "G74", "G75", "G81", "G82", "G83", "G84", "G85", "G86", "G87", "G88", "G89", "G80",
+        "",
+    ]);
+    let value = prop_oneof![
+        (-100_000i64..100_000).prop_map(|v| format!("{v}")),
+        (-1000.0f64..1000.0).prop_map(|v| format!("{v:.3}")),
+        (0.0f64..0.01).prop_map(|v| format!("{v:.5}")),
+    ];
+    let word = (prop::sample::select(b"XZUWRPQKDIFAC".to_vec()), value);
+    (code, prop::collection::vec(word, 0..7)).prop_map(|(c, ws)| {
+        let mut s = c.to_string();
+        for (l, v) in ws {
+            s += &format!(" {}{v}", l as char);
+        }
+        s
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
+
+    /// Random cycle words never panic, and a block makes a bounded number of moves.
+    #[test]
+    fn random_cycle_words_end_in_moves_or_findings_never_a_panic(
+        blocks in prop::collection::vec(cycle_block(), 1..6),
+    ) {
+        let src = format!("G21 G99 S500 M3\nT0101\nG0 X60 Z5\n{}\n", blocks.join("\n"));
+        let i = run(&src);
+        prop_assert!(i.moves.len() <= 3 + blocks.len() * 100_010, "{} moves", i.moves.len());
+        for m in &i.moves {
+            prop_assert!(m.start.x.is_finite() && m.end.y.is_finite());
+        }
+    }
+}
