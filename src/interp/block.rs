@@ -7,17 +7,17 @@ use super::{Feed, Move, MoveKind, MoveState, ProgFrame, Spindle, SpindleDir, Spi
 use crate::finding::{Finding, Kind, Severity};
 use crate::gcode::Block;
 use crate::geom::{P2, V2};
-use crate::machine::{DecimalPoint, Dialect};
+use crate::machine::{DecimalPoint, Dialect, GcodeSystem};
 
 /// Most G or M codes one block may hold.
 const MAX_CODES: usize = 16;
 
 /// Every G code (×10) some dialect knows; its index is its bit in [`Words::gbits`].
-pub(super) const KNOWN_G: [u16; 76] = [
+pub(super) const KNOWN_G: [u16; 79] = [
     0, 10, 20, 30, 330, 800, 320, 331, 760, 700, 710, 720, 711, 712, 721, 722, 730, 740, 750, 810, 820, 830, 840, 850,
     860, 870, 880, 890, 170, 180, 190, 900, 910, 920, 940, 901, 911, 930, 950, 980, 990, 200, 210, 400, 410, 420, 411,
     421, 430, 431, 490, 540, 550, 560, 570, 580, 590, 610, 611, 640, 960, 970, 70, 80, 40, 280, 281, 300, 301, 530,
-    100, 500, 520, 921, 922, 923,
+    100, 500, 520, 921, 922, 923, 770, 780, 790,
 ];
 
 /// Bit index of each G code below 1000 in [`KNOWN_G`]; 255 for the others.
@@ -138,6 +138,11 @@ impl Words {
         }
     }
 
+    /// The letter's word was written with a decimal point.
+    pub(super) fn has_point(&self, letter: u8) -> bool {
+        self.point & bit(letter) != 0
+    }
+
     pub(super) fn peek(&self, letter: u8) -> bool {
         self.has & bit(letter) != 0
     }
@@ -165,7 +170,7 @@ impl Words {
     }
 
     /// The offset of the G code's word, when it is in the block.
-    fn has_g(&self, code: u16) -> Option<u32> {
+    pub(super) fn has_g(&self, code: u16) -> Option<u32> {
         if !self.g(code) {
             return None;
         }
@@ -173,7 +178,7 @@ impl Words {
     }
 
     /// The offset of the M code's word, when it is in the block.
-    fn has_m(&self, code: u16) -> Option<u32> {
+    pub(super) fn has_m(&self, code: u16) -> Option<u32> {
         if !self.m(code) {
             return None;
         }
@@ -191,20 +196,24 @@ pub(super) fn tip_of(machine: &crate::machine::Machine, station: u32) -> V2 {
 }
 
 /// Modal group of a G code (×10) in a dialect; `None` for codes the dialect does not know.
-fn g_group(code: u16, d: Dialect, axis_words: bool) -> Option<u8> {
+fn g_group(code: u16, d: Dialect, sys_b: bool, axis_words: bool) -> Option<u8> {
     let fanuc = d == Dialect::Fanuc;
+    // Fanuc G-code system A: G90/G92/G94 with axis words are the box cycles (system B: G77–G79).
+    let box_a = fanuc && !sys_b;
     Some(match code {
+        800 if fanuc => 9, // cancels the canned cycles; not in group 01 (`G0 G80 X… Z…` is legal)
+        770 | 780 | 790 if fanuc && sys_b => 1,
         0 | 10 | 20 | 30 | 330 | 800 => 1,
         320 if fanuc => 1,
         331 | 760 | 700 | 710 | 720 | 711 | 712 | 721 | 722 | 730 | 740 | 750 => 1,
         810..=890 if code % 10 == 0 => 1,
         170 | 180 | 190 => 2,
-        900 | 910 if !(fanuc && axis_words) => 3,
-        900 | 920 | 940 if fanuc => 1, // Fanuc system A box cycles (with axis words)
+        900 | 910 if !(box_a && axis_words) => 3,
+        900 | 920 | 940 if box_a => 1, // Fanuc system A box cycles (with axis words)
         901 | 911 if !fanuc => 4,
         930 | 940 | 950 if !fanuc => 5,
         940 | 950 if fanuc => 5,
-        980 | 990 if fanuc => 5,
+        980 | 990 if box_a => 5,
         980 | 990 => 10,
         200 | 210 => 6,
         400 | 410 | 420 | 411 | 421 => 7,
@@ -514,6 +523,7 @@ impl Run<'_> {
         }
         let d = self.machine.dialect;
         let fanuc = d == Dialect::Fanuc;
+        let sys_b = fanuc && self.machine.gcode_system == GcodeSystem::B;
         let axis = w.axis_words();
 
         // Modal group conflicts and unknown codes.
@@ -522,7 +532,7 @@ impl Run<'_> {
         // The motion code of the block (modal group 1), if any.
         let mut motion_code: Option<(u16, u32)> = None;
         for &(code, at) in &w.g[..w.ng] {
-            match g_group(code, d, axis) {
+            match g_group(code, d, sys_b, axis) {
                 Some(grp) => {
                     if grp == 1 && motion_code.is_none() {
                         motion_code = Some((code, at));
@@ -596,10 +606,10 @@ impl Run<'_> {
             if w.g(210) {
                 self.modal.inch = false;
             }
-            if w.g(900) && !(fanuc && axis) {
+            if w.g(900) && !(fanuc && !sys_b && axis) {
                 self.modal.incremental = false;
             }
-            if w.g(910) && !(fanuc && axis) {
+            if w.g(910) && !(fanuc && !sys_b && axis) {
                 self.modal.incremental = true;
             }
             if !fanuc {
@@ -615,11 +625,16 @@ impl Run<'_> {
         // 2. Feed mode and feed.
         if w.any_g(FEED_MODE_CODES) {
             if fanuc {
-                if w.g(980) || (w.g(940) && !axis) {
+                // System A: G98/G99 (G94/G95 without axis words); system B: G94/G95.
+                if (w.g(980) && !sys_b) || (w.g(940) && (sys_b || !axis)) {
                     self.modal.feed_per_rev = false;
                 }
-                if w.g(990) || (w.g(950) && !axis) {
+                if (w.g(990) && !sys_b) || (w.g(950) && (sys_b || !axis)) {
                     self.modal.feed_per_rev = true;
+                }
+                if sys_b && (w.g(980) || w.g(990)) {
+                    // System B: G98/G99 choose the drilling cycles' return level.
+                    self.cycle.return_r = w.g(990);
                 }
             } else {
                 if w.g(940) {
@@ -822,14 +837,9 @@ impl Run<'_> {
                 self.set_origin(b, w);
                 axes_used_by_nonmodal = true;
             }
-            if fanuc && w.g(920) && axis {
-                self.unsupported(
-                    b,
-                    w.has_g(920),
-                    "G92 with axis words (a thread cycle or coordinate setting) is not modelled".into(),
-                    true,
-                );
-                w.used = w.has;
+            if sys_b && w.g(920) && axis {
+                // G-code system B: G92 is the coordinate setting (G50 of system A).
+                self.set_origin(b, w);
                 axes_used_by_nonmodal = true;
             }
             if !fanuc {
@@ -881,6 +891,10 @@ impl Run<'_> {
                     return;
                 }
             }
+        }
+        if fanuc && motion_code.is_none() && w.g(800) {
+            // Fanuc G80 (group 9 here): cancels the cycle in force.
+            self.modal.motion = None;
         }
         let g53 = w.has_g(530);
         if unknown && axis {
@@ -961,7 +975,7 @@ impl Run<'_> {
     }
 
     #[inline]
-    fn check_unused(&mut self, b: &Block, w: &Words) {
+    pub(super) fn check_unused(&mut self, b: &Block, w: &Words) {
         let unused = w.has & !w.used;
         if unused != 0 {
             self.report_unused(b, w, unused);
@@ -991,7 +1005,7 @@ impl Run<'_> {
     }
 
     /// X as a radius in program units.
-    fn to_radius(&self, x: f64) -> f64 {
+    pub(super) fn to_radius(&self, x: f64) -> f64 {
         if self.modal.diameter {
             x / 2.0
         } else {
@@ -1093,7 +1107,7 @@ impl Run<'_> {
     }
 
     /// Target programmed point of the axis words (X/Z absolute or incremental, U/W incremental).
-    fn target(&mut self, b: &Block, w: &mut Words) -> Option<P2> {
+    pub(super) fn target(&mut self, b: &Block, w: &mut Words) -> Option<P2> {
         let cur = self.programmed();
         let origin = self.origin();
         let s = self.scale();
@@ -1155,6 +1169,11 @@ impl Run<'_> {
     }
 
     fn motion(&mut self, b: &Block, w: &mut Words, g53: bool, plane_error_here: bool) {
+        if let (Some(Motion::Cycle(code)), false) = (self.modal.motion, g53) {
+            // A later block of a modal cycle: the cycle again with the new words.
+            super::cycles::repeat(self, b, w, code);
+            return;
+        }
         let Some(mut end) = self.target(b, w) else {
             return;
         };
@@ -1228,6 +1247,7 @@ impl Run<'_> {
                 };
                 self.push_move(b, MoveKind::Line, start, end, Feed::PerRev(lead * self.scale()));
             }
+            Motion::Cycle(_) => {} // run by `cycles::repeat` above
             Motion::ArcCw | Motion::ArcCcw => {
                 // G2 turns from +X toward +Z: counter-clockwise in (x right, z up).
                 let ccw = motion == Motion::ArcCw;
@@ -1288,7 +1308,7 @@ impl Run<'_> {
         w.get(letter).unwrap_or(0.0)
     }
 
-    fn feed(&mut self, b: &Block, _w: &mut Words) -> Option<Feed> {
+    pub(super) fn feed(&mut self, b: &Block, _w: &mut Words) -> Option<Feed> {
         if self.modal.feed <= 0.0 {
             self.error(b, None, "feed move without a feed rate (no F word in force)".into());
             return None;

@@ -243,6 +243,8 @@ pub(crate) struct Run<'a> {
     pub(super) words: Option<Box<super::block::Words>>,
     /// What canned cycles remember between blocks (Fanuc two-block forms, N-number index).
     pub(super) cycles: super::cycles::Memory,
+    /// The modal words of the canned cycle in force (Fanuc box and drilling cycles).
+    pub(super) cycle: super::cycles::Sticky,
     /// Columns of findings, counted on from the last one (many findings on one long line).
     cols: crate::source::ColCursor,
     /// The findings kept so far (a block in a loop reports its problem once, and repeats do not
@@ -307,6 +309,7 @@ impl<'a> Run<'a> {
             motion_reported: false,
             words: None,
             cycles: Default::default(),
+            cycle: Default::default(),
             plain_blocks_fast: true,
             cols: crate::source::ColCursor::new(),
             reported: HashSet::new(),

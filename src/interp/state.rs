@@ -12,6 +12,9 @@ pub(crate) enum Motion {
     ArcCcw,
     /// Spindle-synchronised straight move (Fanuc G32/G33 with F as lead, LinuxCNC G33 with K).
     Thread,
+    /// A modal canned cycle (G code ×10: Fanuc G90/G92/G94, G81–G89): a later block with axis
+    /// words runs the cycle again (see `cycles::repeat`).
+    Cycle(u16),
 }
 
 /// Everything M70 saves and M72 restores.

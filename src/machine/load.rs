@@ -14,6 +14,7 @@
 //! | `machine.diameter_mode` | no | `true` for fanuc, `false` for linuxcnc (G8) | |
 //! | `machine.rapid` | no | `"dogleg"` | `"dogleg"` or `"linear"` |
 //! | `machine.decimal_point` | no | `"calculator"` | `"calculator"` or `"increment"`; `"increment"` only with fanuc |
+//! | `machine.gcode_system` | no | `"A"` | `"A"` or `"B"` (Fanuc lathe G-code system); only with fanuc. A: G90/G92/G94 are the box cycles, G50 sets coordinates and clamps the spindle; B: G77/G78/G79 are the box cycles, G92 sets coordinates and clamps the spindle, G90/G91 absolute/incremental |
 //! | `axes.x`, `axes.z` | yes | | tables `{ min, max, rapid }`, all required, `min < max`, `rapid` 1 ..= 1e6 mm/min (a warning below 100) |
 //! | `axes.home` | no | `[axes.x.max, axes.z.max]` | inside both axes' limits |
 //! | `spindle.max_rpm` | yes | | 1 ..= 1e6 (a warning below 100 or above 50,000) |
@@ -69,7 +70,7 @@ use serde::Deserialize;
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
-use super::{Axis, DecimalPoint, Dialect, Machine, RapidMode, Stock, Tool, Turret};
+use super::{Axis, DecimalPoint, Dialect, GcodeSystem, Machine, RapidMode, Stock, Tool, Turret};
 use crate::geom::{p2, Polygon, PolygonError, P2};
 use crate::source::LineIndex;
 
@@ -176,6 +177,14 @@ struct RawHeader {
     diameter_mode: Option<bool>,
     rapid: Option<RawRapid>,
     decimal_point: Option<Spanned<RawDecimalPoint>>,
+    gcode_system: Option<Spanned<RawGcodeSystem>>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(expecting = "\"A\" or \"B\"")]
+enum RawGcodeSystem {
+    A,
+    B,
 }
 
 #[derive(Deserialize, Clone, Copy)]
@@ -545,6 +554,21 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         },
     };
 
+    let gcode_system = match &hdr.gcode_system {
+        None => GcodeSystem::A,
+        Some(g) => match g.get_ref() {
+            RawGcodeSystem::A => GcodeSystem::A,
+            RawGcodeSystem::B if dialect == Dialect::Fanuc => GcodeSystem::B,
+            RawGcodeSystem::B => {
+                return Err(cx.err(
+                    g.span(),
+                    "machine.gcode_system",
+                    "G-code system \"B\" applies to fanuc only: linuxcnc has one set of codes",
+                ))
+            }
+        },
+    };
+
     // [axes]
     let x = cx.axis("axes.x", &axes.x)?;
     let z = cx.axis("axes.z", &axes.z)?;
@@ -744,6 +768,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         diameter_mode,
         rapid,
         decimal_point,
+        gcode_system,
         x,
         z,
         home,

@@ -74,6 +74,28 @@ impl DecimalPoint {
     }
 }
 
+/// Fanuc lathe G-code system (Fanuc 0i-TD, B-64304EN): which codes name the box cycles and the
+/// coordinate setting.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GcodeSystem {
+    /// The lathe default: G90/G92/G94 box cycles, G50 coordinate setting and spindle clamp,
+    /// G98/G99 feed per minute/revolution, U/W incremental.
+    A,
+    /// G77/G78/G79 box cycles, G92 coordinate setting and spindle clamp, G90/G91
+    /// absolute/incremental, G94/G95 feed per minute/revolution.
+    B,
+}
+
+impl GcodeSystem {
+    /// The name used in machine files: `A`, `B`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            GcodeSystem::A => "A",
+            GcodeSystem::B => "B",
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Axis {
     pub min: f64,
@@ -125,6 +147,8 @@ pub struct Machine {
     pub diameter_mode: bool,
     pub rapid: RapidMode,
     pub decimal_point: DecimalPoint,
+    /// Fanuc G-code system (A unless the machine file says `gcode_system = "B"`).
+    pub gcode_system: GcodeSystem,
     pub x: Axis,
     pub z: Axis,
     /// Turret reference point at program start and after a return home.
@@ -178,6 +202,7 @@ impl Machine {
                     DecimalPoint::Increment => "increment (X60 = 0.060 mm)",
                 }
             );
+            let _ = write!(modes, ", G-code system {}", self.gcode_system.as_str());
         }
         let _ = writeln!(s, "  dialect     {modes}");
         for (name, a) in [("x", &self.x), ("z", &self.z)] {

@@ -973,3 +973,18 @@ fn a_machine_file_over_one_mebibyte_is_refused_before_parsing() {
     assert_eq!((e.line, e.col, e.key.as_str()), (1, 1, TOP_LEVEL));
     assert!(e.message.contains("at most 1048576"), "{e}");
 }
+
+#[test]
+fn gcode_system_defaults_to_a_and_b_is_fanuc_only() {
+    assert_eq!(load(MINI).unwrap().gcode_system, GcodeSystem::A);
+    let text = edit(MINI, "name = \"mini\"", "name = \"mini\"\ngcode_system = \"B\"");
+    assert_eq!(load(&text).unwrap().gcode_system, GcodeSystem::B);
+    let text = edit(MINI, "name = \"mini\"", "name = \"mini\"\ngcode_system = \"C\"");
+    assert_at(&refused(&text), line_of(&text, "gcode_system"), "machine.gcode_system");
+    let text = edit(
+        MINI,
+        "name = \"mini\"",
+        "name = \"mini\"\ndialect = \"linuxcnc\"\ngcode_system = \"B\"",
+    );
+    assert_at(&refused(&text), line_of(&text, "gcode_system"), "machine.gcode_system");
+}

@@ -1,26 +1,113 @@
-//! Canned cycles: a cycle block (and the profile blocks it names) turned into ordinary moves,
-//! each at the cycle's line, so every pass is checked like any other move.
+//! Canned cycles: a cycle block (and its profile, for the stock-removal cycles) becomes ordinary
+//! moves, each made through the same `push_move` path as a programmed move and carrying the
+//! cycle block's source line (and, for a move that follows a profile block, that block's line in
+//! `Move::profile_line`), so the checker sees them like any other move.
 //!
-//! The block executor (`block.rs`, step 9) hands over every motion code it does not run itself;
-//! [`run`] answers whether a family here took it. One file per family:
-//! `rough.rs`: Fanuc/Haas G70 finishing, G71/G72 stock removal, G73 pattern repeat.
-
-mod common;
-mod rough;
-
-pub(crate) use common::Memory;
+//! The block executor (`block.rs`, step 9 "Motion") hands every motion code it does not run
+//! itself to [`run`]; a later block of a modal cycle (box and drilling cycles) comes back through
+//! [`repeat`]. One file per family: `rough` (Fanuc/Haas G70 finishing, G71/G72 stock removal,
+//! G73 pattern repeat; `common` holds their profile reading), `box_` (G90/G92/G94, system B
+//! G77/G78/G79), `thread` (G76), `groove` (G74/G75), `drill` (G80–G89).
 
 use super::block::Words;
 use super::flow::Run;
 use crate::gcode::Block;
 
-/// Expand the cycle `code` (G number ×10) of block `b`, whose G word is at byte `at`. True when
-/// a family here handled it (moves made, or a finding at the cycle's line); false leaves the
+mod box_;
+mod common;
+mod drill;
+mod groove;
+mod rough;
+mod thread;
+
+pub(crate) use common::Memory;
+
+/// The modal words of the cycles this family keeps between blocks.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Sticky {
+    /// The modal cycle (G code ×10) the words below belong to; 0 when none.
+    pub code: u16,
+    /// Cycle end point X (radius) and Z, spindle frame, once given.
+    pub x: Option<f64>,
+    pub z: Option<f64>,
+    /// Box cycles: the taper R (mm, radius). Drilling: the R plane (spindle-frame z).
+    pub r: Option<f64>,
+    /// Drilling: peck Q (mm) and dwell P (s).
+    pub q: Option<f64>,
+    pub p: Option<f64>,
+    /// Drilling: the Z of the initial level (where the cycle began).
+    pub initial_z: f64,
+    /// G76 first-block words (Fanuc parameters 5142, 5130, 5143, 5140, 5141).
+    pub g76: thread::G76Params,
+    /// G74/G75 first block: the return amount e (mm; Fanuc parameter 5139).
+    pub groove_e: Option<f64>,
+    /// Drilling, G-code system B: G99 (return to the R plane) rather than G98 (initial level).
+    pub return_r: bool,
+}
+
+/// Run the cycle `code` (G number ×10) of block `b`; `at` is the offset of its G word. `true` when
+/// the cycle is one this module runs (its findings, if any, are reported); `false` leaves the
 /// code to the executor's `unsupported` report.
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
-    match code {
+    let handled = match code {
         700..=730 => rough::run(run, b, w, code, at),
+        740 | 750 => groove::run(run, b, w, code, at),
+        760 => thread::g76(run, b, w, at),
+        770 | 780 | 790 | 900 | 920 | 940 => box_::run(run, b, w, code, at),
+        810..=890 => drill::run(run, b, w, code, at),
         _ => false,
+    };
+    // (G70–G73 handle the flow codes of their own lines.)
+    if handled && !(700..=730).contains(&code) {
+        flow_codes_on_a_cycle_line(run, b, w);
+    }
+    handled
+}
+
+/// The executor returns after a cycle: program flow written on the cycle's own line is done
+/// here (M2/M30 end the program) or reported (M98/M99), never dropped.
+fn flow_codes_on_a_cycle_line(run: &mut Run<'_>, b: &Block, w: &Words) {
+    if w.has_m(2).is_some() || w.has_m(30).is_some() {
+        run.stopped = true;
+    }
+    for m in [98u16, 99] {
+        if let Some(at) = w.has_m(m) {
+            run.unsupported(
+                b,
+                Some(at),
+                format!("M{m} on a cycle's line is not run: write it on a line of its own"),
+                true,
+            );
+        }
+    }
+}
+
+/// Charge the moves a cycle is about to make to the run's execution budget (`Limits::max_blocks`
+/// counts executed blocks and cycle moves alike), so that a program of many long cycles stays
+/// bounded. `false` (reported at the cycle's line, the run stops) when the budget is spent.
+pub(super) fn charge(run: &mut Run<'_>, b: &Block, moves: u64) -> bool {
+    run.executed = run.executed.saturating_add(moves);
+    if run.executed > run.limits.max_blocks {
+        run.error(
+            b,
+            None,
+            format!(
+                "this cycle's {moves} moves exceed the program's work budget ({} blocks and cycle moves): stopped here",
+                run.limits.max_blocks
+            ),
+        );
+        run.stopped = true;
+        return false;
+    }
+    true
+}
+
+/// A block with axis words and no motion code while the modal cycle `code` is in force.
+pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
+    match code {
+        770 | 780 | 790 | 900 | 920 | 940 => box_::repeat(run, b, w, code),
+        810..=890 => drill::repeat(run, b, w, code),
+        _ => {}
     }
 }
 

@@ -1,0 +1,271 @@
+//! Drilling cycles on the spindle axis, as Haas lathes run them (Haas lathe operator's manual,
+//! G81–G89, G80): a stationary drill, boring bar or tap on the turret, the part turning.
+//!
+//! Words: Z (or W) the bottom of the hole, R the R plane (absolute program Z; default the initial
+//! level), Q the peck (G83; least input increment unless written with a decimal point), P the
+//! dwell at the bottom (G82, G88, G89; ms, or s with a decimal point, as G4 reads it), F the feed
+//! (G84: the pitch), X (or U) the hole's X — it must be 0: a hole off the spindle axis needs a
+//! live tool, which a 2-axis lathe has not (live tooling is issue 15).
+//!
+//! Passes: rapid to the hole's X at the initial level, rapid to R, then
+//! - G81 feed to Z; G82 feed to Z, dwell; G83 pecks of Q, each followed by a rapid out to R and a
+//!   rapid back down to 1 mm above the last depth (the clearance Fanuc parameter 5114 and Haas
+//!   Setting 22 set; 1 mm here);
+//! - G84 feed to Z, spindle reversed, feed out to R, spindle direction restored;
+//! - G85 feed in, feed out to R; G86 feed in, spindle stop, rapid out to R, spindle on again;
+//! - G87 feed in, spindle stop (G88: dwell, then stop), a manual retract — modelled as a rapid out
+//!   to R with the spindle stopped, and reported as `unsupported` (a warning);
+//! - G89 feed in, dwell, feed out to R;
+//!
+//! then the rapid to the return level: the initial level in G-code system A (where G98/G99 are
+//! the feed modes), G98 initial / G99 R level in system B. Modal until G80 or a group-01 code: a
+//! later block with Z (or X0) drills the next hole with the same R, Q, P.
+
+use super::super::block::Words;
+use super::super::flow::Run;
+use super::super::state::Motion;
+use super::super::{Feed, MoveKind, SpindleDir};
+use super::box_::go;
+use crate::gcode::Block;
+use crate::geom::P2;
+use crate::machine::{Dialect, GcodeSystem};
+
+/// The clearance above the last depth where a G83 peck's rapid back down stops, mm.
+pub(crate) const PECK_CLEARANCE_MM: f64 = 1.0;
+/// Most pecks of one hole; more is a `program` finding.
+pub(crate) const MAX_PECKS: u64 = 10_000;
+
+pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+    if run.machine.dialect != Dialect::Fanuc || code % 10 != 0 {
+        return false;
+    }
+    if run.modal.motion != Some(Motion::Cycle(code)) {
+        let keep = run.cycle;
+        run.cycle = super::Sticky {
+            g76: keep.g76,
+            groove_e: keep.groove_e,
+            return_r: keep.return_r,
+            ..Default::default()
+        };
+        run.cycle.code = code;
+        run.cycle.initial_z = run.programmed().y;
+        // A cycle following another drilling cycle keeps its words (R, Q, P) until G80.
+        if matches!(run.modal.motion, Some(Motion::Cycle(c)) if (810..=890).contains(&c)) {
+            run.cycle.r = keep.r;
+            run.cycle.q = keep.q;
+            run.cycle.p = keep.p;
+            run.cycle.z = keep.z;
+            run.cycle.initial_z = keep.initial_z;
+        }
+    }
+    run.modal.motion = Some(Motion::Cycle(code));
+    let _ = at;
+    hole(run, b, w, code);
+    run.check_unused(b, w);
+    true
+}
+
+pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
+    hole(run, b, w, code);
+}
+
+fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
+    let s_ = run.scale();
+    let gz = w.peek(b'Z') || w.peek(b'W');
+    if let Some(at) = w.at(b'C') {
+        consume_all(w);
+        run.unsupported(
+            b,
+            Some(at),
+            "a drilling cycle with C (a spindle-indexed hole) needs live tooling, which is not modelled".into(),
+            true,
+        );
+        return;
+    }
+    if code == 830 && (w.peek(b'I') || w.peek(b'J') || w.peek(b'K')) {
+        let at = w.at(b'I').or(w.at(b'J')).or(w.at(b'K'));
+        consume_all(w);
+        run.unsupported(
+            b,
+            at,
+            "G83 with I/J/K (Haas pecks shrinking from I by J down to K) is not modelled: give a constant Q".into(),
+            true,
+        );
+        return;
+    }
+    // Words of the cycle (read before any early return, so none is reported unused).
+    let r_word = w.get(b'R');
+    let q_word = if w.peek(b'Q') {
+        let point = w.has_point(b'Q');
+        let v = w.get(b'Q').unwrap_or(0.0);
+        let unit = if point {
+            1.0
+        } else if run.modal.inch {
+            0.0001
+        } else {
+            0.001
+        };
+        Some(v * unit * s_)
+    } else {
+        None
+    };
+    let p_word = if w.peek(b'P') {
+        let point = w.has_point(b'P');
+        let v = w.get(b'P').unwrap_or(0.0);
+        Some(if point { v } else { v / 1000.0 })
+    } else {
+        None
+    };
+    let Some(t) = run.target(b, w) else { return };
+    if let Some(r) = r_word {
+        run.cycle.r = Some(run.origin().y + r * s_);
+    }
+    if let Some(q) = q_word {
+        run.cycle.q = Some(q);
+    }
+    if let Some(p) = p_word {
+        run.cycle.p = Some(p);
+    }
+    let z = if gz { Some(t.y) } else { run.cycle.z };
+    let Some(z) = z else {
+        if w.peek(b'X') || w.peek(b'U') || gz {
+            run.error(
+                b,
+                None,
+                format!("G{} needs Z (or W), the bottom of the hole", code / 10),
+            );
+        }
+        return;
+    };
+    run.cycle.z = Some(z);
+    let x = t.x;
+    if x.abs() > 1e-6 {
+        run.error(
+            b,
+            None,
+            format!(
+                "G{}: a hole at X{} is off the spindle axis; drilling there needs a live tool, which this lathe has not (X must be 0)",
+                code / 10,
+                short(run.frame().to_program(P2::new(x, t.y)).0)
+            ),
+        );
+        return;
+    }
+    let Some(feed) = run.feed(b, w) else { return };
+    let start = run.programmed();
+    let z0 = start.y;
+    let r = run.cycle.r.unwrap_or(z0);
+    let dir = (z - r).signum();
+    if dir == 0.0 {
+        run.error(b, None, format!("G{}: the bottom Z is at the R plane", code / 10));
+        return;
+    }
+    let pecks = match (code, run.cycle.q) {
+        (830, Some(q)) if q > 0.0 => {
+            let n = ((z - r).abs() / q).ceil();
+            if n > MAX_PECKS as f64 {
+                run.error(b, None, format!("G83 would make more than {MAX_PECKS} pecks"));
+                return;
+            }
+            n as u64
+        }
+        (830, Some(q)) if q < 0.0 => {
+            run.error(b, None, "G83 Q (peck) must not be negative".into());
+            return;
+        }
+        _ => 1,
+    };
+    let dwell = run.cycle.p.unwrap_or(0.0);
+    if matches!(code, 820 | 880 | 890) && dwell < 0.0 {
+        run.error(b, None, format!("negative dwell {dwell} s"));
+        return;
+    }
+    let sys_b = run.machine.gcode_system == GcodeSystem::B;
+    let ret = if sys_b && run.cycle.return_r {
+        r
+    } else {
+        run.cycle.initial_z
+    };
+
+    if !super::charge(run, b, pecks * 3 + 6) {
+        return;
+    }
+    let at_x = P2::new(x, z0);
+    go(run, b, MoveKind::Rapid, start, at_x, Feed::Rapid);
+    let rp = P2::new(x, r);
+    go(run, b, MoveKind::Rapid, at_x, rp, Feed::Rapid);
+    let bottom = P2::new(x, z);
+    let mut here = rp;
+    if code == 830 && pecks > 1 {
+        let q = run.cycle.q.unwrap_or(0.0);
+        for i in 1..=pecks {
+            let depth = if i == pecks { z } else { r + dir * q * i as f64 };
+            let to = P2::new(x, depth);
+            go(run, b, MoveKind::Line, here, to, feed);
+            if i == pecks {
+                here = to;
+                break;
+            }
+            go(run, b, MoveKind::Rapid, to, rp, Feed::Rapid);
+            let down_z = depth - dir * PECK_CLEARANCE_MM;
+            let down = P2::new(x, if (down_z - r) * dir > 0.0 { down_z } else { r });
+            go(run, b, MoveKind::Rapid, rp, down, Feed::Rapid);
+            here = down;
+        }
+    } else {
+        go(run, b, MoveKind::Line, here, bottom, feed);
+        here = bottom;
+    }
+    if matches!(code, 820 | 880 | 890) && dwell > 0.0 {
+        run.push_move(b, MoveKind::Dwell { seconds: dwell }, here, here, Feed::Rapid);
+    }
+    let dir_before = run.spindle_dir;
+    match code {
+        840 => {
+            run.spindle_dir = match dir_before {
+                SpindleDir::Cw => SpindleDir::Ccw,
+                SpindleDir::Ccw => SpindleDir::Cw,
+                SpindleDir::Off => SpindleDir::Off,
+            };
+            go(run, b, MoveKind::Line, here, rp, feed);
+            run.spindle_dir = dir_before;
+        }
+        850 | 890 => go(run, b, MoveKind::Line, here, rp, feed),
+        860 | 870 | 880 => {
+            if code != 860 {
+                run.unsupported(
+                    b,
+                    None,
+                    format!(
+                        "G{}: the manual retract is modelled as a rapid out to the R plane with the spindle stopped",
+                        code / 10
+                    ),
+                    false,
+                );
+            }
+            run.spindle_dir = SpindleDir::Off;
+            go(run, b, MoveKind::Rapid, here, rp, Feed::Rapid);
+            run.spindle_dir = dir_before;
+        }
+        _ => go(run, b, MoveKind::Rapid, here, rp, Feed::Rapid),
+    }
+    go(run, b, MoveKind::Rapid, rp, P2::new(x, ret), Feed::Rapid);
+}
+
+/// A block whose cycle is reported as a whole: its words are accounted for by that finding.
+fn consume_all(w: &mut Words) {
+    for l in b'A'..=b'Z' {
+        w.get(l);
+    }
+}
+
+/// A coordinate as a program would write it: at most four decimals, no trailing zeros.
+fn short(v: f64) -> String {
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
