@@ -101,6 +101,9 @@ pub struct Finding {
     /// inside another): it exists because of that crash, and is reported as its follow-on, a
     /// warning, rather than as a new crash.
     pub follow_on: Option<FollowOn>,
+    /// For a move a canned cycle made along its profile: the profile block's line (the finding
+    /// itself is at the cycle's line, where the control runs the passes).
+    pub profile_line: Option<u32>,
     /// Machine time of the last contact of the episode.
     #[serde(skip)]
     pub end_time_s: Option<f64>,
@@ -134,6 +137,7 @@ impl Finding {
             z: None,
             message: message.into(),
             follow_on: None,
+            profile_line: None,
             end_time_s: None,
             snapshot: None,
         }

@@ -481,3 +481,29 @@ proptest! {
         prop_assert!((last.0 - x0).abs() < 1e-9 && (last.1 - z0).abs() < 1e-9);
     }
 }
+
+/// A crash in a roughing pass is reported at the cycle's line and names the profile block the
+/// pass follows (text, JSON and SARIF carry `profile_line`), in both modes.
+#[test]
+fn a_crash_in_a_cycle_pass_names_the_cycle_line_and_the_profile_line() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/cases/cycles/fanuc_g71_into_the_chuck.nc");
+    let src = std::fs::read(&path).unwrap();
+    for mode in [pipeline::Mode::Step, pipeline::Mode::Exact] {
+        let settings = pipeline::Settings {
+            mode,
+            ..pipeline::Settings::default()
+        };
+        let out = pipeline::check(&src, &Machine::builtin(), &settings);
+        let crashes: Vec<_> = out.findings.iter().filter(|f| f.objects.len() == 2).collect();
+        assert!(!crashes.is_empty(), "{mode:?}: no crash found");
+        for f in crashes {
+            // Line 8 is the G71 block; line 11 is `N20 G1 Z-79`, the profile block into the jaws.
+            assert_eq!((f.line, f.profile_line), (8, Some(11)), "{mode:?}: {}", f.message);
+        }
+    }
+    // A finding of a plain move has no profile line.
+    let plain = b"G21 G18 G99 G97 S800 M3\nT0101\nG0 X50 Z3\nG1 Z-79 F0.25\nM30\n";
+    let out = pipeline::check(plain, &Machine::builtin(), &pipeline::Settings::default());
+    assert!(out.findings.iter().any(|f| f.line == 4));
+    assert!(out.findings.iter().all(|f| f.profile_line.is_none()));
+}

@@ -11,6 +11,8 @@ pub struct Contact {
     pub objects: [String; 2],
     pub line: u32,
     pub n: Option<u64>,
+    /// The profile block a canned cycle's move follows (0: none).
+    pub profile_line: u32,
     pub time: f64,
     /// Programmed point in program coordinates.
     pub x: f64,
@@ -148,6 +150,7 @@ impl Episodes {
             z: Some(c.z),
             message,
             follow_on: None,
+            profile_line: (c.profile_line != 0).then_some(c.profile_line),
             end_time_s: Some(o.end_time.max(c.time)),
             snapshot: c.snapshot,
         });

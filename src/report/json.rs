@@ -46,6 +46,9 @@ struct FindingDoc<'a> {
     /// The crash this contact is a follow-on of (absent for an independent finding).
     #[serde(skip_serializing_if = "Option::is_none")]
     follow_on: Option<&'a crate::finding::FollowOn>,
+    /// The profile block a canned cycle's move follows (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    profile_line: Option<u32>,
 }
 
 impl<'a> From<&'a Finding> for FindingDoc<'a> {
@@ -64,6 +67,7 @@ impl<'a> From<&'a Finding> for FindingDoc<'a> {
             z: f.z.map(round6),
             message: &f.message,
             follow_on: f.follow_on.as_ref(),
+            profile_line: f.profile_line,
         }
     }
 }

@@ -153,6 +153,8 @@ struct ResultProperties<'a> {
     z: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     machine: Option<&'a str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    profile_line: Option<u32>,
 }
 
 #[derive(Serialize)]
@@ -308,6 +310,7 @@ pub fn sarif(r: &Report) -> String {
                     x: x.x.map(round6),
                     z: x.z.map(round6),
                     machine: f.machine.as_deref(),
+                    profile_line: x.profile_line,
                 },
             });
         }

@@ -843,6 +843,10 @@ fn caption(o: &mut String, file: &FileReport, f: &Finding, block: &str) {
         ),
         None => f.message.clone(),
     };
+    let message = match f.profile_line {
+        Some(p) => format!("{message} (profile line {p})"),
+        None => message,
+    };
     let _ = writeln!(
         o,
         r#"<text x="{m}" y="46" font-size="15" fill="{INK}">{}</text>"#,

@@ -164,6 +164,9 @@ pub(crate) fn with_facts(mut s: String, x: &Finding, point: bool, n: bool) -> St
     if x.end_line != x.line {
         facts.push(format!("until line {}", x.end_line));
     }
+    if let Some(p) = x.profile_line {
+        facts.push(format!("profile line {p}"));
+    }
     if let (true, Some(nn)) = (n, x.n) {
         facts.push(format!("N{nn}"));
     }
