@@ -109,6 +109,7 @@ fn main() {
             );
         }
     }
+    cycles(lines, &fanuc);
     // moves --format canon against rs274 on the LinuxCNC program.
     let path = dir.join("p-linuxcnc.ngc");
     let p = path.to_str().unwrap();
@@ -130,4 +131,37 @@ fn main() {
         _ => println!("latheguard moves failed on the generated program"),
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// One unit of a cycle-heavy Fanuc program: G71 (two-block) roughing over a six-block profile
+/// with an arc, G70 finishing along it, and a G76 (two-block) thread. P and Q find the first N
+/// after the cycle block, so every unit reuses N10–N60.
+const CYCLE_UNIT: &str = "G0 X52 Z3\nG71 U2 R0.5\nG71 P10 Q60 U0.4 W0.1 F0.25\nN10 G0 X20\nN20 G1 Z-10\nN30 X30 Z-15\nN40 Z-30\nN50 G2 X40 Z-35 R5\nN60 G1 X52\nG70 P10 Q60\nG0 X40 Z5\nG76 P010060 Q100 R0.05\nG76 X37.4 Z-25 P1300 Q400 F2\nG0 X60 Z5\n";
+
+/// Canned cycles (issue 11): a generated program of G71/G70/G76 blocks with their profiles,
+/// read, interpreted and expanded into moves.
+fn cycles(lines: usize, fanuc: &Machine) {
+    let mut text = String::from("G21 G18 G99 G97 S800 M3\nT0101\n");
+    let units = lines.saturating_sub(3) / CYCLE_UNIT.lines().count();
+    text.push_str(&CYCLE_UNIT.repeat(units.max(1)));
+    text.push_str("M30\n");
+    let src = text.into_bytes();
+    let n = src.iter().filter(|&&b| b == b'\n').count();
+    let mut moves = 0;
+    let mut unsupported = 0;
+    let all = times(15, || {
+        let p = gcode::parse(&src);
+        let r = interp::interpret(&p, &src, fanuc);
+        moves = r.moves.len();
+        unsupported = r.findings.len();
+    });
+    println!(
+        "{:<10} {n:>9} {:>7.2} ({:>6.2}) {:>11.0} ({:>8.0}) {moves:>8}   cycles: {:.1} M moves/s; {unsupported} findings",
+        "cycles",
+        all.median * 1e3,
+        all.best * 1e3,
+        n as f64 / all.median,
+        n as f64 / all.best,
+        moves as f64 / all.median / 1e6,
+    );
 }

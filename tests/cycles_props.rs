@@ -275,6 +275,8 @@ fn p_and_q_must_be_n_numbers_and_the_profile_must_not_hold_a_cycle_or_the_cycle_
             "G71 P10 Q20 U0 W0 F0.2\nN10 G0 X20\nG70 P10 Q20\nN20 G1 Z-50\n",
             "4: G71: the profile holds another cycle (line 6)",
         ),
+        // G70 skips nothing after it (the control reads the block after G70), so N20 then runs
+        // as the next block: with no feed in force, a finding of its own.
         (
             "N10 G0 X20\nG70 P10 Q20\nN20 G1 Z-50\n",
             "5: G70: the profile N10–N20 holds the cycle block itself",
@@ -283,7 +285,8 @@ fn p_and_q_must_be_n_numbers_and_the_profile_must_not_hold_a_cycle_or_the_cycle_
         let src = format!("{head}{body}M30\n");
         let (run, _) = canon_of(src.as_bytes());
         let msgs = program_messages(&run);
-        assert!(msgs.len() == 1 && msgs[0].starts_with(want), "{msgs:?}\n{src}");
+        let expected = if want.contains("G70") { 2 } else { 1 };
+        assert!(msgs.len() == expected && msgs[0].starts_with(want), "{msgs:?}\n{src}");
     }
 }
 
@@ -506,4 +509,28 @@ fn a_crash_in_a_cycle_pass_names_the_cycle_line_and_the_profile_line() {
     let out = pipeline::check(plain, &Machine::builtin(), &pipeline::Settings::default());
     assert!(out.findings.iter().any(|f| f.line == 4));
     assert!(out.findings.iter().all(|f| f.profile_line.is_none()));
+}
+
+/// Posts repeat N numbers from one operation to the next: each G70 finishes the profile its own
+/// G71 roughed just before it (the nearest N before the G70), and the blocks after G70 run next —
+/// nothing between one G70 and the next operation's profile is skipped.
+#[test]
+fn g70_finishes_the_profile_before_it_when_n_numbers_repeat_and_skips_nothing_after_it() {
+    let unit = "G0 X52 Z3\nG71 U2 R0.5\nG71 P10 Q20 U0.4 W0.1 F0.25\nN10 G0 X20\nN20 G1 Z-30\nG70 P10 Q20\nG0 X60 Z5\nG1 X58 F0.2\n";
+    let src = format!("G21 G18 G99 G97 S800 M3\nT0101\n{unit}{unit}M30\n");
+    let (run, _) = canon_of(src.as_bytes());
+    assert!(program_messages(&run).is_empty(), "{:?}", program_messages(&run));
+    // The G70 blocks are lines 8 and 16; each of their moves lies on its own unit's profile.
+    for g70 in [8u32, 16] {
+        assert!(run.moves.iter().any(|m| m.line == g70), "G70 at line {g70} made no moves");
+    }
+    // The lines after each G70 (9, 10 and 17, 18) ran, and the second G71 (line 13) roughed.
+    for line in [9u32, 10, 13, 17, 18] {
+        assert!(run.moves.iter().any(|m| m.line == line), "line {line} did not run");
+    }
+    // Each G70 follows the profile N10/N20 before it: its feed moves end on X20 (radius 10) or
+    // at Z-30, never beyond the profile.
+    for m in run.moves.iter().filter(|m| m.line == 8 || m.line == 16) {
+        assert!(m.profile_line == 0 || m.profile_line < m.line, "G70 at {} used line {}", m.line, m.profile_line);
+    }
 }

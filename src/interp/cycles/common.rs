@@ -116,6 +116,20 @@ pub(crate) fn find_n(run: &mut Run<'_>, n: u64, from: usize) -> Option<usize> {
     list.get(k).or(list.first()).copied()
 }
 
+/// The block with N number `n` for G70, whose profile is the roughing cycle's before it: the
+/// last one before block `from`, else the first after it. (A program that repeats its N numbers
+/// from one operation to the next, as posts do, finishes the profile it just roughed.)
+pub(crate) fn find_n_before(run: &mut Run<'_>, n: u64, from: usize) -> Option<usize> {
+    find_n(run, n, from)?;
+    let list = run.cycles.n_index.as_ref()?.get(&n)?;
+    let k = list.partition_point(|&i| i < from);
+    if k > 0 {
+        Some(list[k - 1])
+    } else {
+        list.get(k).copied()
+    }
+}
+
 /// A P or Q word as an N number.
 pub(crate) fn n_word(v: f64) -> Option<u64> {
     (v >= 0.0 && v.fract() == 0.0 && v < 1e15).then_some(v as u64)
@@ -196,7 +210,14 @@ pub(crate) fn trace(
         run.error(b, None, format!("{name}: P{p} Q{q} must be N numbers"));
         return None;
     };
-    let Some(pi) = find_n(run, pn, here) else {
+    // G70 (`keep`) finishes a profile that is normally before it; the roughing cycles' profile
+    // follows them.
+    let found = if keep {
+        find_n_before(run, pn, here)
+    } else {
+        find_n(run, pn, here)
+    };
+    let Some(pi) = found else {
         run.error(
             b,
             None,
@@ -204,7 +225,7 @@ pub(crate) fn trace(
         );
         return None;
     };
-    let Some(qi) = find_n(run, qn, pi.max(here))
+    let Some(qi) = find_n(run, qn, if keep { pi } else { pi.max(here) })
         .filter(|&qi| qi >= pi)
         .or_else(|| find_n(run, qn, pi))
     else {

@@ -404,7 +404,8 @@ fn g70(run: &mut Run<'_>, b: &Block, w: &mut Words) {
         return;
     };
     let at = here(run);
-    common::skip_profile(run, at, q);
+    // After G70 the control reads the block after it (the profile is normally before it, with
+    // its roughing cycle), so nothing is skipped.
     // Haas programs often repeat G71's U W D in G70: the control ignores them.
     for l in [b'U', b'W', b'D', b'I', b'K'] {
         w.get(l);
@@ -413,7 +414,6 @@ fn g70(run: &mut Run<'_>, b: &Block, w: &mut Words) {
     let Some(t) = common::trace(run, b, at, p, q, "G70", true) else {
         return;
     };
-    common::resume_after(run, at, t.q);
     let first = t.approach.map_or(a, |s| s.end);
     let dird = sign(a.x - first.x, 1.0);
     return_to(run, b, a, dird, Axes { facing: false });
