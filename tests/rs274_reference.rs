@@ -87,28 +87,12 @@ const KNOWN: &[(&str, &str)] = &[
         "its G71/G70 cycles (o-word profiles) are not expanded yet",
     ),
     (
-        "corpus/latheeasystep/ngc-Gewinde.ngc",
-        "its G71/G70 cycles (o-word profiles) are not expanded yet",
-    ),
-    (
-        "corpus/linuxcnc-interp/g33.1/g33.1.ngc",
-        "G33.1 rigid tapping is not expanded yet",
-    ),
-    (
-        "corpus/linuxcnc-interp/g76/g76only.ngc",
-        "LinuxCNC G76 is not expanded yet",
-    ),
-    (
-        "corpus/linuxcnc-nc_files/lathe-g76.ngc",
-        "LinuxCNC G76 is not expanded yet",
-    ),
-    (
         "corpus/linuxcnc-interp/m98m99-01-basics/test.ngc",
-        "G81 drilling in G17 is not expanded yet",
+        "written for a mill: no plane selected, so rs274 (no INI) drills along Z in its default G17; latheguard's LinuxCNC lathe starts in G18, as lathe configurations set it, where G81 drills along Y (refused)",
     ),
     (
         "corpus/linuxcnc-interp/m98m99-05-M98-loops/test.ngc",
-        "G81 drilling in G17 is not expanded yet",
+        "written for a mill: no plane selected, so rs274 (no INI) drills along Z in its default G17; latheguard's LinuxCNC lathe starts in G18, as lathe configurations set it, where G81 drills along Y (refused)",
     ),
 ];
 
@@ -335,6 +319,95 @@ fn run_rs274(program: &Path, tools: &Path) -> Option<String> {
 }
 
 use std::os::unix::process::CommandExt;
+
+fn lcnc_cases() -> Vec<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/cases/cycles_lcnc");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ngc"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// The LinuxCNC cycle cases pin their moves (`latheguard moves --format canon` on the machine
+/// their first line names); `UPDATE_EXPECT=1` rewrites the `.moves` files.
+#[test]
+fn lcnc_cycle_cases_match_their_moves_files() {
+    let files = lcnc_cases();
+    assert!(files.len() >= 4, "too few LinuxCNC cycle cases: {}", files.len());
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let update = std::env::var_os("UPDATE_EXPECT").is_some();
+    let mut failures = Vec::new();
+    for f in &files {
+        let src = std::fs::read_to_string(f).unwrap();
+        let name = src.lines().next().unwrap_or("").split("machine=").nth(1).unwrap_or("");
+        let name = name.split([' ', ')']).next().unwrap();
+        let machine = root.join("machines").join(format!("{name}.toml"));
+        let out = Command::new(env!("CARGO_BIN_EXE_latheguard"))
+            .args(["moves", "--format", "canon", "-m"])
+            .arg(&machine)
+            .arg(f)
+            .output()
+            .unwrap();
+        let got = String::from_utf8(out.stdout).unwrap();
+        let path = f.with_extension("moves");
+        if update {
+            std::fs::write(&path, &got).unwrap();
+        } else if std::fs::read_to_string(&path).unwrap_or_default() != got {
+            failures.push(format!("{}: moves differ from {}:\n{got}", f.display(), path.display()));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The same cases against rs274 (all but `*refused*`, whose first refused block ends rs274's
+/// run), on the comparison machine: every move within 1e-4.
+#[test]
+fn lcnc_cycle_cases_move_as_rs274_moves_them() {
+    if !rs274_present() {
+        println!("rs274 comparison of the cycle cases skipped: rs274 is not unpacked");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let machine = dir.path().join("machine.toml");
+    std::fs::write(&machine, machine_toml()).unwrap();
+    let tools = dir.path().join("tools.tbl");
+    let table: String = (0..100).map(|t| format!("T{t} P{t} Z0 D0 ;\n")).collect();
+    std::fs::write(&tools, table).unwrap();
+    let mut failures = Vec::new();
+    let mut compared = 0;
+    for f in lcnc_cases() {
+        if f.to_string_lossy().contains("refused") {
+            continue;
+        }
+        let Some(reference) = run_rs274(&f, &tools) else {
+            failures.push(format!("{}: rs274 does not complete it", f.display()));
+            continue;
+        };
+        let out = Command::new(env!("CARGO_BIN_EXE_latheguard"))
+            .args(["moves", "--format", "canon", "-m"])
+            .arg(&machine)
+            .arg(&f)
+            .output()
+            .unwrap();
+        let (r, o) = (
+            motion_calls(&reference),
+            motion_calls(&String::from_utf8_lossy(&out.stdout)),
+        );
+        assert!(!r.is_empty(), "{}: rs274 made no moves", f.display());
+        compared += 1;
+        if let Some(d) = compare(&r, &o) {
+            failures.push(format!("{}: {d}", f.display()));
+        } else {
+            println!("{}: {} moves equal", f.display(), r.len());
+        }
+    }
+    assert!(compared >= 3, "too few cases compared: {compared}");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
 
 #[test]
 fn linuxcnc_programs_move_as_rs274_moves_them() {

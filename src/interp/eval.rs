@@ -169,6 +169,7 @@ impl Run<'_> {
                 Some(super::state::Motion::ArcCw) => 20.0,
                 Some(super::state::Motion::ArcCcw) => 30.0,
                 Some(super::state::Motion::Thread) => 330.0,
+                Some(super::state::Motion::Cycle(c)) => c as f64,
                 None => 800.0,
             },
             "_plane" => 180.0,

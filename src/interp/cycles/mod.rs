@@ -4,8 +4,12 @@
 //! The block executor (`block.rs`, step 9) hands over every motion code it does not run itself;
 //! [`run`] answers whether a family here took it. One file per family:
 //! `rough.rs`: Fanuc/Haas G70 finishing, G71/G72 stock removal, G73 pattern repeat.
+//! `lcnc_thread.rs`: LinuxCNC G33.1 rigid tapping and G76 threading.
+//! `lcnc_drill.rs`: LinuxCNC G73, G81–G89 drilling along Z in G17.
 
 mod common;
+mod lcnc_drill;
+mod lcnc_thread;
 mod rough;
 
 pub(crate) use common::Memory;
@@ -18,7 +22,10 @@ use crate::gcode::Block;
 /// a family here handled it (moves made, or a finding at the cycle's line); false leaves the
 /// code to the executor's `unsupported` report.
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+    let lcnc = run.machine.dialect == crate::machine::Dialect::Linuxcnc;
     match code {
+        331 | 760 if lcnc => lcnc_thread::run(run, b, w, code, at),
+        730 | 810..=890 if lcnc => lcnc_drill::run(run, b, w, code, at),
         700..=730 => rough::run(run, b, w, code, at),
         _ => false,
     }
