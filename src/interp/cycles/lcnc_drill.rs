@@ -1,12 +1,13 @@
-//! LinuxCNC drilling cycles G73, G81, G82, G83, G85, G86, G89 in the XY plane (G17): on a
+//! LinuxCNC drilling cycles G73, G74, G81–G86, G89 in the XY plane (G17): on a
 //! lathe they drill along Z, the spindle axis, at the X the block names (usually X0). The
 //! words, passes and retract rules follow the LinuxCNC G-code reference ("G73 Drilling Cycle
-//! with Chip Breaking", "G81 Drilling Cycle", "G82", "G83 Peck Drilling", "G85", "G86", "G89",
+//! with Chip Breaking", "G74 Left-hand Tapping", "G81 Drilling Cycle", "G82", "G83 Peck
+//! Drilling", "G84 Right-hand Tapping", "G85", "G86", "G89",
 //! "G98 / G99 Canned Cycle Return Level"); docs/cycles-linuxcnc.md has the details.
 //!
 //! In G18 (the lathe's own plane) these cycles drill along Y, which a 2-axis lathe does not
-//! have: refused with a finding. G74/G84 tapping and G87/G88 (back boring, manual retract) are
-//! not modelled (`unsupported`).
+//! have: refused with a finding. G87/G88 (back boring, manual retract) are not modelled
+//! (`unsupported`).
 
 use super::common::{emit, feed, rapid, MAX_PASSES};
 use crate::gcode::Block;
@@ -42,11 +43,11 @@ fn is_drill(code: u16) -> bool {
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
     let name = format!("G{}", code / 10);
     let at = (at > 0).then_some(at);
-    if matches!(code, 840 | 870 | 880) {
-        let what = match code {
-            840 => "G84 tapping (spindle reversal at the bottom)",
-            870 => "G87 back boring",
-            _ => "G88 boring with a manual retract",
+    if matches!(code, 870 | 880) {
+        let what = if code == 870 {
+            "G87 back boring"
+        } else {
+            "G88 boring with a manual retract"
         };
         run.unsupported(
             b,
@@ -56,6 +57,17 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
         );
         run.modal.motion = None;
         return true;
+    }
+    if code == 740 || code == 840 {
+        // Right-hand tapping (G84) needs the spindle turning forward (M3), left-hand (G74) in
+        // reverse (M4).
+        let need = if code == 840 { SpindleDir::Cw } else { SpindleDir::Ccw };
+        if run.spindle_dir != need {
+            let m = if code == 840 { "M3" } else { "M4" };
+            run.error(b, at, format!("{name} taps with the spindle turning {m}"));
+            run.modal.motion = None;
+            return true;
+        }
     }
     if !run.modal.plane_xy {
         run.error(
@@ -122,7 +134,9 @@ fn drill(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, sam
         }
     };
     let p = match (code, w.get(b'P')) {
-        (820 | 860 | 890, Some(p)) => p,
+        (820 | 860 | 890 | 740 | 840, Some(p)) => p,
+        // G74/G84: the dwell at the bottom is optional; rs274ngc keeps the last one.
+        (740 | 840, None) => run.cycles.lcnc.p,
         (820 | 860 | 890, None) if same => run.cycles.lcnc.p,
         (820 | 860 | 890, None) => {
             run.error(b, None, format!("{name} needs P (the dwell at the bottom, seconds)"));
@@ -248,6 +262,19 @@ fn drill(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, sam
                 let dir = run.spindle_dir;
                 run.spindle_dir = SpindleDir::Off;
                 rapid(run, b, at(clear));
+                run.spindle_dir = dir;
+            }
+            740 | 840 => {
+                // Tapping: feed in, reverse the spindle, dwell, feed out, forward again.
+                emit(run, b, MoveKind::Line, at(bottom), f, 0);
+                let dir = run.spindle_dir;
+                run.spindle_dir = if dir == SpindleDir::Cw {
+                    SpindleDir::Ccw
+                } else {
+                    SpindleDir::Cw
+                };
+                dwell(run, b, p);
+                emit(run, b, MoveKind::Line, at(clear), f, 0);
                 run.spindle_dir = dir;
             }
             _ => {

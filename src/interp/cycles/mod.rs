@@ -5,7 +5,7 @@
 //! [`run`] answers whether a family here took it. One file per family:
 //! `rough.rs`: Fanuc/Haas G70 finishing, G71/G72 stock removal, G73 pattern repeat.
 //! `lcnc_thread.rs`: LinuxCNC G33.1 rigid tapping and G76 threading.
-//! `lcnc_drill.rs`: LinuxCNC G73, G81–G89 drilling along Z in G17.
+//! `lcnc_drill.rs`: LinuxCNC G73, G74, G81–G89 drilling and tapping along Z in G17.
 
 mod common;
 mod lcnc_drill;
@@ -25,7 +25,7 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
     let lcnc = run.machine.dialect == crate::machine::Dialect::Linuxcnc;
     match code {
         331 | 760 if lcnc => lcnc_thread::run(run, b, w, code, at),
-        730 | 810..=890 if lcnc => lcnc_drill::run(run, b, w, code, at),
+        730 | 740 | 810..=890 if lcnc => lcnc_drill::run(run, b, w, code, at),
         700..=730 => rough::run(run, b, w, code, at),
         _ => false,
     }
