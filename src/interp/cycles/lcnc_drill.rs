@@ -32,8 +32,8 @@ pub(crate) struct LcncMemory {
     pub q: f64,
 }
 
-/// rs274ngc's default retract above each peck of G73/G83: 0.010 inch (0.254 mm) with no INI
-/// file (`G73_PECK_CLEARANCE`, `G83_PECK_CLEARANCE`).
+/// The retract above each peck of G73/G83 when the block has no D: LinuxCNC's default of
+/// 0.010 inch (0.254 mm), used when no INI file sets `G73_PECK_CLEARANCE` / `G83_PECK_CLEARANCE`.
 const PECK_CLEARANCE_MM: f64 = 0.254;
 
 fn is_drill(code: u16) -> bool {
@@ -161,6 +161,11 @@ fn drill(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, sam
         run.error(b, w.at(b'Q'), format!("{name}: the peck depth Q must be positive"));
         return;
     }
+    // G73/G83 D: the retract above each peck (program units), else the default clearance.
+    let clearance = match code {
+        730 | 830 => w.get(b'D').map_or(PECK_CLEARANCE_MM, |d| d * s),
+        _ => PECK_CLEARANCE_MM,
+    };
     let Some(f) = feed(run, b, name) else { return };
 
     // The initial level: where the first cycle of a series found the tool.
@@ -235,7 +240,7 @@ fn drill(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, sam
                     if code == 830 {
                         rapid(run, b, at(r));
                     }
-                    rapid(run, b, at(d + PECK_CLEARANCE_MM));
+                    rapid(run, b, at(d + clearance));
                     d -= delta;
                 }
                 emit(run, b, MoveKind::Line, at(bottom), f, 0);
