@@ -298,3 +298,65 @@ fn dwell(run: &mut Run<'_>, b: &Block, seconds: f64) {
         run.push_move(b, MoveKind::Dwell { seconds }, p, p, Feed::Rapid);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::interp::{Interpretation, MoveKind};
+    use crate::machine::Machine;
+    use proptest::prelude::*;
+
+    fn lathe() -> Machine {
+        let text = include_str!("../../../machines/linuxcnc-small-lathe.toml");
+        crate::machine::from_toml(text, "linuxcnc-small-lathe.toml").unwrap()
+    }
+
+    fn run(src: &str) -> Interpretation {
+        crate::pipeline::interpret(src.as_bytes(), &lathe()).1
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        /// Every drilling cycle stays on its X, never goes below the bottom of the hole nor above
+        /// the higher of the initial level and R, reaches the bottom exactly, and ends at the
+        /// clear level (R under G99, the higher of the initial level and R under G98); peck
+        /// feeds are at most Q plus the peck clearance long.
+        #[test]
+        fn drilling_stays_between_the_bottom_and_the_clear_level(
+            code in prop::sample::select(vec![73u16, 81, 82, 83, 85, 86, 89]),
+            start in 5.0f64..40.0,
+            r in 2.0f64..30.0,
+            depth in 0.5f64..20.0,
+            q in 0.3f64..6.0,
+            x in -3.0f64..3.0,
+            g98 in any::<bool>(),
+        ) {
+            let round = |v: f64| (v * 1e4).round() / 1e4;
+            let (start, r, q, x) = (round(start), round(r), round(q), round(x));
+            let bottom = round(r - depth);
+            let src = format!(
+                "G18 G8 G21 G90 G95\nT1 M6\nS800 M3\nG0 X{x:.4} Z{start:.4}\nG17\nF0.1\n{} G{code} X{x:.4} Z{bottom:.4} R{r:.4} Q{q:.4} P0.2\nG80\nM2\n",
+                if g98 { "G98" } else { "G99" },
+            );
+            let out = run(&src);
+            prop_assert!(out.findings.is_empty(), "{:?}", out.findings);
+            let z0 = lathe().program_zero_z;
+            let cyc: Vec<_> = out.moves.iter().filter(|m| m.line == 7).collect();
+            prop_assert!(!cyc.is_empty());
+            let top = start.max(r);
+            let clear = if g98 { top } else { r };
+            let mut deepest = f64::INFINITY;
+            for m in &cyc {
+                let (zs, ze) = (m.start.y - z0, m.end.y - z0);
+                prop_assert!((m.end.x - x).abs() < 1e-9, "off the X: {:?}", m);
+                prop_assert!(ze >= bottom - 1e-9 && ze <= top + 1e-9, "z {ze} outside [{bottom}, {top}]");
+                deepest = deepest.min(ze);
+                if matches!(code, 73 | 83) && m.kind == MoveKind::Line && ze < zs {
+                    prop_assert!(zs - ze <= q + 0.254 + 1e-9, "a peck of {}", zs - ze);
+                }
+            }
+            prop_assert!((deepest - bottom).abs() < 1e-9);
+            let last = cyc.last().unwrap();
+            prop_assert!((last.end.y - z0 - clear).abs() < 1e-9, "ends at {} not {clear}", last.end.y - z0);
+        }
+    }
+}

@@ -185,3 +185,73 @@ fn g76(run: &mut Run<'_>, b: &Block, w: &mut Words, at: Option<u32>) {
     }
     rapid(run, b, end);
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::interp::{Feed, Interpretation, MoveKind};
+    use crate::machine::Machine;
+    use proptest::prelude::*;
+
+    fn lathe() -> Machine {
+        let text = include_str!("../../../machines/linuxcnc-small-lathe.toml");
+        crate::machine::from_toml(text, "linuxcnc-small-lathe.toml").unwrap()
+    }
+
+    fn run(src: &str) -> Interpretation {
+        crate::pipeline::interpret(src.as_bytes(), &lathe()).1
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        /// G76 (external, no taper): the threading feeds run at the pitch along Z, each pass at
+        /// least as deep as the one before, all between the first cut depth |I|+J and the full
+        /// depth |I|+K from the drive line, with H + 1 passes at exactly the full depth and as
+        /// many shallower passes as depths I + J·n^(1/R) short of it.
+        #[test]
+        fn g76_passes_deepen_to_the_full_depth(
+            drive in 8.0f64..20.0,
+            i in 0.1f64..2.0,
+            j in 0.1f64..0.5,
+            extra in 0.1f64..2.0,
+            degression in 1.0f64..2.0,
+            h in 0usize..4,
+            q in prop::sample::select(vec![0.0f64, 29.5, 30.0]),
+        ) {
+            let k = j + extra;
+            let src = format!(
+                "G18 G8 G21 G90 G95\nT3 M6\nS600 M3\nG0 X{drive:.4} Z5\nG76 P1.5 Z-10 I-{i:.4} J{j:.4} K{k:.4} R{degression:.4} H{h} Q{q}\nM2\n"
+            );
+            let out = run(&src);
+            prop_assert!(out.findings.is_empty(), "{:?}", out.findings);
+            let (i, j, k) = ((i * 1e4).round() / 1e4, (j * 1e4).round() / 1e4, (k * 1e4).round() / 1e4);
+            let drive = (drive * 1e4).round() / 1e4;
+            let degression = (degression * 1e4).round() / 1e4;
+            let feeds: Vec<_> = out
+                .moves
+                .iter()
+                .filter(|m| m.line == 5 && m.kind == MoveKind::Line)
+                .collect();
+            let mut expected_passes = 0;
+            let mut n = 1.0f64;
+            let mut d = i + j;
+            while d < i + k {
+                expected_passes += 1;
+                n += 1.0;
+                d = i + j * n.powf(1.0 / degression);
+            }
+            prop_assert_eq!(feeds.len(), expected_passes + h + 1);
+            let mut prev = 0.0;
+            for (p, m) in feeds.iter().enumerate() {
+                prop_assert_eq!(m.feed, Feed::PerRev(1.5));
+                prop_assert!((m.start.x - m.end.x).abs() < 1e-9 && m.end.y < m.start.y);
+                let depth = drive - m.end.x;
+                prop_assert!(depth >= i + j - 1e-9 && depth <= i + k + 1e-9, "depth {depth}");
+                prop_assert!(depth >= prev - 1e-9);
+                if p >= expected_passes {
+                    prop_assert!((depth - (i + k)).abs() < 1e-9);
+                }
+                prev = depth;
+            }
+        }
+    }
+}
