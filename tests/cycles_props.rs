@@ -522,7 +522,10 @@ fn g70_finishes_the_profile_before_it_when_n_numbers_repeat_and_skips_nothing_af
     assert!(program_messages(&run).is_empty(), "{:?}", program_messages(&run));
     // The G70 blocks are lines 8 and 16; each of their moves lies on its own unit's profile.
     for g70 in [8u32, 16] {
-        assert!(run.moves.iter().any(|m| m.line == g70), "G70 at line {g70} made no moves");
+        assert!(
+            run.moves.iter().any(|m| m.line == g70),
+            "G70 at line {g70} made no moves"
+        );
     }
     // The lines after each G70 (9, 10 and 17, 18) ran, and the second G71 (line 13) roughed.
     for line in [9u32, 10, 13, 17, 18] {
@@ -531,6 +534,11 @@ fn g70_finishes_the_profile_before_it_when_n_numbers_repeat_and_skips_nothing_af
     // Each G70 follows the profile N10/N20 before it: its feed moves end on X20 (radius 10) or
     // at Z-30, never beyond the profile.
     for m in run.moves.iter().filter(|m| m.line == 8 || m.line == 16) {
-        assert!(m.profile_line == 0 || m.profile_line < m.line, "G70 at {} used line {}", m.line, m.profile_line);
+        assert!(
+            m.profile_line == 0 || m.profile_line < m.line,
+            "G70 at {} used line {}",
+            m.line,
+            m.profile_line
+        );
     }
 }

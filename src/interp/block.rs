@@ -643,6 +643,10 @@ impl Run<'_> {
                 if w.g(950) {
                     self.modal.feed_per_rev = true;
                 }
+                // G98/G99: where a LinuxCNC drilling cycle retracts to.
+                if w.g(980) || w.g(990) {
+                    self.cycles.lcnc.retract_to_old_z = w.g(980);
+                }
                 if let Some(at) = w.has_g(930) {
                     self.unsupported(b, Some(at), "G93 inverse-time feed is not modelled".into(), false);
                 }
@@ -763,14 +767,26 @@ impl Run<'_> {
         }
 
         // 7. Plane, compensation, length offsets, coordinate systems, path mode.
-        let plane_error_here = w.g(170) || w.g(190);
+        // LinuxCNC lathe programs select G17 to drill along Z (src/interp/cycles/lcnc_drill.rs).
+        let g17_ok = !fanuc;
+        let plane_error_here = (w.g(170) && !g17_ok) || w.g(190);
         if w.any_g(PLANE_COMP_OFFSET_CODES) {
-            if let Some(at) = w.has_g(170).or(w.has_g(190)) {
+            let refused = if g17_ok {
+                w.has_g(190)
+            } else {
+                w.has_g(170).or(w.has_g(190))
+            };
+            if let Some(at) = refused {
                 self.error(b, Some(at), "only the XZ plane (G18) exists on a 2-axis lathe".into());
                 self.modal.plane_xz = false;
+                self.modal.plane_xy = false;
+            } else if w.g(170) {
+                self.modal.plane_xz = false;
+                self.modal.plane_xy = true;
             }
             if w.g(180) {
                 self.modal.plane_xz = true;
+                self.modal.plane_xy = false;
             }
             for code in [410u16, 420, 411, 421] {
                 if let Some(at) = w.has_g(code) {
@@ -817,7 +833,6 @@ impl Run<'_> {
         }
 
         // 8. Non-modal coordinate codes and returns home.
-        // (LinuxCNC G98/G99, the canned-cycle return level, has no effect without canned cycles.)
         let mut axes_used_by_nonmodal = dwell_took_axes;
         if w.any_g(NONMODAL_CODES) {
             if w.g(280) {
@@ -1005,7 +1020,7 @@ impl Run<'_> {
     }
 
     /// X as a radius in program units.
-    pub(super) fn to_radius(&self, x: f64) -> f64 {
+    pub(crate) fn to_radius(&self, x: f64) -> f64 {
         if self.modal.diameter {
             x / 2.0
         } else {
@@ -1107,7 +1122,7 @@ impl Run<'_> {
     }
 
     /// Target programmed point of the axis words (X/Z absolute or incremental, U/W incremental).
-    pub(super) fn target(&mut self, b: &Block, w: &mut Words) -> Option<P2> {
+    pub(crate) fn target(&mut self, b: &Block, w: &mut Words) -> Option<P2> {
         let cur = self.programmed();
         let origin = self.origin();
         let s = self.scale();
@@ -1171,8 +1186,9 @@ impl Run<'_> {
     fn motion(&mut self, b: &Block, w: &mut Words, g53: bool, plane_error_here: bool) {
         if let (Some(Motion::Cycle(code)), false) = (self.modal.motion, g53) {
             // A later block of a modal cycle: the cycle again with the new words.
-            super::cycles::repeat(self, b, w, code);
-            return;
+            if super::cycles::repeat(self, b, w, code) {
+                return;
+            }
         }
         let Some(mut end) = self.target(b, w) else {
             return;
@@ -1193,7 +1209,18 @@ impl Run<'_> {
             }
             end = r + tip;
         }
-        if !self.modal.plane_xz {
+        let straight = !matches!(self.modal.motion, Some(Motion::ArcCw | Motion::ArcCcw));
+        if self.modal.plane_xy && !straight {
+            self.unsupported(
+                b,
+                None,
+                "an arc in the XY plane (G17) leaves the lathe's XZ plane and is not modelled: select G18".into(),
+                true,
+            );
+            w.used = w.has;
+            return;
+        }
+        if !self.modal.plane_xz && !self.modal.plane_xy {
             if !plane_error_here {
                 self.error(b, None, "motion in the G17/G19 plane is not checked: select G18".into());
             } else {
@@ -1223,6 +1250,8 @@ impl Run<'_> {
             motion
         };
         match motion {
+            // A cycle its family declined (reported there), or a G53 block under a cycle: no move.
+            Motion::Cycle(_) => {}
             Motion::Rapid => {
                 self.push_move(b, MoveKind::Rapid, start, end, Feed::Rapid);
             }
@@ -1247,7 +1276,6 @@ impl Run<'_> {
                 };
                 self.push_move(b, MoveKind::Line, start, end, Feed::PerRev(lead * self.scale()));
             }
-            Motion::Cycle(_) => {} // run by `cycles::repeat` above
             Motion::ArcCw | Motion::ArcCcw => {
                 // G2 turns from +X toward +Z: counter-clockwise in (x right, z up).
                 let ccw = motion == Motion::ArcCw;

@@ -172,7 +172,15 @@ impl Run<'_> {
                 Some(super::state::Motion::Cycle(code)) => f64::from(code),
                 None => 800.0,
             },
-            "_plane" => 180.0,
+            "_plane" => {
+                if m.plane_xy {
+                    170.0
+                } else if m.plane_xz {
+                    180.0
+                } else {
+                    190.0
+                }
+            }
             "_coord_system" => 540.0,
             "_units_per_rev" | "_feed_per_rev" => bool_f(m.feed_per_rev),
             "_units_per_minute" => bool_f(!m.feed_per_rev),

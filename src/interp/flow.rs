@@ -275,6 +275,7 @@ impl<'a> Run<'a> {
             s: 0.0,
             css_clamp: None,
             plane_xz: true,
+            plane_xy: false,
         };
         let station = machine.turret.start_station;
         Run {

@@ -12,8 +12,9 @@ pub(crate) enum Motion {
     ArcCcw,
     /// Spindle-synchronised straight move (Fanuc G32/G33 with F as lead, LinuxCNC G33 with K).
     Thread,
-    /// A modal canned cycle (G code ×10: Fanuc G90/G92/G94, G81–G89): a later block with axis
-    /// words runs the cycle again (see `cycles::repeat`).
+    /// A modal canned cycle (G code ×10): a later block with axis words and no motion code runs
+    /// it again — Fanuc G90/G92/G94 and G81–G89 through `cycles::repeat`, LinuxCNC G33.1, G76,
+    /// G73 and G81–G89 through `cycles/lcnc_*.rs`.
     Cycle(u16),
 }
 
@@ -35,6 +36,9 @@ pub(crate) struct Modal {
     /// G50 S / G92 S / G96 D clamp, rpm.
     pub css_clamp: Option<f64>,
     pub plane_xz: bool,
+    /// G17 (LinuxCNC: lathe programs select it for drilling along Z): straight moves and
+    /// drilling cycles run, arcs are refused.
+    pub plane_xy: bool,
 }
 
 /// Parameters: numbered (`#1`…`#5602`, Fanuc `#1`…`#999`) and named (`#<name>`).

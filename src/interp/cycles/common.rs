@@ -98,6 +98,8 @@ pub(crate) struct Memory {
     pub g73: Option<(f64, f64, f64)>,
     /// N number → block indices holding it, ascending (built on first use).
     n_index: Option<HashMap<u64, Vec<usize>>>,
+    /// The LinuxCNC cycles' modal values (R plane, initial level, retract mode, …).
+    pub lcnc: super::lcnc_drill::LcncMemory,
 }
 
 /// The block with N number `n`: the first one after block `from`, else the first in the file.

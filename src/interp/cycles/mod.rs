@@ -4,10 +4,12 @@
 //! `Move::profile_line`), so the checker sees them like any other move.
 //!
 //! The block executor (`block.rs`, step 9 "Motion") hands every motion code it does not run
-//! itself to [`run`]; a later block of a modal cycle (box and drilling cycles) comes back through
-//! [`repeat`]. One file per family: `rough` (Fanuc/Haas G70 finishing, G71/G72 stock removal,
-//! G73 pattern repeat; `common` holds their profile reading), `box_` (G90/G92/G94, system B
-//! G77/G78/G79), `thread` (G76), `groove` (G74/G75), `drill` (G80–G89).
+//! itself to [`run`]; a later block of a modal cycle (box, drilling and LinuxCNC cycles) comes
+//! back through [`repeat`]. One file per family: `rough` (Fanuc/Haas G70 finishing, G71/G72
+//! stock removal, G73 pattern repeat; `common` holds their profile reading), `box_`
+//! (G90/G92/G94, system B G77/G78/G79), `thread` (G76), `groove` (G74/G75), `drill` (G80–G89);
+//! LinuxCNC: `lcnc_thread` (G33.1 rigid tapping, G76) and `lcnc_drill` (G73, G74, G81–G89
+//! along Z in G17).
 
 use super::block::Words;
 use super::flow::Run;
@@ -17,6 +19,8 @@ mod box_;
 mod common;
 mod drill;
 mod groove;
+mod lcnc_drill;
+mod lcnc_thread;
 mod rough;
 mod thread;
 
@@ -49,7 +53,10 @@ pub(crate) struct Sticky {
 /// the cycle is one this module runs (its findings, if any, are reported); `false` leaves the
 /// code to the executor's `unsupported` report.
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+    let lcnc = run.machine.dialect == crate::machine::Dialect::Linuxcnc;
     let handled = match code {
+        331 | 760 if lcnc => lcnc_thread::run(run, b, w, code, at),
+        730 | 740 | 810..=890 if lcnc => lcnc_drill::run(run, b, w, code, at),
         700..=730 => rough::run(run, b, w, code, at),
         740 | 750 => groove::run(run, b, w, code, at),
         760 => thread::g76(run, b, w, at),
@@ -102,12 +109,27 @@ pub(super) fn charge(run: &mut Run<'_>, b: &Block, moves: u64) -> bool {
     true
 }
 
-/// A block with axis words and no motion code while the modal cycle `code` is in force.
-pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
+/// A block with axis words and no motion code while the modal cycle `code` is in force: the
+/// cycle again with the new words. `false` when no family here runs it (the block then moves as
+/// an ordinary one).
+pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) -> bool {
+    if run.machine.dialect == crate::machine::Dialect::Linuxcnc {
+        return run_lcnc(run, b, w, code);
+    }
     match code {
         770 | 780 | 790 | 900 | 920 | 940 => box_::repeat(run, b, w, code),
         810..=890 => drill::repeat(run, b, w, code),
-        _ => {}
+        _ => return false,
+    }
+    true
+}
+
+/// A LinuxCNC cycle in force, run again by a block with axis words (as rs274ngc does).
+fn run_lcnc(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) -> bool {
+    match code {
+        331 | 760 => lcnc_thread::run(run, b, w, code, 0),
+        730 | 740 | 810..=890 => lcnc_drill::run(run, b, w, code, 0),
+        _ => false,
     }
 }
 
