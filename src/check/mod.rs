@@ -669,12 +669,24 @@ impl Checker<'_> {
     }
 
     /// A proven lower bound of the distance between a posed part and an obstacle it is clear of.
-    fn gap_lower_bound(&self, poly: &Polygon, in_plane: bool, o: Obstacle) -> f64 {
+    /// Against the stock, the bound is to the stock as the current query sees it (at the instant
+    /// of the cutting move under way, or before it for the insert's own spindle-stopped test):
+    /// it holds for every later instant of the move too, since the stock only loses material
+    /// (ARCHITECTURE.md, "The stock at the instant").
+    fn gap_lower_bound(&mut self, poly: &Polygon, in_plane: bool, o: Obstacle) -> f64 {
         match o {
-            Obstacle::Stock => self
-                .stock
-                .as_ref()
-                .map_or(f64::INFINITY, |s| s.gap_bound(poly.points(), 10.0)),
+            Obstacle::Stock => {
+                self.refresh_swept();
+                let (Some(stock), cutting) = (self.stock.as_mut(), self.cutting.as_ref()) else {
+                    return f64::INFINITY;
+                };
+                let view = match cutting {
+                    Some(c) if self.pre_move => View::Instant(&c.empty),
+                    Some(c) => View::Instant(&c.swept),
+                    None => View::Now,
+                };
+                stock.gap_bound_view(poly.points(), 10.0, view)
+            }
             _ => self.obstacle(o).map_or(f64::INFINITY, |rev| {
                 let g = geom::distance(poly, &rev.outline);
                 if in_plane {
