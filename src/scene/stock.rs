@@ -755,10 +755,11 @@ fn poly_rect_distance(pts: &[P2], x0: f64, x1: f64, z0: f64, z1: f64, cap: f64) 
         if ex >= best || ez >= best {
             continue;
         }
-        best = best.min(segment_rect_distance(a, b, x0, x1, z0, z1));
-        if best <= 0.0 {
-            return 0.0;
+        let d = segment_rect_distance(a, b, x0, x1, z0, z1);
+        if !(d > 0.0) {
+            return 0.0; // they meet, or a coordinate is not finite: no bound
         }
+        best = best.min(d);
     }
     // No edge meets the box: either the box lies inside the polygon or they are apart.
     if inside(pts, P2::new(x0, z0)) {
