@@ -715,7 +715,14 @@ fn remove_swept(mat: &mut Vec<(f64, f64)>, sw: &Swept, near: &[usize], c: f64) {
             }
         }
         let list: &mut [f64] = if cnt <= xs.len() { &mut xs[..cnt] } else { &mut heap[..] };
-        list.sort_unstable_by(|p, q| p.total_cmp(q));
+        if cnt == 2 {
+            // The common case (a convex polygon), without the general sort's overhead.
+            if list[0].total_cmp(&list[1]).is_gt() {
+                list.swap(0, 1);
+            }
+        } else {
+            list.sort_unstable_by(|p, q| p.total_cmp(q));
+        }
         for pair in list.chunks_exact(2) {
             let (r0, r1) = radial_range(pair[0], pair[1]);
             subtract(mat, r0, r1);
