@@ -763,7 +763,7 @@ fn poly_rect_distance(pts: &[P2], x0: f64, x1: f64, z0: f64, z1: f64, cap: f64) 
             continue;
         }
         let d = segment_rect_distance(a, b, x0, x1, z0, z1);
-        if !(d > 0.0) {
+        if d.is_nan() || d <= 0.0 {
             return 0.0; // they meet, or a coordinate is not finite: no bound
         }
         best = best.min(d);
