@@ -669,12 +669,24 @@ impl Checker<'_> {
     }
 
     /// A proven lower bound of the distance between a posed part and an obstacle it is clear of.
-    fn gap_lower_bound(&self, poly: &Polygon, in_plane: bool, o: Obstacle) -> f64 {
+    /// Against the stock, the bound is to the stock as the current query sees it (at the instant
+    /// of the cutting move under way, or before it for the insert's own spindle-stopped test):
+    /// it holds for every later instant of the move too, since the stock only loses material
+    /// (ARCHITECTURE.md, "The stock at the instant").
+    fn gap_lower_bound(&mut self, poly: &Polygon, in_plane: bool, o: Obstacle) -> f64 {
         match o {
-            Obstacle::Stock => self
-                .stock
-                .as_ref()
-                .map_or(f64::INFINITY, |s| s.gap_bound(poly.points(), 10.0)),
+            Obstacle::Stock => {
+                self.refresh_swept();
+                let (Some(stock), cutting) = (self.stock.as_mut(), self.cutting.as_ref()) else {
+                    return f64::INFINITY;
+                };
+                let view = match cutting {
+                    Some(c) if self.pre_move => View::Instant(&c.empty),
+                    Some(c) => View::Instant(&c.swept),
+                    None => View::Now,
+                };
+                stock.gap_bound_view(poly.points(), 10.0, view)
+            }
             _ => self.obstacle(o).map_or(f64::INFINITY, |rev| {
                 let g = geom::distance(poly, &rev.outline);
                 if in_plane {
@@ -861,15 +873,14 @@ impl Checker<'_> {
 
     /// The region the insert sweeps from the start of a feed move to path fraction `f`: the
     /// insert at the start, each edge swept along every chord of the path, and the insert at
-    /// each chord's end (at f for the chord holding f). Chords whose sweep cannot reach the raw
-    /// stock are left out: they remove nothing. With `f` = 1 this is exactly what [`Self::cut`]
-    /// removes, so the stock "at the end of the move" is the stock after it.
+    /// each chord's end (the point at f on the chord holding f). Chords whose sweep cannot reach
+    /// the raw stock are left out: they remove nothing. With `f` = 1 this is exactly what
+    /// [`Self::cut`] removes, so the stock "at the end of the move" is the stock after it.
     fn swept_until(&self, c: &Cutting, f: f64, out: &mut Swept) {
         out.clear();
         let Some(tool) = self.scene.tool(self.run.moves[c.index].station) else {
             return;
         };
-        let m = &self.run.moves[c.index];
         let insert = tool.insert.points();
         let f = if f.is_nan() { 1.0 } else { f.clamp(0.0, 1.0) };
         let posed = |p: P2| -> Vec<P2> { insert.iter().map(|q| p + q.coords).collect() };
@@ -880,12 +891,14 @@ impl Checker<'_> {
             if u0 >= f {
                 break;
             }
+            // Partway along a chord, the point on the chord (for a line, the point on the move):
+            // then the swept region only grows with f, exactly, which the gap bounds rely on
+            // (ARCHITECTURE.md, "The stock at the instant"). On an arc it is within the
+            // tolerance of the insert's pose, as the chords of the whole cut are.
             let end = if u1 <= f {
                 b
-            } else if f >= 1.0 {
-                m.point_at(1.0)
             } else {
-                m.point_at(f)
+                a + (b - a) * ((f - u0) / (u1 - u0))
             };
             let d: V2 = end - a;
             let at = posed(a);

@@ -15,7 +15,7 @@
 //! Rotating parts see the material through the radial section: a point `(x, z)` of a part is in
 //! the stock when `(|x|, z)` is, so parts in the working plane are folded about the axis.
 
-use crate::geom::{Aabb, P2};
+use crate::geom::{point_segment_distance, Aabb, P2};
 
 /// Columns per block of the quick-reject summary.
 const BLOCK: usize = 64;
@@ -455,39 +455,108 @@ impl DexelStock {
         s
     }
 
-    /// A lower bound on the distance from a part (working plane, folded) to any material, looking
-    /// no further than `window` mm; returns `window` when nothing is that close. Uses the block
-    /// summaries only, so it costs a few comparisons per block the window spans.
-    pub fn gap_bound(&self, pts: &[P2], window: f64) -> f64 {
+    /// A lower bound on the distance from a part (working plane, folded) to any material of the
+    /// stock as it is now, looking no further than `window` mm; returns `window` when nothing is
+    /// that close.
+    pub fn gap_bound(&mut self, pts: &[P2], window: f64) -> f64 {
+        self.gap_bound_view(pts, window, View::Now)
+    }
+
+    /// A lower bound on the distance from a part (working plane, folded) to the material as
+    /// `view` sees it, looking no further than `window` mm; returns `window` when nothing is that
+    /// close. Never larger than the true distance (to rounding): blocks the current move has not
+    /// changed are bounded by the box of their material (the block summaries, a few operations
+    /// per block); in blocks it has changed, each changed column's material at the instant (its
+    /// saved material less the swept region, exactly as [`Self::overlap_view`] sees it) is a
+    /// radial segment at the column's centre, and the part's distance to it is computed exactly.
+    ///
+    /// During a cutting move, the stock at an instant holds the stock at every later instant of
+    /// the move (material is only removed), so the bound at an instant holds for the rest of the
+    /// move: ARCHITECTURE.md, "The stock at the instant".
+    pub fn gap_bound_view(&mut self, pts: &[P2], window: f64, view: View) -> f64 {
+        if pts.is_empty() || window.is_nan() {
+            return 0.0;
+        }
         let bb = Aabb::of_points(pts);
         let (rlo, rhi) = radial_range(bb.min.x, bb.max.x);
         let Some((j0, j1)) = self.column_range(bb.min.y - window, bb.max.y + window) else {
             return window;
         };
-        let mut best = window;
-        for b in j0 / BLOCK..=j1 / BLOCK {
-            // During a move, the material before it: a bound for every instant of the move.
-            let (mn, mx) = self.extremes(b, true);
-            if mn > mx {
-                continue; // no material in this block
-            }
-            let za = self.z0 + (b * BLOCK) as f64 * self.h;
-            let zb = self.z0 + (((b + 1) * BLOCK).min(self.cols.len())) as f64 * self.h;
-            let dz = (za - bb.max.y).max(bb.min.y - zb).max(0.0);
-            // Within the part's z range, its radial range over this block's slab is sharper.
-            let (lo, hi) = if dz == 0.0 {
-                slab_radial_range(pts, za, zb).unwrap_or((rlo, rhi))
-            } else {
-                (rlo, rhi)
-            };
-            let dr = (mn - hi).max(lo - mx).max(0.0);
-
-            best = best.min((dz * dz + dr * dr).sqrt());
-            if best <= 0.0 {
-                return 0.0;
+        let swept = match view {
+            View::Instant(sw) if self.journal.active => Some(sw),
+            _ => None,
+        };
+        // A cheap lower bound of the distance from the part to the box [r0, r1] x [z0, z1].
+        let box_bound = |r0: f64, r1: f64, z0: f64, z1: f64| {
+            let dz = (z0 - bb.max.y).max(bb.min.y - z1).max(0.0);
+            let dr = (r0 - rhi).max(rlo - r1).max(0.0);
+            (dz * dz + dr * dr).sqrt()
+        };
+        // The swept polygons that can change material within the window of the part. (Leaving
+        // one out would only leave more material: still a lower bound.)
+        let mut near = std::mem::take(&mut self.near);
+        near.clear();
+        if let Some(sw) = swept {
+            for (i, (pb, _)) in sw.polys.iter().enumerate() {
+                let (plo, phi) = radial_range(pb.min.x, pb.max.x);
+                if pb.max.y > bb.min.y - window
+                    && pb.min.y < bb.max.y + window
+                    && phi > rlo - window
+                    && plo < rhi + window
+                {
+                    near.push(i);
+                }
             }
         }
-        best
+        let mut mat = std::mem::take(&mut self.mat);
+        let mut best = window;
+        for b in j0 / BLOCK..=j1 / BLOCK {
+            let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
+            let journaled = swept.is_some() && self.journal.blk_gen[b] == self.journal.gen;
+            if !journaled {
+                // Unchanged by the move: the block's material now is its material at every
+                // instant of the move, inside the box of its extremes and column centres.
+                let (mn, mx) = (self.blk_min[b], self.blk_max[b]);
+                if mn > mx {
+                    continue; // no material in this block
+                }
+                let (z0, z1) = (self.center(k0), self.center(k1));
+                if box_bound(mn, mx, z0, z1) >= best {
+                    continue;
+                }
+                best = best.min(poly_box_distance(pts, mn, mx, z0, z1, best));
+            } else {
+                for col in k0..=k1 {
+                    let c = self.center(col);
+                    if box_bound(f64::NEG_INFINITY, f64::INFINITY, c, c) >= best {
+                        continue;
+                    }
+                    let material: &[(f64, f64)] = match (swept, self.saved(col)) {
+                        (Some(sw), Some(before)) => {
+                            mat.clear();
+                            mat.extend_from_slice(before);
+                            remove_swept(&mut mat, sw, &near, c);
+                            &mat
+                        }
+                        _ => &self.cols[col].iv,
+                    };
+                    for &(lo, hi) in material {
+                        if box_bound(lo, hi, c, c) < best {
+                            best = best.min(poly_box_distance(pts, lo, hi, c, c, best));
+                        }
+                    }
+                    if best <= 0.0 {
+                        break;
+                    }
+                }
+            }
+            if best <= 0.0 {
+                break;
+            }
+        }
+        self.mat = mat;
+        self.near = near;
+        best.max(0.0)
     }
 
     /// Remove the material inside a polygon (working plane, folded about the axis).
@@ -646,12 +715,121 @@ fn remove_swept(mat: &mut Vec<(f64, f64)>, sw: &Swept, near: &[usize], c: f64) {
             }
         }
         let list: &mut [f64] = if cnt <= xs.len() { &mut xs[..cnt] } else { &mut heap[..] };
-        list.sort_unstable_by(|p, q| p.total_cmp(q));
+        if cnt == 2 {
+            // The common case (a convex polygon), without the general sort's overhead.
+            if list[0].total_cmp(&list[1]).is_gt() {
+                list.swap(0, 1);
+            }
+        } else {
+            list.sort_unstable_by(|p, q| p.total_cmp(q));
+        }
         for pair in list.chunks_exact(2) {
             let (r0, r1) = radial_range(pair[0], pair[1]);
             subtract(mat, r0, r1);
         }
     }
+}
+
+/// The distance from a polygon (working plane, `x` signed) to the box `[r0, r1] x [z0, z1]` of
+/// the radial half plane (`0 <= r0 <= r1`, `z0 <= z1`; a radial segment when `z0 == z1`) and its
+/// mirror image `[-r1, -r0]`: 0 when they meet. Exact but for rounding, or `cap` or more when
+/// the distance is at least `cap` (edges that far are not measured); NaN counts as 0.
+fn poly_box_distance(pts: &[P2], r0: f64, r1: f64, z0: f64, z1: f64, cap: f64) -> f64 {
+    let mut best = cap;
+    for (x0, x1) in [(r0, r1), (-r1, -r0)] {
+        best = best.min(poly_rect_distance(pts, x0, x1, z0, z1, best));
+        if best <= 0.0 {
+            return 0.0;
+        }
+    }
+    if best >= 0.0 {
+        best
+    } else {
+        0.0 // NaN
+    }
+}
+
+/// The distance from a polygon to the axis-aligned box `[x0, x1] x [z0, z1]`: 0 when they meet;
+/// `cap` or more when it is at least `cap`.
+fn poly_rect_distance(pts: &[P2], x0: f64, x1: f64, z0: f64, z1: f64, cap: f64) -> f64 {
+    let n = pts.len();
+    let mut best = cap;
+    for i in 0..n {
+        let (a, b) = (pts[i], pts[(i + 1) % n]);
+        // An edge whose box is at least `best` from the box cannot come nearer.
+        let ex = (x0 - a.x.max(b.x)).max(a.x.min(b.x) - x1);
+        let ez = (z0 - a.y.max(b.y)).max(a.y.min(b.y) - z1);
+        if ex >= best || ez >= best {
+            continue;
+        }
+        let d = segment_rect_distance(a, b, x0, x1, z0, z1);
+        if d.is_nan() || d <= 0.0 {
+            return 0.0; // they meet, or a coordinate is not finite: no bound
+        }
+        best = best.min(d);
+    }
+    // No edge meets the box: either the box lies inside the polygon or they are apart.
+    if inside(pts, P2::new(x0, z0)) {
+        return 0.0;
+    }
+    best
+}
+
+/// Is `p` inside the polygon (crossing number; the boundary is handled by the edge tests)?
+fn inside(pts: &[P2], p: P2) -> bool {
+    let n = pts.len();
+    let mut odd = false;
+    for i in 0..n {
+        let (a, b) = (pts[i], pts[(i + 1) % n]);
+        if (a.y > p.y) != (b.y > p.y) {
+            let x = a.x + (b.x - a.x) * ((p.y - a.y) / (b.y - a.y));
+            if p.x < x {
+                odd = !odd;
+            }
+        }
+    }
+    odd
+}
+
+/// The distance from the segment `ab` to the box `[x0, x1] x [z0, z1]`: 0 when they meet.
+fn segment_rect_distance(a: P2, b: P2, x0: f64, x1: f64, z0: f64, z1: f64) -> f64 {
+    // Liang–Barsky: does the segment meet the closed box?
+    let (dx, dz) = (b.x - a.x, b.y - a.y);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    let mut meets = true;
+    for (p, q) in [(-dx, a.x - x0), (dx, x1 - a.x), (-dz, a.y - z0), (dz, z1 - a.y)] {
+        if p == 0.0 {
+            if q < 0.0 {
+                meets = false;
+                break;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+            if t0 > t1 {
+                meets = false;
+                break;
+            }
+        }
+    }
+    if meets {
+        return 0.0;
+    }
+    // Apart: the closest pair has an end of the segment or a corner of the box.
+    let to_box = |p: P2| {
+        let ex = (x0 - p.x).max(p.x - x1).max(0.0);
+        let ez = (z0 - p.y).max(p.y - z1).max(0.0);
+        (ex * ex + ez * ez).sqrt()
+    };
+    let mut d = to_box(a).min(to_box(b));
+    for (x, z) in [(x0, z0), (x1, z0), (x0, z1), (x1, z1)] {
+        d = d.min(point_segment_distance(P2::new(x, z), a, b));
+    }
+    d
 }
 
 /// Ramer–Douglas–Peucker simplification of an open polyline, keeping both ends.
