@@ -162,17 +162,7 @@ impl Move {
 
     /// The programmed point at fraction `t` ∈ [0, 1] of the path (arcs: of the angle).
     pub fn point_at(&self, t: f64) -> P2 {
-        match self.kind {
-            MoveKind::Arc { center, sweep } => {
-                let a = self.start - center;
-                let r0 = a.norm();
-                let r1 = (self.end - center).norm();
-                let r = r0 + (r1 - r0) * t;
-                let ang = a.y.atan2(a.x) + sweep * t;
-                P2::new(center.x + r * ang.cos(), center.y + r * ang.sin())
-            }
-            _ => self.start + (self.end - self.start) * t,
-        }
+        path_point(self.kind, self.start, self.end, t)
     }
 
     /// Path length of the programmed point, mm.
@@ -188,6 +178,23 @@ impl Move {
             MoveKind::Dwell { .. } | MoveKind::ToolChange { .. } => 0.0,
             _ => (self.end - self.start).norm(),
         }
+    }
+}
+
+/// The point at fraction `t` ∈ [0, 1] of a path of `kind` from `start` to `end`: along the line,
+/// or along the angle of an arc whose radius changes linearly (the small spiral rs274ngc
+/// tolerates).
+pub(crate) fn path_point(kind: MoveKind, start: P2, end: P2, t: f64) -> P2 {
+    match kind {
+        MoveKind::Arc { center, sweep } => {
+            let a = start - center;
+            let r0 = a.norm();
+            let r1 = (end - center).norm();
+            let r = r0 + (r1 - r0) * t;
+            let ang = a.y.atan2(a.x) + sweep * t;
+            P2::new(center.x + r * ang.cos(), center.y + r * ang.sin())
+        }
+        _ => start + (end - start) * t,
     }
 }
 

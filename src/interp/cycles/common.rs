@@ -61,17 +61,7 @@ impl Seg {
 
     /// The point at fraction `t` of the path.
     pub fn point_at(&self, t: f64) -> P2 {
-        match self.kind {
-            MoveKind::Arc { center, sweep } => {
-                let a = self.start - center;
-                let r0 = a.norm();
-                let r1 = (self.end - center).norm();
-                let r = r0 + (r1 - r0) * t;
-                let ang = a.y.atan2(a.x) + sweep * t;
-                P2::new(center.x + r * ang.cos(), center.y + r * ang.sin())
-            }
-            _ => self.start + (self.end - self.start) * t,
-        }
+        crate::interp::path_point(self.kind, self.start, self.end, t)
     }
 }
 

@@ -95,20 +95,7 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     }
     // Words of the cycle (read before any early return, so none is reported unused).
     let r_word = w.get(b'R');
-    let q_word = if w.peek(b'Q') {
-        let point = w.has_point(b'Q');
-        let v = w.get(b'Q').unwrap_or(0.0);
-        let unit = if point {
-            1.0
-        } else if run.modal.inch {
-            0.0001
-        } else {
-            0.001
-        };
-        Some(v * unit * s_)
-    } else {
-        None
-    };
+    let q_word = super::least(run, w, b'Q');
     let p_word = if w.peek(b'P') {
         let point = w.has_point(b'P');
         let v = w.get(b'P').unwrap_or(0.0);

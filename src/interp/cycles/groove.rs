@@ -30,19 +30,6 @@ pub(crate) const DEFAULT_RETURN_MM: f64 = 1.0;
 /// Most moves one grooving cycle may make; more is a `program` finding.
 pub(crate) const MAX_MOVES: usize = 100_000;
 
-fn least(run: &Run<'_>, w: &mut Words, letter: u8) -> Option<f64> {
-    let point = w.has_point(letter);
-    let v = w.get(letter)?;
-    let unit = if point {
-        1.0
-    } else if run.modal.inch {
-        0.0001
-    } else {
-        0.001
-    };
-    Some(v * unit * run.scale())
-}
-
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
     if run.machine.dialect != Dialect::Fanuc {
         return false;
@@ -79,9 +66,9 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
         let k = w.get(b'K').unwrap_or(0.0) * s_;
         (i, k, w.get(b'D').unwrap_or(0.0) * s_)
     } else {
-        let i = least(run, w, b'P').unwrap_or(0.0);
-        let k = least(run, w, b'Q').unwrap_or(0.0);
-        (i, k, least(run, w, b'R').unwrap_or(0.0))
+        let i = super::least(run, w, b'P').unwrap_or(0.0);
+        let k = super::least(run, w, b'Q').unwrap_or(0.0);
+        (i, k, super::least(run, w, b'R').unwrap_or(0.0))
     };
     let e = run.cycle.groove_e.unwrap_or(DEFAULT_RETURN_MM);
     if let Some(feed) = run.feed(b, w) {

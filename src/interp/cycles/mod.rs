@@ -26,6 +26,21 @@ mod thread;
 
 pub(crate) use common::Memory;
 
+/// A length word (Fanuc P/Q/R of the threading, grooving and drilling cycles) in the least input
+/// increment (0.001 mm, 0.0001 in) unless written with a decimal point; in mm.
+pub(super) fn least(run: &Run<'_>, w: &mut Words, letter: u8) -> Option<f64> {
+    let point = w.has_point(letter);
+    let v = w.get(letter)?;
+    let unit = if point {
+        1.0
+    } else if run.modal.inch {
+        0.0001
+    } else {
+        0.001
+    };
+    Some(v * unit * run.scale())
+}
+
 /// The modal words of the cycles this family keeps between blocks.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Sticky {

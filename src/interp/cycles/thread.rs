@@ -60,20 +60,6 @@ impl Default for G76Params {
     }
 }
 
-/// A length in the least input increment unless written with a decimal point, in mm.
-fn least(run: &Run<'_>, w: &mut Words, letter: u8) -> Option<f64> {
-    let point = w.has_point(letter);
-    let v = w.get(letter)?;
-    let unit = if point {
-        1.0
-    } else if run.modal.inch {
-        0.0001
-    } else {
-        0.001
-    };
-    Some(v * unit * run.scale())
-}
-
 pub(super) fn g76(run: &mut Run<'_>, b: &Block, w: &mut Words, at: u32) -> bool {
     if run.machine.dialect != Dialect::Fanuc {
         return false;
@@ -115,7 +101,7 @@ fn first_block(run: &mut Run<'_>, b: &Block, w: &mut Words, at: u32) {
         g.r = r;
         g.a = f64::from(a);
     }
-    if let Some(q) = least(run, w, b'Q') {
+    if let Some(q) = super::least(run, w, b'Q') {
         if q < 0.0 {
             run.error(b, w.at(b'Q'), "G76 Q (least depth of cut) must not be negative".into());
             return;
@@ -159,7 +145,7 @@ fn second_block(run: &mut Run<'_>, b: &Block, w: &mut Words, _at: u32) {
     let g = run.cycle.g76;
     let Some(end) = run.target(b, w) else { return };
     let taper = w.get(b'R').unwrap_or(0.0) * run.scale();
-    let (Some(k), Some(dd)) = (least(run, w, b'P'), least(run, w, b'Q')) else {
+    let (Some(k), Some(dd)) = (super::least(run, w, b'P'), super::least(run, w, b'Q')) else {
         run.error(
             b,
             None,
