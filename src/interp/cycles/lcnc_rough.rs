@@ -1,0 +1,562 @@
+//! LinuxCNC lathe stock removal with the profile in an o-word subroutine: G70 finishing, G71 /
+//! G71.1 / G71.2 turning and G72 / G72.1 / G72.2 facing ("G70 Lathe finishing cycle", "G71 G72
+//! Lathe roughing cycles" of the LinuxCNC G-code reference). The passes follow what `rs274 -g`
+//! prints for them (a black-box model of its output, see docs/cycles-linuxcnc.md): the profile
+//! offset by D as a curve (round corners where it turns away, intersections where it turns
+//! in), straight passes one depth I apart from the cycle's start point to the offset profile,
+//! each left at 45° by R, then one pass along the offset profile.
+//!
+//! Everything is computed in a working frame (u, v) where the passes step down in u from the
+//! start point and run toward −v, the direction in which the profile travels: for G71 u and v
+//! are ±X and ±Z, for G72 ±Z and ±X.
+
+use super::common::{emit, feed, rapid, Seg, MAX_PASSES};
+use crate::gcode::{Block, OName};
+use crate::geom::{P2, V2};
+use crate::interp::block::Words;
+use crate::interp::flow::Run;
+use crate::interp::state::Motion;
+use crate::interp::MoveKind;
+use std::f64::consts::TAU;
+
+const EPS: f64 = 1e-9;
+
+/// The working frame: a reflection and possibly a swap of the axes of the spindle frame.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    /// u is Z and v is X (G72), rather than u X and v Z.
+    swap: bool,
+    su: f64,
+    sv: f64,
+}
+
+impl Frame {
+    fn to(self, p: P2) -> V2 {
+        if self.swap {
+            V2::new(self.su * p.y, self.sv * p.x)
+        } else {
+            V2::new(self.su * p.x, self.sv * p.y)
+        }
+    }
+    fn back(self, q: V2) -> P2 {
+        if self.swap {
+            P2::new(self.sv * q.y, self.su * q.x)
+        } else {
+            P2::new(self.su * q.x, self.sv * q.y)
+        }
+    }
+    /// The frame reverses orientation (a counter-clockwise arc becomes clockwise).
+    fn flips(self) -> bool {
+        (self.su * self.sv < 0.0) != self.swap
+    }
+}
+
+/// A piece of a path in the working frame: a line a → b, or an arc about `center`.
+#[derive(Clone, Copy, Debug)]
+struct El {
+    a: V2,
+    b: V2,
+    /// Centre and direction (counter-clockwise in the working frame).
+    arc: Option<(V2, bool)>,
+    /// The profile block this piece comes from.
+    line: u32,
+}
+
+fn rot_ccw(v: V2) -> V2 {
+    V2::new(-v.y, v.x)
+}
+
+fn cross(a: V2, b: V2) -> f64 {
+    a.x * b.y - a.y * b.x
+}
+
+impl El {
+    /// Unit tangent at point p of the piece (in its direction of travel).
+    fn tangent_at(&self, p: V2) -> V2 {
+        match self.arc {
+            None => (self.b - self.a) / (self.b - self.a).norm(),
+            Some((c, ccw)) => {
+                let r = rot_ccw(p - c) / (p - c).norm();
+                if ccw {
+                    r
+                } else {
+                    -r
+                }
+            }
+        }
+    }
+    fn start_tangent(&self) -> V2 {
+        self.tangent_at(self.a)
+    }
+    fn end_tangent(&self) -> V2 {
+        self.tangent_at(self.b)
+    }
+    /// Signed sweep of an arc (positive counter-clockwise).
+    fn sweep(&self) -> f64 {
+        let Some((c, ccw)) = self.arc else { return 0.0 };
+        let a0 = (self.a.y - c.y).atan2(self.a.x - c.x);
+        let a1 = (self.b.y - c.y).atan2(self.b.x - c.x);
+        if ccw {
+            let d = (a1 - a0).rem_euclid(TAU);
+            if d < 1e-12 {
+                TAU
+            } else {
+                d
+            }
+        } else {
+            let d = (a0 - a1).rem_euclid(TAU);
+            -(if d < 1e-12 { TAU } else { d })
+        }
+    }
+    /// The point at fraction t.
+    fn at(&self, t: f64) -> V2 {
+        match self.arc {
+            None => self.a + (self.b - self.a) * t,
+            Some((c, _)) => {
+                let r = (self.a - c).norm();
+                let a0 = (self.a.y - c.y).atan2(self.a.x - c.x) + self.sweep() * t;
+                c + V2::new(r * a0.cos(), r * a0.sin())
+            }
+        }
+    }
+    /// This piece offset by d to its left.
+    fn offset(&self, d: f64) -> Option<El> {
+        match self.arc {
+            None => {
+                let n = rot_ccw(self.start_tangent()) * d;
+                Some(El {
+                    a: self.a + n,
+                    b: self.b + n,
+                    ..*self
+                })
+            }
+            Some((c, ccw)) => {
+                let r = (self.a - c).norm();
+                let r2 = if ccw { r - d } else { r + d };
+                if r2 < 1e-7 {
+                    return None;
+                }
+                let k = r2 / r;
+                Some(El {
+                    a: c + (self.a - c) * k,
+                    b: c + (self.b - c) * ((r2) / (self.b - c).norm()),
+                    ..*self
+                })
+            }
+        }
+    }
+    /// The first fraction in [0, 1] at which the piece reaches u ≥ level.
+    fn reach(&self, level: f64) -> Option<f64> {
+        if self.a.x >= level - EPS {
+            return Some(0.0);
+        }
+        match self.arc {
+            None => (self.b.x >= level - EPS).then(|| ((level - self.a.x) / (self.b.x - self.a.x)).clamp(0.0, 1.0)),
+            Some((c, _)) => {
+                let r = (self.a - c).norm();
+                let cos = (level - c.x) / r;
+                let sw = self.sweep();
+                let a0 = (self.a.y - c.y).atan2(self.a.x - c.x);
+                let mut best: Option<f64> = None;
+                if cos.abs() <= 1.0 {
+                    let th = cos.acos();
+                    for t in [th, -th] {
+                        let f = ((t - a0) * sw.signum()).rem_euclid(TAU) / sw.abs();
+                        if f <= 1.0 && best.is_none_or(|b| f < b) {
+                            best = Some(f);
+                        }
+                    }
+                }
+                best.or_else(|| (self.b.x >= level - EPS).then_some(1.0))
+            }
+        }
+    }
+    fn len(&self) -> f64 {
+        match self.arc {
+            None => (self.b - self.a).norm(),
+            Some((c, _)) => (self.a - c).norm() * self.sweep().abs(),
+        }
+    }
+    /// Points along the piece (ends included), for monotonicity tests.
+    fn samples(&self) -> Vec<V2> {
+        let n = if self.arc.is_some() { 32 } else { 1 };
+        (0..=n).map(|k| self.at(k as f64 / n as f64)).collect()
+    }
+}
+
+/// The intersections of the carriers (infinite line or whole circle) of two pieces.
+fn intersect(e1: &El, e2: &El) -> Vec<V2> {
+    fn line_circle(p: V2, t: V2, c: V2, r: f64) -> Vec<V2> {
+        // |p + s t − c|² = r², t unit.
+        let f = p - c;
+        let b = f.dot(&t);
+        let disc = b * b - (f.dot(&f) - r * r);
+        if disc < -1e-12 {
+            return vec![];
+        }
+        let s = disc.max(0.0).sqrt();
+        vec![p + t * (-b - s), p + t * (-b + s)]
+    }
+    match (e1.arc, e2.arc) {
+        (None, None) => {
+            let (t1, t2) = (e1.start_tangent(), e2.start_tangent());
+            let den = cross(t1, t2);
+            if den.abs() < 1e-12 {
+                return vec![];
+            }
+            let s = cross(e2.a - e1.a, t2) / den;
+            vec![e1.a + t1 * s]
+        }
+        (None, Some((c, _))) => line_circle(e1.a, e1.start_tangent(), c, (e2.a - c).norm()),
+        (Some((c, _)), None) => line_circle(e2.a, e2.start_tangent(), c, (e1.a - c).norm()),
+        (Some((c1, _)), Some((c2, _))) => {
+            let (r1, r2) = ((e1.a - c1).norm(), (e2.a - c2).norm());
+            let d = (c2 - c1).norm();
+            if d < 1e-12 || d > r1 + r2 + 1e-9 || d < (r1 - r2).abs() - 1e-9 {
+                return vec![];
+            }
+            let a = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
+            let h = (r1 * r1 - a * a).max(0.0).sqrt();
+            let u = (c2 - c1) / d;
+            let m = c1 + u * a;
+            vec![m + rot_ccw(u) * h, m - rot_ccw(u) * h]
+        }
+    }
+}
+
+/// The profile offset by d to its left (toward the start point): round corners where the
+/// offsets part, intersections where they cross. `Err` names the profile line that fails.
+fn offset_path(prof: &[El], d: f64) -> Result<Vec<El>, u32> {
+    let mut out: Vec<El> = Vec::with_capacity(prof.len() * 2);
+    for (i, e) in prof.iter().enumerate() {
+        let Some(mut o) = e.offset(d) else { return Err(e.line) };
+        if let Some(prev) = i.checked_sub(1).map(|k| prof[k]) {
+            let (t1, t2) = (prev.end_tangent(), e.start_tangent());
+            let (cr, dot) = (cross(t1, t2), t1.dot(&t2));
+            let last = out.last_mut().ok_or(e.line)?;
+            if d < EPS || (cr.abs() < 1e-9 && dot > 0.0) {
+                o.a = last.b;
+            } else if cr < 0.0 {
+                // Turning right: the offsets part; a round corner about the profile's corner.
+                let corner = El {
+                    a: last.b,
+                    b: o.a,
+                    arc: Some((e.a, false)),
+                    line: e.line,
+                };
+                out.push(corner);
+            } else if cr > 0.0 {
+                let near = e.a;
+                let x = intersect(last, &o)
+                    .into_iter()
+                    .min_by(|p, q| (p - near).norm().total_cmp(&(q - near).norm()))
+                    .ok_or(e.line)?;
+                last.b = x;
+                o.a = x;
+            } else {
+                return Err(e.line);
+            }
+        }
+        out.push(o);
+    }
+    out.retain(|e| (e.b - e.a).norm() > 1e-7 || (e.arc.is_some() && e.len() > 1e-7));
+    Ok(out)
+}
+
+/// The first point along the path whose u reaches `level`.
+fn first_reach(path: &[El], level: f64) -> Option<(V2, u32)> {
+    path.iter().find_map(|e| e.reach(level).map(|t| (e.at(t), e.line)))
+}
+
+/// The words of one cycle block.
+struct Words7x {
+    d: f64,
+    i: f64,
+    r: f64,
+    e: f64,
+    p: f64,
+}
+
+pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+    let name = match code {
+        700 => "G70",
+        710 => "G71",
+        711 => "G71.1",
+        712 => "G71.2",
+        720 => "G72",
+        721 => "G72.1",
+        722 => "G72.2",
+        _ => return false,
+    };
+    let modal_after = cycle(run, b, w, code, name, at);
+    // rs274 leaves the motion mode the profile set (a block of axis words after the cycle
+    // moves as the profile's last motion did); a refused cycle leaves none.
+    run.modal.motion = modal_after;
+    true
+}
+
+/// The cycle; the motion mode to leave in force.
+fn cycle(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, at: u32) -> Option<Motion> {
+    let at_o = (at > 0).then_some(at);
+    let s = run.scale();
+    let q = w.get(b'Q');
+    let mut num = |l: u8, default: f64| w.get(l).map_or(default, |v| v * s);
+    let words = Words7x {
+        d: num(b'D', 0.0),
+        i: num(b'I', s),
+        r: num(b'R', 0.5 * s),
+        e: num(b'E', 0.0),
+        p: w.get(b'P').unwrap_or(1.0),
+    };
+    if !run.modal.plane_xz {
+        run.error(b, at_o, format!("{name} runs in the XZ plane: select G18"));
+        return None;
+    }
+    let Some(q) = q.filter(|q| *q >= 1.0 && q.fract() == 0.0 && *q < u32::MAX as f64) else {
+        run.error(
+            b,
+            at_o,
+            format!("{name} needs Q, the number of the o-word subroutine that holds the profile"),
+        );
+        return None;
+    };
+    if code == 700 {
+        if words.p < 1.0 || words.p.fract() != 0.0 || words.p > MAX_PASSES as f64 {
+            run.error(
+                b,
+                w.at(b'P'),
+                format!("{name}: P (the number of passes) must be a whole number from 1 to {MAX_PASSES}"),
+            );
+            return None;
+        }
+    } else if words.i <= 0.0 || words.d < 0.0 || words.r < 0.0 {
+        run.error(
+            b,
+            at_o,
+            format!("{name}: I (depth of cut) must be positive, D (allowance) and R (retract) not negative"),
+        );
+        return None;
+    }
+    let Some(f) = feed(run, b, name) else { return None };
+    let Some(start) = run.target(b, w) else { return None };
+    rapid(run, b, start);
+    let (segs, motion) = trace(run, b, OName::Number(q as u32), at, name)?;
+    let Some((first, prof)) = segs.split_first().filter(|(_, p)| !p.is_empty()) else {
+        run.error(
+            b,
+            at_o,
+            format!("{name}: the profile o{q} needs a move to its first point and at least one more move"),
+        );
+        return None;
+    };
+    let p0 = first.end;
+    let pe = prof[prof.len() - 1].end;
+    let sign = |v: f64| if v < -EPS { -1.0 } else { 1.0 };
+    let facing = code >= 720 || (code == 700 && (pe.y - p0.y).abs() < EPS);
+    let frame = if facing {
+        Frame {
+            swap: true,
+            su: sign(start.y - p0.y),
+            sv: -sign(pe.x - p0.x),
+        }
+    } else {
+        Frame {
+            swap: false,
+            su: sign(start.x - p0.x),
+            sv: -sign(pe.y - p0.y),
+        }
+    };
+    let els: Vec<El> = prof
+        .iter()
+        .filter(|sg| (sg.end - sg.start).norm() > 1e-9 || matches!(sg.kind, MoveKind::Arc { .. }))
+        .map(|sg| El {
+            a: frame.to(sg.start),
+            b: frame.to(sg.end),
+            arc: match sg.kind {
+                MoveKind::Arc { center, sweep } => Some((frame.to(center), (sweep > 0.0) != frame.flips())),
+                _ => None,
+            },
+            line: sg.line,
+        })
+        .collect();
+    // The profile must run one way along the passes (Z for G71, X for G72).
+    let along = if facing { "X" } else { "Z" };
+    let mut last_v = frame.to(p0).y;
+    for e in &els {
+        for p in e.samples() {
+            if p.y > last_v + 1e-6 {
+                run.error(
+                    b,
+                    at_o,
+                    format!("{name}: the profile is not monotone in {along} (line {})", e.line),
+                );
+                return None;
+            }
+            last_v = last_v.min(p.y);
+        }
+    }
+    let su = frame.to(start);
+    let back = |q: V2| frame.back(q);
+    let follow = |run: &mut Run<'_>, path: &[El]| {
+        for e in path {
+            let kind = match e.arc {
+                None => MoveKind::Line,
+                Some((c, _)) => MoveKind::Arc {
+                    center: back(c),
+                    sweep: if frame.flips() { -e.sweep() } else { e.sweep() },
+                },
+            };
+            emit(run, b, kind, back(e.b), f, e.line);
+        }
+    };
+    if code == 700 {
+        let passes = words.p as usize;
+        for k in 1..=passes {
+            let dist = (words.p - k as f64) * (words.d - words.e) / words.p + words.e;
+            let path = match offset_path(&els, dist) {
+                Ok(p) if !p.is_empty() => p,
+                r => {
+                    let line = r.err().unwrap_or(b.line);
+                    run.error(
+                        b,
+                        at_o,
+                        format!("{name}: the profile offset by {dist:.4} mm cannot be built (line {line})"),
+                    );
+                    return None;
+                }
+            };
+            if k > 1 {
+                rapid(run, b, start);
+            }
+            let o0 = path[0].a;
+            if su.y < o0.y - EPS {
+                rapid(run, b, back(V2::new(su.x, o0.y)));
+            }
+            rapid(run, b, back(o0));
+            follow(run, &path);
+        }
+        return motion;
+    }
+    // Roughing. Pockets (the profile turning back toward the axis) are not modelled.
+    let mut umax = frame.to(p0).x;
+    for e in &els {
+        for p in e.samples() {
+            if p.x < umax - 1e-6 {
+                run.unsupported(
+                    b,
+                    at_o,
+                    format!(
+                        "{name}: the profile turns back into a pocket (line {}); pockets are not modelled yet, the cycle's moves are not checked",
+                        e.line
+                    ),
+                    true,
+                );
+                return None;
+            }
+            umax = umax.max(p.x);
+        }
+    }
+    let path = match offset_path(&els, words.d) {
+        Ok(p) if !p.is_empty() => p,
+        r => {
+            let line = r.err().unwrap_or(b.line);
+            run.error(
+                b,
+                at_o,
+                format!("{name}: the profile offset by D cannot be built (line {line})"),
+            );
+            return None;
+        }
+    };
+    let o0 = path[0].a;
+    let end = path[path.len() - 1].b;
+    let v_entry = |u: f64| {
+        if (su.x - o0.x).abs() < EPS {
+            o0.y
+        } else {
+            o0.y + (u - o0.x) * (su.y - o0.y) / (su.x - o0.x)
+        }
+    };
+    if code % 10 != 2 {
+        let mut k = 0usize;
+        loop {
+            let u = su.x - k as f64 * words.i;
+            if u <= o0.x + 1e-7 {
+                break;
+            }
+            if k >= MAX_PASSES {
+                run.error(
+                    b,
+                    at_o,
+                    format!("{name} would make more than {MAX_PASSES} passes (I is too small for this profile)"),
+                );
+                return None;
+            }
+            if !super::charge(run, b, 5) {
+                return None;
+            }
+            let ve = v_entry(u);
+            let (hit, line) = first_reach(&path, u).map_or((V2::new(u, end.y), 0), |(p, l)| (V2::new(u, p.y), l));
+            rapid(run, b, back(V2::new(u, ve)));
+            emit(run, b, MoveKind::Line, back(hit), f, line);
+            rapid(run, b, back(V2::new(u + words.r, hit.y + words.r)));
+            rapid(run, b, back(V2::new(u + words.r, ve - words.r)));
+            rapid(run, b, back(V2::new(u, ve)));
+            k += 1;
+        }
+    }
+    rapid(run, b, back(o0));
+    follow(run, &path);
+    emit(run, b, MoveKind::Line, back(V2::new(su.x, end.y)), f, 0);
+    motion
+}
+
+/// Run the profile subroutine from the current point and collect its moves; nothing of it stays
+/// (moves, modal state, tool, position). Also the motion mode it left. `None` after a finding.
+fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Option<(Vec<Seg>, Option<Motion>)> {
+    let modal = run.modal.clone();
+    let (reference, station, tip, selected) = (run.reference, run.station, run.tip, run.selected);
+    let (shift, stopped) = (run.shift, run.stopped);
+    let (m0, s0) = (run.moves.len(), run.states.len());
+    let reports = run.reports;
+    let returned = run.run_sub_inline(b, sub, at);
+    let segs: Vec<Seg> = run.moves[m0..]
+        .iter()
+        .filter(|m| matches!(m.kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }))
+        .map(|m| Seg {
+            kind: if m.kind == MoveKind::Rapid {
+                MoveKind::Line
+            } else {
+                m.kind
+            },
+            start: m.start,
+            end: m.end,
+            line: m.line,
+        })
+        .collect();
+    let motion = run.modal.motion;
+    let budget_spent = run.stopped && !stopped;
+    run.modal = modal;
+    run.shift = shift;
+    run.stopped = stopped || budget_spent && run.executed > run.limits.max_blocks;
+    run.moves.truncate(m0);
+    run.states.truncate(s0);
+    run.reference = reference;
+    run.station = station;
+    run.tip = tip;
+    run.selected = selected;
+    if run.reports > reports || !returned {
+        if !run.stopped {
+            let at_o = (at > 0).then_some(at);
+            run.error(
+                b,
+                at_o,
+                format!(
+                    "{name}: the profile subroutine could not be read (see the findings above); the cycle is not run"
+                ),
+            );
+        }
+        return None;
+    }
+    Some((segs, motion))
+}
