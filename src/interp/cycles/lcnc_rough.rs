@@ -425,14 +425,11 @@ fn cycle(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, at:
                     return None;
                 }
             };
-            if k > 1 {
-                rapid(run, b, start);
-            }
-            let o0 = path[0].a;
-            if su.y < o0.y - EPS {
-                rapid(run, b, back(V2::new(su.x, o0.y)));
-            }
-            rapid(run, b, back(o0));
+            // Each pass enters from the start point, moved level with the profile's first
+            // point when it lies past it along the profile.
+            let e0 = V2::new(su.x, su.y.max(frame.to(p0).y));
+            rapid(run, b, back(e0));
+            rapid(run, b, back(path[0].a));
             follow(run, &path);
         }
         return motion;
@@ -470,11 +467,14 @@ fn cycle(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, at:
     };
     let o0 = path[0].a;
     let end = path[path.len() - 1].b;
+    // The passes start on the line from the start point to the offset profile's start; a start
+    // point past the profile's first point (along the passes) counts as level with it.
+    let e0 = V2::new(su.x, su.y.max(frame.to(p0).y));
     let v_entry = |u: f64| {
-        if (su.x - o0.x).abs() < EPS {
+        if (e0.x - o0.x).abs() < EPS {
             o0.y
         } else {
-            o0.y + (u - o0.x) * (su.y - o0.y) / (su.x - o0.x)
+            o0.y + (u - o0.x) * (e0.y - o0.y) / (e0.x - o0.x)
         }
     };
     if code % 10 != 2 {
@@ -499,8 +499,10 @@ fn cycle(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, at:
             let (hit, line) = first_reach(&path, u).map_or((V2::new(u, end.y), 0), |(p, l)| (V2::new(u, p.y), l));
             rapid(run, b, back(V2::new(u, ve)));
             emit(run, b, MoveKind::Line, back(hit), f, line);
-            rapid(run, b, back(V2::new(u + words.r, hit.y + words.r)));
-            rapid(run, b, back(V2::new(u + words.r, ve - words.r)));
+            // A pass shorter than 2R leaves by half its length.
+            let r = words.r.min(((ve - hit.y) / 2.0).max(0.0));
+            rapid(run, b, back(V2::new(u + r, hit.y + r)));
+            rapid(run, b, back(V2::new(u + r, ve - r)));
             rapid(run, b, back(V2::new(u, ve)));
             k += 1;
         }
