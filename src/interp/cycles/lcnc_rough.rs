@@ -353,20 +353,27 @@ fn cycle(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, at:
     let pe = prof[prof.len() - 1].end;
     let sign = |v: f64| if v < -EPS { -1.0 } else { 1.0 };
     let facing = code >= 720 || (code == 700 && (pe.y - p0.y).abs() < EPS);
-    let frame = if facing {
-        Frame {
-            swap: true,
-            su: sign(start.y - p0.y),
-            sv: -sign(pe.x - p0.x),
-        }
+    // The passes step toward the profile from the side it climbs to (G70: from the start
+    // point's side); a profile that does not climb at all (a face for G72, a diameter for G71)
+    // is offset to the left of its travel, as rs274 does.
+    let (du, dv, to_start) = if facing {
+        (pe.y - p0.y, pe.x - p0.x, start.y - p0.y)
     } else {
-        Frame {
-            swap: false,
-            su: sign(start.x - p0.x),
-            sv: -sign(pe.y - p0.y),
-        }
+        (pe.x - p0.x, pe.y - p0.y, start.x - p0.x)
     };
-    let els: Vec<El> = prof
+    let sv = -sign(dv);
+    let su = if code == 700 {
+        sign(to_start)
+    } else if du.abs() > EPS {
+        sign(du)
+    } else if facing {
+        -sv
+    } else {
+        sv
+    };
+    let frame = Frame { swap: facing, su, sv };
+    let mut els: Vec<El> = Vec::with_capacity(prof.len());
+    for e in prof
         .iter()
         .filter(|sg| (sg.end - sg.start).norm() > 1e-9 || matches!(sg.kind, MoveKind::Arc { .. }))
         .map(|sg| El {
@@ -378,7 +385,20 @@ fn cycle(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, at:
             },
             line: sg.line,
         })
-        .collect();
+    {
+        // Consecutive lines in one direction are one line (as rs274 prints them).
+        match els.last_mut() {
+            Some(last)
+                if last.arc.is_none()
+                    && e.arc.is_none()
+                    && cross(last.end_tangent(), e.start_tangent()).abs() < 1e-9
+                    && last.end_tangent().dot(&e.start_tangent()) > 0.0 =>
+            {
+                last.b = e.b
+            }
+            _ => els.push(e),
+        }
+    }
     // The profile must run one way along the passes (Z for G71, X for G72).
     let along = if facing { "X" } else { "Z" };
     let mut last_v = frame.to(p0).y;
@@ -507,9 +527,17 @@ fn cycle(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, at:
             k += 1;
         }
     }
-    rapid(run, b, back(o0));
+    // A start point below the offset profile's first point (no passes) feeds up to it.
+    if e0.x < o0.x - EPS {
+        emit(run, b, MoveKind::Line, back(o0), f, 0);
+    } else {
+        rapid(run, b, back(o0));
+    }
     follow(run, &path);
-    emit(run, b, MoveKind::Line, back(V2::new(su.x, end.y)), f, 0);
+    // Out to the start point's level along the last face, unless the profile ends beyond it.
+    if end.x < su.x {
+        emit(run, b, MoveKind::Line, back(V2::new(su.x, end.y)), f, 0);
+    }
     motion
 }
 
