@@ -642,13 +642,14 @@ impl<'a> Run<'a> {
     /// Run subroutine `name` from here to its return, as a call with no arguments made by block
     /// `b` (a LinuxCNC G70–G72 cycle reading its profile, `cycles/lcnc_rough.rs`). The program
     /// counter and the current line are as before afterwards; `false` when the subroutine does
-    /// not exist (a finding at `b`) or did not return (the program stopped, or the budget ran out).
-    pub(crate) fn run_sub_inline(&mut self, b: &Block, name: OName, at: u32) -> bool {
+    /// not exist (`None`, a finding at `b`) or did not return (the program stopped, or the budget
+    /// ran out).
+    pub(crate) fn run_sub_inline(&mut self, b: &Block, name: OName, at: u32) -> Option<bool> {
         let depth = self.frames.len();
         let (pc, line) = (self.pc, self.current_line);
         self.call(b, name, &[], at);
         if self.frames.len() == depth {
-            return false;
+            return None;
         }
         let n = self.prog.blocks.len();
         while self.frames.len() > depth && !self.stopped && self.pc < n {
@@ -679,7 +680,7 @@ impl<'a> Run<'a> {
         }
         self.pc = pc;
         self.current_line = line;
-        returned
+        Some(returned)
     }
 
     fn call_depth(&self) -> usize {

@@ -339,6 +339,31 @@ fn cycle(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, at:
     }
     let Some(f) = feed(run, b, name) else { return None };
     let Some(start) = run.target(b, w) else { return None };
+    // A refused cycle moves nothing, not even to its start point.
+    let (m0, s0, reference) = (run.moves.len(), run.states.len(), run.reference);
+    let done = expand(run, b, code, name, at, q, &words, f, start);
+    if done.is_none() {
+        run.moves.truncate(m0);
+        run.states.truncate(s0);
+        run.reference = reference;
+    }
+    done
+}
+
+/// The moves of the cycle from `start`; the motion mode to leave in force. `None` after a finding.
+#[allow(clippy::too_many_arguments)]
+fn expand(
+    run: &mut Run<'_>,
+    b: &Block,
+    code: u16,
+    name: &str,
+    at: u32,
+    q: f64,
+    words: &Words7x,
+    f: crate::interp::Feed,
+    start: P2,
+) -> Option<Motion> {
+    let at_o = (at > 0).then_some(at);
     rapid(run, b, start);
     let (segs, motion) = trace(run, b, OName::Number(q as u32), at, name)?;
     let Some((first, prof)) = segs.split_first().filter(|(_, p)| !p.is_empty()) else {
@@ -549,7 +574,8 @@ fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Optio
     let (shift, stopped) = (run.shift, run.stopped);
     let (m0, s0) = (run.moves.len(), run.states.len());
     let reports = run.reports;
-    let returned = run.run_sub_inline(b, sub, at);
+    let called = run.run_sub_inline(b, sub, at);
+    let returned = called == Some(true);
     let segs: Vec<Seg> = run.moves[m0..]
         .iter()
         .filter(|m| matches!(m.kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }))
@@ -576,13 +602,13 @@ fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Optio
     run.tip = tip;
     run.selected = selected;
     if run.reports > reports || !returned {
-        if !run.stopped {
+        if !run.stopped && called.is_some() {
             let at_o = (at > 0).then_some(at);
             run.error(
                 b,
                 at_o,
                 format!(
-                    "{name}: the profile subroutine could not be read (see the findings above); the cycle is not run"
+                    "{name}: the profile subroutine could not be read (see the findings at its lines); the cycle is not run"
                 ),
             );
         }
