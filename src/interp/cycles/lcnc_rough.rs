@@ -552,8 +552,8 @@ fn expand(
             k += 1;
         }
     }
-    // A start point below the offset profile's first point (no passes) feeds up to it.
-    if e0.x < o0.x - EPS {
+    // A start point not above the offset profile's first point (no passes) feeds to it.
+    if e0.x <= o0.x + EPS {
         emit(run, b, MoveKind::Line, back(o0), f, 0);
     } else {
         rapid(run, b, back(o0));
@@ -574,6 +574,11 @@ fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Optio
     let (shift, stopped) = (run.shift, run.stopped);
     let (m0, s0) = (run.moves.len(), run.states.len());
     let reports = run.reports;
+    // The cycle reads every block of the profile with axis words as a move (G0 is a G1 there),
+    // so a profile that names no motion code follows the lines it gives.
+    if run.modal.motion.is_none() || matches!(run.modal.motion, Some(Motion::Cycle(_))) {
+        run.modal.motion = Some(Motion::Line);
+    }
     let called = run.run_sub_inline(b, sub, at);
     let returned = called == Some(true);
     let segs: Vec<Seg> = run.moves[m0..]
