@@ -162,7 +162,7 @@ impl El {
                     let th = cos.acos();
                     for t in [th, -th] {
                         let f = ((t - a0) * sw.signum()).rem_euclid(TAU) / sw.abs();
-                        if f <= 1.0 && best.is_none_or(|b| f < b) {
+                        if f <= 1.0 && best.map_or(true, |b| f < b) {
                             best = Some(f);
                         }
                     }
@@ -228,6 +228,8 @@ fn intersect(e1: &El, e2: &El) -> Vec<V2> {
 /// offsets part, intersections where they cross. `Err` names the profile line that fails.
 fn offset_path(prof: &[El], d: f64) -> Result<Vec<El>, u32> {
     let mut out: Vec<El> = Vec::with_capacity(prof.len() * 2);
+    // The profile piece each offset piece comes from (None: a round corner).
+    let mut from: Vec<Option<usize>> = Vec::with_capacity(prof.len() * 2);
     for (i, e) in prof.iter().enumerate() {
         let Some(mut o) = e.offset(d) else { return Err(e.line) };
         if let Some(prev) = i.checked_sub(1).map(|k| prof[k]) {
@@ -245,6 +247,7 @@ fn offset_path(prof: &[El], d: f64) -> Result<Vec<El>, u32> {
                     line: e.line,
                 };
                 out.push(corner);
+                from.push(None);
             } else if cr > 0.0 {
                 let near = e.a;
                 let x = intersect(last, &o)
@@ -258,6 +261,23 @@ fn offset_path(prof: &[El], d: f64) -> Result<Vec<El>, u32> {
             }
         }
         out.push(o);
+        from.push(Some(i));
+    }
+    // A piece shorter than the offset runs backward once cut at its corners (a step of the
+    // profile smaller than D): rs274 trims the offset curve there, latheguard does not.
+    for (o, k) in out.iter().zip(&from) {
+        let Some(k) = *k else { continue };
+        let e = &prof[k];
+        let backward = match e.arc {
+            None => (o.b - o.a).dot(&(e.b - e.a)) < -1e-9,
+            Some(_) => {
+                let (so, se) = (o.sweep(), e.sweep());
+                (o.b - o.a).norm() > 1e-7 && (so.signum() != se.signum() || so.abs() > se.abs() + 1e-9)
+            }
+        };
+        if backward {
+            return Err(e.line);
+        }
     }
     out.retain(|e| (e.b - e.a).norm() > 1e-7 || (e.arc.is_some() && e.len() > 1e-7));
     Ok(out)
@@ -337,8 +357,8 @@ fn cycle(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, at:
         );
         return None;
     }
-    let Some(f) = feed(run, b, name) else { return None };
-    let Some(start) = run.target(b, w) else { return None };
+    let f = feed(run, b, name)?;
+    let start = run.target(b, w)?;
     // A refused cycle moves nothing, not even to its start point.
     let (m0, s0, reference) = (run.moves.len(), run.states.len(), run.reference);
     let done = expand(run, b, code, name, at, q, &words, f, start);
@@ -462,11 +482,7 @@ fn expand(
                 Ok(p) if !p.is_empty() => p,
                 r => {
                     let line = r.err().unwrap_or(b.line);
-                    run.error(
-                        b,
-                        at_o,
-                        format!("{name}: the profile offset by {dist:.4} mm cannot be built (line {line})"),
-                    );
+                    run.unsupported(b, at_o, format!("{name}: the profile offset by {dist:.4} mm folds over itself at line {line} (a step or an arc smaller than the offset): not modelled, the cycle's moves are not checked"), true);
                     return None;
                 }
             };
@@ -502,11 +518,7 @@ fn expand(
         Ok(p) if !p.is_empty() => p,
         r => {
             let line = r.err().unwrap_or(b.line);
-            run.error(
-                b,
-                at_o,
-                format!("{name}: the profile offset by D cannot be built (line {line})"),
-            );
+            run.unsupported(b, at_o, format!("{name}: the profile offset by D folds over itself at line {line} (a step or an arc smaller than D): not modelled, the cycle's moves are not checked"), true);
             return None;
         }
     };
@@ -620,4 +632,136 @@ fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Optio
         return None;
     }
     Some((segs, motion))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::interp::{Feed, Move};
+    use proptest::prelude::*;
+
+    fn line(a: (f64, f64), b: (f64, f64)) -> El {
+        El {
+            a: V2::new(a.0, a.1),
+            b: V2::new(b.0, b.1),
+            arc: None,
+            line: 1,
+        }
+    }
+
+    #[test]
+    fn a_right_turn_gets_a_round_corner_of_radius_d() {
+        // Down the face of a shoulder, then along it: the offsets part at the corner.
+        let p = [line((0.0, 0.0), (3.0, -5.0)), line((3.0, -5.0), (3.0, -10.0))];
+        let o = offset_path(&p, 0.5).unwrap();
+        assert_eq!(o.len(), 3);
+        let (c, ccw) = o[1].arc.unwrap();
+        assert!(!ccw);
+        assert!((c - V2::new(3.0, -5.0)).norm() < 1e-12);
+        assert!(((o[1].a - c).norm() - 0.5).abs() < 1e-12 && ((o[1].b - c).norm() - 0.5).abs() < 1e-12);
+        assert!((o[2].a - V2::new(3.5, -5.0)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn a_left_turn_is_cut_where_the_offsets_cross() {
+        let p = [line((5.0, 0.0), (5.0, -10.0)), line((5.0, -10.0), (8.0, -15.0))];
+        let o = offset_path(&p, 0.5).unwrap();
+        assert_eq!(o.len(), 2);
+        // rs274 prints this corner at X5.5 Z-9.8615.
+        assert!((o[0].b - V2::new(5.5, -9.861_5)).norm() < 1e-4, "{:?}", o[0].b);
+        assert!((o[0].b - o[1].a).norm() < 1e-12);
+    }
+
+    #[test]
+    fn a_level_first_meets_an_arc_at_its_first_crossing() {
+        // A clockwise quarter circle about (10, -20) from (8.5, -20) down to (10, -21.5).
+        let e = El {
+            a: V2::new(8.5, -20.0),
+            b: V2::new(10.0, -21.5),
+            arc: Some((V2::new(10.0, -20.0), true)),
+            line: 1,
+        };
+        let (p, _) = first_reach(&[e], 9.0).unwrap();
+        assert!((p - V2::new(9.0, -21.118)).norm() < 1e-3, "{p:?}");
+        assert!(first_reach(&[e], 10.5).is_none());
+    }
+
+    fn lcnc() -> crate::machine::Machine {
+        let text = include_str!("../../../machines/linuxcnc-small-lathe.toml");
+        crate::machine::from_toml(text, "linuxcnc-small-lathe.toml").unwrap()
+    }
+
+    fn interpret(src: &str) -> crate::interp::Interpretation {
+        let prog = crate::gcode::parse(src.as_bytes());
+        crate::interp::interpret(&prog, src.as_bytes(), &lcnc())
+    }
+
+    /// Distance from p to the segment a–b.
+    fn seg_dist(p: P2, a: P2, b: P2) -> f64 {
+        let d = b - a;
+        let t = if d.norm() < 1e-12 {
+            0.0
+        } else {
+            ((p - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
+        };
+        (p - (a + d * t)).norm()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+
+        /// Roughing never cuts inside the profile plus the allowance D: every point of every
+        /// feed move of a G71 on a random staircase (outside turning, X growing along -Z) lies
+        /// at least D from the profile; and the cycle makes its final pass.
+        #[test]
+        fn g71_feeds_stay_d_away_from_a_monotone_profile(
+            steps in proptest::collection::vec((0.2f64..3.0, 0.5f64..6.0, 0.0f64..2.0), 1..6),
+            d in 0.0f64..1.0,
+            i in 0.3f64..2.0,
+        ) {
+            let (mut x, mut z) = (2.0f64, 0.0f64);
+            let mut pts = vec![(x, z)];
+            let mut sub = format!("o100 sub\nG1 X{x:.3} Z{z:.3}\n");
+            for (dx, dz, slope) in &steps {
+                z -= dz;
+                sub += &format!("G1 X{x:.3} Z{z:.3}\n");
+                pts.push((x, z));
+                x += dx;
+                z -= slope;
+                sub += &format!("G1 X{x:.3} Z{z:.3}\n");
+                pts.push((x, z));
+            }
+            sub += "o100 endsub\n";
+            let sx: f64 = format!("{:.3}", x + 3.0).parse().unwrap();
+            let src = format!("G18 G8 G21 G90 G94\nF100\n{sub}G0 X{sx:.3} Z3\nG71 Q100 X{sx:.3} Z3 D{d:.3} I{i:.3} R0.3\nM2\n");
+            let out = interpret(&src);
+            let cycle_line = 2 + sub.lines().count() as u32 + 2;
+            let feeds: Vec<&Move> = out.moves.iter().filter(|m| m.line == cycle_line && m.feed != Feed::Rapid).collect();
+            if out.findings.iter().any(|f| f.line == cycle_line) {
+                // Refused (an offset that folds over a short step): then it moves nothing.
+                prop_assert!(out.moves.iter().all(|m| m.line != cycle_line));
+                return Ok(());
+            }
+            prop_assert!(!feeds.is_empty(), "no feed moves: {:?}", out.findings);
+            let origin = out.moves[0].end - V2::new(sx, 3.0); // program zero
+            let prof: Vec<P2> = pts.iter().map(|&(px, pz)| {
+                // The interpreter rounds nothing: use the printed values.
+                let px: f64 = format!("{px:.3}").parse().unwrap();
+                let pz: f64 = format!("{pz:.3}").parse().unwrap();
+                origin + V2::new(px, pz)
+            }).collect();
+            let d: f64 = format!("{d:.3}").parse().unwrap();
+            for m in feeds {
+                for k in 0..=20 {
+                    let p = m.start + (m.end - m.start) * (k as f64 / 20.0);
+                    let p = if let MoveKind::Arc { center, sweep } = m.kind {
+                        let a0 = (m.start - center).y.atan2((m.start - center).x) + sweep * k as f64 / 20.0;
+                        center + V2::new(a0.cos(), a0.sin()) * (m.start - center).norm()
+                    } else { p };
+                    let dist = prof.windows(2).map(|w| seg_dist(p, w[0], w[1])).fold(f64::MAX, f64::min);
+                    prop_assert!(dist >= d - 1e-6, "feed point {p:?} is {dist} from the profile, D {d}");
+                }
+            }
+        }
+    }
 }
