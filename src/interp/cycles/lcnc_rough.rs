@@ -486,6 +486,9 @@ fn expand(
                     return None;
                 }
             };
+            if !super::charge(run, b, path.len() as u64 + 2) {
+                return None;
+            }
             // Each pass enters from the start point, moved level with the profile's first
             // point when it lies past it along the profile.
             let e0 = V2::new(su.x, su.y.max(frame.to(p0).y));
