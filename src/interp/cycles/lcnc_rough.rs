@@ -283,6 +283,112 @@ fn offset_path(prof: &[El], d: f64) -> Result<Vec<El>, u32> {
     Ok(out)
 }
 
+/// The piece from fraction t on.
+fn tail(e: &El, t: f64) -> El {
+    El { a: e.at(t), ..*e }
+}
+
+/// The piece up to fraction t.
+fn head(e: &El, t: f64) -> El {
+    El { b: e.at(t), ..*e }
+}
+
+/// The first fraction after `from` at which the piece's u crosses `level` going the way `up`
+/// says (u ≥ level when up, u < level otherwise), found on 64 samples and refined by bisection.
+fn crossing(e: &El, from: f64, level: f64, up: bool) -> Option<f64> {
+    let hit = |t: f64| {
+        let u = e.at(t).x;
+        if up {
+            u >= level - EPS
+        } else {
+            u < level - 1e-12
+        }
+    };
+    let n = if e.arc.is_some() { 64 } else { 1 };
+    let mut prev = from;
+    for k in 1..=n {
+        let t = from + (1.0 - from) * k as f64 / n as f64;
+        if hit(t) {
+            let (mut lo, mut hi) = (prev, t);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if hit(mid) {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            return Some(hi);
+        }
+        prev = t;
+    }
+    None
+}
+
+/// The offset profile with its pockets bridged (G7x.1): where it turns back below the highest
+/// u reached so far, a line at that u runs on to where the profile climbs back to it.
+fn bridged(path: &[El]) -> Vec<El> {
+    let mut out = Vec::with_capacity(path.len());
+    let Some(first) = path.first() else { return out };
+    let mut m = first.a.x;
+    let mut i = 0;
+    let mut cur = *first;
+    loop {
+        let Some(f) = (if cur.a.x < m - 1e-7 {
+            Some(0.0)
+        } else {
+            crossing(&cur, 0.0, m.max(cur.b.x.min(m)), false)
+        }) else {
+            m = m.max(cur.b.x).max(if cur.arc.is_some() {
+                (0..=64).map(|k| cur.at(k as f64 / 64.0).x).fold(f64::MIN, f64::max)
+            } else {
+                f64::MIN
+            });
+            out.push(cur);
+            i += 1;
+            if i >= path.len() {
+                break;
+            }
+            cur = path[i];
+            continue;
+        };
+        if f > 0.0 && head(&cur, f).len() > 1e-5 {
+            out.push(head(&cur, f));
+        }
+        let start = cur.at(f);
+        let level = start.x.max(m);
+        // Where the profile climbs back to the level: in this piece, or a later one.
+        let mut back: Option<(usize, f64)> = crossing(&cur, f, level, true).map(|g| (i, g));
+        if back.is_none() {
+            back = (i + 1..path.len()).find_map(|k| path[k].reach(level).map(|g| (k, g)));
+        }
+        let Some((k, g)) = back else {
+            // Never again: the bridge runs to the profile's last v.
+            let end = path[path.len() - 1].b;
+            out.push(El {
+                a: start,
+                b: V2::new(level, end.y),
+                arc: None,
+                line: cur.line,
+            });
+            break;
+        };
+        let piece = if k == i { cur } else { path[k] };
+        let p = piece.at(g);
+        out.push(El {
+            a: start,
+            b: p,
+            arc: None,
+            line: piece.line,
+        });
+        m = level;
+        i = k;
+        cur = tail(&piece, g);
+    }
+    out.retain(|e| (e.b - e.a).norm() > 1e-9 || (e.arc.is_some() && e.len() > 1e-9));
+    out
+}
+
 /// The first point along the path whose u reaches `level`.
 fn first_reach(path: &[El], level: f64) -> Option<(V2, u32)> {
     path.iter().find_map(|e| e.reach(level).map(|t| (e.at(t), e.line)))
@@ -398,19 +504,17 @@ fn expand(
     let pe = prof[prof.len() - 1].end;
     let sign = |v: f64| if v < -EPS { -1.0 } else { 1.0 };
     let facing = code >= 720 || (code == 700 && (pe.y - p0.y).abs() < EPS);
-    // The passes step toward the profile from the side it climbs to (G70: from the start
-    // point's side); a profile that does not climb at all (a face for G72, a diameter for G71)
-    // is offset to the left of its travel, as rs274 does.
+    // The passes step toward the profile from the start point's side; a profile that does not
+    // climb at all (a face for G72, a diameter for G71) is offset to the left of its travel
+    // whatever the start point, as rs274 does.
     let (du, dv, to_start) = if facing {
         (pe.y - p0.y, pe.x - p0.x, start.y - p0.y)
     } else {
         (pe.x - p0.x, pe.y - p0.y, start.x - p0.x)
     };
     let sv = -sign(dv);
-    let su = if code == 700 {
+    let su = if code == 700 || du.abs() > EPS {
         sign(to_start)
-    } else if du.abs() > EPS {
-        sign(du)
     } else if facing {
         -sv
     } else {
@@ -498,11 +602,13 @@ fn expand(
         }
         return motion;
     }
-    // Roughing. Pockets (the profile turning back toward the axis) are not modelled.
+    // Roughing. Pockets (the profile turning back toward the axis) are bridged by G7x.1;
+    // G7x and G7x.2 cut into them, which is not modelled.
     let mut umax = frame.to(p0).x;
+    let pockets_ok = code % 10 == 1;
     for e in &els {
         for p in e.samples() {
-            if p.x < umax - 1e-6 {
+            if p.x < umax - 1e-6 && !pockets_ok {
                 run.unsupported(
                     b,
                     at_o,
@@ -573,6 +679,7 @@ fn expand(
     } else {
         rapid(run, b, back(o0));
     }
+    let path = if pockets_ok { bridged(&path) } else { path };
     follow(run, &path);
     // Out to the start point's level along the last face, unless the profile ends beyond it.
     if end.x < su.x {
