@@ -40,7 +40,7 @@ const TOL: f64 = 1e-4 + 1e-9;
 const KNOWN: &[(&str, &str)] = &[
     (
         "corpus/linuxcnc-interp/g71-with-g70/g71-with-g70.ngc",
-        "its profile fillets a corner with an A word (a profile fillet, not modelled: A is refused on a lathe with no A axis) and has pockets (G71.1/G71.2 pockets are not modelled: unsupported); rs274 climbs into each pocket",
+        "its profile fillets a corner with an A word (a profile fillet, not modelled: A is refused on a lathe with no A axis) and has pockets that its G71.2 cuts (not modelled: unsupported)",
     ),
     (
         "corpus/linuxcnc-interp/g72-missing-iteration/g72-iterations-missing.ngc",
@@ -48,7 +48,7 @@ const KNOWN: &[(&str, &str)] = &[
     ),
     (
         "corpus/linuxcnc-nc_files/lathe_g70_71_demo.ngc",
-        "the same pawn profile as g71-with-g70: an A-word fillet (not modelled) and pockets (not modelled, unsupported)",
+        "the same pawn profile as g71-with-g70: an A-word fillet (not modelled) and pockets cut by G71.2 (not modelled, unsupported)",
     ),
     (
         "corpus/latheeasystep/test.ngc",
@@ -477,7 +477,7 @@ fn lcnc_g7x_tests_match_their_expected_files() {
     let known: BTreeMap<&str, &str> = [
         (
             "g71-endless-loop",
-            "its profile has a pocket (G71.1/G71.2 pockets are not modelled: unsupported)",
+            "its G71.1 (pocket bridged) ends the first pass on the offset of the last segment, Z-21.9821, where the newer LinuxCNC that wrote the file stops at Z-21.96; its G71.2 cuts the pocket, not modelled (unsupported)",
         ),
         (
             "g71-endless-loop_2",
