@@ -639,6 +639,50 @@ impl<'a> Run<'a> {
         self.pc = start + 1;
     }
 
+    /// Run subroutine `name` from here to its return, as a call with no arguments made by block
+    /// `b` (a LinuxCNC G70–G72 cycle reading its profile, `cycles/lcnc_rough.rs`). The program
+    /// counter and the current line are as before afterwards; `false` when the subroutine does
+    /// not exist (`None`, a finding at `b`) or did not return (the program stopped, or the budget
+    /// ran out).
+    pub(crate) fn run_sub_inline(&mut self, b: &Block, name: OName, at: u32) -> Option<bool> {
+        let depth = self.frames.len();
+        let (pc, line) = (self.pc, self.current_line);
+        self.call(b, name, &[], at);
+        if self.frames.len() == depth {
+            return None;
+        }
+        let n = self.prog.blocks.len();
+        while self.frames.len() > depth && !self.stopped && self.pc < n {
+            let i = self.pc;
+            let blk = self.block(i);
+            if !self.count_executed(blk) {
+                break;
+            }
+            self.current_line = blk.line;
+            self.pc = i + 1;
+            if blk.bad {
+                continue;
+            }
+            if let Some(o) = blk.oword() {
+                self.oword(i, blk, &o.op, o.name, o.span.start);
+                if blk.words.is_empty() && blk.assigns().is_empty() {
+                    continue;
+                }
+                if !matches!(o.op, OOp::ProgramNumber) {
+                    continue;
+                }
+            }
+            self.execute(blk);
+        }
+        let returned = self.frames.len() == depth;
+        while self.frames.len() > depth {
+            self.return_from_call();
+        }
+        self.pc = pc;
+        self.current_line = line;
+        Some(returned)
+    }
+
     fn call_depth(&self) -> usize {
         self.frames.len()
     }

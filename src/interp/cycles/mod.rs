@@ -8,8 +8,8 @@
 //! back through [`repeat`]. One file per family: `rough` (Fanuc/Haas G70 finishing, G71/G72
 //! stock removal, G73 pattern repeat; `common` holds their profile reading), `box_`
 //! (G90/G92/G94, system B G77/G78/G79), `thread` (G76), `groove` (G74/G75), `drill` (G80–G89);
-//! LinuxCNC: `lcnc_thread` (G33.1 rigid tapping, G76) and `lcnc_drill` (G73, G74, G81–G89
-//! along Z in G17).
+//! LinuxCNC: `lcnc_thread` (G33.1 rigid tapping, G76), `lcnc_drill` (G73, G74, G81–G89
+//! along Z in G17) and `lcnc_rough` (G70, G71, G72 and their .1/.2 forms, o-word profiles).
 
 use super::block::Words;
 use super::flow::Run;
@@ -20,6 +20,7 @@ mod common;
 mod drill;
 mod groove;
 mod lcnc_drill;
+mod lcnc_rough;
 mod lcnc_thread;
 mod rough;
 mod thread;
@@ -72,6 +73,7 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
     let handled = match code {
         331 | 760 if lcnc => lcnc_thread::run(run, b, w, code, at),
         730 | 740 | 810..=890 if lcnc => lcnc_drill::run(run, b, w, code, at),
+        700..=722 if lcnc => lcnc_rough::run(run, b, w, code, at),
         700..=730 => rough::run(run, b, w, code, at),
         740 | 750 => groove::run(run, b, w, code, at),
         760 => thread::g76(run, b, w, at),
@@ -79,8 +81,8 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
         810..=890 => drill::run(run, b, w, code, at),
         _ => false,
     };
-    // (G70–G73 handle the flow codes of their own lines.)
-    if handled && !(700..=730).contains(&code) {
+    // (Fanuc G70–G73 handle the flow codes of their own lines.)
+    if handled && (lcnc || !(700..=730).contains(&code)) {
         flow_codes_on_a_cycle_line(run, b, w);
     }
     handled

@@ -1,0 +1,877 @@
+//! LinuxCNC lathe stock removal with the profile in an o-word subroutine: G70 finishing, G71 /
+//! G71.1 / G71.2 turning and G72 / G72.1 / G72.2 facing ("G70 Lathe finishing cycle", "G71 G72
+//! Lathe roughing cycles" of the LinuxCNC G-code reference). The passes follow what `rs274 -g`
+//! prints for them (a black-box model of its output, see docs/cycles-linuxcnc.md): the profile
+//! offset by D as a curve (round corners where it turns away, intersections where it turns
+//! in), straight passes one depth I apart from the cycle's start point to the offset profile,
+//! each left at 45° by R, then one pass along the offset profile.
+//!
+//! Everything is computed in a working frame (u, v) where the passes step down in u from the
+//! start point and run toward −v, the direction in which the profile travels: for G71 u and v
+//! are ±X and ±Z, for G72 ±Z and ±X.
+
+use super::common::{emit, feed, rapid, Seg, MAX_PASSES};
+use crate::gcode::{Block, OName};
+use crate::geom::{P2, V2};
+use crate::interp::block::Words;
+use crate::interp::flow::Run;
+use crate::interp::state::Motion;
+use crate::interp::MoveKind;
+use std::f64::consts::TAU;
+
+const EPS: f64 = 1e-9;
+
+/// The working frame: a reflection and possibly a swap of the axes of the spindle frame.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    /// u is Z and v is X (G72), rather than u X and v Z.
+    swap: bool,
+    su: f64,
+    sv: f64,
+}
+
+impl Frame {
+    fn to(self, p: P2) -> V2 {
+        if self.swap {
+            V2::new(self.su * p.y, self.sv * p.x)
+        } else {
+            V2::new(self.su * p.x, self.sv * p.y)
+        }
+    }
+    fn back(self, q: V2) -> P2 {
+        if self.swap {
+            P2::new(self.sv * q.y, self.su * q.x)
+        } else {
+            P2::new(self.su * q.x, self.sv * q.y)
+        }
+    }
+    /// The frame reverses orientation (a counter-clockwise arc becomes clockwise).
+    fn flips(self) -> bool {
+        (self.su * self.sv < 0.0) != self.swap
+    }
+}
+
+/// A piece of a path in the working frame: a line a → b, or an arc about `center`.
+#[derive(Clone, Copy, Debug)]
+struct El {
+    a: V2,
+    b: V2,
+    /// Centre and direction (counter-clockwise in the working frame).
+    arc: Option<(V2, bool)>,
+    /// The profile block this piece comes from.
+    line: u32,
+}
+
+fn rot_ccw(v: V2) -> V2 {
+    V2::new(-v.y, v.x)
+}
+
+fn cross(a: V2, b: V2) -> f64 {
+    a.x * b.y - a.y * b.x
+}
+
+impl El {
+    /// Unit tangent at point p of the piece (in its direction of travel).
+    fn tangent_at(&self, p: V2) -> V2 {
+        match self.arc {
+            None => (self.b - self.a) / (self.b - self.a).norm(),
+            Some((c, ccw)) => {
+                let r = rot_ccw(p - c) / (p - c).norm();
+                if ccw {
+                    r
+                } else {
+                    -r
+                }
+            }
+        }
+    }
+    fn start_tangent(&self) -> V2 {
+        self.tangent_at(self.a)
+    }
+    fn end_tangent(&self) -> V2 {
+        self.tangent_at(self.b)
+    }
+    /// Signed sweep of an arc (positive counter-clockwise).
+    fn sweep(&self) -> f64 {
+        let Some((c, ccw)) = self.arc else { return 0.0 };
+        let a0 = (self.a.y - c.y).atan2(self.a.x - c.x);
+        let a1 = (self.b.y - c.y).atan2(self.b.x - c.x);
+        if ccw {
+            let d = (a1 - a0).rem_euclid(TAU);
+            if d < 1e-12 {
+                TAU
+            } else {
+                d
+            }
+        } else {
+            let d = (a0 - a1).rem_euclid(TAU);
+            -(if d < 1e-12 { TAU } else { d })
+        }
+    }
+    /// The point at fraction t.
+    fn at(&self, t: f64) -> V2 {
+        match self.arc {
+            None => self.a + (self.b - self.a) * t,
+            Some((c, _)) => {
+                let r = (self.a - c).norm();
+                let a0 = (self.a.y - c.y).atan2(self.a.x - c.x) + self.sweep() * t;
+                c + V2::new(r * a0.cos(), r * a0.sin())
+            }
+        }
+    }
+    /// This piece offset by d to its left.
+    fn offset(&self, d: f64) -> Option<El> {
+        match self.arc {
+            None => {
+                let n = rot_ccw(self.start_tangent()) * d;
+                Some(El {
+                    a: self.a + n,
+                    b: self.b + n,
+                    ..*self
+                })
+            }
+            Some((c, ccw)) => {
+                let r = (self.a - c).norm();
+                let r2 = if ccw { r - d } else { r + d };
+                if r2 < 1e-7 {
+                    return None;
+                }
+                let k = r2 / r;
+                Some(El {
+                    a: c + (self.a - c) * k,
+                    b: c + (self.b - c) * ((r2) / (self.b - c).norm()),
+                    ..*self
+                })
+            }
+        }
+    }
+    /// The first fraction in [0, 1] at which the piece reaches u ≥ level.
+    fn reach(&self, level: f64) -> Option<f64> {
+        if self.a.x >= level - EPS {
+            return Some(0.0);
+        }
+        match self.arc {
+            None => (self.b.x >= level - EPS).then(|| ((level - self.a.x) / (self.b.x - self.a.x)).clamp(0.0, 1.0)),
+            Some((c, _)) => {
+                let r = (self.a - c).norm();
+                let cos = (level - c.x) / r;
+                let sw = self.sweep();
+                let a0 = (self.a.y - c.y).atan2(self.a.x - c.x);
+                let mut best: Option<f64> = None;
+                if cos.abs() <= 1.0 {
+                    let th = cos.acos();
+                    for t in [th, -th] {
+                        let f = ((t - a0) * sw.signum()).rem_euclid(TAU) / sw.abs();
+                        if f <= 1.0 && best.map_or(true, |b| f < b) {
+                            best = Some(f);
+                        }
+                    }
+                }
+                best.or_else(|| (self.b.x >= level - EPS).then_some(1.0))
+            }
+        }
+    }
+    fn len(&self) -> f64 {
+        match self.arc {
+            None => (self.b - self.a).norm(),
+            Some((c, _)) => (self.a - c).norm() * self.sweep().abs(),
+        }
+    }
+    /// Points along the piece (ends included), for monotonicity tests.
+    fn samples(&self) -> Vec<V2> {
+        let n = if self.arc.is_some() { 32 } else { 1 };
+        (0..=n).map(|k| self.at(k as f64 / n as f64)).collect()
+    }
+}
+
+/// The intersections of the carriers (infinite line or whole circle) of two pieces.
+fn intersect(e1: &El, e2: &El) -> Vec<V2> {
+    fn line_circle(p: V2, t: V2, c: V2, r: f64) -> Vec<V2> {
+        // |p + s t − c|² = r², t unit.
+        let f = p - c;
+        let b = f.dot(&t);
+        let disc = b * b - (f.dot(&f) - r * r);
+        if disc < -1e-12 {
+            return vec![];
+        }
+        let s = disc.max(0.0).sqrt();
+        vec![p + t * (-b - s), p + t * (-b + s)]
+    }
+    match (e1.arc, e2.arc) {
+        (None, None) => {
+            let (t1, t2) = (e1.start_tangent(), e2.start_tangent());
+            let den = cross(t1, t2);
+            if den.abs() < 1e-12 {
+                return vec![];
+            }
+            let s = cross(e2.a - e1.a, t2) / den;
+            vec![e1.a + t1 * s]
+        }
+        (None, Some((c, _))) => line_circle(e1.a, e1.start_tangent(), c, (e2.a - c).norm()),
+        (Some((c, _)), None) => line_circle(e2.a, e2.start_tangent(), c, (e1.a - c).norm()),
+        (Some((c1, _)), Some((c2, _))) => {
+            let (r1, r2) = ((e1.a - c1).norm(), (e2.a - c2).norm());
+            let d = (c2 - c1).norm();
+            if d < 1e-12 || d > r1 + r2 + 1e-9 || d < (r1 - r2).abs() - 1e-9 {
+                return vec![];
+            }
+            let a = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
+            let h = (r1 * r1 - a * a).max(0.0).sqrt();
+            let u = (c2 - c1) / d;
+            let m = c1 + u * a;
+            vec![m + rot_ccw(u) * h, m - rot_ccw(u) * h]
+        }
+    }
+}
+
+/// The profile offset by d to its left (toward the start point): round corners where the
+/// offsets part, intersections where they cross. `Err` names the profile line that fails.
+fn offset_path(prof: &[El], d: f64) -> Result<Vec<El>, u32> {
+    let mut out: Vec<El> = Vec::with_capacity(prof.len() * 2);
+    // The profile piece each offset piece comes from (None: a round corner).
+    let mut from: Vec<Option<usize>> = Vec::with_capacity(prof.len() * 2);
+    for (i, e) in prof.iter().enumerate() {
+        let Some(mut o) = e.offset(d) else { return Err(e.line) };
+        if let Some(prev) = i.checked_sub(1).map(|k| prof[k]) {
+            let (t1, t2) = (prev.end_tangent(), e.start_tangent());
+            let (cr, dot) = (cross(t1, t2), t1.dot(&t2));
+            let last = out.last_mut().ok_or(e.line)?;
+            if d < EPS || (cr.abs() < 1e-9 && dot > 0.0) {
+                o.a = last.b;
+            } else if cr < 0.0 {
+                // Turning right: the offsets part; a round corner about the profile's corner.
+                let corner = El {
+                    a: last.b,
+                    b: o.a,
+                    arc: Some((e.a, false)),
+                    line: e.line,
+                };
+                out.push(corner);
+                from.push(None);
+            } else if cr > 0.0 {
+                let near = e.a;
+                let x = intersect(last, &o)
+                    .into_iter()
+                    .min_by(|p, q| (p - near).norm().total_cmp(&(q - near).norm()))
+                    .ok_or(e.line)?;
+                last.b = x;
+                o.a = x;
+            } else {
+                return Err(e.line);
+            }
+        }
+        out.push(o);
+        from.push(Some(i));
+    }
+    // A piece shorter than the offset runs backward once cut at its corners (a step of the
+    // profile smaller than D): rs274 trims the offset curve there, latheguard does not.
+    for (o, k) in out.iter().zip(&from) {
+        let Some(k) = *k else { continue };
+        let e = &prof[k];
+        let backward = match e.arc {
+            None => (o.b - o.a).dot(&(e.b - e.a)) < -1e-9,
+            Some(_) => {
+                let (so, se) = (o.sweep(), e.sweep());
+                (o.b - o.a).norm() > 1e-7 && (so.signum() != se.signum() || so.abs() > se.abs() + 1e-9)
+            }
+        };
+        if backward {
+            return Err(e.line);
+        }
+    }
+    out.retain(|e| (e.b - e.a).norm() > 1e-7 || (e.arc.is_some() && e.len() > 1e-7));
+    Ok(out)
+}
+
+/// The piece from fraction t on.
+fn tail(e: &El, t: f64) -> El {
+    El { a: e.at(t), ..*e }
+}
+
+/// The piece up to fraction t.
+fn head(e: &El, t: f64) -> El {
+    El { b: e.at(t), ..*e }
+}
+
+/// The first fraction after `from` at which the piece's u crosses `level` going the way `up`
+/// says (u ≥ level when up, u < level otherwise), found on 64 samples and refined by bisection.
+fn crossing(e: &El, from: f64, level: f64, up: bool) -> Option<f64> {
+    let hit = |t: f64| {
+        let u = e.at(t).x;
+        if up {
+            u >= level - EPS
+        } else {
+            u < level - 1e-12
+        }
+    };
+    let n = if e.arc.is_some() { 64 } else { 1 };
+    let mut prev = from;
+    for k in 1..=n {
+        let t = from + (1.0 - from) * k as f64 / n as f64;
+        if hit(t) {
+            let (mut lo, mut hi) = (prev, t);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if hit(mid) {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            return Some(hi);
+        }
+        prev = t;
+    }
+    None
+}
+
+/// The offset profile with its pockets bridged (G7x.1): where it turns back below the highest
+/// u reached so far, a line at that u runs on to where the profile climbs back to it.
+fn bridged(path: &[El]) -> Vec<El> {
+    let mut out = Vec::with_capacity(path.len());
+    let Some(first) = path.first() else { return out };
+    let mut m = first.a.x;
+    let mut i = 0;
+    let mut cur = *first;
+    loop {
+        let Some(f) = (if cur.a.x < m - 1e-7 {
+            Some(0.0)
+        } else {
+            crossing(&cur, 0.0, m.max(cur.b.x.min(m)), false)
+        }) else {
+            m = m.max(cur.b.x).max(if cur.arc.is_some() {
+                (0..=64).map(|k| cur.at(k as f64 / 64.0).x).fold(f64::MIN, f64::max)
+            } else {
+                f64::MIN
+            });
+            out.push(cur);
+            i += 1;
+            if i >= path.len() {
+                break;
+            }
+            cur = path[i];
+            continue;
+        };
+        if f > 0.0 && head(&cur, f).len() > 1e-5 {
+            out.push(head(&cur, f));
+        }
+        let start = cur.at(f);
+        let level = start.x.max(m);
+        // Where the profile climbs back to the level: in this piece, or a later one.
+        let mut back: Option<(usize, f64)> = crossing(&cur, f, level, true).map(|g| (i, g));
+        if back.is_none() {
+            back = (i + 1..path.len()).find_map(|k| path[k].reach(level).map(|g| (k, g)));
+        }
+        let Some((k, g)) = back else {
+            // Never again: the bridge runs to the profile's last v.
+            let end = path[path.len() - 1].b;
+            out.push(El {
+                a: start,
+                b: V2::new(level, end.y),
+                arc: None,
+                line: cur.line,
+            });
+            break;
+        };
+        let piece = if k == i { cur } else { path[k] };
+        let p = piece.at(g);
+        out.push(El {
+            a: start,
+            b: p,
+            arc: None,
+            line: piece.line,
+        });
+        m = level;
+        i = k;
+        cur = tail(&piece, g);
+    }
+    out.retain(|e| (e.b - e.a).norm() > 1e-9 || (e.arc.is_some() && e.len() > 1e-9));
+    out
+}
+
+/// The first point along the path whose u reaches `level`.
+fn first_reach(path: &[El], level: f64) -> Option<(V2, u32)> {
+    path.iter().find_map(|e| e.reach(level).map(|t| (e.at(t), e.line)))
+}
+
+/// The words of one cycle block.
+struct Words7x {
+    d: f64,
+    i: f64,
+    r: f64,
+    e: f64,
+    p: f64,
+}
+
+pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+    let name = match code {
+        700 => "G70",
+        710 => "G71",
+        711 => "G71.1",
+        712 => "G71.2",
+        720 => "G72",
+        721 => "G72.1",
+        722 => "G72.2",
+        _ => return false,
+    };
+    let modal_after = cycle(run, b, w, code, name, at);
+    // rs274 leaves the motion mode the profile set (a block of axis words after the cycle
+    // moves as the profile's last motion did); a refused cycle leaves none.
+    run.modal.motion = modal_after;
+    true
+}
+
+/// The cycle; the motion mode to leave in force.
+fn cycle(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, at: u32) -> Option<Motion> {
+    let at_o = (at > 0).then_some(at);
+    let s = run.scale();
+    let q = w.get(b'Q');
+    let mut num = |l: u8, default: f64| w.get(l).map_or(default, |v| v * s);
+    let words = Words7x {
+        d: num(b'D', 0.0),
+        i: num(b'I', s),
+        r: num(b'R', 0.5 * s),
+        e: num(b'E', 0.0),
+        p: w.get(b'P').unwrap_or(1.0),
+    };
+    if !run.modal.plane_xz {
+        run.error(b, at_o, format!("{name} runs in the XZ plane: select G18"));
+        return None;
+    }
+    let Some(q) = q.filter(|q| *q >= 1.0 && q.fract() == 0.0 && *q < u32::MAX as f64) else {
+        run.error(
+            b,
+            at_o,
+            format!("{name} needs Q, the number of the o-word subroutine that holds the profile"),
+        );
+        return None;
+    };
+    if code == 700 {
+        if words.p < 1.0 || words.p.fract() != 0.0 || words.p > MAX_PASSES as f64 {
+            run.error(
+                b,
+                w.at(b'P'),
+                format!("{name}: P (the number of passes) must be a whole number from 1 to {MAX_PASSES}"),
+            );
+            return None;
+        }
+    } else if words.i <= 0.0 || words.d < 0.0 || words.r < 0.0 {
+        run.error(
+            b,
+            at_o,
+            format!("{name}: I (depth of cut) must be positive, D (allowance) and R (retract) not negative"),
+        );
+        return None;
+    }
+    let f = feed(run, b, name)?;
+    let start = run.target(b, w)?;
+    // A refused cycle moves nothing, not even to its start point.
+    let (m0, s0, reference) = (run.moves.len(), run.states.len(), run.reference);
+    let done = expand(run, b, code, name, at, q, &words, f, start);
+    if done.is_none() {
+        run.moves.truncate(m0);
+        run.states.truncate(s0);
+        run.reference = reference;
+    }
+    done
+}
+
+/// The moves of the cycle from `start`; the motion mode to leave in force. `None` after a finding.
+#[allow(clippy::too_many_arguments)]
+fn expand(
+    run: &mut Run<'_>,
+    b: &Block,
+    code: u16,
+    name: &str,
+    at: u32,
+    q: f64,
+    words: &Words7x,
+    f: crate::interp::Feed,
+    start: P2,
+) -> Option<Motion> {
+    let at_o = (at > 0).then_some(at);
+    rapid(run, b, start);
+    let (segs, motion) = trace(run, b, OName::Number(q as u32), at, name)?;
+    let Some((first, prof)) = segs.split_first().filter(|(_, p)| !p.is_empty()) else {
+        run.error(
+            b,
+            at_o,
+            format!("{name}: the profile o{q} needs a move to its first point and at least one more move"),
+        );
+        return None;
+    };
+    let p0 = first.end;
+    let pe = prof[prof.len() - 1].end;
+    let sign = |v: f64| if v < -EPS { -1.0 } else { 1.0 };
+    let facing = code >= 720 || (code == 700 && (pe.y - p0.y).abs() < EPS);
+    // The passes step toward the profile from the start point's side; a profile that does not
+    // climb at all (a face for G72, a diameter for G71) is offset to the left of its travel
+    // whatever the start point, as rs274 does.
+    let (du, dv, to_start) = if facing {
+        (pe.y - p0.y, pe.x - p0.x, start.y - p0.y)
+    } else {
+        (pe.x - p0.x, pe.y - p0.y, start.x - p0.x)
+    };
+    let sv = -sign(dv);
+    let su = if code == 700 || du.abs() > EPS {
+        sign(to_start)
+    } else if facing {
+        -sv
+    } else {
+        sv
+    };
+    let frame = Frame { swap: facing, su, sv };
+    let mut els: Vec<El> = Vec::with_capacity(prof.len());
+    for e in prof
+        .iter()
+        .filter(|sg| (sg.end - sg.start).norm() > 1e-9 || matches!(sg.kind, MoveKind::Arc { .. }))
+        .map(|sg| El {
+            a: frame.to(sg.start),
+            b: frame.to(sg.end),
+            arc: match sg.kind {
+                MoveKind::Arc { center, sweep } => Some((frame.to(center), (sweep > 0.0) != frame.flips())),
+                _ => None,
+            },
+            line: sg.line,
+        })
+    {
+        // Consecutive lines in one direction are one line (as rs274 prints them).
+        match els.last_mut() {
+            Some(last)
+                if last.arc.is_none()
+                    && e.arc.is_none()
+                    && cross(last.end_tangent(), e.start_tangent()).abs() < 1e-9
+                    && last.end_tangent().dot(&e.start_tangent()) > 0.0 =>
+            {
+                last.b = e.b
+            }
+            _ => els.push(e),
+        }
+    }
+    // The profile must run one way along the passes (Z for G71, X for G72).
+    let along = if facing { "X" } else { "Z" };
+    let mut last_v = frame.to(p0).y;
+    for e in &els {
+        for p in e.samples() {
+            if p.y > last_v + 1e-6 {
+                run.error(
+                    b,
+                    at_o,
+                    format!("{name}: the profile is not monotone in {along} (line {})", e.line),
+                );
+                return None;
+            }
+            last_v = last_v.min(p.y);
+        }
+    }
+    let su = frame.to(start);
+    let back = |q: V2| frame.back(q);
+    let follow = |run: &mut Run<'_>, path: &[El]| {
+        for e in path {
+            let kind = match e.arc {
+                None => MoveKind::Line,
+                Some((c, _)) => MoveKind::Arc {
+                    center: back(c),
+                    sweep: if frame.flips() { -e.sweep() } else { e.sweep() },
+                },
+            };
+            emit(run, b, kind, back(e.b), f, e.line);
+        }
+    };
+    if code == 700 {
+        let passes = words.p as usize;
+        for k in 1..=passes {
+            let dist = (words.p - k as f64) * (words.d - words.e) / words.p + words.e;
+            let path = match offset_path(&els, dist) {
+                Ok(p) if !p.is_empty() => p,
+                r => {
+                    let line = r.err().unwrap_or(b.line);
+                    run.unsupported(b, at_o, format!("{name}: the profile offset by {dist:.4} mm folds over itself at line {line} (a step or an arc smaller than the offset): not modelled, the cycle's moves are not checked"), true);
+                    return None;
+                }
+            };
+            if !super::charge(run, b, path.len() as u64 + 2) {
+                return None;
+            }
+            // Each pass enters from the start point, moved level with the profile's first
+            // point when it lies past it along the profile.
+            let e0 = V2::new(su.x, su.y.max(frame.to(p0).y));
+            rapid(run, b, back(e0));
+            rapid(run, b, back(path[0].a));
+            follow(run, &path);
+        }
+        return motion;
+    }
+    // Roughing. Pockets (the profile turning back toward the axis) are bridged by G7x.1;
+    // G7x and G7x.2 cut into them, which is not modelled.
+    let mut umax = frame.to(p0).x;
+    let pockets_ok = code % 10 == 1;
+    for e in &els {
+        for p in e.samples() {
+            if p.x < umax - 1e-6 && !pockets_ok {
+                run.unsupported(
+                    b,
+                    at_o,
+                    format!(
+                        "{name}: the profile turns back into a pocket (line {}); pockets are not modelled yet, the cycle's moves are not checked",
+                        e.line
+                    ),
+                    true,
+                );
+                return None;
+            }
+            umax = umax.max(p.x);
+        }
+    }
+    let path = match offset_path(&els, words.d) {
+        Ok(p) if !p.is_empty() => p,
+        r => {
+            let line = r.err().unwrap_or(b.line);
+            run.unsupported(b, at_o, format!("{name}: the profile offset by D folds over itself at line {line} (a step or an arc smaller than D): not modelled, the cycle's moves are not checked"), true);
+            return None;
+        }
+    };
+    let o0 = path[0].a;
+    let end = path[path.len() - 1].b;
+    // The passes start on the line from the start point to the offset profile's start; a start
+    // point past the profile's first point (along the passes) counts as level with it.
+    let e0 = V2::new(su.x, su.y.max(frame.to(p0).y));
+    let v_entry = |u: f64| {
+        if (e0.x - o0.x).abs() < EPS {
+            o0.y
+        } else {
+            o0.y + (u - o0.x) * (e0.y - o0.y) / (e0.x - o0.x)
+        }
+    };
+    if code % 10 != 2 {
+        let mut k = 0usize;
+        loop {
+            let u = su.x - k as f64 * words.i;
+            if u <= o0.x + 1e-7 {
+                break;
+            }
+            if k >= MAX_PASSES {
+                run.error(
+                    b,
+                    at_o,
+                    format!("{name} would make more than {MAX_PASSES} passes (I is too small for this profile)"),
+                );
+                return None;
+            }
+            if !super::charge(run, b, 5) {
+                return None;
+            }
+            let ve = v_entry(u);
+            let (hit, line) = first_reach(&path, u).map_or((V2::new(u, end.y), 0), |(p, l)| (V2::new(u, p.y), l));
+            rapid(run, b, back(V2::new(u, ve)));
+            emit(run, b, MoveKind::Line, back(hit), f, line);
+            // A pass shorter than 2R leaves by half its length.
+            let r = words.r.min(((ve - hit.y) / 2.0).max(0.0));
+            rapid(run, b, back(V2::new(u + r, hit.y + r)));
+            rapid(run, b, back(V2::new(u + r, ve - r)));
+            rapid(run, b, back(V2::new(u, ve)));
+            k += 1;
+        }
+    }
+    // A start point not above the offset profile's first point (no passes) feeds to it.
+    if e0.x <= o0.x + EPS {
+        emit(run, b, MoveKind::Line, back(o0), f, 0);
+    } else {
+        rapid(run, b, back(o0));
+    }
+    let path = if pockets_ok { bridged(&path) } else { path };
+    follow(run, &path);
+    // Out to the start point's level along the last face, unless the profile ends beyond it.
+    if end.x < su.x {
+        emit(run, b, MoveKind::Line, back(V2::new(su.x, end.y)), f, 0);
+    }
+    motion
+}
+
+/// Run the profile subroutine from the current point and collect its moves; nothing of it stays
+/// (moves, modal state, tool, position). Also the motion mode it left. `None` after a finding.
+fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Option<(Vec<Seg>, Option<Motion>)> {
+    let modal = run.modal.clone();
+    let (reference, station, tip, selected) = (run.reference, run.station, run.tip, run.selected);
+    let (shift, stopped) = (run.shift, run.stopped);
+    let (m0, s0) = (run.moves.len(), run.states.len());
+    let reports = run.reports;
+    // The cycle reads every block of the profile with axis words as a move (G0 is a G1 there),
+    // so a profile that names no motion code follows the lines it gives.
+    if run.modal.motion.is_none() || matches!(run.modal.motion, Some(Motion::Cycle(_))) {
+        run.modal.motion = Some(Motion::Line);
+    }
+    let called = run.run_sub_inline(b, sub, at);
+    let returned = called == Some(true);
+    let segs: Vec<Seg> = run.moves[m0..]
+        .iter()
+        .filter(|m| matches!(m.kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }))
+        .map(|m| Seg {
+            kind: if m.kind == MoveKind::Rapid {
+                MoveKind::Line
+            } else {
+                m.kind
+            },
+            start: m.start,
+            end: m.end,
+            line: m.line,
+        })
+        .collect();
+    let motion = run.modal.motion;
+    let budget_spent = run.stopped && !stopped;
+    run.modal = modal;
+    run.shift = shift;
+    run.stopped = stopped || budget_spent && run.executed > run.limits.max_blocks;
+    run.moves.truncate(m0);
+    run.states.truncate(s0);
+    run.reference = reference;
+    run.station = station;
+    run.tip = tip;
+    run.selected = selected;
+    if run.reports > reports || !returned {
+        if !run.stopped && called.is_some() {
+            let at_o = (at > 0).then_some(at);
+            run.error(
+                b,
+                at_o,
+                format!(
+                    "{name}: the profile subroutine could not be read (see the findings at its lines); the cycle is not run"
+                ),
+            );
+        }
+        return None;
+    }
+    Some((segs, motion))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::interp::{Feed, Move};
+    use proptest::prelude::*;
+
+    fn line(a: (f64, f64), b: (f64, f64)) -> El {
+        El {
+            a: V2::new(a.0, a.1),
+            b: V2::new(b.0, b.1),
+            arc: None,
+            line: 1,
+        }
+    }
+
+    #[test]
+    fn a_right_turn_gets_a_round_corner_of_radius_d() {
+        // Down the face of a shoulder, then along it: the offsets part at the corner.
+        let p = [line((0.0, 0.0), (3.0, -5.0)), line((3.0, -5.0), (3.0, -10.0))];
+        let o = offset_path(&p, 0.5).unwrap();
+        assert_eq!(o.len(), 3);
+        let (c, ccw) = o[1].arc.unwrap();
+        assert!(!ccw);
+        assert!((c - V2::new(3.0, -5.0)).norm() < 1e-12);
+        assert!(((o[1].a - c).norm() - 0.5).abs() < 1e-12 && ((o[1].b - c).norm() - 0.5).abs() < 1e-12);
+        assert!((o[2].a - V2::new(3.5, -5.0)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn a_left_turn_is_cut_where_the_offsets_cross() {
+        let p = [line((5.0, 0.0), (5.0, -10.0)), line((5.0, -10.0), (8.0, -15.0))];
+        let o = offset_path(&p, 0.5).unwrap();
+        assert_eq!(o.len(), 2);
+        // rs274 prints this corner at X5.5 Z-9.8615.
+        assert!((o[0].b - V2::new(5.5, -9.861_5)).norm() < 1e-4, "{:?}", o[0].b);
+        assert!((o[0].b - o[1].a).norm() < 1e-12);
+    }
+
+    #[test]
+    fn a_level_first_meets_an_arc_at_its_first_crossing() {
+        // A clockwise quarter circle about (10, -20) from (8.5, -20) down to (10, -21.5).
+        let e = El {
+            a: V2::new(8.5, -20.0),
+            b: V2::new(10.0, -21.5),
+            arc: Some((V2::new(10.0, -20.0), true)),
+            line: 1,
+        };
+        let (p, _) = first_reach(&[e], 9.0).unwrap();
+        assert!((p - V2::new(9.0, -21.118)).norm() < 1e-3, "{p:?}");
+        assert!(first_reach(&[e], 10.5).is_none());
+    }
+
+    fn lcnc() -> crate::machine::Machine {
+        let text = include_str!("../../../machines/linuxcnc-small-lathe.toml");
+        crate::machine::from_toml(text, "linuxcnc-small-lathe.toml").unwrap()
+    }
+
+    fn interpret(src: &str) -> crate::interp::Interpretation {
+        let prog = crate::gcode::parse(src.as_bytes());
+        crate::interp::interpret(&prog, src.as_bytes(), &lcnc())
+    }
+
+    /// Distance from p to the segment a–b.
+    fn seg_dist(p: P2, a: P2, b: P2) -> f64 {
+        let d = b - a;
+        let t = if d.norm() < 1e-12 {
+            0.0
+        } else {
+            ((p - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
+        };
+        (p - (a + d * t)).norm()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+
+        /// Roughing never cuts inside the profile plus the allowance D: every point of every
+        /// feed move of a G71 on a random staircase (outside turning, X growing along -Z) lies
+        /// at least D from the profile; and the cycle makes its final pass.
+        #[test]
+        fn g71_feeds_stay_d_away_from_a_monotone_profile(
+            steps in proptest::collection::vec((0.2f64..3.0, 0.5f64..6.0, 0.0f64..2.0), 1..6),
+            d in 0.0f64..1.0,
+            i in 0.3f64..2.0,
+        ) {
+            let (mut x, mut z) = (2.0f64, 0.0f64);
+            let mut pts = vec![(x, z)];
+            let mut sub = format!("o100 sub\nG1 X{x:.3} Z{z:.3}\n");
+            for (dx, dz, slope) in &steps {
+                z -= dz;
+                sub += &format!("G1 X{x:.3} Z{z:.3}\n");
+                pts.push((x, z));
+                x += dx;
+                z -= slope;
+                sub += &format!("G1 X{x:.3} Z{z:.3}\n");
+                pts.push((x, z));
+            }
+            sub += "o100 endsub\n";
+            let sx: f64 = format!("{:.3}", x + 3.0).parse().unwrap();
+            let src = format!("G18 G8 G21 G90 G94\nF100\n{sub}G0 X{sx:.3} Z3\nG71 Q100 X{sx:.3} Z3 D{d:.3} I{i:.3} R0.3\nM2\n");
+            let out = interpret(&src);
+            let cycle_line = 2 + sub.lines().count() as u32 + 2;
+            let feeds: Vec<&Move> = out.moves.iter().filter(|m| m.line == cycle_line && m.feed != Feed::Rapid).collect();
+            if out.findings.iter().any(|f| f.line == cycle_line) {
+                // Refused (an offset that folds over a short step): then it moves nothing.
+                prop_assert!(out.moves.iter().all(|m| m.line != cycle_line));
+                return Ok(());
+            }
+            prop_assert!(!feeds.is_empty(), "no feed moves: {:?}", out.findings);
+            let origin = out.moves[0].end - V2::new(sx, 3.0); // program zero
+            let prof: Vec<P2> = pts.iter().map(|&(px, pz)| {
+                // The interpreter rounds nothing: use the printed values.
+                let px: f64 = format!("{px:.3}").parse().unwrap();
+                let pz: f64 = format!("{pz:.3}").parse().unwrap();
+                origin + V2::new(px, pz)
+            }).collect();
+            let d: f64 = format!("{d:.3}").parse().unwrap();
+            for m in feeds {
+                for k in 0..=20 {
+                    let p = m.start + (m.end - m.start) * (k as f64 / 20.0);
+                    let p = if let MoveKind::Arc { center, sweep } = m.kind {
+                        let a0 = (m.start - center).y.atan2((m.start - center).x) + sweep * k as f64 / 20.0;
+                        center + V2::new(a0.cos(), a0.sin()) * (m.start - center).norm()
+                    } else { p };
+                    let dist = prof.windows(2).map(|w| seg_dist(p, w[0], w[1])).fold(f64::MAX, f64::min);
+                    prop_assert!(dist >= d - 1e-6, "feed point {p:?} is {dist} from the profile, D {d}");
+                }
+            }
+        }
+    }
+}
