@@ -454,3 +454,14 @@ proptest! {
         }
     }
 }
+
+/// A depth that is a whole number of pecks (9.149 mm in pecks of 1.307 mm: 7) makes exactly that
+/// many pecks; the division's rounding once made an eighth peck of zero length at the bottom.
+#[test]
+fn a_depth_of_a_whole_number_of_pecks_makes_no_extra_zero_length_peck() {
+    let src = "G21 G99 S500 M3\nT0404\nG0 X60 Z-5\nG75 R0.3\nG75 X41.702 Z-5 P1307 Q500 F0.05\n";
+    let i = run(src);
+    assert!(errors(&i).is_empty(), "{:?}", errors(&i));
+    let feeds = line(&i, 5).iter().filter(|m| m.feed != Feed::Rapid).count();
+    assert_eq!(feeds, 7);
+}

@@ -149,7 +149,8 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     }
     let pecks = match (code, run.cycle.q) {
         (830, Some(q)) if q > 0.0 => {
-            let n = ((z - r).abs() / q).ceil();
+            // A whole number of pecks is that many, whatever the division's last bit says.
+            let n = ((z - r).abs() / q - 1e-9).ceil().max(1.0);
             if n > MAX_PECKS as f64 {
                 run.error(b, None, format!("G83 would make more than {MAX_PECKS} pecks"));
                 return;

@@ -127,7 +127,15 @@ fn grooves(
         return;
     }
     // Count before emitting: both counts are bounded by MAX_MOVES.
-    let count = |len: f64, step: f64| if step > 0.0 { (len / step).ceil() } else { 1.0 };
+    // A length that is a whole number of steps (9.149 mm of 1.307 mm pecks) is that many steps,
+    // whatever the last bit of the division says: never one more peck of zero length.
+    let count = |len: f64, step: f64| {
+        if step > 0.0 {
+            (len / step - 1e-9).ceil().max(0.0)
+        } else {
+            1.0
+        }
+    };
     let n_grooves = if q1 == q0 {
         1.0
     } else {
