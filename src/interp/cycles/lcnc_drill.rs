@@ -301,18 +301,9 @@ fn dwell(run: &mut Run<'_>, b: &Block, seconds: f64) {
 
 #[cfg(test)]
 mod tests {
-    use crate::interp::{Interpretation, MoveKind};
-    use crate::machine::Machine;
+    use super::super::test_support::{lathe, run};
+    use crate::interp::MoveKind;
     use proptest::prelude::*;
-
-    fn lathe() -> Machine {
-        let text = include_str!("../../../machines/linuxcnc-small-lathe.toml");
-        crate::machine::from_toml(text, "linuxcnc-small-lathe.toml").unwrap()
-    }
-
-    fn run(src: &str) -> Interpretation {
-        crate::pipeline::interpret(src.as_bytes(), &lathe()).1
-    }
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(300))]

@@ -188,18 +188,9 @@ fn g76(run: &mut Run<'_>, b: &Block, w: &mut Words, at: Option<u32>) {
 
 #[cfg(test)]
 mod tests {
-    use crate::interp::{Feed, Interpretation, MoveKind};
-    use crate::machine::Machine;
+    use super::super::test_support::run;
+    use crate::interp::{Feed, MoveKind};
     use proptest::prelude::*;
-
-    fn lathe() -> Machine {
-        let text = include_str!("../../../machines/linuxcnc-small-lathe.toml");
-        crate::machine::from_toml(text, "linuxcnc-small-lathe.toml").unwrap()
-    }
-
-    fn run(src: &str) -> Interpretation {
-        crate::pipeline::interpret(src.as_bytes(), &lathe()).1
-    }
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(300))]

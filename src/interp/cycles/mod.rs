@@ -150,6 +150,22 @@ fn run_lcnc(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) -> bool {
     }
 }
 
+/// What the LinuxCNC cycles' unit tests share: the small LinuxCNC lathe and a run on it.
+#[cfg(test)]
+mod test_support {
+    use crate::interp::Interpretation;
+    use crate::machine::Machine;
+
+    pub(super) fn lathe() -> Machine {
+        let text = include_str!("../../../machines/linuxcnc-small-lathe.toml");
+        crate::machine::from_toml(text, "linuxcnc-small-lathe.toml").unwrap()
+    }
+
+    pub(super) fn run(src: &str) -> Interpretation {
+        crate::pipeline::interpret(src.as_bytes(), &lathe()).1
+    }
+}
+
 #[cfg(test)]
 mod tests {
     /// `Move::profile_line` (the profile block a cycle's move follows) fits in what was padding:
