@@ -203,15 +203,13 @@ impl LeftOut {
     }
 }
 
-/// Push `f` unless `list` already holds [`MAX_FINDINGS`]; count it in `left_out` then. Returns
-/// whether it was kept.
-pub fn push_capped(list: &mut Vec<Finding>, left_out: &mut LeftOut, f: Finding) -> bool {
+/// Push `f` unless `list` already holds [`MAX_FINDINGS`]; count it in `left_out` then.
+pub fn push_capped(list: &mut Vec<Finding>, left_out: &mut LeftOut, f: Finding) {
     if list.len() >= MAX_FINDINGS {
         left_out.add(f.line, 1);
-        return false;
+        return;
     }
     list.push(f);
-    true
 }
 
 /// Findings in report order: by line, then column, then time (findings with no time first), then

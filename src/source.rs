@@ -154,7 +154,7 @@ impl LineIndex {
 /// Columns of offsets asked for one after another, each counted from the previous one on the same
 /// line rather than from the line start: a line with many findings costs the distance the offsets
 /// travel (one pass for offsets in order), not a count from the line start per finding.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub struct ColCursor {
     /// Start of the line of the last offset asked for (`u32::MAX`: none yet).
     line_start: u32,
@@ -165,6 +165,13 @@ pub struct ColCursor {
 /// Characters (UTF-8 scalar starts; stray bytes count one each) in `text`.
 fn chars(text: &[u8]) -> u32 {
     text.iter().filter(|&&b| (b & 0xC0) != 0x80).count() as u32
+}
+
+impl Default for ColCursor {
+    /// A cursor on no line yet (the derived all-zero one would count columns on line 1 from 0).
+    fn default() -> ColCursor {
+        ColCursor::new()
+    }
 }
 
 impl ColCursor {

@@ -151,7 +151,7 @@ impl Episodes {
             message,
             follow_on: None,
             profile_line: (c.profile_line != 0).then_some(c.profile_line),
-            end_time_s: Some(o.end_time.max(c.time)),
+            end_time_s: Some(o.end_time),
             snapshot: c.snapshot,
         });
     }

@@ -492,40 +492,17 @@ impl Checker<'_> {
     /// probe of an interval: the true peak within the tolerance when the depth is unimodal
     /// there, a lower bound otherwise.
     fn peak_depth(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, peak: &Peak) -> f64 {
-        let (mut a, mut b) = (peak.before, peak.after.unwrap_or(peak.at));
-        let mut best = peak.depth;
+        let (a, b) = (peak.before, peak.after.unwrap_or(peak.at));
+        let best = peak.depth;
         let len = piece.length();
         if b <= a || len <= 0.0 {
             return best;
         }
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let depth = |c: &mut Self, u: f64| c.probe(p, o, piece, u, active).unwrap_or(0.0);
-        let mut x1 = b - g * (b - a);
-        let mut x2 = a + g * (b - a);
-        let mut f1 = depth(self, x1);
-        let mut f2 = depth(self, x2);
-        best = best.max(f1).max(f2);
-        for _ in 0..PEAK_STEPS {
-            if (b - a) * len <= 0.5 * self.settings.tolerance_mm {
-                break;
-            }
-            if f1 >= f2 {
-                b = x2;
-                x2 = x1;
-                f2 = f1;
-                x1 = b - g * (b - a);
-                f1 = depth(self, x1);
-                best = best.max(f1);
-            } else {
-                a = x1;
-                x1 = x2;
-                f1 = f2;
-                x2 = a + g * (b - a);
-                f2 = depth(self, x2);
-                best = best.max(f2);
-            }
-        }
-        best
+        let width = 0.5 * self.settings.tolerance_mm / len;
+        let (_, found) = crate::geom::golden_section_max(a, b, width, PEAK_STEPS, |u| {
+            self.probe(p, o, piece, u, active).unwrap_or(0.0)
+        });
+        best.max(found)
     }
 
     /// The boundary between `a` (one state) and `b` (the other) on a piece: the first fraction in

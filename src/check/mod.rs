@@ -22,7 +22,7 @@ use crate::interp::{Interpretation, Move, MoveKind};
 use crate::machine::Machine;
 use crate::motion::{self, Timed};
 use crate::pipeline::{Mode, Settings, Stats};
-use crate::scene::{DexelStock, Revolved, Scene, Snapshot, Swept, View};
+use crate::scene::{DexelStock, Revolved, Scene, Snapshot, Swept, View, NO_SWEEP};
 
 use episodes::{Contact, Episodes};
 
@@ -118,7 +118,14 @@ struct Cutting {
     f: f64,
     /// The insert's swept region from the move's start to fraction `f`.
     swept: Swept,
-    empty: Swept,
+}
+
+impl Cutting {
+    /// The stock as a query sees it during this move: cut up to the instant, or as it was before
+    /// the move (`pre_move`: the insert's own spindle-stopped test).
+    fn view(&self, pre_move: bool) -> View<'_> {
+        View::Instant(if pre_move { &NO_SWEEP } else { &self.swept })
+    }
 }
 
 /// Check a program's moves on a machine.
@@ -371,11 +378,7 @@ impl Checker<'_> {
                 let (Some(stock), cutting) = (self.stock.as_mut(), self.cutting.as_ref()) else {
                     return (None, None);
                 };
-                let view = match cutting {
-                    Some(c) if self.pre_move => View::Instant(&c.empty),
-                    Some(c) => View::Instant(&c.swept),
-                    None => View::Now,
-                };
+                let view = cutting.map_or(View::Now, |c| c.view(self.pre_move));
                 (
                     stock
                         .overlap_view(poly.points(), geom::TOUCH_EPS, quick, view)
@@ -495,13 +498,13 @@ impl Checker<'_> {
                 .filter(|c| *c == (Part::Insert, Obstacle::Stock))
                 .collect();
             self.pre_move = true;
-            self.check_pairs(m, item, &first, active, insert_rule);
+            self.check_pairs(m, item, samples, &first, active, insert_rule);
             self.pre_move = false;
             cands.retain(|c| *c != (Part::Insert, Obstacle::Stock));
         }
         self.stats.pair_tests_skipped += (total_pairs - cands.len() as u64) * samples;
         if !cands.is_empty() {
-            self.check_pairs(m, item, &cands, active, insert_rule);
+            self.check_pairs(m, item, samples, &cands, active, insert_rule);
         }
         if cuts {
             if let Some(s) = self.stock.as_mut() {
@@ -524,12 +527,22 @@ impl Checker<'_> {
         self.cutting = Some(c);
     }
 
-    fn check_pairs(&mut self, m: &Move, item: &Timed, cands: &[(Part, Obstacle)], active: u32, rule: Option<Kind>) {
+    /// Check the candidate pairs of a move of `samples` step-mode samples.
+    #[allow(clippy::too_many_arguments)]
+    fn check_pairs(
+        &mut self,
+        m: &Move,
+        item: &Timed,
+        samples: u64,
+        cands: &[(Part, Obstacle)],
+        active: u32,
+        rule: Option<Kind>,
+    ) {
         match self.settings.mode {
             // A move with more samples than the cap (a tiny dt, a crawl of F0.00001, a move of
             // 1e11 mm) is checked as exact mode checks it: never less than sampling would find,
             // with work bounded by its path instead of its time.
-            Mode::Step if self.samples_in(item.t0, item.t1()) > MAX_STEP_SAMPLES => {
+            Mode::Step if samples > MAX_STEP_SAMPLES => {
                 self.long_moves = true;
                 self.exact(m, item, cands, active, rule)
             }
@@ -680,11 +693,7 @@ impl Checker<'_> {
                 let (Some(stock), cutting) = (self.stock.as_mut(), self.cutting.as_ref()) else {
                     return f64::INFINITY;
                 };
-                let view = match cutting {
-                    Some(c) if self.pre_move => View::Instant(&c.empty),
-                    Some(c) => View::Instant(&c.swept),
-                    None => View::Now,
-                };
+                let view = cutting.map_or(View::Now, |c| c.view(self.pre_move));
                 stock.gap_bound_view(poly.points(), 10.0, view)
             }
             _ => self.obstacle(o).map_or(f64::INFINITY, |rev| {
@@ -757,10 +766,11 @@ impl Checker<'_> {
     ) -> Snapshot {
         let pts = |p: &Polygon| p.points().to_vec();
         // The stock as it is at this instant of a cutting move.
-        let instant = self.stock.as_ref().zip(self.cutting.as_ref()).map(|(s, c)| {
-            let sw = if self.pre_move { &c.empty } else { &c.swept };
-            s.view_copy(View::Instant(sw))
-        });
+        let instant = self
+            .stock
+            .as_ref()
+            .zip(self.cutting.as_ref())
+            .map(|(s, c)| s.view_copy(c.view(self.pre_move)));
         let stock: Vec<Vec<P2>> = instant
             .as_ref()
             .or(self.stock.as_ref())

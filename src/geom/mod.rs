@@ -36,6 +36,41 @@ pub fn p2(x: f64, z: f64) -> P2 {
     P2::new(x, z)
 }
 
+/// Golden-section search for the largest value of `f` on `[lo, hi]`, stopping when the bracket is
+/// no wider than `width` or after `steps` steps. Returns the better point of the last bracket and
+/// the largest value met on the way (every evaluation counts: where `f` has more than one peak
+/// there, a lower bound of its maximum).
+pub fn golden_section_max(lo: f64, hi: f64, width: f64, steps: usize, mut f: impl FnMut(f64) -> f64) -> (f64, f64) {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut a, mut b) = (lo, hi);
+    let mut x1 = b - g * (b - a);
+    let mut x2 = a + g * (b - a);
+    let mut f1 = f(x1);
+    let mut f2 = f(x2);
+    let mut best = f1.max(f2);
+    for _ in 0..steps {
+        if b - a <= width {
+            break;
+        }
+        if f1 >= f2 {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = b - g * (b - a);
+            f1 = f(x1);
+            best = best.max(f1);
+        } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = a + g * (b - a);
+            f2 = f(x2);
+            best = best.max(f2);
+        }
+    }
+    (if f1 >= f2 { x1 } else { x2 }, best)
+}
+
 /// Two parts collide when they overlap by more than this (DESIGN §4).
 pub const TOUCH_EPS: f64 = 1e-6;
 

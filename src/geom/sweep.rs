@@ -424,32 +424,7 @@ impl Sweep<'_> {
     /// Golden-section search for the deepest point of `[lo, hi]`, on the boundary term of the
     /// depth (the cheap one); the depth is then evaluated in full at the point found.
     fn golden_max(&self, lo: f64, hi: f64) -> Sample {
-        let cheap = |t: f64| self.depth_above(t, 0.0);
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut x0, mut x3) = (lo, hi);
-        let mut x1 = x3 - g * (x3 - x0);
-        let mut x2 = x0 + g * (x3 - x0);
-        let mut f1 = cheap(x1);
-        let mut f2 = cheap(x2);
-        for _ in 0..PEAK_ITERS {
-            if x3 - x0 <= T_RES {
-                break;
-            }
-            if f1 >= f2 {
-                x3 = x2;
-                x2 = x1;
-                f2 = f1;
-                x1 = x3 - g * (x3 - x0);
-                f1 = cheap(x1);
-            } else {
-                x0 = x1;
-                x1 = x2;
-                f1 = f2;
-                x2 = x0 + g * (x3 - x0);
-                f2 = cheap(x2);
-            }
-        }
-        let t = if f1 >= f2 { x1 } else { x2 };
+        let (t, _) = super::golden_section_max(lo, hi, T_RES, PEAK_ITERS, |t| self.depth_above(t, 0.0));
         Sample {
             t,
             depth: self.depth_at(t),

@@ -185,7 +185,7 @@ impl Words {
         self.m[..self.nm].iter().find(|(c, _)| *c == code).map(|&(_, a)| a)
     }
 
-    fn axis_words(&self) -> bool {
+    pub(super) fn axis_words(&self) -> bool {
         self.has & (bit(b'X') | bit(b'Z') | bit(b'U') | bit(b'W')) != 0
     }
 }
@@ -634,7 +634,7 @@ impl Run<'_> {
                 }
                 if sys_b && (w.g(980) || w.g(990)) {
                     // System B: G98/G99 choose the drilling cycles' return level.
-                    self.cycle.return_r = w.g(990);
+                    self.cycles.return_r = w.g(990);
                 }
             } else {
                 if w.g(940) {
@@ -1256,7 +1256,7 @@ impl Run<'_> {
                 self.push_move(b, MoveKind::Rapid, start, end, Feed::Rapid);
             }
             Motion::Line => {
-                let Some(feed) = self.feed(b, w) else { return };
+                let Some(feed) = self.feed(b) else { return };
                 self.push_move(b, MoveKind::Line, start, end, feed);
             }
             Motion::Thread => {
@@ -1279,7 +1279,7 @@ impl Run<'_> {
             Motion::ArcCw | Motion::ArcCcw => {
                 // G2 turns from +X toward +Z: counter-clockwise in (x right, z up).
                 let ccw = motion == Motion::ArcCw;
-                let Some(feed) = self.feed(b, w) else { return };
+                let Some(feed) = self.feed(b) else { return };
                 let turns = match w.get(b'P') {
                     Some(p) if p >= 1.0 && p.fract() == 0.0 && p <= 1000.0 => p as u32,
                     Some(p) => {
@@ -1336,9 +1336,15 @@ impl Run<'_> {
         w.get(letter).unwrap_or(0.0)
     }
 
-    pub(super) fn feed(&mut self, b: &Block, _w: &mut Words) -> Option<Feed> {
+    /// The feed of a cutting move now, or a finding at the block's line.
+    pub(super) fn feed(&mut self, b: &Block) -> Option<Feed> {
+        self.feed_or(b, || "feed move without a feed rate (no F word in force)".into())
+    }
+
+    /// [`Self::feed`] with the finding's message given by `missing`.
+    pub(crate) fn feed_or(&mut self, b: &Block, missing: impl FnOnce() -> String) -> Option<Feed> {
         if self.modal.feed <= 0.0 {
-            self.error(b, None, "feed move without a feed rate (no F word in force)".into());
+            self.error(b, None, missing());
             return None;
         }
         let f = self.modal.feed * self.scale();

@@ -17,7 +17,7 @@ use crate::pipeline::{Settings, Stats};
 pub use json::json;
 pub use junit::{junit, JunitOptions};
 pub use sarif::sarif;
-pub use text::{is_bidi_control, terminal_safe, text, TextOptions};
+pub use text::{terminal_safe, text, TextOptions};
 
 /// One checked file.
 #[derive(Clone, Debug, Default)]

@@ -234,12 +234,12 @@ fn round6(v: f64) -> f64 {
     (v * 1e6).round() / 1e6
 }
 
-/// The source text of a 1-based line, when the report has it.
 /// The longest source line quoted as a snippet. A longer line (a generated or hostile file) is
 /// not quoted: each finding would copy it whole, so a file of one long line with many findings
 /// made the log grow with findings × line length (10 GB for a 1 MB line).
 pub const MAX_SNIPPET_BYTES: usize = 1000;
 
+/// The source text of a 1-based line, when the report has it and it is short enough to quote.
 fn line_text(li: &LineIndex, source: &[u8], line: u32) -> Option<String> {
     if line == 0 || line as usize > li.line_count() {
         return None;

@@ -61,7 +61,7 @@ pub fn pictures(r: &Report) -> Vec<(String, String)> {
                 k += 1;
             }
             let block = block_text(f, li, x.line);
-            out.push((file, picture_with_caption(f, x, snap, &block)));
+            out.push((file, picture(f, x, snap, &block)));
         }
     }
     out
@@ -533,14 +533,8 @@ impl Labels<'_> {
     }
 }
 
-/// The SVG of one finding.
-pub fn picture(file: &FileReport, f: &Finding, s: &Snapshot) -> String {
-    let block = block_text(file, &LineIndex::new(&file.source), f.line);
-    picture_with_caption(file, f, s, &block)
-}
-
 /// The SVG of one finding whose source block text is `block`.
-fn picture_with_caption(file: &FileReport, f: &Finding, s: &Snapshot, block: &str) -> String {
+fn picture(file: &FileReport, f: &Finding, s: &Snapshot, block: &str) -> String {
     let v = View::fit(&region(s));
     let swept = sweep(s);
     // A near miss has no overlap to show: its parts stay apart.

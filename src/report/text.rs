@@ -62,7 +62,7 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
                         // like the caret counts.
                         let chars = raw.chars().map(|c| match c {
                             '\t' => ' ',
-                            c if c.is_control() || is_bidi_control(c) => '\u{FFFD}',
+                            c if unsafe_char(c) => '\u{FFFD}',
                             c => c,
                         });
                         shown_line = (x.line, chars.collect());
@@ -106,15 +106,20 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
 
 /// Unicode's bidirectional formatting characters: they reorder what a terminal shows (a file
 /// named `a\u{202e}cn.exe` shows as `aexe.nc`).
-pub fn is_bidi_control(c: char) -> bool {
+fn is_bidi_control(c: char) -> bool {
     matches!(c, '\u{061c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+}
+
+/// A character a terminal must not be handed raw: a control or a bidirectional control.
+fn unsafe_char(c: char) -> bool {
+    c.is_control() || is_bidi_control(c)
 }
 
 /// Text from outside (a file name, a message quoting a file) made safe to print on a terminal:
 /// control characters (ESC, newline, CR, DEL, C1) and bidirectional controls are written as
 /// escapes (`\x1b`, `\n`, `\u{202e}`); everything else, backslashes included, is unchanged.
 pub fn terminal_safe(s: &str) -> Cow<'_, str> {
-    if !s.chars().any(|c| c.is_control() || is_bidi_control(c)) {
+    if !s.chars().any(unsafe_char) {
         return Cow::Borrowed(s);
     }
     let mut out = String::with_capacity(s.len() + 8);
@@ -126,7 +131,7 @@ pub fn terminal_safe(s: &str) -> Cow<'_, str> {
             c if c.is_ascii_control() => {
                 let _ = write!(out, "\\x{:02x}", c as u32);
             }
-            c if c.is_control() || is_bidi_control(c) => {
+            c if unsafe_char(c) => {
                 let _ = write!(out, "\\u{{{:x}}}", c as u32);
             }
             c => out.push(c),

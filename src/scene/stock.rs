@@ -88,15 +88,10 @@ impl Swept {
     pub fn polygons(&self) -> impl Iterator<Item = &[P2]> {
         self.polys.iter().map(|(_, p)| &p[..])
     }
-
-    pub fn len(&self) -> usize {
-        self.polys.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.polys.is_empty()
-    }
 }
+
+/// No swept region: `View::Instant(&NO_SWEEP)` is the stock as it was before the move.
+pub static NO_SWEEP: Swept = Swept { polys: Vec::new() };
 
 /// Which state of the stock a query sees.
 #[derive(Clone, Copy, Debug)]

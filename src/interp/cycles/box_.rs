@@ -16,7 +16,6 @@ use super::super::state::Motion;
 use super::super::{Feed, MoveKind};
 use crate::gcode::Block;
 use crate::geom::P2;
-use crate::machine::Dialect;
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Kind {
@@ -34,10 +33,7 @@ fn kind(code: u16) -> Kind {
 }
 
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, _at: u32) -> bool {
-    if run.machine.dialect != Dialect::Fanuc {
-        return false;
-    }
-    if !axis_words(w) {
+    if !w.axis_words() {
         // No axis words: no cycle. G90 is then the absolute mode (step 1), G94 the feed per
         // minute (step 2) and G92 S the spindle clamp (step 3), as programs written for G-code
         // system B or C use them; the motion mode in force stays.
@@ -45,13 +41,7 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, _at: u
         return true;
     }
     if run.modal.motion != Some(Motion::Cycle(code)) {
-        run.cycle = super::Sticky {
-            g76: run.cycle.g76,
-            groove_e: run.cycle.groove_e,
-            return_r: run.cycle.return_r,
-            ..Default::default()
-        };
-        run.cycle.code = code;
+        run.cycle = super::Sticky::default();
     }
     run.modal.motion = Some(Motion::Cycle(code));
     one_box(run, b, w, code);
@@ -61,10 +51,6 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, _at: u
 
 pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     one_box(run, b, w, code);
-}
-
-fn axis_words(w: &Words) -> bool {
-    w.peek(b'X') || w.peek(b'Z') || w.peek(b'U') || w.peek(b'W')
 }
 
 /// The cycle's end point: the axis words of the block, the modal ones for the axes it does not
@@ -108,7 +94,7 @@ fn one_box(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
             }
             Feed::PerRev(lead * run.scale())
         }
-        _ => match run.feed(b, w) {
+        _ => match run.feed(b) {
             Some(f) => f,
             None => return,
         },

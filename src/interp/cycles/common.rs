@@ -88,6 +88,12 @@ pub(crate) struct Memory {
     pub g73: Option<(f64, f64, f64)>,
     /// N number → block indices holding it, ascending (built on first use).
     n_index: Option<HashMap<u64, Vec<usize>>>,
+    /// G76 first-block words (Fanuc parameters 5142, 5130, 5143, 5140, 5141).
+    pub g76: super::thread::G76Params,
+    /// G74/G75 first block: the return amount e (mm; Fanuc parameter 5139).
+    pub groove_e: Option<f64>,
+    /// Drilling, G-code system B: G99 (return to the R plane) rather than G98 (initial level).
+    pub return_r: bool,
     /// The LinuxCNC cycles' modal values (R plane, initial level, retract mode, …).
     pub lcnc: super::lcnc_drill::LcncMemory,
 }
@@ -129,16 +135,7 @@ pub(crate) fn n_word(v: f64) -> Option<u64> {
 
 /// The feed of a cutting move now, or a finding at the cycle's line.
 pub(crate) fn feed(run: &mut Run<'_>, b: &Block, what: &str) -> Option<Feed> {
-    if run.modal.feed <= 0.0 {
-        run.error(b, None, format!("{what} needs a feed rate (F) and none is in force"));
-        return None;
-    }
-    let f = run.modal.feed * run.scale();
-    Some(if run.modal.feed_per_rev {
-        Feed::PerRev(f)
-    } else {
-        Feed::PerMinute(f)
-    })
+    run.feed_or(b, || format!("{what} needs a feed rate (F) and none is in force"))
 }
 
 /// Emit a move from the current programmed point at the cycle's line (skipped when it goes
@@ -276,11 +273,8 @@ pub(crate) fn trace(
     let p_names_both = names(b"XU") && names(b"ZW");
     let p_line = p_block.line;
 
-    let modal = run.modal.clone();
-    let (reference, station, tip, selected) = (run.reference, run.station, run.tip, run.selected);
-    let (shift, stopped, pc) = (run.shift, run.stopped, run.pc);
-    let (m0, s0) = (run.moves.len(), run.states.len());
-    let reports = run.reports;
+    let mark = Mark::new(run);
+    let (stopped, pc) = (run.stopped, run.pc);
     for i in pi..=qi {
         let pb = run.block(i);
         if pb.bad {
@@ -291,36 +285,21 @@ pub(crate) fn trace(
         }
         run.execute(pb);
     }
-    let refused = run.reports > reports;
-    let mut segs: Vec<Seg> = run.moves[m0..]
-        .iter()
-        .filter(|m| matches!(m.kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }))
-        .map(|m: &Move| Seg {
-            kind: m.kind,
-            start: m.start,
-            end: m.end,
-            line: m.line,
-        })
-        .collect();
-    run.modal = modal;
-    run.shift = shift;
+    let refused = mark.reported(run);
+    let mut segs = mark.segs(run, false);
+    mark.restore_modes(run);
     run.stopped = stopped;
     run.pc = pc;
     if keep {
         let line = b.line;
         let n = b.n();
-        for m in &mut run.moves[m0..] {
+        for m in &mut run.moves[mark.moves..] {
             m.profile_line = m.line;
             m.line = line;
             m.n = n;
         }
     } else {
-        run.moves.truncate(m0);
-        run.states.truncate(s0);
-        run.reference = reference;
-        run.station = station;
-        run.tip = tip;
-        run.selected = selected;
+        mark.drop_moves(run);
     }
     if refused {
         return None;
@@ -336,6 +315,78 @@ pub(crate) fn trace(
         p_names_both,
         q: qi,
     })
+}
+
+/// What running a cycle's profile through the block executor changes in a run, saved before it
+/// so that it can be put back: the modal state and frame shift, and the moves with the tool and
+/// position they leave.
+pub(crate) struct Mark {
+    modal: super::super::state::Modal,
+    shift: V2,
+    reference: P2,
+    station: u32,
+    tip: V2,
+    selected: Option<u32>,
+    /// Moves and states before the profile ran.
+    pub moves: usize,
+    states: usize,
+    reports: u64,
+}
+
+impl Mark {
+    pub fn new(run: &Run<'_>) -> Mark {
+        Mark {
+            modal: run.modal.clone(),
+            shift: run.shift,
+            reference: run.reference,
+            station: run.station,
+            tip: run.tip,
+            selected: run.selected,
+            moves: run.moves.len(),
+            states: run.states.len(),
+            reports: run.reports,
+        }
+    }
+
+    /// A finding was reported since the mark.
+    pub fn reported(&self, run: &Run<'_>) -> bool {
+        run.reports > self.reports
+    }
+
+    /// The motions made since the mark as profile segments (rapids as lines when
+    /// `rapid_as_line`: LinuxCNC reads a profile's G0 as G1).
+    pub fn segs(&self, run: &Run<'_>, rapid_as_line: bool) -> Vec<Seg> {
+        run.moves[self.moves..]
+            .iter()
+            .filter(|m| matches!(m.kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }))
+            .map(|m: &Move| Seg {
+                kind: if rapid_as_line && m.kind == MoveKind::Rapid {
+                    MoveKind::Line
+                } else {
+                    m.kind
+                },
+                start: m.start,
+                end: m.end,
+                line: m.line,
+            })
+            .collect()
+    }
+
+    /// Put back the modal state and the frame shift.
+    pub fn restore_modes(&self, run: &mut Run<'_>) {
+        run.modal = self.modal.clone();
+        run.shift = self.shift;
+    }
+
+    /// Drop the moves made since the mark, and the tool and position they left.
+    pub fn drop_moves(&self, run: &mut Run<'_>) {
+        run.moves.truncate(self.moves);
+        run.states.truncate(self.states);
+        run.reference = self.reference;
+        run.station = self.station;
+        run.tip = self.tip;
+        run.selected = self.selected;
+    }
 }
 
 /// Execution resumes after block Q when Q follows the cycle block, whatever becomes of the cycle

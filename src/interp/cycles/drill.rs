@@ -28,7 +28,7 @@ use super::super::{Feed, MoveKind, SpindleDir};
 use super::box_::go;
 use crate::gcode::Block;
 use crate::geom::P2;
-use crate::machine::{Dialect, GcodeSystem};
+use crate::machine::GcodeSystem;
 
 /// The clearance above the last depth where a G83 peck's rapid back down stops, mm.
 pub(crate) const PECK_CLEARANCE_MM: f64 = 1.0;
@@ -36,18 +36,12 @@ pub(crate) const PECK_CLEARANCE_MM: f64 = 1.0;
 pub(crate) const MAX_PECKS: u64 = 10_000;
 
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
-    if run.machine.dialect != Dialect::Fanuc || code % 10 != 0 {
+    if code % 10 != 0 {
         return false;
     }
     if run.modal.motion != Some(Motion::Cycle(code)) {
         let keep = run.cycle;
-        run.cycle = super::Sticky {
-            g76: keep.g76,
-            groove_e: keep.groove_e,
-            return_r: keep.return_r,
-            ..Default::default()
-        };
-        run.cycle.code = code;
+        run.cycle = super::Sticky::default();
         run.cycle.initial_z = run.programmed().y;
         // A cycle following another drilling cycle keeps its words (R, Q, P) until G80.
         if matches!(run.modal.motion, Some(Motion::Cycle(c)) if (810..=890).contains(&c)) {
@@ -138,7 +132,7 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
         );
         return;
     }
-    let Some(feed) = run.feed(b, w) else { return };
+    let Some(feed) = run.feed(b) else { return };
     let start = run.programmed();
     let z0 = start.y;
     let r = run.cycle.r.unwrap_or(z0);
@@ -169,7 +163,7 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
         return;
     }
     let sys_b = run.machine.gcode_system == GcodeSystem::B;
-    let ret = if sys_b && run.cycle.return_r {
+    let ret = if sys_b && run.cycles.return_r {
         r
     } else {
         run.cycle.initial_z

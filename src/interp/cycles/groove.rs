@@ -23,7 +23,6 @@ use super::super::{Feed, MoveKind};
 use super::box_::go;
 use crate::gcode::Block;
 use crate::geom::P2;
-use crate::machine::Dialect;
 
 /// The return amount e when no `G74 R` / `G75 R` block set one, mm.
 pub(crate) const DEFAULT_RETURN_MM: f64 = 1.0;
@@ -31,15 +30,12 @@ pub(crate) const DEFAULT_RETURN_MM: f64 = 1.0;
 pub(crate) const MAX_MOVES: usize = 100_000;
 
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
-    if run.machine.dialect != Dialect::Fanuc {
-        return false;
-    }
     let face = code == 740;
     let name = if face { "G74" } else { "G75" };
     let axis = w.peek(b'X') || w.peek(b'Z') || w.peek(b'U') || w.peek(b'W');
     if !axis {
         match w.get(b'R') {
-            Some(e) if e >= 0.0 => run.cycle.groove_e = Some(e * run.scale()),
+            Some(e) if e >= 0.0 => run.cycles.groove_e = Some(e * run.scale()),
             Some(e) => run.error(
                 b,
                 w.at(b'R'),
@@ -70,8 +66,8 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
         let k = super::least(run, w, b'Q').unwrap_or(0.0);
         (i, k, super::least(run, w, b'R').unwrap_or(0.0))
     };
-    let e = run.cycle.groove_e.unwrap_or(DEFAULT_RETURN_MM);
-    if let Some(feed) = run.feed(b, w) {
+    let e = run.cycles.groove_e.unwrap_or(DEFAULT_RETURN_MM);
+    if let Some(feed) = run.feed(b) {
         if di < 0.0 || dk < 0.0 {
             run.error(
                 b,

@@ -10,7 +10,7 @@
 //! start point and run toward −v, the direction in which the profile travels: for G71 u and v
 //! are ±X and ±Z, for G72 ±Z and ±X.
 
-use super::common::{emit, feed, rapid, Seg, MAX_PASSES};
+use super::common::{emit, feed, rapid, Mark, Seg, MAX_PASSES};
 use crate::gcode::{Block, OName};
 use crate::geom::{P2, V2};
 use crate::interp::block::Words;
@@ -466,12 +466,10 @@ fn cycle(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, at:
     let f = feed(run, b, name)?;
     let start = run.target(b, w)?;
     // A refused cycle moves nothing, not even to its start point.
-    let (m0, s0, reference) = (run.moves.len(), run.states.len(), run.reference);
+    let mark = Mark::new(run);
     let done = expand(run, b, code, name, at, q, &words, f, start);
     if done.is_none() {
-        run.moves.truncate(m0);
-        run.states.truncate(s0);
-        run.reference = reference;
+        mark.drop_moves(run);
     }
     done
 }
@@ -691,11 +689,8 @@ fn expand(
 /// Run the profile subroutine from the current point and collect its moves; nothing of it stays
 /// (moves, modal state, tool, position). Also the motion mode it left. `None` after a finding.
 fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Option<(Vec<Seg>, Option<Motion>)> {
-    let modal = run.modal.clone();
-    let (reference, station, tip, selected) = (run.reference, run.station, run.tip, run.selected);
-    let (shift, stopped) = (run.shift, run.stopped);
-    let (m0, s0) = (run.moves.len(), run.states.len());
-    let reports = run.reports;
+    let mark = Mark::new(run);
+    let stopped = run.stopped;
     // The cycle reads every block of the profile with axis words as a move (G0 is a G1 there),
     // so a profile that names no motion code follows the lines it gives.
     if run.modal.motion.is_none() || matches!(run.modal.motion, Some(Motion::Cycle(_))) {
@@ -703,32 +698,13 @@ fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Optio
     }
     let called = run.run_sub_inline(b, sub, at);
     let returned = called == Some(true);
-    let segs: Vec<Seg> = run.moves[m0..]
-        .iter()
-        .filter(|m| matches!(m.kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }))
-        .map(|m| Seg {
-            kind: if m.kind == MoveKind::Rapid {
-                MoveKind::Line
-            } else {
-                m.kind
-            },
-            start: m.start,
-            end: m.end,
-            line: m.line,
-        })
-        .collect();
+    let segs = mark.segs(run, true);
     let motion = run.modal.motion;
     let budget_spent = run.stopped && !stopped;
-    run.modal = modal;
-    run.shift = shift;
+    mark.restore_modes(run);
     run.stopped = stopped || budget_spent && run.executed > run.limits.max_blocks;
-    run.moves.truncate(m0);
-    run.states.truncate(s0);
-    run.reference = reference;
-    run.station = station;
-    run.tip = tip;
-    run.selected = selected;
-    if run.reports > reports || !returned {
+    mark.drop_moves(run);
+    if mark.reported(run) || !returned {
         if !run.stopped && called.is_some() {
             let at_o = (at > 0).then_some(at);
             run.error(

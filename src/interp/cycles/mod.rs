@@ -42,11 +42,10 @@ pub(super) fn least(run: &Run<'_>, w: &mut Words, letter: u8) -> Option<f64> {
     Some(v * unit * run.scale())
 }
 
-/// The modal words of the cycles this family keeps between blocks.
+/// The words of the modal cycle in force (box and drilling cycles), kept between its blocks and
+/// cleared when another cycle starts.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Sticky {
-    /// The modal cycle (G code ×10) the words below belong to; 0 when none.
-    pub code: u16,
     /// Cycle end point X (radius) and Z, spindle frame, once given.
     pub x: Option<f64>,
     pub z: Option<f64>,
@@ -57,12 +56,6 @@ pub(crate) struct Sticky {
     pub p: Option<f64>,
     /// Drilling: the Z of the initial level (where the cycle began).
     pub initial_z: f64,
-    /// G76 first-block words (Fanuc parameters 5142, 5130, 5143, 5140, 5141).
-    pub g76: thread::G76Params,
-    /// G74/G75 first block: the return amount e (mm; Fanuc parameter 5139).
-    pub groove_e: Option<f64>,
-    /// Drilling, G-code system B: G99 (return to the R plane) rather than G98 (initial level).
-    pub return_r: bool,
 }
 
 /// Run the cycle `code` (G number ×10) of block `b`; `at` is the offset of its G word. `true` when
@@ -70,16 +63,21 @@ pub(crate) struct Sticky {
 /// code to the executor's `unsupported` report.
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
     let lcnc = run.machine.dialect == crate::machine::Dialect::Linuxcnc;
-    let handled = match code {
-        331 | 760 if lcnc => lcnc_thread::run(run, b, w, code, at),
-        730 | 740 | 810..=890 if lcnc => lcnc_drill::run(run, b, w, code, at),
-        700..=722 if lcnc => lcnc_rough::run(run, b, w, code, at),
-        700..=730 => rough::run(run, b, w, code, at),
-        740 | 750 => groove::run(run, b, w, code, at),
-        760 => thread::g76(run, b, w, at),
-        770 | 780 | 790 | 900 | 920 | 940 => box_::run(run, b, w, code, at),
-        810..=890 => drill::run(run, b, w, code, at),
-        _ => false,
+    // One dialect's families each: a Fanuc family never sees a LinuxCNC block, nor the reverse.
+    let handled = if lcnc {
+        match code {
+            700..=722 => lcnc_rough::run(run, b, w, code, at),
+            _ => run_lcnc(run, b, w, code, at),
+        }
+    } else {
+        match code {
+            700..=730 => rough::run(run, b, w, code, at),
+            740 | 750 => groove::run(run, b, w, code, at),
+            760 => thread::g76(run, b, w, at),
+            770 | 780 | 790 | 900 | 920 | 940 => box_::run(run, b, w, code, at),
+            810..=890 => drill::run(run, b, w, code, at),
+            _ => false,
+        }
     };
     // (Fanuc G70–G73 handle the flow codes of their own lines.)
     if handled && (lcnc || !(700..=730).contains(&code)) {
@@ -131,7 +129,7 @@ pub(super) fn charge(run: &mut Run<'_>, b: &Block, moves: u64) -> bool {
 /// an ordinary one).
 pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) -> bool {
     if run.machine.dialect == crate::machine::Dialect::Linuxcnc {
-        return run_lcnc(run, b, w, code);
+        return run_lcnc(run, b, w, code, 0);
     }
     match code {
         770 | 780 | 790 | 900 | 920 | 940 => box_::repeat(run, b, w, code),
@@ -141,11 +139,12 @@ pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) -> 
     true
 }
 
-/// A LinuxCNC cycle in force, run again by a block with axis words (as rs274ngc does).
-fn run_lcnc(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) -> bool {
+/// The LinuxCNC threading and drilling cycles: on their own block, and run again by a later
+/// block with axis words while in force (as rs274ngc does; `at` is then 0).
+fn run_lcnc(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
     match code {
-        331 | 760 => lcnc_thread::run(run, b, w, code, 0),
-        730 | 740 | 810..=890 => lcnc_drill::run(run, b, w, code, 0),
+        331 | 760 => lcnc_thread::run(run, b, w, code, at),
+        730 | 740 | 810..=890 => lcnc_drill::run(run, b, w, code, at),
         _ => false,
     }
 }

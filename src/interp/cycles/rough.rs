@@ -7,7 +7,6 @@ use crate::geom::{P2, V2};
 use crate::interp::block::Words;
 use crate::interp::flow::Run;
 use crate::interp::{Feed, MoveKind};
-use crate::machine::Dialect;
 
 /// Retract e when no `G71 U R` / `G72 W R` block set one (Haas: setting 73), mm.
 const DEFAULT_RETRACT_MM: f64 = 0.5;
@@ -56,9 +55,6 @@ fn sign(v: f64, default: f64) -> f64 {
 }
 
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, _at: u32) -> bool {
-    if run.machine.dialect != Dialect::Fanuc {
-        return false; // LinuxCNC G70–G72 (o-word profiles) and G73 (drilling) are not here yet
-    }
     match code {
         700 => g70(run, b, w),
         710 => g71_g72(run, b, w, Axes { facing: false }),
@@ -69,18 +65,12 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, _at: u
     true
 }
 
-/// X as a radius in mm (a diameter in diameter mode).
-fn radius_mm(run: &Run<'_>, v: f64) -> f64 {
-    let r = if run.modal.diameter { v / 2.0 } else { v };
-    r * run.scale()
-}
-
 /// The finishing allowance (Δu/2, Δw) in mm: U (diameter) or Haas I (radius), W or Haas K.
 fn allowance(run: &Run<'_>, w: &mut Words) -> V2 {
     let s = run.scale();
     let x = match w.get(b'I') {
         Some(i) => i * s,
-        None => radius_mm(run, w.get(b'U').unwrap_or(0.0)),
+        None => run.to_radius(w.get(b'U').unwrap_or(0.0)) * s,
     };
     let z = w.get(b'K').or_else(|| w.get(b'W')).unwrap_or(0.0) * s;
     V2::new(x, z)
@@ -442,7 +432,7 @@ fn g73(run: &mut Run<'_>, b: &Block, w: &mut Words) {
     let (mut ri, mut rk, mut n) = run.cycles.g73.unwrap_or((0.0, 0.0, 1.0));
     // Haas one-block form: I, K relief (radius, Z), D passes; U W allowance.
     let off = {
-        let x = radius_mm(run, w.get(b'U').unwrap_or(0.0));
+        let x = run.to_radius(w.get(b'U').unwrap_or(0.0)) * run.scale();
         let z = w.get(b'W').unwrap_or(0.0) * s;
         V2::new(x, z)
     };

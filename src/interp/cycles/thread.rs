@@ -26,7 +26,6 @@ use super::super::{Feed, MoveKind};
 use super::box_::go;
 use crate::gcode::Block;
 use crate::geom::P2;
-use crate::machine::Dialect;
 
 /// Passes one cycle may make; more is a `program` finding (a tiny Δd with no Δdmin).
 pub(crate) const MAX_PASSES: usize = 10_000;
@@ -61,9 +60,6 @@ impl Default for G76Params {
 }
 
 pub(super) fn g76(run: &mut Run<'_>, b: &Block, w: &mut Words, at: u32) -> bool {
-    if run.machine.dialect != Dialect::Fanuc {
-        return false;
-    }
     let axis = w.peek(b'X') || w.peek(b'Z') || w.peek(b'U') || w.peek(b'W');
     if !axis {
         first_block(run, b, w, at);
@@ -77,7 +73,7 @@ pub(super) fn g76(run: &mut Run<'_>, b: &Block, w: &mut Words, at: u32) -> bool 
 }
 
 fn first_block(run: &mut Run<'_>, b: &Block, w: &mut Words, at: u32) {
-    let mut g = run.cycle.g76;
+    let mut g = run.cycles.g76;
     if let Some(p) = w.get(b'P') {
         if !(0.0..=999_999.0).contains(&p) || p.fract() != 0.0 {
             run.error(
@@ -122,7 +118,7 @@ fn first_block(run: &mut Run<'_>, b: &Block, w: &mut Words, at: u32) {
             "G76 needs P, Q, R (first block) or X/Z with P, Q, F (second block)".into(),
         );
     }
-    run.cycle.g76 = g;
+    run.cycles.g76 = g;
 }
 
 /// The cut of one thread: everything a pass list needs.
@@ -142,7 +138,7 @@ struct Cut {
 }
 
 fn second_block(run: &mut Run<'_>, b: &Block, w: &mut Words, _at: u32) {
-    let g = run.cycle.g76;
+    let g = run.cycles.g76;
     let Some(end) = run.target(b, w) else { return };
     let taper = w.get(b'R').unwrap_or(0.0) * run.scale();
     let (Some(k), Some(dd)) = (super::least(run, w, b'P'), super::least(run, w, b'Q')) else {
