@@ -382,3 +382,48 @@ fn shell_completions_man_pages_and_colour() {
     assert!(!quiet.contains("warning["));
     assert!(!quiet.contains(" | "));
 }
+
+/// Every number of a JSON report is rounded to six decimals (nm and µs), nested ones too: the
+/// time of the crash a follow-on names was once printed raw (29.512500250000002).
+#[test]
+fn every_number_of_the_json_report_has_at_most_six_decimals() {
+    fn walk(v: &serde_json::Value, path: &str, bad: &mut Vec<String>) {
+        match v {
+            serde_json::Value::Number(n) => {
+                if let Some(x) = n.as_f64() {
+                    if ((x * 1e6).round() / 1e6 - x).abs() > 0.0 && !path.ends_with("elapsed_ms") {
+                        bad.push(format!("{path} = {x}"));
+                    }
+                }
+            }
+            serde_json::Value::Array(a) => a
+                .iter()
+                .enumerate()
+                .for_each(|(i, x)| walk(x, &format!("{path}[{i}]"), bad)),
+            serde_json::Value::Object(o) => o.iter().for_each(|(k, x)| walk(x, &format!("{path}.{k}"), bad)),
+            _ => {}
+        }
+    }
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    for mode in ["step", "exact"] {
+        let o = latheguard(
+            &root,
+            &[
+                "check",
+                "--format",
+                "json",
+                "--mode",
+                mode,
+                "programs/crash_holder_into_chuck.nc",
+            ],
+        );
+        let mut bad = Vec::new();
+        let doc = json(&o);
+        walk(&doc["files"][0]["findings"], "findings", &mut bad);
+        assert!(
+            doc["files"][0]["findings"].to_string().contains("follow_on"),
+            "no follow-on to test"
+        );
+        assert!(bad.is_empty(), "{mode}: {bad:?}");
+    }
+}

@@ -45,7 +45,7 @@ struct FindingDoc<'a> {
     message: &'a str,
     /// The crash this contact is a follow-on of (absent for an independent finding).
     #[serde(skip_serializing_if = "Option::is_none")]
-    follow_on: Option<&'a crate::finding::FollowOn>,
+    follow_on: Option<FollowOnDoc<'a>>,
     /// The profile block a canned cycle's move follows (absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     profile_line: Option<u32>,
@@ -66,10 +66,22 @@ impl<'a> From<&'a Finding> for FindingDoc<'a> {
             x: f.x.map(round6),
             z: f.z.map(round6),
             message: &f.message,
-            follow_on: f.follow_on.as_ref(),
+            follow_on: f.follow_on.as_ref().map(|p| FollowOnDoc {
+                line: p.line,
+                objects: &p.objects,
+                time_s: round6(p.time_s),
+            }),
             profile_line: f.profile_line,
         }
     }
+}
+
+/// The crash a follow-on contact comes from, its time rounded as every JSON number is.
+#[derive(Serialize)]
+struct FollowOnDoc<'a> {
+    line: u32,
+    objects: &'a [String],
+    time_s: f64,
 }
 
 /// Six decimals: nm and µs, stable across platforms' last-bit differences.
