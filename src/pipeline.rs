@@ -54,6 +54,9 @@ pub enum Mode {
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Stats {
     pub blocks: u64,
+    /// Motions that reach the machine: rapids, feeds, arcs and turret indexes (dwells are not
+    /// counted). A program with none has the status `no_motion`.
+    pub moves: u64,
     pub machine_time_s: f64,
     pub steps: u64,
     pub pair_tests: u64,
@@ -131,6 +134,11 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
     let findings = report_order(findings, left_out);
     let mut stats = result.stats;
     stats.blocks = run.blocks_executed;
+    stats.moves = run
+        .moves
+        .iter()
+        .filter(|m| !matches!(m.kind, interp::MoveKind::Dwell { .. }))
+        .count() as u64;
     let stock = match (&result.stock, &machine.stock) {
         (Some(s), _) => s.outlines(settings.tolerance_mm),
         (None, Some(s)) => {

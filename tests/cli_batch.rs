@@ -427,3 +427,78 @@ fn every_number_of_the_json_report_has_at_most_six_decimals() {
         assert!(bad.is_empty(), "{mode}: {bad:?}");
     }
 }
+
+#[test]
+fn a_file_whose_moves_never_reach_the_machine_is_no_motion_in_every_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path();
+    // A subroutine library nobody calls, a program of settings only, and one that moves.
+    std::fs::write(p.join("library.ngc"), "o100 sub\nG1 X10 Z-5 F0.1\no100 endsub\nM2\n").unwrap();
+    std::fs::write(p.join("settings.nc"), "%\nO0001\nG21 G18 G40 G99\nG50 S2000\nM30\n%\n").unwrap();
+    std::fs::write(
+        p.join("moves.nc"),
+        "%\nO0002\nG21 G99\nG28 U0 W0\nG0 X200. Z300.\nM30\n%\n",
+    )
+    .unwrap();
+    let run = |args: &[&str]| common::latheguard(p, args);
+
+    let out = run(&["check", "--format", "json", "."]);
+    assert_eq!(out.status.code(), Some(0), "no motion is not an error");
+    let doc = json(&out);
+    let status: BTreeMap<String, String> = doc["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| {
+            (
+                f["path"].as_str().unwrap().to_string(),
+                f["status"].as_str().unwrap().to_string(),
+            )
+        })
+        .collect();
+    assert_eq!(status["library.ngc"], "no_motion");
+    assert_eq!(status["settings.nc"], "no_motion");
+    assert_eq!(status["moves.nc"], "clean");
+    assert_eq!(doc["summary"]["clean"], 1);
+    assert_eq!(doc["summary"]["no_motion"], 2);
+    assert_eq!(doc["summary"]["with_findings"], 0);
+    assert_eq!(doc["files"][0]["stats"]["moves"], 0);
+
+    let text = stdout(&run(&["check", "--color", "never", "."]));
+    assert!(
+        text.contains("library.ngc: no_motion: no move reaches the machine"),
+        "{text}"
+    );
+    assert!(text.contains("1 clean, 2 with no motion, 0 with findings"), "{text}");
+
+    let xml = stdout(&run(&["check", "--format", "junit", "."]));
+    let doc = roxmltree::Document::parse(&xml).unwrap();
+    let skipped: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("testcase") && n.children().any(|c| c.has_tag_name("skipped")))
+        .map(|c| c.attribute("name").unwrap())
+        .collect();
+    assert_eq!(skipped, ["library.ngc", "settings.nc"]);
+
+    let log = json(&run(&["check", "--format", "sarif", "."]));
+    let schema: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(common::fixtures().join("sarif-schema-2.1.0.json")).unwrap())
+            .unwrap();
+    let validator = jsonschema::validator_for(&schema).unwrap();
+    assert!(validator.is_valid(&log));
+    let notes = log["runs"][0]["invocations"][0]["toolExecutionNotifications"]
+        .as_array()
+        .unwrap();
+    let uris: Vec<&str> = notes
+        .iter()
+        .map(|n| {
+            n["locations"][0]["physicalLocation"]["artifactLocation"]["uri"]
+                .as_str()
+                .unwrap()
+        })
+        .collect();
+    assert_eq!(uris, ["library.ngc", "settings.nc"]);
+    assert!(notes
+        .iter()
+        .all(|n| n["descriptor"]["id"] == "no_motion" && n["level"] == "note"));
+}

@@ -103,7 +103,7 @@ pub fn json(r: &Report) -> String {
                 path: &f.path,
                 machine: f.machine.as_deref(),
                 settings: f.settings.as_ref(),
-                status: if f.findings.is_empty() { "clean" } else { "findings" },
+                status: f.status().name(),
                 findings: f.findings.iter().map(FindingDoc::from).collect(),
                 stats: &f.stats,
                 stock: f

@@ -4,7 +4,8 @@
 //! per test case (CI systems show only the first), so the failure's message names the first error
 //! and its count, its `type` is that error's kind, and its body lists every finding of the file,
 //! one a line, as `line N: error[kind]: message`. A program with warnings only passes, with its
-//! warnings in `<system-out>`. Test case names are the program paths; the class name is the
+//! warnings in `<system-out>`. A program whose moves never reach the machine (status `no_motion`)
+//! is a skipped test case. Test case names are the program paths; the class name is the
 //! program's folder.
 
 use super::{FileReport, Report};
@@ -57,6 +58,11 @@ fn case(r: &Report, f: &FileReport, opt: JunitOptions) -> TestCase {
     let errors: Vec<&Finding> = f.findings.iter().filter(|x| x.severity == Severity::Error).collect();
     let listing = f.findings.iter().map(line).collect::<Vec<_>>().join("\n");
     let status = match errors.first() {
+        None if f.status() == super::Status::NoMotion => {
+            let mut st = TestCaseStatus::skipped();
+            st.set_message(format!("no_motion: {}", super::NO_MOTION_MESSAGE));
+            st
+        }
         None => TestCaseStatus::success(),
         Some(first) => {
             let mut st = TestCaseStatus::non_success(NonSuccessKind::Failure);

@@ -35,6 +35,44 @@ pub struct FileReport {
     pub settings: Option<Settings>,
 }
 
+/// What became of one checked file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Status {
+    /// Moves reached the machine and nothing was found.
+    Clean,
+    /// At least one finding.
+    Findings,
+    /// No finding, and no move ever reached the machine (a subroutine library nobody calls, a
+    /// program of settings only): nothing was checked, so it is not called clean.
+    NoMotion,
+}
+
+impl Status {
+    /// The name in the reports: `clean`, `findings`, `no_motion`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Status::Clean => "clean",
+            Status::Findings => "findings",
+            Status::NoMotion => "no_motion",
+        }
+    }
+}
+
+/// The message every report gives a file of status [`Status::NoMotion`].
+pub const NO_MOTION_MESSAGE: &str = "no move reaches the machine (nothing was checked)";
+
+impl FileReport {
+    pub fn status(&self) -> Status {
+        if !self.findings.is_empty() {
+            Status::Findings
+        } else if self.stats.moves == 0 {
+            Status::NoMotion
+        } else {
+            Status::Clean
+        }
+    }
+}
+
 /// A whole batch.
 #[derive(Clone, Debug)]
 pub struct Report {
@@ -49,6 +87,8 @@ pub struct Summary {
     pub files: usize,
     pub clean: usize,
     pub with_findings: usize,
+    /// Files with no finding whose moves never reach the machine (counted apart from `clean`).
+    pub no_motion: usize,
     pub errors: usize,
     pub warnings: usize,
 }
@@ -60,10 +100,10 @@ impl Report {
             ..Summary::default()
         };
         for f in &self.files {
-            if f.findings.is_empty() {
-                s.clean += 1;
-            } else {
-                s.with_findings += 1;
+            match f.status() {
+                Status::Clean => s.clean += 1,
+                Status::Findings => s.with_findings += 1,
+                Status::NoMotion => s.no_motion += 1,
             }
             for x in &f.findings {
                 match x.severity {

@@ -28,8 +28,44 @@ struct Run<'a> {
     original_uri_base_ids: BaseIds,
     artifacts: Vec<Artifact>,
     results: Vec<SarifResult<'a>>,
+    /// Present when some file made no move: a note per such file (status `no_motion`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    invocations: Vec<Invocation>,
     column_kind: &'static str,
     properties: RunProperties<'a>,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Invocation {
+    execution_successful: bool,
+    tool_execution_notifications: Vec<Notification>,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Notification {
+    level: &'static str,
+    message: Message,
+    locations: Vec<FileLocation>,
+    descriptor: Descriptor,
+}
+
+#[derive(Serialize)]
+struct Descriptor {
+    id: &'static str,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct FileLocation {
+    physical_location: FilePhysicalLocation,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct FilePhysicalLocation {
+    artifact_location: ArtifactLocation,
 }
 
 #[derive(Serialize)]
@@ -261,7 +297,27 @@ pub fn sarif(r: &Report) -> String {
     let rules: Vec<Rule> = Kind::ALL.iter().map(|&k| rule(k)).collect();
     let mut artifacts = Vec::new();
     let mut results = Vec::new();
+    let mut notes = Vec::new();
     for f in &r.files {
+        if f.status() == super::Status::NoMotion {
+            let (uri, uri_base_id) = uri(&f.path);
+            notes.push(Notification {
+                level: "note",
+                message: Message {
+                    text: super::NO_MOTION_MESSAGE.into(),
+                },
+                locations: vec![FileLocation {
+                    physical_location: FilePhysicalLocation {
+                        artifact_location: ArtifactLocation {
+                            uri,
+                            uri_base_id,
+                            index: None,
+                        },
+                    },
+                }],
+                descriptor: Descriptor { id: "no_motion" },
+            });
+        }
         if f.findings.is_empty() {
             continue;
         }
@@ -336,6 +392,14 @@ pub fn sarif(r: &Report) -> String {
             },
             artifacts,
             results,
+            invocations: if notes.is_empty() {
+                Vec::new()
+            } else {
+                vec![Invocation {
+                    execution_successful: true,
+                    tool_execution_notifications: notes,
+                }]
+            },
             column_kind: "unicodeCodePoints",
             properties: RunProperties {
                 machine: &r.machine,

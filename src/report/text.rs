@@ -26,6 +26,14 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
         ("", "", "", "", "")
     };
     for f in &r.files {
+        if !opt.quiet && f.status() == super::Status::NoMotion {
+            let _ = writeln!(
+                out,
+                "{bold}{}:{reset} {dim}no_motion{reset}: {}",
+                terminal_safe(&f.path),
+                super::NO_MOTION_MESSAGE
+            );
+        }
         let lines = (!f.findings.is_empty()).then(|| LineIndex::new(&f.source));
         // The characters of the last line shown: findings on one line are consecutive, and a
         // long line with many findings must be decoded once, not once per finding.
@@ -89,9 +97,13 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
         }
     }
     let s = r.summary();
+    let no_motion = match s.no_motion {
+        0 => String::new(),
+        n => format!(", {n} with no motion"),
+    };
     let _ = writeln!(
         out,
-        "{bold}checked {} file{}: {} clean, {} with findings ({} error{}, {} warning{}){reset}",
+        "{bold}checked {} file{}: {} clean{no_motion}, {} with findings ({} error{}, {} warning{}){reset}",
         s.files,
         plural(s.files),
         s.clean,
