@@ -60,6 +60,23 @@ fn time_cmd(runs: usize, cmd: &str, args: &[&str]) -> Option<f64> {
     }))
 }
 
+/// Peak resident memory of one run of a command, KiB, as GNU time measures it (`None` without
+/// `/usr/bin/time`). `rs274-ref.sh` runs rs274 as a child of bash; the figure is the largest
+/// process of the tree (Linux's `ru_maxrss` of a waited child), which is rs274.
+fn peak_kib(cmd: &str, args: &[&str]) -> Option<u64> {
+    let out = Command::new("/usr/bin/time")
+        .arg("-f")
+        .arg("%M")
+        .arg(cmd)
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .output()
+        .ok()?;
+    let err = String::from_utf8_lossy(&out.stderr);
+    err.lines().rev().find_map(|l| l.trim().parse().ok())
+}
+
 fn main() {
     let mut lines = 100_000usize;
     let args: Vec<String> = std::env::args().collect();
@@ -129,6 +146,20 @@ fn main() {
             o * 1e3
         ),
         _ => println!("latheguard moves failed on the generated program"),
+    }
+    let ours = peak_kib(exe, &["moves", "--format", "canon", "-m", &machine_file, p]);
+    let rs274 = peak_kib(&format!("{root}/scripts/rs274-ref.sh"), &["-g", p]);
+    match (ours, rs274) {
+        (Some(o), Some(r)) => println!(
+            "peak memory (max RSS): moves --format canon {:.1} MiB; rs274 -g {:.1} MiB",
+            o as f64 / 1024.0,
+            r as f64 / 1024.0
+        ),
+        (Some(o), None) => println!(
+            "peak memory (max RSS): moves --format canon {:.1} MiB",
+            o as f64 / 1024.0
+        ),
+        _ => println!("peak memory: not measured (needs GNU time at /usr/bin/time)"),
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -3,7 +3,7 @@
 use super::args::{MovesArgs, MovesFormat};
 use super::{emit, load_machine, read_capped, shown, Trouble, EXIT_CLEAN, EXIT_FINDINGS, MAX_PROGRAM_BYTES};
 use latheguard::finding::Severity;
-use latheguard::interp::{canon, Feed, MoveKind};
+use latheguard::interp::{self, canon, Feed, MoveKind};
 use latheguard::pipeline;
 use latheguard::report::terminal_safe;
 use serde_json::json;
@@ -12,7 +12,25 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     let machine = load_machine(a.machine.as_deref())?;
     let src = read_capped(&a.program, MAX_PROGRAM_BYTES)
         .map_err(|why| format!("{}: cannot read: {why}", shown(&a.program)))?;
-    let (mut prog, mut run) = pipeline::interpret(&src, &machine);
+    let mut prog = latheguard::gcode::parse(&src);
+    let mut written: std::io::Result<()> = Ok(());
+    let mut run = match a.format {
+        MovesFormat::Canon => {
+            // Streamed: the moves go out as the interpreter makes them, so neither the canonical
+            // text nor the moves of a long program are ever whole in memory.
+            let mut sink = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
+            let run = interp::interpret_streaming(&prog, &src, &machine, |moves, states| {
+                if written.is_ok() {
+                    written = canon::write_moves(moves, states, &mut sink);
+                }
+            });
+            if written.is_ok() {
+                written = std::io::Write::flush(&mut sink);
+            }
+            run
+        }
+        MovesFormat::Json => interp::interpret(&prog, &src, &machine),
+    };
     let findings = pipeline::read_findings(&mut prog, &mut run);
     drop(prog);
     {
@@ -33,9 +51,7 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     }
     let out = match a.format {
         MovesFormat::Canon => {
-            // Streamed: a long program's canonical text is never whole in memory.
-            let mut sink = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
-            match canon::write(&run, &mut sink).and_then(|()| std::io::Write::flush(&mut sink)) {
+            match written {
                 // A closed pipe (`latheguard moves … | head`) is not a failure.
                 Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
                     return Err(format!("cannot write to standard output: {}", super::plain(&e)))

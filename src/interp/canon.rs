@@ -5,7 +5,7 @@
 //! them); in G18 `ARC_FEED`'s first coordinate is Z and its second X, and its rotation is +turns
 //! for G3 and −turns for G2.
 
-use super::{Interpretation, MoveKind, ProgFrame};
+use super::{Interpretation, Move, MoveKind, MoveState, ProgFrame};
 use std::f64::consts::TAU;
 use std::io::Write;
 
@@ -13,17 +13,22 @@ use std::io::Write;
 /// Each line is built in a small buffer and written whole, so a long run streams without a copy
 /// of the whole output in memory.
 pub fn write<W: Write>(run: &Interpretation, sink: &mut W) -> std::io::Result<()> {
+    write_moves(&run.moves, &run.states, sink)
+}
+
+/// [`write`] for a run of moves and the states they refer to (a chunk of a streaming run,
+/// [`super::interpret_streaming`]).
+pub fn write_moves<W: Write>(moves: &[Move], states: &[MoveState], sink: &mut W) -> std::io::Result<()> {
     let mut line = Vec::with_capacity(128);
-    for m in &run.moves {
+    for m in moves {
         line.clear();
-        one_move(run, m, &mut line);
+        one_move(&states[m.state as usize].frame, m, &mut line);
         sink.write_all(&line)?;
     }
     Ok(())
 }
 
-fn one_move(run: &Interpretation, m: &super::Move, out: &mut Vec<u8>) {
-    let f = run.frame(m);
+fn one_move(f: &ProgFrame, m: &Move, out: &mut Vec<u8>) {
     let (x, z) = radius_coords(f, m.end);
     push_uint(out, m.line as u64, 5, b' ');
     out.push(b' ');

@@ -199,6 +199,12 @@ impl Labels {
     }
 }
 
+/// A consumer of moves as they are made, with the states they refer to.
+pub(super) type MoveSink<'a> = Box<dyn FnMut(&[Move], &[super::MoveState]) + 'a>;
+
+/// Moves collected before a streaming run hands them over.
+pub(super) const STREAM_CHUNK: usize = 4096;
+
 /// The interpreter's whole state during one run.
 pub(crate) struct Run<'a> {
     pub prog: &'a Program,
@@ -221,6 +227,9 @@ pub(crate) struct Run<'a> {
     pub base_origin: P2,
     pub shift: V2,
     pub moves: Vec<Move>,
+    /// Where moves go as they are made, when the caller streams them ([`super::interpret_streaming`]):
+    /// `moves` is handed over and emptied between top-level blocks once it holds [`STREAM_CHUNK`].
+    pub(super) sink: Option<MoveSink<'a>>,
     pub states: Vec<super::MoveState>,
     pub findings: Vec<Finding>,
     pub executed: u64,
@@ -295,6 +304,7 @@ impl<'a> Run<'a> {
             base_origin: P2::new(0.0, machine.program_zero_z),
             shift: V2::zeros(),
             moves: Vec::with_capacity(prog.blocks.len().min(1 << 22)),
+            sink: None,
             states: Vec::new(),
             findings,
             executed: 0,
@@ -319,7 +329,16 @@ impl<'a> Run<'a> {
         }
     }
 
+    /// Give the moves made so far to the sink, if there is one.
+    pub(super) fn hand_over(&mut self) {
+        if let Some(sink) = self.sink.as_mut() {
+            sink(&self.moves, &self.states);
+            self.moves.clear();
+        }
+    }
+
     pub fn finish(mut self) -> Interpretation {
+        self.hand_over();
         // The moves were reserved for one per block; give back a large unused part (address
         // space counts against a memory cap even when never touched).
         if self.moves.capacity() - self.moves.len() > self.moves.len() / 4 + 1024 {
@@ -373,6 +392,10 @@ impl<'a> Run<'a> {
     pub fn run(&mut self) {
         let n = self.prog.blocks.len();
         while self.pc < n && !self.stopped {
+            // Between top-level blocks no cycle holds a mark into the moves: they may go.
+            if self.moves.len() >= STREAM_CHUNK {
+                self.hand_over();
+            }
             let i = self.pc;
             let b = self.block(i);
             if !self.count_executed(b) {

@@ -253,3 +253,20 @@ pub fn interpret_with(prog: &Program, src: &[u8], machine: &Machine, limits: Lim
     run.run();
     run.finish()
 }
+
+/// Interpret a program handing its moves to `sink` as they are made (in order, in chunks, each
+/// with the states its moves refer to), so a long program's moves are never all in memory. The
+/// [`Interpretation`] returned has every field but `moves`, which is empty. The moves handed
+/// over are exactly those [`interpret`] returns.
+pub fn interpret_streaming<'a>(
+    prog: &'a Program,
+    src: &'a [u8],
+    machine: &'a Machine,
+    sink: impl FnMut(&[Move], &[MoveState]) + 'a,
+) -> Interpretation {
+    let mut run = flow::Run::new(prog, src, machine, Limits::for_program(prog));
+    run.moves = Vec::with_capacity(2 * flow::STREAM_CHUNK);
+    run.sink = Some(Box::new(sink));
+    run.run();
+    run.finish()
+}

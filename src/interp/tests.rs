@@ -61,3 +61,45 @@ proptest! {
         prop_assert_eq!(run(&src, &m, true), run(&src, &m, false));
     }
 }
+
+/// `interpret_streaming` hands over exactly the moves `interpret` returns, in order, with the
+/// states they refer to, across many chunks and with cycles (whose passes look back at the moves
+/// of their own block) on both sides of chunk boundaries.
+#[test]
+fn streamed_moves_equal_the_moves_of_a_whole_run() {
+    let unit = "G0 X52 Z3\nG71 U2 R0.5\nG71 P10 Q60 U0.4 W0.1 F0.25\nN10 G0 X20\nN20 G1 Z-10\nN30 X30 Z-15\nN40 Z-30\nN50 G2 X40 Z-35 R5\nN60 G1 X52\nG70 P10 Q60\nG0 X40 Z5\nG76 P010060 Q100 R0.05\nG76 X37.4 Z-25 P1300 Q400 F2\nG0 X60 Z5\n";
+    let mut src = String::from("G21 G18 G99\nT0101\nG97 S800 M3\n");
+    for i in 0..200 {
+        src.push_str(unit);
+        // A few plain moves of varying count, so cycles start at every offset of a chunk.
+        for k in 0..(i % 7) {
+            src.push_str(&format!("G1 X{} Z2 F0.2\n", 50 + k));
+        }
+    }
+    src.push_str("M30\n");
+    let machine = Machine::builtin();
+    let prog = gcode::parse(src.as_bytes());
+    let whole = super::interpret(&prog, src.as_bytes(), &machine);
+    assert!(
+        whole.moves.len() > 3 * super::flow::STREAM_CHUNK,
+        "{}",
+        whole.moves.len()
+    );
+    let mut streamed = Vec::new();
+    let mut chunks = 0;
+    let rest = super::interpret_streaming(&prog, src.as_bytes(), &machine, |moves, states| {
+        chunks += 1;
+        streamed.extend(moves.iter().map(|m| (*m, states[m.state as usize])));
+    });
+    assert!(chunks > 3);
+    assert!(rest.moves.is_empty());
+    let expected: Vec<_> = whole
+        .moves
+        .iter()
+        .map(|m| (*m, whole.states[m.state as usize]))
+        .collect();
+    assert_eq!(streamed, expected);
+    assert_eq!(rest.states, whole.states);
+    assert_eq!(format!("{:?}", rest.findings), format!("{:?}", whole.findings));
+    assert_eq!(rest.blocks_executed, whole.blocks_executed);
+}
