@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 %
 O1109 (A RAPID GRAZES THE CORNER OF THE RAW BAR: 19 UM DEEP FOR A FRACTION OF A MILLISECOND)
 (Step mode at the default 1 ms samples the rapid every 0.3 mm and steps over the contact;)

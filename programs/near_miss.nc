@@ -1,4 +1,4 @@
-(latheguard: clearance=0.5)
+(test-case: clearance=0.5)
 %
 O1108 (NEAR MISS: THE INSERT STOPS 0.3 MM ABOVE A JAW FACE)
 (Clean with the default clearance 0; with --clearance 0.5 a near_miss warning at N60.)

@@ -107,6 +107,10 @@ pub struct Finding {
     /// Machine time of the last contact of the episode.
     #[serde(skip)]
     pub end_time_s: Option<f64>,
+    /// How many identical findings this one stands for (1; more when [`crate::gate::collapse`]
+    /// merged repeats of a loop or of one reading problem on many lines into it).
+    #[serde(skip)]
+    pub repeats: u32,
     /// The scene at first contact, when the check was asked for pictures.
     #[serde(skip)]
     pub snapshot: Option<Box<crate::scene::Snapshot>>,
@@ -139,6 +143,7 @@ impl Finding {
             follow_on: None,
             profile_line: None,
             end_time_s: None,
+            repeats: 1,
             snapshot: None,
         }
     }

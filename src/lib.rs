@@ -6,6 +6,7 @@
 pub mod accuracy;
 pub mod check;
 pub mod finding;
+pub mod gate;
 pub mod gcode;
 pub mod geom;
 pub mod interp;

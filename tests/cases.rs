@@ -3,7 +3,9 @@
 //!
 //! Expected-file format: one finding a line,
 //! `LINE[:COL] KIND[ OBJECT, OBJECT][ follow-on of LINE]`, sorted as latheguard reports them (by
-//! line, then time); `# …` lines are comments. A case's first line may set options in a comment: `(latheguard: machine=linuxcnc-small-lathe mode=exact dt=0.5 tolerance=0.01 clearance=0.2)`;
+//! line, then time); `# …` lines are comments. A case's first line may set options in a comment: `(test-case: machine=linuxcnc-small-lathe mode=exact dt=0.5 tolerance=0.01 clearance=0.2)`
+//! (named so that it does not look like a setting of the command, which reads only
+//! `(latheguard: allow … -- reason)` comments);
 //! `modes=step,exact` runs both modes and prefixes each expected line with the mode.
 //! Cases under `tests/cases/interp/` also pin their interpreted motion in a `.moves` file
 //! (`latheguard moves --format canon`).
@@ -39,7 +41,11 @@ fn options(src: &[u8]) -> (Machine, Settings, Vec<Mode>) {
     let mut machine = Machine::builtin();
     let mut s = Settings::default();
     let mut modes = Vec::new();
-    if let Some(rest) = first.split("latheguard:").nth(1) {
+    assert!(
+        !first.contains("(latheguard: machine") && !first.contains("(latheguard: mode"),
+        "case options are written `(test-case: …)` now: {first}"
+    );
+    if let Some(rest) = first.split("test-case:").nth(1) {
         for kv in rest.trim_end_matches([')', '\r', ' ']).split_whitespace() {
             let (k, v) = kv.split_once('=').unwrap_or((kv, ""));
             match k {

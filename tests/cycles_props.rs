@@ -19,7 +19,7 @@ fn canon_on(src: &[u8], machine: &Machine) -> (Interpretation, String) {
     (run, String::from_utf8(out).unwrap())
 }
 
-/// The machine a case names in its first line (`(latheguard: machine=NAME)`), as tests/cases.rs
+/// The machine a case names in its first line (`(test-case: machine=NAME)`), as tests/cases.rs
 /// reads it; the built-in one otherwise.
 fn machine_of(src: &[u8]) -> Machine {
     let first = String::from_utf8_lossy(src.split(|&c| c == b'\n').next().unwrap_or(&[])).to_string();

@@ -186,6 +186,7 @@ fn many_findings_on_one_long_line_decode_the_line_once_in_the_text_report() {
         let report = Report {
             machine: "m".into(),
             settings: Settings::default(),
+            fail_on: Default::default(),
             files: vec![FileReport {
                 path: "p.ngc".into(),
                 findings: outcome.findings,
@@ -194,6 +195,7 @@ fn many_findings_on_one_long_line_decode_the_line_once_in_the_text_report() {
                 stock: Vec::new(),
                 machine: None,
                 settings: None,
+                suppressed: Vec::new(),
             }],
         };
         text(&report, TextOptions::default())

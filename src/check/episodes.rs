@@ -152,6 +152,7 @@ impl Episodes {
             follow_on: None,
             profile_line: (c.profile_line != 0).then_some(c.profile_line),
             end_time_s: Some(o.end_time),
+            repeats: 1,
             snapshot: c.snapshot,
         });
     }

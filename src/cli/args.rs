@@ -1,6 +1,7 @@
 //! The argument grammar (clap derive).
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use latheguard::finding::Kind;
 use std::path::PathBuf;
 
 #[derive(Parser, Debug)]
@@ -20,7 +21,7 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Check programs, or folders walked for NC files.
-    Check(CheckArgs),
+    Check(Box<CheckArgs>),
     /// Print the interpreted motion, one move a line.
     Moves(MovesArgs),
     /// Validate and describe a machine file.
@@ -61,12 +62,24 @@ pub enum TableFormat {
 
 #[derive(Args, Debug)]
 pub struct CheckArgs {
-    /// Programs, or folders walked for NC files.
+    /// Programs, or folders walked for NC files; `-` reads one program from standard input.
     #[arg(required_unless_present = "explain")]
     pub paths: Vec<PathBuf>,
-    /// Print the documentation of a finding kind (collision, rapid_into_stock, …) and exit.
+    /// Print the documentation of a finding kind, by name or code (collision, LG02, …), and exit.
     #[arg(long, value_name = "KIND")]
     pub explain: Option<String>,
+    /// Report only these finding kinds, by name or code, comma-separated (rapid_into_stock,LG01).
+    #[arg(long, value_name = "KIND,…", value_delimiter = ',', value_parser = kind)]
+    pub select: Option<Vec<Kind>>,
+    /// Never report these finding kinds, by name or code, comma-separated; wins over --select.
+    #[arg(long, value_name = "KIND,…", value_delimiter = ',', value_parser = kind)]
+    pub ignore: Option<Vec<Kind>>,
+    /// The least severity that fails the run (exit 1) [default: error].
+    #[arg(long, value_enum, value_name = "SEVERITY")]
+    pub fail_on: Option<FailOnArg>,
+    /// Print how many findings of each kind there are, instead of the findings.
+    #[arg(long)]
+    pub statistics: bool,
     /// Machine description (default: from latheguard.toml, else the built-in machine).
     #[arg(short, long, value_name = "FILE")]
     pub machine: Option<PathBuf>,
@@ -159,6 +172,12 @@ pub enum FormatArg {
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
+pub enum FailOnArg {
+    Error,
+    Warning,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
 pub enum ColorArg {
     Auto,
     Always,
@@ -188,6 +207,16 @@ fn shard(s: &str) -> Result<Shard, String> {
     } else {
         Err(bad())
     }
+}
+
+fn kind(s: &str) -> Result<Kind, String> {
+    latheguard::gate::kind_by_name_or_code(s).ok_or_else(|| {
+        let all: Vec<String> = Kind::ALL
+            .iter()
+            .map(|&k| format!("{} ({})", k.name(), latheguard::finding::code(k)))
+            .collect();
+        format!("`{s}` is not a finding kind; the kinds are: {}", all.join(", "))
+    })
 }
 
 fn extension(s: &str) -> Result<String, String> {

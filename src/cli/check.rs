@@ -1,14 +1,15 @@
 //! `latheguard check`: collect the files, give each its machine and settings (command line over
 //! `latheguard.toml` over the defaults), check them in parallel, report in path order.
 
-use super::args::{CheckArgs, ColorArg, FormatArg, ModeArg};
+use super::args::{CheckArgs, ColorArg, FailOnArg, FormatArg, ModeArg};
 use super::config::{ConfigError, Finder, MachineRef};
 use super::walk::{self, Entry, NC_EXTENSIONS};
 use super::{
     emit, load_machine, plain, read_capped, read_text, say, shown, Trouble, EXIT_CLEAN, EXIT_FINDINGS, EXIT_TROUBLE,
     MAX_MACHINE_BYTES, MAX_PROGRAM_BYTES,
 };
-use latheguard::finding::{Finding, Kind};
+use latheguard::finding::{code, Finding, Kind};
+use latheguard::gate::{self, FailOn};
 use latheguard::machine::{self, Machine};
 use latheguard::pipeline::{self, Mode, Settings};
 use latheguard::report::{self, FileReport, JunitOptions, Report, TextOptions};
@@ -36,8 +37,11 @@ struct Job {
 
 pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
     if let Some(kind) = &a.explain {
-        let k = Kind::from_name(kind).ok_or_else(|| {
-            let all: Vec<_> = Kind::ALL.iter().map(|k| k.name()).collect();
+        let k = gate::kind_by_name_or_code(kind).ok_or_else(|| {
+            let all: Vec<_> = Kind::ALL
+                .iter()
+                .map(|&k| format!("{} ({})", k.name(), code(k)))
+                .collect();
             format!("unknown finding kind `{kind}`; the kinds are: {}", all.join(", "))
         })?;
         emit(None, latheguard::finding::explain(k))?;
@@ -46,6 +50,29 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
     let exts: Vec<String> = match &a.ext {
         Some(list) => list.clone(),
         None => NC_EXTENSIONS.iter().map(|e| e.to_string()).collect(),
+    };
+    // A path named on the command line that does not exist is a mistake of the run, not a
+    // finding about a program: all of them are named, and nothing is checked (exit 2).
+    let missing: Vec<String> = a
+        .paths
+        .iter()
+        .filter(|p| !is_stdin(p) && std::fs::symlink_metadata(p).is_err())
+        .map(|p| format!("{}: no such file or folder", shown(p)))
+        .collect();
+    if let Some((last, rest)) = missing.split_last() {
+        for m in rest {
+            say(m);
+        }
+        return Err(last.clone());
+    }
+    let stdin = if a.paths.iter().any(|p| is_stdin(p)) {
+        Some(read_stdin()?)
+    } else {
+        None
+    };
+    let rules = gate::Rules {
+        select: a.select.clone(),
+        ignore: a.ignore.clone().unwrap_or_default(),
     };
     let mut entries = walk::collect(&a.paths, &exts);
     if let Some(s) = a.shard {
@@ -68,9 +95,18 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
         refuse_overwrite(out, "--stock-out", &protected, &exts)?;
     }
     let show_progress = !a.quiet && std::io::stderr().is_terminal() && std::env::var_os("CI").is_none();
-    let reports = check_all(&jobs, a.jobs, show_progress, !a.no_timing)?;
+    let input = Input {
+        stdin: stdin.as_deref(),
+        rules: &rules,
+        timing: !a.no_timing,
+    };
+    let reports = check_all(&jobs, a.jobs, show_progress, &input)?;
     let internal = reports.iter().any(|(_, crashed)| *crashed);
     let mut report = assemble(defaults, &jobs, reports.into_iter().map(|(r, _)| r).collect());
+    report.fail_on = match a.fail_on {
+        Some(FailOnArg::Warning) => FailOn::Warning,
+        _ => FailOn::Error,
+    };
 
     if let Some(out) = &a.stock_out {
         match report.files.as_slice() {
@@ -104,6 +140,7 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
         }
     }
     let text = match a.format {
+        _ if a.statistics => report::statistics(&report),
         FormatArg::Text => {
             let color = match color {
                 ColorArg::Always => true,
@@ -121,9 +158,13 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
         FormatArg::Sarif => report::sarif(&report),
     };
     emit(a.output.as_deref(), &text)?;
+    if a.output.is_some() && !a.quiet {
+        // The report went to a file: the log of the run still says how it went.
+        say(&report::summary_line(&report));
+    }
     Ok(if internal {
         EXIT_TROUBLE
-    } else if report.has_errors() {
+    } else if report.fails() {
         EXIT_FINDINGS
     } else {
         EXIT_CLEAN
@@ -222,11 +263,41 @@ fn machine_for(
 
 /// Check every job on a pool of `jobs` threads; the results keep the jobs' order. The flag is
 /// true for a file whose check failed inside latheguard.
+/// What every file's check shares: standard input's program (for `-`), the gate's rules, and
+/// whether run times are reported.
+struct Input<'a> {
+    stdin: Option<&'a [u8]>,
+    rules: &'a gate::Rules,
+    timing: bool,
+}
+
+fn is_stdin(p: &Path) -> bool {
+    p.as_os_str() == "-"
+}
+
+/// Standard input, read whole (capped as a program file is).
+fn read_stdin() -> Result<Vec<u8>, Trouble> {
+    use std::io::Read;
+    let mut bytes = Vec::new();
+    std::io::stdin()
+        .lock()
+        .take(MAX_PROGRAM_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read standard input: {}", plain(&e)))?;
+    if bytes.len() as u64 > MAX_PROGRAM_BYTES {
+        return Err(format!(
+            "standard input is larger than the {} MiB latheguard reads",
+            MAX_PROGRAM_BYTES >> 20
+        ));
+    }
+    Ok(bytes)
+}
+
 fn check_all(
     jobs: &[Job],
     threads: Option<u16>,
     progress: bool,
-    timing: bool,
+    input: &Input,
 ) -> Result<Vec<(FileReport, bool)>, Trouble> {
     let mut pool = rayon::ThreadPoolBuilder::new().thread_name(|i| format!("latheguard-{i}"));
     if let Some(n) = threads {
@@ -249,7 +320,7 @@ fn check_all(
     let out = pool.install(|| {
         jobs.par_iter()
             .map(|j| {
-                let r = check_one(j, timing);
+                let r = check_one(j, input);
                 bar.inc(1);
                 r
             })
@@ -259,20 +330,30 @@ fn check_all(
     Ok(out)
 }
 
-fn check_one(job: &Job, timing: bool) -> (FileReport, bool) {
+fn check_one(job: &Job, input: &Input) -> (FileReport, bool) {
+    let timing = input.timing;
     let path = job.entry.path.display().to_string();
     let unread = |why: String| FileReport {
         path: path.clone(),
-        findings: vec![Finding::syntax(1, 0, why)],
+        findings: gate::apply(
+            vec![Finding::syntax(1, 0, why)],
+            input.rules,
+            &gate::Suppressions::default(),
+            Vec::new(),
+        )
+        .findings,
         ..FileReport::default()
     };
     if let Some(problem) = &job.entry.problem {
         return (unread(problem.clone()), false);
     }
     let started = Instant::now();
-    let src = match read_program(&job.entry.path) {
-        Ok(src) => src,
-        Err(why) => return (unread(why), false),
+    let src = match (input.stdin, is_stdin(&job.entry.path)) {
+        (Some(bytes), true) => bytes.to_vec(),
+        _ => match read_program(&job.entry.path) {
+            Ok(src) => src,
+            Err(why) => return (unread(why), false),
+        },
     };
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         pipeline::check(&src, &job.machine, &job.settings)
@@ -284,11 +365,14 @@ fn check_one(job: &Job, timing: bool) -> (FileReport, bool) {
             } else {
                 0.0
             };
-            let keep_source = !out.findings.is_empty();
+            let (sup, problems) = gate::Suppressions::read(&src);
+            let gated = gate::apply(out.findings, input.rules, &sup, problems);
+            let keep_source = !gated.findings.is_empty() || !gated.suppressed.is_empty();
             (
                 FileReport {
                     path,
-                    findings: out.findings,
+                    findings: gated.findings,
+                    suppressed: gated.suppressed,
                     stats: out.stats,
                     source: if keep_source { src } else { Vec::new() },
                     stock: out.stock,
@@ -383,6 +467,7 @@ fn assemble(defaults: Defaults, jobs: &[Job], files: Vec<FileReport>) -> Report 
         machine,
         settings,
         files,
+        fail_on: FailOn::Error,
     }
 }
 

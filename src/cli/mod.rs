@@ -56,7 +56,7 @@ pub type Trouble = String;
 
 fn run(cli: Cli) -> Result<u8, Trouble> {
     match cli.command {
-        Command::Check(a) => check::run(a, cli.color),
+        Command::Check(a) => check::run(*a, cli.color),
         Command::Moves(a) => moves::run(a),
         Command::Accuracy(a) => accuracy::run(a),
 

@@ -25,6 +25,9 @@ struct FileDoc<'a> {
     settings: Option<&'a Settings>,
     status: &'static str,
     findings: Vec<FindingDoc<'a>>,
+    /// Findings set aside by suppression comments, each with its reason (absent when none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    suppressed: Vec<SuppressedDoc<'a>>,
     stats: &'a Stats,
     stock: Vec<Vec<[f64; 2]>>,
 }
@@ -49,6 +52,18 @@ struct FindingDoc<'a> {
     /// The profile block a canned cycle's move follows (absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     profile_line: Option<u32>,
+    /// How many identical findings this one stands for (absent when 1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    repeats: Option<u32>,
+}
+
+#[derive(Serialize)]
+struct SuppressedDoc<'a> {
+    #[serde(flatten)]
+    finding: FindingDoc<'a>,
+    /// The reason the suppression comment gives, and its line.
+    reason: &'a str,
+    suppressed_at: u32,
 }
 
 impl<'a> From<&'a Finding> for FindingDoc<'a> {
@@ -72,6 +87,7 @@ impl<'a> From<&'a Finding> for FindingDoc<'a> {
                 time_s: round6(p.time_s),
             }),
             profile_line: f.profile_line,
+            repeats: (f.repeats > 1).then_some(f.repeats),
         }
     }
 }
@@ -105,6 +121,15 @@ pub fn json(r: &Report) -> String {
                 settings: f.settings.as_ref(),
                 status: f.status().name(),
                 findings: f.findings.iter().map(FindingDoc::from).collect(),
+                suppressed: f
+                    .suppressed
+                    .iter()
+                    .map(|s| SuppressedDoc {
+                        finding: FindingDoc::from(&s.finding),
+                        reason: &s.reason,
+                        suppressed_at: s.at,
+                    })
+                    .collect(),
                 stats: &f.stats,
                 stock: f
                     .stock

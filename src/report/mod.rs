@@ -8,6 +8,7 @@ mod json;
 mod junit;
 pub mod part;
 mod sarif;
+mod statistics;
 pub mod svg;
 mod text;
 
@@ -17,7 +18,8 @@ use crate::pipeline::{Settings, Stats};
 pub use json::json;
 pub use junit::{junit, JunitOptions};
 pub use sarif::sarif;
-pub use text::{terminal_safe, text, TextOptions};
+pub use statistics::statistics;
+pub use text::{summary_line, terminal_safe, text, TextOptions};
 
 /// One checked file.
 #[derive(Clone, Debug, Default)]
@@ -33,6 +35,8 @@ pub struct FileReport {
     pub machine: Option<String>,
     /// The settings, when they are not the report's.
     pub settings: Option<Settings>,
+    /// Findings set aside by suppression comments in the program (never counted as errors).
+    pub suppressed: Vec<crate::gate::Suppressed>,
 }
 
 /// What became of one checked file.
@@ -79,6 +83,8 @@ pub struct Report {
     pub machine: String,
     pub settings: Settings,
     pub files: Vec<FileReport>,
+    /// Which severity fails the run (`--fail-on`).
+    pub fail_on: crate::gate::FailOn,
 }
 
 /// Counts over a batch.
@@ -91,6 +97,8 @@ pub struct Summary {
     pub no_motion: usize,
     pub errors: usize,
     pub warnings: usize,
+    /// Findings set aside by suppression comments (not in `errors` or `warnings`).
+    pub suppressed: usize,
 }
 
 impl Report {
@@ -111,6 +119,7 @@ impl Report {
                     Severity::Warning => s.warnings += 1,
                 }
             }
+            s.suppressed += f.suppressed.len();
         }
         s
     }
@@ -120,5 +129,13 @@ impl Report {
         self.files
             .iter()
             .any(|f| f.findings.iter().any(|x| x.severity == Severity::Error))
+    }
+
+    /// Whether the run fails its gate: a reported (not suppressed) finding of a severity
+    /// [`Report::fail_on`] names.
+    pub fn fails(&self) -> bool {
+        self.files
+            .iter()
+            .any(|f| f.findings.iter().any(|x| self.fail_on.fails(x.severity)))
     }
 }

@@ -143,7 +143,19 @@ struct SarifResult<'a> {
     level: &'static str,
     message: Message,
     locations: Vec<Location>,
+    /// Identical findings this one stands for (a loop's passes), when more than one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    occurrence_count: Option<u32>,
+    /// Present for a finding a suppression comment sets aside.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    suppressions: Vec<SarifSuppression<'a>>,
     properties: ResultProperties<'a>,
+}
+
+#[derive(Serialize)]
+struct SarifSuppression<'a> {
+    kind: &'static str,
+    justification: &'a str,
 }
 
 #[derive(Serialize)]
@@ -318,7 +330,7 @@ pub fn sarif(r: &Report) -> String {
                 descriptor: Descriptor { id: "no_motion" },
             });
         }
-        if f.findings.is_empty() {
+        if f.findings.is_empty() && f.suppressed.is_empty() {
             continue;
         }
         let (u, base) = uri(&f.path);
@@ -331,7 +343,12 @@ pub fn sarif(r: &Report) -> String {
             },
         });
         let lines = (!f.source.is_empty()).then(|| LineIndex::new(&f.source));
-        for x in &f.findings {
+        let all = f
+            .findings
+            .iter()
+            .map(|x| (x, None))
+            .chain(f.suppressed.iter().map(|s| (&s.finding, Some(s.reason.as_str()))));
+        for (x, reason) in all {
             let rule_index = Kind::ALL.iter().position(|&k| k == x.kind).unwrap_or(0);
             let snippet = lines.as_ref().and_then(|li| line_text(li, &f.source, x.line));
             results.push(SarifResult {
@@ -357,6 +374,14 @@ pub fn sarif(r: &Report) -> String {
                         },
                     },
                 }],
+                occurrence_count: (x.repeats > 1).then_some(x.repeats),
+                suppressions: reason
+                    .map(|justification| SarifSuppression {
+                        kind: "inSource",
+                        justification,
+                    })
+                    .into_iter()
+                    .collect(),
                 properties: ResultProperties {
                     kind: x.kind.name(),
                     n: x.n,

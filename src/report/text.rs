@@ -96,14 +96,23 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
             }
         }
     }
+    let _ = writeln!(out, "{bold}{}{reset}", summary_line(r));
+    out
+}
+
+/// The last line of the text report, without colour: `checked N files: …`.
+pub fn summary_line(r: &Report) -> String {
     let s = r.summary();
     let no_motion = match s.no_motion {
         0 => String::new(),
         n => format!(", {n} with no motion"),
     };
-    let _ = writeln!(
-        out,
-        "{bold}checked {} file{}: {} clean{no_motion}, {} with findings ({} error{}, {} warning{}){reset}",
+    let suppressed = match s.suppressed {
+        0 => String::new(),
+        n => format!(", {n} suppressed"),
+    };
+    format!(
+        "checked {} file{}: {} clean{no_motion}, {} with findings ({} error{}, {} warning{}{suppressed})",
         s.files,
         plural(s.files),
         s.clean,
@@ -112,8 +121,7 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
         plural(s.errors),
         s.warnings,
         plural(s.warnings)
-    );
-    out
+    )
 }
 
 /// Unicode's bidirectional formatting characters: they reorder what a terminal shows (a file
@@ -193,6 +201,12 @@ pub(crate) fn with_facts(mut s: String, x: &Finding, point: bool, n: bool) -> St
             p.line,
             p.objects.join(" × ")
         ));
+    }
+    if x.repeats > 1 {
+        facts.push(match x.time_s {
+            Some(_) => format!("{} times: on every pass of a loop", x.repeats),
+            None => format!("{} times in this file, the first here", x.repeats),
+        });
     }
     if !facts.is_empty() {
         let _ = write!(s, " ({})", facts.join(", "));

@@ -1,4 +1,4 @@
-(latheguard: machine=generic-slant-bed-linear)
+(test-case: machine=generic-slant-bed-linear)
 (the crash_dogleg program on the same machine with linear rapids: clean)
 %
 O1105 (CRASH ON A DOGLEG RAPID: THE STRAIGHT LINE CLEARS THE SHOULDER, THE BENT PATH DOES NOT)

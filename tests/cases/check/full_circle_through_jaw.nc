@@ -1,4 +1,4 @@
-(latheguard: machine=jaw-test)
+(test-case: machine=jaw-test)
 (a full circle whose start and end are clear dips 10 mm below the jaw face at its lowest point)
 G21 G18 G98 G97 S500 M3
 G0 X25 Z30

@@ -1,4 +1,4 @@
-(latheguard: machine=jaw-test clearance=0.01)
+(test-case: machine=jaw-test clearance=0.01)
 (the insert's bottom edge comes down exactly onto the jaw face z 0: with a clearance of 0.01 mm that is a near miss)
 G21 G18 G98 G97 S500 M3
 G0 X25 Z5

@@ -1,4 +1,4 @@
-(latheguard: machine=generic-slant-bed-tube)
+(test-case: machine=generic-slant-bed-tube)
 ; Fanuc G71 boring (inside, U negative) with the T03 boring bar in the 20 mm bore of a tube,
 ; worked by hand in radius mm; the cycle (G71 P Q) is on line 8
 G21 G18 G99 G97 S800 M3

@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 ; A G71 whose profile runs past the jaw faces: program Z-79 is 1 mm behind the chuck face (program
 ; Z0 lies 78 mm in front of it), so the roughing passes drive the insert into the chuck. Each
 ; finding is at the cycle's line 8 (the moves record the profile line N20 too), in both modes.

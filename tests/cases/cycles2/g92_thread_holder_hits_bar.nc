@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 (A G92 thread cut 15 mm deep into the 50 mm bar in one pass with the roughing tool: its holder runs into the bar inside the cycle, reported at the cycle's line 6 in both modes)
 G21 G99 G97 S600 M3
 T0101

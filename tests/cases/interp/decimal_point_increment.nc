@@ -1,4 +1,4 @@
-(latheguard: machine=generic-slant-bed-increment)
+(test-case: machine=generic-slant-bed-increment)
 (decimal_point = increment: X100000 is 100 mm, X100. is 100 mm, Z100 is 0.1 mm)
 G21 G18
 G0 X100000 Z50.

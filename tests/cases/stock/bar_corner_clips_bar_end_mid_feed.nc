@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 (T03 feeds diagonally toward the axis and away from the chuck, from X82 Z-3 to X74 Z1: tip r 41 to)
 (37, machine z 75 to 79, r = 41 - 4s, z = 75 + 4s. The insert stays 8.5 mm above the bar's front)
 (corner, in the air; the bar's low front corner, tip + -15, +2, clips the uncut bar end's corner,)

@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 (T06 drills a 20 mm hole to Z-25; T03 bores it to 27 mm, then to 36 mm, both to Z-6, the bore step.)
 (That leaves a ring below the step, r 10 .. 18. Its top is the 27 mm pass's bottom edge, which rises)
 (1 in 12 toward the axis: Z-6 + 0.256 at r 10. Line 30 then bores a taper from X36 Z-6 to X28 Z-14)

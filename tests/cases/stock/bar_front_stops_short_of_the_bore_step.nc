@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 (As bar_front_leads_down_a_taper, but the taper move, the G1 after the 36 mm pass, stops at X35)
 (Z-7, 1 mm down: the bar front, 2 mm behind the cutting corner, ends at Z-5, above the ring at the)
 (bore step Z-6, whose top is at most Z-6 + 0.256 at r 10 and lower further out: 0.74 mm short.)

@@ -1,4 +1,4 @@
-(latheguard: machine=generic-slant-bed-tube)
+(test-case: machine=generic-slant-bed-tube)
 (a 50 x 20 mm tube: the boring bar opens the bore to 22 and 24 mm; then a rapid to 26 mm hits the wall)
 %
 G21 G18 G40 G97 G99

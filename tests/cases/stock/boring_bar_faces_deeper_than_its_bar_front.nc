@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 (T03 faces the bar end toward the axis, 3 mm deep: the tip at Z-1, machine z 77; the uncut bar end)
 (is at Z2, z 80. The bar's front face sits 2 mm behind the cutting corner, at z 79, 1 mm inside the)
 (bar end, and reaches 15 mm below the tip in x, where the insert reaches only about 6.1 mm. Feeding)

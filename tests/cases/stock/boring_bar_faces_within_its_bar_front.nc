@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 (As boring_bar_faces_deeper_than_its_bar_front, but facing 1.5 mm deep: the tip at Z0.5, machine z)
 (78.5, the bar front at z 80.5, 0.5 mm clear of the uncut bar end at z 80. No finding.)
 %

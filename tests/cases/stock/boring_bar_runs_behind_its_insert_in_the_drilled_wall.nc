@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 (T06 drills a 20 mm hole to Z-25; T03 bores it to 27 mm down to Z-23 in one pass. Its bar's top, 3 mm)
 (below the cutting corner at r 10.5, is 0.5 mm inside the drilled wall, but always behind the insert,)
 (which has already cut that wall to r 13.5: against the stock at the instant the bar is about 1.8 mm)

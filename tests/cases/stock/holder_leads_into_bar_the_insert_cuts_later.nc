@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 (the move ends where the insert has cut everything the holder passed: the stock after the move is clear,)
 (the stock at the instant is not)
 (T04 grooves a pocket to X30 from Z-40 to Z-4; T01 then feeds toward +Z from inside it with its)

@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 (T04 grooves a pocket to X30 from Z-40 to Z-4; T01 then feeds toward +Z from inside it with its)
 (holder 1 mm below the bar surface, ahead of the insert: it meets bar the insert has not cut yet)
 %

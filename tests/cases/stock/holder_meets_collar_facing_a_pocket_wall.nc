@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 (T04 grooves a pocket to X30 from Z-40 to Z-10, leaving a 50 mm collar from Z-10 to the bar end.)
 (T01 then faces the pocket's chuck-side wall toward the axis, tip at Z-40.5, from X54 to X30. Its)
 (holder spans 8 .. 33 mm above the tip, so up to Z-7.5: 2.5 mm over the collar, where the insert,)

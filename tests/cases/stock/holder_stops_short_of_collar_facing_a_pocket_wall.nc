@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 (As holder_meets_collar_facing_a_pocket_wall, but the facing cut stops at X36, tip r 18: the)
 (holder's bottom edge over the collar, at Z-10, is at r 18 + 7.7 = 25.7, 0.7 mm clear of the 50 mm)
 (collar. No finding.)

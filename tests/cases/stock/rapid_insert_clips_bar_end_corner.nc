@@ -1,4 +1,4 @@
-(latheguard: modes=step,exact)
+(test-case: modes=step,exact)
 (T04 rapids from X52 Z-1 to X44 Z3.8: tip r 26 to 22, machine z 77 to 81.8. The dogleg moves each)
 (axis at its own rate, x 20000 and z 24000 mm/min, and dr : dz = -4 : 4.8 = -5 : 6 is their ratio,)
 (so the path is one straight line: r = 26 - 5t, z = 77 + 6t, t from 0 to 0.8. The groover's)

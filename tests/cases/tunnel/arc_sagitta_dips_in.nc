@@ -1,4 +1,4 @@
-(latheguard: machine=jaw-test modes=step,exact)
+(test-case: machine=jaw-test modes=step,exact)
 (a fast arc whose chord stays 0.05 mm above the jaw face while its sagitta of 0.06 mm dips 0.01 mm in)
 G21 G18 G98 G97 S500 M3
 G0 X10 Z0.05

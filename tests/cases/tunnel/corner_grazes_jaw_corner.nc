@@ -1,4 +1,4 @@
-(latheguard: machine=jaw-test modes=step,exact)
+(test-case: machine=jaw-test modes=step,exact)
 (a rapid along X+ Z- slides the insert's corner past the jaw's corner: 25 um deep, 0.07 mm of travel, 0.4 ms)
 G21 G18 G98
 G0 X39 Z0.95

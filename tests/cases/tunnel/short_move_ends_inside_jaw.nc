@@ -1,4 +1,4 @@
-(latheguard: machine=jaw-test modes=step,exact)
+(test-case: machine=jaw-test modes=step,exact)
 (a 0.02 mm move that ends 0.01 mm inside the jaw face, then leaves)
 G21 G18 G98 G97 S500 M3
 G0 X25 Z5
