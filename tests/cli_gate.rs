@@ -195,3 +195,59 @@ fn explain_takes_a_code_as_well_as_a_name() {
     assert_eq!(by_code, by_name);
     assert!(by_code.starts_with("# rapid_into_stock"), "{by_code}");
 }
+
+#[test]
+fn github_annotations_have_the_workflow_command_shape() {
+    let t = Tree::new();
+    let out = t.run(&["check", "--format", "github", "."]);
+    assert_eq!(out.status.code(), Some(1));
+    let text = stdout(&out);
+    let lines: Vec<&str> = text.lines().collect();
+    let (summary, commands) = lines.split_last().unwrap();
+    assert!(summary.starts_with("checked 9 files"), "{summary}");
+    assert_eq!(commands.len(), 9, "{text}");
+    for c in commands {
+        let (head, message) = c[2..].split_once("::").expect("::level props::message");
+        let (level, props) = head.split_once(' ').unwrap();
+        assert!(["error", "warning", "notice"].contains(&level), "{c}");
+        let keys: Vec<&str> = props.split(',').map(|p| p.split_once('=').unwrap().0).collect();
+        assert_eq!(keys[0], "file", "{c}");
+        assert!(
+            keys.iter()
+                .all(|k| ["file", "line", "col", "endLine", "title"].contains(k)),
+            "{c}"
+        );
+        assert!(!message.is_empty() && !message.contains('\n'));
+    }
+    assert!(
+        text.contains("::error file=cell-a/crash_holder.nc,line=10,endLine=12,title=collision (LG01)::"),
+        "{text}"
+    );
+}
+
+#[test]
+fn gitlab_code_quality_has_the_fields_gitlab_reads_and_unique_stable_fingerprints() {
+    let t = Tree::new();
+    let run = || json(&t.run(&["check", "--format", "gitlab", "."]));
+    let doc = run();
+    let issues = doc.as_array().unwrap();
+    assert_eq!(issues.len(), 9);
+    let mut prints = std::collections::BTreeSet::new();
+    for i in issues {
+        assert!(i["description"].as_str().is_some_and(|d| !d.is_empty()));
+        assert!(i["check_name"].as_str().is_some());
+        assert!(["info", "minor", "major", "critical", "blocker"].contains(&i["severity"].as_str().unwrap()));
+        assert!(i["location"]["path"].as_str().is_some());
+        assert!(i["location"]["lines"]["begin"].as_u64().unwrap() >= 1);
+        assert!(
+            prints.insert(i["fingerprint"].as_str().unwrap().to_string()),
+            "duplicate fingerprint"
+        );
+    }
+    assert_eq!(run(), doc, "the same report, fingerprints included, from run to run");
+    let crash = issues
+        .iter()
+        .find(|i| i["location"]["path"] == "cell-a/crash_holder.nc")
+        .unwrap();
+    assert_eq!(crash["severity"], "critical");
+}

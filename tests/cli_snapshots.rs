@@ -44,3 +44,13 @@ fn picture_of_a_holder_hitting_the_chuck() {
     .unwrap();
     insta::assert_snapshot!(svg);
 }
+
+#[test]
+fn github_report() {
+    insta::assert_snapshot!(report(&Tree::new(), "github"));
+}
+
+#[test]
+fn gitlab_report() {
+    insta::assert_snapshot!(report(&Tree::new(), "gitlab"));
+}

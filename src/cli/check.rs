@@ -156,6 +156,8 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
         FormatArg::Json => report::json(&report),
         FormatArg::Junit => report::junit(&report, JunitOptions { timing: !a.no_timing }),
         FormatArg::Sarif => report::sarif(&report),
+        FormatArg::Github => report::github(&report),
+        FormatArg::Gitlab => report::gitlab(&report),
     };
     emit(a.output.as_deref(), &text)?;
     if a.output.is_some() && !a.quiet {

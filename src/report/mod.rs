@@ -4,6 +4,9 @@
 //! Every reporter takes the same [`Report`] and returns a string; choosing one is the binary's
 //! job. Reporters never reorder findings: the caller sorts files by path and findings by line.
 
+mod fingerprint;
+mod github;
+mod gitlab;
 mod json;
 mod junit;
 pub mod part;
@@ -15,6 +18,8 @@ mod text;
 use crate::finding::{Finding, Severity};
 use crate::pipeline::{Settings, Stats};
 
+pub use github::github;
+pub use gitlab::gitlab;
 pub use json::json;
 pub use junit::{junit, JunitOptions};
 pub use sarif::sarif;

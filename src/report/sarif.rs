@@ -143,6 +143,8 @@ struct SarifResult<'a> {
     level: &'static str,
     message: Message,
     locations: Vec<Location>,
+    /// Stable from run to run (see `report::fingerprint`), so code scanning tracks a finding.
+    partial_fingerprints: Fingerprints,
     /// Identical findings this one stands for (a loop's passes), when more than one.
     #[serde(skip_serializing_if = "Option::is_none")]
     occurrence_count: Option<u32>,
@@ -150,6 +152,12 @@ struct SarifResult<'a> {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     suppressions: Vec<SarifSuppression<'a>>,
     properties: ResultProperties<'a>,
+}
+
+#[derive(Serialize)]
+struct Fingerprints {
+    #[serde(rename = "latheguard/v1")]
+    v1: String,
 }
 
 #[derive(Serialize)]
@@ -343,12 +351,14 @@ pub fn sarif(r: &Report) -> String {
             },
         });
         let lines = (!f.source.is_empty()).then(|| LineIndex::new(&f.source));
-        let all = f
+        let all: Vec<(&Finding, Option<&str>)> = f
             .findings
             .iter()
             .map(|x| (x, None))
-            .chain(f.suppressed.iter().map(|s| (&s.finding, Some(s.reason.as_str()))));
-        for (x, reason) in all {
+            .chain(f.suppressed.iter().map(|s| (&s.finding, Some(s.reason.as_str()))))
+            .collect();
+        let prints = super::fingerprint::fingerprints(f, &all.iter().map(|(x, _)| *x).collect::<Vec<_>>());
+        for ((x, reason), print) in all.into_iter().zip(prints) {
             let rule_index = Kind::ALL.iter().position(|&k| k == x.kind).unwrap_or(0);
             let snippet = lines.as_ref().and_then(|li| line_text(li, &f.source, x.line));
             results.push(SarifResult {
@@ -374,6 +384,7 @@ pub fn sarif(r: &Report) -> String {
                         },
                     },
                 }],
+                partial_fingerprints: Fingerprints { v1: print },
                 occurrence_count: (x.repeats > 1).then_some(x.repeats),
                 suppressions: reason
                     .map(|justification| SarifSuppression {
