@@ -5,12 +5,14 @@
 //! Outlines are normalised [`Polygon`]s.
 
 mod load;
+mod mcodes;
 #[cfg(test)]
 mod tests;
 
 use std::fmt::Write as _;
 
 use crate::geom::{Polygon, P2};
+pub use mcodes::{reserved as mcodes_reserved, MAction, McodeTable, ACTIONS as MCODE_ACTIONS, MAX_MCODE};
 
 pub use load::{
     from_toml, MachineError, INDEX_TIME_RANGE, MAX_COORD_MM, MAX_OUTLINE_POINTS, MAX_RPM_RANGE, MAX_STATIONS,
@@ -153,10 +155,18 @@ pub struct Machine {
     pub z: Axis,
     /// Turret reference point at program start and after a return home.
     pub home: P2,
+    /// Turret reference point at machine zero (`axes.machine_zero`; default: `home`): G53
+    /// positions are measured from it.
+    pub machine_zero: P2,
     pub max_rpm: f64,
     /// Revolved outline in the half plane x ≥ 0.
     pub chuck: Option<Polygon>,
     pub tailstock: Option<Polygon>,
+    /// The tailstock is advanced (an obstacle) at program start (`tailstock.advanced`, default
+    /// true); its M codes (`[mcodes]` `tailstock_advance`/`tailstock_retract`) change it.
+    pub tailstock_advanced: bool,
+    /// What each M code does on this machine (`[mcodes]`, over the dialect's built-in table).
+    pub mcodes: McodeTable,
     pub stock: Option<Stock>,
     pub program_zero_z: f64,
     pub turret: Turret,
