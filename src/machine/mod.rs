@@ -225,6 +225,10 @@ impl Machine {
             );
         }
         let _ = writeln!(s, "  home        x {}, z {}", num(self.home.x), num(self.home.y));
+        if self.machine_zero != self.home {
+            let (x, z) = (self.machine_zero.x, self.machine_zero.y);
+            let _ = writeln!(s, "  G53 zero    x {}, z {}", num(x), num(z));
+        }
         let _ = writeln!(s, "  spindle     up to {} rpm", num(self.max_rpm));
         for (name, part) in [("chuck", &self.chuck), ("tailstock", &self.tailstock)] {
             let text = match part {
@@ -241,8 +245,25 @@ impl Machine {
                     )
                 }
             };
-            let _ = writeln!(s, "  {name:<11} {text}");
+            let state = if name == "tailstock" && part.is_some() {
+                if self.tailstock_advanced {
+                    ", advanced at start"
+                } else {
+                    ", retracted at start"
+                }
+            } else {
+                ""
+            };
+            let _ = writeln!(s, "  {name:<11} {text}{state}");
         }
+        let codes: Vec<String> = self
+            .mcodes
+            .entries()
+            .iter()
+            .filter(|(_, a)| *a != MAction::NoEffect)
+            .map(|(c, a)| format!("M{c} {}", a.as_str()))
+            .collect();
+        let _ = writeln!(s, "  M codes     {}", codes.join(", "));
         let stock = match &self.stock {
             None => "none".to_string(),
             Some(st) => {
