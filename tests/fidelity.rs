@@ -58,7 +58,10 @@ fn rs274_ends(name: &str, src: &str) -> Option<Vec<(f64, f64)>> {
     let ends = text
         .lines()
         .filter_map(|l| {
-            let call = l.split_once("STRAIGHT_TRAVERSE(").or_else(|| l.split_once("STRAIGHT_FEED("))?.1;
+            let call = l
+                .split_once("STRAIGHT_TRAVERSE(")
+                .or_else(|| l.split_once("STRAIGHT_FEED("))?
+                .1;
             let v: Vec<f64> = call
                 .trim_end_matches(')')
                 .split(',')
@@ -79,7 +82,13 @@ fn position_parameters_read_x_as_a_radius_in_g7_like_rs274() {
     let (_, run) = pipeline::interpret(src.as_bytes(), &linuxcnc());
     assert!(run.findings.is_empty(), "{:?}", run.findings);
     let ends = program_ends(&run);
-    let want = [(10.0, 5.0), (20.0, 6.0), (40.0, 6.0), (40.0 / 25.4, 6.0 / 25.4), (20.0 / 25.4 + 0.1, 6.0 / 25.4)];
+    let want = [
+        (10.0, 5.0),
+        (20.0, 6.0),
+        (40.0, 6.0),
+        (40.0 / 25.4, 6.0 / 25.4),
+        (20.0 / 25.4 + 0.1, 6.0 / 25.4),
+    ];
     assert_eq!(ends.len(), want.len(), "{ends:?}");
     for (got, want) in ends.iter().zip(want) {
         assert!(close(*got, want), "{got:?} vs {want:?} in {ends:?}");
@@ -90,7 +99,10 @@ fn position_parameters_read_x_as_a_radius_in_g7_like_rs274() {
         for (m, (x, z)) in run.moves.iter().zip(r) {
             let f = run.frame(m);
             let (px, pz) = ((m.end.x - f.origin.x) / f.scale, (m.end.y - f.origin.y) / f.scale);
-            assert!((px - x).abs() < 1e-3 && (pz - z).abs() < 1e-3, "ours ({px}, {pz}) rs274 ({x}, {z})");
+            assert!(
+                (px - x).abs() < 1e-3 && (pz - z).abs() < 1e-3,
+                "ours ({px}, {pz}) rs274 ({x}, {z})"
+            );
         }
     }
 }
@@ -157,7 +169,10 @@ fn g53_moves_in_machine_coordinates_from_the_machine_files_machine_zero() {
         assert!(run.findings.is_empty(), "{:?}", run.findings);
         let last = run.moves.last().unwrap();
         let r = last.ref_end();
-        assert!((r.x - want.0).abs() < 1e-9 && (r.y - want.1).abs() < 1e-9, "{zero:?}: {r:?}");
+        assert!(
+            (r.x - want.0).abs() < 1e-9 && (r.y - want.1).abs() < 1e-9,
+            "{zero:?}: {r:?}"
+        );
     }
     // Without the key machine zero is home, as before the key existed.
     assert_eq!(with_machine_zero(None).machine_zero, with_machine_zero(None).home);
@@ -184,7 +199,10 @@ fn an_unknown_m_code_is_a_warning_that_names_it_and_never_fails_a_clean_program(
     let out = pipeline::check(src, &Machine::builtin(), &Settings::default());
     assert_eq!(out.findings.len(), 1, "{:?}", out.findings);
     let f = &out.findings[0];
-    assert_eq!((f.line, f.col, f.kind, f.severity), (4, 1, Kind::Unsupported, Severity::Warning));
+    assert_eq!(
+        (f.line, f.col, f.kind, f.severity),
+        (4, 1, Kind::Unsupported, Severity::Warning)
+    );
     assert!(f.message.contains("M123"), "{}", f.message);
 }
 
@@ -231,6 +249,9 @@ fn a_t_for_an_empty_station_leaves_the_moves_until_the_next_change_unchecked() {
 fn the_m_code_doc_lists_every_action() {
     let doc = std::fs::read_to_string(root().join("docs/mcodes.md")).unwrap();
     for (name, _) in machine::MCODE_ACTIONS {
-        assert!(doc.contains(&format!("`{name}`")), "docs/mcodes.md does not name `{name}`");
+        assert!(
+            doc.contains(&format!("`{name}`")),
+            "docs/mcodes.md does not name `{name}`"
+        );
     }
 }

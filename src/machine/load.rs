@@ -924,7 +924,11 @@ fn mcode_table(
         let mut codes = Vec::with_capacity(list.len());
         for c in list {
             if !(0..=i64::from(MAX_MCODE)).contains(&c) {
-                return Err(cx.err(v.span(), key, format!("M{c} is not an M code: codes run from 0 to {MAX_MCODE}")));
+                return Err(cx.err(
+                    v.span(),
+                    key,
+                    format!("M{c} is not an M code: codes run from 0 to {MAX_MCODE}"),
+                ));
             }
             let c = c as u16;
             if super::mcodes::reserved(c, dialect) {

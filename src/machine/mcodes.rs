@@ -122,9 +122,7 @@ impl McodeTable {
     /// twice).
     pub fn with(d: Dialect, given: &[(MAction, Vec<u16>)]) -> McodeTable {
         let mut codes = McodeTable::builtin(d).codes;
-        codes.retain(|&(c, a)| {
-            !given.iter().any(|(ga, gc)| *ga == a || gc.contains(&c))
-        });
+        codes.retain(|&(c, a)| !given.iter().any(|(ga, gc)| *ga == a || gc.contains(&c)));
         for (a, cs) in given {
             codes.extend(cs.iter().map(|&c| (c, *a)));
         }
@@ -182,7 +180,11 @@ mod tests {
         assert_eq!(t.action(21), Some(MAction::TailstockAdvance));
         assert_eq!(t.action(7), None, "coolant_on given: its built-in M7 is gone");
         assert_eq!(t.action(8), Some(MAction::CoolantOn));
-        assert_eq!(t.action(9), Some(MAction::ChuckOpen), "the file's action wins over coolant_off");
+        assert_eq!(
+            t.action(9),
+            Some(MAction::ChuckOpen),
+            "the file's action wins over coolant_off"
+        );
         assert_eq!(t.codes_of(MAction::CoolantOff).count(), 0);
         for a in ACTIONS {
             assert_eq!(MAction::from_name(a.0), Some(a.1));
