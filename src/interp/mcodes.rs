@@ -37,22 +37,16 @@ impl Devices {
     }
 }
 
-/// Whether a block's M codes are interpreter codes that never go through the table.
-fn interpreter_code(code: u16, d: crate::machine::Dialect) -> bool {
-    crate::machine::mcodes_reserved(code, d)
-}
-
 impl Run<'_> {
     /// Run the M codes of a block that the machine's table maps (step 5 of a block). Returns
     /// whether one of them ends the program (run after the block's motion and flow).
     pub(super) fn m_codes(&mut self, b: &Block, w: &Words) -> bool {
-        let d = self.machine.dialect;
         let mut ends = false;
         let mut chuck_opened_at = None;
         let mut spindle_started_at = None;
         // Spindle first, as rs274ngc orders them; the chuck is judged against the result.
         for &(code, at) in w.m_codes() {
-            if interpreter_code(code, d) {
+            if crate::machine::mcodes_reserved(code) {
                 continue;
             }
             let Some(action) = self.machine.mcodes.action(code) else {

@@ -931,7 +931,7 @@ fn mcode_table(
                 ));
             }
             let c = c as u16;
-            if super::mcodes::reserved(c, dialect) {
+            if super::mcodes::reserved(c) {
                 return Err(cx.err(
                     v.span(),
                     key,

@@ -73,9 +73,8 @@ impl MAction {
     }
 }
 
-/// The M codes the interpreter handles itself in a dialect: never in a table.
-pub fn reserved(code: u16, d: Dialect) -> bool {
-    let _ = d;
+/// The M codes the interpreter handles itself: never in a table.
+pub fn reserved(code: u16) -> bool {
     matches!(code, 6 | 98 | 99 | 70..=73)
 }
 
@@ -161,7 +160,7 @@ mod tests {
             assert_eq!(t.action(30), Some(MAction::ProgramEnd));
             assert_eq!(t.action(21), None);
             assert_eq!(t.codes_of(MAction::TailstockAdvance).count(), 0);
-            assert!(t.entries().iter().all(|&(c, _)| !reserved(c, d)));
+            assert!(t.entries().iter().all(|&(c, _)| !reserved(c)));
         }
         assert_eq!(McodeTable::builtin(Dialect::Fanuc).action(42), Some(MAction::NoEffect));
         assert_eq!(McodeTable::builtin(Dialect::Linuxcnc).action(42), None);
