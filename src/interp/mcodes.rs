@@ -44,7 +44,7 @@ impl Run<'_> {
         let mut ends = false;
         let mut chuck_opened_at = None;
         let mut spindle_started_at = None;
-        // Spindle first, as rs274ngc orders them; the chuck is judged against the result.
+        // In block order; the chuck is judged against the spindle as the block leaves it.
         for &(code, at) in w.m_codes() {
             if crate::machine::mcodes_reserved(code) {
                 continue;
