@@ -1014,9 +1014,11 @@ fn machine_zero_defaults_to_home_and_is_read_from_axes() {
 fn tailstock_starts_advanced_unless_the_file_says_retracted() {
     let m = from_toml(LINUXCNC_TOML, "l.toml").unwrap();
     assert!(m.tailstock.is_some() && m.tailstock_advanced);
-    let text = LINUXCNC_TOML.replace("[tailstock]\n", "[tailstock]\nadvanced = false\n");
+    let text = LINUXCNC_TOML.replace("advanced = true ", "advanced = false");
     assert!(!from_toml(&text, "l.toml").unwrap().tailstock_advanced);
-    let text = LINUXCNC_TOML.replace("[tailstock]\n", "[tailstock]\nadvanced = 1\n");
+    let text = LINUXCNC_TOML.replace("advanced = true ", "advanced = 1");
+    let no_key = LINUXCNC_TOML.replace("advanced = true ", "# none");
+    assert!(from_toml(&no_key, "l.toml").unwrap().tailstock_advanced);
     let e = from_toml(&text, "l.toml").unwrap_err();
     assert_eq!(e.key, "tailstock.advanced", "{e}");
 }
