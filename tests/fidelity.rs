@@ -255,3 +255,13 @@ fn the_m_code_doc_lists_every_action() {
         );
     }
 }
+
+#[test]
+fn machine_description_names_the_m_codes_and_the_tailstock_state() {
+    let text = machine("haas-style-tailstock").describe();
+    assert!(text.contains("M21 tailstock_advance"), "{text}");
+    assert!(text.contains("M11 chuck_open"), "{text}");
+    assert!(text.contains("retracted at start"), "{text}");
+    let text = with_machine_zero(Some("[280.0, 590.0]")).describe();
+    assert!(text.contains("G53 zero    x 280, z 590"), "{text}");
+}

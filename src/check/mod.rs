@@ -828,7 +828,7 @@ impl Checker<'_> {
         };
         Snapshot {
             chuck: self.scene.chuck.as_ref().map(|c| pts(&c.outline)),
-            tailstock: self.scene.tailstock.as_ref().map(|c| pts(&c.outline)),
+            tailstock: self.obstacle(Obstacle::Tailstock).map(|c| pts(&c.outline)), // drawn while advanced
             stock,
             turret: posed(&self.scene.turret, V2::zeros()),
             insert: tool.map(|t| posed(&t.insert, t.tip)).unwrap_or_default(),
