@@ -265,3 +265,23 @@ fn machine_description_names_the_m_codes_and_the_tailstock_state() {
     let text = with_machine_zero(Some("[280.0, 590.0]")).describe();
     assert!(text.contains("G53 zero    x 280, z 590"), "{text}");
 }
+
+#[test]
+fn a_linuxcnc_t_for_a_station_the_turret_lacks_leaves_the_moves_after_m6_unchecked() {
+    let src = b"G18 G8 G21\nT1 M6\nG0 X20 Z5\nT7 M6\nG0 X15 Z5\nT2 M6\nG0 X20 Z5\nM2\n";
+    let (_, run) = pipeline::interpret(src, &linuxcnc());
+    let f: Vec<_> = run.findings.iter().map(|f| (f.line, f.col, f.kind)).collect();
+    assert_eq!(f, vec![(4, 1, Kind::Program)], "{:?}", run.findings);
+    assert!(
+        run.findings[0].message.contains("no station 7"),
+        "{}",
+        run.findings[0].message
+    );
+    let flags: Vec<(u32, bool)> = run
+        .moves
+        .iter()
+        .filter(|mv| !matches!(mv.kind, MoveKind::ToolChange { .. }))
+        .map(|mv| (mv.line, run.states[mv.state as usize].tool_unknown))
+        .collect();
+    assert_eq!(flags, vec![(3, false), (5, true), (7, false)]);
+}
