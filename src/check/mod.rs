@@ -104,6 +104,8 @@ struct Checker<'a> {
     budget: Vec<(u32, String)>,
     /// Moves step mode checked as exact mode does because they had too many samples.
     long_moves: bool,
+    /// The tailstock is advanced during the move being checked: only then is it an obstacle.
+    tailstock_in: bool,
 }
 
 /// A feed move whose cut is under way (see [`DexelStock::begin_move`]).
@@ -157,6 +159,7 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
         current_line: 0,
         budget: Vec::new(),
         long_moves: false,
+        tailstock_in: machine.tailstock_advanced,
     };
     c.static_pairs();
     for item in timer.by_ref() {
@@ -221,7 +224,7 @@ impl Checker<'_> {
     fn obstacle(&self, o: Obstacle) -> Option<&Revolved> {
         match o {
             Obstacle::Chuck => self.scene.chuck.as_ref(),
-            Obstacle::Tailstock => self.scene.tailstock.as_ref(),
+            Obstacle::Tailstock => self.scene.tailstock.as_ref().filter(|_| self.tailstock_in),
             Obstacle::Stock => None,
         }
     }
@@ -249,7 +252,7 @@ impl Checker<'_> {
 
     /// The tailstock against the raw stock and the chuck, once, at program start.
     fn static_pairs(&mut self) {
-        let Some(ts) = self.scene.tailstock.clone() else {
+        let Some(ts) = self.obstacle(Obstacle::Tailstock).cloned() else {
             return;
         };
         let line = self.run.moves.first().map_or(1, |m| m.line);
@@ -411,6 +414,13 @@ impl Checker<'_> {
     fn one_move(&mut self, item: &Timed) {
         let m = &self.run.moves[item.index];
         self.current_line = m.line;
+        let state = &self.run.states[m.state as usize];
+        if state.tool_unknown {
+            // The station holds no tool the machine file describes: the turret's place is unknown
+            // (the interpreter reported it at the T word).
+            return;
+        }
+        self.tailstock_in = state.tailstock_advanced;
         self.overtravel(m, item);
         match m.kind {
             MoveKind::ToolChange { from, to } => self.index_sweep(m, item, from, to),
@@ -818,7 +828,7 @@ impl Checker<'_> {
         };
         Snapshot {
             chuck: self.scene.chuck.as_ref().map(|c| pts(&c.outline)),
-            tailstock: self.scene.tailstock.as_ref().map(|c| pts(&c.outline)),
+            tailstock: self.obstacle(Obstacle::Tailstock).map(|c| pts(&c.outline)), // drawn while advanced
             stock,
             turret: posed(&self.scene.turret, V2::zeros()),
             insert: tool.map(|t| posed(&t.insert, t.tip)).unwrap_or_default(),

@@ -185,6 +185,11 @@ impl Words {
         self.m[..self.nm].iter().find(|(c, _)| *c == code).map(|&(_, a)| a)
     }
 
+    /// The M codes of the block with their offsets, in block order.
+    pub(super) fn m_codes(&self) -> &[(u16, u32)] {
+        &self.m[..self.nm]
+    }
+
     pub(super) fn axis_words(&self) -> bool {
         self.has & (bit(b'X') | bit(b'Z') | bit(b'U') | bit(b'W')) != 0
     }
@@ -318,6 +323,8 @@ impl Run<'_> {
         let state = MoveState {
             spindle: self.spindle(),
             frame: self.frame(),
+            tailstock_advanced: self.devices.tailstock_advanced,
+            tool_unknown: self.devices.tool_unknown,
         };
         if self.states.last() != Some(&state) {
             self.states.push(state);
@@ -709,31 +716,10 @@ impl Run<'_> {
             }
         }
 
-        // 5. Spindle and coolant.
+        // 5. Spindle, coolant, tailstock, chuck…: by the machine's M-code table (mcodes.rs).
+        let mut ends = false;
         if w.nm > 0 {
-            if w.m(3) {
-                self.spindle_dir = SpindleDir::Cw;
-            }
-            if w.m(4) {
-                self.spindle_dir = SpindleDir::Ccw;
-            }
-            if w.m(5) {
-                self.spindle_dir = SpindleDir::Off;
-            }
-            for &(code, at) in &w.m[..w.nm] {
-                match code {
-                    0..=9 | 30 | 48..=53 | 98 | 99 | 70..=73 => {}
-                    41..=44 if fanuc => {}       // gear range: no geometric effect
-                    60 | 62..=68 if !fanuc => {} // pallet/IO: no geometric effect
-                    21 | 22 if fanuc => self.unsupported(
-                        b,
-                        Some(at),
-                        format!("M{code} moves the tailstock; latheguard keeps it where the machine file puts it"),
-                        true,
-                    ),
-                    _ => self.unsupported(b, Some(at), format!("M{code} is not a code latheguard models"), false),
-                }
-            }
+            ends = self.m_codes(b, w);
             if w.m(70) || w.m(73) {
                 if w.m(73) {
                     let m = self.modal.clone();
@@ -950,7 +936,7 @@ impl Run<'_> {
             return;
         }
         self.check_unused(b, w);
-        if w.m(2) || w.m(30) {
+        if ends {
             self.stopped = true;
         }
     }
@@ -1042,20 +1028,7 @@ impl Run<'_> {
             return;
         }
         if station > self.machine.turret.stations || self.machine.tool(station).is_none() {
-            self.error(
-                b,
-                at,
-                format!(
-                    "T{t}: the machine has no tool in station {station} (stations with tools: {})",
-                    self.machine
-                        .tools
-                        .iter()
-                        .map(|t| t.station.to_string())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            );
-            return;
+            self.unknown_tool(b, t, station, at, fanuc);
         }
         if fanuc {
             self.change_tool(b, station, at);
@@ -1065,7 +1038,13 @@ impl Run<'_> {
     }
 
     fn change_tool(&mut self, b: &Block, station: u32, _at: Option<u32>) {
-        if station == self.station {
+        // A station the turret lacks cannot be indexed to; one the machine file has no tool for
+        // can. Either way the moves that follow are not checked (`tool_unknown`, see
+        // `unknown_tool`) until the next change to a described tool; the index to an empty
+        // station is checked, the one out of it is not (the turret's place was unknown).
+        let known = self.machine.tool(station).is_some();
+        if station == self.station || station > self.machine.turret.stations {
+            self.devices.tool_unknown = !known;
             return;
         }
         let from = self.station;
@@ -1074,6 +1053,31 @@ impl Run<'_> {
         // The reference point stays; the programmed point becomes the new tool's tip.
         let end = self.programmed();
         self.push_move(b, MoveKind::ToolChange { from, to: station }, end, end, Feed::Rapid);
+        self.devices.tool_unknown = !known;
+    }
+
+    /// A `T` for a station the turret lacks or the machine file has no tool in: a `program`
+    /// finding at the T word. What follows is not checked as if another tool were there.
+    #[cold]
+    fn unknown_tool(&mut self, b: &Block, t: u32, station: u32, at: Option<u32>, fanuc: bool) {
+        let stations = self.machine.turret.stations;
+        let with: Vec<String> = self.machine.tools.iter().map(|t| t.station.to_string()).collect();
+        let what = if station > stations {
+            format!("the turret has no station {station} (it has 1 to {stations}; a control refuses it)")
+        } else {
+            format!(
+                "the machine file has no tool in station {station} (stations with tools: {})",
+                with.join(", ")
+            )
+        };
+        let when = if fanuc { "" } else { " after M6" };
+        self.error(
+            b,
+            at,
+            format!(
+                "T{t}: {what}; the moves{when} until the next tool change are not checked: where the turret is depends on that tool's offsets"
+            ),
+        );
     }
 
     fn dwell(&mut self, b: &Block, w: &mut Words, fanuc: bool) {
@@ -1195,10 +1199,10 @@ impl Run<'_> {
         };
         let start = self.programmed();
         if g53 {
-            // G53: machine coordinates, with machine zero at the home position (as on Fanuc and
-            // Haas lathes): the turret reference point goes to home + the given values.
+            // G53: machine coordinates: the turret reference point goes to machine zero
+            // (`axes.machine_zero`, by default home as on Fanuc and Haas lathes) + the values.
             let tip = self.tip();
-            let home = self.machine.home;
+            let home = self.machine.machine_zero;
             let s = self.scale();
             let mut r = self.reference;
             if let Some(v) = w.peek(b'X').then(|| self.val(w, b'X')) {

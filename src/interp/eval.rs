@@ -130,7 +130,7 @@ impl Run<'_> {
 
     /// Read-only numbered parameters computed from the state.
     fn system_param(&self, n: u32) -> Option<f64> {
-        let (x, z) = self.program_position();
+        let (x, z) = self.position_params();
         Some(match n {
             5400 => self.station as f64,
             5410 => 2.0 * self.machine.tool(self.station).map_or(0.0, |t| t.nose_radius) / self.scale(),
@@ -142,9 +142,17 @@ impl Run<'_> {
         })
     }
 
+    /// The current position as rs274 returns it in `#5420`/`#5422` and `#<_x>`/`#<_z>`: the
+    /// programmed point in program coordinates and units, with X always a radius (rs274 gives
+    /// the radius in G7 diameter mode too: `G7 G0 X10` reads back as 5).
+    fn position_params(&self) -> (f64, f64) {
+        let (x, z) = self.program_position();
+        (if self.modal.diameter { x / 2.0 } else { x }, z)
+    }
+
     fn predefined(&self, name: &str) -> Option<f64> {
         let m = &self.modal;
-        let (x, z) = self.program_position();
+        let (x, z) = self.position_params();
         Some(match name {
             "_metric" => bool_f(!m.inch),
             "_imperial" => bool_f(m.inch),

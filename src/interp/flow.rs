@@ -223,6 +223,8 @@ pub(crate) struct Run<'a> {
     /// LinuxCNC `T…` waiting for `M6`.
     pub selected: Option<u32>,
     pub spindle_dir: SpindleDir,
+    /// Tailstock, chuck, unknown tool (src/interp/mcodes.rs).
+    pub(super) devices: super::mcodes::Devices,
     /// Spindle-frame point of program X0 Z0 before G92/G52/G50 shifts.
     pub base_origin: P2,
     pub shift: V2,
@@ -301,6 +303,7 @@ impl<'a> Run<'a> {
             tip: super::block::tip_of(machine, station),
             selected: None,
             spindle_dir: SpindleDir::Off,
+            devices: super::mcodes::Devices::new(machine),
             base_origin: P2::new(0.0, machine.program_zero_z),
             shift: V2::zeros(),
             moves: Vec::with_capacity(prog.blocks.len().min(1 << 22)),
@@ -785,8 +788,9 @@ impl<'a> Run<'a> {
                     f.repeats_left -= 1;
                     self.pc = f.body_pc;
                 } else {
+                    // An M98 subprogram shares #1…#33 with its caller (Fanuc, and LinuxCNC's
+                    // `m98m99-07` test): what it set stays set after M99.
                     let f = self.frames.pop().unwrap();
-                    self.params.numbered[1..34].copy_from_slice(&f.saved_locals);
                     self.pc = f.return_pc;
                 }
             }

@@ -12,6 +12,7 @@ pub mod canon;
 mod cycles;
 mod eval;
 mod flow;
+mod mcodes;
 mod state;
 #[cfg(test)]
 mod tests;
@@ -149,6 +150,13 @@ pub struct Move {
 pub struct MoveState {
     pub spindle: Spindle,
     pub frame: ProgFrame,
+    /// The tailstock is advanced (an obstacle) during the move (`tailstock.advanced` and the
+    /// machine's tailstock M codes).
+    pub tailstock_advanced: bool,
+    /// The active station holds no tool the machine file describes (a `T` for an empty or
+    /// missing station): where the turret is depends on that tool's offsets, so the checker
+    /// does not check the move.
+    pub tool_unknown: bool,
 }
 
 impl Move {

@@ -17,9 +17,12 @@
 //! | `machine.gcode_system` | no | `"A"` | `"A"` or `"B"` (Fanuc lathe G-code system); only with fanuc. A: G90/G92/G94 are the box cycles, G50 sets coordinates and clamps the spindle; B: G77/G78/G79 are the box cycles, G92 sets coordinates and clamps the spindle, G90/G91 absolute/incremental |
 //! | `axes.x`, `axes.z` | yes | | tables `{ min, max, rapid }`, all required, `min < max`, `rapid` 1 ..= 1e6 mm/min (a warning below 100) |
 //! | `axes.home` | no | `[axes.x.max, axes.z.max]` | inside both axes' limits |
+//! | `axes.machine_zero` | no | `axes.home` (G53 X0 Z0 is home, as on most Fanuc and Haas lathes) | `[x, z]`: the turret reference point at machine zero, spindle frame; G53 X/Z are measured from it (X as the program writes it: a diameter in diameter mode) |
 //! | `spindle.max_rpm` | yes | | 1 ..= 1e6 (a warning below 100 or above 50,000) |
 //! | `[chuck]` | no | no chuck | `outline` required in it |
 //! | `[tailstock]` | no | no tailstock | `outline` required in it |
+//! | `tailstock.advanced` | no | `true` | whether the tailstock is advanced at program start; it is an obstacle only while advanced (the `[mcodes]` `tailstock_advance`/`tailstock_retract` codes change it) |
+//! | `[mcodes]` | no | the dialect's built-in table (`docs/mcodes.md`) | each key an action (`program_stop`, `optional_stop`, `program_end`, `spindle_cw`, `spindle_ccw`, `spindle_stop`, `coolant_on`, `coolant_off`, `tailstock_advance`, `tailstock_retract`, `chuck_open`, `chuck_close`, `part_catcher_advance`, `part_catcher_retract`, `bar_feed`, `conveyor_on`, `conveyor_off`, `no_effect`), each value an M code or an array of them (0 ..= 999). An action given replaces its built-in codes; a code given is taken from any built-in action that had it; a code given twice is an error, and so are M6, M98, M99, M70–M73 (and LinuxCNC M61), which the interpreter handles itself |
 //! | `[stock]` | no | no stock | `diameter > 0`, `length > 0`, `front` required; `bore` default `0`, `0 ≤ bore < diameter`; the bar spans `z` from `front − length` to `front` |
 //! | `[setup]` | no | | |
 //! | `setup.program_zero_z` | no | `stock.front` (program Z0 on the bar's face) when there is a stock, else `0` (the jaw faces) | |
@@ -70,7 +73,10 @@ use serde::Deserialize;
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
-use super::{Axis, DecimalPoint, Dialect, GcodeSystem, Machine, RapidMode, Stock, Tool, Turret};
+use super::{
+    Axis, DecimalPoint, Dialect, GcodeSystem, MAction, Machine, McodeTable, RapidMode, Stock, Tool, Turret, MAX_MCODE,
+    MCODE_ACTIONS,
+};
 use crate::geom::{p2, Polygon, PolygonError, P2};
 use crate::source::LineIndex;
 
@@ -162,11 +168,27 @@ struct RawDoc {
     axes: RawAxes,
     spindle: RawSpindle,
     chuck: Option<RawPart>,
-    tailstock: Option<RawPart>,
+    tailstock: Option<RawTailstock>,
     stock: Option<RawStock>,
     setup: Option<RawSetup>,
     turret: RawTurret,
     tools: Option<Spanned<Vec<Spanned<RawTool>>>>,
+    mcodes: Option<std::collections::BTreeMap<String, Spanned<RawCodes>>>,
+}
+
+/// The codes of one action in `[mcodes]`: one number or an array.
+#[derive(Deserialize)]
+#[serde(untagged, expecting = "an M code number or an array of M code numbers")]
+enum RawCodes {
+    One(i64),
+    Many(Vec<i64>),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawTailstock {
+    outline: Outline,
+    advanced: Option<bool>,
 }
 
 #[derive(Deserialize)]
@@ -214,6 +236,7 @@ struct RawAxes {
     x: RawAxis,
     z: RawAxis,
     home: Option<Point>,
+    machine_zero: Option<Point>,
 }
 
 #[derive(Deserialize)]
@@ -469,6 +492,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         setup,
         turret,
         tools,
+        mcodes,
     } = raw;
 
     // Bound the work before doing any of it.
@@ -594,6 +618,10 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             p
         }
     };
+    let machine_zero = match &axes.machine_zero {
+        None => home,
+        Some(p) => cx.point("axes.machine_zero", p)?,
+    };
 
     // [spindle]
     let max_rpm = cx.within("spindle.max_rpm", &spindle.max_rpm, MAX_RPM_RANGE, "rpm")?;
@@ -619,9 +647,11 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
 
     // [chuck], [tailstock]
     let chuck = chuck.map(|c| cx.outline("chuck.outline", &c.outline)).transpose()?;
+    let tailstock_advanced = tailstock.as_ref().and_then(|t| t.advanced).unwrap_or(true);
     let tailstock = tailstock
         .map(|t| cx.outline("tailstock.outline", &t.outline))
         .transpose()?;
+    let mcodes = mcode_table(cx, dialect, mcodes.as_ref())?;
 
     // [stock]
     let stock = match &stock {
@@ -772,9 +802,12 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         x,
         z,
         home,
+        machine_zero,
         max_rpm,
         chuck,
         tailstock,
+        tailstock_advanced,
+        mcodes,
         stock,
         program_zero_z,
         turret: Turret {
@@ -857,6 +890,62 @@ fn clear_at_home(
         }
     }
     Ok(())
+}
+
+/// `[mcodes]`: each key an action, each value its codes (0 ..= 999, none reserved for the
+/// interpreter, none given for two actions), over the dialect's built-in table.
+fn mcode_table(
+    cx: &Cx<'_>,
+    dialect: Dialect,
+    raw: Option<&std::collections::BTreeMap<String, Spanned<RawCodes>>>,
+) -> Result<McodeTable, MachineError> {
+    let Some(raw) = raw else {
+        return Ok(McodeTable::builtin(dialect));
+    };
+    let mut given: Vec<(MAction, Vec<u16>)> = Vec::new();
+    let mut owner: std::collections::HashMap<u16, &str> = std::collections::HashMap::new();
+    for (name, v) in raw {
+        let key = format!("mcodes.{name}");
+        let Some(action) = MAction::from_name(name) else {
+            let names: Vec<&str> = MCODE_ACTIONS.iter().map(|a| a.0).collect();
+            return Err(cx.err(
+                v.span(),
+                key,
+                format!("unknown M-code action `{name}`: expected one of {}", names.join(", ")),
+            ));
+        };
+        let list = match v.get_ref() {
+            RawCodes::One(c) => vec![*c],
+            RawCodes::Many(cs) => cs.clone(),
+        };
+        if list.len() > usize::from(MAX_MCODE) + 1 {
+            return Err(cx.err(v.span(), key, "too many codes for one action"));
+        }
+        let mut codes = Vec::with_capacity(list.len());
+        for c in list {
+            if !(0..=i64::from(MAX_MCODE)).contains(&c) {
+                return Err(cx.err(
+                    v.span(),
+                    key,
+                    format!("M{c} is not an M code: codes run from 0 to {MAX_MCODE}"),
+                ));
+            }
+            let c = c as u16;
+            if super::mcodes::reserved(c) {
+                return Err(cx.err(
+                    v.span(),
+                    key,
+                    format!("M{c} is handled by the interpreter itself (tool change, subprograms, modal state) and cannot be given an action"),
+                ));
+            }
+            if let Some(other) = owner.insert(c, name.as_str()) {
+                return Err(cx.err(v.span(), key, format!("M{c} is already given to `{other}`")));
+            }
+            codes.push(c);
+        }
+        given.push((action, codes));
+    }
+    Ok(McodeTable::with(dialect, &given))
 }
 
 /// A number as a machine file would write it: `inf`, `nan`, `1e90`, `-0.5`.

@@ -5,12 +5,14 @@
 //! Outlines are normalised [`Polygon`]s.
 
 mod load;
+mod mcodes;
 #[cfg(test)]
 mod tests;
 
 use std::fmt::Write as _;
 
 use crate::geom::{Polygon, P2};
+pub use mcodes::{reserved as mcodes_reserved, MAction, McodeTable, ACTIONS as MCODE_ACTIONS, MAX_MCODE};
 
 pub use load::{
     from_toml, MachineError, INDEX_TIME_RANGE, MAX_COORD_MM, MAX_OUTLINE_POINTS, MAX_RPM_RANGE, MAX_STATIONS,
@@ -153,10 +155,18 @@ pub struct Machine {
     pub z: Axis,
     /// Turret reference point at program start and after a return home.
     pub home: P2,
+    /// Turret reference point at machine zero (`axes.machine_zero`; default: `home`): G53
+    /// positions are measured from it.
+    pub machine_zero: P2,
     pub max_rpm: f64,
     /// Revolved outline in the half plane x ≥ 0.
     pub chuck: Option<Polygon>,
     pub tailstock: Option<Polygon>,
+    /// The tailstock is advanced (an obstacle) at program start (`tailstock.advanced`, default
+    /// true); its M codes (`[mcodes]` `tailstock_advance`/`tailstock_retract`) change it.
+    pub tailstock_advanced: bool,
+    /// What each M code does on this machine (`[mcodes]`, over the dialect's built-in table).
+    pub mcodes: McodeTable,
     pub stock: Option<Stock>,
     pub program_zero_z: f64,
     pub turret: Turret,
@@ -215,6 +225,10 @@ impl Machine {
             );
         }
         let _ = writeln!(s, "  home        x {}, z {}", num(self.home.x), num(self.home.y));
+        if self.machine_zero != self.home {
+            let (x, z) = (self.machine_zero.x, self.machine_zero.y);
+            let _ = writeln!(s, "  G53 zero    x {}, z {}", num(x), num(z));
+        }
         let _ = writeln!(s, "  spindle     up to {} rpm", num(self.max_rpm));
         for (name, part) in [("chuck", &self.chuck), ("tailstock", &self.tailstock)] {
             let text = match part {
@@ -231,8 +245,25 @@ impl Machine {
                     )
                 }
             };
-            let _ = writeln!(s, "  {name:<11} {text}");
+            let state = if name == "tailstock" && part.is_some() {
+                if self.tailstock_advanced {
+                    ", advanced at start"
+                } else {
+                    ", retracted at start"
+                }
+            } else {
+                ""
+            };
+            let _ = writeln!(s, "  {name:<11} {text}{state}");
         }
+        let codes: Vec<String> = self
+            .mcodes
+            .entries()
+            .iter()
+            .filter(|(_, a)| *a != MAction::NoEffect)
+            .map(|(c, a)| format!("M{c} {}", a.as_str()))
+            .collect();
+        let _ = writeln!(s, "  M codes     {}", codes.join(", "));
         let stock = match &self.stock {
             None => "none".to_string(),
             Some(st) => {

@@ -988,3 +988,73 @@ fn gcode_system_defaults_to_a_and_b_is_fanuc_only() {
     );
     assert_at(&refused(&text), line_of(&text, "gcode_system"), "machine.gcode_system");
 }
+
+// ---------------------------------------------------------------------------------------------
+// Machine zero, the tailstock's start state and the M-code table.
+
+#[test]
+fn machine_zero_defaults_to_home_and_is_read_from_axes() {
+    let m = load(MINI).unwrap();
+    assert_eq!(m.machine_zero, m.home);
+    let text = edit(
+        MINI,
+        "z = { min = -50.0, max = 600.0, rapid = 24000.0 }\n",
+        "z = { min = -50.0, max = 600.0, rapid = 24000.0 }\nmachine_zero = [250.0, 500.0]\n",
+    );
+    assert_eq!(load(&text).unwrap().machine_zero, p2(250.0, 500.0));
+    let text = edit(
+        MINI,
+        "z = { min = -50.0, max = 600.0, rapid = 24000.0 }\n",
+        "z = { min = -50.0, max = 600.0, rapid = 24000.0 }\nmachine_zero = [250.0]\n",
+    );
+    assert_at(&refused(&text), line_of(&text, "machine_zero"), "axes.machine_zero");
+}
+
+#[test]
+fn tailstock_starts_advanced_unless_the_file_says_retracted() {
+    let m = from_toml(LINUXCNC_TOML, "l.toml").unwrap();
+    assert!(m.tailstock.is_some() && m.tailstock_advanced);
+    let text = LINUXCNC_TOML.replace("advanced = true ", "advanced = false");
+    assert!(!from_toml(&text, "l.toml").unwrap().tailstock_advanced);
+    let text = LINUXCNC_TOML.replace("advanced = true ", "advanced = 1");
+    let no_key = LINUXCNC_TOML.replace("advanced = true ", "# none");
+    assert!(from_toml(&no_key, "l.toml").unwrap().tailstock_advanced);
+    let e = from_toml(&text, "l.toml").unwrap_err();
+    assert_eq!(e.key, "tailstock.advanced", "{e}");
+}
+
+#[test]
+fn mcodes_table_replaces_the_builtin_actions_it_names() {
+    let m = load(MINI).unwrap();
+    assert_eq!(m.mcodes, McodeTable::builtin(Dialect::Fanuc));
+    let text = format!("{MINI}\n[mcodes]\ntailstock_advance = 21\ntailstock_retract = [22]\ncoolant_on = [8, 88]\n");
+    let m = load(&text).unwrap();
+    assert_eq!(m.mcodes.action(21), Some(MAction::TailstockAdvance));
+    assert_eq!(m.mcodes.action(22), Some(MAction::TailstockRetract));
+    assert_eq!(m.mcodes.action(88), Some(MAction::CoolantOn));
+    assert_eq!(m.mcodes.action(7), None);
+    assert_eq!(m.mcodes.action(3), Some(MAction::SpindleCw));
+}
+
+#[test]
+fn bad_mcodes_are_refused_at_their_key() {
+    for (entry, key, words) in [
+        ("quill_out = 21", "mcodes.quill_out", "unknown M-code action"),
+        ("chuck_open = 1000", "mcodes.chuck_open", "codes run from 0 to 999"),
+        ("chuck_open = -1", "mcodes.chuck_open", "codes run from 0 to 999"),
+        ("chuck_open = 98", "mcodes.chuck_open", "handled by the interpreter"),
+        ("bar_feed = [6]", "mcodes.bar_feed", "handled by the interpreter"),
+        (
+            "chuck_open = 11\nchuck_close = [10, 11]",
+            "mcodes.chuck_open",
+            "already given",
+        ),
+        ("chuck_open = \"M11\"", "mcodes.chuck_open", "an M code number"),
+    ] {
+        let text = format!("{MINI}\n[mcodes]\n{entry}\n");
+        let e = refused(&text);
+        assert_eq!(e.key, key, "{entry}: {e}");
+        assert!(e.message.contains(words), "{entry}: {e}");
+        assert!(e.line > line_of(&text, "[mcodes]"), "{entry}: {e}");
+    }
+}

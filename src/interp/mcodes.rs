@@ -1,0 +1,114 @@
+//! The M codes of a block, by the machine's table ([`crate::machine::McodeTable`]): spindle,
+//! coolant, tailstock, chuck and the other devices, program stops and end. M6, M98/M99 and
+//! M70–M73 steer the interpreter and stay in `block.rs`/`flow.rs`.
+//!
+//! What latheguard does with each action (see `docs/mcodes.md`): the spindle codes set the
+//! spindle of the following moves; the tailstock codes decide whether the tailstock is an
+//! obstacle (moves carry it in their [`MoveState`](super::MoveState)); opening the chuck while the
+//! spindle turns, or starting the spindle with the chuck open, is a `program` finding; the other
+//! devices (coolant, part catcher, bar feeder, conveyor) change nothing that is checked. A code the
+//! table lacks is a warning that names it.
+
+use super::block::Words;
+use super::flow::Run;
+use super::SpindleDir;
+use crate::gcode::Block;
+use crate::machine::MAction;
+
+/// The state of the machine's devices that the checker or the interpreter's own findings need.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Devices {
+    /// The tailstock is advanced: an obstacle.
+    pub tailstock_advanced: bool,
+    /// The chuck is open (unclamped).
+    pub chuck_open: bool,
+    /// The active station holds no tool the machine file describes (or does not exist): the
+    /// moves until the next tool change are not checked.
+    pub tool_unknown: bool,
+}
+
+impl Devices {
+    pub fn new(machine: &crate::machine::Machine) -> Devices {
+        Devices {
+            tailstock_advanced: machine.tailstock_advanced,
+            chuck_open: false,
+            tool_unknown: false,
+        }
+    }
+}
+
+impl Run<'_> {
+    /// Run the M codes of a block that the machine's table maps (step 5 of a block). Returns
+    /// whether one of them ends the program (run after the block's motion and flow).
+    pub(super) fn m_codes(&mut self, b: &Block, w: &Words) -> bool {
+        let mut ends = false;
+        let mut chuck_opened_at = None;
+        let mut spindle_started_at = None;
+        // In block order; the chuck is judged against the spindle as the block leaves it.
+        for &(code, at) in w.m_codes() {
+            if crate::machine::mcodes_reserved(code) {
+                continue;
+            }
+            let Some(action) = self.machine.mcodes.action(code) else {
+                self.unsupported(
+                    b,
+                    Some(at),
+                    format!(
+                        "M{code} is not in this machine's M-code table (`[mcodes]` in the machine file, docs/mcodes.md): ignored"
+                    ),
+                    false,
+                );
+                continue;
+            };
+            match action {
+                MAction::SpindleCw | MAction::SpindleCcw => {
+                    self.spindle_dir = if action == MAction::SpindleCw {
+                        SpindleDir::Cw
+                    } else {
+                        SpindleDir::Ccw
+                    };
+                    spindle_started_at = Some((code, at));
+                }
+                MAction::SpindleStop => self.spindle_dir = SpindleDir::Off,
+                MAction::TailstockAdvance => self.devices.tailstock_advanced = true,
+                MAction::TailstockRetract => self.devices.tailstock_advanced = false,
+                MAction::ChuckOpen => {
+                    self.devices.chuck_open = true;
+                    chuck_opened_at = Some((code, at));
+                }
+                MAction::ChuckClose => self.devices.chuck_open = false,
+                MAction::ProgramEnd => ends = true,
+                MAction::ProgramStop
+                | MAction::OptionalStop
+                | MAction::CoolantOn
+                | MAction::CoolantOff
+                | MAction::PartCatcherAdvance
+                | MAction::PartCatcherRetract
+                | MAction::BarFeed
+                | MAction::ConveyorOn
+                | MAction::ConveyorOff
+                | MAction::NoEffect => {}
+            }
+        }
+        if self.spindle_dir != SpindleDir::Off && self.devices.chuck_open {
+            if let Some((code, at)) = chuck_opened_at {
+                self.error(
+                    b,
+                    Some(at),
+                    format!(
+                        "M{code} opens the chuck while the spindle turns: the part is thrown out (a control's chuck interlock would refuse it, or stop the spindle first)"
+                    ),
+                );
+            } else if let Some((code, at)) = spindle_started_at {
+                self.error(
+                    b,
+                    Some(at),
+                    format!(
+                        "M{code} starts the spindle with the chuck open: the part is not held (a control's chuck interlock would refuse it)"
+                    ),
+                );
+            }
+        }
+        ends
+    }
+}

@@ -1,0 +1,193 @@
+//! The M codes of a machine: which code does what (`[mcodes]` in the machine file).
+//!
+//! The codes that steer the interpreter itself are not in the table and cannot be given there:
+//! M6 (tool change), M98/M99 (subprograms) and M70–M73 (saved modal state). Every other M code
+//! is looked up here; one the table lacks is a warning that names it (see `docs/mcodes.md`).
+
+use super::Dialect;
+
+/// What an M code does, as far as latheguard models it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MAction {
+    /// M0: the program waits for cycle start; nothing moves.
+    ProgramStop,
+    /// M1: as M0 when the operator's optional-stop switch is on.
+    OptionalStop,
+    /// M2, M30: the program ends here.
+    ProgramEnd,
+    SpindleCw,
+    SpindleCcw,
+    SpindleStop,
+    CoolantOn,
+    CoolantOff,
+    /// The tailstock quill advances (Haas M21): the tailstock is an obstacle from here on.
+    TailstockAdvance,
+    /// The tailstock quill retracts (Haas M22): the tailstock is no obstacle from here on.
+    TailstockRetract,
+    /// The chuck opens (unclamps); with the spindle turning, a `program` finding.
+    ChuckOpen,
+    ChuckClose,
+    PartCatcherAdvance,
+    PartCatcherRetract,
+    BarFeed,
+    ConveyorOn,
+    ConveyorOff,
+    /// A code the control knows that changes nothing latheguard checks (gear range, override
+    /// switches, outputs).
+    NoEffect,
+}
+
+/// The action names of a machine file's `[mcodes]` table.
+pub const ACTIONS: [(&str, MAction); 18] = [
+    ("program_stop", MAction::ProgramStop),
+    ("optional_stop", MAction::OptionalStop),
+    ("program_end", MAction::ProgramEnd),
+    ("spindle_cw", MAction::SpindleCw),
+    ("spindle_ccw", MAction::SpindleCcw),
+    ("spindle_stop", MAction::SpindleStop),
+    ("coolant_on", MAction::CoolantOn),
+    ("coolant_off", MAction::CoolantOff),
+    ("tailstock_advance", MAction::TailstockAdvance),
+    ("tailstock_retract", MAction::TailstockRetract),
+    ("chuck_open", MAction::ChuckOpen),
+    ("chuck_close", MAction::ChuckClose),
+    ("part_catcher_advance", MAction::PartCatcherAdvance),
+    ("part_catcher_retract", MAction::PartCatcherRetract),
+    ("bar_feed", MAction::BarFeed),
+    ("conveyor_on", MAction::ConveyorOn),
+    ("conveyor_off", MAction::ConveyorOff),
+    ("no_effect", MAction::NoEffect),
+];
+
+/// Largest M code a table may hold.
+pub const MAX_MCODE: u16 = 999;
+
+impl MAction {
+    /// The name of the action in a machine file.
+    pub fn as_str(self) -> &'static str {
+        ACTIONS.iter().find(|(_, a)| *a == self).map_or("no_effect", |(n, _)| n)
+    }
+
+    pub fn from_name(name: &str) -> Option<MAction> {
+        ACTIONS.iter().find(|(n, _)| *n == name).map(|&(_, a)| a)
+    }
+}
+
+/// The M codes the interpreter handles itself: never in a table.
+pub fn reserved(code: u16) -> bool {
+    matches!(code, 6 | 98 | 99 | 70..=73)
+}
+
+/// Code → action for one machine, sorted by code.
+#[derive(Clone, Debug, PartialEq)]
+pub struct McodeTable {
+    codes: Vec<(u16, MAction)>,
+}
+
+impl McodeTable {
+    /// The table of a dialect when the machine file has no `[mcodes]`: the codes both controls
+    /// agree on (M0, M1, M2/M30, M3–M5, M7–M9), Fanuc gear ranges M41–M44 and the override
+    /// switches M48–M53, LinuxCNC's M48–M53 overrides, M60 pallet stop and M62–M68 outputs. No
+    /// tailstock, chuck or part-catcher codes: those differ from builder to builder.
+    pub fn builtin(d: Dialect) -> McodeTable {
+        use MAction::*;
+        let mut codes = vec![
+            (0, ProgramStop),
+            (1, OptionalStop),
+            (2, ProgramEnd),
+            (30, ProgramEnd),
+            (3, SpindleCw),
+            (4, SpindleCcw),
+            (5, SpindleStop),
+            (7, CoolantOn),
+            (8, CoolantOn),
+            (9, CoolantOff),
+        ];
+        codes.extend((48..=53).map(|c| (c, NoEffect)));
+        match d {
+            Dialect::Fanuc => codes.extend((41..=44).map(|c| (c, NoEffect))),
+            Dialect::Linuxcnc => {
+                codes.push((60, ProgramStop));
+                codes.extend((62..=68).map(|c| (c, NoEffect)));
+            }
+        }
+        codes.sort_by_key(|c| c.0);
+        McodeTable { codes }
+    }
+
+    /// The built-in table of `d` with the actions named in `given` replaced by their codes (an
+    /// action given with no codes has none). A code given for one action is taken out of every
+    /// built-in action that had it. The caller has checked the codes (range, reserved, given
+    /// twice).
+    pub fn with(d: Dialect, given: &[(MAction, Vec<u16>)]) -> McodeTable {
+        let mut codes = McodeTable::builtin(d).codes;
+        codes.retain(|&(c, a)| !given.iter().any(|(ga, gc)| *ga == a || gc.contains(&c)));
+        for (a, cs) in given {
+            codes.extend(cs.iter().map(|&c| (c, *a)));
+        }
+        codes.sort_by_key(|c| c.0);
+        McodeTable { codes }
+    }
+
+    /// What `code` does on this machine; `None` when the table does not know it.
+    pub fn action(&self, code: u16) -> Option<MAction> {
+        self.codes
+            .binary_search_by_key(&code, |c| c.0)
+            .ok()
+            .map(|i| self.codes[i].1)
+    }
+
+    /// The codes of an action, ascending.
+    pub fn codes_of(&self, a: MAction) -> impl Iterator<Item = u16> + '_ {
+        self.codes.iter().filter(move |c| c.1 == a).map(|c| c.0)
+    }
+
+    /// Every (code, action), ascending by code.
+    pub fn entries(&self) -> &[(u16, MAction)] {
+        &self.codes
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtin_tables_know_the_common_codes_and_no_tailstock_code() {
+        for d in [Dialect::Fanuc, Dialect::Linuxcnc] {
+            let t = McodeTable::builtin(d);
+            assert_eq!(t.action(3), Some(MAction::SpindleCw));
+            assert_eq!(t.action(30), Some(MAction::ProgramEnd));
+            assert_eq!(t.action(21), None);
+            assert_eq!(t.codes_of(MAction::TailstockAdvance).count(), 0);
+            assert!(t.entries().iter().all(|&(c, _)| !reserved(c)));
+        }
+        assert_eq!(McodeTable::builtin(Dialect::Fanuc).action(42), Some(MAction::NoEffect));
+        assert_eq!(McodeTable::builtin(Dialect::Linuxcnc).action(42), None);
+    }
+
+    #[test]
+    fn given_actions_replace_their_builtin_codes_and_take_their_codes_from_others() {
+        let t = McodeTable::with(
+            Dialect::Fanuc,
+            &[
+                (MAction::TailstockAdvance, vec![21]),
+                (MAction::CoolantOn, vec![8]),
+                (MAction::ChuckOpen, vec![9]),
+            ],
+        );
+        assert_eq!(t.action(21), Some(MAction::TailstockAdvance));
+        assert_eq!(t.action(7), None, "coolant_on given: its built-in M7 is gone");
+        assert_eq!(t.action(8), Some(MAction::CoolantOn));
+        assert_eq!(
+            t.action(9),
+            Some(MAction::ChuckOpen),
+            "the file's action wins over coolant_off"
+        );
+        assert_eq!(t.codes_of(MAction::CoolantOff).count(), 0);
+        for a in ACTIONS {
+            assert_eq!(MAction::from_name(a.0), Some(a.1));
+            assert_eq!(a.1.as_str(), a.0);
+        }
+    }
+}
