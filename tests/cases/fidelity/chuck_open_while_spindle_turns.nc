@@ -1,4 +1,4 @@
-(latheguard: machine=haas-style-tailstock)
+(test-case: machine=haas-style-tailstock)
 (M11 opens the chuck: with the spindle turning, or a spindle start while it is open, a program finding)
 G18 G21 G99
 T0101

@@ -1,4 +1,4 @@
-(latheguard: machine=haas-style-tailstock modes=step,exact)
+(test-case: machine=haas-style-tailstock modes=step,exact)
 (M21 advances the tailstock: the same rapid as in tailstock_retracted_is_no_obstacle hits it; after M22 it passes again)
 G18 G21 G99
 T0101

@@ -1,4 +1,4 @@
-(latheguard: machine=haas-style-tailstock modes=step,exact)
+(test-case: machine=haas-style-tailstock modes=step,exact)
 (the tailstock starts retracted: a rapid through where its centre stands when advanced is clean)
 G18 G21 G99
 T0101
