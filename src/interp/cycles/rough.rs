@@ -169,8 +169,7 @@ fn monotone(
 ) -> bool {
     for sgm in segs {
         let mut prev = sgm.start;
-        for k in 1..=16 {
-            let p = sgm.point_at(k as f64 / 16.0);
+        for p in samples(sgm, 16).into_iter().skip(1) {
             let (dd, da) = (ax.dep(p) - ax.dep(prev), ax.along(p) - ax.along(prev));
             let (dep_axis, along_axis) = if ax.facing { ("Z", "X") } else { ("X", "Z") };
             if dird * dd < -1e-6 && !type2 {
@@ -201,6 +200,33 @@ fn monotone(
     true
 }
 
+/// The points of a segment at fractions 0, 1/n, …, 1 (n ≥ 1): its ends as `point_at` gives them,
+/// an arc's inner points by turning one direction step by step (one sine and cosine per arc
+/// rather than per point; they agree with `point_at` to a few units in the last place).
+fn samples(s: &Seg, n: usize) -> Vec<P2> {
+    let mut out = Vec::with_capacity(n + 1);
+    out.push(s.point_at(0.0));
+    if let MoveKind::Arc { center, sweep } = s.kind {
+        let a = s.start - center;
+        let (r0, r1) = (a.norm(), (s.end - center).norm());
+        if r0 > 0.0 {
+            let (sd, cd) = (sweep / n as f64).sin_cos();
+            let mut dir = a / r0;
+            for k in 1..n {
+                dir = V2::new(dir.x * cd - dir.y * sd, dir.x * sd + dir.y * cd);
+                let r = r0 + (r1 - r0) * (k as f64 / n as f64);
+                out.push(center + dir * r);
+            }
+        } else {
+            out.extend((1..n).map(|k| s.point_at(k as f64 / n as f64)));
+        }
+    } else {
+        out.extend((1..n).map(|k| s.point_at(k as f64 / n as f64)));
+    }
+    out.push(s.point_at(1.0));
+    out
+}
+
 /// A piece of the profile short enough that it crosses a level at most once in practice: a
 /// line is one piece, an arc one piece per 1/64 turn. Its ends' stepping coordinates are
 /// computed once per cycle, so a pass level is tested against them without trigonometry.
@@ -223,10 +249,11 @@ fn pieces(segs: &[Seg], ax: Axes) -> Vec<Piece> {
             }
             _ => 1,
         };
-        let mut d0 = ax.dep(s.point_at(0.0));
+        let pts = samples(s, n);
+        let mut d0 = ax.dep(pts[0]);
         for k in 0..n {
             let t1 = (k + 1) as f64 / n as f64;
-            let d1 = ax.dep(s.point_at(t1));
+            let d1 = ax.dep(pts[k + 1]);
             out.push(Piece {
                 seg: i,
                 t0: k as f64 / n as f64,
@@ -362,8 +389,8 @@ fn rough(run: &mut Run<'_>, b: &Block, t: &Traced, a: P2, off: V2, depth: f64, e
     }
     for sgm in &prof {
         if let MoveKind::Arc { .. } = sgm.kind {
-            for k in 1..8 {
-                deepest = deepest.min(dird * ax.dep(sgm.point_at(k as f64 / 8.0)));
+            for p in &samples(sgm, 8)[1..8] {
+                deepest = deepest.min(dird * ax.dep(*p));
             }
         }
     }
@@ -668,6 +695,21 @@ mod tests {
                 prop_assert_eq!(a.from.is_some(), b.from.is_some());
                 let d = (a.to - b.to).abs().max((a.from.unwrap_or(0.0) - b.from.unwrap_or(0.0)).abs());
                 prop_assert!(d < 1e-9, "{:?} vs {:?}", fast, slow);
+            }
+        }
+    }
+
+    proptest! {
+        /// An arc's samples by turning one direction agree with `point_at` at every fraction.
+        #[test]
+        fn arc_samples_by_rotation_agree_with_point_at(segs in profile(), n in 1usize..65) {
+            for s in &segs {
+                let pts = samples(s, n);
+                prop_assert_eq!(pts.len(), n + 1);
+                for (k, p) in pts.iter().enumerate() {
+                    let q = s.point_at(k as f64 / n as f64);
+                    prop_assert!((p - q).norm() < 1e-12, "{:?} at {}/{}: {:?} vs {:?}", s, k, n, p, q);
+                }
             }
         }
     }
