@@ -139,7 +139,9 @@ impl El {
                 let k = r2 / r;
                 Some(El {
                     a: c + (self.a - c) * k,
-                    b: c + (self.b - c) * ((r2) / (self.b - c).norm()),
+                    // Both ends scaled alike, as rs274 does: an end off the start radius stays
+                    // off it by as much.
+                    b: c + (self.b - c) * k,
                     ..*self
                 })
             }
