@@ -2,7 +2,8 @@
 //! against `wc -l` on the same file, and `latheguard moves --format canon` against LinuxCNC's
 //! `rs274 -g` (when `scripts/rs274-ref.sh` can provide it) on the same program in the same run.
 //!
-//! `cargo bench --bench read` (add `-- --lines N` for another size). Figures are medians of
+//! `cargo bench --bench read` (add `-- --lines N` for another size, `-- --cycles` for the
+//! cycles row alone). Figures are medians of
 //! several runs; compare ratios, not absolute times (shared, noisy machines).
 
 #[allow(dead_code)]
@@ -82,6 +83,11 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     if let Some(i) = args.iter().position(|a| a == "--lines") {
         lines = args.get(i + 1).and_then(|v| v.parse().ok()).unwrap_or(lines);
+    }
+    if args.iter().any(|a| a == "--cycles") {
+        // The cycles row alone (profiling the cycles without the other rows and rs274).
+        cycles(lines, &Machine::builtin());
+        return;
     }
     let root = env!("CARGO_MANIFEST_DIR");
     let lcnc_text = std::fs::read_to_string(format!("{root}/machines/linuxcnc-small-lathe.toml")).unwrap();

@@ -40,7 +40,7 @@ const TOL: f64 = 1e-4 + 1e-9;
 const KNOWN: &[(&str, &str)] = &[
     (
         "corpus/linuxcnc-interp/g71-with-g70/g71-with-g70.ngc",
-        "its profile fillets a corner with an A word (a profile fillet, not modelled: A is refused on a lathe with no A axis) and has pockets that its G71.2 cuts (not modelled: unsupported)",
+        "its profile fillets a corner with an A word (a profile fillet, not modelled: A is refused on a lathe with no A axis), so none of its cycles runs; without the A word its offsets by D fold over at a step shorter than D (line 22), also not modelled",
     ),
     (
         "corpus/linuxcnc-interp/g72-missing-iteration/g72-iterations-missing.ngc",
@@ -48,7 +48,7 @@ const KNOWN: &[(&str, &str)] = &[
     ),
     (
         "corpus/linuxcnc-nc_files/lathe_g70_71_demo.ngc",
-        "the same pawn profile as g71-with-g70: an A-word fillet (not modelled) and pockets cut by G71.2 (not modelled, unsupported)",
+        "the same pawn profile as g71-with-g70: an A-word fillet (not modelled), and a G42.1 finishing pass (nose radius compensation, not modelled)",
     ),
     (
         "corpus/latheeasystep/test.ngc",
@@ -60,11 +60,11 @@ const KNOWN: &[(&str, &str)] = &[
     ),
     (
         "corpus/latheeasystep/Test_Gewinde_innen.ngc",
-        "its G71 boring profile has a pocket (an undercut): pockets are not modelled yet (unsupported), rs274 cuts it",
+        "its G71 profile starts at the cycle's start point and falls from there: rs274 orients it by its ends and offsets it to the other side; not modelled (unsupported)",
     ),
     (
         "corpus/latheeasystep/Test_Innendrehen_mit_Gewinde.ngc",
-        "its G71 boring profile has a pocket (an undercut): pockets are not modelled yet (unsupported), rs274 cuts it",
+        "its G71 profile starts at the cycle's start point and falls from there: rs274 orients it by its ends and offsets it to the other side; not modelled (unsupported)",
     ),
     (
         "corpus/linuxcnc-interp/m98m99-01-basics/test.ngc",

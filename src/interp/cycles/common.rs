@@ -5,7 +5,6 @@ use super::super::flow::Run;
 use super::super::{Feed, Move, MoveKind};
 use crate::gcode::Block;
 use crate::geom::{P2, V2};
-use std::collections::HashMap;
 
 /// Most blocks one profile (P to Q) may span. Fanuc controls allow far fewer; the cap keeps a
 /// hostile program (thousands of cycles over one huge range) linear in its size.
@@ -86,8 +85,9 @@ pub(crate) struct Memory {
     pub g72: Option<(f64, f64)>,
     /// Fanuc `G73 U(Δi) W(Δk) R(d)`: relief in X (radius) and Z, mm, and the number of passes.
     pub g73: Option<(f64, f64, f64)>,
-    /// N number → block indices holding it, ascending (built on first use).
-    n_index: Option<HashMap<u64, Vec<usize>>>,
+    /// (N number, block index) of every numbered block, sorted (built on first use): the
+    /// blocks holding one N number are a run of it, in program order.
+    n_index: Option<Vec<(u64, usize)>>,
     /// G76 first-block words (Fanuc parameters 5142, 5130, 5143, 5140, 5141).
     pub g76: super::thread::G76Params,
     /// G74/G75 first block: the return amount e (mm; Fanuc parameter 5139).
@@ -100,31 +100,39 @@ pub(crate) struct Memory {
 
 /// The block with N number `n`: the first one after block `from`, else the first in the file.
 pub(crate) fn find_n(run: &mut Run<'_>, n: u64, from: usize) -> Option<usize> {
-    if run.cycles.n_index.is_none() {
-        let mut m: HashMap<u64, Vec<usize>> = HashMap::new();
-        for (i, b) in run.prog.blocks.iter().enumerate() {
-            if let Some(k) = b.n() {
-                m.entry(k).or_default().push(i);
-            }
-        }
-        run.cycles.n_index = Some(m);
-    }
-    let list = run.cycles.n_index.as_ref()?.get(&n)?;
-    let k = list.partition_point(|&i| i <= from);
-    list.get(k).or(list.first()).copied()
+    let list = n_blocks(run, n);
+    let k = list.partition_point(|&(_, i)| i <= from);
+    list.get(k).or(list.first()).map(|&(_, i)| i)
+}
+
+/// The blocks numbered `n`, ascending, as (n, block index).
+fn n_blocks<'r>(run: &'r mut Run<'_>, n: u64) -> &'r [(u64, usize)] {
+    let index = run.cycles.n_index.get_or_insert_with(|| {
+        let mut v: Vec<(u64, usize)> = run
+            .prog
+            .blocks
+            .iter()
+            .enumerate()
+            .filter_map(|(i, b)| b.n().map(|k| (k, i)))
+            .collect();
+        v.sort_unstable();
+        v
+    });
+    let lo = index.partition_point(|&(k, _)| k < n);
+    let hi = lo + index[lo..].partition_point(|&(k, _)| k == n);
+    &index[lo..hi]
 }
 
 /// The block with N number `n` for G70, whose profile is the roughing cycle's before it: the
 /// last one before block `from`, else the first after it. (A program that repeats its N numbers
 /// from one operation to the next, as posts do, finishes the profile it just roughed.)
 pub(crate) fn find_n_before(run: &mut Run<'_>, n: u64, from: usize) -> Option<usize> {
-    find_n(run, n, from)?;
-    let list = run.cycles.n_index.as_ref()?.get(&n)?;
-    let k = list.partition_point(|&i| i < from);
+    let list = n_blocks(run, n);
+    let k = list.partition_point(|&(_, i)| i < from);
     if k > 0 {
-        Some(list[k - 1])
+        Some(list[k - 1].1)
     } else {
-        list.get(k).copied()
+        list.get(k).map(|&(_, i)| i)
     }
 }
 

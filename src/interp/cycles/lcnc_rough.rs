@@ -139,7 +139,9 @@ impl El {
                 let k = r2 / r;
                 Some(El {
                     a: c + (self.a - c) * k,
-                    b: c + (self.b - c) * ((r2) / (self.b - c).norm()),
+                    // Both ends scaled alike, as rs274 does: an end off the start radius stays
+                    // off it by as much.
+                    b: c + (self.b - c) * k,
                     ..*self
                 })
             }
@@ -551,7 +553,9 @@ fn expand(
     let mut last_v = frame.to(p0).y;
     for e in &els {
         for p in e.samples() {
-            if p.y > last_v + 1e-6 {
+            // rs274 allows 1e-3 (an arc whose end radius differs a little from its start radius is
+            // sampled on its start radius and may end that far past its end).
+            if p.y > last_v + 1e-3 {
                 run.error(
                     b,
                     at_o,
@@ -600,24 +604,14 @@ fn expand(
         }
         return motion;
     }
-    // Roughing. Pockets (the profile turning back toward the axis) are bridged by G7x.1;
-    // G7x and G7x.2 cut into them, which is not modelled.
+    // Roughing. Pockets (the profile turning back toward the axis) are bridged by G7x.1 and cut
+    // level by level by G7x and G7x.2 ([`pockets`]).
     let mut umax = frame.to(p0).x;
     let pockets_ok = code % 10 == 1;
+    let mut has_pocket = false;
     for e in &els {
         for p in e.samples() {
-            if p.x < umax - 1e-6 && !pockets_ok {
-                run.unsupported(
-                    b,
-                    at_o,
-                    format!(
-                        "{name}: the profile turns back into a pocket (line {}); pockets are not modelled yet, the cycle's moves are not checked",
-                        e.line
-                    ),
-                    true,
-                );
-                return None;
-            }
+            has_pocket |= p.x < umax - 1e-6;
             umax = umax.max(p.x);
         }
     }
@@ -641,6 +635,57 @@ fn expand(
             o0.y + (u - o0.x) * (e0.y - o0.y) / (e0.x - o0.x)
         }
     };
+    if has_pocket && !pockets_ok && to_start.abs() < EPS {
+        // rs274 orients such a profile by its ends and offsets it away from the side latheguard
+        // takes; not modelled (the profile then looks like one long pocket).
+        run.unsupported(
+            b,
+            at_o,
+            format!("{name}: the start point is level with the profile's first point and the profile turns back (line {}): not modelled, the cycle's moves are not checked", els[0].line),
+            true,
+        );
+        return None;
+    }
+    if has_pocket && !pockets_ok {
+        let mut segs = Vec::with_capacity(path.len() + 2);
+        segs.push(El {
+            a: e0,
+            b: o0,
+            arc: None,
+            line: 0,
+        });
+        segs.extend_from_slice(&path);
+        if end.x < su.x {
+            segs.push(El {
+                a: end,
+                b: V2::new(su.x, end.y),
+                arc: None,
+                line: 0,
+            });
+        }
+        let mut out = Out {
+            frame,
+            f,
+            moves: Vec::new(),
+        };
+        if let Err(why) = pockets(&segs, code % 10 == 2, words.i, words.r, &mut out) {
+            run.unsupported(
+                b,
+                at_o,
+                format!("{name}: {why}: not modelled, the cycle's moves are not checked"),
+                true,
+            );
+            return None;
+        }
+        if !super::charge(run, b, out.moves.len() as u64) {
+            return None;
+        }
+        rapid(run, b, back(e0));
+        for (kind, to, feed, line) in out.moves {
+            emit(run, b, kind, to, feed, line);
+        }
+        return motion;
+    }
     if code % 10 != 2 {
         let mut k = 0usize;
         loop {
@@ -684,6 +729,251 @@ fn expand(
         emit(run, b, MoveKind::Line, back(V2::new(su.x, end.y)), f, 0);
     }
     motion
+}
+
+/// The moves of a pocket cycle, collected before they are emitted (spindle frame).
+struct Out {
+    frame: Frame,
+    f: crate::interp::Feed,
+    moves: Vec<(MoveKind, P2, crate::interp::Feed, u32)>,
+}
+
+impl Out {
+    fn line(&mut self, to: V2, fast: bool, line: u32) {
+        let (kind, feed) = if fast {
+            (MoveKind::Rapid, crate::interp::Feed::Rapid)
+        } else {
+            (MoveKind::Line, self.f)
+        };
+        self.moves
+            .push((kind, self.frame.back(to), feed, if fast { 0 } else { line }));
+    }
+    /// An arc of `e`'s circle from `from` to `to`, fed.
+    fn arc(&mut self, e: &El, from: V2, to: V2) {
+        let piece = El { a: from, b: to, ..*e };
+        let Some((c, _)) = e.arc else { return };
+        let sweep = piece.sweep();
+        let sweep = if self.frame.flips() { -sweep } else { sweep };
+        self.moves.push((
+            MoveKind::Arc {
+                center: self.frame.back(c),
+                sweep,
+            },
+            self.frame.back(to),
+            self.f,
+            e.line,
+        ));
+    }
+}
+
+/// Where the level u = `level` meets a piece: the v of each meeting, for an arc the larger v
+/// first. A line lying along the level gives both its ends.
+fn level_hits(e: &El, level: f64) -> Vec<f64> {
+    match e.arc {
+        None => {
+            if e.a.x.min(e.b.x) > level + 1e-6 || e.a.x.max(e.b.x) < level - 1e-6 {
+                vec![]
+            } else if (e.a.x - e.b.x).abs() < 1e-6 {
+                vec![e.a.y, e.b.y]
+            } else {
+                vec![e.a.y + (level - e.a.x) / (e.b.x - e.a.x) * (e.b.y - e.a.y)]
+            }
+        }
+        Some((c, ccw)) => {
+            let r = (e.a - c).norm();
+            let h = level - c.x;
+            let disc = r * r - h * h;
+            if disc < -1e-6 {
+                return vec![];
+            }
+            let s = disc.max(0.0).sqrt();
+            // Within the arc's sweep (a little tolerance at its ends).
+            let on = |p: V2| {
+                let (k0, k1) = (cross(e.a - c, p - c), cross(e.b - c, p - c));
+                if ccw {
+                    k0 >= -1e-6 && k1 <= 1e-6
+                } else {
+                    k0 <= 1e-6 && k1 >= -1e-6
+                }
+            };
+            [c.y + s, c.y - s]
+                .into_iter()
+                .filter(|&v| on(V2::new(level, v)))
+                .collect()
+        }
+    }
+}
+
+/// Whether an arc turns counter-clockwise in the frame rs274's pocket logic uses (v across,
+/// u up: the working frame mirrored), where a piece counter-clockwise in the working frame is
+/// clockwise.
+fn g3_in_pass_frame(ccw: bool) -> bool {
+    !ccw
+}
+
+/// Follow a piece down ("dive") toward `level` from `at`: `Ok(true)` when the piece does not go
+/// down from there (nothing moved).
+fn dive(e: &El, at: &mut V2, level: f64, fast: bool, out: &mut Out) -> Result<bool, String> {
+    match e.arc {
+        None => {
+            if e.a.x <= e.b.x {
+                return Ok(true);
+            }
+            let to = if level < e.b.x {
+                e.b
+            } else {
+                let v = *level_hits(e, level)
+                    .first()
+                    .ok_or_else(|| format!("a pass level misses the profile at line {}", e.line))?;
+                V2::new(level, v)
+            };
+            out.line(to, fast, e.line);
+            *at = to;
+            Ok(false)
+        }
+        Some((c, ccw)) => {
+            if (*at - e.b).norm() < 1e-3 {
+                return Ok(false);
+            }
+            let hits = level_hits(e, level);
+            let g3 = g3_in_pass_frame(ccw);
+            let (past, hit) = if g3 {
+                (at.y > c.y, hits.last().copied().filter(|v| *v <= c.y))
+            } else {
+                (at.y <= c.y, hits.first().copied().filter(|v| *v >= c.y))
+            };
+            if past {
+                return Ok(true);
+            }
+            let to = hit.map_or(e.b, |v| V2::new(level, v));
+            if hit.is_none() || (*at - to).norm() > 1e-3 {
+                out.arc(e, *at, to);
+            }
+            *at = to;
+            Ok(false)
+        }
+    }
+}
+
+/// Follow a piece up ("climb") from `at`: `true` when a pocket starts on it (for a G3-sense arc,
+/// after following it to its top).
+fn climb(e: &El, at: &mut V2, out: &mut Out) -> bool {
+    match e.arc {
+        None => {
+            if e.b.x < e.a.x {
+                return true;
+            }
+            out.line(e.b, false, e.line);
+            *at = e.b;
+            false
+        }
+        Some((c, ccw)) => {
+            if !g3_in_pass_frame(ccw) {
+                if at.y > c.y {
+                    return true;
+                }
+                if (*at - e.b).norm() > 1e-3 {
+                    out.arc(e, *at, e.b);
+                }
+                *at = e.b;
+                false
+            } else {
+                if at.y < c.y {
+                    return true;
+                }
+                let to = if e.b.y < c.y {
+                    V2::new(c.x + (e.a - c).norm(), c.y)
+                } else {
+                    e.b
+                };
+                if (*at - to).norm() > 1e-3 {
+                    out.arc(e, *at, to);
+                }
+                *at = to;
+                true
+            }
+        }
+    }
+}
+
+/// Roughing with pockets (G7x, and G7x.2 with `skip_first` leaving out the passes before the
+/// first pocket), as rs274 cuts them: levels one depth `di` apart counted from the start point;
+/// on each, a feed along the level from the profile's falling side to where it rises again,
+/// out at 45° by `r` and back; the profile followed up until it falls into a pocket, which is
+/// cut the same way level by level, and so on to the profile's end. `segs` is the descent from
+/// the start point to the offset profile, the offset profile, and the climb back to the start
+/// point's level. Err names what cannot be cut.
+fn pockets(segs: &[El], skip_first: bool, di: f64, r: f64, out: &mut Out) -> Result<(), String> {
+    let top = segs[0].a.x;
+    let mut at = segs[0].a;
+    let mut p = 0usize;
+    let mut level = top;
+    if skip_first {
+        while p < segs.len() && !dive(&segs[p], &mut at, -1e9, p == 0, out)? {
+            p += 1;
+        }
+    }
+    let mut spins = 0usize;
+    while p < segs.len() {
+        spins += 1;
+        if spins > MAX_PASSES * 4 + segs.len() * 4 {
+            return Err(format!(
+                "more than {MAX_PASSES} passes (I is too small for this profile)"
+            ));
+        }
+        if (level - at.x) / di > MAX_PASSES as f64 {
+            return Err(format!(
+                "more than {MAX_PASSES} passes (I is too small for this profile)"
+            ));
+        }
+        while level > at.x {
+            level -= di;
+        }
+        if dive(&segs[p], &mut at, level, p == 0, out)? {
+            // The bottom of a descent: up along the profile to the next pocket, if any.
+            let mut pocket = None;
+            for (k, e) in segs.iter().enumerate().skip(p) {
+                if climb(e, &mut at, out) {
+                    pocket = Some(k);
+                    break;
+                }
+            }
+            let Some(k) = pocket else { return Ok(()) };
+            p = k;
+            // rs274 2.9 counts a pocket's levels from the start point's level in G7x, and from
+            // the pocket's rim in G7x.2 (found by comparing its output, see the docs).
+            level = if skip_first { at.x } else { top };
+            continue;
+        }
+        if at.x > level || (at.x - level).abs() > 1e-6 {
+            p += 1;
+            continue;
+        }
+        for ip in p..segs.len() {
+            let hits = level_hits(&segs[ip], at.x);
+            let Some(&v) = (if ip != p { hits.first() } else { hits.last() }) else {
+                continue;
+            };
+            let dist = (v - at.y).abs();
+            if dist < 1e-6 {
+                if ip == p {
+                    continue;
+                }
+                p += 1;
+                break;
+            }
+            let line = segs[ip].line;
+            let to = V2::new(at.x, v);
+            out.line(to, false, line);
+            let esc = (dist / 2.0 / r).min(1.0) * r;
+            out.line(V2::new(to.x + esc, to.y + esc), true, 0);
+            out.line(V2::new(at.x + esc, at.y - esc), true, 0);
+            out.line(at, p == 0, segs[p].line);
+            level -= di;
+            break;
+        }
+    }
+    Ok(())
 }
 
 /// Run the profile subroutine from the current point and collect its moves; nothing of it stays

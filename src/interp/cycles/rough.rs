@@ -169,8 +169,7 @@ fn monotone(
 ) -> bool {
     for sgm in segs {
         let mut prev = sgm.start;
-        for k in 1..=16 {
-            let p = sgm.point_at(k as f64 / 16.0);
+        for p in samples(sgm, 16).into_iter().skip(1) {
             let (dd, da) = (ax.dep(p) - ax.dep(prev), ax.along(p) - ax.along(prev));
             let (dep_axis, along_axis) = if ax.facing { ("Z", "X") } else { ("X", "Z") };
             if dird * dd < -1e-6 && !type2 {
@@ -201,9 +200,47 @@ fn monotone(
     true
 }
 
-/// The profile cut in pieces short enough that each crosses a level at most once in practice:
-/// a line is one piece, an arc one piece per 1/64 turn. (segment, t from, t to)
-fn pieces(segs: &[Seg]) -> Vec<(usize, f64, f64)> {
+/// The points of a segment at fractions 0, 1/n, …, 1 (n ≥ 1): its ends as `point_at` gives them,
+/// an arc's inner points by turning one direction step by step (one sine and cosine per arc
+/// rather than per point; they agree with `point_at` to a few units in the last place).
+fn samples(s: &Seg, n: usize) -> Vec<P2> {
+    let mut out = Vec::with_capacity(n + 1);
+    out.push(s.point_at(0.0));
+    if let MoveKind::Arc { center, sweep } = s.kind {
+        let a = s.start - center;
+        let (r0, r1) = (a.norm(), (s.end - center).norm());
+        if r0 > 0.0 {
+            let (sd, cd) = (sweep / n as f64).sin_cos();
+            let mut dir = a / r0;
+            for k in 1..n {
+                dir = V2::new(dir.x * cd - dir.y * sd, dir.x * sd + dir.y * cd);
+                let r = r0 + (r1 - r0) * (k as f64 / n as f64);
+                out.push(center + dir * r);
+            }
+        } else {
+            out.extend((1..n).map(|k| s.point_at(k as f64 / n as f64)));
+        }
+    } else {
+        out.extend((1..n).map(|k| s.point_at(k as f64 / n as f64)));
+    }
+    out.push(s.point_at(1.0));
+    out
+}
+
+/// A piece of the profile short enough that it crosses a level at most once in practice: a
+/// line is one piece, an arc one piece per 1/64 turn. Its ends' stepping coordinates are
+/// computed once per cycle, so a pass level is tested against them without trigonometry.
+#[derive(Clone, Copy, Debug)]
+struct Piece {
+    seg: usize,
+    t0: f64,
+    t1: f64,
+    /// The stepping coordinate at t0 and at t1.
+    d0: f64,
+    d1: f64,
+}
+
+fn pieces(segs: &[Seg], ax: Axes) -> Vec<Piece> {
     let mut out = Vec::new();
     for (i, s) in segs.iter().enumerate() {
         let n = match s.kind {
@@ -212,15 +249,73 @@ fn pieces(segs: &[Seg]) -> Vec<(usize, f64, f64)> {
             }
             _ => 1,
         };
+        let pts = samples(s, n);
+        let mut d0 = ax.dep(pts[0]);
         for k in 0..n {
-            out.push((i, k as f64 / n as f64, (k + 1) as f64 / n as f64));
+            let t1 = (k + 1) as f64 / n as f64;
+            let d1 = ax.dep(pts[k + 1]);
+            out.push(Piece {
+                seg: i,
+                t0: k as f64 / n as f64,
+                t1,
+                d0,
+                d1,
+            });
+            d0 = d1;
         }
     }
     out
 }
 
+/// Where an arc piece (t0..t1, its ends on either side of the level) meets the stepping
+/// coordinate `level`: in closed form on the circle (an arccosine), then Newton steps when the
+/// arc's start and end radii differ (the path interpolates its radius, see `path_point`).
+fn arc_crossing(s: &Seg, center: P2, sweep: f64, t0: f64, t1: f64, level: f64, ax: Axes) -> f64 {
+    let a = s.start - center;
+    let (r0, r1) = (a.norm(), (s.end - center).norm());
+    let a0 = a.y.atan2(a.x);
+    let cd = ax.dep(center);
+    // dep(θ) = cd + r·cos(θ − φ): φ is 0 when stepping in X, π/2 in Z.
+    let phi = if ax.facing { std::f64::consts::FRAC_PI_2 } else { 0.0 };
+    let radius = |t: f64| r0 + (r1 - r0) * t;
+    if sweep.abs() < 1e-300 || r0.max(r1) < 1e-300 {
+        return t1;
+    }
+    let tm = 0.5 * (t0 + t1);
+    let base = ((level - cd) / radius(tm)).clamp(-1.0, 1.0).acos();
+    let period = std::f64::consts::TAU / sweep.abs();
+    let mut best = (f64::INFINITY, tm);
+    for th in [phi + base, phi - base] {
+        let raw = (th - a0) / sweep;
+        let t = raw + ((tm - raw) / period).round() * period;
+        let miss = (t0 - t).max(t - t1).max(0.0);
+        if miss < best.0 {
+            best = (miss, t);
+        }
+    }
+    let mut t = best.1.clamp(t0, t1);
+    if (r1 - r0).abs() > 1e-12 {
+        for _ in 0..4 {
+            let th = a0 + sweep * t - phi;
+            let (sn, cs) = th.sin_cos();
+            let g = cd + radius(t) * cs - level;
+            let dg = (r1 - r0) * cs - radius(t) * sn * sweep;
+            if dg.abs() < 1e-300 {
+                break;
+            }
+            let next = (t - g / dg).clamp(t0, t1);
+            if (next - t).abs() < 1e-16 {
+                break;
+            }
+            t = next;
+        }
+    }
+    t
+}
+
 /// One stretch of a level where the profile lies beyond it (material to cut): from `from` to
 /// `to` along the pass; `from` is `None` for the stretch open toward the start point.
+#[derive(Debug, Clone, Copy, PartialEq)]
 struct Stretch {
     from: Option<f64>,
     to: f64,
@@ -228,37 +323,26 @@ struct Stretch {
     line: u32,
 }
 
-/// The stretches of level `level`: where the offset profile lies deeper than the level, in the
-/// order a pass meets them. A type I profile has one, open toward the start point; a type II
-/// profile one more per pocket.
-fn stretches(segs: &[Seg], pieces: &[(usize, f64, f64)], level: f64, dird: f64, ax: Axes) -> Vec<Stretch> {
-    let f = |p: P2| dird * (ax.dep(p) - level);
-    let mut out = Vec::new();
-    let Some(first) = segs.first() else { return out };
-    let mut inside = f(first.start) < 0.0;
+/// The stretches of level `level` into `out` (cleared first): where the offset profile lies
+/// deeper than the level, in the order a pass meets them. A type I profile has one, open toward
+/// the start point; a type II profile one more per pocket. A line meets the level in one
+/// division, an arc in an arccosine ([`arc_crossing`]).
+fn stretches(segs: &[Seg], pieces: &[Piece], level: f64, dird: f64, ax: Axes, out: &mut Vec<Stretch>) {
+    out.clear();
+    let f = |d: f64| dird * (d - level);
+    let Some(first) = segs.first() else { return };
+    let mut inside = f(ax.dep(first.start)) < 0.0;
     let mut from: Option<f64> = None;
-    for &(i, t0, t1) in pieces {
-        let s = &segs[i];
-        let (p0, p1) = (s.point_at(t0), s.point_at(t1));
-        let (f0, f1) = (f(p0), f(p1));
+    for pc in pieces {
+        let (f0, f1) = (f(pc.d0), f(pc.d1));
         let flips = if inside { f1 >= 0.0 } else { f1 < 0.0 };
         if !flips {
             continue;
         }
-        // Where f changes sign on this piece: exact on a line, by bisection on an arc.
+        let s = &segs[pc.seg];
+        let (t0, t1) = (pc.t0, pc.t1);
         let t = match s.kind {
-            MoveKind::Arc { .. } => {
-                let (mut lo, mut hi) = (t0, t1);
-                for _ in 0..60 {
-                    let mid = 0.5 * (lo + hi);
-                    if (f(s.point_at(mid)) < 0.0) == (f0 < 0.0) {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                hi
-            }
+            MoveKind::Arc { center, sweep } => arc_crossing(s, center, sweep, t0, t1, level, ax),
             _ if (f1 - f0).abs() > 0.0 => t0 + (t1 - t0) * (-f0 / (f1 - f0)).clamp(0.0, 1.0),
             _ => t1,
         };
@@ -282,7 +366,6 @@ fn stretches(segs: &[Seg], pieces: &[(usize, f64, f64)], level: f64, dird: f64, 
             line: last.line,
         });
     }
-    out
 }
 
 /// Most (pass level × profile piece) tests one cycle may spend.
@@ -298,14 +381,16 @@ fn rough(run: &mut Run<'_>, b: &Block, t: &Traced, a: P2, off: V2, depth: f64, e
     if !monotone(run, b, &prof, dird, dira, ax, t.p_names_both, name) {
         return;
     }
-    let pcs = pieces(&prof);
+    let pcs = pieces(&prof, ax);
     // The deepest point of the profile (type II: a pocket may lie deeper than its first point).
     let mut deepest = dird * ax.dep(first);
-    for &(i, _, t1) in &pcs {
-        deepest = deepest.min(dird * ax.dep(prof[i].point_at(t1)));
-        if let MoveKind::Arc { .. } = prof[i].kind {
-            for k in 1..8 {
-                deepest = deepest.min(dird * ax.dep(prof[i].point_at(k as f64 / 8.0)));
+    for pc in &pcs {
+        deepest = deepest.min(dird * pc.d1);
+    }
+    for sgm in &prof {
+        if let MoveKind::Arc { .. } = sgm.kind {
+            for p in &samples(sgm, 8)[1..8] {
+                deepest = deepest.min(dird * ax.dep(*p));
             }
         }
     }
@@ -327,13 +412,15 @@ fn rough(run: &mut Run<'_>, b: &Block, t: &Traced, a: P2, off: V2, depth: f64, e
     }
     let (a0, d0) = (ax.along(a), ax.dep(a));
     let m0 = run.moves.len();
+    let mut sts = Vec::new();
     for k in 1..passes as usize {
         if common::too_many_moves(run, b, m0, name) {
             return;
         }
         let level = d0 - dird * depth * k as f64;
         let above = d0 - dird * depth * (k - 1) as f64;
-        for st in stretches(&prof, &pcs, level, dird, ax) {
+        stretches(&prof, &pcs, level, dird, ax, &mut sts);
+        for &st in &sts {
             let len = dira * (st.to - st.from.unwrap_or(a0));
             if len <= 1e-9 {
                 continue;
@@ -481,5 +568,172 @@ fn g73(run: &mut Run<'_>, b: &Block, w: &mut Words) {
             common::follow(run, b, &sgm.shifted(shift), f);
         }
         return_to(run, b, a, dird, Axes { facing: false });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The crossings as they were first written: each piece's ends evaluated on the path, and an
+    /// arc's crossing found by 60 bisection steps. The slow oracle for [`stretches`].
+    fn stretches_by_bisection(segs: &[Seg], level: f64, dird: f64, ax: Axes) -> Vec<Stretch> {
+        let f = |p: P2| dird * (ax.dep(p) - level);
+        let mut out = Vec::new();
+        let Some(first) = segs.first() else { return out };
+        let mut inside = f(first.start) < 0.0;
+        let mut from: Option<f64> = None;
+        for pc in pieces(segs, ax) {
+            let (s, t0, t1) = (&segs[pc.seg], pc.t0, pc.t1);
+            let (p0, p1) = (s.point_at(t0), s.point_at(t1));
+            let (f0, f1) = (f(p0), f(p1));
+            let flips = if inside { f1 >= 0.0 } else { f1 < 0.0 };
+            if !flips {
+                continue;
+            }
+            let t = match s.kind {
+                MoveKind::Arc { .. } => {
+                    let (mut lo, mut hi) = (t0, t1);
+                    for _ in 0..60 {
+                        let mid = 0.5 * (lo + hi);
+                        if (f(s.point_at(mid)) < 0.0) == (f0 < 0.0) {
+                            lo = mid;
+                        } else {
+                            hi = mid;
+                        }
+                    }
+                    hi
+                }
+                _ if (f1 - f0).abs() > 0.0 => t0 + (t1 - t0) * (-f0 / (f1 - f0)).clamp(0.0, 1.0),
+                _ => t1,
+            };
+            let at = ax.along(s.point_at(t));
+            if inside {
+                out.push(Stretch {
+                    from,
+                    to: at,
+                    line: s.line,
+                });
+            } else {
+                from = Some(at);
+            }
+            inside = !inside;
+        }
+        if inside {
+            let last = segs.last().unwrap_or(first);
+            out.push(Stretch {
+                from,
+                to: ax.along(last.end),
+                line: last.line,
+            });
+        }
+        out
+    }
+
+    /// A random profile in the XZ plane: lines and arcs (either way, up to a half turn, the end
+    /// radius off by up to `skew` as the interpreter tolerates), chained end to start.
+    fn profile() -> impl Strategy<Value = Vec<Seg>> {
+        let step = (0u8..3, 0.1f64..8.0, -8.0f64..8.0, 0.1f64..3.1, -1e-3f64..1e-3);
+        (proptest::collection::vec(step, 1..9), -5.0f64..5.0).prop_map(|(steps, x0)| {
+            let mut p = P2::new(x0, 0.0);
+            let mut out = Vec::new();
+            for (k, (kind, a, b, ang, skew)) in steps.into_iter().enumerate() {
+                let line = k as u32 + 10;
+                if kind == 0 {
+                    let end = p + V2::new(b, -a);
+                    out.push(Seg {
+                        kind: MoveKind::Line,
+                        start: p,
+                        end,
+                        line,
+                    });
+                    p = end;
+                } else {
+                    // An arc of radius a about a centre at angle b from p, sweeping ±ang.
+                    let sweep = if kind == 1 { ang } else { -ang };
+                    let center = p + V2::new(b.cos(), b.sin()) * a;
+                    let s0 = (p - center).y.atan2((p - center).x);
+                    let r1 = a + skew;
+                    let end = center + V2::new((s0 + sweep).cos(), (s0 + sweep).sin()) * r1;
+                    out.push(Seg {
+                        kind: MoveKind::Arc { center, sweep },
+                        start: p,
+                        end,
+                        line,
+                    });
+                    p = end;
+                }
+            }
+            out
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        /// The closed-form crossings give the stretches the bisection gave, on random profiles
+        /// of lines and arcs, for levels through and beside them, stepping either way in X or Z.
+        #[test]
+        fn closed_form_crossings_match_the_bisection(
+            segs in profile(),
+            frac in -0.1f64..1.1,
+            dird in prop_oneof![Just(1.0), Just(-1.0)],
+            facing in any::<bool>(),
+        ) {
+            let ax = Axes { facing };
+            let pcs = pieces(&segs, ax);
+            let lo = pcs.iter().map(|p| p.d0.min(p.d1)).fold(f64::MAX, f64::min);
+            let hi = pcs.iter().map(|p| p.d0.max(p.d1)).fold(f64::MIN, f64::max);
+            let level = lo + (hi - lo) * frac;
+            let mut fast = Vec::new();
+            stretches(&segs, &pcs, level, dird, ax, &mut fast);
+            let slow = stretches_by_bisection(&segs, level, dird, ax);
+            prop_assert_eq!(fast.len(), slow.len(), "{:?} vs {:?}", fast, slow);
+            for (a, b) in fast.iter().zip(&slow) {
+                prop_assert_eq!(a.line, b.line);
+                prop_assert_eq!(a.from.is_some(), b.from.is_some());
+                let d = (a.to - b.to).abs().max((a.from.unwrap_or(0.0) - b.from.unwrap_or(0.0)).abs());
+                prop_assert!(d < 1e-9, "{:?} vs {:?}", fast, slow);
+            }
+        }
+    }
+
+    proptest! {
+        /// An arc's samples by turning one direction agree with `point_at` at every fraction.
+        #[test]
+        fn arc_samples_by_rotation_agree_with_point_at(segs in profile(), n in 1usize..65) {
+            for s in &segs {
+                let pts = samples(s, n);
+                prop_assert_eq!(pts.len(), n + 1);
+                for (k, p) in pts.iter().enumerate() {
+                    let q = s.point_at(k as f64 / n as f64);
+                    prop_assert!((p - q).norm() < 1e-12, "{:?} at {}/{}: {:?} vs {:?}", s, k, n, p, q);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_level_meets_a_quarter_arc_where_the_circle_says() {
+        // Clockwise quarter circle of radius 5 about (10, -30): from (15, -30) to (10, -35).
+        let s = Seg {
+            kind: MoveKind::Arc {
+                center: P2::new(10.0, -30.0),
+                sweep: -std::f64::consts::FRAC_PI_2,
+            },
+            start: P2::new(15.0, -30.0),
+            end: P2::new(10.0, -35.0),
+            line: 7,
+        };
+        let ax = Axes { facing: false };
+        let pcs = pieces(std::slice::from_ref(&s), ax);
+        let mut out = Vec::new();
+        // Stepping down in X from above: material where X > 13 runs from the start to where
+        // X = 13 on the arc, z = -30 - sqrt(25 - 9) = -34.
+        stretches(std::slice::from_ref(&s), &pcs, 13.0, -1.0, ax, &mut out);
+        assert_eq!(out.len(), 1, "{out:?}");
+        assert!((out[0].to - -34.0).abs() < 1e-12, "{out:?}");
+        assert_eq!(out[0].line, 7);
     }
 }
