@@ -255,6 +255,8 @@ pub(crate) struct Run<'a> {
     /// Findings reported by blocks so far, kept or not (a block learns from it that a step of
     /// its own was refused).
     pub reports: u64,
+    /// Nose-radius compensation (src/interp/comp.rs): none until the first G41/G42.
+    pub(super) comp: Option<Box<super::comp::Comp>>,
 }
 
 impl<'a> Run<'a> {
@@ -316,6 +318,7 @@ impl<'a> Run<'a> {
             reported: HashSet::new(),
             left_out,
             reports: 0,
+            comp: None,
         }
     }
 
