@@ -51,14 +51,6 @@ const KNOWN: &[(&str, &str)] = &[
         "the same pawn profile as g71-with-g70: an A-word fillet (not modelled) and pockets cut by G71.2 (not modelled, unsupported)",
     ),
     (
-        "corpus/latheeasystep/test.ngc",
-        "its G72 and G71 cycles agree move for move; from its G42.1 finishing contour on, rs274 offsets the path by the tool nose radius, which latheguard does not model (a warning)",
-    ),
-    (
-        "corpus/latheeasystep/Test_Gewinde.ngc",
-        "its G72 and G71 cycles agree move for move; from its G42.1 finishing contour on, rs274 offsets the path by the tool nose radius, which latheguard does not model (a warning)",
-    ),
-    (
         "corpus/latheeasystep/Test_Gewinde_innen.ngc",
         "its G71 boring profile has a pocket (an undercut): pockets are not modelled yet (unsupported), rs274 cuts it",
     ),
