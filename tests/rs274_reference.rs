@@ -623,7 +623,10 @@ fn lathe_comp_programs_move_as_rs274_moves_them() {
     let machine = tmp.path().join("machine.toml");
     std::fs::write(&machine, machine_for_table(&table)).unwrap();
     let mut failures = Vec::new();
-    for program in [dir.join("test.ngc"), root.join("corpus/linuxcnc-nc_files/lathecomp.ngc")] {
+    for program in [
+        dir.join("test.ngc"),
+        root.join("corpus/linuxcnc-nc_files/lathecomp.ngc"),
+    ] {
         let reference = run_rs274(&program, &tbl).expect("rs274 completes the comp programs");
         let ours = latheguard_canon(&machine, &program);
         let (r, o) = (motion_calls(&reference), motion_calls(&ours));
@@ -631,6 +634,47 @@ fn lathe_comp_programs_move_as_rs274_moves_them() {
         match compare(&r, &o) {
             Some(d) => failures.push(format!("{}: {d}", program.display())),
             None => println!("{}: {} moves equal", program.display(), r.len()),
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The LinuxCNC compensation cases (`tests/cases/comp/lcnc_*.ngc`: OD, bore, face and back-face
+/// profiles with every orientation 0–9, a 0.8 mm nose) against rs274 given the same tools: every
+/// move within 1e-4.
+#[test]
+fn lcnc_comp_cases_move_as_rs274_moves_them() {
+    if !rs274_present() {
+        println!("rs274 comparison of the comp cases skipped: rs274 is not unpacked");
+        return;
+    }
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/cases/comp");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ngc"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 4, "too few LinuxCNC comp cases: {}", files.len());
+    let tmp = tempfile::tempdir().unwrap();
+    // Stations 1–10: orientation station − 1, nose radius 0.8 mm (rs274 reads D in inches).
+    let tbl = tmp.path().join("tools.tbl");
+    let text: String = (1..=10)
+        .map(|t| format!("T{t} P{t} Z0 X0 D{:.9} Q{};\n", 1.6 / 25.4, t - 1))
+        .collect();
+    std::fs::write(&tbl, &text).unwrap();
+    let machine = tmp.path().join("machine.toml");
+    std::fs::write(&machine, machine_for_table(&tool_table(&text))).unwrap();
+    let mut failures = Vec::new();
+    for f in &files {
+        let reference = run_rs274(f, &tbl).expect("rs274 completes the comp cases");
+        let ours = latheguard_canon(&machine, f);
+        let (r, o) = (motion_calls(&reference), motion_calls(&ours));
+        assert!(r.len() > 20, "{}: rs274 made too few moves", f.display());
+        match compare(&r, &o) {
+            Some(d) => failures.push(format!("{}: {d}", f.display())),
+            None => println!("{}: {} moves equal", f.display(), r.len()),
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));

@@ -403,7 +403,11 @@ impl Run<'_> {
                 None => 0,
                 Some(l) if l.fract() == 0.0 && (0.0..=9.0).contains(&l) => l as u8,
                 Some(l) => {
-                    self.error(b, w.at(b'L'), format!("L{l}: the tip direction must be a whole number from 0 to 9"));
+                    self.error(
+                        b,
+                        w.at(b'L'),
+                        format!("L{l}: the tip direction must be a whole number from 0 to 9"),
+                    );
                     return;
                 }
             };
@@ -412,11 +416,19 @@ impl Run<'_> {
             let station = if !fanuc && w.peek(b'D') {
                 let d = w.get(b'D').unwrap_or(0.0);
                 if d.fract() != 0.0 || d < 0.0 {
-                    self.error(b, w.at(b'D'), format!("D{d}: {} takes a tool number in D", g_name(code)));
+                    self.error(
+                        b,
+                        w.at(b'D'),
+                        format!("D{d}: {} takes a tool number in D", g_name(code)),
+                    );
                     return;
                 }
                 if d > 0.0 && self.machine.tool(d as u32).is_none() {
-                    self.error(b, w.at(b'D'), format!("D{d}: the machine file has no tool {d} to take the nose radius from"));
+                    self.error(
+                        b,
+                        w.at(b'D'),
+                        format!("D{d}: the machine file has no tool {d} to take the nose radius from"),
+                    );
                     return;
                 }
                 d as u32
@@ -424,13 +436,14 @@ impl Run<'_> {
                 self.station
             };
             let tool = self.machine.tool(station);
-            (
-                tool.map_or(0.0, |t| t.nose_radius),
-                tool.map_or(0, |t| t.tip_direction),
-            )
+            (tool.map_or(0.0, |t| t.nose_radius), tool.map_or(0, |t| t.tip_direction))
         };
         if !self.modal.plane_xz && dir != 0 && dir != 9 {
-            self.error(b, Some(at), format!("{} with a lathe tip direction needs the XZ plane (G18)", g_name(code)));
+            self.error(
+                b,
+                Some(at),
+                format!("{} with a lathe tip direction needs the XZ plane (G18)", g_name(code)),
+            );
             return;
         }
         let style = if fanuc { comp::Style::Fanuc } else { comp::Style::Rs274 };

@@ -467,7 +467,14 @@ impl Comp {
         let alpha = angle_of(p - c) + if side == Side::Left { FRAC_PI_2 } else { -FRAC_PI_2 };
         let end = p + r * unit(alpha);
         self.set_endpoint(c);
-        self.enqueue(QKind::Straight { rapid, dir: unit(alpha) }, end, m);
+        self.enqueue(
+            QKind::Straight {
+                rapid,
+                dir: unit(alpha),
+            },
+            end,
+            m,
+        );
         self.entry_pending = self.style == Style::Fanuc;
         self.first = false;
         self.cur = end;
@@ -491,7 +498,14 @@ impl Comp {
         if p == op {
             // No motion in the plane: the nose stays where it is.
             let c = self.cur;
-            self.enqueue(QKind::Straight { rapid, dir: V2::zeros() }, c, m);
+            self.enqueue(
+                QKind::Straight {
+                    rapid,
+                    dir: V2::zeros(),
+                },
+                c,
+                m,
+            );
             return Ok(());
         }
         let gamma = if side == Side::Left { FRAC_PI_2 } else { -FRAC_PI_2 };
@@ -522,9 +536,8 @@ impl Comp {
         let concave = beta < -SMALL
             || beta > PI + SMALL
             || (beta > PI - SMALL
-                && front_arc.is_some_and(|(_, _, turn)| {
-                    (side == Side::Right && turn > 0) || (side == Side::Left && turn < 0)
-                }));
+                && front_arc
+                    .is_some_and(|(_, _, turn)| (side == Side::Right && turn > 0) || (side == Side::Left && turn < 0)));
         if !concave && beta > SMALL {
             let front_straight = matches!(self.queue.first().map(|q| q.kind), Some(QKind::Straight { .. }));
             if self.style == Style::Fanuc && front_straight {
@@ -559,7 +572,14 @@ impl Comp {
                         m,
                     );
                 } else {
-                    self.enqueue(QKind::Straight { rapid, dir: V2::zeros() }, mid, m);
+                    self.enqueue(
+                        QKind::Straight {
+                            rapid,
+                            dir: V2::zeros(),
+                        },
+                        mid,
+                        m,
+                    );
                 }
                 self.dequeue(out);
                 self.set_endpoint(mid);
@@ -578,7 +598,11 @@ impl Comp {
                 Some((prev_end, prev_center, prev_turn)) => {
                     let oldrad = (prev_center - prev_end).norm();
                     let base_dir = angle_of(p - op);
-                    let th = if prev_turn > 0 { base_dir + FRAC_PI_2 } else { base_dir - FRAC_PI_2 };
+                    let th = if prev_turn > 0 {
+                        base_dir + FRAC_PI_2
+                    } else {
+                        base_dir - FRAC_PI_2
+                    };
                     let phi = angle_of(prev_center - op);
                     let ins = inside(side, prev_turn);
                     let oldrad_uncomp = if ins { oldrad + r } else { oldrad - r };
@@ -647,7 +671,14 @@ impl Comp {
         let new_center = end + c_len * unit(ab);
         if self.lathe_tip {
             // The controlled point first moves to where the nose centre's path begins.
-            self.enqueue(QKind::Straight { rapid: false, dir: V2::zeros() }, c, m);
+            self.enqueue(
+                QKind::Straight {
+                    rapid: false,
+                    dir: V2::zeros(),
+                },
+                c,
+                m,
+            );
         }
         self.set_endpoint(c);
         let original = find_turn(c, new_center, turn, end);
@@ -671,7 +702,15 @@ impl Comp {
         )
     }
 
-    fn arc_comp2(&mut self, side: Side, m: Move, p: P2, center: P2, turn: i32, out: &mut Vec<Move>) -> Result<(), String> {
+    fn arc_comp2(
+        &mut self,
+        side: Side,
+        m: Move,
+        p: P2,
+        center: P2,
+        turn: i32,
+        out: &mut Vec<Move>,
+    ) -> Result<(), String> {
         let r = self.radius;
         let op = self.prog;
         let arc_radius = (center - p).norm();
@@ -686,10 +725,18 @@ impl Comp {
         }
         let c = self.cur;
         let mut theta = angle_of(c - op);
-        theta = if side == Side::Left { theta - FRAC_PI_2 } else { theta + FRAC_PI_2 };
+        theta = if side == Side::Left {
+            theta - FRAC_PI_2
+        } else {
+            theta + FRAC_PI_2
+        };
         let mut delta = angle_of(center - op);
         let alpha = if turn > 0 { delta - FRAC_PI_2 } else { delta + FRAC_PI_2 };
-        let mut beta = if side == Side::Left { theta - alpha } else { alpha - theta };
+        let mut beta = if side == Side::Left {
+            theta - alpha
+        } else {
+            alpha - theta
+        };
         if beta > 1.5 * PI {
             beta -= TAU;
         } else if beta < -FRAC_PI_2 {
@@ -737,11 +784,16 @@ impl Comp {
                     let newrad = if tool_inside { arc_radius - r } else { arc_radius + r };
                     let arc_cc = (prev_center - center).norm();
                     if oldrad == 0.0 || arc_cc == 0.0 {
-                        return Err("two arcs with the same centre meet in a corner: nose radius compensation cannot join them".into());
+                        return Err(
+                            "two arcs with the same centre meet in a corner: nose radius compensation cannot join them"
+                                .into(),
+                        );
                     }
                     let a = (oldrad * oldrad + arc_cc * arc_cc - newrad * newrad) / (2.0 * oldrad * arc_cc);
                     if !(-1.0..=1.0).contains(&a) {
-                        return Err("the corner between these arcs is too tight for the tool nose: it would gouge".into());
+                        return Err(
+                            "the corner between these arcs is too tight for the tool nose: it would gouge".into(),
+                        );
                     }
                     let pullback = a.acos();
                     let cc_dir = angle_of(center - prev_center);

@@ -770,7 +770,10 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
                     return Err(cx.err(
                         d.span(),
                         key("tip_direction"),
-                        format!("{} is not a tip direction: give a whole number from 0 to 9", d.get_ref()),
+                        format!(
+                            "{} is not a tip direction: give a whole number from 0 to 9",
+                            d.get_ref()
+                        ),
                     ))
                 }
             },
