@@ -838,3 +838,188 @@ impl Comp {
 fn round4(v: f64) -> f64 {
     (v * 1e4).round() / 1e4
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::interp::Feed;
+
+    const R: f64 = 0.8;
+
+    /// A programmed move in the spindle frame (x radius, z).
+    fn mv(kind: MoveKind, start: (f64, f64), end: (f64, f64), line: u32) -> Move {
+        Move {
+            kind,
+            line,
+            n: None,
+            profile_line: 0,
+            start: P2::new(start.0, start.1),
+            end: P2::new(end.0, end.1),
+            tip: V2::zeros(),
+            station: 1,
+            feed: Feed::PerMinute(100.0),
+            state: 0,
+        }
+    }
+
+    fn line(start: (f64, f64), end: (f64, f64), n: u32) -> Move {
+        mv(MoveKind::Line, start, end, n)
+    }
+
+    fn close(p: P2, x: f64, z: f64) -> bool {
+        (p.x - x).abs() < 1e-9 && (p.y - z).abs() < 1e-9
+    }
+
+    /// Run moves through compensation (G42 unless `left`), then G40 and the end of the program.
+    fn run(style: Style, left: bool, tip: V2, moves: &[Move]) -> Vec<Move> {
+        let mut c = Comp::new();
+        let side = if left { Side::Left } else { Side::Right };
+        c.on(side, R, tip, style, 1.0).unwrap();
+        let mut out = Vec::new();
+        for m in moves {
+            c.take(*m, &mut out).unwrap();
+        }
+        c.off(&mut out).unwrap();
+        c.flush(&mut out);
+        out
+    }
+
+    #[test]
+    fn tip_vectors_follow_the_fanuc_and_linuxcnc_charts() {
+        let rear = TurretSide::Rear;
+        let front = TurretSide::Front;
+        // Fanuc tip 3 (OD turning toward the chuck): the tip is below and left of the centre.
+        assert_eq!(tip_vector(3, 1.0, true, rear), V2::new(-1.0, -1.0));
+        // On a front turret the operator's chart is mirrored about the spindle axis.
+        assert_eq!(tip_vector(3, 1.0, true, front), V2::new(1.0, -1.0));
+        assert_eq!(tip_vector(2, 1.0, true, rear), V2::new(1.0, -1.0));
+        assert_eq!(tip_vector(6, 1.0, true, rear), V2::new(1.0, 0.0));
+        assert_eq!(tip_vector(8, 1.0, true, rear), V2::new(-1.0, 0.0));
+        // LinuxCNC's orientations are fixed in its X/Z axes (rs274ngc), whatever the turret.
+        assert_eq!(tip_vector(2, 1.0, false, rear), V2::new(-1.0, -1.0));
+        assert_eq!(tip_vector(2, 1.0, false, front), V2::new(-1.0, -1.0));
+        assert_eq!(tip_vector(5, 1.0, false, rear), V2::new(0.0, 1.0));
+        for dir in [0, 9] {
+            assert_eq!(tip_vector(dir, 1.0, true, rear), V2::zeros());
+            assert_eq!(tip_vector(dir, 1.0, false, rear), V2::zeros());
+        }
+    }
+
+    /// Worked by hand: G42, tip 3, r 0.8 on an OD at radius 10 toward the chuck. The nose centre
+    /// runs at radius 10.8; the imaginary tip (centre − (0.8, 0.8)) at radius 10, the programmed
+    /// diameter, 0.8 mm behind the centre in z.
+    #[test]
+    fn od_line_with_tip_3_runs_at_the_programmed_diameter() {
+        let tip = tip_vector(3, R, true, TurretSide::Rear);
+        let moves = [line((15.0, 5.0), (10.0, 1.0), 1), line((10.0, 1.0), (10.0, -10.0), 2)];
+        let out = run(Style::Fanuc, false, tip, &moves);
+        assert_eq!(out.len(), 2, "{out:?}");
+        // Fanuc start-up: the offset at the end of the start-up block is perpendicular to the
+        // next block (+x for a cut toward -z with the tool on +x).
+        assert!(close(out[0].start, 15.0, 5.0));
+        assert!(close(out[0].end, 10.0, 0.2), "{:?}", out[0].end);
+        assert!(close(out[1].end, 10.0, -10.8), "{:?}", out[1].end);
+        // rs274ngc: the entry ends perpendicular to the entry move itself, then the next block
+        // turns toward the tool's side (an inside corner), so the entry is cut back to where its
+        // offset line meets the offset of the cut: radius 10.8, 0.8 mm from the entry's line.
+        let out = run(Style::Rs274, false, V2::zeros(), &moves);
+        assert_eq!(out.len(), 2, "{out:?}");
+        let e = out[0].end;
+        assert!((e.x - 10.8).abs() < 1e-9, "{e:?}");
+        let d = V2::new(-5.0, -4.0).normalize();
+        let off = e - P2::new(10.0, 1.0);
+        assert!(((off.x * d.y - off.y * d.x).abs() - R).abs() < 1e-9, "{e:?}");
+        assert!(close(out[1].end, 10.8, -10.0));
+    }
+
+    /// rs274ngc: an outside corner is rounded with an arc of the nose radius about the
+    /// programmed corner; Fanuc takes the intersection of the offset lines.
+    #[test]
+    fn outside_corner_is_an_arc_for_rs274_and_an_intersection_for_fanuc() {
+        // Toward the chuck at radius 10, then straight down a face to radius 5 (convex).
+        let moves = [
+            line((15.0, 5.0), (10.0, 1.0), 1),
+            line((10.0, 1.0), (10.0, -10.0), 2),
+            line((10.0, -10.0), (5.0, -10.0), 3),
+        ];
+        let out = run(Style::Rs274, false, V2::zeros(), &moves);
+        let arc = out
+            .iter()
+            .find(|m| matches!(m.kind, MoveKind::Arc { .. }))
+            .expect("a corner arc");
+        let MoveKind::Arc { center, sweep } = arc.kind else {
+            unreachable!()
+        };
+        assert!(close(center, 10.0, -10.0));
+        assert!(close(arc.start, 10.8, -10.0) && close(arc.end, 10.0, -10.8), "{arc:?}");
+        assert!((sweep.abs() - FRAC_PI_2).abs() < 1e-9);
+        assert_eq!(arc.line, 3, "the corner arc belongs to the block that turns");
+        let last = out.last().unwrap();
+        assert!(close(last.end, 5.0, -10.8));
+        let out = run(Style::Fanuc, false, V2::zeros(), &moves);
+        assert!(out.iter().all(|m| !matches!(m.kind, MoveKind::Arc { .. })));
+        assert!(close(out[1].end, 10.8, -10.8), "{:?}", out[1].end);
+    }
+
+    /// An inside corner: both controls stop where the two offset lines meet.
+    #[test]
+    fn inside_corner_stops_where_the_offsets_meet() {
+        // Toward the chuck at radius 10, then up a shoulder to radius 15 (concave).
+        let moves = [
+            line((15.0, 5.0), (10.0, 1.0), 1),
+            line((10.0, 1.0), (10.0, -10.0), 2),
+            line((10.0, -10.0), (15.0, -10.0), 3),
+        ];
+        for style in [Style::Rs274, Style::Fanuc] {
+            let out = run(style, false, V2::zeros(), &moves);
+            assert_eq!(out.len(), 3, "{out:?}");
+            assert!(close(out[1].end, 10.8, -9.2), "{style:?}: {:?}", out[1].end);
+            assert!(close(out[2].end, 15.0, -9.2), "{style:?}: {:?}", out[2].end);
+        }
+    }
+
+    /// A move that does not move in the plane waits with the others (look-ahead across it).
+    #[test]
+    fn a_dwell_between_moves_does_not_break_the_corner() {
+        let dwell = mv(MoveKind::Dwell { seconds: 1.0 }, (10.0, -10.0), (10.0, -10.0), 3);
+        let moves = [
+            line((15.0, 5.0), (10.0, 1.0), 1),
+            line((10.0, 1.0), (10.0, -10.0), 2),
+            dwell,
+            line((10.0, -10.0), (15.0, -10.0), 4),
+        ];
+        let out = run(Style::Rs274, false, V2::zeros(), &moves);
+        assert_eq!(out.len(), 4, "{out:?}");
+        assert!(close(out[1].end, 10.8, -9.2));
+        assert!(matches!(out[2].kind, MoveKind::Dwell { .. }) && close(out[2].start, 10.8, -9.2));
+    }
+
+    #[test]
+    fn inside_arc_smaller_than_the_nose_is_refused() {
+        let mut c = Comp::new();
+        c.on(Side::Right, R, V2::zeros(), Style::Rs274, 1.0).unwrap();
+        let mut out = Vec::new();
+        c.take(line((15.0, 5.0), (10.0, 1.0), 1), &mut out).unwrap();
+        c.take(line((10.0, 1.0), (10.0, -10.0), 2), &mut out).unwrap();
+        // A G2 (sweep > 0) of radius 0.5 with its centre on the tool's side.
+        let arc = mv(
+            MoveKind::Arc {
+                center: P2::new(10.5, -10.0),
+                sweep: FRAC_PI_2,
+            },
+            (10.0, -10.0),
+            (10.5, -10.5),
+            3,
+        );
+        let e = c.take(arc, &mut out).unwrap_err();
+        assert!(e.contains("not smaller than the radius"), "{e}");
+    }
+
+    #[test]
+    fn negative_radius_swaps_the_side() {
+        let mut a = Comp::new();
+        a.on(Side::Left, -R, V2::zeros(), Style::Rs274, 1.0).unwrap();
+        assert_eq!(a.side, Some(Side::Right));
+        assert_eq!(a.radius, R);
+    }
+}
