@@ -467,14 +467,10 @@ impl Comp {
         let alpha = angle_of(p - c) + if side == Side::Left { FRAC_PI_2 } else { -FRAC_PI_2 };
         let end = p + r * unit(alpha);
         self.set_endpoint(c);
-        self.enqueue(
-            QKind::Straight {
-                rapid,
-                dir: unit(alpha),
-            },
-            end,
-            m,
-        );
+        // rs274ngc records the entry's offset direction as its direction (a later correction
+        // is checked against that); the Fanuc start-up checks against the move itself.
+        let dir = if self.style == Style::Fanuc { p - c } else { unit(alpha) };
+        self.enqueue(QKind::Straight { rapid, dir }, end, m);
         self.entry_pending = self.style == Style::Fanuc;
         self.first = false;
         self.cur = end;
