@@ -529,8 +529,7 @@ impl Comp {
             QKind::Arc { center, turn, .. } => Some((q.end, center, turn)),
             _ => None,
         });
-        let concave = beta < -SMALL
-            || beta > PI + SMALL
+        let concave = !(-SMALL..=PI + SMALL).contains(&beta)
             || (beta > PI - SMALL
                 && front_arc
                     .is_some_and(|(_, _, turn)| (side == Side::Right && turn > 0) || (side == Side::Left && turn < 0)));
@@ -747,7 +746,7 @@ impl Comp {
         let new_end = p + r * unit(gamma);
         let original = find_turn(op, center, turn, p);
         let main = QKind::Arc { center, turn, original };
-        if beta < -SMALL || beta > PI + SMALL || ((beta - PI).abs() < SMALL && !tool_inside) {
+        if !(-SMALL..=PI + SMALL).contains(&beta) || ((beta - PI).abs() < SMALL && !tool_inside) {
             // Concave: cut the waiting move back to where the offset paths meet.
             let front_arc = self.queue.first().and_then(|q| match q.kind {
                 QKind::Arc { center, turn, .. } => Some((q.end, center, turn)),

@@ -323,6 +323,8 @@ impl<'a> Run<'a> {
     }
 
     pub fn finish(mut self) -> Interpretation {
+        // Moves nose-radius compensation still holds (the program ended with it on).
+        self.comp_flush();
         // The moves were reserved for one per block; give back a large unused part (address
         // space counts against a memory cap even when never touched).
         if self.moves.capacity() - self.moves.len() > self.moves.len() / 4 + 1024 {

@@ -252,6 +252,5 @@ pub fn interpret(prog: &Program, src: &[u8], machine: &Machine) -> Interpretatio
 pub fn interpret_with(prog: &Program, src: &[u8], machine: &Machine, limits: Limits) -> Interpretation {
     let mut run = flow::Run::new(prog, src, machine, limits);
     run.run();
-    run.comp_flush();
     run.finish()
 }

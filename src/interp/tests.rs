@@ -51,7 +51,7 @@ proptest! {
     #[test]
     fn plain_blocks_run_the_same_with_and_without_their_fast_path(
         lines in proptest::collection::vec(
-            "(G[0-3] |G1 F0\\.[1-3] |G4 P1 |G91 |G90 |G20 |G21 |G7 |G8 |G53 |G28 |M3 S500 |T[12] M6 |F-1 |#1=2 |)?((X|Z|U|W|I|K|R|F|Y|P)-?[0-9]{1,2}(\\.[0-9])? ?){0,4}",
+            "(G[0-3] |G1 F0\\.[1-3] |G4 P1 |G4[0-2] |G91 |G90 |G20 |G21 |G7 |G8 |G53 |G28 |M3 S500 |T[12] M6 |F-1 |#1=2 |)?((X|Z|U|W|I|K|R|F|Y|P)-?[0-9]{1,2}(\\.[0-9])? ?){0,4}",
             1..25,
         ),
         fanuc in any::<bool>(),
