@@ -463,6 +463,20 @@ impl Run<'_> {
         let Some(mut comp) = self.comp.take() else {
             return super::cycles::run(self, b, w, code, at);
         };
+        if comp.is_on() && self.machine.dialect == Dialect::Linuxcnc && matches!(code, 710..=712 | 720..=722) {
+            // rs274ngc refuses G71/G72 while compensation is on.
+            self.comp = Some(comp);
+            self.error(
+                b,
+                Some(at),
+                format!(
+                    "{} cannot run with nose radius compensation on: cancel it with G40 first",
+                    g_name(code)
+                ),
+            );
+            self.modal.motion = None;
+            return true;
+        }
         comp.flush(&mut self.moves);
         let m0 = self.moves.len();
         let ran = super::cycles::run(self, b, w, code, at);
