@@ -450,6 +450,14 @@ impl Run<'_> {
         let tip = comp::tip_vector(dir, radius.abs(), fanuc, self.machine.turret_side);
         let scale = self.scale();
         let c = self.comp.get_or_insert_with(Default::default);
+        if fanuc && c.is_on() {
+            // Fanuc switches sides (or tools) without G40: a new start-up from where the tool is.
+            if let Err(msg) = c.off(&mut self.moves) {
+                c.abandon(&mut self.moves);
+                self.error(b, Some(at), msg);
+                return;
+            }
+        }
         if let Err(msg) = c.on(side, radius, tip, style, scale) {
             self.error(b, Some(at), msg);
         }
