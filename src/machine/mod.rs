@@ -230,6 +230,9 @@ impl Machine {
             );
             let _ = write!(modes, ", G-code system {}", self.gcode_system.as_str());
         }
+        if self.turret_side == TurretSide::Front {
+            modes.push_str(", turret in front (+X toward the operator)");
+        }
         let _ = writeln!(s, "  dialect     {modes}");
         for (name, a) in [("x", &self.x), ("z", &self.z)] {
             let _ = writeln!(
