@@ -640,8 +640,8 @@ fn lathe_comp_programs_move_as_rs274_moves_them() {
 }
 
 /// The LinuxCNC compensation cases (`tests/cases/comp/lcnc_*.ngc`: OD, bore, face and back-face
-/// profiles with every orientation 0–9, a 0.8 mm nose) against rs274 given the same tools: every
-/// move within 1e-4.
+/// profiles with every orientation 0–9, a 0.8 mm nose; not the error cases) against rs274 given
+/// the same tools: every move within 1e-4.
 #[test]
 fn lcnc_comp_cases_move_as_rs274_moves_them() {
     if !rs274_present() {
@@ -654,6 +654,12 @@ fn lcnc_comp_cases_move_as_rs274_moves_them() {
         .flatten()
         .map(|e| e.path())
         .filter(|p| p.extension().is_some_and(|e| e == "ngc"))
+        // rs274 stops at the first error of the error cases (checked by hand, see their
+        // expected files).
+        .filter(|p| {
+            let name = p.to_string_lossy();
+            !name.contains("errors") && !name.contains("refused")
+        })
         .collect();
     files.sort();
     assert!(files.len() >= 4, "too few LinuxCNC comp cases: {}", files.len());
