@@ -471,8 +471,11 @@ impl Run<'_> {
         let Some(mut comp) = self.comp.take() else {
             return super::cycles::run(self, b, w, code, at);
         };
-        if comp.is_on() && self.machine.dialect == Dialect::Linuxcnc && matches!(code, 710..=712 | 720..=722) {
-            // rs274ngc refuses G71/G72 while compensation is on.
+        if comp.is_on()
+            && self.machine.dialect == Dialect::Linuxcnc
+            && matches!(code, 710..=712 | 720..=722 | 810..=890)
+        {
+            // rs274ngc refuses G71/G72 and the drilling cycles while compensation is on.
             self.comp = Some(comp);
             self.error(
                 b,
@@ -964,6 +967,13 @@ impl Run<'_> {
                 self.error(b, Some(at), "only the XZ plane (G18) exists on a 2-axis lathe".into());
                 self.modal.plane_xz = false;
                 self.modal.plane_xy = false;
+            } else if w.g(170) && self.modal.plane_xz && self.comp.as_ref().is_some_and(|c| c.is_on()) {
+                // rs274ngc refuses a change of plane while compensation is on.
+                self.error(
+                    b,
+                    w.has_g(170),
+                    "G17 cannot change the plane with nose radius compensation on: cancel it with G40 first".into(),
+                );
             } else if w.g(170) {
                 self.modal.plane_xz = false;
                 self.modal.plane_xy = true;
@@ -1011,7 +1021,17 @@ impl Run<'_> {
         let mut axes_used_by_nonmodal = dwell_took_axes;
         if w.any_g(NONMODAL_CODES) {
             if w.g(280) {
-                self.home_return(b, w);
+                if !fanuc && self.comp.as_ref().is_some_and(|c| c.is_on()) {
+                    // rs274ngc refuses G28 while compensation is on.
+                    self.error(
+                        b,
+                        w.has_g(280),
+                        "G28 cannot run with nose radius compensation on: cancel it with G40 first".into(),
+                    );
+                    w.used = w.has;
+                } else {
+                    self.home_return(b, w);
+                }
                 axes_used_by_nonmodal = true;
             }
             if let Some(at) = w.has_g(300).or(w.has_g(281)).or(w.has_g(301)).or(w.has_g(100)) {
