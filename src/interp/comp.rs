@@ -457,7 +457,9 @@ impl Comp {
         let r = self.radius;
         let c = self.cur;
         let distance = (p - c).norm();
-        if distance <= r {
+        // rs274ngc refuses a short entry; a Fanuc start-up block may be any length (CAM lead-ins
+        // are often shorter than the nose radius): the vector is taken on all the same.
+        if distance <= r && self.style == Style::Rs274 {
             return Err(format!(
                 "the compensation entry move ({} mm) is not longer than the nose radius ({} mm)",
                 round4(distance),
@@ -483,6 +485,9 @@ impl Comp {
     fn fanuc_startup(&mut self, start_normal: V2, out: &mut Vec<Move>) -> Result<(), String> {
         let target = self.prog + self.radius * start_normal;
         self.entry_pending = false;
+        // The start-up block goes wherever the vector puts its end (a lead-in shorter than the
+        // nose may run backward): no reversal check for it.
+        self.endpoint = None;
         self.move_endpoint_and_flush(target, out)?;
         self.cur = target;
         Ok(())
@@ -710,8 +715,28 @@ impl Comp {
         let op = self.prog;
         let arc_radius = (center - p).norm();
         let tool_inside = inside(side, turn);
-        if tool_inside && arc_radius <= r {
+        let fanuc = self.style == Style::Fanuc;
+        if tool_inside && (arc_radius <= r && !fanuc || arc_radius < r - 1e-6) {
             return Err(self.arc_too_small());
+        }
+        if fanuc && tool_inside && arc_radius <= r + 1e-6 {
+            // A fillet of exactly the nose radius: the nose centre stands at the arc's centre
+            // (the offset arc has no length); the corners around it are made from there.
+            if self.startup_waiting() {
+                self.fanuc_startup(unit(angle_of(center - op)), out)?;
+            }
+            self.move_endpoint_and_flush(center, out)?;
+            self.enqueue(
+                QKind::Straight {
+                    rapid: false,
+                    dir: V2::zeros(),
+                },
+                center,
+                m,
+            );
+            self.cur = center;
+            self.prog = p;
+            return Ok(());
         }
         if self.startup_waiting() {
             let d = angle_of(center - op);
