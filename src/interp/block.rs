@@ -491,6 +491,15 @@ impl Run<'_> {
         comp.flush(&mut self.moves);
         let m0 = self.moves.len();
         let ran = super::cycles::run(self, b, w, code, at);
+        if !comp.is_on() && ran && m0 < self.moves.len() {
+            // After G40 the cycle's first move starts where compensation left the tool.
+            if let Some(p) = comp.take_resume() {
+                let first = &mut self.moves[m0];
+                if matches!(first.kind, MoveKind::Rapid | MoveKind::Line) {
+                    first.start = p;
+                }
+            }
+        }
         if comp.is_on() && ran && m0 < self.moves.len() {
             if code == 700 {
                 let made: Vec<Move> = self.moves.drain(m0..).collect();

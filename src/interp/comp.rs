@@ -278,6 +278,16 @@ impl Comp {
         self.last_out = None;
     }
 
+    /// Where the next move must start when compensation was just cancelled (and forget it):
+    /// for moves made past the stage (a canned cycle's).
+    pub(crate) fn take_resume(&mut self) -> Option<P2> {
+        if !self.resume {
+            return None;
+        }
+        self.resume = false;
+        self.last_out.take()
+    }
+
     /// The controlled point after the last move that left the stage (spindle frame).
     pub(crate) fn last_out(&self) -> Option<P2> {
         self.last_out
