@@ -7,7 +7,7 @@
 //! (named so that it does not look like a setting of the command, which reads only
 //! `(latheguard: allow … -- reason)` comments);
 //! `modes=step,exact` runs both modes and prefixes each expected line with the mode.
-//! Cases under `tests/cases/interp/` also pin their interpreted motion in a `.moves` file
+//! Cases under `tests/cases/interp/` and `tests/cases/comp/` also pin their interpreted motion in a `.moves` file
 //! (`latheguard moves --format canon`).
 //! Run with `UPDATE_EXPECT=1` to rewrite the expected files from the current output (then review
 //! the diff: a test that is updated blindly proves nothing).
@@ -134,7 +134,7 @@ fn every_case_reports_exactly_its_expected_findings() {
         let exp_path = f.with_extension("expected");
         let exp_text = std::fs::read_to_string(&exp_path).unwrap_or_default();
         if update {
-            if f.components().any(|c| c.as_os_str() == "interp") {
+            if f.components().any(|c| pins_moves(c.as_os_str())) {
                 let (_, run) = pipeline::interpret(&src, &machine);
                 let mut canon = Vec::new();
                 latheguard::interp::canon::write(&run, &mut canon).unwrap();
@@ -150,7 +150,7 @@ fn every_case_reports_exactly_its_expected_findings() {
             continue;
         }
         // Cases under tests/cases/interp/ also pin the interpreted motion (canonical calls).
-        if f.components().any(|c| c.as_os_str() == "interp") {
+        if f.components().any(|c| pins_moves(c.as_os_str())) {
             let (_, run) = pipeline::interpret(&src, &machine);
             let mut canon = Vec::new();
             latheguard::interp::canon::write(&run, &mut canon).unwrap();
@@ -183,4 +183,9 @@ fn every_case_reports_exactly_its_expected_findings() {
         files.len(),
         failures.join("\n")
     );
+}
+
+/// Cases in these folders also pin their interpreted motion in a `.moves` file.
+fn pins_moves(dir: &std::ffi::OsStr) -> bool {
+    dir == "interp" || dir == "comp"
 }

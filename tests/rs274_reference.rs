@@ -51,14 +51,6 @@ const KNOWN: &[(&str, &str)] = &[
         "the same pawn profile as g71-with-g70: an A-word fillet (not modelled), and a G42.1 finishing pass (nose radius compensation, not modelled)",
     ),
     (
-        "corpus/latheeasystep/test.ngc",
-        "its G72 and G71 cycles agree move for move; from its G42.1 finishing contour on, rs274 offsets the path by the tool nose radius, which latheguard does not model (a warning)",
-    ),
-    (
-        "corpus/latheeasystep/Test_Gewinde.ngc",
-        "its G72 and G71 cycles agree move for move; from its G42.1 finishing contour on, rs274 offsets the path by the tool nose radius, which latheguard does not model (a warning)",
-    ),
-    (
         "corpus/latheeasystep/Test_Gewinde_innen.ngc",
         "its G71 profile starts at the cycle's start point and falls from there: rs274 orients it by its ends and offsets it to the other side; not modelled (unsupported)",
     ),
@@ -116,6 +108,12 @@ fn extra_linuxcnc(dir: &Path) -> Vec<PathBuf> {
 /// The machine of this comparison (see the module comment): the small LinuxCNC lathe with its
 /// programmed point at program X0 Z0 at start and one tool shape in every station.
 fn machine_toml() -> String {
+    machine_toml_with(|_| String::new())
+}
+
+/// The comparison machine with `extra(station)` appended to each tool's table (nose radius and
+/// tip direction from a LinuxCNC tool table).
+fn machine_toml_with(extra: impl Fn(u32) -> String) -> String {
     let mut s = String::from(
         r#"[machine]
 name = "rs274 comparison lathe"
@@ -154,7 +152,8 @@ outline = [[0, -20], [120, -20], [120, 20], [90, 20], [90, 120], [30, 120], [30,
         s += &format!(
             "\n[[tools]]\nstation = {st}\nname = \"T{st}\"\ntip = [-40.0, -8.0]\n\
              insert = [[0, 0], [11, 0.6], [16.8, 9.9], [5.8, 9.3]]\n\
-             holder = [[8, 1.5], [40, 1.5], [40, 17.5], [11, 17.5], [8, 12.8]]\n"
+             holder = [[8, 1.5], [40, 1.5], [40, 17.5], [11, 17.5], [8, 12.8]]\n{}",
+            extra(st)
         );
     }
     s
@@ -537,4 +536,152 @@ fn lcnc_g7x_tests_match_their_expected_files() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert!(equal >= 3, "too few G7x tests equal to their expected files: {equal}");
+}
+
+/// A LinuxCNC tool table as machine-file keys: tool number → (nose radius in mm, orientation).
+/// rs274 run stand-alone reads the table's D (a diameter) in inches.
+fn tool_table(text: &str) -> BTreeMap<u32, (f64, u8)> {
+    let mut out = BTreeMap::new();
+    for line in text.lines() {
+        let line = line.split(';').next().unwrap_or("");
+        let (mut t, mut d, mut q) = (None, 0.0, 0u8);
+        for word in line.split_whitespace() {
+            let (letter, value) = word.split_at(1);
+            match letter.to_ascii_uppercase().as_str() {
+                "T" => t = value.parse::<u32>().ok(),
+                "D" => d = value.parse::<f64>().unwrap_or(0.0),
+                "Q" => q = value.parse::<u8>().unwrap_or(0),
+                _ => {}
+            }
+        }
+        if let Some(t) = t {
+            out.insert(t, (d / 2.0 * 25.4, q));
+        }
+    }
+    out
+}
+
+/// The comparison machine carrying a LinuxCNC tool table's radii and orientations.
+fn machine_for_table(table: &BTreeMap<u32, (f64, u8)>) -> String {
+    machine_toml_with(|st| match table.get(&st) {
+        Some(&(r, q)) if r > 0.0 || q != 0 => format!("nose_radius = {r}\ntip_direction = {q}\n"),
+        _ => String::new(),
+    })
+}
+
+fn latheguard_canon(machine: &Path, program: &Path) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_latheguard"))
+        .args(["moves", "--format", "canon", "-m"])
+        .arg(machine)
+        .arg(program)
+        .output()
+        .unwrap();
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// LinuxCNC's own nose-radius compensation test (`tests/ccomp/lathe-comp`: G41/G42 with tools of
+/// orientation 2 and 7 from its 19-tool table) against its `expected` file: every move within
+/// 1e-4, with the tools' radii and orientations given to latheguard in the machine file.
+#[test]
+fn lathe_comp_matches_its_expected_file() {
+    let dir = shared().join("corpus/linuxcnc-ccomp/lathe-comp");
+    if !dir.is_dir() {
+        println!("lathe-comp skipped: no corpus at {}", dir.display());
+        return;
+    }
+    let table = tool_table(&std::fs::read_to_string(dir.join("test.tbl")).unwrap());
+    assert_eq!(table.len(), 19, "the lathe-comp table has 19 tools");
+    let tmp = tempfile::tempdir().unwrap();
+    let machine = tmp.path().join("machine.toml");
+    std::fs::write(&machine, machine_for_table(&table)).unwrap();
+    let expected = std::fs::read_to_string(dir.join("expected")).unwrap();
+    let ours = latheguard_canon(&machine, &dir.join("test.ngc"));
+    let (r, o) = (motion_calls(&expected), motion_calls(&ours));
+    assert!(r.len() > 15, "too few moves in the expected file: {}", r.len());
+    if let Some(d) = compare(&r, &o) {
+        panic!("lathe-comp differs from its expected file: {d}\nours:\n{ours}");
+    }
+}
+
+/// lathe-comp and `nc_files/lathecomp.ngc` with the lathe-comp tool table, against rs274 run on
+/// the same table: every move within 1e-4.
+#[test]
+fn lathe_comp_programs_move_as_rs274_moves_them() {
+    let root = shared();
+    let dir = root.join("corpus/linuxcnc-ccomp/lathe-comp");
+    if !dir.is_dir() {
+        println!("comp comparison skipped: no corpus at {}", dir.display());
+        return;
+    }
+    if !rs274_present() {
+        println!("comp comparison skipped: rs274 is not unpacked (scripts/rs274-ref.sh unpacks it)");
+        return;
+    }
+    let tbl = dir.join("test.tbl");
+    let table = tool_table(&std::fs::read_to_string(&tbl).unwrap());
+    let tmp = tempfile::tempdir().unwrap();
+    let machine = tmp.path().join("machine.toml");
+    std::fs::write(&machine, machine_for_table(&table)).unwrap();
+    let mut failures = Vec::new();
+    for program in [
+        dir.join("test.ngc"),
+        root.join("corpus/linuxcnc-nc_files/lathecomp.ngc"),
+    ] {
+        let reference = run_rs274(&program, &tbl).expect("rs274 completes the comp programs");
+        let ours = latheguard_canon(&machine, &program);
+        let (r, o) = (motion_calls(&reference), motion_calls(&ours));
+        assert!(r.len() > 15, "{}: rs274 made too few moves", program.display());
+        match compare(&r, &o) {
+            Some(d) => failures.push(format!("{}: {d}", program.display())),
+            None => println!("{}: {} moves equal", program.display(), r.len()),
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The LinuxCNC compensation cases (`tests/cases/comp/lcnc_*.ngc`: OD, bore, face and back-face
+/// profiles with every orientation 0–9, a 0.8 mm nose; not the error cases) against rs274 given
+/// the same tools: every move within 1e-4.
+#[test]
+fn lcnc_comp_cases_move_as_rs274_moves_them() {
+    if !rs274_present() {
+        println!("rs274 comparison of the comp cases skipped: rs274 is not unpacked");
+        return;
+    }
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/cases/comp");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ngc"))
+        // rs274 stops at the first error of the error cases (checked by hand, see their
+        // expected files).
+        .filter(|p| {
+            let name = p.to_string_lossy();
+            !name.contains("errors") && !name.contains("refused")
+        })
+        .collect();
+    files.sort();
+    assert!(files.len() >= 4, "too few LinuxCNC comp cases: {}", files.len());
+    let tmp = tempfile::tempdir().unwrap();
+    // Stations 1–10: orientation station − 1, nose radius 0.8 mm (rs274 reads D in inches).
+    let tbl = tmp.path().join("tools.tbl");
+    let text: String = (1..=10)
+        .map(|t| format!("T{t} P{t} Z0 X0 D{:.9} Q{};\n", 1.6 / 25.4, t - 1))
+        .collect();
+    std::fs::write(&tbl, &text).unwrap();
+    let machine = tmp.path().join("machine.toml");
+    std::fs::write(&machine, machine_for_table(&tool_table(&text))).unwrap();
+    let mut failures = Vec::new();
+    for f in &files {
+        let reference = run_rs274(f, &tbl).expect("rs274 completes the comp cases");
+        let ours = latheguard_canon(&machine, f);
+        let (r, o) = (motion_calls(&reference), motion_calls(&ours));
+        assert!(r.len() > 20, "{}: rs274 made too few moves", f.display());
+        match compare(&r, &o) {
+            Some(d) => failures.push(format!("{}: {d}", f.display())),
+            None => println!("{}: {} moves equal", f.display(), r.len()),
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

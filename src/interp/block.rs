@@ -1,6 +1,7 @@
 //! Executing one block: words → modal changes and moves, in rs274ngc's order of execution.
 
 use super::arc::{arc_from_center, arc_from_radius, ArcTolerance};
+use super::comp;
 use super::flow::Run;
 use super::state::Motion;
 use super::{Feed, Move, MoveKind, MoveState, ProgFrame, Spindle, SpindleDir, SpindleSpeed};
@@ -53,6 +54,7 @@ const SPINDLE_CODES: u128 = gb(960) | gb(970);
 const PLANE_COMP_OFFSET_CODES: u128 = gb(170)
     | gb(180)
     | gb(190)
+    | gb(400)
     | gb(410)
     | gb(420)
     | gb(411)
@@ -344,7 +346,201 @@ impl Run<'_> {
         if self.modal.spindle_css && feed != Feed::Rapid && self.spindle_dir != SpindleDir::Off {
             self.css_above_max_rpm(b, &m, &state.spindle);
         }
-        self.moves.push(m);
+        match self.comp.as_deref_mut() {
+            Some(c) if c.engaged() => self.compensate(b, m),
+            _ => self.moves.push(m),
+        }
+    }
+
+    /// A move through nose-radius compensation (src/interp/comp.rs). An error of the control
+    /// is a `program` finding at the move's line; compensation then stops and the move is made
+    /// as programmed from where the tool is.
+    #[cold]
+    fn compensate(&mut self, b: &Block, m: Move) {
+        let Some(c) = self.comp.as_deref_mut() else {
+            self.moves.push(m);
+            return;
+        };
+        if let Err(msg) = c.take(m, &mut self.moves) {
+            c.abandon(&mut self.moves);
+            let _ = c.take(m, &mut self.moves);
+            self.error(
+                b,
+                None,
+                format!("{msg}; nose radius compensation stops here and the rest is checked as programmed"),
+            );
+        }
+    }
+
+    /// Let the moves that nose-radius compensation still holds out (the program ended).
+    pub(super) fn comp_flush(&mut self) {
+        if let Some(c) = self.comp.as_deref_mut() {
+            c.flush(&mut self.moves);
+        }
+    }
+
+    /// G40: compensation off (the next move leaves the offset).
+    fn comp_off(&mut self, b: &Block, at: u32) {
+        let Some(c) = self.comp.as_deref_mut() else {
+            return;
+        };
+        if let Err(msg) = c.off(&mut self.moves) {
+            c.abandon(&mut self.moves);
+            self.error(b, Some(at), msg);
+        }
+    }
+
+    /// G41/G42 (the radius and tip direction of the tool: the active one, or LinuxCNC's D
+    /// tool), LinuxCNC G41.1/G42.1 (D the diameter, L the tip direction).
+    fn comp_on(&mut self, b: &Block, w: &mut Words, code: u16, at: u32) {
+        let fanuc = self.machine.dialect == Dialect::Fanuc;
+        let side = if code == 410 || code == 411 {
+            comp::Side::Left
+        } else {
+            comp::Side::Right
+        };
+        let (radius, dir) = if code == 411 || code == 421 {
+            let d = w.get(b'D');
+            let l = w.get(b'L');
+            let Some(d) = d else {
+                self.error(b, Some(at), format!("{} needs D, the tool diameter", g_name(code)));
+                return;
+            };
+            let dir = match l {
+                None => 0,
+                Some(l) if l.fract() == 0.0 && (0.0..=9.0).contains(&l) => l as u8,
+                Some(l) => {
+                    self.error(
+                        b,
+                        w.at(b'L'),
+                        format!("L{l}: the tip direction must be a whole number from 0 to 9"),
+                    );
+                    return;
+                }
+            };
+            (d / 2.0 * self.scale(), dir)
+        } else {
+            let station = if !fanuc && w.peek(b'D') {
+                let d = w.get(b'D').unwrap_or(0.0);
+                if d.fract() != 0.0 || d < 0.0 {
+                    self.error(
+                        b,
+                        w.at(b'D'),
+                        format!("D{d}: {} takes a tool number in D", g_name(code)),
+                    );
+                    return;
+                }
+                if d > 0.0 && self.machine.tool(d as u32).is_none() {
+                    self.error(
+                        b,
+                        w.at(b'D'),
+                        format!("D{d}: the machine file has no tool {d} to take the nose radius from"),
+                    );
+                    return;
+                }
+                d as u32
+            } else {
+                self.station
+            };
+            let tool = self.machine.tool(station);
+            (tool.map_or(0.0, |t| t.nose_radius), tool.map_or(0, |t| t.tip_direction))
+        };
+        if !self.modal.plane_xz && dir != 0 && dir != 9 {
+            self.error(
+                b,
+                Some(at),
+                format!("{} with a lathe tip direction needs the XZ plane (G18)", g_name(code)),
+            );
+            return;
+        }
+        let style = if fanuc { comp::Style::Fanuc } else { comp::Style::Rs274 };
+        let tip = comp::tip_vector(dir, radius.abs(), fanuc, self.machine.turret_side);
+        let scale = self.scale();
+        let c = self.comp.get_or_insert_with(Default::default);
+        if fanuc && c.is_on() {
+            // Fanuc switches sides (or tools) without G40: a new start-up from where the tool is.
+            if let Err(msg) = c.off(&mut self.moves) {
+                c.abandon(&mut self.moves);
+                self.error(b, Some(at), msg);
+                return;
+            }
+        }
+        if let Err(msg) = c.on(side, radius, tip, style, scale) {
+            self.error(b, Some(at), msg);
+        }
+    }
+
+    /// A canned cycle with nose-radius compensation standing aside while it expands (its
+    /// profile machinery reads and rewrites the moves it made). A G70 finishing pass is then
+    /// compensated like any path; roughing and other cycles run on the programmed profile, and
+    /// compensation starts again with the next move (docs/comp.md).
+    fn run_cycle(&mut self, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+        let Some(mut comp) = self.comp.take() else {
+            return super::cycles::run(self, b, w, code, at);
+        };
+        if comp.is_on()
+            && self.machine.dialect == Dialect::Linuxcnc
+            && matches!(code, 710..=712 | 720..=722 | 810..=890)
+        {
+            // rs274ngc refuses G71/G72 and the drilling cycles while compensation is on.
+            self.comp = Some(comp);
+            self.error(
+                b,
+                Some(at),
+                format!(
+                    "{} cannot run with nose radius compensation on: cancel it with G40 first",
+                    g_name(code)
+                ),
+            );
+            self.modal.motion = None;
+            return true;
+        }
+        comp.flush(&mut self.moves);
+        let m0 = self.moves.len();
+        let ran = super::cycles::run(self, b, w, code, at);
+        if !comp.is_on() && ran && m0 < self.moves.len() {
+            // After G40 the cycle's first move starts where compensation left the tool.
+            if let Some(p) = comp.take_resume() {
+                let first = &mut self.moves[m0];
+                if matches!(first.kind, MoveKind::Rapid | MoveKind::Line) {
+                    first.start = p;
+                }
+            }
+        }
+        if comp.is_on() && ran && m0 < self.moves.len() {
+            if code == 700 {
+                let made: Vec<Move> = self.moves.drain(m0..).collect();
+                let mut failed = None;
+                for m in made {
+                    if failed.is_none() {
+                        if let Err(msg) = comp.take(m, &mut self.moves) {
+                            comp.abandon(&mut self.moves);
+                            failed = Some((m.line, msg));
+                            let _ = comp.take(m, &mut self.moves);
+                        }
+                    } else {
+                        let _ = comp.take(m, &mut self.moves);
+                    }
+                }
+                if let Some((_, msg)) = failed {
+                    self.error(
+                        b,
+                        None,
+                        format!("{msg}; nose radius compensation stops here and the rest is checked as programmed"),
+                    );
+                }
+            } else {
+                if let Some(p) = comp.last_out() {
+                    let first = &mut self.moves[m0];
+                    if matches!(first.kind, MoveKind::Rapid | MoveKind::Line) {
+                        first.start = p;
+                    }
+                }
+                comp.restart();
+            }
+        }
+        self.comp = Some(comp);
+        ran
     }
 
     /// A feed move under constant surface speed that would need more than the machine's
@@ -766,6 +962,13 @@ impl Run<'_> {
                 self.error(b, Some(at), "only the XZ plane (G18) exists on a 2-axis lathe".into());
                 self.modal.plane_xz = false;
                 self.modal.plane_xy = false;
+            } else if w.g(170) && self.modal.plane_xz && self.comp.as_ref().is_some_and(|c| c.is_on()) {
+                // rs274ngc refuses a change of plane while compensation is on.
+                self.error(
+                    b,
+                    w.has_g(170),
+                    "G17 cannot change the plane with nose radius compensation on: cancel it with G40 first".into(),
+                );
             } else if w.g(170) {
                 self.modal.plane_xz = false;
                 self.modal.plane_xy = true;
@@ -774,21 +977,12 @@ impl Run<'_> {
                 self.modal.plane_xz = true;
                 self.modal.plane_xy = false;
             }
+            if let Some(at) = w.has_g(400) {
+                self.comp_off(b, at);
+            }
             for code in [410u16, 420, 411, 421] {
                 if let Some(at) = w.has_g(code) {
-                    if code > 420 || code == 411 {
-                        w.get(b'D');
-                        w.get(b'L');
-                    }
-                    self.unsupported(
-                        b,
-                        Some(at),
-                        format!(
-                            "{}: tool nose radius compensation is not modelled; the uncompensated path is checked",
-                            g_name(code)
-                        ),
-                        false,
-                    );
+                    self.comp_on(b, w, code, at);
                 }
             }
             if w.g(430) {
@@ -822,7 +1016,17 @@ impl Run<'_> {
         let mut axes_used_by_nonmodal = dwell_took_axes;
         if w.any_g(NONMODAL_CODES) {
             if w.g(280) {
-                self.home_return(b, w);
+                if !fanuc && self.comp.as_ref().is_some_and(|c| c.is_on()) {
+                    // rs274ngc refuses G28 while compensation is on.
+                    self.error(
+                        b,
+                        w.has_g(280),
+                        "G28 cannot run with nose radius compensation on: cancel it with G40 first".into(),
+                    );
+                    w.used = w.has;
+                } else {
+                    self.home_return(b, w);
+                }
                 axes_used_by_nonmodal = true;
             }
             if let Some(at) = w.has_g(300).or(w.has_g(281)).or(w.has_g(301)).or(w.has_g(100)) {
@@ -870,7 +1074,7 @@ impl Run<'_> {
                 320 | 330 => self.modal.motion = Some(Motion::Thread),
                 800 => self.modal.motion = None,
                 // Canned cycles latheguard expands (src/interp/cycles): the cycle sets the modes.
-                _ if super::cycles::run(self, b, w, code, at) => return,
+                _ if self.run_cycle(b, w, code, at) => return,
                 _ => {
                     let what = match code {
                         700..=760 => "lathe canned cycle",

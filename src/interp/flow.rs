@@ -266,6 +266,8 @@ pub(crate) struct Run<'a> {
     /// Findings reported by blocks so far, kept or not (a block learns from it that a step of
     /// its own was refused).
     pub reports: u64,
+    /// Nose-radius compensation (src/interp/comp.rs): none until the first G41/G42.
+    pub(super) comp: Option<Box<super::comp::Comp>>,
 }
 
 impl<'a> Run<'a> {
@@ -329,6 +331,7 @@ impl<'a> Run<'a> {
             reported: HashSet::new(),
             left_out,
             reports: 0,
+            comp: None,
         }
     }
 
@@ -341,6 +344,8 @@ impl<'a> Run<'a> {
     }
 
     pub fn finish(mut self) -> Interpretation {
+        // Moves nose-radius compensation still holds (the program ended with it on).
+        self.comp_flush();
         self.hand_over();
         // The moves were reserved for one per block; give back a large unused part (address
         // space counts against a memory cap even when never touched).

@@ -9,6 +9,7 @@
 mod arc;
 mod block;
 pub mod canon;
+mod comp;
 mod cycles;
 mod eval;
 mod flow;

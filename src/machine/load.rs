@@ -15,6 +15,7 @@
 //! | `machine.rapid` | no | `"dogleg"` | `"dogleg"` or `"linear"` |
 //! | `machine.decimal_point` | no | `"calculator"` | `"calculator"` or `"increment"`; `"increment"` only with fanuc |
 //! | `machine.gcode_system` | no | `"A"` | `"A"` or `"B"` (Fanuc lathe G-code system); only with fanuc. A: G90/G92/G94 are the box cycles, G50 sets coordinates and clamps the spindle; B: G77/G78/G79 are the box cycles, G92 sets coordinates and clamps the spindle, G90/G91 absolute/incremental |
+//! | `machine.turret_side` | no | `"rear"` | `"rear"` (+X away from the operator) or `"front"` (+X toward the operator): how the Fanuc/Haas tip-code chart maps onto the spindle frame (docs/comp.md); LinuxCNC orientations are read in the X/Z axes as rs274 reads them, whatever the side |
 //! | `axes.x`, `axes.z` | yes | | tables `{ min, max, rapid }`, all required, `min < max`, `rapid` 1 ..= 1e6 mm/min (a warning below 100) |
 //! | `axes.home` | no | `[axes.x.max, axes.z.max]` | inside both axes' limits |
 //! | `axes.machine_zero` | no | `axes.home` (G53 X0 Z0 is home, as on most Fanuc and Haas lathes) | `[x, z]`: the turret reference point at machine zero, spindle frame; G53 X/Z are measured from it (X as the program writes it: a diameter in diameter mode) |
@@ -36,7 +37,8 @@
 //! | `tools[i].name` | yes | | not blank |
 //! | `tools[i].tip` | yes | | `[x, z]` of the programmed point from the turret reference point |
 //! | `tools[i].insert`, `tools[i].holder` | yes | | outlines relative to the programmed point |
-//! | `tools[i].nose_radius` | no | `0` | 0 ..= 100 |
+//! | `tools[i].nose_radius` | no | `0` | 0 ..= 100; the radius nose-radius compensation (G41/G42) offsets by |
+//! | `tools[i].tip_direction` | no | `0` | integer 0 ..= 9: the imaginary-tip direction (Fanuc/Haas tip code T, LinuxCNC orientation; 0 and 9: the nose centre), docs/comp.md |
 //!
 //! Every coordinate (axis limits, home, points of outlines, tips, `stock.front`,
 //! `setup.program_zero_z`, `turret.axis`) lies within ±[`MAX_COORD_MM`] (100 m), and every length
@@ -200,6 +202,14 @@ struct RawHeader {
     rapid: Option<RawRapid>,
     decimal_point: Option<Spanned<RawDecimalPoint>>,
     gcode_system: Option<Spanned<RawGcodeSystem>>,
+    turret_side: Option<RawTurretSide>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "lowercase", expecting = "\"rear\" or \"front\"")]
+enum RawTurretSide {
+    Rear,
+    Front,
 }
 
 #[derive(Deserialize, Clone, Copy)]
@@ -293,6 +303,7 @@ struct RawTool {
     insert: Outline,
     holder: Outline,
     nose_radius: Option<Num>,
+    tip_direction: Option<Spanned<i64>>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -781,6 +792,22 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             None => 0.0,
             Some(r) => cx.within(&key("nose_radius"), r, NOSE_RADIUS_RANGE, "mm")?,
         };
+        let tip_direction = match &t.tip_direction {
+            None => 0,
+            Some(d) => match u8::try_from(*d.get_ref()) {
+                Ok(v) if v <= 9 => v,
+                _ => {
+                    return Err(cx.err(
+                        d.span(),
+                        key("tip_direction"),
+                        format!(
+                            "{} is not a tip direction: give a whole number from 0 to 9",
+                            d.get_ref()
+                        ),
+                    ))
+                }
+            },
+        };
         out.push(Tool {
             station,
             name,
@@ -788,6 +815,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             insert,
             holder,
             nose_radius,
+            tip_direction,
         });
     }
     out.sort_by_key(|t| t.station);
@@ -799,6 +827,10 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         rapid,
         decimal_point,
         gcode_system,
+        turret_side: match hdr.turret_side {
+            None | Some(RawTurretSide::Rear) => super::TurretSide::Rear,
+            Some(RawTurretSide::Front) => super::TurretSide::Front,
+        },
         x,
         z,
         home,

@@ -98,6 +98,27 @@ impl GcodeSystem {
     }
 }
 
+/// Where the turret stands relative to the spindle, seen by the operator: it decides how the
+/// Fanuc/Haas tip-code chart (drawn with +X away from the operator) maps onto the spindle frame
+/// (see docs/comp.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TurretSide {
+    /// Behind the spindle: +X points away from the operator, the manuals' charts as drawn.
+    Rear,
+    /// In front of the spindle: +X points toward the operator; the chart as the operator reads it
+    /// is mirrored about the spindle axis.
+    Front,
+}
+
+impl TurretSide {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TurretSide::Rear => "rear",
+            TurretSide::Front => "front",
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Axis {
     pub min: f64,
@@ -139,6 +160,9 @@ pub struct Tool {
     /// Relative to the programmed point.
     pub holder: Polygon,
     pub nose_radius: f64,
+    /// Imaginary-tip direction for nose-radius compensation, 0–9 (LinuxCNC orientation,
+    /// Fanuc/Haas tip code T), as the machine file gives it; 0 when absent.
+    pub tip_direction: u8,
 }
 
 /// A validated machine and its setup.
@@ -151,6 +175,8 @@ pub struct Machine {
     pub decimal_point: DecimalPoint,
     /// Fanuc G-code system (A unless the machine file says `gcode_system = "B"`).
     pub gcode_system: GcodeSystem,
+    /// Which side of the spindle the turret stands on (`machine.turret_side`, default rear).
+    pub turret_side: TurretSide,
     pub x: Axis,
     pub z: Axis,
     /// Turret reference point at program start and after a return home.
@@ -213,6 +239,9 @@ impl Machine {
                 }
             );
             let _ = write!(modes, ", G-code system {}", self.gcode_system.as_str());
+        }
+        if self.turret_side == TurretSide::Front {
+            modes.push_str(", turret in front (+X toward the operator)");
         }
         let _ = writeln!(s, "  dialect     {modes}");
         for (name, a) in [("x", &self.x), ("z", &self.z)] {
@@ -327,6 +356,9 @@ impl Machine {
             }
             if tool.nose_radius > 0.0 {
                 let _ = write!(line, " nose r{}", num(tool.nose_radius));
+            }
+            if tool.tip_direction != 0 {
+                let _ = write!(line, " tip {}", tool.tip_direction);
             }
             let _ = writeln!(s, "{}", line.trim_end());
         }

@@ -1058,3 +1058,41 @@ fn bad_mcodes_are_refused_at_their_key() {
         assert!(e.line > line_of(&text, "[mcodes]"), "{entry}: {e}");
     }
 }
+
+#[test]
+fn tip_direction_is_a_whole_number_from_0_to_9() {
+    let m = load(MINI).unwrap();
+    assert!(
+        m.tools.iter().all(|t| t.tip_direction == 0),
+        "absent: 0 (the nose centre)"
+    );
+    let text = edit(
+        MINI,
+        "name = \"two\"",
+        "name = \"two\"\nnose_radius = 0.4\ntip_direction = 3",
+    );
+    let m = load(&text).unwrap();
+    assert_eq!(m.tools[1].tip_direction, 3);
+    assert_eq!(m.tools[0].tip_direction, 0);
+    for bad in ["10", "-1", "3.5", "\"3\""] {
+        let text = edit(
+            MINI,
+            "name = \"two\"",
+            &format!("name = \"two\"\ntip_direction = {bad}"),
+        );
+        assert_at(
+            &refused(&text),
+            line_of(&text, "tip_direction"),
+            "tools[1].tip_direction",
+        );
+    }
+}
+
+#[test]
+fn turret_side_is_rear_unless_the_file_says_front() {
+    assert_eq!(load(MINI).unwrap().turret_side, super::TurretSide::Rear);
+    let text = edit(MINI, "name = \"mini\"", "name = \"mini\"\nturret_side = \"front\"");
+    assert_eq!(load(&text).unwrap().turret_side, super::TurretSide::Front);
+    let text = edit(MINI, "name = \"mini\"", "name = \"mini\"\nturret_side = \"left\"");
+    assert_at(&refused(&text), line_of(&text, "turret_side"), "machine.turret_side");
+}
