@@ -74,7 +74,11 @@ pub struct Outcome {
 
 /// Read and interpret a program: the syntax, program and unsupported findings, and the moves.
 pub fn interpret(src: &[u8], machine: &Machine) -> (gcode::Program, Interpretation) {
-    let prog = gcode::parse(src);
+    let prog = if machine.dialect == crate::machine::Dialect::Fanuc {
+        gcode::parse_fanuc(src)
+    } else {
+        gcode::parse(src)
+    };
     let run = interp::interpret(&prog, src, machine);
     (prog, run)
 }

@@ -5,7 +5,7 @@
 //! `LINE[:COL] KIND[ OBJECT, OBJECT][ follow-on of LINE]`, sorted as latheguard reports them (by
 //! line, then time); `# …` lines are comments. A case's first line may set options in a comment: `(latheguard: machine=linuxcnc-small-lathe mode=exact dt=0.5 tolerance=0.01 clearance=0.2)`;
 //! `modes=step,exact` runs both modes and prefixes each expected line with the mode.
-//! Cases under `tests/cases/interp/` also pin their interpreted motion in a `.moves` file
+//! Cases under `tests/cases/interp/` and `tests/cases/macro/` also pin their interpreted motion in a `.moves` file
 //! (`latheguard moves --format canon`).
 //! Run with `UPDATE_EXPECT=1` to rewrite the expected files from the current output (then review
 //! the diff: a test that is updated blindly proves nothing).
@@ -128,7 +128,9 @@ fn every_case_reports_exactly_its_expected_findings() {
         let exp_path = f.with_extension("expected");
         let exp_text = std::fs::read_to_string(&exp_path).unwrap_or_default();
         if update {
-            if f.components().any(|c| c.as_os_str() == "interp") {
+            if f.components()
+                .any(|c| matches!(c.as_os_str().to_str(), Some("interp" | "macro")))
+            {
                 let (_, run) = pipeline::interpret(&src, &machine);
                 let mut canon = Vec::new();
                 latheguard::interp::canon::write(&run, &mut canon).unwrap();
@@ -144,7 +146,9 @@ fn every_case_reports_exactly_its_expected_findings() {
             continue;
         }
         // Cases under tests/cases/interp/ also pin the interpreted motion (canonical calls).
-        if f.components().any(|c| c.as_os_str() == "interp") {
+        if f.components()
+            .any(|c| matches!(c.as_os_str().to_str(), Some("interp" | "macro")))
+        {
             let (_, run) = pipeline::interpret(&src, &machine);
             let mut canon = Vec::new();
             latheguard::interp::canon::write(&run, &mut canon).unwrap();

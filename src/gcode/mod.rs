@@ -52,7 +52,7 @@ use crate::finding::Finding;
 use crate::source::{LineIndex, Span};
 use std::ops::Range;
 
-pub use lexer::{parse, MAX_NESTING};
+pub use lexer::{parse, parse_fanuc, MAX_NESTING};
 
 /// Index of an expression in [`Program::exprs`].
 pub type ExprId = u32;
@@ -132,6 +132,29 @@ pub struct Rare {
     pub oword: Option<OWord>,
     /// `(MSG,…)`, `(PRINT,…)`, `(DEBUG,…)`: the text after the comma.
     pub message: Option<Span>,
+    /// A Fanuc macro B statement (only read by [`parse_fanuc`]).
+    pub macro_stmt: Option<MacroStmt>,
+}
+
+/// A Fanuc macro B control statement. Its column is `at` (the byte offset of the keyword).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MacroStmt {
+    pub op: MacroOp,
+    pub at: u32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MacroOp {
+    /// `GOTO n` (n may be an expression).
+    Goto(ExprId),
+    /// `IF [cond] GOTO n`.
+    IfGoto(ExprId, ExprId),
+    /// `IF [cond] THEN #i = …`: the block's assignments run only when the condition holds.
+    IfThen(ExprId),
+    /// `WHILE [cond] DOm`, or `DOm` alone (`None`: loop without end), m = 1..3.
+    Do(Option<ExprId>, u8),
+    /// `ENDm`.
+    End(u8),
 }
 
 impl Block {
@@ -152,6 +175,11 @@ impl Block {
     /// The text of the line's first `(MSG,…)`, `(PRINT,…)` or `(DEBUG,…)` after the comma.
     pub fn message(&self) -> Option<Span> {
         self.rare.as_ref().and_then(|r| r.message)
+    }
+
+    /// The block's Fanuc macro B statement, if any.
+    pub fn macro_stmt(&self) -> Option<&MacroStmt> {
+        self.rare.as_ref().and_then(|r| r.macro_stmt.as_ref())
     }
 }
 
@@ -292,6 +320,10 @@ pub enum Func {
     Sin,
     Sqrt,
     Tan,
+    /// Fanuc `BIN[…]`: BCD → binary.
+    Bin,
+    /// Fanuc `BCD[…]`: binary → BCD.
+    Bcd,
 }
 
 /// An O-word statement: LinuxCNC `o<name> sub`, `o100 while […]`, … or a Fanuc program number.

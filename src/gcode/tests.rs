@@ -783,7 +783,11 @@ fn corpus_like_linuxcnc_program_reads_cleanly() {
 // ---- properties ----
 
 fn check_invariants(src: &[u8]) {
-    let prog = parse(src);
+    check_invariants_of(src, parse(src));
+    check_invariants_of(src, super::parse_fanuc(src));
+}
+
+fn check_invariants_of(src: &[u8], prog: Program) {
     let lines = prog.lines.line_count() as u32;
     for e in &prog.errors {
         assert!(e.line >= 1 && e.line <= lines, "finding line {} of {lines}", e.line);
@@ -879,9 +883,32 @@ proptest! {
         crlf in any::<bool>(),
     ) {
         let src = lines.join(if crlf { "\r\n" } else { "\n" });
-        let fast = lexer::parse_with(src.as_bytes(), true);
-        let general = lexer::parse_with(src.as_bytes(), false);
         let show = |p: &Program| format!("{:?}", (&p.blocks, &p.words, &p.assigns, &p.exprs, &p.errors, &p.comments));
+        for macro_b in [false, true] {
+            let fast = lexer::parse_with(src.as_bytes(), true, macro_b);
+            let general = lexer::parse_with(src.as_bytes(), false, macro_b);
+            prop_assert_eq!(show(&fast), show(&general));
+        }
+    }
+
+    #[test]
+    fn the_fast_line_reader_declines_macro_statements_as_the_general_reader_reads_them(
+        lines in proptest::collection::vec(
+            "(N[0-9]{1,3} ?)?(GOTO ?[0-9#]{1,3}|IF ?\\[#1 ?(EQ|GT) ?[0-9]\\] ?(GOTO[0-9]{1,2}|THEN ?#2=[0-9])|WHILE ?\\[#1 ?LT ?3\\] ?DO[0-4]|END[0-4]|DO[1-3]|G65 ?P9[0-9]{3} ?A1\\.|[GXZ][0-9]{1,3})",
+            1..12,
+        ),
+    ) {
+        let src = lines.join("\n");
+        let show = |p: &Program| format!("{:?}", (&p.blocks, &p.words, &p.assigns, &p.exprs, &p.errors, &p.comments));
+        let fast = lexer::parse_with(src.as_bytes(), true, true);
+        let general = lexer::parse_with(src.as_bytes(), false, true);
         prop_assert_eq!(show(&fast), show(&general));
+    }
+
+    #[test]
+    fn random_macro_text_never_panics(
+        src in "([GXZNOIKFSTMgxzno#\\[\\]()<>;%/:=,. 0-9+*\\-\t\r\n]|IF|GOTO|THEN|WHILE|DO|END|EQ|NE|GT|LE|AND|OR|XOR|MOD|BIN|BCD|POW|ATAN|ROUND|FIX|FUP|SQRT|G65|G66|G67|M98|M99|é){0,120}"
+    ) {
+        check_invariants(src.as_bytes());
     }
 }

@@ -402,8 +402,9 @@ impl Run<'_> {
         let increment = fanuc && self.machine.decimal_point == DecimalPoint::Increment;
         let mut ok = true;
         for word in self.prog.words_of(b) {
-            let v = match self.value(word.value()) {
-                Ok(v) => v,
+            let v = match self.word_value(word.value()) {
+                Ok(Some(v)) => v,
+                Ok(None) => continue, // Fanuc: a vacant value leaves the word out
                 Err(m) => {
                     self.error(b, Some(word.at), m);
                     ok = false;
@@ -499,7 +500,7 @@ impl Run<'_> {
         if !assigns.is_empty() {
             let mut vals = Vec::with_capacity(assigns.len());
             for a in assigns {
-                match self.eval(a.value) {
+                match self.eval_assign(a.value) {
                     Ok(v) => vals.push((a.target, v, a.span.start)),
                     Err(m) => {
                         self.error(b, Some(a.span.start), m);
@@ -936,17 +937,10 @@ impl Run<'_> {
             return;
         }
         if w.m(99) {
-            if w.peek(b'P') {
-                self.unsupported(
-                    b,
-                    w.at(b'P'),
-                    "M99 P (return to a sequence number) is not modelled".into(),
-                    true,
-                );
-                w.get(b'P');
-            }
+            let p = w.peek(b'P').then(|| w.at(b'P'));
+            let p = p.map(|at| (w.get(b'P').unwrap_or(0.0), at));
             self.check_unused(b, w);
-            self.m99(b);
+            self.m99(b, p);
             return;
         }
         self.check_unused(b, w);

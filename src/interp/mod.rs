@@ -12,6 +12,7 @@ pub mod canon;
 mod cycles;
 mod eval;
 mod flow;
+mod macro_b;
 mod state;
 #[cfg(test)]
 mod tests;
