@@ -126,7 +126,9 @@ impl State {
                         s.loops.insert(k, i);
                         s.loops.insert(i, k);
                     }
-                    Some(_) => {
+                    Some(p) => {
+                        // The overlapping DOm is dropped (never runs); the inner loops stay open.
+                        open.remove(p);
                         let (inner, k) = open[open.len() - 1];
                         err(
                             b,
