@@ -912,3 +912,59 @@ proptest! {
         check_invariants(src.as_bytes());
     }
 }
+
+#[test]
+fn macro_b_statements_are_read_only_by_the_fanuc_reader() {
+    use super::{parse_fanuc, MacroOp};
+    let src =
+        b"N5 IF [#1 EQ 2] GOTO 10\nIF[#1GT0]THEN#2=3\nWHILE [#1 LT 3] DO1\nDO2\nEND2\nEND1\nGOTO #3\n#1 = #2 + 1\n";
+    let lcnc = parse(src);
+    // LinuxCNC: every one of these lines is a syntax error, as before.
+    assert_eq!(lcnc.errors.len(), 8, "{:?}", lcnc.errors);
+    let f = parse_fanuc(src);
+    assert!(f.errors.is_empty(), "{:?}", f.errors);
+    let ops: Vec<MacroOp> = f.blocks.iter().filter_map(|b| b.macro_stmt().map(|m| m.op)).collect();
+    assert!(matches!(ops[0], MacroOp::IfGoto(..)));
+    assert!(matches!(ops[1], MacroOp::IfThen(_)));
+    assert!(matches!(ops[2], MacroOp::Do(Some(_), 1)));
+    assert!(matches!(ops[3], MacroOp::Do(None, 2)));
+    assert_eq!(&ops[4..6], &[MacroOp::End(2), MacroOp::End(1)]);
+    assert!(matches!(ops[6], MacroOp::Goto(_)));
+    assert_eq!(f.blocks[0].n(), Some(5));
+    assert_eq!(f.assigns_of(&f.blocks[1]).len(), 1);
+    assert_eq!(f.assigns_of(&f.blocks[7]).len(), 1);
+}
+
+#[test]
+fn bad_macro_statements_are_syntax_findings_with_their_column() {
+    let cases: [(&[u8], u32, &str); 6] = [
+        (b"WHILE [1] DO4", 13, "loop number must be 1, 2 or 3"),
+        (b"WHILE [1]", 10, "DO1, DO2 or DO3"),
+        (b"IF [1] X1", 8, "GOTO or THEN"),
+        (b"IF [1] THEN G0", 13, "an assignment"),
+        (b"GOTO 10 X5", 9, "nothing but comments after a macro statement"),
+        (b"END", 4, "1, 2 or 3 after END"),
+    ];
+    for (src, col, msg) in cases {
+        let p = super::parse_fanuc(src);
+        assert_eq!(p.errors.len(), 1, "{}", String::from_utf8_lossy(src));
+        assert_eq!(
+            p.errors[0].col,
+            col,
+            "{}: {}",
+            String::from_utf8_lossy(src),
+            p.errors[0].message
+        );
+        assert!(p.errors[0].message.contains(msg), "{}", p.errors[0].message);
+    }
+}
+
+#[test]
+fn fanuc_priorities_put_and_with_times_and_or_with_plus() {
+    // 2 + 12 AND 10 is 2 + (12 AND 10) on Fanuc; rs274ngc reads [2 + 12] AND 10.
+    let f = super::parse_fanuc(b"#1 = [2 + 12 AND 10]");
+    let l = parse(b"#1 = [2 + 12 AND 10]");
+    let top = |p: &Program| p.exprs[p.assigns[0].value as usize];
+    assert!(matches!(top(&f), Expr::Binary(BinOp::Add, ..)));
+    assert!(matches!(top(&l), Expr::Binary(BinOp::And, ..)));
+}

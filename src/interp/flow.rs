@@ -437,7 +437,13 @@ impl<'a> Run<'a> {
             let moves = self.moves.len();
             let depth = self.frames.len();
             self.execute(b);
-            if self.moves.len() > moves && self.frames.len() == depth && !self.stopped {
+            let moved = self.moves[moves.min(self.moves.len())..].iter().any(|m| {
+                !matches!(
+                    m.kind,
+                    super::MoveKind::Dwell { .. } | super::MoveKind::ToolChange { .. }
+                )
+            });
+            if moved && self.frames.len() == depth && !self.stopped {
                 self.after_move_block(b);
             }
         }
@@ -799,7 +805,7 @@ impl<'a> Run<'a> {
 
     /// `M99` (`p`: its P word and column): end of a subprogram pass.
     pub(crate) fn m99(&mut self, b: &Block, p: Option<(f64, Option<u32>)>) {
-        if self.macro_b.is_some() && self.frames.last().is_none_or(|f| f.fanuc) {
+        if self.macro_b.is_some() && self.frames.last().map_or(true, |f| f.fanuc) {
             self.macro_m99(b, p.map(|p| p.0));
             return;
         }

@@ -944,3 +944,94 @@ fn func(f: Func, x: f64) -> Result<f64, String> {
         }
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::interp::Limits;
+    use crate::machine::Machine;
+    use proptest::prelude::*;
+
+    /// Interpret Fanuc text on the built-in machine; the canonical output and the findings.
+    fn run(src: &str, fast: bool, max_blocks: u64) -> String {
+        let prog = crate::gcode::parse_fanuc(src.as_bytes());
+        let machine = Machine::builtin();
+        let limits = Limits {
+            max_blocks,
+            max_call_depth: 16,
+        };
+        let mut r = Run::new(&prog, src.as_bytes(), &machine, limits);
+        r.plain_blocks_fast = fast;
+        r.run();
+        let out = r.finish();
+        let mut canon = Vec::new();
+        crate::interp::canon::write(&out, &mut canon).unwrap();
+        format!("{}{:?}", String::from_utf8_lossy(&canon), out.findings)
+    }
+
+    #[test]
+    fn fix_and_fup_round_toward_and_away_from_zero() {
+        assert_eq!(func(Func::Fix, -1.2), Ok(-1.0));
+        assert_eq!(func(Func::Fup, -1.2), Ok(-2.0));
+        assert_eq!(func(Func::Fix, 1.7), Ok(1.0));
+        assert_eq!(func(Func::Fup, 1.2), Ok(2.0));
+        assert_eq!(func(Func::Fup, 3.0), Ok(3.0));
+    }
+
+    #[test]
+    fn bin_and_bcd_convert_both_ways_and_refuse_non_bcd() {
+        assert_eq!(func(Func::Bcd, 1234.0), Ok(0x1234 as f64));
+        assert_eq!(func(Func::Bin, 0x1234 as f64), Ok(1234.0));
+        assert!(func(Func::Bin, 0x1A as f64).is_err());
+        assert!(func(Func::Bcd, -1.0).is_err());
+    }
+
+    #[test]
+    fn eq_and_ne_tell_vacant_from_zero_other_operations_do_not() {
+        assert_eq!(binary(BinOp::Eq, None, Some(0.0)), Ok(0.0));
+        assert_eq!(binary(BinOp::Eq, None, None), Ok(1.0));
+        assert_eq!(binary(BinOp::Ne, None, Some(0.0)), Ok(1.0));
+        assert_eq!(binary(BinOp::Ge, None, Some(0.0)), Ok(1.0));
+        assert_eq!(binary(BinOp::Add, None, Some(2.0)), Ok(2.0));
+        assert!(binary(BinOp::Div, Some(1.0), None).is_err());
+    }
+
+    #[test]
+    fn a_goto_into_another_program_is_not_taken() {
+        // N20 exists only in O2000: the jump from O0001 finds nothing.
+        let out = run("O0001\nGOTO 20\nM30\nO2000\nN20 G0 X100\nM99\n", true, 1000);
+        assert!(out.contains("GOTO 20: no block N20"), "{out}");
+        assert!(!out.contains("STRAIGHT_TRAVERSE"), "{out}");
+    }
+
+    #[test]
+    fn g66_is_not_called_after_a_tool_change_or_a_dwell() {
+        let src = "O0001\nG0 X200 Z100\nG66 P9000\nT0202\nG4 X1\nG0 Z50\nG67\nM30\nO9000\nG0 U-2\nM99\n";
+        let out = run(src, true, 1000);
+        // One call, after the move of line 6.
+        assert_eq!(out.matches(" 10 STRAIGHT_TRAVERSE").count(), 1, "{out}");
+    }
+
+    #[test]
+    fn an_unsupported_system_variable_in_a_word_is_an_unsupported_finding() {
+        let out = run("O0001\nG0 X#5061 Z100\n", true, 1000);
+        assert!(out.contains("Unsupported") && out.contains("#5061"), "{out}");
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+
+        #[test]
+        fn random_macro_programs_never_panic_and_read_the_same_fast_or_not(
+            lines in proptest::collection::vec(
+                "(N[1-5] )?(#[1-3]=[0-9#\\[\\]+*/ ]{1,8}|#[1-3] ?= ?#[0-9]{1,4}|IF ?\\[#[1-3] ?(EQ|NE|LT|GE) ?[0-9#]{1,2}\\] ?(GOTO ?[1-5]|THEN #[1-3]=[0-9]{1,2})|WHILE ?\\[#[1-3] ?LT ?[0-9]\\] ?DO[1-3]|END[1-3]|GOTO ?#?[1-5]|G65 ?P900[0-1]( [ABIJKXZ][0-9#]{1,2}){0,4}|G66 ?P9000 A1|G67|M98 ?P900[0-1]( L[0-3])?|M99( P[1-5])?|G[01] ?X#?[0-9]{1,3} ?Z#?[0-9]{1,3}( F0.2)?|O900[0-1]|#3000=1|#3006=1)",
+                1..25,
+            ),
+        ) {
+            let src = lines.join("\n");
+            let fast = run(&src, true, 3000);
+            let general = run(&src, false, 3000);
+            prop_assert_eq!(fast, general);
+        }
+    }
+}
