@@ -433,22 +433,31 @@ impl<'a> Run<'a> {
     /// A Fanuc block: G65–G67 macro calls, the block, then a `G66` call after a move, and the
     /// D, H, M, T, N bookkeeping of the modal variables.
     fn execute_fanuc(&mut self, b: &Block) {
-        if !self.macro_call_block(b) {
-            let moves = self.moves.len();
-            let depth = self.frames.len();
-            self.execute(b);
+        if self.macro_call_block(b) {
+            // Its words are arguments, not the modal D, H, M, T of #4107 … #4120.
+            if let Some(m) = self.macro_b.as_deref_mut() {
+                m.unsupported.set(false);
+            }
+            return;
+        }
+        let modal_call = self.macro_b.as_ref().is_some_and(|m| m.modal_call_active());
+        let (moves, depth) = (self.moves.len(), self.frames.len());
+        self.execute(b);
+        if modal_call && self.frames.len() == depth && !self.stopped {
             let moved = self.moves[moves.min(self.moves.len())..].iter().any(|m| {
                 !matches!(
                     m.kind,
                     super::MoveKind::Dwell { .. } | super::MoveKind::ToolChange { .. }
                 )
             });
-            if moved && self.frames.len() == depth && !self.stopped {
+            if moved {
                 self.after_move_block(b);
             }
         }
         if let Some(m) = self.macro_b.as_deref_mut() {
             m.note(self.prog, b);
+            // A failed evaluation nobody reported must not mark a later finding.
+            m.unsupported.set(false);
         }
     }
 

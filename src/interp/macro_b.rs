@@ -152,7 +152,13 @@ impl State {
         self.seg_starts.partition_point(|&s| s <= i).saturating_sub(1)
     }
 
-    /// Note the D, H, M, T words and the N number of a block just executed (plain numbers).
+    /// A `G66` is in force.
+    pub fn modal_call_active(&self) -> bool {
+        self.modal_call.is_some()
+    }
+
+    /// Note the D, H, M, T words and the N number of a block just executed (plain numbers;
+    /// not M98, M99).
     pub fn note(&mut self, prog: &Program, b: &Block) {
         if let Some(n) = b.n() {
             self.last_n = Some(n as f64);
@@ -165,8 +171,11 @@ impl State {
                 b'T' => 3,
                 _ => continue,
             };
-            if let Value::Num(x) = w.value() {
-                self.last[k] = Some(x);
+            match w.value() {
+                // M98 and M99 are the control's own, not M codes sent to the machine.
+                Value::Num(x) if k == 2 && (x == 98.0 || x == 99.0) => {}
+                Value::Num(x) => self.last[k] = Some(x),
+                Value::Expr(_) => {}
             }
         }
     }
@@ -1016,6 +1025,26 @@ mod tests {
     fn an_unsupported_system_variable_in_a_word_is_an_unsupported_finding() {
         let out = run("O0001\nG0 X#5061 Z100\n", true, 1000);
         assert!(out.contains("Unsupported") && out.contains("#5061"), "{out}");
+    }
+
+    #[test]
+    fn a_macro_calling_itself_stops_at_the_call_depth_limit() {
+        let out = run("O0001\nG65 P9000\nM30\nO9000\nG65 P9000\nM99\n", true, 100_000);
+        assert!(out.contains("macro calls nested deeper than 16"), "{out}");
+    }
+
+    #[test]
+    fn an_endless_while_loop_stops_at_the_budget() {
+        let out = run("O0001\nWHILE [1] DO1\n#1 = #1 + 1\nEND1\n", true, 5000);
+        assert!(out.contains("stopped after executing 5000 blocks"), "{out}");
+    }
+
+    #[test]
+    fn g65_words_are_not_the_modal_m_and_t_of_4113_and_4120() {
+        // M13 and T20 of the G65 are arguments; #4113 stays the M3 of line 2.
+        let src = "O0001\nM3\nG65 P9000 M13 T20\nG0 X200 Z[#4113]\nM30\nO9000\nM99\n";
+        let out = run(src, true, 1000);
+        assert!(out.contains("STRAIGHT_TRAVERSE(100.0000, 0.0000, 3.0000"), "{out}");
     }
 
     proptest! {
