@@ -23,6 +23,7 @@ impl Run<'_> {
     }
 
     /// A word's value; `None` when it is vacant (Fanuc: the word is as if absent).
+    #[inline]
     pub(crate) fn word_value(&self, v: Value) -> Result<Option<f64>, String> {
         match v {
             Value::Num(x) => Ok(Some(x)),

@@ -423,7 +423,7 @@ impl<'a> Run<'a> {
                 continue;
             }
             if self.macro_b.is_some() {
-                self.execute_fanuc(b);
+                self.execute_fanuc(i, b);
             } else {
                 self.execute(b);
             }
@@ -432,15 +432,22 @@ impl<'a> Run<'a> {
 
     /// A Fanuc block: G65–G67 macro calls, the block, then a `G66` call after a move, and the
     /// D, H, M, T, N bookkeeping of the modal variables.
-    fn execute_fanuc(&mut self, b: &Block) {
-        if self.macro_call_block(b) {
+    fn execute_fanuc(&mut self, i: usize, b: &Block) {
+        let Some(m) = self.macro_b.as_deref() else {
+            self.execute(b);
+            return;
+        };
+        // A failed evaluation nobody reported must not mark a later finding.
+        m.unsupported.set(false);
+        let (call, modal_call, note) = (m.is_call_block(i), m.modal_call_active(), m.notes_words());
+        if call && self.macro_call_block(b) {
             // Its words are arguments, not the modal D, H, M, T of #4107 … #4120.
-            if let Some(m) = self.macro_b.as_deref_mut() {
-                m.unsupported.set(false);
-            }
             return;
         }
-        let modal_call = self.macro_b.as_ref().is_some_and(|m| m.modal_call_active());
+        if !(modal_call || note) {
+            self.execute(b);
+            return;
+        }
         let (moves, depth) = (self.moves.len(), self.frames.len());
         self.execute(b);
         if modal_call && self.frames.len() == depth && !self.stopped {
@@ -456,8 +463,6 @@ impl<'a> Run<'a> {
         }
         if let Some(m) = self.macro_b.as_deref_mut() {
             m.note(self.prog, b);
-            // A failed evaluation nobody reported must not mark a later finding.
-            m.unsupported.set(false);
         }
     }
 

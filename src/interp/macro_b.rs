@@ -47,6 +47,11 @@ pub(crate) struct State {
     last_n: MVal,
     /// #3901, #3902.
     parts: [f64; 2],
+    /// Blocks with a G65, G66 or G67 word (plain numbers), ascending.
+    call_blocks: Vec<usize>,
+    /// Some expression reads #4107 … #4120 or a computed variable number: only then are the
+    /// D, H, M, T words and N numbers noted as blocks run.
+    reads_last_words: bool,
     /// The last evaluation failed on a variable latheguard does not model (an `unsupported`
     /// finding rather than a `program` one).
     pub unsupported: Cell<bool>,
@@ -74,8 +79,26 @@ impl State {
             last: [None; 4],
             last_n: None,
             parts: [0.0; 2],
+            call_blocks: Vec::new(),
+            reads_last_words: prog.exprs.iter().any(|e| {
+                matches!(
+                    e,
+                    Expr::Param(Param::Numbered(4107..=4120)) | Expr::Param(Param::Indirect(_))
+                )
+            }),
             unsupported: Cell::new(false),
         };
+        let is_call = |w: &crate::gcode::Word| {
+            w.letter == b'G' && matches!(w.value(), Value::Num(x) if x == 65.0 || x == 66.0 || x == 67.0)
+        };
+        // One flat pass over the words; the blocks only when some word is a call.
+        if prog.words.iter().any(is_call) {
+            for (i, b) in prog.blocks.iter().enumerate() {
+                if !b.bad && prog.words_of(b).iter().any(is_call) {
+                    s.call_blocks.push(i);
+                }
+            }
+        }
         // Open DOs of the current program: (m, block).
         let mut open: Vec<(u8, usize)> = Vec::new();
         let mut err = |b: &Block, msg: String| {
@@ -157,9 +180,22 @@ impl State {
         self.modal_call.is_some()
     }
 
+    /// Block `i` has a G65, G66 or G67 word.
+    pub fn is_call_block(&self, i: usize) -> bool {
+        !self.call_blocks.is_empty() && self.call_blocks.binary_search(&i).is_ok()
+    }
+
+    /// Whether [`State::note`] has anything to do.
+    pub fn notes_words(&self) -> bool {
+        self.reads_last_words
+    }
+
     /// Note the D, H, M, T words and the N number of a block just executed (plain numbers;
     /// not M98, M99).
     pub fn note(&mut self, prog: &Program, b: &Block) {
+        if !self.reads_last_words {
+            return;
+        }
         if let Some(n) = b.n() {
             self.last_n = Some(n as f64);
         }
