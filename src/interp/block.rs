@@ -466,7 +466,12 @@ impl Run<'_> {
                         continue;
                     }
                     let mut v = v;
-                    if increment && !word.has_point && matches!(letter, b'X' | b'Z' | b'U' | b'W' | b'I' | b'K' | b'R')
+                    // A value from an expression (Fanuc: a variable) is in mm or inches, never scaled.
+                    let plain = matches!(word.value(), crate::gcode::Value::Num(_));
+                    if increment
+                        && plain
+                        && !word.has_point
+                        && matches!(letter, b'X' | b'Z' | b'U' | b'W' | b'I' | b'K' | b'R')
                     {
                         v *= if self.modal.inch { 0.0001 } else { 0.001 };
                     }
