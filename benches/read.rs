@@ -11,7 +11,7 @@
 mod gen;
 
 use latheguard::machine::{self, Machine};
-use latheguard::{gcode, interp};
+use latheguard::{interp, pipeline};
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
@@ -105,13 +105,13 @@ fn main() {
         let n = src.iter().filter(|&&b| b == b'\n').count();
         let mut moves = 0;
         let all = times(15, || {
-            let p = gcode::parse(&src);
+            let p = pipeline::read(&src, m);
             let r = interp::interpret(&p, &src, m);
             moves = r.moves.len();
         });
         let t = all.median;
         let tp = time(15, || {
-            std::hint::black_box(gcode::parse(&src));
+            std::hint::black_box(pipeline::read(&src, m));
         });
         println!(
             "{name:<10} {n:>9} {:>7.2} ({:>6.2}) {:>11.0} ({:>8.0}) {moves:>8}   (reading alone: {:.0} lines/s)",
@@ -187,7 +187,7 @@ fn cycles(lines: usize, fanuc: &Machine) {
     let mut moves = 0;
     let mut unsupported = 0;
     let all = times(15, || {
-        let p = gcode::parse(&src);
+        let p = pipeline::read(&src, fanuc);
         let r = interp::interpret(&p, &src, fanuc);
         moves = r.moves.len();
         unsupported = r.findings.len();
@@ -205,7 +205,7 @@ fn cycles(lines: usize, fanuc: &Machine) {
     // does): no move list grows, so no fresh pages are touched for it.
     let mut streamed = 0;
     let st = times(15, || {
-        let p = gcode::parse(&src);
+        let p = pipeline::read(&src, fanuc);
         let mut count = 0usize;
         let r = interp::interpret_streaming(&p, &src, fanuc, |m, _| count += m.len());
         streamed = count + r.moves.len();

@@ -77,9 +77,18 @@ pub struct Outcome {
 
 /// Read and interpret a program: the syntax, program and unsupported findings, and the moves.
 pub fn interpret(src: &[u8], machine: &Machine) -> (gcode::Program, Interpretation) {
-    let prog = gcode::parse(src);
+    let prog = read(src, machine);
     let run = interp::interpret(&prog, src, machine);
     (prog, run)
+}
+
+/// Read a program as the machine's dialect reads it (Fanuc: with macro B statements).
+pub fn read(src: &[u8], machine: &Machine) -> gcode::Program {
+    if machine.dialect == crate::machine::Dialect::Fanuc {
+        gcode::parse_fanuc(src)
+    } else {
+        gcode::parse(src)
+    }
 }
 
 /// The reader's and the interpreter's findings, taken out of `prog` and `run`, with the count of

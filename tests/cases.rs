@@ -7,7 +7,7 @@
 //! (named so that it does not look like a setting of the command, which reads only
 //! `(latheguard: allow … -- reason)` comments);
 //! `modes=step,exact` runs both modes and prefixes each expected line with the mode.
-//! Cases under `tests/cases/interp/` and `tests/cases/comp/` also pin their interpreted motion in a `.moves` file
+//! Cases under `tests/cases/interp/`, `tests/cases/comp/` and `tests/cases/macro/` also pin their interpreted motion in a `.moves` file
 //! (`latheguard moves --format canon`).
 //! Run with `UPDATE_EXPECT=1` to rewrite the expected files from the current output (then review
 //! the diff: a test that is updated blindly proves nothing).
@@ -187,5 +187,5 @@ fn every_case_reports_exactly_its_expected_findings() {
 
 /// Cases in these folders also pin their interpreted motion in a `.moves` file.
 fn pins_moves(dir: &std::ffi::OsStr) -> bool {
-    dir == "interp" || dir == "comp"
+    dir == "interp" || dir == "comp" || dir == "macro"
 }

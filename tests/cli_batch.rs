@@ -502,3 +502,19 @@ fn a_file_whose_moves_never_reach_the_machine_is_no_motion_in_every_format() {
         .iter()
         .all(|n| n["descriptor"]["id"] == "no_motion" && n["level"] == "note"));
 }
+
+#[test]
+fn moves_reads_fanuc_macro_b_as_check_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let prog = "%\nO0001\nG21 G99\n#1=2\nWHILE [#1 GT 0] DO1\nG0 X[100+#1*10] Z50.\n#1=#1-1\nEND1\nM30\n%\n";
+    std::fs::write(dir.path().join("m.nc"), prog).unwrap();
+    let out = latheguard(dir.path(), &["moves", "m.nc"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(stderr(&out).is_empty(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert_eq!(
+        text.lines().filter(|l| l.contains("STRAIGHT_TRAVERSE")).count(),
+        2,
+        "{text}"
+    );
+}

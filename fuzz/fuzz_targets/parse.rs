@@ -2,11 +2,16 @@
 //! and what it returns is consistent with its input.
 #![no_main]
 
-use latheguard::gcode::{parse, Value};
+use latheguard::gcode::{parse, parse_fanuc, Program, Value};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let prog = parse(data);
+    // Both readers: LinuxCNC's, and the Fanuc one with macro B statements.
+    check(data, parse(data));
+    check(data, parse_fanuc(data));
+});
+
+fn check(data: &[u8], prog: Program) {
     let lines = prog.lines.line_count() as u32;
     for e in &prog.errors {
         assert!(e.line >= 1 && e.line <= lines && e.col >= 1);
@@ -32,4 +37,4 @@ fuzz_target!(|data: &[u8]| {
         prog.errors.len() + prog.errors_left_out.count as usize,
         prog.blocks.iter().filter(|b| b.bad).count()
     );
-});
+}

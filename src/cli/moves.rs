@@ -12,7 +12,7 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     let machine = load_machine(a.machine.as_deref())?;
     let src = read_capped(&a.program, MAX_PROGRAM_BYTES)
         .map_err(|why| format!("{}: cannot read: {why}", shown(&a.program)))?;
-    let mut prog = latheguard::gcode::parse(&src);
+    let mut prog = pipeline::read(&src, &machine);
     let mut written: std::io::Result<()> = Ok(());
     let mut run = match a.format {
         MovesFormat::Canon => {

@@ -8,6 +8,12 @@
 //! function:= ABS ACOS ASIN COS EXP FIX FUP ROUND LN SIN SQRT TAN '[' expr ']'
 //!          | ATAN '[' expr ']' '/' '[' expr ']' | EXISTS '[' '#' '<' name '>' ']'
 //!
+//!
+//! Fanuc macro B ([`super::parse_fanuc`]) adds `BIN[…]`, `BCD[…]`, `POW[a,b]` and `ATAN[a,b]`, and
+//! uses the Fanuc priorities (0i-F / 16i-T operator's manuals, "Custom macro", priority of
+//! operations): functions, then `* / AND MOD`, then `+ - OR XOR`, then the comparisons; `**`
+//! stays above `*`.
+//!
 //! Recursion only follows brackets, functions and `#` indirections, and stops with a syntax error
 //! past [`MAX_NESTING`](super::MAX_NESTING) levels; within one bracket level the precedence
 //! climbing recurses at most once per precedence level.
@@ -153,8 +159,26 @@ impl Reader<'_> {
         })
     }
 
+    /// A signed value as an expression (a GOTO target); `what` names it in the error.
+    pub(super) fn operand_expr(&mut self, what: &str) -> Res<ExprId> {
+        match self.peek() {
+            Some(b) if b.is_ascii_alphanumeric() || matches!(b, b'.' | b'#' | b'[' | b'+' | b'-') => {}
+            _ => return Err(self.expected(self.pos, what)),
+        }
+        let v = self.signed(Ctx::Operand)?;
+        Ok(self.expr_of(v))
+    }
+
     /// The value of an assignment (after `=`), as an expression.
     pub(super) fn value_expr(&mut self) -> Res<ExprId> {
+        if self.macro_b {
+            // Fanuc: the right side is a whole expression (`#1 = #2 + 1`), no brackets needed.
+            match self.peek() {
+                Some(b) if b.is_ascii_alphanumeric() || matches!(b, b'.' | b'#' | b'[' | b'+' | b'-') => {}
+                _ => return Err(self.expected(self.pos, &Ctx::Assign.what())),
+            }
+            return self.expr(1);
+        }
         let v = self.signed(Ctx::Assign)?;
         Ok(self.expr_of(v))
     }
@@ -363,6 +387,21 @@ impl Reader<'_> {
 
     /// The binary operator at the cursor: operator, precedence (1 lowest), offset after it.
     fn binop(&mut self) -> Option<(BinOp, u8, usize)> {
+        let (op, prec, end) = self.binop_rs274()?;
+        if !self.macro_b {
+            return Some((op, prec, end));
+        }
+        let prec = match op {
+            BinOp::Pow => 5,
+            BinOp::Mul | BinOp::Div | BinOp::And | BinOp::Mod => 4,
+            BinOp::Add | BinOp::Sub | BinOp::Or | BinOp::Xor => 3,
+            _ => 2,
+        };
+        Some((op, prec, end))
+    }
+
+    /// The binary operator at the cursor with its rs274ngc precedence.
+    fn binop_rs274(&mut self) -> Option<(BinOp, u8, usize)> {
         let c = self.peek()?;
         let one = self.pos + 1;
         let op = match c.to_ascii_lowercase() {
@@ -399,6 +438,11 @@ impl Reader<'_> {
     /// A function call at the cursor (on a letter).
     fn function(&mut self, ctx: Ctx) -> Res<ExprId> {
         let at = self.pos;
+        if self.macro_b {
+            if let Some(f) = self.fanuc_function()? {
+                return Ok(f);
+            }
+        }
         if let Some(end) = self.match_kw(b"atan") {
             self.pos = end;
             let y = self.func_arg("ATAN")?;
@@ -457,6 +501,72 @@ impl Reader<'_> {
                 })
             }
         }
+    }
+
+    /// The Fanuc forms: `ATAN[a,b]` (and `ATAN[a]/[b]`), `POW[a,b]`, `BIN[…]`, `BCD[…]`; `None`
+    /// (cursor unmoved) for any other name.
+    fn fanuc_function(&mut self) -> Res<Option<ExprId>> {
+        for (kw, f) in [(&b"bin"[..], Func::Bin), (b"bcd", Func::Bcd)] {
+            if let Some(end) = self.match_kw(kw) {
+                self.pos = end;
+                let name = if f == Func::Bin { "BIN" } else { "BCD" };
+                let arg = self.func_arg(name)?;
+                return Ok(Some(self.push(Expr::Func(f, arg))));
+            }
+        }
+        let (name, pow) = if let Some(end) = self.match_kw(b"pow") {
+            self.pos = end;
+            ("POW", true)
+        } else if let Some(end) = self.match_kw(b"atan") {
+            self.pos = end;
+            ("ATAN", false)
+        } else {
+            return Ok(None);
+        };
+        if self.peek() != Some(b'[') {
+            return Err(self.expected(self.pos, &format!("'[' after {name}")));
+        }
+        let open = self.pos;
+        self.nest(open)?;
+        self.pos += 1;
+        let a = self.expr(1)?;
+        let b = match self.peek() {
+            Some(b',') => {
+                self.pos += 1;
+                let b = self.expr(1)?;
+                if self.peek() != Some(b']') {
+                    return Err(self.expected(self.pos, "an operator or ']'"));
+                }
+                self.pos += 1;
+                Some(b)
+            }
+            Some(b']') => {
+                self.pos += 1;
+                None
+            }
+            None => {
+                return Err(Error {
+                    at: open,
+                    msg: "unclosed '[': no ']' on its line".into(),
+                })
+            }
+            Some(_) => return Err(self.expected(self.pos, "an operator, ',' or ']'")),
+        };
+        self.depth -= 1;
+        let e = match (pow, b) {
+            (true, Some(b)) => Expr::Binary(BinOp::Pow, a, b),
+            (true, None) => return Err(self.expected(self.pos, "POW[a,b]: ',' and a second value")),
+            (false, Some(b)) => Expr::Atan(a, b),
+            (false, None) => {
+                if self.peek() != Some(b'/') {
+                    return Err(self.expected(self.pos, "'/' after ATAN[y] (the forms are ATAN[y]/[x] and ATAN[y,x])"));
+                }
+                self.pos += 1;
+                let x = self.func_arg("ATAN[y]/")?;
+                Expr::Atan(a, x)
+            }
+        };
+        Ok(Some(self.push(e)))
     }
 
     /// The bracketed argument of a function.

@@ -21,17 +21,26 @@ const BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// Read a whole program. Never fails; problems become `syntax` findings in [`Program::errors`].
 pub fn parse(src: &[u8]) -> Program {
-    parse_with(src, true)
+    parse_with(src, true, false)
 }
 
-/// [`parse`], with or without the fast path for plain lines (tests compare the two).
-pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool) -> Program {
+/// Read a whole program of the Fanuc dialect: as [`parse`], and also the Fanuc macro B
+/// statements (`GOTO`, `IF`, `WHILE … DO`, `END`), the functions `BIN`, `BCD`, `POW[a,b]`,
+/// `ATAN[a,b]`, and the Fanuc operator priorities (see the module docs of [`crate::gcode`]).
+pub fn parse_fanuc(src: &[u8]) -> Program {
+    parse_with(src, true, true)
+}
+
+/// [`parse`] or [`parse_fanuc`], with or without the fast path for plain lines (tests compare
+/// the two).
+pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool) -> Program {
     // One pass over the lines reads each as it is found; the line starts it records are the
     // program's `LineIndex`. (Files with lone CRs grow the vectors instead.)
     let terminators = count_lf(src);
     let mut starts: Vec<u32> = Vec::with_capacity(terminators + 1);
     let mut reader = Reader::new(src);
     reader.plain_lines_fast = plain_lines_fast;
+    reader.macro_b = macro_b;
     // Most lines are blocks of a few words: reserving once saves the copies of growing (the
     // memory a reservation does not use is never touched, and is given back below).
     reader.prog.blocks.reserve(terminators + 1);
@@ -74,6 +83,7 @@ struct Partial {
     percent: bool,
     oword: Option<OWord>,
     message: Option<Span>,
+    macro_stmt: Option<super::MacroStmt>,
     /// A word, an assignment or an O-word was read.
     started: bool,
 }
@@ -94,6 +104,8 @@ pub(super) struct Reader<'a> {
     pub depth: u32,
     /// Try [`Reader::read_plain_line`] first.
     plain_lines_fast: bool,
+    /// Read Fanuc macro B statements, functions and operator priorities.
+    pub macro_b: bool,
 }
 
 impl<'a> Reader<'a> {
@@ -109,6 +121,7 @@ impl<'a> Reader<'a> {
             line: 0,
             depth: 0,
             plain_lines_fast: true,
+            macro_b: false,
         }
     }
 
@@ -298,13 +311,15 @@ impl<'a> Reader<'a> {
         if !(bad || something) {
             return;
         }
-        let rare = (!assigns.is_empty() || part.oword.is_some() || part.message.is_some()).then(|| {
-            Box::new(Rare {
-                assigns,
-                oword: part.oword,
-                message: part.message,
-            })
-        });
+        let rare = (!assigns.is_empty() || part.oword.is_some() || part.message.is_some() || part.macro_stmt.is_some())
+            .then(|| {
+                Box::new(Rare {
+                    assigns,
+                    oword: part.oword,
+                    message: part.message,
+                    macro_stmt: part.macro_stmt,
+                })
+            });
         self.prog.blocks.push(Block {
             line,
             span: Span::new(start, end),
@@ -327,6 +342,24 @@ impl<'a> Reader<'a> {
             let at = self.pos;
             if part.oword.is_some() && c != b'(' && c != b';' {
                 return Err(self.expected(at, "nothing but comments after an O-word statement"));
+            }
+            if let Some(m) = part.macro_stmt {
+                let then = matches!(m.op, super::MacroOp::IfThen(_));
+                if c != b'(' && c != b';' && !(then && c == b'#') {
+                    let what = if then {
+                        "an assignment (#i=…) or a comment after THEN"
+                    } else {
+                        "nothing but comments after a macro statement"
+                    };
+                    return Err(self.expected(at, what));
+                }
+            }
+            if self.macro_b && !part.started && c.is_ascii_alphabetic() {
+                if let Some(op) = self.macro_statement()? {
+                    part.started = true;
+                    part.macro_stmt = Some(super::MacroStmt { op, at: at as u32 });
+                    continue;
+                }
             }
             match c {
                 b'(' => self.comment(part)?,
@@ -564,6 +597,72 @@ impl<'a> Reader<'a> {
             op,
             span: Span::new(at, self.trim_end(at, self.pos)),
         })
+    }
+
+    /// A Fanuc macro B statement at the cursor (on a letter), or `None` (cursor unmoved) when the
+    /// letters there are no statement keyword. None of the keywords can begin a valid word (`GO`,
+    /// `IF`, `WH`, `EN`, `DO`: a letter followed by a letter), so reading them first changes
+    /// nothing for other lines.
+    fn macro_statement(&mut self) -> Res<Option<super::MacroOp>> {
+        use super::MacroOp;
+        if let Some(end) = self.match_kw(b"goto") {
+            self.pos = end;
+            return Ok(Some(MacroOp::Goto(self.operand_expr("a sequence number after GOTO")?)));
+        }
+        if let Some(end) = self.match_kw(b"while") {
+            self.pos = end;
+            let cond = self.condition("WHILE")?;
+            let Some(end) = self.match_kw(b"do") else {
+                return Err(self.expected(self.pos, "DO1, DO2 or DO3 after WHILE [...]"));
+            };
+            self.pos = end;
+            return Ok(Some(MacroOp::Do(Some(cond), self.loop_id("DO")?)));
+        }
+        if let Some(end) = self.match_kw(b"do") {
+            self.pos = end;
+            return Ok(Some(MacroOp::Do(None, self.loop_id("DO")?)));
+        }
+        if let Some(end) = self.match_kw(b"end") {
+            self.pos = end;
+            return Ok(Some(MacroOp::End(self.loop_id("END")?)));
+        }
+        if let Some(end) = self.match_kw(b"if") {
+            self.pos = end;
+            let cond = self.condition("IF")?;
+            if let Some(end) = self.match_kw(b"goto") {
+                self.pos = end;
+                return Ok(Some(MacroOp::IfGoto(
+                    cond,
+                    self.operand_expr("a sequence number after GOTO")?,
+                )));
+            }
+            if let Some(end) = self.match_kw(b"then") {
+                self.pos = end;
+                if self.peek() != Some(b'#') {
+                    return Err(self.expected(self.pos, "an assignment (#i=…) after THEN"));
+                }
+                return Ok(Some(MacroOp::IfThen(cond)));
+            }
+            return Err(self.expected(self.pos, "GOTO or THEN after IF [...]"));
+        }
+        Ok(None)
+    }
+
+    /// The loop number of `DOm` / `ENDm`: 1, 2 or 3.
+    fn loop_id(&mut self, what: &str) -> Res<u8> {
+        let at = self.pos;
+        match self.peek() {
+            Some(b) if b.is_ascii_digit() => {}
+            _ => return Err(self.expected(at, &format!("1, 2 or 3 after {what}"))),
+        }
+        let m = self.uint(at, 999, "a loop number")?;
+        if !(1..=3).contains(&m) {
+            return Err(Error {
+                at,
+                msg: format!("{what}{m}: the loop number must be 1, 2 or 3"),
+            });
+        }
+        Ok(m as u8)
     }
 
     /// The bracketed expression a WHILE, IF, ELSEIF or REPEAT needs.

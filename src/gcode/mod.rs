@@ -38,8 +38,23 @@
 //!   `[1ltabs[2]]` is `1 LT ABS[2]`. There is no `NOT` (rs274ngc has none); [`Expr::Not`] is
 //!   never produced by the reader. Brackets, functions and `#` indirections nest at most
 //!   [`MAX_NESTING`] deep.
-//! - Not read (syntax errors): Fanuc Macro B statements (`IF […] GOTO`, `WHILE […] DO1`, `END1`,
-//!   `GOTOn`), Okuma and Philips variable syntax (`X=VAR+5`, `N1=…`).
+//! - Fanuc macro B is read only by [`parse_fanuc`], which the pipeline uses for machines of the
+//!   Fanuc dialect; [`parse`] (LinuxCNC, and any caller that does not know the dialect) reads
+//!   exactly as before and refuses those statements as syntax errors. One reader serves both: a
+//!   flag turns on, and only on, what Fanuc adds, so no LinuxCNC line can read differently, and
+//!   the fast path for plain lines declines every macro statement by itself (their keywords are a
+//!   letter followed by a letter, never a plain word). [`parse_fanuc`] adds:
+//!   - statements, first in their block after the N number: `GOTO n`, `IF [c] GOTO n`,
+//!     `IF [c] THEN #i=…` (its assignments are the block's), `WHILE [c] DOm`, `DOm`, `ENDm`
+//!     (m = 1, 2, 3), kept in [`Block::macro_stmt`]; only comments may follow them (assignments
+//!     after `THEN`). None of their keywords can start a valid word (`GO`, `IF`, `WH`, `DO`, `EN`),
+//!     so reading them first changes no other line;
+//!   - the right side of `#i = …` is a whole expression without brackets (`#1 = #2 + 1`);
+//!   - `BIN[…]`, `BCD[…]`, `POW[a,b]`, `ATAN[a,b]` (and `ATAN[a]/[b]`);
+//!   - Fanuc priorities: `* / AND MOD` above `+ - OR XOR` above the comparisons.
+//!
+//!   Running them is `interp/macro_b.rs`; `docs/macro-b.md` lists what is read and run.
+//! - Not read (syntax errors): Okuma and Philips variable syntax (`X=VAR+5`, `N1=…`).
 //! - Not rejected here, left to the interpreter: repeated words, letters that no code uses,
 //!   values out of range for their letter (`G1.5`).
 
@@ -52,7 +67,7 @@ use crate::finding::Finding;
 use crate::source::{LineIndex, Span};
 use std::ops::Range;
 
-pub use lexer::{parse, MAX_NESTING};
+pub use lexer::{parse, parse_fanuc, MAX_NESTING};
 
 /// Index of an expression in [`Program::exprs`].
 pub type ExprId = u32;
@@ -132,6 +147,29 @@ pub struct Rare {
     pub oword: Option<OWord>,
     /// `(MSG,…)`, `(PRINT,…)`, `(DEBUG,…)`: the text after the comma.
     pub message: Option<Span>,
+    /// A Fanuc macro B statement (only read by [`parse_fanuc`]).
+    pub macro_stmt: Option<MacroStmt>,
+}
+
+/// A Fanuc macro B control statement. Its column is `at` (the byte offset of the keyword).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MacroStmt {
+    pub op: MacroOp,
+    pub at: u32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MacroOp {
+    /// `GOTO n` (n may be an expression).
+    Goto(ExprId),
+    /// `IF [cond] GOTO n`.
+    IfGoto(ExprId, ExprId),
+    /// `IF [cond] THEN #i = …`: the block's assignments run only when the condition holds.
+    IfThen(ExprId),
+    /// `WHILE [cond] DOm`, or `DOm` alone (`None`: loop without end), m = 1..3.
+    Do(Option<ExprId>, u8),
+    /// `ENDm`.
+    End(u8),
 }
 
 impl Block {
@@ -152,6 +190,11 @@ impl Block {
     /// The text of the line's first `(MSG,…)`, `(PRINT,…)` or `(DEBUG,…)` after the comma.
     pub fn message(&self) -> Option<Span> {
         self.rare.as_ref().and_then(|r| r.message)
+    }
+
+    /// The block's Fanuc macro B statement, if any.
+    pub fn macro_stmt(&self) -> Option<&MacroStmt> {
+        self.rare.as_ref().and_then(|r| r.macro_stmt.as_ref())
     }
 }
 
@@ -292,6 +335,10 @@ pub enum Func {
     Sin,
     Sqrt,
     Tan,
+    /// Fanuc `BIN[…]`: BCD → binary.
+    Bin,
+    /// Fanuc `BCD[…]`: binary → BCD.
+    Bcd,
 }
 
 /// An O-word statement: LinuxCNC `o<name> sub`, `o100 while […]`, … or a Fanuc program number.

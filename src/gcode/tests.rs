@@ -783,7 +783,11 @@ fn corpus_like_linuxcnc_program_reads_cleanly() {
 // ---- properties ----
 
 fn check_invariants(src: &[u8]) {
-    let prog = parse(src);
+    check_invariants_of(src, parse(src));
+    check_invariants_of(src, super::parse_fanuc(src));
+}
+
+fn check_invariants_of(src: &[u8], prog: Program) {
     let lines = prog.lines.line_count() as u32;
     for e in &prog.errors {
         assert!(e.line >= 1 && e.line <= lines, "finding line {} of {lines}", e.line);
@@ -879,9 +883,88 @@ proptest! {
         crlf in any::<bool>(),
     ) {
         let src = lines.join(if crlf { "\r\n" } else { "\n" });
-        let fast = lexer::parse_with(src.as_bytes(), true);
-        let general = lexer::parse_with(src.as_bytes(), false);
         let show = |p: &Program| format!("{:?}", (&p.blocks, &p.words, &p.assigns, &p.exprs, &p.errors, &p.comments));
+        for macro_b in [false, true] {
+            let fast = lexer::parse_with(src.as_bytes(), true, macro_b);
+            let general = lexer::parse_with(src.as_bytes(), false, macro_b);
+            prop_assert_eq!(show(&fast), show(&general));
+        }
+    }
+
+    #[test]
+    fn the_fast_line_reader_declines_macro_statements_as_the_general_reader_reads_them(
+        lines in proptest::collection::vec(
+            "(N[0-9]{1,3} ?)?(GOTO ?[0-9#]{1,3}|IF ?\\[#1 ?(EQ|GT) ?[0-9]\\] ?(GOTO[0-9]{1,2}|THEN ?#2=[0-9])|WHILE ?\\[#1 ?LT ?3\\] ?DO[0-4]|END[0-4]|DO[1-3]|G65 ?P9[0-9]{3} ?A1\\.|[GXZ][0-9]{1,3})",
+            1..12,
+        ),
+    ) {
+        let src = lines.join("\n");
+        let show = |p: &Program| format!("{:?}", (&p.blocks, &p.words, &p.assigns, &p.exprs, &p.errors, &p.comments));
+        let fast = lexer::parse_with(src.as_bytes(), true, true);
+        let general = lexer::parse_with(src.as_bytes(), false, true);
         prop_assert_eq!(show(&fast), show(&general));
     }
+
+    #[test]
+    fn random_macro_text_never_panics(
+        src in "([GXZNOIKFSTMgxzno#\\[\\]()<>;%/:=,. 0-9+*\\-\t\r\n]|IF|GOTO|THEN|WHILE|DO|END|EQ|NE|GT|LE|AND|OR|XOR|MOD|BIN|BCD|POW|ATAN|ROUND|FIX|FUP|SQRT|G65|G66|G67|M98|M99|é){0,120}"
+    ) {
+        check_invariants(src.as_bytes());
+    }
+}
+
+#[test]
+fn macro_b_statements_are_read_only_by_the_fanuc_reader() {
+    use super::{parse_fanuc, MacroOp};
+    let src =
+        b"N5 IF [#1 EQ 2] GOTO 10\nIF[#1GT0]THEN#2=3\nWHILE [#1 LT 3] DO1\nDO2\nEND2\nEND1\nGOTO #3\n#1 = #2 + 1\n";
+    let lcnc = parse(src);
+    // LinuxCNC: every one of these lines is a syntax error, as before.
+    assert_eq!(lcnc.errors.len(), 8, "{:?}", lcnc.errors);
+    let f = parse_fanuc(src);
+    assert!(f.errors.is_empty(), "{:?}", f.errors);
+    let ops: Vec<MacroOp> = f.blocks.iter().filter_map(|b| b.macro_stmt().map(|m| m.op)).collect();
+    assert!(matches!(ops[0], MacroOp::IfGoto(..)));
+    assert!(matches!(ops[1], MacroOp::IfThen(_)));
+    assert!(matches!(ops[2], MacroOp::Do(Some(_), 1)));
+    assert!(matches!(ops[3], MacroOp::Do(None, 2)));
+    assert_eq!(&ops[4..6], &[MacroOp::End(2), MacroOp::End(1)]);
+    assert!(matches!(ops[6], MacroOp::Goto(_)));
+    assert_eq!(f.blocks[0].n(), Some(5));
+    assert_eq!(f.assigns_of(&f.blocks[1]).len(), 1);
+    assert_eq!(f.assigns_of(&f.blocks[7]).len(), 1);
+}
+
+#[test]
+fn bad_macro_statements_are_syntax_findings_with_their_column() {
+    let cases: [(&[u8], u32, &str); 6] = [
+        (b"WHILE [1] DO4", 13, "loop number must be 1, 2 or 3"),
+        (b"WHILE [1]", 10, "DO1, DO2 or DO3"),
+        (b"IF [1] X1", 8, "GOTO or THEN"),
+        (b"IF [1] THEN G0", 13, "an assignment"),
+        (b"GOTO 10 X5", 9, "nothing but comments after a macro statement"),
+        (b"END", 4, "1, 2 or 3 after END"),
+    ];
+    for (src, col, msg) in cases {
+        let p = super::parse_fanuc(src);
+        assert_eq!(p.errors.len(), 1, "{}", String::from_utf8_lossy(src));
+        assert_eq!(
+            p.errors[0].col,
+            col,
+            "{}: {}",
+            String::from_utf8_lossy(src),
+            p.errors[0].message
+        );
+        assert!(p.errors[0].message.contains(msg), "{}", p.errors[0].message);
+    }
+}
+
+#[test]
+fn fanuc_priorities_put_and_with_times_and_or_with_plus() {
+    // 2 + 12 AND 10 is 2 + (12 AND 10) on Fanuc; rs274ngc reads [2 + 12] AND 10.
+    let f = super::parse_fanuc(b"#1 = [2 + 12 AND 10]");
+    let l = parse(b"#1 = [2 + 12 AND 10]");
+    let top = |p: &Program| p.exprs[p.assigns[0].value as usize];
+    assert!(matches!(top(&f), Expr::Binary(BinOp::Add, ..)));
+    assert!(matches!(top(&l), Expr::Binary(BinOp::And, ..)));
 }

@@ -605,8 +605,9 @@ impl Run<'_> {
         let increment = fanuc && self.machine.decimal_point == DecimalPoint::Increment;
         let mut ok = true;
         for word in self.prog.words_of(b) {
-            let v = match self.value(word.value()) {
-                Ok(v) => v,
+            let v = match self.word_value(word.value()) {
+                Ok(Some(v)) => v,
+                Ok(None) => continue, // Fanuc: a vacant value leaves the word out
                 Err(m) => {
                     self.error(b, Some(word.at), m);
                     ok = false;
@@ -668,7 +669,12 @@ impl Run<'_> {
                         continue;
                     }
                     let mut v = v;
-                    if increment && !word.has_point && matches!(letter, b'X' | b'Z' | b'U' | b'W' | b'I' | b'K' | b'R')
+                    // A value from an expression (Fanuc: a variable) is in mm or inches, never scaled.
+                    let plain = matches!(word.value(), crate::gcode::Value::Num(_));
+                    if increment
+                        && plain
+                        && !word.has_point
+                        && matches!(letter, b'X' | b'Z' | b'U' | b'W' | b'I' | b'K' | b'R')
                     {
                         v *= if self.modal.inch { 0.0001 } else { 0.001 };
                     }
@@ -702,7 +708,7 @@ impl Run<'_> {
         if !assigns.is_empty() {
             let mut vals = Vec::with_capacity(assigns.len());
             for a in assigns {
-                match self.eval(a.value) {
+                match self.eval_assign(a.value) {
                     Ok(v) => vals.push((a.target, v, a.span.start)),
                     Err(m) => {
                         self.error(b, Some(a.span.start), m);
@@ -1126,17 +1132,10 @@ impl Run<'_> {
             return;
         }
         if w.m(99) {
-            if w.peek(b'P') {
-                self.unsupported(
-                    b,
-                    w.at(b'P'),
-                    "M99 P (return to a sequence number) is not modelled".into(),
-                    true,
-                );
-                w.get(b'P');
-            }
+            let p = w.peek(b'P').then(|| w.at(b'P'));
+            let p = p.map(|at| (w.get(b'P').unwrap_or(0.0), at));
             self.check_unused(b, w);
-            self.m99(b);
+            self.m99(b, p);
             return;
         }
         self.check_unused(b, w);

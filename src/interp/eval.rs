@@ -9,20 +9,36 @@ const MAX_DEPTH: u32 = 400;
 pub(crate) type EvalResult = Result<f64, String>;
 
 impl Run<'_> {
-    pub(crate) fn value(&self, v: Value) -> EvalResult {
-        match v {
-            Value::Num(x) => Ok(x),
-            Value::Expr(e) => self.eval(e),
-        }
-    }
-
     pub(crate) fn eval(&self, id: ExprId) -> EvalResult {
+        if self.macro_b.is_some() {
+            // Fanuc: a vacant value is 0 where a number is needed.
+            return self.macro_eval(id).map(|v| v.unwrap_or(0.0));
+        }
         let v = self.eval_at(id, 0)?;
         if v.is_finite() {
             Ok(v)
         } else {
             Err("the expression's value is not a finite number".into())
         }
+    }
+
+    /// A word's value; `None` when it is vacant (Fanuc: the word is as if absent).
+    #[inline]
+    pub(crate) fn word_value(&self, v: Value) -> Result<Option<f64>, String> {
+        match v {
+            Value::Num(x) => Ok(Some(x)),
+            Value::Expr(e) if self.macro_b.is_some() => self.macro_eval(e),
+            Value::Expr(e) => self.eval(e).map(Some),
+        }
+    }
+
+    /// The right side of an assignment: as [`Run::eval`], but a vacant value (Fanuc) is kept, as
+    /// [`crate::interp::macro_b::VACANT`].
+    pub(crate) fn eval_assign(&self, id: ExprId) -> EvalResult {
+        if self.macro_b.is_some() {
+            return self.macro_eval(id).map(|v| v.unwrap_or(super::macro_b::VACANT));
+        }
+        self.eval(id)
     }
 
     fn eval_at(&self, id: ExprId, depth: u32) -> EvalResult {
@@ -92,12 +108,23 @@ impl Run<'_> {
 
     /// Resolve `#n` (possibly computed) to an index.
     pub(crate) fn assign(&mut self, p: Param, value: f64) -> Result<(), String> {
+        if self.macro_b.is_some() {
+            return self.macro_assign(p, value);
+        }
         match p {
             Param::Numbered(n) => self.set_numbered(n, value),
             Param::Indirect(e) => {
                 let n = param_index(self.eval(e)?)?;
                 self.set_numbered(n, value)
             }
+            Param::Named(_) => self.assign_named(p, value),
+        }
+    }
+
+    /// `#<name> = value`.
+    pub(crate) fn assign_named(&mut self, p: Param, value: f64) -> Result<(), String> {
+        match p {
+            Param::Numbered(_) | Param::Indirect(_) => Err("not a named parameter".into()),
             Param::Named(name) => {
                 let text = self.prog.name(name);
                 if text.starts_with('_') {
@@ -284,5 +311,7 @@ fn func(f: Func, x: f64) -> EvalResult {
             }
             x.sqrt()
         }
+        // Read only by the Fanuc reader, evaluated in `macro_b`.
+        Func::Bin | Func::Bcd => return Err("BIN and BCD are Fanuc macro B functions".into()),
     })
 }

@@ -268,6 +268,8 @@ pub(crate) struct Run<'a> {
     pub reports: u64,
     /// Nose-radius compensation (src/interp/comp.rs): none until the first G41/G42.
     pub(super) comp: Option<Box<super::comp::Comp>>,
+    /// Fanuc macro B (the Fanuc dialect only): see `macro_b.rs`.
+    pub(crate) macro_b: Option<Box<super::macro_b::State>>,
 }
 
 impl<'a> Run<'a> {
@@ -276,6 +278,13 @@ impl<'a> Run<'a> {
         let mut left_out = LeftOut::default();
         let labels = Labels::build(prog, &mut findings, &mut left_out);
         let fanuc = machine.dialect == Dialect::Fanuc;
+        let macro_b = fanuc.then(|| Box::new(super::macro_b::State::new(prog, &mut findings, &mut left_out)));
+        let mut params = Params::new();
+        if fanuc {
+            // Fanuc: locals and common variables start vacant.
+            params.numbered[1..34].fill(super::macro_b::VACANT);
+            params.numbered[100..1000].fill(super::macro_b::VACANT);
+        }
         let modal = Modal {
             inch: false,
             incremental: false,
@@ -298,7 +307,7 @@ impl<'a> Run<'a> {
             limits,
             labels,
             modal,
-            params: Params::new(),
+            params,
             frames: Vec::new(),
             reference: machine.home,
             station,
@@ -332,6 +341,7 @@ impl<'a> Run<'a> {
             left_out,
             reports: 0,
             comp: None,
+            macro_b,
         }
     }
 
@@ -366,8 +376,18 @@ impl<'a> Run<'a> {
     }
 
     pub(crate) fn error(&mut self, b: &Block, col_offset: Option<u32>, msg: String) {
+        if self.macro_b.as_ref().is_some_and(|m| m.unsupported.take()) {
+            // The evaluation failed on a variable latheguard does not model.
+            self.unsupported(b, col_offset, msg, true);
+            return;
+        }
         let col = col_offset.map_or(0, |o| self.cols.col_of(&self.prog.lines, self.src, o));
         self.report(Finding::program(b.line, col, msg).with_n(b.n()));
+    }
+
+    /// Keep a finding of the run, once, up to the cap.
+    pub(crate) fn report_finding(&mut self, f: Finding) {
+        self.report(f);
     }
 
     /// Keep a finding of the run, once, up to the cap.
@@ -429,7 +449,51 @@ impl<'a> Run<'a> {
                     continue;
                 }
             }
+            if let Some(m) = b.macro_stmt() {
+                self.macro_statement(i, b, m.op);
+                continue;
+            }
+            if self.macro_b.is_some() {
+                self.execute_fanuc(i, b);
+            } else {
+                self.execute(b);
+            }
+        }
+    }
+
+    /// A Fanuc block: G65–G67 macro calls, the block, then a `G66` call after a move, and the
+    /// D, H, M, T, N bookkeeping of the modal variables.
+    fn execute_fanuc(&mut self, i: usize, b: &Block) {
+        let Some(m) = self.macro_b.as_deref() else {
             self.execute(b);
+            return;
+        };
+        // A failed evaluation nobody reported must not mark a later finding.
+        m.unsupported.set(false);
+        let (call, modal_call, note) = (m.is_call_block(i), m.modal_call_active(), m.notes_words());
+        if call && self.macro_call_block(b) {
+            // Its words are arguments, not the modal D, H, M, T of #4107 … #4120.
+            return;
+        }
+        if !(modal_call || note) {
+            self.execute(b);
+            return;
+        }
+        let (moves, depth) = (self.moves.len(), self.frames.len());
+        self.execute(b);
+        if modal_call && self.frames.len() == depth && !self.stopped {
+            let moved = self.moves[moves.min(self.moves.len())..].iter().any(|m| {
+                !matches!(
+                    m.kind,
+                    super::MoveKind::Dwell { .. } | super::MoveKind::ToolChange { .. }
+                )
+            });
+            if moved {
+                self.after_move_block(b);
+            }
+        }
+        if let Some(m) = self.macro_b.as_deref_mut() {
+            m.note(self.prog, b);
         }
     }
 
@@ -784,8 +848,20 @@ impl<'a> Run<'a> {
         self.pc = start + 1;
     }
 
-    /// `M99`: end of a subprogram pass.
-    pub(crate) fn m99(&mut self, b: &Block) {
+    /// `M99` (`p`: its P word and column): end of a subprogram pass.
+    pub(crate) fn m99(&mut self, b: &Block, p: Option<(f64, Option<u32>)>) {
+        if self.macro_b.is_some() && self.frames.last().map_or(true, |f| f.fanuc) {
+            self.macro_m99(b, p.map(|p| p.0));
+            return;
+        }
+        if let Some((_, at)) = p {
+            self.unsupported(
+                b,
+                at,
+                "M99 P (return to a sequence number) is not modelled".into(),
+                true,
+            );
+        }
         match self.frames.last() {
             Some(f) if f.fanuc => {
                 let f = self.frames.last_mut().unwrap();

@@ -2,7 +2,7 @@
 //!
 //! It keeps the modal state (units, distance and diameter modes, feed and spindle modes, the
 //! active tool, offsets), evaluates parameters and expressions, runs LinuxCNC o-word flow and
-//! subroutines and Fanuc M98/M99 subprograms, and emits one [`Move`] per motion with its source
+//! subroutines, Fanuc M98/M99 subprograms and Fanuc custom macro B (`macro_b.rs`), and emits one [`Move`] per motion with its source
 //! line. Problems become `program` findings, codes it does not model `unsupported` findings; it
 //! never stops at the first one, and a bounded execution budget stops endless loops.
 
@@ -13,6 +13,7 @@ mod comp;
 mod cycles;
 mod eval;
 mod flow;
+mod macro_b;
 mod mcodes;
 mod state;
 #[cfg(test)]
