@@ -110,8 +110,8 @@ pub struct CheckArgs {
     /// Files checked in parallel, 1 to 256, never more than the files [default: all cores].
     #[arg(short, long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=MAX_JOBS))]
     pub jobs: Option<u16>,
-    /// Extensions taken as NC programs when walking folders, comma-separated
-    /// [default: nc,ngc,tap,cnc,mpf,eia,gcode,txt].
+    /// Extensions taken as NC programs when walking folders, comma-separated (a .txt found in a
+    /// folder only when its first lines read as G-code) [default: nc,ngc,tap,cnc,mpf,eia,gcode,txt].
     #[arg(long, value_name = "EXT,…", value_delimiter = ',', value_parser = extension)]
     pub ext: Option<Vec<String>>,
     /// Check only the I-th of N equal parts of the files (1-based), to split a batch over runners.

@@ -56,7 +56,7 @@ fn walk(root: &Path, exts: &[String], out: &mut Vec<Entry>) {
                 // FIFO would wait for a writer.
                 let file =
                     ft.is_file() || (ft.is_symlink() && std::fs::metadata(e.path()).map_or(true, |m| m.is_file()));
-                if file && has_extension(e.path(), exts) {
+                if file && has_extension(e.path(), exts) && (!is_txt(e.path()) || looks_like_gcode(e.path())) {
                     out.push(Entry {
                         path: tidy(e.path()),
                         problem: None,
@@ -103,6 +103,44 @@ pub fn tidy(p: &Path) -> PathBuf {
     }
 }
 
+fn is_txt(p: &Path) -> bool {
+    p.extension().is_some_and(|e| e.eq_ignore_ascii_case("txt"))
+}
+
+/// Whether a `.txt` file found in a folder reads as G-code, from its first 4 KiB: most of its
+/// first lines (at least half of those with text, and at least one) begin as NC blocks do — `%`,
+/// `(`, `;`, `/`, `#`, `:` or `O`, `N`, `G`, `M`, `T`, `X`, `Z` … followed by a number. Notes,
+/// logs and READMEs next to programs are then not read as programs. A `.txt` named on the command
+/// line is always checked.
+fn looks_like_gcode(p: &Path) -> bool {
+    use std::io::Read;
+    let mut head = Vec::with_capacity(4096);
+    let Ok(f) = std::fs::File::open(p) else {
+        return true; // reading it will say why it cannot be read
+    };
+    if f.take(4096).read_to_end(&mut head).is_err() {
+        return true;
+    }
+    looks_like_gcode_text(&String::from_utf8_lossy(&head))
+}
+
+fn looks_like_gcode_text(text: &str) -> bool {
+    let (mut nc, mut all) = (0, 0);
+    for line in text.lines().map(str::trim).filter(|l| !l.is_empty()).take(40) {
+        all += 1;
+        let mut c = line.chars();
+        let first = c.next().unwrap_or(' ');
+        let second = c.find(|c| *c != ' ').unwrap_or(' ');
+        let block = matches!(first, '%' | '(' | ';' | '/' | '#' | ':')
+            || (first.is_ascii_alphabetic()
+                && (second.is_ascii_digit() || matches!(second, '-' | '+' | '.' | '#' | '[')));
+        if block {
+            nc += 1;
+        }
+    }
+    nc > 0 && nc * 2 >= all
+}
+
 pub fn has_extension(p: &Path, exts: &[String]) -> bool {
     p.extension()
         .is_some_and(|e| exts.iter().any(|x| e.eq_ignore_ascii_case(x.as_str())))
@@ -117,4 +155,27 @@ pub fn shard<T>(files: Vec<T>, index: usize, count: usize) -> Vec<T> {
         .filter(|(k, _)| k % count == index - 1)
         .map(|(_, f)| f)
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_txt_is_taken_as_a_program_only_when_it_reads_as_g_code() {
+        let yes = [
+            "%\nO0001\nG21 G99\nG0 X50. Z5.\nM30\n",
+            "(part 12)\nN10 G0 X1\nN20 G1 Z-5 F0.1\n",
+            "g0 x1\nz2\n",
+        ];
+        let no = [
+            "Setup notes for op 20\nUse soft jaws bored to 49.8\n",
+            "",
+            "TODO: check the G71 depth\nthen ask Bob\n",
+        ];
+        for t in yes {
+            assert!(super::looks_like_gcode_text(t), "{t:?}");
+        }
+        for t in no {
+            assert!(!super::looks_like_gcode_text(t), "{t:?}");
+        }
+    }
 }
