@@ -251,3 +251,17 @@ fn gitlab_code_quality_has_the_fields_gitlab_reads_and_unique_stable_fingerprint
         .unwrap();
     assert_eq!(crash["severity"], "critical");
 }
+
+#[test]
+fn help_and_man_pages_give_the_exit_statuses_and_environment() {
+    let t = Tree::new();
+    for args in [&["--help"][..], &["check", "--help"][..]] {
+        let help = stdout(&t.run(args));
+        assert!(help.contains("Exit status:") && help.contains("NO_COLOR"), "{help}");
+        assert!(help.contains("2  latheguard could not run"), "{help}");
+    }
+    let out = t.run(&["man", "man"]);
+    assert_eq!(out.status.code(), Some(0));
+    let page = std::fs::read_to_string(t.path().join("man/latheguard-check.1")).unwrap();
+    assert!(page.contains("NO_COLOR") && page.contains("Exit status"), "{page}");
+}

@@ -8,7 +8,8 @@ use std::path::PathBuf;
 #[command(
     name = "latheguard",
     version,
-    about = "Finds the lines of a CNC lathe program that would crash the machine"
+    about = "Finds the lines of a CNC lathe program that would crash the machine",
+    after_help = EXIT_AND_ENVIRONMENT
 )]
 pub struct Cli {
     /// When to colour the report: auto (a terminal without NO_COLOR), always, never.
@@ -18,9 +19,22 @@ pub struct Cli {
     pub command: Command,
 }
 
+/// The exit statuses and environment variables, under `--help` and in the man pages.
+pub const EXIT_AND_ENVIRONMENT: &str = "\
+Exit status:
+  0  no finding fails the run (no error; with --fail-on warning, no warning either)
+  1  at least one finding fails the run (suppressed and --ignore'd findings never do)
+  2  latheguard could not run: bad arguments, a named path that does not exist, an unreadable
+     or invalid machine file or latheguard.toml, a report that cannot be written
+
+Environment:
+  NO_COLOR  set and not empty: no colours with --color auto
+  CI        set: no progress bar";
+
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Check programs, or folders walked for NC files.
+    #[command(after_help = EXIT_AND_ENVIRONMENT)]
     Check(Box<CheckArgs>),
     /// Print the interpreted motion, one move a line.
     Moves(MovesArgs),
