@@ -111,6 +111,9 @@ pub struct Finding {
     /// merged repeats of a loop or of one reading problem on many lines into it).
     #[serde(skip)]
     pub repeats: u32,
+    /// Where the picture of this finding was written (`--svg`), as the report shows the path.
+    #[serde(skip)]
+    pub picture: Option<String>,
     /// The scene at first contact, when the check was asked for pictures.
     #[serde(skip)]
     pub snapshot: Option<Box<crate::scene::Snapshot>>,
@@ -144,6 +147,7 @@ impl Finding {
             profile_line: None,
             end_time_s: None,
             repeats: 1,
+            picture: None,
             snapshot: None,
         }
     }

@@ -279,7 +279,18 @@ fn junit_parses_with_the_right_counts() {
         .unwrap();
     let failure = crash.children().find(|n| n.has_tag_name("failure")).unwrap();
     assert_eq!(failure.attribute("type"), Some("collision"));
-    assert_eq!(failure.text().unwrap().lines().count(), 2, "one line per finding");
+    let body = failure.text().unwrap();
+    assert_eq!(
+        body.lines().filter(|l| l.starts_with("line ")).count(),
+        2,
+        "one entry per finding: {body}"
+    );
+    // Each with the programmed point and its source line.
+    assert!(body.contains("X140 Z-108"), "{body}");
+    assert!(
+        body.contains("    | N70 Z-120. (Z-120 IS 42 MM BEHIND THE JAW FACES)"),
+        "{body}"
+    );
     // A warning does not fail its test case; it is in its output.
     let warned = cases
         .iter()

@@ -265,3 +265,56 @@ fn help_and_man_pages_give_the_exit_statuses_and_environment() {
     let page = std::fs::read_to_string(t.path().join("man/latheguard-check.1")).unwrap();
     assert!(page.contains("NO_COLOR") && page.contains("Exit status"), "{page}");
 }
+
+#[test]
+fn with_svg_every_report_links_a_finding_to_its_picture() {
+    let t = Tree::new();
+    let pic = "pictures/cell-a__crash_holder.nc.L10.collision.T01-insert.chuck.svg";
+    let doc = json(&t.run(&[
+        "check",
+        "--svg",
+        "pictures",
+        "--format",
+        "json",
+        "cell-a/crash_holder.nc",
+    ]));
+    assert_eq!(doc["files"][0]["findings"][0]["picture"], pic, "{doc:#}");
+    assert!(t.path().join(pic).exists());
+    let text = stdout(&t.run(&[
+        "check",
+        "--svg",
+        "pictures",
+        "--color",
+        "never",
+        "cell-a/crash_holder.nc",
+    ]));
+    assert!(text.contains(&format!("picture {pic}")), "{text}");
+    let log = json(&t.run(&[
+        "check",
+        "--svg",
+        "pictures",
+        "--format",
+        "sarif",
+        "cell-a/crash_holder.nc",
+    ]));
+    assert_eq!(
+        log["runs"][0]["results"][0]["attachments"][0]["artifactLocation"]["uri"],
+        pic
+    );
+    let schema: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(common::fixtures().join("sarif-schema-2.1.0.json")).unwrap())
+            .unwrap();
+    assert!(jsonschema::validator_for(&schema).unwrap().is_valid(&log));
+    let xml = stdout(&t.run(&[
+        "check",
+        "--svg",
+        "pictures",
+        "--format",
+        "junit",
+        "cell-a/crash_holder.nc",
+    ]));
+    assert!(xml.contains(pic), "{xml}");
+    // Without --svg no report names a picture.
+    let doc = json(&t.run(&["check", "--format", "json", "cell-a/crash_holder.nc"]));
+    assert!(doc["files"][0]["findings"][0].get("picture").is_none());
+}

@@ -153,6 +153,7 @@ impl Episodes {
             profile_line: (c.profile_line != 0).then_some(c.profile_line),
             end_time_s: Some(o.end_time),
             repeats: 1,
+            picture: None,
             snapshot: c.snapshot,
         });
     }

@@ -124,7 +124,7 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
     }
     if let Some(dir) = &a.svg {
         let left_out = limit_pictures(&mut report);
-        let n = write_pictures(dir, &report)?;
+        let n = write_pictures(dir, &mut report)?;
         if !a.quiet && n > 0 {
             say(&format!(
                 "wrote {n} picture{} to {}",
@@ -496,12 +496,20 @@ fn limit_pictures(report: &mut Report) -> usize {
 }
 
 /// One SVG per finding that has a snapshot; returns how many were written.
-fn write_pictures(dir: &Path, report: &Report) -> Result<usize, Trouble> {
+/// Each finding written gets its picture's path (`Finding::picture`), for the reports to link.
+fn write_pictures(dir: &Path, report: &mut Report) -> Result<usize, Trouble> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create folder: {}", shown(dir), plain(&e)))?;
     let mut n = 0;
-    for (name, svg) in report::svg::pictures(report) {
-        let p = dir.join(&name);
-        std::fs::write(&p, svg).map_err(|e| format!("{}: cannot write picture: {}", shown(&p), plain(&e)))?;
+    for pic in report::svg::pictures(report) {
+        let p = dir.join(&pic.name);
+        std::fs::write(&p, pic.svg).map_err(|e| format!("{}: cannot write picture: {}", shown(&p), plain(&e)))?;
+        if let Some(x) = report
+            .files
+            .get_mut(pic.file)
+            .and_then(|f| f.findings.get_mut(pic.finding))
+        {
+            x.picture = Some(walk::tidy(&p).display().to_string().replace('\\', "/"));
+        }
         n += 1;
     }
     Ok(n)

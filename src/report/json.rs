@@ -52,6 +52,9 @@ struct FindingDoc<'a> {
     /// The profile block a canned cycle's move follows (absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     profile_line: Option<u32>,
+    /// The picture of the finding written with `--svg` (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    picture: Option<&'a str>,
     /// How many identical findings this one stands for (absent when 1).
     #[serde(skip_serializing_if = "Option::is_none")]
     repeats: Option<u32>,
@@ -87,6 +90,7 @@ impl<'a> From<&'a Finding> for FindingDoc<'a> {
                 time_s: round6(p.time_s),
             }),
             profile_line: f.profile_line,
+            picture: f.picture.as_deref(),
             repeats: (f.repeats > 1).then_some(f.repeats),
         }
     }

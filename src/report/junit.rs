@@ -2,8 +2,9 @@
 //!
 //! A program with at least one error finding is a failed test case. JUnit allows one `<failure>`
 //! per test case (CI systems show only the first), so the failure's message names the first error
-//! and its count, its `type` is that error's kind, and its body lists every finding of the file,
-//! one a line, as `line N: error[kind]: message`. A program with warnings only passes, with its
+//! and its count, its `type` is that error's kind, and its body lists every finding of the file
+//! as `line N: error[kind]: message (facts, the programmed point, …)` with its source line under
+//! it (`    | N70 Z-120.`). A program with warnings only passes, with its
 //! warnings in `<system-out>`. A program whose moves never reach the machine (status `no_motion`)
 //! is a skipped test case. Test case names are the program paths; the class name is the
 //! program's folder.
@@ -26,9 +27,16 @@ impl Default for JunitOptions {
     }
 }
 
-fn line(f: &Finding) -> String {
+/// One finding as a line of the failure's body: where, what, the facts (the programmed point
+/// included), and the source line under it.
+fn line(f: &Finding, src: Option<&str>) -> String {
     let head = format!("line {}: {}[{}]: {}", f.line, f.severity.name(), f.kind, f.message);
-    super::text::with_facts(head, f, false, true)
+    let mut s = super::text::with_facts(head, f, true, true);
+    if let Some(text) = src.map(str::trim).filter(|t| !t.is_empty()) {
+        s.push_str("\n    | ");
+        s.push_str(&super::terminal_safe(text));
+    }
+    s
 }
 
 fn settings_properties(machine: &str, s: &Settings) -> Vec<Property> {
@@ -56,7 +64,18 @@ fn folder(path: &str) -> String {
 
 fn case(r: &Report, f: &FileReport, opt: JunitOptions) -> TestCase {
     let errors: Vec<&Finding> = f.findings.iter().filter(|x| x.severity == Severity::Error).collect();
-    let listing = f.findings.iter().map(line).collect::<Vec<_>>().join("\n");
+    let lines = (!f.source.is_empty()).then(|| crate::source::LineIndex::new(&f.source));
+    let source_line = |n: u32| {
+        let li = lines.as_ref()?;
+        (n >= 1 && n as usize <= li.line_count())
+            .then(|| String::from_utf8_lossy(&f.source[li.line_span(&f.source, n).range()]).into_owned())
+    };
+    let listing = f
+        .findings
+        .iter()
+        .map(|x| line(x, source_line(x.line).as_deref()))
+        .collect::<Vec<_>>()
+        .join("\n");
     let status = match errors.first() {
         None if f.status() == super::Status::NoMotion => {
             let mut st = TestCaseStatus::skipped();

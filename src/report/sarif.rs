@@ -143,6 +143,9 @@ struct SarifResult<'a> {
     level: &'static str,
     message: Message,
     locations: Vec<Location>,
+    /// The picture written with `--svg`.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    attachments: Vec<Attachment>,
     /// Stable from run to run (see `report::fingerprint`), so code scanning tracks a finding.
     partial_fingerprints: Fingerprints,
     /// Identical findings this one stands for (a loop's passes), when more than one.
@@ -152,6 +155,13 @@ struct SarifResult<'a> {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     suppressions: Vec<SarifSuppression<'a>>,
     properties: ResultProperties<'a>,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct Attachment {
+    description: Message,
+    artifact_location: ArtifactLocation,
 }
 
 #[derive(Serialize)]
@@ -384,6 +394,23 @@ pub fn sarif(r: &Report) -> String {
                         },
                     },
                 }],
+                attachments: x
+                    .picture
+                    .iter()
+                    .map(|p| {
+                        let (uri, uri_base_id) = uri(p);
+                        Attachment {
+                            description: Message {
+                                text: "the working plane at first contact (SVG)".into(),
+                            },
+                            artifact_location: ArtifactLocation {
+                                uri,
+                                uri_base_id,
+                                index: None,
+                            },
+                        }
+                    })
+                    .collect(),
                 partial_fingerprints: Fingerprints { v1: print },
                 occurrence_count: (x.repeats > 1).then_some(x.repeats),
                 suppressions: reason

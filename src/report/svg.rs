@@ -44,13 +44,13 @@ const OVERLAP: &str = "#e5151b";
 
 /// Every picture of a batch: `(file name, SVG)`, in report order. File names are made from the
 /// program's path, the line, the kind and the parts, and are unique within the batch.
-pub fn pictures(r: &Report) -> Vec<(String, String)> {
+pub fn pictures(r: &Report) -> Vec<Picture> {
     let mut out = Vec::new();
     let mut used = std::collections::HashSet::new();
-    for f in &r.files {
+    for (fi, f) in r.files.iter().enumerate() {
         // One line index per file (not per picture: a big file with many pictures).
         let mut lines = None;
-        for x in &f.findings {
+        for (xi, x) in f.findings.iter().enumerate() {
             let Some(snap) = x.snapshot.as_deref() else { continue };
             let li = lines.get_or_insert_with(|| LineIndex::new(&f.source));
             let base = name(&f.path, x);
@@ -61,10 +61,23 @@ pub fn pictures(r: &Report) -> Vec<(String, String)> {
                 k += 1;
             }
             let block = block_text(f, li, x.line);
-            out.push((file, picture(f, x, snap, &block)));
+            out.push(Picture {
+                file: fi,
+                finding: xi,
+                svg: picture(f, x, snap, &block),
+                name: file,
+            });
         }
     }
     out
+}
+
+/// One picture: which file and finding of the report it shows, its file name, its SVG text.
+pub struct Picture {
+    pub file: usize,
+    pub finding: usize,
+    pub name: String,
+    pub svg: String,
 }
 
 /// `programs__crash.nc.L10.collision.T01-holder.chuck`: safe on every file system.

@@ -202,6 +202,9 @@ pub(crate) fn with_facts(mut s: String, x: &Finding, point: bool, n: bool) -> St
             p.objects.join(" × ")
         ));
     }
+    if let Some(p) = &x.picture {
+        facts.push(format!("picture {p}"));
+    }
     if x.repeats > 1 {
         facts.push(match x.time_s {
             Some(_) => format!("{} times: on every pass of a loop", x.repeats),
