@@ -154,7 +154,11 @@ pub struct MovesArgs {
 
 #[derive(Args, Debug)]
 pub struct MachineArgs {
-    pub file: PathBuf,
+    #[arg(required_unless_present = "schema")]
+    pub file: Option<PathBuf>,
+    /// Print the JSON Schema of machine files (for editors that complete and validate TOML) and exit.
+    #[arg(long)]
+    pub schema: bool,
 }
 
 #[derive(Args, Debug)]

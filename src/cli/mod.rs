@@ -61,7 +61,11 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
         Command::Accuracy(a) => accuracy::run(a),
 
         Command::Machine(a) => {
-            let m = load_machine(Some(&a.file))?;
+            let Some(file) = a.file.filter(|_| !a.schema) else {
+                emit(None, &machine::schema())?;
+                return Ok(EXIT_CLEAN);
+            };
+            let m = load_machine(Some(&file))?;
             // Names in a machine file may hold control characters: never raw to a terminal.
             emit(None, &safe_lines(&m.describe()))?;
             Ok(EXIT_CLEAN)

@@ -71,6 +71,7 @@
 
 use std::ops::Range;
 
+use schemars::JsonSchema;
 use serde::Deserialize;
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
@@ -156,14 +157,27 @@ pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
     validate(&cx, raw)
 }
 
+/// The JSON Schema (draft 2020-12) of a machine file, generated from the types the loader reads
+/// (`latheguard machine --schema`): for editors that complete and validate TOML with a schema
+/// (Taplo, Even Better TOML). It says the keys, their types and which are required; the ranges
+/// and the geometry rules (simple outlines, a stock that fits the chuck …) are the loader's, with
+/// the message and the key of every problem.
+pub fn schema() -> String {
+    let mut schema = schemars::schema_for!(RawDoc);
+    schema.insert("title".into(), "latheguard machine file".into());
+    let mut s = serde_json::to_string_pretty(&schema).unwrap_or_default();
+    s.push('\n');
+    s
+}
+
 // ---------------------------------------------------------------------------------------------
-// The file as written.
+// The file as written. (These types also give the JSON Schema of the file: [`schema`].)
 
 type Num = Spanned<f64>;
 type Point = Spanned<Vec<f64>>;
 type Outline = Spanned<Vec<Point>>;
 
-#[derive(Deserialize)]
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawDoc {
     machine: RawHeader,
@@ -174,135 +188,165 @@ struct RawDoc {
     stock: Option<RawStock>,
     setup: Option<RawSetup>,
     turret: RawTurret,
+    #[schemars(with = "Option<Vec<RawTool>>")]
     tools: Option<Spanned<Vec<Spanned<RawTool>>>>,
+    #[schemars(with = "Option<std::collections::BTreeMap<String, RawCodes>>")]
     mcodes: Option<std::collections::BTreeMap<String, Spanned<RawCodes>>>,
 }
 
 /// The codes of one action in `[mcodes]`: one number or an array.
-#[derive(Deserialize)]
+#[derive(Deserialize, JsonSchema)]
 #[serde(untagged, expecting = "an M code number or an array of M code numbers")]
 enum RawCodes {
     One(i64),
     Many(Vec<i64>),
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawTailstock {
+    #[schemars(with = "Vec<[f64; 2]>")]
     outline: Outline,
     advanced: Option<bool>,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawHeader {
+    #[schemars(with = "String")]
     name: Spanned<String>,
     dialect: Option<RawDialect>,
     diameter_mode: Option<bool>,
     rapid: Option<RawRapid>,
+    #[schemars(with = "Option<RawDecimalPoint>")]
     decimal_point: Option<Spanned<RawDecimalPoint>>,
+    #[schemars(with = "Option<RawGcodeSystem>")]
     gcode_system: Option<Spanned<RawGcodeSystem>>,
     turret_side: Option<RawTurretSide>,
 }
 
-#[derive(Deserialize, Clone, Copy)]
+#[derive(Deserialize, JsonSchema, Clone, Copy)]
 #[serde(rename_all = "lowercase", expecting = "\"rear\" or \"front\"")]
 enum RawTurretSide {
     Rear,
     Front,
 }
 
-#[derive(Deserialize, Clone, Copy)]
+#[derive(Deserialize, JsonSchema, Clone, Copy)]
 #[serde(expecting = "\"A\" or \"B\"")]
 enum RawGcodeSystem {
     A,
     B,
 }
 
-#[derive(Deserialize, Clone, Copy)]
+#[derive(Deserialize, JsonSchema, Clone, Copy)]
 #[serde(rename_all = "lowercase", expecting = "\"fanuc\" or \"linuxcnc\"")]
 enum RawDialect {
     Fanuc,
     Linuxcnc,
 }
 
-#[derive(Deserialize, Clone, Copy)]
+#[derive(Deserialize, JsonSchema, Clone, Copy)]
 #[serde(rename_all = "lowercase", expecting = "\"dogleg\" or \"linear\"")]
 enum RawRapid {
     Dogleg,
     Linear,
 }
 
-#[derive(Deserialize, Clone, Copy)]
+#[derive(Deserialize, JsonSchema, Clone, Copy)]
 #[serde(rename_all = "lowercase", expecting = "\"calculator\" or \"increment\"")]
 enum RawDecimalPoint {
     Calculator,
     Increment,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawAxes {
     x: RawAxis,
     z: RawAxis,
+    #[schemars(with = "Option<[f64; 2]>")]
     home: Option<Point>,
+    #[schemars(with = "Option<[f64; 2]>")]
     machine_zero: Option<Point>,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table { min, max, rapid }")]
 struct RawAxis {
+    #[schemars(with = "f64")]
     min: Num,
+    #[schemars(with = "f64")]
     max: Num,
+    #[schemars(with = "f64")]
     rapid: Num,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawSpindle {
+    #[schemars(with = "f64")]
     max_rpm: Num,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawPart {
+    #[schemars(with = "Vec<[f64; 2]>")]
     outline: Outline,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawStock {
+    #[schemars(with = "f64")]
     diameter: Num,
+    #[schemars(with = "f64")]
     length: Num,
+    #[schemars(with = "f64")]
     front: Num,
+    #[schemars(with = "Option<f64>")]
     bore: Option<Num>,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawSetup {
+    #[schemars(with = "Option<f64>")]
     program_zero_z: Option<Num>,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawTurret {
+    #[schemars(with = "u32")]
     stations: Spanned<u32>,
+    #[schemars(with = "Option<u32>")]
     start_station: Option<Spanned<u32>>,
+    #[schemars(with = "f64")]
     axis: Num,
+    #[schemars(with = "f64")]
     index_time: Num,
+    #[schemars(with = "Vec<[f64; 2]>")]
     outline: Outline,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawTool {
+    #[schemars(with = "u32")]
     station: Spanned<u32>,
+    #[schemars(with = "String")]
     name: Spanned<String>,
+    #[schemars(with = "[f64; 2]")]
     tip: Point,
+    #[schemars(with = "Vec<[f64; 2]>")]
     insert: Outline,
+    #[schemars(with = "Vec<[f64; 2]>")]
     holder: Outline,
+    #[schemars(with = "Option<f64>")]
     nose_radius: Option<Num>,
+    #[schemars(with = "Option<i64>")]
     tip_direction: Option<Spanned<i64>>,
 }
 

@@ -1,0 +1,60 @@
+//! The JSON Schema of machine files (`latheguard machine --schema`, kept in
+//! `machines/machine.schema.json` for editors): current, and valid for every shipped machine.
+
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn toml_as_json(p: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(p).unwrap();
+    let v: toml::Value = toml::from_str(&text).unwrap();
+    serde_json::to_value(v).unwrap()
+}
+
+#[test]
+fn the_committed_schema_is_the_generated_one() {
+    let committed = std::fs::read_to_string(root().join("machines/machine.schema.json")).unwrap();
+    assert_eq!(
+        committed,
+        latheguard::machine::schema(),
+        "run `cargo run -- machine --schema > machines/machine.schema.json`"
+    );
+}
+
+#[test]
+fn every_shipped_and_test_machine_file_validates_and_a_typo_does_not() {
+    let schema: serde_json::Value = serde_json::from_str(&latheguard::machine::schema()).unwrap();
+    let validator = jsonschema::validator_for(&schema).unwrap();
+    let mut files = Vec::new();
+    for dir in ["machines", "tests/machines", "tests/fixtures/tree/machines"] {
+        for e in std::fs::read_dir(root().join(dir)).unwrap().flatten() {
+            if e.path().extension().is_some_and(|x| x == "toml") {
+                files.push(e.path());
+            }
+        }
+    }
+    assert!(files.len() >= 5, "{files:?}");
+    for f in &files {
+        let doc = toml_as_json(f);
+        // Only files the loader accepts must validate (tests/machines holds some broken on purpose).
+        let loads = latheguard::machine::from_toml(&std::fs::read_to_string(f).unwrap(), "m").is_ok();
+        let errors: Vec<String> = validator
+            .iter_errors(&doc)
+            .map(|e| format!("{e} at {}", e.instance_path))
+            .collect();
+        if loads {
+            assert!(errors.is_empty(), "{}: {errors:#?}", f.display());
+        }
+    }
+    let mut doc = toml_as_json(&root().join("machines/generic-slant-bed.toml"));
+    doc["spindle"]["max_rmp"] = 4000.into();
+    assert!(!validator.is_valid(&doc), "an unknown key is refused");
+    let mut doc = toml_as_json(&root().join("machines/generic-slant-bed.toml"));
+    doc["machine"]["dialect"] = "heidenhain".into();
+    assert!(!validator.is_valid(&doc), "an unknown dialect is refused");
+    let mut doc = toml_as_json(&root().join("machines/generic-slant-bed.toml"));
+    doc["axes"].as_object_mut().unwrap().remove("x");
+    assert!(!validator.is_valid(&doc), "a missing required key is refused");
+}
