@@ -405,6 +405,137 @@ struct Words7x {
     p: f64,
 }
 
+/// A fillet (A word) or a chamfer (C word) a profile move asks for at its end, between it and
+/// the next move of the profile (LinuxCNC G7x profiles only; elsewhere A and C stay refused).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Corner {
+    /// Index in `Run::moves` of the move whose end is rounded.
+    index: usize,
+    /// A fillet of radius `size`, else a chamfer: the chord of the fillet of radius `size`.
+    fillet: bool,
+    /// mm.
+    size: f64,
+    /// Physical line of the block with the word.
+    line: u32,
+}
+
+/// The A or C word of a profile block that made a move (called by the block executor while a
+/// G7x profile is being collected): noted for the cycle to turn the corner at the move's end.
+pub(crate) fn corner_words(run: &mut Run<'_>, b: &Block, w: &mut Words) {
+    if !matches!(
+        run.modal.motion,
+        Some(Motion::Line | Motion::Rapid | Motion::ArcCw | Motion::ArcCcw)
+    ) {
+        // Left unused: reported as on any other block.
+        return;
+    }
+    let (a, c) = (w.get(b'A'), w.get(b'C'));
+    let (fillet, size, at) = match (a, c) {
+        (Some(_), Some(_)) => {
+            run.error(
+                b,
+                w.at(b'C'),
+                "A (fillet) and C (chamfer) on one profile move: give one of them".into(),
+            );
+            return;
+        }
+        (Some(v), None) => (true, v, w.at(b'A')),
+        (None, Some(v)) => (false, v, w.at(b'C')),
+        (None, None) => return,
+    };
+    if size < 0.0 || !size.is_finite() {
+        let what = if fillet {
+            "A (fillet radius)"
+        } else {
+            "C (chamfer length)"
+        };
+        run.error(b, at, format!("{what} must not be negative"));
+        return;
+    }
+    // The move this block made (none when it stayed where it was: nothing to round then).
+    let Some(index) = run.moves.len().checked_sub(1).filter(|&i| run.moves[i].line == b.line) else {
+        return;
+    };
+    let size = size * run.scale();
+    if let Some(list) = run.cycles.profile_corners.as_mut() {
+        if size > 0.0 && list.last().map_or(true, |l| l.index < index) {
+            list.push(Corner {
+                index,
+                fillet,
+                size,
+                line: b.line,
+            });
+        }
+    }
+}
+
+/// Turn each corner asked for into a tangent arc (fillet) or a straight bevel (chamfer) between
+/// the two lines that meet there, as rs274 does: the ends of both lie size·tan(θ/2) from the
+/// corner along each line, θ the turn (a chamfer is the chord of the fillet of radius C).
+/// `Err` names what is not modelled.
+fn turn_corners(segs: &mut Vec<Seg>, corners: &[(usize, Corner)]) -> Result<(), String> {
+    for &(i, k) in corners.iter().rev() {
+        let word = if k.fillet { "A" } else { "C" };
+        // On the profile's last move there is no corner: rs274 ignores the word.
+        let Some(next) = segs.get(i + 1).copied() else {
+            continue;
+        };
+        let this = segs[i];
+        if this.kind != MoveKind::Line || next.kind != MoveKind::Line {
+            return Err(format!(
+                "a fillet or chamfer ({word} word at line {}) next to an arc is not modelled",
+                k.line
+            ));
+        }
+        let p = this.end;
+        let (d1, d2) = (p - this.start, next.end - p);
+        let (l1, l2) = (d1.norm(), d2.norm());
+        if l1 < 1e-9 || l2 < 1e-9 {
+            continue;
+        }
+        let (u1, u2) = (d1 / l1, d2 / l2);
+        let turn = cross(u1, u2);
+        // Straight on (or straight back): no corner to turn.
+        if turn.abs() < 1e-9 {
+            continue;
+        }
+        let theta = turn.atan2(u1.dot(&u2));
+        // rs274 bevels a chamfer as the chord of the fillet of radius C: both ends lie
+        // C·tan(θ/2) from the corner (C at a right angle, less at a shallower turn).
+        let t = k.size * (theta.abs() / 2.0).tan();
+        if t > l1 - 1e-9 || t > l2 - 1e-9 {
+            return Err(format!(
+                "the {} at line {} ({word}{:.4} mm) needs {t:.4} mm of each move at the corner, more than they have",
+                if k.fillet { "fillet" } else { "chamfer" },
+                k.line,
+                k.size
+            ));
+        }
+        let (t1, t2) = (p - u1 * t, p + u2 * t);
+        let kind = if k.fillet {
+            let left = rot_ccw(u1) * turn.signum();
+            MoveKind::Arc {
+                center: t1 + left * k.size,
+                sweep: theta,
+            }
+        } else {
+            MoveKind::Line
+        };
+        segs[i].end = t1;
+        segs[i + 1].start = t2;
+        segs.insert(
+            i + 1,
+            Seg {
+                kind,
+                start: t1,
+                end: t2,
+                line: this.line,
+            },
+        );
+    }
+    Ok(())
+}
+
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
     let name = match code {
         700 => "G70",
@@ -491,7 +622,16 @@ fn expand(
 ) -> Option<Motion> {
     let at_o = (at > 0).then_some(at);
     rapid(run, b, start);
-    let (segs, motion) = trace(run, b, OName::Number(q as u32), at, name)?;
+    let (mut segs, corners, motion) = trace(run, b, OName::Number(q as u32), at, name)?;
+    if let Err(why) = turn_corners(&mut segs, &corners) {
+        run.unsupported(
+            b,
+            at_o,
+            format!("{name}: {why}; the cycle's moves are not checked"),
+            true,
+        );
+        return None;
+    }
     let Some((first, prof)) = segs.split_first().filter(|(_, p)| !p.is_empty()) else {
         run.error(
             b,
@@ -978,7 +1118,14 @@ fn pockets(segs: &[El], skip_first: bool, di: f64, r: f64, out: &mut Out) -> Res
 
 /// Run the profile subroutine from the current point and collect its moves; nothing of it stays
 /// (moves, modal state, tool, position). Also the motion mode it left. `None` after a finding.
-fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Option<(Vec<Seg>, Option<Motion>)> {
+#[allow(clippy::type_complexity)]
+fn trace(
+    run: &mut Run<'_>,
+    b: &Block,
+    sub: OName,
+    at: u32,
+    name: &str,
+) -> Option<(Vec<Seg>, Vec<(usize, Corner)>, Option<Motion>)> {
     let mark = Mark::new(run);
     let stopped = run.stopped;
     // The cycle reads every block of the profile with axis words as a move (G0 is a G1 there),
@@ -986,9 +1133,24 @@ fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Optio
     if run.modal.motion.is_none() || matches!(run.modal.motion, Some(Motion::Cycle(_))) {
         run.modal.motion = Some(Motion::Line);
     }
+    let outer = run.cycles.profile_corners.replace(Vec::new());
     let called = run.run_sub_inline(b, sub, at);
     let returned = called == Some(true);
+    let noted = std::mem::replace(&mut run.cycles.profile_corners, outer).unwrap_or_default();
     let segs = mark.segs(run, true);
+    // The moves `segs` is made of, in order: a corner's move is found among them.
+    let made: Vec<usize> = (mark.moves..run.moves.len())
+        .filter(|&i| {
+            matches!(
+                run.moves[i].kind,
+                MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }
+            )
+        })
+        .collect();
+    let corners: Vec<(usize, Corner)> = noted
+        .into_iter()
+        .filter_map(|k| made.binary_search(&k.index).ok().map(|i| (i, k)))
+        .collect();
     let motion = run.modal.motion;
     let budget_spent = run.stopped && !stopped;
     mark.restore_modes(run);
@@ -1007,7 +1169,7 @@ fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Optio
         }
         return None;
     }
-    Some((segs, motion))
+    Some((segs, corners, motion))
 }
 
 #[cfg(test)]
