@@ -40,7 +40,7 @@ const TOL: f64 = 1e-4 + 1e-9;
 const KNOWN: &[(&str, &str)] = &[
     (
         "corpus/linuxcnc-interp/g71-with-g70/g71-with-g70.ngc",
-        "its profile fillets a corner with an A word (a profile fillet, not modelled: A is refused on a lathe with no A axis), so none of its cycles runs; without the A word its offsets by D fold over at a step shorter than D (line 22), also not modelled",
+        "its profile's offsets by D fold over at a step shorter than D (line 22, X11.014 to X12 in 1 mm of Z; the A0.2 fillet at line 17 is modelled): not modelled, so none of its cycles runs (unsupported)",
     ),
     (
         "corpus/linuxcnc-interp/g72-missing-iteration/g72-iterations-missing.ngc",
@@ -48,7 +48,7 @@ const KNOWN: &[(&str, &str)] = &[
     ),
     (
         "corpus/linuxcnc-nc_files/lathe_g70_71_demo.ngc",
-        "the same pawn profile as g71-with-g70: an A-word fillet (not modelled), and a G42.1 finishing pass (nose radius compensation, not modelled)",
+        "the same pawn profile as g71-with-g70: its offsets by D fold over at line 22 (not modelled, so its cycles do not run; the A-word fillet is modelled)",
     ),
     (
         "corpus/latheeasystep/Test_Gewinde_innen.ngc",

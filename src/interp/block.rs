@@ -1116,6 +1116,9 @@ impl Run<'_> {
             if self.reports > before {
                 // The move was refused: its words are accounted for by that finding.
                 w.used = w.has;
+            } else if self.cycles.profile_corners.is_some() && (w.peek(b'A') || w.peek(b'C')) {
+                // A LinuxCNC G7x profile: A and C round or bevel the corner after this move.
+                super::cycles::lcnc_rough::corner_words(self, b, w);
             }
         } else if let Some(at) = g53 {
             if !axis {

@@ -96,6 +96,8 @@ pub(crate) struct Memory {
     pub return_r: bool,
     /// The LinuxCNC cycles' modal values (R plane, initial level, retract mode, …).
     pub lcnc: super::lcnc_drill::LcncMemory,
+    /// While a LinuxCNC G7x profile runs: the A (fillet) and C (chamfer) words of its moves.
+    pub profile_corners: Option<Vec<super::lcnc_rough::Corner>>,
 }
 
 /// The block with N number `n`: the first one after block `from`, else the first in the file.

@@ -405,6 +405,195 @@ struct Words7x {
     p: f64,
 }
 
+/// A fillet (A word) or a chamfer (C word) a profile move asks for at its end, between it and
+/// the next move of the profile (LinuxCNC G7x profiles only; elsewhere A and C stay refused).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Corner {
+    /// Index in `Run::moves` of the move whose end is rounded.
+    index: usize,
+    /// A fillet of radius `size`, else a chamfer: the chord of the fillet of radius `size`.
+    fillet: bool,
+    /// mm.
+    size: f64,
+    /// Physical line of the block with the word.
+    line: u32,
+}
+
+/// The A or C word of a profile block that made a move (called by the block executor while a
+/// G7x profile is being collected): noted for the cycle to turn the corner at the move's end.
+pub(crate) fn corner_words(run: &mut Run<'_>, b: &Block, w: &mut Words) {
+    if !matches!(
+        run.modal.motion,
+        Some(Motion::Line | Motion::Rapid | Motion::ArcCw | Motion::ArcCcw)
+    ) {
+        // Left unused: reported as on any other block.
+        return;
+    }
+    let (a, c) = (w.get(b'A'), w.get(b'C'));
+    let (fillet, size, at) = match (a, c) {
+        (Some(_), Some(_)) => {
+            run.error(
+                b,
+                w.at(b'C'),
+                "A (fillet) and C (chamfer) on one profile move: give one of them".into(),
+            );
+            return;
+        }
+        (Some(v), None) => (true, v, w.at(b'A')),
+        (None, Some(v)) => (false, v, w.at(b'C')),
+        (None, None) => return,
+    };
+    if size < 0.0 || !size.is_finite() {
+        let what = if fillet {
+            "A (fillet radius)"
+        } else {
+            "C (chamfer length)"
+        };
+        run.error(b, at, format!("{what} must not be negative"));
+        return;
+    }
+    // The move this block made (none when it stayed where it was: nothing to round then).
+    let Some(index) = run.moves.len().checked_sub(1).filter(|&i| run.moves[i].line == b.line) else {
+        return;
+    };
+    let size = size * run.scale();
+    if let Some(list) = run.cycles.profile_corners.as_mut() {
+        if size > 0.0 && list.last().map_or(true, |l| l.index < index) {
+            list.push(Corner {
+                index,
+                fillet,
+                size,
+                line: b.line,
+            });
+        }
+    }
+}
+
+/// A profile move as a piece of path in the spindle frame (x = X radius, y = Z).
+fn piece(sg: &Seg) -> El {
+    El {
+        a: sg.start.coords,
+        b: sg.end.coords,
+        arc: match sg.kind {
+            MoveKind::Arc { center, sweep } => Some((center.coords, sweep > 0.0)),
+            _ => None,
+        },
+        line: sg.line,
+    }
+}
+
+/// Where point p (on the carrier of e) lies along e: 0 at its start, 1 at its end.
+fn fraction(e: &El, p: V2) -> f64 {
+    match e.arc {
+        None => (p - e.a).dot(&(e.b - e.a)) / (e.b - e.a).norm_squared(),
+        Some((c, ccw)) => {
+            let turned = cross(e.a - c, p - c).atan2((e.a - c).dot(&(p - c)));
+            let along = if ccw { turned } else { -turned };
+            let along = if along < -1e-9 { along + TAU } else { along };
+            along / e.sweep().abs()
+        }
+    }
+}
+
+/// The point of e's carrier nearest to p.
+fn foot(e: &El, p: V2) -> V2 {
+    match e.arc {
+        None => {
+            let t = e.start_tangent();
+            e.a + t * (p - e.a).dot(&t)
+        }
+        Some((c, _)) => c + (p - c) * ((e.a - c).norm() / (p - c).norm()),
+    }
+}
+
+/// A move with new ends (an arc keeps its centre and direction, its sweep follows the ends).
+fn with_ends(sg: Seg, start: P2, end: P2) -> Seg {
+    let kind = match sg.kind {
+        MoveKind::Arc { center, sweep } => {
+            let (a, b) = (start - center, end - center);
+            let turned = cross(a, b).atan2(a.dot(&b));
+            let mag = if sweep > 0.0 { turned } else { -turned }.rem_euclid(TAU);
+            MoveKind::Arc {
+                center,
+                sweep: mag.copysign(sweep),
+            }
+        }
+        k => k,
+    };
+    Seg { kind, start, end, ..sg }
+}
+
+/// Turn each corner asked for into a tangent arc (fillet) or a straight bevel (chamfer) between
+/// the two moves that meet there, as rs274 does: the fillet of radius A is the circle tangent
+/// to both moves on the side the path turns to; a chamfer is the chord of the fillet of radius
+/// C (between two lines its ends lie C·tan(θ/2) from the corner, θ the turn: C at a right
+/// angle). A corner the path passes straight through, or the last move's end, is left as it
+/// is. `Err` says why a corner cannot be turned.
+fn turn_corners(segs: &mut Vec<Seg>, corners: &[(usize, Corner)]) -> Result<(), String> {
+    for &(i, k) in corners.iter().rev() {
+        // On the profile's last move there is no corner: rs274 ignores the word.
+        let Some(&next) = segs.get(i + 1) else {
+            continue;
+        };
+        let this = segs[i];
+        let (e1, e2) = (piece(&this), piece(&next));
+        if e1.len() < 1e-9 || e2.len() < 1e-9 {
+            continue;
+        }
+        let turn = cross(e1.end_tangent(), e2.start_tangent());
+        if turn.abs() < 1e-9 {
+            continue;
+        }
+        let what = if k.fillet { "fillet" } else { "chamfer" };
+        let word = if k.fillet { "A" } else { "C" };
+        let too_big = || {
+            format!(
+                "the {what} at line {} ({word}{:.4} mm) does not fit between the moves it joins",
+                k.line, k.size
+            )
+        };
+        // The fillet's centre: on both moves offset by its radius toward the turn.
+        let d = k.size * turn.signum();
+        let (Some(o1), Some(o2)) = (e1.offset(d), e2.offset(d)) else {
+            return Err(too_big());
+        };
+        let corner = e1.b;
+        let Some(c) = intersect(&o1, &o2)
+            .into_iter()
+            .min_by(|p, q| (p - corner).norm().total_cmp(&(q - corner).norm()))
+        else {
+            return Err(too_big());
+        };
+        let (t1, t2) = (foot(&e1, c), foot(&e2, c));
+        let (f1, f2) = (fraction(&e1, t1), fraction(&e2, t2));
+        if !(1e-9..=1.0 + 1e-9).contains(&f1) || !(-1e-9..=1.0 - 1e-9).contains(&f2) {
+            return Err(too_big());
+        }
+        let (p1, p2) = (P2::from(t1), P2::from(t2));
+        let kind = if k.fillet {
+            let (a, b) = (t1 - c, t2 - c);
+            MoveKind::Arc {
+                center: P2::from(c),
+                sweep: cross(a, b).atan2(a.dot(&b)).abs() * turn.signum(),
+            }
+        } else {
+            MoveKind::Line
+        };
+        segs[i] = with_ends(this, this.start, p1);
+        segs[i + 1] = with_ends(next, p2, next.end);
+        segs.insert(
+            i + 1,
+            Seg {
+                kind,
+                start: p1,
+                end: p2,
+                line: this.line,
+            },
+        );
+    }
+    Ok(())
+}
+
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
     let name = match code {
         700 => "G70",
@@ -491,7 +680,16 @@ fn expand(
 ) -> Option<Motion> {
     let at_o = (at > 0).then_some(at);
     rapid(run, b, start);
-    let (segs, motion) = trace(run, b, OName::Number(q as u32), at, name)?;
+    let (mut segs, corners, motion) = trace(run, b, OName::Number(q as u32), at, name)?;
+    if let Err(why) = turn_corners(&mut segs, &corners) {
+        run.unsupported(
+            b,
+            at_o,
+            format!("{name}: {why}; the cycle's moves are not checked"),
+            true,
+        );
+        return None;
+    }
     let Some((first, prof)) = segs.split_first().filter(|(_, p)| !p.is_empty()) else {
         run.error(
             b,
@@ -978,7 +1176,14 @@ fn pockets(segs: &[El], skip_first: bool, di: f64, r: f64, out: &mut Out) -> Res
 
 /// Run the profile subroutine from the current point and collect its moves; nothing of it stays
 /// (moves, modal state, tool, position). Also the motion mode it left. `None` after a finding.
-fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Option<(Vec<Seg>, Option<Motion>)> {
+#[allow(clippy::type_complexity)]
+fn trace(
+    run: &mut Run<'_>,
+    b: &Block,
+    sub: OName,
+    at: u32,
+    name: &str,
+) -> Option<(Vec<Seg>, Vec<(usize, Corner)>, Option<Motion>)> {
     let mark = Mark::new(run);
     let stopped = run.stopped;
     // The cycle reads every block of the profile with axis words as a move (G0 is a G1 there),
@@ -986,9 +1191,24 @@ fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Optio
     if run.modal.motion.is_none() || matches!(run.modal.motion, Some(Motion::Cycle(_))) {
         run.modal.motion = Some(Motion::Line);
     }
+    let outer = run.cycles.profile_corners.replace(Vec::new());
     let called = run.run_sub_inline(b, sub, at);
     let returned = called == Some(true);
+    let noted = std::mem::replace(&mut run.cycles.profile_corners, outer).unwrap_or_default();
     let segs = mark.segs(run, true);
+    // The moves `segs` is made of, in order: a corner's move is found among them.
+    let made: Vec<usize> = (mark.moves..run.moves.len())
+        .filter(|&i| {
+            matches!(
+                run.moves[i].kind,
+                MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }
+            )
+        })
+        .collect();
+    let corners: Vec<(usize, Corner)> = noted
+        .into_iter()
+        .filter_map(|k| made.binary_search(&k.index).ok().map(|i| (i, k)))
+        .collect();
     let motion = run.modal.motion;
     let budget_spent = run.stopped && !stopped;
     mark.restore_modes(run);
@@ -1007,7 +1227,7 @@ fn trace(run: &mut Run<'_>, b: &Block, sub: OName, at: u32, name: &str) -> Optio
         }
         return None;
     }
-    Some((segs, motion))
+    Some((segs, corners, motion))
 }
 
 #[cfg(test)]
@@ -1137,6 +1357,121 @@ mod tests {
                     let dist = prof.windows(2).map(|w| seg_dist(p, w[0], w[1])).fold(f64::MAX, f64::min);
                     prop_assert!(dist >= d - 1e-6, "feed point {p:?} is {dist} from the profile, D {d}");
                 }
+            }
+        }
+    }
+
+    fn seg_line(a: (f64, f64), b: (f64, f64), line: u32) -> Seg {
+        Seg {
+            kind: MoveKind::Line,
+            start: P2::new(a.0, a.1),
+            end: P2::new(b.0, b.1),
+            line,
+        }
+    }
+
+    fn corner(fillet: bool, size: f64) -> Corner {
+        Corner {
+            index: 0,
+            fillet,
+            size,
+            line: 1,
+        }
+    }
+
+    #[test]
+    fn a_fillet_at_a_right_angle_starts_and_ends_its_radius_from_the_corner() {
+        let mut segs = vec![
+            seg_line((5.0, 0.0), (5.0, -10.0), 1),
+            seg_line((5.0, -10.0), (10.0, -10.0), 2),
+        ];
+        turn_corners(&mut segs, &[(0, corner(true, 1.0))]).unwrap();
+        assert_eq!(segs.len(), 3);
+        assert!((segs[0].end - P2::new(5.0, -9.0)).norm() < 1e-12);
+        assert!((segs[2].start - P2::new(6.0, -10.0)).norm() < 1e-12);
+        let MoveKind::Arc { center, sweep } = segs[1].kind else {
+            panic!("no fillet arc: {:?}", segs[1]);
+        };
+        assert!((center - P2::new(6.0, -9.0)).norm() < 1e-12);
+        // Down Z, then up X: a left turn, counter-clockwise in (x, z).
+        assert!((sweep - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_chamfer_is_the_chord_of_the_fillet_of_radius_c() {
+        // A shallow turn (a Z line into a 1:2 taper): the bevel ends C·tan(θ/2) from the corner,
+        // not C (rs274 prints Z-19.8820 and X8.0528 Z-20.1056 for C0.5 here).
+        let mut segs = vec![
+            seg_line((8.0, -9.0), (8.0, -20.0), 1),
+            seg_line((8.0, -20.0), (10.0, -24.0), 2),
+        ];
+        turn_corners(&mut segs, &[(0, corner(false, 0.5))]).unwrap();
+        assert_eq!(segs[1].kind, MoveKind::Line);
+        assert!((segs[1].start - P2::new(8.0, -19.882)).norm() < 1e-4);
+        assert!((segs[1].end - P2::new(8.0528, -20.1056)).norm() < 1e-4);
+    }
+
+    #[test]
+    fn a_corner_word_on_the_last_move_or_a_straight_joint_changes_nothing() {
+        let mut segs = vec![
+            seg_line((5.0, 0.0), (5.0, -10.0), 1),
+            seg_line((5.0, -10.0), (5.0, -20.0), 2),
+        ];
+        let before = segs.clone();
+        turn_corners(&mut segs, &[(0, corner(true, 1.0)), (1, corner(false, 1.0))]).unwrap();
+        assert_eq!(format!("{before:?}"), format!("{segs:?}"));
+    }
+
+    #[test]
+    fn a_fillet_larger_than_its_moves_is_refused() {
+        let mut segs = vec![
+            seg_line((5.0, 0.0), (5.0, -10.0), 1),
+            seg_line((5.0, -10.0), (7.0, -10.0), 2),
+        ];
+        let err = turn_corners(&mut segs, &[(0, corner(true, 3.0))]).unwrap_err();
+        assert!(err.contains("does not fit"), "{err}");
+    }
+
+    proptest! {
+        #[test]
+        fn a_fillet_touches_a_line_and_an_arc_at_its_radius(
+            r in 0.1f64..1.0,
+            big in 4.0f64..8.0,
+            tilt in 0.2f64..0.8,
+            left in proptest::bool::ANY,
+        ) {
+            // A line down Z, tilted either way, into a counter-clockwise arc of radius about
+            // `big` that leaves the corner down Z: a corner of some 0.1 to 0.9 rad, filleted by r.
+            let tilt = if left { tilt } else { -tilt };
+            let p = P2::new(5.0, -10.0);
+            let start = p + V2::new(tilt.sin(), tilt.cos()) * 10.0;
+            let center = p + V2::new(big, 0.5);
+            let (c1, s1) = (1.0f64.cos(), 1.0f64.sin());
+            let rv = p - center;
+            let end = center + V2::new(c1 * rv.x - s1 * rv.y, s1 * rv.x + c1 * rv.y);
+            let arc = Seg {
+                kind: MoveKind::Arc { center, sweep: 1.0 },
+                start: p,
+                end,
+                line: 2,
+            };
+            let mut segs = vec![seg_line((start.x, start.y), (p.x, p.y), 1), arc];
+            let before = (piece(&segs[0]), piece(&segs[1]));
+            prop_assert!(turn_corners(&mut segs, &[(0, corner(true, r))]).is_ok());
+            prop_assert_eq!(segs.len(), 3);
+            {
+                let MoveKind::Arc { center: c, .. } = segs[1].kind else { panic!("no arc") };
+                // Its ends lie on the moves, at distance r from its centre, and the moves
+                // meet it tangent (the centre is r from the line and big ± r from the arc's).
+                prop_assert!(((segs[1].start - c).norm() - r).abs() < 1e-9);
+                prop_assert!(((segs[1].end - c).norm() - r).abs() < 1e-9);
+                let t = before.0.start_tangent();
+                prop_assert!((cross(t, c.coords - before.0.a).abs() - r).abs() < 1e-9);
+                let rb = (p - center).norm();
+                let dc = (c - center).norm();
+                prop_assert!((dc - (rb - r)).abs() < 1e-9 || (dc - (rb + r)).abs() < 1e-9);
+                prop_assert!((segs[0].end - segs[1].start).norm() < 1e-12);
+                prop_assert!((segs[1].end - segs[2].start).norm() < 1e-12);
             }
         }
     }

@@ -20,7 +20,7 @@ mod common;
 mod drill;
 mod groove;
 mod lcnc_drill;
-mod lcnc_rough;
+pub(crate) mod lcnc_rough;
 mod lcnc_thread;
 mod rough;
 mod thread;
