@@ -58,3 +58,32 @@ fn every_shipped_and_test_machine_file_validates_and_a_typo_does_not() {
     doc["axes"].as_object_mut().unwrap().remove("x");
     assert!(!validator.is_valid(&doc), "a missing required key is refused");
 }
+
+#[test]
+fn the_configuration_schema_is_current_and_every_fixture_configuration_validates() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_latheguard"))
+        .args(["schema", "config"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let generated = String::from_utf8(out.stdout).unwrap();
+    let committed = std::fs::read_to_string(root().join("machines/config.schema.json")).unwrap();
+    assert_eq!(
+        committed, generated,
+        "run `cargo run -- schema config > machines/config.schema.json`"
+    );
+    let schema: serde_json::Value = serde_json::from_str(&generated).unwrap();
+    let validator = jsonschema::validator_for(&schema).unwrap();
+    let mut n = 0;
+    for cell in ["", "cell-b", "cell-c"] {
+        let doc = toml_as_json(&root().join("tests/fixtures/tree").join(cell).join("latheguard.toml"));
+        let errors: Vec<String> = validator.iter_errors(&doc).map(|e| e.to_string()).collect();
+        assert!(errors.is_empty(), "{cell}: {errors:#?}");
+        n += 1;
+    }
+    assert_eq!(n, 3);
+    let doc: serde_json::Value = serde_json::json!({"clerance": 0.2});
+    assert!(!validator.is_valid(&doc), "a typo is refused");
+    let doc: serde_json::Value = serde_json::json!({"mode": "fast"});
+    assert!(!validator.is_valid(&doc), "an unknown mode is refused");
+}

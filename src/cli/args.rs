@@ -42,6 +42,8 @@ pub enum Command {
     Machine(MachineArgs),
     /// The cost-of-accuracy table: exact mode against step mode at several timesteps and tolerances.
     Accuracy(AccuracyArgs),
+    /// Print the JSON Schema of machine files or of latheguard.toml, for editors.
+    Schema(SchemaArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
     Completions(CompletionsArgs),
     /// Write the man pages (latheguard.1, latheguard-check.1, …).
@@ -159,6 +161,21 @@ pub struct MachineArgs {
     /// Print the JSON Schema of machine files (for editors that complete and validate TOML) and exit.
     #[arg(long)]
     pub schema: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct SchemaArgs {
+    /// Which file's schema.
+    #[arg(value_enum)]
+    pub of: SchemaOf,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum SchemaOf {
+    /// A machine file (also `latheguard machine --schema`; `machines/machine.schema.json`).
+    Machine,
+    /// A `latheguard.toml` configuration file (`machines/config.schema.json`).
+    Config,
 }
 
 #[derive(Args, Debug)]

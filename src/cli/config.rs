@@ -172,30 +172,52 @@ impl Finder {
 
 const TOP_LEVEL: &str = "(top level)";
 
-#[derive(Deserialize)]
+/// The JSON Schema of `latheguard.toml` (`latheguard schema config`), from the types the reader
+/// reads; ranges, globs and machine paths are checked by the reader with their place.
+pub fn schema() -> String {
+    let mut schema = schemars::schema_for!(RawConfig);
+    schema.insert("title".into(), "latheguard.toml".into());
+    let mut s = serde_json::to_string_pretty(&schema).unwrap_or_default();
+    s.push('\n');
+    s
+}
+
+#[derive(Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 struct RawConfig {
+    #[schemars(with = "Option<String>")]
     machine: Option<Spanned<String>>,
+    #[schemars(with = "Option<RawMode>")]
     mode: Option<Spanned<RawMode>>,
+    #[schemars(with = "Option<f64>")]
     dt: Option<Spanned<f64>>,
+    #[schemars(with = "Option<f64>")]
     tolerance: Option<Spanned<f64>>,
+    #[schemars(with = "Option<f64>")]
     clearance: Option<Spanned<f64>>,
     #[serde(rename = "override", default)]
+    #[schemars(with = "Vec<RawOverride>")]
     overrides: Vec<Spanned<RawOverride>>,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 struct RawOverride {
+    #[schemars(with = "String")]
     glob: Spanned<String>,
+    #[schemars(with = "Option<String>")]
     machine: Option<Spanned<String>>,
+    #[schemars(with = "Option<RawMode>")]
     mode: Option<Spanned<RawMode>>,
+    #[schemars(with = "Option<f64>")]
     dt: Option<Spanned<f64>>,
+    #[schemars(with = "Option<f64>")]
     tolerance: Option<Spanned<f64>>,
+    #[schemars(with = "Option<f64>")]
     clearance: Option<Spanned<f64>>,
 }
 
-#[derive(Deserialize, Clone, Copy)]
+#[derive(Deserialize, schemars::JsonSchema, Clone, Copy)]
 #[serde(rename_all = "lowercase")]
 enum RawMode {
     Step,

@@ -70,6 +70,16 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
             emit(None, &safe_lines(&m.describe()))?;
             Ok(EXIT_CLEAN)
         }
+        Command::Schema(a) => {
+            emit(
+                None,
+                &match a.of {
+                    args::SchemaOf::Machine => machine::schema(),
+                    args::SchemaOf::Config => config::schema(),
+                },
+            )?;
+            Ok(EXIT_CLEAN)
+        }
         Command::Completions(a) => shell::completions(a),
         Command::Man(a) => shell::man(a),
     }
