@@ -152,3 +152,36 @@ fn the_wildcards_match_as_documented() {
     assert!(matches(&e(&["x: 1; ..."]), &["x: 1; and more"]));
     assert!(!matches(&e(&["x: 1; ..."]), &["x: 2; and more"]));
 }
+
+#[test]
+fn the_pre_commit_recipes_name_every_default_extension_but_txt() {
+    let help = Command::new(env!("CARGO_BIN_EXE_latheguard"))
+        .args(["check", "--help"])
+        .output()
+        .unwrap();
+    let help = String::from_utf8_lossy(&help.stdout).to_string();
+    let list = help
+        .split("[default: ")
+        .find(|p| p.starts_with("nc,"))
+        .and_then(|p| p.split(']').next())
+        .expect("the default extensions in --help")
+        .replace(['\n', ' '], "");
+    let mut want: Vec<&str> = list.split(',').filter(|e| *e != "txt").collect();
+    want.sort();
+    let ci = std::fs::read_to_string(root().join("docs/ci.md")).unwrap();
+    let mut hook: Vec<&str> = ci
+        .split(":(icase)*.")
+        .skip(1)
+        .map(|p| p.split('\'').next().unwrap())
+        .collect();
+    hook.sort();
+    assert_eq!(hook, want, "the git hook's pathspecs");
+    let yaml = ci
+        .split("files: '(?i)\\.(")
+        .nth(1)
+        .and_then(|p| p.split(')').next())
+        .unwrap();
+    let mut yaml: Vec<&str> = yaml.split('|').collect();
+    yaml.sort();
+    assert_eq!(yaml, want, "the pre-commit framework's files pattern");
+}
