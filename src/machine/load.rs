@@ -111,9 +111,10 @@ const HOME_CHECK_TOLERANCE: f64 = 0.01;
 /// The key shown for an error that is about no table or key in particular.
 pub const TOP_LEVEL: &str = "(top level)";
 
-/// A machine file that cannot be used: where and why.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{file}:{line}:{col}: {key}: {message}")]
+/// A machine file that cannot be used: where and why. The fields are the first problem in the
+/// file; `also` holds the others found in the same pass, in file order. `Display` gives one
+/// `file:line:col: key: message` line per problem.
+#[derive(Clone, Debug, PartialEq)]
 pub struct MachineError {
     pub file: String,
     /// 1-based; 0 when unknown.
@@ -122,7 +123,40 @@ pub struct MachineError {
     /// Dotted TOML key path, e.g. `tools[2].holder`.
     pub key: String,
     pub message: String,
+    /// The file's other problems, after this one in file order (each with an empty `also`).
+    pub also: Vec<MachineError>,
 }
+
+impl MachineError {
+    /// Every problem, this one first, in file order.
+    pub fn all(&self) -> impl Iterator<Item = &MachineError> {
+        std::iter::once(self).chain(self.also.iter())
+    }
+
+    /// Problems in any order → the first in file order, holding the rest. None when empty.
+    fn gather(mut errors: Vec<MachineError>) -> Option<MachineError> {
+        errors.sort_by_key(|e| (e.line, e.col));
+        errors.dedup();
+        let mut rest = errors.into_iter();
+        let mut first = rest.next()?;
+        first.also = rest.collect();
+        Some(first)
+    }
+}
+
+impl std::fmt::Display for MachineError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for (i, e) in self.all().enumerate() {
+            if i > 0 {
+                writeln!(f)?;
+            }
+            write!(f, "{}:{}:{}: {}: {}", e.file, e.line, e.col, e.key, e.message)?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for MachineError {}
 
 /// Parse and validate a machine description. `file` is only used in error messages.
 pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
@@ -136,6 +170,7 @@ pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
                 "the file is {} bytes; a machine file may have at most {MAX_TEXT_BYTES} (1 MiB)",
                 text.len()
             ),
+            also: Vec::new(),
         });
     }
     let cx = Cx {
@@ -143,6 +178,7 @@ pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
         file,
         lines: LineIndex::new(text.as_bytes()),
         warnings: std::cell::RefCell::new(Vec::new()),
+        errors: std::cell::RefCell::new(Vec::new()),
     };
     let (root, errors) = DeTable::parse_recoverable(text);
     // The parser may report several errors, not in text order: the first in the text is the one
@@ -359,6 +395,8 @@ struct Cx<'a> {
     lines: LineIndex,
     /// Values that are valid but look like unit mistakes, as `file:line:col: key: message`.
     warnings: std::cell::RefCell<Vec<String>>,
+    /// Problems found so far by checks that let validation go on.
+    errors: std::cell::RefCell<Vec<MachineError>>,
 }
 
 impl Cx<'_> {
@@ -371,7 +409,29 @@ impl Cx<'_> {
             col: self.lines.col_of(self.text.as_bytes(), offset),
             key: if key.is_empty() { TOP_LEVEL.to_string() } else { key },
             message: message.into(),
+            also: Vec::new(),
         }
+    }
+
+    /// The value, or None with its error kept for the report: validation goes on.
+    fn keep<T>(&self, r: Result<T, MachineError>) -> Option<T> {
+        match r {
+            Ok(v) => Some(v),
+            Err(e) => {
+                self.errors.borrow_mut().push(e);
+                None
+            }
+        }
+    }
+
+    /// Keep an error for the report.
+    fn push(&self, e: MachineError) {
+        self.errors.borrow_mut().push(e);
+    }
+
+    /// Every error kept so far, as one (None when there are none).
+    fn kept(&self) -> Option<MachineError> {
+        MachineError::gather(self.errors.take())
     }
 
     /// A serde error (unknown key, wrong type, missing key): find the key from its span.
@@ -604,10 +664,13 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         }
     }
 
+    // From here on each check that fails is kept and validation goes on, so that one run reports
+    // every problem; a value that depends on a refused one is not checked.
+
     // [machine]
     let name = hdr.name.get_ref().trim().to_string();
     if name.is_empty() {
-        return Err(cx.err(hdr.name.span(), "machine.name", "must not be blank"));
+        cx.push(cx.err(hdr.name.span(), "machine.name", "must not be blank"));
     }
     let dialect = match hdr.dialect.unwrap_or(RawDialect::Fanuc) {
         RawDialect::Fanuc => Dialect::Fanuc,
@@ -624,11 +687,12 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             RawDecimalPoint::Calculator => DecimalPoint::Calculator,
             RawDecimalPoint::Increment if dialect == Dialect::Fanuc => DecimalPoint::Increment,
             RawDecimalPoint::Increment => {
-                return Err(cx.err(
+                cx.push(cx.err(
                     d.span(),
                     "machine.decimal_point",
                     "\"increment\" applies to fanuc only: linuxcnc always reads X60 as 60",
-                ))
+                ));
+                DecimalPoint::Calculator
             }
         },
     };
@@ -639,230 +703,305 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             RawGcodeSystem::A => GcodeSystem::A,
             RawGcodeSystem::B if dialect == Dialect::Fanuc => GcodeSystem::B,
             RawGcodeSystem::B => {
-                return Err(cx.err(
+                cx.push(cx.err(
                     g.span(),
                     "machine.gcode_system",
                     "G-code system \"B\" applies to fanuc only: linuxcnc has one set of codes",
-                ))
+                ));
+                GcodeSystem::A
             }
         },
     };
 
     // [axes]
-    let x = cx.axis("axes.x", &axes.x)?;
-    let z = cx.axis("axes.z", &axes.z)?;
-    let home = match &axes.home {
-        None => p2(x.max, z.max),
-        Some(h) => {
-            let p = cx.point("axes.home", h)?;
-            if p.x < x.min || p.x > x.max || p.y < z.min || p.y > z.max {
-                return Err(cx.err(
-                    h.span(),
-                    "axes.home",
-                    format!(
-                        "home [{}, {}] lies outside the axis limits (x {} .. {}, z {} .. {})",
-                        show(p.x),
-                        show(p.y),
-                        show(x.min),
-                        show(x.max),
-                        show(z.min),
-                        show(z.max)
-                    ),
-                ));
+    let x = cx.keep(cx.axis("axes.x", &axes.x));
+    let z = cx.keep(cx.axis("axes.z", &axes.z));
+    let home = match (&axes.home, x, z) {
+        (None, Some(x), Some(z)) => Some(p2(x.max, z.max)),
+        (None, _, _) => None,
+        (Some(h), x, z) => {
+            let p = cx.keep(cx.point("axes.home", h));
+            match (p, x, z) {
+                (Some(p), Some(x), Some(z)) if p.x < x.min || p.x > x.max || p.y < z.min || p.y > z.max => {
+                    cx.push(cx.err(
+                        h.span(),
+                        "axes.home",
+                        format!(
+                            "home [{}, {}] lies outside the axis limits (x {} .. {}, z {} .. {})",
+                            show(p.x),
+                            show(p.y),
+                            show(x.min),
+                            show(x.max),
+                            show(z.min),
+                            show(z.max)
+                        ),
+                    ));
+                    None
+                }
+                (p, _, _) => p,
             }
-            p
         }
     };
     let machine_zero = match &axes.machine_zero {
         None => home,
-        Some(p) => cx.point("axes.machine_zero", p)?,
+        Some(p) => cx.keep(cx.point("axes.machine_zero", p)),
     };
 
     // [spindle]
-    let max_rpm = cx.within("spindle.max_rpm", &spindle.max_rpm, MAX_RPM_RANGE, "rpm")?;
-    if max_rpm < 100.0 {
-        cx.warn(
+    let max_rpm = cx.keep(cx.within("spindle.max_rpm", &spindle.max_rpm, MAX_RPM_RANGE, "rpm"));
+    match max_rpm {
+        Some(r) if r < 100.0 => cx.warn(
             spindle.max_rpm.span(),
             "spindle.max_rpm",
             format!(
                 "max_rpm = {} is implausibly low for a lathe spindle: the unit is rev/min (was it rev/s?)",
-                show(max_rpm)
+                show(r)
             ),
-        );
-    } else if max_rpm > 50_000.0 {
-        cx.warn(
+        ),
+        Some(r) if r > 50_000.0 => cx.warn(
             spindle.max_rpm.span(),
             "spindle.max_rpm",
             format!(
                 "max_rpm = {} is implausibly high for a lathe spindle: the unit is rev/min",
-                show(max_rpm)
+                show(r)
             ),
-        );
+        ),
+        _ => {}
     }
 
     // [chuck], [tailstock]
-    let chuck = chuck.map(|c| cx.outline("chuck.outline", &c.outline)).transpose()?;
+    let chuck = chuck.map(|c| cx.keep(cx.outline("chuck.outline", &c.outline)));
     let tailstock_advanced = tailstock.as_ref().and_then(|t| t.advanced).unwrap_or(true);
-    let tailstock = tailstock
-        .map(|t| cx.outline("tailstock.outline", &t.outline))
-        .transpose()?;
-    let mcodes = mcode_table(cx, dialect, mcodes.as_ref())?;
+    let tailstock = tailstock.map(|t| cx.keep(cx.outline("tailstock.outline", &t.outline)));
+    let mcodes = cx.keep(mcode_table(cx, dialect, mcodes.as_ref()));
 
     // [stock]
-    let stock = match &stock {
-        None => None,
+    let raw_stock = stock;
+    let stock = match &raw_stock {
+        None => Some(None),
         Some(s) => {
-            let diameter = cx.length("stock.diameter", &s.diameter)?;
-            let length = cx.length("stock.length", &s.length)?;
-            let front = cx.coord("stock.front", &s.front)?;
+            let diameter = cx.keep(cx.length("stock.diameter", &s.diameter));
+            let length = cx.keep(cx.length("stock.length", &s.length));
+            let front = cx.keep(cx.coord("stock.front", &s.front));
             let bore = match &s.bore {
-                None => 0.0,
-                Some(b) => cx.non_negative("stock.bore", b)?,
+                None => Some(0.0),
+                Some(b) => cx.keep(cx.non_negative("stock.bore", b)),
             };
-            if front - length < -MAX_COORD_MM {
-                return Err(cx.err(
-                    s.length.span(),
-                    "stock.length",
-                    format!(
-                        "the bar's back end (front − length = {}) is out of range: coordinates must be from {} to {} mm",
-                        show(front - length),
-                        show(-MAX_COORD_MM),
-                        show(MAX_COORD_MM)
-                    ),
-                ));
+            if let (Some(front), Some(length)) = (front, length) {
+                if front - length < -MAX_COORD_MM {
+                    cx.push(cx.err(
+                        s.length.span(),
+                        "stock.length",
+                        format!(
+                            "the bar's back end (front − length = {}) is out of range: coordinates must be from {} to {} mm",
+                            show(front - length),
+                            show(-MAX_COORD_MM),
+                            show(MAX_COORD_MM)
+                        ),
+                    ));
+                }
             }
-            if bore >= diameter {
-                let at = s.bore.as_ref().map_or(0..0, |b| b.span());
-                return Err(cx.err(
-                    at,
-                    "stock.bore",
-                    format!(
-                        "the bore ({}) must be smaller than the diameter ({})",
-                        show(bore),
-                        show(diameter)
-                    ),
-                ));
+            if let (Some(bore), Some(diameter)) = (bore, diameter) {
+                if bore >= diameter {
+                    let at = s.bore.as_ref().map_or(0..0, |b| b.span());
+                    cx.push(cx.err(
+                        at,
+                        "stock.bore",
+                        format!(
+                            "the bore ({}) must be smaller than the diameter ({})",
+                            show(bore),
+                            show(diameter)
+                        ),
+                    ));
+                }
             }
-            Some(Stock {
-                diameter,
-                length,
-                front,
-                bore,
-            })
+            match (diameter, length, front, bore) {
+                (Some(diameter), Some(length), Some(front), Some(bore)) => Some(Some(Stock {
+                    diameter,
+                    length,
+                    front,
+                    bore,
+                })),
+                _ => None,
+            }
         }
     };
 
     // [setup]
     let program_zero_z = match setup.as_ref().and_then(|s| s.program_zero_z.as_ref()) {
-        Some(v) => cx.coord("setup.program_zero_z", v)?,
-        None => stock.as_ref().map_or(0.0, |s| s.front),
+        Some(v) => cx.keep(cx.coord("setup.program_zero_z", v)),
+        None => stock.as_ref().map(|s| s.as_ref().map_or(0.0, |s| s.front)),
     };
 
     // [turret]
     let stations = *turret.stations.get_ref();
-    if !(1..=MAX_STATIONS).contains(&stations) {
-        return Err(cx.err(
+    let stations = if (1..=MAX_STATIONS).contains(&stations) {
+        Some(stations)
+    } else {
+        cx.push(cx.err(
             turret.stations.span(),
             "turret.stations",
             format!("{stations} stations: a turret has 1 to {MAX_STATIONS}"),
         ));
-    }
-    let start_station = match &turret.start_station {
-        None => 1,
-        Some(s) => {
+        None
+    };
+    let start_station = match (&turret.start_station, stations) {
+        (None, _) => Some(1),
+        (Some(_), None) => None,
+        (Some(s), Some(stations)) => {
             let v = *s.get_ref();
-            if !(1..=stations).contains(&v) {
-                return Err(cx.err(
+            if (1..=stations).contains(&v) {
+                Some(v)
+            } else {
+                cx.push(cx.err(
                     s.span(),
                     "turret.start_station",
                     format!("station {v} does not exist: the turret has stations 1 to {stations}"),
                 ));
+                None
             }
-            v
         }
     };
-    let axis = cx.coord("turret.axis", &turret.axis)?;
-    let index_time = cx.within(
+    let axis = cx.keep(cx.coord("turret.axis", &turret.axis));
+    let index_time = cx.keep(cx.within(
         "turret.index_time",
         &turret.index_time,
         INDEX_TIME_RANGE,
         "s per station",
-    )?;
-    if index_time > 5.0 {
+    ));
+    if let Some(t) = index_time.filter(|&t| t > 5.0) {
         cx.warn(
             turret.index_time.span(),
             "turret.index_time",
             format!(
                 "index_time = {} s per station is implausibly slow: the unit is seconds",
-                show(index_time)
+                show(t)
             ),
         );
     }
-    let turret_outline = cx.outline("turret.outline", &turret.outline)?;
+    let turret_outline = cx.keep(cx.outline("turret.outline", &turret.outline));
 
     // [[tools]]
-    let mut owner: Vec<Option<usize>> = vec![None; stations as usize + 1];
+    let mut owner: Vec<Option<usize>> = vec![None; stations.unwrap_or(0) as usize + 1];
     let mut out = Vec::with_capacity(tools.len());
     for (i, t) in tools.iter().enumerate() {
         let t = t.get_ref();
         let key = |k: &str| format!("tools[{i}].{k}");
         let station = *t.station.get_ref();
-        if !(1..=stations).contains(&station) {
-            return Err(cx.err(
-                t.station.span(),
-                key("station"),
-                format!("station {station} does not exist: the turret has stations 1 to {stations}"),
-            ));
-        }
-        if let Some(j) = owner[station as usize] {
-            return Err(cx.err(
-                t.station.span(),
-                key("station"),
-                format!(
-                    "station {station} is already taken by tools[{j}] ({:?})",
-                    tools[j].get_ref().name.get_ref()
-                ),
-            ));
-        }
-        owner[station as usize] = Some(i);
+        let station_ok = match stations {
+            None => false,
+            Some(stations) if !(1..=stations).contains(&station) => {
+                cx.push(cx.err(
+                    t.station.span(),
+                    key("station"),
+                    format!("station {station} does not exist: the turret has stations 1 to {stations}"),
+                ));
+                false
+            }
+            Some(_) => match owner[station as usize] {
+                Some(j) => {
+                    cx.push(cx.err(
+                        t.station.span(),
+                        key("station"),
+                        format!(
+                            "station {station} is already taken by tools[{j}] ({:?})",
+                            tools[j].get_ref().name.get_ref()
+                        ),
+                    ));
+                    false
+                }
+                None => {
+                    owner[station as usize] = Some(i);
+                    true
+                }
+            },
+        };
         let name = t.name.get_ref().trim().to_string();
         if name.is_empty() {
-            return Err(cx.err(t.name.span(), key("name"), "must not be blank"));
+            cx.push(cx.err(t.name.span(), key("name"), "must not be blank"));
         }
-        let tip = cx.point(&key("tip"), &t.tip)?;
-        let insert = cx.outline(&key("insert"), &t.insert)?;
-        let holder = cx.outline(&key("holder"), &t.holder)?;
+        let tip = cx.keep(cx.point(&key("tip"), &t.tip));
+        let insert = cx.keep(cx.outline(&key("insert"), &t.insert));
+        let holder = cx.keep(cx.outline(&key("holder"), &t.holder));
         let nose_radius = match &t.nose_radius {
-            None => 0.0,
-            Some(r) => cx.within(&key("nose_radius"), r, NOSE_RADIUS_RANGE, "mm")?,
+            None => Some(0.0),
+            Some(r) => cx.keep(cx.within(&key("nose_radius"), r, NOSE_RADIUS_RANGE, "mm")),
         };
         let tip_direction = match &t.tip_direction {
-            None => 0,
+            None => Some(0),
             Some(d) => match u8::try_from(*d.get_ref()) {
-                Ok(v) if v <= 9 => v,
+                Ok(v) if v <= 9 => Some(v),
                 _ => {
-                    return Err(cx.err(
+                    cx.push(cx.err(
                         d.span(),
                         key("tip_direction"),
                         format!(
                             "{} is not a tip direction: give a whole number from 0 to 9",
                             d.get_ref()
                         ),
-                    ))
+                    ));
+                    None
                 }
             },
         };
-        out.push(Tool {
-            station,
-            name,
-            tip,
-            insert,
-            holder,
-            nose_radius,
-            tip_direction,
-        });
+        if let (true, Some(tip), Some(insert), Some(holder), Some(nose_radius), Some(tip_direction)) =
+            (station_ok, tip, insert, holder, nose_radius, tip_direction)
+        {
+            out.push(Tool {
+                station,
+                name,
+                tip,
+                insert,
+                holder,
+                nose_radius,
+                tip_direction,
+            });
+        }
     }
     out.sort_by_key(|t| t.station);
+
+    if let Some(e) = cx.kept() {
+        return Err(e);
+    }
+    // No error was kept, so every value is there.
+    let (
+        Some(x),
+        Some(z),
+        Some(home),
+        Some(machine_zero),
+        Some(max_rpm),
+        Some(mcodes),
+        Some(stock),
+        Some(program_zero_z),
+        Some(stations),
+        Some(start_station),
+        Some(axis),
+        Some(index_time),
+        Some(turret_outline),
+    ) = (
+        x,
+        z,
+        home,
+        machine_zero,
+        max_rpm,
+        mcodes,
+        stock,
+        program_zero_z,
+        stations,
+        start_station,
+        axis,
+        index_time,
+        turret_outline,
+    )
+    else {
+        return Err(cx.err(0..0, TOP_LEVEL, "invalid machine file"));
+    };
+    let (Some(chuck), Some(tailstock)) = (
+        chuck.map_or(Some(None), |c| c.map(Some)),
+        tailstock.map_or(Some(None), |t| t.map(Some)),
+    ) else {
+        return Err(cx.err(0..0, TOP_LEVEL, "invalid machine file"));
+    };
 
     let machine = Machine {
         name,
@@ -896,7 +1035,13 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         tools: out,
         warnings: Vec::new(),
     };
-    clear_at_home(cx, &machine, &turret.outline, &tools)?;
+    cx.keep(clear_at_home(cx, &machine, &turret.outline, &tools));
+    if let (Some(s), Some(raw)) = (&machine.stock, &raw_stock) {
+        cx.keep(stock_fits_chuck(cx, &machine, s, raw));
+    }
+    if let Some(e) = cx.kept() {
+        return Err(e);
+    }
     Ok(Machine {
         warnings: cx.warnings.take(),
         ..machine
@@ -966,6 +1111,48 @@ fn clear_at_home(
         }
     }
     Ok(())
+}
+
+/// The stock (a bar or tube from `front − length` to `front`, radius `diameter / 2`, bore
+/// `bore / 2`, revolved like the chuck) must not overlap the chuck: the jaws grip it at their
+/// faces, where the two touch. When even the innermost skin of the stock overlaps the chuck, no
+/// diameter would fit and the error names `stock.length` (the bar reaches into the chuck body);
+/// otherwise it names `stock.diameter` (the bar is wider than the chuck's bore where it reaches).
+fn stock_fits_chuck(cx: &Cx<'_>, machine: &Machine, stock: &Stock, raw: &RawStock) -> Result<(), MachineError> {
+    use crate::geom::overlap;
+    let Some(chuck) = &machine.chuck else {
+        return Ok(());
+    };
+    let (r_in, r_out) = (stock.bore / 2.0, stock.diameter / 2.0);
+    let (back, front) = (stock.front - stock.length, stock.front);
+    let rect = |x0: f64, x1: f64| Polygon::new(&[p2(x0, back), p2(x1, back), p2(x1, front), p2(x0, front)]).ok();
+    let Some(bar) = rect(r_in, r_out) else {
+        return Ok(());
+    };
+    let Some(d) = overlap(&bar, chuck) else {
+        return Ok(());
+    };
+    let skin = rect(r_in, r_in + (r_out - r_in).min(0.1));
+    let kind = if stock.bore > 0.0 { "tube" } else { "bar" };
+    let what = format!(
+        "the {kind} (Ø{}, z {} .. {}) overlaps the chuck by {d:.3} mm",
+        show(stock.diameter),
+        show(back),
+        show(front)
+    );
+    if skin.and_then(|s| overlap(&s, chuck)).is_some() {
+        Err(cx.err(
+            raw.length.span(),
+            "stock.length",
+            format!("{what}: its back end reaches into the chuck body, whatever its diameter; shorten it or move stock.front"),
+        ))
+    } else {
+        Err(cx.err(
+            raw.diameter.span(),
+            "stock.diameter",
+            format!("{what}: it is wider than the chuck's bore where it reaches (the jaws grip it where their faces touch it)"),
+        ))
+    }
 }
 
 /// `[mcodes]`: each key an action, each value its codes (0 ..= 999, none reserved for the
