@@ -556,7 +556,10 @@ impl Cx<'_> {
             pts.push(self.point(&format!("{key}[{i}]"), p)?);
         }
         match Polygon::new(&pts) {
-            Ok(poly) => Ok(poly),
+            Ok(poly) => {
+                self.warn_folds(key, o, &pts);
+                Ok(poly)
+            }
             Err(e @ PolygonError::SelfIntersecting(..)) => match crossing_edges(&pts) {
                 Some(((a, b), (c, d))) => Err(self.err(
                     o.get_ref()[a].span(),
@@ -568,6 +571,35 @@ impl Cx<'_> {
                 None => Err(self.err(o.span(), key, format!("invalid outline: {e}"))),
             },
             Err(e) => Err(self.err(o.span(), key, format!("invalid outline: {e}"))),
+        }
+    }
+
+    /// Warn about what normalising a valid outline drops besides repeated and collinear points:
+    /// a spike (one point whose two edges fold back on each other) or a zero-width feature (a
+    /// run of dropped points along which the outline turns back more than once, such as a
+    /// zero-width slot or T). Both are usually a typing mistake, and the outline checked is not
+    /// the one drawn.
+    fn warn_folds(&self, key: &str, o: &Outline, pts: &[P2]) {
+        for run in folds(pts) {
+            let (first, last) = (run.points[0], run.points[run.points.len() - 1]);
+            let at = o.get_ref()[run.turns[0]].span();
+            let p = pts[run.turns[0]];
+            let message = if run.turns.len() == 1 {
+                format!(
+                    "point [{}] [{}, {}] is a spike (its two edges fold back on each other): it was dropped, and the outline checked is the one without it",
+                    run.turns[0],
+                    show(p.x),
+                    show(p.y)
+                )
+            } else {
+                format!(
+                    "points [{first}] to [{last}] (from [{}, {}]) are a zero-width feature (the outline runs back over itself {} times): they were dropped, and the outline checked is the one without them",
+                    show(pts[first].x),
+                    show(pts[first].y),
+                    run.turns.len()
+                )
+            };
+            self.warn(at, key, message);
         }
     }
 
@@ -1209,6 +1241,76 @@ fn mcode_table(
         given.push((action, codes));
     }
     Ok(McodeTable::with(dialect, &given))
+}
+
+/// Points of an outline that normalisation drops and along which the outline turns back.
+#[derive(Debug, PartialEq)]
+pub(super) struct Fold {
+    /// The file's indices of a run of consecutive dropped points, in outline order.
+    pub(super) points: Vec<usize>,
+    /// Those of them where the outline reversed (its two edges pointed opposite ways).
+    pub(super) turns: Vec<usize>,
+}
+
+/// Normalise `pts` as [`Polygon::new`] does (drop repeated points, then collinear vertices until
+/// none is left) keeping the file's indices, and return each run of dropped points that holds a
+/// reversal. Only called for outlines that [`Polygon::new`] accepted.
+pub(super) fn folds(pts: &[P2]) -> Vec<Fold> {
+    use crate::geom::orient;
+    let n0 = pts.len();
+    let mut kept: Vec<usize> = Vec::with_capacity(n0);
+    for i in 0..n0 {
+        if kept.last().map(|&k| pts[k]) != Some(pts[i]) {
+            kept.push(i);
+        }
+    }
+    while kept.len() > 1 && kept.first().map(|&k| pts[k]) == kept.last().map(|&k| pts[k]) {
+        kept.pop();
+    }
+    let mut turned = vec![false; n0];
+    loop {
+        let n = kept.len();
+        if n < 3 {
+            return Vec::new();
+        }
+        let mut out: Vec<usize> = Vec::with_capacity(n);
+        for i in 0..n {
+            let prev = out.last().copied().unwrap_or(kept[(i + n - 1) % n]);
+            let (a, b, c) = (pts[prev], pts[kept[i]], pts[kept[(i + 1) % n]]);
+            if orient(a, b, c) == 0.0 {
+                if (b - a).dot(&(c - b)) < 0.0 {
+                    turned[kept[i]] = true;
+                }
+            } else {
+                out.push(kept[i]);
+            }
+        }
+        let removed = out.len() != n;
+        kept = out;
+        if !removed {
+            break;
+        }
+    }
+    if kept.len() < 3 {
+        return Vec::new();
+    }
+    // Runs of dropped indices between consecutive kept ones (cyclically).
+    let mut runs = Vec::new();
+    for (j, &k) in kept.iter().enumerate() {
+        let next = kept[(j + 1) % kept.len()];
+        let mut points = Vec::new();
+        let mut i = (k + 1) % n0;
+        while i != next {
+            points.push(i);
+            i = (i + 1) % n0;
+        }
+        let turns: Vec<usize> = points.iter().copied().filter(|&i| turned[i]).collect();
+        if !turns.is_empty() {
+            runs.push(Fold { points, turns });
+        }
+    }
+    runs.sort_by_key(|r| r.turns[0]);
+    runs
 }
 
 /// A number as a machine file would write it: `inf`, `nan`, `1e90`, `-0.5`.
