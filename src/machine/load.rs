@@ -24,7 +24,7 @@
 //! | `[tailstock]` | no | no tailstock | `outline` required in it |
 //! | `tailstock.advanced` | no | `true` | whether the tailstock is advanced at program start; it is an obstacle only while advanced (the `[mcodes]` `tailstock_advance`/`tailstock_retract` codes change it) |
 //! | `[mcodes]` | no | the dialect's built-in table (`docs/mcodes.md`) | each key an action (`program_stop`, `optional_stop`, `program_end`, `spindle_cw`, `spindle_ccw`, `spindle_stop`, `coolant_on`, `coolant_off`, `tailstock_advance`, `tailstock_retract`, `chuck_open`, `chuck_close`, `part_catcher_advance`, `part_catcher_retract`, `bar_feed`, `conveyor_on`, `conveyor_off`, `no_effect`), each value an M code or an array of them (0 ..= 999). An action given replaces its built-in codes; a code given is taken from any built-in action that had it; a code given twice is an error, and so are M6, M98, M99, M70–M73 (and LinuxCNC M61), which the interpreter handles itself |
-//! | `[stock]` | no | no stock | `diameter > 0`, `length > 0`, `front` required; `bore` default `0`, `0 ≤ bore < diameter`; the bar spans `z` from `front − length` to `front` |
+//! | `[stock]` | no | no stock | `diameter > 0`, `length > 0`, `front` required; `bore` default `0`, `0 ≤ bore < diameter`; the bar spans `z` from `front − length` to `front`; it must not overlap the chuck (touching the jaws' faces, the grip, is fine): the error names `stock.length` when even the bar's innermost skin runs into the chuck body, else `stock.diameter` |
 //! | `[setup]` | no | | |
 //! | `setup.program_zero_z` | no | `stock.front` (program Z0 on the bar's face) when there is a stock, else `0` (the jaw faces) | |
 //! | `turret.stations` | yes | | `1 ..= 64` |
@@ -53,14 +53,26 @@
 //!
 //! An outline is an array of `[x, z]` points: a simple polygon in either winding. Repeated and
 //! collinear points are dropped; a self-intersecting or degenerate outline (fewer than three
-//! points that are not all on one line) is an error. To keep validation fast on any input, an
+//! points that are not all on one line) is an error. A dropped point where the outline turns back
+//! on itself is a warning naming the key and the point: a spike (one point whose two edges fold
+//! back on each other) or a zero-width feature (a run of dropped points along which the outline
+//! turns back more than once, such as a zero-width slot or T). To keep validation fast on any input, an
 //! outline may have at most [`MAX_OUTLINE_POINTS`] points and a file at most
 //! [`MAX_TOTAL_OUTLINE_POINTS`] in all; these limits are checked before any outline is
 //! normalised.
 //!
 //! # Errors
 //!
-//! Loading stops at the first error. A [`MachineError`] carries the file name, the 1-based line
+//! One load reports every error of the file: a [`MachineError`] is the first in file order and
+//! holds the others in [`MachineError::also`]; its `Display` gives one line per error. Some
+//! problems still stop loading at once, because what would follow is noise: a file over
+//! [`MAX_TEXT_BYTES`], a TOML syntax error, an unknown key, a missing key or a value of the wrong
+//! type (the file does not have the shape the checks read), no `[[tools]]` or too many, and too
+//! many outline points. A value that depends on a refused one is not checked (the tools'
+//! stations when `turret.stations` is refused, `axes.home` when an axis is), and the setup checks
+//! (parts clear at home, the stock in the chuck) run only on a file whose values are all valid.
+//!
+//! Each error carries the file name, the 1-based line
 //! and column (in characters) and the dotted key path it is about: `axes.x.min`,
 //! `tools[2].holder`, `chuck.outline[3]`. Array indices count from 0, so `tools[0]` is the first
 //! `[[tools]]` table. A key that is missing is named as it would be written (`tools[1].station`)
