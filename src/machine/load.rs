@@ -1079,7 +1079,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         tools: out,
         warnings: Vec::new(),
     };
-    cx.keep(clear_at_home(cx, &machine, &turret.outline, &tools));
+    clear_at_home(cx, &machine, &turret.outline, &tools);
     if let (Some(s), Some(raw)) = (&machine.stock, &raw_stock) {
         cx.keep(stock_fits_chuck(cx, &machine, s, raw));
     }
@@ -1096,16 +1096,11 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
 /// station's in the working plane, the others turned out of it) must be clear of the chuck and
 /// the tailstock: a machine whose parts already overlap before anything moves is a setup error.
 /// The test poses the parts as the checker does ([`Scene`](crate::scene::Scene)).
-fn clear_at_home(
-    cx: &Cx<'_>,
-    machine: &Machine,
-    turret_outline: &Outline,
-    raw_tools: &[Spanned<RawTool>],
-) -> Result<(), MachineError> {
+fn clear_at_home(cx: &Cx<'_>, machine: &Machine, turret_outline: &Outline, raw_tools: &[Spanned<RawTool>]) {
     use crate::geom::overlap;
     use crate::scene::Scene;
     if machine.chuck.is_none() && machine.tailstock.is_none() {
-        return Ok(());
+        return;
     }
     let scene = Scene::new(machine, HOME_CHECK_TOLERANCE);
     let home = machine.home;
@@ -1123,7 +1118,7 @@ fn clear_at_home(
         show(home.y)
     );
     if let Some((what, d)) = hit(&scene.turret.translated(home.coords), true) {
-        return Err(cx.err(
+        cx.push(cx.err(
             turret_outline.span(),
             "turret.outline",
             format!("{where_}, the turret overlaps the {what} by {d:.3} mm: move axes.home or the parts"),
@@ -1144,7 +1139,7 @@ fn clear_at_home(
             };
             let Some(posed) = posed else { continue };
             if let Some((what, d)) = hit(&posed, in_plane) {
-                return Err(cx.err(
+                cx.push(cx.err(
                     span,
                     format!("tools[{i}].{part}"),
                     format!(
@@ -1154,7 +1149,6 @@ fn clear_at_home(
             }
         }
     }
-    Ok(())
 }
 
 /// The stock (a bar or tube from `front − length` to `front`, radius `diameter / 2`, bore

@@ -955,8 +955,14 @@ fn a_tool_turned_out_of_the_plane_is_checked_at_home_too() {
     load(&text).unwrap();
     let far = edit(&text, "tip = [-31.0, -90.0]", "tip = [380.0, -60.0]");
     let e = refused(&far);
-    assert_eq!(e.key, "tools[2].holder", "{e}");
-    assert!(e.message.contains("station 5") && e.message.contains("chuck"), "{e}");
+    // Both its parts reach in; each is reported, the insert first (it comes first in the file).
+    let keys: Vec<&str> = e.all().map(|e| e.key.as_str()).collect();
+    assert_eq!(keys, ["tools[2].insert", "tools[2].holder"], "{e}");
+    assert!(
+        e.all()
+            .all(|e| e.message.contains("station 5") && e.message.contains("chuck")),
+        "{e}"
+    );
 }
 
 #[test]
@@ -1295,4 +1301,25 @@ fn every_shipped_and_test_machine_still_loads() {
             }
         }
     }
+}
+
+#[test]
+fn every_setup_problem_is_reported_together() {
+    // The turret in the chuck at home and a bar wider than the chuck's bore: both, in file order.
+    let text = edit(
+        &edit(
+            MINI,
+            "z = { min = -50.0, max = 600.0, rapid = 24000.0 }",
+            "z = { min = -50.0, max = 600.0, rapid = 24000.0 }\nhome = [100.0, -10.0]",
+        ),
+        "diameter = 50.0",
+        "diameter = 60.0",
+    );
+    let e = refused(&text);
+    let keys: Vec<&str> = e.all().map(|e| e.key.as_str()).collect();
+    assert!(keys.len() >= 2, "{e}");
+    assert_eq!(keys[0], "stock.diameter", "{e}");
+    assert!(keys.contains(&"turret.outline"), "{e}");
+    let lines: Vec<u32> = e.all().map(|e| e.line).collect();
+    assert!(lines.windows(2).all(|w| w[0] <= w[1]), "not in file order: {e}");
 }
