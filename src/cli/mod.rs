@@ -101,7 +101,8 @@ pub fn load_machine(path: Option<&Path>) -> Result<Machine, Trouble> {
             let shown = shown(p);
             let text =
                 read_text(p, MAX_MACHINE_BYTES).map_err(|why| format!("{shown}: cannot read machine file: {why}"))?;
-            let m = machine::from_toml(&text, &shown).map_err(|e| e.to_string())?;
+            // One line per problem, each with the program's name as the first has.
+            let m = machine::from_toml(&text, &shown).map_err(|e| e.to_string().replace('\n', "\nlatheguard: "))?;
             warn_machine(&m);
             Ok(m)
         }

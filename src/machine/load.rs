@@ -24,7 +24,7 @@
 //! | `[tailstock]` | no | no tailstock | `outline` required in it |
 //! | `tailstock.advanced` | no | `true` | whether the tailstock is advanced at program start; it is an obstacle only while advanced (the `[mcodes]` `tailstock_advance`/`tailstock_retract` codes change it) |
 //! | `[mcodes]` | no | the dialect's built-in table (`docs/mcodes.md`) | each key an action (`program_stop`, `optional_stop`, `program_end`, `spindle_cw`, `spindle_ccw`, `spindle_stop`, `coolant_on`, `coolant_off`, `tailstock_advance`, `tailstock_retract`, `chuck_open`, `chuck_close`, `part_catcher_advance`, `part_catcher_retract`, `bar_feed`, `conveyor_on`, `conveyor_off`, `no_effect`), each value an M code or an array of them (0 ..= 999). An action given replaces its built-in codes; a code given is taken from any built-in action that had it; a code given twice is an error, and so are M6, M98, M99, M70–M73 (and LinuxCNC M61), which the interpreter handles itself |
-//! | `[stock]` | no | no stock | `diameter > 0`, `length > 0`, `front` required; `bore` default `0`, `0 ≤ bore < diameter`; the bar spans `z` from `front − length` to `front` |
+//! | `[stock]` | no | no stock | `diameter > 0`, `length > 0`, `front` required; `bore` default `0`, `0 ≤ bore < diameter`; the bar spans `z` from `front − length` to `front`; it must not overlap the chuck (touching the jaws' faces, the grip, is fine): the error names `stock.length` when even the bar's innermost skin runs into the chuck body, else `stock.diameter` |
 //! | `[setup]` | no | | |
 //! | `setup.program_zero_z` | no | `stock.front` (program Z0 on the bar's face) when there is a stock, else `0` (the jaw faces) | |
 //! | `turret.stations` | yes | | `1 ..= 64` |
@@ -53,14 +53,26 @@
 //!
 //! An outline is an array of `[x, z]` points: a simple polygon in either winding. Repeated and
 //! collinear points are dropped; a self-intersecting or degenerate outline (fewer than three
-//! points that are not all on one line) is an error. To keep validation fast on any input, an
+//! points that are not all on one line) is an error. A dropped point where the outline turns back
+//! on itself is a warning naming the key and the point: a spike (one point whose two edges fold
+//! back on each other) or a zero-width feature (a run of dropped points along which the outline
+//! turns back more than once, such as a zero-width slot or T). To keep validation fast on any input, an
 //! outline may have at most [`MAX_OUTLINE_POINTS`] points and a file at most
 //! [`MAX_TOTAL_OUTLINE_POINTS`] in all; these limits are checked before any outline is
 //! normalised.
 //!
 //! # Errors
 //!
-//! Loading stops at the first error. A [`MachineError`] carries the file name, the 1-based line
+//! One load reports every error of the file: a [`MachineError`] is the first in file order and
+//! holds the others in [`MachineError::also`]; its `Display` gives one line per error. Some
+//! problems still stop loading at once, because what would follow is noise: a file over
+//! [`MAX_TEXT_BYTES`], a TOML syntax error, an unknown key, a missing key or a value of the wrong
+//! type (the file does not have the shape the checks read), no `[[tools]]` or too many, and too
+//! many outline points. A value that depends on a refused one is not checked (the tools'
+//! stations when `turret.stations` is refused, `axes.home` when an axis is), and the setup checks
+//! (parts clear at home, the stock in the chuck) run only on a file whose values are all valid.
+//!
+//! Each error carries the file name, the 1-based line
 //! and column (in characters) and the dotted key path it is about: `axes.x.min`,
 //! `tools[2].holder`, `chuck.outline[3]`. Array indices count from 0, so `tools[0]` is the first
 //! `[[tools]]` table. A key that is missing is named as it would be written (`tools[1].station`)
@@ -111,9 +123,10 @@ const HOME_CHECK_TOLERANCE: f64 = 0.01;
 /// The key shown for an error that is about no table or key in particular.
 pub const TOP_LEVEL: &str = "(top level)";
 
-/// A machine file that cannot be used: where and why.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{file}:{line}:{col}: {key}: {message}")]
+/// A machine file that cannot be used: where and why. The fields are the first problem in the
+/// file; `also` holds the others found in the same pass, in file order. `Display` gives one
+/// `file:line:col: key: message` line per problem.
+#[derive(Clone, Debug, PartialEq)]
 pub struct MachineError {
     pub file: String,
     /// 1-based; 0 when unknown.
@@ -122,7 +135,40 @@ pub struct MachineError {
     /// Dotted TOML key path, e.g. `tools[2].holder`.
     pub key: String,
     pub message: String,
+    /// The file's other problems, after this one in file order (each with an empty `also`).
+    pub also: Vec<MachineError>,
 }
+
+impl MachineError {
+    /// Every problem, this one first, in file order.
+    pub fn all(&self) -> impl Iterator<Item = &MachineError> {
+        std::iter::once(self).chain(self.also.iter())
+    }
+
+    /// Problems in any order → the first in file order, holding the rest. None when empty.
+    fn gather(mut errors: Vec<MachineError>) -> Option<MachineError> {
+        errors.sort_by_key(|e| (e.line, e.col));
+        errors.dedup();
+        let mut rest = errors.into_iter();
+        let mut first = rest.next()?;
+        first.also = rest.collect();
+        Some(first)
+    }
+}
+
+impl std::fmt::Display for MachineError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for (i, e) in self.all().enumerate() {
+            if i > 0 {
+                writeln!(f)?;
+            }
+            write!(f, "{}:{}:{}: {}: {}", e.file, e.line, e.col, e.key, e.message)?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for MachineError {}
 
 /// Parse and validate a machine description. `file` is only used in error messages.
 pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
@@ -136,6 +182,7 @@ pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
                 "the file is {} bytes; a machine file may have at most {MAX_TEXT_BYTES} (1 MiB)",
                 text.len()
             ),
+            also: Vec::new(),
         });
     }
     let cx = Cx {
@@ -143,6 +190,7 @@ pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
         file,
         lines: LineIndex::new(text.as_bytes()),
         warnings: std::cell::RefCell::new(Vec::new()),
+        errors: std::cell::RefCell::new(Vec::new()),
     };
     let (root, errors) = DeTable::parse_recoverable(text);
     // The parser may report several errors, not in text order: the first in the text is the one
@@ -359,6 +407,8 @@ struct Cx<'a> {
     lines: LineIndex,
     /// Values that are valid but look like unit mistakes, as `file:line:col: key: message`.
     warnings: std::cell::RefCell<Vec<String>>,
+    /// Problems found so far by checks that let validation go on.
+    errors: std::cell::RefCell<Vec<MachineError>>,
 }
 
 impl Cx<'_> {
@@ -371,7 +421,29 @@ impl Cx<'_> {
             col: self.lines.col_of(self.text.as_bytes(), offset),
             key: if key.is_empty() { TOP_LEVEL.to_string() } else { key },
             message: message.into(),
+            also: Vec::new(),
         }
+    }
+
+    /// The value, or None with its error kept for the report: validation goes on.
+    fn keep<T>(&self, r: Result<T, MachineError>) -> Option<T> {
+        match r {
+            Ok(v) => Some(v),
+            Err(e) => {
+                self.errors.borrow_mut().push(e);
+                None
+            }
+        }
+    }
+
+    /// Keep an error for the report.
+    fn push(&self, e: MachineError) {
+        self.errors.borrow_mut().push(e);
+    }
+
+    /// Every error kept so far, as one (None when there are none).
+    fn kept(&self) -> Option<MachineError> {
+        MachineError::gather(self.errors.take())
     }
 
     /// A serde error (unknown key, wrong type, missing key): find the key from its span.
@@ -496,7 +568,10 @@ impl Cx<'_> {
             pts.push(self.point(&format!("{key}[{i}]"), p)?);
         }
         match Polygon::new(&pts) {
-            Ok(poly) => Ok(poly),
+            Ok(poly) => {
+                self.warn_folds(key, o, &pts);
+                Ok(poly)
+            }
             Err(e @ PolygonError::SelfIntersecting(..)) => match crossing_edges(&pts) {
                 Some(((a, b), (c, d))) => Err(self.err(
                     o.get_ref()[a].span(),
@@ -508,6 +583,35 @@ impl Cx<'_> {
                 None => Err(self.err(o.span(), key, format!("invalid outline: {e}"))),
             },
             Err(e) => Err(self.err(o.span(), key, format!("invalid outline: {e}"))),
+        }
+    }
+
+    /// Warn about what normalising a valid outline drops besides repeated and collinear points:
+    /// a spike (one point whose two edges fold back on each other) or a zero-width feature (a
+    /// run of dropped points along which the outline turns back more than once, such as a
+    /// zero-width slot or T). Both are usually a typing mistake, and the outline checked is not
+    /// the one drawn.
+    fn warn_folds(&self, key: &str, o: &Outline, pts: &[P2]) {
+        for run in folds(pts) {
+            let (first, last) = (run.points[0], run.points[run.points.len() - 1]);
+            let at = o.get_ref()[run.turns[0]].span();
+            let p = pts[run.turns[0]];
+            let message = if run.turns.len() == 1 {
+                format!(
+                    "point [{}] [{}, {}] is a spike (its two edges fold back on each other): it was dropped, and the outline checked is the one without it",
+                    run.turns[0],
+                    show(p.x),
+                    show(p.y)
+                )
+            } else {
+                format!(
+                    "points [{first}] to [{last}] (from [{}, {}]) are a zero-width feature (the outline runs back over itself {} times): they were dropped, and the outline checked is the one without them",
+                    show(pts[first].x),
+                    show(pts[first].y),
+                    run.turns.len()
+                )
+            };
+            self.warn(at, key, message);
         }
     }
 
@@ -604,10 +708,13 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         }
     }
 
+    // From here on each check that fails is kept and validation goes on, so that one run reports
+    // every problem; a value that depends on a refused one is not checked.
+
     // [machine]
     let name = hdr.name.get_ref().trim().to_string();
     if name.is_empty() {
-        return Err(cx.err(hdr.name.span(), "machine.name", "must not be blank"));
+        cx.push(cx.err(hdr.name.span(), "machine.name", "must not be blank"));
     }
     let dialect = match hdr.dialect.unwrap_or(RawDialect::Fanuc) {
         RawDialect::Fanuc => Dialect::Fanuc,
@@ -624,11 +731,12 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             RawDecimalPoint::Calculator => DecimalPoint::Calculator,
             RawDecimalPoint::Increment if dialect == Dialect::Fanuc => DecimalPoint::Increment,
             RawDecimalPoint::Increment => {
-                return Err(cx.err(
+                cx.push(cx.err(
                     d.span(),
                     "machine.decimal_point",
                     "\"increment\" applies to fanuc only: linuxcnc always reads X60 as 60",
-                ))
+                ));
+                DecimalPoint::Calculator
             }
         },
     };
@@ -639,230 +747,305 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             RawGcodeSystem::A => GcodeSystem::A,
             RawGcodeSystem::B if dialect == Dialect::Fanuc => GcodeSystem::B,
             RawGcodeSystem::B => {
-                return Err(cx.err(
+                cx.push(cx.err(
                     g.span(),
                     "machine.gcode_system",
                     "G-code system \"B\" applies to fanuc only: linuxcnc has one set of codes",
-                ))
+                ));
+                GcodeSystem::A
             }
         },
     };
 
     // [axes]
-    let x = cx.axis("axes.x", &axes.x)?;
-    let z = cx.axis("axes.z", &axes.z)?;
-    let home = match &axes.home {
-        None => p2(x.max, z.max),
-        Some(h) => {
-            let p = cx.point("axes.home", h)?;
-            if p.x < x.min || p.x > x.max || p.y < z.min || p.y > z.max {
-                return Err(cx.err(
-                    h.span(),
-                    "axes.home",
-                    format!(
-                        "home [{}, {}] lies outside the axis limits (x {} .. {}, z {} .. {})",
-                        show(p.x),
-                        show(p.y),
-                        show(x.min),
-                        show(x.max),
-                        show(z.min),
-                        show(z.max)
-                    ),
-                ));
+    let x = cx.keep(cx.axis("axes.x", &axes.x));
+    let z = cx.keep(cx.axis("axes.z", &axes.z));
+    let home = match (&axes.home, x, z) {
+        (None, Some(x), Some(z)) => Some(p2(x.max, z.max)),
+        (None, _, _) => None,
+        (Some(h), x, z) => {
+            let p = cx.keep(cx.point("axes.home", h));
+            match (p, x, z) {
+                (Some(p), Some(x), Some(z)) if p.x < x.min || p.x > x.max || p.y < z.min || p.y > z.max => {
+                    cx.push(cx.err(
+                        h.span(),
+                        "axes.home",
+                        format!(
+                            "home [{}, {}] lies outside the axis limits (x {} .. {}, z {} .. {})",
+                            show(p.x),
+                            show(p.y),
+                            show(x.min),
+                            show(x.max),
+                            show(z.min),
+                            show(z.max)
+                        ),
+                    ));
+                    None
+                }
+                (p, _, _) => p,
             }
-            p
         }
     };
     let machine_zero = match &axes.machine_zero {
         None => home,
-        Some(p) => cx.point("axes.machine_zero", p)?,
+        Some(p) => cx.keep(cx.point("axes.machine_zero", p)),
     };
 
     // [spindle]
-    let max_rpm = cx.within("spindle.max_rpm", &spindle.max_rpm, MAX_RPM_RANGE, "rpm")?;
-    if max_rpm < 100.0 {
-        cx.warn(
+    let max_rpm = cx.keep(cx.within("spindle.max_rpm", &spindle.max_rpm, MAX_RPM_RANGE, "rpm"));
+    match max_rpm {
+        Some(r) if r < 100.0 => cx.warn(
             spindle.max_rpm.span(),
             "spindle.max_rpm",
             format!(
                 "max_rpm = {} is implausibly low for a lathe spindle: the unit is rev/min (was it rev/s?)",
-                show(max_rpm)
+                show(r)
             ),
-        );
-    } else if max_rpm > 50_000.0 {
-        cx.warn(
+        ),
+        Some(r) if r > 50_000.0 => cx.warn(
             spindle.max_rpm.span(),
             "spindle.max_rpm",
             format!(
                 "max_rpm = {} is implausibly high for a lathe spindle: the unit is rev/min",
-                show(max_rpm)
+                show(r)
             ),
-        );
+        ),
+        _ => {}
     }
 
     // [chuck], [tailstock]
-    let chuck = chuck.map(|c| cx.outline("chuck.outline", &c.outline)).transpose()?;
+    let chuck = chuck.map(|c| cx.keep(cx.outline("chuck.outline", &c.outline)));
     let tailstock_advanced = tailstock.as_ref().and_then(|t| t.advanced).unwrap_or(true);
-    let tailstock = tailstock
-        .map(|t| cx.outline("tailstock.outline", &t.outline))
-        .transpose()?;
-    let mcodes = mcode_table(cx, dialect, mcodes.as_ref())?;
+    let tailstock = tailstock.map(|t| cx.keep(cx.outline("tailstock.outline", &t.outline)));
+    let mcodes = cx.keep(mcode_table(cx, dialect, mcodes.as_ref()));
 
     // [stock]
-    let stock = match &stock {
-        None => None,
+    let raw_stock = stock;
+    let stock = match &raw_stock {
+        None => Some(None),
         Some(s) => {
-            let diameter = cx.length("stock.diameter", &s.diameter)?;
-            let length = cx.length("stock.length", &s.length)?;
-            let front = cx.coord("stock.front", &s.front)?;
+            let diameter = cx.keep(cx.length("stock.diameter", &s.diameter));
+            let length = cx.keep(cx.length("stock.length", &s.length));
+            let front = cx.keep(cx.coord("stock.front", &s.front));
             let bore = match &s.bore {
-                None => 0.0,
-                Some(b) => cx.non_negative("stock.bore", b)?,
+                None => Some(0.0),
+                Some(b) => cx.keep(cx.non_negative("stock.bore", b)),
             };
-            if front - length < -MAX_COORD_MM {
-                return Err(cx.err(
-                    s.length.span(),
-                    "stock.length",
-                    format!(
-                        "the bar's back end (front − length = {}) is out of range: coordinates must be from {} to {} mm",
-                        show(front - length),
-                        show(-MAX_COORD_MM),
-                        show(MAX_COORD_MM)
-                    ),
-                ));
+            if let (Some(front), Some(length)) = (front, length) {
+                if front - length < -MAX_COORD_MM {
+                    cx.push(cx.err(
+                        s.length.span(),
+                        "stock.length",
+                        format!(
+                            "the bar's back end (front − length = {}) is out of range: coordinates must be from {} to {} mm",
+                            show(front - length),
+                            show(-MAX_COORD_MM),
+                            show(MAX_COORD_MM)
+                        ),
+                    ));
+                }
             }
-            if bore >= diameter {
-                let at = s.bore.as_ref().map_or(0..0, |b| b.span());
-                return Err(cx.err(
-                    at,
-                    "stock.bore",
-                    format!(
-                        "the bore ({}) must be smaller than the diameter ({})",
-                        show(bore),
-                        show(diameter)
-                    ),
-                ));
+            if let (Some(bore), Some(diameter)) = (bore, diameter) {
+                if bore >= diameter {
+                    let at = s.bore.as_ref().map_or(0..0, |b| b.span());
+                    cx.push(cx.err(
+                        at,
+                        "stock.bore",
+                        format!(
+                            "the bore ({}) must be smaller than the diameter ({})",
+                            show(bore),
+                            show(diameter)
+                        ),
+                    ));
+                }
             }
-            Some(Stock {
-                diameter,
-                length,
-                front,
-                bore,
-            })
+            match (diameter, length, front, bore) {
+                (Some(diameter), Some(length), Some(front), Some(bore)) => Some(Some(Stock {
+                    diameter,
+                    length,
+                    front,
+                    bore,
+                })),
+                _ => None,
+            }
         }
     };
 
     // [setup]
     let program_zero_z = match setup.as_ref().and_then(|s| s.program_zero_z.as_ref()) {
-        Some(v) => cx.coord("setup.program_zero_z", v)?,
-        None => stock.as_ref().map_or(0.0, |s| s.front),
+        Some(v) => cx.keep(cx.coord("setup.program_zero_z", v)),
+        None => stock.as_ref().map(|s| s.as_ref().map_or(0.0, |s| s.front)),
     };
 
     // [turret]
     let stations = *turret.stations.get_ref();
-    if !(1..=MAX_STATIONS).contains(&stations) {
-        return Err(cx.err(
+    let stations = if (1..=MAX_STATIONS).contains(&stations) {
+        Some(stations)
+    } else {
+        cx.push(cx.err(
             turret.stations.span(),
             "turret.stations",
             format!("{stations} stations: a turret has 1 to {MAX_STATIONS}"),
         ));
-    }
-    let start_station = match &turret.start_station {
-        None => 1,
-        Some(s) => {
+        None
+    };
+    let start_station = match (&turret.start_station, stations) {
+        (None, _) => Some(1),
+        (Some(_), None) => None,
+        (Some(s), Some(stations)) => {
             let v = *s.get_ref();
-            if !(1..=stations).contains(&v) {
-                return Err(cx.err(
+            if (1..=stations).contains(&v) {
+                Some(v)
+            } else {
+                cx.push(cx.err(
                     s.span(),
                     "turret.start_station",
                     format!("station {v} does not exist: the turret has stations 1 to {stations}"),
                 ));
+                None
             }
-            v
         }
     };
-    let axis = cx.coord("turret.axis", &turret.axis)?;
-    let index_time = cx.within(
+    let axis = cx.keep(cx.coord("turret.axis", &turret.axis));
+    let index_time = cx.keep(cx.within(
         "turret.index_time",
         &turret.index_time,
         INDEX_TIME_RANGE,
         "s per station",
-    )?;
-    if index_time > 5.0 {
+    ));
+    if let Some(t) = index_time.filter(|&t| t > 5.0) {
         cx.warn(
             turret.index_time.span(),
             "turret.index_time",
             format!(
                 "index_time = {} s per station is implausibly slow: the unit is seconds",
-                show(index_time)
+                show(t)
             ),
         );
     }
-    let turret_outline = cx.outline("turret.outline", &turret.outline)?;
+    let turret_outline = cx.keep(cx.outline("turret.outline", &turret.outline));
 
     // [[tools]]
-    let mut owner: Vec<Option<usize>> = vec![None; stations as usize + 1];
+    let mut owner: Vec<Option<usize>> = vec![None; stations.unwrap_or(0) as usize + 1];
     let mut out = Vec::with_capacity(tools.len());
     for (i, t) in tools.iter().enumerate() {
         let t = t.get_ref();
         let key = |k: &str| format!("tools[{i}].{k}");
         let station = *t.station.get_ref();
-        if !(1..=stations).contains(&station) {
-            return Err(cx.err(
-                t.station.span(),
-                key("station"),
-                format!("station {station} does not exist: the turret has stations 1 to {stations}"),
-            ));
-        }
-        if let Some(j) = owner[station as usize] {
-            return Err(cx.err(
-                t.station.span(),
-                key("station"),
-                format!(
-                    "station {station} is already taken by tools[{j}] ({:?})",
-                    tools[j].get_ref().name.get_ref()
-                ),
-            ));
-        }
-        owner[station as usize] = Some(i);
+        let station_ok = match stations {
+            None => false,
+            Some(stations) if !(1..=stations).contains(&station) => {
+                cx.push(cx.err(
+                    t.station.span(),
+                    key("station"),
+                    format!("station {station} does not exist: the turret has stations 1 to {stations}"),
+                ));
+                false
+            }
+            Some(_) => match owner[station as usize] {
+                Some(j) => {
+                    cx.push(cx.err(
+                        t.station.span(),
+                        key("station"),
+                        format!(
+                            "station {station} is already taken by tools[{j}] ({:?})",
+                            tools[j].get_ref().name.get_ref()
+                        ),
+                    ));
+                    false
+                }
+                None => {
+                    owner[station as usize] = Some(i);
+                    true
+                }
+            },
+        };
         let name = t.name.get_ref().trim().to_string();
         if name.is_empty() {
-            return Err(cx.err(t.name.span(), key("name"), "must not be blank"));
+            cx.push(cx.err(t.name.span(), key("name"), "must not be blank"));
         }
-        let tip = cx.point(&key("tip"), &t.tip)?;
-        let insert = cx.outline(&key("insert"), &t.insert)?;
-        let holder = cx.outline(&key("holder"), &t.holder)?;
+        let tip = cx.keep(cx.point(&key("tip"), &t.tip));
+        let insert = cx.keep(cx.outline(&key("insert"), &t.insert));
+        let holder = cx.keep(cx.outline(&key("holder"), &t.holder));
         let nose_radius = match &t.nose_radius {
-            None => 0.0,
-            Some(r) => cx.within(&key("nose_radius"), r, NOSE_RADIUS_RANGE, "mm")?,
+            None => Some(0.0),
+            Some(r) => cx.keep(cx.within(&key("nose_radius"), r, NOSE_RADIUS_RANGE, "mm")),
         };
         let tip_direction = match &t.tip_direction {
-            None => 0,
+            None => Some(0),
             Some(d) => match u8::try_from(*d.get_ref()) {
-                Ok(v) if v <= 9 => v,
+                Ok(v) if v <= 9 => Some(v),
                 _ => {
-                    return Err(cx.err(
+                    cx.push(cx.err(
                         d.span(),
                         key("tip_direction"),
                         format!(
                             "{} is not a tip direction: give a whole number from 0 to 9",
                             d.get_ref()
                         ),
-                    ))
+                    ));
+                    None
                 }
             },
         };
-        out.push(Tool {
-            station,
-            name,
-            tip,
-            insert,
-            holder,
-            nose_radius,
-            tip_direction,
-        });
+        if let (true, Some(tip), Some(insert), Some(holder), Some(nose_radius), Some(tip_direction)) =
+            (station_ok, tip, insert, holder, nose_radius, tip_direction)
+        {
+            out.push(Tool {
+                station,
+                name,
+                tip,
+                insert,
+                holder,
+                nose_radius,
+                tip_direction,
+            });
+        }
     }
     out.sort_by_key(|t| t.station);
+
+    if let Some(e) = cx.kept() {
+        return Err(e);
+    }
+    // No error was kept, so every value is there.
+    let (
+        Some(x),
+        Some(z),
+        Some(home),
+        Some(machine_zero),
+        Some(max_rpm),
+        Some(mcodes),
+        Some(stock),
+        Some(program_zero_z),
+        Some(stations),
+        Some(start_station),
+        Some(axis),
+        Some(index_time),
+        Some(turret_outline),
+    ) = (
+        x,
+        z,
+        home,
+        machine_zero,
+        max_rpm,
+        mcodes,
+        stock,
+        program_zero_z,
+        stations,
+        start_station,
+        axis,
+        index_time,
+        turret_outline,
+    )
+    else {
+        return Err(cx.err(0..0, TOP_LEVEL, "invalid machine file"));
+    };
+    let (Some(chuck), Some(tailstock)) = (
+        chuck.map_or(Some(None), |c| c.map(Some)),
+        tailstock.map_or(Some(None), |t| t.map(Some)),
+    ) else {
+        return Err(cx.err(0..0, TOP_LEVEL, "invalid machine file"));
+    };
 
     let machine = Machine {
         name,
@@ -896,7 +1079,13 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         tools: out,
         warnings: Vec::new(),
     };
-    clear_at_home(cx, &machine, &turret.outline, &tools)?;
+    clear_at_home(cx, &machine, &turret.outline, &tools);
+    if let (Some(s), Some(raw)) = (&machine.stock, &raw_stock) {
+        cx.keep(stock_fits_chuck(cx, &machine, s, raw));
+    }
+    if let Some(e) = cx.kept() {
+        return Err(e);
+    }
     Ok(Machine {
         warnings: cx.warnings.take(),
         ..machine
@@ -907,16 +1096,11 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
 /// station's in the working plane, the others turned out of it) must be clear of the chuck and
 /// the tailstock: a machine whose parts already overlap before anything moves is a setup error.
 /// The test poses the parts as the checker does ([`Scene`](crate::scene::Scene)).
-fn clear_at_home(
-    cx: &Cx<'_>,
-    machine: &Machine,
-    turret_outline: &Outline,
-    raw_tools: &[Spanned<RawTool>],
-) -> Result<(), MachineError> {
+fn clear_at_home(cx: &Cx<'_>, machine: &Machine, turret_outline: &Outline, raw_tools: &[Spanned<RawTool>]) {
     use crate::geom::overlap;
     use crate::scene::Scene;
     if machine.chuck.is_none() && machine.tailstock.is_none() {
-        return Ok(());
+        return;
     }
     let scene = Scene::new(machine, HOME_CHECK_TOLERANCE);
     let home = machine.home;
@@ -934,7 +1118,7 @@ fn clear_at_home(
         show(home.y)
     );
     if let Some((what, d)) = hit(&scene.turret.translated(home.coords), true) {
-        return Err(cx.err(
+        cx.push(cx.err(
             turret_outline.span(),
             "turret.outline",
             format!("{where_}, the turret overlaps the {what} by {d:.3} mm: move axes.home or the parts"),
@@ -955,7 +1139,7 @@ fn clear_at_home(
             };
             let Some(posed) = posed else { continue };
             if let Some((what, d)) = hit(&posed, in_plane) {
-                return Err(cx.err(
+                cx.push(cx.err(
                     span,
                     format!("tools[{i}].{part}"),
                     format!(
@@ -965,7 +1149,48 @@ fn clear_at_home(
             }
         }
     }
-    Ok(())
+}
+
+/// The stock (a bar or tube from `front − length` to `front`, radius `diameter / 2`, bore
+/// `bore / 2`, revolved like the chuck) must not overlap the chuck: the jaws grip it at their
+/// faces, where the two touch. When even the innermost skin of the stock overlaps the chuck, no
+/// diameter would fit and the error names `stock.length` (the bar reaches into the chuck body);
+/// otherwise it names `stock.diameter` (the bar is wider than the chuck's bore where it reaches).
+fn stock_fits_chuck(cx: &Cx<'_>, machine: &Machine, stock: &Stock, raw: &RawStock) -> Result<(), MachineError> {
+    use crate::geom::overlap;
+    let Some(chuck) = &machine.chuck else {
+        return Ok(());
+    };
+    let (r_in, r_out) = (stock.bore / 2.0, stock.diameter / 2.0);
+    let (back, front) = (stock.front - stock.length, stock.front);
+    let rect = |x0: f64, x1: f64| Polygon::new(&[p2(x0, back), p2(x1, back), p2(x1, front), p2(x0, front)]).ok();
+    let Some(bar) = rect(r_in, r_out) else {
+        return Ok(());
+    };
+    let Some(d) = overlap(&bar, chuck) else {
+        return Ok(());
+    };
+    let skin = rect(r_in, r_in + (r_out - r_in).min(0.1));
+    let kind = if stock.bore > 0.0 { "tube" } else { "bar" };
+    let what = format!(
+        "the {kind} (Ø{}, z {} .. {}) overlaps the chuck by {d:.3} mm",
+        show(stock.diameter),
+        show(back),
+        show(front)
+    );
+    if skin.and_then(|s| overlap(&s, chuck)).is_some() {
+        Err(cx.err(
+            raw.length.span(),
+            "stock.length",
+            format!("{what}: its back end reaches into the chuck body, whatever its diameter; shorten it or move stock.front"),
+        ))
+    } else {
+        Err(cx.err(
+            raw.diameter.span(),
+            "stock.diameter",
+            format!("{what}: it is wider than the chuck's bore where it reaches (the jaws grip it where their faces touch it)"),
+        ))
+    }
 }
 
 /// `[mcodes]`: each key an action, each value its codes (0 ..= 999, none reserved for the
@@ -1022,6 +1247,76 @@ fn mcode_table(
         given.push((action, codes));
     }
     Ok(McodeTable::with(dialect, &given))
+}
+
+/// Points of an outline that normalisation drops and along which the outline turns back.
+#[derive(Debug, PartialEq)]
+pub(super) struct Fold {
+    /// The file's indices of a run of consecutive dropped points, in outline order.
+    pub(super) points: Vec<usize>,
+    /// Those of them where the outline reversed (its two edges pointed opposite ways).
+    pub(super) turns: Vec<usize>,
+}
+
+/// Normalise `pts` as [`Polygon::new`] does (drop repeated points, then collinear vertices until
+/// none is left) keeping the file's indices, and return each run of dropped points that holds a
+/// reversal. Only called for outlines that [`Polygon::new`] accepted.
+pub(super) fn folds(pts: &[P2]) -> Vec<Fold> {
+    use crate::geom::orient;
+    let n0 = pts.len();
+    let mut kept: Vec<usize> = Vec::with_capacity(n0);
+    for i in 0..n0 {
+        if kept.last().map(|&k| pts[k]) != Some(pts[i]) {
+            kept.push(i);
+        }
+    }
+    while kept.len() > 1 && kept.first().map(|&k| pts[k]) == kept.last().map(|&k| pts[k]) {
+        kept.pop();
+    }
+    let mut turned = vec![false; n0];
+    loop {
+        let n = kept.len();
+        if n < 3 {
+            return Vec::new();
+        }
+        let mut out: Vec<usize> = Vec::with_capacity(n);
+        for i in 0..n {
+            let prev = out.last().copied().unwrap_or(kept[(i + n - 1) % n]);
+            let (a, b, c) = (pts[prev], pts[kept[i]], pts[kept[(i + 1) % n]]);
+            if orient(a, b, c) == 0.0 {
+                if (b - a).dot(&(c - b)) < 0.0 {
+                    turned[kept[i]] = true;
+                }
+            } else {
+                out.push(kept[i]);
+            }
+        }
+        let removed = out.len() != n;
+        kept = out;
+        if !removed {
+            break;
+        }
+    }
+    if kept.len() < 3 {
+        return Vec::new();
+    }
+    // Runs of dropped indices between consecutive kept ones (cyclically).
+    let mut runs = Vec::new();
+    for (j, &k) in kept.iter().enumerate() {
+        let next = kept[(j + 1) % kept.len()];
+        let mut points = Vec::new();
+        let mut i = (k + 1) % n0;
+        while i != next {
+            points.push(i);
+            i = (i + 1) % n0;
+        }
+        let turns: Vec<usize> = points.iter().copied().filter(|&i| turned[i]).collect();
+        if !turns.is_empty() {
+            runs.push(Fold { points, turns });
+        }
+    }
+    runs.sort_by_key(|r| r.turns[0]);
+    runs
 }
 
 /// A number as a machine file would write it: `inf`, `nan`, `1e90`, `-0.5`.

@@ -955,8 +955,14 @@ fn a_tool_turned_out_of_the_plane_is_checked_at_home_too() {
     load(&text).unwrap();
     let far = edit(&text, "tip = [-31.0, -90.0]", "tip = [380.0, -60.0]");
     let e = refused(&far);
-    assert_eq!(e.key, "tools[2].holder", "{e}");
-    assert!(e.message.contains("station 5") && e.message.contains("chuck"), "{e}");
+    // Both its parts reach in; each is reported, the insert first (it comes first in the file).
+    let keys: Vec<&str> = e.all().map(|e| e.key.as_str()).collect();
+    assert_eq!(keys, ["tools[2].insert", "tools[2].holder"], "{e}");
+    assert!(
+        e.all()
+            .all(|e| e.message.contains("station 5") && e.message.contains("chuck")),
+        "{e}"
+    );
 }
 
 #[test]
@@ -1095,4 +1101,225 @@ fn turret_side_is_rear_unless_the_file_says_front() {
     assert_eq!(load(&text).unwrap().turret_side, super::TurretSide::Front);
     let text = edit(MINI, "name = \"mini\"", "name = \"mini\"\nturret_side = \"left\"");
     assert_at(&refused(&text), line_of(&text, "turret_side"), "machine.turret_side");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Issue 14 item 2: every error at once, warnings for folds, a stock that fits the chuck.
+
+#[test]
+fn three_independent_mistakes_are_reported_together_in_file_order() {
+    let text = edit(
+        &edit(
+            &edit(MINI, "min = -10.0, max = 300.0", "min = 400.0, max = 300.0"),
+            "max_rpm = 4000.0",
+            "max_rpm = 0.0",
+        ),
+        "station = 3",
+        "station = 9",
+    );
+    let e = refused(&text);
+    let all: Vec<&MachineError> = e.all().collect();
+    assert_eq!(all.len(), 3, "{e}");
+    assert_at(all[0], line_of(&text, "x = { min = 400.0"), "axes.x.min");
+    assert_at(all[1], line_of(&text, "max_rpm = 0.0"), "spindle.max_rpm");
+    assert_at(all[2], line_of(&text, "station = 9"), "tools[2].station");
+    let shown = e.to_string();
+    let lines: Vec<&str> = shown.lines().collect();
+    assert_eq!(lines.len(), 3, "{shown}");
+    assert!(lines[1].starts_with(&format!("test.toml:{}:", all[1].line)), "{shown}");
+    assert!(
+        lines[2].contains("tools[2].station: station 9 does not exist"),
+        "{shown}"
+    );
+}
+
+#[test]
+fn a_single_mistake_is_one_error_with_nothing_else() {
+    let e = refused(&edit(MINI, "max_rpm = 4000.0", "max_rpm = 0.0"));
+    assert!(e.also.is_empty(), "{e}");
+    assert_eq!(e.to_string().lines().count(), 1);
+}
+
+#[test]
+fn a_refused_value_does_not_bring_errors_about_what_depends_on_it() {
+    // A bad stations count: the tools' stations are not checked against it, the rest still is.
+    let text = edit(
+        &edit(MINI, "stations = 8", "stations = 0"),
+        "index_time = 0.5",
+        "index_time = -1.0",
+    );
+    let e = refused(&text);
+    let keys: Vec<&str> = e.all().map(|e| e.key.as_str()).collect();
+    assert_eq!(keys, ["turret.stations", "turret.index_time"], "{e}");
+}
+
+#[test]
+fn a_syntax_error_still_stops_at_the_first_problem() {
+    let text = edit(
+        &edit(MINI, "max_rpm = 4000.0", "max_rpm = = 4000"),
+        "stations = 8",
+        "stations = 0",
+    );
+    let e = refused(&text);
+    assert!(e.also.is_empty(), "{e}");
+    assert!(e.message.contains("TOML syntax error"), "{e}");
+}
+
+#[test]
+fn a_spike_in_an_outline_loads_with_a_warning_naming_the_key_and_point() {
+    // Point [3] goes up to x 200 and straight back down: a spike.
+    let text = edit(
+        MINI,
+        "outline = [[0, -35], [280, -35], [280, 35], [0, 35]]",
+        "outline = [[0, -35], [280, -35], [280, 35], [100, 35], [100, 200], [100, 35], [0, 35]]",
+    );
+    let m = load(&text).unwrap();
+    assert_eq!(m.warnings.len(), 1, "{:?}", m.warnings);
+    let w = &m.warnings[0];
+    let line = line_of(&text, "[100, 200]");
+    assert!(w.starts_with(&format!("test.toml:{line}:")), "{w}");
+    assert!(w.contains("turret.outline: point [4] [100, 200] is a spike"), "{w}");
+    // The outline checked is the one without it.
+    assert_eq!(m.turret.outline.points().len(), 4);
+}
+
+#[test]
+fn a_zero_width_feature_in_an_outline_loads_with_a_warning() {
+    // A zero-width T: up from [100, 35] to [100, 60], along to [120, 60], back, and back down.
+    let text = edit(
+        MINI,
+        "outline = [[0, -35], [280, -35], [280, 35], [0, 35]]",
+        "outline = [[0, -35], [280, -35], [280, 35], [100, 35], [100, 60], [120, 60], [100, 60], [100, 35], [0, 35]]",
+    );
+    let m = load(&text).unwrap();
+    assert_eq!(m.warnings.len(), 1, "{:?}", m.warnings);
+    let w = &m.warnings[0];
+    assert!(w.contains("turret.outline: points ["), "{w}");
+    assert!(w.contains("zero-width feature"), "{w}");
+    assert_eq!(m.turret.outline.points().len(), 4);
+}
+
+#[test]
+fn collinear_and_repeated_points_bring_no_warning() {
+    let text = edit(
+        MINI,
+        "outline = [[0, -35], [280, -35], [280, 35], [0, 35]]",
+        "outline = [[0, -35], [140, -35], [280, -35], [280, -35], [280, 35], [0, 35], [0, -35]]",
+    );
+    assert!(load(&text).unwrap().warnings.is_empty());
+}
+
+#[test]
+fn folds_finds_spikes_and_zero_width_runs() {
+    let pts = |v: &[(f64, f64)]| v.iter().map(|&(x, z)| p2(x, z)).collect::<Vec<_>>();
+    // A square with a spike at index 2.
+    let f = super::load::folds(&pts(&[
+        (0.0, 0.0),
+        (10.0, 0.0),
+        (10.0, -5.0),
+        (10.0, 0.0),
+        (10.0, 10.0),
+        (0.0, 10.0),
+    ]));
+    assert_eq!(f.len(), 1);
+    assert_eq!(f[0].turns, [2]);
+    // An edge that overshoots and comes back: the fold is at index 1.
+    let f = super::load::folds(&pts(&[(0.0, 0.0), (12.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)]));
+    assert_eq!(f.len(), 1);
+    assert_eq!(f[0].turns, [1]);
+    // No fold in a plain square.
+    assert!(super::load::folds(&pts(&[(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)])).is_empty());
+}
+
+#[test]
+fn a_stock_wider_than_the_chuck_bore_is_refused_naming_the_diameter() {
+    // The chuck's bore is 50 mm (x 25); a 60 mm bar overlaps the jaws.
+    let text = edit(MINI, "diameter = 50.0", "diameter = 60.0");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "diameter = 60.0"), "stock.diameter");
+    assert!(e.message.contains("overlaps the chuck by 5.000 mm"), "{e}");
+}
+
+#[test]
+fn a_stock_that_reaches_into_a_closed_chuck_body_is_refused_naming_the_length() {
+    // A chuck with no through bore behind z = -60: a 150 mm bar (back end at z = -70) runs into
+    // the body whatever its diameter.
+    let text = edit(
+        &edit(
+            MINI,
+            "outline = [[25, -100], [105, -100], [105, -30], [70, -30], [70, -12], [45, -12], [45, 0], [25, 0]]",
+            "outline = [[0, -100], [105, -100], [105, -30], [70, -30], [70, -12], [45, -12], [45, 0], [25, 0], [25, -60], [0, -60]]",
+        ),
+        "length = 120.0",
+        "length = 150.0",
+    );
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "length = 150.0"), "stock.length");
+    assert!(e.message.contains("whatever its diameter"), "{e}");
+    // The same chuck takes the 120 mm bar (back end at z = -40).
+    let ok = edit(&text, "length = 150.0", "length = 120.0");
+    load(&ok).unwrap();
+}
+
+#[test]
+fn a_stock_gripped_at_the_jaw_faces_touches_and_loads() {
+    // Exactly the bore: the jaws' faces touch the bar.
+    let m = load(MINI).unwrap();
+    assert_eq!(m.stock.as_ref().unwrap().diameter, 50.0);
+    // A thinner bar and a tube load too.
+    load(&edit(MINI, "diameter = 50.0", "diameter = 30.0")).unwrap();
+    load(&edit(MINI, "front = 80.0", "front = 80.0\nbore = 20.0")).unwrap();
+}
+
+#[test]
+fn stock_fit_is_judged_only_once_every_value_is_valid() {
+    // A stock that does not fit is found after the values are valid; with a bad value elsewhere,
+    // the value is reported (the fit is judged on a machine that loads).
+    let text = edit(
+        &edit(MINI, "diameter = 50.0", "diameter = 60.0"),
+        "max_rpm = 4000.0",
+        "max_rpm = 0.0",
+    );
+    let e = refused(&text);
+    let keys: Vec<&str> = e.all().map(|e| e.key.as_str()).collect();
+    assert_eq!(keys, ["spindle.max_rpm"], "{e}");
+}
+
+#[test]
+fn every_shipped_and_test_machine_still_loads() {
+    for dir in ["machines", "tests/machines"] {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(dir);
+        for entry in std::fs::read_dir(&root).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().and_then(|e| e.to_str()) != Some("toml") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).unwrap();
+            let name = path.display().to_string();
+            if let Err(e) = from_toml(&text, &name) {
+                panic!("{e}");
+            }
+        }
+    }
+}
+
+#[test]
+fn every_setup_problem_is_reported_together() {
+    // The turret in the chuck at home and a bar wider than the chuck's bore: both, in file order.
+    let text = edit(
+        &edit(
+            MINI,
+            "z = { min = -50.0, max = 600.0, rapid = 24000.0 }",
+            "z = { min = -50.0, max = 600.0, rapid = 24000.0 }\nhome = [100.0, -10.0]",
+        ),
+        "diameter = 50.0",
+        "diameter = 60.0",
+    );
+    let e = refused(&text);
+    let keys: Vec<&str> = e.all().map(|e| e.key.as_str()).collect();
+    assert!(keys.len() >= 2, "{e}");
+    assert_eq!(keys[0], "stock.diameter", "{e}");
+    assert!(keys.contains(&"turret.outline"), "{e}");
+    let lines: Vec<u32> = e.all().map(|e| e.line).collect();
+    assert!(lines.windows(2).all(|w| w[0] <= w[1]), "not in file order: {e}");
 }

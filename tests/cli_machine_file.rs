@@ -1,0 +1,82 @@
+//! `latheguard machine FILE` and `check -m FILE` on machine files with problems (issue 14 item
+//! 2): every error reported at once with exit 2, a warning for an outline's spike, and a stock
+//! that does not fit the chuck refused.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn machine(name: &str) -> PathBuf {
+    root().join("tests/machines").join(name)
+}
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_latheguard"))
+        .args(args)
+        .current_dir(root())
+        .env("CI", "true")
+        .output()
+        .unwrap()
+}
+
+fn err(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Both commands that read a machine file, for `file`.
+fn commands(file: &Path) -> Vec<Vec<String>> {
+    let f = file.display().to_string();
+    let prog = root().join("programs/facing.nc").display().to_string();
+    vec![
+        vec!["machine".into(), f.clone()],
+        vec!["check".into(), "-m".into(), f, prog],
+    ]
+}
+
+#[test]
+fn three_mistakes_in_a_machine_file_are_all_printed_with_exit_2() {
+    for args in commands(&machine("refused/three-mistakes.toml")) {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", err(&o));
+        let e = err(&o);
+        let lines: Vec<&str> = e.lines().filter(|l| l.contains("three-mistakes.toml:")).collect();
+        assert_eq!(lines.len(), 3, "{args:?}: {e}");
+        for (line, key) in lines.iter().zip(["axes.x.min", "spindle.max_rpm", "tools[0].station"]) {
+            assert!(line.starts_with("latheguard: "), "{line}");
+            assert!(line.contains(&format!(": {key}: ")), "{key} not in {line}");
+        }
+        assert!(!e.contains("panicked"), "{e}");
+    }
+}
+
+#[test]
+fn a_spike_in_an_outline_is_a_warning_and_the_machine_loads() {
+    for args in commands(&machine("turret-spike.toml")) {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = run(&args);
+        assert_ne!(o.status.code(), Some(2), "{args:?}: {}", err(&o));
+        let e = err(&o);
+        assert!(
+            e.contains("warning: ") && e.contains("turret.outline: point [2] [260, 40] is a spike"),
+            "{args:?}: {e}"
+        );
+    }
+}
+
+#[test]
+fn a_stock_wider_than_the_chuck_bore_is_refused_with_exit_2() {
+    for args in commands(&machine("refused/stock-too-wide.toml")) {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", err(&o));
+        assert!(
+            err(&o).contains(": stock.diameter: the bar (Ø50"),
+            "{args:?}: {}",
+            err(&o)
+        );
+    }
+}
