@@ -40,7 +40,7 @@ const TOL: f64 = 1e-4 + 1e-9;
 const KNOWN: &[(&str, &str)] = &[
     (
         "corpus/linuxcnc-interp/g71-with-g70/g71-with-g70.ngc",
-        "its profile's offsets by D fold over at a step shorter than D (line 22, X11.014 to X12 in 1 mm of Z; the A0.2 fillet at line 17 is modelled): not modelled, so none of its cycles runs (unsupported)",
+        "its offset folds over at line 22 (X11.014 to X12 in 1 mm of Z, shorter than D1) and is trimmed as rs274 trims it, and the G71.1 roughing passes agree; the final G71.1 pass along the offset (rs274 feeds straight across some G3/G2 arcs and the A0.2 fillet's dip) and the G71.2 pocket cuts differ, and the G70 passes differ where the G3 of line 14 meets the G2 of line 15 not exactly tangent (rs274 leaves such a joint uncut, latheguard cuts it at the crossing)",
     ),
     (
         "corpus/linuxcnc-interp/g72-missing-iteration/g72-iterations-missing.ngc",
@@ -48,7 +48,7 @@ const KNOWN: &[(&str, &str)] = &[
     ),
     (
         "corpus/linuxcnc-nc_files/lathe_g70_71_demo.ngc",
-        "the same pawn profile as g71-with-g70: its offsets by D fold over at line 22 (not modelled, so its cycles do not run; the A-word fillet is modelled)",
+        "the same pawn profile and cycles as g71-with-g70: differs in the same places (final G71.1 pass, G71.2 pockets, the G3/G2 joint of the G70 passes); the folded offset itself is trimmed as rs274 does",
     ),
     (
         "corpus/latheeasystep/Test_Gewinde_innen.ngc",
