@@ -177,6 +177,18 @@ const CYCLE_UNIT: &str = "G0 X52 Z3\nG71 U2 R0.5\nG71 P10 Q60 U0.4 W0.1 F0.25\nN
 
 /// Canned cycles (issue 11): a generated program of G71/G70/G76 blocks with their profiles,
 /// read, interpreted and expanded into moves.
+/// One row of the cycles table: lines and moves per second, median (best).
+fn cycle_row(name: &str, lines: usize, t: Times, moves: usize, note: &str) {
+    println!(
+        "{name:<10} {lines:>9} {:>7.2} ({:>6.2}) {:>11.0} ({:>8.0}) {moves:>8}   {:.1} M moves/s; {note}",
+        t.median * 1e3,
+        t.best * 1e3,
+        lines as f64 / t.median,
+        lines as f64 / t.best,
+        moves as f64 / t.median / 1e6,
+    );
+}
+
 fn cycles(lines: usize, fanuc: &Machine) {
     let mut text = String::from("G21 G18 G99 G97 S800 M3\nT0101\n");
     let units = lines.saturating_sub(3) / CYCLE_UNIT.lines().count();
@@ -192,15 +204,7 @@ fn cycles(lines: usize, fanuc: &Machine) {
         moves = r.moves.len();
         unsupported = r.findings.len();
     });
-    println!(
-        "{:<10} {n:>9} {:>7.2} ({:>6.2}) {:>11.0} ({:>8.0}) {moves:>8}   cycles: {:.1} M moves/s; {unsupported} findings",
-        "cycles",
-        all.median * 1e3,
-        all.best * 1e3,
-        n as f64 / all.median,
-        n as f64 / all.best,
-        moves as f64 / all.median / 1e6,
-    );
+    cycle_row("cycles", n, all, moves, &format!("{unsupported} findings"));
     // The same, with the moves handed to a sink as they are made (what `moves --format canon`
     // does): no move list grows, so no fresh pages are touched for it.
     let mut streamed = 0;
@@ -211,13 +215,5 @@ fn cycles(lines: usize, fanuc: &Machine) {
         streamed = count + r.moves.len();
     });
     assert_eq!(streamed, moves, "streaming hands over every move");
-    println!(
-        "{:<10} {n:>9} {:>7.2} ({:>6.2}) {:>11.0} ({:>8.0}) {streamed:>8}   cycles streamed: {:.1} M moves/s",
-        "cycles-st",
-        st.median * 1e3,
-        st.best * 1e3,
-        n as f64 / st.median,
-        n as f64 / st.best,
-        streamed as f64 / st.median / 1e6,
-    );
+    cycle_row("cycles-st", n, st, streamed, "streamed");
 }

@@ -7,7 +7,7 @@
 //! (named so that it does not look like a setting of the command, which reads only
 //! `(latheguard: allow … -- reason)` comments);
 //! `modes=step,exact` runs both modes and prefixes each expected line with the mode.
-//! Cases under `tests/cases/interp/`, `tests/cases/comp/` and `tests/cases/macro/` also pin their interpreted motion in a `.moves` file
+//! Cases under `tests/cases/{interp,comp,macro,cycles,cycles_lcnc}/` also pin their interpreted motion in a `.moves` file
 //! (`latheguard moves --format canon`).
 //! Run with `UPDATE_EXPECT=1` to rewrite the expected files from the current output (then review
 //! the diff: a test that is updated blindly proves nothing).
@@ -133,23 +133,7 @@ fn every_case_reports_exactly_its_expected_findings() {
         };
         let exp_path = f.with_extension("expected");
         let exp_text = std::fs::read_to_string(&exp_path).unwrap_or_default();
-        if update {
-            if f.components().any(|c| pins_moves(c.as_os_str())) {
-                let (_, run) = pipeline::interpret(&src, &machine);
-                let mut canon = Vec::new();
-                latheguard::interp::canon::write(&run, &mut canon).unwrap();
-                let canon = String::from_utf8(canon).unwrap();
-                std::fs::write(f.with_extension("moves"), &canon).unwrap();
-            }
-            let header: String = exp_text
-                .lines()
-                .filter(|l| l.starts_with('#'))
-                .map(|l| format!("{l}\n"))
-                .collect();
-            std::fs::write(&exp_path, format!("{header}{got}")).unwrap();
-            continue;
-        }
-        // Cases under tests/cases/interp/ also pin the interpreted motion (canonical calls).
+        // Cases in some folders also pin the interpreted motion (canonical calls).
         if f.components().any(|c| pins_moves(c.as_os_str())) {
             let (_, run) = pipeline::interpret(&src, &machine);
             let mut canon = Vec::new();
@@ -165,6 +149,15 @@ fn every_case_reports_exactly_its_expected_findings() {
                     moves_path.display()
                 ));
             }
+        }
+        if update {
+            let header: String = exp_text
+                .lines()
+                .filter(|l| l.starts_with('#'))
+                .map(|l| format!("{l}\n"))
+                .collect();
+            std::fs::write(&exp_path, format!("{header}{got}")).unwrap();
+            continue;
         }
         if strip(&exp_text) != got {
             failures.push(format!(
@@ -187,5 +180,7 @@ fn every_case_reports_exactly_its_expected_findings() {
 
 /// Cases in these folders also pin their interpreted motion in a `.moves` file.
 fn pins_moves(dir: &std::ffi::OsStr) -> bool {
-    dir == "interp" || dir == "comp" || dir == "macro"
+    ["interp", "comp", "macro", "cycles", "cycles_lcnc"]
+        .iter()
+        .any(|d| dir == *d)
 }

@@ -19,48 +19,6 @@ fn canon_on(src: &[u8], machine: &Machine) -> (Interpretation, String) {
     (run, String::from_utf8(out).unwrap())
 }
 
-/// The machine a case names in its first line (`(test-case: machine=NAME)`), as tests/cases.rs
-/// reads it; the built-in one otherwise.
-fn machine_of(src: &[u8]) -> Machine {
-    let first = String::from_utf8_lossy(src.split(|&c| c == b'\n').next().unwrap_or(&[])).to_string();
-    let Some(name) = first.split("machine=").nth(1) else {
-        return Machine::builtin();
-    };
-    let name = name.split([' ', ')']).next().unwrap_or("");
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let mut path = root.join("machines").join(format!("{name}.toml"));
-    if !path.exists() {
-        path = root.join("tests/machines").join(format!("{name}.toml"));
-    }
-    latheguard::machine::from_toml(&std::fs::read_to_string(&path).unwrap(), &path.display().to_string()).unwrap()
-}
-
-#[test]
-fn every_cycle_case_matches_its_moves_file() {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/cases/cycles");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "nc"))
-        .collect();
-    files.sort();
-    assert!(files.len() >= 5, "too few cycle cases: {}", files.len());
-    let update = std::env::var_os("UPDATE_EXPECT").is_some();
-    let mut failures = Vec::new();
-    for f in &files {
-        let src = std::fs::read(f).unwrap();
-        let (_, got) = canon_on(&src, &machine_of(&src));
-        let path = f.with_extension("moves");
-        if update {
-            std::fs::write(&path, &got).unwrap();
-        } else if std::fs::read_to_string(&path).unwrap_or_default() != got {
-            failures.push(format!("{}: moves differ from {}:\n{got}", f.display(), path.display()));
-        }
-    }
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
-}
-
 /// A type I OD profile: radius and z of each vertex from the first profile point (A') on, x never
 /// falling and z never rising.
 #[derive(Debug, Clone)]

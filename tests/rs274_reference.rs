@@ -311,37 +311,6 @@ fn lcnc_cases() -> Vec<PathBuf> {
     files
 }
 
-/// The LinuxCNC cycle cases pin their moves (`latheguard moves --format canon` on the machine
-/// their first line names); `UPDATE_EXPECT=1` rewrites the `.moves` files.
-#[test]
-fn lcnc_cycle_cases_match_their_moves_files() {
-    let files = lcnc_cases();
-    assert!(files.len() >= 4, "too few LinuxCNC cycle cases: {}", files.len());
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let update = std::env::var_os("UPDATE_EXPECT").is_some();
-    let mut failures = Vec::new();
-    for f in &files {
-        let src = std::fs::read_to_string(f).unwrap();
-        let name = src.lines().next().unwrap_or("").split("machine=").nth(1).unwrap_or("");
-        let name = name.split([' ', ')']).next().unwrap();
-        let machine = root.join("machines").join(format!("{name}.toml"));
-        let out = Command::new(env!("CARGO_BIN_EXE_latheguard"))
-            .args(["moves", "--format", "canon", "-m"])
-            .arg(&machine)
-            .arg(f)
-            .output()
-            .unwrap();
-        let got = String::from_utf8(out.stdout).unwrap();
-        let path = f.with_extension("moves");
-        if update {
-            std::fs::write(&path, &got).unwrap();
-        } else if std::fs::read_to_string(&path).unwrap_or_default() != got {
-            failures.push(format!("{}: moves differ from {}:\n{got}", f.display(), path.display()));
-        }
-    }
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
-}
-
 /// The same cases against rs274 (all but `*refused*`, whose first refused block ends rs274's
 /// run), on the comparison machine: every move within 1e-4.
 #[test]

@@ -256,14 +256,8 @@ fn machine_for(
     }
     let text = read_text(&key, MAX_MACHINE_BYTES)
         .map_err(|why| format!("{}: cannot read machine file {shown}: {why}", r.at))?;
-    let m = machine::from_toml(&text, &shown).map_err(|e| {
-        // One `latheguard:` line per problem, then whose machine it is.
-        format!(
-            "{}\n  (the machine of {})",
-            e.to_string().replace('\n', "\nlatheguard: "),
-            r.at
-        )
-    })?;
+    let m = machine::from_toml(&text, &shown)
+        .map_err(|e| format!("{}\n  (the machine of {})", super::error_lines(&e), r.at))?;
     super::warn_machine(&m);
     let m = Arc::new(m);
     cache.insert(key, m.clone());

@@ -101,12 +101,17 @@ pub fn load_machine(path: Option<&Path>) -> Result<Machine, Trouble> {
             let shown = shown(p);
             let text =
                 read_text(p, MAX_MACHINE_BYTES).map_err(|why| format!("{shown}: cannot read machine file: {why}"))?;
-            // One line per problem, each with the program's name as the first has.
-            let m = machine::from_toml(&text, &shown).map_err(|e| e.to_string().replace('\n', "\nlatheguard: "))?;
+            let m = machine::from_toml(&text, &shown).map_err(|e| error_lines(&e))?;
             warn_machine(&m);
             Ok(m)
         }
     }
+}
+
+/// Every problem of a machine file on a line of its own, each with the `latheguard:` that [`say`]
+/// puts before the first.
+pub fn error_lines(e: &machine::MachineError) -> String {
+    e.to_string().replace('\n', "\nlatheguard: ")
 }
 
 /// A machine file's values that load but look like unit mistakes, on standard error.

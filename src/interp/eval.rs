@@ -226,7 +226,7 @@ impl Run<'_> {
     }
 }
 
-fn bool_f(b: bool) -> f64 {
+pub(super) fn bool_f(b: bool) -> f64 {
     if b {
         1.0
     } else {
@@ -235,9 +235,14 @@ fn bool_f(b: bool) -> f64 {
 }
 
 fn param_index(v: f64) -> Result<u32, String> {
+    whole_index(v, "parameter")
+}
+
+/// The number of a parameter or variable (`what`) from a value: whole within 1e-4, in `u32`.
+pub(super) fn whole_index(v: f64, what: &str) -> Result<u32, String> {
     let r = v.round();
     if (v - r).abs() > 1e-4 || r < 0.0 || r > u32::MAX as f64 {
-        return Err(format!("parameter number {v} is not a whole number in range"));
+        return Err(format!("{what} number {v} is not a whole number in range"));
     }
     Ok(r as u32)
 }

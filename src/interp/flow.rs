@@ -822,17 +822,32 @@ impl<'a> Run<'a> {
             self.error(b, col, format!("M98: subprogram O{number} is not in this file"));
             return;
         };
+        self.enter_fanuc_program(b, col, start, count, "subprogram calls");
+    }
+
+    /// Enter the Fanuc program (or macro) whose `O` block is `start` for `count` passes, as `M98`
+    /// and `G65`/`G66` do: a frame that returns after this block and keeps the caller's locals;
+    /// calls deeper than the limit stop the run with a finding naming `what`. False when nothing
+    /// was entered (no pass, or too deep).
+    pub(super) fn enter_fanuc_program(
+        &mut self,
+        b: &Block,
+        col: Option<u32>,
+        start: usize,
+        count: u64,
+        what: &str,
+    ) -> bool {
         if count == 0 {
-            return;
+            return false;
         }
         if self.call_depth() >= self.limits.max_call_depth {
             self.error(
                 b,
                 col,
-                format!("subprogram calls nested deeper than {}", self.limits.max_call_depth),
+                format!("{what} nested deeper than {}", self.limits.max_call_depth),
             );
             self.stopped = true;
-            return;
+            return false;
         }
         let saved = self.locals_snapshot();
         self.frames.push(Frame {
@@ -846,6 +861,7 @@ impl<'a> Run<'a> {
             fanuc: true,
         });
         self.pc = start + 1;
+        true
     }
 
     /// `M99` (`p`: its P word and column): end of a subprogram pass.

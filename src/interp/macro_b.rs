@@ -8,6 +8,7 @@
 //!
 //! Vacant variables are stored as NaN in `Params::numbered` and evaluate to `None`.
 
+use super::eval::bool_f;
 use super::flow::Run;
 use crate::finding::{push_capped, Finding, Kind, LeftOut, Severity};
 use crate::gcode::{BinOp, Block, Expr, ExprId, Func, MacroOp, OName, OOp, Param, Program, Value};
@@ -758,33 +759,14 @@ impl Run<'_> {
 
     /// Call the macro at block `start` `count` times with a new level of locals.
     fn macro_call(&mut self, b: &Block, start: usize, count: u64, args: Box<[f64; 33]>, at: u32) {
-        if count == 0 {
+        if !self.enter_fanuc_program(b, Some(at), start, count, "macro calls") {
             return;
         }
-        if self.frames.len() >= self.limits.max_call_depth {
-            let msg = format!("macro calls nested deeper than {}", self.limits.max_call_depth);
-            self.error(b, Some(at), msg);
-            self.stopped = true;
-            return;
-        }
-        let mut saved = [0.0; 33];
-        saved.copy_from_slice(&self.params.numbered[1..34]);
-        self.frames.push(super::state::Frame {
-            return_pc: self.pc,
-            body_pc: start + 1,
-            repeats_left: count - 1,
-            saved_locals: saved,
-            locals: HashMap::new(),
-            autorestore: None,
-            repeat_counts: HashMap::new(),
-            fanuc: true,
-        });
         self.params.numbered[1..34].copy_from_slice(&args[..]);
         let depth = self.frames.len();
         if let Some(s) = self.macro_b.as_deref_mut() {
             s.levels.push((depth, args));
         }
-        self.pc = start + 1;
     }
 
     /// `M99` (with `P`: return to that N number of the caller) in the Fanuc dialect. A `G65`
@@ -841,20 +823,8 @@ impl Run<'_> {
     }
 }
 
-fn bool_f(b: bool) -> f64 {
-    if b {
-        1.0
-    } else {
-        0.0
-    }
-}
-
 fn var_index(v: f64) -> Result<u32, String> {
-    let r = v.round();
-    if (v - r).abs() > 1e-4 || r < 0.0 || r > u32::MAX as f64 {
-        return Err(format!("variable number {v} is not a whole number in range"));
-    }
-    Ok(r as u32)
+    super::eval::whole_index(v, "variable")
 }
 
 /// A 32-bit integer for the bit operations.

@@ -129,15 +129,8 @@ impl Report {
         s
     }
 
-    /// Exit status of DESIGN §6: 1 when any finding is an error, else 0.
-    pub fn has_errors(&self) -> bool {
-        self.files
-            .iter()
-            .any(|f| f.findings.iter().any(|x| x.severity == Severity::Error))
-    }
-
-    /// Whether the run fails its gate: a reported (not suppressed) finding of a severity
-    /// [`Report::fail_on`] names.
+    /// Exit status 1 of DESIGN §6: a reported (not suppressed) finding of a severity
+    /// [`Report::fail_on`] names (by default, an error).
     pub fn fails(&self) -> bool {
         self.files
             .iter()

@@ -47,25 +47,13 @@ struct Invocation {
 struct Notification {
     level: &'static str,
     message: Message,
-    locations: Vec<FileLocation>,
+    locations: Vec<Location>,
     descriptor: Descriptor,
 }
 
 #[derive(Serialize)]
 struct Descriptor {
     id: &'static str,
-}
-
-#[derive(Serialize)]
-#[serde(rename_all = "camelCase")]
-struct FileLocation {
-    physical_location: FilePhysicalLocation,
-}
-
-#[derive(Serialize)]
-#[serde(rename_all = "camelCase")]
-struct FilePhysicalLocation {
-    artifact_location: ArtifactLocation,
 }
 
 #[derive(Serialize)]
@@ -186,7 +174,9 @@ struct Location {
 #[serde(rename_all = "camelCase")]
 struct PhysicalLocation {
     artifact_location: ArtifactLocation,
-    region: Region,
+    /// Absent for a note about a whole file.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    region: Option<Region>,
 }
 
 #[derive(Serialize)]
@@ -336,13 +326,14 @@ pub fn sarif(r: &Report) -> String {
                 message: Message {
                     text: super::NO_MOTION_MESSAGE.into(),
                 },
-                locations: vec![FileLocation {
-                    physical_location: FilePhysicalLocation {
+                locations: vec![Location {
+                    physical_location: PhysicalLocation {
                         artifact_location: ArtifactLocation {
                             uri,
                             uri_base_id,
                             index: None,
                         },
+                        region: None,
                     },
                 }],
                 descriptor: Descriptor { id: "no_motion" },
@@ -386,12 +377,12 @@ pub fn sarif(r: &Report) -> String {
                             uri_base_id: base,
                             index: Some(index),
                         },
-                        region: Region {
+                        region: Some(Region {
                             start_line: x.line.max(1),
                             start_column: (x.col > 0).then_some(x.col),
                             end_line: (x.end_line > x.line).then_some(x.end_line),
                             snippet: snippet.map(|text| Message { text }),
-                        },
+                        }),
                     },
                 }],
                 attachments: x
