@@ -16,3 +16,4 @@ pub mod pipeline;
 pub mod report;
 pub mod scene;
 pub mod source;
+pub mod tooling;

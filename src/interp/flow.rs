@@ -286,7 +286,7 @@ impl<'a> Run<'a> {
             params.numbered[100..1000].fill(super::macro_b::VACANT);
         }
         let modal = Modal {
-            inch: false,
+            inch: machine.inch,
             incremental: false,
             arc_incremental: true,
             diameter: machine.diameter_mode,

@@ -16,6 +16,7 @@
 //! | `machine.decimal_point` | no | `"calculator"` | `"calculator"` or `"increment"`; `"increment"` only with fanuc |
 //! | `machine.gcode_system` | no | `"A"` | `"A"` or `"B"` (Fanuc lathe G-code system); only with fanuc. A: G90/G92/G94 are the box cycles, G50 sets coordinates and clamps the spindle; B: G77/G78/G79 are the box cycles, G92 sets coordinates and clamps the spindle, G90/G91 absolute/incremental |
 //! | `machine.turret_side` | no | `"rear"` | `"rear"` (+X away from the operator) or `"front"` (+X toward the operator): how the Fanuc/Haas tip-code chart maps onto the spindle frame (docs/comp.md); LinuxCNC orientations are read in the X/Z axes as rs274 reads them, whatever the side |
+//! | `machine.units` | no | `"mm"` | `"mm"` or `"inch"`: the program units at program start (G21 or G20 in effect until the program says otherwise); the machine file itself is always in mm |
 //! | `axes.x`, `axes.z` | yes | | tables `{ min, max, rapid }`, all required, `min < max`, `rapid` 1 ..= 1e6 mm/min (a warning below 100) |
 //! | `axes.home` | no | `[axes.x.max, axes.z.max]` | inside both axes' limits |
 //! | `axes.machine_zero` | no | `axes.home` (G53 X0 Z0 is home, as on most Fanuc and Haas lathes) | `[x, z]`: the turret reference point at machine zero, spindle frame; G53 X/Z are measured from it (X as the program writes it: a diameter in diameter mode) |
@@ -271,6 +272,14 @@ struct RawHeader {
     #[schemars(with = "Option<RawGcodeSystem>")]
     gcode_system: Option<Spanned<RawGcodeSystem>>,
     turret_side: Option<RawTurretSide>,
+    units: Option<RawUnits>,
+}
+
+#[derive(Deserialize, JsonSchema, Clone, Copy)]
+#[serde(rename_all = "lowercase", expecting = "\"mm\" or \"inch\"")]
+enum RawUnits {
+    Mm,
+    Inch,
 }
 
 #[derive(Deserialize, JsonSchema, Clone, Copy)]
@@ -1058,6 +1067,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             None | Some(RawTurretSide::Rear) => super::TurretSide::Rear,
             Some(RawTurretSide::Front) => super::TurretSide::Front,
         },
+        inch: matches!(hdr.units, Some(RawUnits::Inch)),
         x,
         z,
         home,

@@ -177,6 +177,8 @@ pub struct Machine {
     pub gcode_system: GcodeSystem,
     /// Which side of the spindle the turret stands on (`machine.turret_side`, default rear).
     pub turret_side: TurretSide,
+    /// The program starts in inch (G20) rather than mm (`machine.units = "inch"`).
+    pub inch: bool,
     pub x: Axis,
     pub z: Axis,
     /// Turret reference point at program start and after a return home.
@@ -239,6 +241,9 @@ impl Machine {
                 }
             );
             let _ = write!(modes, ", G-code system {}", self.gcode_system.as_str());
+        }
+        if self.inch {
+            modes.push_str(", programs start in inch (G20)");
         }
         if self.turret_side == TurretSide::Front {
             modes.push_str(", turret in front (+X toward the operator)");
