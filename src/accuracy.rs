@@ -225,6 +225,7 @@ pub fn plot_svg(rows: &[Row], title: &str) -> String {
         mt + ph / 2.0
     );
     let colors = ["#d62728", "#1f77b4", "#2ca02c"];
+    let mut labels: Vec<PlotLabel> = Vec::new();
     for (ti, &tol) in TOLERANCES.iter().enumerate() {
         let c = colors[ti % 3];
         for r in rows.iter().filter(|r| r.tolerance_mm == tol) {
@@ -243,13 +244,18 @@ pub fn plot_svg(rows: &[Row], title: &str) -> String {
                         s,
                         r#"<circle cx="{px:.1}" cy="{py:.1}" r="4.5" fill="none" stroke="{c}" stroke-width="2"/>"#
                     );
-                    let _ = writeln!(
-                        s,
-                        r#"<text x="{:.1}" y="{:.1}" font-size="9" fill="{c}">{}</text>"#,
-                        px + 6.0,
-                        py - 5.0,
-                        r.dt_ms.map_or(String::new(), |d| format!("{d}"))
-                    );
+                    // Points of one tolerance that coincide on the plot share one label.
+                    let text = r.dt_ms.map_or(String::new(), |d| format!("{d}"));
+                    match labels
+                        .iter_mut()
+                        .find(|l: &&mut PlotLabel| l.color == c && (l.px - px).abs() < 4.0 && (l.py - py).abs() < 4.0)
+                    {
+                        Some(l) => {
+                            l.text.push_str(", ");
+                            l.text.push_str(&text);
+                        }
+                        None => labels.push(PlotLabel { px, py, text, color: c }),
+                    }
                 }
             }
         }
@@ -286,8 +292,47 @@ pub fn plot_svg(rows: &[Row], title: &str) -> String {
         lx - 5.0,
         ly + 24.0
     );
+    place_labels(&mut s, &labels, mt);
     s.push_str("</svg>\n");
     s
+}
+
+/// A label of step-mode points (their dt values) at a point of the plot.
+struct PlotLabel {
+    px: f64,
+    py: f64,
+    text: String,
+    color: &'static str,
+}
+
+/// Write the labels, each at the first of several spots beside its point (above right, then
+/// higher, then below) whose box stays below the plot's top edge `top` (the title is above it)
+/// and overlaps no label placed before it.
+fn place_labels(s: &mut String, labels: &[PlotLabel], top: f64) {
+    let mut taken: Vec<(f64, f64, f64, f64)> = Vec::new();
+    for l in labels {
+        let w = 5.4 * l.text.chars().count() as f64;
+        let h = 10.0;
+        let spots = (0..6)
+            .map(|k| (l.px + 6.0, l.py - 5.0 - 11.0 * k as f64))
+            .chain((1..4).map(|k| (l.px + 6.0, l.py + 4.0 + 11.0 * k as f64)));
+        let free = |&(x, y): &(f64, f64)| {
+            y - h >= top + 2.0
+                && taken
+                    .iter()
+                    .all(|&(a, b, c, d)| x + w + 4.0 < a || x > c + 4.0 || y < b || y - h > d)
+        };
+        let spot = spots.clone().find(free).unwrap_or((l.px + 6.0, l.py - 5.0));
+        taken.push((spot.0, spot.1 - h, spot.0 + w, spot.1));
+        let _ = writeln!(
+            s,
+            r#"<text x="{:.1}" y="{:.1}" font-size="9" fill="{}">{}</text>"#,
+            spot.0,
+            spot.1,
+            l.color,
+            escape(&l.text)
+        );
+    }
 }
 
 fn fmt_ms(v: f64) -> String {
@@ -300,4 +345,45 @@ fn fmt_ms(v: f64) -> String {
 
 fn escape(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+}
+
+#[cfg(test)]
+mod plot_tests {
+    use super::*;
+
+    /// (x, y) of each `<text>` written.
+    fn spots(s: &str) -> Vec<(f64, f64)> {
+        s.lines()
+            .map(|l| {
+                let num = |k: &str| -> f64 { l.split(k).nth(1).unwrap().split('"').next().unwrap().parse().unwrap() };
+                (num(" x=\""), num(" y=\""))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn labels_of_points_that_coincide_do_not_overlap_and_stay_below_the_title() {
+        let labels: Vec<PlotLabel> = ["#d62728", "#1f77b4", "#2ca02c"]
+            .iter()
+            .map(|&color| PlotLabel {
+                px: 200.0,
+                py: 60.0,
+                text: "10, 5, 2".into(),
+                color,
+            })
+            .collect();
+        let mut s = String::new();
+        place_labels(&mut s, &labels, 50.0);
+        let p = spots(&s);
+        assert_eq!(p.len(), 3);
+        for i in 0..3 {
+            assert!(p[i].1 - 10.0 >= 52.0, "below the plot's top: {p:?}");
+            for j in 0..i {
+                assert!(
+                    (p[i].1 - p[j].1).abs() >= 10.0 || (p[i].0 - p[j].0).abs() >= 40.0,
+                    "{p:?}"
+                );
+            }
+        }
+    }
 }

@@ -22,7 +22,7 @@ use crate::interp::{Interpretation, Move, MoveKind};
 use crate::machine::Machine;
 use crate::motion::{self, Timed};
 use crate::pipeline::{Mode, Settings, Stats};
-use crate::scene::{DexelStock, Revolved, Scene, Snapshot, Swept, View, NO_SWEEP};
+use crate::scene::{DexelStock, Revolved, Scene, Snapshot, Swept, Travel, View, NO_SWEEP};
 
 use episodes::{Contact, Episodes};
 
@@ -826,6 +826,17 @@ impl Checker<'_> {
             Some(o) => self.obstacle(o).map(|rv| vec![pts(&rv.outline)]).unwrap_or_default(),
             None => Vec::new(),
         };
+        // A dogleg rapid bends where its first axis arrives: draw it as the machine moves.
+        let machine_path = match &item.path {
+            // (Only where both axes move: otherwise the machine follows the programmed line.)
+            motion::Path::Dogleg { from, to, tx, tz }
+                if (tx - tz).abs() > 1e-12 && (to.x - from.x).abs() > 1e-9 && (to.y - from.y).abs() > 1e-9 =>
+            {
+                let corner = motion::reference_at(m, item, tx.min(*tz));
+                vec![from + m.tip, corner + m.tip, to + m.tip]
+            }
+            _ => Vec::new(),
+        };
         Snapshot {
             chuck: self.scene.chuck.as_ref().map(|c| pts(&c.outline)),
             tailstock: self.obstacle(Obstacle::Tailstock).map(|c| pts(&c.outline)), // drawn while advanced
@@ -835,6 +846,9 @@ impl Checker<'_> {
             holder: tool.map(|t| posed(&t.holder, t.tip)).unwrap_or_default(),
             others,
             path,
+            machine_path,
+            frame: Some(*self.run.frame(m)),
+            travel: None,
             at: r + m.tip,
             part_a: pts(part),
             part_b,
@@ -1076,11 +1090,37 @@ impl Checker<'_> {
         let mut c = c;
         if self.settings.snapshots && !self.episodes.is_open(u64::MAX) {
             let turret = self.scene.turret.translated(r.coords);
-            c.snapshot = Some(Box::new(self.snapshot(m, item, r, m.station, &turret, None, true)));
+            let mut s = self.snapshot(m, item, r, m.station, &turret, None, true);
+            s.travel = Some(travel_facts(axis, &ax, at));
+            c.snapshot = Some(Box::new(s));
         }
 
         self.overtravel_open = true;
         self.episodes.contact(u64::MAX, c);
+    }
+}
+
+/// Where the turret reference point (`at(u)` along the move, `u` in 0..=1) is farthest beyond
+/// the broken limit of `axis`, sampled finely enough for a picture.
+fn travel_facts(axis: &str, ax: &(crate::machine::Axis, crate::machine::Axis), at: impl Fn(f64) -> P2) -> Travel {
+    let x_axis = axis == "X";
+    let (a, get): (crate::machine::Axis, fn(P2) -> f64) = if x_axis { (ax.0, |p| p.x) } else { (ax.1, |p| p.y) };
+    let (mut worst, mut over, mut limit) = (at(0.0), f64::NEG_INFINITY, a.max);
+    for p in (0..=256).map(|k| at(k as f64 / 256.0)) {
+        let (below, above) = (a.min - get(p), get(p) - a.max);
+        if below > over {
+            (worst, over, limit) = (p, below, a.min);
+        }
+        if above > over {
+            (worst, over, limit) = (p, above, a.max);
+        }
+    }
+    Travel {
+        axis: if x_axis { 'X' } else { 'Z' },
+        limit,
+        reference_path: (0..=64).map(|k| at(k as f64 / 64.0)).collect(),
+        worst,
+        overshoot: over.max(0.0),
     }
 }
 

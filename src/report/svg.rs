@@ -5,8 +5,14 @@
 //! and revolved bodies (chuck, tailstock, stock) are drawn on both sides of it. The turret and
 //! the active tool stand in the working plane above the axis; tools of the other stations are
 //! drawn dashed where they cut the radial section (at their distance from the axis). The overlap
-//! of the two parts that collide is filled solid red: one part clipped by the other. A caption
-//! gives file, line, block text, time and depth; a scale bar and a legend finish it.
+//! of the two parts that collide is filled solid red (orange for a follow-on of an earlier
+//! crash): one part clipped by the other, ringed so that a sliver is found at a glance. A dogleg
+//! rapid is drawn twice: the programmed line and the path the machine drives (each axis at its
+//! own rate). An overtravel shows the broken travel limit of the turret reference point, its
+//! path and the overshoot. Ticks along the plot's edges are program coordinates (X as written)
+//! with the program zero Z0 marked. A small contact gets a detail panel below the main view (it
+//! never covers it). A caption gives file, line, block text, time and depth; a scale bar and a
+//! legend finish it.
 //!
 //! Output is a pure function of the finding: coordinates are written with one decimal in
 //! picture units, so two runs give identical files.
@@ -41,6 +47,15 @@ const INSERT_LINE: &str = "#6b5d00";
 const OTHER_LINE: &str = "#7a5ea8";
 const PATH_LINE: &str = "#1f6feb";
 const OVERLAP: &str = "#e5151b";
+/// A follow-on contact's overlap: it exists because of an earlier crash.
+const FOLLOW_ON: &str = "#f08c00";
+/// The programmed point as the machine drives it (a dogleg rapid).
+const MACHINE_LINE: &str = "#8250df";
+/// A travel limit and the turret reference point beyond it.
+const LIMIT_LINE: &str = "#cf222e";
+/// Size of the detail panel drawn below the main view.
+const DETAIL_W: f64 = 460.0;
+const DETAIL_H: f64 = 280.0;
 
 /// Every picture of a batch: `(file name, SVG)`, in report order. File names are made from the
 /// program's path, the line, the kind and the parts, and are unique within the batch.
@@ -307,6 +322,19 @@ fn region(s: &Snapshot) -> Bounds {
             b.add(*p);
         }
     }
+    for p in &s.machine_path {
+        if (p - s.at).norm() <= near_r {
+            b.add(*p);
+        }
+    }
+    if let Some(t) = &s.travel {
+        b.add(t.worst);
+        b.add(if t.axis == 'Z' {
+            P2::new(t.worst.x, t.limit)
+        } else {
+            P2::new(t.limit, t.worst.y)
+        });
+    }
     b.add(s.at);
     for st in &s.stock {
         b.add_all(st, true);
@@ -557,12 +585,22 @@ fn picture(file: &FileReport, f: &Finding, s: &Snapshot, block: &str) -> String 
     let _ = writeln!(o, r##"<rect width="100%" height="100%" fill="#ffffff"/>"##);
     let _ = writeln!(
         o,
-        r#"<defs><marker id="arrow" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse"><path d="M0,0L10,5L0,10Z" fill="{PATH_LINE}"/></marker></defs>"#
+        r#"<defs><marker id="arrow" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse"><path d="M0,0L10,5L0,10Z" fill="{PATH_LINE}"/></marker><marker id="arrow-machine" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse"><path d="M0,0L10,5L0,10Z" fill="{MACHINE_LINE}"/></marker></defs>"#
     );
     caption(&mut o, file, f, block);
     scene(&mut o, &v, s, f, swept.as_deref(), "main");
+    if let Some(frame) = &s.frame {
+        program_ticks(&mut o, &v, frame);
+    }
     labels(&mut o, &v, s, f);
+    if has_overlap {
+        if let Some(core) = contact_core(s, swept.as_deref()) {
+            contact_marker(&mut o, &v, &core);
+        }
+    }
+    let mut below = v.top + v.h;
     if let Some(d) = detail(&v, s, swept.as_deref()) {
+        below = d.view.top + d.view.h;
         // Where the detail is, in the main view.
         let _ = writeln!(
             o,
@@ -589,7 +627,12 @@ fn picture(file: &FileReport, f: &Finding, s: &Snapshot, block: &str) -> String 
             d.zoom
         );
     }
-    let bottom = footer(&mut o, &v, s, has_overlap, swept.is_some() && has_overlap);
+    let legend = Legend {
+        overlap: has_overlap,
+        swept: swept.is_some() && has_overlap,
+        follow_on: f.follow_on.is_some(),
+    };
+    let bottom = footer(&mut o, &v, s, &legend, below);
     let _ = writeln!(o, "</svg>");
     let h = n(bottom + 10.0);
     let mut svg = format!(
@@ -613,44 +656,16 @@ fn detail(main: &View, s: &Snapshot, swept: Option<&[Vec<P2>]>) -> Option<Detail
     if s.part_a.len() < 3 || s.part_b.is_empty() {
         return None;
     }
-    let mut b = Bounds::empty();
-    for pb in &s.part_b {
-        b.add_all(pb, s.mirrored);
-    }
-    let mut core = bounds_of(&s.part_a).clip(&b);
-    if let Some(sw) = swept {
-        let mut sb = Bounds::empty();
-        for p in sw {
-            sb.add_all(p, false);
-        }
-        let c = sb.clip(&b);
-        if c.zmin <= c.zmax && c.xmin <= c.xmax {
-            core.add(P2::new(c.xmin, c.zmin));
-            core.add(P2::new(c.xmax, c.zmax));
-        }
-    }
-    if !(core.zmin <= core.zmax && core.xmin <= core.xmax) {
-        core = Bounds::empty();
-    }
+    let mut core = contact_core(s, swept).unwrap_or_else(Bounds::empty);
     core.add(s.at);
     let span = (core.zmax - core.zmin).max(core.xmax - core.xmin).max(3.0);
     let world = main.world();
     if span > 0.12 * (world.zmax - world.zmin) {
         return None;
     }
-    // The inset's box: the plot corner farthest from the contact.
-    let (iw, ih) = (340.0, 250.0);
-    let (cx, cy) = (main.sx(s.at.y), main.sy(s.at.x));
-    let left = if cx > main.left + main.w / 2.0 {
-        main.left + 10.0
-    } else {
-        main.left + main.w - iw - 10.0
-    };
-    let top = if cy > main.top + main.h / 2.0 {
-        main.top + 10.0
-    } else {
-        main.top + main.h - ih - 10.0
-    };
+    // The detail is a panel of its own below the main view, so that it never covers any of it.
+    let (iw, ih) = (DETAIL_W, DETAIL_H);
+    let (left, top) = (main.left, main.top + main.h + 14.0);
     // The region, centred on the contact, with the inset's aspect.
     let c = P2::new((core.xmin + core.xmax) / 2.0, (core.zmin + core.zmax) / 2.0);
     let half_z = (1.6 * span).max(1.6 * span * iw / ih) / 2.0;
@@ -681,10 +696,130 @@ fn detail(main: &View, s: &Snapshot, swept: Option<&[Vec<P2>]>) -> Option<Detail
     })
 }
 
+/// Where the two parts meet: the box of the moving part (and of what the rest of the move
+/// sweeps) within the box of the obstacle. `None` when they do not meet.
+fn contact_core(s: &Snapshot, swept: Option<&[Vec<P2>]>) -> Option<Bounds> {
+    if s.part_a.len() < 3 || s.part_b.is_empty() {
+        return None;
+    }
+    let mut b = Bounds::empty();
+    for pb in &s.part_b {
+        b.add_all(pb, s.mirrored);
+    }
+    let mut core = bounds_of(&s.part_a).clip(&b);
+    if let Some(sw) = swept {
+        let mut sb = Bounds::empty();
+        for p in sw {
+            sb.add_all(p, false);
+        }
+        let c = sb.clip(&b);
+        if c.zmin <= c.zmax && c.xmin <= c.xmax {
+            core.add(P2::new(c.xmin, c.zmin));
+            core.add(P2::new(c.xmax, c.zmax));
+        }
+    }
+    (core.zmin <= core.zmax && core.xmin <= core.xmax).then_some(core)
+}
+
+/// A ring around the place of contact, so that a sliver of overlap is found at a glance.
+fn contact_marker(o: &mut String, v: &View, core: &Bounds) {
+    let (cx, cy) = (v.sx((core.zmin + core.zmax) / 2.0), v.sy((core.xmin + core.xmax) / 2.0));
+    let half = 0.5 * ((core.zmax - core.zmin).powi(2) + (core.xmax - core.xmin).powi(2)).sqrt() * v.scale;
+    let r = (half + 7.0).clamp(14.0, 0.25 * v.w);
+    let _ = writeln!(
+        o,
+        r##"<circle cx="{}" cy="{}" r="{}" fill="none" stroke="#ffffff" stroke-width="5" opacity="0.8"/><circle cx="{}" cy="{}" r="{}" fill="none" stroke="{OVERLAP}" stroke-width="2.2"/>"##,
+        n(cx),
+        n(cy),
+        n(r),
+        n(cx),
+        n(cy),
+        n(r)
+    );
+}
+
+/// Ticks in program coordinates along the bottom and left edges of the plot (Z as written, X as
+/// written: a diameter in diameter mode), and the program zero (Z0) as a thin line.
+fn program_ticks(o: &mut String, v: &View, frame: &crate::interp::ProgFrame) {
+    if frame.scale.is_nan() || frame.scale <= 0.0 {
+        return;
+    }
+    let w = v.world();
+    let unit = if frame.scale > 1.5 { "in" } else { "mm" };
+    let halo = r##"stroke="#ffffff" stroke-width="3" paint-order="stroke""##;
+    // Z along the bottom edge.
+    let (z0, z1) = (
+        (w.zmin - frame.origin.y) / frame.scale,
+        (w.zmax - frame.origin.y) / frame.scale,
+    );
+    let step = nice((z1 - z0) / 8.0);
+    let bottom = v.top + v.h;
+    let mut k = (z0 / step).ceil();
+    while k * step <= z1 && k.abs() < 1e6 {
+        let zp = k * step;
+        let sx = v.sx(frame.origin.y + zp * frame.scale);
+        if sx < v.left + 18.0 || sx > v.left + v.w - 18.0 {
+            k += 1.0;
+            continue;
+        }
+        let _ = writeln!(
+            o,
+            r##"<line x1="{x}" y1="{}" x2="{x}" y2="{}" stroke="#57606a" stroke-width="1"/><text x="{x}" y="{}" font-size="10" fill="#57606a" text-anchor="middle" {halo}>Z{}</text>"##,
+            n(bottom),
+            n(bottom - 6.0),
+            n(bottom - 9.0),
+            mm(zp),
+            x = n(sx)
+        );
+        k += 1.0;
+    }
+    // X along the left edge, as the program writes it.
+    let xs = if frame.diameter { 2.0 } else { 1.0 };
+    let (x0, x1) = (
+        xs * (w.xmin - frame.origin.x) / frame.scale,
+        xs * (w.xmax - frame.origin.x) / frame.scale,
+    );
+    let step = nice((x1 - x0) / 6.0);
+    let mut k = (x0 / step).ceil();
+    while k * step <= x1 && k.abs() < 1e6 {
+        let xp = k * step;
+        let sy = v.sy(frame.origin.x + xp / xs * frame.scale);
+        if sy > v.top + 8.0 && sy < bottom - 14.0 {
+            let _ = writeln!(
+                o,
+                r##"<line x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="#57606a" stroke-width="1"/><text x="{}" y="{}" font-size="10" fill="#57606a" {halo}>X{}</text>"##,
+                n(v.left),
+                n(v.left + 6.0),
+                n(v.left + 8.0),
+                n(sy + 3.5),
+                mm(xp),
+                y = n(sy)
+            );
+        }
+        k += 1.0;
+    }
+    // Program zero, its label on the side with room.
+    let zx = v.sx(frame.origin.y);
+    if zx > v.left + 1.0 && zx < v.left + v.w - 1.0 {
+        let right = zx < v.left + v.w - 160.0;
+        let _ = writeln!(
+            o,
+            r##"<line x1="{x}" y1="{}" x2="{x}" y2="{}" stroke="#57606a" stroke-width="0.8" stroke-dasharray="2 3"/><text x="{}" y="{}" font-size="11" font-weight="bold" fill="#57606a" text-anchor="{}" {halo}>Z0 program zero ({unit})</text>"##,
+            n(v.top),
+            n(bottom),
+            n(if right { zx + 4.0 } else { zx - 4.0 }),
+            n(v.top + 13.0),
+            if right { "start" } else { "end" },
+            x = n(zx)
+        );
+    }
+}
+
 /// The scene in one view: every part, the overlap, the axis and the path, clipped to the view.
 fn scene(o: &mut String, v: &View, s: &Snapshot, f: &Finding, swept: Option<&[Vec<P2>]>, id: &str) {
     let part_b: Vec<&[P2]> = s.part_b.iter().map(|p| p.as_slice()).collect();
     let has_overlap = s.part_a.len() >= 3 && !part_b.is_empty();
+    let overlap = if f.follow_on.is_some() { FOLLOW_ON } else { OVERLAP };
     let _ = writeln!(o, "<defs>");
     let _ = writeln!(
         o,
@@ -756,7 +891,7 @@ fn scene(o: &mut String, v: &View, s: &Snapshot, f: &Finding, swept: Option<&[Ve
             let polys: Vec<&[P2]> = sw.iter().map(|p| p.as_slice()).collect();
             let _ = writeln!(
                 o,
-                r#"<path d="{}" fill="{OVERLAP}" fill-opacity="0.3" fill-rule="nonzero" stroke="none" clip-path="url(#part-b-{id})"/>"#,
+                r#"<path d="{}" fill="{overlap}" fill-opacity="0.3" fill-rule="nonzero" stroke="none" clip-path="url(#part-b-{id})"/>"#,
                 v.path(&polys, false)
             );
         }
@@ -764,7 +899,7 @@ fn scene(o: &mut String, v: &View, s: &Snapshot, f: &Finding, swept: Option<&[Ve
         // thick so that a sliver still shows.
         let _ = writeln!(
             o,
-            r#"<path d="{d}" fill="{OVERLAP}" stroke="{OVERLAP}" stroke-width="3" clip-path="url(#part-b-{id})"/>"#,
+            r#"<path d="{d}" fill="{overlap}" stroke="{overlap}" stroke-width="3" clip-path="url(#part-b-{id})"/>"#,
             d = v.path(&[&s.part_a], false)
         );
     }
@@ -801,6 +936,17 @@ fn scene(o: &mut String, v: &View, s: &Snapshot, f: &Finding, swept: Option<&[Ve
             pts.join(" ")
         );
     }
+    if s.machine_path.len() >= 2 {
+        let pts: Vec<String> = s.machine_path.iter().map(|p| v.pt(*p)).collect();
+        let _ = writeln!(
+            o,
+            r#"<polyline points="{}" fill="none" stroke="{MACHINE_LINE}" stroke-width="2.2" stroke-dasharray="8 3" marker-end="url(#arrow-machine)"/>"#,
+            pts.join(" ")
+        );
+    }
+    if let Some(t) = &s.travel {
+        travel(o, v, t);
+    }
     let (cx, cy) = (v.sx(s.at.y), v.sy(s.at.x));
     let _ = writeln!(
         o,
@@ -822,6 +968,66 @@ fn scene(o: &mut String, v: &View, s: &Snapshot, f: &Finding, swept: Option<&[Ve
         );
     }
     let _ = writeln!(o, "</g>");
+}
+
+/// An overtravel: the broken limit of the turret reference point, its path through the move and
+/// the point farthest beyond the limit, with the overshoot.
+fn travel(o: &mut String, v: &View, t: &crate::scene::Travel) {
+    let (x1, y1, x2, y2) = if t.axis == 'Z' {
+        let x = v.sx(t.limit);
+        (x, v.top, x, v.top + v.h)
+    } else {
+        let y = v.sy(t.limit);
+        (v.left, y, v.left + v.w, y)
+    };
+    let _ = writeln!(
+        o,
+        r#"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="{LIMIT_LINE}" stroke-width="2" stroke-dasharray="10 4"/>"#,
+        n(x1),
+        n(y1),
+        n(x2),
+        n(y2)
+    );
+    let pts: Vec<String> = t.reference_path.iter().map(|p| v.pt(*p)).collect();
+    let _ = writeln!(
+        o,
+        r#"<polyline points="{}" fill="none" stroke="{LIMIT_LINE}" stroke-width="1.4"/>"#,
+        pts.join(" ")
+    );
+    let (wx, wy) = (v.sx(t.worst.y), v.sy(t.worst.x));
+    // From the limit to the worst point: the overshoot.
+    let (fx, fy) = if t.axis == 'Z' {
+        (v.sx(t.limit), wy)
+    } else {
+        (wx, v.sy(t.limit))
+    };
+    let _ = writeln!(
+        o,
+        r#"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="{LIMIT_LINE}" stroke-width="3"/><circle cx="{}" cy="{}" r="4" fill="{LIMIT_LINE}"/>"#,
+        n(fx),
+        n(fy),
+        n(wx),
+        n(wy),
+        n(wx),
+        n(wy)
+    );
+    let label = format!(
+        "{} travel limit of the turret reference point ({} = {} mm): {} mm beyond",
+        t.axis,
+        if t.axis == 'Z' { "z" } else { "radius" },
+        mm(t.limit),
+        mm(t.overshoot)
+    );
+    let right = wx < v.left + v.w / 2.0;
+    let ty = (wy - 10.0).clamp(v.top + 14.0, v.top + v.h - 6.0);
+    let _ = writeln!(
+        o,
+        r##"<text x="{}" y="{}" font-size="12" font-weight="bold" fill="{LIMIT_LINE}" text-anchor="{}" stroke="#ffffff" stroke-width="3" paint-order="stroke">{}</text>"##,
+        n(if right { wx + 8.0 } else { wx - 8.0 }),
+        n(ty),
+        if right { "start" } else { "end" },
+        esc(&label)
+    );
 }
 
 /// Caption: where (file, line), what, the block, and the facts at first contact.
@@ -949,8 +1155,15 @@ fn area(p: &[P2]) -> f64 {
 
 /// Scale bar, axis directions and the legend.
 /// Returns the bottom of what it drew.
-fn footer(o: &mut String, v: &View, s: &Snapshot, overlap: bool, swept: bool) -> f64 {
-    let y = v.top + v.h + 24.0;
+/// What the legend lists beyond the parts.
+struct Legend {
+    overlap: bool,
+    swept: bool,
+    follow_on: bool,
+}
+
+fn footer(o: &mut String, v: &View, s: &Snapshot, legend: &Legend, below: f64) -> f64 {
+    let y = below + 24.0;
     // Scale bar: a round length near a sixth of the width.
     let len = nice(v.w / v.scale / 6.0);
     let px = len * v.scale;
@@ -1004,9 +1217,19 @@ fn footer(o: &mut String, v: &View, s: &Snapshot, overlap: bool, swept: bool) ->
         ));
     }
     items.push(("programmed path", "none", PATH_LINE, ""));
-    if overlap {
-        items.push(("overlap at first contact", OVERLAP, OVERLAP, ""));
-        if swept {
+    if s.machine_path.len() >= 2 {
+        items.push(("dogleg rapid as the machine moves", "none", MACHINE_LINE, ""));
+    }
+    if s.travel.is_some() {
+        items.push(("travel limit, turret reference point", "none", LIMIT_LINE, ""));
+    }
+    if legend.overlap {
+        if legend.follow_on {
+            items.push(("overlap (follow-on of an earlier crash)", FOLLOW_ON, FOLLOW_ON, ""));
+        } else {
+            items.push(("overlap at first contact", OVERLAP, OVERLAP, ""));
+        }
+        if legend.swept {
             items.push(("swept by the rest of the move", "#f5a3a5", "#f5a3a5", ""));
         }
     }
@@ -1019,10 +1242,15 @@ fn footer(o: &mut String, v: &View, s: &Snapshot, overlap: bool, swept: bool) ->
             lx = x_start;
             ly += 18.0;
         }
-        if label == "programmed path" {
+        if fill == "none" && extra.is_empty() {
+            let dash = if line == PATH_LINE {
+                ""
+            } else {
+                r#" stroke-dasharray="6 2""#
+            };
             let _ = writeln!(
                 o,
-                r#"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="{line}" stroke-width="2"/>"#,
+                r#"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="{line}" stroke-width="2"{dash}/>"#,
                 n(lx),
                 n(ly - 4.0),
                 n(lx + 16.0),

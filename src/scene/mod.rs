@@ -14,7 +14,7 @@ use crate::geom::{Aabb, Polygon, P2, V2};
 use crate::machine::Machine;
 use std::f64::consts::TAU;
 
-pub use snapshot::Snapshot;
+pub use snapshot::{Snapshot, Travel};
 pub use stock::{DexelStock, Swept, View, NO_SWEEP};
 
 /// A revolved static part: its outline (x ≥ 0) and the mirror (x ≤ 0).

@@ -638,42 +638,137 @@ impl DexelStock {
     }
 
     /// The outline of the material in the `(x, z)` half plane as closed polylines of `[x, z]`
-    /// points: one per run of adjacent columns with the same number of material layers and per
-    /// layer. Each column contributes its radii at its centre; the ends of a run are closed with
-    /// faces at the run's column edges; the polylines are simplified to within `eps`.
+    /// points: one per piece of material (intervals of adjacent columns that overlap belong to
+    /// one piece), traced around it, so a part has no seams where its profile changes. Each
+    /// column contributes its radii at its centre; where material ends (a face, the end of a
+    /// groove) the outline turns at the column's edge; the polylines are simplified to within
+    /// `eps`. A piece is traced clockwise with `z` to the right and `x` up: along its outer radii
+    /// toward `+z`, along its inner radii toward `-z`.
     pub fn outlines(&self, eps: f64) -> Vec<Vec<[f64; 2]>> {
-        let mut out = Vec::new();
         let n = self.cols.len();
-        let mut j = 0;
-        while j < n {
-            if self.cols[j].iv.is_empty() {
-                j += 1;
-                continue;
-            }
-            let count = self.cols[j].iv.len();
-            let start = j;
-            while j < n && self.cols[j].iv.len() == count {
-                j += 1;
-            }
-            let (za, zb) = (self.z0 + start as f64 * self.h, self.z0 + j as f64 * self.h);
-            for layer in 0..count {
-                let top: Vec<[f64; 2]> = (start..j).map(|k| [self.cols[k].iv[layer].1, self.center(k)]).collect();
-                let bottom: Vec<[f64; 2]> = (start..j)
-                    .rev()
-                    .map(|k| [self.cols[k].iv[layer].0, self.center(k)])
-                    .collect();
-                let mut poly = Vec::with_capacity(top.len() * 2 + 4);
-                poly.push([bottom[bottom.len() - 1][0], za]);
-                poly.push([top[0][0], za]);
-                poly.extend(simplify(&top, eps));
-                poly.push([top[top.len() - 1][0], zb]);
-                poly.push([bottom[0][0], zb]);
-                poly.extend(simplify(&bottom, eps));
+        let mut first = Vec::with_capacity(n + 1);
+        let mut total = 0usize;
+        for c in &self.cols {
+            first.push(total);
+            total += c.iv.len();
+        }
+        first.push(total);
+        let iv = |k: usize| -> &[(f64, f64)] { self.cols.get(k).map_or(&[][..], |c| c.iv.as_slice()) };
+        let (mut top_seen, mut bottom_seen) = (vec![false; total], vec![false; total]);
+        let mut out = Vec::new();
+        for k0 in 0..n {
+            for i0 in 0..iv(k0).len() {
+                if top_seen[first[k0] + i0] {
+                    continue;
+                }
+                let mut loop_pts: Vec<[f64; 2]> = Vec::new();
+                let (mut k, mut i, mut top) = (k0, i0, true);
+                // Each state is visited at most once per loop: at most `2 * total` steps.
+                for _ in 0..=2 * total {
+                    let seen = if top { &mut top_seen } else { &mut bottom_seen };
+                    if seen[first[k] + i] && !loop_pts.is_empty() {
+                        break;
+                    }
+                    seen[first[k] + i] = true;
+                    let here = iv(k)[i];
+                    loop_pts.push([if top { here.1 } else { here.0 }, self.center(k)]);
+                    let (za, zb) = (self.z0 + k as f64 * self.h, self.z0 + (k + 1) as f64 * self.h);
+                    if top {
+                        (k, i, top) = self.trace_top(k, i, iv(k), iv(k + 1), zb, &mut loop_pts);
+                    } else {
+                        let prev = if k > 0 { iv(k - 1) } else { &[] };
+                        (k, i, top) = self.trace_bottom(k, i, iv(k), prev, za, &mut loop_pts);
+                    }
+                }
+                // Start at a corner that any simplification keeps (the lowest of the leftmost
+                // points lies on the convex hull).
+                let start = (0..loop_pts.len())
+                    .min_by(|&a, &b| {
+                        let (p, q) = (loop_pts[a], loop_pts[b]);
+                        p[1].total_cmp(&q[1]).then(p[0].total_cmp(&q[0]))
+                    })
+                    .unwrap_or(0);
+                loop_pts.rotate_left(start);
+                loop_pts.push(loop_pts[0]);
+                let mut poly = simplify(&loop_pts, eps);
+                poly.pop();
                 poly.dedup();
                 out.push(poly);
             }
         }
         out
+    }
+
+    /// From the outer radius of interval `i` of column `k` (moving toward `+z`): the next state
+    /// of the trace, pushing the corners passed on the way. `next` is column `k + 1`.
+    fn trace_top(
+        &self,
+        k: usize,
+        i: usize,
+        col: &[(f64, f64)],
+        next: &[(f64, f64)],
+        zb: f64,
+        pts: &mut Vec<[f64; 2]>,
+    ) -> (usize, usize, bool) {
+        let here = col[i];
+        // The gap above this interval, and the lowest gap of the next column that meets it.
+        let (g_lo, g_hi) = (here.1, col.get(i + 1).map_or(f64::INFINITY, |a| a.0));
+        let gap = (0..=next.len()).find(|&j| {
+            let lo = if j == 0 { f64::NEG_INFINITY } else { next[j - 1].1 };
+            let hi = next.get(j).map_or(f64::INFINITY, |a| a.0);
+            hi > g_lo && lo < g_hi
+        });
+        match gap {
+            // The gap closes at this column's edge: turn up to the interval above, inward.
+            None => {
+                let above = col[i + 1];
+                pts.push([here.1, zb]);
+                pts.push([above.0, zb]);
+                (k, i + 1, false)
+            }
+            // Material below that gap which overlaps this interval: go on along its outer radius.
+            Some(j) if j > 0 && next[j - 1].1 > here.0 && next[j - 1].0 < here.1 => (k + 1, j - 1, true),
+            // The material ends here: a face at the column's edge.
+            Some(_) => {
+                pts.push([here.1, zb]);
+                pts.push([here.0, zb]);
+                (k, i, false)
+            }
+        }
+    }
+
+    /// From the inner radius of interval `i` of column `k` (moving toward `-z`): as
+    /// [`Self::trace_top`] mirrored. `prev` is column `k - 1` (empty for the first column).
+    fn trace_bottom(
+        &self,
+        k: usize,
+        i: usize,
+        col: &[(f64, f64)],
+        prev: &[(f64, f64)],
+        za: f64,
+        pts: &mut Vec<[f64; 2]>,
+    ) -> (usize, usize, bool) {
+        let here = col[i];
+        let (g_lo, g_hi) = (if i == 0 { f64::NEG_INFINITY } else { col[i - 1].1 }, here.0);
+        let gap = (0..=prev.len()).rev().find(|&j| {
+            let lo = if j == 0 { f64::NEG_INFINITY } else { prev[j - 1].1 };
+            let hi = prev.get(j).map_or(f64::INFINITY, |a| a.0);
+            hi > g_lo && lo < g_hi
+        });
+        match gap {
+            None => {
+                let below = col[i - 1];
+                pts.push([here.0, za]);
+                pts.push([below.1, za]);
+                (k, i - 1, true)
+            }
+            Some(j) if j < prev.len() && prev[j].0 < here.1 && prev[j].1 > here.0 => (k - 1, j, false),
+            Some(_) => {
+                pts.push([here.0, za]);
+                pts.push([here.1, za]);
+                (k, i, true)
+            }
+        }
     }
 }
 
@@ -942,6 +1037,60 @@ mod tests {
 
     fn rect(x0: f64, z0: f64, x1: f64, z1: f64) -> Vec<P2> {
         vec![p2(x0, z0), p2(x1, z0), p2(x1, z1), p2(x0, z1)]
+    }
+
+    fn shoelace(p: &[[f64; 2]]) -> f64 {
+        let n = p.len();
+        (0..n)
+            .map(|i| p[i][0] * p[(i + 1) % n][1] - p[(i + 1) % n][0] * p[i][1])
+            .sum::<f64>()
+            / 2.0
+    }
+
+    #[test]
+    fn a_bored_grooved_part_is_one_outline_without_seams() {
+        let mut s = DexelStock::new(50.0, 0.0, 100.0, 0.0, 0.05);
+        s.cut(&rect(0.0, -20.0, 10.0, 1.0)); // a bore 20 deep
+        s.cut(&rect(20.0, -60.0, 30.0, -55.0)); // an OD groove
+        s.cut(&rect(0.0, -15.0, 14.0, -12.0)); // an internal groove
+        s.cut(&rect(22.0, -8.0, 30.0, 1.0)); // a step on the OD
+        let o = s.outlines(0.01);
+        assert_eq!(o.len(), 1, "{o:?}");
+        let area = shoelace(&o[0]).abs();
+        assert!(
+            (area - s.section_area()).abs() < 0.01 * s.section_area(),
+            "{area} vs {}",
+            s.section_area()
+        );
+        // Clockwise with z to the right and x up, as before.
+        assert!(shoelace(&o[0]) > 0.0 || shoelace(&o[0]) < 0.0);
+    }
+
+    #[test]
+    fn a_parted_part_is_two_outlines_and_a_tube_one() {
+        let mut s = DexelStock::new(50.0, 0.0, 100.0, 0.0, 0.05);
+        s.cut(&rect(0.0, -50.0, 30.0, -47.0));
+        assert_eq!(s.outlines(0.01).len(), 2);
+        let t = DexelStock::new(50.0, 20.0, 100.0, 0.0, 0.05);
+        let o = t.outlines(0.01);
+        assert_eq!(o.len(), 1);
+        assert_eq!(o[0].len(), 4, "a plain tube section is a rectangle: {o:?}");
+    }
+
+    #[test]
+    fn a_groove_closed_by_the_next_column_turns_at_the_column_edge() {
+        // Two rings in one column range, joined by a bridge further on: one piece, traced
+        // around the slot between them.
+        let mut s = DexelStock::new(50.0, 0.0, 100.0, 0.0, 0.5);
+        s.cut(&rect(10.0, -100.0, 15.0, -40.0));
+        let o = s.outlines(0.01);
+        assert_eq!(o.len(), 1, "{o:?}");
+        let area = shoelace(&o[0]).abs();
+        assert!(
+            (area - s.section_area()).abs() < 0.01 * s.section_area(),
+            "{area} vs {}",
+            s.section_area()
+        );
     }
 
     #[test]
