@@ -258,6 +258,7 @@ impl Cx<'_> {
         )
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn layer(
         &self,
         prefix: &str,

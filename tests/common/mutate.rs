@@ -435,8 +435,8 @@ fn verify(
     let m = &run.moves[k];
     same && m.line as usize == line
         && (m.end - end).norm() < 1e-3
-        && kind.is_none_or(|kd| m.kind == kd)
-        && spindle_on.is_none_or(|on| run.states[m.state as usize].spindle.is_on() == on)
+        && kind.map_or(true, |kd| m.kind == kd)
+        && spindle_on.map_or(true, |on| run.states[m.state as usize].spindle.is_on() == on)
 }
 
 /// At most `n` of `v`, evenly spaced (deterministic).
