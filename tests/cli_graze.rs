@@ -40,7 +40,10 @@ fn a_graze_is_a_warning_in_json_and_sarif_and_exits_0() {
     let (code, sev) = severity(t.path(), &[]);
     assert_eq!((code, sev.as_str()), (Some(0), "warning"));
     let out = latheguard(t.path(), &["check", "--format", "json", "graze.nc"]);
-    let msg = json(&out)["files"][0]["findings"][0]["message"].as_str().unwrap().to_string();
+    let msg = json(&out)["files"][0]["findings"][0]["message"]
+        .as_str()
+        .unwrap()
+        .to_string();
     assert!(msg.contains("graze, deepest 0.010 mm < min_depth 0.1 mm"), "{msg}");
     let out = latheguard(t.path(), &["check", "--format", "sarif", "graze.nc"]);
     let doc = json(&out);
@@ -59,7 +62,10 @@ fn min_depth_precedence_is_command_line_then_latheguard_toml_then_machine_file()
     let t = setup("min_depth = 0\n", Some("min_depth = 0.05\n"));
     assert_eq!(severity(t.path(), &[]), (Some(0), "warning".into()));
     // An [[override]] over the top level.
-    let t = setup("", Some("min_depth = 0.05\n[[override]]\nglob = \"*.nc\"\nmin_depth = 0.005\n"));
+    let t = setup(
+        "",
+        Some("min_depth = 0.05\n[[override]]\nglob = \"*.nc\"\nmin_depth = 0.005\n"),
+    );
     assert_eq!(severity(t.path(), &[]), (Some(1), "error".into()));
     // The command line over everything.
     let t = setup("min_depth = 0\n", Some("min_depth = 0\n"));
