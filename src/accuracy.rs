@@ -57,7 +57,7 @@ fn timed(src: &[u8], machine: &Machine, s: &Settings, repeats: usize) -> (pipeli
 }
 
 /// Run the whole table. `repeats` runs of each setting give its median time.
-pub fn run(src: &[u8], machine: &Machine, clearance_mm: f64, repeats: usize) -> Vec<Row> {
+pub fn run(src: &[u8], machine: &Machine, clearance_mm: f64, min_depth_mm: Option<f64>, repeats: usize) -> Vec<Row> {
     let (prog, interp) = pipeline::interpret(src, machine);
     let _ = prog;
     let timeline = motion::timeline(&interp, machine);
@@ -68,6 +68,7 @@ pub fn run(src: &[u8], machine: &Machine, clearance_mm: f64, repeats: usize) -> 
             dt_ms: 1.0,
             tolerance_mm: tol,
             clearance_mm,
+            min_depth_mm,
             snapshots: false,
             ..Settings::default()
         };

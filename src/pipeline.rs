@@ -12,6 +12,16 @@ use serde::Serialize;
 /// The default [`Settings::work_budget`]: about ten minutes of pair tests on one core.
 pub const DEFAULT_WORK_BUDGET: u64 = 1_000_000_000;
 
+/// The default graze threshold, mm: a contact shallower than this is a warning, not an error.
+/// Holder and turret outlines are drawn to about ±0.1 mm, and the one false contact seen on real
+/// programs was a 0.02 mm graze at a holder's leading edge: a contact shallower than the drawing's
+/// own accuracy is not evidence of a crash (`docs/findings/collision.md`, "Grazes").
+pub const DEFAULT_MIN_DEPTH_MM: f64 = 0.1;
+
+/// The accepted range of `min_depth` (command line, `latheguard.toml`, machine file): at most
+/// 1 mm, so that no real crash can be waved through as a graze by a slip of the unit.
+pub const MIN_DEPTH_MM: (f64, f64) = (0.0, 1.0);
+
 /// How a check runs (DESIGN §5, §6).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Settings {
@@ -19,6 +29,11 @@ pub struct Settings {
     pub dt_ms: f64,
     pub tolerance_mm: f64,
     pub clearance_mm: f64,
+    /// Contacts whose greatest depth stays below this are grazes, reported as warnings
+    /// (`docs/findings/collision.md`). `None`: the machine's `machine.min_depth`, else
+    /// [`DEFAULT_MIN_DEPTH_MM`]; see [`Settings::min_depth`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_depth_mm: Option<f64>,
     /// Most pair tests one program may cost; past it the rest of the program is reported
     /// unchecked (a `program` finding), so one file can never hold up a batch.
     #[serde(skip)]
@@ -35,9 +50,18 @@ impl Default for Settings {
             dt_ms: 1.0,
             tolerance_mm: 0.01,
             clearance_mm: 0.0,
+            min_depth_mm: None,
             work_budget: DEFAULT_WORK_BUDGET,
             snapshots: false,
         }
+    }
+}
+
+impl Settings {
+    /// The graze threshold in effect on `machine`: these settings' own, else the machine
+    /// file's `machine.min_depth`, else [`DEFAULT_MIN_DEPTH_MM`].
+    pub fn min_depth(&self, machine: &Machine) -> f64 {
+        self.min_depth_mm.or(machine.min_depth).unwrap_or(DEFAULT_MIN_DEPTH_MM)
     }
 }
 

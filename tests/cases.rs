@@ -2,8 +2,8 @@
 //! its findings must equal the `.expected` file beside it.
 //!
 //! Expected-file format: one finding a line,
-//! `LINE[:COL] KIND[ OBJECT, OBJECT][ follow-on of LINE]`, sorted as latheguard reports them (by
-//! line, then time); `# …` lines are comments. A case's first line may set options in a comment: `(test-case: machine=linuxcnc-small-lathe mode=exact dt=0.5 tolerance=0.01 clearance=0.2)`
+//! `LINE[:COL] KIND[ OBJECT, OBJECT][ follow-on of LINE| graze]`, sorted as latheguard reports them (by
+//! line, then time); `# …` lines are comments. A case's first line may set options in a comment: `(test-case: machine=linuxcnc-small-lathe mode=exact dt=0.5 tolerance=0.01 clearance=0.2 min_depth=0.05)`
 //! (named so that it does not look like a setting of the command, which reads only
 //! `(latheguard: allow … -- reason)` comments);
 //! `modes=step,exact` runs both modes and prefixes each expected line with the mode.
@@ -12,6 +12,7 @@
 //! Run with `UPDATE_EXPECT=1` to rewrite the expected files from the current output (then review
 //! the diff: a test that is updated blindly proves nothing).
 
+use latheguard::finding::Severity;
 use latheguard::machine::{self, Machine};
 use latheguard::pipeline::{self, Mode, Settings};
 use std::fmt::Write;
@@ -67,6 +68,7 @@ fn options(src: &[u8]) -> (Machine, Settings, Vec<Mode>) {
                 "dt" => s.dt_ms = v.parse().unwrap(),
                 "tolerance" => s.tolerance_mm = v.parse().unwrap(),
                 "clearance" => s.clearance_mm = v.parse().unwrap(),
+                "min_depth" => s.min_depth_mm = Some(v.parse().unwrap()),
                 other => panic!("unknown case option {other}"),
             }
         }
@@ -90,6 +92,8 @@ fn render(src: &[u8], machine: &Machine, settings: &Settings) -> String {
         };
         let follow = match &f.follow_on {
             Some(p) => format!(" follow-on of {}", p.line),
+            // A contact reported as a warning on its own: a graze (below min_depth).
+            None if f.severity == Severity::Warning && f.depth_mm.is_some() => " graze".to_string(),
             None => String::new(),
         };
         let _ = writeln!(s, "{}{col} {}{objects}{follow}", f.line, f.kind);

@@ -159,12 +159,44 @@ impl Episodes {
     }
 }
 
+/// Whether a contact of this kind is a graze (a warning) when its greatest depth stays below
+/// `min_depth`: every contact measured against an outline drawn to a finite accuracy —
+/// `collision` (holder, turret, other stations against stock, chuck, tailstock; the insert
+/// against chuck or tailstock; the tailstock against chuck or stock in the setup),
+/// `rapid_into_stock` and `spindle_stopped` (the insert against the stock). Not `near_miss`
+/// (no contact) nor `overtravel` (an axis limit is a number, not an outline).
+pub fn grazes(kind: Kind) -> bool {
+    matches!(kind, Kind::Collision | Kind::RapidIntoStock | Kind::SpindleStopped)
+}
+
+/// Report every contact whose greatest depth stays below `min_depth` as a warning, a graze, with
+/// the depth and the threshold in its message. Runs before [`mark_follow_ons`]: a graze is not a
+/// crash in progress that later contacts follow on from.
+pub fn mark_grazes(findings: &mut [Finding], min_depth: f64) {
+    for f in findings.iter_mut() {
+        let Some(d) = f.depth_mm else { continue };
+        if grazes(f.kind) && f.severity == Severity::Error && d < min_depth {
+            f.severity = Severity::Warning;
+            f.message = format!("{} (graze, deepest {} mm < min_depth {min_depth} mm)", f.message, mm(d));
+        }
+    }
+}
+
+/// A depth for a message: three decimals, more when that would show 0.
+fn mm(v: f64) -> String {
+    if v != 0.0 && v.abs() < 0.0005 {
+        format!("{v:.6}")
+    } else {
+        format!("{v:.3}")
+    }
+}
+
 /// Mark every crash that began while an earlier one was still in progress (one part already
 /// inside another) as that crash's follow-on, a warning: it exists because of the first crash.
 /// Contacts that begin at the same instant are separate crashes; near misses are never either.
 pub fn mark_follow_ons(findings: &mut [Finding]) {
-    let crash = |f: &Finding| f.kind != Kind::NearMiss && f.time_s.is_some() && f.end_time_s.is_some();
-    let mut order: Vec<usize> = (0..findings.len()).filter(|&i| crash(&findings[i])).collect();
+    let timed = |f: &Finding| f.kind != Kind::NearMiss && f.time_s.is_some() && f.end_time_s.is_some();
+    let mut order: Vec<usize> = (0..findings.len()).filter(|&i| timed(&findings[i])).collect();
     order.sort_by(|&a, &b| findings[a].time_s.unwrap().total_cmp(&findings[b].time_s.unwrap()));
     // Crashes in progress: (start, end, index), the earliest first.
     let mut active: Vec<(f64, f64, usize)> = Vec::new();
@@ -180,7 +212,98 @@ pub fn mark_follow_ons(findings: &mut [Finding]) {
             let f = &mut findings[i];
             f.follow_on = Some(parent);
             f.severity = Severity::Warning;
+        } else if findings[i].severity == Severity::Warning {
+            // A graze is reported on its own; nothing follows on from it.
+            continue;
         }
         active.push((start, end, i));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::machine::{self, Machine, BUILTIN_TOML};
+    use crate::pipeline::{Settings, DEFAULT_MIN_DEPTH_MM};
+
+    fn contact(kind: Kind, depth: f64, start: f64, end: f64) -> Finding {
+        let mut f = Finding::at(kind, Severity::Error, 1, 0, "the T01 holder hits the stock");
+        f.depth_mm = Some(depth);
+        f.time_s = Some(start);
+        f.end_time_s = Some(end);
+        f
+    }
+
+    #[test]
+    fn contacts_shallower_than_min_depth_are_warnings_that_say_graze_and_deeper_ones_stay_errors() {
+        let mut fs = vec![
+            contact(Kind::Collision, 0.02, 0.0, 1.0),
+            contact(Kind::RapidIntoStock, 0.5, 2.0, 3.0),
+            contact(Kind::SpindleStopped, 0.099, 4.0, 5.0),
+            contact(Kind::Collision, 0.1, 6.0, 7.0),
+        ];
+        mark_grazes(&mut fs, 0.1);
+        let sev: Vec<_> = fs.iter().map(|f| f.severity).collect();
+        assert_eq!(
+            sev,
+            [Severity::Warning, Severity::Error, Severity::Warning, Severity::Error]
+        );
+        assert_eq!(
+            fs[0].message,
+            "the T01 holder hits the stock (graze, deepest 0.020 mm < min_depth 0.1 mm)"
+        );
+        assert_eq!(fs[1].message, "the T01 holder hits the stock");
+    }
+
+    #[test]
+    fn overtravel_and_findings_without_depth_never_graze() {
+        let mut o = contact(Kind::Overtravel, 0.01, 0.0, 1.0);
+        let mut p = Finding::at(Kind::Program, Severity::Error, 1, 0, "x");
+        p.depth_mm = None;
+        let mut fs = vec![o.clone(), p];
+        mark_grazes(&mut fs, 0.1);
+        assert!(fs.iter().all(|f| f.severity == Severity::Error));
+        o.kind = Kind::NearMiss;
+        assert!(!grazes(o.kind) && !grazes(Kind::Overtravel));
+    }
+
+    #[test]
+    fn a_crash_that_begins_during_a_graze_is_not_its_follow_on() {
+        // A graze from 0 to 10 s, a deep crash from 1 s, and a contact from 2 s, during both.
+        let mut fs = vec![
+            contact(Kind::Collision, 0.01, 0.0, 10.0),
+            contact(Kind::Collision, 3.0, 1.0, 10.0),
+            contact(Kind::Collision, 2.0, 2.0, 3.0),
+        ];
+        mark_grazes(&mut fs, 0.1);
+        mark_follow_ons(&mut fs);
+        assert_eq!(fs[0].severity, Severity::Warning);
+        assert!(fs[0].follow_on.is_none());
+        assert_eq!(fs[1].severity, Severity::Error, "the deep crash stands on its own");
+        assert!(fs[1].follow_on.is_none());
+        // The third follows on from the deep crash, not from the graze that began earlier.
+        assert_eq!(fs[2].follow_on.as_ref().map(|p| p.time_s), Some(1.0));
+    }
+
+    #[test]
+    fn min_depth_comes_from_settings_then_the_machine_file_then_the_default() {
+        let plain = Machine::builtin();
+        let with = BUILTIN_TOML.replacen("[machine]\n", "[machine]\nmin_depth = 0.3\n", 1);
+        let m = machine::from_toml(&with, "m.toml").unwrap();
+        assert_eq!(m.min_depth, Some(0.3));
+        let s = Settings::default();
+        assert_eq!(s.min_depth(&plain), DEFAULT_MIN_DEPTH_MM);
+        assert_eq!(s.min_depth(&m), 0.3);
+        let s = Settings {
+            min_depth_mm: Some(0.0),
+            ..s
+        };
+        assert_eq!(s.min_depth(&m), 0.0);
+        // Out of range or not a number: a machine-file error naming the key.
+        for bad in ["min_depth = 2.0", "min_depth = -0.1", "min_depth = nan"] {
+            let text = BUILTIN_TOML.replacen("[machine]\n", &format!("[machine]\n{bad}\n"), 1);
+            let e = machine::from_toml(&text, "m.toml").unwrap_err().to_string();
+            assert!(e.contains("machine.min_depth"), "{bad}: {e}");
+        }
     }
 }

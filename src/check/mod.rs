@@ -180,6 +180,7 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
     let (machine_time_s, feed_without_speed) = timer.finish();
     c.episodes.close_all();
     let mut findings = std::mem::take(&mut c.episodes.findings);
+    episodes::mark_grazes(&mut findings, settings.min_depth(machine));
     episodes::mark_follow_ons(&mut findings);
     c.budget.dedup();
     for (line, message) in std::mem::take(&mut c.budget) {

@@ -13,7 +13,7 @@ pub fn run(a: AccuracyArgs) -> Result<u8, Trouble> {
     let machine = load_machine(a.machine.as_deref())?;
     let src = read_capped(&a.program, MAX_PROGRAM_BYTES)
         .map_err(|why| format!("{}: cannot read: {why}", shown(&a.program)))?;
-    let rows = accuracy::run(&src, &machine, a.clearance, usize::from(a.repeats));
+    let rows = accuracy::run(&src, &machine, a.clearance, a.min_depth, usize::from(a.repeats));
     if let Some(p) = &a.plot {
         let title = format!("cost of accuracy: {}", shown(&a.program));
         std::fs::write(p, accuracy::plot_svg(&rows, &title))

@@ -67,6 +67,10 @@ pub struct AccuracyArgs {
     /// Clearance for near misses, 0 to 10 mm.
     #[arg(long, value_name = "MM", default_value_t = 0.0, value_parser = clearance)]
     pub clearance: f64,
+    /// Contacts shallower than this are grazes (warnings), 0 to 1 mm [default: the machine's
+    /// min_depth, else 0.1].
+    #[arg(long, value_name = "MM", value_parser = min_depth)]
+    pub min_depth: Option<f64>,
 }
 
 /// Formats of the accuracy table.
@@ -111,6 +115,10 @@ pub struct CheckArgs {
     /// Report parts closer than this as near misses, 0 to 10 mm [default: 0].
     #[arg(long, value_name = "MM", value_parser = clearance)]
     pub clearance: Option<f64>,
+    /// Contacts shallower than this are grazes (warnings), 0 to 1 mm [default: the machine's
+    /// min_depth, else 0.1].
+    #[arg(long, value_name = "MM", value_parser = min_depth)]
+    pub min_depth: Option<f64>,
     /// Report format.
     #[arg(long, value_enum, default_value_t = FormatArg::Text)]
     pub format: FormatArg,
@@ -305,4 +313,8 @@ fn tolerance(s: &str) -> Result<f64, String> {
 
 fn clearance(s: &str) -> Result<f64, String> {
     in_range(s, CLEARANCE_MM)
+}
+
+fn min_depth(s: &str) -> Result<f64, String> {
+    in_range(s, latheguard::pipeline::MIN_DEPTH_MM)
 }

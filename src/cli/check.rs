@@ -192,6 +192,7 @@ fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>, Vec<P
         s.dt_ms = a.dt.unwrap_or(s.dt_ms);
         s.tolerance_mm = a.tolerance.unwrap_or(s.tolerance_mm);
         s.clearance_mm = a.clearance.unwrap_or(s.clearance_mm);
+        s.min_depth_mm = a.min_depth.or(s.min_depth_mm);
         s.snapshots = a.svg.is_some();
         s
     };
@@ -221,6 +222,7 @@ fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>, Vec<P
                     settings.dt_ms = layer.dt_ms.unwrap_or(settings.dt_ms);
                     settings.tolerance_mm = layer.tolerance_mm.unwrap_or(settings.tolerance_mm);
                     settings.clearance_mm = layer.clearance_mm.unwrap_or(settings.clearance_mm);
+                    settings.min_depth_mm = layer.min_depth_mm.or(settings.min_depth_mm);
                     if layer.machine.is_some() {
                         named = layer.machine.clone();
                     }

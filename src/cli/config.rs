@@ -8,6 +8,7 @@
 use super::args::{out_of_range, CLEARANCE_MM, DT_MS, TOLERANCE_MM};
 use globset::{GlobBuilder, GlobMatcher};
 use latheguard::pipeline::Mode;
+use latheguard::pipeline::MIN_DEPTH_MM;
 use latheguard::source::LineIndex;
 use serde::Deserialize;
 use std::collections::HashMap;
@@ -42,6 +43,7 @@ pub struct Layer {
     pub dt_ms: Option<f64>,
     pub tolerance_mm: Option<f64>,
     pub clearance_mm: Option<f64>,
+    pub min_depth_mm: Option<f64>,
 }
 
 /// A machine file named by a configuration: where it is, and where it was written (for errors).
@@ -195,6 +197,8 @@ struct RawConfig {
     tolerance: Option<Spanned<f64>>,
     #[schemars(with = "Option<f64>")]
     clearance: Option<Spanned<f64>>,
+    #[schemars(with = "Option<f64>")]
+    min_depth: Option<Spanned<f64>>,
     #[serde(rename = "override", default)]
     #[schemars(with = "Vec<RawOverride>")]
     overrides: Vec<Spanned<RawOverride>>,
@@ -215,6 +219,8 @@ struct RawOverride {
     tolerance: Option<Spanned<f64>>,
     #[schemars(with = "Option<f64>")]
     clearance: Option<Spanned<f64>>,
+    #[schemars(with = "Option<f64>")]
+    min_depth: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize, schemars::JsonSchema, Clone, Copy)]
@@ -252,6 +258,7 @@ impl Cx<'_> {
         )
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn layer(
         &self,
         prefix: &str,
@@ -260,6 +267,7 @@ impl Cx<'_> {
         dt: Option<Spanned<f64>>,
         tolerance: Option<Spanned<f64>>,
         clearance: Option<Spanned<f64>>,
+        min_depth: Option<Spanned<f64>>,
     ) -> Result<Layer, ConfigError> {
         let key = |k: &str| format!("{prefix}{k}");
         let machine = match machine {
@@ -291,6 +299,7 @@ impl Cx<'_> {
             dt_ms: number(dt, "dt", DT_MS)?,
             tolerance_mm: number(tolerance, "tolerance", TOLERANCE_MM)?,
             clearance_mm: number(clearance, "clearance", CLEARANCE_MM)?,
+            min_depth_mm: number(min_depth, "min_depth", MIN_DEPTH_MM)?,
         })
     }
 }
@@ -328,14 +337,22 @@ pub fn parse(text: &str, file: &str, dir: &Path) -> Result<Config, ConfigError> 
         let at = raw.overrides[MAX_OVERRIDES].span();
         return Err(cx.err(at, "override", format!("at most {MAX_OVERRIDES} [[override]] tables")));
     }
-    let base = cx.layer("", raw.machine, raw.mode, raw.dt, raw.tolerance, raw.clearance)?;
+    let base = cx.layer(
+        "",
+        raw.machine,
+        raw.mode,
+        raw.dt,
+        raw.tolerance,
+        raw.clearance,
+        raw.min_depth,
+    )?;
     let mut overrides = Vec::with_capacity(raw.overrides.len());
     for (i, o) in raw.overrides.into_iter().enumerate() {
         let prefix = format!("override[{i}].");
         let o = o.into_inner();
         let matcher =
             glob_matcher(o.glob.get_ref()).map_err(|why| cx.err(o.glob.span(), format!("{prefix}glob"), why))?;
-        let layer = cx.layer(&prefix, o.machine, o.mode, o.dt, o.tolerance, o.clearance)?;
+        let layer = cx.layer(&prefix, o.machine, o.mode, o.dt, o.tolerance, o.clearance, o.min_depth)?;
         overrides.push((matcher, layer));
     }
     Ok(Config {
@@ -483,11 +500,28 @@ mod tests {
     }
 
     #[test]
+    fn min_depth_at_top_level_and_in_an_override_and_its_range() {
+        let c = parse(
+            "min_depth = 0.05\n[[override]]\nglob = \"old/*\"\nmin_depth = 0\n",
+            "latheguard.toml",
+            Path::new("/shop"),
+        )
+        .unwrap();
+        assert_eq!(c.base.min_depth_mm, Some(0.05));
+        let layers = c.layers_for(Path::new("/shop/old/a.nc"));
+        assert_eq!(layers.last().unwrap().min_depth_mm, Some(0.0));
+        assert_eq!(
+            err("min_depth = 1.5\n"),
+            "latheguard.toml:1:13: min_depth: must be a number from 0 to 1, not 1.5"
+        );
+    }
+
+    #[test]
     fn errors_name_file_line_and_key() {
         assert_eq!(
             err("mode = \"exact\"\nclerance = 1\n"),
             "latheguard.toml:2:1: clerance: unknown field `clerance`, expected one of `machine`, `mode`, `dt`, \
-             `tolerance`, `clearance`, `override`"
+             `tolerance`, `clearance`, `min_depth`, `override`"
         );
         assert_eq!(
             err("mode = \"fast\"\n"),
@@ -504,7 +538,7 @@ mod tests {
         assert_eq!(
             err("[[override]]\nglob = \"a/*\"\nspeed = 1\n"),
             "latheguard.toml:3:1: override[0].speed: unknown field `speed`, expected one of `glob`, `machine`, \
-             `mode`, `dt`, `tolerance`, `clearance`"
+             `mode`, `dt`, `tolerance`, `clearance`, `min_depth`"
         );
         assert_eq!(
             err("[[override]]\nglob = \"a/[\"\n"),

@@ -17,6 +17,7 @@
 //! | `machine.gcode_system` | no | `"A"` | `"A"` or `"B"` (Fanuc lathe G-code system); only with fanuc. A: G90/G92/G94 are the box cycles, G50 sets coordinates and clamps the spindle; B: G77/G78/G79 are the box cycles, G92 sets coordinates and clamps the spindle, G90/G91 absolute/incremental |
 //! | `machine.turret_side` | no | `"rear"` | `"rear"` (+X away from the operator) or `"front"` (+X toward the operator): how the Fanuc/Haas tip-code chart maps onto the spindle frame (docs/comp.md); LinuxCNC orientations are read in the X/Z axes as rs274 reads them, whatever the side |
 //! | `machine.units` | no | `"mm"` | `"mm"` or `"inch"`: the program units at program start (G21 or G20 in effect until the program says otherwise); the machine file itself is always in mm |
+//! | `machine.min_depth` | no | `0.1` | 0 ..= 1 mm: contacts shallower than this are grazes, reported as warnings (`docs/findings/collision.md`); `latheguard.toml` and `--min-depth` override it |
 //! | `axes.x`, `axes.z` | yes | | tables `{ min, max, rapid }`, all required, `min < max`, `rapid` 1 ..= 1e6 mm/min (a warning below 100) |
 //! | `axes.home` | no | `[axes.x.max, axes.z.max]` | inside both axes' limits |
 //! | `axes.machine_zero` | no | `axes.home` (G53 X0 Z0 is home, as on most Fanuc and Haas lathes) | `[x, z]`: the turret reference point at machine zero, spindle frame; G53 X/Z are measured from it (X as the program writes it: a diameter in diameter mode) |
@@ -273,6 +274,8 @@ struct RawHeader {
     gcode_system: Option<Spanned<RawGcodeSystem>>,
     turret_side: Option<RawTurretSide>,
     units: Option<RawUnits>,
+    #[schemars(with = "Option<f64>")]
+    min_depth: Option<Num>,
 }
 
 #[derive(Deserialize, JsonSchema, Clone, Copy)]
@@ -766,6 +769,11 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         },
     };
 
+    let min_depth = hdr
+        .min_depth
+        .as_ref()
+        .and_then(|v| cx.keep(cx.within("machine.min_depth", v, crate::pipeline::MIN_DEPTH_MM, "mm")));
+
     // [axes]
     let x = cx.keep(cx.axis("axes.x", &axes.x));
     let z = cx.keep(cx.axis("axes.z", &axes.z));
@@ -1068,6 +1076,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             Some(RawTurretSide::Front) => super::TurretSide::Front,
         },
         inch: matches!(hdr.units, Some(RawUnits::Inch)),
+        min_depth,
         x,
         z,
         home,

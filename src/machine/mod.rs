@@ -179,6 +179,9 @@ pub struct Machine {
     pub turret_side: TurretSide,
     /// The program starts in inch (G20) rather than mm (`machine.units = "inch"`).
     pub inch: bool,
+    /// Contacts shallower than this are grazes, warnings (`machine.min_depth`; `None`: the
+    /// default, [`crate::pipeline::DEFAULT_MIN_DEPTH_MM`]). Settings may override it.
+    pub min_depth: Option<f64>,
     pub x: Axis,
     pub z: Axis,
     /// Turret reference point at program start and after a return home.
