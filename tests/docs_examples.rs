@@ -1,4 +1,5 @@
-//! Every shell example of the README and of `docs/*.md` runs, and prints what the page says.
+//! Every shell example of the README, of `docs/*.md` and of the finding pages `docs/findings/*.md`
+//! runs, and prints what the page says.
 //!
 //! An example is a fenced block whose first line starts with `$ `: each `$ ` line is a command,
 //! the lines after it (up to the next `$ ` line) are its expected output (standard output, then
@@ -93,11 +94,14 @@ fn matches(expected: &[String], actual: &[&str]) -> bool {
 #[test]
 fn every_shell_example_of_the_readme_and_the_docs_prints_what_the_page_says() {
     let mut pages = vec![root().join("README.md")];
-    for e in std::fs::read_dir(root().join("docs")).unwrap().flatten() {
-        if e.path().extension().is_some_and(|x| x == "md") {
-            pages.push(e.path());
+    for dir in ["docs", "docs/findings"] {
+        for e in std::fs::read_dir(root().join(dir)).unwrap().flatten() {
+            if e.path().extension().is_some_and(|x| x == "md") {
+                pages.push(e.path());
+            }
         }
     }
+    pages.sort();
     let exe = PathBuf::from(env!("CARGO_BIN_EXE_latheguard"));
     let path = format!(
         "{}:{}",
