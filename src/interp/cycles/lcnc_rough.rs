@@ -10,6 +10,10 @@
 //! start point and run toward −v, the direction in which the profile travels: for G71 u and v
 //! are ±X and ±Z, for G72 ±Z and ±X.
 
+#![allow(dead_code)]
+#[path = "lcnc_g7x.rs"]
+mod g7x;
+
 use super::common::{emit, feed, rapid, Mark, Seg, MAX_PASSES};
 use crate::gcode::{Block, OName};
 use crate::geom::{P2, V2};
@@ -954,167 +958,92 @@ fn expand(
             last_v = last_v.min(p.y);
         }
     }
-    let su = frame.to(start);
-    let back = |q: V2| frame.back(q);
-    let follow = |run: &mut Run<'_>, path: &[El]| {
-        for e in path {
-            let kind = match e.arc {
-                None => MoveKind::Line,
-                Some((c, _)) => MoveKind::Arc {
-                    center: back(c),
-                    sweep: if frame.flips() { -e.sweep() } else { e.sweep() },
-                },
-            };
-            emit(run, b, kind, back(e.b), f, e.line);
-        }
-    };
-    if code == 700 {
-        let passes = words.p as usize;
-        for k in 1..=passes {
-            let dist = (words.p - k as f64) * (words.d - words.e) / words.p + words.e;
-            let path = match offset_path(&els, dist).or_else(|_| offset_path_stepwise(&els, dist)) {
-                Ok(p) if !p.is_empty() => p,
-                r => {
-                    let line = r.err().unwrap_or(b.line);
-                    run.unsupported(b, at_o, format!("{name}: the profile offset by {dist:.4} mm folds over itself at line {line} (a step or an arc smaller than the offset): not modelled, the cycle's moves are not checked"), true);
-                    return None;
+    // The passes, as rs274 computes them (`lcnc_g7x`), in program units.
+    let s = run.scale();
+    let cx = |p: P2| g7x::C::new(p.y / s, p.x / s);
+    let mut pieces: Vec<g7x::Piece> = Vec::with_capacity(prof.len() + 1);
+    for sg in std::iter::once(first).chain(
+        prof.iter()
+            .filter(|sg| (sg.end - sg.start).norm() > 1e-9 || matches!(sg.kind, MoveKind::Arc { .. })),
+    ) {
+        let pc = g7x::Piece {
+            s: cx(sg.start),
+            e: cx(sg.end),
+            arc: match sg.kind {
+                MoveKind::Arc { center, sweep } => Some((cx(center), sweep < 0.0)),
+                _ => None,
+            },
+            line: sg.line,
+        };
+        // Consecutive lines in one direction are one line (rs274 refuses them: "Cannot
+        // intersect parallel lines"; latheguard reads them as the one line they make).
+        let n = pieces.len();
+        match pieces.last_mut() {
+            Some(last) if n > 1 && last.arc.is_none() && pc.arc.is_none() => {
+                let (t1, t2) = (last.e - last.s, pc.e - pc.s);
+                let cr = t1.re * t2.im - t1.im * t2.re;
+                if cr.abs() < 1e-9 * t1.norm() * t2.norm() && t1.re * t2.re + t1.im * t2.im > 0.0 {
+                    last.e = pc.e;
+                } else {
+                    pieces.push(pc);
                 }
-            };
-            if !super::charge(run, b, path.len() as u64 + 2) {
-                return None;
             }
-            // Each pass enters from the start point, moved level with the profile's first
-            // point when it lies past it along the profile.
-            let e0 = V2::new(su.x, su.y.max(frame.to(p0).y));
-            rapid(run, b, back(e0));
-            rapid(run, b, back(path[0].a));
-            follow(run, &path);
-        }
-        return motion;
-    }
-    // Roughing. Pockets (the profile turning back toward the axis) are bridged by G7x.1 and cut
-    // level by level by G7x and G7x.2 ([`pockets`]).
-    let mut umax = frame.to(p0).x;
-    let pockets_ok = code % 10 == 1;
-    let mut has_pocket = false;
-    for e in &els {
-        for p in e.samples() {
-            has_pocket |= p.x < umax - 1e-6;
-            umax = umax.max(p.x);
+            _ => pieces.push(pc),
         }
     }
-    let path = match offset_path(&els, words.d).or_else(|_| offset_path_stepwise(&els, words.d)) {
-        Ok(p) if !p.is_empty() => p,
-        r => {
-            let line = r.err().unwrap_or(b.line);
-            run.unsupported(b, at_o, format!("{name}: the profile offset by D folds over itself at line {line} (a step or an arc smaller than D): not modelled, the cycle's moves are not checked"), true);
+    let cap = 16 * MAX_PASSES + 16 * pieces.len();
+    let result = if code == 700 {
+        g7x::finish(pieces, cx(start), words.d / s, words.e / s, words.p as u32, cap)
+    } else {
+        let facing = code >= 720;
+        g7x::rough(
+            pieces,
+            facing,
+            (code % 10) as u8,
+            cx(start),
+            words.d / s,
+            words.i / s,
+            words.r / s,
+            cap,
+        )
+    };
+    let cmds = match result {
+        Ok(c) => c,
+        Err(why) => {
+            run.error(b, at_o, format!("{name}: {why}; the cycle is not run"));
             return None;
         }
     };
-    let o0 = path[0].a;
-    let end = path[path.len() - 1].b;
-    // The passes start on the line from the start point to the offset profile's start; a start
-    // point past the profile's first point (along the passes) counts as level with it.
-    let e0 = V2::new(su.x, su.y.max(frame.to(p0).y));
-    let v_entry = |u: f64| {
-        if (e0.x - o0.x).abs() < EPS {
-            o0.y
-        } else {
-            o0.y + (u - o0.x) * (e0.y - o0.y) / (e0.x - o0.x)
-        }
-    };
-    if has_pocket && !pockets_ok && to_start.abs() < EPS {
-        // rs274 orients such a profile by its ends and offsets it away from the side latheguard
-        // takes; not modelled (the profile then looks like one long pocket).
-        run.unsupported(
-            b,
-            at_o,
-            format!("{name}: the start point is level with the profile's first point and the profile turns back (line {}): not modelled, the cycle's moves are not checked", els[0].line),
-            true,
-        );
+    if !super::charge(run, b, cmds.len() as u64) {
         return None;
     }
-    if has_pocket && !pockets_ok {
-        let mut segs = Vec::with_capacity(path.len() + 2);
-        segs.push(El {
-            a: e0,
-            b: o0,
-            arc: None,
-            line: 0,
-        });
-        segs.extend_from_slice(&path);
-        if end.x < su.x {
-            segs.push(El {
-                a: end,
-                b: V2::new(su.x, end.y),
-                arc: None,
-                line: 0,
-            });
-        }
-        let mut out = Out {
-            frame,
-            f,
-            moves: Vec::new(),
-        };
-        if let Err(why) = pockets(&segs, code % 10 == 2, words.i, words.r, &mut out) {
-            run.unsupported(
-                b,
-                at_o,
-                format!("{name}: {why}: not modelled, the cycle's moves are not checked"),
-                true,
-            );
-            return None;
-        }
-        if !super::charge(run, b, out.moves.len() as u64) {
-            return None;
-        }
-        rapid(run, b, back(e0));
-        for (kind, to, feed, line) in out.moves {
-            emit(run, b, kind, to, feed, line);
-        }
-        return motion;
-    }
-    if code % 10 != 2 {
-        let mut k = 0usize;
-        loop {
-            let u = su.x - k as f64 * words.i;
-            if u <= o0.x + 1e-7 {
-                break;
-            }
-            if k >= MAX_PASSES {
-                run.error(
+    let back = |c: g7x::C| P2::new(c.im * s, c.re * s);
+    for (cmd, line) in cmds {
+        match cmd {
+            g7x::Cmd::Rapid(p) => rapid(run, b, back(p)),
+            g7x::Cmd::Feed(p) => emit(run, b, MoveKind::Line, back(p), f, line),
+            g7x::Cmd::Arc { ccw, center, end } => {
+                let from = cx(run.programmed());
+                let (a0, a1) = ((from - center).arg(), (end - center).arg());
+                // G3 turns counter-clockwise in the z + i·x plane: a negative sweep in x, z.
+                let sweep = if ccw {
+                    -(a1 - a0).rem_euclid(TAU)
+                } else {
+                    (a0 - a1).rem_euclid(TAU)
+                };
+                emit(
+                    run,
                     b,
-                    at_o,
-                    format!("{name} would make more than {MAX_PASSES} passes (I is too small for this profile)"),
+                    MoveKind::Arc {
+                        center: back(center),
+                        sweep,
+                    },
+                    back(end),
+                    f,
+                    line,
                 );
-                return None;
             }
-            if !super::charge(run, b, 5) {
-                return None;
-            }
-            let ve = v_entry(u);
-            let (hit, line) = first_reach(&path, u).map_or((V2::new(u, end.y), 0), |(p, l)| (V2::new(u, p.y), l));
-            rapid(run, b, back(V2::new(u, ve)));
-            emit(run, b, MoveKind::Line, back(hit), f, line);
-            // A pass shorter than 2R leaves by half its length.
-            let r = words.r.min(((ve - hit.y) / 2.0).max(0.0));
-            rapid(run, b, back(V2::new(u + r, hit.y + r)));
-            rapid(run, b, back(V2::new(u + r, ve - r)));
-            rapid(run, b, back(V2::new(u, ve)));
-            k += 1;
         }
-    }
-    // A start point not above the offset profile's first point (no passes) feeds to it.
-    if e0.x <= o0.x + EPS {
-        emit(run, b, MoveKind::Line, back(o0), f, 0);
-    } else {
-        rapid(run, b, back(o0));
-    }
-    let path = if pockets_ok { bridged(&path) } else { path };
-    follow(run, &path);
-    // Out to the start point's level along the last face, unless the profile ends beyond it.
-    if end.x < su.x {
-        emit(run, b, MoveKind::Line, back(V2::new(su.x, end.y)), f, 0);
     }
     motion
 }
