@@ -142,7 +142,10 @@ impl Out {
     }
     fn push(&mut self, c: Cmd, line: u32) -> Result<(), String> {
         if self.cmds.len() >= self.cap {
-            return Err(format!("more than {} moves", self.cap));
+            return Err(format!(
+                "the passes do not come to an end (more than {} moves; the rs274 of the reference runs forever on such a profile)",
+                self.cap
+            ));
         }
         self.cmds.push((c, line));
         Ok(())
@@ -549,7 +552,10 @@ impl Rough {
             while p < v.len() {
                 rounds += 1;
                 if rounds > out.cap {
-                    return Err(format!("more than {} passes", out.cap));
+                    return Err(format!(
+                        "the passes do not come to an end (more than {} passes)",
+                        out.cap
+                    ));
                 }
                 while x - TOL > at.im {
                     x -= self.delta;
@@ -581,8 +587,8 @@ impl Rough {
                     p += 1;
                     continue;
                 }
-                for ip in p..v.len() {
-                    let is = v[ip].level(at.im);
+                for (ip, seg) in v.iter().enumerate().skip(p) {
+                    let is = seg.level(at.im);
                     if is.is_empty() {
                         continue;
                     }
@@ -594,7 +600,7 @@ impl Rough {
                     if d < TOL {
                         if p == ip {
                             continue;
-                        } else if dist(at, v[ip].s) < TOL {
+                        } else if dist(at, seg.s) < TOL {
                             p = ip;
                             break;
                         } else {
@@ -603,7 +609,7 @@ impl Rough {
                         }
                     }
                     let mut dest = C::new(z, at.im);
-                    out.feed(dest, v[ip].line)?;
+                    out.feed(dest, seg.line)?;
                     let scale = (d / 2.0 / self.escape.re).min(1.0);
                     dest += self.escape * scale;
                     out.rapid(dest)?;
@@ -731,4 +737,64 @@ pub(super) fn finish(
         }
     }
     Ok(out.cmds)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn line(a: (f64, f64), b: (f64, f64)) -> Piece {
+        Piece {
+            s: C::new(a.0, a.1),
+            e: C::new(b.0, b.1),
+            arc: None,
+            line: 1,
+        }
+    }
+
+    #[test]
+    fn a_profile_starting_at_the_start_point_is_offset_to_the_side_rs274_takes() {
+        // From the start point (z 0, x 25) the profile falls to x 5 along −z; its first move
+        // goes nowhere. The rs274 of the reference prints the floor offset by D1 at x 4 (G8,
+        // `G71 Q100 X25 Z0 D1 I1 R0.5`), ending with a feed to z −40.
+        let v = vec![
+            line((0.0, 25.0), (0.0, 25.0)),
+            line((0.0, 25.0), (-10.0, 20.0)),
+            line((-10.0, 20.0), (-10.0, 5.0)),
+            line((-10.0, 5.0), (-40.0, 5.0)),
+        ];
+        let cmds = rough(v, false, 0, C::new(0.0, 25.0), 1.0, 1.0, 0.5, 10_000).unwrap();
+        let Some((Cmd::Feed(last), _)) = cmds.last() else {
+            panic!("{cmds:?}")
+        };
+        assert!((*last - C::new(-40.0, 4.0)).norm() < 1e-9, "{last:?}");
+        assert_eq!(cmds.len(), 5, "{cmds:?}");
+    }
+
+    #[test]
+    fn passes_that_never_end_are_an_error_at_the_cap_not_a_hang() {
+        // rs274's endless G71.2 (LinuxCNC's g71-endless-loop test): a deep pocket after a step.
+        let v = vec![
+            line((0.0, 15.0), (0.0, 10.0)),
+            line((0.0, 10.0), (-14.0, 10.0)),
+            line((-14.0, 10.0), (-14.0, 3.0)),
+            line((-14.0, 3.0), (-22.0, 7.0)),
+        ];
+        let r = rough(v, false, 2, C::new(0.0, 15.0), 0.04, 0.5, 1.0, 5_000);
+        assert!(r.is_err_and(|e| e.contains("do not come to an end")));
+    }
+
+    #[test]
+    fn an_arc_ending_where_the_tool_is_is_left_out() {
+        let mut out = Out {
+            flip: 0,
+            at: C::new(1.0, 1.0),
+            cmds: Vec::new(),
+            cap: 10,
+        };
+        out.arc(true, C::new(0.0, 0.0), C::new(1.00005, 1.0), 1, 1e-4).unwrap();
+        assert!(out.cmds.is_empty());
+        out.arc(true, C::new(0.0, 0.0), C::new(1.0002, 1.0), 1, 1e-4).unwrap();
+        assert_eq!(out.cmds.len(), 1);
+    }
 }
