@@ -1,14 +1,13 @@
 //! LinuxCNC lathe stock removal with the profile in an o-word subroutine: G70 finishing, G71 /
 //! G71.1 / G71.2 turning and G72 / G72.1 / G72.2 facing ("G70 Lathe finishing cycle", "G71 G72
-//! Lathe roughing cycles" of the LinuxCNC G-code reference). The passes follow what `rs274 -g`
-//! prints for them (a black-box model of its output, see docs/cycles-linuxcnc.md): the profile
-//! offset by D as a curve (round corners where it turns away, intersections where it turns
-//! in), straight passes one depth I apart from the cycle's start point to the offset profile,
-//! each left at 45° by R, then one pass along the offset profile.
+//! Lathe roughing cycles" of the LinuxCNC G-code reference). This file reads the cycle's words,
+//! runs the profile subroutine, turns its A/C corners and checks it (monotone along the passes);
+//! the passes themselves are computed as rs274ngc computes them in `lcnc_g7x.rs` (see
+//! docs/cycles-linuxcnc.md).
 //!
-//! Everything is computed in a working frame (u, v) where the passes step down in u from the
-//! start point and run toward −v, the direction in which the profile travels: for G71 u and v
-//! are ±X and ±Z, for G72 ±Z and ±X.
+//! The checks use a working frame (u, v) where the passes step down in u from the start point
+//! and run toward −v, the direction in which the profile travels: for G71 u and v are ±X and ±Z,
+//! for G72 ±Z and ±X.
 
 #[path = "lcnc_g7x.rs"]
 mod g7x;
