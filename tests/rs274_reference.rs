@@ -39,24 +39,8 @@ const TOL: f64 = 1e-4 + 1e-9;
 /// Programs whose motion differs from rs274's, and why. Keys are paths relative to `../shared`.
 const KNOWN: &[(&str, &str)] = &[
     (
-        "corpus/linuxcnc-interp/g71-with-g70/g71-with-g70.ngc",
-        "its offset folds over at line 22 (X11.014 to X12 in 1 mm of Z, shorter than D1) and is trimmed as rs274 trims it, and the G71.1 roughing passes agree; the final G71.1 pass along the offset (rs274 feeds straight across some G3/G2 arcs and the A0.2 fillet's dip) and the G71.2 pocket cuts differ, and the G70 passes differ where the G3 of line 14 meets the G2 of line 15 not exactly tangent (rs274 leaves such a joint uncut, latheguard cuts it at the crossing)",
-    ),
-    (
-        "corpus/linuxcnc-interp/g72-missing-iteration/g72-iterations-missing.ngc",
-        "the bug this LinuxCNC test pins: rs274 2.9.0~pre1 makes no roughing pass when the profile's last segment runs exactly along the passes (X100 Z-40 after X50 Z-40; Z-39.999 in g72-iterations-present is roughed) and feeds straight along the profile; latheguard makes the passes, as the newer LinuxCNC that wrote the test's `expected` file does (equal to it, see lcnc_g7x_tests_match_their_expected_files)",
-    ),
-    (
         "corpus/linuxcnc-nc_files/lathe_g70_71_demo.ngc",
-        "the same pawn profile and cycles as g71-with-g70: differs in the same places (final G71.1 pass, G71.2 pockets, the G3/G2 joint of the G70 passes); the folded offset itself is trimmed as rs274 does",
-    ),
-    (
-        "corpus/latheeasystep/Test_Gewinde_innen.ngc",
-        "its G71 profile starts at the cycle's start point and falls from there: rs274 orients it by its ends and offsets it to the other side; not modelled (unsupported)",
-    ),
-    (
-        "corpus/latheeasystep/Test_Innendrehen_mit_Gewinde.ngc",
-        "its G71 profile starts at the cycle's start point and falls from there: rs274 orients it by its ends and offsets it to the other side; not modelled (unsupported)",
+        "its G71.1 and G71.2 passes and the G70 passes equal rs274 (the same pawn as g71-with-g70, which agrees move for move); the G70 here runs under G42.1 D0.3, and rs274 enters that compensation with two rapids of its own, to X14.7 Z2.891 and to X14.85 Z-38.25, before the first pass, where latheguard's compensation (src/interp/comp.rs, not the cycle) makes one to X14.7 Z2.741; every move after that entry is equal",
     ),
     (
         "corpus/linuxcnc-interp/m98m99-01-basics/test.ngc",
@@ -445,15 +429,15 @@ fn lcnc_g7x_tests_match_their_expected_files() {
     let known: BTreeMap<&str, &str> = [
         (
             "g71-endless-loop",
-            "its G71.1 (pocket bridged) ends the first pass on the offset of the last segment, Z-21.9821, where the newer LinuxCNC that wrote the file stops at Z-21.96; its G71.2 cuts the pocket, not modelled (unsupported)",
+            "the endless loop this LinuxCNC test pins: the rs274 here never ends the G71.2 (latheguard, computing it as that rs274 does, stops at its move cap with a program finding, case lcnc_refused_g71_2_endless), and its G71.1 equals that rs274's, whose first pass ends on the offset of the last segment, Z-21.9821, where the newer LinuxCNC that wrote the file stops at Z-21.96",
         ),
         (
             "g71-endless-loop_2",
             "its profile uses a C chamfer word and U/W increments (not modelled) and has a pocket",
         ),
         (
-            "g71-with-g70",
-            "an A-word fillet and pockets in the profile (not modelled)",
+            "g72-missing-iteration",
+            "the bug this LinuxCNC test pins: the rs274 here (2.9.0~pre1, git f1270d6ed7) makes no roughing pass when the profile's last segment runs exactly along the passes (X100 Z-40 after X50 Z-40) and feeds straight along the profile; latheguard moves as that rs274 does (equal to it, see linuxcnc_programs_move_as_rs274_moves_them), the newer LinuxCNC that wrote this `expected` file makes the passes",
         ),
     ]
     .into_iter()

@@ -1,14 +1,16 @@
 //! LinuxCNC lathe stock removal with the profile in an o-word subroutine: G70 finishing, G71 /
 //! G71.1 / G71.2 turning and G72 / G72.1 / G72.2 facing ("G70 Lathe finishing cycle", "G71 G72
-//! Lathe roughing cycles" of the LinuxCNC G-code reference). The passes follow what `rs274 -g`
-//! prints for them (a black-box model of its output, see docs/cycles-linuxcnc.md): the profile
-//! offset by D as a curve (round corners where it turns away, intersections where it turns
-//! in), straight passes one depth I apart from the cycle's start point to the offset profile,
-//! each left at 45° by R, then one pass along the offset profile.
+//! Lathe roughing cycles" of the LinuxCNC G-code reference). This file reads the cycle's words,
+//! runs the profile subroutine, turns its A/C corners and checks it (monotone along the passes);
+//! the passes themselves are computed as rs274ngc computes them in `lcnc_g7x.rs` (see
+//! docs/cycles-linuxcnc.md).
 //!
-//! Everything is computed in a working frame (u, v) where the passes step down in u from the
-//! start point and run toward −v, the direction in which the profile travels: for G71 u and v
-//! are ±X and ±Z, for G72 ±Z and ±X.
+//! The checks use a working frame (u, v) where the passes step down in u from the start point
+//! and run toward −v, the direction in which the profile travels: for G71 u and v are ±X and ±Z,
+//! for G72 ±Z and ±X.
+
+#[path = "lcnc_g7x.rs"]
+mod g7x;
 
 use super::common::{emit, feed, rapid, Mark, Seg, MAX_PASSES};
 use crate::gcode::{Block, OName};
@@ -36,13 +38,6 @@ impl Frame {
             V2::new(self.su * p.y, self.sv * p.x)
         } else {
             V2::new(self.su * p.x, self.sv * p.y)
-        }
-    }
-    fn back(self, q: V2) -> P2 {
-        if self.swap {
-            P2::new(self.sv * q.y, self.su * q.x)
-        } else {
-            P2::new(self.su * q.x, self.sv * q.y)
         }
     }
     /// The frame reverses orientation (a counter-clockwise arc becomes clockwise).
@@ -147,32 +142,6 @@ impl El {
             }
         }
     }
-    /// The first fraction in [0, 1] at which the piece reaches u ≥ level.
-    fn reach(&self, level: f64) -> Option<f64> {
-        if self.a.x >= level - EPS {
-            return Some(0.0);
-        }
-        match self.arc {
-            None => (self.b.x >= level - EPS).then(|| ((level - self.a.x) / (self.b.x - self.a.x)).clamp(0.0, 1.0)),
-            Some((c, _)) => {
-                let r = (self.a - c).norm();
-                let cos = (level - c.x) / r;
-                let sw = self.sweep();
-                let a0 = (self.a.y - c.y).atan2(self.a.x - c.x);
-                let mut best: Option<f64> = None;
-                if cos.abs() <= 1.0 {
-                    let th = cos.acos();
-                    for t in [th, -th] {
-                        let f = ((t - a0) * sw.signum()).rem_euclid(TAU) / sw.abs();
-                        if f <= 1.0 && best.map_or(true, |b| f < b) {
-                            best = Some(f);
-                        }
-                    }
-                }
-                best.or_else(|| (self.b.x >= level - EPS).then_some(1.0))
-            }
-        }
-    }
     fn len(&self) -> f64 {
         match self.arc {
             None => (self.b - self.a).norm(),
@@ -226,6 +195,7 @@ fn intersect(e1: &El, e2: &El) -> Vec<V2> {
     }
 }
 
+#[cfg(test)]
 /// The profile offset by d to its left (toward the start point): round corners where the
 /// offsets part, intersections where they cross. `Err` names the profile line that fails.
 fn offset_path(prof: &[El], d: f64) -> Result<Vec<El>, u32> {
@@ -283,307 +253,6 @@ fn offset_path(prof: &[El], d: f64) -> Result<Vec<El>, u32> {
     }
     out.retain(|e| (e.b - e.a).norm() > 1e-7 || (e.arc.is_some() && e.len() > 1e-7));
     Ok(out)
-}
-
-/// The profile offset by d to its left the way rs274 offsets it: in steps no longer than half the
-/// shortest piece (half its chord or radius for an arc), each step moving every piece, dropping
-/// the pieces that shrink below 1e-3, joining pieces that part along the passes (more than
-/// 1e-2) with an arc about their former joint, dropping the shorter of two pieces where one runs
-/// back against the passes, and cutting each piece where it meets the next. This trims an offset
-/// that folds over itself (a step or an arc smaller than d), which [`offset_path`] refuses; where
-/// both succeed they agree. `Err` names the profile line that fails.
-fn offset_path_stepwise(prof: &[El], d: f64) -> Result<Vec<El>, u32> {
-    // rs274's size of a piece: a line's length, the smaller of an arc's chord and radius.
-    fn size(e: &El) -> f64 {
-        match e.arc {
-            None => (e.b - e.a).norm(),
-            Some((c, _)) => (e.b - e.a).norm().min((e.a - c).norm()),
-        }
-    }
-    fn shift(e: &mut El, s: f64) {
-        match e.arc {
-            None => {
-                let n = rot_ccw((e.b - e.a) / (e.b - e.a).norm()) * s;
-                e.a += n;
-                e.b += n;
-            }
-            Some((c, ccw)) => {
-                let r = (e.a - c).norm();
-                let k = (r + if ccw { -s } else { s }) / r;
-                e.a = c + (e.a - c) * k;
-                e.b = c + (e.b - c) * k;
-            }
-        }
-    }
-    // Runs along the passes (−v), 1e-3 allowed; an arc stays on one side of its centre.
-    fn monotone(e: &El) -> bool {
-        let dv = e.b.y - e.a.y;
-        match e.arc {
-            None => dv <= 1e-3,
-            Some((c, ccw)) => {
-                let (entry, exit) = (e.a.x - c.x, e.b.x - c.x);
-                if ccw {
-                    entry <= 1e-3 && exit <= 1e-3 && dv <= -1e-3
-                } else {
-                    entry >= -1e-3 && exit >= -1e-3 && dv <= -1e-3
-                }
-            }
-        }
-    }
-    // The point of the line through `a` along `t` on the circle about c of radius r nearest `near`.
-    fn on_circle(a: V2, b: V2, c: V2, r: f64, near: V2) -> V2 {
-        let t = (b - a) / (b - a).norm();
-        let f = c - a;
-        let along = f.dot(&t);
-        let off = cross(t, f);
-        let h = (r * r - off * off).max(0.0).sqrt();
-        let (s1, s2) = (a + t * (along + h), a + t * (along - h));
-        if (near - s1).norm() < (near - s2).norm() {
-            s1
-        } else {
-            s2
-        }
-    }
-    // Cut p's end and n's start where they meet.
-    fn join(p: &mut El, n: &mut El) -> Result<(), u32> {
-        let x = match (p.arc, n.arc) {
-            (None, None) => {
-                let (t1, t2) = (p.b - p.a, n.b - n.a);
-                let den = cross(t1, t2);
-                if den == 0.0 {
-                    return Err(n.line);
-                }
-                p.a + t1 * (cross(n.a - p.a, t2) / den)
-            }
-            (Some((c, _)), None) => {
-                if (n.a - p.b).norm() < 1e-6 {
-                    return Ok(());
-                }
-                on_circle(n.a, n.b, c, (p.b - c).norm(), n.a)
-            }
-            (None, Some((c, _))) => {
-                if (n.a - p.b).norm() < 1e-6 {
-                    return Ok(());
-                }
-                on_circle(p.a, p.b, c, (n.b - c).norm(), n.a)
-            }
-            (Some((cp, wp)), Some((cn, wn))) => {
-                if wp != wn {
-                    return Ok(());
-                }
-                let (a, b, c) = ((n.a - cn).norm(), (p.a - cp).norm(), (cn - cp).norm());
-                if c < 1e-12 {
-                    return Err(n.line);
-                }
-                let cos = ((c * c + a * a - b * b) / 2.0 / a / c).clamp(-1.0, 1.0);
-                let sin = (1.0 - cos * cos).sqrt();
-                // From n's centre toward p's, turned clockwise by the angle at n's centre.
-                let u = (cp - cn) / c * a;
-                cn + V2::new(u.x * cos + u.y * sin, -u.x * sin + u.y * cos)
-            }
-        };
-        p.b = x;
-        n.a = x;
-        Ok(())
-    }
-    let fail = prof.first().map_or(0, |e| e.line);
-    let mut path: Vec<El> = prof.to_vec();
-    let mut done = 0.0;
-    let mut rounds = 0;
-    while done != d {
-        rounds += 1;
-        if rounds > 100_000 || path.len() < 2 {
-            return Err(path.first().map_or(fail, |e| e.line));
-        }
-        let step = path
-            .iter()
-            .map(|e| size(e) / 2.0)
-            .fold(1e9, f64::min)
-            .min((d - done).abs());
-        if step <= 0.0 || !step.is_finite() {
-            return Err(path[0].line);
-        }
-        let before = path.clone();
-        let mut moved: Vec<(El, El)> = Vec::with_capacity(path.len());
-        for (e, old) in path.iter().zip(&before) {
-            let mut m = *e;
-            shift(&mut m, step);
-            moved.push((m, *old));
-        }
-        moved.retain(|(m, _)| size(m) >= 1e-3);
-        // Round corners where the moved pieces part along the passes.
-        let mut next: Vec<El> = Vec::with_capacity(moved.len() * 2);
-        for k in 0..moved.len() {
-            let (m, old) = moved[k];
-            next.push(m);
-            if let Some(&(n, old_n)) = moved.get(k + 1) {
-                if m.b.y - n.a.y > 1e-2 {
-                    next.push(El {
-                        a: m.b,
-                        b: n.a,
-                        arc: Some(((old.b + old_n.a) / 2.0, false)),
-                        line: n.line,
-                    });
-                }
-            }
-        }
-        path = next;
-        // Drop pieces running back, cut each piece at the next.
-        let mut k = 0;
-        while path.len() >= 2 && k + 1 < path.len() {
-            if !monotone(&path[k]) {
-                if k == 0 {
-                    return Err(path[0].line);
-                }
-                if size(&path[k]) < size(&path[k - 1]) {
-                    path.remove(k);
-                } else {
-                    path.remove(k - 1);
-                }
-                k = 0;
-                if path.len() < 2 {
-                    break;
-                }
-            }
-            if size(&path[k]) < 1e-3 {
-                path.remove(k);
-                k = 1;
-                continue;
-            }
-            let (l, r) = path.split_at_mut(k + 1);
-            join(&mut l[k], &mut r[0])?;
-            k += 1;
-        }
-        done += step;
-    }
-    for k in 1..path.len() {
-        let mid = (path[k - 1].b + path[k].a) / 2.0;
-        path[k - 1].b = mid;
-        path[k].a = mid;
-    }
-    Ok(path)
-}
-
-/// The piece from fraction t on.
-fn tail(e: &El, t: f64) -> El {
-    El { a: e.at(t), ..*e }
-}
-
-/// The piece up to fraction t.
-fn head(e: &El, t: f64) -> El {
-    El { b: e.at(t), ..*e }
-}
-
-/// The first fraction after `from` at which the piece's u crosses `level` going the way `up`
-/// says (u ≥ level when up, u < level otherwise), found on 64 samples and refined by bisection.
-fn crossing(e: &El, from: f64, level: f64, up: bool) -> Option<f64> {
-    let hit = |t: f64| {
-        let u = e.at(t).x;
-        if up {
-            u >= level - EPS
-        } else {
-            u < level - 1e-12
-        }
-    };
-    let n = if e.arc.is_some() { 64 } else { 1 };
-    let mut prev = from;
-    for k in 1..=n {
-        let t = from + (1.0 - from) * k as f64 / n as f64;
-        if hit(t) {
-            let (mut lo, mut hi) = (prev, t);
-            for _ in 0..60 {
-                let mid = 0.5 * (lo + hi);
-                if hit(mid) {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
-            }
-            return Some(hi);
-        }
-        prev = t;
-    }
-    None
-}
-
-/// The offset profile with its pockets bridged (G7x.1): where it turns back below the highest
-/// u reached so far, a line at that u runs on to where the profile climbs back to it.
-fn bridged(path: &[El]) -> Vec<El> {
-    let mut out = Vec::with_capacity(path.len());
-    let Some(first) = path.first() else { return out };
-    let mut m = first.a.x;
-    let mut i = 0;
-    let mut cur = *first;
-    loop {
-        let Some(f) = (if cur.a.x < m - 1e-7 {
-            Some(0.0)
-        } else {
-            crossing(&cur, 0.0, m.max(cur.b.x.min(m)), false)
-        }) else {
-            m = m.max(cur.b.x).max(if cur.arc.is_some() {
-                (0..=64).map(|k| cur.at(k as f64 / 64.0).x).fold(f64::MIN, f64::max)
-            } else {
-                f64::MIN
-            });
-            out.push(cur);
-            i += 1;
-            if i >= path.len() {
-                break;
-            }
-            cur = path[i];
-            continue;
-        };
-        if f > 0.0 && head(&cur, f).len() > 1e-5 {
-            out.push(head(&cur, f));
-        }
-        let start = cur.at(f);
-        let level = start.x.max(m);
-        // Where the profile climbs back to the level: in this piece, or a later one.
-        let mut back: Option<(usize, f64)> = crossing(&cur, f, level, true).map(|g| (i, g));
-        if back.is_none() {
-            back = (i + 1..path.len()).find_map(|k| path[k].reach(level).map(|g| (k, g)));
-        }
-        let Some((k, g)) = back else {
-            // Never again: the bridge runs to the profile's last v.
-            let end = path[path.len() - 1].b;
-            out.push(El {
-                a: start,
-                b: V2::new(level, end.y),
-                arc: None,
-                line: cur.line,
-            });
-            break;
-        };
-        if k == i && g <= f + 1e-9 {
-            // The piece only grazes the level (rounding): no pocket, it goes on as it is.
-            m = m.max(cur.b.x);
-            out.push(tail(&cur, f));
-            i += 1;
-            if i >= path.len() {
-                break;
-            }
-            cur = path[i];
-            continue;
-        }
-        let piece = if k == i { cur } else { path[k] };
-        let p = piece.at(g);
-        out.push(El {
-            a: start,
-            b: p,
-            arc: None,
-            line: piece.line,
-        });
-        m = level;
-        i = k;
-        cur = tail(&piece, g);
-    }
-    out.retain(|e| (e.b - e.a).norm() > 1e-9 || (e.arc.is_some() && e.len() > 1e-9));
-    out
-}
-
-/// The first point along the path whose u reaches `level`.
-fn first_reach(path: &[El], level: f64) -> Option<(V2, u32)> {
-    path.iter().find_map(|e| e.reach(level).map(|t| (e.at(t), e.line)))
 }
 
 /// The words of one cycle block.
@@ -954,414 +623,94 @@ fn expand(
             last_v = last_v.min(p.y);
         }
     }
-    let su = frame.to(start);
-    let back = |q: V2| frame.back(q);
-    let follow = |run: &mut Run<'_>, path: &[El]| {
-        for e in path {
-            let kind = match e.arc {
-                None => MoveKind::Line,
-                Some((c, _)) => MoveKind::Arc {
-                    center: back(c),
-                    sweep: if frame.flips() { -e.sweep() } else { e.sweep() },
-                },
-            };
-            emit(run, b, kind, back(e.b), f, e.line);
-        }
-    };
-    if code == 700 {
-        let passes = words.p as usize;
-        for k in 1..=passes {
-            let dist = (words.p - k as f64) * (words.d - words.e) / words.p + words.e;
-            let path = match offset_path(&els, dist).or_else(|_| offset_path_stepwise(&els, dist)) {
-                Ok(p) if !p.is_empty() => p,
-                r => {
-                    let line = r.err().unwrap_or(b.line);
-                    run.unsupported(b, at_o, format!("{name}: the profile offset by {dist:.4} mm folds over itself at line {line} (a step or an arc smaller than the offset): not modelled, the cycle's moves are not checked"), true);
-                    return None;
+    // The passes, as rs274 computes them (`lcnc_g7x`), in program units.
+    let s = run.scale();
+    let cx = |p: P2| g7x::C::new(p.y / s, p.x / s);
+    let mut pieces: Vec<g7x::Piece> = Vec::with_capacity(prof.len() + 1);
+    for sg in std::iter::once(first).chain(
+        prof.iter()
+            .filter(|sg| (sg.end - sg.start).norm() > 1e-9 || matches!(sg.kind, MoveKind::Arc { .. })),
+    ) {
+        let pc = g7x::Piece {
+            s: cx(sg.start),
+            e: cx(sg.end),
+            arc: match sg.kind {
+                MoveKind::Arc { center, sweep } => Some((cx(center), sweep < 0.0)),
+                _ => None,
+            },
+            line: sg.line,
+        };
+        // Consecutive lines in one direction are one line (rs274 refuses them: "Cannot
+        // intersect parallel lines"; latheguard reads them as the one line they make).
+        let n = pieces.len();
+        match pieces.last_mut() {
+            Some(last) if n > 1 && last.arc.is_none() && pc.arc.is_none() => {
+                let (t1, t2) = (last.e - last.s, pc.e - pc.s);
+                let cr = t1.re * t2.im - t1.im * t2.re;
+                if cr.abs() < 1e-9 * t1.norm() * t2.norm() && t1.re * t2.re + t1.im * t2.im > 0.0 {
+                    last.e = pc.e;
+                } else {
+                    pieces.push(pc);
                 }
-            };
-            if !super::charge(run, b, path.len() as u64 + 2) {
-                return None;
             }
-            // Each pass enters from the start point, moved level with the profile's first
-            // point when it lies past it along the profile.
-            let e0 = V2::new(su.x, su.y.max(frame.to(p0).y));
-            rapid(run, b, back(e0));
-            rapid(run, b, back(path[0].a));
-            follow(run, &path);
-        }
-        return motion;
-    }
-    // Roughing. Pockets (the profile turning back toward the axis) are bridged by G7x.1 and cut
-    // level by level by G7x and G7x.2 ([`pockets`]).
-    let mut umax = frame.to(p0).x;
-    let pockets_ok = code % 10 == 1;
-    let mut has_pocket = false;
-    for e in &els {
-        for p in e.samples() {
-            has_pocket |= p.x < umax - 1e-6;
-            umax = umax.max(p.x);
+            _ => pieces.push(pc),
         }
     }
-    let path = match offset_path(&els, words.d).or_else(|_| offset_path_stepwise(&els, words.d)) {
-        Ok(p) if !p.is_empty() => p,
-        r => {
-            let line = r.err().unwrap_or(b.line);
-            run.unsupported(b, at_o, format!("{name}: the profile offset by D folds over itself at line {line} (a step or an arc smaller than D): not modelled, the cycle's moves are not checked"), true);
+    let cap = 16 * MAX_PASSES + 16 * pieces.len();
+    let result = if code == 700 {
+        g7x::finish(pieces, cx(start), words.d / s, words.e / s, words.p as u32, cap)
+    } else {
+        let facing = code >= 720;
+        g7x::rough(
+            pieces,
+            facing,
+            (code % 10) as u8,
+            cx(start),
+            words.d / s,
+            words.i / s,
+            words.r / s,
+            cap,
+        )
+    };
+    let cmds = match result {
+        Ok(c) => c,
+        Err(why) => {
+            run.error(b, at_o, format!("{name}: {why}; the cycle is not run"));
             return None;
         }
     };
-    let o0 = path[0].a;
-    let end = path[path.len() - 1].b;
-    // The passes start on the line from the start point to the offset profile's start; a start
-    // point past the profile's first point (along the passes) counts as level with it.
-    let e0 = V2::new(su.x, su.y.max(frame.to(p0).y));
-    let v_entry = |u: f64| {
-        if (e0.x - o0.x).abs() < EPS {
-            o0.y
-        } else {
-            o0.y + (u - o0.x) * (e0.y - o0.y) / (e0.x - o0.x)
-        }
-    };
-    if has_pocket && !pockets_ok && to_start.abs() < EPS {
-        // rs274 orients such a profile by its ends and offsets it away from the side latheguard
-        // takes; not modelled (the profile then looks like one long pocket).
-        run.unsupported(
-            b,
-            at_o,
-            format!("{name}: the start point is level with the profile's first point and the profile turns back (line {}): not modelled, the cycle's moves are not checked", els[0].line),
-            true,
-        );
+    if !super::charge(run, b, cmds.len() as u64) {
         return None;
     }
-    if has_pocket && !pockets_ok {
-        let mut segs = Vec::with_capacity(path.len() + 2);
-        segs.push(El {
-            a: e0,
-            b: o0,
-            arc: None,
-            line: 0,
-        });
-        segs.extend_from_slice(&path);
-        if end.x < su.x {
-            segs.push(El {
-                a: end,
-                b: V2::new(su.x, end.y),
-                arc: None,
-                line: 0,
-            });
-        }
-        let mut out = Out {
-            frame,
-            f,
-            moves: Vec::new(),
-        };
-        if let Err(why) = pockets(&segs, code % 10 == 2, words.i, words.r, &mut out) {
-            run.unsupported(
-                b,
-                at_o,
-                format!("{name}: {why}: not modelled, the cycle's moves are not checked"),
-                true,
-            );
-            return None;
-        }
-        if !super::charge(run, b, out.moves.len() as u64) {
-            return None;
-        }
-        rapid(run, b, back(e0));
-        for (kind, to, feed, line) in out.moves {
-            emit(run, b, kind, to, feed, line);
-        }
-        return motion;
-    }
-    if code % 10 != 2 {
-        let mut k = 0usize;
-        loop {
-            let u = su.x - k as f64 * words.i;
-            if u <= o0.x + 1e-7 {
-                break;
-            }
-            if k >= MAX_PASSES {
-                run.error(
+    let back = |c: g7x::C| P2::new(c.im * s, c.re * s);
+    for (cmd, line) in cmds {
+        match cmd {
+            g7x::Cmd::Rapid(p) => rapid(run, b, back(p)),
+            g7x::Cmd::Feed(p) => emit(run, b, MoveKind::Line, back(p), f, line),
+            g7x::Cmd::Arc { ccw, center, end } => {
+                let from = cx(run.programmed());
+                let (a0, a1) = ((from - center).arg(), (end - center).arg());
+                // G3 turns counter-clockwise in the z + i·x plane: a negative sweep in x, z.
+                let sweep = if ccw {
+                    -(a1 - a0).rem_euclid(TAU)
+                } else {
+                    (a0 - a1).rem_euclid(TAU)
+                };
+                emit(
+                    run,
                     b,
-                    at_o,
-                    format!("{name} would make more than {MAX_PASSES} passes (I is too small for this profile)"),
+                    MoveKind::Arc {
+                        center: back(center),
+                        sweep,
+                    },
+                    back(end),
+                    f,
+                    line,
                 );
-                return None;
             }
-            if !super::charge(run, b, 5) {
-                return None;
-            }
-            let ve = v_entry(u);
-            let (hit, line) = first_reach(&path, u).map_or((V2::new(u, end.y), 0), |(p, l)| (V2::new(u, p.y), l));
-            rapid(run, b, back(V2::new(u, ve)));
-            emit(run, b, MoveKind::Line, back(hit), f, line);
-            // A pass shorter than 2R leaves by half its length.
-            let r = words.r.min(((ve - hit.y) / 2.0).max(0.0));
-            rapid(run, b, back(V2::new(u + r, hit.y + r)));
-            rapid(run, b, back(V2::new(u + r, ve - r)));
-            rapid(run, b, back(V2::new(u, ve)));
-            k += 1;
         }
-    }
-    // A start point not above the offset profile's first point (no passes) feeds to it.
-    if e0.x <= o0.x + EPS {
-        emit(run, b, MoveKind::Line, back(o0), f, 0);
-    } else {
-        rapid(run, b, back(o0));
-    }
-    let path = if pockets_ok { bridged(&path) } else { path };
-    follow(run, &path);
-    // Out to the start point's level along the last face, unless the profile ends beyond it.
-    if end.x < su.x {
-        emit(run, b, MoveKind::Line, back(V2::new(su.x, end.y)), f, 0);
     }
     motion
-}
-
-/// The moves of a pocket cycle, collected before they are emitted (spindle frame).
-struct Out {
-    frame: Frame,
-    f: crate::interp::Feed,
-    moves: Vec<(MoveKind, P2, crate::interp::Feed, u32)>,
-}
-
-impl Out {
-    fn line(&mut self, to: V2, fast: bool, line: u32) {
-        let (kind, feed) = if fast {
-            (MoveKind::Rapid, crate::interp::Feed::Rapid)
-        } else {
-            (MoveKind::Line, self.f)
-        };
-        self.moves
-            .push((kind, self.frame.back(to), feed, if fast { 0 } else { line }));
-    }
-    /// An arc of `e`'s circle from `from` to `to`, fed.
-    fn arc(&mut self, e: &El, from: V2, to: V2) {
-        let piece = El { a: from, b: to, ..*e };
-        let Some((c, _)) = e.arc else { return };
-        let sweep = piece.sweep();
-        let sweep = if self.frame.flips() { -sweep } else { sweep };
-        self.moves.push((
-            MoveKind::Arc {
-                center: self.frame.back(c),
-                sweep,
-            },
-            self.frame.back(to),
-            self.f,
-            e.line,
-        ));
-    }
-}
-
-/// Where the level u = `level` meets a piece: the v of each meeting, for an arc the larger v
-/// first. A line lying along the level gives both its ends.
-fn level_hits(e: &El, level: f64) -> Vec<f64> {
-    match e.arc {
-        None => {
-            if e.a.x.min(e.b.x) > level + 1e-6 || e.a.x.max(e.b.x) < level - 1e-6 {
-                vec![]
-            } else if (e.a.x - e.b.x).abs() < 1e-6 {
-                vec![e.a.y, e.b.y]
-            } else {
-                vec![e.a.y + (level - e.a.x) / (e.b.x - e.a.x) * (e.b.y - e.a.y)]
-            }
-        }
-        Some((c, ccw)) => {
-            let r = (e.a - c).norm();
-            let h = level - c.x;
-            let disc = r * r - h * h;
-            if disc < -1e-6 {
-                return vec![];
-            }
-            let s = disc.max(0.0).sqrt();
-            // Within the arc's sweep (a little tolerance at its ends).
-            let on = |p: V2| {
-                let (k0, k1) = (cross(e.a - c, p - c), cross(e.b - c, p - c));
-                if ccw {
-                    k0 >= -1e-6 && k1 <= 1e-6
-                } else {
-                    k0 <= 1e-6 && k1 >= -1e-6
-                }
-            };
-            [c.y + s, c.y - s]
-                .into_iter()
-                .filter(|&v| on(V2::new(level, v)))
-                .collect()
-        }
-    }
-}
-
-/// Whether an arc turns counter-clockwise in the frame rs274's pocket logic uses (v across,
-/// u up: the working frame mirrored), where a piece counter-clockwise in the working frame is
-/// clockwise.
-fn g3_in_pass_frame(ccw: bool) -> bool {
-    !ccw
-}
-
-/// Follow a piece down ("dive") toward `level` from `at`: `Ok(true)` when the piece does not go
-/// down from there (nothing moved).
-fn dive(e: &El, at: &mut V2, level: f64, fast: bool, out: &mut Out) -> Result<bool, String> {
-    match e.arc {
-        None => {
-            if e.a.x <= e.b.x {
-                return Ok(true);
-            }
-            let to = if level < e.b.x {
-                e.b
-            } else {
-                let v = *level_hits(e, level)
-                    .first()
-                    .ok_or_else(|| format!("a pass level misses the profile at line {}", e.line))?;
-                V2::new(level, v)
-            };
-            out.line(to, fast, e.line);
-            *at = to;
-            Ok(false)
-        }
-        Some((c, ccw)) => {
-            if (*at - e.b).norm() < 1e-3 {
-                return Ok(false);
-            }
-            let hits = level_hits(e, level);
-            let g3 = g3_in_pass_frame(ccw);
-            let (past, hit) = if g3 {
-                (at.y > c.y, hits.last().copied().filter(|v| *v <= c.y))
-            } else {
-                (at.y <= c.y, hits.first().copied().filter(|v| *v >= c.y))
-            };
-            if past {
-                return Ok(true);
-            }
-            let to = hit.map_or(e.b, |v| V2::new(level, v));
-            if hit.is_none() || (*at - to).norm() > 1e-3 {
-                out.arc(e, *at, to);
-            }
-            *at = to;
-            Ok(false)
-        }
-    }
-}
-
-/// Follow a piece up ("climb") from `at`: `true` when a pocket starts on it (for a G3-sense arc,
-/// after following it to its top).
-fn climb(e: &El, at: &mut V2, out: &mut Out) -> bool {
-    match e.arc {
-        None => {
-            if e.b.x < e.a.x {
-                return true;
-            }
-            out.line(e.b, false, e.line);
-            *at = e.b;
-            false
-        }
-        Some((c, ccw)) => {
-            if !g3_in_pass_frame(ccw) {
-                if at.y > c.y {
-                    return true;
-                }
-                if (*at - e.b).norm() > 1e-3 {
-                    out.arc(e, *at, e.b);
-                }
-                *at = e.b;
-                false
-            } else {
-                if at.y < c.y {
-                    return true;
-                }
-                let to = if e.b.y < c.y {
-                    V2::new(c.x + (e.a - c).norm(), c.y)
-                } else {
-                    e.b
-                };
-                if (*at - to).norm() > 1e-3 {
-                    out.arc(e, *at, to);
-                }
-                *at = to;
-                true
-            }
-        }
-    }
-}
-
-/// Roughing with pockets (G7x, and G7x.2 with `skip_first` leaving out the passes before the
-/// first pocket), as rs274 cuts them: levels one depth `di` apart counted from the start point;
-/// on each, a feed along the level from the profile's falling side to where it rises again,
-/// out at 45° by `r` and back; the profile followed up until it falls into a pocket, which is
-/// cut the same way level by level, and so on to the profile's end. `segs` is the descent from
-/// the start point to the offset profile, the offset profile, and the climb back to the start
-/// point's level. Err names what cannot be cut.
-fn pockets(segs: &[El], skip_first: bool, di: f64, r: f64, out: &mut Out) -> Result<(), String> {
-    let top = segs[0].a.x;
-    let mut at = segs[0].a;
-    let mut p = 0usize;
-    let mut level = top;
-    if skip_first {
-        while p < segs.len() && !dive(&segs[p], &mut at, -1e9, p == 0, out)? {
-            p += 1;
-        }
-    }
-    let mut spins = 0usize;
-    while p < segs.len() {
-        spins += 1;
-        if spins > MAX_PASSES * 4 + segs.len() * 4 {
-            return Err(format!(
-                "more than {MAX_PASSES} passes (I is too small for this profile)"
-            ));
-        }
-        if (level - at.x) / di > MAX_PASSES as f64 {
-            return Err(format!(
-                "more than {MAX_PASSES} passes (I is too small for this profile)"
-            ));
-        }
-        while level > at.x {
-            level -= di;
-        }
-        if dive(&segs[p], &mut at, level, p == 0, out)? {
-            // The bottom of a descent: up along the profile to the next pocket, if any.
-            let mut pocket = None;
-            for (k, e) in segs.iter().enumerate().skip(p) {
-                if climb(e, &mut at, out) {
-                    pocket = Some(k);
-                    break;
-                }
-            }
-            let Some(k) = pocket else { return Ok(()) };
-            p = k;
-            // rs274 2.9 counts a pocket's levels from the start point's level in G7x, and from
-            // the pocket's rim in G7x.2 (found by comparing its output, see the docs).
-            level = if skip_first { at.x } else { top };
-            continue;
-        }
-        if at.x > level || (at.x - level).abs() > 1e-6 {
-            p += 1;
-            continue;
-        }
-        for ip in p..segs.len() {
-            let hits = level_hits(&segs[ip], at.x);
-            let Some(&v) = (if ip != p { hits.first() } else { hits.last() }) else {
-                continue;
-            };
-            let dist = (v - at.y).abs();
-            if dist < 1e-6 {
-                if ip == p {
-                    continue;
-                }
-                p += 1;
-                break;
-            }
-            let line = segs[ip].line;
-            let to = V2::new(at.x, v);
-            out.line(to, false, line);
-            let esc = (dist / 2.0 / r).min(1.0) * r;
-            out.line(V2::new(to.x + esc, to.y + esc), true, 0);
-            out.line(V2::new(at.x + esc, at.y - esc), true, 0);
-            out.line(at, p == 0, segs[p].line);
-            level -= di;
-            break;
-        }
-    }
-    Ok(())
 }
 
 /// Run the profile subroutine from the current point and collect its moves; nothing of it stays
@@ -1433,80 +782,6 @@ mod tests {
             arc: None,
             line: 1,
         }
-    }
-
-    #[test]
-    fn a_right_turn_gets_a_round_corner_of_radius_d() {
-        // Down the face of a shoulder, then along it: the offsets part at the corner.
-        let p = [line((0.0, 0.0), (3.0, -5.0)), line((3.0, -5.0), (3.0, -10.0))];
-        let o = offset_path(&p, 0.5).unwrap();
-        assert_eq!(o.len(), 3);
-        let (c, ccw) = o[1].arc.unwrap();
-        assert!(!ccw);
-        assert!((c - V2::new(3.0, -5.0)).norm() < 1e-12);
-        assert!(((o[1].a - c).norm() - 0.5).abs() < 1e-12 && ((o[1].b - c).norm() - 0.5).abs() < 1e-12);
-        assert!((o[2].a - V2::new(3.5, -5.0)).norm() < 1e-12);
-    }
-
-    #[test]
-    fn an_offset_folding_over_a_short_step_is_trimmed_stepwise() {
-        // Working frame: u up (toward the start point), travel toward −v. A 0.5 mm step up in 0.25
-        // mm of v, offset by 1.5: the step's own offset runs backward once cut at its corners.
-        let prof = [
-            line((5.0, 20.0), (5.0, 10.0)),
-            line((5.0, 10.0), (5.5, 9.75)),
-            line((5.5, 9.75), (5.5, 0.0)),
-        ];
-        assert!(offset_path(&prof, 1.5).is_err());
-        let path = offset_path_stepwise(&prof, 1.5).unwrap();
-        // The fold is cut out: every piece runs along −v and the path is joined end to start.
-        for w in path.windows(2) {
-            assert!((w[0].b - w[1].a).norm() < 1e-9);
-        }
-        for e in &path {
-            assert!(e.b.y <= e.a.y + 1e-3, "{e:?}");
-        }
-        assert!((path[0].a - V2::new(6.5, 20.0)).norm() < 1e-9);
-        let last = path[path.len() - 1];
-        assert!((last.b - V2::new(7.0, 0.0)).norm() < 1e-9);
-        // Where the offset allows it, the two methods agree.
-        let easy = [
-            line((5.0, 20.0), (5.0, 10.0)),
-            line((5.0, 10.0), (8.0, 7.0)),
-            line((8.0, 7.0), (8.0, 0.0)),
-        ];
-        let (a, b) = (
-            offset_path(&easy, 0.5).unwrap(),
-            offset_path_stepwise(&easy, 0.5).unwrap(),
-        );
-        assert_eq!(a.len(), b.len());
-        for (x, y) in a.iter().zip(&b) {
-            assert!((x.a - y.a).norm() < 1e-6 && (x.b - y.b).norm() < 1e-6, "{x:?} {y:?}");
-        }
-    }
-
-    #[test]
-    fn a_left_turn_is_cut_where_the_offsets_cross() {
-        let p = [line((5.0, 0.0), (5.0, -10.0)), line((5.0, -10.0), (8.0, -15.0))];
-        let o = offset_path(&p, 0.5).unwrap();
-        assert_eq!(o.len(), 2);
-        // rs274 prints this corner at X5.5 Z-9.8615.
-        assert!((o[0].b - V2::new(5.5, -9.861_5)).norm() < 1e-4, "{:?}", o[0].b);
-        assert!((o[0].b - o[1].a).norm() < 1e-12);
-    }
-
-    #[test]
-    fn a_level_first_meets_an_arc_at_its_first_crossing() {
-        // A clockwise quarter circle about (10, -20) from (8.5, -20) down to (10, -21.5).
-        let e = El {
-            a: V2::new(8.5, -20.0),
-            b: V2::new(10.0, -21.5),
-            arc: Some((V2::new(10.0, -20.0), true)),
-            line: 1,
-        };
-        let (p, _) = first_reach(&[e], 9.0).unwrap();
-        assert!((p - V2::new(9.0, -21.118)).norm() < 1e-3, "{p:?}");
-        assert!(first_reach(&[e], 10.5).is_none());
     }
 
     fn lcnc() -> crate::machine::Machine {
