@@ -128,8 +128,11 @@ pub fn ic_from_size(shape: Shape, size: u32) -> f64 {
             n => f64::from(n),
         };
     }
+    // The code is the edge length without its decimals; nominal lengths a hair under the whole
+    // millimetre (6.35 mm triangles: 10.998) count as that millimetre.
     for &ic in STANDARD_IC {
-        if edge_length(shape, ic).floor() as u32 == size {
+        let e = edge_length(shape, ic);
+        if e.floor() as u32 == size || (e + 0.05).floor() as u32 == size {
             return ic;
         }
     }
@@ -309,7 +312,7 @@ pub fn parse_iso1832(up: &str) -> Result<Iso1832, String> {
     let block: String = chars[start..i].iter().collect();
     let suffix: String = chars[i..].iter().collect::<String>().trim().to_string();
     let digits = block.chars().take_while(|c| c.is_ascii_digit() || *c == 'T' || *c == 'M').count();
-    let (ic, edge, thickness, nose_radius, inch, extra) = if block.len() >= 6 && digits >= 6 {
+    let (ic, edge, thickness, nose_radius, inch, extra) = if block.len() >= 6 && digits >= 4 {
         metric_block(shape, &block, start)?
     } else if block.len() >= 3 && block.chars().take(3).all(|c| c.is_ascii_digit()) {
         inch_block(shape, &block, start)?

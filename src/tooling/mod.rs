@@ -334,17 +334,46 @@ fn offset_f(b: f64) -> f64 {
     }
 }
 
-/// Where the body starts along its axis: from half the insert's reach, the first place (in
-/// quarter-mm steps) where both near corners of the body stand behind the cutting edges.
-pub(crate) fn body_start(reach: f64, corners: impl Fn(f64) -> [P2; 2], lo: f64, hi: f64) -> f64 {
+/// The holder: the hull of the insert's seat and the body, placed so that near the tip only the
+/// insert can cut. `body(s)` is the body starting `s` along its axis, its two near corners
+/// first. Tried: set-backs along the bisector of the cutting corner (0, then 0.5 mm growing by
+/// a quarter each step) and, for each, starts from half the insert's reach in quarter-mm steps;
+/// taken: the first whose near corners lie behind both cutting edges and whose hull leaves the
+/// tip and the cutting edges (`edges`: the insert's vertices next to the tip) uncovered.
+pub(crate) fn place_body(
+    seat: &[P2],
+    edges: &[P2],
+    reach: f64,
+    body: impl Fn(f64) -> Vec<P2>,
+    lo: f64,
+    hi: f64,
+) -> Option<Vec<P2>> {
+    let bis = outline::dir((lo + hi) / 2.0);
     let s0 = 0.5 * reach;
-    for k in 0..400 {
-        let s = s0 + 0.25 * f64::from(k);
-        if corners(s).iter().all(|&p| in_cone(p, lo, hi)) {
-            return s;
+    let mut probes = vec![P2::new(0.0, 0.0)];
+    for e in edges {
+        for k in 1..=18 {
+            let f = f64::from(k) * 0.05;
+            probes.push(P2::new(e.x * f, e.y * f));
         }
     }
-    s0
+    for k in 0..=80 {
+        let t = if k == 0 { 0.0 } else { 0.5 * 1.25f64.powi(k - 1) };
+        for j in 0..400 {
+            let s = s0 + 0.25 * f64::from(j);
+            let pts: Vec<P2> = body(s).into_iter().map(|p| P2::new(p.x + bis.x * t, p.y + bis.y * t)).collect();
+            if !pts.iter().take(2).all(|&p| in_cone(p, lo, hi)) {
+                continue;
+            }
+            let mut all = seat.to_vec();
+            all.extend(pts);
+            let h = hull(&all);
+            if !probes.iter().any(|&p| outline::strictly_inside_convex(&h, p)) {
+                return Some(h);
+            }
+        }
+    }
+    None
 }
 
 fn turning(i: &Iso1832, h: &Holder, default_holder: bool) -> Result<Decoded, CatalogueError> {
@@ -406,7 +435,8 @@ fn turning(i: &Iso1832, h: &Holder, default_holder: bool) -> Result<Decoded, Cat
     let reach_x = ins.iter().map(|p| p.x).fold(0.0, f64::max);
     let reach_z = ins.iter().map(|p| p.y).fold(0.0, f64::max);
     let seat = shrink(&ins[1..], 0.9);
-    let (body_pts, facts_body) = match h.body {
+    let edges = [ins[1], ins[ins.len() - 1]];
+    let (placed, facts_body) = match h.body {
         Body::Shank { height, width, length } => {
             let zlo = if h.hand == 'N' {
                 -width / 2.0
@@ -416,10 +446,18 @@ fn turning(i: &Iso1832, h: &Holder, default_holder: bool) -> Result<Decoded, Cat
                 offset_f(width) - width
             };
             let zhi = zlo + width;
-            let xs = body_start(reach_x, |s| [P2::new(s, zlo), P2::new(s, zhi)], lo, hi);
-            let xe = length.max(xs + 1.0);
             (
-                vec![P2::new(xs, zlo), P2::new(xe, zlo), P2::new(xe, zhi), P2::new(xs, zhi)],
+                place_body(
+                    &seat,
+                    &edges,
+                    reach_x,
+                    |s| {
+                        let xe = length.max(s + 1.0);
+                        vec![P2::new(s, zlo), P2::new(s, zhi), P2::new(xe, zhi), P2::new(xe, zlo)]
+                    },
+                    lo,
+                    hi,
+                ),
                 vec![
                     ("shank", format!("{} × {} mm (height × width)", fmt_mm(height), fmt_mm(width))),
                     ("length", format!("{} mm", fmt_mm(length))),
@@ -429,10 +467,18 @@ fn turning(i: &Iso1832, h: &Holder, default_holder: bool) -> Result<Decoded, Cat
         Body::Bar { kind, diameter, length } => {
             let f = 0.65 * diameter;
             let (x0, x1) = (f - diameter / 2.0, f + diameter / 2.0);
-            let zs = body_start(reach_z, |s| [P2::new(x0, s), P2::new(x1, s)], lo, hi);
-            let ze = length.max(zs + 1.0);
             (
-                vec![P2::new(x0, zs), P2::new(x1, zs), P2::new(x1, ze), P2::new(x0, ze)],
+                place_body(
+                    &seat,
+                    &edges,
+                    reach_z,
+                    |s| {
+                        let ze = length.max(s + 1.0);
+                        vec![P2::new(x0, s), P2::new(x1, s), P2::new(x1, ze), P2::new(x0, ze)]
+                    },
+                    lo,
+                    hi,
+                ),
                 vec![
                     (
                         "bar",
@@ -448,9 +494,16 @@ fn turning(i: &Iso1832, h: &Holder, default_holder: bool) -> Result<Decoded, Cat
             )
         }
     };
-    let mut hold: Vec<P2> = seat;
-    hold.extend(body_pts);
-    let mut hold = hull(&hold);
+    let Some(mut hold) = placed else {
+        return err(
+            key,
+            format!(
+                "the holder's body cannot be placed behind the cutting edges of a {}° insert in style {}",
+                fmt_mm(e),
+                h.style.letter
+            ),
+        );
+    };
     if bore {
         ins = mirror_x(&ins);
         hold = mirror_x(&hold);
@@ -621,8 +674,8 @@ fn threading(t: &Threading, th: Option<&ThreadHolder>) -> Result<Decoded, Catalo
             )
         }
         Body::Bar { diameter, length, .. } => {
-            // The insert sits at the bar's end, its point 0.15 D out of the bar's side.
-            let x0 = 0.15 * diameter;
+            // The insert sits at the bar's end, its flanks half out of the bar's side.
+            let x0 = (0.15 * diameter).max(0.5 * d);
             let zs = -w - 1.0;
             (
                 vec![

@@ -98,3 +98,14 @@ pub fn polygon(what: &str, points: &[P2]) -> Result<Polygon, String> {
         .collect();
     Polygon::new(&pts).map_err(|e| format!("the {what} outline cannot be built: {e}"))
 }
+
+/// Whether `p` is strictly inside a convex counter-clockwise polygon.
+pub fn strictly_inside_convex(poly: &[P2], p: P2) -> bool {
+    let n = poly.len();
+    n >= 3
+        && (0..n).all(|i| {
+            let a = poly[i];
+            let b = poly[(i + 1) % n];
+            (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x) > 1e-9
+        })
+}

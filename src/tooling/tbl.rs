@@ -16,7 +16,7 @@
 //! Fanuc machine reads tip codes off the rear-turret chart instead: [`fanuc_tip`] converts.
 
 use super::outline::{dir, hull, polygon, shrink, walk};
-use super::{body_start, finish, fmt_mm, BuiltTool, CatalogueError, Decoded};
+use super::{finish, place_body, fmt_mm, BuiltTool, CatalogueError, Decoded};
 use crate::geom::P2;
 
 /// One line of a tool table, as written (lengths in the table's units, angles in degrees).
@@ -233,7 +233,7 @@ pub fn shape_decoded(t: &TblTool) -> Result<Decoded, CatalogueError> {
     if !given && (1..=8).contains(&q) {
         (i, j) = DEFAULT_ANGLES[usize::from(q)];
     }
-    let s = INSERT_EDGE.max(6.0 * r);
+    let mut s = INSERT_EDGE.max(6.0 * r);
     let (ins, lo, eps) = if i == j {
         // No angles: a round nose about the programmed point (orientation 0 or 9).
         let rr = r.max(1.0);
@@ -261,11 +261,17 @@ pub fn shape_decoded(t: &TblTool) -> Result<Decoded, CatalogueError> {
                 fmt_mm(eps)
             )));
         }
+        let half = (eps / 2.0).to_radians();
+        let back = r / half.sin();
+        let centred = q == 0 || q == 9;
+        if centred {
+            // The insert's long diagonal must reach past the nose centre.
+            s = s.max(back / half.cos());
+        }
         let mut pts = walk(lo, &[s; 4], &[180.0 - eps, eps, 180.0 - eps]);
-        if q == 0 || q == 9 {
+        if centred {
             // The programmed point is the nose centre: put the corner r from it, outward.
             let bis = dir(lo + eps / 2.0);
-            let back = r / (eps / 2.0).to_radians().sin();
             for p in &mut pts {
                 *p = P2::new(p.x - bis.x * back, p.y - bis.y * back);
             }
@@ -286,15 +292,19 @@ pub fn shape_decoded(t: &TblTool) -> Result<Decoded, CatalogueError> {
     let reach = ins.iter().map(|p| p.x * ax.x + p.y * ax.y).fold(0.0, f64::max);
     let w = HOLDER_WIDTH / 2.0;
     let at = |s: f64, off: f64| P2::new(ax.x * s + n.x * (cn + off), ax.y * s + n.y * (cn + off));
-    let s0 = if i == j {
-        0.5 * reach
-    } else {
-        body_start(reach, |s| [at(s, -w), at(s, w)], lo, lo + eps)
+    let body = |s: f64| {
+        let s1 = s.max(reach) + HOLDER_LENGTH;
+        vec![at(s, -w), at(s, w), at(s1, w), at(s1, -w)]
     };
-    let s1 = s0.max(reach) + HOLDER_LENGTH;
-    let mut pts: Vec<P2> = if i == j { shrink(&ins, 0.9) } else { shrink(&ins[1..], 0.9) };
-    pts.extend([at(s0, -w), at(s0, w), at(s1, w), at(s1, -w)]);
-    let hold = hull(&pts);
+    let hold = if i == j {
+        // A round nose: the bar alone, from half its radius out (every point of the nose may cut).
+        hull(&body(0.5 * reach))
+    } else {
+        // The seat: the insert less its cutting corner, a little inside it.
+        let n = ins.len();
+        place_body(&shrink(&ins[1..], 0.9), &[ins[1], ins[n - 1]], reach, body, lo, lo + eps)
+            .ok_or_else(|| bad("the generic holder cannot be placed behind the insert".into()))?
+    };
     let insert = polygon("insert", &ins).map_err(bad)?;
     let holder = polygon("holder", &hold).map_err(bad)?;
     let facts = vec![
