@@ -59,7 +59,11 @@ fn tools_show_json_carries_both_outlines_and_the_tip_direction() {
     assert_eq!(v["holder_code"], "S20S-SCLCR09");
     assert_eq!(v["facts"]["insert"], "implied by the holder");
     assert_eq!(v["facts"]["length"], "250 mm");
-    assert!(v["insert"].as_array().unwrap().iter().any(|p| p == &serde_json::json!([0.0, 0.0])));
+    assert!(v["insert"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|p| p == &serde_json::json!([0.0, 0.0])));
     assert!(v["holder"].as_array().unwrap().len() >= 4);
 }
 
@@ -80,10 +84,17 @@ fn tools_show_names_the_position_of_an_unknown_letter_and_exits_2() {
     let o = run(&["tools", "show", "CNMG 120408", "PCLQR 2525M12"]);
     assert_eq!(o.status.code(), Some(2));
     let e = err(&o);
-    assert!(e.contains("holder: \"PCLQR 2525M12\": position 4 (insert clearance) is 'Q'"), "{e}");
+    assert!(
+        e.contains("holder: \"PCLQR 2525M12\": position 4 (insert clearance) is 'Q'"),
+        "{e}"
+    );
     let o = run(&["tools", "show", "DNMG 150608", "PCLNR 2525M12"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(err(&o).contains("shape C") && err(&o).contains("shape D"), "{}", err(&o));
+    assert!(
+        err(&o).contains("shape C") && err(&o).contains("shape D"),
+        "{}",
+        err(&o)
+    );
 }
 
 #[test]
@@ -140,6 +151,10 @@ fn tools_import_reports_the_line_and_column_of_a_bad_word() {
     std::fs::write(&f, "T1 P1 X0 Z0\nT2 P2 X0 K5\n").unwrap();
     let o = run(&["tools", "import", f.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(err(&o).contains("bad.tbl:2:10: 'K' is not a tool table word"), "{}", err(&o));
+    assert!(
+        err(&o).contains("bad.tbl:2:10: 'K' is not a tool table word"),
+        "{}",
+        err(&o)
+    );
     std::fs::remove_dir_all(d).ok();
 }

@@ -75,11 +75,19 @@ fn round6(v: f64) -> f64 {
 }
 
 fn points_json(p: &Polygon) -> serde_json::Value {
-    json!(p.points().iter().map(|q| [round6(q.x), round6(q.y)]).collect::<Vec<_>>())
+    json!(p
+        .points()
+        .iter()
+        .map(|q| [round6(q.x), round6(q.y)])
+        .collect::<Vec<_>>())
 }
 
 fn points_toml(p: &Polygon) -> String {
-    let v: Vec<String> = p.points().iter().map(|q| format!("[{}, {}]", num(q.x), num(q.y))).collect();
+    let v: Vec<String> = p
+        .points()
+        .iter()
+        .map(|q| format!("[{}, {}]", num(q.x), num(q.y)))
+        .collect();
     format!("[{}]", v.join(", "))
 }
 
@@ -182,7 +190,11 @@ fn svg(d: &Decoded) -> String {
     let (x0, y0) = (b.min.y - m, -b.max.x - m);
     let (w, h) = (b.max.y - b.min.y + 2.0 * m, b.max.x - b.min.x + 2.0 * m);
     let poly = |p: &Polygon, fill: &str| {
-        let pts: Vec<String> = p.points().iter().map(|q| format!("{},{}", num(q.y), num(-q.x))).collect();
+        let pts: Vec<String> = p
+            .points()
+            .iter()
+            .map(|q| format!("{},{}", num(q.y), num(-q.x)))
+            .collect();
         format!(
             "  <polygon points=\"{}\" fill=\"{fill}\" stroke=\"black\" stroke-width=\"{}\"/>\n",
             pts.join(" "),
@@ -200,7 +212,11 @@ fn svg(d: &Decoded) -> String {
     let _ = writeln!(s, "  <title>{}</title>", xml(&d.tool.summary));
     s.push_str(&poly(&d.tool.holder, "#bbbbbb"));
     s.push_str(&poly(&d.tool.insert, "#e8b923"));
-    let _ = writeln!(s, "  <circle cx=\"0\" cy=\"0\" r=\"{}\" fill=\"red\"/>", num(w.max(h) / 100.0));
+    let _ = writeln!(
+        s,
+        "  <circle cx=\"0\" cy=\"0\" r=\"{}\" fill=\"red\"/>",
+        num(w.max(h) / 100.0)
+    );
     s.push_str("</svg>\n");
     s
 }

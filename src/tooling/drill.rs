@@ -20,7 +20,10 @@ pub fn build(d: &DrillSpec) -> Result<Decoded, String> {
         ));
     }
     if !(d.length.is_finite() && d.length > 0.0 && d.length <= MAX_LENGTH) {
-        return Err(format!("length is {}; expected 0 < length <= {MAX_LENGTH} mm", d.length));
+        return Err(format!(
+            "length is {}; expected 0 < length <= {MAX_LENGTH} mm",
+            d.length
+        ));
     }
     let angle = d.point_angle.unwrap_or(118.0);
     if !(angle.is_finite() && (60.0..=180.0).contains(&angle)) {

@@ -89,12 +89,15 @@ pub struct Style {
 }
 
 pub fn style(letter: char) -> Option<Style> {
-    STYLES.iter().find(|s| s.0 == letter).map(|&(letter, kappa, facing, straight)| Style {
-        letter,
-        kappa,
-        facing,
-        straight,
-    })
+    STYLES
+        .iter()
+        .find(|s| s.0 == letter)
+        .map(|&(letter, kappa, facing, straight)| Style {
+            letter,
+            kappa,
+            facing,
+            straight,
+        })
 }
 
 pub fn length(letter: char) -> Option<f64> {
@@ -157,14 +160,12 @@ fn accepted<T>(set: &[(char, T)]) -> String {
 /// Decode a holder or boring bar designation.
 pub fn parse(code: &str) -> Result<AnyHolder, String> {
     if code.chars().count() > insert::MAX_CODE {
-        return Err(format!("is longer than {} characters: no designation is", insert::MAX_CODE));
+        return Err(format!(
+            "is longer than {} characters: no designation is",
+            insert::MAX_CODE
+        ));
     }
-    let s: Vec<char> = code
-        .trim()
-        .to_ascii_uppercase()
-        .chars()
-        .filter(|c| *c != ' ')
-        .collect();
+    let s: Vec<char> = code.trim().to_ascii_uppercase().chars().filter(|c| *c != ' ').collect();
     if s.is_empty() {
         return Err("is empty".into());
     }
@@ -220,7 +221,11 @@ fn head(s: &[char], i: usize) -> Result<Head, String> {
             "position {} (insert shape) is {}; accepted: {}",
             i + 2,
             shown(at(1)),
-            insert::SHAPES.iter().map(|s| s.0.to_string()).collect::<Vec<_>>().join(" ")
+            insert::SHAPES
+                .iter()
+                .map(|s| s.0.to_string())
+                .collect::<Vec<_>>()
+                .join(" ")
         )
     })?;
     let style = at(2).and_then(style).ok_or_else(|| {
@@ -239,9 +244,9 @@ fn head(s: &[char], i: usize) -> Result<Head, String> {
             accepted(insert::CLEARANCES)
         )
     })?;
-    let hand = at(4).filter(|c| matches!(c, 'R' | 'L' | 'N')).ok_or_else(|| {
-        format!("position {} (hand) is {}; accepted: R L N", i + 5, shown(at(4)))
-    })?;
+    let hand = at(4)
+        .filter(|c| matches!(c, 'R' | 'L' | 'N'))
+        .ok_or_else(|| format!("position {} (hand) is {}; accepted: R L N", i + 5, shown(at(4))))?;
     Ok((
         clamping,
         shape,
@@ -356,7 +361,11 @@ fn thread_holder(s: &[char]) -> Result<ThreadHolder, String> {
             return Err("positions 4–7 (bar diameter) must read 00dd, as in SIR 0020P16".into());
         }
         let length = length_at(s, 7, 10.0 * d)?;
-        Body::Bar { kind: 'S', diameter: d, length }
+        Body::Bar {
+            kind: 'S',
+            diameter: d,
+            length,
+        }
     } else {
         let height = f64::from(two_digits(s, 3, "shank height")?);
         let width = f64::from(two_digits(s, 5, "shank width")?);
@@ -370,7 +379,11 @@ fn thread_holder(s: &[char]) -> Result<ThreadHolder, String> {
     if !insert::THREAD_SIZES.iter().any(|t| t.0 == size) {
         return Err(format!(
             "position 9 (threading insert size) is {size}; accepted: {}",
-            insert::THREAD_SIZES.iter().map(|t| t.0.to_string()).collect::<Vec<_>>().join(" ")
+            insert::THREAD_SIZES
+                .iter()
+                .map(|t| t.0.to_string())
+                .collect::<Vec<_>>()
+                .join(" ")
         ));
     }
     rest_ok(s, 10)?;

@@ -82,9 +82,7 @@ pub const THICKNESSES: &[(&str, f64)] = &[
 ];
 
 /// Standard inscribed circles, mm: a metric size code names the one whose edge length it is.
-pub const STANDARD_IC: &[f64] = &[
-    3.97, 4.76, 5.56, 6.35, 7.94, 9.525, 12.7, 15.875, 19.05, 25.4, 31.75,
-];
+pub const STANDARD_IC: &[f64] = &[3.97, 4.76, 5.56, 6.35, 7.94, 9.525, 12.7, 15.875, 19.05, 25.4, 31.75];
 
 pub fn shape(letter: char) -> Option<Shape> {
     SHAPES
@@ -311,7 +309,10 @@ pub fn parse_iso1832(up: &str) -> Result<Iso1832, String> {
     }
     let block: String = chars[start..i].iter().collect();
     let suffix: String = chars[i..].iter().collect::<String>().trim().to_string();
-    let digits = block.chars().take_while(|c| c.is_ascii_digit() || *c == 'T' || *c == 'M').count();
+    let digits = block
+        .chars()
+        .take_while(|c| c.is_ascii_digit() || *c == 'T' || *c == 'M')
+        .count();
     let (ic, edge, thickness, nose_radius, inch, extra) = if block.len() >= 6 && digits >= 4 {
         metric_block(shape, &block, start)?
     } else if block.len() >= 3 && block.chars().take(3).all(|c| c.is_ascii_digit()) {
@@ -357,13 +358,17 @@ fn metric_block(shape: Shape, block: &str, start: usize) -> Result<Block, String
         return Err(format!("position {} (size) is 00; an insert has a size", start + 1));
     }
     let thick_s: String = b[2..4].iter().collect();
-    let thickness = THICKNESSES.iter().find(|t| t.0 == thick_s).map(|t| t.1).ok_or_else(|| {
-        format!(
-            "position {} (thickness) is {thick_s:?}; accepted: {}",
-            start + 3,
-            THICKNESSES.iter().map(|t| t.0).collect::<Vec<_>>().join(" ")
-        )
-    })?;
+    let thickness = THICKNESSES
+        .iter()
+        .find(|t| t.0 == thick_s)
+        .map(|t| t.1)
+        .ok_or_else(|| {
+            format!(
+                "position {} (thickness) is {thick_s:?}; accepted: {}",
+                start + 3,
+                THICKNESSES.iter().map(|t| t.0).collect::<Vec<_>>().join(" ")
+            )
+        })?;
     let nose_s: String = b[4..6].iter().collect();
     let nose_radius = if nose_s == "M0" || nose_s == "00" {
         0.0
@@ -390,7 +395,10 @@ fn inch_block(shape: Shape, block: &str, start: usize) -> Result<Block, String> 
         return Err(format!("position {} (size) is 0; an insert has a size", start + 1));
     }
     if d(1) == 0.0 {
-        return Err(format!("position {} (thickness) is 0; an insert has a thickness", start + 2));
+        return Err(format!(
+            "position {} (thickness) is 0; an insert has a thickness",
+            start + 2
+        ));
     }
     // IC in eighths of an inch, thickness in sixteenths, nose radius in sixty-fourths.
     let ic = d(0) * 25.4 / 8.0;
@@ -416,11 +424,17 @@ pub fn parse_threading(up: &str) -> Result<Threading, String> {
     let s: String = up.chars().filter(|c| *c != ' ').collect();
     let chars: Vec<char> = s.chars().collect();
     let n = chars.iter().take_while(|c| c.is_ascii_digit()).count();
-    let size: u32 = s[..n].parse().map_err(|_| "position 1 (size) is not a number".to_string())?;
+    let size: u32 = s[..n]
+        .parse()
+        .map_err(|_| "position 1 (size) is not a number".to_string())?;
     let ic = THREAD_SIZES.iter().find(|t| t.0 == size).map(|t| t.1).ok_or_else(|| {
         format!(
             "position 1 (threading insert size) is {size}; accepted: {}",
-            THREAD_SIZES.iter().map(|t| t.0.to_string()).collect::<Vec<_>>().join(" ")
+            THREAD_SIZES
+                .iter()
+                .map(|t| t.0.to_string())
+                .collect::<Vec<_>>()
+                .join(" ")
         )
     })?;
     let pos = n + 1;
@@ -428,7 +442,10 @@ pub fn parse_threading(up: &str) -> Result<Threading, String> {
         Some('E') => false,
         Some('I') => true,
         Some(&c) => {
-            return Err(format!("position {pos} (external/internal) is {}; accepted: E I", shown(c)));
+            return Err(format!(
+                "position {pos} (external/internal) is {}; accepted: E I",
+                shown(c)
+            ));
         }
         None => return Err(format!("ends before position {pos} (E external or I internal)")),
     };
@@ -444,11 +461,18 @@ pub fn parse_threading(up: &str) -> Result<Threading, String> {
     // Pitch: a number (mm, or TPI when the profile is UN/W/NPT/BSPT), or a range code.
     let num_len = rest.chars().take_while(|c| c.is_ascii_digit() || *c == '.').count();
     let (pitch_raw, profile_s) = if num_len > 0 {
-        let v: f64 = rest[..num_len]
-            .parse()
-            .map_err(|_| format!("position {} (pitch) is {:?}; expected a number", pos + 2, &rest[..num_len]))?;
+        let v: f64 = rest[..num_len].parse().map_err(|_| {
+            format!(
+                "position {} (pitch) is {:?}; expected a number",
+                pos + 2,
+                &rest[..num_len]
+            )
+        })?;
         if !(v > 0.0 && v <= 100.0) {
-            return Err(format!("position {} (pitch) is {v}; expected 0 < pitch <= 100", pos + 2));
+            return Err(format!(
+                "position {} (pitch) is {v}; expected 0 < pitch <= 100",
+                pos + 2
+            ));
         }
         (Some(v), rest[num_len..].to_string())
     } else {
@@ -543,7 +567,9 @@ pub fn parse_groove(up: &str) -> Result<Groove, String> {
         } else if t == "EXT" || t == "EXTERNAL" {
             internal = false;
         } else {
-            return Err(format!("GROOVE does not take {t:?}; accepted after the size: R<radius>, INT, EXT"));
+            return Err(format!(
+                "GROOVE does not take {t:?}; accepted after the size: R<radius>, INT, EXT"
+            ));
         }
     }
     Ok(Groove {

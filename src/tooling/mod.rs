@@ -53,7 +53,9 @@ pub struct BuiltTool {
     /// Everything behind it up to the turret: must never touch.
     pub holder: Polygon,
     pub nose_radius: f64,
-    /// Imaginary-tip direction 0–9 (docs/comp.md), as a rear-turret Fanuc chart reads it.
+    /// Imaginary-tip direction 0–9 (docs/comp.md), as a rear-turret Fanuc chart reads it; from
+    /// [`tbl::shape`], the table's Q unchanged (LinuxCNC's orientation: [`tbl::fanuc_tip`]
+    /// converts).
     pub tip_direction: u8,
     /// One line for `latheguard setup`: what the codes were read as (`80° rhombic, 12.9 mm
     /// IC, r0.8, 95° right-hand holder, 25 × 25 shank, 150 mm`).
@@ -103,26 +105,28 @@ pub fn fmt_mm(v: f64) -> String {
 pub fn decode(spec: &CatalogueSpec) -> Result<Decoded, CatalogueError> {
     if let Some(d) = &spec.drill {
         if spec.insert.is_some() || spec.holder.is_some() {
-            return err("drill", "a drill is given by its sizes alone: leave out insert and holder");
+            return err(
+                "drill",
+                "a drill is given by its sizes alone: leave out insert and holder",
+            );
         }
-        return drill::build(d).map_err(|m| CatalogueError { key: "drill", message: m });
+        return drill::build(d).map_err(|m| CatalogueError {
+            key: "drill",
+            message: m,
+        });
     }
     let ins = match &spec.insert {
-        Some(code) => Some(
-            insert::parse(code).map_err(|m| CatalogueError {
-                key: "insert",
-                message: format!("{code:?}: {m}"),
-            })?,
-        ),
+        Some(code) => Some(insert::parse(code).map_err(|m| CatalogueError {
+            key: "insert",
+            message: format!("{code:?}: {m}"),
+        })?),
         None => None,
     };
     let hold = match &spec.holder {
-        Some(code) => Some(
-            holder::parse(code).map_err(|m| CatalogueError {
-                key: "holder",
-                message: format!("{code:?}: {m}"),
-            })?,
-        ),
+        Some(code) => Some(holder::parse(code).map_err(|m| CatalogueError {
+            key: "holder",
+            message: format!("{code:?}: {m}"),
+        })?),
         None => None,
     };
     match (ins, hold) {
@@ -361,7 +365,10 @@ pub(crate) fn place_body(
         let t = if k == 0 { 0.0 } else { 0.5 * 1.25f64.powi(k - 1) };
         for j in 0..400 {
             let s = s0 + 0.25 * f64::from(j);
-            let pts: Vec<P2> = body(s).into_iter().map(|p| P2::new(p.x + bis.x * t, p.y + bis.y * t)).collect();
+            let pts: Vec<P2> = body(s)
+                .into_iter()
+                .map(|p| P2::new(p.x + bis.x * t, p.y + bis.y * t))
+                .collect();
             if !pts.iter().take(2).all(|&p| in_cone(p, lo, hi)) {
                 continue;
             }
@@ -459,7 +466,10 @@ fn turning(i: &Iso1832, h: &Holder, default_holder: bool) -> Result<Decoded, Cat
                     hi,
                 ),
                 vec![
-                    ("shank", format!("{} × {} mm (height × width)", fmt_mm(height), fmt_mm(width))),
+                    (
+                        "shank",
+                        format!("{} × {} mm (height × width)", fmt_mm(height), fmt_mm(width)),
+                    ),
                     ("length", format!("{} mm", fmt_mm(length))),
                 ],
             )
@@ -522,9 +532,22 @@ fn turning(i: &Iso1832, h: &Holder, default_holder: bool) -> Result<Decoded, Cat
         _ => "neutral",
     };
     let mut facts = vec![
-        ("shape", format!("{} ({})", insert::shape_name(i.shape.letter), i.shape.letter)),
-        ("corner angle", if round { "round".into() } else { format!("{}°", fmt_mm(e)) }),
-        ("clearance", format!("{}° ({})", fmt_mm(i.clearance), i.clearance_letter)),
+        (
+            "shape",
+            format!("{} ({})", insert::shape_name(i.shape.letter), i.shape.letter),
+        ),
+        (
+            "corner angle",
+            if round {
+                "round".into()
+            } else {
+                format!("{}°", fmt_mm(e))
+            },
+        ),
+        (
+            "clearance",
+            format!("{}° ({})", fmt_mm(i.clearance), i.clearance_letter),
+        ),
         ("tolerance", i.tolerance.to_string()),
         ("type", i.kind.to_string()),
         ("inscribed circle", format!("{} mm", fmt_mm(i.ic))),
@@ -533,7 +556,10 @@ fn turning(i: &Iso1832, h: &Holder, default_holder: bool) -> Result<Decoded, Cat
         ("nose radius", format!("{} mm", fmt_mm(nose_radius))),
     ];
     if i.inch {
-        facts.push(("form", "inch (IC in 1/8\", thickness in 1/16\", nose radius in 1/64\")".into()));
+        facts.push((
+            "form",
+            "inch (IC in 1/8\", thickness in 1/16\", nose radius in 1/64\")".into(),
+        ));
     }
     if !i.suffix.is_empty() {
         facts.push(("suffix", format!("{} (not read)", i.suffix)));
@@ -541,9 +567,19 @@ fn turning(i: &Iso1832, h: &Holder, default_holder: bool) -> Result<Decoded, Cat
     facts.push((
         "holder",
         if default_holder {
-            format!("default for the shape: style {}, right hand, 25 × 25 shank, 150 mm", h.style.letter)
+            format!(
+                "default for the shape: style {}, right hand, 25 × 25 shank, 150 mm",
+                h.style.letter
+            )
         } else {
-            format!("{} ({})", if bore { "boring bar" } else { "external" }, holder::CLAMPINGS.iter().find(|c| c.0 == h.clamping).map_or("?", |c| c.1))
+            format!(
+                "{} ({})",
+                if bore { "boring bar" } else { "external" },
+                holder::CLAMPINGS
+                    .iter()
+                    .find(|c| c.0 == h.clamping)
+                    .map_or("?", |c| c.1)
+            )
         },
     ));
     facts.push((
@@ -631,7 +667,10 @@ fn threading(t: &Threading, th: Option<&ThreadHolder>) -> Result<Decoded, Catalo
         if th.size != t.size {
             return err(
                 "holder",
-                format!("the holder takes size {} inserts, the insert is size {}", th.size, t.size),
+                format!(
+                    "the holder takes size {} inserts, the insert is size {}",
+                    th.size, t.size
+                ),
             );
         }
     }
@@ -706,7 +745,13 @@ fn threading(t: &Threading, th: Option<&ThreadHolder>) -> Result<Decoded, Catalo
         }
     };
     let facts = vec![
-        ("kind", format!("{} threading insert, laydown", if t.internal { "internal" } else { "external" })),
+        (
+            "kind",
+            format!(
+                "{} threading insert, laydown",
+                if t.internal { "internal" } else { "external" }
+            ),
+        ),
         ("size", format!("{} ({} mm inscribed circle)", t.size, fmt_mm(t.ic))),
         ("hand", t.hand.to_string()),
         ("pitch", pitch),
@@ -714,7 +759,11 @@ fn threading(t: &Threading, th: Option<&ThreadHolder>) -> Result<Decoded, Catalo
         ("nose radius", format!("{} mm", fmt_mm(t.nose_radius))),
         (
             "holder",
-            if th.is_some() { body_fact.clone() } else { format!("default: {body_fact}") },
+            if th.is_some() {
+                body_fact.clone()
+            } else {
+                format!("default: {body_fact}")
+            },
         ),
         ("tip direction", td.to_string()),
     ];
@@ -780,7 +829,10 @@ fn grooving(g: &Groove) -> Result<Decoded, CatalogueError> {
     let holder_poly = polygon("holder", &hold).or_else(|m| err("insert", m))?;
     let td = if g.internal { 2 } else { 3 };
     let facts = vec![
-        ("kind", format!("{} grooving insert", if g.internal { "internal" } else { "external" })),
+        (
+            "kind",
+            format!("{} grooving insert", if g.internal { "internal" } else { "external" }),
+        ),
         ("width", format!("{} mm", fmt_mm(g.width))),
         ("depth", format!("{} mm", fmt_mm(g.depth))),
         ("nose radius", format!("{} mm", fmt_mm(g.nose_radius))),

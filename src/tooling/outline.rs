@@ -33,7 +33,11 @@ pub fn walk(start: f64, sides: &[f64], interior: &[f64]) -> Vec<P2> {
 
 /// Convex hull (counter-clockwise, no collinear points) of a set of points.
 pub fn hull(points: &[P2]) -> Vec<P2> {
-    let mut p: Vec<P2> = points.iter().copied().filter(|q| q.x.is_finite() && q.y.is_finite()).collect();
+    let mut p: Vec<P2> = points
+        .iter()
+        .copied()
+        .filter(|q| q.x.is_finite() && q.y.is_finite())
+        .collect();
     p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
     p.dedup();
     if p.len() < 3 {

@@ -16,7 +16,7 @@
 //! Fanuc machine reads tip codes off the rear-turret chart instead: [`fanuc_tip`] converts.
 
 use super::outline::{dir, hull, polygon, shrink, walk};
-use super::{finish, place_body, fmt_mm, BuiltTool, CatalogueError, Decoded};
+use super::{finish, fmt_mm, place_body, BuiltTool, CatalogueError, Decoded};
 use crate::geom::P2;
 
 /// One line of a tool table, as written (lengths in the table's units, angles in degrees).
@@ -88,12 +88,14 @@ pub fn parse(text: &str) -> Result<Vec<TblTool>, TblError> {
         };
         let chars: Vec<char> = words.chars().collect();
         if chars.iter().all(|c| c.is_whitespace()) {
-            if !comment.is_empty() {
-                // A comment alone on its line: allowed, nothing to read.
-            }
+            // A blank line, or a comment alone on its line: nothing to read.
             continue;
         }
-        let e = |col: usize, message: String| TblError { line, col: col + 1, message };
+        let e = |col: usize, message: String| TblError {
+            line,
+            col: col + 1,
+            message,
+        };
         let mut t = TblTool {
             comment: comment.to_string(),
             ..TblTool::default()
@@ -112,7 +114,9 @@ pub fn parse(text: &str) -> Result<Vec<TblTool>, TblError> {
             if !"TPXYZABCUVWDIJQ".contains(letter) || !c.is_ascii_alphabetic() {
                 return Err(e(
                     col,
-                    format!("{c:?} is not a tool table word; expected one of T P X Z D I J Q (Y A B C U V W are ignored)"),
+                    format!(
+                        "{c:?} is not a tool table word; expected one of T P X Z D I J Q (Y A B C U V W are ignored)"
+                    ),
                 ));
             }
             if got.contains(letter) {
@@ -130,7 +134,12 @@ pub fn parse(text: &str) -> Result<Vec<TblTool>, TblError> {
             }
             let v: f64 = match num.parse::<f64>() {
                 Ok(v) if v.is_finite() && v.abs() <= MAX_VALUE => v,
-                Ok(_) => return Err(e(start, format!("{letter}{num}: the value is out of range (|v| <= {MAX_VALUE})"))),
+                Ok(_) => {
+                    return Err(e(
+                        start,
+                        format!("{letter}{num}: the value is out of range (|v| <= {MAX_VALUE})"),
+                    ))
+                }
                 Err(_) if num.is_empty() => return Err(e(col, format!("{letter} needs a number"))),
                 Err(_) => return Err(e(start, format!("{letter}{num}: {num:?} is not a number"))),
             };
@@ -138,7 +147,10 @@ pub fn parse(text: &str) -> Result<Vec<TblTool>, TblError> {
                 if v.fract() == 0.0 && v >= lo && v <= hi {
                     Ok(v as u32)
                 } else {
-                    Err(e(start, format!("{letter}{num}: expected a whole number from {lo} to {hi}")))
+                    Err(e(
+                        start,
+                        format!("{letter}{num}: expected a whole number from {lo} to {hi}"),
+                    ))
                 }
             };
             match letter {
@@ -162,7 +174,10 @@ pub fn parse(text: &str) -> Result<Vec<TblTool>, TblError> {
             }
         }
         let Some(tcol) = tool_col else {
-            return Err(e(0, "this line has no T word: every tool table line starts a tool with T<n>".into()));
+            return Err(e(
+                0,
+                "this line has no T word: every tool table line starts a tool with T<n>".into(),
+            ));
         };
         if !got.contains('P') {
             t.pocket = t.tool;
@@ -222,7 +237,10 @@ pub fn shape(t: &TblTool) -> Result<BuiltTool, CatalogueError> {
 
 /// [`shape`] with what the line was read as.
 pub fn shape_decoded(t: &TblTool) -> Result<Decoded, CatalogueError> {
-    let bad = |m: String| CatalogueError { key: "insert", message: format!("T{}: {m}", t.tool) };
+    let bad = |m: String| CatalogueError {
+        key: "insert",
+        message: format!("T{}: {m}", t.tool),
+    };
     let r = t.diameter / 2.0;
     if !(r.is_finite() && r <= 100.0) {
         return Err(bad(format!("the nose radius D/2 = {} is more than 100 mm", fmt_mm(r))));
@@ -287,7 +305,10 @@ pub fn shape_decoded(t: &TblTool) -> Result<Decoded, CatalogueError> {
         (P2::new(0.0, bis.y.signum()), P2::new(1.0, 0.0))
     };
     let k = ins.len() as f64;
-    let c = P2::new(ins.iter().map(|p| p.x).sum::<f64>() / k, ins.iter().map(|p| p.y).sum::<f64>() / k);
+    let c = P2::new(
+        ins.iter().map(|p| p.x).sum::<f64>() / k,
+        ins.iter().map(|p| p.y).sum::<f64>() / k,
+    );
     let cn = c.x * n.x + c.y * n.y;
     let reach = ins.iter().map(|p| p.x * ax.x + p.y * ax.y).fold(0.0, f64::max);
     let w = HOLDER_WIDTH / 2.0;
@@ -302,8 +323,15 @@ pub fn shape_decoded(t: &TblTool) -> Result<Decoded, CatalogueError> {
     } else {
         // The seat: the insert less its cutting corner, a little inside it.
         let n = ins.len();
-        place_body(&shrink(&ins[1..], 0.9), &[ins[1], ins[n - 1]], reach, body, lo, lo + eps)
-            .ok_or_else(|| bad("the generic holder cannot be placed behind the insert".into()))?
+        place_body(
+            &shrink(&ins[1..], 0.9),
+            &[ins[1], ins[n - 1]],
+            reach,
+            body,
+            lo,
+            lo + eps,
+        )
+        .ok_or_else(|| bad("the generic holder cannot be placed behind the insert".into()))?
     };
     let insert = polygon("insert", &ins).map_err(bad)?;
     let holder = polygon("holder", &hold).map_err(bad)?;
@@ -325,13 +353,24 @@ pub fn shape_decoded(t: &TblTool) -> Result<Decoded, CatalogueError> {
                 )
             },
         ),
-        ("orientation", format!("Q{q} (LinuxCNC; Fanuc rear-turret tip {})", fanuc_tip(q))),
+        (
+            "orientation",
+            format!("Q{q} (LinuxCNC; Fanuc rear-turret tip {})", fanuc_tip(q)),
+        ),
     ];
     let summary = format!(
         "T{}{}: {}r{}, Q{}",
         t.tool,
-        if t.comment.is_empty() { String::new() } else { format!(" {}", t.comment) },
-        if i == j { "round nose, ".to_string() } else { format!("{}° insert, ", fmt_mm(eps)) },
+        if t.comment.is_empty() {
+            String::new()
+        } else {
+            format!(" {}", t.comment)
+        },
+        if i == j {
+            "round nose, ".to_string()
+        } else {
+            format!("{}° insert, ", fmt_mm(eps))
+        },
         fmt_mm(r),
         q
     );

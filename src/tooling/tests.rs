@@ -56,7 +56,10 @@ fn angle(a: P2, b: P2) -> f64 {
 fn tip_edges(p: &Polygon) -> (f64, f64) {
     let pts = p.points();
     let n = pts.len();
-    let k = pts.iter().position(|q| q.x == 0.0 && q.y == 0.0).expect("a vertex at the tip");
+    let k = pts
+        .iter()
+        .position(|q| q.x == 0.0 && q.y == 0.0)
+        .expect("a vertex at the tip");
     (angle(pts[k], pts[(k + 1) % n]), angle(pts[k], pts[(k + n - 1) % n]))
 }
 
@@ -116,7 +119,10 @@ fn inch_cnmg_432_is_half_inch_ic_three_sixteenths_thick_one_thirty_second_nose()
 #[test]
 fn unknown_insert_letters_say_which_position_and_what_is_accepted() {
     let e = insert_err("QNMG 120408");
-    assert!(e.contains("position 1 (shape)") && e.contains("'Q'") && e.contains("C D E"), "{e}");
+    assert!(
+        e.contains("position 1 (shape)") && e.contains("'Q'") && e.contains("C D E"),
+        "{e}"
+    );
     let e = insert_err("CZMG 120408");
     assert!(e.contains("position 2 (normal clearance)") && e.contains("N P"), "{e}");
     let e = insert_err("CNZG 120408");
@@ -221,7 +227,10 @@ fn boring_bars_decode_kind_diameter_length_and_insert() {
             length: 250.0
         }
     );
-    assert_eq!((h.clamping, h.shape.letter, h.style.kappa, h.clearance, h.hand), ('S', 'C', 95.0, 7.0, 'R'));
+    assert_eq!(
+        (h.clamping, h.shape.letter, h.style.kappa, h.clearance, h.hand),
+        ('S', 'C', 95.0, 7.0, 'R')
+    );
     assert!(close(h.ic, 9.525, 1e-9));
     let h = turning_holder("A16R-SDUCR07");
     assert_eq!(
@@ -264,10 +273,17 @@ fn built_pclnr_with_cnmg_is_a_95_degree_tip_3_tool_like_the_machine_file_t01() {
     let hb = t.holder.aabb();
     assert!(close(hb.max.x, 150.0, 1e-9) && close(hb.max.y, 32.0, 1e-9), "{hb:?}");
     let hp = t.holder.points();
-    assert!(hp.contains(&P2::new(150.0, 7.0)) && hp.contains(&P2::new(150.0, 32.0)), "{hp:?}");
+    assert!(
+        hp.contains(&P2::new(150.0, 7.0)) && hp.contains(&P2::new(150.0, 32.0)),
+        "{hp:?}"
+    );
     // Behind the insert the holder is its seat, a little inside it.
     assert!(close(hb.min.y, 1.943, 0.001) && close(hb.min.x, 1.943, 0.001), "{hb:?}");
-    assert!(t.summary.contains("80° rhombic") && t.summary.contains("95°"), "{}", t.summary);
+    assert!(
+        t.summary.contains("80° rhombic") && t.summary.contains("95°"),
+        "{}",
+        t.summary
+    );
 }
 
 #[test]
@@ -282,7 +298,10 @@ fn left_hand_and_boring_tools_mirror_the_right_hand_tool() {
     assert_eq!(bar.tip_direction, 2);
     let b = bar.holder.aabb();
     // The bar lies on the -x side of the tip, 13 mm from the tip to its axis, along +z.
-    assert!(close(b.min.x, -23.0, 1e-9) && close(b.max.x, -1.4572, 0.01) && close(b.max.y, 250.0, 1e-9), "{b:?}");
+    assert!(
+        close(b.min.x, -23.0, 1e-9) && close(b.max.x, -1.4572, 0.01) && close(b.max.y, 250.0, 1e-9),
+        "{b:?}"
+    );
     let left_bar = build(&spec(Some("CCMT 09T304"), Some("S20S-SCLCL09"))).unwrap();
     assert_eq!(left_bar.tip_direction, 1);
 }
@@ -291,7 +310,11 @@ fn left_hand_and_boring_tools_mirror_the_right_hand_tool() {
 fn holder_and_insert_must_agree_in_shape_clearance_and_size() {
     let e = build_err(Some("DNMG 150608"), Some("PCLNR 2525M12"));
     assert_eq!(e.key, "holder");
-    assert!(e.message.contains("shape C") && e.message.contains("shape D"), "{}", e.message);
+    assert!(
+        e.message.contains("shape C") && e.message.contains("shape D"),
+        "{}",
+        e.message
+    );
     let e = build_err(Some("CCMT 120408"), Some("PCLNR 2525M12"));
     assert!(e.message.contains("clearance"), "{}", e.message);
     let e = build_err(Some("CNMG 090308"), Some("PCLNR 2525M12"));
@@ -344,7 +367,11 @@ fn drills_point_at_the_tip_and_flute_back_their_length() {
     let b = t.insert.aabb();
     assert_eq!((b.min.x, b.max.x, b.min.y, b.max.y), (-10.0, 10.0, 0.0, 60.0));
     // 118°: the point is r / tan 59° = 6.01 mm long.
-    assert!(t.insert.points().iter().any(|p| close(p.x, 10.0, 1e-9) && close(p.y, 6.0086, 1e-3)));
+    assert!(t
+        .insert
+        .points()
+        .iter()
+        .any(|p| close(p.x, 10.0, 1e-9) && close(p.y, 6.0086, 1e-3)));
     assert_eq!(t.tip_direction, 0);
     let flat = DrillSpec {
         point_angle: Some(180.0),
@@ -357,10 +384,22 @@ fn drills_point_at_the_tip_and_flute_back_their_length() {
     .unwrap();
     assert_eq!(locate(P2::new(0.0, 0.0), &t.insert), Location::Boundary);
     for bad in [
-        DrillSpec { diameter: 0.0, ..d.clone() },
-        DrillSpec { length: f64::NAN, ..d.clone() },
-        DrillSpec { point_angle: Some(30.0), ..d.clone() },
-        DrillSpec { length: 2.0, ..d.clone() },
+        DrillSpec {
+            diameter: 0.0,
+            ..d.clone()
+        },
+        DrillSpec {
+            length: f64::NAN,
+            ..d.clone()
+        },
+        DrillSpec {
+            point_angle: Some(30.0),
+            ..d.clone()
+        },
+        DrillSpec {
+            length: 2.0,
+            ..d.clone()
+        },
     ] {
         let e = build(&CatalogueSpec {
             drill: Some(bad.clone()),
@@ -406,8 +445,18 @@ fn lathe_comp_tool_table_reads_19_tools_with_their_angles_and_orientations() {
         let built = tbl::shape(&t.in_mm(true)).unwrap();
         assert_eq!(built.tip_direction, t.orientation);
         assert!(close(built.nose_radius, t.diameter * 25.4 / 2.0, 1e-9));
-        assert_ne!(locate(P2::new(0.0, 0.0), &built.insert), Location::Outside, "T{}", t.tool);
-        assert_eq!(locate(P2::new(0.0, 0.0), &built.holder), Location::Outside, "T{}", t.tool);
+        assert_ne!(
+            locate(P2::new(0.0, 0.0), &built.insert),
+            Location::Outside,
+            "T{}",
+            t.tool
+        );
+        assert_eq!(
+            locate(P2::new(0.0, 0.0), &built.holder),
+            Location::Outside,
+            "T{}",
+            t.tool
+        );
     }
 }
 
@@ -426,10 +475,16 @@ fn tbl_words_come_in_any_order_with_comments_blank_lines_and_no_spaces() {
     let text = "; a table\n\n  q3 d0.8 T7 z-12.5 x-60;OD rough\r\nT8P3X1Z2\nT9 Y5 A1;\n";
     let tools = tbl::parse(text).unwrap();
     assert_eq!(tools.len(), 3);
-    assert_eq!((tools[0].tool, tools[0].pocket, tools[0].x, tools[0].z), (7, 7, -60.0, -12.5));
+    assert_eq!(
+        (tools[0].tool, tools[0].pocket, tools[0].x, tools[0].z),
+        (7, 7, -60.0, -12.5)
+    );
     assert_eq!((tools[0].orientation, tools[0].diameter), (3, 0.8));
     assert_eq!(tools[0].comment, "OD rough");
-    assert_eq!((tools[1].tool, tools[1].pocket, tools[1].x, tools[1].z), (8, 3, 1.0, 2.0));
+    assert_eq!(
+        (tools[1].tool, tools[1].pocket, tools[1].x, tools[1].z),
+        (8, 3, 1.0, 2.0)
+    );
     assert_eq!(tools[0].in_mm(true).tip(), [-60.0 * 25.4, -12.5 * 25.4]);
 }
 
@@ -459,7 +514,12 @@ fn tbl_errors_carry_line_and_column() {
     let x = e("T1 D-1");
     assert!(x.message.contains("negative"));
     let x = e("T1 Z1e9");
-    assert_eq!((x.col, x.message.contains("not a tool table word")), (6, true), "{}", x.message);
+    assert_eq!(
+        (x.col, x.message.contains("not a tool table word")),
+        (6, true),
+        "{}",
+        x.message
+    );
     let x = e("T1 Z1,5");
     assert_eq!((x.col, x.message.contains("cannot follow")), (6, true), "{}", x.message);
     let x = e("T1 é");
@@ -479,8 +539,16 @@ fn tbl_errors_carry_line_and_column() {
 /// and the holder leaves the two cutting edges free near the tip.
 fn assert_sound(t: &BuiltTool, what: &str) {
     let o = P2::new(0.0, 0.0);
-    assert_ne!(locate(o, &t.insert), Location::Outside, "{what}: the insert does not hold the tip");
-    assert_eq!(locate(o, &t.holder), Location::Outside, "{what}: the holder covers the tip");
+    assert_ne!(
+        locate(o, &t.insert),
+        Location::Outside,
+        "{what}: the insert does not hold the tip"
+    );
+    assert_eq!(
+        locate(o, &t.holder),
+        Location::Outside,
+        "{what}: the holder covers the tip"
+    );
     assert!(t.insert.area() > 0.0 && t.holder.area() > 0.0, "{what}");
     assert!(t.tip_direction <= 9 && t.nose_radius >= 0.0, "{what}");
     // Points a little way along each insert edge from the tip are not inside the holder.
@@ -489,7 +557,11 @@ fn assert_sound(t: &BuiltTool, what: &str) {
     if let Some(k) = pts.iter().position(|q| *q == o) {
         for nb in [pts[(k + 1) % n], pts[(k + n - 1) % n]] {
             let q = P2::new(nb.x * 0.3, nb.y * 0.3);
-            assert_ne!(locate(q, &t.holder), Location::Inside, "{what}: the holder covers an edge at {q:?}");
+            assert_ne!(
+                locate(q, &t.holder),
+                Location::Inside,
+                "{what}: the holder covers an edge at {q:?}"
+            );
         }
     }
     // Re-normalising the outlines changes nothing: they are valid kernel polygons.
@@ -498,7 +570,9 @@ fn assert_sound(t: &BuiltTool, what: &str) {
 }
 
 fn shape_letter() -> impl Strategy<Value = char> {
-    prop::sample::select(vec!['A', 'B', 'C', 'D', 'E', 'H', 'K', 'M', 'O', 'P', 'R', 'S', 'T', 'V', 'W'])
+    prop::sample::select(vec![
+        'A', 'B', 'C', 'D', 'E', 'H', 'K', 'M', 'O', 'P', 'R', 'S', 'T', 'V', 'W',
+    ])
 }
 
 proptest! {
