@@ -388,16 +388,18 @@ fn turning(i: &Iso1832, h: &Holder, default_holder: bool) -> Result<Decoded, Cat
     let bore = matches!(h.body, Body::Bar { .. });
     let round = i.shape.kind == ShapeKind::Round;
     // The cone of the cutting corner in the canonical frame.
+    // A bar bores: every style is read against a feed toward the chuck.
+    let facing = h.style.facing && !bore;
     let (lo, hi) = if round {
         (0.0, 90.0)
-    } else if h.style.facing && !bore {
+    } else if facing {
         (180.0 - h.style.kappa - e, 180.0 - h.style.kappa)
     } else {
         (h.style.kappa - 90.0, h.style.kappa - 90.0 + e)
     };
     let key = if default_holder { "insert" } else { "holder" };
     if !round {
-        if hi >= 90.0 - 1e-9 && !(h.style.facing && !bore) {
+        if hi >= 90.0 - 1e-9 && !facing {
             return err(
                 key,
                 format!(
@@ -406,7 +408,7 @@ fn turning(i: &Iso1832, h: &Holder, default_holder: bool) -> Result<Decoded, Cat
                 ),
             );
         }
-        if lo <= 1e-9 && h.style.facing && !bore {
+        if lo <= 1e-9 && facing {
             return err(
                 key,
                 format!(
