@@ -40,6 +40,8 @@ pub enum Command {
     Moves(MovesArgs),
     /// Validate and describe a machine file.
     Machine(MachineArgs),
+    /// Tools from their catalogue names (ISO inserts, holders, boring bars), LinuxCNC tool tables.
+    Tools(ToolsArgs),
     /// The cost-of-accuracy table: exact mode against step mode at several timesteps and tolerances.
     Accuracy(AccuracyArgs),
     /// Print the JSON Schema of machine files or of latheguard.toml, for editors.
@@ -169,6 +171,56 @@ pub struct MachineArgs {
     /// Print the JSON Schema of machine files (for editors that complete and validate TOML) and exit.
     #[arg(long)]
     pub schema: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct ToolsArgs {
+    #[command(subcommand)]
+    pub command: ToolsCommand,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum ToolsCommand {
+    /// What an insert and holder designation decode to: shape, angles, sizes, nose radius, tip
+    /// direction, the outlines' extents.
+    Show(ToolsShowArgs),
+    /// Print a LinuxCNC tool table (.tbl) as a tool library ([[tools]] entries, TOML).
+    Import(ToolsImportArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct ToolsShowArgs {
+    /// An insert (`CNMG 120408`, `16ER 1.5ISO`, `GROOVE 3x20`) or a holder alone (`PCLNR 2525M12`,
+    /// `S20S-SCLCR09`); quote codes with spaces.
+    #[arg(required_unless_present = "drill")]
+    pub code: Option<String>,
+    /// The holder or boring bar for the insert CODE.
+    pub holder: Option<String>,
+    /// A drill instead: diameter and flute length in mm, point angle in degrees (118 if left out).
+    #[arg(long, value_name = "D,LENGTH[,ANGLE]", conflicts_with_all = ["code", "holder"])]
+    pub drill: Option<String>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = TableFormat::Text)]
+    pub format: TableFormat,
+    /// Also draw the tool's outlines (SVG).
+    #[arg(long, value_name = "FILE.svg")]
+    pub svg: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+pub struct ToolsImportArgs {
+    /// The LinuxCNC tool table.
+    pub file: PathBuf,
+    /// The table's length unit (X, Z, D); the library is written in mm.
+    #[arg(long, value_enum, default_value_t = TblUnits::Mm)]
+    pub units: TblUnits,
+}
+
+/// Length units of a tool table.
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
+pub enum TblUnits {
+    Mm,
+    Inch,
 }
 
 #[derive(Args, Debug)]

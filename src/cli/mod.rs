@@ -9,6 +9,7 @@ mod check;
 mod config;
 mod moves;
 mod shell;
+mod tools;
 mod walk;
 
 use args::{Cli, Command};
@@ -80,6 +81,7 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
             )?;
             Ok(EXIT_CLEAN)
         }
+        Command::Tools(a) => tools::run(a),
         Command::Completions(a) => shell::completions(a),
         Command::Man(a) => shell::man(a),
     }

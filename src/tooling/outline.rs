@@ -1,0 +1,115 @@
+//! Outlines of inserts and holders, built in one canonical frame and then mirrored.
+//!
+//! The canonical frame is a right-hand external tool on a rear turret: tip at the origin, the
+//! insert toward +x (the turret) and +z (away from the chuck), the shank standing along +x. A
+//! left-hand tool is its mirror in z, a boring bar its mirror in x (the bar then lies along +z
+//! on the −x side of the tip).
+
+use crate::geom::{Polygon, P2};
+
+/// Angles in degrees, measured counter-clockwise from +x toward +z (the kernel's x and y).
+pub fn dir(deg: f64) -> P2 {
+    let (s, c) = deg.to_radians().sin_cos();
+    P2::new(c, s)
+}
+
+/// Walk from the origin: first along `start` degrees for `sides[0]`, then at each vertex turn
+/// left by 180° less that vertex's interior angle. `interior[i]` is the angle at the vertex
+/// after side `i`. Counter-clockwise when the interior angles are.
+pub fn walk(start: f64, sides: &[f64], interior: &[f64]) -> Vec<P2> {
+    let mut pts = vec![P2::new(0.0, 0.0)];
+    let mut heading = start;
+    let mut p = P2::new(0.0, 0.0);
+    for (i, &len) in sides.iter().enumerate() {
+        let d = dir(heading);
+        p = P2::new(p.x + d.x * len, p.y + d.y * len);
+        if i + 1 < sides.len() {
+            pts.push(p);
+            heading += 180.0 - interior[i];
+        }
+    }
+    pts
+}
+
+/// Convex hull (counter-clockwise, no collinear points) of a set of points.
+pub fn hull(points: &[P2]) -> Vec<P2> {
+    let mut p: Vec<P2> = points
+        .iter()
+        .copied()
+        .filter(|q| q.x.is_finite() && q.y.is_finite())
+        .collect();
+    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    p.dedup();
+    if p.len() < 3 {
+        return p;
+    }
+    let cross = |o: P2, a: P2, b: P2| (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+    let mut lower: Vec<P2> = Vec::new();
+    for &q in &p {
+        while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], q) <= 0.0 {
+            lower.pop();
+        }
+        lower.push(q);
+    }
+    let mut upper: Vec<P2> = Vec::new();
+    for &q in p.iter().rev() {
+        while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], q) <= 0.0 {
+            upper.pop();
+        }
+        upper.push(q);
+    }
+    lower.pop();
+    upper.pop();
+    lower.extend(upper);
+    lower
+}
+
+/// Whether `p` lies in the closed cone from direction `lo` counter-clockwise to `hi` (degrees,
+/// `hi` − `lo` < 180).
+pub fn in_cone(p: P2, lo: f64, hi: f64) -> bool {
+    let a = dir(lo);
+    let b = dir(hi);
+    a.x * p.y - a.y * p.x >= -1e-12 && p.x * b.y - p.y * b.x >= -1e-12
+}
+
+/// The points scaled toward their centroid (a holder seat a little inside the insert).
+pub fn shrink(points: &[P2], f: f64) -> Vec<P2> {
+    let n = points.len().max(1) as f64;
+    let cx = points.iter().map(|p| p.x).sum::<f64>() / n;
+    let cy = points.iter().map(|p| p.y).sum::<f64>() / n;
+    points
+        .iter()
+        .map(|p| P2::new(cx + (p.x - cx) * f, cy + (p.y - cy) * f))
+        .collect()
+}
+
+/// Mirror in z (a left-hand tool).
+pub fn mirror_z(points: &[P2]) -> Vec<P2> {
+    points.iter().map(|p| P2::new(p.x, -p.y)).collect()
+}
+
+/// Mirror in x (a boring bar or an internal tool).
+pub fn mirror_x(points: &[P2]) -> Vec<P2> {
+    points.iter().map(|p| P2::new(-p.x, p.y)).collect()
+}
+
+/// A polygon from points that were built to be simple, or why not (a message).
+pub fn polygon(what: &str, points: &[P2]) -> Result<Polygon, String> {
+    // Rounded to 1e-9 mm so that outlines print and compare cleanly.
+    let pts: Vec<P2> = points
+        .iter()
+        .map(|p| P2::new((p.x * 1e9).round() / 1e9 + 0.0, (p.y * 1e9).round() / 1e9 + 0.0))
+        .collect();
+    Polygon::new(&pts).map_err(|e| format!("the {what} outline cannot be built: {e}"))
+}
+
+/// Whether `p` is strictly inside a convex counter-clockwise polygon.
+pub fn strictly_inside_convex(poly: &[P2], p: P2) -> bool {
+    let n = poly.len();
+    n >= 3
+        && (0..n).all(|i| {
+            let a = poly[i];
+            let b = poly[(i + 1) % n];
+            (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x) > 1e-9
+        })
+}
