@@ -44,7 +44,12 @@ fn is_crash(f: &Finding) -> bool {
     }
 }
 
-const CRASH_KINDS: [Kind; 4] = [Kind::Collision, Kind::RapidIntoStock, Kind::SpindleStopped, Kind::Overtravel];
+const CRASH_KINDS: [Kind; 4] = [
+    Kind::Collision,
+    Kind::RapidIntoStock,
+    Kind::SpindleStopped,
+    Kind::Overtravel,
+];
 
 fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
     let Ok(rd) = std::fs::read_dir(dir) else {
@@ -72,7 +77,10 @@ fn extra_sources() -> BTreeMap<String, (String, String)> {
         let cols: Vec<&str> = line.split('|').map(str::trim).collect();
         // | corpus path | class | repository | path | commit | licence | dialect | …
         if cols.len() > 7 && cols[1].starts_with('`') {
-            out.insert(cols[1].trim_matches('`').to_string(), (cols[2].to_string(), cols[7].to_string()));
+            out.insert(
+                cols[1].trim_matches('`').to_string(),
+                (cols[2].to_string(), cols[7].to_string()),
+            );
         }
     }
     out
@@ -87,7 +95,11 @@ fn targets() -> Vec<String> {
     let mut files = Vec::new();
     walk(&shared().join("corpus"), &mut files);
     for f in files {
-        let rel = f.strip_prefix(shared().join("corpus")).unwrap().to_string_lossy().to_string();
+        let rel = f
+            .strip_prefix(shared().join("corpus"))
+            .unwrap()
+            .to_string_lossy()
+            .to_string();
         let aside = ["gcodeworkshop-examples/other-dialects/", "lathecode/", "liblathe/"];
         if !aside.iter().any(|a| rel.starts_with(a)) {
             out.push(format!("corpus/{rel}"));
@@ -114,7 +126,11 @@ fn shipped_machine(program: &str, extra: &BTreeMap<String, (String, String)>) ->
     if let Some(rel) = program.strip_prefix("corpus-extra/") {
         if let Some((_, d)) = extra.get(rel) {
             let d = d.to_lowercase();
-            return if d.contains("linuxcnc") || d.contains("grbl") { lcnc() } else { Machine::builtin() };
+            return if d.contains("linuxcnc") || d.contains("grbl") {
+                lcnc()
+            } else {
+                Machine::builtin()
+            };
         }
     }
     if program.to_lowercase().ends_with(".nc") {
@@ -140,24 +156,42 @@ struct Entry {
 /// - `not_expressible`: the lathe or job does what the program needs, but neither the machine
 ///   file nor the job format can say so yet (a spindle run by hand, tools changed by hand);
 /// - `unexplained`: looked at, not yet decided; the entry says what was tried.
-const CATEGORIES: [&str; 4] = ["real_crashes", "checker_false_positives", "not_expressible", "unexplained"];
+const CATEGORIES: [&str; 4] = [
+    "real_crashes",
+    "checker_false_positives",
+    "not_expressible",
+    "unexplained",
+];
 
 fn index() -> Vec<Entry> {
     let path = jobs_dir().join("index.toml");
     let text = std::fs::read_to_string(&path).unwrap();
     let t: toml::Table = text.parse().unwrap_or_else(|e| panic!("index.toml: {e}"));
-    let list = t.get("program").and_then(|v| v.as_array()).expect("index.toml: [[program]] entries");
+    let list = t
+        .get("program")
+        .and_then(|v| v.as_array())
+        .expect("index.toml: [[program]] entries");
     let mut out = Vec::new();
     for e in list {
         let s = |k: &str| {
-            e.get(k).and_then(|v| v.as_str()).unwrap_or_else(|| panic!("index.toml: entry without `{k}`: {e:?}")).to_string()
+            e.get(k)
+                .and_then(|v| v.as_str())
+                .unwrap_or_else(|| panic!("index.toml: entry without `{k}`: {e:?}"))
+                .to_string()
         };
         let lines = |key: &str| {
             let mut m = BTreeMap::new();
             for c in e.get(key).and_then(|v| v.as_array()).into_iter().flatten() {
-                let line = c.get("line").and_then(|v| v.as_integer()).unwrap_or_else(|| panic!("{key}: line")) as u32;
+                let line = c
+                    .get("line")
+                    .and_then(|v| v.as_integer())
+                    .unwrap_or_else(|| panic!("{key}: line")) as u32;
                 let why = c.get("why").and_then(|v| v.as_str()).unwrap_or_default();
-                assert!(why.len() > 20, "index.toml: {}: {key} line {line} needs its evidence in `why`", s("path"));
+                assert!(
+                    why.len() > 20,
+                    "index.toml: {}: {key} line {line} needs its evidence in `why`",
+                    s("path")
+                );
                 m.insert(line, why.to_string());
             }
             m
@@ -185,7 +219,11 @@ fn counts(findings: &[Finding]) -> BTreeMap<Kind, usize> {
 }
 
 fn row(c: &BTreeMap<Kind, usize>) -> String {
-    CRASH_KINDS.iter().map(|k| format!("{:>4}", c.get(k).copied().unwrap_or(0))).collect::<Vec<_>>().join("")
+    CRASH_KINDS
+        .iter()
+        .map(|k| format!("{:>4}", c.get(k).copied().unwrap_or(0)))
+        .collect::<Vec<_>>()
+        .join("")
 }
 
 #[test]
@@ -207,8 +245,15 @@ fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says()
     let missing: Vec<&String> = targets.iter().filter(|t| !listed.contains(t.as_str())).collect();
     assert!(missing.is_empty(), "programs without a job in index.toml: {missing:?}");
     let stray: Vec<&&str> = listed.iter().filter(|p| !targets.iter().any(|t| t == *p)).collect();
-    assert!(stray.is_empty(), "index.toml entries that are not target programs: {stray:?}");
-    assert!(targets.len() >= 60, "the corpora look incomplete: {} target programs", targets.len());
+    assert!(
+        stray.is_empty(),
+        "index.toml entries that are not target programs: {stray:?}"
+    );
+    assert!(
+        targets.len() >= 60,
+        "the corpora look incomplete: {} target programs",
+        targets.len()
+    );
 
     let mut failures = Vec::new();
     let (mut before_total, mut after_total) = (BTreeMap::new(), BTreeMap::new());
@@ -241,17 +286,35 @@ fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says()
             if only.is_some() {
                 println!(
                     "  {}:{}: {} {:?} depth {:?} at X{:?} Z{:?} t={:?}: {}",
-                    e.program, f.line, f.kind.name(), f.objects, f.depth_mm, f.x, f.z, f.time_s, f.message
+                    e.program,
+                    f.line,
+                    f.kind.name(),
+                    f.objects,
+                    f.depth_mm,
+                    f.x,
+                    f.z,
+                    f.time_s,
+                    f.message
                 );
             }
             if !e.lines.values().any(|m| m.contains_key(&f.line)) {
-                failures.push(format!("{}:{}: {} {:?}: {}", e.program, f.line, f.kind.name(), f.objects, f.message));
+                failures.push(format!(
+                    "{}:{}: {} {:?}: {}",
+                    e.program,
+                    f.line,
+                    f.kind.name(),
+                    f.objects,
+                    f.message
+                ));
             }
         }
         for (cat, m) in &e.lines {
             for line in m.keys() {
                 if !crash_lines.contains(line) {
-                    failures.push(format!("{}:{line}: listed in index.toml's {cat} but not reported", e.program));
+                    failures.push(format!(
+                        "{}:{line}: listed in index.toml's {cat} but not reported",
+                        e.program
+                    ));
                 }
             }
             *listed_lines.entry(*cat).or_insert(0) += m.len();
@@ -282,5 +345,9 @@ fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says()
     for (cat, n) in &listed_lines {
         println!("lines listed as {cat}: {n}");
     }
-    assert!(failures.is_empty(), "crash findings not argued as real crashes:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "crash findings not argued as real crashes:\n{}",
+        failures.join("\n")
+    );
 }

@@ -15,9 +15,25 @@ use latheguard::machine::{self, Machine};
 use toml::{Table, Value};
 
 /// Keys of a job this applier understands, at the top level and per table.
-const TOP: &[&str] = &["units", "dialect", "program_zero_z", "stock", "chuck", "tailstock", "tools"];
+const TOP: &[&str] = &[
+    "units",
+    "dialect",
+    "program_zero_z",
+    "stock",
+    "chuck",
+    "tailstock",
+    "tools",
+];
 const STOCK: &[&str] = &["diameter", "length", "stick_out", "front", "bore"];
-const TOOL: &[&str] = &["station", "name", "tip", "insert", "holder", "nose_radius", "tip_direction"];
+const TOOL: &[&str] = &[
+    "station",
+    "name",
+    "tip",
+    "insert",
+    "holder",
+    "nose_radius",
+    "tip_direction",
+];
 
 fn check_keys(t: &Table, allowed: &[&str], what: &str) -> Result<(), String> {
     for k in t.keys() {
@@ -102,10 +118,15 @@ pub fn merged_toml(machine_toml: &str, job_toml: &str) -> Result<String, String>
             check_keys(t, TOOL, "[[tools]]")?;
             for k in ["insert", "holder"] {
                 if t.get(k).is_some_and(Value::is_str) {
-                    return Err(format!("[[tools]] {k}: catalogue strings are not decoded yet; give an outline"));
+                    return Err(format!(
+                        "[[tools]] {k}: catalogue strings are not decoded yet; give an outline"
+                    ));
                 }
             }
-            let station = t.get("station").and_then(Value::as_integer).ok_or("[[tools]] needs a station")?;
+            let station = t
+                .get("station")
+                .and_then(Value::as_integer)
+                .ok_or("[[tools]] needs a station")?;
             tools.retain(|x| x.get("station").and_then(Value::as_integer) != Some(station));
             tools.push(Value::Table(t.clone()));
         }
@@ -152,7 +173,8 @@ fn emit(m: &Table) -> String {
 }
 
 fn is_table_array(v: &Value) -> bool {
-    v.as_array().is_some_and(|a| !a.is_empty() && a.iter().all(Value::is_table))
+    v.as_array()
+        .is_some_and(|a| !a.is_empty() && a.iter().all(Value::is_table))
 }
 
 fn inline(v: &Value) -> String {
@@ -165,7 +187,10 @@ fn inline(v: &Value) -> String {
         Value::Array(a) => format!("[{}]", a.iter().map(inline).collect::<Vec<_>>().join(", ")),
         Value::Table(t) => format!(
             "{{ {} }}",
-            t.iter().map(|(k, v)| format!("{k} = {}", inline(v))).collect::<Vec<_>>().join(", ")
+            t.iter()
+                .map(|(k, v)| format!("{k} = {}", inline(v)))
+                .collect::<Vec<_>>()
+                .join(", ")
         ),
     }
 }
