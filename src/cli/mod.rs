@@ -8,6 +8,7 @@ mod args;
 mod check;
 mod config;
 mod moves;
+mod setup;
 mod shell;
 mod walk;
 
@@ -59,6 +60,7 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
         Command::Check(a) => check::run(*a, cli.color),
         Command::Moves(a) => moves::run(a),
         Command::Accuracy(a) => accuracy::run(a),
+        Command::Setup(a) => setup::run(*a),
 
         Command::Machine(a) => {
             let Some(file) = a.file.filter(|_| !a.schema) else {
@@ -76,6 +78,7 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
                 &match a.of {
                     args::SchemaOf::Machine => machine::schema(),
                     args::SchemaOf::Config => config::schema(),
+                    args::SchemaOf::Job => latheguard::job::schema(),
                 },
             )?;
             Ok(EXIT_CLEAN)
