@@ -357,7 +357,10 @@ fn tolerance(s: &str) -> Result<f64, String> {
 }
 
 fn program_zero(s: &str) -> Result<f64, String> {
-    in_range(s, (-latheguard::machine::MAX_COORD_MM, latheguard::machine::MAX_COORD_MM))
+    in_range(
+        s,
+        (-latheguard::machine::MAX_COORD_MM, latheguard::machine::MAX_COORD_MM),
+    )
 }
 
 fn clearance(s: &str) -> Result<f64, String> {

@@ -136,7 +136,7 @@ impl job::Resolve for Texts {
         self.read
             .entry(path.clone())
             .or_insert_with(|| {
-                let shown = super::shown(path.strip_prefix(&cwd).unwrap_or(&path));
+                let shown = super::shown(&relative(&path, &cwd));
                 super::read_text(&path, super::MAX_CONFIG_BYTES).map(|t| (shown, t))
             })
             .clone()
@@ -245,6 +245,24 @@ impl Finder {
             JobRef::File { path, at } => self.job_file(path, Some(at)),
         }
     }
+}
+
+/// `path` relative to the folder `from` (both absolute and normalised), with `..` where it
+/// lies outside; `path` itself when they share no root.
+fn relative(path: &Path, from: &Path) -> PathBuf {
+    let (p, f): (Vec<_>, Vec<_>) = (path.components().collect(), from.components().collect());
+    let common = p.iter().zip(&f).take_while(|(a, b)| a == b).count();
+    if common == 0 {
+        return path.to_path_buf();
+    }
+    let mut out = PathBuf::new();
+    for _ in common..f.len() {
+        out.push("..");
+    }
+    for c in &p[common..] {
+        out.push(c);
+    }
+    out
 }
 
 /// `dir/part.job.toml` for `dir/part.nc` (the file name without its last extension).

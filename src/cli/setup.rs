@@ -73,12 +73,14 @@ impl Planner {
             inputs.push(t.clone());
             cli_layers.push(l);
         }
-        let flags = job::flags_layer(
-            a.stock.as_deref(),
-            a.units.map(|u| u == UnitsArg::Inch),
-            a.program_zero,
-        )
-        .map_err(|e| if a.stock.is_some() && e.starts_with('`') { format!("--stock: {e}") } else { e })?;
+        let flags = job::flags_layer(a.stock.as_deref(), a.units.map(|u| u == UnitsArg::Inch), a.program_zero)
+            .map_err(|e| {
+                if a.stock.is_some() && e.starts_with('`') {
+                    format!("--stock: {e}")
+                } else {
+                    e
+                }
+            })?;
         if !flags.is_empty() {
             cli_layers.push(Arc::new(flags));
         }
@@ -96,7 +98,9 @@ impl Planner {
 
     /// The machine of the command line, else the built-in one (without any job).
     pub fn default_machine(&self) -> Arc<Machine> {
-        self.cli_machine.as_ref().map_or_else(|| self.builtin.clone(), |m| m.0.clone())
+        self.cli_machine
+            .as_ref()
+            .map_or_else(|| self.builtin.clone(), |m| m.0.clone())
     }
 
     /// The machine, settings and job of one program (`-`: standard input, which has no file
@@ -256,7 +260,11 @@ fn stock_text(m: &Machine) -> String {
             } else {
                 format!("bar Ø{}", num(s.diameter))
             };
-            format!("{kind} × {} mm, front face at z {} (the stick-out)", num(s.length), num(s.front))
+            format!(
+                "{kind} × {} mm, front face at z {} (the stick-out)",
+                num(s.length),
+                num(s.front)
+            )
         }
     }
 }
@@ -283,10 +291,12 @@ fn tool_rows(r: &Resolved) -> Vec<(&latheguard::machine::Tool, String, String)> 
     r.machine
         .tools
         .iter()
-        .map(|t| match r.job.tools.iter().find(|j| j.value.tool.station == t.station) {
-            Some(j) => (t, j.layer.clone(), j.value.origin.clone()),
-            None => (t, MACHINE.to_string(), String::new()),
-        })
+        .map(
+            |t| match r.job.tools.iter().find(|j| j.value.tool.station == t.station) {
+                Some(j) => (t, j.layer.clone(), j.value.origin.clone()),
+                None => (t, MACHINE.to_string(), String::new()),
+            },
+        )
         .collect()
 }
 
@@ -297,7 +307,11 @@ fn text(program: &Path, r: &Resolved) -> String {
     let _ = writeln!(s, "{}", super::shown(program));
     let _ = writeln!(s, "  machine       {} ({})", m.name, r.machine_file);
     if let Some(c) = &r.config {
-        let _ = writeln!(s, "  config        {}", super::shown(c.strip_prefix(std::env::current_dir().unwrap_or_default()).unwrap_or(c)));
+        let _ = writeln!(
+            s,
+            "  config        {}",
+            super::shown(c.strip_prefix(std::env::current_dir().unwrap_or_default()).unwrap_or(c))
+        );
     }
     if j.layers.is_empty() {
         let _ = writeln!(s, "  job           none (the machine file's setup)");

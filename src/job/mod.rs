@@ -323,14 +323,12 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
         }
     }
     for c in machine::home_clashes(&m) {
-        let by_tool = c
-            .tool
-            .and_then(|(station, part)| {
-                job.tools
-                    .iter()
-                    .find(|t| t.value.tool.station == station)
-                    .map(|t| t.at.err_key(&format!("{}.{part}", t.at.key), c.message.clone()))
-            });
+        let by_tool = c.tool.and_then(|(station, part)| {
+            job.tools
+                .iter()
+                .find(|t| t.value.tool.station == station)
+                .map(|t| t.at.err_key(&format!("{}.{part}", t.at.key), c.message.clone()))
+        });
         let by_obstacle = || match c.obstacle {
             "chuck" => job.chuck.as_ref().map(|s| s.at.err(c.message.clone())),
             _ => job.tailstock_in_use.as_ref().map(|s| s.at.err(c.message.clone())),
@@ -379,7 +377,9 @@ fn switch_dialect(m: &mut Machine, to: Dialect, at: &Place) -> Result<(), JobErr
 
 /// `--stock DIAxLEN[@STICKOUT]` or `DIA/BOAxLEN[@STICKOUT]` (a tube): mm.
 pub fn parse_stock_flag(s: &str) -> Result<(f64, f64, Option<f64>, f64), String> {
-    let bad = || format!("`{s}` is not a stock: write DIAxLEN or DIAxLEN@STICKOUT (mm), e.g. 50x120@80; a tube DIA/BORExLEN@STICKOUT");
+    let bad = || {
+        format!("`{s}` is not a stock: write DIAxLEN or DIAxLEN@STICKOUT (mm), e.g. 50x120@80; a tube DIA/BORExLEN@STICKOUT")
+    };
     let (size, stick) = match s.split_once('@') {
         Some((a, b)) => (a, Some(b)),
         None => (s, None),
@@ -411,7 +411,11 @@ pub fn parse_stock_flag(s: &str) -> Result<(f64, f64, Option<f64>, f64), String>
 
 /// A layer from one-off command-line values (`--stock`, `--units`, `--program-zero`); the
 /// tools of `--tools` come from [`parse`] of that file.
-pub fn flags_layer(stock: Option<&str>, units_inch: Option<bool>, program_zero_z: Option<f64>) -> Result<Layer, String> {
+pub fn flags_layer(
+    stock: Option<&str>,
+    units_inch: Option<bool>,
+    program_zero_z: Option<f64>,
+) -> Result<Layer, String> {
     let mut l = Layer::new("command line");
     fn set<T>(value: T, flag: &str) -> Set<T> {
         Set {

@@ -217,7 +217,10 @@ pub fn parse(text: &str, file: &str, base: &str, label: &str, resolve: &mut dyn 
 /// A `job` value inside a `latheguard.toml`: a file name, or a table read as a job.
 pub enum Embedded {
     /// `job = "…"`: the name as written and where.
-    File { name: String, at: Place },
+    File {
+        name: String,
+        at: Place,
+    },
     Inline(Layer),
 }
 
@@ -378,7 +381,10 @@ fn layer(
                 cx.push(cx.err(
                     station.span(),
                     format!("{k}.station"),
-                    format!("station {s} does not exist: stations run from 1 to {}", machine::MAX_STATIONS),
+                    format!(
+                        "station {s} does not exist: stations run from 1 to {}",
+                        machine::MAX_STATIONS
+                    ),
                 ));
                 continue;
             }
@@ -557,7 +563,10 @@ fn partial(cx: &Cx<'_>, t: &RawTool, key: &str) -> Result<Partial, JobError> {
                 return Err(cx.err(
                     d.span(),
                     k("tip_direction"),
-                    format!("{} is not a tip direction: give a whole number from 0 to 9", d.get_ref()),
+                    format!(
+                        "{} is not a tip direction: give a whole number from 0 to 9",
+                        d.get_ref()
+                    ),
                 ))
             }
         }
@@ -599,10 +608,13 @@ fn job_tool(
             ));
         };
         if refs.table.is_none() {
-            let (shown, text) = refs
-                .resolve
-                .read(refs.base, table.get_ref())
-                .map_err(|why| cx.err(table.span(), format!("{prefix}tool_table"), format!("cannot read {}: {why}", table.get_ref())))?;
+            let (shown, text) = refs.resolve.read(refs.base, table.get_ref()).map_err(|why| {
+                cx.err(
+                    table.span(),
+                    format!("{prefix}tool_table"),
+                    format!("cannot read {}: {why}", table.get_ref()),
+                )
+            })?;
             let tools = tbl::parse(&text).map_err(|e| {
                 cx.err(
                     table.span(),
@@ -612,14 +624,20 @@ fn job_tool(
             })?;
             refs.table = Some((shown, tools));
         }
-        let Some((shown, tools)) = &refs.table else { unreachable!() };
+        let Some((shown, tools)) = &refs.table else {
+            unreachable!()
+        };
         let want = *n.get_ref();
         let Some(row) = tools.iter().find(|r| r.tool == want) else {
             return Err(cx.err(n.span(), k("tbl"), format!("{shown} has no tool T{want}")));
         };
         let at = place(cx, n.span(), &k("tbl"));
-        let built = tooling::tbl::shape(row)
-            .map_err(|e| at.err(format!("cannot build tool T{want} of {shown} ({}): {}", e.key, e.message)))?;
+        let built = tooling::tbl::shape(row).map_err(|e| {
+            at.err(format!(
+                "cannot build tool T{want} of {shown} ({}): {}",
+                e.key, e.message
+            ))
+        })?;
         let mut base = Partial::from_built(built, &at);
         base.tip = Some(crate::geom::p2(row.x, row.z));
         p = base;
@@ -639,13 +657,18 @@ fn job_tool(
             ));
         };
         if refs.library.is_none() {
-            let got = refs
-                .resolve
-                .read(refs.base, lib.get_ref())
-                .map_err(|why| cx.err(lib.span(), format!("{prefix}tool_library"), format!("cannot read {}: {why}", lib.get_ref())))?;
+            let got = refs.resolve.read(refs.base, lib.get_ref()).map_err(|why| {
+                cx.err(
+                    lib.span(),
+                    format!("{prefix}tool_library"),
+                    format!("cannot read {}: {why}", lib.get_ref()),
+                )
+            })?;
             refs.library = Some(got);
         }
-        let Some((shown, text)) = &refs.library else { unreachable!() };
+        let Some((shown, text)) = &refs.library else {
+            unreachable!()
+        };
         let lcx = Cx::new(text, shown);
         let raw: RawLibrary = machine::deserialize(&lcx, "a tool library")?;
         if raw.tools.len() > MAX_JOB_TOOLS {
@@ -659,7 +682,11 @@ fn job_tool(
             let Some(eid) = &r.id else {
                 return Err(lcx.err(e.span(), format!("{lk}.id"), "missing required key `id`"));
             };
-            for (bad, v) in [("station", r.station.is_some()), ("use", r.use_.is_some()), ("tbl", r.tbl.is_some())] {
+            for (bad, v) in [
+                ("station", r.station.is_some()),
+                ("use", r.use_.is_some()),
+                ("tbl", r.tbl.is_some()),
+            ] {
                 if v {
                     return Err(lcx.err(
                         e.span(),
@@ -704,9 +731,17 @@ fn job_tool(
                 "holder" => p.holder.as_ref().map(|g| &g.1),
                 _ => p.drill.as_ref().map(|g| &g.1),
             };
-            let at = at.or(p.insert.as_ref().map(|g| &g.1)).or(p.holder.as_ref().map(|g| &g.1));
-            let at = at.or(p.drill.as_ref().map(|g| &g.1)).cloned().unwrap_or_else(|| place(cx, 0..0, key));
-            at.err(format!("cannot build the tool from its catalogue description: {}", e.message))
+            let at = at
+                .or(p.insert.as_ref().map(|g| &g.1))
+                .or(p.holder.as_ref().map(|g| &g.1));
+            let at = at
+                .or(p.drill.as_ref().map(|g| &g.1))
+                .cloned()
+                .unwrap_or_else(|| place(cx, 0..0, key));
+            at.err(format!(
+                "cannot build the tool from its catalogue description: {}",
+                e.message
+            ))
         })?;
         origin.push(format!("catalogue: {}", b.summary));
         built = Some(b);
@@ -718,7 +753,9 @@ fn job_tool(
             _ => Err(cx.err(
                 0..0,
                 k(which),
-                format!("missing required key `{which}`: give an outline, a catalogue designation, `drill`, `use` or `tbl`"),
+                format!(
+                    "missing required key `{which}`: give an outline, a catalogue designation, `drill`, `use` or `tbl`"
+                ),
             )),
         }
     };
@@ -726,10 +763,8 @@ fn job_tool(
         let e = cx.err(0..0, k(n), format!("missing required key `{n}`"));
         e
     };
-    let insert = outline(p.insert, "insert", built.as_ref().map(|b| &b.insert))
-        .map_err(|e| relocate(e, cx, t))?;
-    let holder = outline(p.holder, "holder", built.as_ref().map(|b| &b.holder))
-        .map_err(|e| relocate(e, cx, t))?;
+    let insert = outline(p.insert, "insert", built.as_ref().map(|b| &b.insert)).map_err(|e| relocate(e, cx, t))?;
+    let holder = outline(p.holder, "holder", built.as_ref().map(|b| &b.holder)).map_err(|e| relocate(e, cx, t))?;
     let tip = p.tip.ok_or_else(|| relocate(place_of_entry("tip"), cx, t))?;
     let name = p
         .name
@@ -745,14 +780,8 @@ fn job_tool(
             tip,
             insert,
             holder,
-            nose_radius: p
-                .nose_radius
-                .or(built.as_ref().map(|b| b.nose_radius))
-                .unwrap_or(0.0),
-            tip_direction: p
-                .tip_direction
-                .or(built.as_ref().map(|b| b.tip_direction))
-                .unwrap_or(0),
+            nose_radius: p.nose_radius.or(built.as_ref().map(|b| b.nose_radius)).unwrap_or(0.0),
+            tip_direction: p.tip_direction.or(built.as_ref().map(|b| b.tip_direction)).unwrap_or(0),
         },
         origin: origin.join(", "),
     })

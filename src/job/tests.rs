@@ -44,8 +44,10 @@ fn a_full_job_file_reads_into_one_layer() {
 fn front_is_accepted_for_stick_out_but_not_both() {
     let l = layer("[stock]\ndiameter = 40\nlength = 100\nfront = 60\n", "j").unwrap();
     assert_eq!(l.stock.unwrap().value.front, Some(60.0));
-    assert!(err("[stock]\ndiameter = 40\nlength = 100\nfront = 60\nstick_out = 60\n")
-        .starts_with("part.job.toml:4:9: stock.front: give `stick_out` or `front`"));
+    assert!(
+        err("[stock]\ndiameter = 40\nlength = 100\nfront = 60\nstick_out = 60\n")
+            .starts_with("part.job.toml:4:9: stock.front: give `stick_out` or `front`")
+    );
 }
 
 #[test]
@@ -53,24 +55,37 @@ fn errors_name_file_line_column_and_key() {
     assert!(err("units = \"mm\"\nstok = 1\n").starts_with("part.job.toml:2:1: stok: unknown key `stok`"));
     assert!(err("[stock]\ndiameter = -4\nlength = 10\nstick_out = 5\n")
         .starts_with("part.job.toml:2:12: stock.diameter: must be greater than 0"));
-    assert!(err("[stock]\ndiameter = 4\nlength = 10\n").starts_with("part.job.toml:1:1: stock.stick_out: missing required key"));
-    assert!(err("[[tools]]\nstation = 99\nname = \"x\"\n").starts_with("part.job.toml:2:11: tools[0].station: station 99"));
+    assert!(err("[stock]\ndiameter = 4\nlength = 10\n")
+        .starts_with("part.job.toml:1:1: stock.stick_out: missing required key"));
+    assert!(
+        err("[[tools]]\nstation = 99\nname = \"x\"\n").starts_with("part.job.toml:2:11: tools[0].station: station 99")
+    );
     assert!(err("[tailstock]\nin_use = 1\n").starts_with("part.job.toml:2:10: tailstock.in_use: invalid type"));
     assert!(err("dialect = \"heidenhain\"\n").contains("dialect: unknown value `heidenhain`"));
-    assert!(err("[stock]\noutline = [[0, 0], [10, 0], [10, 5]]\n").contains("stock.outline: a revolved stock outline is not supported yet"));
-    assert!(err(&format!("[[tools]]\n{TOOL}[[tools]]\n{TOOL}")).contains("tools[1].station: station 2 is already given by tools[0]"));
+    assert!(err("[stock]\noutline = [[0, 0], [10, 0], [10, 5]]\n")
+        .contains("stock.outline: a revolved stock outline is not supported yet"));
+    assert!(err(&format!("[[tools]]\n{TOOL}[[tools]]\n{TOOL}"))
+        .contains("tools[1].station: station 2 is already given by tools[0]"));
 }
 
 #[test]
 fn a_tool_without_an_outline_says_which_key_is_missing() {
     let e = err("[[tools]]\nstation = 3\nname = \"x\"\ntip = [0, 0]\nholder = [[0,0],[1,0],[1,1]]\n");
-    assert!(e.starts_with("part.job.toml:2:11: tools[0].insert: missing required key `insert`"), "{e}");
+    assert!(
+        e.starts_with("part.job.toml:2:11: tools[0].insert: missing required key `insert`"),
+        "{e}"
+    );
 }
 
 #[test]
 fn a_catalogue_tool_error_is_a_job_error_naming_the_key() {
-    let e = err("[[tools]]\nstation = 3\nname = \"x\"\ntip = [0, 0]\ninsert = \"CNMG 120408\"\nholder = \"PCLNR 2525M12\"\n");
-    assert!(e.starts_with("part.job.toml:5:10: tools[0].insert: cannot build the tool from its catalogue description"), "{e}");
+    let e = err(
+        "[[tools]]\nstation = 3\nname = \"x\"\ntip = [0, 0]\ninsert = \"CNMG 120408\"\nholder = \"PCLNR 2525M12\"\n",
+    );
+    assert!(
+        e.starts_with("part.job.toml:5:10: tools[0].insert: cannot build the tool from its catalogue description"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -91,7 +106,10 @@ fn use_takes_a_library_entry_and_the_entry_keys_win() {
     )
     .unwrap();
     let t = &l.tools[0].value;
-    assert_eq!((t.tool.name.as_str(), t.tool.nose_radius, t.tool.station), ("Finisher", 0.4, 4));
+    assert_eq!(
+        (t.tool.name.as_str(), t.tool.nose_radius, t.tool.station),
+        ("Finisher", 0.4, 4)
+    );
     assert_eq!(t.origin, "use T-FIN (tools.toml)");
     assert_eq!(l.files, vec!["part.job.toml".to_string(), "tools.toml".to_string()]);
     let e = parse(
@@ -102,21 +120,37 @@ fn use_takes_a_library_entry_and_the_entry_keys_win() {
         &mut read,
     )
     .unwrap_err();
-    assert!(e.to_string().starts_with("part.job.toml:4:7: tools[0].use: tools.toml has no tool with id = \"T-NONE\""));
+    assert!(e
+        .to_string()
+        .starts_with("part.job.toml:4:7: tools[0].use: tools.toml has no tool with id = \"T-NONE\""));
     let e = err("[[tools]]\nstation = 4\nuse = \"T\"\n");
-    assert!(e.contains("tools[0].use: `use` takes an entry of the job's tool library"), "{e}");
+    assert!(
+        e.contains("tools[0].use: `use` takes an entry of the job's tool library"),
+        "{e}"
+    );
     let e = err("tool_library = \"nope.toml\"\n[[tools]]\nstation = 4\nuse = \"T\"\n");
-    assert!(e.starts_with("part.job.toml:1:16: tool_library: cannot read nope.toml: no file nope.toml"), "{e}");
+    assert!(
+        e.starts_with("part.job.toml:1:16: tool_library: cannot read nope.toml: no file nope.toml"),
+        "{e}"
+    );
 }
 
 #[test]
 fn an_inline_job_in_a_configuration_names_its_whole_key_path() {
     let cfg = "machine = \"m.toml\"\n[[override]]\nglob = \"*.nc\"\n[override.job.stock]\ndiameter = 0\nlength = 1\nstick_out = 1\n";
-    let e = parse_embedded(cfg, "latheguard.toml", &["override", "0", "job"], "/", "l", &mut no_files)
-        .err()
-        .unwrap();
+    let e = parse_embedded(
+        cfg,
+        "latheguard.toml",
+        &["override", "0", "job"],
+        "/",
+        "l",
+        &mut no_files,
+    )
+    .err()
+    .unwrap();
     assert!(
-        e.to_string().starts_with("latheguard.toml:5:12: override[0].job.stock.diameter: must be greater than 0"),
+        e.to_string()
+            .starts_with("latheguard.toml:5:12: override[0].job.stock.diameter: must be greater than 0"),
         "{e}"
     );
     let cfg = "job = \"a.job.toml\"\n";
@@ -127,16 +161,21 @@ fn an_inline_job_in_a_configuration_names_its_whole_key_path() {
         }
         _ => panic!("a file"),
     }
-    assert!(parse_embedded("mode = \"step\"\n", "c", &["job"], "/", "l", &mut no_files)
-        .unwrap()
-        .is_none());
+    assert!(
+        parse_embedded("mode = \"step\"\n", "c", &["job"], "/", "l", &mut no_files)
+            .unwrap()
+            .is_none()
+    );
 }
 
 #[test]
 fn later_layers_win_key_by_key_and_tools_station_by_station() {
     let a = layer(&format!("units = \"inch\"\nprogram_zero_z = 5\n[[tools]]\n{TOOL}"), "a").unwrap();
     let b = layer(
-        &format!("units = \"mm\"\n[[tools]]\n{}", TOOL.replace("OD finish", "other").replace("station = 2", "station = 3")),
+        &format!(
+            "units = \"mm\"\n[[tools]]\n{}",
+            TOOL.replace("OD finish", "other").replace("station = 2", "station = 3")
+        ),
         "b",
     )
     .unwrap();
@@ -145,7 +184,11 @@ fn later_layers_win_key_by_key_and_tools_station_by_station() {
     assert_eq!(j.units_inch.as_ref().unwrap().value, false);
     assert_eq!(j.units_inch.as_ref().unwrap().layer, "b");
     assert_eq!(j.program_zero_z.as_ref().unwrap().layer, "a");
-    let stations: Vec<_> = j.tools.iter().map(|t| (t.value.tool.station, t.layer.as_str())).collect();
+    let stations: Vec<_> = j
+        .tools
+        .iter()
+        .map(|t| (t.value.tool.station, t.layer.as_str()))
+        .collect();
     assert_eq!(stations, vec![(2, "a"), (3, "b")]);
     let c = layer(&format!("[[tools]]\n{}", TOOL.replace("OD finish", "again")), "c").unwrap();
     let j = EffectiveJob::merge([&a, &b, &c]);
@@ -155,7 +198,11 @@ fn later_layers_win_key_by_key_and_tools_station_by_station() {
 #[test]
 fn apply_sets_the_machine_and_validates_it() {
     let m = Machine::builtin();
-    let l = layer("units = \"inch\"\n[stock]\ndiameter = 30\nlength = 60\nstick_out = 50\n", "j").unwrap();
+    let l = layer(
+        "units = \"inch\"\n[stock]\ndiameter = 30\nlength = 60\nstick_out = 50\n",
+        "j",
+    )
+    .unwrap();
     let out = apply(&m, &EffectiveJob::merge([&l])).unwrap();
     assert!(out.inch);
     let s = out.stock.as_ref().unwrap();
@@ -179,7 +226,11 @@ fn apply_sets_the_machine_and_validates_it() {
     assert!(e.starts_with("part.job.toml:1:1: chuck.outline: the bar"), "{e}");
 
     // A station the turret lacks.
-    let l = layer(&format!("[[tools]]\n{}", TOOL.replace("station = 2", "station = 40")), "j").unwrap();
+    let l = layer(
+        &format!("[[tools]]\n{}", TOOL.replace("station = 2", "station = 40")),
+        "j",
+    )
+    .unwrap();
     let e = apply(&m, &EffectiveJob::merge([&l])).unwrap_err().to_string();
     assert!(e.contains("tools[0].station: station 40 does not exist"), "{e}");
 
@@ -202,7 +253,10 @@ fn tailstock_not_in_use_removes_it_and_in_use_needs_one() {
     let mut bare = m.clone();
     bare.tailstock = None;
     let e = apply(&bare, &EffectiveJob::merge([&on])).unwrap_err().to_string();
-    assert!(e.starts_with("part.job.toml:2:10: tailstock.in_use: the machine has no tailstock"), "{e}");
+    assert!(
+        e.starts_with("part.job.toml:2:10: tailstock.in_use: the machine has no tailstock"),
+        "{e}"
+    );
 }
 
 #[test]

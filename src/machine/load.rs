@@ -1248,7 +1248,11 @@ fn clear_at_home(cx: &Cx<'_>, machine: &Machine, turret_outline: &Outline, raw_t
                     continue;
                 };
                 let raw = raw_tools[i].get_ref();
-                let span = if part == "holder" { raw.holder.span() } else { raw.insert.span() };
+                let span = if part == "holder" {
+                    raw.holder.span()
+                } else {
+                    raw.insert.span()
+                };
                 cx.push(cx.err(span, format!("tools[{i}].{part}"), c.message));
             }
         }
