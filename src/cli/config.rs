@@ -423,7 +423,7 @@ impl Cx<'_> {
             message: e.message.clone(),
         })?;
         Ok(got.map(|g| match g {
-            job::Embedded::Inline(l) => JobRef::Inline(Arc::new(l)),
+            job::Embedded::Inline(l) => JobRef::Inline(Arc::new(*l)),
             job::Embedded::File { name, at } => JobRef::File {
                 path: normalize(&self.dir.join(name)),
                 at: format!("{}:{}:{}: {}", at.file, at.line, at.col, at.key),

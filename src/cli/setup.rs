@@ -27,6 +27,9 @@ pub struct Resolved {
     pub job: Arc<EffectiveJob>,
 }
 
+/// A machine with a job applied, and the job.
+type Applied = (Arc<Machine>, Arc<EffectiveJob>);
+
 /// Resolves programs one after the other, reading every file once.
 pub struct Planner {
     finder: Finder,
@@ -36,7 +39,7 @@ pub struct Planner {
     machines: HashMap<PathBuf, Arc<Machine>>,
     cli_layers: Vec<Arc<Layer>>,
     /// (machine, layers) → the machine with the job applied.
-    applied: HashMap<(usize, Vec<usize>), (Arc<Machine>, Arc<EffectiveJob>)>,
+    applied: HashMap<(usize, Vec<usize>), Applied>,
     /// Every machine, configuration and job file read (no output may overwrite them).
     pub inputs: Vec<PathBuf>,
 }
@@ -165,12 +168,7 @@ impl Planner {
     }
 
     /// The machine with the job of `layers` applied, once per machine and list of layers.
-    fn apply(
-        &mut self,
-        base: &Arc<Machine>,
-        layers: &[Arc<Layer>],
-        program: &Path,
-    ) -> Result<(Arc<Machine>, Arc<EffectiveJob>), Trouble> {
+    fn apply(&mut self, base: &Arc<Machine>, layers: &[Arc<Layer>], program: &Path) -> Result<Applied, Trouble> {
         let key = (
             Arc::as_ptr(base) as usize,
             layers.iter().map(|l| Arc::as_ptr(l) as usize).collect::<Vec<_>>(),

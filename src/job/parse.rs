@@ -195,7 +195,7 @@ pub fn schema() -> String {
 pub enum JobSchema {
     /// A job file, relative to the configuration's folder.
     File(String),
-    Inline(RawJob),
+    Inline(Box<RawJob>),
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -221,7 +221,7 @@ pub enum Embedded {
         name: String,
         at: Place,
     },
-    Inline(Layer),
+    Inline(Box<Layer>),
 }
 
 /// The `job` at `path` (`["job"]`, `["override", "2", "job"]`) of a configuration's text, if
@@ -249,7 +249,7 @@ pub fn parse_embedded(
         }
         Some(machine::Embedded::Table(raw)) => {
             let l = layer(&cx, raw, &format!("{prefix}."), base, label, resolve)?;
-            Ok(Some(Embedded::Inline(l)))
+            Ok(Some(Embedded::Inline(Box::new(l))))
         }
     }
 }

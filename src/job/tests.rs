@@ -27,12 +27,12 @@ fn a_full_job_file_reads_into_one_layer() {
         "part.job.toml",
     )
     .unwrap();
-    assert_eq!(l.units_inch.as_ref().unwrap().value, true);
+    assert!(l.units_inch.as_ref().unwrap().value);
     assert_eq!(l.dialect.as_ref().unwrap().value, DialectChoice::Linuxcnc);
     assert_eq!(l.program_zero_z.as_ref().unwrap().value, 70.0);
     let s = &l.stock.as_ref().unwrap().value;
     assert_eq!((s.diameter, s.length, s.front, s.bore), (40.0, 100.0, Some(60.0), 10.0));
-    assert_eq!(l.tailstock_in_use.as_ref().unwrap().value, false);
+    assert!(!l.tailstock_in_use.as_ref().unwrap().value);
     let t = &l.tools[0].value;
     assert_eq!((t.tool.station, t.tool.nose_radius, t.tool.tip_direction), (2, 0.4, 3));
     assert_eq!(t.origin, "outlines");
@@ -181,7 +181,7 @@ fn later_layers_win_key_by_key_and_tools_station_by_station() {
     .unwrap();
     let j = EffectiveJob::merge([&a, &b]);
     assert_eq!(j.layers, vec!["a", "b"]);
-    assert_eq!(j.units_inch.as_ref().unwrap().value, false);
+    assert!(!j.units_inch.as_ref().unwrap().value);
     assert_eq!(j.units_inch.as_ref().unwrap().layer, "b");
     assert_eq!(j.program_zero_z.as_ref().unwrap().layer, "a");
     let stations: Vec<_> = j
