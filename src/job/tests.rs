@@ -234,9 +234,9 @@ fn apply_sets_the_machine_and_validates_it() {
     let e = apply(&m, &EffectiveJob::merge([&l])).unwrap_err().to_string();
     assert!(e.contains("tools[0].station: station 40 does not exist"), "{e}");
 
-    // A tool that overlaps the chuck at home.
+    // A tool that overlaps the chuck at home (a holder reaching from x 250 down to the jaws).
     let huge = "station = 1\nname = \"huge\"\ntip = [-50.0, -10.0]\ninsert = [[0,0],[1,0],[1,1]]\n\
-                holder = [[0.0, 0.0], [10.0, 0.0], [10.0, -2000.0], [0.0, -2000.0]]\n";
+                holder = [[-200.0, 0.0], [-190.0, 0.0], [-190.0, -700.0], [-200.0, -700.0]]\n";
     let l = layer(&format!("[[tools]]\n{huge}"), "j").unwrap();
     let e = apply(&m, &EffectiveJob::merge([&l])).unwrap_err().to_string();
     assert!(e.contains("tools[0].holder: at home"), "{e}");
