@@ -10,6 +10,7 @@ pub mod gate;
 pub mod gcode;
 pub mod geom;
 pub mod interp;
+pub mod job;
 pub mod machine;
 pub mod motion;
 pub mod pipeline;

@@ -1,7 +1,7 @@
 //! `latheguard accuracy`: the cost-of-accuracy table.
 
 use super::args::{AccuracyArgs, TableFormat};
-use super::{emit, load_machine, read_capped, shown, Trouble, EXIT_CLEAN, MAX_PROGRAM_BYTES};
+use super::{emit, read_capped, shown, Trouble, EXIT_CLEAN, MAX_PROGRAM_BYTES};
 use latheguard::accuracy;
 
 pub fn run(a: AccuracyArgs) -> Result<u8, Trouble> {
@@ -10,7 +10,11 @@ pub fn run(a: AccuracyArgs) -> Result<u8, Trouble> {
         inputs.extend(a.machine.as_deref());
         super::check::refuse_overwrite(p, "--plot", &inputs, &[])?;
     }
-    let machine = load_machine(a.machine.as_deref())?;
+    // The machine of -m (or the built-in one) with the program's job: the file beside it,
+    // --job and the one-off flags (latheguard.toml is read by check and setup only).
+    let machine = super::setup::Planner::new(a.machine.as_deref(), true, &a.job)?
+        .resolve(&a.program)?
+        .machine;
     let src = read_capped(&a.program, MAX_PROGRAM_BYTES)
         .map_err(|why| format!("{}: cannot read: {why}", shown(&a.program)))?;
     let rows = accuracy::run(&src, &machine, a.clearance, a.min_depth, usize::from(a.repeats));

@@ -44,7 +44,10 @@ pub enum Command {
     Tools(ToolsArgs),
     /// The cost-of-accuracy table: exact mode against step mode at several timesteps and tolerances.
     Accuracy(AccuracyArgs),
-    /// Print the JSON Schema of machine files or of latheguard.toml, for editors.
+    /// The effective machine and job of a program: each layer that applied, stock, program zero,
+    /// chuck, tailstock, tools by station.
+    Setup(Box<SetupArgs>),
+    /// Print the JSON Schema of machine files, job files or latheguard.toml, for editors.
     Schema(SchemaArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
     Completions(CompletionsArgs),
@@ -73,6 +76,50 @@ pub struct AccuracyArgs {
     /// min_depth, else 0.1].
     #[arg(long, value_name = "MM", value_parser = min_depth)]
     pub min_depth: Option<f64>,
+    #[command(flatten)]
+    pub job: JobArgs,
+}
+
+/// The job of a run (docs/job.md): over the machine, `latheguard.toml` and the file beside the
+/// program.
+#[derive(Args, Debug, Clone, Default)]
+pub struct JobArgs {
+    /// A job file (stock, program zero, jaws, tailstock, tools) over every other job layer.
+    #[arg(long, value_name = "FILE")]
+    pub job: Option<PathBuf>,
+    /// The stock, mm: DIAxLEN[@STICKOUT] (50x120@80), a tube DIA/BORExLEN[@STICKOUT].
+    #[arg(long, value_name = "DIAxLEN[@STICKOUT]")]
+    pub stock: Option<String>,
+    /// A file of [[tools]] tables by station (as in a job file) over every other layer.
+    #[arg(long, value_name = "FILE.toml")]
+    pub tools: Option<PathBuf>,
+    /// The program's units at program start.
+    #[arg(long, value_enum)]
+    pub units: Option<UnitsArg>,
+    /// z of program Z0 from the jaw faces, mm.
+    #[arg(long, value_name = "Z", allow_hyphen_values = true, value_parser = program_zero)]
+    pub program_zero: Option<f64>,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
+pub enum UnitsArg {
+    Mm,
+    Inch,
+}
+
+#[derive(Args, Debug)]
+pub struct SetupArgs {
+    pub program: PathBuf,
+    /// Machine description (default: from latheguard.toml, else the built-in machine).
+    #[arg(short, long, value_name = "FILE")]
+    pub machine: Option<PathBuf>,
+    #[command(flatten)]
+    pub job: JobArgs,
+    /// Ignore latheguard.toml files.
+    #[arg(long)]
+    pub no_config: bool,
+    #[arg(long, value_enum, default_value_t = TableFormat::Text)]
+    pub format: TableFormat,
 }
 
 /// Formats of the accuracy table.
@@ -153,6 +200,8 @@ pub struct CheckArgs {
     /// Only errors and the summary line; no progress bar.
     #[arg(short, long)]
     pub quiet: bool,
+    #[command(flatten)]
+    pub job: JobArgs,
 }
 
 #[derive(Args, Debug)]
@@ -162,6 +211,8 @@ pub struct MovesArgs {
     pub machine: Option<PathBuf>,
     #[arg(long, value_enum, default_value_t = MovesFormat::Canon)]
     pub format: MovesFormat,
+    #[command(flatten)]
+    pub job: JobArgs,
 }
 
 #[derive(Args, Debug)]
@@ -236,6 +287,8 @@ pub enum SchemaOf {
     Machine,
     /// A `latheguard.toml` configuration file (`machines/config.schema.json`).
     Config,
+    /// A job file (`machines/job.schema.json`, docs/job.md).
+    Job,
 }
 
 #[derive(Args, Debug)]
@@ -361,6 +414,13 @@ fn dt(s: &str) -> Result<f64, String> {
 
 fn tolerance(s: &str) -> Result<f64, String> {
     in_range(s, TOLERANCE_MM)
+}
+
+fn program_zero(s: &str) -> Result<f64, String> {
+    in_range(
+        s,
+        (-latheguard::machine::MAX_COORD_MM, latheguard::machine::MAX_COORD_MM),
+    )
 }
 
 fn clearance(s: &str) -> Result<f64, String> {

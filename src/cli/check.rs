@@ -2,19 +2,17 @@
 //! `latheguard.toml` over the defaults), check them in parallel, report in path order.
 
 use super::args::{CheckArgs, ColorArg, FailOnArg, FormatArg, ModeArg};
-use super::config::{ConfigError, Finder, MachineRef};
+use super::setup::Planner;
 use super::walk::{self, Entry, NC_EXTENSIONS};
 use super::{
-    emit, load_machine, plain, read_capped, read_text, say, shown, Trouble, EXIT_CLEAN, EXIT_FINDINGS, EXIT_TROUBLE,
-    MAX_MACHINE_BYTES, MAX_PROGRAM_BYTES,
+    emit, plain, read_capped, say, shown, Trouble, EXIT_CLEAN, EXIT_FINDINGS, EXIT_TROUBLE, MAX_PROGRAM_BYTES,
 };
 use latheguard::finding::{code, Finding, Kind};
 use latheguard::gate::{self, FailOn};
-use latheguard::machine::{self, Machine};
+use latheguard::machine::Machine;
 use latheguard::pipeline::{self, Mode, Settings};
 use latheguard::report::{self, FileReport, JunitOptions, Report, TextOptions};
 use rayon::prelude::*;
-use std::collections::HashMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -33,6 +31,8 @@ struct Job {
     entry: Entry,
     machine: Arc<Machine>,
     settings: Settings,
+    /// The job layers that applied (docs/job.md).
+    job: Vec<String>,
 }
 
 pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
@@ -173,15 +173,11 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
     })
 }
 
-/// The machine and settings of every file. Every configuration and machine file is read here,
-/// each once, so a bad one stops the run (exit 2) before anything is checked. Also returns the
-/// machine and configuration files read, which no output may overwrite.
+/// The machine and settings of every file. Every configuration, machine and job file is read
+/// here, each once, so a bad one stops the run (exit 2) before anything is checked. Also returns
+/// the files read, which no output may overwrite.
 fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>, Vec<PathBuf>), Trouble> {
-    let cli_machine = match &a.machine {
-        Some(p) => Some(Arc::new(load_machine(Some(p))?)),
-        None => None,
-    };
-    let builtin = Arc::new(Machine::builtin());
+    let mut planner = Planner::new(a.machine.as_deref(), a.no_config, &a.job)?;
     let cli = |mut s: Settings| {
         if let Some(m) = a.mode {
             s.mode = match m {
@@ -196,74 +192,18 @@ fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>, Vec<P
         s.snapshots = a.svg.is_some();
         s
     };
-    let defaults = (
-        cli_machine.clone().unwrap_or_else(|| builtin.clone()),
-        cli(Settings::default()),
-    );
-
-    let mut inputs: Vec<PathBuf> = a.machine.iter().cloned().collect();
-    let mut finder = Finder::new();
-    let mut machines: HashMap<PathBuf, Arc<Machine>> = HashMap::new();
+    let defaults = (planner.default_machine(), cli(Settings::default()));
     let mut jobs = Vec::with_capacity(entries.len());
     for entry in entries {
-        let mut settings = Settings::default();
-        let mut named: Option<MachineRef> = None;
-        if !a.no_config {
-            let abs = finder.absolute(&entry.path);
-            if let Some(cfg) = finder.config_for(&abs).map_err(|e: ConfigError| e.to_string())? {
-                let file = cfg.dir.join(super::config::FILE_NAME);
-                if inputs.last() != Some(&file) {
-                    inputs.push(file);
-                }
-                for layer in cfg.layers_for(&abs) {
-                    if let Some(m) = layer.mode {
-                        settings.mode = m;
-                    }
-                    settings.dt_ms = layer.dt_ms.unwrap_or(settings.dt_ms);
-                    settings.tolerance_mm = layer.tolerance_mm.unwrap_or(settings.tolerance_mm);
-                    settings.clearance_mm = layer.clearance_mm.unwrap_or(settings.clearance_mm);
-                    settings.min_depth_mm = layer.min_depth_mm.or(settings.min_depth_mm);
-                    if layer.machine.is_some() {
-                        named = layer.machine.clone();
-                    }
-                }
-            }
-        }
-        let machine = match (&cli_machine, named) {
-            (Some(m), _) => m.clone(),
-            (None, Some(r)) => machine_for(&r, &finder, &mut machines)?,
-            (None, None) => builtin.clone(),
-        };
+        let r = planner.resolve(&entry.path)?;
         jobs.push(Job {
             entry,
-            machine,
-            settings: cli(settings),
+            machine: r.machine,
+            settings: cli(r.settings),
+            job: r.job.layers.clone(),
         });
     }
-    inputs.extend(machines.into_keys());
-    Ok((defaults, jobs, inputs))
-}
-
-/// Load a machine file named by a configuration, once per file.
-fn machine_for(
-    r: &MachineRef,
-    finder: &Finder,
-    cache: &mut HashMap<PathBuf, Arc<Machine>>,
-) -> Result<Arc<Machine>, Trouble> {
-    let shown = finder.shown(&r.path);
-    let key = std::fs::canonicalize(&r.path)
-        .map_err(|e| format!("{}: cannot read machine file {shown}: {}", r.at, plain(&e)))?;
-    if let Some(m) = cache.get(&key) {
-        return Ok(m.clone());
-    }
-    let text = read_text(&key, MAX_MACHINE_BYTES)
-        .map_err(|why| format!("{}: cannot read machine file {shown}: {why}", r.at))?;
-    let m = machine::from_toml(&text, &shown)
-        .map_err(|e| format!("{}\n  (the machine of {})", super::error_lines(&e), r.at))?;
-    super::warn_machine(&m);
-    let m = Arc::new(m);
-    cache.insert(key, m.clone());
-    Ok(m)
+    Ok((defaults, jobs, planner.inputs))
 }
 
 /// Check every job on a pool of `jobs` threads; the results keep the jobs' order. The flag is
@@ -465,6 +405,7 @@ fn assemble(defaults: Defaults, jobs: &[Job], files: Vec<FileReport>) -> Report 
             if j.settings != settings {
                 f.settings = Some(j.settings);
             }
+            f.job.clone_from(&j.job);
             f
         })
         .collect();

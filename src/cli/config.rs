@@ -7,6 +7,7 @@
 
 use super::args::{out_of_range, CLEARANCE_MM, DT_MS, TOLERANCE_MM};
 use globset::{GlobBuilder, GlobMatcher};
+use latheguard::job;
 use latheguard::pipeline::Mode;
 use latheguard::pipeline::MIN_DEPTH_MM;
 use latheguard::source::LineIndex;
@@ -44,6 +45,16 @@ pub struct Layer {
     pub tolerance_mm: Option<f64>,
     pub clearance_mm: Option<f64>,
     pub min_depth_mm: Option<f64>,
+    /// `job = "FILE"` or an inline `[job]` table (docs/job.md).
+    pub job: Option<JobRef>,
+}
+
+/// A job named by a configuration: a file (read once per run by [`Finder::job_file`]) or a
+/// table written in the configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub enum JobRef {
+    File { path: PathBuf, at: String },
+    Inline(Arc<job::Layer>),
 }
 
 /// A machine file named by a configuration: where it is, and where it was written (for errors).
@@ -107,13 +118,44 @@ pub struct Finder {
     cwd: PathBuf,
     /// Absolute folder → the configuration that applies in it.
     nearest: HashMap<PathBuf, Option<Arc<Config>>>,
+    /// Files jobs refer to (tool libraries, tool tables), by path: each read once.
+    texts: Texts,
+    /// Job files, by path: each read once.
+    jobs: HashMap<PathBuf, Arc<job::Layer>>,
+}
+
+/// The texts of the files jobs name, each read once per run.
+#[derive(Default)]
+pub struct Texts {
+    cwd: PathBuf,
+    read: HashMap<PathBuf, Result<(String, String), String>>,
+}
+
+impl job::Resolve for Texts {
+    fn read(&mut self, base: &str, rel: &str) -> Result<(String, String), String> {
+        let path = normalize(&Path::new(base).join(rel));
+        let cwd = self.cwd.clone();
+        self.read
+            .entry(path.clone())
+            .or_insert_with(|| {
+                let shown = super::shown(&relative(&path, &cwd));
+                super::read_text(&path, super::MAX_CONFIG_BYTES).map(|t| (shown, t))
+            })
+            .clone()
+    }
 }
 
 impl Finder {
     pub fn new() -> Finder {
+        let cwd = std::env::current_dir().unwrap_or_default();
         Finder {
-            cwd: std::env::current_dir().unwrap_or_default(),
             nearest: HashMap::new(),
+            texts: Texts {
+                cwd: cwd.clone(),
+                read: HashMap::new(),
+            },
+            jobs: HashMap::new(),
+            cwd,
         }
     }
 
@@ -156,7 +198,7 @@ impl Finder {
         Ok(found)
     }
 
-    fn load(&self, file: &Path, dir: &Path) -> Result<Config, ConfigError> {
+    fn load(&mut self, file: &Path, dir: &Path) -> Result<Config, ConfigError> {
         let shown = self.shown(file);
         let text = super::read_text(file, super::MAX_CONFIG_BYTES).map_err(|why| ConfigError {
             file: shown.clone(),
@@ -165,8 +207,75 @@ impl Finder {
             key: TOP_LEVEL.into(),
             message: format!("cannot read: {why}"),
         })?;
-        parse(&text, &shown, dir)
+        parse(&text, &shown, dir, &mut self.texts)
     }
+
+    /// A job file, read and validated once per run. `at` says who named it (for errors).
+    pub fn job_file(&mut self, path: &Path, at: Option<&str>) -> Result<Arc<job::Layer>, String> {
+        let abs = normalize(&self.absolute(path));
+        if let Some(l) = self.jobs.get(&abs) {
+            return Ok(l.clone());
+        }
+        let shown = self.shown(&abs);
+        let named = at.map(|a| format!("\n  (the job of {a})")).unwrap_or_default();
+        let text = super::read_text(&abs, super::MAX_CONFIG_BYTES)
+            .map_err(|why| format!("{shown}: cannot read job file: {why}{named}"))?;
+        let base = abs.parent().unwrap_or(Path::new("")).display().to_string();
+        let layer = job::parse(&text, &shown, &base, &shown, &mut self.texts)
+            .map_err(|e| format!("{}{named}", super::error_lines(&e)))?;
+        for w in &layer.warnings {
+            super::say(&format!("warning: {w}"));
+        }
+        let layer = Arc::new(layer);
+        self.jobs.insert(abs, layer.clone());
+        Ok(layer)
+    }
+
+    /// The job file beside a program: `part.job.toml` for `part.nc`, if there is one.
+    pub fn beside(&mut self, program: &Path) -> Result<Option<Arc<job::Layer>>, String> {
+        let Some(p) = beside_path(program) else { return Ok(None) };
+        if !p.is_file() {
+            return Ok(None);
+        }
+        self.job_file(&p, None).map(Some)
+    }
+
+    /// The layer of a configuration's job.
+    pub fn job(&mut self, r: &JobRef) -> Result<Arc<job::Layer>, String> {
+        match r {
+            JobRef::Inline(l) => Ok(l.clone()),
+            JobRef::File { path, at } => self.job_file(path, Some(at)),
+        }
+    }
+}
+
+/// `path` relative to the folder `from` (both absolute and normalised), with `..` where it
+/// lies outside; `path` itself when they share no root.
+fn relative(path: &Path, from: &Path) -> PathBuf {
+    let (p, f): (Vec<_>, Vec<_>) = (path.components().collect(), from.components().collect());
+    let common = p.iter().zip(&f).take_while(|(a, b)| a == b).count();
+    if common == 0 {
+        return path.to_path_buf();
+    }
+    let mut out = PathBuf::new();
+    for _ in common..f.len() {
+        out.push("..");
+    }
+    for c in &p[common..] {
+        out.push(c);
+    }
+    out
+}
+
+/// `dir/part.job.toml` for `dir/part.nc` (the file name without its last extension).
+pub fn beside_path(program: &Path) -> Option<PathBuf> {
+    let stem = program.file_stem()?;
+    if program.as_os_str() == "-" {
+        return None;
+    }
+    let mut name = stem.to_os_string();
+    name.push(".job.toml");
+    Some(program.with_file_name(name))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -199,6 +308,8 @@ struct RawConfig {
     clearance: Option<Spanned<f64>>,
     #[schemars(with = "Option<f64>")]
     min_depth: Option<Spanned<f64>>,
+    #[schemars(with = "Option<job::JobSchema>")]
+    job: Option<serde::de::IgnoredAny>,
     #[serde(rename = "override", default)]
     #[schemars(with = "Vec<RawOverride>")]
     overrides: Vec<Spanned<RawOverride>>,
@@ -221,6 +332,8 @@ struct RawOverride {
     clearance: Option<Spanned<f64>>,
     #[schemars(with = "Option<f64>")]
     min_depth: Option<Spanned<f64>>,
+    #[schemars(with = "Option<job::JobSchema>")]
+    job: Option<serde::de::IgnoredAny>,
 }
 
 #[derive(Deserialize, schemars::JsonSchema, Clone, Copy)]
@@ -300,13 +413,37 @@ impl Cx<'_> {
             tolerance_mm: number(tolerance, "tolerance", TOLERANCE_MM)?,
             clearance_mm: number(clearance, "clearance", CLEARANCE_MM)?,
             min_depth_mm: number(min_depth, "min_depth", MIN_DEPTH_MM)?,
+            job: None,
         })
+    }
+
+    /// The `job` at `path` of this configuration, if any.
+    fn job(&self, path: &[&str], resolve: &mut dyn job::Resolve) -> Result<Option<JobRef>, ConfigError> {
+        let base = self.dir.display().to_string();
+        let label = match path {
+            [_, i, _] => format!("{} override[{i}].job", self.file),
+            _ => format!("{} [job]", self.file),
+        };
+        let got = job::parse_embedded(self.text, self.file, path, &base, &label, resolve).map_err(|e| ConfigError {
+            file: e.file.clone(),
+            line: e.line,
+            col: e.col,
+            key: e.key.clone(),
+            message: e.message.clone(),
+        })?;
+        Ok(got.map(|g| match g {
+            job::Embedded::Inline(l) => JobRef::Inline(Arc::new(*l)),
+            job::Embedded::File { name, at } => JobRef::File {
+                path: normalize(&self.dir.join(name)),
+                at: format!("{}:{}:{}: {}", at.file, at.line, at.col, at.key),
+            },
+        }))
     }
 }
 
 /// Parse and validate a configuration. `file` is used in messages; `dir` is the folder machine
 /// paths are relative to.
-pub fn parse(text: &str, file: &str, dir: &Path) -> Result<Config, ConfigError> {
+pub fn parse(text: &str, file: &str, dir: &Path, resolve: &mut dyn job::Resolve) -> Result<Config, ConfigError> {
     let cx = Cx {
         file,
         dir,
@@ -337,7 +474,7 @@ pub fn parse(text: &str, file: &str, dir: &Path) -> Result<Config, ConfigError> 
         let at = raw.overrides[MAX_OVERRIDES].span();
         return Err(cx.err(at, "override", format!("at most {MAX_OVERRIDES} [[override]] tables")));
     }
-    let base = cx.layer(
+    let mut base = cx.layer(
         "",
         raw.machine,
         raw.mode,
@@ -346,13 +483,20 @@ pub fn parse(text: &str, file: &str, dir: &Path) -> Result<Config, ConfigError> 
         raw.clearance,
         raw.min_depth,
     )?;
+    if raw.job.is_some() {
+        base.job = cx.job(&["job"], resolve)?;
+    }
     let mut overrides = Vec::with_capacity(raw.overrides.len());
     for (i, o) in raw.overrides.into_iter().enumerate() {
         let prefix = format!("override[{i}].");
         let o = o.into_inner();
         let matcher =
             glob_matcher(o.glob.get_ref()).map_err(|why| cx.err(o.glob.span(), format!("{prefix}glob"), why))?;
-        let layer = cx.layer(&prefix, o.machine, o.mode, o.dt, o.tolerance, o.clearance, o.min_depth)?;
+        let mut layer = cx.layer(&prefix, o.machine, o.mode, o.dt, o.tolerance, o.clearance, o.min_depth)?;
+        if o.job.is_some() {
+            let i = i.to_string();
+            layer.job = cx.job(&["override", &i, "job"], resolve)?;
+        }
         overrides.push((matcher, layer));
     }
     Ok(Config {
@@ -472,7 +616,7 @@ mod tests {
     use super::*;
 
     fn err(text: &str) -> String {
-        parse(text, "latheguard.toml", Path::new("/shop"))
+        parse(text, "latheguard.toml", Path::new("/shop"), &mut Texts::default())
             .unwrap_err()
             .to_string()
     }
@@ -484,6 +628,7 @@ mod tests {
              [[override]]\nglob = \"legacy/*.nc\"\nclearance = 0.5\n\n[[override]]\nglob = \"**/*.tap\"\nmachine = \"b.toml\"\n",
             "latheguard.toml",
             Path::new("/shop"),
+            &mut Texts::default(),
         )
         .unwrap();
         assert_eq!(c.base.mode, Some(Mode::Exact));
@@ -521,7 +666,7 @@ mod tests {
         assert_eq!(
             err("mode = \"exact\"\nclerance = 1\n"),
             "latheguard.toml:2:1: clerance: unknown field `clerance`, expected one of `machine`, `mode`, `dt`, \
-             `tolerance`, `clearance`, `min_depth`, `override`"
+             `tolerance`, `clearance`, `min_depth`, `job`, `override`"
         );
         assert_eq!(
             err("mode = \"fast\"\n"),
@@ -538,7 +683,7 @@ mod tests {
         assert_eq!(
             err("[[override]]\nglob = \"a/*\"\nspeed = 1\n"),
             "latheguard.toml:3:1: override[0].speed: unknown field `speed`, expected one of `glob`, `machine`, \
-             `mode`, `dt`, `tolerance`, `clearance`, `min_depth`"
+             `mode`, `dt`, `tolerance`, `clearance`, `min_depth`, `job`"
         );
         assert_eq!(
             err("[[override]]\nglob = \"a/[\"\n"),

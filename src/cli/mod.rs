@@ -8,6 +8,7 @@ mod args;
 mod check;
 mod config;
 mod moves;
+mod setup;
 mod shell;
 mod tools;
 mod walk;
@@ -60,6 +61,7 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
         Command::Check(a) => check::run(*a, cli.color),
         Command::Moves(a) => moves::run(a),
         Command::Accuracy(a) => accuracy::run(a),
+        Command::Setup(a) => setup::run(*a),
 
         Command::Machine(a) => {
             let Some(file) = a.file.filter(|_| !a.schema) else {
@@ -77,6 +79,7 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
                 &match a.of {
                     args::SchemaOf::Machine => machine::schema(),
                     args::SchemaOf::Config => config::schema(),
+                    args::SchemaOf::Job => latheguard::job::schema(),
                 },
             )?;
             Ok(EXIT_CLEAN)

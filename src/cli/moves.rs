@@ -1,7 +1,7 @@
 //! `latheguard moves`: the interpreted motion.
 
 use super::args::{MovesArgs, MovesFormat};
-use super::{emit, load_machine, read_capped, shown, Trouble, EXIT_CLEAN, EXIT_FINDINGS, MAX_PROGRAM_BYTES};
+use super::{emit, read_capped, shown, Trouble, EXIT_CLEAN, EXIT_FINDINGS, MAX_PROGRAM_BYTES};
 use latheguard::finding::Severity;
 use latheguard::interp::{self, canon, Feed, MoveKind};
 use latheguard::pipeline;
@@ -9,7 +9,11 @@ use latheguard::report::terminal_safe;
 use serde_json::json;
 
 pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
-    let machine = load_machine(a.machine.as_deref())?;
+    // The machine of -m (or the built-in one) with the program's job: the file beside it,
+    // --job and the one-off flags (latheguard.toml is read by check and setup only).
+    let machine = super::setup::Planner::new(a.machine.as_deref(), true, &a.job)?
+        .resolve(&a.program)?
+        .machine;
     let src = read_capped(&a.program, MAX_PROGRAM_BYTES)
         .map_err(|why| format!("{}: cannot read: {why}", shown(&a.program)))?;
     let mut prog = pipeline::read(&src, &machine);

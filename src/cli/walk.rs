@@ -56,7 +56,9 @@ fn walk(root: &Path, exts: &[String], out: &mut Vec<Entry>) {
                 // FIFO would wait for a writer.
                 let file =
                     ft.is_file() || (ft.is_symlink() && std::fs::metadata(e.path()).map_or(true, |m| m.is_file()));
-                if file && has_extension(e.path(), exts) && (!is_txt(e.path()) || looks_like_gcode(e.path())) {
+                // A `.toml` file (a job, a machine, a configuration) is never a program, whatever --ext says.
+                let toml = has_extension(e.path(), &["toml".to_string()]);
+                if file && !toml && has_extension(e.path(), exts) && (!is_txt(e.path()) || looks_like_gcode(e.path())) {
                     out.push(Entry {
                         path: tidy(e.path()),
                         problem: None,

@@ -148,7 +148,7 @@ impl MachineError {
     }
 
     /// Problems in any order → the first in file order, holding the rest. None when empty.
-    fn gather(mut errors: Vec<MachineError>) -> Option<MachineError> {
+    pub(crate) fn gather(mut errors: Vec<MachineError>) -> Option<MachineError> {
         errors.sort_by_key(|e| (e.line, e.col));
         errors.dedup();
         let mut rest = errors.into_iter();
@@ -174,26 +174,25 @@ impl std::error::Error for MachineError {}
 
 /// Parse and validate a machine description. `file` is only used in error messages.
 pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
+    let cx = Cx::new(text, file);
+    let raw: RawDoc = deserialize(&cx, "a machine file")?;
+    validate(&cx, raw)
+}
+
+/// The root table of `cx`'s text: at most [`MAX_TEXT_BYTES`], TOML syntax errors placed and
+/// named. `what` names the kind of file in the size error (`a machine file`).
+fn root_table<'t>(cx: &Cx<'t>, what: &str) -> Result<Spanned<DeTable<'t>>, MachineError> {
+    let text = cx.text;
     if text.len() > MAX_TEXT_BYTES {
-        return Err(MachineError {
-            file: file.to_string(),
-            line: 1,
-            col: 1,
-            key: TOP_LEVEL.to_string(),
-            message: format!(
-                "the file is {} bytes; a machine file may have at most {MAX_TEXT_BYTES} (1 MiB)",
+        return Err(cx.err(
+            0..0,
+            TOP_LEVEL,
+            format!(
+                "the file is {} bytes; {what} may have at most {MAX_TEXT_BYTES} (1 MiB)",
                 text.len()
             ),
-            also: Vec::new(),
-        });
+        ));
     }
-    let cx = Cx {
-        text,
-        file,
-        lines: LineIndex::new(text.as_bytes()),
-        warnings: std::cell::RefCell::new(Vec::new()),
-        errors: std::cell::RefCell::new(Vec::new()),
-    };
     let (root, errors) = DeTable::parse_recoverable(text);
     // The parser may report several errors, not in text order: the first in the text is the one
     // the others follow from.
@@ -202,9 +201,59 @@ pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
         let key = syntax_key(&root, &at, e.message(), text);
         return Err(cx.err(at, key, format!("TOML syntax error: {}", e.message())));
     }
+    Ok(root)
+}
+
+/// Parse `cx`'s text as a `T` (the raw types of a TOML file with spans), with errors that name
+/// the file, line, column and dotted key. Shared by machine and job files.
+pub(crate) fn deserialize<T: serde::de::DeserializeOwned>(cx: &Cx<'_>, what: &str) -> Result<T, MachineError> {
+    let root = root_table(cx, what)?;
     let tree = root.clone();
-    let raw = RawDoc::deserialize(toml::de::Deserializer::from(root)).map_err(|e| cx.serde_error(&e, &tree))?;
-    validate(&cx, raw)
+    T::deserialize(toml::de::Deserializer::from(root)).map_err(|e| cx.serde_error(&e, &tree))
+}
+
+/// A value inside another file (`job` in `latheguard.toml`, or `override[2].job`): a string,
+/// or a table read as a `T` with errors that name the whole key path.
+pub(crate) enum Embedded<T> {
+    Str(Spanned<String>),
+    Table(T),
+}
+
+/// The value at `path` (keys, and array indices as numbers in strings: `["override", "2",
+/// "job"]`) of `cx`'s text, if there is one.
+pub(crate) fn deserialize_at<T: serde::de::DeserializeOwned>(
+    cx: &Cx<'_>,
+    path: &[&str],
+    what: &str,
+) -> Result<Option<Embedded<T>>, MachineError> {
+    let root = root_table(cx, what)?;
+    let mut here: Option<&Spanned<DeValue<'_>>> = None;
+    let mut table: Option<&DeTable<'_>> = Some(root.get_ref());
+    for seg in path {
+        let next = match (here.map(|v| v.get_ref()), table) {
+            (Some(DeValue::Array(a)), _) => seg.parse::<usize>().ok().and_then(|i| a.get(i)),
+            (_, Some(t)) => t.get(*seg),
+            _ => None,
+        };
+        let Some(v) = next else { return Ok(None) };
+        table = match v.get_ref() {
+            DeValue::Table(t) => Some(t),
+            _ => None,
+        };
+        here = Some(v);
+    }
+    let Some(v) = here else { return Ok(None) };
+    let key = path.join(".");
+    match v.get_ref() {
+        DeValue::String(s) => Ok(Some(Embedded::Str(Spanned::new(v.span(), s.to_string())))),
+        DeValue::Table(t) => {
+            let sub = Spanned::new(v.span(), t.clone());
+            T::deserialize(toml::de::Deserializer::from(sub))
+                .map(|t| Some(Embedded::Table(t)))
+                .map_err(|e| cx.serde_error(&e, &root))
+        }
+        _ => Err(cx.err(v.span(), key, "expected a file name (a string) or a table")),
+    }
 }
 
 /// The JSON Schema (draft 2020-12) of a machine file, generated from the types the loader reads
@@ -223,9 +272,9 @@ pub fn schema() -> String {
 // ---------------------------------------------------------------------------------------------
 // The file as written. (These types also give the JSON Schema of the file: [`schema`].)
 
-type Num = Spanned<f64>;
-type Point = Spanned<Vec<f64>>;
-type Outline = Spanned<Vec<Point>>;
+pub(crate) type Num = Spanned<f64>;
+pub(crate) type Point = Spanned<Vec<f64>>;
+pub(crate) type Outline = Spanned<Vec<Point>>;
 
 #[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
@@ -413,7 +462,9 @@ struct RawTool {
 // ---------------------------------------------------------------------------------------------
 // Validation.
 
-struct Cx<'a> {
+/// Where values of one TOML text are checked: errors and warnings with file, line, column and
+/// key. Shared with job files (`crate::job`), which are checked as machine files are.
+pub(crate) struct Cx<'a> {
     text: &'a str,
     file: &'a str,
     lines: LineIndex,
@@ -423,8 +474,25 @@ struct Cx<'a> {
     errors: std::cell::RefCell<Vec<MachineError>>,
 }
 
+impl<'a> Cx<'a> {
+    pub(crate) fn new(text: &'a str, file: &'a str) -> Cx<'a> {
+        Cx {
+            text,
+            file,
+            lines: LineIndex::new(text.as_bytes()),
+            warnings: std::cell::RefCell::new(Vec::new()),
+            errors: std::cell::RefCell::new(Vec::new()),
+        }
+    }
+
+    /// The warnings kept so far, as `file:line:col: key: message`.
+    pub(crate) fn take_warnings(&self) -> Vec<String> {
+        self.warnings.take()
+    }
+}
+
 impl Cx<'_> {
-    fn err(&self, at: Range<usize>, key: impl Into<String>, message: impl Into<String>) -> MachineError {
+    pub(crate) fn err(&self, at: Range<usize>, key: impl Into<String>, message: impl Into<String>) -> MachineError {
         let offset = at.start.min(self.text.len()).min(u32::MAX as usize) as u32;
         let key = key.into();
         MachineError {
@@ -438,7 +506,7 @@ impl Cx<'_> {
     }
 
     /// The value, or None with its error kept for the report: validation goes on.
-    fn keep<T>(&self, r: Result<T, MachineError>) -> Option<T> {
+    pub(crate) fn keep<T>(&self, r: Result<T, MachineError>) -> Option<T> {
         match r {
             Ok(v) => Some(v),
             Err(e) => {
@@ -449,17 +517,17 @@ impl Cx<'_> {
     }
 
     /// Keep an error for the report.
-    fn push(&self, e: MachineError) {
+    pub(crate) fn push(&self, e: MachineError) {
         self.errors.borrow_mut().push(e);
     }
 
     /// Every error kept so far, as one (None when there are none).
-    fn kept(&self) -> Option<MachineError> {
+    pub(crate) fn kept(&self) -> Option<MachineError> {
         MachineError::gather(self.errors.take())
     }
 
     /// A serde error (unknown key, wrong type, missing key): find the key from its span.
-    fn serde_error(&self, e: &toml::de::Error, tree: &Spanned<DeTable<'_>>) -> MachineError {
+    pub(crate) fn serde_error(&self, e: &toml::de::Error, tree: &Spanned<DeTable<'_>>) -> MachineError {
         let at = e.span().unwrap_or(0..0);
         let message = e.message();
         if let Some(field) = message
@@ -474,7 +542,7 @@ impl Cx<'_> {
         self.err(at, render(&path), plain_words(message))
     }
 
-    fn finite(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
+    pub(crate) fn finite(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
         let x = *v.get_ref();
         if x.is_finite() {
             Ok(x)
@@ -483,13 +551,13 @@ impl Cx<'_> {
         }
     }
 
-    fn warn(&self, at: Range<usize>, key: &str, message: String) {
+    pub(crate) fn warn(&self, at: Range<usize>, key: &str, message: String) {
         let e = self.err(at, key, message);
         self.warnings.borrow_mut().push(e.to_string());
     }
 
     /// A number within `lo ..= hi` (its physical range), else an error naming the range.
-    fn within(&self, key: &str, v: &Num, (lo, hi): (f64, f64), unit: &str) -> Result<f64, MachineError> {
+    pub(crate) fn within(&self, key: &str, v: &Num, (lo, hi): (f64, f64), unit: &str) -> Result<f64, MachineError> {
         let x = self.finite(key, v)?;
         if (lo..=hi).contains(&x) {
             Ok(x)
@@ -508,12 +576,12 @@ impl Cx<'_> {
     }
 
     /// A coordinate: within ±[`MAX_COORD_MM`].
-    fn coord(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
+    pub(crate) fn coord(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
         self.within(key, v, (-MAX_COORD_MM, MAX_COORD_MM), "mm")
     }
 
     /// A length: greater than 0 and at most [`MAX_COORD_MM`].
-    fn length(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
+    pub(crate) fn length(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
         let x = self.positive(key, v)?;
         if x > MAX_COORD_MM {
             return Err(self.err(
@@ -529,7 +597,7 @@ impl Cx<'_> {
         Ok(x)
     }
 
-    fn positive(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
+    pub(crate) fn positive(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
         let x = self.finite(key, v)?;
         if x > 0.0 {
             Ok(x)
@@ -538,7 +606,7 @@ impl Cx<'_> {
         }
     }
 
-    fn non_negative(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
+    pub(crate) fn non_negative(&self, key: &str, v: &Num) -> Result<f64, MachineError> {
         let x = self.finite(key, v)?;
         if x >= 0.0 {
             Ok(x)
@@ -547,7 +615,7 @@ impl Cx<'_> {
         }
     }
 
-    fn point(&self, key: &str, p: &Point) -> Result<P2, MachineError> {
+    pub(crate) fn point(&self, key: &str, p: &Point) -> Result<P2, MachineError> {
         match p.get_ref().as_slice() {
             &[x, z] if x.abs() <= MAX_COORD_MM && z.abs() <= MAX_COORD_MM => Ok(p2(x, z)),
             &[x, z] if x.is_finite() && z.is_finite() => Err(self.err(
@@ -574,7 +642,7 @@ impl Cx<'_> {
         }
     }
 
-    fn outline(&self, key: &str, o: &Outline) -> Result<Polygon, MachineError> {
+    pub(crate) fn outline(&self, key: &str, o: &Outline) -> Result<Polygon, MachineError> {
         let mut pts = Vec::with_capacity(o.get_ref().len());
         for (i, p) in o.get_ref().iter().enumerate() {
             pts.push(self.point(&format!("{key}[{i}]"), p)?);
@@ -1111,15 +1179,27 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
     })
 }
 
+/// A part that overlaps the chuck or the tailstock at home: [`home_clashes`].
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct HomeClash {
+    /// None: the turret; Some((station, "holder" | "insert")): that tool's part.
+    pub(crate) tool: Option<(u32, &'static str)>,
+    /// `"chuck"` or `"tailstock"`.
+    pub(crate) obstacle: &'static str,
+    pub(crate) message: String,
+}
+
 /// At home with the start station facing the spindle, the turret and every tool (the start
 /// station's in the working plane, the others turned out of it) must be clear of the chuck and
 /// the tailstock: a machine whose parts already overlap before anything moves is a setup error.
-/// The test poses the parts as the checker does ([`Scene`](crate::scene::Scene)).
-fn clear_at_home(cx: &Cx<'_>, machine: &Machine, turret_outline: &Outline, raw_tools: &[Spanned<RawTool>]) {
+/// The test poses the parts as the checker does ([`Scene`](crate::scene::Scene)). Shared by
+/// machine files and jobs (which change the chuck, the tailstock and the tools).
+pub(crate) fn home_clashes(machine: &Machine) -> Vec<HomeClash> {
     use crate::geom::overlap;
     use crate::scene::Scene;
+    let mut out = Vec::new();
     if machine.chuck.is_none() && machine.tailstock.is_none() {
-        return;
+        return out;
     }
     let scene = Scene::new(machine, HOME_CHECK_TOLERANCE);
     let home = machine.home;
@@ -1137,19 +1217,16 @@ fn clear_at_home(cx: &Cx<'_>, machine: &Machine, turret_outline: &Outline, raw_t
         show(home.y)
     );
     if let Some((what, d)) = hit(&scene.turret.translated(home.coords), true) {
-        cx.push(cx.err(
-            turret_outline.span(),
-            "turret.outline",
-            format!("{where_}, the turret overlaps the {what} by {d:.3} mm: move axes.home or the parts"),
-        ));
+        out.push(HomeClash {
+            tool: None,
+            obstacle: what,
+            message: format!("{where_}, the turret overlaps the {what} by {d:.3} mm: move axes.home or the parts"),
+        });
     }
-    for (i, raw) in raw_tools.iter().enumerate() {
-        let station = *raw.get_ref().station.get_ref();
+    for tool in &machine.tools {
+        let station = tool.station;
         let Some(t) = scene.tool(station) else { continue };
-        for (part, shape, span) in [
-            ("holder", &t.holder, raw.get_ref().holder.span()),
-            ("insert", &t.insert, raw.get_ref().insert.span()),
-        ] {
+        for (part, shape) in [("holder", &t.holder), ("insert", &t.insert)] {
             let (posed, in_plane) = if station == start {
                 (Some(shape.translated(home.coords + t.tip)), true)
             } else {
@@ -1158,37 +1235,60 @@ fn clear_at_home(cx: &Cx<'_>, machine: &Machine, turret_outline: &Outline, raw_t
             };
             let Some(posed) = posed else { continue };
             if let Some((what, d)) = hit(&posed, in_plane) {
-                cx.push(cx.err(
-                    span,
-                    format!("tools[{i}].{part}"),
-                    format!(
+                out.push(HomeClash {
+                    tool: Some((station, part)),
+                    obstacle: what,
+                    message: format!(
                         "{where_}, the {part} of the tool in station {station} overlaps the {what} by {d:.3} mm: move axes.home or the tool"
                     ),
-                ));
+                });
+            }
+        }
+    }
+    out
+}
+
+fn clear_at_home(cx: &Cx<'_>, machine: &Machine, turret_outline: &Outline, raw_tools: &[Spanned<RawTool>]) {
+    for c in home_clashes(machine) {
+        match c.tool {
+            None => cx.push(cx.err(turret_outline.span(), "turret.outline", c.message)),
+            Some((station, part)) => {
+                let Some(i) = raw_tools.iter().position(|t| *t.get_ref().station.get_ref() == station) else {
+                    continue;
+                };
+                let raw = raw_tools[i].get_ref();
+                let span = if part == "holder" {
+                    raw.holder.span()
+                } else {
+                    raw.insert.span()
+                };
+                cx.push(cx.err(span, format!("tools[{i}].{part}"), c.message));
             }
         }
     }
 }
 
+/// Which key a stock that does not fit the chuck is about: [`stock_clash`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum StockKey {
+    Length,
+    Diameter,
+}
+
 /// The stock (a bar or tube from `front − length` to `front`, radius `diameter / 2`, bore
 /// `bore / 2`, revolved like the chuck) must not overlap the chuck: the jaws grip it at their
 /// faces, where the two touch. When even the innermost skin of the stock overlaps the chuck, no
-/// diameter would fit and the error names `stock.length` (the bar reaches into the chuck body);
-/// otherwise it names `stock.diameter` (the bar is wider than the chuck's bore where it reaches).
-fn stock_fits_chuck(cx: &Cx<'_>, machine: &Machine, stock: &Stock, raw: &RawStock) -> Result<(), MachineError> {
+/// diameter would fit and the problem is the length (the bar reaches into the chuck body);
+/// otherwise the diameter (the bar is wider than the chuck's bore where it reaches). Shared by
+/// machine files and jobs.
+pub(crate) fn stock_clash(machine: &Machine, stock: &Stock) -> Option<(StockKey, String)> {
     use crate::geom::overlap;
-    let Some(chuck) = &machine.chuck else {
-        return Ok(());
-    };
+    let chuck = machine.chuck.as_ref()?;
     let (r_in, r_out) = (stock.bore / 2.0, stock.diameter / 2.0);
     let (back, front) = (stock.front - stock.length, stock.front);
     let rect = |x0: f64, x1: f64| Polygon::new(&[p2(x0, back), p2(x1, back), p2(x1, front), p2(x0, front)]).ok();
-    let Some(bar) = rect(r_in, r_out) else {
-        return Ok(());
-    };
-    let Some(d) = overlap(&bar, chuck) else {
-        return Ok(());
-    };
+    let bar = rect(r_in, r_out)?;
+    let d = overlap(&bar, chuck)?;
     let skin = rect(r_in, r_in + (r_out - r_in).min(0.1));
     let kind = if stock.bore > 0.0 { "tube" } else { "bar" };
     let what = format!(
@@ -1198,17 +1298,23 @@ fn stock_fits_chuck(cx: &Cx<'_>, machine: &Machine, stock: &Stock, raw: &RawStoc
         show(front)
     );
     if skin.and_then(|s| overlap(&s, chuck)).is_some() {
-        Err(cx.err(
-            raw.length.span(),
-            "stock.length",
+        Some((
+            StockKey::Length,
             format!("{what}: its back end reaches into the chuck body, whatever its diameter; shorten it or move stock.front"),
         ))
     } else {
-        Err(cx.err(
-            raw.diameter.span(),
-            "stock.diameter",
+        Some((
+            StockKey::Diameter,
             format!("{what}: it is wider than the chuck's bore where it reaches (the jaws grip it where their faces touch it)"),
         ))
+    }
+}
+
+fn stock_fits_chuck(cx: &Cx<'_>, machine: &Machine, stock: &Stock, raw: &RawStock) -> Result<(), MachineError> {
+    match stock_clash(machine, stock) {
+        None => Ok(()),
+        Some((StockKey::Length, m)) => Err(cx.err(raw.length.span(), "stock.length", m)),
+        Some((StockKey::Diameter, m)) => Err(cx.err(raw.diameter.span(), "stock.diameter", m)),
     }
 }
 

@@ -14,6 +14,9 @@ use std::fmt::Write as _;
 use crate::geom::{Polygon, P2};
 pub use mcodes::{reserved as mcodes_reserved, MAction, McodeTable, ACTIONS as MCODE_ACTIONS, MAX_MCODE};
 
+pub(crate) use load::{
+    deserialize, deserialize_at, home_clashes, stock_clash, Cx, Embedded, Num, Outline, Point, StockKey,
+};
 pub use load::{
     from_toml, schema, MachineError, INDEX_TIME_RANGE, MAX_COORD_MM, MAX_OUTLINE_POINTS, MAX_RPM_RANGE, MAX_STATIONS,
     MAX_TEXT_BYTES, MAX_TOOLS, MAX_TOTAL_OUTLINE_POINTS, NOSE_RADIUS_RANGE, RAPID_RANGE, TOP_LEVEL,

@@ -23,6 +23,9 @@ struct FileDoc<'a> {
     machine: Option<&'a str>,
     #[serde(skip_serializing_if = "Option::is_none")]
     settings: Option<&'a Settings>,
+    /// The job layers that applied to this file (absent when none did).
+    #[serde(skip_serializing_if = "<[String]>::is_empty")]
+    job: &'a [String],
     status: &'static str,
     findings: Vec<FindingDoc<'a>>,
     /// Findings set aside by suppression comments, each with its reason (absent when none).
@@ -123,6 +126,7 @@ pub fn json(r: &Report) -> String {
                 path: &f.path,
                 machine: f.machine.as_deref(),
                 settings: f.settings.as_ref(),
+                job: &f.job,
                 status: f.status().name(),
                 findings: f.findings.iter().map(FindingDoc::from).collect(),
                 suppressed: f

@@ -40,6 +40,8 @@ pub struct FileReport {
     pub machine: Option<String>,
     /// The settings, when they are not the report's.
     pub settings: Option<Settings>,
+    /// The job layers that applied (docs/job.md), lowest first; empty when none did.
+    pub job: Vec<String>,
     /// Findings set aside by suppression comments in the program (never counted as errors).
     pub suppressed: Vec<crate::gate::Suppressed>,
 }

@@ -1,0 +1,413 @@
+//! What applies to a program: its machine (command line, `latheguard.toml`, built-in), its
+//! settings and its job layers (docs/job.md), each file read once per run; and `latheguard
+//! setup`, which prints the result.
+
+use super::args::{JobArgs, SetupArgs, TableFormat, UnitsArg};
+use super::config::{Finder, MachineRef, FILE_NAME};
+use super::{emit, load_machine, plain, read_text, safe_lines, Trouble, EXIT_CLEAN, MAX_MACHINE_BYTES};
+use latheguard::job::{self, EffectiveJob, Layer};
+use latheguard::machine::{self, Machine};
+use latheguard::pipeline::Settings;
+use serde_json::json;
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A program's machine, settings and job.
+pub struct Resolved {
+    /// The machine the checker runs: the machine file with the job applied.
+    pub machine: Arc<Machine>,
+    /// The machine file (`built-in: …` for the built-in machine).
+    pub machine_file: String,
+    /// `latheguard.toml`'s settings (the command line's are not applied here).
+    pub settings: Settings,
+    /// The configuration that applied, if any.
+    pub config: Option<PathBuf>,
+    pub job: Arc<EffectiveJob>,
+}
+
+/// A machine with a job applied, and the job.
+type Applied = (Arc<Machine>, Arc<EffectiveJob>);
+
+/// Resolves programs one after the other, reading every file once.
+pub struct Planner {
+    finder: Finder,
+    no_config: bool,
+    cli_machine: Option<(Arc<Machine>, String)>,
+    builtin: Arc<Machine>,
+    machines: HashMap<PathBuf, Arc<Machine>>,
+    cli_layers: Vec<Arc<Layer>>,
+    /// (machine, layers) → the machine with the job applied.
+    applied: HashMap<(usize, Vec<usize>), Applied>,
+    /// Every machine, configuration and job file read (no output may overwrite them).
+    pub inputs: Vec<PathBuf>,
+}
+
+impl Planner {
+    pub fn new(machine: Option<&Path>, no_config: bool, a: &JobArgs) -> Result<Planner, Trouble> {
+        let cli_machine = match machine {
+            Some(p) => Some((Arc::new(load_machine(Some(p))?), super::shown(p))),
+            None => None,
+        };
+        let mut finder = Finder::new();
+        let mut inputs: Vec<PathBuf> = machine.iter().map(|p| p.to_path_buf()).collect();
+        // Lowest first: --job, then the one-off flags (--tools, --stock, --units, --program-zero).
+        let mut cli_layers = Vec::new();
+        if let Some(j) = &a.job {
+            inputs.push(j.clone());
+            cli_layers.push(finder.job_file(j, None)?);
+        }
+        if let Some(t) = &a.tools {
+            let l = finder.job_file(t, None)?;
+            let only_tools = Layer {
+                label: l.label.clone(),
+                files: l.files.clone(),
+                tools: l.tools.clone(),
+                warnings: l.warnings.clone(),
+                ..Layer::default()
+            };
+            if *l != only_tools {
+                return Err(format!(
+                    "--tools {}: the file sets more than [[tools]] (and tool_library, tool_table); give a whole job with --job",
+                    super::shown(t)
+                ));
+            }
+            inputs.push(t.clone());
+            cli_layers.push(l);
+        }
+        let flags = job::flags_layer(a.stock.as_deref(), a.units.map(|u| u == UnitsArg::Inch), a.program_zero)
+            .map_err(|e| {
+                if a.stock.is_some() && e.starts_with('`') {
+                    format!("--stock: {e}")
+                } else {
+                    e
+                }
+            })?;
+        if !flags.is_empty() {
+            cli_layers.push(Arc::new(flags));
+        }
+        Ok(Planner {
+            finder,
+            no_config,
+            cli_machine,
+            builtin: Arc::new(Machine::builtin()),
+            machines: HashMap::new(),
+            cli_layers,
+            applied: HashMap::new(),
+            inputs,
+        })
+    }
+
+    /// The machine of the command line, else the built-in one (without any job).
+    pub fn default_machine(&self) -> Arc<Machine> {
+        self.cli_machine
+            .as_ref()
+            .map_or_else(|| self.builtin.clone(), |m| m.0.clone())
+    }
+
+    /// The machine, settings and job of one program (`-`: standard input, which has no file
+    /// beside it).
+    pub fn resolve(&mut self, program: &Path) -> Result<Resolved, Trouble> {
+        let mut settings = Settings::default();
+        let mut named: Option<MachineRef> = None;
+        let mut layers: Vec<Arc<Layer>> = Vec::new();
+        let mut config = None;
+        let stdin = program.as_os_str() == "-";
+        if !self.no_config {
+            let abs = self.finder.absolute(program);
+            if let Some(cfg) = self.finder.config_for(&abs).map_err(|e| e.to_string())? {
+                let file = cfg.dir.join(FILE_NAME);
+                if !self.inputs.contains(&file) {
+                    self.inputs.push(file.clone());
+                }
+                config = Some(file);
+                for layer in cfg.layers_for(&abs) {
+                    if let Some(m) = layer.mode {
+                        settings.mode = m;
+                    }
+                    settings.dt_ms = layer.dt_ms.unwrap_or(settings.dt_ms);
+                    settings.tolerance_mm = layer.tolerance_mm.unwrap_or(settings.tolerance_mm);
+                    settings.clearance_mm = layer.clearance_mm.unwrap_or(settings.clearance_mm);
+                    settings.min_depth_mm = layer.min_depth_mm.or(settings.min_depth_mm);
+                    if layer.machine.is_some() {
+                        named = layer.machine.clone();
+                    }
+                    if let Some(j) = &layer.job {
+                        layers.push(self.finder.job(j)?);
+                    }
+                }
+            }
+        }
+        if !stdin {
+            if let Some(b) = self.finder.beside(program)? {
+                if let Some(p) = super::config::beside_path(program) {
+                    if !self.inputs.contains(&p) {
+                        self.inputs.push(p);
+                    }
+                }
+                layers.push(b);
+            }
+        }
+        layers.extend(self.cli_layers.iter().cloned());
+        let (base, machine_file) = match (&self.cli_machine, named) {
+            (Some((m, shown)), _) => (m.clone(), shown.clone()),
+            (None, Some(r)) => {
+                let shown = self.finder.shown(&r.path);
+                (self.machine_for(&r)?, shown)
+            }
+            (None, None) => (self.builtin.clone(), format!("built-in: {}", machine::BUILTIN_NAME)),
+        };
+        let (machine, job) = self.apply(&base, &layers, program)?;
+        Ok(Resolved {
+            machine,
+            machine_file,
+            settings,
+            config,
+            job,
+        })
+    }
+
+    /// The machine with the job of `layers` applied, once per machine and list of layers.
+    fn apply(&mut self, base: &Arc<Machine>, layers: &[Arc<Layer>], program: &Path) -> Result<Applied, Trouble> {
+        let key = (
+            Arc::as_ptr(base) as usize,
+            layers.iter().map(|l| Arc::as_ptr(l) as usize).collect::<Vec<_>>(),
+        );
+        if let Some(got) = self.applied.get(&key) {
+            return Ok(got.clone());
+        }
+        let job = Arc::new(EffectiveJob::merge(layers.iter().map(|l| l.as_ref())));
+        let machine = if job.is_empty() {
+            base.clone()
+        } else {
+            let m = job::apply(base, &job).map_err(|e| {
+                format!(
+                    "{}\n  (the job of {} on {})",
+                    super::error_lines(&e),
+                    super::shown(program),
+                    base.name
+                )
+            })?;
+            Arc::new(m)
+        };
+        self.applied.insert(key, (machine.clone(), job.clone()));
+        Ok((machine, job))
+    }
+
+    /// Load a machine file named by a configuration, once per file.
+    fn machine_for(&mut self, r: &MachineRef) -> Result<Arc<Machine>, Trouble> {
+        let shown = self.finder.shown(&r.path);
+        let key = std::fs::canonicalize(&r.path)
+            .map_err(|e| format!("{}: cannot read machine file {shown}: {}", r.at, plain(&e)))?;
+        if let Some(m) = self.machines.get(&key) {
+            return Ok(m.clone());
+        }
+        let text = read_text(&key, MAX_MACHINE_BYTES)
+            .map_err(|why| format!("{}: cannot read machine file {shown}: {why}", r.at))?;
+        let m = machine::from_toml(&text, &shown)
+            .map_err(|e| format!("{}\n  (the machine of {})", super::error_lines(&e), r.at))?;
+        super::warn_machine(&m);
+        let m = Arc::new(m);
+        self.machines.insert(key.clone(), m.clone());
+        self.inputs.push(key);
+        Ok(m)
+    }
+}
+
+/// `latheguard setup PROGRAM`.
+pub fn run(a: SetupArgs) -> Result<u8, Trouble> {
+    if std::fs::symlink_metadata(&a.program).is_err() {
+        return Err(format!("{}: no such file", super::shown(&a.program)));
+    }
+    let mut planner = Planner::new(a.machine.as_deref(), a.no_config, &a.job)?;
+    let r = planner.resolve(&a.program)?;
+    let text = match a.format {
+        TableFormat::Text => safe_lines(&text(&a.program, &r)),
+        TableFormat::Json => {
+            let mut s = serde_json::to_string_pretty(&json(&a.program, &r)).unwrap_or_default();
+            s.push('\n');
+            s
+        }
+    };
+    emit(None, &text)?;
+    Ok(EXIT_CLEAN)
+}
+
+const MACHINE: &str = "machine";
+
+/// Which layer set a value: the last job layer that did, else the machine file.
+fn from<T>(s: &Option<job::Set<T>>) -> &str {
+    s.as_ref().map_or(MACHINE, |s| s.layer.as_str())
+}
+
+fn num(v: f64) -> String {
+    let r = (v * 1000.0).round() / 1000.0;
+    if r == 0.0 {
+        "0".into()
+    } else {
+        format!("{r}")
+    }
+}
+
+fn stock_text(m: &Machine) -> String {
+    match &m.stock {
+        None => "none".into(),
+        Some(s) => {
+            let kind = if s.bore > 0.0 {
+                format!("tube Ø{}/Ø{}", num(s.diameter), num(s.bore))
+            } else {
+                format!("bar Ø{}", num(s.diameter))
+            };
+            format!(
+                "{kind} × {} mm, front face at z {} (the stick-out)",
+                num(s.length),
+                num(s.front)
+            )
+        }
+    }
+}
+
+fn outline_text(p: &Option<latheguard::geom::Polygon>) -> String {
+    match p {
+        None => "none".into(),
+        Some(p) => {
+            let b = p.aabb();
+            format!(
+                "x {} .. {}, z {} .. {} ({} points)",
+                num(b.min.x),
+                num(b.max.x),
+                num(b.min.y),
+                num(b.max.y),
+                p.points().len()
+            )
+        }
+    }
+}
+
+/// Where each tool came from: the job layer that put it in its station, else the machine file.
+fn tool_rows(r: &Resolved) -> Vec<(&latheguard::machine::Tool, String, String)> {
+    r.machine
+        .tools
+        .iter()
+        .map(
+            |t| match r.job.tools.iter().find(|j| j.value.tool.station == t.station) {
+                Some(j) => (t, j.layer.clone(), j.value.origin.clone()),
+                None => (t, MACHINE.to_string(), String::new()),
+            },
+        )
+        .collect()
+}
+
+fn text(program: &Path, r: &Resolved) -> String {
+    let m = &r.machine;
+    let j = &r.job;
+    let mut s = String::new();
+    let _ = writeln!(s, "{}", super::shown(program));
+    let _ = writeln!(s, "  machine       {} ({})", m.name, r.machine_file);
+    if let Some(c) = &r.config {
+        let _ = writeln!(
+            s,
+            "  config        {}",
+            super::shown(c.strip_prefix(std::env::current_dir().unwrap_or_default()).unwrap_or(c))
+        );
+    }
+    if j.layers.is_empty() {
+        let _ = writeln!(s, "  job           none (the machine file's setup)");
+    } else {
+        for (i, l) in j.layers.iter().enumerate() {
+            let _ = writeln!(s, "  {:<13} {l}", if i == 0 { "job layers" } else { "" });
+        }
+    }
+    let units = if m.inch { "inch (G20)" } else { "mm (G21)" };
+    let _ = writeln!(s, "  units         {units}  [{}]", from(&j.units_inch));
+    let mut dialect = m.dialect.as_str().to_string();
+    if j.dialect.as_ref().is_some_and(|d| d.value == job::DialectChoice::Auto) {
+        dialect.push_str(" (auto: reading the program's dialect is not built yet; the machine's)");
+    }
+    let _ = writeln!(s, "  dialect       {dialect}  [{}]", from(&j.dialect));
+    let _ = writeln!(s, "  stock         {}  [{}]", stock_text(m), from(&j.stock));
+    let pz_from = match (&j.program_zero_z, &j.stock) {
+        (Some(z), _) => z.layer.as_str(),
+        (None, Some(st)) => st.layer.as_str(),
+        _ => MACHINE,
+    };
+    let _ = writeln!(s, "  program Z0    z {}  [{pz_from}]", num(m.program_zero_z));
+    let _ = writeln!(s, "  chuck         {}  [{}]", outline_text(&m.chuck), from(&j.chuck));
+    let tail = match (&m.tailstock, m.tailstock_advanced) {
+        (None, _) => "none".to_string(),
+        (Some(_), adv) => format!(
+            "{}, {}",
+            outline_text(&m.tailstock),
+            if adv { "advanced at start" } else { "retracted at start" }
+        ),
+    };
+    let _ = writeln!(s, "  tailstock     {tail}  [{}]", from(&j.tailstock_in_use));
+    let _ = writeln!(s, "  tools");
+    for (t, layer, origin) in tool_rows(r) {
+        let mut line = format!(
+            "    T{:02} {}  tip [{}, {}]",
+            t.station,
+            t.name,
+            num(t.tip.x),
+            num(t.tip.y)
+        );
+        if t.nose_radius > 0.0 {
+            let _ = write!(line, "  nose r{}", num(t.nose_radius));
+        }
+        if t.tip_direction != 0 {
+            let _ = write!(line, "  tip direction {}", t.tip_direction);
+        }
+        if origin.is_empty() {
+            let _ = write!(line, "  [{layer}]");
+        } else {
+            let _ = write!(line, "  [{layer}: {origin}]");
+        }
+        let _ = writeln!(s, "{line}");
+    }
+    for w in &j.warnings {
+        let _ = writeln!(s, "  warning: {w}");
+    }
+    s
+}
+
+fn json(program: &Path, r: &Resolved) -> serde_json::Value {
+    let m = &r.machine;
+    let j = &r.job;
+    let outline = |p: &Option<latheguard::geom::Polygon>| {
+        p.as_ref()
+            .map(|p| p.points().iter().map(|q| [q.x, q.y]).collect::<Vec<_>>())
+    };
+    json!({
+        "program": super::shown(program),
+        "machine": { "name": m.name, "file": r.machine_file },
+        "config": r.config.as_ref().map(|c| super::shown(c.strip_prefix(std::env::current_dir().unwrap_or_default()).unwrap_or(c))),
+        "job": { "layers": j.layers, "files": j.files },
+        "units": { "value": if m.inch { "inch" } else { "mm" }, "from": from(&j.units_inch) },
+        "dialect": { "value": m.dialect.as_str(), "from": from(&j.dialect) },
+        "stock": {
+            "value": m.stock.as_ref().map(|s| json!({
+                "diameter": s.diameter, "length": s.length, "stick_out": s.front, "bore": s.bore })),
+            "from": from(&j.stock),
+        },
+        "program_zero_z": { "value": m.program_zero_z, "from": match (&j.program_zero_z, &j.stock) {
+            (Some(z), _) => z.layer.as_str(),
+            (None, Some(st)) => st.layer.as_str(),
+            _ => MACHINE,
+        } },
+        "chuck": { "outline": outline(&m.chuck), "from": from(&j.chuck) },
+        "tailstock": {
+            "outline": outline(&m.tailstock),
+            "advanced_at_start": m.tailstock.is_some() && m.tailstock_advanced,
+            "from": from(&j.tailstock_in_use),
+        },
+        "tools": tool_rows(r).iter().map(|(t, layer, origin)| json!({
+            "station": t.station, "name": t.name, "tip": [t.tip.x, t.tip.y],
+            "nose_radius": t.nose_radius, "tip_direction": t.tip_direction,
+            "insert": t.insert.points().iter().map(|q| [q.x, q.y]).collect::<Vec<_>>(),
+            "holder": t.holder.points().iter().map(|q| [q.x, q.y]).collect::<Vec<_>>(),
+            "from": layer, "origin": origin,
+        })).collect::<Vec<_>>(),
+        "warnings": j.warnings,
+    })
+}

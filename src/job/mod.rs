@@ -1,0 +1,449 @@
+//! Jobs: what changes from program to program on one machine (docs/job.md).
+//!
+//! A machine file describes the lathe; a **job** describes the stock, program zero, the jaws
+//! (chuck outline), whether the tailstock is in use, the program's units and dialect, and which
+//! tool sits in which station. Jobs come in layers (the machine's own setup, `latheguard.toml`,
+//! its overrides, the file beside the program, `--job`, one-off flags): [`parse`] reads one layer,
+//! [`EffectiveJob::merge`] lays them over one another (a later layer wins key by key, `[stock]`
+//! and `[chuck]` as whole tables, `[[tools]]` station by station), and [`apply`] turns a machine
+//! and the merged job into the [`Machine`] the checker runs, validated as a machine file is (the
+//! stock fits the chuck, every part clear at home).
+//!
+//! The library does no I/O: a job that names a tool library or a LinuxCNC tool table gets their
+//! text through a [`Resolve`]r, which the binary backs with the file system.
+//!
+//! Errors are [`JobError`]s (the machine file's error type): file, line, column, dotted key.
+
+mod parse;
+#[cfg(test)]
+mod tests;
+
+use crate::geom::Polygon;
+use crate::machine::{self, Dialect, Machine, McodeTable, Stock, Tool};
+
+pub use parse::{parse, parse_embedded, schema, Embedded, JobSchema, RawJob, MAX_JOB_TOOLS};
+
+/// A job that cannot be used: where and why (`file:line:col: key: message`, one line per
+/// problem). The same type as a machine file's errors.
+pub type JobError = machine::MachineError;
+
+/// Gives the text of a file a job names (`tool_library`, `tool_table`).
+pub trait Resolve {
+    /// The file `rel` names, relative to the folder `base` (as the layer's caller gave it):
+    /// the name messages show for it and its text, or why it cannot be read.
+    fn read(&mut self, base: &str, rel: &str) -> Result<(String, String), String>;
+}
+
+impl<F: FnMut(&str, &str) -> Result<(String, String), String>> Resolve for F {
+    fn read(&mut self, base: &str, rel: &str) -> Result<(String, String), String> {
+        self(base, rel)
+    }
+}
+
+/// Where a value was written: file, 1-based line and column, and its dotted key.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Place {
+    pub file: String,
+    pub line: u32,
+    pub col: u32,
+    pub key: String,
+}
+
+impl Place {
+    /// A place on the command line: `(command line):1:1: --stock`.
+    pub fn command_line(flag: &str) -> Place {
+        Place {
+            file: "(command line)".into(),
+            line: 1,
+            col: 1,
+            key: flag.into(),
+        }
+    }
+
+    pub fn err(&self, message: impl Into<String>) -> JobError {
+        self.err_key(&self.key, message)
+    }
+
+    fn err_key(&self, key: &str, message: impl Into<String>) -> JobError {
+        JobError {
+            file: self.file.clone(),
+            line: self.line,
+            col: self.col,
+            key: key.to_string(),
+            message: message.into(),
+            also: Vec::new(),
+        }
+    }
+}
+
+/// A value a layer sets: the value, where it was written, and the layer's label.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Set<T> {
+    pub value: T,
+    pub at: Place,
+    pub layer: String,
+}
+
+/// `dialect = "fanuc" | "linuxcnc" | "auto"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DialectChoice {
+    Fanuc,
+    Linuxcnc,
+    /// Read from the program's own signs (issue 13 item 4); until that exists, the machine's.
+    Auto,
+}
+
+impl DialectChoice {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            DialectChoice::Fanuc => "fanuc",
+            DialectChoice::Linuxcnc => "linuxcnc",
+            DialectChoice::Auto => "auto",
+        }
+    }
+}
+
+/// A job's bar or tube. `front` (`stick_out` in job files) is None only from `--stock` without
+/// `@STICKOUT`, when the machine's stock front applies.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JobStock {
+    pub diameter: f64,
+    pub length: f64,
+    pub front: Option<f64>,
+    pub bore: f64,
+    /// Where `diameter` and `length` were written (errors of a stock that does not fit).
+    pub diameter_at: Place,
+    pub length_at: Place,
+}
+
+/// A tool a job puts in a station, built, and how it was described.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JobTool {
+    pub tool: Tool,
+    /// `outlines`, `catalogue: …`, `use T-ROUGH (tools.toml)`, `tbl 3 (lathe.tbl)`.
+    pub origin: String,
+}
+
+/// One layer of a job, validated on its own (values in range, outlines simple, tools complete).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Layer {
+    /// What set it, for `latheguard setup` and the reports: a file name, `latheguard.toml [job]`,
+    /// `command line`.
+    pub label: String,
+    /// The files read for it: the job file (when it is one), its tool library and tool table.
+    pub files: Vec<String>,
+    pub units_inch: Option<Set<bool>>,
+    pub dialect: Option<Set<DialectChoice>>,
+    pub program_zero_z: Option<Set<f64>>,
+    pub stock: Option<Set<JobStock>>,
+    pub chuck: Option<Set<Polygon>>,
+    pub tailstock_in_use: Option<Set<bool>>,
+    /// At most one per station.
+    pub tools: Vec<Set<JobTool>>,
+    /// Values accepted but suspicious (an outline's spike), as `file:line:col: key: message`.
+    pub warnings: Vec<String>,
+}
+
+impl Layer {
+    /// An empty layer (for one-off command-line values).
+    pub fn new(label: impl Into<String>) -> Layer {
+        Layer {
+            label: label.into(),
+            ..Layer::default()
+        }
+    }
+
+    /// Whether the layer sets nothing.
+    pub fn is_empty(&self) -> bool {
+        self.units_inch.is_none()
+            && self.dialect.is_none()
+            && self.program_zero_z.is_none()
+            && self.stock.is_none()
+            && self.chuck.is_none()
+            && self.tailstock_in_use.is_none()
+            && self.tools.is_empty()
+    }
+}
+
+/// The layers of one program's job merged: each value from the last layer that set it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EffectiveJob {
+    /// Labels of the layers merged, lowest first (empty layers included: they applied).
+    pub layers: Vec<String>,
+    /// Every file read for the layers, in layer order.
+    pub files: Vec<String>,
+    pub units_inch: Option<Set<bool>>,
+    pub dialect: Option<Set<DialectChoice>>,
+    pub program_zero_z: Option<Set<f64>>,
+    pub stock: Option<Set<JobStock>>,
+    pub chuck: Option<Set<Polygon>>,
+    pub tailstock_in_use: Option<Set<bool>>,
+    /// Sorted by station, one each.
+    pub tools: Vec<Set<JobTool>>,
+    pub warnings: Vec<String>,
+}
+
+impl EffectiveJob {
+    /// Lay `layers` over one another, lowest first: scalars key by key, `stock` and `chuck` as
+    /// whole tables, tools station by station.
+    pub fn merge<'a>(layers: impl IntoIterator<Item = &'a Layer>) -> EffectiveJob {
+        let mut out = EffectiveJob::default();
+        for l in layers {
+            out.layers.push(l.label.clone());
+            for f in &l.files {
+                if !out.files.contains(f) {
+                    out.files.push(f.clone());
+                }
+            }
+            fn over<T: Clone>(to: &mut Option<Set<T>>, from: &Option<Set<T>>) {
+                if from.is_some() {
+                    to.clone_from(from);
+                }
+            }
+            over(&mut out.units_inch, &l.units_inch);
+            over(&mut out.dialect, &l.dialect);
+            over(&mut out.program_zero_z, &l.program_zero_z);
+            over(&mut out.stock, &l.stock);
+            over(&mut out.chuck, &l.chuck);
+            over(&mut out.tailstock_in_use, &l.tailstock_in_use);
+            for t in &l.tools {
+                out.tools.retain(|o| o.value.tool.station != t.value.tool.station);
+                out.tools.push(t.clone());
+            }
+            out.warnings.extend(l.warnings.iter().cloned());
+        }
+        out.tools.sort_by_key(|t| t.value.tool.station);
+        out
+    }
+
+    /// Whether the job changes nothing of the machine.
+    pub fn is_empty(&self) -> bool {
+        self.units_inch.is_none()
+            && self.dialect.is_none()
+            && self.program_zero_z.is_none()
+            && self.stock.is_none()
+            && self.chuck.is_none()
+            && self.tailstock_in_use.is_none()
+            && self.tools.is_empty()
+    }
+}
+
+/// The machine the checker runs for `job` on `machine`: the job's values over the machine's,
+/// validated as a machine file is (every station exists, the stock fits the chuck, the turret
+/// and every tool clear of the chuck and the tailstock at home). Every problem is reported;
+/// each names the job key that caused it.
+pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError> {
+    let mut m = machine.clone();
+    let mut errors: Vec<JobError> = Vec::new();
+    if let Some(u) = &job.units_inch {
+        m.inch = u.value;
+    }
+    if let Some(d) = &job.dialect {
+        let to = match d.value {
+            DialectChoice::Fanuc => Some(Dialect::Fanuc),
+            DialectChoice::Linuxcnc => Some(Dialect::Linuxcnc),
+            DialectChoice::Auto => None,
+        };
+        if let Some(to) = to {
+            if let Err(e) = switch_dialect(&mut m, to, &d.at) {
+                errors.push(e);
+            }
+        }
+    }
+    if let Some(c) = &job.chuck {
+        m.chuck = Some(c.value.clone());
+    }
+    if let Some(t) = &job.tailstock_in_use {
+        if t.value {
+            if m.tailstock.is_none() {
+                errors.push(t.at.err("the machine has no tailstock: describe it in the machine file's [tailstock]"));
+            }
+            m.tailstock_advanced = true;
+        } else {
+            m.tailstock = None;
+            m.tailstock_advanced = false;
+        }
+    }
+    if let Some(s) = &job.stock {
+        let st = &s.value;
+        let front = st.front.or(machine.stock.as_ref().map(|s| s.front));
+        match front {
+            Some(front) => {
+                m.stock = Some(Stock {
+                    diameter: st.diameter,
+                    length: st.length,
+                    front,
+                    bore: st.bore,
+                })
+            }
+            None => errors.push(s.at.err(
+                "the stick-out is not given and the machine has no stock to take it from: write DIAxLEN@STICKOUT",
+            )),
+        }
+    }
+    m.program_zero_z = match (&job.program_zero_z, &m.stock, &job.stock) {
+        (Some(z), _, _) => z.value,
+        (None, Some(st), Some(_)) => st.front,
+        _ => machine.program_zero_z,
+    };
+    for t in &job.tools {
+        let station = t.value.tool.station;
+        if station > m.turret.stations {
+            errors.push(t.at.err_key(
+                &format!("{}.station", t.at.key),
+                format!(
+                    "station {station} does not exist: the turret of {} has stations 1 to {}",
+                    machine.name, m.turret.stations
+                ),
+            ));
+            continue;
+        }
+        m.tools.retain(|o| o.station != station);
+        m.tools.push(t.value.tool.clone());
+    }
+    m.tools.sort_by_key(|t| t.station);
+    if let Some(e) = JobError::gather(errors) {
+        return Err(e);
+    }
+
+    // The setup checks of a machine file, on the job's parts; each problem is blamed on the job
+    // value that brought the parts together.
+    let mut errors = Vec::new();
+    if let Some(st) = &m.stock {
+        if let Some((key, message)) = machine::stock_clash(&m, st) {
+            let e = match (&job.stock, &job.chuck) {
+                (Some(s), _) => match key {
+                    machine::StockKey::Length => s.value.length_at.err(message),
+                    machine::StockKey::Diameter => s.value.diameter_at.err(message),
+                },
+                (None, Some(c)) => c.at.err(message),
+                (None, None) => Place::command_line("job").err(message),
+            };
+            errors.push(e);
+        }
+    }
+    for c in machine::home_clashes(&m) {
+        let by_tool = c.tool.and_then(|(station, part)| {
+            job.tools
+                .iter()
+                .find(|t| t.value.tool.station == station)
+                .map(|t| t.at.err_key(&format!("{}.{part}", t.at.key), c.message.clone()))
+        });
+        let by_obstacle = || match c.obstacle {
+            "chuck" => job.chuck.as_ref().map(|s| s.at.err(c.message.clone())),
+            _ => job.tailstock_in_use.as_ref().map(|s| s.at.err(c.message.clone())),
+        };
+        errors.push(
+            by_tool
+                .or_else(by_obstacle)
+                .unwrap_or_else(|| Place::command_line("job").err(c.message.clone())),
+        );
+    }
+    if let Some(e) = JobError::gather(errors) {
+        return Err(e);
+    }
+    m.warnings.extend(job.warnings.iter().cloned());
+    Ok(m)
+}
+
+/// Another dialect than the machine file's: its defaults follow (diameter mode, the built-in M
+/// codes) unless the machine file set them for its own dialect.
+fn switch_dialect(m: &mut Machine, to: Dialect, at: &Place) -> Result<(), JobError> {
+    let from = m.dialect;
+    if from == to {
+        return Ok(());
+    }
+    if m.mcodes != McodeTable::builtin(from) {
+        return Err(at.err(format!(
+            "the machine file's [mcodes] are written for {}: a job cannot change the dialect of this machine",
+            from.as_str()
+        )));
+    }
+    if to == Dialect::Linuxcnc
+        && (m.decimal_point != machine::DecimalPoint::Calculator || m.gcode_system != machine::GcodeSystem::A)
+    {
+        return Err(at.err(
+            "the machine file sets a Fanuc decimal point or G-code system: a job cannot make it a LinuxCNC machine",
+        ));
+    }
+    let default_diameter = |d: Dialect| d == Dialect::Fanuc;
+    if m.diameter_mode == default_diameter(from) {
+        m.diameter_mode = default_diameter(to);
+    }
+    m.mcodes = McodeTable::builtin(to);
+    m.dialect = to;
+    Ok(())
+}
+
+/// `--stock DIAxLEN[@STICKOUT]` or `DIA/BOAxLEN[@STICKOUT]` (a tube): mm.
+pub fn parse_stock_flag(s: &str) -> Result<(f64, f64, Option<f64>, f64), String> {
+    let bad = || {
+        format!("`{s}` is not a stock: write DIAxLEN or DIAxLEN@STICKOUT (mm), e.g. 50x120@80; a tube DIA/BORExLEN@STICKOUT")
+    };
+    let (size, stick) = match s.split_once('@') {
+        Some((a, b)) => (a, Some(b)),
+        None => (s, None),
+    };
+    let (dia, len) = size.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (dia, bore) = match dia.split_once('/') {
+        Some((d, b)) => (d, Some(b)),
+        None => (dia, None),
+    };
+    let num = |t: &str| -> Result<f64, String> {
+        let v: f64 = t.trim().parse().map_err(|_| bad())?;
+        if v.is_finite() && v.abs() <= machine::MAX_COORD_MM {
+            Ok(v)
+        } else {
+            Err(bad())
+        }
+    };
+    let (d, l) = (num(dia)?, num(len)?);
+    let b = bore.map(num).transpose()?.unwrap_or(0.0);
+    let front = stick.map(num).transpose()?;
+    if d <= 0.0 || l <= 0.0 {
+        return Err(format!("`{s}`: the diameter and the length must be greater than 0"));
+    }
+    if !(0.0..d).contains(&b) {
+        return Err(format!("`{s}`: the bore must be from 0 to less than the diameter"));
+    }
+    Ok((d, l, front, b))
+}
+
+/// A layer from one-off command-line values (`--stock`, `--units`, `--program-zero`); the
+/// tools of `--tools` come from [`parse`] of that file.
+pub fn flags_layer(
+    stock: Option<&str>,
+    units_inch: Option<bool>,
+    program_zero_z: Option<f64>,
+) -> Result<Layer, String> {
+    let mut l = Layer::new("command line");
+    fn set<T>(value: T, flag: &str) -> Set<T> {
+        Set {
+            value,
+            at: Place::command_line(flag),
+            layer: "command line".into(),
+        }
+    }
+    if let Some(s) = stock {
+        let (diameter, length, front, bore) = parse_stock_flag(s)?;
+        l.stock = Some(set(
+            JobStock {
+                diameter,
+                length,
+                front,
+                bore,
+                diameter_at: Place::command_line("--stock"),
+                length_at: Place::command_line("--stock"),
+            },
+            "--stock",
+        ));
+    }
+    l.units_inch = units_inch.map(|u| set(u, "--units"));
+    if let Some(z) = program_zero_z {
+        if !z.is_finite() || z.abs() > machine::MAX_COORD_MM {
+            return Err(format!("--program-zero {z}: must be from -100000 to 100000 mm"));
+        }
+        l.program_zero_z = Some(set(z, "--program-zero"));
+    }
+    Ok(l)
+}

@@ -1,0 +1,798 @@
+//! Job files (and `[job]` tables of `latheguard.toml`) → a validated [`Layer`].
+
+use std::ops::Range;
+
+use schemars::JsonSchema;
+use serde::de::{Deserializer, SeqAccess, Visitor};
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::{DialectChoice, JobError, JobStock, JobTool, Layer, Place, Resolve, Set};
+use crate::geom::{Polygon, P2};
+use crate::machine::{self, Cx, Num, Outline, Point, Tool};
+use crate::tooling::{self, tbl, BuiltTool, CatalogueSpec, DrillSpec};
+
+// ---------------------------------------------------------------------------------------------
+// The file as written (also its JSON Schema: [`schema`]).
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+#[schemars(title = "latheguard job")]
+/// A job file as written (its fields are read by the job module only).
+pub struct RawJob {
+    #[schemars(with = "Option<RawUnits>")]
+    units: Option<Spanned<RawUnits>>,
+    #[schemars(with = "Option<RawDialect>")]
+    dialect: Option<Spanned<RawDialect>>,
+    #[schemars(with = "Option<String>")]
+    tool_library: Option<Spanned<String>>,
+    #[schemars(with = "Option<String>")]
+    tool_table: Option<Spanned<String>>,
+    #[schemars(with = "Option<f64>")]
+    program_zero_z: Option<Num>,
+    #[schemars(with = "Option<RawStock>")]
+    stock: Option<Spanned<RawStock>>,
+    #[schemars(with = "Option<RawChuck>")]
+    chuck: Option<Spanned<RawChuck>>,
+    tailstock: Option<RawTailstock>,
+    #[schemars(with = "Option<Vec<RawTool>>")]
+    tools: Option<Spanned<Vec<Spanned<RawTool>>>>,
+}
+
+#[derive(Deserialize, JsonSchema, Clone, Copy)]
+#[serde(rename_all = "lowercase", expecting = "\"mm\" or \"inch\"")]
+enum RawUnits {
+    Mm,
+    Inch,
+}
+
+#[derive(Deserialize, JsonSchema, Clone, Copy)]
+#[serde(rename_all = "lowercase", expecting = "\"fanuc\", \"linuxcnc\" or \"auto\"")]
+enum RawDialect {
+    Fanuc,
+    Linuxcnc,
+    Auto,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawStock {
+    #[schemars(with = "Option<f64>")]
+    diameter: Option<Num>,
+    #[schemars(with = "Option<f64>")]
+    length: Option<Num>,
+    #[schemars(with = "Option<f64>")]
+    stick_out: Option<Num>,
+    /// The machine file's name for `stick_out`.
+    #[schemars(with = "Option<f64>")]
+    front: Option<Num>,
+    #[schemars(with = "Option<f64>")]
+    bore: Option<Num>,
+    #[schemars(with = "Option<Vec<[f64; 2]>>")]
+    outline: Option<Outline>,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawChuck {
+    #[schemars(with = "Vec<[f64; 2]>")]
+    outline: Outline,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawTailstock {
+    #[schemars(with = "Option<bool>")]
+    in_use: Option<Spanned<bool>>,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawTool {
+    #[schemars(with = "Option<u32>")]
+    station: Option<Spanned<u32>>,
+    /// Tool library entries only: the name `use` picks it by.
+    #[schemars(with = "Option<String>")]
+    id: Option<Spanned<String>>,
+    #[schemars(with = "Option<String>")]
+    name: Option<Spanned<String>>,
+    #[schemars(with = "Option<[f64; 2]>")]
+    tip: Option<Point>,
+    #[schemars(with = "Option<ShapeSchema>")]
+    insert: Option<Spanned<Shape>>,
+    #[schemars(with = "Option<ShapeSchema>")]
+    holder: Option<Spanned<Shape>>,
+    #[schemars(with = "Option<f64>")]
+    nose_radius: Option<Num>,
+    #[schemars(with = "Option<i64>")]
+    tip_direction: Option<Spanned<i64>>,
+    #[schemars(with = "Option<RawDrill>")]
+    drill: Option<Spanned<RawDrill>>,
+    #[serde(rename = "use")]
+    #[schemars(rename = "use", with = "Option<String>")]
+    use_: Option<Spanned<String>>,
+    #[schemars(with = "Option<u32>")]
+    tbl: Option<Spanned<u32>>,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table { diameter, length, point_angle }")]
+struct RawDrill {
+    #[schemars(with = "f64")]
+    diameter: Num,
+    #[schemars(with = "f64")]
+    length: Num,
+    #[schemars(with = "Option<f64>")]
+    point_angle: Option<Num>,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawLibrary {
+    #[schemars(with = "Vec<RawTool>")]
+    tools: Vec<Spanned<RawTool>>,
+}
+
+/// An insert or holder: a catalogue designation or an outline.
+enum Shape {
+    Name(String),
+    Outline(Vec<Point>),
+}
+
+/// The schema of [`Shape`].
+#[derive(JsonSchema)]
+#[serde(untagged)]
+#[allow(dead_code)]
+enum ShapeSchema {
+    /// An ISO designation: `"CNMG 120408"`, `"PCLNR 2525M12"`.
+    Name(String),
+    /// An outline relative to the programmed point, `[[x, z], …]`.
+    Outline(Vec<[f64; 2]>),
+}
+
+impl<'de> Deserialize<'de> for Shape {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Shape, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Shape;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a catalogue designation (a string) or an outline [[x, z], ...]")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Shape, E> {
+                Ok(Shape::Name(v.to_string()))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Shape, A::Error> {
+                let mut pts = Vec::new();
+                while let Some(p) = seq.next_element::<Point>()? {
+                    if pts.len() > machine::MAX_OUTLINE_POINTS {
+                        return Err(serde::de::Error::custom(format!(
+                            "too many points; an outline may have at most {}",
+                            machine::MAX_OUTLINE_POINTS
+                        )));
+                    }
+                    pts.push(p);
+                }
+                Ok(Shape::Outline(pts))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// The JSON Schema (draft 2020-12) of a job file (`latheguard schema job`).
+pub fn schema() -> String {
+    let mut schema = schemars::schema_for!(RawJob);
+    schema.insert("title".into(), "latheguard job".into());
+    let mut s = serde_json::to_string_pretty(&schema).unwrap_or_default();
+    s.push('\n');
+    s
+}
+
+/// The schema of a `job` value in `latheguard.toml`: a job file's name or an inline job.
+#[derive(JsonSchema)]
+#[serde(untagged)]
+#[allow(dead_code)]
+pub enum JobSchema {
+    /// A job file, relative to the configuration's folder.
+    File(String),
+    Inline(Box<RawJob>),
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading.
+
+/// At most this many `[[tools]]` in a job or a tool library.
+pub const MAX_JOB_TOOLS: usize = machine::MAX_TOOLS;
+
+/// Read one job file. `file` names it in messages, `base` is the folder its `tool_library` and
+/// `tool_table` are relative to (handed to `resolve` as is), `label` names the layer.
+pub fn parse(text: &str, file: &str, base: &str, label: &str, resolve: &mut dyn Resolve) -> Result<Layer, JobError> {
+    let cx = Cx::new(text, file);
+    let raw: RawJob = machine::deserialize(&cx, "a job file")?;
+    let mut layer = layer(&cx, raw, "", base, label, resolve)?;
+    layer.files.insert(0, file.to_string());
+    Ok(layer)
+}
+
+/// A `job` value inside a `latheguard.toml`: a file name, or a table read as a job.
+pub enum Embedded {
+    /// `job = "…"`: the name as written and where.
+    File {
+        name: String,
+        at: Place,
+    },
+    Inline(Box<Layer>),
+}
+
+/// The `job` at `path` (`["job"]`, `["override", "2", "job"]`) of a configuration's text, if
+/// there is one. Errors name the whole key path (`override[2].job.stock.diameter`).
+pub fn parse_embedded(
+    text: &str,
+    file: &str,
+    path: &[&str],
+    base: &str,
+    label: &str,
+    resolve: &mut dyn Resolve,
+) -> Result<Option<Embedded>, JobError> {
+    let cx = Cx::new(text, file);
+    let prefix = key_path(path);
+    match machine::deserialize_at::<RawJob>(&cx, path, "a configuration")? {
+        None => Ok(None),
+        Some(machine::Embedded::Str(s)) => {
+            if s.get_ref().trim().is_empty() {
+                return Err(cx.err(s.span(), prefix, "the job file name is empty"));
+            }
+            Ok(Some(Embedded::File {
+                name: s.get_ref().clone(),
+                at: place(&cx, s.span(), &prefix),
+            }))
+        }
+        Some(machine::Embedded::Table(raw)) => {
+            let l = layer(&cx, raw, &format!("{prefix}."), base, label, resolve)?;
+            Ok(Some(Embedded::Inline(Box::new(l))))
+        }
+    }
+}
+
+/// `["override", "2", "job"]` → `override[2].job`.
+fn key_path(path: &[&str]) -> String {
+    let mut s = String::new();
+    for p in path {
+        if p.parse::<usize>().is_ok() {
+            s.push_str(&format!("[{p}]"));
+        } else {
+            if !s.is_empty() {
+                s.push('.');
+            }
+            s.push_str(p);
+        }
+    }
+    s
+}
+
+fn place(cx: &Cx<'_>, at: Range<usize>, key: &str) -> Place {
+    let e = cx.err(at, key, "");
+    Place {
+        file: e.file,
+        line: e.line,
+        col: e.col,
+        key: key.to_string(),
+    }
+}
+
+/// Files a layer refers to, read at most once each.
+struct Refs<'r> {
+    base: &'r str,
+    resolve: &'r mut dyn Resolve,
+    library: Option<(String, String)>,
+    table: Option<(String, Vec<tbl::TblTool>)>,
+}
+
+fn layer(
+    cx: &Cx<'_>,
+    raw: RawJob,
+    prefix: &str,
+    base: &str,
+    label: &str,
+    resolve: &mut dyn Resolve,
+) -> Result<Layer, JobError> {
+    let key = |k: &str| format!("{prefix}{k}");
+    fn mk<T>(cx: &Cx<'_>, value: T, at: Range<usize>, key: String, label: &str) -> Set<T> {
+        Set {
+            value,
+            at: place(cx, at, &key),
+            layer: label.to_string(),
+        }
+    }
+    macro_rules! set {
+        ($v:expr, $at:expr, $k:expr) => {
+            mk(cx, $v, $at, key($k), label)
+        };
+    }
+    let mut l = Layer::new(label);
+    l.units_inch = raw
+        .units
+        .as_ref()
+        .map(|u| set!(matches!(u.get_ref(), RawUnits::Inch), u.span(), "units"));
+    l.dialect = raw.dialect.as_ref().map(|d| {
+        let v = match d.get_ref() {
+            RawDialect::Fanuc => DialectChoice::Fanuc,
+            RawDialect::Linuxcnc => DialectChoice::Linuxcnc,
+            RawDialect::Auto => DialectChoice::Auto,
+        };
+        set!(v, d.span(), "dialect")
+    });
+    if let Some(z) = &raw.program_zero_z {
+        let v = cx.keep(cx.coord(&key("program_zero_z"), z));
+        l.program_zero_z = v.map(|v| set!(v, z.span(), "program_zero_z"));
+    }
+    if let Some(s) = &raw.stock {
+        l.stock = cx.keep(stock(cx, s, &key("stock"))).map(|v| set!(v, s.span(), "stock"));
+    }
+    if let Some(c) = &raw.chuck {
+        let o = &c.get_ref().outline;
+        if o.get_ref().len() > machine::MAX_OUTLINE_POINTS {
+            cx.push(cx.err(o.span(), key("chuck.outline"), "too many points"));
+        } else {
+            l.chuck = cx
+                .keep(cx.outline(&key("chuck.outline"), o))
+                .map(|p| set!(p, c.span(), "chuck.outline"));
+        }
+    }
+    l.tailstock_in_use = raw
+        .tailstock
+        .as_ref()
+        .and_then(|t| t.in_use.as_ref())
+        .map(|u| set!(*u.get_ref(), u.span(), "tailstock.in_use"));
+    let mut refs = Refs {
+        base,
+        resolve,
+        library: None,
+        table: None,
+    };
+    if let Some(tools) = &raw.tools {
+        if tools.get_ref().len() > MAX_JOB_TOOLS {
+            return Err(cx.err(
+                tools.span(),
+                key("tools"),
+                format!("too many tools: at most {MAX_JOB_TOOLS}"),
+            ));
+        }
+        let mut total = 0usize;
+        for (i, t) in tools.get_ref().iter().enumerate() {
+            let k = key(&format!("tools[{i}]"));
+            let rt = t.get_ref();
+            total += [&rt.insert, &rt.holder]
+                .iter()
+                .map(|s| match s.as_ref().map(|s| s.get_ref()) {
+                    Some(Shape::Outline(p)) => p.len(),
+                    _ => 0,
+                })
+                .sum::<usize>();
+            if total > machine::MAX_TOTAL_OUTLINE_POINTS {
+                return Err(cx.err(t.span(), k, "too many outline points in the tools of one job"));
+            }
+            let Some(station) = &rt.station else {
+                cx.push(cx.err(t.span(), format!("{k}.station"), "missing required key `station`"));
+                continue;
+            };
+            let s = *station.get_ref();
+            if !(1..=machine::MAX_STATIONS).contains(&s) {
+                cx.push(cx.err(
+                    station.span(),
+                    format!("{k}.station"),
+                    format!(
+                        "station {s} does not exist: stations run from 1 to {}",
+                        machine::MAX_STATIONS
+                    ),
+                ));
+                continue;
+            }
+            if let Some(j) = l.tools.iter().position(|o| o.value.tool.station == s) {
+                cx.push(cx.err(
+                    station.span(),
+                    format!("{k}.station"),
+                    format!("station {s} is already given by {}", l.tools[j].at.key),
+                ));
+                continue;
+            }
+            if let Some(id) = &rt.id {
+                cx.push(cx.err(
+                    id.span(),
+                    format!("{k}.id"),
+                    "`id` names an entry of a tool library file; in a job, give `station` (and `use` to take a library entry)",
+                ));
+                continue;
+            }
+            if let Some(tool) = cx.keep(job_tool(cx, &raw, rt, s, &k, prefix, &mut refs)) {
+                l.tools.push(Set {
+                    value: tool,
+                    at: place(cx, t.span(), &k),
+                    layer: label.to_string(),
+                });
+            }
+        }
+    }
+    if let Some((f, _)) = &refs.library {
+        l.files.push(f.clone());
+    }
+    if let Some((f, _)) = &refs.table {
+        l.files.push(f.clone());
+    }
+    if let Some(e) = cx.kept() {
+        return Err(e);
+    }
+    l.warnings = cx.take_warnings();
+    Ok(l)
+}
+
+fn stock(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str) -> Result<JobStock, JobError> {
+    let r = s.get_ref();
+    let k = |n: &str| format!("{key}.{n}");
+    if let Some(o) = &r.outline {
+        return Err(cx.err(
+            o.span(),
+            k("outline"),
+            "a revolved stock outline is not supported yet: give diameter, length, stick_out (and bore for a tube)",
+        ));
+    }
+    let need = |v: &Option<Num>, n: &str| -> Result<Num, JobError> {
+        v.clone()
+            .ok_or_else(|| cx.err(s.span(), k(n), format!("missing required key `{n}`")))
+    };
+    let diameter = need(&r.diameter, "diameter")?;
+    let length = need(&r.length, "length")?;
+    let (front, front_key) = match (&r.stick_out, &r.front) {
+        (Some(a), None) => (a.clone(), "stick_out"),
+        (None, Some(b)) => (b.clone(), "front"),
+        (Some(_), Some(b)) => {
+            return Err(cx.err(
+                b.span(),
+                k("front"),
+                "give `stick_out` or `front` (the same value), not both",
+            ))
+        }
+        (None, None) => {
+            return Err(cx.err(s.span(), k("stick_out"), "missing required key `stick_out`"));
+        }
+    };
+    let d = cx.length(&k("diameter"), &diameter)?;
+    let len = cx.length(&k("length"), &length)?;
+    let f = cx.coord(&k(front_key), &front)?;
+    let bore = match &r.bore {
+        None => 0.0,
+        Some(b) => {
+            let v = cx.non_negative(&k("bore"), b)?;
+            if v >= d {
+                return Err(cx.err(
+                    b.span(),
+                    k("bore"),
+                    format!("the bore ({v}) must be smaller than the diameter ({d})"),
+                ));
+            }
+            v
+        }
+    };
+    if f - len < -machine::MAX_COORD_MM {
+        return Err(cx.err(length.span(), k("length"), "the bar's back end is out of range"));
+    }
+    Ok(JobStock {
+        diameter: d,
+        length: len,
+        front: Some(f),
+        bore,
+        diameter_at: place(cx, diameter.span(), &k("diameter")),
+        length_at: place(cx, length.span(), &k("length")),
+    })
+}
+
+/// A tool entry's values, validated, before they are laid over one another (`tbl`, then `use`,
+/// then the entry's own keys).
+#[derive(Default)]
+struct Partial {
+    name: Option<String>,
+    tip: Option<P2>,
+    insert: Option<(Geom, Place)>,
+    holder: Option<(Geom, Place)>,
+    nose_radius: Option<f64>,
+    tip_direction: Option<u8>,
+    drill: Option<(DrillSpec, Place)>,
+}
+
+enum Geom {
+    Outline(Polygon),
+    Name(String),
+}
+
+impl Partial {
+    fn over(&mut self, top: Partial) {
+        macro_rules! take {
+            ($($f:ident),*) => { $( if top.$f.is_some() { self.$f = top.$f; } )* };
+        }
+        take!(name, tip, insert, holder, nose_radius, tip_direction, drill);
+    }
+
+    fn from_built(b: BuiltTool, at: &Place) -> Partial {
+        Partial {
+            insert: Some((Geom::Outline(b.insert), at.clone())),
+            holder: Some((Geom::Outline(b.holder), at.clone())),
+            nose_radius: Some(b.nose_radius),
+            tip_direction: Some(b.tip_direction),
+            ..Partial::default()
+        }
+    }
+}
+
+/// The validated values of one raw tool entry (of a job or a library), in its own file.
+fn partial(cx: &Cx<'_>, t: &RawTool, key: &str) -> Result<Partial, JobError> {
+    let k = |n: &str| format!("{key}.{n}");
+    let mut p = Partial::default();
+    if let Some(n) = &t.name {
+        let name = n.get_ref().trim().to_string();
+        if name.is_empty() {
+            return Err(cx.err(n.span(), k("name"), "must not be blank"));
+        }
+        p.name = Some(name);
+    }
+    if let Some(tip) = &t.tip {
+        p.tip = Some(cx.point(&k("tip"), tip)?);
+    }
+    for (which, v) in [("insert", &t.insert), ("holder", &t.holder)] {
+        let Some(v) = v else { continue };
+        let g = match v.get_ref() {
+            Shape::Name(s) if s.trim().is_empty() => {
+                return Err(cx.err(v.span(), k(which), "the designation is empty"));
+            }
+            Shape::Name(s) => Geom::Name(s.trim().to_string()),
+            Shape::Outline(pts) => Geom::Outline(cx.outline(&k(which), &Spanned::new(v.span(), pts.clone()))?),
+        };
+        let slot = (g, place(cx, v.span(), &k(which)));
+        if which == "insert" {
+            p.insert = Some(slot);
+        } else {
+            p.holder = Some(slot);
+        }
+    }
+    if let Some(r) = &t.nose_radius {
+        p.nose_radius = Some(cx.within(&k("nose_radius"), r, machine::NOSE_RADIUS_RANGE, "mm")?);
+    }
+    if let Some(d) = &t.tip_direction {
+        match u8::try_from(*d.get_ref()) {
+            Ok(v) if v <= 9 => p.tip_direction = Some(v),
+            _ => {
+                return Err(cx.err(
+                    d.span(),
+                    k("tip_direction"),
+                    format!(
+                        "{} is not a tip direction: give a whole number from 0 to 9",
+                        d.get_ref()
+                    ),
+                ))
+            }
+        }
+    }
+    if let Some(d) = &t.drill {
+        let r = d.get_ref();
+        let spec = DrillSpec {
+            diameter: cx.length(&k("drill.diameter"), &r.diameter)?,
+            length: cx.length(&k("drill.length"), &r.length)?,
+            point_angle: match &r.point_angle {
+                None => None,
+                Some(a) => Some(cx.within(&k("drill.point_angle"), a, (1.0, 180.0), "degrees")?),
+            },
+        };
+        p.drill = Some((spec, place(cx, d.span(), &k("drill"))));
+    }
+    Ok(p)
+}
+
+fn job_tool(
+    cx: &Cx<'_>,
+    job: &RawJob,
+    t: &RawTool,
+    station: u32,
+    key: &str,
+    prefix: &str,
+    refs: &mut Refs<'_>,
+) -> Result<JobTool, JobError> {
+    let k = |n: &str| format!("{key}.{n}");
+    let mut origin = Vec::new();
+    let mut p = Partial::default();
+    let mut default_name = None;
+    if let Some(n) = &t.tbl {
+        let Some(table) = &job.tool_table else {
+            return Err(cx.err(
+                n.span(),
+                k("tbl"),
+                format!("`tbl` takes a tool of the job's tool table: give `{prefix}tool_table = \"FILE.tbl\"`"),
+            ));
+        };
+        if refs.table.is_none() {
+            let (shown, text) = refs.resolve.read(refs.base, table.get_ref()).map_err(|why| {
+                cx.err(
+                    table.span(),
+                    format!("{prefix}tool_table"),
+                    format!("cannot read {}: {why}", table.get_ref()),
+                )
+            })?;
+            let tools = tbl::parse(&text).map_err(|e| {
+                cx.err(
+                    table.span(),
+                    format!("{prefix}tool_table"),
+                    format!("{shown}:{}:{}: {}", e.line, e.col, e.message),
+                )
+            })?;
+            refs.table = Some((shown, tools));
+        }
+        let Some((shown, tools)) = &refs.table else {
+            unreachable!()
+        };
+        let want = *n.get_ref();
+        let Some(row) = tools.iter().find(|r| r.tool == want) else {
+            return Err(cx.err(n.span(), k("tbl"), format!("{shown} has no tool T{want}")));
+        };
+        let at = place(cx, n.span(), &k("tbl"));
+        let built = tooling::tbl::shape(row).map_err(|e| {
+            at.err(format!(
+                "cannot build tool T{want} of {shown} ({}): {}",
+                e.key, e.message
+            ))
+        })?;
+        let mut base = Partial::from_built(built, &at);
+        base.tip = Some(crate::geom::p2(row.x, row.z));
+        p = base;
+        default_name = Some(if row.comment.trim().is_empty() {
+            format!("T{want}")
+        } else {
+            row.comment.trim().to_string()
+        });
+        origin.push(format!("tbl {want} ({shown})"));
+    }
+    if let Some(id) = &t.use_ {
+        let Some(lib) = &job.tool_library else {
+            return Err(cx.err(
+                id.span(),
+                k("use"),
+                format!("`use` takes an entry of the job's tool library: give `{prefix}tool_library = \"FILE.toml\"`"),
+            ));
+        };
+        if refs.library.is_none() {
+            let got = refs.resolve.read(refs.base, lib.get_ref()).map_err(|why| {
+                cx.err(
+                    lib.span(),
+                    format!("{prefix}tool_library"),
+                    format!("cannot read {}: {why}", lib.get_ref()),
+                )
+            })?;
+            refs.library = Some(got);
+        }
+        let Some((shown, text)) = &refs.library else {
+            unreachable!()
+        };
+        let lcx = Cx::new(text, shown);
+        let raw: RawLibrary = machine::deserialize(&lcx, "a tool library")?;
+        if raw.tools.len() > MAX_JOB_TOOLS {
+            return Err(lcx.err(0..0, "tools", format!("too many tools: at most {MAX_JOB_TOOLS}")));
+        }
+        let want = id.get_ref().as_str();
+        let mut found = None;
+        for (i, e) in raw.tools.iter().enumerate() {
+            let lk = format!("tools[{i}]");
+            let r = e.get_ref();
+            let Some(eid) = &r.id else {
+                return Err(lcx.err(e.span(), format!("{lk}.id"), "missing required key `id`"));
+            };
+            for (bad, v) in [
+                ("station", r.station.is_some()),
+                ("use", r.use_.is_some()),
+                ("tbl", r.tbl.is_some()),
+            ] {
+                if v {
+                    return Err(lcx.err(
+                        e.span(),
+                        format!("{lk}.{bad}"),
+                        format!("a tool library entry has no `{bad}`: the job that uses it says that"),
+                    ));
+                }
+            }
+            if eid.get_ref() == want {
+                found = Some((i, e));
+            }
+        }
+        let Some((i, e)) = found else {
+            return Err(cx.err(id.span(), k("use"), format!("{shown} has no tool with id = {want:?}")));
+        };
+        p.over(partial(&lcx, e.get_ref(), &format!("tools[{i}]"))?);
+        if default_name.is_none() || p.name.is_some() {
+            default_name = Some(want.to_string());
+        }
+        origin.push(format!("use {want} ({shown})"));
+    }
+    p.over(partial(cx, t, key)?);
+
+    // Catalogue designations and drills.
+    let name_of = |g: &Option<(Geom, Place)>| match g {
+        Some((Geom::Name(s), _)) => Some(s.clone()),
+        _ => None,
+    };
+    let spec = CatalogueSpec {
+        insert: name_of(&p.insert),
+        holder: name_of(&p.holder),
+        drill: match (&p.drill, &p.insert, &p.holder) {
+            (Some((d, _)), None, _) | (Some((d, _)), _, None) => Some(d.clone()),
+            _ => None,
+        },
+    };
+    let mut built: Option<BuiltTool> = None;
+    if spec.insert.is_some() || spec.holder.is_some() || spec.drill.is_some() {
+        let b = tooling::build(&spec).map_err(|e| {
+            let at = match e.key {
+                "insert" => p.insert.as_ref().map(|g| &g.1),
+                "holder" => p.holder.as_ref().map(|g| &g.1),
+                _ => p.drill.as_ref().map(|g| &g.1),
+            };
+            let at = at
+                .or(p.insert.as_ref().map(|g| &g.1))
+                .or(p.holder.as_ref().map(|g| &g.1));
+            let at = at
+                .or(p.drill.as_ref().map(|g| &g.1))
+                .cloned()
+                .unwrap_or_else(|| place(cx, 0..0, key));
+            at.err(format!(
+                "cannot build the tool from its catalogue description: {}",
+                e.message
+            ))
+        })?;
+        origin.push(format!("catalogue: {}", b.summary));
+        built = Some(b);
+    }
+    let outline = |g: Option<(Geom, Place)>, which: &str, built: Option<&Polygon>| -> Result<Polygon, JobError> {
+        match (g, built) {
+            (Some((Geom::Outline(o), _)), _) => Ok(o),
+            (_, Some(b)) => Ok(b.clone()),
+            _ => Err(cx.err(
+                0..0,
+                k(which),
+                format!(
+                    "missing required key `{which}`: give an outline, a catalogue designation, `drill`, `use` or `tbl`"
+                ),
+            )),
+        }
+    };
+    let place_of_entry = |n: &str| -> JobError {
+        let e = cx.err(0..0, k(n), format!("missing required key `{n}`"));
+        e
+    };
+    let insert = outline(p.insert, "insert", built.as_ref().map(|b| &b.insert)).map_err(|e| relocate(e, cx, t))?;
+    let holder = outline(p.holder, "holder", built.as_ref().map(|b| &b.holder)).map_err(|e| relocate(e, cx, t))?;
+    let tip = p.tip.ok_or_else(|| relocate(place_of_entry("tip"), cx, t))?;
+    let name = p
+        .name
+        .or(default_name)
+        .ok_or_else(|| relocate(place_of_entry("name"), cx, t))?;
+    if origin.is_empty() {
+        origin.push("outlines".into());
+    }
+    Ok(JobTool {
+        tool: Tool {
+            station,
+            name,
+            tip,
+            insert,
+            holder,
+            nose_radius: p.nose_radius.or(built.as_ref().map(|b| b.nose_radius)).unwrap_or(0.0),
+            tip_direction: p.tip_direction.or(built.as_ref().map(|b| b.tip_direction)).unwrap_or(0),
+        },
+        origin: origin.join(", "),
+    })
+}
+
+/// An error about a missing key of a tool entry, placed at the entry (its `station`).
+fn relocate(mut e: JobError, cx: &Cx<'_>, t: &RawTool) -> JobError {
+    if let Some(s) = &t.station {
+        let p = place(cx, s.span(), "");
+        e.line = p.line;
+        e.col = p.col;
+    }
+    e
+}

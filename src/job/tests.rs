@@ -1,0 +1,284 @@
+use super::*;
+use crate::machine::Machine;
+
+fn no_files(_: &str, rel: &str) -> Result<(String, String), String> {
+    Err(format!("no file {rel}"))
+}
+
+fn layer(text: &str, label: &str) -> Result<Layer, JobError> {
+    parse(text, "part.job.toml", "/shop", label, &mut no_files)
+}
+
+fn err(text: &str) -> String {
+    layer(text, "job").unwrap_err().to_string()
+}
+
+const TOOL: &str = "station = 2\nname = \"OD finish\"\ntip = [-50.0, -10.0]\n\
+    insert = [[0.0, 0.0], [4.0, 2.0], [4.0, 8.0], [0.0, 6.0]]\n\
+    holder = [[4.0, 2.0], [30.0, 2.0], [30.0, 20.0], [4.0, 20.0]]\n";
+
+#[test]
+fn a_full_job_file_reads_into_one_layer() {
+    let l = layer(
+        &format!(
+            "units = \"inch\"\ndialect = \"linuxcnc\"\nprogram_zero_z = 70\n\n[stock]\ndiameter = 40\nlength = 100\nstick_out = 60\nbore = 10\n\n\
+             [tailstock]\nin_use = false\n\n[[tools]]\n{TOOL}nose_radius = 0.4\ntip_direction = 3\n"
+        ),
+        "part.job.toml",
+    )
+    .unwrap();
+    assert!(l.units_inch.as_ref().unwrap().value);
+    assert_eq!(l.dialect.as_ref().unwrap().value, DialectChoice::Linuxcnc);
+    assert_eq!(l.program_zero_z.as_ref().unwrap().value, 70.0);
+    let s = &l.stock.as_ref().unwrap().value;
+    assert_eq!((s.diameter, s.length, s.front, s.bore), (40.0, 100.0, Some(60.0), 10.0));
+    assert!(!l.tailstock_in_use.as_ref().unwrap().value);
+    let t = &l.tools[0].value;
+    assert_eq!((t.tool.station, t.tool.nose_radius, t.tool.tip_direction), (2, 0.4, 3));
+    assert_eq!(t.origin, "outlines");
+    assert_eq!(l.tools[0].at.key, "tools[0]");
+    assert_eq!(l.files, vec!["part.job.toml".to_string()]);
+}
+
+#[test]
+fn front_is_accepted_for_stick_out_but_not_both() {
+    let l = layer("[stock]\ndiameter = 40\nlength = 100\nfront = 60\n", "j").unwrap();
+    assert_eq!(l.stock.unwrap().value.front, Some(60.0));
+    assert!(
+        err("[stock]\ndiameter = 40\nlength = 100\nfront = 60\nstick_out = 60\n")
+            .starts_with("part.job.toml:4:9: stock.front: give `stick_out` or `front`")
+    );
+}
+
+#[test]
+fn errors_name_file_line_column_and_key() {
+    assert!(err("units = \"mm\"\nstok = 1\n").starts_with("part.job.toml:2:1: stok: unknown key `stok`"));
+    assert!(err("[stock]\ndiameter = -4\nlength = 10\nstick_out = 5\n")
+        .starts_with("part.job.toml:2:12: stock.diameter: must be greater than 0"));
+    assert!(err("[stock]\ndiameter = 4\nlength = 10\n")
+        .starts_with("part.job.toml:1:1: stock.stick_out: missing required key"));
+    assert!(
+        err("[[tools]]\nstation = 99\nname = \"x\"\n").starts_with("part.job.toml:2:11: tools[0].station: station 99")
+    );
+    assert!(err("[tailstock]\nin_use = 1\n").starts_with("part.job.toml:2:10: tailstock.in_use: invalid type"));
+    assert!(err("dialect = \"heidenhain\"\n").contains("dialect: unknown value `heidenhain`"));
+    assert!(err("[stock]\noutline = [[0, 0], [10, 0], [10, 5]]\n")
+        .contains("stock.outline: a revolved stock outline is not supported yet"));
+    assert!(err(&format!("[[tools]]\n{TOOL}[[tools]]\n{TOOL}"))
+        .contains("tools[1].station: station 2 is already given by tools[0]"));
+}
+
+#[test]
+fn a_tool_without_an_outline_says_which_key_is_missing() {
+    let e = err("[[tools]]\nstation = 3\nname = \"x\"\ntip = [0, 0]\nholder = [[0,0],[1,0],[1,1]]\n");
+    assert!(
+        e.starts_with("part.job.toml:2:11: tools[0].insert: missing required key `insert`"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_catalogue_tool_error_is_a_job_error_naming_the_key() {
+    let e = err(
+        "[[tools]]\nstation = 3\nname = \"x\"\ntip = [0, 0]\ninsert = \"CNMG 120408\"\nholder = \"PCLNR 2525M12\"\n",
+    );
+    assert!(
+        e.starts_with("part.job.toml:5:10: tools[0].insert: cannot build the tool from its catalogue description"),
+        "{e}"
+    );
+}
+
+#[test]
+fn use_takes_a_library_entry_and_the_entry_keys_win() {
+    let lib = "[[tools]]\nid = \"T-FIN\"\nname = \"Finisher\"\ntip = [-50.0, -10.0]\nnose_radius = 0.8\n\
+               insert = [[0.0, 0.0], [4.0, 2.0], [4.0, 8.0], [0.0, 6.0]]\n\
+               holder = [[4.0, 2.0], [30.0, 2.0], [30.0, 20.0], [4.0, 20.0]]\n";
+    let mut read = |base: &str, rel: &str| -> Result<(String, String), String> {
+        assert_eq!((base, rel), ("/shop", "tools.toml"));
+        Ok(("tools.toml".into(), lib.into()))
+    };
+    let l = parse(
+        "tool_library = \"tools.toml\"\n[[tools]]\nstation = 4\nuse = \"T-FIN\"\nnose_radius = 0.4\n",
+        "part.job.toml",
+        "/shop",
+        "j",
+        &mut read,
+    )
+    .unwrap();
+    let t = &l.tools[0].value;
+    assert_eq!(
+        (t.tool.name.as_str(), t.tool.nose_radius, t.tool.station),
+        ("Finisher", 0.4, 4)
+    );
+    assert_eq!(t.origin, "use T-FIN (tools.toml)");
+    assert_eq!(l.files, vec!["part.job.toml".to_string(), "tools.toml".to_string()]);
+    let e = parse(
+        "tool_library = \"tools.toml\"\n[[tools]]\nstation = 4\nuse = \"T-NONE\"\n",
+        "part.job.toml",
+        "/shop",
+        "j",
+        &mut read,
+    )
+    .unwrap_err();
+    assert!(e
+        .to_string()
+        .starts_with("part.job.toml:4:7: tools[0].use: tools.toml has no tool with id = \"T-NONE\""));
+    let e = err("[[tools]]\nstation = 4\nuse = \"T\"\n");
+    assert!(
+        e.contains("tools[0].use: `use` takes an entry of the job's tool library"),
+        "{e}"
+    );
+    let e = err("tool_library = \"nope.toml\"\n[[tools]]\nstation = 4\nuse = \"T\"\n");
+    assert!(
+        e.starts_with("part.job.toml:1:16: tool_library: cannot read nope.toml: no file nope.toml"),
+        "{e}"
+    );
+}
+
+#[test]
+fn an_inline_job_in_a_configuration_names_its_whole_key_path() {
+    let cfg = "machine = \"m.toml\"\n[[override]]\nglob = \"*.nc\"\n[override.job.stock]\ndiameter = 0\nlength = 1\nstick_out = 1\n";
+    let e = parse_embedded(
+        cfg,
+        "latheguard.toml",
+        &["override", "0", "job"],
+        "/",
+        "l",
+        &mut no_files,
+    )
+    .err()
+    .unwrap();
+    assert!(
+        e.to_string()
+            .starts_with("latheguard.toml:5:12: override[0].job.stock.diameter: must be greater than 0"),
+        "{e}"
+    );
+    let cfg = "job = \"a.job.toml\"\n";
+    match parse_embedded(cfg, "latheguard.toml", &["job"], "/", "l", &mut no_files).unwrap() {
+        Some(Embedded::File { name, at }) => {
+            assert_eq!(name, "a.job.toml");
+            assert_eq!((at.line, at.col, at.key.as_str()), (1, 7, "job"));
+        }
+        _ => panic!("a file"),
+    }
+    assert!(
+        parse_embedded("mode = \"step\"\n", "c", &["job"], "/", "l", &mut no_files)
+            .unwrap()
+            .is_none()
+    );
+}
+
+#[test]
+fn later_layers_win_key_by_key_and_tools_station_by_station() {
+    let a = layer(&format!("units = \"inch\"\nprogram_zero_z = 5\n[[tools]]\n{TOOL}"), "a").unwrap();
+    let b = layer(
+        &format!(
+            "units = \"mm\"\n[[tools]]\n{}",
+            TOOL.replace("OD finish", "other").replace("station = 2", "station = 3")
+        ),
+        "b",
+    )
+    .unwrap();
+    let j = EffectiveJob::merge([&a, &b]);
+    assert_eq!(j.layers, vec!["a", "b"]);
+    assert!(!j.units_inch.as_ref().unwrap().value);
+    assert_eq!(j.units_inch.as_ref().unwrap().layer, "b");
+    assert_eq!(j.program_zero_z.as_ref().unwrap().layer, "a");
+    let stations: Vec<_> = j
+        .tools
+        .iter()
+        .map(|t| (t.value.tool.station, t.layer.as_str()))
+        .collect();
+    assert_eq!(stations, vec![(2, "a"), (3, "b")]);
+    let c = layer(&format!("[[tools]]\n{}", TOOL.replace("OD finish", "again")), "c").unwrap();
+    let j = EffectiveJob::merge([&a, &b, &c]);
+    assert_eq!(j.tools[0].value.tool.name, "again");
+}
+
+#[test]
+fn apply_sets_the_machine_and_validates_it() {
+    let m = Machine::builtin();
+    let l = layer(
+        "units = \"inch\"\n[stock]\ndiameter = 30\nlength = 60\nstick_out = 50\n",
+        "j",
+    )
+    .unwrap();
+    let out = apply(&m, &EffectiveJob::merge([&l])).unwrap();
+    assert!(out.inch);
+    let s = out.stock.as_ref().unwrap();
+    assert_eq!((s.diameter, s.length, s.front), (30.0, 60.0, 50.0));
+    assert_eq!(out.program_zero_z, 50.0, "program zero follows the job's stock front");
+    // The machine's other parts are unchanged.
+    assert_eq!(out.tools, m.tools);
+
+    // A bar wider than the jaws' bore where it reaches into the chuck is the job's stock.diameter.
+    let l = layer("[stock]\ndiameter = 60\nlength = 120\nstick_out = 50\n", "j").unwrap();
+    let e = apply(&m, &EffectiveJob::merge([&l])).unwrap_err().to_string();
+    assert!(e.starts_with("part.job.toml:2:12: stock.diameter: the bar"), "{e}");
+    // A thin long bar passes through the spindle bore.
+    let l = layer("[stock]\ndiameter = 30\nlength = 600\nstick_out = 50\n", "j").unwrap();
+    assert!(apply(&m, &EffectiveJob::merge([&l])).is_ok());
+    // A chuck of this job that the machine's bar does not fit: the job's chuck.outline.
+    let l = layer("[chuck]\nouter = 1\n", "j");
+    assert!(l.is_err());
+    let l = layer("[chuck]\noutline = [[10, -100], [105, -100], [105, 0], [10, 0]]\n", "j").unwrap();
+    let e = apply(&m, &EffectiveJob::merge([&l])).unwrap_err().to_string();
+    assert!(e.starts_with("part.job.toml:1:1: chuck.outline: the bar"), "{e}");
+
+    // A station the turret lacks.
+    let l = layer(
+        &format!("[[tools]]\n{}", TOOL.replace("station = 2", "station = 40")),
+        "j",
+    )
+    .unwrap();
+    let e = apply(&m, &EffectiveJob::merge([&l])).unwrap_err().to_string();
+    assert!(e.contains("tools[0].station: station 40 does not exist"), "{e}");
+
+    // A tool that overlaps the chuck at home (a holder reaching from x 250 down to the jaws).
+    let huge = "station = 1\nname = \"huge\"\ntip = [-50.0, -10.0]\ninsert = [[0,0],[1,0],[1,1]]\n\
+                holder = [[-200.0, 0.0], [-190.0, 0.0], [-190.0, -700.0], [-200.0, -700.0]]\n";
+    let l = layer(&format!("[[tools]]\n{huge}"), "j").unwrap();
+    let e = apply(&m, &EffectiveJob::merge([&l])).unwrap_err().to_string();
+    assert!(e.contains("tools[0].holder: at home"), "{e}");
+}
+
+#[test]
+fn tailstock_not_in_use_removes_it_and_in_use_needs_one() {
+    let m = crate::machine::from_toml(include_str!("../../machines/linuxcnc-small-lathe.toml"), "m").unwrap();
+    assert!(m.tailstock.is_some());
+    let off = layer("[tailstock]\nin_use = false\n", "j").unwrap();
+    let out = apply(&m, &EffectiveJob::merge([&off])).unwrap();
+    assert!(out.tailstock.is_none());
+    let on = layer("[tailstock]\nin_use = true\n", "j").unwrap();
+    let mut bare = m.clone();
+    bare.tailstock = None;
+    let e = apply(&bare, &EffectiveJob::merge([&on])).unwrap_err().to_string();
+    assert!(
+        e.starts_with("part.job.toml:2:10: tailstock.in_use: the machine has no tailstock"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_dialect_change_takes_the_new_dialects_defaults() {
+    let m = Machine::builtin();
+    assert_eq!(m.dialect, Dialect::Fanuc);
+    let l = layer("dialect = \"linuxcnc\"\n", "j").unwrap();
+    let out = apply(&m, &EffectiveJob::merge([&l])).unwrap();
+    assert_eq!(out.dialect, Dialect::Linuxcnc);
+    assert!(!out.diameter_mode);
+    assert_eq!(out.mcodes, McodeTable::builtin(Dialect::Linuxcnc));
+}
+
+#[test]
+fn stock_flag_reads_diameter_length_stick_out_and_bore() {
+    assert_eq!(parse_stock_flag("50x120@80"), Ok((50.0, 120.0, Some(80.0), 0.0)));
+    assert_eq!(parse_stock_flag("50/20X120"), Ok((50.0, 120.0, None, 20.0)));
+    assert!(parse_stock_flag("50").is_err());
+    assert!(parse_stock_flag("0x10").is_err());
+    assert!(parse_stock_flag("20/20x10").is_err());
+    assert!(parse_stock_flag("nanx10").is_err());
+    let l = flags_layer(Some("30x60"), Some(true), None).unwrap();
+    let out = apply(&Machine::builtin(), &EffectiveJob::merge([&l])).unwrap();
+    assert_eq!(out.stock.unwrap().front, Machine::builtin().stock.unwrap().front);
+}
