@@ -650,6 +650,7 @@ mod tests {
             "min_depth = 0.05\n[[override]]\nglob = \"old/*\"\nmin_depth = 0\n",
             "latheguard.toml",
             Path::new("/shop"),
+            &mut Texts::default(),
         )
         .unwrap();
         assert_eq!(c.base.min_depth_mm, Some(0.05));
