@@ -303,6 +303,13 @@ enum RawDialect {
     Linuxcnc,
 }
 
+#[derive(Deserialize, JsonSchema, Clone, Copy, PartialEq)]
+#[serde(rename_all = "lowercase", expecting = "\"drum\" or \"gang\"")]
+enum RawTurretKind {
+    Drum,
+    Gang,
+}
+
 #[derive(Deserialize, JsonSchema, Clone, Copy)]
 #[serde(rename_all = "lowercase", expecting = "\"dogleg\" or \"linear\"")]
 enum RawRapid {
@@ -376,12 +383,14 @@ struct RawSetup {
 #[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawTurret {
+    #[serde(rename = "type")]
+    kind: Option<RawTurretKind>,
     #[schemars(with = "u32")]
     stations: Spanned<u32>,
     #[schemars(with = "Option<u32>")]
     start_station: Option<Spanned<u32>>,
-    #[schemars(with = "f64")]
-    axis: Num,
+    #[schemars(with = "Option<f64>")]
+    axis: Option<Num>,
     #[schemars(with = "f64")]
     index_time: Num,
     #[schemars(with = "Vec<[f64; 2]>")]
@@ -915,7 +924,23 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             }
         }
     };
-    let axis = cx.keep(cx.coord("turret.axis", &turret.axis));
+    let kind = match turret.kind.unwrap_or(RawTurretKind::Drum) {
+        RawTurretKind::Drum => super::TurretKind::Drum,
+        RawTurretKind::Gang => super::TurretKind::Gang,
+    };
+    let axis = match (&turret.axis, kind) {
+        (Some(a), _) => cx.keep(cx.coord("turret.axis", a)),
+        // A gang slide turns nothing: its axis is never used.
+        (None, super::TurretKind::Gang) => Some(0.0),
+        (None, super::TurretKind::Drum) => {
+            cx.push(cx.err(
+                turret.stations.span(),
+                "turret.axis",
+                "missing required key `turret.axis`: a drum turret needs its axis (only a gang slide, `type = \"gang\"`, has none)",
+            ));
+            None
+        }
+    };
     let index_time = cx.keep(cx.within(
         "turret.index_time",
         &turret.index_time,
@@ -1080,6 +1105,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         stock,
         program_zero_z,
         turret: Turret {
+            kind,
             stations,
             start_station,
             axis,

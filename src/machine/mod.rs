@@ -137,13 +137,36 @@ pub struct Stock {
     pub bore: f64,
 }
 
+/// How the tools are carried (`turret.type`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TurretKind {
+    /// A drum turret: the stations stand round an axis parallel to z, and a tool change turns the
+    /// drum the short way round, swinging every tool through its arc (the index sweep).
+    Drum,
+    /// A gang-tool slide: every tool is clamped side by side on the cross slide, always in the
+    /// working plane at its `tip` offset; a tool change (a T word) only changes which tool the
+    /// program drives, nothing turns.
+    Gang,
+}
+
+impl TurretKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TurretKind::Drum => "drum",
+            TurretKind::Gang => "gang",
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Turret {
+    /// Drum or gang slide.
+    pub kind: TurretKind,
     pub stations: u32,
     pub start_station: u32,
     /// The turret's axis lies this far from the reference point in +x, parallel to z.
     pub axis: f64,
-    /// Seconds per station indexed.
+    /// Seconds per station indexed (a drum); seconds per tool change (a gang slide).
     pub index_time: f64,
     /// Relative to the turret reference point.
     pub outline: Polygon,
@@ -318,13 +341,24 @@ impl Machine {
         let _ = writeln!(s, "  program Z0  z {}", num(self.program_zero_z));
         let t = &self.turret;
         let b = t.outline.aabb();
+        let carrier = match t.kind {
+            TurretKind::Drum => format!(
+                "{} stations, starts at {}, axis {} mm in +x, {} s per station",
+                t.stations,
+                t.start_station,
+                num(t.axis),
+                num(t.index_time)
+            ),
+            TurretKind::Gang => format!(
+                "gang slide, {} stations, starts at {}, {} s per tool change",
+                t.stations,
+                t.start_station,
+                num(t.index_time)
+            ),
+        };
         let _ = writeln!(
             s,
-            "  turret      {} stations, starts at {}, axis {} mm in +x, {} s per station; outline x {} .. {}, z {} .. {}",
-            t.stations,
-            t.start_station,
-            num(t.axis),
-            num(t.index_time),
+            "  turret      {carrier}; outline x {} .. {}, z {} .. {}",
             num(b.min.x),
             num(b.max.x),
             num(b.min.y),
