@@ -133,3 +133,54 @@ fn every_shipped_machine_loads_clean_with_its_defining_traits() {
         "the Z travel reaches the tailstock"
     );
 }
+
+/// Every key path of the machine file's JSON Schema (`machine.name`, `axes.x.min`,
+/// `tools.station`, …) is named in `docs/machine.md`, in backquotes.
+#[test]
+fn every_key_of_the_machine_schema_is_documented_in_docs_machine_md() {
+    let schema: serde_json::Value = serde_json::from_str(&latheguard::machine::schema()).unwrap();
+    let doc = std::fs::read_to_string(root().join("docs/machine.md")).unwrap();
+    fn resolve<'a>(schema: &'a serde_json::Value, v: &'a serde_json::Value) -> &'a serde_json::Value {
+        let mut v = v;
+        loop {
+            if let Some(r) = v.get("$ref").and_then(|r| r.as_str()) {
+                let name = r.rsplit('/').next().unwrap();
+                v = &schema["$defs"][name];
+            } else if let Some(any) = v.get("anyOf").and_then(|a| a.as_array()) {
+                match any.iter().find(|x| x.get("type") != Some(&"null".into())) {
+                    Some(x) => v = x,
+                    None => return v,
+                }
+            } else if v.get("type") == Some(&"array".into()) && v["items"].is_object() {
+                v = &v["items"];
+            } else {
+                return v;
+            }
+        }
+    }
+    fn walk(schema: &serde_json::Value, v: &serde_json::Value, path: &str, out: &mut Vec<String>) {
+        let v = resolve(schema, v);
+        if let Some(props) = v.get("properties").and_then(|p| p.as_object()) {
+            for (k, sub) in props {
+                let p = if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                };
+                out.push(p.clone());
+                walk(schema, sub, &p, out);
+            }
+        }
+    }
+    let mut keys = Vec::new();
+    walk(&schema, &schema, "", &mut keys);
+    assert!(keys.len() > 30, "{keys:?}");
+    let missing: Vec<&String> = keys
+        .iter()
+        .filter(|k| {
+            // A table is documented by its keys (`axes.x` as `axes.x`, `mcodes` as `[mcodes]`).
+            !doc.contains(&format!("`{k}`")) && !doc.contains(&format!("`[{k}]`")) && !doc.contains(&format!("`{k}`,"))
+        })
+        .collect();
+    assert!(missing.is_empty(), "not in docs/machine.md: {missing:?}");
+}
