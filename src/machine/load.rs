@@ -263,10 +263,11 @@ enum RawGcodeSystem {
 }
 
 #[derive(Deserialize, JsonSchema, Clone, Copy)]
-#[serde(rename_all = "lowercase", expecting = "\"fanuc\" or \"linuxcnc\"")]
+#[serde(rename_all = "lowercase", expecting = "\"fanuc\", \"linuxcnc\" or \"auto\"")]
 enum RawDialect {
     Fanuc,
     Linuxcnc,
+    Auto,
 }
 
 #[derive(Deserialize, JsonSchema, Clone, Copy, PartialEq)]
@@ -700,8 +701,10 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
     if name.is_empty() {
         cx.push(cx.err(hdr.name.span(), "machine.name", "must not be blank"));
     }
+    // "auto": Fanuc's settings here, LinuxCNC's beside them (`Machine::auto_dialect`).
+    let auto = matches!(hdr.dialect, Some(RawDialect::Auto));
     let dialect = match hdr.dialect.unwrap_or(RawDialect::Fanuc) {
-        RawDialect::Fanuc => Dialect::Fanuc,
+        RawDialect::Fanuc | RawDialect::Auto => Dialect::Fanuc,
         RawDialect::Linuxcnc => Dialect::Linuxcnc,
     };
     let diameter_mode = hdr.diameter_mode.unwrap_or(dialect == Dialect::Fanuc);
@@ -801,6 +804,11 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
     let chuck = chuck.map(|c| cx.keep(cx.outline("chuck.outline", &c.outline)));
     let tailstock_advanced = tailstock.as_ref().and_then(|t| t.advanced).unwrap_or(true);
     let tailstock = tailstock.map(|t| cx.keep(cx.outline("tailstock.outline", &t.outline)));
+    let mcodes_linuxcnc = if auto {
+        cx.keep(mcode_table(cx, Dialect::Linuxcnc, mcodes.as_ref()))
+    } else {
+        None
+    };
     let mcodes = cx.keep(mcode_table(cx, dialect, mcodes.as_ref()));
 
     // [stock]
@@ -1079,7 +1087,29 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             outline: turret_outline,
         },
         tools: out,
+        auto_dialect: None,
         warnings: Vec::new(),
+    };
+    let auto_dialect = match (auto, mcodes_linuxcnc) {
+        (true, Some(lc)) => Some(Box::new(super::AutoDialect {
+            fanuc: super::DialectParts {
+                diameter_mode,
+                decimal_point,
+                gcode_system,
+                mcodes: machine.mcodes.clone(),
+            },
+            linuxcnc: super::DialectParts {
+                diameter_mode: hdr.diameter_mode.unwrap_or(false),
+                decimal_point: DecimalPoint::Calculator,
+                gcode_system: GcodeSystem::A,
+                mcodes: lc,
+            },
+        })),
+        _ => None,
+    };
+    let machine = Machine {
+        auto_dialect,
+        ..machine
     };
     clear_at_home(cx, &machine, &turret.outline, &tools);
     if let (Some(s), Some(raw)) = (&machine.stock, &raw_stock) {

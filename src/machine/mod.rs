@@ -12,6 +12,8 @@ mod tests;
 use std::fmt::Write as _;
 
 use crate::geom::{Polygon, P2};
+pub mod auto;
+
 pub use mcodes::{reserved as mcodes_reserved, MAction, McodeTable, ACTIONS as MCODE_ACTIONS, MAX_MCODE};
 
 pub use load::{
@@ -188,6 +190,22 @@ pub struct Tool {
     pub tip_direction: u8,
 }
 
+/// What depends on the dialect in a machine file with `dialect = "auto"`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DialectParts {
+    pub diameter_mode: bool,
+    pub decimal_point: DecimalPoint,
+    pub gcode_system: GcodeSystem,
+    pub mcodes: McodeTable,
+}
+
+/// Both dialects' settings of a machine with `dialect = "auto"`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AutoDialect {
+    pub fanuc: DialectParts,
+    pub linuxcnc: DialectParts,
+}
+
 /// A validated machine and its setup.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Machine {
@@ -223,6 +241,9 @@ pub struct Machine {
     pub turret: Turret,
     /// Sorted by station.
     pub tools: Vec<Tool>,
+    /// `machine.dialect = "auto"`: the settings of each dialect, one of which
+    /// [`Machine::with_dialect`] applies per program (the fields above hold Fanuc's).
+    pub auto_dialect: Option<Box<AutoDialect>>,
     /// Values that were accepted but look like unit mistakes (`rapid = 1.0`), each as
     /// `file:line:col: key: message`, for `latheguard machine` to print. Empty for the shipped
     /// machines.
@@ -233,6 +254,25 @@ impl Machine {
     /// The machine embedded in the binary.
     pub fn builtin() -> Machine {
         from_toml(BUILTIN_TOML, BUILTIN_NAME).expect("the built-in machine is valid")
+    }
+
+    /// This machine reading programs in dialect `d`: for a machine with `dialect = "auto"`, a
+    /// copy with that dialect's settings (and no longer auto); otherwise None (use it as it is).
+    pub fn with_dialect(&self, d: Dialect) -> Option<Machine> {
+        let auto = self.auto_dialect.as_ref()?;
+        let p = match d {
+            Dialect::Fanuc => &auto.fanuc,
+            Dialect::Linuxcnc => &auto.linuxcnc,
+        };
+        Some(Machine {
+            dialect: d,
+            diameter_mode: p.diameter_mode,
+            decimal_point: p.decimal_point,
+            gcode_system: p.gcode_system,
+            mcodes: p.mcodes.clone(),
+            auto_dialect: None,
+            ..self.clone()
+        })
     }
 
     pub fn tool(&self, station: u32) -> Option<&Tool> {
@@ -247,7 +287,11 @@ impl Machine {
         let _ = writeln!(s, "{}", self.name);
         let mut modes = format!(
             "{}, X words are {}, rapid {}",
-            self.dialect.as_str(),
+            if self.auto_dialect.is_some() {
+                "auto (chosen per program, docs/machine.md; fanuc's settings shown)"
+            } else {
+                self.dialect.as_str()
+            },
             if self.diameter_mode { "diameters" } else { "radii" },
             match self.rapid {
                 RapidMode::Dogleg => "dogleg (each axis at its own rate)",
