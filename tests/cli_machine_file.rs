@@ -119,3 +119,38 @@ fn dialect_auto_chooses_per_file_and_the_reports_say_which() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(v["files"][0].get("dialect").is_none());
 }
+
+/// `latheguard machine new`: the default starter file (snapshot) loads with `latheguard machine`,
+/// and an existing file is never overwritten without `--force`.
+#[test]
+fn machine_new_writes_a_starter_that_loads_and_never_overwrites_without_force() {
+    let o = run(&[
+        "machine",
+        "new",
+        "--name",
+        "Shop lathe",
+        "--stations",
+        "6",
+        "--units",
+        "inch",
+    ]);
+    assert!(o.status.success(), "{}", err(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    insta::assert_snapshot!("machine_new_starter", text);
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("m.toml");
+    let fs = f.display().to_string();
+    assert!(run(&["machine", "new", "-o", &fs, "--type", "gang"]).status.success());
+    let o = run(&["machine", &fs]);
+    assert!(o.status.success(), "{}", err(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("gang slide"));
+    let o = run(&["machine", "new", "-o", &fs]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(err(&o).contains("--force"), "{}", err(&o));
+    assert!(
+        std::fs::read_to_string(&f).unwrap().contains("type = \"gang\""),
+        "the file is untouched"
+    );
+    assert!(run(&["machine", "new", "-o", &fs, "--force"]).status.success());
+    assert!(std::fs::read_to_string(&f).unwrap().contains("type = \"drum\""));
+}

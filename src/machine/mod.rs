@@ -13,6 +13,7 @@ use std::fmt::Write as _;
 
 use crate::geom::{Polygon, P2};
 pub mod auto;
+pub mod new;
 
 pub use mcodes::{reserved as mcodes_reserved, MAction, McodeTable, ACTIONS as MCODE_ACTIONS, MAX_MCODE};
 
