@@ -6,8 +6,9 @@
 use crate::finding::{sort_findings, Finding, LeftOut, MAX_FINDINGS};
 use crate::gcode;
 use crate::interp::{self, Interpretation};
-use crate::machine::Machine;
+use crate::machine::{Dialect, Machine};
 use serde::Serialize;
+use std::borrow::Cow;
 
 /// The default [`Settings::work_budget`]: about ten minutes of pair tests on one core.
 pub const DEFAULT_WORK_BUDGET: u64 = 1_000_000_000;
@@ -87,6 +88,10 @@ pub struct Stats {
     pub pair_tests_skipped: u64,
     pub effects: Vec<String>,
     pub elapsed_ms: f64,
+    /// With `machine.dialect = "auto"`: the dialect chosen for this program and why (the
+    /// reports show it per file).
+    #[serde(skip)]
+    pub dialect: Option<(Dialect, String)>,
 }
 
 /// The result of checking one program.
@@ -99,8 +104,23 @@ pub struct Outcome {
     pub stock: Vec<Vec<[f64; 2]>>,
 }
 
+/// The machine as it reads this program: with `dialect = "auto"`, the dialect the program's own
+/// signs choose (`machine::auto`) and why; otherwise the machine itself.
+pub fn resolve<'m>(src: &[u8], machine: &'m Machine) -> (Cow<'m, Machine>, Option<(Dialect, String)>) {
+    if machine.auto_dialect.is_none() {
+        return (Cow::Borrowed(machine), None);
+    }
+    let (d, why) = crate::machine::auto::detect(src);
+    match machine.with_dialect(d) {
+        Some(m) => (Cow::Owned(m), Some((d, why))),
+        None => (Cow::Borrowed(machine), None),
+    }
+}
+
 /// Read and interpret a program: the syntax, program and unsupported findings, and the moves.
 pub fn interpret(src: &[u8], machine: &Machine) -> (gcode::Program, Interpretation) {
+    let (machine, _) = resolve(src, machine);
+    let machine = machine.as_ref();
     let prog = read(src, machine);
     let run = interp::interpret(&prog, src, machine);
     (prog, run)
@@ -158,6 +178,8 @@ pub fn read_findings(prog: &mut gcode::Program, run: &mut Interpretation) -> Vec
 
 /// Check one program on a machine.
 pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
+    let (machine, dialect) = resolve(src, machine);
+    let machine = machine.as_ref();
     let (mut prog, mut run) = interpret(src, machine);
     let (mut findings, left_out) = take_findings(&mut prog, &mut run);
     // The checker needs only the moves: the program's blocks and words go before it runs.
@@ -166,6 +188,7 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
     findings.extend(result.findings);
     let findings = report_order(findings, left_out);
     let mut stats = result.stats;
+    stats.dialect = dialect;
     stats.blocks = run.blocks_executed;
     stats.moves = run
         .moves

@@ -80,3 +80,77 @@ fn a_stock_wider_than_the_chuck_bore_is_refused_with_exit_2() {
         );
     }
 }
+
+/// `machine.dialect = "auto"`: each file is read in the dialect its own signs show, and the text
+/// and JSON reports say which and why.
+#[test]
+fn dialect_auto_chooses_per_file_and_the_reports_say_which() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = dir.path().join("auto.toml");
+    let text = std::fs::read_to_string(root().join("machines/generic-slant-bed.toml")).unwrap();
+    std::fs::write(&m, text.replace("dialect = \"fanuc\"", "dialect = \"auto\"")).unwrap();
+    let lc = dir.path().join("lc.ngc");
+    std::fs::write(
+        &lc,
+        "o<face> sub\nG0 X60 Z5\no<face> endsub\nG7 G18 G21\nT1 M6\nG0 X60 Z85\nM2\n",
+    )
+    .unwrap();
+    let fanuc = root().join("programs/facing.nc");
+    let (m, lc, fanuc) = (
+        m.display().to_string(),
+        lc.display().to_string(),
+        fanuc.display().to_string(),
+    );
+    let o = run(&["check", "-m", &m, &lc, &fanuc]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("lc.ngc: dialect linuxcnc (auto: a named o-word at line 1)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("facing.nc: dialect fanuc (auto: a program number `O…` at line 2)"),
+        "{out}"
+    );
+    let o = run(&["check", "-m", &m, &lc, "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["files"][0]["dialect"], "linuxcnc");
+    // Without auto, the reports say nothing about the dialect.
+    let o = run(&["check", &fanuc, "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["files"][0].get("dialect").is_none());
+}
+
+/// `latheguard machine new`: the default starter file (snapshot) loads with `latheguard machine`,
+/// and an existing file is never overwritten without `--force`.
+#[test]
+fn machine_new_writes_a_starter_that_loads_and_never_overwrites_without_force() {
+    let o = run(&[
+        "machine",
+        "new",
+        "--name",
+        "Shop lathe",
+        "--stations",
+        "6",
+        "--units",
+        "inch",
+    ]);
+    assert!(o.status.success(), "{}", err(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    insta::assert_snapshot!("machine_new_starter", text);
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("m.toml");
+    let fs = f.display().to_string();
+    assert!(run(&["machine", "new", "-o", &fs, "--type", "gang"]).status.success());
+    let o = run(&["machine", &fs]);
+    assert!(o.status.success(), "{}", err(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("gang slide"));
+    let o = run(&["machine", "new", "-o", &fs]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(err(&o).contains("--force"), "{}", err(&o));
+    assert!(
+        std::fs::read_to_string(&f).unwrap().contains("type = \"gang\""),
+        "the file is untouched"
+    );
+    assert!(run(&["machine", "new", "-o", &fs, "--force"]).status.success());
+    assert!(std::fs::read_to_string(&f).unwrap().contains("type = \"drum\""));
+}

@@ -951,7 +951,8 @@ impl Checker<'_> {
         self.indexed = true;
         let n = self.scene.stations;
         let dir = motion::index_direction(from, to, n);
-        if dir == 0 {
+        // A gang slide turns nothing: its tools stand where they stood.
+        if dir == 0 || self.scene.gang {
             return;
         }
         let r = m.ref_start();

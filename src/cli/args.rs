@@ -216,12 +216,61 @@ pub struct MovesArgs {
 }
 
 #[derive(Args, Debug)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub struct MachineArgs {
+    #[command(subcommand)]
+    pub new: Option<MachineCommand>,
     #[arg(required_unless_present = "schema")]
     pub file: Option<PathBuf>,
     /// Print the JSON Schema of machine files (for editors that complete and validate TOML) and exit.
     #[arg(long)]
     pub schema: bool,
+}
+
+#[derive(clap::Subcommand, Debug)]
+pub enum MachineCommand {
+    /// Write a commented starter machine file from a few answers (docs/machine.md).
+    New(MachineNewArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct MachineNewArgs {
+    /// Write to this file (default: standard output); an existing file only with --force.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: Option<PathBuf>,
+    /// Overwrite FILE if it exists.
+    #[arg(long)]
+    pub force: bool,
+    /// The machine's name.
+    #[arg(long, default_value = "My lathe")]
+    pub name: String,
+    /// Chuck outside diameter, mm (80 to 1000).
+    #[arg(long, default_value_t = 210.0)]
+    pub chuck_diameter: f64,
+    /// How far the jaws stand out of the chuck face, mm (5 to 100).
+    #[arg(long, default_value_t = 30.0)]
+    pub jaw_height: f64,
+    /// The largest bar through the spindle, mm (5 to half the chuck diameter).
+    #[arg(long, default_value_t = 52.0)]
+    pub bar_capacity: f64,
+    /// Turret stations (1 to 24) [default: 8 on a drum, 4 on a gang slide].
+    #[arg(long)]
+    pub stations: Option<u32>,
+    /// The tool carrier.
+    #[arg(long = "type", value_parser = ["drum", "gang"], default_value = "drum")]
+    pub kind: String,
+    /// X travel (radius) of the turret, mm (100 to 2000).
+    #[arg(long, default_value_t = 300.0)]
+    pub x_travel: f64,
+    /// Z travel of the turret, mm (100 to 5000).
+    #[arg(long, default_value_t = 600.0)]
+    pub z_travel: f64,
+    /// How programs are read.
+    #[arg(long, value_parser = ["fanuc", "linuxcnc", "auto"], default_value = "fanuc")]
+    pub dialect: String,
+    /// Program units at program start.
+    #[arg(long, value_parser = ["mm", "inch"], default_value = "mm")]
+    pub units: String,
 }
 
 #[derive(Args, Debug)]

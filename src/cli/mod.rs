@@ -63,6 +63,10 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
         Command::Accuracy(a) => accuracy::run(a),
         Command::Setup(a) => setup::run(*a),
 
+        Command::Machine(args::MachineArgs {
+            new: Some(args::MachineCommand::New(a)),
+            ..
+        }) => machine_new(a),
         Command::Machine(a) => {
             let Some(file) = a.file.filter(|_| !a.schema) else {
                 emit(None, &machine::schema())?;
@@ -88,6 +92,36 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
         Command::Completions(a) => shell::completions(a),
         Command::Man(a) => shell::man(a),
     }
+}
+
+/// `latheguard machine new`: the starter file to `-o FILE` (never over an existing one without
+/// `--force`) or standard output.
+fn machine_new(a: args::MachineNewArgs) -> Result<u8, Trouble> {
+    let gang = a.kind == "gang";
+    let spec = machine::new::NewSpec {
+        name: a.name,
+        chuck_diameter: a.chuck_diameter,
+        jaw_height: a.jaw_height,
+        bar_capacity: a.bar_capacity,
+        stations: a.stations.unwrap_or(if gang { 4 } else { 8 }),
+        gang,
+        x_travel: a.x_travel,
+        z_travel: a.z_travel,
+        dialect: a.dialect,
+        inch: a.units == "inch",
+    };
+    spec.check()?;
+    let text = machine::new::starter(&spec);
+    match a.output {
+        None => emit(None, &text)?,
+        Some(path) => {
+            if path.exists() && !a.force {
+                return Err(format!("{} exists: give --force to overwrite it", shown(&path)));
+            }
+            std::fs::write(&path, text).map_err(|e| format!("{}: cannot write: {}", shown(&path), plain(&e)))?;
+        }
+    }
+    Ok(EXIT_CLEAN)
 }
 
 /// Machine files larger than this are not read (exit 2).

@@ -2,45 +2,10 @@
 //!
 //! # The machine file
 //!
-//! The keys are those of DESIGN §3. Every table refuses keys it does not know. Lengths are mm in
-//! the spindle frame (`x` = radius, `+x` toward the turret; `z` along the spindle axis, `z = 0` at
-//! the jaw faces, `+z` toward the tailstock); points are `[x, z]`. Integers are accepted wherever
-//! a number is expected; `nan` and `inf` are refused everywhere.
-//!
-//! | key | required | default | rule |
-//! |---|---|---|---|
-//! | `machine.name` | yes | | not blank |
-//! | `machine.dialect` | no | `"fanuc"` | `"fanuc"` or `"linuxcnc"` |
-//! | `machine.diameter_mode` | no | `true` for fanuc, `false` for linuxcnc (G8) | |
-//! | `machine.rapid` | no | `"dogleg"` | `"dogleg"` or `"linear"` |
-//! | `machine.decimal_point` | no | `"calculator"` | `"calculator"` or `"increment"`; `"increment"` only with fanuc |
-//! | `machine.gcode_system` | no | `"A"` | `"A"` or `"B"` (Fanuc lathe G-code system); only with fanuc. A: G90/G92/G94 are the box cycles, G50 sets coordinates and clamps the spindle; B: G77/G78/G79 are the box cycles, G92 sets coordinates and clamps the spindle, G90/G91 absolute/incremental |
-//! | `machine.turret_side` | no | `"rear"` | `"rear"` (+X away from the operator) or `"front"` (+X toward the operator): how the Fanuc/Haas tip-code chart maps onto the spindle frame (docs/comp.md); LinuxCNC orientations are read in the X/Z axes as rs274 reads them, whatever the side |
-//! | `machine.units` | no | `"mm"` | `"mm"` or `"inch"`: the program units at program start (G21 or G20 in effect until the program says otherwise); the machine file itself is always in mm |
-//! | `machine.min_depth` | no | `0.1` | 0 ..= 1 mm: contacts shallower than this are grazes, reported as warnings (`docs/findings/collision.md`); `latheguard.toml` and `--min-depth` override it |
-//! | `axes.x`, `axes.z` | yes | | tables `{ min, max, rapid }`, all required, `min < max`, `rapid` 1 ..= 1e6 mm/min (a warning below 100) |
-//! | `axes.home` | no | `[axes.x.max, axes.z.max]` | inside both axes' limits |
-//! | `axes.machine_zero` | no | `axes.home` (G53 X0 Z0 is home, as on most Fanuc and Haas lathes) | `[x, z]`: the turret reference point at machine zero, spindle frame; G53 X/Z are measured from it (X as the program writes it: a diameter in diameter mode) |
-//! | `spindle.max_rpm` | yes | | 1 ..= 1e6 (a warning below 100 or above 50,000) |
-//! | `[chuck]` | no | no chuck | `outline` required in it |
-//! | `[tailstock]` | no | no tailstock | `outline` required in it |
-//! | `tailstock.advanced` | no | `true` | whether the tailstock is advanced at program start; it is an obstacle only while advanced (the `[mcodes]` `tailstock_advance`/`tailstock_retract` codes change it) |
-//! | `[mcodes]` | no | the dialect's built-in table (`docs/mcodes.md`) | each key an action (`program_stop`, `optional_stop`, `program_end`, `spindle_cw`, `spindle_ccw`, `spindle_stop`, `coolant_on`, `coolant_off`, `tailstock_advance`, `tailstock_retract`, `chuck_open`, `chuck_close`, `part_catcher_advance`, `part_catcher_retract`, `bar_feed`, `conveyor_on`, `conveyor_off`, `no_effect`), each value an M code or an array of them (0 ..= 999). An action given replaces its built-in codes; a code given is taken from any built-in action that had it; a code given twice is an error, and so are M6, M98, M99, M70–M73 (and LinuxCNC M61), which the interpreter handles itself |
-//! | `[stock]` | no | no stock | `diameter > 0`, `length > 0`, `front` required; `bore` default `0`, `0 ≤ bore < diameter`; the bar spans `z` from `front − length` to `front`; it must not overlap the chuck (touching the jaws' faces, the grip, is fine): the error names `stock.length` when even the bar's innermost skin runs into the chuck body, else `stock.diameter` |
-//! | `[setup]` | no | | |
-//! | `setup.program_zero_z` | no | `stock.front` (program Z0 on the bar's face) when there is a stock, else `0` (the jaw faces) | |
-//! | `turret.stations` | yes | | `1 ..= 64` |
-//! | `turret.start_station` | no | `1` | `1 ..= stations` |
-//! | `turret.axis` | yes | | |
-//! | `turret.index_time` | yes | | 0 ..= 60 seconds per station (a warning above 5) |
-//! | `turret.outline` | yes | | |
-//! | `[[tools]]` | yes, at least one | | at most 256 tables |
-//! | `tools[i].station` | yes | | `1 ..= turret.stations`, not used by another tool |
-//! | `tools[i].name` | yes | | not blank |
-//! | `tools[i].tip` | yes | | `[x, z]` of the programmed point from the turret reference point |
-//! | `tools[i].insert`, `tools[i].holder` | yes | | outlines relative to the programmed point |
-//! | `tools[i].nose_radius` | no | `0` | 0 ..= 100; the radius nose-radius compensation (G41/G42) offsets by |
-//! | `tools[i].tip_direction` | no | `0` | integer 0 ..= 9: the imaginary-tip direction (Fanuc/Haas tip code T, LinuxCNC orientation; 0 and 9: the nose centre), docs/comp.md |
+//! The keys, their types, defaults and limits, with examples, are documented in
+//! `docs/machine.md` (a test holds every key of the JSON Schema named there). Every table refuses
+//! keys it does not know. Lengths are mm in the spindle frame; points are `[x, z]`. Integers are
+//! accepted wherever a number is expected; `nan` and `inf` are refused everywhere.
 //!
 //! Every coordinate (axis limits, home, points of outlines, tips, `stock.front`,
 //! `setup.program_zero_z`, `turret.axis`) lies within ±[`MAX_COORD_MM`] (100 m), and every length
@@ -349,10 +314,18 @@ enum RawGcodeSystem {
 }
 
 #[derive(Deserialize, JsonSchema, Clone, Copy)]
-#[serde(rename_all = "lowercase", expecting = "\"fanuc\" or \"linuxcnc\"")]
+#[serde(rename_all = "lowercase", expecting = "\"fanuc\", \"linuxcnc\" or \"auto\"")]
 enum RawDialect {
     Fanuc,
     Linuxcnc,
+    Auto,
+}
+
+#[derive(Deserialize, JsonSchema, Clone, Copy, PartialEq)]
+#[serde(rename_all = "lowercase", expecting = "\"drum\" or \"gang\"")]
+enum RawTurretKind {
+    Drum,
+    Gang,
 }
 
 #[derive(Deserialize, JsonSchema, Clone, Copy)]
@@ -428,12 +401,14 @@ struct RawSetup {
 #[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawTurret {
+    #[serde(rename = "type")]
+    kind: Option<RawTurretKind>,
     #[schemars(with = "u32")]
     stations: Spanned<u32>,
     #[schemars(with = "Option<u32>")]
     start_station: Option<Spanned<u32>>,
-    #[schemars(with = "f64")]
-    axis: Num,
+    #[schemars(with = "Option<f64>")]
+    axis: Option<Num>,
     #[schemars(with = "f64")]
     index_time: Num,
     #[schemars(with = "Vec<[f64; 2]>")]
@@ -796,8 +771,10 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
     if name.is_empty() {
         cx.push(cx.err(hdr.name.span(), "machine.name", "must not be blank"));
     }
+    // "auto": Fanuc's settings here, LinuxCNC's beside them (`Machine::auto_dialect`).
+    let auto = matches!(hdr.dialect, Some(RawDialect::Auto));
     let dialect = match hdr.dialect.unwrap_or(RawDialect::Fanuc) {
-        RawDialect::Fanuc => Dialect::Fanuc,
+        RawDialect::Fanuc | RawDialect::Auto => Dialect::Fanuc,
         RawDialect::Linuxcnc => Dialect::Linuxcnc,
     };
     let diameter_mode = hdr.diameter_mode.unwrap_or(dialect == Dialect::Fanuc);
@@ -902,6 +879,11 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
     let chuck = chuck.map(|c| cx.keep(cx.outline("chuck.outline", &c.outline)));
     let tailstock_advanced = tailstock.as_ref().and_then(|t| t.advanced).unwrap_or(true);
     let tailstock = tailstock.map(|t| cx.keep(cx.outline("tailstock.outline", &t.outline)));
+    let mcodes_linuxcnc = if auto {
+        cx.keep(mcode_table(cx, Dialect::Linuxcnc, mcodes.as_ref()))
+    } else {
+        None
+    };
     let mcodes = cx.keep(mcode_table(cx, dialect, mcodes.as_ref()));
 
     // [stock]
@@ -991,7 +973,23 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             }
         }
     };
-    let axis = cx.keep(cx.coord("turret.axis", &turret.axis));
+    let kind = match turret.kind.unwrap_or(RawTurretKind::Drum) {
+        RawTurretKind::Drum => super::TurretKind::Drum,
+        RawTurretKind::Gang => super::TurretKind::Gang,
+    };
+    let axis = match (&turret.axis, kind) {
+        (Some(a), _) => cx.keep(cx.coord("turret.axis", a)),
+        // A gang slide turns nothing: its axis is never used.
+        (None, super::TurretKind::Gang) => Some(0.0),
+        (None, super::TurretKind::Drum) => {
+            cx.push(cx.err(
+                turret.stations.span(),
+                "turret.axis",
+                "missing required key `turret.axis`: a drum turret needs its axis (only a gang slide, `type = \"gang\"`, has none)",
+            ));
+            None
+        }
+    };
     let index_time = cx.keep(cx.within(
         "turret.index_time",
         &turret.index_time,
@@ -1157,6 +1155,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         stock,
         program_zero_z,
         turret: Turret {
+            kind,
             stations,
             start_station,
             axis,
@@ -1164,7 +1163,29 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             outline: turret_outline,
         },
         tools: out,
+        auto_dialect: None,
         warnings: Vec::new(),
+    };
+    let auto_dialect = match (auto, mcodes_linuxcnc) {
+        (true, Some(lc)) => Some(Box::new(super::AutoDialect {
+            fanuc: super::DialectParts {
+                diameter_mode,
+                decimal_point,
+                gcode_system,
+                mcodes: machine.mcodes.clone(),
+            },
+            linuxcnc: super::DialectParts {
+                diameter_mode: hdr.diameter_mode.unwrap_or(false),
+                decimal_point: DecimalPoint::Calculator,
+                gcode_system: GcodeSystem::A,
+                mcodes: lc,
+            },
+        })),
+        _ => None,
+    };
+    let machine = Machine {
+        auto_dialect,
+        ..machine
     };
     clear_at_home(cx, &machine, &turret.outline, &tools);
     if let (Some(s), Some(raw)) = (&machine.stock, &raw_stock) {

@@ -12,6 +12,9 @@ mod tests;
 use std::fmt::Write as _;
 
 use crate::geom::{Polygon, P2};
+pub mod auto;
+pub mod new;
+
 pub use mcodes::{reserved as mcodes_reserved, MAction, McodeTable, ACTIONS as MCODE_ACTIONS, MAX_MCODE};
 
 pub(crate) use load::{
@@ -140,13 +143,36 @@ pub struct Stock {
     pub bore: f64,
 }
 
+/// How the tools are carried (`turret.type`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TurretKind {
+    /// A drum turret: the stations stand round an axis parallel to z, and a tool change turns the
+    /// drum the short way round, swinging every tool through its arc (the index sweep).
+    Drum,
+    /// A gang-tool slide: every tool is clamped side by side on the cross slide, always in the
+    /// working plane at its `tip` offset; a tool change (a T word) only changes which tool the
+    /// program drives, nothing turns.
+    Gang,
+}
+
+impl TurretKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TurretKind::Drum => "drum",
+            TurretKind::Gang => "gang",
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Turret {
+    /// Drum or gang slide.
+    pub kind: TurretKind,
     pub stations: u32,
     pub start_station: u32,
     /// The turret's axis lies this far from the reference point in +x, parallel to z.
     pub axis: f64,
-    /// Seconds per station indexed.
+    /// Seconds per station indexed (a drum); seconds per tool change (a gang slide).
     pub index_time: f64,
     /// Relative to the turret reference point.
     pub outline: Polygon,
@@ -166,6 +192,22 @@ pub struct Tool {
     /// Imaginary-tip direction for nose-radius compensation, 0–9 (LinuxCNC orientation,
     /// Fanuc/Haas tip code T), as the machine file gives it; 0 when absent.
     pub tip_direction: u8,
+}
+
+/// What depends on the dialect in a machine file with `dialect = "auto"`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DialectParts {
+    pub diameter_mode: bool,
+    pub decimal_point: DecimalPoint,
+    pub gcode_system: GcodeSystem,
+    pub mcodes: McodeTable,
+}
+
+/// Both dialects' settings of a machine with `dialect = "auto"`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AutoDialect {
+    pub fanuc: DialectParts,
+    pub linuxcnc: DialectParts,
 }
 
 /// A validated machine and its setup.
@@ -206,6 +248,9 @@ pub struct Machine {
     pub turret: Turret,
     /// Sorted by station.
     pub tools: Vec<Tool>,
+    /// `machine.dialect = "auto"`: the settings of each dialect, one of which
+    /// [`Machine::with_dialect`] applies per program (the fields above hold Fanuc's).
+    pub auto_dialect: Option<Box<AutoDialect>>,
     /// Values that were accepted but look like unit mistakes (`rapid = 1.0`), each as
     /// `file:line:col: key: message`, for `latheguard machine` to print. Empty for the shipped
     /// machines.
@@ -216,6 +261,25 @@ impl Machine {
     /// The machine embedded in the binary.
     pub fn builtin() -> Machine {
         from_toml(BUILTIN_TOML, BUILTIN_NAME).expect("the built-in machine is valid")
+    }
+
+    /// This machine reading programs in dialect `d`: for a machine with `dialect = "auto"`, a
+    /// copy with that dialect's settings (and no longer auto); otherwise None (use it as it is).
+    pub fn with_dialect(&self, d: Dialect) -> Option<Machine> {
+        let auto = self.auto_dialect.as_ref()?;
+        let p = match d {
+            Dialect::Fanuc => &auto.fanuc,
+            Dialect::Linuxcnc => &auto.linuxcnc,
+        };
+        Some(Machine {
+            dialect: d,
+            diameter_mode: p.diameter_mode,
+            decimal_point: p.decimal_point,
+            gcode_system: p.gcode_system,
+            mcodes: p.mcodes.clone(),
+            auto_dialect: None,
+            ..self.clone()
+        })
     }
 
     pub fn tool(&self, station: u32) -> Option<&Tool> {
@@ -230,7 +294,11 @@ impl Machine {
         let _ = writeln!(s, "{}", self.name);
         let mut modes = format!(
             "{}, X words are {}, rapid {}",
-            self.dialect.as_str(),
+            if self.auto_dialect.is_some() {
+                "auto (chosen per program, docs/machine.md; fanuc's settings shown)"
+            } else {
+                self.dialect.as_str()
+            },
             if self.diameter_mode { "diameters" } else { "radii" },
             match self.rapid {
                 RapidMode::Dogleg => "dogleg (each axis at its own rate)",
@@ -324,13 +392,24 @@ impl Machine {
         let _ = writeln!(s, "  program Z0  z {}", num(self.program_zero_z));
         let t = &self.turret;
         let b = t.outline.aabb();
+        let carrier = match t.kind {
+            TurretKind::Drum => format!(
+                "{} stations, starts at {}, axis {} mm in +x, {} s per station",
+                t.stations,
+                t.start_station,
+                num(t.axis),
+                num(t.index_time)
+            ),
+            TurretKind::Gang => format!(
+                "gang slide, {} stations, starts at {}, {} s per tool change",
+                t.stations,
+                t.start_station,
+                num(t.index_time)
+            ),
+        };
         let _ = writeln!(
             s,
-            "  turret      {} stations, starts at {}, axis {} mm in +x, {} s per station; outline x {} .. {}, z {} .. {}",
-            t.stations,
-            t.start_station,
-            num(t.axis),
-            num(t.index_time),
+            "  turret      {carrier}; outline x {} .. {}, z {} .. {}",
             num(b.min.x),
             num(b.max.x),
             num(b.min.y),

@@ -1323,3 +1323,61 @@ fn every_setup_problem_is_reported_together() {
     let lines: Vec<u32> = e.all().map(|e| e.line).collect();
     assert!(lines.windows(2).all(|w| w[0] <= w[1]), "not in file order: {e}");
 }
+
+/// A gang slide turns nothing on a tool change: the built-in machine's index next to the chuck
+/// (which swings the long boring bar of station 7 into it on a drum) is no index sweep on a gang
+/// slide, takes one `index_time` however many stations apart, and every tool stays in the
+/// working plane (so the long bar, standing 170 mm in front of the slide, meets the chuck on an
+/// ordinary move before the T word).
+#[test]
+fn a_gang_tool_change_sweeps_nothing_and_takes_one_index_time() {
+    let gang_toml = BUILTIN_TOML.replace("[turret]\n", "[turret]\ntype = \"gang\"\n");
+    let gang = from_toml(&gang_toml, "gang").unwrap();
+    assert_eq!(gang.turret.kind, TurretKind::Gang);
+    let drum = Machine::builtin();
+    assert_eq!(drum.turret.kind, TurretKind::Drum);
+    let src = include_bytes!("../../programs/crash_index_long_tool.nc");
+    let settings = crate::pipeline::Settings::default();
+    let on_drum = crate::pipeline::check(src, &drum, &settings);
+    let on_gang = crate::pipeline::check(src, &gang, &settings);
+    let swings = |o: &crate::pipeline::Outcome| o.findings.iter().any(|f| f.message.starts_with("indexing"));
+    assert!(swings(&on_drum), "{:#?}", on_drum.findings);
+    assert!(!swings(&on_gang), "{:#?}", on_gang.findings);
+    assert!(
+        on_gang
+            .findings
+            .iter()
+            .any(|f| f.line < 14 && f.message.contains("T07")),
+        "{:#?}",
+        on_gang.findings
+    );
+    let scene = crate::scene::Scene::new(&gang, 0.01);
+    assert_eq!(scene.station_angle(5, 1.0), 0.0);
+    // T01 → T07 is 2 stations the short way on the 8-station drum: 2 × 0.5 s; one change on a gang.
+    let index = |m: &Machine| {
+        let run = crate::pipeline::interpret(src, m).1;
+        let tl = crate::motion::timeline(&run, m);
+        tl.items
+            .iter()
+            .find(|t| {
+                matches!(
+                    run.moves[t.index].kind,
+                    crate::interp::MoveKind::ToolChange { from: 1, to: 7 }
+                )
+            })
+            .map(|t| t.duration)
+            .unwrap()
+    };
+    assert_eq!(index(&drum), 1.0);
+    assert_eq!(index(&gang), 0.5);
+}
+
+/// A drum turret without an axis is refused with the key named; a gang slide needs none.
+#[test]
+fn a_drum_turret_needs_its_axis_and_a_gang_slide_does_not() {
+    let no_axis = MINI.replace("axis = 140.0\n", "");
+    let e = from_toml(&no_axis, "m").unwrap_err();
+    assert_eq!(e.key, "turret.axis", "{e}");
+    let gang = no_axis.replace("[turret]\n", "[turret]\ntype = \"gang\"\n");
+    assert!(from_toml(&gang, "m").is_ok());
+}

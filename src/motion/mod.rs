@@ -148,7 +148,11 @@ fn time_move(m: &Move, spindle: &Spindle, machine: &Machine, stalled: &mut dyn F
     match m.kind {
         MoveKind::Dwell { seconds } => (seconds, Path::Still(from)),
         MoveKind::ToolChange { from: a, to: b } => {
-            let steps = index_steps(a, b, machine.turret.stations);
+            // A drum turns station by station; a gang slide changes tools in one step.
+            let steps = match machine.turret.kind {
+                crate::machine::TurretKind::Drum => index_steps(a, b, machine.turret.stations),
+                crate::machine::TurretKind::Gang => u32::from(a != b),
+            };
             (steps as f64 * machine.turret.index_time, Path::Still(from))
         }
         MoveKind::Rapid => {

@@ -26,6 +26,11 @@ struct FileDoc<'a> {
     /// The job layers that applied to this file (absent when none did).
     #[serde(skip_serializing_if = "<[String]>::is_empty")]
     job: &'a [String],
+    /// Only with `machine.dialect = "auto"`: the dialect chosen for this file and why.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    dialect: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    dialect_reason: Option<&'a str>,
     status: &'static str,
     findings: Vec<FindingDoc<'a>>,
     /// Findings set aside by suppression comments, each with its reason (absent when none).
@@ -127,6 +132,8 @@ pub fn json(r: &Report) -> String {
                 machine: f.machine.as_deref(),
                 settings: f.settings.as_ref(),
                 job: &f.job,
+                dialect: f.stats.dialect.as_ref().map(|d| d.0.as_str()),
+                dialect_reason: f.stats.dialect.as_ref().map(|d| d.1.as_str()),
                 status: f.status().name(),
                 findings: f.findings.iter().map(FindingDoc::from).collect(),
                 suppressed: f

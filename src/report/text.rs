@@ -26,6 +26,15 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
         ("", "", "", "", "")
     };
     for f in &r.files {
+        if let (false, Some((d, why))) = (opt.quiet, &f.stats.dialect) {
+            let _ = writeln!(
+                out,
+                "{bold}{}:{reset} {dim}dialect {} ({}){reset}",
+                terminal_safe(&f.path),
+                d.as_str(),
+                terminal_safe(why)
+            );
+        }
         if !opt.quiet && f.status() == super::Status::NoMotion {
             let _ = writeln!(
                 out,

@@ -59,6 +59,8 @@ pub struct Scene {
     pub turret: Polygon,
     pub turret_axis: f64,
     pub stations: u32,
+    /// A gang-tool slide: every station stays in the working plane (angle 0).
+    pub gang: bool,
     pub tools: Vec<ToolShape>,
     pub tolerance: f64,
 }
@@ -82,6 +84,7 @@ impl Scene {
             turret: machine.turret.outline.clone(),
             turret_axis: machine.turret.axis,
             stations: machine.turret.stations,
+            gang: machine.turret.kind == crate::machine::TurretKind::Gang,
             tools,
             tolerance,
         }
@@ -91,8 +94,12 @@ impl Scene {
         self.tools.iter().find(|t| t.station == station)
     }
 
-    /// Angle of a station on the turret when `active` faces the spindle.
+    /// Angle of a station on the turret when `active` faces the spindle. On a gang slide every
+    /// station is in the working plane: 0.
     pub fn station_angle(&self, station: u32, active: f64) -> f64 {
+        if self.gang {
+            return 0.0;
+        }
         (station as f64 - active) * TAU / self.stations.max(1) as f64
     }
 
