@@ -338,6 +338,27 @@ fn sarif_validates_against_the_sarif_2_1_0_schema() {
     assert_eq!(loc["region"]["startLine"], 10);
     let warning = results.iter().find(|r| r["ruleId"] == "LG12").unwrap();
     assert_eq!(warning["level"], "warning");
+    // No address of the published pages is known to this build: no helpUri.
+    assert!(rules.iter().all(|r| r.get("helpUri").is_none()));
+}
+
+#[test]
+fn sarif_rules_link_to_their_page_where_the_docs_are_published() {
+    let t = Tree::new();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_latheguard"))
+        .args(["check", "--format", "sarif", "."])
+        .current_dir(t.path())
+        .env("LATHEGUARD_DOCS_URL", "https://example.com/latheguard/docs/findings/")
+        .output()
+        .unwrap();
+    let log = json(&out);
+    let rules = log["runs"][0]["tool"]["driver"]["rules"].as_array().unwrap();
+    let collision = rules.iter().find(|r| r["name"] == "collision").unwrap();
+    assert_eq!(
+        collision["helpUri"],
+        "https://example.com/latheguard/docs/findings/collision.md"
+    );
+    assert!(rules.iter().all(|r| r["helpUri"].as_str().unwrap().ends_with(".md")));
 }
 
 #[test]

@@ -187,6 +187,7 @@ fn many_findings_on_one_long_line_decode_the_line_once_in_the_text_report() {
             machine: "m".into(),
             settings: Settings::default(),
             fail_on: Default::default(),
+            docs_url: None,
             files: vec![FileReport {
                 path: "p.ngc".into(),
                 findings: outcome.findings,

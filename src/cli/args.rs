@@ -28,8 +28,9 @@ Exit status:
      or invalid machine file or latheguard.toml, a report that cannot be written
 
 Environment:
-  NO_COLOR  set and not empty: no colours with --color auto
-  CI        set: no progress bar";
+  NO_COLOR             set and not empty: no colours with --color auto
+  CI                   set: no progress bar
+  LATHEGUARD_DOCS_URL  the address of the published finding pages KIND.md (SARIF helpUri)";
 
 #[derive(Subcommand, Debug)]
 pub enum Command {

@@ -92,6 +92,10 @@ pub struct Report {
     pub files: Vec<FileReport>,
     /// Which severity fails the run (`--fail-on`).
     pub fail_on: crate::gate::FailOn,
+    /// Where the finding pages (`docs/findings/KIND.md`) are published, without the trailing
+    /// slash: SARIF links each rule to its page (`helpUri`). `None`: no links (the pages' text is
+    /// in SARIF's `help` either way).
+    pub docs_url: Option<String>,
 }
 
 /// Counts over a batch.

@@ -89,6 +89,8 @@ struct Rule {
     short_description: Message,
     full_description: Message,
     help: Help,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    help_uri: Option<String>,
     default_configuration: Configuration,
 }
 
@@ -219,7 +221,7 @@ struct RunProperties<'a> {
     settings: &'a crate::pipeline::Settings,
 }
 
-fn rule(kind: Kind) -> Rule {
+fn rule(kind: Kind, docs_url: Option<&str>) -> Rule {
     let doc = explain(kind);
     let meaning = section(doc, "What it means").unwrap_or_else(|| kind.name().replace('_', " "));
     let first = first_sentence(&meaning);
@@ -232,6 +234,7 @@ fn rule(kind: Kind) -> Rule {
             text: doc.to_string(),
             markdown: doc.to_string(),
         },
+        help_uri: docs_url.map(|base| format!("{base}/{}.md", kind.name())),
         default_configuration: Configuration {
             level: match kind {
                 Kind::NearMiss => "warning",
@@ -314,7 +317,7 @@ fn message(f: &Finding) -> String {
 
 /// The whole batch as one SARIF 2.1.0 log (pretty-printed, with a trailing newline).
 pub fn sarif(r: &Report) -> String {
-    let rules: Vec<Rule> = Kind::ALL.iter().map(|&k| rule(k)).collect();
+    let rules: Vec<Rule> = Kind::ALL.iter().map(|&k| rule(k, r.docs_url.as_deref())).collect();
     let mut artifacts = Vec::new();
     let mut results = Vec::new();
     let mut notes = Vec::new();

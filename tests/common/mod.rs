@@ -60,6 +60,7 @@ pub fn latheguard(cwd: &Path, args: &[&str]) -> Output {
         .args(args)
         .current_dir(cwd)
         .env_remove("NO_COLOR")
+        .env_remove("LATHEGUARD_DOCS_URL")
         .env("CI", "true")
         .output()
         .unwrap()
