@@ -79,8 +79,9 @@ fn a_tool_without_an_outline_says_which_key_is_missing() {
 
 #[test]
 fn a_catalogue_tool_error_is_a_job_error_naming_the_key() {
+    // X is no ISO 1832 shape letter.
     let e = err(
-        "[[tools]]\nstation = 3\nname = \"x\"\ntip = [0, 0]\ninsert = \"CNMG 120408\"\nholder = \"PCLNR 2525M12\"\n",
+        "[[tools]]\nstation = 3\nname = \"x\"\ntip = [0, 0]\ninsert = \"XNMG 120408\"\nholder = \"PCLNR 2525M12\"\n",
     );
     assert!(
         e.starts_with("part.job.toml:5:10: tools[0].insert: cannot build the tool from its catalogue description"),
@@ -281,4 +282,13 @@ fn stock_flag_reads_diameter_length_stick_out_and_bore() {
     let l = flags_layer(Some("30x60"), Some(true), None).unwrap();
     let out = apply(&Machine::builtin(), &EffectiveJob::merge([&l])).unwrap();
     assert_eq!(out.stock.unwrap().front, Machine::builtin().stock.unwrap().front);
+}
+
+#[test]
+fn a_catalogue_tool_builds_from_its_iso_codes() {
+    let l = layer(
+        "[[tools]]\nstation = 3\nname = \"OD rough\"\ntip = [-60, -12]\ninsert = \"CNMG 120408\"\nholder = \"PCLNR 2525M12\"\n",
+        "job",
+    );
+    assert!(l.is_ok(), "{:?}", l.err().map(|e| e.to_string()));
 }
