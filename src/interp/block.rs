@@ -1376,7 +1376,9 @@ impl Run<'_> {
                 self.error(b, w.at(b'Y'), format!("Y{y}: this lathe has no Y axis"));
                 return None;
             }
-            if !self.y_reported {
+            // rs274ngc reads Y on any machine and a lathe without a Y joint does not move for
+            // it: Y0 is simply where it is. A Fanuc 2-axis control has no Y address at all.
+            if !self.y_reported && self.machine.dialect != Dialect::Linuxcnc {
                 self.y_reported = true;
                 self.unsupported(
                     b,
