@@ -10,8 +10,8 @@
 //! The corpora are kept out of this repository; without `../shared` the test prints "skipped".
 //!
 //! Exploring: `LG_CORPUS_ONLY=substring` checks only matching programs and prints each crash
-//! finding; `LG_CORPUS_DUMP=dir` also writes each merged machine file there, for
-//! `latheguard check --machine dir/NAME.toml --svg …`.
+//! finding; `LG_CORPUS_DUMP=dir` also writes there, per program, the `latheguard check
+//! --machine … --job …` command line that checks it as this test does (add `--svg …`).
 
 #[path = "common/corpus_job.rs"]
 mod corpus_job;
@@ -270,13 +270,20 @@ fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says()
 
         let machine_path = root().join(&e.machine);
         let machine_text = std::fs::read_to_string(&machine_path).unwrap_or_else(|x| panic!("{}: {x}", e.machine));
-        let job_text = std::fs::read_to_string(jobs_dir().join(&e.job)).unwrap_or_else(|x| panic!("{}: {x}", e.job));
+        let job_path = jobs_dir().join(&e.job);
         if let Some(d) = &dump {
+            // One command line per program: the same machine and job through the binary.
             std::fs::create_dir_all(d).unwrap();
-            let name = e.program.replace('/', "__") + ".toml";
-            std::fs::write(d.join(name), corpus_job::merged_toml(&machine_text, &job_text).unwrap()).unwrap();
+            let name = e.program.replace('/', "__") + ".sh";
+            let cmd = format!(
+                "latheguard check --no-config --machine {} --job {} {} \"$@\"\n",
+                machine_path.display(),
+                job_path.display(),
+                shared().join(&e.program).display()
+            );
+            std::fs::write(d.join(name), cmd).unwrap();
         }
-        let m = corpus_job::apply(&machine_text, &e.machine, &job_text)
+        let m = corpus_job::apply(&machine_text, &e.machine, &job_path)
             .unwrap_or_else(|x| panic!("{}: job {}: {x}", e.program, e.job));
         let findings = pipeline::check(&src, &m, &Settings::default()).findings;
         let after = counts(&findings);
