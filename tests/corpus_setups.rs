@@ -9,8 +9,8 @@
 //!
 //! The corpora are kept out of this repository; without `../shared` the test prints "skipped".
 //!
-//! Exploring: `LG_CORPUS_ONLY=substring` checks only matching programs and prints each crash
-//! finding; `LG_CORPUS_DUMP=dir` also writes there, per program, the `latheguard check
+//! Exploring: `LG_CORPUS_ONLY=substring` checks only matching programs and prints each finding of
+//! a crash kind (grazes and follow-ons too, with their severity); `LG_CORPUS_DUMP=dir` also writes there, per program, the `latheguard check
 //! --machine … --job …` command line that checks it as this test does (add `--svg …`).
 
 #[path = "common/corpus_job.rs"]
@@ -34,14 +34,11 @@ fn jobs_dir() -> PathBuf {
     root().join("tests/corpus-jobs")
 }
 
-/// The crash kinds: a finding of one of these (a collision only when it is an error, not a
-/// follow-on warning) says the program would crash.
+/// The crash kinds: a finding of one of these says the program would crash when it is an error
+/// — not a follow-on warning, and not a graze (a contact shallower than `min_depth`, reported as
+/// a warning).
 fn is_crash(f: &Finding) -> bool {
-    match f.kind {
-        Kind::Collision => f.severity == Severity::Error,
-        Kind::RapidIntoStock | Kind::SpindleStopped | Kind::Overtravel => true,
-        _ => false,
-    }
+    CRASH_KINDS.contains(&f.kind) && f.severity == Severity::Error
 }
 
 const CRASH_KINDS: [Kind; 4] = [
@@ -289,13 +286,14 @@ fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says()
         let after = counts(&findings);
 
         let crash_lines: BTreeSet<u32> = findings.iter().filter(|f| is_crash(f)).map(|f| f.line).collect();
-        for f in findings.iter().filter(|f| is_crash(f)) {
+        for f in findings.iter().filter(|f| CRASH_KINDS.contains(&f.kind)) {
             if only.is_some() {
                 println!(
-                    "  {}:{}: {} {:?} depth {:?} at X{:?} Z{:?} t={:?}: {}",
+                    "  {}:{}: {} {:?} {:?} depth {:?} at X{:?} Z{:?} t={:?}: {}",
                     e.program,
                     f.line,
                     f.kind.name(),
+                    f.severity,
                     f.objects,
                     f.depth_mm,
                     f.x,
@@ -304,7 +302,7 @@ fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says()
                     f.message
                 );
             }
-            if !e.lines.values().any(|m| m.contains_key(&f.line)) {
+            if is_crash(f) && !e.lines.values().any(|m| m.contains_key(&f.line)) {
                 failures.push(format!(
                     "{}:{}: {} {:?}: {}",
                     e.program,
