@@ -9,9 +9,9 @@
 //!
 //! The corpora are kept out of this repository; without `../shared` the test prints "skipped".
 //!
-//! Exploring: `LG_CORPUS_ONLY=substring` checks only matching programs and prints each crash
-//! finding; `LG_CORPUS_DUMP=dir` also writes each merged machine file there, for
-//! `latheguard check --machine dir/NAME.toml --svg …`.
+//! Exploring: `LG_CORPUS_ONLY=substring` checks only matching programs and prints each finding of
+//! a crash kind (grazes and follow-ons too, with their severity); `LG_CORPUS_DUMP=dir` also writes there, per program, the `latheguard check
+//! --machine … --job …` command line that checks it as this test does (add `--svg …`).
 
 #[path = "common/corpus_job.rs"]
 mod corpus_job;
@@ -34,14 +34,11 @@ fn jobs_dir() -> PathBuf {
     root().join("tests/corpus-jobs")
 }
 
-/// The crash kinds: a finding of one of these (a collision only when it is an error, not a
-/// follow-on warning) says the program would crash.
+/// The crash kinds: a finding of one of these says the program would crash when it is an error
+/// — not a follow-on warning, and not a graze (a contact shallower than `min_depth`, reported as
+/// a warning).
 fn is_crash(f: &Finding) -> bool {
-    match f.kind {
-        Kind::Collision => f.severity == Severity::Error,
-        Kind::RapidIntoStock | Kind::SpindleStopped | Kind::Overtravel => true,
-        _ => false,
-    }
+    CRASH_KINDS.contains(&f.kind) && f.severity == Severity::Error
 }
 
 const CRASH_KINDS: [Kind; 4] = [
@@ -270,25 +267,33 @@ fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says()
 
         let machine_path = root().join(&e.machine);
         let machine_text = std::fs::read_to_string(&machine_path).unwrap_or_else(|x| panic!("{}: {x}", e.machine));
-        let job_text = std::fs::read_to_string(jobs_dir().join(&e.job)).unwrap_or_else(|x| panic!("{}: {x}", e.job));
+        let job_path = jobs_dir().join(&e.job);
         if let Some(d) = &dump {
+            // One command line per program: the same machine and job through the binary.
             std::fs::create_dir_all(d).unwrap();
-            let name = e.program.replace('/', "__") + ".toml";
-            std::fs::write(d.join(name), corpus_job::merged_toml(&machine_text, &job_text).unwrap()).unwrap();
+            let name = e.program.replace('/', "__") + ".sh";
+            let cmd = format!(
+                "latheguard check --no-config --machine {} --job {} {} \"$@\"\n",
+                machine_path.display(),
+                job_path.display(),
+                shared().join(&e.program).display()
+            );
+            std::fs::write(d.join(name), cmd).unwrap();
         }
-        let m = corpus_job::apply(&machine_text, &e.machine, &job_text)
+        let m = corpus_job::apply(&machine_text, &e.machine, &job_path)
             .unwrap_or_else(|x| panic!("{}: job {}: {x}", e.program, e.job));
         let findings = pipeline::check(&src, &m, &Settings::default()).findings;
         let after = counts(&findings);
 
         let crash_lines: BTreeSet<u32> = findings.iter().filter(|f| is_crash(f)).map(|f| f.line).collect();
-        for f in findings.iter().filter(|f| is_crash(f)) {
+        for f in findings.iter().filter(|f| CRASH_KINDS.contains(&f.kind)) {
             if only.is_some() {
                 println!(
-                    "  {}:{}: {} {:?} depth {:?} at X{:?} Z{:?} t={:?}: {}",
+                    "  {}:{}: {} {:?} {:?} depth {:?} at X{:?} Z{:?} t={:?}: {}",
                     e.program,
                     f.line,
                     f.kind.name(),
+                    f.severity,
                     f.objects,
                     f.depth_mm,
                     f.x,
@@ -297,7 +302,7 @@ fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says()
                     f.message
                 );
             }
-            if !e.lines.values().any(|m| m.contains_key(&f.line)) {
+            if is_crash(f) && !e.lines.values().any(|m| m.contains_key(&f.line)) {
                 failures.push(format!(
                     "{}:{}: {} {:?}: {}",
                     e.program,
