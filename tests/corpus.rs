@@ -15,26 +15,11 @@ use std::time::{Duration, Instant};
 /// A program that takes longer than this in the (debug) test build is named in the output.
 const SLOW: Duration = Duration::from_secs(10);
 
-fn shared(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared").join(name)
-}
+#[path = "common/files.rs"]
+mod files;
 
-fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(rd) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for e in rd.flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            walk(&p, out);
-        } else {
-            let name = p.file_name().unwrap().to_string_lossy().to_lowercase();
-            let skip = name == "expected" || name.ends_with(".md") || name.ends_with(".tbl") || name == "result";
-            if !skip {
-                out.push(p);
-            }
-        }
-    }
+fn shared(name: &str) -> PathBuf {
+    files::shared().join(name)
 }
 
 fn linuxcnc() -> Machine {
@@ -79,7 +64,7 @@ fn run_corpus(name: &str, min_files: usize, machine: &dyn Fn(&str) -> Machine) -
         return None;
     }
     let mut files = Vec::new();
-    walk(&dir, &mut files);
+    files::walk(&dir, &files::is_program, &mut files);
     files.sort();
     assert!(
         files.len() >= min_files,

@@ -15,6 +15,8 @@
 
 #[path = "common/corpus_job.rs"]
 mod corpus_job;
+#[path = "common/files.rs"]
+mod files;
 
 use latheguard::finding::{Finding, Kind, Severity};
 use latheguard::machine::{self, Machine};
@@ -27,7 +29,7 @@ fn root() -> PathBuf {
 }
 
 fn shared() -> PathBuf {
-    root().join("../shared")
+    files::shared()
 }
 
 fn jobs_dir() -> PathBuf {
@@ -47,24 +49,6 @@ const CRASH_KINDS: [Kind; 4] = [
     Kind::SpindleStopped,
     Kind::Overtravel,
 ];
-
-fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(rd) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for e in rd.flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            walk(&p, out);
-        } else {
-            let name = p.file_name().unwrap().to_string_lossy().to_lowercase();
-            let skip = name == "expected" || name.ends_with(".md") || name.ends_with(".tbl") || name == "result";
-            if !skip {
-                out.push(p);
-            }
-        }
-    }
-}
 
 /// `corpus-extra/SOURCES.md`: relative path → (class, dialect) columns.
 fn extra_sources() -> BTreeMap<String, (String, String)> {
@@ -90,7 +74,7 @@ fn extra_sources() -> BTreeMap<String, (String, String)> {
 fn targets() -> Vec<String> {
     let mut out = Vec::new();
     let mut files = Vec::new();
-    walk(&shared().join("corpus"), &mut files);
+    files::walk(&shared().join("corpus"), &files::is_program, &mut files);
     for f in files {
         let rel = f
             .strip_prefix(shared().join("corpus"))

@@ -52,27 +52,16 @@ const KNOWN: &[(&str, &str)] = &[
     ),
 ];
 
+#[path = "common/files.rs"]
+mod files;
+
 fn shared() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared")
+    files::shared()
 }
 
 fn rs274_present() -> bool {
     let base = std::env::var_os("LCNC_REF").map_or_else(|| PathBuf::from("/opt/linuxcnc-ref"), PathBuf::from);
     base.join("usr/bin/rs274").is_file()
-}
-
-fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(rd) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for e in rd.flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            walk(&p, out);
-        } else if p.extension().is_some_and(|e| e.eq_ignore_ascii_case("ngc")) {
-            out.push(p);
-        }
-    }
 }
 
 /// `corpus-extra/SOURCES.md`: the files whose dialect column names LinuxCNC.
@@ -356,7 +345,11 @@ fn linuxcnc_programs_move_as_rs274_moves_them() {
         return;
     }
     let mut programs = Vec::new();
-    walk(&root.join("corpus"), &mut programs);
+    files::walk(
+        &root.join("corpus"),
+        &|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("ngc")),
+        &mut programs,
+    );
     programs.sort();
     programs.extend(extra_linuxcnc(&root.join("corpus-extra")));
 
