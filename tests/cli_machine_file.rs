@@ -3,7 +3,9 @@
 //! that does not fit the chuck refused.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+
+use std::process::Output;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -14,12 +16,7 @@ fn machine(name: &str) -> PathBuf {
 }
 
 fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_latheguard"))
-        .args(args)
-        .current_dir(root())
-        .env("CI", "true")
-        .output()
-        .unwrap()
+    common::latheguard(root(), args)
 }
 
 fn err(o: &Output) -> String {

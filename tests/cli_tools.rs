@@ -1,19 +1,16 @@
 //! `latheguard tools show` and `latheguard tools import` (docs/tools.md).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+
+use std::process::Output;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
 fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_latheguard"))
-        .args(args)
-        .current_dir(root())
-        .env("CI", "true")
-        .output()
-        .unwrap()
+    common::latheguard(root(), args)
 }
 
 fn out(o: &Output) -> String {
