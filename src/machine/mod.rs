@@ -4,6 +4,7 @@
 //! toward the turret), `z` runs along the spindle axis with `z = 0` at the jaw faces.
 //! Outlines are normalised [`Polygon`]s.
 
+mod barrier;
 mod load;
 mod mcodes;
 #[cfg(test)]
