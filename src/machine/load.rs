@@ -397,6 +397,9 @@ struct RawAxes {
     home: Option<Point>,
     #[schemars(with = "Option<[f64; 2]>")]
     machine_zero: Option<Point>,
+    /// The 2nd, 3rd and 4th reference points (Fanuc G30 P2/P3/P4), each `[x, z]`.
+    #[schemars(with = "Option<Vec<[f64; 2]>>")]
+    reference_points: Option<Spanned<Vec<Point>>>,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -900,6 +903,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         None => home,
         Some(p) => cx.keep(cx.point("axes.machine_zero", p)),
     };
+    let reference_points = reference_points(cx, axes.reference_points.as_ref(), x, z);
 
     // [spindle]
     let max_rpm = cx.keep(cx.within("spindle.max_rpm", &spindle.max_rpm, MAX_RPM_RANGE, "rpm"));
@@ -1145,6 +1149,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         Some(z),
         Some(home),
         Some(machine_zero),
+        Some(reference_points),
         Some(max_rpm),
         Some(mcodes),
         Some(stock),
@@ -1159,6 +1164,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         z,
         home,
         machine_zero,
+        reference_points,
         max_rpm,
         mcodes,
         stock,
@@ -1196,6 +1202,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         z,
         home,
         machine_zero,
+        reference_points,
         max_rpm,
         chuck,
         tailstock,
@@ -1247,6 +1254,55 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         warnings: cx.warnings.take(),
         ..machine
     })
+}
+
+/// `axes.reference_points`: at most 3 points (the 2nd to 4th reference points), each inside both
+/// axes' limits; empty when absent (G30 then returns home).
+fn reference_points(
+    cx: &Cx<'_>,
+    raw: Option<&Spanned<Vec<Point>>>,
+    x: Option<Axis>,
+    z: Option<Axis>,
+) -> Option<Vec<P2>> {
+    let Some(raw) = raw else { return Some(Vec::new()) };
+    if raw.get_ref().len() > 3 {
+        cx.push(cx.err(
+            raw.span(),
+            "axes.reference_points",
+            format!(
+                "{} points: these are the 2nd, 3rd and 4th reference points (G30 P2 to P4), at most 3",
+                raw.get_ref().len()
+            ),
+        ));
+        return None;
+    }
+    let mut out = Vec::with_capacity(3);
+    let mut ok = true;
+    for (i, p) in raw.get_ref().iter().enumerate() {
+        let key = format!("axes.reference_points[{i}]");
+        match (cx.keep(cx.point(&key, p)), x, z) {
+            (Some(q), Some(x), Some(z)) if q.x < x.min || q.x > x.max || q.y < z.min || q.y > z.max => {
+                cx.push(cx.err(
+                    p.span(),
+                    key,
+                    format!(
+                        "the {} reference point [{}, {}] lies outside the axis limits (x {} .. {}, z {} .. {})",
+                        ["2nd", "3rd", "4th"][i],
+                        show(q.x),
+                        show(q.y),
+                        show(x.min),
+                        show(x.max),
+                        show(z.min),
+                        show(z.max)
+                    ),
+                ));
+                ok = false;
+            }
+            (Some(q), _, _) => out.push(q),
+            (None, _, _) => ok = false,
+        }
+    }
+    ok.then_some(out)
 }
 
 /// `[chuck]`: its `outline` or its `barrier`, exactly one; None when refused (or when the
