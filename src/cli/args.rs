@@ -226,6 +226,10 @@ pub struct MachineArgs {
     /// Print the JSON Schema of machine files (for editors that complete and validate TOML) and exit.
     #[arg(long)]
     pub schema: bool,
+    /// Also draw the machine at home (chuck, stock, tailstock, turret, every tool at its station,
+    /// the travel) as SVG into this file (docs/machine.md).
+    #[arg(long, value_name = "FILE.svg")]
+    pub svg: Option<PathBuf>,
 }
 
 #[derive(clap::Subcommand, Debug)]

@@ -73,6 +73,10 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
                 return Ok(EXIT_CLEAN);
             };
             let m = load_machine(Some(&file))?;
+            if let Some(out) = &a.svg {
+                let title = file.display().to_string();
+                emit(Some(out), &latheguard::report::machine_svg::machine_drawing(&m, &title))?;
+            }
             // Names in a machine file may hold control characters: never raw to a terminal.
             emit(None, &safe_lines(&m.describe()))?;
             Ok(EXIT_CLEAN)

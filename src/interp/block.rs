@@ -1035,12 +1035,26 @@ impl Run<'_> {
                 }
                 axes_used_by_nonmodal = true;
             }
-            if let Some(at) = w.has_g(300).or(w.has_g(281)).or(w.has_g(301)).or(w.has_g(100)) {
-                let code = [300u16, 281, 301, 100]
+            if w.g(300) {
+                if !fanuc && self.comp.as_ref().is_some_and(|c| c.is_on()) {
+                    // rs274ngc refuses G30 while compensation is on, as G28.
+                    self.error(
+                        b,
+                        w.has_g(300),
+                        "G30 cannot run with nose radius compensation on: cancel it with G40 first".into(),
+                    );
+                    w.used = w.has;
+                } else {
+                    self.reference_return(b, w, fanuc);
+                }
+                axes_used_by_nonmodal = true;
+            }
+            if let Some(at) = w.has_g(281).or(w.has_g(301)).or(w.has_g(100)) {
+                let code = [281u16, 301, 100]
                     .into_iter()
                     .find(|&c| w.has_g(c).is_some())
-                    .unwrap_or(300);
-                self.unsupported(b, Some(at), format!("{} is not modelled", g_name(code)), code == 300);
+                    .unwrap_or(281);
+                self.unsupported(b, Some(at), format!("{} is not modelled", g_name(code)), false);
                 w.used = w.has;
                 axes_used_by_nonmodal = true;
             }
@@ -1570,6 +1584,50 @@ impl Run<'_> {
     /// G28: through the intermediate point given by the axis words to home, for the axes named
     /// (all axes when none is named).
     fn home_return(&mut self, b: &Block, w: &mut Words) {
+        let home = self.machine.home;
+        self.return_through(b, w, home);
+    }
+
+    /// G30: as G28, to another point. Fanuc: the 2nd, 3rd or 4th reference point (`P2` when no P
+    /// word; `axes.reference_points`, home for a point the machine file does not give).
+    /// LinuxCNC: the point in parameters #5181 (X) and #5183 (Z), machine coordinates (as G53
+    /// reads them: from `axes.machine_zero`), X a radius, in the machine's native units, as
+    /// rs274ngc keeps them.
+    fn reference_return(&mut self, b: &Block, w: &mut Words, fanuc: bool) {
+        let target = if fanuc {
+            let at = w.at(b'P');
+            let p = w.get(b'P').unwrap_or(2.0);
+            let n = if p.fract() == 0.0 && (2.0..=4.0).contains(&p) {
+                p as usize
+            } else {
+                self.error(
+                    b,
+                    at,
+                    format!("G30 P{p}: the reference point is P2, P3 or P4 (the 2nd to 4th)"),
+                );
+                w.used = w.has;
+                return;
+            };
+            self.machine
+                .reference_points
+                .get(n - 2)
+                .copied()
+                .unwrap_or(self.machine.home)
+        } else {
+            // rs274ngc keeps the point in the machine's native units: inch on a machine that
+            // starts programs in inch (rs274 without an INI file is one), mm otherwise.
+            let unit = if self.machine.inch { 25.4 } else { 1.0 };
+            let param = |n: usize| self.params.numbered.get(n).copied().unwrap_or(0.0) * unit;
+            let zero = self.machine.machine_zero;
+            crate::geom::p2(zero.x + param(5181), zero.y + param(5183))
+        };
+        self.return_through(b, w, target);
+    }
+
+    /// G28/G30: a rapid to the intermediate point given by the axis words, then a rapid that
+    /// takes the turret reference point to `target` on the axes named (all axes when none is
+    /// named).
+    fn return_through(&mut self, b: &Block, w: &mut Words, target: P2) {
         let named_x = w.peek(b'X') || w.peek(b'U');
         let named_z = w.peek(b'Z') || w.peek(b'W');
         let start = self.programmed();
@@ -1585,10 +1643,10 @@ impl Run<'_> {
         let tip = self.tip();
         let mut r = mid - tip;
         if hx {
-            r.x = self.machine.home.x;
+            r.x = target.x;
         }
         if hz {
-            r.y = self.machine.home.y;
+            r.y = target.y;
         }
         let end = r + tip;
         if end != mid {

@@ -269,9 +269,55 @@ enum RawCodes {
 #[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawTailstock {
-    #[schemars(with = "Vec<[f64; 2]>")]
-    outline: Outline,
+    #[schemars(with = "Option<Vec<[f64; 2]>>")]
+    outline: Option<Outline>,
+    /// Fanuc's tailstock barrier parameters, instead of `outline` (docs/machine.md).
+    barrier: Option<RawTailstockBarrier>,
     advanced: Option<bool>,
+}
+
+/// `[tailstock] barrier`: Fanuc's tailstock barrier (TZ in the workpiece coordinate system,
+/// D… diameters), mm.
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawTailstockBarrier {
+    #[schemars(with = "f64")]
+    tz: Num,
+    #[schemars(with = "f64")]
+    l: Num,
+    #[schemars(with = "f64")]
+    d: Num,
+    #[schemars(with = "f64")]
+    l1: Num,
+    #[schemars(with = "f64")]
+    d1: Num,
+    #[schemars(with = "f64")]
+    l2: Num,
+    #[schemars(with = "f64")]
+    d2: Num,
+    #[schemars(with = "f64")]
+    d3: Num,
+}
+
+/// `[chuck] barrier`: Fanuc's chuck barrier (CX, CZ in the workpiece coordinate system, CX a
+/// diameter, W and W1 radii), mm.
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawChuckBarrier {
+    #[schemars(with = "u8")]
+    ty: Spanned<i64>,
+    #[schemars(with = "f64")]
+    cx: Num,
+    #[schemars(with = "f64")]
+    cz: Num,
+    #[schemars(with = "f64")]
+    l: Num,
+    #[schemars(with = "f64")]
+    w: Num,
+    #[schemars(with = "f64")]
+    l1: Num,
+    #[schemars(with = "f64")]
+    w1: Num,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -351,6 +397,9 @@ struct RawAxes {
     home: Option<Point>,
     #[schemars(with = "Option<[f64; 2]>")]
     machine_zero: Option<Point>,
+    /// The 2nd, 3rd and 4th reference points (Fanuc G30 P2/P3/P4), each `[x, z]`.
+    #[schemars(with = "Option<Vec<[f64; 2]>>")]
+    reference_points: Option<Spanned<Vec<Point>>>,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -374,8 +423,10 @@ struct RawSpindle {
 #[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawPart {
-    #[schemars(with = "Vec<[f64; 2]>")]
-    outline: Outline,
+    #[schemars(with = "Option<Vec<[f64; 2]>>")]
+    outline: Option<Outline>,
+    /// Fanuc's chuck barrier parameters, instead of `outline` (docs/machine.md).
+    barrier: Option<RawChuckBarrier>,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -732,11 +783,11 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         ));
     }
     let mut outlines: Vec<(String, &Outline)> = Vec::new();
-    if let Some(c) = &chuck {
-        outlines.push(("chuck.outline".into(), &c.outline));
+    if let Some(o) = chuck.as_ref().and_then(|c| c.outline.as_ref()) {
+        outlines.push(("chuck.outline".into(), o));
     }
-    if let Some(t) = &tailstock {
-        outlines.push(("tailstock.outline".into(), &t.outline));
+    if let Some(o) = tailstock.as_ref().and_then(|t| t.outline.as_ref()) {
+        outlines.push(("tailstock.outline".into(), o));
     }
     outlines.push(("turret.outline".into(), &turret.outline));
     for (i, t) in tools.iter().enumerate() {
@@ -852,6 +903,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         None => home,
         Some(p) => cx.keep(cx.point("axes.machine_zero", p)),
     };
+    let reference_points = reference_points(cx, axes.reference_points.as_ref(), x, z);
 
     // [spindle]
     let max_rpm = cx.keep(cx.within("spindle.max_rpm", &spindle.max_rpm, MAX_RPM_RANGE, "rpm"));
@@ -875,10 +927,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         _ => {}
     }
 
-    // [chuck], [tailstock]
-    let chuck = chuck.map(|c| cx.keep(cx.outline("chuck.outline", &c.outline)));
     let tailstock_advanced = tailstock.as_ref().and_then(|t| t.advanced).unwrap_or(true);
-    let tailstock = tailstock.map(|t| cx.keep(cx.outline("tailstock.outline", &t.outline)));
     let mcodes_linuxcnc = if auto {
         cx.keep(mcode_table(cx, Dialect::Linuxcnc, mcodes.as_ref()))
     } else {
@@ -943,6 +992,10 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         Some(v) => cx.keep(cx.coord("setup.program_zero_z", v)),
         None => stock.as_ref().map(|s| s.as_ref().map_or(0.0, |s| s.front)),
     };
+
+    // [chuck], [tailstock]: an outline, or Fanuc's barrier parameters (measured from program Z0).
+    let chuck = chuck.map(|c| chuck_part(cx, &c, program_zero_z));
+    let tailstock = tailstock.map(|t| tailstock_part(cx, &t, program_zero_z));
 
     // [turret]
     let stations = *turret.stations.get_ref();
@@ -1096,6 +1149,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         Some(z),
         Some(home),
         Some(machine_zero),
+        Some(reference_points),
         Some(max_rpm),
         Some(mcodes),
         Some(stock),
@@ -1110,6 +1164,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         z,
         home,
         machine_zero,
+        reference_points,
         max_rpm,
         mcodes,
         stock,
@@ -1147,6 +1202,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         z,
         home,
         machine_zero,
+        reference_points,
         max_rpm,
         chuck,
         tailstock,
@@ -1198,6 +1254,239 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         warnings: cx.warnings.take(),
         ..machine
     })
+}
+
+/// `axes.reference_points`: at most 3 points (the 2nd to 4th reference points), each inside both
+/// axes' limits; empty when absent (G30 then returns home).
+fn reference_points(
+    cx: &Cx<'_>,
+    raw: Option<&Spanned<Vec<Point>>>,
+    x: Option<Axis>,
+    z: Option<Axis>,
+) -> Option<Vec<P2>> {
+    let Some(raw) = raw else { return Some(Vec::new()) };
+    if raw.get_ref().len() > 3 {
+        cx.push(cx.err(
+            raw.span(),
+            "axes.reference_points",
+            format!(
+                "{} points: these are the 2nd, 3rd and 4th reference points (G30 P2 to P4), at most 3",
+                raw.get_ref().len()
+            ),
+        ));
+        return None;
+    }
+    let mut out = Vec::with_capacity(3);
+    let mut ok = true;
+    for (i, p) in raw.get_ref().iter().enumerate() {
+        let key = format!("axes.reference_points[{i}]");
+        match (cx.keep(cx.point(&key, p)), x, z) {
+            (Some(q), Some(x), Some(z)) if q.x < x.min || q.x > x.max || q.y < z.min || q.y > z.max => {
+                cx.push(cx.err(
+                    p.span(),
+                    key,
+                    format!(
+                        "the {} reference point [{}, {}] lies outside the axis limits (x {} .. {}, z {} .. {})",
+                        ["2nd", "3rd", "4th"][i],
+                        show(q.x),
+                        show(q.y),
+                        show(x.min),
+                        show(x.max),
+                        show(z.min),
+                        show(z.max)
+                    ),
+                ));
+                ok = false;
+            }
+            (Some(q), _, _) => out.push(q),
+            (None, _, _) => ok = false,
+        }
+    }
+    ok.then_some(out)
+}
+
+/// `[chuck]`: its `outline` or its `barrier`, exactly one; None when refused (or when the
+/// barrier's program zero is).
+fn chuck_part(cx: &Cx<'_>, c: &RawPart, program_zero_z: Option<f64>) -> Option<Polygon> {
+    match (&c.outline, &c.barrier) {
+        (Some(o), None) => cx.keep(cx.outline("chuck.outline", o)),
+        (None, Some(b)) => {
+            let ty = *b.ty.get_ref();
+            let ty = if (0..=1).contains(&ty) {
+                Some(ty as u8)
+            } else {
+                cx.push(cx.err(
+                    b.ty.span(),
+                    "chuck.barrier.ty",
+                    format!(
+                        "TY is 0 (the jaws hold the part on its inner surface) or 1 (on its outer surface), not {ty}"
+                    ),
+                ));
+                None
+            };
+            let cxv = cx.keep(cx.coord("chuck.barrier.cx", &b.cx));
+            let cz = cx.keep(cx.coord("chuck.barrier.cz", &b.cz));
+            let l = cx.keep(cx.length("chuck.barrier.l", &b.l));
+            let w = cx.keep(cx.length("chuck.barrier.w", &b.w));
+            let l1 = cx.keep(cx.length("chuck.barrier.l1", &b.l1));
+            let w1 = cx.keep(cx.length("chuck.barrier.w1", &b.w1));
+            let (Some(ty), Some(cxv), Some(cz), Some(l), Some(w), Some(l1), Some(w1), Some(pz)) =
+                (ty, cxv, cz, l, w, l1, w1, program_zero_z)
+            else {
+                return None;
+            };
+            let bar = super::barrier::ChuckBarrier {
+                ty,
+                cx: cxv,
+                cz,
+                l,
+                w,
+                l1,
+                w1,
+            };
+            let span = |k: &str| match k {
+                "ty" => b.ty.span(),
+                "cx" => b.cx.span(),
+                "cz" => b.cz.span(),
+                "l" => b.l.span(),
+                "w" => b.w.span(),
+                "l1" => b.l1.span(),
+                _ => b.w1.span(),
+            };
+            barrier_polygon(cx, "chuck", bar.outline(pz), span, b.cz.span())
+        }
+        (Some(o), Some(_)) => {
+            cx.push(cx.err(
+                o.span(),
+                "chuck.outline",
+                "give the chuck either as `outline` or as Fanuc's `barrier` parameters, not both",
+            ));
+            None
+        }
+        (None, None) => {
+            cx.push(cx.err(
+                0..0,
+                "chuck.outline",
+                "missing required key `chuck.outline` (or `chuck.barrier`)",
+            ));
+            None
+        }
+    }
+}
+
+/// `[tailstock]`: its `outline` or its `barrier`, exactly one, as [`chuck_part`].
+fn tailstock_part(cx: &Cx<'_>, t: &RawTailstock, program_zero_z: Option<f64>) -> Option<Polygon> {
+    match (&t.outline, &t.barrier) {
+        (Some(o), None) => cx.keep(cx.outline("tailstock.outline", o)),
+        (None, Some(b)) => {
+            let tz = cx.keep(cx.coord("tailstock.barrier.tz", &b.tz));
+            let l = cx.keep(cx.length("tailstock.barrier.l", &b.l));
+            let d = cx.keep(cx.length("tailstock.barrier.d", &b.d));
+            let l1 = cx.keep(cx.length("tailstock.barrier.l1", &b.l1));
+            let d1 = cx.keep(cx.length("tailstock.barrier.d1", &b.d1));
+            let l2 = cx.keep(cx.length("tailstock.barrier.l2", &b.l2));
+            let d2 = cx.keep(cx.length("tailstock.barrier.d2", &b.d2));
+            let d3 = cx.keep(cx.non_negative("tailstock.barrier.d3", &b.d3)).and_then(|v| {
+                (v <= MAX_COORD_MM).then_some(v).or_else(|| {
+                    cx.push(cx.err(
+                        b.d3.span(),
+                        "tailstock.barrier.d3",
+                        format!("{} is out of range: at most {} mm", show(v), show(MAX_COORD_MM)),
+                    ));
+                    None
+                })
+            });
+            let (Some(tz), Some(l), Some(d), Some(l1), Some(d1), Some(l2), Some(d2), Some(d3), Some(pz)) =
+                (tz, l, d, l1, d1, l2, d2, d3, program_zero_z)
+            else {
+                return None;
+            };
+            let bar = super::barrier::TailstockBarrier {
+                tz,
+                l,
+                d,
+                l1,
+                d1,
+                l2,
+                d2,
+                d3,
+            };
+            let span = |k: &str| match k {
+                "tz" => b.tz.span(),
+                "l" => b.l.span(),
+                "d" => b.d.span(),
+                "l1" => b.l1.span(),
+                "d1" => b.d1.span(),
+                "l2" => b.l2.span(),
+                "d2" => b.d2.span(),
+                _ => b.d3.span(),
+            };
+            barrier_polygon(cx, "tailstock", bar.outline(pz), span, b.tz.span())
+        }
+        (Some(o), Some(_)) => {
+            cx.push(cx.err(
+                o.span(),
+                "tailstock.outline",
+                "give the tailstock either as `outline` or as Fanuc's `barrier` parameters, not both",
+            ));
+            None
+        }
+        (None, None) => {
+            cx.push(cx.err(
+                0..0,
+                "tailstock.outline",
+                "missing required key `tailstock.outline` (or `tailstock.barrier`)",
+            ));
+            None
+        }
+    }
+}
+
+/// The polygon of a barrier's outline, or its error at the key it names (`chuck.barrier.l1`).
+/// A point out of range (program zero plus CZ or TZ past ±100 m) is the position's error.
+fn barrier_polygon(
+    cx: &Cx<'_>,
+    part: &str,
+    pts: Result<Vec<P2>, super::barrier::BarrierError>,
+    span: impl Fn(&str) -> Range<usize>,
+    position: Range<usize>,
+) -> Option<Polygon> {
+    let pts = match pts {
+        Ok(p) => p,
+        Err(e) => {
+            cx.push(cx.err(span(e.key), format!("{part}.barrier.{}", e.key), e.message));
+            return None;
+        }
+    };
+    let pos_key = if part == "chuck" { "cz" } else { "tz" };
+    if let Some(p) = pts
+        .iter()
+        .find(|p| p.x.abs() > MAX_COORD_MM || p.y.abs() > MAX_COORD_MM)
+    {
+        cx.push(cx.err(
+            position,
+            format!("{part}.barrier.{pos_key}"),
+            format!(
+                "the outline reaches [{}, {}] from program Z0 at z = setup.program_zero_z: coordinates must be from {} to {} mm",
+                show(p.x),
+                show(p.y),
+                show(-MAX_COORD_MM),
+                show(MAX_COORD_MM)
+            ),
+        ));
+        return None;
+    }
+    match Polygon::new(&pts) {
+        Ok(p) => Some(p),
+        Err(e) => {
+            cx.push(cx.err(
+                position,
+                format!("{part}.barrier"),
+                format!("the barrier gives no outline: {e}"),
+            ));
+            None
+        }
+    }
 }
 
 /// A part that overlaps the chuck or the tailstock at home: [`home_clashes`].

@@ -4,6 +4,7 @@
 //! toward the turret), `z` runs along the spindle axis with `z = 0` at the jaw faces.
 //! Outlines are normalised [`Polygon`]s.
 
+mod barrier;
 mod load;
 mod mcodes;
 #[cfg(test)]
@@ -234,6 +235,9 @@ pub struct Machine {
     /// Turret reference point at machine zero (`axes.machine_zero`; default: `home`): G53
     /// positions are measured from it.
     pub machine_zero: P2,
+    /// The 2nd, 3rd and 4th reference points (`axes.reference_points`, turret reference point,
+    /// mm), where Fanuc G30 P2/P3/P4 returns; a point not given is home.
+    pub reference_points: Vec<P2>,
     pub max_rpm: f64,
     /// Revolved outline in the half plane x ≥ 0.
     pub chuck: Option<Polygon>,

@@ -9,6 +9,7 @@ mod github;
 mod gitlab;
 mod json;
 mod junit;
+pub mod machine_svg;
 pub mod part;
 mod sarif;
 mod statistics;

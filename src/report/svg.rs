@@ -33,26 +33,26 @@ const MAX_PLOT_H: f64 = 760.0;
 const HEAD: f64 = 104.0;
 const MARGIN: f64 = 16.0;
 
-const INK: &str = "#1f2328";
-const CHUCK_FILL: &str = "#8c96a0";
-const CHUCK_LINE: &str = "#3d444d";
-const STOCK_FILL: &str = "#b7c9dd";
-const STOCK_LINE: &str = "#5a7896";
-const TURRET_FILL: &str = "#e6e1d6";
-const TURRET_LINE: &str = "#857b67";
-const HOLDER_FILL: &str = "#f2b766";
-const HOLDER_LINE: &str = "#8a5a14";
-const INSERT_FILL: &str = "#d9c53f";
-const INSERT_LINE: &str = "#6b5d00";
-const OTHER_LINE: &str = "#7a5ea8";
-const PATH_LINE: &str = "#1f6feb";
-const OVERLAP: &str = "#e5151b";
+pub(super) const INK: &str = "#1f2328";
+pub(super) const CHUCK_FILL: &str = "#8c96a0";
+pub(super) const CHUCK_LINE: &str = "#3d444d";
+pub(super) const STOCK_FILL: &str = "#b7c9dd";
+pub(super) const STOCK_LINE: &str = "#5a7896";
+pub(super) const TURRET_FILL: &str = "#e6e1d6";
+pub(super) const TURRET_LINE: &str = "#857b67";
+pub(super) const HOLDER_FILL: &str = "#f2b766";
+pub(super) const HOLDER_LINE: &str = "#8a5a14";
+pub(super) const INSERT_FILL: &str = "#d9c53f";
+pub(super) const INSERT_LINE: &str = "#6b5d00";
+pub(super) const OTHER_LINE: &str = "#7a5ea8";
+pub(super) const PATH_LINE: &str = "#1f6feb";
+pub(super) const OVERLAP: &str = "#e5151b";
 /// A follow-on contact's overlap: it exists because of an earlier crash.
-const FOLLOW_ON: &str = "#f08c00";
+pub(super) const FOLLOW_ON: &str = "#f08c00";
 /// The programmed point as the machine drives it (a dogleg rapid).
-const MACHINE_LINE: &str = "#8250df";
+pub(super) const MACHINE_LINE: &str = "#8250df";
 /// A travel limit and the turret reference point beyond it.
-const LIMIT_LINE: &str = "#cf222e";
+pub(super) const LIMIT_LINE: &str = "#cf222e";
 /// Size of the detail panel drawn below the main view.
 const DETAIL_W: f64 = 460.0;
 const DETAIL_H: f64 = 280.0;
@@ -124,7 +124,7 @@ fn slug(s: &str) -> String {
 }
 
 /// One decimal, never `-0.0`.
-fn n(v: f64) -> String {
+pub(super) fn n(v: f64) -> String {
     let s = format!("{v:.1}");
     if s == "-0.0" {
         "0.0".into()
@@ -134,11 +134,11 @@ fn n(v: f64) -> String {
 }
 
 /// A length in mm for people: up to three decimals, no trailing zeros.
-fn mm(v: f64) -> String {
+pub(super) fn mm(v: f64) -> String {
     super::text::fmt_num(v)
 }
 
-fn esc(s: &str) -> String {
+pub(super) fn esc(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
@@ -154,18 +154,18 @@ fn esc(s: &str) -> String {
 }
 
 /// World (spindle frame: `x` radius up, `y` = z right) to picture units.
-struct View {
-    zmin: f64,
-    xmax: f64,
-    scale: f64,
-    left: f64,
-    top: f64,
-    w: f64,
-    h: f64,
+pub(super) struct View {
+    pub zmin: f64,
+    pub xmax: f64,
+    pub scale: f64,
+    pub left: f64,
+    pub top: f64,
+    pub w: f64,
+    pub h: f64,
 }
 
 impl View {
-    fn fit(bx: &Bounds) -> View {
+    pub(super) fn fit(bx: &Bounds) -> View {
         let plot_w = WIDTH - 2.0 * MARGIN;
         let (mut zmin, mut zmax, mut xmin, mut xmax) = (bx.zmin, bx.zmax, bx.xmin, bx.xmax);
         // A margin of 8 % around the region of interest.
@@ -198,11 +198,11 @@ impl View {
         }
     }
 
-    fn sx(&self, z: f64) -> f64 {
+    pub(super) fn sx(&self, z: f64) -> f64 {
         self.left + (z - self.zmin) * self.scale
     }
 
-    fn sy(&self, x: f64) -> f64 {
+    pub(super) fn sy(&self, x: f64) -> f64 {
         self.top + (self.xmax - x) * self.scale
     }
 
@@ -243,15 +243,15 @@ impl View {
 }
 
 #[derive(Clone, Copy, Debug)]
-struct Bounds {
-    zmin: f64,
-    zmax: f64,
-    xmin: f64,
-    xmax: f64,
+pub(super) struct Bounds {
+    pub zmin: f64,
+    pub zmax: f64,
+    pub xmin: f64,
+    pub xmax: f64,
 }
 
 impl Bounds {
-    fn empty() -> Bounds {
+    pub(super) fn empty() -> Bounds {
         Bounds {
             zmin: f64::INFINITY,
             zmax: f64::NEG_INFINITY,
@@ -260,7 +260,7 @@ impl Bounds {
         }
     }
 
-    fn add(&mut self, p: P2) {
+    pub(super) fn add(&mut self, p: P2) {
         if p.x.is_finite() && p.y.is_finite() {
             self.zmin = self.zmin.min(p.y);
             self.zmax = self.zmax.max(p.y);
@@ -269,7 +269,7 @@ impl Bounds {
         }
     }
 
-    fn add_all(&mut self, pts: &[P2], mirror: bool) {
+    pub(super) fn add_all(&mut self, pts: &[P2], mirror: bool) {
         for p in pts {
             self.add(*p);
             if mirror {
@@ -366,7 +366,7 @@ fn region(s: &Snapshot) -> Bounds {
 }
 
 /// 1, 2 or 5 times a power of ten, near `target`.
-fn nice(target: f64) -> f64 {
+pub(super) fn nice(target: f64) -> f64 {
     let p = 10f64.powf(target.max(1e-6).log10().floor());
     for m in [1.0, 2.0, 5.0] {
         if m * p >= target * 0.75 {
@@ -518,14 +518,14 @@ fn edge_dist(p: P2, poly: &[P2]) -> f64 {
 
 /// Where labels go: inside their part, as far from its edges, the plot's border and the labels
 /// already placed as a grid search finds.
-struct Labels<'v> {
-    v: &'v View,
+pub(super) struct Labels<'v> {
+    pub v: &'v View,
     /// Boxes taken, in picture units: (x0, y0, x1, y1).
-    taken: Vec<(f64, f64, f64, f64)>,
+    pub taken: Vec<(f64, f64, f64, f64)>,
 }
 
 impl Labels<'_> {
-    fn place(&mut self, polys: &[Vec<P2>], text: &str, size: f64) -> Option<(f64, f64)> {
+    pub(super) fn place(&mut self, polys: &[Vec<P2>], text: &str, size: f64) -> Option<(f64, f64)> {
         let v = self.v;
         let world = v.world();
         let half_w = 0.3 * size * text.chars().count() as f64;
@@ -588,7 +588,7 @@ fn picture(file: &FileReport, f: &Finding, s: &Snapshot, block: &str) -> String 
         r#"<defs><marker id="arrow" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse"><path d="M0,0L10,5L0,10Z" fill="{PATH_LINE}"/></marker><marker id="arrow-machine" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse"><path d="M0,0L10,5L0,10Z" fill="{MACHINE_LINE}"/></marker></defs>"#
     );
     caption(&mut o, file, f, block);
-    scene(&mut o, &v, s, f, swept.as_deref(), "main");
+    scene(&mut o, &v, s, &Marks::of(f), swept.as_deref(), "main");
     if let Some(frame) = &s.frame {
         program_ticks(&mut o, &v, frame);
     }
@@ -618,7 +618,7 @@ fn picture(file: &FileReport, f: &Finding, s: &Snapshot, block: &str) -> String 
             n(d.view.w + 2.0),
             n(d.view.h + 2.0)
         );
-        scene(&mut o, &d.view, s, f, swept.as_deref(), "detail");
+        scene(&mut o, &d.view, s, &Marks::of(f), swept.as_deref(), "detail");
         let _ = writeln!(
             o,
             r##"<text x="{}" y="{}" font-size="12" font-weight="bold" fill="{INK}" stroke="#ffffff" stroke-width="3" paint-order="stroke">detail ×{}</text>"##,
@@ -631,6 +631,7 @@ fn picture(file: &FileReport, f: &Finding, s: &Snapshot, block: &str) -> String 
         overlap: has_overlap,
         swept: swept.is_some() && has_overlap,
         follow_on: f.follow_on.is_some(),
+        machine: None,
     };
     let bottom = footer(&mut o, &v, s, &legend, below);
     let _ = writeln!(o, "</svg>");
@@ -816,10 +817,29 @@ fn program_ticks(o: &mut String, v: &View, frame: &crate::interp::ProgFrame) {
 }
 
 /// The scene in one view: every part, the overlap, the axis and the path, clipped to the view.
-fn scene(o: &mut String, v: &View, s: &Snapshot, f: &Finding, swept: Option<&[Vec<P2>]>, id: &str) {
+/// What of a finding the drawing of a scene shows besides the snapshot.
+pub(super) struct Marks {
+    /// The overlap is a follow-on of an earlier crash (orange, not red).
+    pub follow_on: bool,
+    /// The programmed point as the program writes it (`X… Z…` beside its circle).
+    pub at: Option<(f64, f64)>,
+}
+
+impl Marks {
+    fn of(f: &Finding) -> Marks {
+        Marks {
+            follow_on: f.follow_on.is_some(),
+            at: f.x.zip(f.z),
+        }
+    }
+}
+
+/// The parts of a snapshot (chuck, tailstock, stock, turret, tools), the overlap, the paths and
+/// the programmed point, clipped to the view's plot area.
+pub(super) fn scene(o: &mut String, v: &View, s: &Snapshot, f: &Marks, swept: Option<&[Vec<P2>]>, id: &str) {
     let part_b: Vec<&[P2]> = s.part_b.iter().map(|p| p.as_slice()).collect();
     let has_overlap = s.part_a.len() >= 3 && !part_b.is_empty();
-    let overlap = if f.follow_on.is_some() { FOLLOW_ON } else { OVERLAP };
+    let overlap = if f.follow_on { FOLLOW_ON } else { OVERLAP };
     let _ = writeln!(o, "<defs>");
     let _ = writeln!(
         o,
@@ -954,7 +974,7 @@ fn scene(o: &mut String, v: &View, s: &Snapshot, f: &Finding, swept: Option<&[Ve
         x = n(cx),
         y = n(cy)
     );
-    if let (Some(px), Some(pz)) = (f.x, f.z) {
+    if let Some((px, pz)) = f.at {
         // The programmed point, as the program writes it.
         let right = cx < v.left + v.w - 140.0;
         let _ = writeln!(
@@ -1144,7 +1164,7 @@ fn labels(o: &mut String, v: &View, s: &Snapshot, f: &Finding) {
     put(o, &mut l, vec![s.turret.clone()], "turret", TURRET_LINE, false);
 }
 
-fn area(p: &[P2]) -> f64 {
+pub(super) fn area(p: &[P2]) -> f64 {
     let mut a = 0.0;
     for i in 0..p.len() {
         let (u, w) = (p[i], p[(i + 1) % p.len()]);
@@ -1156,13 +1176,23 @@ fn area(p: &[P2]) -> f64 {
 /// Scale bar, axis directions and the legend.
 /// Returns the bottom of what it drew.
 /// What the legend lists beyond the parts.
-struct Legend {
-    overlap: bool,
-    swept: bool,
-    follow_on: bool,
+pub(super) struct Legend {
+    pub overlap: bool,
+    pub swept: bool,
+    pub follow_on: bool,
+    /// A machine drawing (`latheguard machine --svg`) rather than a finding's picture: the stock
+    /// as set up, the other stations named for the turret type, no path.
+    pub machine: Option<MachineLegend>,
 }
 
-fn footer(o: &mut String, v: &View, s: &Snapshot, legend: &Legend, below: f64) -> f64 {
+/// The legend of a machine drawing.
+pub(super) struct MachineLegend {
+    /// How the other stations are drawn: "other stations, radial section" (a drum) or "other
+    /// stations, in the working plane" (a gang slide).
+    pub others: &'static str,
+}
+
+pub(super) fn footer(o: &mut String, v: &View, s: &Snapshot, legend: &Legend, below: f64) -> f64 {
     let y = below + 24.0;
     // Scale bar: a round length near a sixth of the width.
     let len = nice(v.w / v.scale / 6.0);
@@ -1203,20 +1233,32 @@ fn footer(o: &mut String, v: &View, s: &Snapshot, legend: &Legend, below: f64) -
         items.push(("chuck, tailstock", CHUCK_FILL, CHUCK_LINE, ""));
     }
     if !s.stock.is_empty() {
-        items.push(("stock at that moment", STOCK_FILL, STOCK_FILL, ""));
+        let what = if legend.machine.is_some() {
+            "stock as set up"
+        } else {
+            "stock at that moment"
+        };
+        items.push((what, STOCK_FILL, STOCK_FILL, ""));
     }
     items.push(("turret", TURRET_FILL, TURRET_LINE, ""));
     items.push(("holder", HOLDER_FILL, HOLDER_LINE, ""));
     items.push(("insert", INSERT_FILL, INSERT_LINE, ""));
     if !s.others.is_empty() {
         items.push((
-            "other stations, radial section",
+            legend
+                .machine
+                .as_ref()
+                .map_or("other stations, radial section", |m| m.others),
             "none",
             OTHER_LINE,
             r#" stroke-dasharray="4 2""#,
         ));
     }
-    items.push(("programmed path", "none", PATH_LINE, ""));
+    if legend.machine.is_none() {
+        items.push(("programmed path", "none", PATH_LINE, ""));
+    } else {
+        items.push(("travel of the turret reference point", "none", LIMIT_LINE, ""));
+    }
     if s.machine_path.len() >= 2 {
         items.push(("dogleg rapid as the machine moves", "none", MACHINE_LINE, ""));
     }
