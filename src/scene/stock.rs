@@ -139,6 +139,42 @@ impl DexelStock {
         s
     }
 
+    /// A revolved outline (points `(x, z)` with x ≥ 0, a simple polygon) from its smallest to
+    /// its largest z, columns of width about `h`: each column's material is the outline's radial
+    /// intervals on the plane through the column's centre, found with the crossings a cut uses
+    /// (same half-open rule, same arithmetic), so cutting along the outline leaves a touch.
+    pub fn from_outline(outline: &[P2], h: f64) -> DexelStock {
+        let bb = Aabb::of_points(outline);
+        let length = (bb.max.y - bb.min.y).max(f64::MIN_POSITIVE);
+        let mut s = DexelStock::new(0.0, 0.0, length, bb.min.y + length, h);
+        let n = s.cols.len();
+        for c in &mut s.cols {
+            c.iv.clear();
+        }
+        if s.crossings(outline, 0, n - 1).is_some() {
+            let scratch = std::mem::take(&mut s.scratch);
+            for pair in scratch.chunks_exact(2) {
+                if pair[0].0 != pair[1].0 {
+                    continue;
+                }
+                let (r0, r1) = radial_range(pair[0].1, pair[1].1);
+                let iv = &mut s.cols[pair[0].0 as usize].iv;
+                match iv.last_mut() {
+                    // Two spans that meet are one piece of material.
+                    Some(last) if last.1 >= r0 => last.1 = last.1.max(r1),
+                    _ if r1 > r0 => iv.push((r0, r1)),
+                    _ => {}
+                }
+            }
+            s.scratch = scratch;
+        }
+        s.removed_columns = s.cols.iter().filter(|c| c.iv.is_empty()).count();
+        for b in 0..s.blk_max.len() {
+            s.refresh_block(b);
+        }
+        s
+    }
+
     pub fn column_width(&self) -> f64 {
         self.h
     }
