@@ -1170,4 +1170,85 @@ mod tests {
         assert!(s.overlap(&rect(25.0, -50.0, 40.0, -40.0), 1e-6).is_none());
         assert!(s.overlap(&rect(24.999, -50.0, 40.0, -40.0), 1e-6).is_some());
     }
+
+    /// The second operation's flanged part: shank r 20 (z -40 .. 30), flange r 40 (30 .. 50),
+    /// boss r 15 (50 .. 80).
+    fn flange() -> Vec<P2> {
+        [
+            [0.0, -40.0],
+            [20.0, -40.0],
+            [20.0, 30.0],
+            [40.0, 30.0],
+            [40.0, 50.0],
+            [15.0, 50.0],
+            [15.0, 80.0],
+            [0.0, 80.0],
+        ]
+        .iter()
+        .map(|&[x, z]| p2(x, z))
+        .collect()
+    }
+
+    #[test]
+    fn an_outline_stock_holds_the_outlines_radii_at_each_column_centre() {
+        let s = DexelStock::from_outline(&flange(), 0.1);
+        assert_eq!(s.material_at(-39.95), vec![(0.0, 20.0)]);
+        assert_eq!(s.material_at(10.0), vec![(0.0, 20.0)]);
+        assert_eq!(s.material_at(40.0), vec![(0.0, 40.0)]);
+        assert_eq!(s.material_at(65.0), vec![(0.0, 15.0)]);
+        assert_eq!(s.material_at(79.95), vec![(0.0, 15.0)]);
+        assert!(s.material_at(80.5).is_empty() && s.material_at(-40.5).is_empty());
+        let area = 20.0 * 70.0 + 40.0 * 20.0 + 15.0 * 30.0;
+        assert!((s.section_area() - area).abs() < 1e-6 * area, "{}", s.section_area());
+        // Its traced outline encloses the same area.
+        let o = s.outlines(0.01);
+        assert_eq!(o.len(), 1, "{o:?}");
+        assert!((shoelace(&o[0]).abs() - area).abs() < 0.01 * area);
+    }
+
+    #[test]
+    fn an_outline_stock_keeps_each_radial_layer_of_a_column() {
+        // A section with a slot open toward -z inside it: two layers between z 10 and 40.
+        let u: Vec<P2> = [
+            [0.0, 0.0],
+            [30.0, 0.0],
+            [30.0, 40.0],
+            [25.0, 40.0],
+            [25.0, 10.0],
+            [5.0, 10.0],
+            [5.0, 40.0],
+            [0.0, 40.0],
+        ]
+        .iter()
+        .map(|&[x, z]| p2(x, z))
+        .collect();
+        let s = DexelStock::from_outline(&u, 0.5);
+        assert_eq!(s.material_at(5.0), vec![(0.0, 30.0)]);
+        assert_eq!(s.material_at(20.0), vec![(0.0, 5.0), (25.0, 30.0)]);
+        // A ring: a tube given as an outline is the same as the tube.
+        let ring = rect(10.0, 0.0, 20.0, 50.0);
+        let a = DexelStock::from_outline(&ring, 0.5);
+        let b = DexelStock::new(40.0, 20.0, 50.0, 50.0, 0.5);
+        assert_eq!(a.columns(), b.columns());
+        for j in 0..a.columns() {
+            assert_eq!(a.cols[j], b.cols[j], "column {j}");
+        }
+        assert_eq!(a.blk_max, b.blk_max);
+        assert_eq!(a.blk_min, b.blk_min);
+    }
+
+    #[test]
+    fn a_part_on_an_outline_stocks_surface_touches_and_one_inside_overlaps() {
+        let mut s = DexelStock::from_outline(&flange(), 0.05);
+        // On the boss (r 15) and on the flange's face (z 50) from outside: touches.
+        assert!(s.overlap(&rect(15.0, 60.0, 30.0, 70.0), 1e-6).is_none());
+        assert!(s.overlap(&rect(41.0, 35.0, 60.0, 45.0), 1e-6).is_none());
+        assert!(s.overlap(&rect(14.9, 60.0, 30.0, 70.0), 1e-6).is_some());
+        assert!(s.overlap(&rect(35.0, 35.0, 60.0, 45.0), 1e-6).is_some());
+        // Cutting the flange down to r 30 and re-entering that pose is a touch, as with a bar.
+        let tool = rect(30.0, 29.0, 45.0, 51.0);
+        assert!(s.cut(&tool));
+        assert!(s.overlap(&tool, 1e-6).is_none());
+        assert_eq!(s.material_at(40.0), vec![(0.0, 30.0)]);
+    }
 }
