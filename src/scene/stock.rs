@@ -1251,4 +1251,44 @@ mod tests {
         assert!(s.overlap(&tool, 1e-6).is_none());
         assert_eq!(s.material_at(40.0), vec![(0.0, 30.0)]);
     }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(200))]
+
+        /// A turned profile (radii at increasing z, closed along the axis) as an outline stock:
+        /// every column holds exactly `(0, r(c))`, r interpolated on the profile at its centre.
+        #[test]
+        fn an_outline_stocks_columns_hold_the_profile_at_their_centres(
+            radii in proptest::collection::vec(1.0f64..60.0, 2..12),
+            steps in proptest::collection::vec(0.5f64..20.0, 2..12),
+            h in 0.2f64..2.0,
+            z0 in -50.0f64..50.0,
+        ) {
+            let n = radii.len().min(steps.len());
+            let mut profile = Vec::with_capacity(n);
+            let mut z = z0;
+            for k in 0..n {
+                profile.push(p2(radii[k], z));
+                z += steps[k];
+            }
+            let mut outline = vec![p2(0.0, z0)];
+            outline.extend(profile.iter().copied());
+            outline.push(p2(0.0, profile[n - 1].y));
+            let s = DexelStock::from_outline(&outline, h);
+            for j in 0..s.columns() {
+                let c = s.center(j);
+                let seg = profile.windows(2).find(|w| w[0].y <= c && c < w[1].y);
+                let want = seg.map(|w| w[0].x + (w[1].x - w[0].x) * ((c - w[0].y) / (w[1].y - w[0].y)));
+                match want {
+                    Some(r) => {
+                        proptest::prop_assert_eq!(s.cols[j].iv.len(), 1, "column {} at {}", j, c);
+                        let (lo, hi) = s.cols[j].iv[0];
+                        proptest::prop_assert_eq!(lo, 0.0);
+                        proptest::prop_assert!((hi - r).abs() <= 1e-9 * r.max(1.0), "{} vs {}", hi, r);
+                    }
+                    None => proptest::prop_assert!(s.cols[j].iv.is_empty()),
+                }
+            }
+        }
+    }
 }
