@@ -197,10 +197,7 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
         .count() as u64;
     let stock = match (&result.stock, &machine.stock) {
         (Some(s), _) => s.outlines(settings.tolerance_mm),
-        (None, Some(s)) => {
-            let (z0, z1, r0, r1) = (s.front - s.length, s.front, s.bore / 2.0, s.diameter / 2.0);
-            vec![vec![[r0, z0], [r1, z0], [r1, z1], [r0, z1]]]
-        }
+        (None, Some(s)) => vec![s.section()],
         (None, None) => Vec::new(),
     };
     Outcome { findings, stats, stock }

@@ -274,3 +274,205 @@ fn the_committed_job_schema_is_the_generated_one_and_the_fixtures_validate() {
         "run `cargo run -- schema config > machines/config.schema.json`"
     );
 }
+
+fn check_json(args: &[&str]) -> (Option<i32>, serde_json::Value) {
+    let mut all = vec!["check", "--format", "json", "--no-timing"];
+    all.extend_from_slice(args);
+    let o = run(&all);
+    let doc = serde_json::from_str(&out(&o)).unwrap_or_else(|_| panic!("{}{}", out(&o), err(&o)));
+    (o.status.code(), doc)
+}
+
+/// The file lines of the findings of the first file of a JSON report, with their kinds.
+fn finding_lines(doc: &serde_json::Value) -> Vec<(u64, String)> {
+    doc["files"][0]["findings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| (f["line"].as_u64().unwrap(), f["kind"].as_str().unwrap().to_string()))
+        .collect()
+}
+
+#[test]
+fn an_outline_stock_is_cut_where_its_outline_is_not_where_its_bounding_bar_is() {
+    let job = "tests/fixtures/job/flange-second-op.job.toml";
+    // X44 at Z-10 passes over the Ø30 boss: clean with the outline, a crash for any Ø80 bar.
+    let o = run(&["check", "--no-timing", "--job", job, "programs/crash_rapid_into_bar.nc"]);
+    assert_eq!(o.status.code(), Some(0), "{}{}", out(&o), err(&o));
+    let o = run(&[
+        "check",
+        "--no-timing",
+        "--stock",
+        "80x80@80",
+        "programs/crash_rapid_into_bar.nc",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}{}", out(&o), err(&o));
+    // A rapid into the flange is caught at its line (N80 is line 10).
+    let (code, doc) = check_json(&["--job", job, "tests/fixtures/job/flange-rapid.nc"]);
+    assert_eq!(code, Some(1), "{doc}");
+    let lines = finding_lines(&doc);
+    assert_eq!(lines.first().map(|l| l.0), Some(10), "{doc}");
+    // Without the outline (the built-in Ø50 bar) the same program is clean: the flange did it.
+    let o = run(&["check", "--no-timing", "tests/fixtures/job/flange-rapid.nc"]);
+    assert_eq!(o.status.code(), Some(0), "{}{}", out(&o), err(&o));
+}
+
+#[test]
+fn an_outline_stock_shows_in_setup_and_stock_out() {
+    let job = "tests/fixtures/job/flange-second-op.job.toml";
+    let doc = setup_json(root(), &["--job", job, "programs/facing.nc"]);
+    let st = &doc["stock"]["value"];
+    assert_eq!(st["outline"].as_array().map(|a| a.len()), Some(8), "{doc}");
+    assert_eq!(st["diameter"], 80.0, "{doc}");
+    assert_eq!(doc["program_zero_z"]["value"], 80.0, "{doc}");
+    let o = run(&["setup", "--job", job, "programs/facing.nc"]);
+    assert!(
+        out(&o).contains("stock         revolved outline, Ø80 max, z -40 .. 80 (8 points)"),
+        "{}",
+        out(&o)
+    );
+    // --stock-out draws the part as cut from the outline (a program that cuts nothing of it
+    // leaves the flange there: the picture reaches radius 40).
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("part.svg");
+    let o = run(&[
+        "check",
+        "--no-timing",
+        "--job",
+        job,
+        "--stock-out",
+        svg.to_str().unwrap(),
+        "programs/crash_rapid_into_bar.nc",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}{}", out(&o), err(&o));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("<svg"), "{text}");
+}
+
+#[test]
+fn an_outline_stock_that_reaches_into_the_jaws_is_an_error_naming_the_outline() {
+    let o = run(&[
+        "check",
+        "--job",
+        "tests/fixtures/job/flange-too-wide.job.toml",
+        "programs/facing.nc",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", out(&o));
+    assert!(
+        err(&o).starts_with(
+            "latheguard: tests/fixtures/job/flange-too-wide.job.toml:3:11: stock.outline: the stock outline"
+        ),
+        "{}",
+        err(&o)
+    );
+}
+
+#[test]
+fn a_job_without_stock_is_a_dry_run_in_the_air() {
+    let crash = run(&["check", "--no-timing", "programs/crash_rapid_into_bar.nc"]);
+    assert_eq!(crash.status.code(), Some(1));
+    let o = run(&[
+        "check",
+        "--no-timing",
+        "--job",
+        "tests/fixtures/job/no-stock.job.toml",
+        "programs/crash_rapid_into_bar.nc",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}{}", out(&o), err(&o));
+    let doc = setup_json(
+        root(),
+        &["--job", "tests/fixtures/job/no-stock.job.toml", "programs/facing.nc"],
+    );
+    assert!(doc["stock"]["value"].is_null(), "{doc}");
+    // Program zero stays the machine's (78), not a stock's face.
+    assert_eq!(doc["program_zero_z"]["value"], 78.0, "{doc}");
+    assert_eq!(doc["program_zero_z"]["from"], "machine", "{doc}");
+}
+
+#[test]
+fn a_spindle_started_by_hand_lets_a_program_without_m3_cut() {
+    let prog = "tests/fixtures/job/no-spindle.nc";
+    let (code, doc) = check_json(&[prog]);
+    assert_eq!(code, Some(1), "{doc}");
+    let lines = finding_lines(&doc);
+    assert!(
+        lines.iter().any(|(l, _)| *l == 7),
+        "the cut at N50 (line 7) with the spindle stopped: {doc}"
+    );
+    assert!(lines.iter().any(|(l, k)| *l == 7 && k == "spindle_stopped"), "{doc}");
+    let (code, doc) = check_json(&["--job", "tests/fixtures/job/spindle-on.job.toml", prog]);
+    assert_eq!(code, Some(0), "{doc}");
+    let doc = setup_json(root(), &["--job", "tests/fixtures/job/spindle-on.job.toml", prog]);
+    assert_eq!(doc["spindle_start_rpm"]["value"], 800.0, "{doc}");
+}
+
+#[test]
+fn a_manual_tool_change_runs_the_rest_with_that_stations_tool() {
+    let prog = "tests/fixtures/job/wide-tool-change.nc";
+    let o = run(&["check", "--no-timing", prog]);
+    assert_eq!(o.status.code(), Some(0), "{}{}", out(&o), err(&o));
+    // The same tool in station 2 but no tool change: still clean (T01 does the moves).
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(fixtures().join("tool-change.job.toml")).unwrap();
+    let without = dir.path().join("no-change.job.toml");
+    std::fs::write(&without, text.split("[[tool_changes]]").next().unwrap()).unwrap();
+    let o = run(&["check", "--no-timing", "--job", without.to_str().unwrap(), prog]);
+    assert_eq!(o.status.code(), Some(0), "{}{}", out(&o), err(&o));
+    // With the change at line 8, the wide holder meets the bar at N80 (line 10).
+    let (code, doc) = check_json(&["--job", "tests/fixtures/job/tool-change.job.toml", prog]);
+    assert_eq!(code, Some(1), "{doc}");
+    let lines = finding_lines(&doc);
+    assert_eq!(lines.first(), Some(&(10, "collision".to_string())), "{doc}");
+    // The interpreter changes the tool at line 8, as a T word would.
+    let o = run(&["moves", "--job", "tests/fixtures/job/tool-change.job.toml", prog]);
+    assert!(out(&o).contains("    8 CHANGE_TOOL(2)"), "{}", out(&o));
+    let o = run(&["setup", "--job", "tests/fixtures/job/tool-change.job.toml", prog]);
+    assert!(
+        out(&o).contains("tool change   at line 8: the operator puts in T02 wide form tool"),
+        "{}",
+        out(&o)
+    );
+    // A change to a station that holds no tool is refused, at the change.
+    std::fs::write(&without, "[[tool_changes]]\nline = 8\nstation = 9\n").unwrap();
+    let o = run(&["check", "--job", without.to_str().unwrap(), prog]);
+    assert_eq!(o.status.code(), Some(2), "{}", out(&o));
+    assert!(
+        err(&o).contains(":1:1: tool_changes[0].station: station 9 holds no tool"),
+        "{}",
+        err(&o)
+    );
+}
+
+#[test]
+fn a_job_moves_the_tailstock_and_sets_diameter_mode() {
+    let m = "machines/linuxcnc-small-lathe.toml";
+    let doc = setup_json(
+        root(),
+        &[
+            "--machine",
+            m,
+            "--job",
+            "tests/fixtures/job/tailstock-z.job.toml",
+            "programs/facing.nc",
+        ],
+    );
+    let pts = doc["tailstock"]["outline"].as_array().unwrap();
+    let min_z = pts.iter().map(|p| p[1].as_f64().unwrap()).fold(f64::INFINITY, f64::min);
+    assert_eq!(min_z, 150.0, "{doc}");
+    assert_eq!(doc["tailstock"]["advanced_at_start"], true, "{doc}");
+    // The built-in machine has no tailstock to move.
+    let o = run(&[
+        "check",
+        "--job",
+        "tests/fixtures/job/tailstock-z.job.toml",
+        "programs/facing.nc",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(err(&o).contains("tailstock"), "{}", err(&o));
+    // Radius mode: X44 is a radius of 44, outside the Ø50 bar.
+    let job = "tests/fixtures/job/radius-mode.job.toml";
+    let doc = setup_json(root(), &["--job", job, "programs/facing.nc"]);
+    assert_eq!(doc["diameter_mode"]["value"], false, "{doc}");
+    let o = run(&["check", "--no-timing", "--job", job, "programs/crash_rapid_into_bar.nc"]);
+    assert_eq!(o.status.code(), Some(0), "{}{}", out(&o), err(&o));
+}

@@ -240,13 +240,10 @@ impl Checker<'_> {
     fn ensure_stock(&mut self) -> Option<&mut DexelStock> {
         if self.stock.is_none() {
             let s = self.machine.stock.as_ref()?;
-            self.stock = Some(DexelStock::new(
-                s.diameter,
-                s.bore,
-                s.length,
-                s.front,
-                self.settings.tolerance_mm,
-            ));
+            self.stock = Some(match &s.outline {
+                Some(o) => DexelStock::from_outline(o.points(), self.settings.tolerance_mm),
+                None => DexelStock::new(s.diameter, s.bore, s.length, s.front, self.settings.tolerance_mm),
+            });
         }
         self.stock.as_mut()
     }
@@ -795,11 +792,7 @@ impl Checker<'_> {
                 self.machine
                     .stock
                     .as_ref()
-                    .map(|s| {
-                        let (z0, z1) = (s.front - s.length, s.front);
-                        let (r0, r1) = (s.bore / 2.0, s.diameter / 2.0);
-                        vec![vec![P2::new(r0, z0), P2::new(r1, z0), P2::new(r1, z1), P2::new(r0, z1)]]
-                    })
+                    .map(|s| vec![s.section().into_iter().map(|[x, z]| P2::new(x, z)).collect()])
                     .unwrap_or_default()
             });
         let tool = self.scene.tool(active);

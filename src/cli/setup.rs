@@ -253,6 +253,13 @@ fn num(v: f64) -> String {
 fn stock_text(m: &Machine) -> String {
     match &m.stock {
         None => "none".into(),
+        Some(s) if s.outline.is_some() => format!(
+            "revolved outline, Ø{} max, z {} .. {} ({} points)",
+            num(s.diameter),
+            num(s.front - s.length),
+            num(s.front),
+            s.outline.as_ref().map_or(0, |o| o.points().len())
+        ),
         Some(s) => {
             let kind = if s.bore > 0.0 {
                 format!("tube Ø{}/Ø{}", num(s.diameter), num(s.bore))
@@ -329,7 +336,7 @@ fn text(program: &Path, r: &Resolved) -> String {
     let _ = writeln!(s, "  stock         {}  [{}]", stock_text(m), from(&j.stock));
     let pz_from = match (&j.program_zero_z, &j.stock) {
         (Some(z), _) => z.layer.as_str(),
-        (None, Some(st)) => st.layer.as_str(),
+        (None, Some(st)) if m.stock.is_some() => st.layer.as_str(),
         _ => MACHINE,
     };
     let _ = writeln!(s, "  program Z0    z {}  [{pz_from}]", num(m.program_zero_z));
@@ -342,7 +349,36 @@ fn text(program: &Path, r: &Resolved) -> String {
             if adv { "advanced at start" } else { "retracted at start" }
         ),
     };
-    let _ = writeln!(s, "  tailstock     {tail}  [{}]", from(&j.tailstock_in_use));
+    let tail_from = match (&j.tailstock_in_use, &j.tailstock_z) {
+        (Some(a), Some(b)) if a.layer != b.layer => format!("{}, z: {}", a.layer, b.layer),
+        (_, Some(z)) => z.layer.clone(),
+        (a, None) => from(a).to_string(),
+    };
+    let _ = writeln!(s, "  tailstock     {tail}  [{tail_from}]");
+    let _ = writeln!(
+        s,
+        "  X words       {}  [{}]",
+        if m.diameter_mode { "diameters" } else { "radii" },
+        from(&j.diameter_mode)
+    );
+    let spindle = match m.start_rpm {
+        Some(r) => format!(
+            "turning at {} rpm from program start (as if M3 S{} came first)",
+            num(r),
+            num(r)
+        ),
+        None => "stopped at program start".into(),
+    };
+    let _ = writeln!(s, "  spindle       {spindle}  [{}]", from(&j.start_rpm));
+    for c in &j.tool_changes {
+        let (line, station) = c.value;
+        let name = m.tool(station).map_or("", |t| t.name.as_str());
+        let _ = writeln!(
+            s,
+            "  tool change   at line {line}: the operator puts in T{station:02} {name}  [{}]",
+            c.layer
+        );
+    }
     let _ = writeln!(s, "  tools");
     for (t, layer, origin) in tool_rows(r) {
         let mut line = format!(
@@ -386,13 +422,18 @@ fn json(program: &Path, r: &Resolved) -> serde_json::Value {
         "units": { "value": if m.inch { "inch" } else { "mm" }, "from": from(&j.units_inch) },
         "dialect": { "value": m.dialect.as_str(), "from": from(&j.dialect) },
         "stock": {
-            "value": m.stock.as_ref().map(|s| json!({
-                "diameter": s.diameter, "length": s.length, "stick_out": s.front, "bore": s.bore })),
+            "value": m.stock.as_ref().map(|s| match &s.outline {
+                Some(o) => json!({
+                    "outline": o.points().iter().map(|q| [q.x, q.y]).collect::<Vec<_>>(),
+                    "diameter": s.diameter, "length": s.length, "stick_out": s.front }),
+                None => json!({
+                    "diameter": s.diameter, "length": s.length, "stick_out": s.front, "bore": s.bore }),
+            }),
             "from": from(&j.stock),
         },
         "program_zero_z": { "value": m.program_zero_z, "from": match (&j.program_zero_z, &j.stock) {
             (Some(z), _) => z.layer.as_str(),
-            (None, Some(st)) => st.layer.as_str(),
+            (None, Some(st)) if m.stock.is_some() => st.layer.as_str(),
             _ => MACHINE,
         } },
         "chuck": { "outline": outline(&m.chuck), "from": from(&j.chuck) },
@@ -400,7 +441,13 @@ fn json(program: &Path, r: &Resolved) -> serde_json::Value {
             "outline": outline(&m.tailstock),
             "advanced_at_start": m.tailstock.is_some() && m.tailstock_advanced,
             "from": from(&j.tailstock_in_use),
+            "z_from": from(&j.tailstock_z),
         },
+        "diameter_mode": { "value": m.diameter_mode, "from": from(&j.diameter_mode) },
+        "spindle_start_rpm": { "value": m.start_rpm, "from": from(&j.start_rpm) },
+        "tool_changes": j.tool_changes.iter().map(|c| json!({
+            "line": c.value.0, "station": c.value.1, "from": c.layer,
+        })).collect::<Vec<_>>(),
         "tools": tool_rows(r).iter().map(|(t, layer, origin)| json!({
             "station": t.station, "name": t.name, "tip": [t.tip.x, t.tip.y],
             "nose_radius": t.nose_radius, "tip_direction": t.tip_direction,

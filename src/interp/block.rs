@@ -692,6 +692,9 @@ impl Run<'_> {
 
     /// Execute one block that is not an o-word.
     pub(crate) fn execute(&mut self, b: &Block) {
+        if !self.machine.tool_changes.is_empty() {
+            self.manual_tool_change(b);
+        }
         // One word table serves every block (see `Words::clear`).
         let mut w = self.words.take().unwrap_or_else(|| Box::new(Words::new()));
         w.clear();
@@ -1274,6 +1277,17 @@ impl Run<'_> {
         let end = self.programmed();
         self.push_move(b, MoveKind::ToolChange { from, to: station }, end, end, Feed::Rapid);
         self.devices.tool_unknown = !known;
+    }
+
+    /// A job's manual tool change at this block's line (`[[tool_changes]]`): the operator has put
+    /// the tool of that station in, as a T word would switch to it, before the block runs.
+    #[cold]
+    fn manual_tool_change(&mut self, b: &Block) {
+        let changes = &self.machine.tool_changes;
+        if let Ok(i) = changes.binary_search_by_key(&b.line, |c| c.0) {
+            let station = changes[i].1;
+            self.change_tool(b, station, None);
+        }
     }
 
     /// A `T` for a station the turret lacks or the machine file has no tool in: a `program`

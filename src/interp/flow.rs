@@ -294,7 +294,8 @@ impl<'a> Run<'a> {
             feed_per_rev: fanuc,
             feed: 0.0,
             spindle_css: false,
-            s: 0.0,
+            // `spindle.start_rpm`: running from program start, as if `M3 S…` came first.
+            s: machine.start_rpm.unwrap_or(0.0),
             css_clamp: None,
             plane_xz: true,
             plane_xy: false,
@@ -313,7 +314,11 @@ impl<'a> Run<'a> {
             station,
             tip: super::block::tip_of(machine, station),
             selected: None,
-            spindle_dir: SpindleDir::Off,
+            spindle_dir: if machine.start_rpm.is_some() {
+                SpindleDir::Cw
+            } else {
+                SpindleDir::Off
+            },
             devices: super::mcodes::Devices::new(machine),
             base_origin: P2::new(0.0, machine.program_zero_z),
             shift: V2::zeros(),

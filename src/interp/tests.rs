@@ -105,3 +105,65 @@ fn streamed_moves_equal_the_moves_of_a_whole_run() {
     assert_eq!(format!("{:?}", rest.findings), format!("{:?}", whole.findings));
     assert_eq!(rest.blocks_executed, whole.blocks_executed);
 }
+
+/// `spindle.start_rpm`: the program starts as if `M3 S<rpm>` had come before its first line.
+#[test]
+fn a_spindle_start_speed_turns_the_spindle_before_any_m3() {
+    let src = "G21 G97\nG0 X50 Z5\nG1 Z0 F0.2\nM5\nG1 Z-1\n";
+    let prog = gcode::parse(src.as_bytes());
+    let mut m = Machine::builtin();
+    let stopped = super::interpret(&prog, src.as_bytes(), &m);
+    assert_eq!(stopped.spindle(&stopped.moves[0]).rpm_at(10.0), 0.0);
+    m.start_rpm = Some(800.0);
+    let on = super::interpret(&prog, src.as_bytes(), &m);
+    assert_eq!(on.spindle(&on.moves[0]).rpm_at(10.0), 800.0);
+    assert_eq!(on.spindle(&on.moves[1]).rpm_at(10.0), 800.0);
+    // The program's own M5 still stops it.
+    assert_eq!(on.spindle(&on.moves[2]).rpm_at(10.0), 0.0);
+}
+
+/// A job's manual tool change switches the tool before the words of its line, each time the
+/// line runs, as a T word would (a tool change move at that line, then the new station).
+#[test]
+fn a_manual_tool_change_switches_the_tool_at_its_line_each_time_it_runs() {
+    let src = "G21\nG0 X50 Z5\nM0 (PUT IN T3)\nG0 X60\nT0101\nG0 X70\n";
+    let prog = gcode::parse(src.as_bytes());
+    let mut m = Machine::builtin();
+    m.tool_changes = vec![(3, 3)];
+    let i = super::interpret(&prog, src.as_bytes(), &m);
+    let seen: Vec<(u32, u32, bool)> = i
+        .moves
+        .iter()
+        .map(|mv| {
+            (
+                mv.line,
+                mv.station,
+                matches!(mv.kind, super::MoveKind::ToolChange { .. }),
+            )
+        })
+        .collect();
+    assert_eq!(
+        seen,
+        vec![(2, 1, false), (3, 3, true), (4, 3, false), (5, 1, true), (6, 1, false)],
+        "{:?}",
+        i.findings
+    );
+    // On a line that also moves, the change comes first: the move is made with the new tool.
+    m.tool_changes = vec![(4, 2)];
+    let i = super::interpret(&prog, src.as_bytes(), &m);
+    let at4: Vec<u32> = i.moves.iter().filter(|mv| mv.line == 4).map(|mv| mv.station).collect();
+    assert_eq!(at4, vec![2, 2]);
+    // A subroutine line runs twice: the change happens each time (LinuxCNC o-words).
+    let src = "o100 sub\nG0 X40\no100 endsub\nT1 M6\no100 call\nT1 M6\no100 call\nM2\n";
+    let prog = gcode::parse(src.as_bytes());
+    let mut m = linuxcnc();
+    m.tool_changes = vec![(2, 2)];
+    let i = super::interpret(&prog, src.as_bytes(), &m);
+    let changes: Vec<(u32, u32)> = i
+        .moves
+        .iter()
+        .filter(|mv| matches!(mv.kind, super::MoveKind::ToolChange { .. }))
+        .map(|mv| (mv.line, mv.station))
+        .collect();
+    assert_eq!(changes, vec![(2, 2), (6, 1), (2, 2)], "{:?}", i.findings);
+}

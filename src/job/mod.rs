@@ -103,14 +103,20 @@ impl DialectChoice {
     }
 }
 
-/// A job's bar or tube. `front` (`stick_out` in job files) is None only from `--stock` without
-/// `@STICKOUT`, when the machine's stock front applies.
+/// A job's stock: a bar or tube, a revolved outline (`outline`), or none at all (`none`).
+/// `front` (`stick_out` in job files) is None only from `--stock` without `@STICKOUT`, when the
+/// machine's stock front applies. With an outline, `diameter`, `length` and `front` are its
+/// bounding bar; with `none`, the sizes are 0 and mean nothing.
 #[derive(Clone, Debug, PartialEq)]
 pub struct JobStock {
     pub diameter: f64,
     pub length: f64,
     pub front: Option<f64>,
     pub bore: f64,
+    /// A revolved outline in the half plane x ≥ 0 (a casting, a forging, a second operation).
+    pub outline: Option<Polygon>,
+    /// `none = true`: no stock in the scene (a dry run in the air).
+    pub none: bool,
     /// Where `diameter` and `length` were written (errors of a stock that does not fit).
     pub diameter_at: Place,
     pub length_at: Place,
@@ -138,6 +144,14 @@ pub struct Layer {
     pub stock: Option<Set<JobStock>>,
     pub chuck: Option<Set<Polygon>>,
     pub tailstock_in_use: Option<Set<bool>>,
+    /// `tailstock.z`: the z of the live centre's tip (the smallest z of the tailstock outline).
+    pub tailstock_z: Option<Set<f64>>,
+    /// `diameter_mode`: X words are diameters (true) or radii (false) at program start.
+    pub diameter_mode: Option<Set<bool>>,
+    /// `spindle.start_rpm`: the spindle turns at this speed from program start (0: stopped).
+    pub start_rpm: Option<Set<f64>>,
+    /// `[[tool_changes]]`: `(line, station)`, at most one per line.
+    pub tool_changes: Vec<Set<(u32, u32)>>,
     /// At most one per station.
     pub tools: Vec<Set<JobTool>>,
     /// Values accepted but suspicious (an outline's spike), as `file:line:col: key: message`.
@@ -161,6 +175,10 @@ impl Layer {
             && self.stock.is_none()
             && self.chuck.is_none()
             && self.tailstock_in_use.is_none()
+            && self.tailstock_z.is_none()
+            && self.diameter_mode.is_none()
+            && self.start_rpm.is_none()
+            && self.tool_changes.is_empty()
             && self.tools.is_empty()
     }
 }
@@ -178,6 +196,11 @@ pub struct EffectiveJob {
     pub stock: Option<Set<JobStock>>,
     pub chuck: Option<Set<Polygon>>,
     pub tailstock_in_use: Option<Set<bool>>,
+    pub tailstock_z: Option<Set<f64>>,
+    pub diameter_mode: Option<Set<bool>>,
+    pub start_rpm: Option<Set<f64>>,
+    /// Sorted by line, one each (a later layer's change at a line replaces an earlier one's).
+    pub tool_changes: Vec<Set<(u32, u32)>>,
     /// Sorted by station, one each.
     pub tools: Vec<Set<JobTool>>,
     pub warnings: Vec<String>,
@@ -206,6 +229,13 @@ impl EffectiveJob {
             over(&mut out.stock, &l.stock);
             over(&mut out.chuck, &l.chuck);
             over(&mut out.tailstock_in_use, &l.tailstock_in_use);
+            over(&mut out.tailstock_z, &l.tailstock_z);
+            over(&mut out.diameter_mode, &l.diameter_mode);
+            over(&mut out.start_rpm, &l.start_rpm);
+            for c in &l.tool_changes {
+                out.tool_changes.retain(|o| o.value.0 != c.value.0);
+                out.tool_changes.push(c.clone());
+            }
             for t in &l.tools {
                 out.tools.retain(|o| o.value.tool.station != t.value.tool.station);
                 out.tools.push(t.clone());
@@ -213,6 +243,7 @@ impl EffectiveJob {
             out.warnings.extend(l.warnings.iter().cloned());
         }
         out.tools.sort_by_key(|t| t.value.tool.station);
+        out.tool_changes.sort_by_key(|c| c.value.0);
         out
     }
 
@@ -224,6 +255,10 @@ impl EffectiveJob {
             && self.stock.is_none()
             && self.chuck.is_none()
             && self.tailstock_in_use.is_none()
+            && self.tailstock_z.is_none()
+            && self.diameter_mode.is_none()
+            && self.start_rpm.is_none()
+            && self.tool_changes.is_empty()
             && self.tools.is_empty()
     }
 }
@@ -253,6 +288,32 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
     if let Some(c) = &job.chuck {
         m.chuck = Some(c.value.clone());
     }
+    if let Some(d) = &job.diameter_mode {
+        m.diameter_mode = d.value;
+        if let Some(auto) = m.auto_dialect.as_mut() {
+            auto.fanuc.diameter_mode = d.value;
+            auto.linuxcnc.diameter_mode = d.value;
+        }
+    }
+    if let Some(r) = &job.start_rpm {
+        if r.value > m.max_rpm {
+            errors.push(r.at.err(format!(
+                "start_rpm = {} is faster than the machine's spindle.max_rpm = {}",
+                r.value, m.max_rpm
+            )));
+        }
+        m.start_rpm = (r.value > 0.0).then_some(r.value);
+    }
+    if let Some(z) = &job.tailstock_z {
+        match &m.tailstock {
+            None => errors
+                .push(z.at.err("the machine has no tailstock to move: describe it in the machine file's [tailstock]")),
+            Some(t) => {
+                let tip = t.aabb().min.y;
+                m.tailstock = Some(t.translated(crate::geom::V2::new(0.0, z.value - tip)));
+            }
+        }
+    }
     if let Some(t) = &job.tailstock_in_use {
         if t.value {
             if m.tailstock.is_none() {
@@ -267,16 +328,11 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
     if let Some(s) = &job.stock {
         let st = &s.value;
         let front = st.front.or(machine.stock.as_ref().map(|s| s.front));
-        match front {
-            Some(front) => {
-                m.stock = Some(Stock {
-                    diameter: st.diameter,
-                    length: st.length,
-                    front,
-                    bore: st.bore,
-                })
-            }
-            None => errors.push(s.at.err(
+        match (front, &st.outline) {
+            _ if st.none => m.stock = None,
+            (_, Some(o)) => m.stock = Some(Stock::from_outline(o.clone())),
+            (Some(front), None) => m.stock = Some(Stock::bar(st.diameter, st.length, front, st.bore)),
+            (None, None) => errors.push(s.at.err(
                 "the stick-out is not given and the machine has no stock to take it from: write DIAxLEN@STICKOUT",
             )),
         }
@@ -302,6 +358,19 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
         m.tools.push(t.value.tool.clone());
     }
     m.tools.sort_by_key(|t| t.station);
+    for c in &job.tool_changes {
+        let (line, station) = c.value;
+        if m.tool(station).is_none() {
+            errors.push(c.at.err_key(
+                &format!("{}.station", c.at.key),
+                format!(
+                    "station {station} holds no tool on {} with this job: the operator cannot put its tool in at line {line}",
+                    machine.name
+                ),
+            ));
+        }
+    }
+    m.tool_changes = job.tool_changes.iter().map(|c| c.value).collect();
     if let Some(e) = JobError::gather(errors) {
         return Err(e);
     }
@@ -314,7 +383,7 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
             let e = match (&job.stock, &job.chuck) {
                 (Some(s), _) => match key {
                     machine::StockKey::Length => s.value.length_at.err(message),
-                    machine::StockKey::Diameter => s.value.diameter_at.err(message),
+                    machine::StockKey::Diameter | machine::StockKey::Outline => s.value.diameter_at.err(message),
                 },
                 (None, Some(c)) => c.at.err(message),
                 (None, None) => Place::command_line("job").err(message),
@@ -331,7 +400,11 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
         });
         let by_obstacle = || match c.obstacle {
             "chuck" => job.chuck.as_ref().map(|s| s.at.err(c.message.clone())),
-            _ => job.tailstock_in_use.as_ref().map(|s| s.at.err(c.message.clone())),
+            _ => job
+                .tailstock_z
+                .as_ref()
+                .map(|s| s.at.err(c.message.clone()))
+                .or_else(|| job.tailstock_in_use.as_ref().map(|s| s.at.err(c.message.clone()))),
         };
         errors.push(
             by_tool
@@ -432,6 +505,8 @@ pub fn flags_layer(
                 length,
                 front,
                 bore,
+                outline: None,
+                none: false,
                 diameter_at: Place::command_line("--stock"),
                 length_at: Place::command_line("--stock"),
             },

@@ -35,8 +35,37 @@ pub struct RawJob {
     #[schemars(with = "Option<RawChuck>")]
     chuck: Option<Spanned<RawChuck>>,
     tailstock: Option<RawTailstock>,
+    #[schemars(with = "Option<bool>")]
+    diameter_mode: Option<Spanned<bool>>,
+    spindle: Option<RawSpindle>,
+    #[schemars(with = "Option<Vec<RawToolChange>>")]
+    tool_changes: Option<Spanned<Vec<Spanned<RawToolChange>>>>,
     #[schemars(with = "Option<Vec<RawTool>>")]
     tools: Option<Spanned<Vec<Spanned<RawTool>>>>,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawSpindle {
+    /// The spindle turns forward at this speed from program start (a manual lathe switched on
+    /// by hand), as if `M3 S…` came before line 1; 0: stopped, over the machine's value.
+    #[schemars(with = "Option<f64>")]
+    start_rpm: Option<Num>,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table { line, station }")]
+struct RawToolChange {
+    /// The program's line (1-based) at which the operator has put the tool in.
+    #[schemars(with = "i64")]
+    line: Option<Spanned<i64>>,
+    /// The station whose tool it is.
+    #[schemars(with = "i64")]
+    station: Option<Spanned<i64>>,
+    /// What the operator does (the M0's message), for the reader of the job only.
+    #[schemars(with = "Option<String>")]
+    #[allow(dead_code)]
+    note: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize, JsonSchema, Clone, Copy)]
@@ -70,6 +99,9 @@ struct RawStock {
     bore: Option<Num>,
     #[schemars(with = "Option<Vec<[f64; 2]>>")]
     outline: Option<Outline>,
+    /// `none = true`: no stock at all (a dry run in the air).
+    #[schemars(with = "Option<bool>")]
+    none: Option<Spanned<bool>>,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -84,6 +116,10 @@ struct RawChuck {
 struct RawTailstock {
     #[schemars(with = "Option<bool>")]
     in_use: Option<Spanned<bool>>,
+    /// The z of the live centre's tip: the machine's tailstock outline moved along z so that
+    /// its smallest z is here.
+    #[schemars(with = "Option<f64>")]
+    z: Option<Num>,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -203,6 +239,9 @@ pub enum JobSchema {
 
 /// At most this many `[[tools]]` in a job or a tool library.
 pub const MAX_JOB_TOOLS: usize = machine::MAX_TOOLS;
+
+/// At most this many `[[tool_changes]]` in a job.
+pub const MAX_TOOL_CHANGES: usize = 1000;
 
 /// Read one job file. `file` names it in messages, `base` is the folder its `tool_library` and
 /// `tool_table` are relative to (handed to `resolve` as is), `label` names the layer.
@@ -344,6 +383,80 @@ fn layer(
         .as_ref()
         .and_then(|t| t.in_use.as_ref())
         .map(|u| set!(*u.get_ref(), u.span(), "tailstock.in_use"));
+    if let Some(z) = raw.tailstock.as_ref().and_then(|t| t.z.as_ref()) {
+        l.tailstock_z = cx
+            .keep(cx.coord(&key("tailstock.z"), z))
+            .map(|v| set!(v, z.span(), "tailstock.z"));
+    }
+    l.diameter_mode = raw
+        .diameter_mode
+        .as_ref()
+        .map(|d| set!(*d.get_ref(), d.span(), "diameter_mode"));
+    if let Some(r) = raw.spindle.as_ref().and_then(|s| s.start_rpm.as_ref()) {
+        let k = key("spindle.start_rpm");
+        let v = if *r.get_ref() == 0.0 {
+            Ok(0.0)
+        } else {
+            cx.within(&k, r, machine::MAX_RPM_RANGE, "rpm")
+        };
+        l.start_rpm = cx.keep(v).map(|v| set!(v, r.span(), "spindle.start_rpm"));
+    }
+    if let Some(changes) = &raw.tool_changes {
+        if changes.get_ref().len() > MAX_TOOL_CHANGES {
+            return Err(cx.err(
+                changes.span(),
+                key("tool_changes"),
+                format!("too many tool changes: at most {MAX_TOOL_CHANGES}"),
+            ));
+        }
+        for (i, c) in changes.get_ref().iter().enumerate() {
+            let k = key(&format!("tool_changes[{i}]"));
+            let rc = c.get_ref();
+            let (Some(line), Some(station)) = (&rc.line, &rc.station) else {
+                let which = if rc.line.is_none() { "line" } else { "station" };
+                cx.push(cx.err(
+                    c.span(),
+                    format!("{k}.{which}"),
+                    format!("missing required key `{which}`"),
+                ));
+                continue;
+            };
+            let l_ = *line.get_ref();
+            if !(1..=i64::from(u32::MAX)).contains(&l_) {
+                cx.push(cx.err(
+                    line.span(),
+                    format!("{k}.line"),
+                    format!("{l_} is not a line: lines count from 1"),
+                ));
+                continue;
+            }
+            let s_ = *station.get_ref();
+            if !(1..=i64::from(machine::MAX_STATIONS)).contains(&s_) {
+                cx.push(cx.err(
+                    station.span(),
+                    format!("{k}.station"),
+                    format!(
+                        "station {s_} does not exist: stations run from 1 to {}",
+                        machine::MAX_STATIONS
+                    ),
+                ));
+                continue;
+            }
+            if let Some(o) = l.tool_changes.iter().find(|o| i64::from(o.value.0) == l_) {
+                cx.push(cx.err(
+                    line.span(),
+                    format!("{k}.line"),
+                    format!("line {l_} already has a tool change ({})", o.at.key),
+                ));
+                continue;
+            }
+            l.tool_changes.push(Set {
+                value: (l_ as u32, s_ as u32),
+                at: place(cx, c.span(), &k),
+                layer: label.to_string(),
+            });
+        }
+    }
     let mut refs = Refs {
         base,
         resolve,
@@ -429,12 +542,68 @@ fn layer(
 fn stock(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str) -> Result<JobStock, JobError> {
     let r = s.get_ref();
     let k = |n: &str| format!("{key}.{n}");
+    let given: Vec<(&str, Range<usize>)> = [
+        ("diameter", &r.diameter),
+        ("length", &r.length),
+        ("stick_out", &r.stick_out),
+        ("front", &r.front),
+        ("bore", &r.bore),
+    ]
+    .into_iter()
+    .filter_map(|(n, v)| v.as_ref().map(|v| (n, v.span())))
+    .collect();
+    if let Some(n) = &r.none {
+        if !*n.get_ref() {
+            return Err(cx.err(
+                n.span(),
+                k("none"),
+                "`none = false` says nothing: leave it out, or give the stock's sizes or outline",
+            ));
+        }
+        let other = given
+            .first()
+            .cloned()
+            .or(r.outline.as_ref().map(|o| ("outline", o.span())));
+        if let Some((name, at)) = other {
+            return Err(cx.err(
+                at,
+                k(name),
+                "`none = true` means no stock: give no sizes or outline with it",
+            ));
+        }
+        let at = place(cx, n.span(), &k("none"));
+        return Ok(JobStock {
+            diameter: 0.0,
+            length: 0.0,
+            front: None,
+            bore: 0.0,
+            outline: None,
+            none: true,
+            diameter_at: at.clone(),
+            length_at: at,
+        });
+    }
     if let Some(o) = &r.outline {
-        return Err(cx.err(
-            o.span(),
-            k("outline"),
-            "a revolved stock outline is not supported yet: give diameter, length, stick_out (and bore for a tube)",
-        ));
+        if let Some((name, at)) = given.first().cloned() {
+            return Err(cx.err(
+                at,
+                k(name),
+                "a stock with an `outline` takes its sizes from it: give the outline or the bar's sizes, not both",
+            ));
+        }
+        let poly = cx.stock_outline(&k("outline"), o)?;
+        let st = machine::Stock::from_outline(poly);
+        let at = place(cx, o.span(), &k("outline"));
+        return Ok(JobStock {
+            diameter: st.diameter,
+            length: st.length,
+            front: Some(st.front),
+            bore: 0.0,
+            outline: st.outline,
+            none: false,
+            diameter_at: at.clone(),
+            length_at: at,
+        });
     }
     let need = |v: &Option<Num>, n: &str| -> Result<Num, JobError> {
         v.clone()
@@ -481,6 +650,8 @@ fn stock(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str) -> Result<JobStock, JobE
         length: len,
         front: Some(f),
         bore,
+        outline: None,
+        none: false,
         diameter_at: place(cx, diameter.span(), &k("diameter")),
         length_at: place(cx, length.span(), &k("length")),
     })

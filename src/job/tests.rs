@@ -62,8 +62,8 @@ fn errors_name_file_line_column_and_key() {
     );
     assert!(err("[tailstock]\nin_use = 1\n").starts_with("part.job.toml:2:10: tailstock.in_use: invalid type"));
     assert!(err("dialect = \"heidenhain\"\n").contains("dialect: unknown value `heidenhain`"));
-    assert!(err("[stock]\noutline = [[0, 0], [10, 0], [10, 5]]\n")
-        .contains("stock.outline: a revolved stock outline is not supported yet"));
+    assert!(err("[stock]\noutline = [[0, 0], [10, 0], [10, 5]]\nstick_out = 5\n")
+        .starts_with("part.job.toml:3:13: stock.stick_out: a stock with an `outline` takes its sizes from it"));
     assert!(err(&format!("[[tools]]\n{TOOL}[[tools]]\n{TOOL}"))
         .contains("tools[1].station: station 2 is already given by tools[0]"));
 }
@@ -291,4 +291,145 @@ fn a_catalogue_tool_builds_from_its_iso_codes() {
         "job",
     );
     assert!(l.is_ok(), "{:?}", l.err().map(|e| e.to_string()));
+}
+
+const FLANGE: &str =
+    "[stock]\noutline = [[0, -40], [20, -40], [20, 30], [40, 30], [40, 50], [15, 50], [15, 80], [0, 80]]\n";
+
+#[test]
+fn an_outline_stock_reads_into_its_bounding_bar_and_applies_as_an_outline() {
+    let l = layer(FLANGE, "j").unwrap();
+    let s = &l.stock.as_ref().unwrap().value;
+    assert!(s.outline.is_some() && !s.none);
+    assert_eq!((s.diameter, s.length, s.front, s.bore), (80.0, 120.0, Some(80.0), 0.0));
+    let out = apply(&Machine::builtin(), &EffectiveJob::merge([&l])).unwrap();
+    let st = out.stock.as_ref().unwrap();
+    assert_eq!(st.outline.as_ref().map(|o| o.points().len()), Some(8));
+    assert_eq!(out.program_zero_z, 80.0, "program zero follows the outline's front");
+    // An outline reaching into the jaws is the job's stock.outline.
+    let l = layer("[stock]\noutline = [[0, -40], [30, -40], [30, 50], [0, 50]]\n", "j").unwrap();
+    let e = apply(&Machine::builtin(), &EffectiveJob::merge([&l]))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("part.job.toml:2:11: stock.outline: the stock outline"),
+        "{e}"
+    );
+}
+
+#[test]
+fn an_outline_stock_is_refused_with_sizes_a_negative_radius_or_a_bad_shape() {
+    let e = err("[stock]\ndiameter = 40\noutline = [[0, 0], [10, 0], [10, 5], [0, 5]]\n");
+    assert!(
+        e.starts_with("part.job.toml:2:12: stock.diameter: a stock with an `outline`"),
+        "{e}"
+    );
+    let e = err("[stock]\noutline = [[0, 0], [10, 0], [10, 5], [-3, 5]]\n");
+    assert!(
+        e.starts_with("part.job.toml:2:38: stock.outline[3]: a stock outline is the revolved section"),
+        "{e}"
+    );
+    let e = err("[stock]\noutline = [[0, 0], [10, 5], [10, 0], [0, 5]]\n");
+    assert!(e.contains("stock.outline: invalid outline"), "{e}");
+}
+
+#[test]
+fn a_job_with_no_stock_removes_the_machines_and_keeps_its_program_zero() {
+    let l = layer("[stock]\nnone = true\n", "j").unwrap();
+    assert!(l.stock.as_ref().unwrap().value.none);
+    let m = Machine::builtin();
+    let out = apply(&m, &EffectiveJob::merge([&l])).unwrap();
+    assert!(out.stock.is_none());
+    assert_eq!(out.program_zero_z, m.program_zero_z);
+    // A later layer's stock replaces "none" as a whole, and "none" a lower layer's bar.
+    let bar = layer("[stock]\ndiameter = 30\nlength = 60\nstick_out = 50\n", "j").unwrap();
+    assert!(apply(&m, &EffectiveJob::merge([&l, &bar])).unwrap().stock.is_some());
+    assert!(apply(&m, &EffectiveJob::merge([&bar, &l])).unwrap().stock.is_none());
+    let e = err("[stock]\nnone = true\nlength = 3\n");
+    assert!(
+        e.starts_with("part.job.toml:3:10: stock.length: `none = true` means no stock"),
+        "{e}"
+    );
+    let e = err("[stock]\nnone = false\n");
+    assert!(
+        e.starts_with("part.job.toml:2:8: stock.none: `none = false` says nothing"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_spindle_start_speed_is_checked_against_the_machine_and_zero_stops_it() {
+    let m = Machine::builtin();
+    let l = layer("[spindle]\nstart_rpm = 800\n", "j").unwrap();
+    assert_eq!(apply(&m, &EffectiveJob::merge([&l])).unwrap().start_rpm, Some(800.0));
+    let fast = layer("[spindle]\nstart_rpm = 5000\n", "j").unwrap();
+    let e = apply(&m, &EffectiveJob::merge([&fast])).unwrap_err().to_string();
+    assert!(
+        e.starts_with("part.job.toml:2:13: spindle.start_rpm: start_rpm = 5000 is faster"),
+        "{e}"
+    );
+    let mut on = m.clone();
+    on.start_rpm = Some(500.0);
+    let stop = layer("[spindle]\nstart_rpm = 0\n", "j").unwrap();
+    assert_eq!(apply(&on, &EffectiveJob::merge([&stop])).unwrap().start_rpm, None);
+    assert!(err("[spindle]\nstart_rpm = -5\n").starts_with("part.job.toml:2:13: spindle.start_rpm:"));
+}
+
+#[test]
+fn manual_tool_changes_are_sorted_one_per_line_and_later_layers_win_by_line() {
+    let a = layer(
+        "[[tool_changes]]\nline = 20\nstation = 3\n[[tool_changes]]\nline = 8\nstation = 2\nnote = \"M0\"\n",
+        "a",
+    )
+    .unwrap();
+    let b = layer("[[tool_changes]]\nline = 20\nstation = 4\n", "b").unwrap();
+    let j = EffectiveJob::merge([&a, &b]);
+    let v: Vec<(u32, u32)> = j.tool_changes.iter().map(|c| c.value).collect();
+    assert_eq!(v, vec![(8, 2), (20, 4)]);
+    let out = apply(&Machine::builtin(), &j).unwrap();
+    assert_eq!(out.tool_changes, vec![(8, 2), (20, 4)]);
+    let e = err("[[tool_changes]]\nline = 8\nstation = 2\n[[tool_changes]]\nline = 8\nstation = 3\n");
+    assert!(
+        e.starts_with("part.job.toml:5:8: tool_changes[1].line: line 8 already has a tool change"),
+        "{e}"
+    );
+    let e = err("[[tool_changes]]\nline = 0\nstation = 2\n");
+    assert!(
+        e.starts_with("part.job.toml:2:8: tool_changes[0].line: 0 is not a line"),
+        "{e}"
+    );
+    let e = err("[[tool_changes]]\nline = 3\n");
+    assert!(
+        e.contains("tool_changes[0].station: missing required key `station`"),
+        "{e}"
+    );
+    let l = layer("[[tool_changes]]\nline = 3\nstation = 9\n", "j").unwrap();
+    let e = apply(&Machine::builtin(), &EffectiveJob::merge([&l]))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("tool_changes[0].station: station 9 holds no tool"), "{e}");
+}
+
+#[test]
+fn a_tailstock_z_moves_its_tip_there_and_diameter_mode_is_set() {
+    let m = crate::machine::from_toml(include_str!("../../machines/linuxcnc-small-lathe.toml"), "m").unwrap();
+    let before = *m.tailstock.as_ref().unwrap().aabb();
+    let l = layer("diameter_mode = true\n[tailstock]\nz = 150\n", "j").unwrap();
+    let out = apply(&m, &EffectiveJob::merge([&l])).unwrap();
+    let after = out.tailstock.as_ref().unwrap().aabb();
+    assert_eq!(after.min.y, 150.0);
+    assert_eq!(
+        after.max.y - after.min.y,
+        before.max.y - before.min.y,
+        "moved, not stretched"
+    );
+    assert_eq!((after.min.x, after.max.x), (before.min.x, before.max.x));
+    assert!(out.diameter_mode && !m.diameter_mode);
+    let e = apply(&Machine::builtin(), &EffectiveJob::merge([&l]))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("part.job.toml:3:5: tailstock.z: the machine has no tailstock to move"),
+        "{e}"
+    );
 }

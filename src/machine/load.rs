@@ -249,7 +249,8 @@ struct RawDoc {
     spindle: RawSpindle,
     chuck: Option<RawPart>,
     tailstock: Option<RawTailstock>,
-    stock: Option<RawStock>,
+    #[schemars(with = "Option<RawStock>")]
+    stock: Option<Spanned<RawStock>>,
     setup: Option<RawSetup>,
     turret: RawTurret,
     #[schemars(with = "Option<Vec<RawTool>>")]
@@ -418,6 +419,8 @@ struct RawAxis {
 struct RawSpindle {
     #[schemars(with = "f64")]
     max_rpm: Num,
+    #[schemars(with = "Option<f64>")]
+    start_rpm: Option<Num>,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -432,14 +435,16 @@ struct RawPart {
 #[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawStock {
-    #[schemars(with = "f64")]
-    diameter: Num,
-    #[schemars(with = "f64")]
-    length: Num,
-    #[schemars(with = "f64")]
-    front: Num,
+    #[schemars(with = "Option<f64>")]
+    diameter: Option<Num>,
+    #[schemars(with = "Option<f64>")]
+    length: Option<Num>,
+    #[schemars(with = "Option<f64>")]
+    front: Option<Num>,
     #[schemars(with = "Option<f64>")]
     bore: Option<Num>,
+    #[schemars(with = "Option<Vec<[f64; 2]>>")]
+    outline: Option<Outline>,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -666,6 +671,35 @@ impl Cx<'_> {
                 format!("a point is [x, z]: expected 2 numbers, found {}", v.len()),
             )),
         }
+    }
+
+    /// A revolved stock outline (`stock.outline`): a simple outline of at most
+    /// [`MAX_OUTLINE_POINTS`] points in the half plane x ≥ 0, with some material off the axis.
+    pub(crate) fn stock_outline(&self, key: &str, o: &Outline) -> Result<Polygon, MachineError> {
+        if o.get_ref().len() > MAX_OUTLINE_POINTS {
+            return Err(self.err(
+                o.span(),
+                key,
+                format!("too many points; an outline may have at most {MAX_OUTLINE_POINTS}"),
+            ));
+        }
+        let poly = self.outline(key, o)?;
+        if let Some((i, p)) = o
+            .get_ref()
+            .iter()
+            .enumerate()
+            .find(|(_, p)| p.get_ref().first().is_some_and(|&x| x < 0.0))
+        {
+            return Err(self.err(
+                p.span(),
+                format!("{key}[{i}]"),
+                "a stock outline is the revolved section: its x (radius) must be 0 or more",
+            ));
+        }
+        if poly.aabb().max.x <= 0.0 {
+            return Err(self.err(o.span(), key, "the outline has no material off the axis"));
+        }
+        Ok(poly)
     }
 
     pub(crate) fn outline(&self, key: &str, o: &Outline) -> Result<Polygon, MachineError> {
@@ -926,6 +960,24 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         ),
         _ => {}
     }
+    let start_rpm = match (&spindle.start_rpm, max_rpm) {
+        (None, _) => Some(None),
+        (Some(v), max) => match cx.keep(cx.within("spindle.start_rpm", v, MAX_RPM_RANGE, "rpm")) {
+            Some(r) if max.is_some_and(|m| r > m) => {
+                cx.push(cx.err(
+                    v.span(),
+                    "spindle.start_rpm",
+                    format!(
+                        "start_rpm = {} is faster than max_rpm = {}",
+                        show(r),
+                        show(max.unwrap_or(0.0))
+                    ),
+                ));
+                None
+            }
+            r => r.map(Some),
+        },
+    };
 
     let tailstock_advanced = tailstock.as_ref().and_then(|t| t.advanced).unwrap_or(true);
     let mcodes_linuxcnc = if auto {
@@ -937,20 +989,53 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
 
     // [stock]
     let raw_stock = stock;
-    let stock = match &raw_stock {
+    let stock = match raw_stock.as_ref().map(|s| (s.span(), s.get_ref())) {
         None => Some(None),
-        Some(s) => {
-            let diameter = cx.keep(cx.length("stock.diameter", &s.diameter));
-            let length = cx.keep(cx.length("stock.length", &s.length));
-            let front = cx.keep(cx.coord("stock.front", &s.front));
+        Some((_, s)) if s.outline.is_some() => {
+            let mut ok = true;
+            for (k, v) in [
+                ("diameter", s.diameter.as_ref()),
+                ("length", s.length.as_ref()),
+                ("front", s.front.as_ref()),
+                ("bore", s.bore.as_ref()),
+            ] {
+                if let Some(v) = v {
+                    cx.push(cx.err(
+                        v.span(),
+                        format!("stock.{k}"),
+                        "a stock with an `outline` takes its sizes from it: give the outline or diameter, length and front, not both",
+                    ));
+                    ok = false;
+                }
+            }
+            let o = s
+                .outline
+                .as_ref()
+                .and_then(|o| cx.keep(cx.stock_outline("stock.outline", o)));
+            o.filter(|_| ok).map(|o| Some(Stock::from_outline(o)))
+        }
+        Some((table, s)) => {
+            for (k, v) in [("diameter", &s.diameter), ("length", &s.length), ("front", &s.front)] {
+                if v.is_none() {
+                    cx.push(cx.err(
+                        table.clone(),
+                        format!("stock.{k}"),
+                        format!("missing required key `{k}` (or give a revolved `outline` instead)"),
+                    ));
+                }
+            }
+            let (rd, rl, rf) = (s.diameter.as_ref(), s.length.as_ref(), s.front.as_ref());
+            let diameter = rd.and_then(|v| cx.keep(cx.length("stock.diameter", v)));
+            let length = rl.and_then(|v| cx.keep(cx.length("stock.length", v)));
+            let front = rf.and_then(|v| cx.keep(cx.coord("stock.front", v)));
             let bore = match &s.bore {
                 None => Some(0.0),
                 Some(b) => cx.keep(cx.non_negative("stock.bore", b)),
             };
-            if let (Some(front), Some(length)) = (front, length) {
+            if let (Some(front), Some(length), Some(rl)) = (front, length, rl) {
                 if front - length < -MAX_COORD_MM {
                     cx.push(cx.err(
-                        s.length.span(),
+                        rl.span(),
                         "stock.length",
                         format!(
                             "the bar's back end (front − length = {}) is out of range: coordinates must be from {} to {} mm",
@@ -976,12 +1061,9 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
                 }
             }
             match (diameter, length, front, bore) {
-                (Some(diameter), Some(length), Some(front), Some(bore)) => Some(Some(Stock {
-                    diameter,
-                    length,
-                    front,
-                    bore,
-                })),
+                (Some(diameter), Some(length), Some(front), Some(bore)) => {
+                    Some(Some(Stock::bar(diameter, length, front, bore)))
+                }
                 _ => None,
             }
         }
@@ -1151,6 +1233,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         Some(machine_zero),
         Some(reference_points),
         Some(max_rpm),
+        Some(start_rpm),
         Some(mcodes),
         Some(stock),
         Some(program_zero_z),
@@ -1166,6 +1249,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         machine_zero,
         reference_points,
         max_rpm,
+        start_rpm,
         mcodes,
         stock,
         program_zero_z,
@@ -1204,6 +1288,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         machine_zero,
         reference_points,
         max_rpm,
+        start_rpm,
         chuck,
         tailstock,
         tailstock_advanced,
@@ -1219,6 +1304,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
             outline: turret_outline,
         },
         tools: out,
+        tool_changes: Vec::new(),
         auto_dialect: None,
         warnings: Vec::new(),
     };
@@ -1245,7 +1331,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
     };
     clear_at_home(cx, &machine, &turret.outline, &tools);
     if let (Some(s), Some(raw)) = (&machine.stock, &raw_stock) {
-        cx.keep(stock_fits_chuck(cx, &machine, s, raw));
+        cx.keep(stock_fits_chuck(cx, &machine, s, raw.get_ref()));
     }
     if let Some(e) = cx.kept() {
         return Err(e);
@@ -1583,6 +1669,8 @@ fn clear_at_home(cx: &Cx<'_>, machine: &Machine, turret_outline: &Outline, raw_t
 pub(crate) enum StockKey {
     Length,
     Diameter,
+    /// A revolved outline overlaps the chuck.
+    Outline,
 }
 
 /// The stock (a bar or tube from `front − length` to `front`, radius `diameter / 2`, bore
@@ -1594,6 +1682,18 @@ pub(crate) enum StockKey {
 pub(crate) fn stock_clash(machine: &Machine, stock: &Stock) -> Option<(StockKey, String)> {
     use crate::geom::overlap;
     let chuck = machine.chuck.as_ref()?;
+    if let Some(o) = &stock.outline {
+        let d = overlap(o, chuck)?;
+        return Some((
+            StockKey::Outline,
+            format!(
+                "the stock outline (Ø{} max, z {} .. {}) overlaps the chuck by {d:.3} mm: the jaws grip it where their faces touch it, they cannot reach into it",
+                show(stock.diameter),
+                show(stock.front - stock.length),
+                show(stock.front)
+            ),
+        ));
+    }
     let (r_in, r_out) = (stock.bore / 2.0, stock.diameter / 2.0);
     let (back, front) = (stock.front - stock.length, stock.front);
     let rect = |x0: f64, x1: f64| Polygon::new(&[p2(x0, back), p2(x1, back), p2(x1, front), p2(x0, front)]).ok();
@@ -1621,10 +1721,14 @@ pub(crate) fn stock_clash(machine: &Machine, stock: &Stock) -> Option<(StockKey,
 }
 
 fn stock_fits_chuck(cx: &Cx<'_>, machine: &Machine, stock: &Stock, raw: &RawStock) -> Result<(), MachineError> {
+    let span = |v: &Option<Num>| v.as_ref().map_or(0..0, |v| v.span());
     match stock_clash(machine, stock) {
         None => Ok(()),
-        Some((StockKey::Length, m)) => Err(cx.err(raw.length.span(), "stock.length", m)),
-        Some((StockKey::Diameter, m)) => Err(cx.err(raw.diameter.span(), "stock.diameter", m)),
+        Some((StockKey::Outline, m)) => {
+            Err(cx.err(raw.outline.as_ref().map_or(0..0, |o| o.span()), "stock.outline", m))
+        }
+        Some((StockKey::Length, m)) => Err(cx.err(span(&raw.length), "stock.length", m)),
+        Some((StockKey::Diameter, m)) => Err(cx.err(span(&raw.diameter), "stock.diameter", m)),
     }
 }
 

@@ -142,6 +142,52 @@ pub struct Stock {
     pub front: f64,
     /// Inner diameter of a tube; 0 for a bar.
     pub bore: f64,
+    /// A revolved outline (a casting, a forging, a part for its second operation) in the half
+    /// plane x ≥ 0: the material is this outline, and `diameter`, `length`, `front` (with `bore`
+    /// 0) are its bounding bar. None: a bar or tube.
+    pub outline: Option<Polygon>,
+}
+
+impl Stock {
+    /// A bar (`bore` 0) or a tube.
+    pub fn bar(diameter: f64, length: f64, front: f64, bore: f64) -> Stock {
+        Stock {
+            diameter,
+            length,
+            front,
+            bore,
+            outline: None,
+        }
+    }
+
+    /// A revolved outline (x ≥ 0), with its bounding bar.
+    pub fn from_outline(outline: Polygon) -> Stock {
+        let b = outline.aabb();
+        Stock {
+            diameter: 2.0 * b.max.x,
+            length: b.max.y - b.min.y,
+            front: b.max.y,
+            bore: 0.0,
+            outline: Some(outline),
+        }
+    }
+
+    /// The stock's section in the half plane x ≥ 0 as `[x, z]` points (the outline, or the
+    /// bar's rectangle): what a picture or `--stock-out` shows before any cut.
+    pub fn section(&self) -> Vec<[f64; 2]> {
+        match &self.outline {
+            Some(o) => o.points().iter().map(|p| [p.x, p.y]).collect(),
+            None => {
+                let (z0, z1, r0, r1) = (
+                    self.front - self.length,
+                    self.front,
+                    self.bore / 2.0,
+                    self.diameter / 2.0,
+                );
+                vec![[r0, z0], [r1, z0], [r1, z1], [r0, z1]]
+            }
+        }
+    }
 }
 
 /// How the tools are carried (`turret.type`).
@@ -239,6 +285,9 @@ pub struct Machine {
     /// mm), where Fanuc G30 P2/P3/P4 returns; a point not given is home.
     pub reference_points: Vec<P2>,
     pub max_rpm: f64,
+    /// The spindle turns forward at this speed from program start, as if M3 S… came before the
+    /// first line (`spindle.start_rpm`: a manual lathe switched on by hand). None: stopped.
+    pub start_rpm: Option<f64>,
     /// Revolved outline in the half plane x ≥ 0.
     pub chuck: Option<Polygon>,
     pub tailstock: Option<Polygon>,
@@ -252,6 +301,10 @@ pub struct Machine {
     pub turret: Turret,
     /// Sorted by station.
     pub tools: Vec<Tool>,
+    /// Manual tool changes of a job (`[[tool_changes]]`): `(line, station)`, sorted by line, at
+    /// most one per line. Each time the block at that line runs, the operator has put the tool
+    /// of that station in, as a T word would have switched to it, before the block's words.
+    pub tool_changes: Vec<(u32, u32)>,
     /// `machine.dialect = "auto"`: the settings of each dialect, one of which
     /// [`Machine::with_dialect`] applies per program (the fields above hold Fanuc's).
     pub auto_dialect: Option<Box<AutoDialect>>,
@@ -341,7 +394,19 @@ impl Machine {
             let (x, z) = (self.machine_zero.x, self.machine_zero.y);
             let _ = writeln!(s, "  G53 zero    x {}, z {}", num(x), num(z));
         }
-        let _ = writeln!(s, "  spindle     up to {} rpm", num(self.max_rpm));
+        match self.start_rpm {
+            Some(r) => {
+                let _ = writeln!(
+                    s,
+                    "  spindle     up to {} rpm, turning at {} rpm from program start",
+                    num(self.max_rpm),
+                    num(r)
+                );
+            }
+            None => {
+                let _ = writeln!(s, "  spindle     up to {} rpm", num(self.max_rpm));
+            }
+        }
         for (name, part) in [("chuck", &self.chuck), ("tailstock", &self.tailstock)] {
             let text = match part {
                 None => "none".to_string(),
@@ -378,6 +443,13 @@ impl Machine {
         let _ = writeln!(s, "  M codes     {}", codes.join(", "));
         let stock = match &self.stock {
             None => "none".to_string(),
+            Some(st) if st.outline.is_some() => format!(
+                "revolved outline, Ø{} max × {} mm, z {} .. {}",
+                num(st.diameter),
+                num(st.length),
+                num(st.front - st.length),
+                num(st.front)
+            ),
             Some(st) => {
                 let kind = if st.bore > 0.0 {
                     format!("tube Ø{}/Ø{}", num(st.diameter), num(st.bore))

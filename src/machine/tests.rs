@@ -123,15 +123,7 @@ fn builtin_machine_loads_with_eight_tools_in_stations_1_to_8() {
         m.tools.iter().map(|t| t.station).collect::<Vec<_>>(),
         (1..=8).collect::<Vec<_>>()
     );
-    assert_eq!(
-        m.stock,
-        Some(Stock {
-            diameter: 50.0,
-            length: 120.0,
-            front: 80.0,
-            bore: 0.0
-        })
-    );
+    assert_eq!(m.stock, Some(Stock::bar(50.0, 120.0, 80.0, 0.0)));
     assert_eq!(m.program_zero_z, 78.0);
     assert!(m.chuck.is_some());
     assert!(m.tailstock.is_none());
@@ -1380,4 +1372,76 @@ fn a_drum_turret_needs_its_axis_and_a_gang_slide_does_not() {
     assert_eq!(e.key, "turret.axis", "{e}");
     let gang = no_axis.replace("[turret]\n", "[turret]\ntype = \"gang\"\n");
     assert!(from_toml(&gang, "m").is_ok());
+}
+
+// Issue 13 item 1: a revolved-outline stock and a spindle running from program start.
+
+const FLANGE_STOCK: &str =
+    "[stock]\noutline = [[0, -40], [20, -40], [20, 30], [40, 30], [40, 50], [15, 50], [15, 80], [0, 80]]\n";
+
+#[test]
+fn a_machine_stock_may_be_a_revolved_outline_with_its_bounding_bar() {
+    let text = edit(
+        MINI,
+        "[stock]\ndiameter = 50.0\nlength = 120.0\nfront = 80.0\n",
+        FLANGE_STOCK,
+    );
+    let m = load(&text).unwrap();
+    let s = m.stock.as_ref().unwrap();
+    assert_eq!((s.diameter, s.length, s.front, s.bore), (80.0, 120.0, 80.0, 0.0));
+    assert_eq!(s.outline.as_ref().map(|o| o.points().len()), Some(8));
+    assert_eq!(m.program_zero_z, 80.0);
+    assert!(m
+        .describe()
+        .contains("stock       revolved outline, Ø80 max × 120 mm, z -40 .. 80"));
+    assert_eq!(s.section().len(), 8);
+}
+
+#[test]
+fn a_machine_stock_outline_is_refused_with_sizes_in_the_jaws_or_left_of_the_axis() {
+    let both = edit(MINI, "[stock]\n", FLANGE_STOCK);
+    let e = refused(&both);
+    assert!(
+        e.to_string().contains("stock.diameter: a stock with an `outline`"),
+        "{e}"
+    );
+    let text = edit(
+        MINI,
+        "[stock]\ndiameter = 50.0\nlength = 120.0\nfront = 80.0\n",
+        "[stock]\noutline = [[0, -40], [30, -40], [30, 50], [0, 50]]\n",
+    );
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "outline = [[0, -40]"), "stock.outline");
+    assert!(
+        e.to_string()
+            .contains("the stock outline (Ø60 max, z -40 .. 50) overlaps the chuck"),
+        "{e}"
+    );
+    let text = edit(
+        MINI,
+        "[stock]\ndiameter = 50.0\nlength = 120.0\nfront = 80.0\n",
+        "[stock]\noutline = [[-1, 0], [20, 0], [20, 50], [0, 50]]\n",
+    );
+    assert_at(&refused(&text), line_of(&text, "outline = [[-1"), "stock.outline[0]");
+    // Without an outline, a bar needs all three sizes: the missing one is named at [stock].
+    let text = edit(MINI, "length = 120.0\n", "");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "[stock]"), "stock.length");
+}
+
+#[test]
+fn a_spindle_start_speed_is_read_and_may_not_exceed_max_rpm() {
+    let m = load(&edit(
+        MINI,
+        "max_rpm = 4000.0\n",
+        "max_rpm = 4000.0\nstart_rpm = 1200\n",
+    ))
+    .unwrap();
+    assert_eq!(m.start_rpm, Some(1200.0));
+    assert!(m.describe().contains("turning at 1200 rpm from program start"));
+    assert_eq!(load(MINI).unwrap().start_rpm, None);
+    let text = edit(MINI, "max_rpm = 4000.0\n", "max_rpm = 4000.0\nstart_rpm = 5000\n");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "start_rpm"), "spindle.start_rpm");
+    assert!(e.to_string().contains("faster than max_rpm = 4000"), "{e}");
 }

@@ -139,6 +139,42 @@ impl DexelStock {
         s
     }
 
+    /// A revolved outline (points `(x, z)` with x ≥ 0, a simple polygon) from its smallest to
+    /// its largest z, columns of width about `h`: each column's material is the outline's radial
+    /// intervals on the plane through the column's centre, found with the crossings a cut uses
+    /// (same half-open rule, same arithmetic), so cutting along the outline leaves a touch.
+    pub fn from_outline(outline: &[P2], h: f64) -> DexelStock {
+        let bb = Aabb::of_points(outline);
+        let length = (bb.max.y - bb.min.y).max(f64::MIN_POSITIVE);
+        let mut s = DexelStock::new(0.0, 0.0, length, bb.min.y + length, h);
+        let n = s.cols.len();
+        for c in &mut s.cols {
+            c.iv.clear();
+        }
+        if s.crossings(outline, 0, n - 1).is_some() {
+            let scratch = std::mem::take(&mut s.scratch);
+            for pair in scratch.chunks_exact(2) {
+                if pair[0].0 != pair[1].0 {
+                    continue;
+                }
+                let (r0, r1) = radial_range(pair[0].1, pair[1].1);
+                let iv = &mut s.cols[pair[0].0 as usize].iv;
+                match iv.last_mut() {
+                    // Two spans that meet are one piece of material.
+                    Some(last) if last.1 >= r0 => last.1 = last.1.max(r1),
+                    _ if r1 > r0 => iv.push((r0, r1)),
+                    _ => {}
+                }
+            }
+            s.scratch = scratch;
+        }
+        s.removed_columns = s.cols.iter().filter(|c| c.iv.is_empty()).count();
+        for b in 0..s.blk_max.len() {
+            s.refresh_block(b);
+        }
+        s
+    }
+
     pub fn column_width(&self) -> f64 {
         self.h
     }
@@ -1133,5 +1169,126 @@ mod tests {
         let mut s = DexelStock::new(50.0, 0.0, 100.0, 0.0, 0.01);
         assert!(s.overlap(&rect(25.0, -50.0, 40.0, -40.0), 1e-6).is_none());
         assert!(s.overlap(&rect(24.999, -50.0, 40.0, -40.0), 1e-6).is_some());
+    }
+
+    /// The second operation's flanged part: shank r 20 (z -40 .. 30), flange r 40 (30 .. 50),
+    /// boss r 15 (50 .. 80).
+    fn flange() -> Vec<P2> {
+        [
+            [0.0, -40.0],
+            [20.0, -40.0],
+            [20.0, 30.0],
+            [40.0, 30.0],
+            [40.0, 50.0],
+            [15.0, 50.0],
+            [15.0, 80.0],
+            [0.0, 80.0],
+        ]
+        .iter()
+        .map(|&[x, z]| p2(x, z))
+        .collect()
+    }
+
+    #[test]
+    fn an_outline_stock_holds_the_outlines_radii_at_each_column_centre() {
+        let s = DexelStock::from_outline(&flange(), 0.1);
+        assert_eq!(s.material_at(-39.95), vec![(0.0, 20.0)]);
+        assert_eq!(s.material_at(10.0), vec![(0.0, 20.0)]);
+        assert_eq!(s.material_at(40.0), vec![(0.0, 40.0)]);
+        assert_eq!(s.material_at(65.0), vec![(0.0, 15.0)]);
+        assert_eq!(s.material_at(79.95), vec![(0.0, 15.0)]);
+        assert!(s.material_at(80.5).is_empty() && s.material_at(-40.5).is_empty());
+        let area = 20.0 * 70.0 + 40.0 * 20.0 + 15.0 * 30.0;
+        assert!((s.section_area() - area).abs() < 1e-6 * area, "{}", s.section_area());
+        // Its traced outline encloses the same area.
+        let o = s.outlines(0.01);
+        assert_eq!(o.len(), 1, "{o:?}");
+        assert!((shoelace(&o[0]).abs() - area).abs() < 0.01 * area);
+    }
+
+    #[test]
+    fn an_outline_stock_keeps_each_radial_layer_of_a_column() {
+        // A section with a slot open toward -z inside it: two layers between z 10 and 40.
+        let u: Vec<P2> = [
+            [0.0, 0.0],
+            [30.0, 0.0],
+            [30.0, 40.0],
+            [25.0, 40.0],
+            [25.0, 10.0],
+            [5.0, 10.0],
+            [5.0, 40.0],
+            [0.0, 40.0],
+        ]
+        .iter()
+        .map(|&[x, z]| p2(x, z))
+        .collect();
+        let s = DexelStock::from_outline(&u, 0.5);
+        assert_eq!(s.material_at(5.0), vec![(0.0, 30.0)]);
+        assert_eq!(s.material_at(20.0), vec![(0.0, 5.0), (25.0, 30.0)]);
+        // A ring: a tube given as an outline is the same as the tube.
+        let ring = rect(10.0, 0.0, 20.0, 50.0);
+        let a = DexelStock::from_outline(&ring, 0.5);
+        let b = DexelStock::new(40.0, 20.0, 50.0, 50.0, 0.5);
+        assert_eq!(a.columns(), b.columns());
+        for j in 0..a.columns() {
+            assert_eq!(a.cols[j], b.cols[j], "column {j}");
+        }
+        assert_eq!(a.blk_max, b.blk_max);
+        assert_eq!(a.blk_min, b.blk_min);
+    }
+
+    #[test]
+    fn a_part_on_an_outline_stocks_surface_touches_and_one_inside_overlaps() {
+        let mut s = DexelStock::from_outline(&flange(), 0.05);
+        // On the boss (r 15) and on the flange's face (z 50) from outside: touches.
+        assert!(s.overlap(&rect(15.0, 60.0, 30.0, 70.0), 1e-6).is_none());
+        assert!(s.overlap(&rect(41.0, 35.0, 60.0, 45.0), 1e-6).is_none());
+        assert!(s.overlap(&rect(14.9, 60.0, 30.0, 70.0), 1e-6).is_some());
+        assert!(s.overlap(&rect(35.0, 35.0, 60.0, 45.0), 1e-6).is_some());
+        // Cutting the flange down to r 30 and re-entering that pose is a touch, as with a bar.
+        let tool = rect(30.0, 29.0, 45.0, 51.0);
+        assert!(s.cut(&tool));
+        assert!(s.overlap(&tool, 1e-6).is_none());
+        assert_eq!(s.material_at(40.0), vec![(0.0, 30.0)]);
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(200))]
+
+        /// A turned profile (radii at increasing z, closed along the axis) as an outline stock:
+        /// every column holds exactly `(0, r(c))`, r interpolated on the profile at its centre.
+        #[test]
+        fn an_outline_stocks_columns_hold_the_profile_at_their_centres(
+            radii in proptest::collection::vec(1.0f64..60.0, 2..12),
+            steps in proptest::collection::vec(0.5f64..20.0, 2..12),
+            h in 0.2f64..2.0,
+            z0 in -50.0f64..50.0,
+        ) {
+            let n = radii.len().min(steps.len());
+            let mut profile = Vec::with_capacity(n);
+            let mut z = z0;
+            for k in 0..n {
+                profile.push(p2(radii[k], z));
+                z += steps[k];
+            }
+            let mut outline = vec![p2(0.0, z0)];
+            outline.extend(profile.iter().copied());
+            outline.push(p2(0.0, profile[n - 1].y));
+            let s = DexelStock::from_outline(&outline, h);
+            for j in 0..s.columns() {
+                let c = s.center(j);
+                let seg = profile.windows(2).find(|w| w[0].y <= c && c < w[1].y);
+                let want = seg.map(|w| w[0].x + (w[1].x - w[0].x) * ((c - w[0].y) / (w[1].y - w[0].y)));
+                match want {
+                    Some(r) => {
+                        proptest::prop_assert_eq!(s.cols[j].iv.len(), 1, "column {} at {}", j, c);
+                        let (lo, hi) = s.cols[j].iv[0];
+                        proptest::prop_assert_eq!(lo, 0.0);
+                        proptest::prop_assert!((hi - r).abs() <= 1e-9 * r.max(1.0), "{} vs {}", hi, r);
+                    }
+                    None => proptest::prop_assert!(s.cols[j].iv.is_empty()),
+                }
+            }
+        }
     }
 }
