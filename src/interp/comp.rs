@@ -212,6 +212,22 @@ impl Comp {
         self.side.is_some()
     }
 
+    /// Compensation is on with a nose radius: moves are offset.
+    pub(crate) fn offsets(&self) -> bool {
+        self.side.is_some() && self.radius > 0.0
+    }
+
+    /// rs274ngc reads a G70's profile (after the cycle block's own move) by setting its current
+    /// point to the end of each profile block; under compensation its current point is the
+    /// nose centre, so the cycle's next move takes its corner (and, when that move goes nowhere,
+    /// its end) from the profile's last point `p` (spindle frame) as though the nose stood
+    /// there. The moves that wait keep their ends.
+    pub(crate) fn profile_read(&mut self, p: P2) {
+        if self.offsets() && !self.first && self.style == Style::Rs274 {
+            self.cur = pl(p);
+        }
+    }
+
     /// Moves must come through the stage: compensation is on, moves wait, or the next move
     /// starts where a cancelled compensation left the tool.
     pub(crate) fn engaged(&self) -> bool {
