@@ -733,15 +733,7 @@ pub(crate) struct CompRead {
 /// A straight move of the cycle; with `keep` also one that goes nowhere (the compensation stage
 /// takes it, as rs274's does: it can move the nose).
 #[allow(clippy::too_many_arguments)]
-fn straight(
-    run: &mut Run<'_>,
-    b: &Block,
-    kind: MoveKind,
-    end: P2,
-    f: crate::interp::Feed,
-    line: u32,
-    keep: bool,
-) {
+fn straight(run: &mut Run<'_>, b: &Block, kind: MoveKind, end: P2, f: crate::interp::Feed, line: u32, keep: bool) {
     let start = run.programmed();
     if keep && (end - start).norm() < 1e-9 {
         run.push_move(b, kind, start, start, f);
