@@ -422,15 +422,11 @@ fn assemble(defaults: Defaults, jobs: &[Job], files: Vec<FileReport>) -> Report 
 /// pages), else the package's repository (`Cargo.toml` `repository`) + `/blob/main/docs/findings`,
 /// else none.
 fn docs_url() -> Option<String> {
-    let from_env = std::env::var("LATHEGUARD_DOCS_URL")
-        .ok()
-        .filter(|u| !u.trim().is_empty());
+    let from_env = std::env::var("LATHEGUARD_DOCS_URL").ok().filter(|u| !u.trim().is_empty());
     let from_package = option_env!("CARGO_PKG_REPOSITORY")
         .filter(|r| !r.is_empty())
         .map(|r| format!("{}/blob/main/docs/findings", r.trim_end_matches('/')));
-    from_env
-        .or(from_package)
-        .map(|u| u.trim().trim_end_matches('/').to_string())
+    from_env.or(from_package).map(|u| u.trim().trim_end_matches('/').to_string())
 }
 
 /// Drop the snapshots beyond [`MAX_PICTURES_PER_FILE`] of a file and [`MAX_PICTURES`] in all
