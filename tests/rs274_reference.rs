@@ -39,10 +39,6 @@ const TOL: f64 = 1e-4 + 1e-9;
 /// Programs whose motion differs from rs274's, and why. Keys are paths relative to `../shared`.
 const KNOWN: &[(&str, &str)] = &[
     (
-        "corpus/linuxcnc-nc_files/lathe_g70_71_demo.ngc",
-        "its G71.1 and G71.2 passes and the G70 passes equal rs274 (the same pawn as g71-with-g70, which agrees move for move); the G70 here runs under G42.1 D0.3, and rs274 enters that compensation with two rapids of its own, to X14.7 Z2.891 and to X14.85 Z-38.25, before the first pass, where latheguard's compensation (src/interp/comp.rs, not the cycle) makes one to X14.7 Z2.741; every move after that entry is equal",
-    ),
-    (
         "corpus/linuxcnc-interp/m98m99-01-basics/test.ngc",
         "written for a mill: no plane selected, so rs274 (no INI) drills along Z in its default G17; latheguard's LinuxCNC lathe starts in G18, as lathe configurations set it, where G81 drills along Y (refused)",
     ),

@@ -495,9 +495,23 @@ impl Run<'_> {
             self.modal.motion = None;
             return true;
         }
-        comp.flush(&mut self.moves);
+        // rs274 keeps the moves that wait for their corner across a G70: its first move settles it.
+        let lcnc_g70 = code == 700 && self.machine.dialect == Dialect::Linuxcnc && comp.offsets();
+        if !lcnc_g70 {
+            comp.flush(&mut self.moves);
+        }
         let m0 = self.moves.len();
+        if lcnc_g70 {
+            self.cycles.lcnc_g70_comp = Some(Default::default());
+        }
         let ran = super::cycles::run(self, b, w, code, at);
+        // Where rs274 read the profile, as an index into the cycle's moves.
+        let read = self
+            .cycles
+            .lcnc_g70_comp
+            .take()
+            .and_then(|c| c.read)
+            .and_then(|(i, p)| i.checked_sub(m0).map(|k| (k, p)));
         if !comp.is_on() && ran && m0 < self.moves.len() {
             // After G40 the cycle's first move starts where compensation left the tool.
             if let Some(p) = comp.take_resume() {
@@ -511,7 +525,10 @@ impl Run<'_> {
             if code == 700 {
                 let made: Vec<Move> = self.moves.drain(m0..).collect();
                 let mut failed = None;
-                for m in made {
+                for (k, m) in made.into_iter().enumerate() {
+                    if let Some((_, p)) = read.filter(|&(i, _)| i == k) {
+                        comp.profile_read(p);
+                    }
                     if failed.is_none() {
                         if let Err(msg) = comp.take(m, &mut self.moves) {
                             comp.abandon(&mut self.moves);

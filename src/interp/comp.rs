@@ -212,6 +212,22 @@ impl Comp {
         self.side.is_some()
     }
 
+    /// Compensation is on with a nose radius: moves are offset.
+    pub(crate) fn offsets(&self) -> bool {
+        self.side.is_some() && self.radius > 0.0
+    }
+
+    /// rs274ngc reads a G70's profile (after the cycle block's own move) by setting its current
+    /// point to the end of each profile block; under compensation its current point is the
+    /// nose centre, so the cycle's next move takes its corner (and, when that move goes nowhere,
+    /// its end) from the profile's last point `p` (spindle frame) as though the nose stood
+    /// there. The moves that wait keep their ends.
+    pub(crate) fn profile_read(&mut self, p: P2) {
+        if self.offsets() && !self.first && self.style == Style::Rs274 {
+            self.cur = pl(p);
+        }
+    }
+
     /// Moves must come through the stage: compensation is on, moves wait, or the next move
     /// starts where a cancelled compensation left the tool.
     pub(crate) fn engaged(&self) -> bool {
@@ -912,6 +928,46 @@ mod tests {
         c.off(&mut out).unwrap();
         c.flush(&mut out);
         out
+    }
+
+    /// rs274's G70 under G42 (lathe_g70_71_demo.ngc, worked by hand with r 0.8, no tip): the
+    /// cycle block's rapid from X15 Z-25 to X15 Z3 is the entry (nose centre at X14.2 Z3); reading
+    /// the profile puts rs274's current point at the profile's end X15 Z-20; the first pass's rapid
+    /// to the start point, which goes nowhere as programmed, takes the nose there, and the rapid
+    /// toward the axis then runs straight on from it (no corner), so the entry keeps its end.
+    /// Without the reading the rapid toward the axis would make an inside corner at Z2.2.
+    #[test]
+    fn a_g70_profile_read_moves_the_nose_to_the_profile_end() {
+        let moves = [
+            mv(MoveKind::Rapid, (15.0, -25.0), (15.0, 3.0), 1),
+            mv(MoveKind::Rapid, (15.0, 3.0), (15.0, 3.0), 1),
+            mv(MoveKind::Rapid, (15.0, 3.0), (5.0, 3.0), 1),
+        ];
+        let ends = |read: bool, style: Style| {
+            let mut c = Comp::new();
+            c.on(Side::Right, R, V2::zeros(), style, 1.0).unwrap();
+            let mut out = Vec::new();
+            for (k, m) in moves.iter().enumerate() {
+                if read && k == 1 {
+                    c.profile_read(P2::new(15.0, -20.0));
+                }
+                c.take(*m, &mut out).unwrap();
+            }
+            c.off(&mut out).unwrap();
+            c.flush(&mut out);
+            out.iter().map(|m| m.end).collect::<Vec<_>>()
+        };
+        let e = ends(true, Style::Rs274);
+        assert_eq!(e.len(), 3, "{e:?}");
+        assert!(close(e[0], 14.2, 3.0), "{e:?}");
+        assert!(close(e[1], 15.0, -20.0), "{e:?}");
+        assert!(close(e[2], 5.0, 2.2), "{e:?}");
+        // Without the reading: an inside corner where the offsets meet, the nose never behind Z0.
+        let e = ends(false, Style::Rs274);
+        assert!(close(e[0], 14.2, 2.2), "{e:?}");
+        assert!(e.iter().all(|p| p.y > 0.0), "{e:?}");
+        // A Fanuc G70 reads no profile so: the reading changes nothing there.
+        assert_eq!(ends(true, Style::Fanuc), ends(false, Style::Fanuc));
     }
 
     #[test]

@@ -98,6 +98,10 @@ pub(crate) struct Memory {
     pub lcnc: super::lcnc_drill::LcncMemory,
     /// While a LinuxCNC G7x profile runs: the A (fillet) and C (chamfer) words of its moves.
     pub profile_corners: Option<Vec<super::lcnc_rough::Corner>>,
+    /// A LinuxCNC G70 running while nose-radius compensation offsets (set by the block
+    /// executor): the cycle keeps its moves that go nowhere and says where rs274 re-read the
+    /// profile (`lcnc_rough::CompRead`).
+    pub lcnc_g70_comp: Option<super::lcnc_rough::CompRead>,
 }
 
 /// The block with N number `n`: the first one after block `from`, else the first in the file.

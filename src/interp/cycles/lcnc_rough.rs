@@ -12,7 +12,7 @@
 #[path = "lcnc_g7x.rs"]
 mod g7x;
 
-use super::common::{emit, feed, rapid, Mark, Seg, MAX_PASSES};
+use super::common::{emit, feed, Mark, Seg, MAX_PASSES};
 use crate::gcode::{Block, OName};
 use crate::geom::{P2, V2};
 use crate::interp::block::Words;
@@ -538,8 +538,17 @@ fn expand(
     start: P2,
 ) -> Option<Motion> {
     let at_o = (at > 0).then_some(at);
-    rapid(run, b, start);
+    // Under compensation (G70 only: rs274 refuses the others) every straight move goes to the
+    // compensation stage, those that go nowhere too, as rs274 hands them to its own.
+    let keep = run.cycles.lcnc_g70_comp.is_some();
+    straight(run, b, MoveKind::Rapid, start, crate::interp::Feed::Rapid, 0, keep);
     let (mut segs, corners, motion) = trace(run, b, OName::Number(q as u32), at, name)?;
+    if let (Some(c), Some(last)) = (run.cycles.lcnc_g70_comp.as_mut(), segs.last()) {
+        // rs274 reads the profile after the block's own rapid by setting its current point to
+        // each profile block's end; under compensation that point is the nose centre, so the
+        // cycle's next move measures its corner from the profile's end (docs/comp.md).
+        c.read = Some((run.moves.len(), last.end));
+    }
     if let Err(why) = turn_corners(&mut segs, &corners) {
         run.unsupported(
             b,
@@ -685,8 +694,8 @@ fn expand(
     let back = |c: g7x::C| P2::new(c.im * s, c.re * s);
     for (cmd, line) in cmds {
         match cmd {
-            g7x::Cmd::Rapid(p) => rapid(run, b, back(p)),
-            g7x::Cmd::Feed(p) => emit(run, b, MoveKind::Line, back(p), f, line),
+            g7x::Cmd::Rapid(p) => straight(run, b, MoveKind::Rapid, back(p), crate::interp::Feed::Rapid, 0, keep),
+            g7x::Cmd::Feed(p) => straight(run, b, MoveKind::Line, back(p), f, line, keep),
             g7x::Cmd::Arc { ccw, center, end } => {
                 let from = cx(run.programmed());
                 let (a0, a1) = ((from - center).arg(), (end - center).arg());
@@ -711,6 +720,29 @@ fn expand(
         }
     }
     motion
+}
+
+/// Where rs274 read a G70's profile while compensation offsets: the number of moves made
+/// before (the cycle block's own rapid) and the profile's last point, spindle frame. The block
+/// executor hands it to the compensation stage (`Comp::profile_read`).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct CompRead {
+    pub read: Option<(usize, P2)>,
+}
+
+/// A straight move of the cycle; with `keep` also one that goes nowhere (the compensation stage
+/// takes it, as rs274's does: it can move the nose).
+#[allow(clippy::too_many_arguments)]
+fn straight(run: &mut Run<'_>, b: &Block, kind: MoveKind, end: P2, f: crate::interp::Feed, line: u32, keep: bool) {
+    let start = run.programmed();
+    if keep && (end - start).norm() < 1e-9 {
+        run.push_move(b, kind, start, start, f);
+        if let Some(m) = run.moves.last_mut() {
+            m.profile_line = line;
+        }
+    } else {
+        emit(run, b, kind, end, f, line);
+    }
 }
 
 /// Run the profile subroutine from the current point and collect its moves; nothing of it stays
