@@ -382,7 +382,7 @@ pub fn mutants<'a>(src: &[u8], machine: &'a Machine) -> Mutants<'a> {
                     MutKind::RapidIntoStock
                 };
                 if let Some(t) = cands.clone().find(|&t| o.in_material(t, k)) {
-                    out.extend(retarget(kind, &lines, l, &p, frame, t, &o, k, machine));
+                    out.extend(retarget(kind, &lines, l, &p, frame, t, k));
                 }
                 if retract {
                     // A retract turned back into the part: from where the cut ended, down by d.
@@ -391,17 +391,7 @@ pub fn mutants<'a>(src: &[u8], machine: &'a Machine) -> Mutants<'a> {
                         .iter()
                         .flat_map(|&d| [P2::new(s.x - d, s.y), P2::new(s.x, s.y - d)]);
                     if let Some(t) = cands.clone().find(|&t| o.in_material(t, k)) {
-                        out.extend(retarget(
-                            MutKind::RetractIntoPart,
-                            &lines,
-                            l,
-                            &p,
-                            frame,
-                            t,
-                            &o,
-                            k,
-                            machine,
-                        ));
+                        out.extend(retarget(MutKind::RetractIntoPart, &lines, l, &p, frame, t, k));
                     }
                 }
             }
@@ -453,7 +443,7 @@ pub fn mutants<'a>(src: &[u8], machine: &'a Machine) -> Mutants<'a> {
             let z = -(MARGIN + 0.5);
             let cands = (0..16).map(|i| P2::new(m.end.x + 5.0 * i as f64, z));
             if let Some(t) = cands.clone().find(|&t| o.in_chuck(t)) {
-                out.extend(retarget(MutKind::ZPastJawFace, &lines, l, &p, frame, t, &o, k, machine));
+                out.extend(retarget(MutKind::ZPastJawFace, &lines, l, &p, frame, t, k));
             }
         }
     }
@@ -505,7 +495,7 @@ fn profile_mutants(lines: &[&str], machine: &Machine, o: &Oracle<'_>) -> Vec<Mut
         let src = new.join("\n").into_bytes();
         let ours = |n: &Move| cycles.contains(&n.line) || n.line == lp || n.profile_line == lp;
         // The first move of the cycle (or of the profile block run as ordinary lines).
-        let Some(k0) = moves.iter().position(|n| ours(n)) else {
+        let Some(k0) = moves.iter().position(&ours) else {
             continue;
         };
         let (_, run) = pipeline::interpret(&src, machine);
@@ -745,11 +735,8 @@ fn retarget(
     p: &Plain,
     frame: latheguard::interp::ProgFrame,
     t: P2,
-    o: &Oracle<'_>,
     k: usize,
-    machine: &Machine,
 ) -> Option<Mutant> {
-    let _ = (o, machine);
     Some(Mutant {
         kind,
         edit: Edit::Replace(l, rewrite(lines[l - 1], p, frame, t)),
