@@ -4,15 +4,18 @@
 //! exact mode. A mutant is detected when a finding of severity error is reported at its mutated
 //! line. The table per kind is printed (`cargo test --test mutation -- --nocapture`).
 
+#[path = "common/corpus_job.rs"]
+mod corpus_job;
 #[path = "common/mutate.rs"]
 mod mutate;
 
-use latheguard::finding::Severity;
+use latheguard::finding::{Finding, Kind, Severity};
 use latheguard::machine::{self, Machine};
 use latheguard::pipeline::{self, Mode, Settings};
 use mutate::{MutKind, Mutant};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 /// Mutants of one kind taken from one pair, at most (evenly spaced over the program's lines):
 /// keeps the test's run time small. `LATHEGUARD_MUTANTS_PER_KIND=N` (0: all) for a full run.
@@ -41,10 +44,32 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// Where a pair comes from: this repository's programs and cases, or a corpus program with its
+/// job (`tests/corpus-jobs/index.toml`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Source {
+    Repository,
+    Corpus,
+}
+
+impl Source {
+    fn name(self) -> &'static str {
+        match self {
+            Source::Repository => "repository",
+            Source::Corpus => "corpus",
+        }
+    }
+}
+
 /// One clean program and the machine it is written for.
 struct Pair {
     program: PathBuf,
     machine: Machine,
+    source: Source,
+    /// Lines the index lists as crashing in the unmutated program (real crashes, checker false
+    /// positives, not expressible, unexplained): their findings are allowed, and only mutants
+    /// after the last of them are judged.
+    listed: BTreeSet<u32>,
 }
 
 /// A machine by the name a case uses (`machines/NAME.toml`, else `tests/machines/NAME.toml`), or
@@ -113,34 +138,99 @@ fn pairs() -> Vec<Pair> {
         }
         let src = std::fs::read(&f).unwrap();
         if let Some(machine) = case_machine(&src) {
-            out.push(Pair { program: f, machine });
+            out.push(Pair {
+                program: f,
+                machine,
+                source: Source::Repository,
+                listed: BTreeSet::new(),
+            });
         }
     }
     for (program, machine) in EXTRA_PAIRS {
         out.push(Pair {
             program: root().join(program),
             machine: load_machine(machine),
+            source: Source::Repository,
+            listed: BTreeSet::new(),
         });
     }
     out
 }
 
+fn shared() -> PathBuf {
+    root().join("../shared")
+}
+
+/// The corpus pairs: every program `tests/corpus-jobs/index.toml` lists, from `../shared`, on its
+/// machine with its job applied (`common/corpus_job.rs`). `None` without `../shared`. A job that
+/// does not apply (the jobs change outside this test) skips its program with a message.
+fn corpus_pairs() -> Option<Vec<Pair>> {
+    if !shared().join("corpus").is_dir() {
+        return None;
+    }
+    let text = std::fs::read_to_string(root().join("tests/corpus-jobs/index.toml")).unwrap();
+    let t: toml::Table = text.parse().unwrap_or_else(|e| panic!("index.toml: {e}"));
+    let mut out = Vec::new();
+    for e in t.get("program").and_then(|v| v.as_array()).into_iter().flatten() {
+        let s = |k: &str| e.get(k).and_then(|v| v.as_str()).unwrap_or_default().to_string();
+        let (path, machine, job) = (s("path"), s("machine"), s("job"));
+        let mut listed = BTreeSet::new();
+        for (_, v) in e.as_table().into_iter().flatten() {
+            for c in v.as_array().into_iter().flatten() {
+                if let Some(l) = c.get("line").and_then(|v| v.as_integer()) {
+                    listed.insert(l as u32);
+                }
+            }
+        }
+        let program = shared().join(&path);
+        let m = std::fs::read_to_string(root().join(&machine))
+            .map_err(|x| x.to_string())
+            .and_then(|mt| {
+                let jt =
+                    std::fs::read_to_string(root().join("tests/corpus-jobs").join(&job)).map_err(|x| x.to_string())?;
+                corpus_job::apply(&mt, &machine, &jt)
+            });
+        match m {
+            Ok(machine) if program.is_file() => out.push(Pair {
+                program,
+                machine,
+                source: Source::Corpus,
+                listed,
+            }),
+            Ok(_) => println!("seeded crashes: skipped {path}: no such program"),
+            Err(x) => println!("seeded crashes: skipped {path}: its job does not apply: {x}"),
+        }
+    }
+    Some(out)
+}
+
 /// More clean pairs, (program, machine) relative to the repository (or a machine's name).
 const EXTRA_PAIRS: &[(&str, &str)] = &[];
 
-fn errors_at(src: &[u8], machine: &Machine, mode: Mode, line: u32) -> (bool, usize) {
+fn findings(src: &[u8], machine: &Machine, mode: Mode) -> Vec<Finding> {
     let s = Settings {
         mode,
         ..Settings::default()
     };
-    let out = pipeline::check(src, machine, &s);
-    let errs = out.findings.iter().filter(|f| f.severity == Severity::Error).count();
-    (
-        out.findings
-            .iter()
-            .any(|f| f.severity == Severity::Error && f.line == line),
-        errs,
-    )
+    pipeline::check(src, machine, &s).findings
+}
+
+/// A finding that says the machine crashes: an error of a crash kind (a collision, a rapid into
+/// the stock, a cut with the spindle stopped, an overtravel).
+fn is_crash(f: &Finding) -> bool {
+    f.severity == Severity::Error
+        && matches!(
+            f.kind,
+            Kind::Collision | Kind::RapidIntoStock | Kind::SpindleStopped | Kind::Overtravel
+        )
+}
+
+/// The mutant (text `src`) is reported: a crash finding at its line (or a line of `also`).
+fn detected(m: &Mutant, src: &[u8], machine: &Machine, mode: Mode) -> bool {
+    let machine = m.machine.as_ref().unwrap_or(machine);
+    findings(src, machine, mode)
+        .iter()
+        .any(|f| is_crash(f) && (f.line == m.line || m.also.contains(&f.line)))
 }
 
 fn rel(p: &Path) -> String {
@@ -149,33 +239,82 @@ fn rel(p: &Path) -> String {
 
 #[test]
 fn seeded_crashes_are_reported_at_their_line_in_both_modes_and_clean_programs_stay_clean() {
-    let pairs = pairs();
+    let t0 = Instant::now();
+    let mut pairs = pairs();
+    let repo_pairs = pairs.len();
+    match corpus_pairs() {
+        Some(c) => pairs.extend(c),
+        None => println!(
+            "seeded crashes: corpus pairs skipped: no corpus at {}",
+            shared().display()
+        ),
+    }
     let mut flagged = Vec::new();
-    // Per kind: mutants, detected in step, in exact, missed (file:line mode).
-    let mut table: BTreeMap<MutKind, (usize, usize, usize, Vec<String>)> = BTreeMap::new();
-    let (mut with_mutants, mut available) = (0, 0);
+    let mut skipped = Vec::new();
+    // Per (kind, source): mutants, detected in step, in exact, missed (file:line mode).
+    type Row = (usize, usize, usize, Vec<String>);
+    let mut table: BTreeMap<(MutKind, Source), Row> = BTreeMap::new();
+    let (mut with_mutants, mut available, mut dropped) = (0, 0, 0);
     let per_kind = per_kind();
+    let verbose = std::env::var_os("LATHEGUARD_MUTANTS_VERBOSE").is_some();
     for pair in &pairs {
+        let tp = Instant::now();
         let src = std::fs::read(&pair.program).unwrap();
+        // The unmutated program: no error at all (repository), no crash finding but at the
+        // index's lines (corpus). Lines with an error of any kind are not mutated.
+        let mut erring = BTreeSet::new();
+        let mut clean = true;
         for mode in [Mode::Step, Mode::Exact] {
-            let (_, errs) = errors_at(&src, &pair.machine, mode, 0);
-            if errs > 0 {
-                flagged.push(format!("{} ({mode:?})", rel(&pair.program)));
+            for f in findings(&src, &pair.machine, mode) {
+                if f.severity == Severity::Error {
+                    erring.insert(f.line);
+                }
+                let bad = match pair.source {
+                    Source::Repository => f.severity == Severity::Error,
+                    Source::Corpus => is_crash(&f) && !pair.listed.contains(&f.line),
+                };
+                if bad && clean {
+                    clean = false;
+                    let what = format!(
+                        "{}:{} ({mode:?}): {} {}",
+                        rel(&pair.program),
+                        f.line,
+                        f.kind.name(),
+                        f.message
+                    );
+                    match pair.source {
+                        Source::Repository => flagged.push(what),
+                        Source::Corpus => skipped.push(what),
+                    }
+                }
             }
         }
-        let all = mutate::mutants(&src, &pair.machine);
+        if !clean {
+            continue;
+        }
+        let last_listed = pair.listed.iter().next_back().copied().unwrap_or(0);
+        let set = mutate::mutants(&src, &pair.machine);
+        let all: Vec<&Mutant> = set
+            .list
+            .iter()
+            .filter(|m| m.original_line > last_listed && !erring.contains(&m.original_line))
+            .collect();
         if !all.is_empty() {
             with_mutants += 1;
         }
         available += all.len();
         for kind in MutKind::ALL {
-            let of: Vec<Mutant> = all.iter().filter(|m| m.kind == kind).cloned().collect();
+            let of: Vec<&Mutant> = all.iter().copied().filter(|m| m.kind == kind).collect();
             for m in mutate::sample(&of, per_kind) {
-                let row = table.entry(kind).or_default();
+                let Some(msrc) = set.realise(m) else {
+                    dropped += 1;
+                    continue;
+                };
+                let row = table.entry((kind, pair.source)).or_default();
                 row.0 += 1;
-                for (mode, slot) in [(Mode::Step, 1), (Mode::Exact, 2)] {
-                    if errors_at(&m.src, &pair.machine, mode, m.line).0 {
-                        if slot == 1 {
+                for mode in [Mode::Step, Mode::Exact] {
+                    if detected(m, &msrc, &pair.machine, mode) {
+                        if mode == Mode::Step {
                             row.1 += 1
                         } else {
                             row.2 += 1
@@ -187,29 +326,67 @@ fn seeded_crashes_are_reported_at_their_line_in_both_modes_and_clean_programs_st
                 }
             }
         }
+        if verbose {
+            eprintln!(
+                "  {}: {} mutants, {:.1} s",
+                rel(&pair.program),
+                all.len(),
+                tp.elapsed().as_secs_f64()
+            );
+        }
     }
-    let (mut n, mut step, mut exact) = (0, 0, 0);
     let cap = if per_kind == usize::MAX {
         "all".to_string()
     } else {
         format!("at most {per_kind}")
     };
     println!(
-        "seeded crashes: {} clean pairs, {with_mutants} with mutants; {available} mutants proved, {cap} per kind and pair checked",
-        pairs.len()
+        "seeded crashes: {} clean pairs ({repo_pairs} repository, {} corpus), {with_mutants} with mutants; {available} mutants found, {cap} per kind and pair made, {dropped} of those dropped (reading back did not prove them)",
+        pairs.len(),
+        pairs.len() - repo_pairs
     );
-    println!("{:<26} {:>7} {:>8} {:>8}  missed", "kind", "mutants", "step", "exact");
-    for (kind, (m, s, e, missed)) in &table {
-        println!("{:<26} {m:>7} {s:>8} {e:>8}  {}", kind.name(), missed.join(", "));
-        n += m;
-        step += s;
-        exact += e;
+    for s in &skipped {
+        println!("seeded crashes: corpus pair skipped, not clean unmutated: {s}");
     }
-    println!("{:<26} {n:>7} {step:>8} {exact:>8}", "all");
+    println!(
+        "{:<26} {:<11} {:>7} {:>8} {:>8}  missed",
+        "kind", "source", "mutants", "step", "exact"
+    );
+    let mut per_kind_total: BTreeMap<MutKind, (usize, usize, usize)> = BTreeMap::new();
+    let mut per_source: BTreeMap<Source, (usize, usize, usize)> = BTreeMap::new();
+    for ((kind, source), (m, s, e, missed)) in &table {
+        println!(
+            "{:<26} {:<11} {m:>7} {s:>8} {e:>8}  {}",
+            kind.name(),
+            source.name(),
+            missed.join(", ")
+        );
+        for t in [
+            per_kind_total.entry(*kind).or_default(),
+            per_source.entry(*source).or_default(),
+        ] {
+            t.0 += m;
+            t.1 += s;
+            t.2 += e;
+        }
+    }
+    println!("per kind:");
+    for (kind, (m, s, e)) in &per_kind_total {
+        println!("{:<26} {:<11} {m:>7} {s:>8} {e:>8}", kind.name(), "all");
+    }
+    println!("per source:");
+    for (source, (m, s, e)) in &per_source {
+        println!("{:<26} {:<11} {m:>7} {s:>8} {e:>8}", "all", source.name());
+    }
+    let (n, step, exact) = per_source
+        .values()
+        .fold((0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
+    println!("{:<26} {:<11} {n:>7} {step:>8} {exact:>8}", "all", "all");
+    println!("seeded crashes: {:.1} s", t0.elapsed().as_secs_f64());
     assert!(flagged.is_empty(), "clean programs flagged: {flagged:?}");
     assert!(n >= 40, "too few mutants: {n}");
     for kind in MutKind::ALL {
-        assert!(table.contains_key(&kind), "no mutant of kind {}", kind.name());
+        assert!(per_kind_total.contains_key(&kind), "no mutant of kind {}", kind.name());
     }
     // At least 99 % detected in each mode.
     assert!(step * 100 >= n * 99, "step mode detected {step} of {n}");
@@ -223,13 +400,19 @@ fn every_mutant_differs_from_its_program_and_the_unmutated_lines_are_kept() {
     let mut seen = 0;
     for pair in pairs.iter().take(6) {
         let src = std::fs::read(&pair.program).unwrap();
-        let text = String::from_utf8_lossy(&src).to_string();
+        let set = mutate::mutants(&src, &pair.machine);
+        let text = set.text().to_string();
         let orig: Vec<&str> = text.split('\n').collect();
-        for m in mutate::mutants(&src, &pair.machine) {
-            let mt = String::from_utf8(m.src.clone()).unwrap();
+        for m in &set.list {
+            let Some(msrc) = set.realise(m) else { continue };
+            let mt = String::from_utf8(msrc).unwrap();
             let new: Vec<&str> = mt.split('\n').collect();
             let l = m.original_line as usize - 1;
-            if m.kind == MutKind::SpindleStopBeforeCut {
+            if m.kind == MutKind::LongToolAtIndex {
+                // A machine mutation: the program is kept, the machine differs.
+                assert_eq!(mt, text);
+                assert!(m.machine.as_ref().is_some_and(|mm| *mm != pair.machine));
+            } else if m.kind == MutKind::SpindleStopBeforeCut {
                 assert_eq!(new.len(), orig.len() + 1);
                 assert_eq!(&new[..l], &orig[..l]);
                 assert_eq!(&new[l + 1..], &orig[l..]);
@@ -242,4 +425,35 @@ fn every_mutant_differs_from_its_program_and_the_unmutated_lines_are_kept() {
         }
     }
     assert!(seen > 0);
+}
+
+mod oracle {
+    use super::mutate;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The long tool's clearance proof rests on `min_radius` never overstating how close the
+        /// standing tool comes to the spindle axis.
+        #[test]
+        fn min_radius_is_never_above_the_distance_of_any_point_it_bounds(
+            a0 in -300.0..300.0f64, wa in 0.0..100.0f64,
+            d0 in -300.0..300.0f64, wd in 0.0..100.0f64,
+            th in 0.0..std::f64::consts::TAU, u in 0.0..=1.0f64, v in 0.0..=1.0f64,
+        ) {
+            let (s, c) = th.sin_cos();
+            let r = mutate::min_radius(a0, a0 + wa, d0, d0 + wd, c, s);
+            let (a, d) = (a0 + wa * u, d0 + wd * v);
+            let at = ((a + c * d).powi(2) + (s * d).powi(2)).sqrt();
+            prop_assert!(r <= at + 1e-6, "bound {r} above the distance {at} at a={a} d={d}");
+            prop_assert!(r >= 0.0);
+        }
+    }
+
+    #[test]
+    fn min_radius_is_reached_where_the_turret_axis_passes_closest() {
+        // Angle 0: the points lie on the x axis at a + d; the box holds a + d = 5 at best.
+        assert!((mutate::min_radius(100.0, 120.0, -95.0, -80.0, 1.0, 0.0) - 5.0).abs() < 1e-6);
+        // Angle 90°: the points stand at (a, d): the nearest is (100, 0) when d may be 0.
+        assert!((mutate::min_radius(100.0, 120.0, -10.0, 10.0, 0.0, 1.0) - 100.0).abs() < 1e-6);
+    }
 }
