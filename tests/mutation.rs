@@ -19,7 +19,7 @@ use std::time::Instant;
 
 /// Mutants of one kind taken from one pair, at most (evenly spaced over the program's lines):
 /// keeps the test's run time small. `LATHEGUARD_MUTANTS_PER_KIND=N` (0: all) for a full run.
-const PER_KIND_PER_PAIR: usize = 3;
+const PER_KIND_PER_PAIR: usize = 12;
 
 fn per_kind() -> usize {
     match std::env::var("LATHEGUARD_MUTANTS_PER_KIND")
