@@ -143,8 +143,8 @@ fn travel(moves: &[crate::interp::Move], tl: &Timeline, a: f64, b: f64) -> f64 {
     }
 }
 
-/// The table as text.
-pub fn table(rows: &[Row]) -> String {
+/// The table as text; without `timing` the run-time column shows `-`.
+pub fn table(rows: &[Row], timing: bool) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -157,10 +157,15 @@ pub fn table(rows: &[Row]) -> String {
             Mode::Step => "step",
         };
         let dt = r.dt_ms.map_or("-".to_string(), |d| format!("{d}"));
+        let run = if timing {
+            format!("{:.2}", r.run_ms)
+        } else {
+            "-".to_string()
+        };
         let _ = writeln!(
             s,
-            "{:<6} {:>8} {:>10} {:>10.2} {:>9} {:>10} {:>7} {:>10.3} {:>10}",
-            mode, dt, r.tolerance_mm, r.run_ms, r.findings, r.collisions, r.missed, r.max_lag_mm, r.steps
+            "{:<6} {:>8} {:>10} {:>10} {:>9} {:>10} {:>7} {:>10.3} {:>10}",
+            mode, dt, r.tolerance_mm, run, r.findings, r.collisions, r.missed, r.max_lag_mm, r.steps
         );
     }
     s

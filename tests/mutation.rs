@@ -185,11 +185,7 @@ fn corpus_pairs() -> Option<Vec<Pair>> {
         let program = shared().join(&path);
         let m = std::fs::read_to_string(root().join(&machine))
             .map_err(|x| x.to_string())
-            .and_then(|mt| {
-                let jt =
-                    std::fs::read_to_string(root().join("tests/corpus-jobs").join(&job)).map_err(|x| x.to_string())?;
-                corpus_job::apply(&mt, &machine, &jt)
-            });
+            .and_then(|mt| corpus_job::apply(&mt, &machine, &root().join("tests/corpus-jobs").join(&job)));
         match m {
             Ok(machine) if program.is_file() => out.push(Pair {
                 program,

@@ -17,7 +17,12 @@ pub fn run(a: AccuracyArgs) -> Result<u8, Trouble> {
         .machine;
     let src = read_capped(&a.program, MAX_PROGRAM_BYTES)
         .map_err(|why| format!("{}: cannot read: {why}", shown(&a.program)))?;
-    let rows = accuracy::run(&src, &machine, a.clearance, a.min_depth, usize::from(a.repeats));
+    let mut rows = accuracy::run(&src, &machine, a.clearance, a.min_depth, usize::from(a.repeats));
+    if a.no_timing {
+        for r in &mut rows {
+            r.run_ms = 0.0;
+        }
+    }
     if let Some(p) = &a.plot {
         let title = format!("cost of accuracy: {}", shown(&a.program));
         std::fs::write(p, accuracy::plot_svg(&rows, &title))
@@ -29,7 +34,7 @@ pub fn run(a: AccuracyArgs) -> Result<u8, Trouble> {
             s.push('\n');
             s
         }
-        TableFormat::Text => format!("{}\n{}", shown(&a.program), accuracy::table(&rows)),
+        TableFormat::Text => format!("{}\n{}", shown(&a.program), accuracy::table(&rows, !a.no_timing)),
     };
     emit(None, &text)?;
     Ok(EXIT_CLEAN)

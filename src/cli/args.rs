@@ -70,6 +70,10 @@ pub struct AccuracyArgs {
     /// Runs of each setting, 1 to 100; the median time is reported.
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=MAX_REPEATS))]
     pub repeats: u16,
+    /// Leave the run times out (`-` in the table, 0 in JSON) so that the output is the same on
+    /// every run and machine: for tests and documentation.
+    #[arg(long)]
+    pub no_timing: bool,
     /// Clearance for near misses, 0 to 10 mm.
     #[arg(long, value_name = "MM", default_value_t = 0.0, value_parser = clearance)]
     pub clearance: f64,
