@@ -238,13 +238,19 @@ fn seeded_crashes_are_reported_at_their_line_in_both_modes_and_clean_programs_st
     let t0 = Instant::now();
     let mut pairs = pairs();
     let repo_pairs = pairs.len();
-    match corpus_pairs() {
-        Some(c) => pairs.extend(c),
-        None => println!(
-            "seeded crashes: corpus pairs skipped: no corpus at {}",
-            shared().display()
-        ),
-    }
+    let with_corpus = match corpus_pairs() {
+        Some(c) => {
+            pairs.extend(c);
+            true
+        }
+        None => {
+            println!(
+                "seeded crashes: corpus pairs skipped: no corpus at {}",
+                shared().display()
+            );
+            false
+        }
+    };
     let mut flagged = Vec::new();
     let mut skipped = Vec::new();
     // Per (kind, source): mutants, detected in step, in exact, missed (file:line mode).
@@ -381,6 +387,10 @@ fn seeded_crashes_are_reported_at_their_line_in_both_modes_and_clean_programs_st
     println!("seeded crashes: {:.1} s", t0.elapsed().as_secs_f64());
     assert!(flagged.is_empty(), "clean programs flagged: {flagged:?}");
     assert!(n >= 40, "too few mutants: {n}");
+    // The bar: with the corpus pairs, at least 500 mutants at the default sampling.
+    if with_corpus && per_kind == PER_KIND_PER_PAIR {
+        assert!(n >= 500, "too few mutants with the corpus: {n}");
+    }
     for kind in MutKind::ALL {
         assert!(per_kind_total.contains_key(&kind), "no mutant of kind {}", kind.name());
     }
