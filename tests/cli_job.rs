@@ -2,8 +2,10 @@
 //! file:line:col:key and exit 2, a job that makes a crash program clean and one that makes a
 //! clean program crash, and `latheguard setup` in text and JSON.
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -14,12 +16,7 @@ fn fixtures() -> PathBuf {
 }
 
 fn run_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_latheguard"))
-        .args(args)
-        .current_dir(dir)
-        .env("CI", "true")
-        .output()
-        .unwrap()
+    common::latheguard(dir, args)
 }
 
 fn run(args: &[&str]) -> Output {

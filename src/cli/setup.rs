@@ -6,7 +6,7 @@ use super::args::{JobArgs, SetupArgs, TableFormat, UnitsArg};
 use super::config::{Finder, MachineRef, FILE_NAME};
 use super::{emit, load_machine, plain, read_text, safe_lines, Trouble, EXIT_CLEAN, MAX_MACHINE_BYTES};
 use latheguard::job::{self, EffectiveJob, Layer};
-use latheguard::machine::{self, Machine};
+use latheguard::machine::{self, num, Machine};
 use latheguard::pipeline::Settings;
 use serde_json::json;
 use std::collections::HashMap;
@@ -241,15 +241,6 @@ fn from<T>(s: &Option<job::Set<T>>) -> &str {
     s.as_ref().map_or(MACHINE, |s| s.layer.as_str())
 }
 
-fn num(v: f64) -> String {
-    let r = (v * 1000.0).round() / 1000.0;
-    if r == 0.0 {
-        "0".into()
-    } else {
-        format!("{r}")
-    }
-}
-
 fn stock_text(m: &Machine) -> String {
     match &m.stock {
         None => "none".into(),
@@ -270,23 +261,6 @@ fn stock_text(m: &Machine) -> String {
                 "{kind} × {} mm, front face at z {} (the stick-out)",
                 num(s.length),
                 num(s.front)
-            )
-        }
-    }
-}
-
-fn outline_text(p: &Option<latheguard::geom::Polygon>) -> String {
-    match p {
-        None => "none".into(),
-        Some(p) => {
-            let b = p.aabb();
-            format!(
-                "x {} .. {}, z {} .. {} ({} points)",
-                num(b.min.x),
-                num(b.max.x),
-                num(b.min.y),
-                num(b.max.y),
-                p.points().len()
             )
         }
     }
@@ -340,12 +314,17 @@ fn text(program: &Path, r: &Resolved) -> String {
         _ => MACHINE,
     };
     let _ = writeln!(s, "  program Z0    z {}  [{pz_from}]", num(m.program_zero_z));
-    let _ = writeln!(s, "  chuck         {}  [{}]", outline_text(&m.chuck), from(&j.chuck));
+    let _ = writeln!(
+        s,
+        "  chuck         {}  [{}]",
+        machine::outline_text(m.chuck.as_ref()),
+        from(&j.chuck)
+    );
     let tail = match (&m.tailstock, m.tailstock_advanced) {
         (None, _) => "none".to_string(),
         (Some(_), adv) => format!(
             "{}, {}",
-            outline_text(&m.tailstock),
+            machine::outline_text(m.tailstock.as_ref()),
             if adv { "advanced at start" } else { "retracted at start" }
         ),
     };

@@ -183,83 +183,79 @@ impl Layer {
     }
 }
 
-/// The layers of one program's job merged: each value from the last layer that set it.
+/// The layers of one program's job merged: each value from the last layer that set it. Its
+/// values are a [`Layer`] (labelled `merged`; `files` and `warnings` of every layer, in order),
+/// reached through `Deref`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct EffectiveJob {
     /// Labels of the layers merged, lowest first (empty layers included: they applied).
     pub layers: Vec<String>,
-    /// Every file read for the layers, in layer order.
-    pub files: Vec<String>,
-    pub units_inch: Option<Set<bool>>,
-    pub dialect: Option<Set<DialectChoice>>,
-    pub program_zero_z: Option<Set<f64>>,
-    pub stock: Option<Set<JobStock>>,
-    pub chuck: Option<Set<Polygon>>,
-    pub tailstock_in_use: Option<Set<bool>>,
-    pub tailstock_z: Option<Set<f64>>,
-    pub diameter_mode: Option<Set<bool>>,
-    pub start_rpm: Option<Set<f64>>,
-    /// Sorted by line, one each (a later layer's change at a line replaces an earlier one's).
-    pub tool_changes: Vec<Set<(u32, u32)>>,
-    /// Sorted by station, one each.
-    pub tools: Vec<Set<JobTool>>,
-    pub warnings: Vec<String>,
+    /// The values: tool changes sorted by line and tools by station, one each.
+    pub merged: Layer,
+}
+
+impl std::ops::Deref for EffectiveJob {
+    type Target = Layer;
+    fn deref(&self) -> &Layer {
+        &self.merged
+    }
+}
+
+impl std::ops::DerefMut for EffectiveJob {
+    fn deref_mut(&mut self) -> &mut Layer {
+        &mut self.merged
+    }
+}
+
+impl Layer {
+    /// Lay `l` over this layer: scalars key by key, `stock` and `chuck` as whole tables, tool
+    /// changes line by line, tools station by station; files and warnings accumulate.
+    fn lay_over(&mut self, l: &Layer) {
+        for f in &l.files {
+            if !self.files.contains(f) {
+                self.files.push(f.clone());
+            }
+        }
+        fn over<T: Clone>(to: &mut Option<Set<T>>, from: &Option<Set<T>>) {
+            if from.is_some() {
+                to.clone_from(from);
+            }
+        }
+        over(&mut self.units_inch, &l.units_inch);
+        over(&mut self.dialect, &l.dialect);
+        over(&mut self.program_zero_z, &l.program_zero_z);
+        over(&mut self.stock, &l.stock);
+        over(&mut self.chuck, &l.chuck);
+        over(&mut self.tailstock_in_use, &l.tailstock_in_use);
+        over(&mut self.tailstock_z, &l.tailstock_z);
+        over(&mut self.diameter_mode, &l.diameter_mode);
+        over(&mut self.start_rpm, &l.start_rpm);
+        for c in &l.tool_changes {
+            self.tool_changes.retain(|o| o.value.0 != c.value.0);
+            self.tool_changes.push(c.clone());
+        }
+        for t in &l.tools {
+            self.tools.retain(|o| o.value.tool.station != t.value.tool.station);
+            self.tools.push(t.clone());
+        }
+        self.warnings.extend(l.warnings.iter().cloned());
+    }
 }
 
 impl EffectiveJob {
-    /// Lay `layers` over one another, lowest first: scalars key by key, `stock` and `chuck` as
-    /// whole tables, tools station by station.
+    /// Lay `layers` over one another, lowest first (see `Layer::lay_over`).
     pub fn merge<'a>(layers: impl IntoIterator<Item = &'a Layer>) -> EffectiveJob {
-        let mut out = EffectiveJob::default();
+        let mut out = EffectiveJob {
+            layers: Vec::new(),
+            merged: Layer::new("merged"),
+        };
         for l in layers {
             out.layers.push(l.label.clone());
-            for f in &l.files {
-                if !out.files.contains(f) {
-                    out.files.push(f.clone());
-                }
-            }
-            fn over<T: Clone>(to: &mut Option<Set<T>>, from: &Option<Set<T>>) {
-                if from.is_some() {
-                    to.clone_from(from);
-                }
-            }
-            over(&mut out.units_inch, &l.units_inch);
-            over(&mut out.dialect, &l.dialect);
-            over(&mut out.program_zero_z, &l.program_zero_z);
-            over(&mut out.stock, &l.stock);
-            over(&mut out.chuck, &l.chuck);
-            over(&mut out.tailstock_in_use, &l.tailstock_in_use);
-            over(&mut out.tailstock_z, &l.tailstock_z);
-            over(&mut out.diameter_mode, &l.diameter_mode);
-            over(&mut out.start_rpm, &l.start_rpm);
-            for c in &l.tool_changes {
-                out.tool_changes.retain(|o| o.value.0 != c.value.0);
-                out.tool_changes.push(c.clone());
-            }
-            for t in &l.tools {
-                out.tools.retain(|o| o.value.tool.station != t.value.tool.station);
-                out.tools.push(t.clone());
-            }
-            out.warnings.extend(l.warnings.iter().cloned());
+            out.merged.lay_over(l);
         }
-        out.tools.sort_by_key(|t| t.value.tool.station);
-        out.tool_changes.sort_by_key(|c| c.value.0);
+        out.merged.tools.sort_by_key(|t| t.value.tool.station);
+        out.merged.tool_changes.sort_by_key(|c| c.value.0);
         out
-    }
-
-    /// Whether the job changes nothing of the machine.
-    pub fn is_empty(&self) -> bool {
-        self.units_inch.is_none()
-            && self.dialect.is_none()
-            && self.program_zero_z.is_none()
-            && self.stock.is_none()
-            && self.chuck.is_none()
-            && self.tailstock_in_use.is_none()
-            && self.tailstock_z.is_none()
-            && self.diameter_mode.is_none()
-            && self.start_rpm.is_none()
-            && self.tool_changes.is_empty()
-            && self.tools.is_empty()
     }
 }
 

@@ -9,7 +9,7 @@ use toml::Spanned;
 
 use super::{DialectChoice, JobError, JobStock, JobTool, Layer, Place, Resolve, Set};
 use crate::geom::{Polygon, P2};
-use crate::machine::{self, Cx, Num, Outline, Point, Tool};
+use crate::machine::{self, Cx, Num, Outline, Point, RawUnits, Tool};
 use crate::tooling::{self, tbl, BuiltTool, CatalogueSpec, DrillSpec};
 
 // ---------------------------------------------------------------------------------------------
@@ -66,13 +66,6 @@ struct RawToolChange {
     #[schemars(with = "Option<String>")]
     #[allow(dead_code)]
     note: Option<Spanned<String>>,
-}
-
-#[derive(Deserialize, JsonSchema, Clone, Copy)]
-#[serde(rename_all = "lowercase", expecting = "\"mm\" or \"inch\"")]
-enum RawUnits {
-    Mm,
-    Inch,
 }
 
 #[derive(Deserialize, JsonSchema, Clone, Copy)]

@@ -339,9 +339,10 @@ struct RawHeader {
     min_depth: Option<Num>,
 }
 
+// "mm" or "inch": machine files' `machine.units` and jobs' `units` (one type for both).
 #[derive(Deserialize, JsonSchema, Clone, Copy)]
 #[serde(rename_all = "lowercase", expecting = "\"mm\" or \"inch\"")]
-enum RawUnits {
+pub(crate) enum RawUnits {
     Mm,
     Inch,
 }

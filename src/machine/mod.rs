@@ -19,7 +19,7 @@ pub mod new;
 pub use mcodes::{reserved as mcodes_reserved, MAction, McodeTable, ACTIONS as MCODE_ACTIONS, MAX_MCODE};
 
 pub(crate) use load::{
-    deserialize, deserialize_at, home_clashes, stock_clash, Cx, Embedded, Num, Outline, Point, StockKey,
+    deserialize, deserialize_at, home_clashes, stock_clash, Cx, Embedded, Num, Outline, Point, RawUnits, StockKey,
 };
 pub use load::{
     from_toml, schema, MachineError, INDEX_TIME_RANGE, MAX_COORD_MM, MAX_OUTLINE_POINTS, MAX_RPM_RANGE, MAX_STATIONS,
@@ -408,20 +408,7 @@ impl Machine {
             }
         }
         for (name, part) in [("chuck", &self.chuck), ("tailstock", &self.tailstock)] {
-            let text = match part {
-                None => "none".to_string(),
-                Some(p) => {
-                    let b = p.aabb();
-                    format!(
-                        "x {} .. {}, z {} .. {} ({} points)",
-                        num(b.min.x),
-                        num(b.max.x),
-                        num(b.min.y),
-                        num(b.max.y),
-                        p.points().len()
-                    )
-                }
-            };
+            let text = outline_text(part.as_ref());
             let state = if name == "tailstock" && part.is_some() {
                 if self.tailstock_advanced {
                     ", advanced at start"
@@ -533,7 +520,27 @@ impl Machine {
 }
 
 /// A length for people: at most three decimals, no trailing zeros, no `-0`.
-fn num(v: f64) -> String {
+/// An outline in one line for the human summaries (`latheguard machine`, `latheguard setup`): its
+/// extent and its number of points, or `none`.
+pub fn outline_text(p: Option<&Polygon>) -> String {
+    match p {
+        None => "none".to_string(),
+        Some(p) => {
+            let b = p.aabb();
+            format!(
+                "x {} .. {}, z {} .. {} ({} points)",
+                num(b.min.x),
+                num(b.max.x),
+                num(b.min.y),
+                num(b.max.y),
+                p.points().len()
+            )
+        }
+    }
+}
+
+/// A length for the human summaries: rounded to the µm, `0` without a sign.
+pub fn num(v: f64) -> String {
     let r = (v * 1000.0).round() / 1000.0;
     if !r.is_finite() {
         format!("{v}")

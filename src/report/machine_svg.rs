@@ -15,14 +15,13 @@
 use std::fmt::Write;
 
 use super::svg::{
-    area, esc, footer, mm, n, scene, Bounds, Labels, Legend, MachineLegend, Marks, View, CHUCK_LINE, HOLDER_LINE, INK,
-    LIMIT_LINE, OTHER_LINE, PATH_LINE, STOCK_FILL, STOCK_LINE, TURRET_FILL, TURRET_LINE,
+    area, document, esc, footer, mm, n, scene, Bounds, Labels, Legend, MachineLegend, Marks, View, CHUCK_LINE,
+    HOLDER_LINE, INK, LIMIT_LINE, OTHER_LINE, PATH_LINE, STOCK_FILL, STOCK_LINE, TURRET_FILL, TURRET_LINE,
 };
 use crate::geom::{p2, Polygon, P2};
 use crate::machine::{Machine, TurretKind};
 use crate::scene::{Scene, Snapshot};
 
-const WIDTH: f64 = 1000.0;
 /// Side of the drum's end view, px.
 const END_VIEW: f64 = 380.0;
 
@@ -171,15 +170,7 @@ pub fn machine_drawing(m: &Machine, title: &str) -> String {
         }),
     };
     let bottom = footer(&mut o, &v, &s, &legend, below);
-    let _ = writeln!(o, "</svg>");
-    let h = n(bottom + 10.0);
-    let mut svg = format!(
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">"#,
-        w = n(WIDTH),
-    );
-    svg.push('\n');
-    svg.push_str(&o);
-    svg
+    document(&o, bottom)
 }
 
 /// A name inside its part, where it fits; false when it does not.

@@ -634,14 +634,19 @@ fn picture(file: &FileReport, f: &Finding, s: &Snapshot, block: &str) -> String 
         machine: None,
     };
     let bottom = footer(&mut o, &v, s, &legend, below);
-    let _ = writeln!(o, "</svg>");
+    document(&o, bottom)
+}
+
+/// The SVG document around a picture's body `o`, whose drawing ends at `bottom`.
+pub(super) fn document(o: &str, bottom: f64) -> String {
     let h = n(bottom + 10.0);
     let mut svg = format!(
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">"#,
         w = n(WIDTH),
     );
     svg.push('\n');
-    svg.push_str(&o);
+    svg.push_str(o);
+    svg.push_str("</svg>\n");
     svg
 }
 
