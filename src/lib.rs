@@ -11,6 +11,7 @@ pub mod gcode;
 pub mod geom;
 pub mod interp;
 pub mod job;
+pub mod kin;
 pub mod machine;
 pub mod motion;
 pub mod pipeline;

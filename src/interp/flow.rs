@@ -368,6 +368,7 @@ impl<'a> Run<'a> {
             self.moves.shrink_to_fit();
         }
         Interpretation {
+            extra: Vec::new(),
             moves: self.moves,
             states: self.states,
             findings: self.findings,

@@ -208,10 +208,48 @@ pub(crate) fn path_point(kind: MoveKind, start: P2, end: P2, t: f64) -> P2 {
     }
 }
 
+/// The address letters of the axes beyond X and Z that the interpreter tracks (issue 15), in
+/// the order of [`ExtraAxes`]. Which of them a machine has, and whether each is linear (mm, in
+/// the spindle frame; inch programs are converted) or rotary (degrees), its kinematic tree says
+/// (`Machine::kinematics`, `Kinematics::axis_by_letter`).
+pub const EXTRA_LETTERS: [char; 4] = ['Y', 'C', 'B', 'A'];
+
+/// Values of the [`EXTRA_LETTERS`] axes, in that order.
+pub type ExtraAxes = [f64; 4];
+
+/// The working plane (G17 XY, G18 ZX — a lathe's own —, G19 YZ).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Plane {
+    Xy,
+    #[default]
+    Zx,
+    Yz,
+}
+
+/// A move's extra axes and turn-mill modes, kept only for the moves where any of them is not at
+/// its default (an extra axis away from its start value or moving, the main spindle in C-axis
+/// mode, a live tool turning, a plane other than G18). A sparse side table, so a turning program
+/// keeps [`Move`] at its size and the 2D checker's path untouched.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExtraMove {
+    /// Index of the move in [`Interpretation::moves`].
+    pub index: u32,
+    pub start: ExtraAxes,
+    pub end: ExtraAxes,
+    pub plane: Plane,
+    /// The main spindle is a positioned C axis (not turning) during the move.
+    pub c_mode: bool,
+    /// The live tool's speed in rev/min (0: stopped).
+    pub live_rpm: f64,
+}
+
 /// What the interpreter produced.
 #[derive(Clone, Debug, Default)]
 pub struct Interpretation {
     pub moves: Vec<Move>,
+    /// The extra axes and turn-mill modes of the moves that have any, sorted by move index
+    /// ([`ExtraMove`]); empty for a program that only turns.
+    pub extra: Vec<ExtraMove>,
     /// The spindles and frames the moves refer to ([`Move::state`]).
     pub states: Vec<MoveState>,
     /// `program` and `unsupported` findings (syntax findings stay with the reader).

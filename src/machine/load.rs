@@ -1308,6 +1308,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         tool_changes: Vec::new(),
         auto_dialect: None,
         warnings: Vec::new(),
+        kinematics: None,
     };
     let auto_dialect = match (auto, mcodes_linuxcnc) {
         (true, Some(lc)) => Some(Box::new(super::AutoDialect {

@@ -312,6 +312,9 @@ pub struct Machine {
     /// `file:line:col: key: message`, for `latheguard machine` to print. Empty for the shipped
     /// machines.
     pub warnings: Vec<String>,
+    /// The kinematic tree of a turn-mill machine (`[kinematics]`, issue 15; `crate::kin`), or
+    /// `None` for a 2-axis lathe, which the 2D checker alone describes.
+    pub kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
 }
 
 impl Machine {

@@ -1,0 +1,209 @@
+//! The kinematic machine (issue 15, seed 003): a tree of components, each posed in its parent's
+//! frame by a fixed mount and at most one servo axis, with a geometry of its own.
+//!
+//! Frames: the machine frame extends the spindle frame of the 2D checker to 3D: `z` along the
+//! spindle axis (0 at the main chuck's jaw faces, + toward the tailstock), `x` in the working
+//! plane (+ toward the turret), `y = z × x` (right-handed). Lengths are mm, rotary axis values
+//! degrees. Linear axis values are the positions the 2D checker uses: X and Z are the turret
+//! reference point in the spindle frame (x as a radius), so a 2-axis machine's poses equal the
+//! 2D model's.
+//!
+//! Seed 003's two models: the **initial model** is each component's mount and geometry in its own
+//! frame (never changed after loading); the **real-time model** is each component's world pose,
+//! which [`Poser::pose`] recomputes only for the components whose own axis, or an ancestor's,
+//! changed value since the last call.
+
+use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
+use std::sync::Arc;
+
+use crate::geom::P2;
+
+pub type Iso = Isometry3<f64>;
+
+/// Index of a component in [`Kinematics::components`].
+pub type CompId = usize;
+/// Index of an axis in [`Kinematics::axes`].
+pub type AxisId = usize;
+
+/// How an axis moves the component it drives, in the parent's frame (after the mount).
+#[derive(Clone, Debug, PartialEq)]
+pub enum AxisKind {
+    /// Translation by `value` mm along `dir`.
+    Linear { dir: Unit<Vector3<f64>> },
+    /// Rotation by `value` degrees about the line through `origin` along `dir` (right hand).
+    Rotary {
+        origin: Point3<f64>,
+        dir: Unit<Vector3<f64>>,
+    },
+}
+
+/// A servo axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axis {
+    /// The machine file's name for it (`"x"`, `"sub_z"`, `"c1"`).
+    pub name: String,
+    /// The address letter that drives it in a program (`'X'`, `'Y'`, `'C'`, `'B'`, …).
+    pub letter: char,
+    pub kind: AxisKind,
+    /// Value at program start.
+    pub zero: f64,
+    /// Travel (min, max): mm or degrees. A rotary axis without limits has (-inf, inf).
+    pub travel: (f64, f64),
+    /// Rapid rate: mm/min or degrees/min.
+    pub rapid: f64,
+}
+
+/// A component's geometry in its own frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Geometry {
+    /// A triangle mesh (from an STL file, or built from a primitive).
+    Mesh(Arc<Mesh>),
+    /// An outline in (r = `P2::x` ≥ 0, z = `P2::y`) revolved about the component's z axis.
+    Revolved(Vec<P2>),
+    /// An outline in the component's (x, z) plane (`P2::x` = x, `P2::y` = z), extruded along y
+    /// from `-half_width` to `+half_width`.
+    Extruded { outline: Vec<P2>, half_width: f64 },
+    /// A box from `min` to `max`.
+    Cuboid { min: Point3<f64>, max: Point3<f64> },
+    /// A cylinder about the component's z axis from `z0` to `z1`.
+    Cylinder { radius: f64, z0: f64, z1: f64 },
+}
+
+/// A triangle mesh: counter-clockwise triangles seen from outside.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub vertices: Vec<Point3<f64>>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// What a component is to the checker (which rules apply to its pairs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    /// Machine structure: bed, slides, housings, turret body, spindle noses.
+    Structure,
+    /// A chuck (body and jaws) or a collet on a spindle.
+    Chuck,
+    Tailstock,
+    /// A tool holder (static or live).
+    Holder,
+    /// The cutting part of a tool (insert, drill, end mill): it may cut the stock.
+    Cutter,
+}
+
+/// A component of the tree.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Component {
+    pub name: String,
+    /// Parents come before their children in [`Kinematics::components`].
+    pub parent: Option<CompId>,
+    /// Placement in the parent's frame, before the axis moves it.
+    pub mount: Iso,
+    pub axis: Option<AxisId>,
+    pub geometry: Option<Geometry>,
+    pub role: Role,
+    /// For a tool: the turret station it sits in.
+    pub station: Option<u32>,
+}
+
+/// The whole tree and the pairs that must never touch.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Kinematics {
+    pub axes: Vec<Axis>,
+    /// Topologically ordered: every parent index is smaller than its children's.
+    pub components: Vec<Component>,
+    /// Pairs of components whose geometries must never overlap (`a < b`).
+    pub never_touch: Vec<(CompId, CompId)>,
+}
+
+impl Kinematics {
+    /// The axis a program letter drives, if the machine has one.
+    pub fn axis_by_letter(&self, letter: char) -> Option<AxisId> {
+        self.axes.iter().position(|a| a.letter == letter)
+    }
+
+    /// Every axis at its program-start value.
+    pub fn start_values(&self) -> Vec<f64> {
+        self.axes.iter().map(|a| a.zero).collect()
+    }
+
+    /// The motion of one component relative to its parent for an axis value.
+    fn joint(&self, c: &Component, values: &[f64]) -> Iso {
+        let Some(a) = c.axis else {
+            return Iso::identity();
+        };
+        let v = values.get(a).copied().unwrap_or(0.0);
+        match &self.axes[a].kind {
+            AxisKind::Linear { dir } => {
+                Iso::from_parts(Translation3::from(dir.into_inner() * v), UnitQuaternion::identity())
+            }
+            AxisKind::Rotary { origin, dir } => {
+                let rot = UnitQuaternion::from_axis_angle(dir, v.to_radians());
+                let o = origin.coords;
+                // Rotate about the line through `origin`: translate to it, rotate, translate back.
+                Iso::from_parts(Translation3::from(o - rot * o), rot)
+            }
+        }
+    }
+}
+
+/// The real-time model: every component's world pose for the last axis values.
+#[derive(Clone, Debug)]
+pub struct Poser {
+    values: Vec<f64>,
+    world: Vec<Iso>,
+    /// How many components were re-posed by the last [`Poser::pose`] (for stats and tests).
+    pub last_reposed: usize,
+}
+
+impl Poser {
+    /// Poses every component at the axes' start values.
+    pub fn new(k: &Kinematics) -> Poser {
+        let values = k.start_values();
+        let mut p = Poser {
+            values: values.clone(),
+            world: vec![Iso::identity(); k.components.len()],
+            last_reposed: 0,
+        };
+        p.repose(k, &vec![true; k.axes.len()], true);
+        p
+    }
+
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// A component's world pose.
+    pub fn world(&self, c: CompId) -> &Iso {
+        &self.world[c]
+    }
+
+    /// Poses the tree at `values` (one per axis), re-posing only the components whose axis or an
+    /// ancestor's axis changed. Returns how many were re-posed.
+    pub fn pose(&mut self, k: &Kinematics, values: &[f64]) -> usize {
+        let changed: Vec<bool> = (0..k.axes.len())
+            .map(|a| values.get(a).copied().unwrap_or(0.0) != self.values[a])
+            .collect();
+        for (a, v) in self.values.iter_mut().enumerate() {
+            *v = values.get(a).copied().unwrap_or(0.0);
+        }
+        self.repose(k, &changed, false)
+    }
+
+    fn repose(&mut self, k: &Kinematics, changed: &[bool], all: bool) -> usize {
+        let mut dirty = vec![false; k.components.len()];
+        let mut n = 0;
+        for (i, c) in k.components.iter().enumerate() {
+            let own = c.axis.is_some_and(|a| changed[a]);
+            let inherited = c.parent.is_some_and(|p| dirty[p]);
+            if !(own || inherited || all) {
+                continue;
+            }
+            dirty[i] = true;
+            n += 1;
+            let parent = c.parent.map_or(Iso::identity(), |p| self.world[p]);
+            self.world[i] = parent * c.mount * k.joint(c, &self.values);
+        }
+        self.last_reposed = n;
+        n
+    }
+}
