@@ -18,6 +18,11 @@ use std::sync::Arc;
 
 use crate::geom::P2;
 
+pub mod lathe;
+pub mod load;
+pub mod shape;
+pub mod stl;
+
 pub type Iso = Isometry3<f64>;
 
 /// Index of a component in [`Kinematics::components`].
@@ -74,6 +79,27 @@ pub enum Geometry {
 pub struct Mesh {
     pub vertices: Vec<Point3<f64>>,
     pub triangles: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    /// The enclosed volume by the divergence theorem (positive for a closed mesh whose triangles
+    /// run counter-clockwise seen from outside).
+    pub fn volume(&self) -> f64 {
+        let mut v = 0.0;
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|i| self.vertices[i as usize].coords);
+            v += a.dot(&b.cross(&c));
+        }
+        v / 6.0
+    }
+
+    /// The mesh with every triangle's winding reversed.
+    pub fn flipped(mut self) -> Mesh {
+        for t in &mut self.triangles {
+            t.swap(1, 2);
+        }
+        self
+    }
 }
 
 /// What a component is to the checker (which rules apply to its pairs).
