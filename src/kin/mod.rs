@@ -147,6 +147,31 @@ impl Kinematics {
         self.axes.iter().position(|a| a.letter == letter)
     }
 
+    /// Whether `a` is a proper ancestor of `c`.
+    pub fn is_ancestor(&self, a: CompId, c: CompId) -> bool {
+        let mut p = self.components.get(c).and_then(|c| c.parent);
+        // Parents come first, so the walk ends within `c` steps.
+        while let Some(x) = p {
+            if x == a {
+                return true;
+            }
+            p = self.components.get(x).and_then(|c| c.parent);
+        }
+        false
+    }
+
+    /// The component named `name`.
+    pub fn component(&self, name: &str) -> Option<CompId> {
+        self.components.iter().position(|c| c.name == name)
+    }
+
+    /// `c` and every component below it.
+    pub fn subtree(&self, c: CompId) -> Vec<CompId> {
+        (0..self.components.len())
+            .filter(|&x| x == c || self.is_ancestor(c, x))
+            .collect()
+    }
+
     /// Every axis at its program-start value.
     pub fn start_values(&self) -> Vec<f64> {
         self.axes.iter().map(|a| a.zero).collect()

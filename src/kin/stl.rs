@@ -182,7 +182,7 @@ fn ascii(bytes: &[u8], file: &str) -> Result<Soup, StlError> {
             s
         }
     };
-    let mut expect = |w: &mut Words<'_>, want: &str, last: u32| -> Result<u32, StlError> {
+    let expect = |w: &mut Words<'_>, want: &str, last: u32| -> Result<u32, StlError> {
         match w.next() {
             Some((t, l)) if t.eq_ignore_ascii_case(want.as_bytes()) => Ok(l),
             Some((t, l)) => Err(at(l, format!("expected `{want}`, found `{}`", shown(t)))),
