@@ -9,8 +9,9 @@
 //! for containment of closed meshes (a point of each connected component tested against the other
 //! solid; parry's pseudo-normal point containment). The depth is parry's `contact` penetration
 //! (GJK/EPA, to about 1e-9 mm) of the deepest crossing pair of convex parts (two triangles, a
-//! triangle and a primitive): a local depth, never larger than how far the deepest crossing part
-//! reaches into the other solid's surface; for containment, a lower bound: the distance from the
+//! triangle and a primitive): a local depth and a lower bound of the solids' penetration depth
+//! (separating the solids separates every pair of their parts; two boxes crossing by 0.5 mm may
+//! report 0.2, the deepest triangle pair); for containment, a lower bound: the distance from the
 //! contained component's test point to the container's surface. `distance` is parry's exact
 //! closest distance between the two boundaries (BVH branch and bound, GJK to about 1e-9 mm), and 0
 //! when the solids overlap by any amount (crossing or containment).
