@@ -117,6 +117,10 @@ pub struct Finding {
     /// The scene at first contact, when the check was asked for pictures.
     #[serde(skip)]
     pub snapshot: Option<Box<crate::scene::Snapshot>>,
+    /// The scene at first contact in 3D, for a finding of the 3D path when the check was asked
+    /// for pictures (`--svg`: three views instead of the working plane; `--glb`).
+    #[serde(skip)]
+    pub snapshot3: Option<Box<crate::report::scene3::Snapshot3>>,
 }
 
 /// The crash a follow-on contact comes from: its line, parts and time of first contact.
@@ -149,6 +153,7 @@ impl Finding {
             repeats: 1,
             picture: None,
             snapshot: None,
+            snapshot3: None,
         }
     }
 

@@ -5,6 +5,7 @@
 
 pub mod accuracy;
 pub mod check;
+pub mod collide3;
 pub mod finding;
 pub mod gate;
 pub mod gcode;

@@ -155,6 +155,7 @@ impl Episodes {
             repeats: 1,
             picture: None,
             snapshot: c.snapshot,
+            snapshot3: None,
         });
     }
 }

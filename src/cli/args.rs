@@ -182,6 +182,10 @@ pub struct CheckArgs {
     /// Write a picture (SVG) of the working plane at each finding into this folder.
     #[arg(long, value_name = "DIR")]
     pub svg: Option<PathBuf>,
+    /// Write the posed 3D scene (glTF binary, .glb) at each finding of a turn-mill machine's 3D
+    /// check into this folder; findings of the working plane have none.
+    #[arg(long, value_name = "DIR")]
+    pub glb: Option<PathBuf>,
     /// Write an SVG of the final part section (the stock at the end) of the one program checked.
     #[arg(long, value_name = "FILE.svg")]
     pub stock_out: Option<PathBuf>,

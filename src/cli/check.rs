@@ -18,7 +18,8 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-/// At most this many pictures of one file's findings are written with `--svg`.
+/// At most this many pictures of one file's findings are written with `--svg` (and `--glb`: a
+/// finding's picture and scene are kept or left out together).
 pub const MAX_PICTURES_PER_FILE: usize = 100;
 /// At most this many pictures in all are written with `--svg`.
 pub const MAX_PICTURES: usize = 1000;
@@ -122,8 +123,28 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
             }
         }
     }
+    if a.svg.is_none() {
+        // Only --glb: the working plane's snapshots are not drawn, nor counted.
+        for f in &mut report.files {
+            for x in &mut f.findings {
+                x.snapshot = None;
+            }
+        }
+    }
+    let left_out = limit_pictures(&mut report);
+    if let Some(dir) = &a.glb {
+        // Only findings of the 3D path have a scene to write: for the others, nothing is
+        // written and nothing said (not even the folder is made).
+        let n = write_scenes(dir, &report)?;
+        if !a.quiet && n > 0 {
+            say(&format!(
+                "wrote {n} 3D scene{} (glTF) to {}",
+                if n == 1 { "" } else { "s" },
+                shown(dir)
+            ));
+        }
+    }
     if let Some(dir) = &a.svg {
-        let left_out = limit_pictures(&mut report);
         let n = write_pictures(dir, &mut report)?;
         if !a.quiet && n > 0 {
             say(&format!(
@@ -132,12 +153,12 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
                 shown(dir)
             ));
         }
-        if left_out > 0 {
-            say(&format!(
-                "left out {left_out} picture{} (at most {MAX_PICTURES_PER_FILE} per file and {MAX_PICTURES} per run)",
-                if left_out == 1 { "" } else { "s" }
-            ));
-        }
+    }
+    if left_out > 0 {
+        say(&format!(
+            "left out {left_out} picture{} (at most {MAX_PICTURES_PER_FILE} per file and {MAX_PICTURES} per run)",
+            if left_out == 1 { "" } else { "s" }
+        ));
     }
     let text = match a.format {
         _ if a.statistics => report::statistics(&report),
@@ -189,7 +210,8 @@ fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>, Vec<P
         s.tolerance_mm = a.tolerance.unwrap_or(s.tolerance_mm);
         s.clearance_mm = a.clearance.unwrap_or(s.clearance_mm);
         s.min_depth_mm = a.min_depth.or(s.min_depth_mm);
-        s.snapshots = a.svg.is_some();
+        // The 3D path's scenes (--glb) are taken with the pictures' snapshots.
+        s.snapshots = a.svg.is_some() || a.glb.is_some();
         s
     };
     let defaults = (planner.default_machine(), cli(Settings::default()));
@@ -440,7 +462,7 @@ fn limit_pictures(report: &mut Report) -> usize {
     for f in &mut report.files {
         let mut in_file = 0;
         for x in &mut f.findings {
-            if x.snapshot.is_none() {
+            if x.snapshot.is_none() && x.snapshot3.is_none() {
                 continue;
             }
             if in_file < MAX_PICTURES_PER_FILE && kept < MAX_PICTURES {
@@ -448,11 +470,27 @@ fn limit_pictures(report: &mut Report) -> usize {
                 kept += 1;
             } else {
                 x.snapshot = None;
+                x.snapshot3 = None;
                 dropped += 1;
             }
         }
     }
     dropped
+}
+
+/// One `.glb` per finding that has a 3D snapshot; returns how many were written. The folder is
+/// made only when there is one to write.
+fn write_scenes(dir: &Path, report: &Report) -> Result<usize, Trouble> {
+    let files = report::glb::files(report);
+    if files.is_empty() {
+        return Ok(0);
+    }
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create folder: {}", shown(dir), plain(&e)))?;
+    for g in &files {
+        let p = dir.join(&g.name);
+        std::fs::write(&p, &g.bytes).map_err(|e| format!("{}: cannot write scene: {}", shown(&p), plain(&e)))?;
+    }
+    Ok(files.len())
 }
 
 /// One SVG per finding that has a snapshot; returns how many were written.

@@ -18,6 +18,11 @@ use std::sync::Arc;
 
 use crate::geom::P2;
 
+pub mod lathe;
+pub mod load;
+pub mod shape;
+pub mod stl;
+
 pub type Iso = Isometry3<f64>;
 
 /// Index of a component in [`Kinematics::components`].
@@ -76,6 +81,27 @@ pub struct Mesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
+impl Mesh {
+    /// The enclosed volume by the divergence theorem (positive for a closed mesh whose triangles
+    /// run counter-clockwise seen from outside).
+    pub fn volume(&self) -> f64 {
+        let mut v = 0.0;
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|i| self.vertices[i as usize].coords);
+            v += a.dot(&b.cross(&c));
+        }
+        v / 6.0
+    }
+
+    /// The mesh with every triangle's winding reversed.
+    pub fn flipped(mut self) -> Mesh {
+        for t in &mut self.triangles {
+            t.swap(1, 2);
+        }
+        self
+    }
+}
+
 /// What a component is to the checker (which rules apply to its pairs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Role {
@@ -119,6 +145,31 @@ impl Kinematics {
     /// The axis a program letter drives, if the machine has one.
     pub fn axis_by_letter(&self, letter: char) -> Option<AxisId> {
         self.axes.iter().position(|a| a.letter == letter)
+    }
+
+    /// Whether `a` is a proper ancestor of `c`.
+    pub fn is_ancestor(&self, a: CompId, c: CompId) -> bool {
+        let mut p = self.components.get(c).and_then(|c| c.parent);
+        // Parents come first, so the walk ends within `c` steps.
+        while let Some(x) = p {
+            if x == a {
+                return true;
+            }
+            p = self.components.get(x).and_then(|c| c.parent);
+        }
+        false
+    }
+
+    /// The component named `name`.
+    pub fn component(&self, name: &str) -> Option<CompId> {
+        self.components.iter().position(|c| c.name == name)
+    }
+
+    /// `c` and every component below it.
+    pub fn subtree(&self, c: CompId) -> Vec<CompId> {
+        (0..self.components.len())
+            .filter(|&x| x == c || self.is_ancestor(c, x))
+            .collect()
     }
 
     /// Every axis at its program-start value.

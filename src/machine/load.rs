@@ -138,10 +138,21 @@ impl std::fmt::Display for MachineError {
 impl std::error::Error for MachineError {}
 
 /// Parse and validate a machine description. `file` is only used in error messages.
+///
+/// A `[kinematics]` geometry that names an STL file is refused here (the library does no I/O):
+/// load such a machine with [`from_toml_with`].
 pub fn from_toml(text: &str, file: &str) -> Result<Machine, MachineError> {
+    from_toml_with(text, file, &|_: &str| {
+        Err("an STL file is read relative to the machine file, which this caller does not give (load the machine with `machine::from_toml_with` and a resolver; the binary does)".to_string())
+    })
+}
+
+/// [`from_toml`], with `resolve` reading the files a `[kinematics]` geometry names (`stl =
+/// "part.stl"`, relative to the machine file: the caller decides what that means).
+pub fn from_toml_with(text: &str, file: &str, resolve: crate::kin::load::Resolve<'_>) -> Result<Machine, MachineError> {
     let cx = Cx::new(text, file);
     let raw: RawDoc = deserialize(&cx, "a machine file")?;
-    validate(&cx, raw)
+    validate(&cx, raw, resolve)
 }
 
 /// The root table of `cx`'s text: at most [`MAX_TEXT_BYTES`], TOML syntax errors placed and
@@ -257,6 +268,9 @@ struct RawDoc {
     tools: Option<Spanned<Vec<Spanned<RawTool>>>>,
     #[schemars(with = "Option<std::collections::BTreeMap<String, RawCodes>>")]
     mcodes: Option<std::collections::BTreeMap<String, Spanned<RawCodes>>>,
+    /// The kinematic machine (turn-mill): axes, components, pairs that must never touch
+    /// (`docs/turn-mill.md`).
+    kinematics: Option<crate::kin::load::RawKinematics>,
 }
 
 /// The codes of one action in `[mcodes]`: one number or an array.
@@ -781,7 +795,7 @@ impl Cx<'_> {
     }
 }
 
-fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
+fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) -> Result<Machine, MachineError> {
     let RawDoc {
         machine: hdr,
         axes,
@@ -793,6 +807,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
         turret,
         tools,
         mcodes,
+        kinematics,
     } = raw;
 
     // Bound the work before doing any of it.
@@ -1338,8 +1353,16 @@ fn validate(cx: &Cx<'_>, raw: RawDoc) -> Result<Machine, MachineError> {
     if let Some(e) = cx.kept() {
         return Err(e);
     }
+    // [kinematics]: read once the 2D sections it refers to are valid.
+    let kinematics = match &kinematics {
+        None => None,
+        Some(k) => Some(std::sync::Arc::new(crate::kin::load::kinematics(
+            cx, k, &machine, resolve,
+        )?)),
+    };
     Ok(Machine {
         warnings: cx.warnings.take(),
+        kinematics,
         ..machine
     })
 }

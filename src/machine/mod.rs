@@ -22,8 +22,8 @@ pub(crate) use load::{
     deserialize, deserialize_at, home_clashes, stock_clash, Cx, Embedded, Num, Outline, Point, RawUnits, StockKey,
 };
 pub use load::{
-    from_toml, schema, MachineError, INDEX_TIME_RANGE, MAX_COORD_MM, MAX_OUTLINE_POINTS, MAX_RPM_RANGE, MAX_STATIONS,
-    MAX_TEXT_BYTES, MAX_TOOLS, MAX_TOTAL_OUTLINE_POINTS, NOSE_RADIUS_RANGE, RAPID_RANGE, TOP_LEVEL,
+    from_toml, from_toml_with, schema, MachineError, INDEX_TIME_RANGE, MAX_COORD_MM, MAX_OUTLINE_POINTS, MAX_RPM_RANGE,
+    MAX_STATIONS, MAX_TEXT_BYTES, MAX_TOOLS, MAX_TOTAL_OUTLINE_POINTS, NOSE_RADIUS_RANGE, RAPID_RANGE, TOP_LEVEL,
 };
 
 /// The built-in machine's TOML, embedded in the binary.

@@ -1,20 +1,27 @@
 //! Reporters: the findings of a batch as text, JSON, JUnit and SARIF, and a picture (SVG) of
 //! each finding's scene.
 //!
+//! A finding of the 3D path (issue 15) carries a [`scene3::Snapshot3`] beside (or instead of) the
+//! 2D snapshot (`Finding::snapshot3`): `--svg` draws it as three orthographic views
+//! ([`views3`]), `--glb` writes it as a glTF binary ([`glb`]).
+//!
 //! Every reporter takes the same [`Report`] and returns a string; choosing one is the binary's
 //! job. Reporters never reorder findings: the caller sorts files by path and findings by line.
 
 mod fingerprint;
 mod github;
 mod gitlab;
+pub mod glb;
 mod json;
 mod junit;
 pub mod machine_svg;
 pub mod part;
 mod sarif;
+pub mod scene3;
 mod statistics;
 pub mod svg;
 mod text;
+pub mod views3;
 
 use crate::finding::{Finding, Severity};
 use crate::pipeline::{Settings, Stats};

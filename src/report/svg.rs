@@ -66,7 +66,11 @@ pub fn pictures(r: &Report) -> Vec<Picture> {
         // One line index per file (not per picture: a big file with many pictures).
         let mut lines = None;
         for (xi, x) in f.findings.iter().enumerate() {
-            let Some(snap) = x.snapshot.as_deref() else { continue };
+            // A finding of the 3D path is drawn as three views (`views3`), the others as the
+            // working plane.
+            if x.snapshot.is_none() && x.snapshot3.is_none() {
+                continue;
+            }
             let li = lines.get_or_insert_with(|| LineIndex::new(&f.source));
             let base = name(&f.path, x);
             let mut file = format!("{base}.svg");
@@ -76,10 +80,15 @@ pub fn pictures(r: &Report) -> Vec<Picture> {
                 k += 1;
             }
             let block = block_text(f, li, x.line);
+            let svg = match (x.snapshot3.as_deref(), x.snapshot.as_deref()) {
+                (Some(s3), _) => super::views3::picture(f, x, s3, &block),
+                (None, Some(snap)) => picture(f, x, snap, &block),
+                (None, None) => continue,
+            };
             out.push(Picture {
                 file: fi,
                 finding: xi,
-                svg: picture(f, x, snap, &block),
+                svg,
                 name: file,
             });
         }
@@ -96,7 +105,7 @@ pub struct Picture {
 }
 
 /// `programs__crash.nc.L10.collision.T01-holder.chuck`: safe on every file system.
-fn name(path: &str, f: &Finding) -> String {
+pub(super) fn name(path: &str, f: &Finding) -> String {
     let parts: Vec<String> = path
         .split(['/', '\\'])
         .filter(|c| !c.is_empty() && *c != ".")

@@ -664,6 +664,43 @@ impl DexelStock {
             * self.h
     }
 
+    /// The centre z of column `j` (read-only accessor for 3D queries).
+    pub fn column_center(&self, j: usize) -> f64 {
+        self.center(j)
+    }
+
+    /// The columns whose centre lies strictly inside `(zmin, zmax)`, first and last.
+    pub fn columns_within(&self, zmin: f64, zmax: f64) -> Option<(usize, usize)> {
+        self.column_range(zmin, zmax)
+    }
+
+    /// Column `j`'s material (sorted, disjoint radial intervals) as `view` sees it, exactly as
+    /// [`Self::overlap_view`] sees it. Reuses a scratch buffer: no allocation once warm.
+    pub fn column_material(&mut self, j: usize, view: View) -> &[(f64, f64)] {
+        if j >= self.cols.len() {
+            return &[];
+        }
+        match view {
+            View::Instant(sw) if self.journal.active && self.saved(j).is_some() => {
+                let c = self.center(j);
+                let mut near = std::mem::take(&mut self.near);
+                near.clear();
+                near.extend((0..sw.polys.len()).filter(|&i| {
+                    let bb = &sw.polys[i].0;
+                    c >= bb.min.y && c < bb.max.y
+                }));
+                let mut mat = std::mem::take(&mut self.mat);
+                mat.clear();
+                mat.extend_from_slice(self.saved(j).unwrap_or(&[]));
+                remove_swept(&mut mat, sw, &near, c);
+                self.near = near;
+                self.mat = mat;
+                &self.mat
+            }
+            _ => &self.cols[j].iv,
+        }
+    }
+
     /// Radial material intervals at the column nearest to `z` (for tests and drawings).
     pub fn material_at(&self, z: f64) -> Vec<(f64, f64)> {
         let j = ((z - self.z0) / self.h - 0.5).round();

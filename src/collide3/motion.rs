@@ -1,0 +1,235 @@
+//! Motion bounds and conservative advancement along a move.
+//!
+//! **The bound** ([`motion_bound`]). A point `x` of component `comp` is posed by the joints on the
+//! path from the root to `comp`. Along a linear path of axis values, each joint moves `x` at a
+//! rate of at most `|Δ|` (a linear axis: the translation is a rotated unit direction times the
+//! value) or `|Δθ| · dist(x, L)` (a rotary axis: angular speed `|Δθ|` in radians about its line
+//! `L`, which the joints above it carry along rigidly). The speeds add (the chain rule of the
+//! composed transform). The distance of `x` to `L` changes only through the joints below that
+//! joint (its own rotation keeps it, the joints above move `L` and `x` together), so along the
+//! path it is at most `R + D_below`: `R` the largest distance from `L` of the component's bounding
+//! sphere posed at the start values (distance to a line is convex, so a sphere's is its centre's
+//! plus its radius), `D_below` the bound of the joints below, found first. Integrating over the
+//! path: `D = Σ_linear |Δ| + Σ_rotary |Δθ| · (R + D_below)`, an upper bound of how far any point
+//! of the geometry moves. Over a part `[u, u + δ]` of a linear path every `Δ` scales by
+//! `δ / (1 − u)` and `D_below` does not grow, so the bound of the part is at most that fraction
+//! of the bound of `[u, 1]`: the rate used by the advancement.
+//!
+//! **Conservative advancement** ([`first_contact`]). At `u` the pair is apart by the proven
+//! distance `d` (parry's boundary distance; 0 when overlapping); their relative motion over the
+//! next `δ` is at most `ρ · δ`, `ρ` the sum of both components' rates, so no overlap can start
+//! before `d / ρ`: the step is `max(d, m) / ρ`, `m` the minimum step (half the touching tolerance,
+//! at least [`MIN_STEP_MM`]). A step longer than the proven gap moves any point at most `m`
+//! further than the gap, so a contact it could step over reaches at most `m ≤ eps/2` into the
+//! other solid: shallower than the tolerance, touching. A probe that overlaps ends the search: the
+//! contact boundary in the last step is bisected to 1e-9 in `u`. At most [`MAX_PROBES`] probes
+//! are spent on one pair along one move; past them the rest of the move is `Unchecked`.
+
+use nalgebra::{Point3, Vector3};
+
+use super::{distance, overlap, Hit, Shape3};
+use crate::kin::{AxisKind, CompId, Geometry, Kinematics, Poser};
+
+/// Most probes (overlap or distance tests) on one pair along one move.
+pub const MAX_PROBES: u64 = 100_000;
+/// The smallest advancement step, mm of relative motion.
+pub const MIN_STEP_MM: f64 = 1e-6;
+/// Bisection of a contact boundary stops at this width in the path parameter.
+const BISECT_U: f64 = 1e-9;
+
+/// A move of the machine: axis values for each `u ∈ [0, 1]`, and a bound of the motion.
+pub trait Path {
+    /// The axis values at `u` (one per axis of the kinematics).
+    fn at(&self, u: f64, out: &mut Vec<f64>);
+    /// An upper bound of how far any point of `comp`'s geometry moves while `u` goes from `u0`
+    /// to `u1`; over `[u0, u0 + t·(u1 − u0)]` at most `t` times it.
+    fn bound(&self, k: &Kinematics, comp: CompId, u0: f64, u1: f64) -> f64;
+}
+
+/// Axis values going linearly from `v0` to `v1`.
+#[derive(Clone, Debug)]
+pub struct LinearPath {
+    pub v0: Vec<f64>,
+    pub v1: Vec<f64>,
+}
+
+impl Path for LinearPath {
+    fn at(&self, u: f64, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend(self.v0.iter().zip(&self.v1).map(|(a, b)| a + (b - a) * u));
+    }
+
+    fn bound(&self, k: &Kinematics, comp: CompId, u0: f64, u1: f64) -> f64 {
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        self.at(u0, &mut a);
+        self.at(u1, &mut b);
+        motion_bound(k, comp, &a, &b)
+    }
+}
+
+/// Scale of a revolved outline's circumscribed mesh with the fewest spokes.
+fn revolve_scale() -> f64 {
+    1.0 / (std::f64::consts::PI / super::MIN_SPOKES as f64).cos()
+}
+
+/// A sphere holding a geometry (and the collision shape `collide3` builds from it), own frame.
+pub fn geometry_sphere(g: &Geometry) -> (Point3<f64>, f64) {
+    let boxed = |lo: Point3<f64>, hi: Point3<f64>| {
+        let c = nalgebra::center(&lo, &hi);
+        (c, (hi - lo).norm() / 2.0)
+    };
+    match g {
+        Geometry::Mesh(m) => {
+            let mut lo = Point3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY);
+            let mut hi = -lo;
+            for p in &m.vertices {
+                lo = lo.inf(p);
+                hi = hi.sup(p);
+            }
+            if m.vertices.is_empty() {
+                return (Point3::origin(), 0.0);
+            }
+            let c = nalgebra::center(&lo, &hi);
+            let r = m.vertices.iter().map(|p| (p - c).norm()).fold(0.0, f64::max);
+            (c, r)
+        }
+        Geometry::Revolved(o) => {
+            let rmax = o.iter().map(|p| p.x.abs()).fold(0.0, f64::max) * revolve_scale();
+            let z0 = o.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
+            let z1 = o.iter().map(|p| p.y).fold(f64::NEG_INFINITY, f64::max);
+            boxed(Point3::new(-rmax, -rmax, z0), Point3::new(rmax, rmax, z1))
+        }
+        Geometry::Extruded { outline, half_width } => {
+            let x0 = outline.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
+            let x1 = outline.iter().map(|p| p.x).fold(f64::NEG_INFINITY, f64::max);
+            let z0 = outline.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
+            let z1 = outline.iter().map(|p| p.y).fold(f64::NEG_INFINITY, f64::max);
+            let hw = half_width.abs();
+            boxed(Point3::new(x0, -hw, z0), Point3::new(x1, hw, z1))
+        }
+        Geometry::Cuboid { min, max } => boxed(*min, *max),
+        Geometry::Cylinder { radius, z0, z1 } => {
+            let r = radius.abs();
+            boxed(Point3::new(-r, -r, z0.min(*z1)), Point3::new(r, r, z0.max(*z1)))
+        }
+    }
+}
+
+/// An upper bound of how far any point of `comp`'s geometry moves when the axis values go
+/// linearly from `v0` to `v1` (see the module docs for the proof). 0 for a component without
+/// geometry; infinite for non-finite values.
+pub fn motion_bound(k: &Kinematics, comp: CompId, v0: &[f64], v1: &[f64]) -> f64 {
+    let Some(c) = k.components.get(comp) else {
+        return 0.0;
+    };
+    let Some(g) = &c.geometry else {
+        return 0.0;
+    };
+    let (center, radius) = geometry_sphere(g);
+    let mut poser = Poser::new(k);
+    poser.pose(k, v0);
+    let centre_w = poser.world(comp) * center;
+    let mut d = 0.0f64;
+    let mut at = Some(comp);
+    while let Some(i) = at {
+        let ci = &k.components[i];
+        if let Some(a) = ci.axis {
+            let delta = v1.get(a).copied().unwrap_or(0.0) - v0.get(a).copied().unwrap_or(0.0);
+            match &k.axes[a].kind {
+                AxisKind::Linear { .. } => d += delta.abs(),
+                AxisKind::Rotary { origin, dir } => {
+                    // The joint's frame: the parent's world pose times the mount, at v0.
+                    let frame = ci.parent.map_or(crate::kin::Iso::identity(), |p| *poser.world(p)) * ci.mount;
+                    let o = frame * origin;
+                    let u: Vector3<f64> = frame.rotation * dir.into_inner();
+                    let w = centre_w - o;
+                    let r = (w - u * w.dot(&u)).norm() + radius;
+                    d += delta.to_radians().abs() * (r + d);
+                }
+            }
+        }
+        at = ci.parent;
+    }
+    if d.is_nan() {
+        f64::INFINITY
+    } else {
+        d
+    }
+}
+
+/// The outcome of conservative advancement for one pair along one move.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Advance {
+    /// No overlap deeper than `eps` anywhere on the move.
+    Clear,
+    /// First contact at `u` (within 1e-9 after the last clear probe).
+    Contact { u: f64, hit: Hit },
+    /// The probe budget ran out at `u`: the rest of the move is unchecked.
+    Unchecked { u: f64 },
+}
+
+/// Conservative advancement of the pair `a`, `b` (components with their shapes) along `path`
+/// (see the module docs): the first `u` where they overlap by more than `eps`.
+pub fn first_contact(k: &Kinematics, a: (CompId, &Shape3), b: (CompId, &Shape3), path: &dyn Path, eps: f64) -> Advance {
+    let mut poser = Poser::new(k);
+    let mut vals = Vec::with_capacity(k.axes.len());
+    let mut probes: u64 = 0;
+    let min_step = (eps / 2.0).max(MIN_STEP_MM);
+    let mut probe = |u: f64, dist: bool, poser: &mut Poser| {
+        path.at(u, &mut vals);
+        poser.pose(k, &vals);
+        let (pa, pb) = (*poser.world(a.0), *poser.world(b.0));
+        let hit = overlap(a.1, &pa, b.1, &pb, eps);
+        let d = if dist && hit.is_none() {
+            distance(a.1, &pa, b.1, &pb)
+        } else {
+            0.0
+        };
+        (hit, d)
+    };
+    let mut u = 0.0f64;
+    let mut prev = 0.0f64;
+    loop {
+        probes += 1;
+        if probes > MAX_PROBES {
+            return Advance::Unchecked { u };
+        }
+        let (hit, d) = probe(u, true, &mut poser);
+        if let Some(h) = hit {
+            if u == 0.0 {
+                return Advance::Contact { u, hit: h };
+            }
+            // Bisect the boundary between the last clear probe and this one.
+            let (mut lo, mut hi, mut best) = (prev, u, h);
+            while hi - lo > BISECT_U {
+                probes += 1;
+                if probes > MAX_PROBES {
+                    return Advance::Unchecked { u: lo };
+                }
+                let mid = lo + (hi - lo) / 2.0;
+                if mid <= lo || mid >= hi {
+                    break;
+                }
+                match probe(mid, false, &mut poser).0 {
+                    Some(h) => (hi, best) = (mid, h),
+                    None => lo = mid,
+                }
+            }
+            return Advance::Contact { u: hi, hit: best };
+        }
+        if u >= 1.0 {
+            return Advance::Clear;
+        }
+        let rate = (path.bound(k, a.0, u, 1.0) + path.bound(k, b.0, u, 1.0)) / (1.0 - u);
+        if rate == 0.0 {
+            return Advance::Clear; // nothing moves for the rest of the move
+        }
+        if !rate.is_finite() || d.is_nan() {
+            return Advance::Unchecked { u };
+        }
+        let step = d.max(min_step) / rate;
+        prev = u;
+        let next = (u + step).min(1.0);
+        u = if next > u { next } else { (u + f64::EPSILON).min(1.0) };
+    }
+}

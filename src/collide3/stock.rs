@@ -1,0 +1,262 @@
+//! A triangle mesh against the revolved in-process stock (`scene::DexelStock`), exact per column.
+//!
+//! The stock's material is known on the plane `z = c` through each column's centre, as radial
+//! intervals (the 2D checker's model, ARCHITECTURE.md "the stock"). A triangle meets that plane in
+//! a segment (a point, or the whole triangle when it lies in the plane); the distances of the
+//! segment's points from the spindle axis fill exactly `[d_min, d_max]`, `d_min` the 2D distance
+//! from the axis to the segment and `d_max` at an endpoint (distance to a point is convex along a
+//! segment). Material at radius ρ on the plane is a whole ring, so the triangle meets the material
+//! iff `[d_min, d_max]` meets one of the column's intervals. A closed mesh meets the material
+//! also when a ring of material lies wholly inside it with no triangle reaching it: tested with
+//! one point of the ring (the ring is connected and meets no triangle, so it is all inside or
+//! all outside).
+
+use parry3d_f64::math::Vector;
+use parry3d_f64::query::PointQuery;
+
+use super::{to_point, to_pose, Hit, Shape3};
+use crate::kin::Iso;
+use crate::scene::stock::{DexelStock, View};
+
+/// Distance from the origin to the segment `a b` in the plane.
+fn seg_dist(a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let l2 = dx * dx + dy * dy;
+    let t = if l2 > 0.0 {
+        (-(a.0 * dx + a.1 * dy) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a.0 + t * dx).hypot(a.1 + t * dy)
+}
+
+/// Distance from the origin to the triangle projected on the xy plane: the smallest distance
+/// from the spindle axis of any point of the triangle.
+fn tri_axis_dist(p: &[Vector; 3]) -> f64 {
+    let q: [(f64, f64); 3] = [(p[0].x, p[0].y), (p[1].x, p[1].y), (p[2].x, p[2].y)];
+    let side = |a: (f64, f64), b: (f64, f64)| a.0 * b.1 - a.1 * b.0; // origin relative to edge
+    let s = [side(q[0], q[1]), side(q[1], q[2]), side(q[2], q[0])];
+    let inside = (s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0)) && s.iter().any(|&v| v != 0.0);
+    if inside {
+        return 0.0;
+    }
+    seg_dist(q[0], q[1]).min(seg_dist(q[1], q[2])).min(seg_dist(q[2], q[0]))
+}
+
+/// The radius range `[d_min, d_max]` of the triangle's section by the plane `z = c`, and a
+/// section point at each end of it, or `None` when the plane misses the triangle.
+fn section(p: &[Vector; 3], c: f64) -> Option<(f64, f64, (f64, f64), (f64, f64))> {
+    if p.iter().all(|v| v.z == c) {
+        let r = |v: &Vector| v.x.hypot(v.y);
+        let far = p.iter().copied().max_by(|a, b| r(a).total_cmp(&r(b)))?;
+        return Some((tri_axis_dist(p), r(&far), (0.0, 0.0), (far.x, far.y)));
+    }
+    let mut pts: [(f64, f64); 3] = [(0.0, 0.0); 3];
+    let mut n = 0;
+    for i in 0..3 {
+        let (a, b) = (p[i], p[(i + 1) % 3]);
+        if a.z == c {
+            pts[n.min(2)] = (a.x, a.y);
+            n += 1;
+        }
+        if (a.z - c) * (b.z - c) < 0.0 {
+            let t = (c - a.z) / (b.z - a.z);
+            pts[n.min(2)] = (a.x + t * (b.x - a.x), a.y + t * (b.y - a.y));
+            n += 1;
+        }
+    }
+    let n = n.min(3);
+    if n == 0 {
+        return None;
+    }
+    // The segment: the two section points farthest apart (all are on one line).
+    let (mut a, mut b) = (pts[0], pts[0]);
+    let mut best = -1.0;
+    for i in 0..n {
+        for j in i..n {
+            let d = (pts[i].0 - pts[j].0).hypot(pts[i].1 - pts[j].1);
+            if d > best {
+                best = d;
+                (a, b) = (pts[i], pts[j]);
+            }
+        }
+    }
+    let (ra, rb) = (a.0.hypot(a.1), b.0.hypot(b.1));
+    let dmax = ra.max(rb);
+    let dmin = seg_dist(a, b).min(dmax);
+    let far = if ra >= rb { a } else { b };
+    // The point nearest the axis.
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let l2 = dx * dx + dy * dy;
+    let t = if l2 > 0.0 {
+        (-(a.0 * dx + a.1 * dy) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let near = (a.0 + t * dx, a.1 + t * dy);
+    Some((dmin, dmax, near, far))
+}
+
+/// The mesh's triangles in the world (a primitive's circumscribing surface).
+fn world_triangles<'a>(shape: &'a Shape3, pose: &Iso) -> (Vec<Vector>, &'a [[u32; 3]]) {
+    let p = to_pose(pose);
+    let (v, t) = shape.surface();
+    (v.iter().map(|&x| p * x).collect(), t)
+}
+
+/// Does the solid (posed at `pose`) overlap the stock's material, as `view` sees it, by more than
+/// `eps` (radially, on some column's plane)? The depth is the largest radial depth into the
+/// material of a point of a triangle's section: `max over ρ in [d_min, d_max] ∩ [lo, hi] of
+/// min(ρ − lo, hi − ρ)`; for a ring of material inside the solid, `min` of the ring's half
+/// width and the ring point's depth inside the mesh.
+pub fn stock_overlap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: View, eps: f64) -> Option<Hit> {
+    let (v, t) = world_triangles(shape, pose);
+    let zmin = v.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+    let zmax = v.iter().map(|p| p.z).fold(f64::NEG_INFINITY, f64::max);
+    let pad = |z: f64| 1e-12 * (1.0 + z.abs());
+    let (j0, j1) = stock.columns_within(zmin - pad(zmin), zmax + pad(zmax))?;
+    // Per column in range: whether any triangle's section lies on its plane.
+    let mut cut = vec![false; j1 - j0 + 1];
+    let mut best: Option<Hit> = None;
+    for tr in t {
+        let p = [v[tr[0] as usize], v[tr[1] as usize], v[tr[2] as usize]];
+        let (a, b) = (p[0].z.min(p[1].z).min(p[2].z), p[0].z.max(p[1].z).max(p[2].z));
+        let Some((k0, k1)) = stock.columns_within(a - pad(a), b + pad(b)) else {
+            continue;
+        };
+        for j in k0.max(j0)..=k1.min(j1) {
+            let c = stock.column_center(j);
+            let Some((dmin, dmax, near, far)) = section(&p, c) else {
+                continue;
+            };
+            cut[j - j0] = true;
+            for &(lo, hi) in stock.column_material(j, view) {
+                let (x0, x1) = (dmin.max(lo), dmax.min(hi));
+                if x1 < x0 {
+                    continue;
+                }
+                let m = (lo + hi) / 2.0;
+                let rho = m.clamp(x0, x1);
+                let depth = (rho - lo).min(hi - rho);
+                if depth > eps && best.is_none_or(|h| depth > h.depth) {
+                    // A section point inside the material: the end nearer the ring's middle.
+                    let q = if (dmin - m).abs() <= (dmax - m).abs() {
+                        near
+                    } else {
+                        far
+                    };
+                    best = Some(Hit {
+                        depth,
+                        point: to_point(Vector::new(q.0, q.1, c)),
+                    });
+                }
+            }
+        }
+    }
+    if best.is_some() {
+        return best;
+    }
+    // Rings of material inside a closed mesh with no triangle reaching them.
+    let Shape3::Mesh(m) = shape else {
+        // A convex primitive: its section by a plane is convex; a ring around the axis inside it
+        // would need the axis inside too, where the ring's hole is: tested by the point below.
+        return convex_ring(shape, pose, stock, view, eps, j0, &cut);
+    };
+    let wp = to_pose(pose);
+    for (i, &hit) in cut.iter().enumerate() {
+        if !hit {
+            continue;
+        }
+        let j = j0 + i;
+        let c = stock.column_center(j);
+        for &(lo, hi) in stock.column_material(j, view) {
+            let q = Vector::new((lo + hi) / 2.0, 0.0, c);
+            if m.mesh.contains_point(&wp, q) {
+                let proj = m.mesh.project_point(&wp, q, false);
+                let depth = ((hi - lo) / 2.0).min((proj.point - q).length());
+                if depth > eps {
+                    return Some(Hit {
+                        depth,
+                        point: to_point(q),
+                    });
+                }
+            }
+        }
+    }
+    None
+}
+
+/// A ring of material inside a convex primitive (see [`stock_overlap`]).
+fn convex_ring(
+    shape: &Shape3,
+    pose: &Iso,
+    stock: &mut DexelStock,
+    view: View,
+    eps: f64,
+    j0: usize,
+    cut: &[bool],
+) -> Option<Hit> {
+    let wp = to_pose(pose);
+    for (i, &hit) in cut.iter().enumerate() {
+        if !hit {
+            continue;
+        }
+        let j = j0 + i;
+        let c = stock.column_center(j);
+        for &(lo, hi) in stock.column_material(j, view) {
+            let q = Vector::new((lo + hi) / 2.0, 0.0, c);
+            if shape.contains(&wp, q) {
+                let depth = ((hi - lo) / 2.0).min(shape.depth_of(&wp, q));
+                if depth > eps {
+                    return Some(Hit {
+                        depth,
+                        point: to_point(q),
+                    });
+                }
+            }
+        }
+    }
+    None
+}
+
+/// A lower bound of the distance from the solid (posed at `pose`) to the stock's material as
+/// `view` sees it (material on the columns' centre planes, as the overlap test sees it), looking
+/// no further than `window` mm: returns `window` when nothing is that close, 0 when they
+/// overlap. Per triangle and column: the triangle lies in the box `[ρ_min, ρ_max] × [z0, z1]` of
+/// the (radius, z) half plane and a material ring is the segment `[lo, hi] × {c}`; the 3D distance
+/// of two sets symmetric about the axis is their distance in that half plane, at least the
+/// distance of the box to the segment.
+pub fn stock_gap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: View, window: f64) -> f64 {
+    if window.is_nan() {
+        return 0.0;
+    }
+    if stock_overlap(shape, pose, stock, view, 0.0).is_some() {
+        return 0.0;
+    }
+    let (v, t) = world_triangles(shape, pose);
+    let mut best = window;
+    for tr in t {
+        let p = [v[tr[0] as usize], v[tr[1] as usize], v[tr[2] as usize]];
+        let (z0, z1) = (p[0].z.min(p[1].z).min(p[2].z), p[0].z.max(p[1].z).max(p[2].z));
+        let Some((k0, k1)) = stock.columns_within(z0 - best, z1 + best) else {
+            continue;
+        };
+        let rmin = tri_axis_dist(&p);
+        let rmax = p.iter().map(|q| q.x.hypot(q.y)).fold(0.0, f64::max);
+        for j in k0..=k1 {
+            let c = stock.column_center(j);
+            let dz = (c - z1).max(z0 - c).max(0.0);
+            if dz >= best {
+                continue;
+            }
+            for &(lo, hi) in stock.column_material(j, view) {
+                let dr = (lo - rmax).max(rmin - hi).max(0.0);
+                best = best.min(dz.hypot(dr));
+            }
+        }
+        if best <= 0.0 {
+            return 0.0;
+        }
+    }
+    best.max(0.0)
+}

@@ -1,0 +1,477 @@
+use super::*;
+use crate::kin::{Axis, AxisKind, CompId, Component, Kinematics, Mesh, Poser, Role};
+use crate::scene::stock::{DexelStock, View};
+use nalgebra::{Translation3, Unit, UnitQuaternion, Vector3};
+use proptest::prelude::*;
+use std::sync::Arc;
+
+fn at(x: f64, y: f64, z: f64) -> Iso {
+    Iso::from_parts(Translation3::new(x, y, z), UnitQuaternion::identity())
+}
+
+fn rot(x: f64, y: f64, z: f64, ax: f64, ay: f64, az: f64) -> Iso {
+    Iso::from_parts(
+        Translation3::new(x, y, z),
+        UnitQuaternion::from_euler_angles(ax, ay, az),
+    )
+}
+
+fn sphere_mesh(r: f64, rings: usize) -> Geometry {
+    let (v, t) = uv_sphere(r, rings, 2 * rings);
+    Geometry::Mesh(Arc::new(Mesh {
+        vertices: v.iter().map(|p| Point3::new(p.x, p.y, p.z)).collect(),
+        triangles: t,
+    }))
+}
+
+fn boxg(hx: f64, hy: f64, hz: f64) -> Geometry {
+    Geometry::Cuboid {
+        min: Point3::new(-hx, -hy, -hz),
+        max: Point3::new(hx, hy, hz),
+    }
+}
+
+/// A box as a triangle mesh (not the primitive).
+fn box_mesh(hx: f64, hy: f64, hz: f64) -> Shape3 {
+    let (v, t) = parry3d_f64::shape::Cuboid::new(Vector::new(hx, hy, hz)).to_trimesh();
+    Shape3::mesh(v, t).unwrap()
+}
+
+fn shape(g: &Geometry) -> Shape3 {
+    Shape3::from_geometry(g, 0.01).unwrap()
+}
+
+#[test]
+fn mesh_boxes_overlap_and_separate() {
+    let a = box_mesh(1.0, 1.0, 1.0);
+    let b = box_mesh(1.0, 1.0, 1.0);
+    let h = overlap(&a, &at(0.0, 0.0, 0.0), &b, &at(1.5, 0.2, 0.1), 1e-6).expect("overlap");
+    // The deepest crossing triangle pair: a lower bound of the solids' penetration (0.5).
+    assert!(h.depth > 0.1 && h.depth <= 0.5 + 1e-9, "{h:?}");
+    assert!(overlap(&a, &at(0.0, 0.0, 0.0), &b, &at(2.5, 0.0, 0.0), 1e-6).is_none());
+    assert!((distance(&a, &at(0.0, 0.0, 0.0), &b, &at(2.5, 0.0, 0.0)) - 0.5).abs() < 1e-9);
+}
+
+#[test]
+fn touching_is_not_colliding() {
+    for (a, b) in [
+        (box_mesh(1.0, 1.0, 1.0), box_mesh(1.0, 1.0, 1.0)),
+        (shape(&boxg(1.0, 1.0, 1.0)), shape(&boxg(1.0, 1.0, 1.0))),
+        (box_mesh(1.0, 1.0, 1.0), shape(&boxg(1.0, 1.0, 1.0))),
+    ] {
+        assert!(overlap(&a, &at(0.0, 0.0, 0.0), &b, &at(2.0, 0.3, 0.0), 1e-6).is_none());
+        assert!(overlap(&a, &at(0.0, 0.0, 0.0), &b, &at(1.99, 0.3, 0.0), 1e-6).is_some());
+    }
+}
+
+#[test]
+fn containment_detected() {
+    let big = shape(&sphere_mesh(10.0, 16));
+    let small = box_mesh(1.0, 1.0, 1.0);
+    let h = overlap(&big, &at(0.0, 0.0, 0.0), &small, &at(1.0, 0.5, 0.0), 1e-6).expect("small inside big");
+    assert!(h.depth > 5.0, "{h:?}");
+    assert!(overlap(&small, &at(1.0, 0.5, 0.0), &big, &at(0.0, 0.0, 0.0), 1e-6).is_some());
+    assert_eq!(distance(&big, &at(0.0, 0.0, 0.0), &small, &at(1.0, 0.5, 0.0)), 0.0);
+    // A primitive inside a mesh, and a mesh inside a primitive.
+    let cyl = shape(&Geometry::Cylinder {
+        radius: 20.0,
+        z0: -30.0,
+        z1: 30.0,
+    });
+    assert!(overlap(&cyl, &at(0.0, 0.0, 0.0), &small, &at(0.0, 5.0, 10.0), 1e-6).is_some());
+    assert!(overlap(
+        &big,
+        &at(0.0, 0.0, 0.0),
+        &shape(&boxg(1.0, 1.0, 1.0)),
+        &at(0.0, 0.0, 2.0),
+        1e-6
+    )
+    .is_some());
+    // Outside the cylinder: apart.
+    assert!(overlap(&cyl, &at(0.0, 0.0, 0.0), &small, &at(0.0, 25.0, 10.0), 1e-6).is_none());
+}
+
+#[test]
+fn cylinder_axis_is_z() {
+    let cyl = shape(&Geometry::Cylinder {
+        radius: 2.0,
+        z0: 0.0,
+        z1: 50.0,
+    });
+    let probe = box_mesh(0.1, 0.1, 0.1);
+    // Along z inside the cylinder's length: overlap; beyond its radius in y: none.
+    assert!(overlap(&cyl, &at(0.0, 0.0, 0.0), &probe, &at(0.0, 0.0, 40.0), 1e-6).is_some());
+    assert!(overlap(&cyl, &at(0.0, 0.0, 0.0), &probe, &at(0.0, 3.0, 1.0), 1e-6).is_none());
+    assert!(overlap(&cyl, &at(0.0, 0.0, 0.0), &probe, &at(0.0, 0.0, 51.0), 1e-6).is_none());
+}
+
+/// A ring outline (a bore) and a stepped, coned outline with a z tip.
+fn outlines() -> Vec<Vec<P2>> {
+    vec![
+        vec![
+            P2::new(5.0, 0.0),
+            P2::new(20.0, 0.0),
+            P2::new(20.0, 30.0),
+            P2::new(5.0, 30.0),
+        ],
+        vec![
+            P2::new(0.0, 0.0),
+            P2::new(30.0, 0.0),
+            P2::new(30.0, 10.0),
+            P2::new(15.0, 25.0),
+            P2::new(8.0, 40.0),
+            P2::new(4.0, 12.0),
+            P2::new(0.0, 12.0),
+        ],
+        vec![P2::new(5.0, 0.0), P2::new(10.0, 10.0), P2::new(0.0, 10.0)],
+    ]
+}
+
+/// Whether (r, z) is inside a polygon (even-odd).
+fn inside2(p: &[P2], r: f64, z: f64) -> bool {
+    let mut c = false;
+    for i in 0..p.len() {
+        let (a, b) = (p[i], p[(i + 1) % p.len()]);
+        if (a.y > z) != (b.y > z) && r < a.x + (z - a.y) / (b.y - a.y) * (b.x - a.x) {
+            c = !c;
+        }
+    }
+    c
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn revolved_circumscription_never_smaller_than_solid(
+        which in 0usize..3, r in 0.0f64..1.0, z in 0.0f64..1.0, th in 0.0f64..std::f64::consts::TAU, tol in 0.001f64..2.0
+    ) {
+        let o = &outlines()[which];
+        let rmax = o.iter().map(|p| p.x).fold(0.0, f64::max);
+        let zmax = o.iter().map(|p| p.y).fold(0.0, f64::max);
+        let (rr, zz) = (r * rmax, z * zmax);
+        prop_assume!(inside2(o, rr, zz));
+        let s = Shape3::from_geometry(&Geometry::Revolved(o.clone()), tol).unwrap();
+        let p = Vector::new(rr * th.cos(), rr * th.sin(), zz);
+        prop_assert!(s.contains(&Pose::IDENTITY, p), "({rr}, {zz}) at {th} not in the mesh");
+    }
+
+    #[test]
+    fn overlap_symmetric_and_distance_zero_iff_overlap(
+        x in -4.0f64..4.0, y in -4.0f64..4.0, z in -4.0f64..4.0,
+        ax in -3.0f64..3.0, ay in -3.0f64..3.0, kind in 0usize..4
+    ) {
+        let a = shape(&sphere_mesh(1.5, 8));
+        let b = match kind {
+            0 => box_mesh(1.0, 0.5, 2.0),
+            1 => shape(&boxg(1.0, 0.5, 2.0)),
+            2 => shape(&Geometry::Cylinder { radius: 0.8, z0: -1.0, z1: 1.5 }),
+            _ => shape(&Geometry::Revolved(outlines()[0].iter().map(|p| P2::new(p.x / 10.0, p.y / 10.0)).collect())),
+        };
+        let (pa, pb) = (at(0.0, 0.0, 0.0), rot(x, y, z, ax, ay, 0.0));
+        let ab = overlap(&a, &pa, &b, &pb, 1e-9);
+        let ba = overlap(&b, &pb, &a, &pa, 1e-9);
+        prop_assert_eq!(ab.is_some(), ba.is_some());
+        if let (Some(h1), Some(h2)) = (ab, ba) {
+            prop_assert!((h1.depth - h2.depth).abs() < 1e-6 * (1.0 + h1.depth), "{:?} {:?}", h1, h2);
+        }
+        let d = distance(&a, &pa, &b, &pb);
+        prop_assert!(d >= 0.0);
+        if ab.is_some() {
+            prop_assert_eq!(d, 0.0);
+        } else {
+            // Apart, or touching within the tolerance.
+            prop_assert!(d > 0.0 || overlap(&a, &pa, &b, &pb, 0.0).is_none() || ab.is_none());
+        }
+        if d > 1e-6 {
+            prop_assert!(ab.is_none());
+        }
+    }
+}
+
+// ---- the stock ----
+
+/// Brute force: dense points of the triangle against `material_at` (depth > eps somewhere).
+fn stock_oracle(s: &Shape3, pose: &Iso, stock: &DexelStock, eps: f64) -> bool {
+    let p = to_pose(pose);
+    let (v, t) = s.surface();
+    let n = 60;
+    for tr in t {
+        let q = [p * v[tr[0] as usize], p * v[tr[1] as usize], p * v[tr[2] as usize]];
+        for i in 0..=n {
+            for j in 0..=(n - i) {
+                let (a, b) = (i as f64 / n as f64, j as f64 / n as f64);
+                let x = q[0] + (q[1] - q[0]) * a + (q[2] - q[0]) * b;
+                // Only points on a column's centre plane count (the model's planes).
+                let h = stock.column_width();
+                let Some((j0, _)) = stock.columns_within(x.z - h / 2.0, x.z + h / 2.0) else {
+                    continue;
+                };
+                let c = stock.column_center(j0);
+                if (c - x.z).abs() > 0.02 * h {
+                    continue;
+                }
+                let rho = x.x.hypot(x.y);
+                if stock
+                    .material_at(c)
+                    .iter()
+                    .any(|&(lo, hi)| (rho - lo).min(hi - rho) > eps + 0.05)
+                {
+                    return true;
+                }
+            }
+        }
+    }
+    false
+}
+
+#[test]
+fn stock_overlap_a_drill_into_the_bar() {
+    let mut stock = DexelStock::new(40.0, 0.0, 50.0, 0.0, 0.5);
+    let drill = shape(&Geometry::Cylinder {
+        radius: 2.0,
+        z0: 0.0,
+        z1: 30.0,
+    });
+    // A cross drill along -x (the cylinder's z turned onto x), its tip at radius 15.
+    let pose = rot(15.0, 0.0, -20.0, 0.0, std::f64::consts::FRAC_PI_2, 0.0);
+    let h = stock_overlap(&drill, &pose, &mut stock, View::Now, 1e-6).expect("drill in the bar");
+    assert!(h.depth > 2.0, "{h:?}");
+    let away = rot(25.0, 0.0, -20.0, 0.0, std::f64::consts::FRAC_PI_2, 0.0);
+    assert!(stock_overlap(&drill, &away, &mut stock, View::Now, 1e-6).is_none());
+    let g = stock_gap(&drill, &away, &mut stock, View::Now, 100.0);
+    assert!(g > 4.0 && g <= 5.0 + 1e-9, "{g}");
+    assert_eq!(stock_gap(&drill, &pose, &mut stock, View::Now, 100.0), 0.0);
+}
+
+#[test]
+fn stock_ring_inside_a_mesh_is_an_overlap() {
+    // A closed hollow-free mesh around the whole bar (a big sphere) overlaps it.
+    let mut stock = DexelStock::new(10.0, 0.0, 10.0, 0.0, 0.5);
+    let ball = shape(&sphere_mesh(40.0, 16));
+    assert!(stock_overlap(&ball, &at(0.0, 0.0, -5.0), &mut stock, View::Now, 1e-6).is_some());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn stock_query_equals_brute_force_oracle(
+        x in -25.0f64..25.0, y in -25.0f64..25.0, z in -40.0f64..10.0, ax in -3.0f64..3.0, ay in -3.0f64..3.0
+    ) {
+        let mut stock = DexelStock::new(30.0, 10.0, 30.0, 0.0, 1.0);
+        let b = box_mesh(3.0, 1.0, 4.0);
+        let pose = rot(x, y, z, ax, ay, 0.0);
+        let eps = 1e-6;
+        let fast = stock_overlap(&b, &pose, &mut stock, View::Now, eps);
+        let oracle = stock_oracle(&b, &pose, &stock, eps);
+        // The oracle sees a subset of the section points (with a 0.05 mm margin): whatever it
+        // finds, the exact query finds.
+        if oracle {
+            prop_assert!(fast.is_some());
+        }
+        // And an exact hit deeper than the oracle's margin is seen by the oracle too, unless it
+        // is a ring inside the box (no triangle reaches it) or between the oracle's samples.
+        if let Some(h) = fast {
+            let gap = stock_gap(&b, &pose, &mut stock, View::Now, 50.0);
+            prop_assert_eq!(gap, 0.0);
+            prop_assert!(h.depth > eps);
+        } else {
+            let gap = stock_gap(&b, &pose, &mut stock, View::Now, 50.0);
+            prop_assert!(gap >= 0.0);
+        }
+    }
+}
+
+// ---- motion ----
+
+/// A machine: a Z slide carrying an X slide carrying a B head (rotary about y) with a tool, and a
+/// spindle with C (rotary about z) holding a plate.
+fn machine(tool: Geometry, plate: Geometry) -> Kinematics {
+    let axes = vec![
+        Axis {
+            name: "z".into(),
+            letter: 'Z',
+            kind: AxisKind::Linear { dir: Vector3::z_axis() },
+            zero: 0.0,
+            travel: (-1e3, 1e3),
+            rapid: 1e4,
+        },
+        Axis {
+            name: "x".into(),
+            letter: 'X',
+            kind: AxisKind::Linear { dir: Vector3::x_axis() },
+            zero: 0.0,
+            travel: (-1e3, 1e3),
+            rapid: 1e4,
+        },
+        Axis {
+            name: "b".into(),
+            letter: 'B',
+            kind: AxisKind::Rotary {
+                origin: Point3::new(0.0, 0.0, 0.0),
+                dir: Vector3::y_axis(),
+            },
+            zero: 0.0,
+            travel: (f64::NEG_INFINITY, f64::INFINITY),
+            rapid: 1e4,
+        },
+        Axis {
+            name: "c".into(),
+            letter: 'C',
+            kind: AxisKind::Rotary {
+                origin: Point3::new(0.0, 0.0, 0.0),
+                dir: Unit::new_normalize(Vector3::new(0.0, 0.0, 1.0)),
+            },
+            zero: 0.0,
+            travel: (f64::NEG_INFINITY, f64::INFINITY),
+            rapid: 1e4,
+        },
+    ];
+    let comp = |name: &str, parent, mount, axis, geometry| Component {
+        name: name.into(),
+        parent,
+        mount,
+        axis,
+        geometry,
+        role: Role::Structure,
+        station: None,
+    };
+    Kinematics {
+        axes,
+        components: vec![
+            comp("zslide", None, Iso::identity(), Some(0), None),
+            comp("xslide", Some(0), Iso::identity(), Some(1), None),
+            comp("head", Some(1), at(0.0, 0.0, 10.0), Some(2), None),
+            comp("tool", Some(2), at(0.0, 0.0, 5.0), None, Some(tool)),
+            comp("spindle", None, Iso::identity(), Some(3), None),
+            comp("plate", Some(4), Iso::identity(), None, Some(plate)),
+        ],
+        never_touch: vec![(3, 5)],
+    }
+}
+
+fn vertices(g: &Geometry) -> Vec<Point3<f64>> {
+    match g {
+        Geometry::Mesh(m) => m.vertices.clone(),
+        Geometry::Cuboid { min, max } => (0..8)
+            .map(|i| {
+                Point3::new(
+                    if i & 1 == 0 { min.x } else { max.x },
+                    if i & 2 == 0 { min.y } else { max.y },
+                    if i & 4 == 0 { min.z } else { max.z },
+                )
+            })
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    #[test]
+    fn motion_bound_never_smaller_than_vertex_displacement(
+        v0 in proptest::collection::vec(-200.0f64..200.0, 4),
+        v1 in proptest::collection::vec(-200.0f64..200.0, 4),
+        comp in prop_oneof![Just(3usize), Just(5usize)],
+    ) {
+        let k = machine(boxg(2.0, 1.0, 30.0), boxg(40.0, 3.0, 1.0));
+        let bound = motion_bound(&k, comp, &v0, &v1);
+        let verts = vertices(k.components[comp].geometry.as_ref().unwrap());
+        let mut poser = Poser::new(&k);
+        poser.pose(&k, &v0);
+        let start: Vec<Point3<f64>> = verts.iter().map(|p| poser.world(comp) * p).collect();
+        let path = LinearPath { v0: v0.clone(), v1: v1.clone() };
+        let mut vals = Vec::new();
+        for i in 1..=200 {
+            path.at(i as f64 / 200.0, &mut vals);
+            poser.pose(&k, &vals);
+            for (p, s) in verts.iter().zip(&start) {
+                let moved = (poser.world(comp) * p - s).norm();
+                prop_assert!(moved <= bound * (1.0 + 1e-12) + 1e-9, "moved {} > bound {}", moved, bound);
+            }
+        }
+    }
+}
+
+/// Dense sampling: the first sample of the path where the pair overlaps by more than `eps`.
+fn oracle_first(
+    k: &Kinematics,
+    a: (CompId, &Shape3),
+    b: (CompId, &Shape3),
+    path: &LinearPath,
+    eps: f64,
+    n: usize,
+) -> Option<f64> {
+    let mut poser = Poser::new(k);
+    let mut vals = Vec::new();
+    (0..=n).map(|i| i as f64 / n as f64).find(|&u| {
+        path.at(u, &mut vals);
+        poser.pose(k, &vals);
+        overlap(a.1, poser.world(a.0), b.1, poser.world(b.0), eps).is_some()
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn first_contact_never_tunnels_thin_plates_fast_moves(
+        x0 in -150.0f64..150.0, x1 in -150.0f64..150.0,
+        z0 in -60.0f64..20.0, z1 in -60.0f64..20.0,
+        b0 in -180.0f64..180.0, b1 in -180.0f64..180.0,
+        c0 in -360.0f64..360.0, c1 in -360.0f64..360.0,
+        rotary in any::<bool>(),
+    ) {
+        // A thin tool blade and a thin plate (0.2 mm) on the spindle.
+        let k = machine(boxg(0.1, 4.0, 20.0), boxg(60.0, 0.1, 60.0));
+        let ta = Shape3::from_geometry(k.components[3].geometry.as_ref().unwrap(), 0.01).unwrap();
+        let tb = Shape3::from_geometry(k.components[5].geometry.as_ref().unwrap(), 0.01).unwrap();
+        let (b0, b1, c0, c1) = if rotary { (b0, b1, c0, c1) } else { (0.0, 0.0, 0.0, 0.0) };
+        let path = LinearPath { v0: vec![z0, x0, b0, c0], v1: vec![z1, x1, b1, c1] };
+        let eps = 1e-3;
+        let got = first_contact(&k, (3, &ta), (5, &tb), &path, eps);
+        let want = oracle_first(&k, (3, &ta), (5, &tb), &path, eps * 10.0, 2000);
+        match (got, want) {
+            (Advance::Unchecked { .. }, _) => {}
+            (Advance::Clear, Some(u)) => prop_assert!(false, "tunnelled: oracle overlap at u = {}", u),
+            (Advance::Contact { u, .. }, Some(w)) => prop_assert!(u <= w + 1e-9, "contact at {} after the oracle's {}", u, w),
+            (Advance::Contact { u, hit }, None) => {
+                // A contact the samples missed: it must be real.
+                let mut poser = Poser::new(&k);
+                let mut vals = Vec::new();
+                path.at(u, &mut vals);
+                poser.pose(&k, &vals);
+                prop_assert!(overlap(&ta, poser.world(3), &tb, poser.world(5), eps).is_some(), "{:?}", hit);
+            }
+            (Advance::Clear, None) => {}
+        }
+    }
+}
+
+#[test]
+fn first_contact_finds_a_thin_plate_in_one_fast_move() {
+    let k = machine(boxg(0.1, 4.0, 20.0), boxg(60.0, 0.1, 60.0));
+    let ta = Shape3::from_geometry(k.components[3].geometry.as_ref().unwrap(), 0.01).unwrap();
+    let tb = Shape3::from_geometry(k.components[5].geometry.as_ref().unwrap(), 0.01).unwrap();
+    // The plate in the x-z plane at y = 0; C turns it 90° (into y-z) under the blade at x = 30.
+    let path = LinearPath {
+        v0: vec![-50.0, 30.0, 0.0, 90.0],
+        v1: vec![-50.0, 30.0, 0.0, 0.0],
+    };
+    // Start: the plate in the y-z plane, the blade at x = 30 with its centre z = 10 + 5 - 50.
+    match first_contact(&k, (3, &ta), (5, &tb), &path, 1e-3) {
+        Advance::Contact { u, .. } => assert!(u > 0.0 && u < 1.0, "{u}"),
+        other => panic!("{other:?}"),
+    }
+    // Endpoints both clear, the middle is not: sampling only the ends would tunnel.
+    let far = LinearPath {
+        v0: vec![-50.0, 100.0, 0.0, 0.0],
+        v1: vec![-50.0, -100.0, 0.0, 0.0],
+    };
+    assert!(matches!(
+        first_contact(&k, (3, &ta), (5, &tb), &far, 1e-3),
+        Advance::Contact { .. }
+    ));
+}

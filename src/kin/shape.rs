@@ -1,0 +1,350 @@
+//! Primitives → closed, consistently wound triangle meshes ([`Mesh`], counter-clockwise seen
+//! from outside), for the 3D queries.
+//!
+//! A revolved outline becomes a polygonal solid that contains the true solid of revolution: the
+//! ring of each outline point facing away from the axis (a point of an edge whose outward normal
+//! points to larger radius) has its radius scaled by `1/cos(π/n)`, so that the flat faces between
+//! rings lie outside the round surface; a point of surfaces facing the axis only (a bore) keeps
+//! its radius, so the chords lie inside the hole, on the material side. `n` (segments round the
+//! axis) is the least for which the outward excess `r_max · (1/cos(π/n) − 1)` is at most the
+//! tolerance, from [`MIN_SEGMENTS`] to [`MAX_SEGMENTS`] (at the cap the excess may exceed the
+//! tolerance: the mesh is still never smaller than the solid).
+//!
+//! An extruded outline is triangulated by ear clipping: at most [`MAX_SHAPE_POINTS`] points.
+
+use nalgebra::Point3;
+
+use super::{Geometry, Mesh};
+use crate::geom::{Polygon, P2};
+
+/// Fewest segments round the axis of a revolved mesh.
+pub const MIN_SEGMENTS: usize = 8;
+/// Most segments round the axis of a revolved mesh.
+pub const MAX_SEGMENTS: usize = 512;
+/// Most points of an outline made into a mesh.
+pub const MAX_SHAPE_POINTS: usize = 2_000;
+
+/// How many segments round the axis keep the outward excess of a radius `r_max` within `tol`.
+pub fn segments_for(r_max: f64, tol: f64) -> usize {
+    let mut n = MIN_SEGMENTS;
+    if !(r_max > 0.0) || !(tol > 0.0) {
+        return if r_max > 0.0 { MAX_SEGMENTS } else { MIN_SEGMENTS };
+    }
+    while n < MAX_SEGMENTS && r_max * (1.0 / (std::f64::consts::PI / n as f64).cos() - 1.0) > tol {
+        n += 1;
+    }
+    n
+}
+
+/// A geometry as a mesh (a [`Geometry::Mesh`] is returned as it is).
+pub fn mesh_of(g: &Geometry, tol: f64) -> Result<Mesh, String> {
+    match g {
+        Geometry::Mesh(m) => Ok((**m).clone()),
+        Geometry::Revolved(o) => revolved(o, tol),
+        Geometry::Extruded { outline, half_width } => extruded(outline, *half_width),
+        Geometry::Cuboid { min, max } => Ok(cuboid(*min, *max)),
+        Geometry::Cylinder { radius, z0, z1 } => cylinder(*radius, *z0, *z1, tol),
+    }
+}
+
+/// A simple outline as a counter-clockwise polygon, with the checks a mesh needs.
+fn polygon(outline: &[P2]) -> Result<Polygon, String> {
+    if outline.len() > MAX_SHAPE_POINTS {
+        return Err(format!(
+            "{} points; an outline made into a mesh may have at most {MAX_SHAPE_POINTS}",
+            outline.len()
+        ));
+    }
+    Polygon::new(outline).map_err(|e| format!("invalid outline: {e}"))
+}
+
+/// The outline in (r, z), r ≥ 0, revolved about z.
+pub fn revolved(outline: &[P2], tol: f64) -> Result<Mesh, String> {
+    let poly = polygon(outline)?;
+    let pts = poly.points();
+    if let Some(p) = pts.iter().find(|p| p.x < 0.0) {
+        return Err(format!(
+            "a revolved outline has r ≥ 0; point [{}, {}] has not",
+            p.x, p.y
+        ));
+    }
+    let r_max = pts.iter().fold(0.0f64, |m, p| m.max(p.x));
+    if r_max <= 0.0 {
+        return Err("the outline has no material off the axis".into());
+    }
+    let n = segments_for(r_max, tol);
+    let stretch = 1.0 / (std::f64::consts::PI / n as f64).cos();
+    let m = pts.len();
+    // Counter-clockwise in (r, z): the outward normal of edge p→q is (dz, −dr); it faces away
+    // from the axis when dz > 0.
+    let faces_out = |i: usize| {
+        let (p, q) = (pts[i], pts[(i + 1) % m]);
+        q.y - p.y > 0.0
+    };
+    let mut vertices = Vec::new();
+    // For each outline point: its first vertex index; a point on the axis has one vertex.
+    let mut first = Vec::with_capacity(m);
+    for (i, p) in pts.iter().enumerate() {
+        first.push(vertices.len() as u32);
+        if p.x == 0.0 {
+            vertices.push(Point3::new(0.0, 0.0, p.y));
+            continue;
+        }
+        let out = faces_out(i) || faces_out((i + m - 1) % m);
+        let r = if out { p.x * stretch } else { p.x };
+        for k in 0..n {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            vertices.push(Point3::new(r * a.cos(), r * a.sin(), p.y));
+        }
+    }
+    let at = |i: usize, k: usize| -> u32 {
+        if pts[i].x == 0.0 {
+            first[i]
+        } else {
+            first[i] + (k % n) as u32
+        }
+    };
+    let mut triangles = Vec::new();
+    for i in 0..m {
+        let j = (i + 1) % m;
+        let (on_i, on_j) = (pts[i].x == 0.0, pts[j].x == 0.0);
+        for k in 0..n {
+            let (a, b, c, d) = (at(i, k), at(i, k + 1), at(j, k), at(j, k + 1));
+            match (on_i, on_j) {
+                (true, true) => {}
+                (true, false) => triangles.push([a, d, c]),
+                (false, true) => triangles.push([a, b, c]),
+                (false, false) => {
+                    triangles.push([a, b, d]);
+                    triangles.push([a, d, c]);
+                }
+            }
+        }
+    }
+    outward(Mesh { vertices, triangles })
+}
+
+/// The mesh wound outward (a closed consistent mesh is either all right or all wrong).
+fn outward(m: Mesh) -> Result<Mesh, String> {
+    let v = m.volume();
+    if v > 0.0 {
+        Ok(m)
+    } else if v < 0.0 {
+        Ok(m.flipped())
+    } else {
+        Err("the shape encloses no volume".into())
+    }
+}
+
+/// The outline in the (x, z) plane extruded along y from `-half_width` to `half_width`.
+pub fn extruded(outline: &[P2], half_width: f64) -> Result<Mesh, String> {
+    if !(half_width > 0.0 && half_width.is_finite()) {
+        return Err(format!("half width {half_width} must be a positive number"));
+    }
+    let poly = polygon(outline)?;
+    let pts = poly.points();
+    let m = pts.len() as u32;
+    let mut vertices = Vec::with_capacity(2 * pts.len());
+    for y in [-half_width, half_width] {
+        for p in pts {
+            vertices.push(Point3::new(p.x, y, p.y));
+        }
+    }
+    let mut triangles = Vec::new();
+    for t in ear_clip(pts) {
+        // Counter-clockwise in (x, z) faces −y: the cap at −y as it is, the one at +y reversed.
+        triangles.push(t);
+        triangles.push([t[0] + m, t[2] + m, t[1] + m]);
+    }
+    for i in 0..m {
+        let j = (i + 1) % m;
+        // The cap at −y runs i → j: the side runs j → i there.
+        triangles.push([j, i, i + m]);
+        triangles.push([j, i + m, j + m]);
+    }
+    outward(Mesh { vertices, triangles })
+}
+
+/// Triangles of a counter-clockwise simple polygon, by ear clipping.
+fn ear_clip(pts: &[P2]) -> Vec<[u32; 3]> {
+    use crate::geom::orient;
+    let mut idx: Vec<usize> = (0..pts.len()).collect();
+    let mut out = Vec::with_capacity(pts.len().saturating_sub(2));
+    let inside =
+        |a: P2, b: P2, c: P2, p: P2| orient(a, b, p) >= 0.0 && orient(b, c, p) >= 0.0 && orient(c, a, p) >= 0.0;
+    while idx.len() > 3 {
+        let n = idx.len();
+        let mut clipped = None;
+        for i in 0..n {
+            let (ia, ib, ic) = (idx[(i + n - 1) % n], idx[i], idx[(i + 1) % n]);
+            let (a, b, c) = (pts[ia], pts[ib], pts[ic]);
+            if orient(a, b, c) <= 0.0 {
+                continue;
+            }
+            let blocked = idx.iter().any(|&j| {
+                j != ia && j != ib && j != ic && pts[j] != a && pts[j] != b && pts[j] != c && inside(a, b, c, pts[j])
+            });
+            if !blocked {
+                clipped = Some(i);
+                break;
+            }
+        }
+        // A simple polygon always has an ear; rounding may hide it: clip the first convex corner.
+        let i = clipped.unwrap_or_else(|| {
+            (0..n)
+                .find(|&i| orient(pts[idx[(i + n - 1) % n]], pts[idx[i]], pts[idx[(i + 1) % n]]) > 0.0)
+                .unwrap_or(0)
+        });
+        out.push([idx[(i + n - 1) % n] as u32, idx[i] as u32, idx[(i + 1) % n] as u32]);
+        idx.remove(i);
+    }
+    if idx.len() == 3 {
+        out.push([idx[0] as u32, idx[1] as u32, idx[2] as u32]);
+    }
+    out
+}
+
+/// An axis-aligned box (corners in any order).
+pub fn cuboid(a: Point3<f64>, b: Point3<f64>) -> Mesh {
+    let (lo, hi) = (a.inf(&b), a.sup(&b));
+    let v = |i: u32| {
+        Point3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    };
+    Mesh {
+        vertices: (0..8).map(v).collect(),
+        triangles: vec![
+            [0, 2, 3],
+            [0, 3, 1], // z = lo
+            [4, 5, 7],
+            [4, 7, 6], // z = hi
+            [0, 1, 5],
+            [0, 5, 4], // y = lo
+            [2, 6, 7],
+            [2, 7, 3], // y = hi
+            [0, 4, 6],
+            [0, 6, 2], // x = lo
+            [1, 3, 7],
+            [1, 7, 5], // x = hi
+        ],
+    }
+}
+
+/// A cylinder of `radius` about z from `z0` to `z1` (circumscribing, as [`revolved`]).
+pub fn cylinder(radius: f64, z0: f64, z1: f64, tol: f64) -> Result<Mesh, String> {
+    let (z0, z1) = (z0.min(z1), z0.max(z1));
+    revolved(
+        &[
+            P2::new(0.0, z0),
+            P2::new(radius, z0),
+            P2::new(radius, z1),
+            P2::new(0.0, z1),
+        ],
+        tol,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kin::stl::check_mesh;
+    use std::f64::consts::PI;
+
+    fn closed(m: &Mesh) {
+        check_mesh(m, "shape").unwrap();
+    }
+
+    #[test]
+    fn cuboid_is_closed_with_its_volume() {
+        let m = cuboid(Point3::new(1.0, 5.0, -2.0), Point3::new(-1.0, 2.0, 4.0));
+        closed(&m);
+        assert!((m.volume() - 2.0 * 3.0 * 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn cylinder_circumscribes_with_the_polygon_volume() {
+        let (r, tol) = (40.0, 0.05);
+        let m = cylinder(r, -10.0, 30.0, tol).unwrap();
+        closed(&m);
+        let n = segments_for(r, tol);
+        assert!(r * (1.0 / (PI / n as f64).cos() - 1.0) <= tol);
+        assert!(r * (1.0 / (PI / (n - 1) as f64).cos() - 1.0) > tol, "n is the least");
+        // A regular n-gon with apothem r has area n r² tan(π/n).
+        let want = n as f64 * r * r * (PI / n as f64).tan() * 40.0;
+        assert!((m.volume() - want).abs() < 1e-6 * want, "{} vs {want}", m.volume());
+        assert!(m.volume() >= PI * r * r * 40.0);
+    }
+
+    #[test]
+    fn tube_keeps_its_bore_vertices_on_the_circle() {
+        // Outer r 20, bore r 10, z 0..50: outer ring circumscribes, bore ring is inscribed.
+        let o = [
+            P2::new(10.0, 0.0),
+            P2::new(20.0, 0.0),
+            P2::new(20.0, 50.0),
+            P2::new(10.0, 50.0),
+        ];
+        let tol = 0.01;
+        let m = revolved(&o, tol).unwrap();
+        closed(&m);
+        let n = segments_for(20.0, tol) as f64;
+        let outer = n * 400.0 * (PI / n).tan();
+        let inner = n / 2.0 * 100.0 * (2.0 * PI / n).sin();
+        let want = (outer - inner) * 50.0;
+        assert!((m.volume() - want).abs() < 1e-6 * want, "{} vs {want}", m.volume());
+        assert!(m.volume() >= PI * (400.0 - 100.0) * 50.0);
+    }
+
+    #[test]
+    fn cone_with_points_on_the_axis_is_closed() {
+        let o = [P2::new(0.0, 0.0), P2::new(30.0, 0.0), P2::new(0.0, 60.0)];
+        let m = revolved(&o, 0.1).unwrap();
+        closed(&m);
+        let v = PI * 900.0 * 60.0 / 3.0;
+        assert!(m.volume() >= v && m.volume() < v * 1.02);
+    }
+
+    #[test]
+    fn extruded_l_shape_has_area_times_width() {
+        // Either winding.
+        let o = [
+            P2::new(0.0, 0.0),
+            P2::new(0.0, 30.0),
+            P2::new(10.0, 30.0),
+            P2::new(10.0, 10.0),
+            P2::new(40.0, 10.0),
+            P2::new(40.0, 0.0),
+        ];
+        let m = extruded(&o, 6.0).unwrap();
+        closed(&m);
+        assert!((m.volume() - (300.0 + 300.0) * 12.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn extruded_comb_with_many_reflex_corners_is_closed() {
+        let mut o = vec![P2::new(0.0, 0.0), P2::new(100.0, 0.0)];
+        for k in (0..10).rev() {
+            let x = 10.0 * k as f64;
+            o.push(P2::new(x + 10.0, 20.0));
+            o.push(P2::new(x + 5.0, 20.0));
+            o.push(P2::new(x + 5.0, 5.0));
+            o.push(P2::new(x, 5.0));
+        }
+        let m = extruded(&o, 1.0).unwrap();
+        closed(&m);
+        let area = 100.0 * 5.0 + 10.0 * 5.0 * 15.0;
+        assert!((m.volume() - area * 2.0).abs() < 1e-9, "{}", m.volume());
+    }
+
+    #[test]
+    fn bad_shapes_are_errors_not_panics() {
+        assert!(revolved(&[P2::new(-1.0, 0.0), P2::new(5.0, 0.0), P2::new(5.0, 5.0)], 0.1).is_err());
+        assert!(revolved(&[P2::new(0.0, 0.0), P2::new(0.0, 5.0), P2::new(0.0, 9.0)], 0.1).is_err());
+        assert!(extruded(&[P2::new(0.0, 0.0), P2::new(1.0, 0.0), P2::new(0.0, 1.0)], 0.0).is_err());
+        assert!(extruded(&[P2::new(0.0, 0.0), P2::new(1.0, 0.0), P2::new(0.0, 1.0)], f64::NAN).is_err());
+        assert_eq!(segments_for(100.0, 0.0), MAX_SEGMENTS);
+    }
+}
