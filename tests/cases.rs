@@ -58,6 +58,11 @@ fn options(src: &[u8]) -> (Machine, Settings, Vec<Mode>) {
                     let text = std::fs::read_to_string(&path).unwrap();
                     machine = machine::from_toml(&text, &path.display().to_string()).unwrap();
                 }
+                // A machine with the extra axes of issue 15 (the kinematics given by hand until
+                // machine files describe them): Y linear, C rotary, B linear, A rotary.
+                "kin" if v == "turnmill" => {
+                    machine.kinematics = Some(std::sync::Arc::new(turn_mill_kinematics()));
+                }
                 "mode" => s.mode = if v == "exact" { Mode::Exact } else { Mode::Step },
                 "modes" => {
                     modes = v
@@ -74,6 +79,43 @@ fn options(src: &[u8]) -> (Machine, Settings, Vec<Mode>) {
         }
     }
     (machine, s, modes)
+}
+
+fn turn_mill_kinematics() -> latheguard::kin::Kinematics {
+    use latheguard::kin::{Axis, AxisKind, Kinematics};
+    use nalgebra::{Point3, Vector3};
+    let axis = |name: &str, letter: char, linear: bool, dir: Vector3<f64>, rapid: f64| Axis {
+        name: name.into(),
+        letter,
+        kind: if linear {
+            AxisKind::Linear {
+                dir: nalgebra::Unit::new_normalize(dir),
+            }
+        } else {
+            AxisKind::Rotary {
+                origin: Point3::origin(),
+                dir: nalgebra::Unit::new_normalize(dir),
+            }
+        },
+        zero: 0.0,
+        travel: if linear {
+            (-1000.0, 1000.0)
+        } else {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        },
+        rapid,
+    };
+    Kinematics {
+        axes: vec![
+            axis("x", 'X', true, Vector3::x(), 12000.0),
+            axis("z", 'Z', true, Vector3::z(), 16000.0),
+            axis("y", 'Y', true, Vector3::y(), 6000.0),
+            axis("c", 'C', false, Vector3::z(), 36000.0),
+            axis("sub_z", 'B', true, Vector3::z(), 12000.0),
+            axis("a", 'A', false, Vector3::x(), 18000.0),
+        ],
+        ..Default::default()
+    }
 }
 
 fn render(src: &[u8], machine: &Machine, settings: &Settings) -> String {

@@ -346,10 +346,20 @@ impl Run<'_> {
         if self.modal.spindle_css && feed != Feed::Rapid && self.spindle_dir != SpindleDir::Off {
             self.css_above_max_rpm(b, &m, &state.spindle);
         }
+        if self.tm.is_none() {
+            match self.comp.as_deref_mut() {
+                Some(c) if c.engaged() => self.compensate(b, m),
+                _ => self.moves.push(m),
+            }
+            return;
+        }
+        let first = self.moves.len();
         match self.comp.as_deref_mut() {
             Some(c) if c.engaged() => self.compensate(b, m),
             _ => self.moves.push(m),
         }
+        let count = self.moves.len().saturating_sub(first);
+        self.record_extra(kind, first, count);
     }
 
     /// A move through nose-radius compensation (src/interp/comp.rs). An error of the control
@@ -691,7 +701,8 @@ impl Run<'_> {
                     if increment
                         && plain
                         && !word.has_point
-                        && matches!(letter, b'X' | b'Z' | b'U' | b'W' | b'I' | b'K' | b'R')
+                        && (matches!(letter, b'X' | b'Z' | b'U' | b'W' | b'I' | b'K' | b'R')
+                            || (self.tm.is_some() && matches!(letter, b'Y' | b'V' | b'C' | b'H' | b'B' | b'A' | b'J')))
                     {
                         v *= if self.modal.inch { 0.0001 } else { 0.001 };
                     }
@@ -711,6 +722,9 @@ impl Run<'_> {
     pub(crate) fn execute(&mut self, b: &Block) {
         if !self.machine.tool_changes.is_empty() {
             self.manual_tool_change(b);
+        }
+        if let Some(tm) = self.tm.as_deref_mut() {
+            tm.pending = None;
         }
         // One word table serves every block (see `Words::clear`).
         let mut w = self.words.take().unwrap_or_else(|| Box::new(Words::new()));
@@ -753,7 +767,7 @@ impl Run<'_> {
         let d = self.machine.dialect;
         let fanuc = d == Dialect::Fanuc;
         let sys_b = fanuc && self.machine.gcode_system == GcodeSystem::B;
-        let axis = w.axis_words();
+        let axis = w.axis_words() || self.extra_words(w);
 
         // Modal group conflicts and unknown codes.
         let mut seen: [Option<u16>; 32] = [None; 32];
@@ -976,10 +990,14 @@ impl Run<'_> {
 
         // 7. Plane, compensation, length offsets, coordinate systems, path mode.
         // LinuxCNC lathe programs select G17 to drill along Z (src/interp/cycles/lcnc_drill.rs).
-        let g17_ok = !fanuc;
-        let plane_error_here = (w.g(170) && !g17_ok) || w.g(190);
+        // A machine with a Y axis has all three planes.
+        let has_y = self.has_y_axis();
+        let g17_ok = !fanuc || has_y;
+        let plane_error_here = !has_y && ((w.g(170) && !g17_ok) || w.g(190));
         if w.any_g(PLANE_COMP_OFFSET_CODES) {
-            let refused = if g17_ok {
+            let refused = if has_y {
+                None
+            } else if g17_ok {
                 w.has_g(190)
             } else {
                 w.has_g(170).or(w.has_g(190))
@@ -995,9 +1013,23 @@ impl Run<'_> {
                     w.has_g(170),
                     "G17 cannot change the plane with nose radius compensation on: cancel it with G40 first".into(),
                 );
+            } else if w.g(190)
+                && has_y
+                && !self.modal.plane_xy
+                && self.modal.plane_xz
+                && self.comp.as_ref().is_some_and(|c| c.is_on())
+            {
+                self.error(
+                    b,
+                    w.has_g(190),
+                    "G19 cannot change the plane with nose radius compensation on: cancel it with G40 first".into(),
+                );
             } else if w.g(170) {
                 self.modal.plane_xz = false;
                 self.modal.plane_xy = true;
+            } else if w.g(190) {
+                self.modal.plane_xz = false;
+                self.modal.plane_xy = false;
             }
             if w.g(180) {
                 self.modal.plane_xz = true;
@@ -1094,11 +1126,13 @@ impl Run<'_> {
                 }
                 if w.g(921) || w.g(922) {
                     self.shift = V2::zeros();
+                    self.extra_clear_shift();
                 }
                 if w.g(520) {
                     let x = w.get(b'X').map(|x| self.to_radius(x)).unwrap_or(0.0) * self.scale();
                     let z = w.get(b'Z').unwrap_or(0.0) * self.scale();
                     self.shift = V2::new(x, z);
+                    self.extra_set_origin(w, true);
                     axes_used_by_nonmodal = true;
                 }
             }
@@ -1145,6 +1179,7 @@ impl Run<'_> {
         if unknown && axis {
             // An unknown code may be the one that uses the axis words: do not guess a motion.
         } else if (axis || w.peek(b'Y')) && !axes_used_by_nonmodal {
+            // (`axis` counts the machine's extra-axis words.)
             let before = self.reports;
             self.motion(b, w, g53.is_some(), plane_error_here);
             if self.reports > before {
@@ -1232,7 +1267,10 @@ impl Run<'_> {
                     'I' | 'K' => "an arc center needs G2 or G3",
                     'J' => "J is the Y offset of an arc; a lathe works in XZ (G18)",
                     'R' => "R is an arc radius or a cycle value",
-                    'A' | 'B' | 'C' | 'V' => "this machine has no such axis",
+                    'A' | 'B' | 'C' | 'V' if self.tm.is_none() => "this machine has no such axis",
+                    'A' | 'B' | 'C' | 'V' | 'Y' if self.tm.is_some() => {
+                        "this machine has no such axis, or no code in this block moves it"
+                    }
                     'P' | 'Q' | 'L' | 'E' | 'D' | 'H' => "no code in this block takes it",
                     _ => "no code in this block uses it",
                 };
@@ -1416,7 +1454,7 @@ impl Run<'_> {
         if ww {
             z = cur.y + w.get(b'W').unwrap_or(0.0) * s;
         }
-        if let Some(y) = w.get(b'Y') {
+        if let Some(y) = (!self.has_y_axis()).then(|| w.get(b'Y')).flatten() {
             if y != 0.0 {
                 self.error(b, w.at(b'Y'), format!("Y{y}: this lathe has no Y axis"));
                 return None;
@@ -1450,6 +1488,14 @@ impl Run<'_> {
         let Some(mut end) = self.target(b, w) else {
             return;
         };
+        let extra_end = if self.tm.is_some() {
+            match self.extra_target(b, w, g53) {
+                Some(e) => Some(e),
+                None => return,
+            }
+        } else {
+            None
+        };
         let start = self.programmed();
         if g53 {
             // G53: machine coordinates: the turret reference point goes to machine zero
@@ -1467,7 +1513,11 @@ impl Run<'_> {
             end = r + tip;
         }
         let straight = !matches!(self.modal.motion, Some(Motion::ArcCw | Motion::ArcCcw));
-        if self.modal.plane_xy && !straight {
+        let has_y = self.has_y_axis();
+        if let Some(e) = extra_end {
+            self.set_pending(e, None);
+        }
+        if self.modal.plane_xy && !straight && !has_y {
             self.unsupported(
                 b,
                 None,
@@ -1477,7 +1527,7 @@ impl Run<'_> {
             w.used = w.has;
             return;
         }
-        if !self.modal.plane_xz && !self.modal.plane_xy {
+        if !self.modal.plane_xz && !self.modal.plane_xy && !has_y {
             if !plane_error_here {
                 self.error(b, None, "motion in the G17/G19 plane is not checked: select G18".into());
             } else {
@@ -1549,6 +1599,11 @@ impl Run<'_> {
                     }
                     None => 1,
                 };
+                if has_y && !self.modal.plane_xz {
+                    let e = extra_end.unwrap_or([0.0; 4]);
+                    self.plane_arc(b, w, motion, start, end, e, feed, turns);
+                    return;
+                }
                 let tol = if self.modal.inch {
                     ArcTolerance::INCH
                 } else {
@@ -1661,16 +1716,44 @@ impl Run<'_> {
     fn return_through(&mut self, b: &Block, w: &mut Words, target: P2) {
         let named_x = w.peek(b'X') || w.peek(b'U');
         let named_z = w.peek(b'Z') || w.peek(b'W');
+        let named_extra = self.extra_named(w);
+        let any_extra = named_extra.iter().any(|&n| n);
         let start = self.programmed();
         let Some(mid) = self.target(b, w) else { return };
-        if mid != start {
+        let extra_start = self.tm.as_deref().map(|t| t.pos);
+        let extra_mid = match extra_start {
+            Some(_) => match self.extra_target(b, w, false) {
+                Some(e) => Some(e),
+                None => return,
+            },
+            None => None,
+        };
+        if mid != start || extra_mid != extra_start {
+            if let Some(e) = extra_mid {
+                self.set_pending(e, None);
+            }
             self.push_move(b, MoveKind::Rapid, start, mid, Feed::Rapid);
         }
-        let (hx, hz) = if named_x || named_z {
+        let (hx, hz) = if named_x || named_z || any_extra {
             (named_x, named_z)
         } else {
             (true, true)
         };
+        // The extra axes named (all of them when no axis is named) go to their home: the axis
+        // value they start the program at.
+        let extra_end = extra_mid.map(|mut e| {
+            let all = !(named_x || named_z || any_extra);
+            if let Some(kin) = self.machine.kinematics.as_deref() {
+                for k in 0..4 {
+                    if all || named_extra[k] {
+                        if let Some(a) = kin.axis_by_letter(super::EXTRA_LETTERS[k]) {
+                            e[k] = kin.axes[a].zero;
+                        }
+                    }
+                }
+            }
+            e
+        });
         let tip = self.tip();
         let mut r = mid - tip;
         if hx {
@@ -1680,7 +1763,10 @@ impl Run<'_> {
             r.y = target.y;
         }
         let end = r + tip;
-        if end != mid {
+        if end != mid || extra_end != extra_mid {
+            if let Some(e) = extra_end {
+                self.set_pending(e, None);
+            }
             self.push_move(b, MoveKind::Rapid, mid, end, Feed::Rapid);
         }
         self.reference = r;
@@ -1699,5 +1785,6 @@ impl Run<'_> {
         }
         let _ = b;
         self.shift = origin - self.base_origin;
+        self.extra_set_origin(w, false);
     }
 }

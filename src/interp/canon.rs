@@ -4,8 +4,14 @@
 //! Positions are in program units relative to program zero, X always a radius (as rs274 prints
 //! them); in G18 `ARC_FEED`'s first coordinate is Z and its second X, and its rotation is +turns
 //! for G3 and −turns for G2.
+//!
+//! A move with an extra-axis entry ([`super::ExtraMove`], turn-mill machines) prints its real Y,
+//! A, B and C where rs274 prints them (Y in program units, A/B/C as the axis values less their
+//! program zero, never scaled), and an arc in G17 or G19 prints as rs274 does: G17
+//! `ARC_FEED(x, y, cx, cy, rotation, z, a, b, c)`, G19 `ARC_FEED(y, z, cy, cz, rotation, x, a,
+//! b, c)`, rotation +turns for G3 and −turns for G2.
 
-use super::{Interpretation, Move, MoveKind, MoveState, ProgFrame};
+use super::{ExtraMove, Interpretation, Move, MoveKind, MoveState, Plane, ProgFrame};
 use std::f64::consts::TAU;
 use std::io::Write;
 
@@ -13,7 +19,21 @@ use std::io::Write;
 /// Each line is built in a small buffer and written whole, so a long run streams without a copy
 /// of the whole output in memory.
 pub fn write<W: Write>(run: &Interpretation, sink: &mut W) -> std::io::Result<()> {
-    write_moves(&run.moves, &run.states, sink)
+    if run.extra.is_empty() {
+        return write_moves(&run.moves, &run.states, sink);
+    }
+    let mut line = Vec::with_capacity(160);
+    let mut next = run.extra.iter().peekable();
+    for (i, m) in run.moves.iter().enumerate() {
+        while next.peek().is_some_and(|e| (e.index as usize) < i) {
+            next.next();
+        }
+        let e = next.peek().filter(|e| e.index as usize == i).copied();
+        line.clear();
+        one_move_extra(&run.states[m.state as usize].frame, m, e, &mut line);
+        sink.write_all(&line)?;
+    }
+    Ok(())
 }
 
 /// [`write`] for a run of moves and the states they refer to (a chunk of a streaming run,
@@ -29,6 +49,55 @@ pub fn write_moves<W: Write>(moves: &[Move], states: &[MoveState], sink: &mut W)
 }
 
 fn one_move(f: &ProgFrame, m: &Move, out: &mut Vec<u8>) {
+    one_move_extra(f, m, None, out)
+}
+
+/// Y, A, B, C of a move's end in program units (0 without an entry).
+fn extra_coords(f: &ProgFrame, e: Option<&ExtraMove>) -> [f64; 4] {
+    match e {
+        Some(e) => [
+            (e.end[0] - e.origin[0]) / f.scale,
+            e.end[3] - e.origin[3],
+            e.end[2] - e.origin[2],
+            e.end[1] - e.origin[1],
+        ],
+        None => [0.0; 4],
+    }
+}
+
+fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<u8>) {
+    let [y, a, b, c] = extra_coords(f, e);
+    if let Some(arc) = e.and_then(|e| e.arc) {
+        let (x, z) = radius_coords(f, m.end);
+        push_uint(out, m.line as u64, 5, b' ');
+        out.extend_from_slice(b" ARC_FEED(");
+        // The arc's centre in program units of the plane's two coordinates.
+        let (o0, o1) = match arc.plane {
+            Plane::Xy => (f.origin.x, e.map_or(0.0, |e| e.origin[0])),
+            _ => (e.map_or(0.0, |e| e.origin[0]), f.origin.y),
+        };
+        let c0 = (arc.center[0] - o0) / f.scale;
+        let c1 = (arc.center[1] - o1) / f.scale;
+        let (e0, e1, third) = match arc.plane {
+            Plane::Xy => (x, y, z),
+            _ => (y, z, x),
+        };
+        let turns = (arc.sweep.abs() / TAU - 1e-9).ceil().max(1.0) as i64;
+        for v in [e0, e1, c0, c1] {
+            f4(out, v);
+            out.extend_from_slice(b", ");
+        }
+        if arc.sweep < 0.0 {
+            out.push(b'-');
+        }
+        push_uint(out, turns.unsigned_abs(), 1, b'0');
+        for v in [third, a, b, c] {
+            out.extend_from_slice(b", ");
+            f4(out, v);
+        }
+        out.extend_from_slice(b")\n");
+        return;
+    }
     let (x, z) = radius_coords(f, m.end);
     push_uint(out, m.line as u64, 5, b' ');
     out.push(b' ');
@@ -39,10 +108,12 @@ fn one_move(f: &ProgFrame, m: &Move, out: &mut Vec<u8>) {
             } else {
                 b"STRAIGHT_FEED("
             });
-            f4(out, x);
-            out.extend_from_slice(b", 0.0000, ");
-            f4(out, z);
-            out.extend_from_slice(b", 0.0000, 0.0000, 0.0000)\n");
+            for v in [x, y, z, a, b] {
+                f4(out, v);
+                out.extend_from_slice(b", ");
+            }
+            f4(out, c);
+            out.extend_from_slice(b")\n");
         }
         MoveKind::Arc { center, sweep } => {
             let (cx, cz) = radius_coords(f, center);
@@ -57,7 +128,11 @@ fn one_move(f: &ProgFrame, m: &Move, out: &mut Vec<u8>) {
                 out.push(b'-');
             }
             push_uint(out, rotation.unsigned_abs(), 1, b'0');
-            out.extend_from_slice(b", 0.0000, 0.0000, 0.0000, 0.0000)\n");
+            for v in [y, a, b, c] {
+                out.extend_from_slice(b", ");
+                f4(out, v);
+            }
+            out.extend_from_slice(b")\n");
         }
         MoveKind::Dwell { seconds } => {
             out.extend_from_slice(b"DWELL(");

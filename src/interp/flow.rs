@@ -270,6 +270,9 @@ pub(crate) struct Run<'a> {
     pub(super) comp: Option<Box<super::comp::Comp>>,
     /// Fanuc macro B (the Fanuc dialect only): see `macro_b.rs`.
     pub(crate) macro_b: Option<Box<super::macro_b::State>>,
+    /// The extra axes and turn-mill modes, on a machine whose kinematics has extra axes
+    /// (`turnmill.rs`); `None` on a 2-axis lathe.
+    pub(crate) tm: Option<Box<super::turnmill::TurnMill>>,
 }
 
 impl<'a> Run<'a> {
@@ -347,6 +350,7 @@ impl<'a> Run<'a> {
             reports: 0,
             comp: None,
             macro_b,
+            tm: super::turnmill::TurnMill::new(machine).map(Box::new),
         }
     }
 
@@ -354,6 +358,9 @@ impl<'a> Run<'a> {
     pub(super) fn hand_over(&mut self) {
         if let Some(sink) = self.sink.as_mut() {
             sink(&self.moves, &self.states);
+            if let Some(tm) = self.tm.as_deref_mut() {
+                tm.handed += self.moves.len() as u64;
+            }
             self.moves.clear();
         }
     }
@@ -368,7 +375,7 @@ impl<'a> Run<'a> {
             self.moves.shrink_to_fit();
         }
         Interpretation {
-            extra: Vec::new(),
+            extra: self.take_extra(),
             moves: self.moves,
             states: self.states,
             findings: self.findings,

@@ -40,12 +40,19 @@ impl Devices {
 impl Run<'_> {
     /// Run the M codes of a block that the machine's table maps (step 5 of a block). Returns
     /// whether one of them ends the program (run after the block's motion and flow).
-    pub(super) fn m_codes(&mut self, b: &Block, w: &Words) -> bool {
+    pub(super) fn m_codes(&mut self, b: &Block, w: &mut Words) -> bool {
         let mut ends = false;
         let mut chuck_opened_at = None;
         let mut spindle_started_at = None;
         // In block order; the chuck is judged against the spindle as the block leaves it.
-        for &(code, at) in w.m_codes() {
+        let codes: [(u16, u32); 16] = {
+            let mut c = [(0u16, 0u32); 16];
+            let list = w.m_codes();
+            c[..list.len()].copy_from_slice(list);
+            c
+        };
+        let n = w.m_codes().len();
+        for &(code, at) in &codes[..n] {
             if crate::machine::mcodes_reserved(code) {
                 continue;
             }
@@ -68,6 +75,7 @@ impl Run<'_> {
                         SpindleDir::Ccw
                     };
                     spindle_started_at = Some((code, at));
+                    self.spindle_started();
                 }
                 MAction::SpindleStop => self.spindle_dir = SpindleDir::Off,
                 MAction::TailstockAdvance => self.devices.tailstock_advanced = true,
@@ -88,6 +96,13 @@ impl Run<'_> {
                 | MAction::ConveyorOn
                 | MAction::ConveyorOff
                 | MAction::NoEffect => {}
+                MAction::CAxisOn
+                | MAction::CAxisOff
+                | MAction::LiveToolCw
+                | MAction::LiveToolCcw
+                | MAction::LiveToolStop => {
+                    self.turn_mill_m_code(b, w, action, code, at);
+                }
             }
         }
         if self.spindle_dir != SpindleDir::Off && self.devices.chuck_open {

@@ -18,6 +18,7 @@ mod mcodes;
 mod state;
 #[cfg(test)]
 mod tests;
+mod turnmill;
 
 use crate::finding::Finding;
 use crate::gcode::Program;
@@ -241,6 +242,104 @@ pub struct ExtraMove {
     pub c_mode: bool,
     /// The live tool's speed in rev/min (0: stopped).
     pub live_rpm: f64,
+    /// The axis value of program zero of each extra axis during the move (0 plus the G92 / G50 /
+    /// G52 shift in force), so a value can be told back in program coordinates.
+    pub origin: ExtraAxes,
+    /// For an arc in the XY (G17) or YZ (G19) plane: its centre and sweep. The move's 2D fields
+    /// then hold a [`MoveKind::Line`] from its start to its end (the XZ projection of the arc is
+    /// no arc of the lathe's plane); [`position3`] follows the arc.
+    pub arc: Option<PlaneArc>,
+}
+
+/// An arc in the XY (G17) or YZ (G19) plane, spindle frame, mm. The programmed point turns
+/// about `center` by `sweep` radians in the plane's (first, second) coordinates — G17 (x, y),
+/// G19 (y, z); x a radius — positive from the first axis toward the second (G3, counter-clockwise
+/// seen from +z for G17 and from +x for G19). Its radius may change linearly (the small spiral
+/// rs274ngc tolerates), and the third coordinate (z for G17, x for G19) moves linearly from
+/// start to end (a helix).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlaneArc {
+    pub plane: Plane,
+    pub center: [f64; 2],
+    pub sweep: f64,
+}
+
+/// The length of a move's path in its three linear coordinates (x a radius, y, z: mm), for a
+/// move with an extra-axis entry: a G17/G19 arc's helix, or a straight move's (x, y, z) line.
+/// Rotary axes and the B axis are not in it (see `motion`).
+pub fn length3(m: &Move, e: &ExtraMove) -> f64 {
+    let dy = e.end[0] - e.start[0];
+    match e.arc {
+        Some(a) => {
+            let (s, f, along) = plane_coords(m, e, a.plane);
+            let r0 = ((s[0] - a.center[0]).powi(2) + (s[1] - a.center[1]).powi(2)).sqrt();
+            let r1 = ((f[0] - a.center[0]).powi(2) + (f[1] - a.center[1]).powi(2)).sqrt();
+            let arc = 0.5 * (r0 + r1) * a.sweep.abs();
+            (arc * arc + (r1 - r0).powi(2) + along * along).sqrt()
+        }
+        None => {
+            let l = m.length();
+            (l * l + dy * dy).sqrt()
+        }
+    }
+}
+
+/// Start and end of a plane arc in the plane's coordinates, and the travel along its normal.
+fn plane_coords(m: &Move, e: &ExtraMove, plane: Plane) -> ([f64; 2], [f64; 2], f64) {
+    match plane {
+        Plane::Xy => ([m.start.x, e.start[0]], [m.end.x, e.end[0]], m.end.y - m.start.y),
+        Plane::Yz | Plane::Zx => ([e.start[0], m.start.y], [e.end[0], m.end.y], m.end.x - m.start.x),
+    }
+}
+
+/// The programmed point (x a radius, y, z; spindle frame, mm) and the extra axes ([`ExtraAxes`])
+/// at fraction `t` ∈ [0, 1] of a move's path: the one function every check of a move with extra
+/// axes reads. A move without an entry (`e` = `None`) is a move of the lathe's plane with every
+/// extra axis at 0; with an entry, the extra axes move linearly with `t`, an XZ move follows its
+/// 2D path ([`Move::point_at`]) with y linear, and a G17/G19 arc its [`PlaneArc`] (the angle
+/// linear in `t`, the radius and the third coordinate linear too).
+pub fn position3(m: &Move, e: Option<&ExtraMove>, t: f64) -> ([f64; 3], ExtraAxes) {
+    let Some(e) = e else {
+        let p = m.point_at(t);
+        return ([p.x, 0.0, p.y], [0.0; 4]);
+    };
+    let mut axes = [0.0; 4];
+    for (k, a) in axes.iter_mut().enumerate() {
+        *a = e.start[k] + (e.end[k] - e.start[k]) * t;
+    }
+    match e.arc {
+        Some(a) => {
+            let (s, f, _) = plane_coords(m, e, a.plane);
+            let (c0, c1) = (a.center[0], a.center[1]);
+            let r0 = ((s[0] - c0).powi(2) + (s[1] - c1).powi(2)).sqrt();
+            let r1 = ((f[0] - c0).powi(2) + (f[1] - c1).powi(2)).sqrt();
+            let r = r0 + (r1 - r0) * t;
+            let ang = (s[1] - c1).atan2(s[0] - c0) + a.sweep * t;
+            let (u, v) = if t >= 1.0 {
+                (f[0], f[1])
+            } else if t <= 0.0 {
+                (s[0], s[1])
+            } else {
+                (c0 + r * ang.cos(), c1 + r * ang.sin())
+            };
+            match a.plane {
+                Plane::Xy => {
+                    let z = m.start.y + (m.end.y - m.start.y) * t;
+                    axes[0] = v;
+                    ([u, v, z], axes)
+                }
+                Plane::Yz | Plane::Zx => {
+                    let x = m.start.x + (m.end.x - m.start.x) * t;
+                    axes[0] = u;
+                    ([x, u, v], axes)
+                }
+            }
+        }
+        None => {
+            let p = m.point_at(t);
+            ([p.x, axes[0], p.y], axes)
+        }
+    }
 }
 
 /// What the interpreter produced.
@@ -261,6 +360,14 @@ pub struct Interpretation {
 }
 
 impl Interpretation {
+    /// The extra-axis entry of move `index`, if it has one ([`ExtraMove`]).
+    pub fn extra_of(&self, index: usize) -> Option<&ExtraMove> {
+        self.extra
+            .binary_search_by_key(&index, |e| e.index as usize)
+            .ok()
+            .map(|k| &self.extra[k])
+    }
+
     /// The spindle during a move.
     pub fn spindle(&self, m: &Move) -> &Spindle {
         &self.states[m.state as usize].spindle

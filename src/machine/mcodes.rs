@@ -35,10 +35,22 @@ pub enum MAction {
     /// A code the control knows that changes nothing latheguard checks (gear range, override
     /// switches, outputs).
     NoEffect,
+    /// The main spindle becomes a positioned C axis (Haas M154): it stops turning, and C words
+    /// position it. On a machine whose table has this action, a C word outside C-axis mode is
+    /// a `program` error.
+    CAxisOn,
+    /// The spindle leaves C-axis mode (Haas M155; a spindle start leaves it too).
+    CAxisOff,
+    /// The live tool turns forward at the code's P word, rev/min (Haas M133).
+    LiveToolCw,
+    /// The live tool turns in reverse at the code's P word (Haas M134).
+    LiveToolCcw,
+    /// The live tool stops (Haas M135).
+    LiveToolStop,
 }
 
 /// The action names of a machine file's `[mcodes]` table.
-pub const ACTIONS: [(&str, MAction); 18] = [
+pub const ACTIONS: [(&str, MAction); 23] = [
     ("program_stop", MAction::ProgramStop),
     ("optional_stop", MAction::OptionalStop),
     ("program_end", MAction::ProgramEnd),
@@ -57,6 +69,11 @@ pub const ACTIONS: [(&str, MAction); 18] = [
     ("conveyor_on", MAction::ConveyorOn),
     ("conveyor_off", MAction::ConveyorOff),
     ("no_effect", MAction::NoEffect),
+    ("c_axis_on", MAction::CAxisOn),
+    ("c_axis_off", MAction::CAxisOff),
+    ("live_tool_cw", MAction::LiveToolCw),
+    ("live_tool_ccw", MAction::LiveToolCcw),
+    ("live_tool_stop", MAction::LiveToolStop),
 ];
 
 /// Largest M code a table may hold.
@@ -86,8 +103,8 @@ pub struct McodeTable {
 
 impl McodeTable {
     /// The table of a dialect when the machine file has no `[mcodes]`: the codes both controls
-    /// agree on (M0, M1, M2/M30, M3–M5, M7–M9), Fanuc gear ranges M41–M44 and the override
-    /// switches M48–M53, LinuxCNC's M48–M53 overrides, M60 pallet stop and M62–M68 outputs. No
+    /// agree on (M0, M1, M2/M30, M3–M5, M7–M9), Fanuc gear ranges M41–M44, the override
+    /// switches M48–M53 and Haas's live-tool and C-axis codes (M133–M135, M154/M155), LinuxCNC's M48–M53 overrides, M60 pallet stop and M62–M68 outputs. No
     /// tailstock, chuck or part-catcher codes: those differ from builder to builder.
     pub fn builtin(d: Dialect) -> McodeTable {
         use MAction::*;
@@ -105,7 +122,17 @@ impl McodeTable {
         ];
         codes.extend((48..=53).map(|c| (c, NoEffect)));
         match d {
-            Dialect::Fanuc => codes.extend((41..=44).map(|c| (c, NoEffect))),
+            Dialect::Fanuc => {
+                codes.extend((41..=44).map(|c| (c, NoEffect)));
+                // Haas lathes' live tooling and C axis (their numbers clash with no code above).
+                codes.extend([
+                    (133, LiveToolCw),
+                    (134, LiveToolCcw),
+                    (135, LiveToolStop),
+                    (154, CAxisOn),
+                    (155, CAxisOff),
+                ]);
+            }
             Dialect::Linuxcnc => {
                 codes.push((60, ProgramStop));
                 codes.extend((62..=68).map(|c| (c, NoEffect)));
@@ -164,6 +191,25 @@ mod tests {
         }
         assert_eq!(McodeTable::builtin(Dialect::Fanuc).action(42), Some(MAction::NoEffect));
         assert_eq!(McodeTable::builtin(Dialect::Linuxcnc).action(42), None);
+    }
+
+    #[test]
+    fn the_fanuc_table_has_haas_live_tool_and_c_axis_codes_and_linuxcnc_none() {
+        let f = McodeTable::builtin(Dialect::Fanuc);
+        assert_eq!(f.action(133), Some(MAction::LiveToolCw));
+        assert_eq!(f.action(134), Some(MAction::LiveToolCcw));
+        assert_eq!(f.action(135), Some(MAction::LiveToolStop));
+        assert_eq!(f.action(154), Some(MAction::CAxisOn));
+        assert_eq!(f.action(155), Some(MAction::CAxisOff));
+        let l = McodeTable::builtin(Dialect::Linuxcnc);
+        for a in [
+            MAction::CAxisOn,
+            MAction::CAxisOff,
+            MAction::LiveToolCw,
+            MAction::LiveToolStop,
+        ] {
+            assert_eq!(l.codes_of(a).count(), 0, "{a:?}");
+        }
     }
 
     #[test]
