@@ -21,6 +21,8 @@ pub struct Contact {
     pub depth: Option<f64>,
     pub message: String,
     pub snapshot: Option<Box<crate::scene::Snapshot>>,
+    /// The 3D scene at first contact (a finding of the 3D path, with pictures asked for).
+    pub snapshot3: Option<Box<crate::report::scene3::Snapshot3>>,
 }
 
 struct Open {
@@ -155,7 +157,7 @@ impl Episodes {
             repeats: 1,
             picture: None,
             snapshot: c.snapshot,
-            snapshot3: None,
+            snapshot3: c.snapshot3,
         });
     }
 }

@@ -15,6 +15,7 @@
 
 pub mod episodes;
 mod exact;
+mod three;
 
 use crate::finding::{Finding, Kind, Severity};
 use crate::geom::{self, Aabb, Polygon, P2, V2};
@@ -106,6 +107,13 @@ struct Checker<'a> {
     long_moves: bool,
     /// The tailstock is advanced during the move being checked: only then is it an obstacle.
     tailstock_in: bool,
+    /// The 3D path of a machine with a kinematic tree (`three.rs`); `None` on a 2-axis lathe.
+    three: Option<three::Three>,
+    /// A live tool's plunge into the positioned part (`three.rs`).
+    plunge3: Option<three::Plunge>,
+    /// A live tool turns during the move being checked (`ExtraMove::live_rpm`): the cutter
+    /// cutting with the main spindle stopped is then no `spindle_stopped`.
+    live_tool: bool,
 }
 
 /// A feed move whose cut is under way (see [`DexelStock::begin_move`]).
@@ -160,6 +168,13 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
         budget: Vec::new(),
         long_moves: false,
         tailstock_in: machine.tailstock_advanced,
+        three: machine
+            .kinematics
+            .as_ref()
+            .filter(|_| !run.extra.is_empty())
+            .map(|k| three::Three::new(k.clone(), settings.tolerance_mm)),
+        plunge3: None,
+        live_tool: false,
     };
     c.static_pairs();
     for item in timer.by_ref() {
@@ -199,6 +214,9 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
     }
     let mut stats = c.stats;
     stats.machine_time_s = machine_time_s;
+    if c.three.as_ref().is_some_and(|t| t.ran) {
+        stats.effects.push("kinematic_3d".into());
+    }
     if c.cut_any {
         stats.effects.push("stock_removal".into());
     }
@@ -420,8 +438,24 @@ impl Checker<'_> {
         }
         self.tailstock_in = state.tailstock_advanced;
         self.overtravel(m, item);
+        self.live_tool = false;
+        if let Some(t) = self.three.as_mut() {
+            let e = t.entry(&self.run.extra, item.index);
+            self.live_tool = e.is_some_and(|e| e.live_rpm > 0.0);
+            let turns = self.run.spindle(m).is_on() && !e.is_some_and(|e| e.c_mode);
+            let motion = matches!(m.kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. });
+            // A cutter inside its own non-revolved cut leaves the 2D model on every move.
+            if motion && (self.plunge3.is_some() || !t.in_plane(m, e, turns)) {
+                t.ran = true;
+                self.three_move(m, e, item);
+                return;
+            }
+        }
         match m.kind {
-            MoveKind::ToolChange { from, to } => self.index_sweep(m, item, from, to),
+            MoveKind::ToolChange { from, to } => {
+                self.plunge3 = None;
+                self.index_sweep(m, item, from, to)
+            }
             MoveKind::Dwell { .. } => {
                 // Nothing moves: contacts in progress stay as they are.
                 self.stats.steps += self.samples_in(item.t0, item.t1());
@@ -446,7 +480,7 @@ impl Checker<'_> {
         let feed = !rapid;
         let insert_rule = if rapid {
             Some(Kind::RapidIntoStock)
-        } else if !self.run.spindle(m).is_on() {
+        } else if !self.run.spindle(m).is_on() && !self.live_tool {
             Some(Kind::SpindleStopped)
         } else {
             None
@@ -757,6 +791,7 @@ impl Checker<'_> {
             depth,
             message,
             snapshot,
+            snapshot3: None,
         }
     }
 
@@ -1081,6 +1116,7 @@ impl Checker<'_> {
             depth: Some(depth),
             message: format!("the turret reference point leaves the {axis} travel limits"),
             snapshot: None,
+            snapshot3: None,
         };
         let mut c = c;
         if self.settings.snapshots && !self.episodes.is_open(u64::MAX) {

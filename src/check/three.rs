@@ -1,0 +1,654 @@
+//! The 3D path (issue 15): the moves of a turn-mill machine that leave the lathe's working plane,
+//! checked on the machine's kinematic tree (`kin`) with 3D queries (`collide3`).
+//!
+//! Which path a move takes ([`Three::in_plane`]): the 2D section checker is exact for a lathe in
+//! its working plane, so a move stays on it while every extra axis is where the 2D model assumes
+//! (Y at its start value, the sub-spindle's B and A at theirs, no G17/G19 arc) and the part turns
+//! (or, positioned as a C axis, is cut only on the spindle axis: X = 0). Any other move is checked
+//! here, and only here: every `never_touch` pair of the machine file (the tools of the active
+//! station only: the others stand turned away), and the turret, the active tool's holder and its
+//! cutter against the in-process stock.
+//!
+//! Rules: a pair of components that overlaps by more than `TOUCH_EPS` is a `collision`; the
+//! cutter in the stock is `rapid_into_stock` in a rapid, `spindle_stopped` in a feed with neither
+//! the main spindle nor a live tool turning, machining otherwise. The dexel stock is revolved, so
+//! only a turning spindle's cuts are taken from it; a live tool's cut with the spindle positioned
+//! leaves it as it is (seed 002's milled stock is issue 16). What that cut removed is kept as a
+//! **plunge**: the straight line the cutter fed along, at its C angle. Moves of that cutter back
+//! along the line, at the same C, are in its own hole and not judged against the stock; any other
+//! motion with the cutter still in the part (a C index, a Y or Z move sideways) is judged against
+//! the uncut stock — which is what such a move does to a real part: drags the tool through it.
+//!
+//! Each pair is followed along the move by conservative advancement with a proven motion bound
+//! (`collide3::motion`): never a step longer than the proven gap, in both modes, so a move
+//! never tunnels. The axis values along a move: X and Z are the turret reference point as the 2D
+//! model times it (`motion::reference_at`: dogleg rapids too), the extra axes go linearly over the
+//! move's time, a G17/G19 arc follows `interp::position3`.
+
+use std::sync::Arc;
+
+use nalgebra::Point3;
+
+use super::episodes::Contact;
+use super::Checker;
+use crate::collide3::{motion_bound, stock_gap, stock_overlap, Advance, MAX_PROBES};
+use crate::collide3::{self, Hit, Shape3};
+use crate::finding::Kind;
+use crate::geom::TOUCH_EPS;
+use crate::interp::{position3, ExtraMove, Move, MoveKind};
+use crate::kin::{AxisId, CompId, Kinematics, Poser, Role};
+use crate::motion::{self, Timed};
+use crate::report::scene3::{Part3, Role3, Snapshot3};
+use crate::scene::View;
+
+/// Episode keys of the 3D path: above every 2D key.
+const KEY_BASE: u64 = 1 << 48;
+/// The stock as the second member of a pair.
+const STOCK: usize = usize::MAX;
+/// Samples after first contact at which the depth of a 3D contact is measured.
+const DEPTH_SAMPLES: u32 = 16;
+
+/// What a live tool has cut with the spindle positioned: the line its cutter fed along.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Plunge {
+    cutter: CompId,
+    /// C (the main spindle's angle) during the cut.
+    c: f64,
+    /// The turret reference point (x, y, z) where the feed began and where it reached.
+    a: [f64; 3],
+    b: [f64; 3],
+}
+
+/// The 3D side of the checker: the tree, its collision shapes, the last poses.
+pub(super) struct Three {
+    kin: Arc<Kinematics>,
+    shapes: Vec<Option<Shape3>>,
+    meshes: Vec<Option<Arc<crate::kin::Mesh>>>,
+    ax_x: Option<AxisId>,
+    ax_z: Option<AxisId>,
+    /// The kinematic axis of each of `interp::EXTRA_LETTERS` (Y, C, B, A).
+    ax_extra: [Option<AxisId>; 4],
+    start: Vec<f64>,
+    /// Next entry of `Interpretation::extra` to look at.
+    cursor: usize,
+    /// The 3D path ran on at least one move (`stats.effects` says "3d").
+    pub ran: bool,
+}
+
+impl Three {
+    pub fn new(kin: Arc<Kinematics>, tolerance: f64) -> Three {
+        let shapes = kin
+            .components
+            .iter()
+            .map(|c| c.geometry.as_ref().and_then(|g| Shape3::from_geometry(g, tolerance)))
+            .collect();
+        let meshes = kin.components.iter().map(|_| None).collect();
+        let letter = |c| kin.axis_by_letter(c);
+        let mut ax_extra = [None; 4];
+        for (i, l) in crate::interp::EXTRA_LETTERS.iter().enumerate() {
+            ax_extra[i] = letter(*l);
+        }
+        Three {
+            ax_x: letter('X'),
+            ax_z: letter('Z'),
+            ax_extra,
+            start: kin.start_values(),
+            shapes,
+            meshes,
+            kin,
+            cursor: 0,
+            ran: false,
+        }
+    }
+
+    /// The extra-axis entry of move `index`, if it has one (moves come in order).
+    pub fn entry<'r>(&mut self, extra: &'r [ExtraMove], index: usize) -> Option<&'r ExtraMove> {
+        while self.cursor < extra.len() && (extra[self.cursor].index as usize) < index {
+            self.cursor += 1;
+        }
+        extra.get(self.cursor).filter(|e| e.index as usize == index)
+    }
+
+    /// Whether the 2D section checker describes this move exactly (see the module docs).
+    pub fn in_plane(&self, m: &Move, e: Option<&ExtraMove>, spindle_turns: bool) -> bool {
+        let Some(e) = e else { return true };
+        if e.arc.is_some() {
+            return false;
+        }
+        // Y, B and A where the 2D model has them (their start values); C is free while the part
+        // is revolved — and it is: the stock and the chuck are revolved outlines.
+        for k in [0usize, 2, 3] {
+            if let Some(a) = self.ax_extra[k] {
+                let z = self.start[a];
+                if e.start[k] != z || e.end[k] != z {
+                    return false;
+                }
+            }
+        }
+        // A positioned spindle is cut as a revolved part only on its axis.
+        let cuts_positioned = e.c_mode || !spindle_turns;
+        !(cuts_positioned && e.live_rpm > 0.0 && (m.start.x != 0.0 || m.end.x != 0.0))
+    }
+
+    /// The axis values at time fraction `u` of the move.
+    fn values(&self, m: &Move, e: Option<&ExtraMove>, item: &Timed, u: f64, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend_from_slice(&self.start);
+        let (x, y, z, ex) = match e.filter(|e| e.arc.is_some()) {
+            Some(e) => {
+                let (p, ex) = position3(m, Some(e), u);
+                (p[0] - m.tip.x, p[1], p[2] - m.tip.y, ex)
+            }
+            None => {
+                let r = motion::reference_at(m, item, u * item.duration);
+                let mut ex = [0.0; 4];
+                if let Some(e) = e {
+                    for (k, v) in ex.iter_mut().enumerate() {
+                        *v = e.start[k] + (e.end[k] - e.start[k]) * u;
+                    }
+                } else {
+                    for (k, v) in ex.iter_mut().enumerate() {
+                        *v = self.ax_extra[k].map_or(0.0, |a| self.start[a]);
+                    }
+                }
+                let y = ex[0];
+                (r.x, y, r.y, ex)
+            }
+        };
+        if let Some(a) = self.ax_x {
+            out[a] = x;
+        }
+        if let Some(a) = self.ax_z {
+            out[a] = z;
+        }
+        for (k, a) in self.ax_extra.iter().enumerate() {
+            if let Some(a) = *a {
+                out[a] = if k == 0 { y } else { ex[k] };
+            }
+        }
+    }
+
+    /// Per axis, a bound of how fast its value changes per unit of the time fraction `u`.
+    fn rates(&self, m: &Move, e: Option<&ExtraMove>, item: &Timed) -> Vec<f64> {
+        let mut r = vec![0.0; self.start.len()];
+        // The reference point's speed bounds each of its coordinates' (dogleg rapids included).
+        let v = motion::max_speed(m, item) * item.duration;
+        let arc = e.and_then(|e| e.arc.map(|_| crate::interp::length3(m, e)));
+        let lin = arc.map_or(v, |l| l.max(v));
+        for a in [self.ax_x, self.ax_z].into_iter().flatten() {
+            r[a] = lin;
+        }
+        if let Some(e) = e {
+            for (k, a) in self.ax_extra.iter().enumerate() {
+                if let Some(a) = *a {
+                    r[a] = if k == 0 && arc.is_some() { lin } else { (e.end[k] - e.start[k]).abs() };
+                }
+            }
+        }
+        r
+    }
+
+    /// The components that take part in this move: all but the tools of other stations.
+    fn present(&self, active: u32) -> Vec<bool> {
+        let k = &self.kin;
+        let mut on = vec![true; k.components.len()];
+        for (i, c) in k.components.iter().enumerate() {
+            let own = c.station.is_none_or(|s| s == active);
+            let parent = c.parent.is_none_or(|p| on[p]);
+            on[i] = own && parent;
+        }
+        on
+    }
+}
+
+/// A pair's follower along the move: positions and bounds at any `u`.
+struct Follow<'a> {
+    three: &'a Three,
+    m: &'a Move,
+    e: Option<&'a ExtraMove>,
+    item: &'a Timed,
+    rates: Vec<f64>,
+}
+
+impl Follow<'_> {
+    fn at(&self, u: f64, out: &mut Vec<f64>) {
+        self.three.values(self.m, self.e, self.item, u, out);
+    }
+
+    /// Bound of how far any point of `comp` moves while the fraction goes from `u0` to `u1`
+    /// (linear in `u1 - u0`: each axis at most its rate).
+    fn bound(&self, comp: CompId, u0: f64, u1: f64) -> f64 {
+        let mut v0 = Vec::new();
+        self.at(u0, &mut v0);
+        let v1: Vec<f64> = v0.iter().zip(&self.rates).map(|(v, r)| v + r * (u1 - u0)).collect();
+        motion_bound(&self.three.kin, comp, &v0, &v1)
+    }
+}
+
+impl Checker<'_> {
+    /// Check one move on the 3D path (the caller decided it leaves the working plane).
+    pub(super) fn three_move(&mut self, m: &Move, e: Option<&ExtraMove>, item: &Timed) {
+        let Some(three) = self.three.take() else { return };
+        self.three_move_with(&three, m, e, item);
+        self.three = Some(three);
+    }
+
+    fn three_move_with(&mut self, three: &Three, m: &Move, e: Option<&ExtraMove>, item: &Timed) {
+        self.extra_overtravel(three, m, e, item);
+        let k = &three.kin;
+        let active = m.station;
+        let on = three.present(active);
+        let follow = Follow { three, m, e, item, rates: three.rates(m, e, item) };
+        let rapid = m.kind == MoveKind::Rapid;
+        let spindle_turns = self.run.spindle(m).is_on() && !e.is_some_and(|e| e.c_mode);
+        let live = e.is_some_and(|e| e.live_rpm > 0.0);
+        let cutter_rule = if rapid {
+            Some(Kind::RapidIntoStock)
+        } else if !spindle_turns && !live {
+            Some(Kind::SpindleStopped)
+        } else {
+            None
+        };
+        let mut pairs: Vec<(CompId, usize, Kind)> = Vec::new();
+        for &(a, b) in &k.never_touch {
+            if on[a] && on[b] && three.shapes[a].is_some() && three.shapes[b].is_some() {
+                pairs.push((a, b, Kind::Collision));
+            }
+        }
+        if self.machine.stock.is_some() {
+            for (i, c) in k.components.iter().enumerate() {
+                if !on[i] || three.shapes[i].is_none() {
+                    continue;
+                }
+                let moving = c.station.is_some() || matches!(c.role, Role::Holder | Role::Cutter) || is_turret(k, i);
+                if !moving {
+                    continue;
+                }
+                if c.role == Role::Cutter {
+                    if let Some(rule) = cutter_rule {
+                        if !self.in_own_plunge(three, i, m, e, item, rapid) {
+                            pairs.push((i, STOCK, rule));
+                        }
+                    }
+                    if live && !rapid && !spindle_turns {
+                        self.record_plunge(three, i, m, e, item);
+                    }
+                } else {
+                    pairs.push((i, STOCK, Kind::Collision));
+                }
+            }
+        }
+        let keys: Vec<u64> = pairs.iter().map(|&(a, b, kind)| pair_key(a, b, kind)).collect();
+        self.episodes.close_except(|key| key == u64::MAX || key < KEY_BASE || keys.contains(&key));
+        for (&(a, b, kind), &key) in pairs.iter().zip(&keys) {
+            let res = if b == STOCK {
+                self.stock_advance(three, &follow, a)
+            } else {
+                pair_advance(three, &follow, a, b)
+            };
+            self.stats.pair_tests += res.1;
+            match res.0 {
+                Advance::Clear => self.episodes.clear(key),
+                Advance::Unchecked { u } => {
+                    let t = item.t0 + u * item.duration;
+                    self.budget.push((
+                        m.line,
+                        format!("the 3D check of {} stopped after {MAX_PROBES} probes at {t:.3} s: the rest of this move is unchecked", names(k, a, b)),
+                    ));
+                }
+                Advance::Contact { u, hit } => {
+                    let t = item.t0 + u * item.duration;
+                    if self.episodes.is_open(key) {
+                        self.episodes.extend(key, m.line, t, hit.depth, false);
+                    } else {
+                        let c = self.contact3(three, &follow, m, a, b, kind, u, hit, t);
+                        self.episodes.contact(key, c);
+                    }
+                    // The depth over the rest of the move, and whether contact lasts to its end.
+                    let mut still = false;
+                    for j in 1..=DEPTH_SAMPLES {
+                        let uu = u + (1.0 - u) * j as f64 / DEPTH_SAMPLES as f64;
+                        self.stats.pair_tests += 1;
+                        match self.probe3(three, &follow, a, b, uu) {
+                            Some(h) => {
+                                self.episodes.extend(key, m.line, item.t0 + uu * item.duration, h.depth, false);
+                                still = j == DEPTH_SAMPLES;
+                            }
+                            None => still = false,
+                        }
+                    }
+                    if !still {
+                        self.episodes.clear(key);
+                    }
+                }
+            }
+        }
+        self.end_plunge(three, &follow);
+    }
+
+    /// The cutter of a plunge that is out of the part at the end of the move has left its hole.
+    fn end_plunge(&mut self, three: &Three, f: &Follow) {
+        let Some(p) = self.plunge3 else { return };
+        if self.probe3(three, f, p.cutter, STOCK, 1.0).is_none() {
+            self.plunge3 = None;
+        }
+    }
+
+    /// Overlap of pair (a, b) at fraction `u` (b may be the stock).
+    fn probe3(&mut self, three: &Three, f: &Follow, a: CompId, b: usize, u: f64) -> Option<Hit> {
+        let k = &three.kin;
+        let mut vals = Vec::new();
+        f.at(u, &mut vals);
+        let mut poser = Poser::new(k);
+        poser.pose(k, &vals);
+        let sa = three.shapes[a].as_ref()?;
+        if b == STOCK {
+            let stock = self.ensure_stock()?;
+            stock_overlap(sa, poser.world(a), stock, View::Now, TOUCH_EPS)
+        } else {
+            collide3::overlap(sa, poser.world(a), three.shapes[b].as_ref()?, poser.world(b), TOUCH_EPS)
+        }
+    }
+
+    /// Conservative advancement of a component against the stock (see `collide3::motion`).
+    fn stock_advance(&mut self, three: &Three, f: &Follow, a: CompId) -> (Advance, u64) {
+        let k = &three.kin;
+        let Some(sa) = three.shapes[a].as_ref() else { return (Advance::Clear, 0) };
+        let Some(stock) = self.ensure_stock() else { return (Advance::Clear, 0) };
+        let mut poser = Poser::new(k);
+        let mut vals = Vec::new();
+        let min_step = (TOUCH_EPS / 2.0).max(collide3::MIN_STEP_MM);
+        let rate = f.bound(a, 0.0, 1.0);
+        let (mut u, mut prev, mut probes) = (0.0f64, 0.0f64, 0u64);
+        let window = rate + 1.0;
+        loop {
+            probes += 1;
+            if probes > MAX_PROBES {
+                return (Advance::Unchecked { u }, probes);
+            }
+            f.at(u, &mut vals);
+            poser.pose(k, &vals);
+            if let Some(h) = stock_overlap(sa, poser.world(a), stock, View::Now, TOUCH_EPS) {
+                if u == 0.0 {
+                    return (Advance::Contact { u, hit: h }, probes);
+                }
+                let (mut lo, mut hi, mut best) = (prev, u, h);
+                while hi - lo > 1e-9 {
+                    probes += 1;
+                    let mid = lo + (hi - lo) / 2.0;
+                    if mid <= lo || mid >= hi {
+                        break;
+                    }
+                    f.at(mid, &mut vals);
+                    poser.pose(k, &vals);
+                    match stock_overlap(sa, poser.world(a), stock, View::Now, TOUCH_EPS) {
+                        Some(h) => (hi, best) = (mid, h),
+                        None => lo = mid,
+                    }
+                }
+                return (Advance::Contact { u: hi, hit: best }, probes);
+            }
+            if u >= 1.0 || rate == 0.0 {
+                return (Advance::Clear, probes);
+            }
+            let gap = stock_gap(sa, poser.world(a), stock, View::Now, window);
+            if !rate.is_finite() || gap.is_nan() {
+                return (Advance::Unchecked { u }, probes);
+            }
+            prev = u;
+            let next = (u + gap.max(min_step) / rate).min(1.0);
+            u = if next > u { next } else { (u + f64::EPSILON).min(1.0) };
+        }
+    }
+
+    /// The finding's facts at first contact, and its picture when asked for.
+    #[allow(clippy::too_many_arguments)]
+    fn contact3(&mut self, three: &Three, f: &Follow, m: &Move, a: CompId, b: usize, kind: Kind, u: f64, hit: Hit, t: f64) -> Contact {
+        let k = &three.kin;
+        let an = k.components[a].name.clone();
+        let bn = if b == STOCK { "stock".to_string() } else { k.components[b].name.clone() };
+        let message = match kind {
+            Kind::RapidIntoStock => format!("rapid move drives {an} into the stock"),
+            Kind::SpindleStopped => format!("{an} cuts the stock with neither the spindle nor a live tool turning"),
+            _ => format!("{an} hits {bn}"),
+        };
+        let mut vals = Vec::new();
+        f.at(u, &mut vals);
+        let tip = nalgebra::Vector2::new(m.tip.x, m.tip.y);
+        let xi = three.ax_x.map_or(0.0, |i| vals[i]);
+        let zi = three.ax_z.map_or(0.0, |i| vals[i]);
+        let (x, z) = self.run.frame(m).to_program(crate::geom::P2::new(xi, zi) + tip);
+        let snapshot3 = self.settings.snapshots.then(|| Box::new(self.scene3(three, &vals, m, a, b, &message, t, hit.point)));
+        Contact {
+            kind,
+            objects: [an, bn],
+            line: m.line,
+            n: m.n,
+            profile_line: m.profile_line,
+            time: t,
+            x,
+            z,
+            depth: Some(hit.depth),
+            message,
+            snapshot: None,
+            snapshot3,
+        }
+    }
+
+    /// The posed scene for a picture.
+    #[allow(clippy::too_many_arguments)]
+    fn scene3(&mut self, three: &Three, vals: &[f64], m: &Move, a: CompId, b: usize, title: &str, t: f64, point: Point3<f64>) -> Snapshot3 {
+        let k = &three.kin;
+        let mut poser = Poser::new(k);
+        poser.pose(k, vals);
+        let moved = moved_flags(k, vals, &three.start);
+        let on = three.present(m.station);
+        let mut parts = Vec::new();
+        for (i, c) in k.components.iter().enumerate() {
+            if !on[i] {
+                continue;
+            }
+            let Some(mesh) = three.mesh(i, self.settings.tolerance_mm) else { continue };
+            let role = if i == a {
+                Role3::CollidingA
+            } else if i == b {
+                Role3::CollidingB
+            } else if moved[i] {
+                Role3::Moving
+            } else {
+                Role3::Fixed
+            };
+            parts.push(Part3 { name: c.name.clone(), mesh, pose: *poser.world(i), role });
+        }
+        if let Some(stock) = self.stock.as_ref() {
+            for outline in stock.outlines(1e-9) {
+                let pts: Vec<crate::geom::P2> = outline.iter().map(|p| crate::geom::P2::new(p[0].abs(), p[1])).collect();
+                if let Ok(mesh) = crate::kin::shape::revolved(&pts, self.settings.tolerance_mm.max(0.05)) {
+                    let role = if b == STOCK { Role3::CollidingB } else { Role3::Stock };
+                    parts.push(Part3 { name: "stock".into(), mesh: Arc::new(mesh), pose: crate::kin::Iso::identity(), role });
+                }
+            }
+        }
+        Snapshot3 { title: title.to_string(), line: m.line, time_s: Some(t), parts, contact: Some(point) }
+    }
+
+    /// Whether this cutter's move runs back along the line of its own plunge (see the module docs).
+    fn in_own_plunge(&self, three: &Three, cutter: CompId, m: &Move, e: Option<&ExtraMove>, item: &Timed, _rapid: bool) -> bool {
+        let Some(p) = self.plunge3 else { return false };
+        if p.cutter != cutter {
+            return false;
+        }
+        let c_at = |ex: &[f64; 4]| ex[1];
+        if let Some(e) = e {
+            if c_at(&e.start) != p.c || c_at(&e.end) != p.c || e.arc.is_some() {
+                return false;
+            }
+        }
+        let s = ref3(three, m, e, item, 0.0);
+        let f = ref3(three, m, e, item, 1.0);
+        on_line(&p, s) && on_line(&p, f) && matches!(m.kind, MoveKind::Rapid | MoveKind::Line)
+    }
+
+    fn record_plunge(&mut self, three: &Three, cutter: CompId, m: &Move, e: Option<&ExtraMove>, item: &Timed) {
+        let c = e.map_or(0.0, |e| e.end[1]);
+        let s = ref3(three, m, e, item, 0.0);
+        let f = ref3(three, m, e, item, 1.0);
+        let same_c = e.is_some_and(|e| e.start[1] == e.end[1]);
+        let plunge = match self.plunge3 {
+            Some(p) if p.cutter == cutter && p.c == c && on_line(&p, s) && on_line(&p, f) => {
+                // Deeper along the same line: keep the end farthest from where it began.
+                let far = if dist(p.a, f) > dist(p.a, p.b) { f } else { p.b };
+                Some(Plunge { b: far, ..p })
+            }
+            _ if same_c && matches!(m.kind, MoveKind::Line) => Some(Plunge { cutter, c, a: s, b: f }),
+            _ => None,
+        };
+        self.plunge3 = plunge;
+    }
+
+    /// Overtravel of the extra axes (X and Z are the 2D check's).
+    fn extra_overtravel(&mut self, three: &Three, m: &Move, e: Option<&ExtraMove>, item: &Timed) {
+        let Some(e) = e else { return };
+        let k = &three.kin;
+        let mut vals = Vec::new();
+        for (slot, a) in three.ax_extra.iter().enumerate() {
+            let Some(a) = *a else { continue };
+            let (lo, hi) = k.axes[a].travel;
+            let mut worst: Option<(f64, f64)> = None;
+            let n = if e.arc.is_some() { 64 } else { 1 };
+            for j in 0..=n {
+                let u = j as f64 / n as f64;
+                three.values(m, Some(e), item, u, &mut vals);
+                let v = vals[a];
+                let over = (lo - v).max(v - hi);
+                if over > 1e-9 && worst.is_none_or(|w| over > w.1) {
+                    worst = Some((u, over));
+                }
+            }
+            let Some((u, over)) = worst else { continue };
+            let key = KEY_BASE - 1 - slot as u64;
+            if self.episodes.is_open(key) {
+                continue;
+            }
+            let name = &k.axes[a].name;
+            let letter = k.axes[a].letter;
+            let t = item.t0 + u * item.duration;
+            let (x, z) = self.run.frame(m).to_program(m.end);
+            let message = format!("axis {name} ({letter}) goes {over:.3} past its travel [{lo}, {hi}]");
+            self.episodes.contact(
+                key,
+                Contact {
+                    kind: Kind::Overtravel,
+                    objects: [format!("{letter} axis"), "travel limit".into()],
+                    line: m.line,
+                    n: m.n,
+                    profile_line: m.profile_line,
+                    time: t,
+                    x,
+                    z,
+                    depth: Some(over),
+                    message,
+                    snapshot: None,
+                    snapshot3: None,
+                },
+            );
+            self.episodes.clear(key);
+            let _ = slot;
+            let _ = e;
+        }
+    }
+}
+
+impl Three {
+    /// A component's mesh for pictures (built once).
+    fn mesh(&self, i: CompId, tol: f64) -> Option<Arc<crate::kin::Mesh>> {
+        if let Some(m) = &self.meshes[i] {
+            return Some(m.clone());
+        }
+        let g = self.kin.components[i].geometry.as_ref()?;
+        crate::kin::shape::mesh_of(g, tol.max(0.05)).ok().map(Arc::new)
+    }
+}
+
+/// Per component: an axis on its way from the root is off its start value.
+fn moved_flags(k: &Kinematics, vals: &[f64], start: &[f64]) -> Vec<bool> {
+    let mut out = vec![false; k.components.len()];
+    for (i, c) in k.components.iter().enumerate() {
+        let own = c.axis.is_some_and(|a| vals.get(a) != start.get(a));
+        out[i] = own || c.parent.is_some_and(|p| out[p]);
+    }
+    out
+}
+
+
+/// The turret reference point (x, y, z) at fraction `u`.
+fn ref3(three: &Three, m: &Move, e: Option<&ExtraMove>, item: &Timed, u: f64) -> [f64; 3] {
+    let mut v = Vec::new();
+    three.values(m, e, item, u, &mut v);
+    let g = |a: Option<AxisId>| a.map_or(0.0, |a| v[a]);
+    [g(three.ax_x), g(three.ax_extra[0]), g(three.ax_z)]
+}
+
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// `p` lies on the plunge's line (within 1e-6 mm), on the side where it began or beyond its end.
+fn on_line(pl: &Plunge, p: [f64; 3]) -> bool {
+    let d = [pl.b[0] - pl.a[0], pl.b[1] - pl.a[1], pl.b[2] - pl.a[2]];
+    let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    if len < 1e-9 {
+        return dist(pl.a, p) < 1e-6;
+    }
+    let w = [p[0] - pl.a[0], p[1] - pl.a[1], p[2] - pl.a[2]];
+    let along = (w[0] * d[0] + w[1] * d[1] + w[2] * d[2]) / len;
+    let off2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - along * along;
+    // Any point before the deepest one: the cutter's way out of its hole is along the line.
+    off2.max(0.0).sqrt() < 1e-6 && along <= len + 1e-6
+}
+
+fn is_turret(k: &Kinematics, i: CompId) -> bool {
+    // Parts carried by the slides that carry the tools (the turret body, its housing).
+    let moves_with_x = |c: CompId| {
+        let mut p = Some(c);
+        while let Some(q) = p {
+            if let Some(a) = k.components[q].axis {
+                if k.axes[a].letter == 'X' {
+                    return true;
+                }
+            }
+            p = k.components[q].parent;
+        }
+        false
+    };
+    moves_with_x(i)
+}
+
+fn pair_key(a: CompId, b: usize, kind: Kind) -> u64 {
+    let b = if b == STOCK { 0xFFFF } else { b as u64 & 0xFFFF };
+    KEY_BASE | ((a as u64 & 0xFFFF) << 24) | (b << 8) | kind as u64
+}
+
+fn names(k: &Kinematics, a: CompId, b: usize) -> String {
+    let bn = if b == STOCK { "stock" } else { &k.components[b].name };
+    format!("{} and {bn}", k.components[a].name)
+}
+
+/// Conservative advancement of a pair of components.
+fn pair_advance(three: &Three, f: &Follow, a: CompId, b: CompId) -> (Advance, u64) {
+    let k = &three.kin;
+    let (Some(sa), Some(sb)) = (three.shapes[a].as_ref(), three.shapes[b].as_ref()) else {
+        return (Advance::Clear, 0);
+    };
+    struct P<'a, 'b>(&'a Follow<'b>);
+    impl collide3::Path for P<'_, '_> {
+        fn at(&self, u: f64, out: &mut Vec<f64>) {
+            self.0.at(u, out)
+        }
+        fn bound(&self, _k: &Kinematics, comp: CompId, u0: f64, u1: f64) -> f64 {
+            self.0.bound(comp, u0, u1)
+        }
+    }
+    let adv = collide3::first_contact(k, (a, sa), (b, sb), &P(f), TOUCH_EPS);
+    (adv, 1)
+}
