@@ -144,11 +144,21 @@ pub fn load_machine(path: Option<&Path>) -> Result<Machine, Trouble> {
             let shown = shown(p);
             let text =
                 read_text(p, MAX_MACHINE_BYTES).map_err(|why| format!("{shown}: cannot read machine file: {why}"))?;
-            let m = machine::from_toml(&text, &shown).map_err(|e| error_lines(&e))?;
+            let m = parse_machine(&text, &shown, p).map_err(|e| error_lines(&e))?;
             warn_machine(&m);
             Ok(m)
         }
     }
+}
+
+/// A machine file's text → the machine, reading the STL files its `[kinematics]` names from the
+/// folder of `path` (each at most `latheguard::kin::stl::MAX_STL_BYTES`).
+pub fn parse_machine(text: &str, shown: &str, path: &Path) -> Result<Machine, machine::MachineError> {
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let resolve = move |name: &str| -> Result<Vec<u8>, String> {
+        read_capped(&dir.join(name), latheguard::kin::stl::MAX_STL_BYTES as u64)
+    };
+    machine::from_toml_with(text, shown, &resolve)
 }
 
 /// Every problem of a machine file on a line of its own, each with the `latheguard:` that [`say`]

@@ -205,7 +205,7 @@ impl Planner {
         }
         let text = read_text(&key, MAX_MACHINE_BYTES)
             .map_err(|why| format!("{}: cannot read machine file {shown}: {why}", r.at))?;
-        let m = machine::from_toml(&text, &shown)
+        let m = super::parse_machine(&text, &shown, &key)
             .map_err(|e| format!("{}\n  (the machine of {})", super::error_lines(&e), r.at))?;
         super::warn_machine(&m);
         let m = Arc::new(m);

@@ -114,10 +114,8 @@ struct RawMount {
 #[derive(Deserialize, JsonSchema)]
 #[serde(untagged, expecting = "an outline [[r, z], …] or \"chuck\" or \"tailstock\"")]
 enum RawRevolved {
-    #[schemars(with = "String")]
-    Named(Spanned<String>),
-    #[schemars(with = "Vec<[f64; 2]>")]
-    Outline(Outline),
+    Named(String),
+    Outline(Vec<Vec<f64>>),
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -148,7 +146,8 @@ struct RawCylinder {
 struct RawGeometry {
     #[schemars(with = "Option<String>")]
     stl: Option<Spanned<String>>,
-    revolved: Option<RawRevolved>,
+    #[schemars(with = "Option<RawRevolved>")]
+    revolved: Option<Spanned<RawRevolved>>,
     #[schemars(with = "Option<Vec<[f64; 2]>>")]
     extruded: Option<Outline>,
     /// The extrusion's width along y (centred on y = 0), with `extruded`.
@@ -335,7 +334,9 @@ pub(crate) fn kinematics(
             match state[c] {
                 2 => break,
                 1 => {
-                    let first = path.iter().copied().min().unwrap_or(c);
+                    let from = path.iter().position(|&k| k == c).unwrap_or(0);
+                    let cycle = &path[from..];
+                    let first = cycle.iter().copied().min().unwrap_or(c);
                     let r = comps[first].get_ref();
                     let at = r.parent.as_ref().map_or(r.name.span(), |p| p.span());
                     let names: Vec<String> = path
@@ -696,14 +697,15 @@ fn geometry(
     }
     if let Some(rv) = &r.revolved {
         let k = format!("{key}.revolved");
-        let pts = match rv {
+        let at = rv.span();
+        let pts = match rv.get_ref() {
             RawRevolved::Named(n) => {
-                let part = match n.get_ref().as_str() {
+                let part = match n.as_str() {
                     "chuck" => machine.chuck.as_ref(),
                     "tailstock" => machine.tailstock.as_ref(),
                     other => {
                         return Err(cx.err(
-                            n.span(),
+                            at,
                             &k,
                             format!("{other:?}: a named outline is \"chuck\" or \"tailstock\""),
                         ))
@@ -711,20 +713,19 @@ fn geometry(
                 };
                 match part {
                     Some(p) => p.points().to_vec(),
-                    None => {
-                        return Err(cx.err(
-                            n.span(),
-                            &k,
-                            format!("the machine has no [{}] outline to revolve", n.get_ref()),
-                        ))
-                    }
+                    None => return Err(cx.err(at, &k, format!("the machine has no [{n}] outline to revolve"))),
                 }
             }
             RawRevolved::Outline(o) => {
-                let pts = shape_outline(cx, &k, o)?;
+                // The points have the span of the whole value (an untagged value keeps no others).
+                let o: Outline = Spanned::new(
+                    at.clone(),
+                    o.iter().map(|p| Spanned::new(at.clone(), p.clone())).collect(),
+                );
+                let pts = shape_outline(cx, &k, &o)?;
                 if let Some(p) = pts.iter().find(|p| p.x < 0.0) {
                     return Err(cx.err(
-                        o.span(),
+                        at,
                         &k,
                         format!(
                             "a revolved outline is [r, z] with r ≥ 0; [{}, {}] has r < 0",
@@ -734,7 +735,7 @@ fn geometry(
                     ));
                 }
                 if pts.iter().all(|p| p.x <= 0.0) {
-                    return Err(cx.err(o.span(), &k, "the outline has no material off the axis"));
+                    return Err(cx.err(at, &k, "the outline has no material off the axis"));
                 }
                 pts
             }

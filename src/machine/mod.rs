@@ -518,6 +518,22 @@ impl Machine {
             }
             let _ = writeln!(s, "{}", line.trim_end());
         }
+        if let Some(k) = &self.kinematics {
+            let axes: Vec<String> = k.axes.iter().map(|a| format!("{} {}", a.letter, a.name)).collect();
+            let meshes = k
+                .components
+                .iter()
+                .filter(|c| matches!(c.geometry, Some(crate::kin::Geometry::Mesh(_))))
+                .count();
+            let _ = writeln!(
+                s,
+                "  kinematics  axes {}; {} components ({} from STL files); {} never_touch pairs",
+                axes.join(", "),
+                k.components.len(),
+                meshes,
+                k.never_touch.len()
+            );
+        }
         s
     }
 }

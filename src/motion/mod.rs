@@ -3,11 +3,17 @@
 //! machine's per-axis rates (`dogleg`: each axis at its own rate, a bent path; `linear`: both
 //! interpolated), dwells stand still, and a turret index takes `index_time` per station.
 //!
+//! A move with an extra-axis entry (turn-mill machines, [`crate::interp::ExtraMove`]) is timed
+//! with its extra axes too: a rapid takes as long as its slowest axis, each extra axis at its own
+//! `rapid` from the machine's kinematics; a feed runs F along the combined linear path (x, y, z,
+//! and a linear B), and a feed move that moves only rotary axes takes F as degrees per minute
+//! over the rotary travel (the Fanuc rule). Moves without an entry are timed as before.
+//!
 //! [`Timeline`] answers "where is the turret reference point at machine time t"; the fixed-step
 //! sampler of the checker and the exact sweeps both read it.
 
 use crate::geom::{P2, V2};
-use crate::interp::{Feed, Interpretation, Move, MoveKind, Spindle};
+use crate::interp::{ExtraMove, Feed, Interpretation, Move, MoveKind, Spindle, EXTRA_LETTERS};
 use crate::machine::{Machine, RapidMode};
 
 /// Pieces used to integrate a per-revolution feed under constant surface speed.
@@ -85,6 +91,8 @@ pub struct Timer<'a> {
     t: f64,
     stalled: Vec<usize>,
     stalled_lines: std::collections::HashSet<u32>,
+    /// The next entry of `run.extra` not passed yet.
+    next_extra: usize,
 }
 
 impl<'a> Timer<'a> {
@@ -96,6 +104,7 @@ impl<'a> Timer<'a> {
             t: 0.0,
             stalled: Vec::new(),
             stalled_lines: std::collections::HashSet::new(),
+            next_extra: 0,
         }
     }
 
@@ -115,12 +124,21 @@ impl Iterator for Timer<'_> {
         let m = self.run.moves.get(i)?;
         self.next += 1;
         let spindle = self.run.spindle(m);
+        let extra = &self.run.extra;
+        while self.next_extra < extra.len() && (extra[self.next_extra].index as usize) < i {
+            self.next_extra += 1;
+        }
+        let e = extra.get(self.next_extra).filter(|e| e.index as usize == i);
         let (stalled, stalled_lines) = (&mut self.stalled, &mut self.stalled_lines);
-        let (duration, path) = time_move(m, spindle, self.machine, &mut || {
+        let mut on_stall = || {
             if stalled_lines.insert(m.line) {
                 stalled.push(i);
             }
-        });
+        };
+        let (duration, path) = match e {
+            Some(e) => time_move_extra(m, e, spindle, self.machine, &mut on_stall),
+            None => time_move(m, spindle, self.machine, &mut on_stall),
+        };
         let duration = if duration.is_finite() && duration >= 0.0 {
             duration
         } else {
@@ -139,6 +157,60 @@ impl Iterator for Timer<'_> {
     fn size_hint(&self) -> (usize, Option<usize>) {
         let left = self.run.moves.len() - self.next;
         (left, Some(left))
+    }
+}
+
+/// How far each extra axis travels in a move, and whether it is linear; the rapid rate of each
+/// (mm/min or degrees/min) from the machine's kinematics (0 when the machine lacks the axis).
+fn extra_axes_of(e: &ExtraMove, machine: &Machine) -> [(f64, bool, f64); 4] {
+    let mut out = [(0.0, true, 0.0); 4];
+    for (k, o) in out.iter_mut().enumerate() {
+        let d = (e.end[k] - e.start[k]).abs();
+        let (linear, rapid) = machine
+            .kinematics
+            .as_deref()
+            .and_then(|kin| kin.axis_by_letter(EXTRA_LETTERS[k]).map(|a| &kin.axes[a]))
+            .map_or((k != 1 && k != 3, 0.0), |a| {
+                (matches!(a.kind, crate::kin::AxisKind::Linear { .. }), a.rapid)
+            });
+        *o = (d, linear, rapid);
+    }
+    out
+}
+
+/// [`time_move`] for a move with an extra-axis entry.
+fn time_move_extra(
+    m: &Move,
+    e: &ExtraMove,
+    spindle: &Spindle,
+    machine: &Machine,
+    stalled: &mut dyn FnMut(),
+) -> (f64, Path) {
+    let axes = extra_axes_of(e, machine);
+    match m.kind {
+        MoveKind::Rapid => {
+            let (d2, path) = time_move(m, spindle, machine, stalled);
+            let slowest = axes
+                .iter()
+                .filter(|a| a.0 > 0.0)
+                .map(|&(d, _, rapid)| if rapid > 0.0 { d / (rapid / 60.0) } else { 0.0 })
+                .fold(d2, f64::max);
+            (slowest, path)
+        }
+        MoveKind::Line | MoveKind::Arc { .. } => {
+            // The combined linear path: the 2D path (or the G17/G19 helix) with y, and a
+            // linear B; without any linear travel, the rotary travel in degrees.
+            let base = crate::interp::length3(m, e);
+            let other_linear: f64 = axes[1..].iter().filter(|a| a.1).map(|a| a.0 * a.0).sum();
+            let linear = (base * base + other_linear).sqrt();
+            let len = if linear > 1e-9 {
+                linear
+            } else {
+                axes.iter().filter(|a| !a.1).map(|a| a.0 * a.0).sum::<f64>().sqrt()
+            };
+            time_feed(m, len, spindle, stalled)
+        }
+        _ => time_move(m, spindle, machine, stalled),
     }
 }
 
@@ -164,60 +236,62 @@ fn time_move(m: &Move, spindle: &Spindle, machine: &Machine, stalled: &mut dyn F
                 RapidMode::Linear => (tx.max(tz), Path::Line { from, to }),
             }
         }
-        MoveKind::Line | MoveKind::Arc { .. } => {
-            let len = m.length();
-            match m.feed {
-                Feed::Rapid => (0.0, Path::Uniform),
-                Feed::PerMinute(f) => (len / (f / 60.0), Path::Uniform),
-                Feed::PerRev(f) => {
-                    let mut sp = *spindle;
-                    if !sp.is_on() {
-                        // Timing as if on: the check reports cutting with the spindle stopped.
-                        sp.dir = crate::interp::SpindleDir::Cw;
-                    }
-                    let css = matches!(sp.speed, crate::interp::SpindleSpeed::Css { .. });
-                    let fallback = (len / (FALLBACK_FEED_MM_MIN / 60.0), Path::Uniform);
-                    if !css {
-                        let rpm = sp.rpm_at(m.start.x);
-                        // NaN (no speed at all) counts as no speed.
-                        if rpm.is_nan() || rpm < MIN_RPM {
-                            stalled();
-                            return fallback;
-                        }
-                        return (len / (f * rpm / 60.0), Path::Uniform);
-                    }
-                    // Integrate dt = ds / (f · rpm(r)) over the path, then tabulate the
-                    // inverse (fraction at equal times). A surface speed of 0 (G96 without S,
-                    // G96 S0), a clamp of 0, or a radius so large that the speed falls below
-                    // MIN_RPM has no usable speed: the whole move takes the fallback feed.
-                    let n = CSS_PIECES;
-                    let mut cum = vec![0.0f64; n + 1];
-                    for k in 0..n {
-                        let u = (k as f64 + 0.5) / n as f64;
-                        let r = m.point_at(u).x.abs();
-                        let rpm = sp.rpm_at(r);
-                        if rpm.is_nan() || rpm < MIN_RPM {
-                            stalled();
-                            return fallback;
-                        }
-                        let v = f * rpm / 60.0;
-                        cum[k + 1] = cum[k] + (len / n as f64) / v;
-                    }
-                    let total = cum[n];
-                    let mut table = Vec::with_capacity(n + 1);
-                    let mut k = 0;
-                    for j in 0..=n {
-                        let target = total * j as f64 / n as f64;
-                        while k < n && cum[k + 1] < target {
-                            k += 1;
-                        }
-                        let span = cum[(k + 1).min(n)] - cum[k];
-                        let frac = if span > 0.0 { (target - cum[k]) / span } else { 0.0 };
-                        table.push(((k as f64 + frac.clamp(0.0, 1.0)) / n as f64).min(1.0));
-                    }
-                    (total, Path::Varying { table })
-                }
+        MoveKind::Line | MoveKind::Arc { .. } => time_feed(m, m.length(), spindle, stalled),
+    }
+}
+
+/// A feed move of path length `len` (mm, or degrees for a rotary-only move).
+fn time_feed(m: &Move, len: f64, spindle: &Spindle, stalled: &mut dyn FnMut()) -> (f64, Path) {
+    match m.feed {
+        Feed::Rapid => (0.0, Path::Uniform),
+        Feed::PerMinute(f) => (len / (f / 60.0), Path::Uniform),
+        Feed::PerRev(f) => {
+            let mut sp = *spindle;
+            if !sp.is_on() {
+                // Timing as if on: the check reports cutting with the spindle stopped.
+                sp.dir = crate::interp::SpindleDir::Cw;
             }
+            let css = matches!(sp.speed, crate::interp::SpindleSpeed::Css { .. });
+            let fallback = (len / (FALLBACK_FEED_MM_MIN / 60.0), Path::Uniform);
+            if !css {
+                let rpm = sp.rpm_at(m.start.x);
+                // NaN (no speed at all) counts as no speed.
+                if rpm.is_nan() || rpm < MIN_RPM {
+                    stalled();
+                    return fallback;
+                }
+                return (len / (f * rpm / 60.0), Path::Uniform);
+            }
+            // Integrate dt = ds / (f · rpm(r)) over the path, then tabulate the
+            // inverse (fraction at equal times). A surface speed of 0 (G96 without S,
+            // G96 S0), a clamp of 0, or a radius so large that the speed falls below
+            // MIN_RPM has no usable speed: the whole move takes the fallback feed.
+            let n = CSS_PIECES;
+            let mut cum = vec![0.0f64; n + 1];
+            for k in 0..n {
+                let u = (k as f64 + 0.5) / n as f64;
+                let r = m.point_at(u).x.abs();
+                let rpm = sp.rpm_at(r);
+                if rpm.is_nan() || rpm < MIN_RPM {
+                    stalled();
+                    return fallback;
+                }
+                let v = f * rpm / 60.0;
+                cum[k + 1] = cum[k] + (len / n as f64) / v;
+            }
+            let total = cum[n];
+            let mut table = Vec::with_capacity(n + 1);
+            let mut k = 0;
+            for j in 0..=n {
+                let target = total * j as f64 / n as f64;
+                while k < n && cum[k + 1] < target {
+                    k += 1;
+                }
+                let span = cum[(k + 1).min(n)] - cum[k];
+                let frac = if span > 0.0 { (target - cum[k]) / span } else { 0.0 };
+                table.push(((k as f64 + frac.clamp(0.0, 1.0)) / n as f64).min(1.0));
+            }
+            (total, Path::Varying { table })
         }
     }
 }
