@@ -172,7 +172,12 @@ impl Three {
     fn rates(&self, m: &Move, e: Option<&ExtraMove>, item: &Timed) -> Vec<f64> {
         let mut r = vec![0.0; self.start.len()];
         // The reference point's speed bounds each of its coordinates' (dogleg rapids included).
-        let v = motion::max_speed(m, item) * item.duration;
+        let v = if item.duration > 0.0 {
+            motion::max_speed(m, item) * item.duration
+        } else {
+            0.0
+        };
+        let v = if v.is_finite() { v } else { f64::MAX };
         let arc = e.and_then(|e| e.arc.map(|_| crate::interp::length3(m, e)));
         let lin = arc.map_or(v, |l| l.max(v));
         for a in [self.ax_x, self.ax_z].into_iter().flatten() {
@@ -284,7 +289,7 @@ impl Checker<'_> {
             let res = if b == STOCK {
                 self.stock_advance(three, &follow, a)
             } else {
-                pair_advance(three, &follow, a, b)
+                pair_advance(three, &follow, a, b, self.settings.tolerance_mm)
             };
             self.stats.pair_tests += res.1;
             match res.0 {
@@ -354,10 +359,12 @@ impl Checker<'_> {
     fn stock_advance(&mut self, three: &Three, f: &Follow, a: CompId) -> (Advance, u64) {
         let k = &three.kin;
         let Some(sa) = three.shapes[a].as_ref() else { return (Advance::Clear, 0) };
+        let min_step = self.settings.tolerance_mm.max(collide3::MIN_STEP_MM);
         let Some(stock) = self.ensure_stock() else { return (Advance::Clear, 0) };
         let mut poser = Poser::new(k);
         let mut vals = Vec::new();
-        let min_step = (TOUCH_EPS / 2.0).max(collide3::MIN_STEP_MM);
+        // As the 2D check's conservative advancement: never a step longer than the proven gap,
+        // at least the tolerance (a contact it could step over is shallower than that).
         let rate = f.bound(a, 0.0, 1.0);
         let (mut u, mut prev, mut probes) = (0.0f64, 0.0f64, 0u64);
         let window = rate + 1.0;
@@ -405,8 +412,12 @@ impl Checker<'_> {
     #[allow(clippy::too_many_arguments)]
     fn contact3(&mut self, three: &Three, f: &Follow, m: &Move, a: CompId, b: usize, kind: Kind, u: f64, hit: Hit, t: f64) -> Contact {
         let k = &three.kin;
-        let an = k.components[a].name.clone();
-        let bn = if b == STOCK { "stock".to_string() } else { k.components[b].name.clone() };
+        let mut an = k.components[a].name.clone();
+        let mut bn = if b == STOCK { "stock".to_string() } else { k.components[b].name.clone() };
+        if b != STOCK && !is_turret(k, a) && is_turret(k, b) {
+            // The part that moves into the other comes first, as in the 2D findings.
+            std::mem::swap(&mut an, &mut bn);
+        }
         let message = match kind {
             Kind::RapidIntoStock => format!("rapid move drives {an} into the stock"),
             Kind::SpindleStopped => format!("{an} cuts the stock with neither the spindle nor a live tool turning"),
@@ -635,7 +646,7 @@ fn names(k: &Kinematics, a: CompId, b: usize) -> String {
 }
 
 /// Conservative advancement of a pair of components.
-fn pair_advance(three: &Three, f: &Follow, a: CompId, b: CompId) -> (Advance, u64) {
+fn pair_advance(three: &Three, f: &Follow, a: CompId, b: CompId, tol: f64) -> (Advance, u64) {
     let k = &three.kin;
     let (Some(sa), Some(sb)) = (three.shapes[a].as_ref(), three.shapes[b].as_ref()) else {
         return (Advance::Clear, 0);
@@ -649,6 +660,8 @@ fn pair_advance(three: &Three, f: &Follow, a: CompId, b: CompId) -> (Advance, u6
             self.0.bound(comp, u0, u1)
         }
     }
-    let adv = collide3::first_contact(k, (a, sa), (b, sb), &P(f), TOUCH_EPS);
+    // The advancement's smallest step is half its `eps`: twice the tolerance makes it step as
+    // the 2D check does (at least the tolerance), and a contact shallower than that is a touch.
+    let adv = collide3::first_contact(k, (a, sa), (b, sb), &P(f), 2.0 * tol);
     (adv, 1)
 }
