@@ -367,7 +367,8 @@ impl Checker<'_> {
         // at least the tolerance (a contact it could step over is shallower than that).
         let rate = f.bound(a, 0.0, 1.0);
         let (mut u, mut prev, mut probes) = (0.0f64, 0.0f64, 0u64);
-        let window = rate + 1.0;
+        // The gap is sought within a few mm: its cost grows with the columns the window spans.
+        let window = rate.min(5.0) + 1.0;
         loop {
             probes += 1;
             if probes > MAX_PROBES {
