@@ -1,8 +1,8 @@
 //! Benchmarks of the 3D collision queries (`cargo bench --bench collide3`).
 //!
 //! 1. Pair tests per second (one `overlap` and, when apart, one `distance`): mesh–mesh (a
-//!    1,152-triangle tool sphere against a 10k-triangle sphere) and mesh–primitive (the tool
-//!    against a box and a cylinder), at poses spread across contact.
+//!    2,208-triangle tool sphere against a 9,800-triangle sphere) and mesh–primitive (the tool
+//!    against a box and a cylinder), for near misses (2 mm apart) and crossings (2 mm deep).
 //! 2. The cost of one pair test against the number of triangles of the other component: spheres of
 //!    about 10k, 100k and 1M triangles against the tool, the same poses scaled; the ratios against
 //!    10k show the growth (a bounding-volume hierarchy: sub-linear).
@@ -19,15 +19,34 @@ fn pose(x: f64, y: f64, z: f64, a: f64) -> Iso {
     )
 }
 
-/// Poses of the tool around a sphere of radius `r`: across its surface, in and out.
-fn poses(r: f64, n: usize) -> Vec<Iso> {
+/// Poses of the tool (radius 5) around a body of radius about `r`, spread over its surface, with
+/// the tool's centre at `r + off` (`off` > 5: apart, a near miss; < 5: crossing).
+fn poses(r: f64, off: f64, n: usize) -> Vec<Iso> {
     (0..n)
         .map(|i| {
             let t = i as f64 * 2.399963; // golden angle
             let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
             let s = (1.0 - z * z).sqrt();
-            let rr = r * (0.97 + 0.08 * ((i % 7) as f64 / 6.0));
+            let rr = r + off;
             pose(rr * s * t.cos(), rr * s * t.sin(), rr * z, t)
+        })
+        .collect()
+}
+
+/// Poses of the tool at `50 + off` from the z axis: on the +x face of a box (`round` false) or
+/// around a cylinder (`round` true), spread over y (or the angle) and z.
+fn side_poses(off: f64, n: usize, round: bool) -> Vec<Iso> {
+    (0..n)
+        .map(|i| {
+            let a = (i % 20) as f64 / 19.0 - 0.5;
+            let z = 80.0 * ((i / 20) as f64 / (n / 20).max(1) as f64 - 0.5);
+            let r = 50.0 + off;
+            if round {
+                let t = a * std::f64::consts::TAU;
+                pose(r * t.cos(), r * t.sin(), z, t)
+            } else {
+                pose(r, 80.0 * a, z, a)
+            }
         })
         .collect()
 }
@@ -59,58 +78,59 @@ fn per_test(a: &Shape3, b: &Shape3, ps: &[Iso], rounds: usize) -> (f64, usize) {
 }
 
 fn main() {
-    let tool = sphere(5.0, 24); // 1,104 triangles
-    let ps = poses(50.0, 400);
-    println!(
-        "3D pair tests (overlap, then distance when apart), {} poses across contact",
-        ps.len()
-    );
+    let tool = sphere(5.0, 24);
+    let near = poses(50.0, 7.0, 400); // apart by about 2 mm: overlap, then distance
+    let deep = poses(50.0, 3.0, 400); // crossing by about 2 mm: overlap with its depth
+    println!("3D pair tests: the tool ({} triangles) 2 mm from (near miss) or 2 mm into (crossing) the other part, 400 poses", tool.triangles());
     let target = sphere(50.0, 50);
-    let (t, h) = per_test(&tool, &target, &ps, 5);
-    println!(
-        "  mesh–mesh ({} vs {} triangles): {:.0} pair tests/s ({} overlapping)",
-        tool.triangles(),
-        target.triangles(),
-        1.0 / t,
-        h
-    );
     let boxed = Shape3::from_geometry(
         &Geometry::Cuboid {
-            min: Point3::new(-40.0, -40.0, -40.0),
-            max: Point3::new(40.0, 40.0, 40.0),
+            min: Point3::new(-50.0, -50.0, -50.0),
+            max: Point3::new(50.0, 50.0, 50.0),
         },
         0.01,
     )
     .unwrap();
-    let (t, h) = per_test(&tool, &boxed, &poses(45.0, 400), 5);
-    println!("  mesh–box: {:.0} pair tests/s ({} overlapping)", 1.0 / t, h);
     let cyl = Shape3::from_geometry(
         &Geometry::Cylinder {
-            radius: 45.0,
-            z0: -45.0,
-            z1: 45.0,
+            radius: 50.0,
+            z0: -50.0,
+            z1: 50.0,
         },
         0.01,
     )
     .unwrap();
-    let (t, h) = per_test(&tool, &cyl, &ps, 5);
-    println!("  mesh–cylinder: {:.0} pair tests/s ({} overlapping)", 1.0 / t, h);
+    for (name, other) in [
+        ("mesh–mesh (9,800 triangles)", &target),
+        ("mesh–box", &boxed),
+        ("mesh–cylinder", &cyl),
+    ] {
+        let (tn, hn) = per_test(&tool, other, &near, 5);
+        let (td, hd) = per_test(&tool, other, &deep, 5);
+        println!(
+            "  {name}: near miss {:.0} pair tests/s ({hn} overlapping), crossing {:.0} pair tests/s ({hd} overlapping)",
+            1.0 / tn,
+            1.0 / td
+        );
+    }
 
-    println!("cost of one pair test against the triangles of the other component");
+    println!("cost of one pair test against the triangles of the other component (sphere, radius 50)");
     let mut base = None;
     for rings in [50usize, 158, 500] {
         let t0 = Instant::now();
         let s = sphere(50.0, rings);
         let build = t0.elapsed().as_secs_f64();
-        let (t, h) = per_test(&tool, &s, &ps, 3);
-        let b = *base.get_or_insert(t);
+        let (tn, _) = per_test(&tool, &s, &near, 3);
+        let (td, _) = per_test(&tool, &s, &deep, 3);
+        let (bn, bd) = *base.get_or_insert((tn, td));
         println!(
-            "  {:>8} triangles: {:8.1} µs per pair test, ratio {:5.2} (build {:.2} s, {} overlapping)",
+            "  {:>8} triangles: near miss {:8.1} µs (ratio {:5.2}), crossing {:8.1} µs (ratio {:5.2}); build {:.2} s",
             s.triangles(),
-            t * 1e6,
-            t / b,
-            build,
-            h
+            tn * 1e6,
+            tn / bn,
+            td * 1e6,
+            td / bd,
+            build
         );
     }
 }

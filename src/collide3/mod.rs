@@ -79,7 +79,7 @@ pub struct MeshShape {
 
 /// The collision shape of one component.
 pub enum Shape3 {
-    Mesh(MeshShape),
+    Mesh(Box<MeshShape>),
     Convex(Convex),
 }
 
@@ -117,7 +117,7 @@ impl Shape3 {
             Geometry::Cuboid { min, max } => {
                 let (a, b) = (to_vec(min), to_vec(max));
                 let half = (b - a) * 0.5;
-                if !(half.x > 0.0 && half.y > 0.0 && half.z > 0.0) || !half.is_finite() {
+                if !positive(half.x.min(half.y).min(half.z)) || !half.is_finite() {
                     return None;
                 }
                 let c = (a + b) * 0.5;
@@ -134,7 +134,7 @@ impl Shape3 {
             Geometry::Cylinder { radius, z0, z1 } => {
                 let (lo, hi) = (z0.min(*z1), z0.max(*z1));
                 let hh = (hi - lo) / 2.0;
-                if !(*radius > 0.0 && hh > 0.0) || !radius.is_finite() || !hh.is_finite() {
+                if !positive(radius.min(hh)) || !radius.is_finite() || !hh.is_finite() {
                     return None;
                 }
                 let c = Vector::new(0.0, 0.0, (lo + hi) / 2.0);
@@ -173,11 +173,11 @@ impl Shape3 {
             return None;
         }
         let reps = component_reps(mesh.vertices(), mesh.indices());
-        Some(Shape3::Mesh(MeshShape { mesh, reps }))
+        Some(Shape3::Mesh(Box::new(MeshShape { mesh, reps })))
     }
 
     fn hull(outline: &[P2], hw: f64) -> Option<Shape3> {
-        if !(hw > 0.0) || !hw.is_finite() {
+        if !positive(hw) || !hw.is_finite() {
             return None;
         }
         let pts: Vec<Vector> = outline
@@ -264,6 +264,11 @@ impl Shape3 {
             Shape3::Convex(_) => None,
         }
     }
+}
+
+/// `x > 0` (false for NaN).
+pub(crate) fn positive(x: f64) -> bool {
+    x > 0.0
 }
 
 /// One vertex index per connected component of the triangles (union-find).

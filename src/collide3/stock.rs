@@ -43,13 +43,26 @@ fn tri_axis_dist(p: &[Vector; 3]) -> f64 {
     seg_dist(q[0], q[1]).min(seg_dist(q[1], q[2])).min(seg_dist(q[2], q[0]))
 }
 
+/// A triangle's section by a column's plane: its radius range and a point (x, y) at each end.
+struct Section {
+    dmin: f64,
+    dmax: f64,
+    near: (f64, f64),
+    far: (f64, f64),
+}
+
 /// The radius range `[d_min, d_max]` of the triangle's section by the plane `z = c`, and a
 /// section point at each end of it, or `None` when the plane misses the triangle.
-fn section(p: &[Vector; 3], c: f64) -> Option<(f64, f64, (f64, f64), (f64, f64))> {
+fn section(p: &[Vector; 3], c: f64) -> Option<Section> {
     if p.iter().all(|v| v.z == c) {
         let r = |v: &Vector| v.x.hypot(v.y);
         let far = p.iter().copied().max_by(|a, b| r(a).total_cmp(&r(b)))?;
-        return Some((tri_axis_dist(p), r(&far), (0.0, 0.0), (far.x, far.y)));
+        return Some(Section {
+            dmin: tri_axis_dist(p),
+            dmax: r(&far),
+            near: (0.0, 0.0),
+            far: (far.x, far.y),
+        });
     }
     let mut pts: [(f64, f64); 3] = [(0.0, 0.0); 3];
     let mut n = 0;
@@ -94,7 +107,7 @@ fn section(p: &[Vector; 3], c: f64) -> Option<(f64, f64, (f64, f64), (f64, f64))
         0.0
     };
     let near = (a.0 + t * dx, a.1 + t * dy);
-    Some((dmin, dmax, near, far))
+    Some(Section { dmin, dmax, near, far })
 }
 
 /// The mesh's triangles in the world (a primitive's circumscribing surface).
@@ -126,7 +139,7 @@ pub fn stock_overlap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: V
         };
         for j in k0.max(j0)..=k1.min(j1) {
             let c = stock.column_center(j);
-            let Some((dmin, dmax, near, far)) = section(&p, c) else {
+            let Some(Section { dmin, dmax, near, far }) = section(&p, c) else {
                 continue;
             };
             cut[j - j0] = true;
@@ -138,7 +151,7 @@ pub fn stock_overlap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: V
                 let m = (lo + hi) / 2.0;
                 let rho = m.clamp(x0, x1);
                 let depth = (rho - lo).min(hi - rho);
-                if depth > eps && best.is_none_or(|h| depth > h.depth) {
+                if depth > eps && best.map_or(true, |h: Hit| depth > h.depth) {
                     // A section point inside the material: the end nearer the ring's middle.
                     let q = if (dmin - m).abs() <= (dmax - m).abs() {
                         near

@@ -19,6 +19,7 @@
 
 use parry3d_f64::math::Vector;
 
+use super::positive;
 use crate::geom::P2;
 
 /// Fewest and most spokes of a revolved mesh.
@@ -28,7 +29,7 @@ pub const MAX_SPOKES: usize = 720;
 /// Spokes for a revolved outline of largest radius `rmax` so that the circumscribed mesh is at
 /// most `tol` larger than the solid radially: `rmax · (1/cos(π/n) − 1) ≤ tol`, capped.
 pub fn spokes(rmax: f64, tol: f64) -> usize {
-    if !(rmax > 0.0) || !(tol > 0.0) {
+    if !positive(rmax) || !positive(tol) {
         return MIN_SPOKES;
     }
     let c = 1.0 / (1.0 + tol / rmax);
@@ -76,7 +77,7 @@ pub fn revolved(outline: &[P2], tol: f64) -> Option<(Vec<Vector>, Vec<[u32; 3]>)
         return None;
     }
     let a = area2(&p);
-    if !(a.abs() > 0.0) {
+    if !positive(a.abs()) {
         return None;
     }
     if a < 0.0 {
@@ -94,17 +95,17 @@ pub fn revolved(outline: &[P2], tol: f64) -> Option<(Vec<Vector>, Vec<[u32; 3]>)
         (b.y - a.y).partial_cmp(&0.0).unwrap_or(std::cmp::Ordering::Equal)
     };
     use std::cmp::Ordering::*;
-    for i in 0..m {
+    for (i, &q) in p.iter().enumerate() {
         let before = kind(i + m - 1);
         let after = kind(i);
         let scale = |k: std::cmp::Ordering| if k == Less { 1.0 } else { s };
         match (before, after) {
             (Greater, Less) | (Less, Greater) => {
-                ring.push((p[i], scale(before)));
-                ring.push((p[i], scale(after)));
+                ring.push((q, scale(before)));
+                ring.push((q, scale(after)));
             }
-            (Equal, k) | (k, Equal) => ring.push((p[i], scale(k))),
-            (k, _) => ring.push((p[i], scale(k))),
+            (Equal, k) | (k, Equal) => ring.push((q, scale(k))),
+            (k, _) => ring.push((q, scale(k))),
         }
     }
     let mut verts: Vec<Vector> = Vec::new();
@@ -220,11 +221,11 @@ pub fn ear_clip(p: &[P2]) -> Option<Vec<[u32; 3]>> {
 /// it).
 pub fn extruded(outline: &[P2], hw: f64) -> Option<(Vec<Vector>, Vec<[u32; 3]>)> {
     let mut p = clean(outline);
-    if p.len() < 3 || !(hw > 0.0) {
+    if p.len() < 3 || !positive(hw) {
         return None;
     }
     let a = area2(&p);
-    if !(a.abs() > 0.0) {
+    if !positive(a.abs()) {
         return None;
     }
     if a < 0.0 {
