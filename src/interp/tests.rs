@@ -13,7 +13,7 @@ fn run(src: &str, machine: &Machine, fast: bool) -> String {
     r.plain_blocks_fast = fast;
     r.run();
     let i = r.finish();
-    format!("{:?}\n{:?}\n{:?}", i.moves, i.states, i.findings)
+    format!("{:?}\n{:?}\n{:?}\n{:?}", i.moves, i.states, i.findings, i.extra)
 }
 
 #[test]
@@ -58,6 +58,22 @@ proptest! {
     ) {
         let src = lines.join("\n");
         let m = if fanuc { Machine::builtin() } else { linuxcnc() };
+        prop_assert_eq!(run(&src, &m, true), run(&src, &m, false));
+    }
+
+    /// On a turn-mill machine the fast path declines blocks with extra-axis words, and the plain
+    /// blocks it still takes get the same extra-axis entries (C-axis mode, live tool, plane).
+    #[test]
+    fn plain_blocks_on_a_turn_mill_machine_run_the_same_with_and_without_their_fast_path(
+        lines in proptest::collection::vec(
+            "(G[0-3] |G1 F0\\.[1-3] |G17 |G18 |G19 |G91 |G90 |G20 |G21 |G53 |G28 |G92 |M3 S500 |M154 |M155 |M133 P900 |M135 |)?((X|Z|U|W|I|J|K|R|F|Y|V|C|H|B|A)-?[0-9]{1,2}(\\.[0-9])? ?){0,4}",
+            1..25,
+        ),
+        fanuc in any::<bool>(),
+    ) {
+        let src = lines.join("\n");
+        let mut m = if fanuc { Machine::builtin() } else { linuxcnc() };
+        m.kinematics = Some(std::sync::Arc::new(turn_mill_kinematics()));
         prop_assert_eq!(run(&src, &m, true), run(&src, &m, false));
     }
 }
@@ -166,4 +182,289 @@ fn a_manual_tool_change_switches_the_tool_at_its_line_each_time_it_runs() {
         .map(|mv| (mv.line, mv.station))
         .collect();
     assert_eq!(changes, vec![(2, 2), (6, 1), (2, 2)], "{:?}", i.findings);
+}
+
+/// Axes X, Z, Y (linear), C (rotary), B (linear: a sub-spindle's Z), A (rotary), as a turn-mill
+/// machine's kinematics would give them.
+pub(crate) fn turn_mill_kinematics() -> crate::kin::Kinematics {
+    use crate::kin::{Axis, AxisKind, Kinematics};
+    use nalgebra::{Point3, Unit, Vector3};
+    let axis = |letter: char, linear: bool, dir: Vector3<f64>, rapid: f64| Axis {
+        name: letter.to_ascii_lowercase().to_string(),
+        letter,
+        kind: if linear {
+            AxisKind::Linear {
+                dir: Unit::new_normalize(dir),
+            }
+        } else {
+            AxisKind::Rotary {
+                origin: Point3::origin(),
+                dir: Unit::new_normalize(dir),
+            }
+        },
+        zero: 0.0,
+        travel: (f64::NEG_INFINITY, f64::INFINITY),
+        rapid,
+    };
+    Kinematics {
+        axes: vec![
+            axis('X', true, Vector3::x(), 12000.0),
+            axis('Z', true, Vector3::z(), 16000.0),
+            axis('Y', true, Vector3::y(), 6000.0),
+            axis('C', false, Vector3::z(), 36000.0),
+            axis('B', true, Vector3::z(), 12000.0),
+            axis('A', false, Vector3::x(), 18000.0),
+        ],
+        ..Default::default()
+    }
+}
+
+fn turn_mill(mut m: Machine) -> Machine {
+    m.kinematics = Some(std::sync::Arc::new(turn_mill_kinematics()));
+    m
+}
+
+fn interp(src: &str, m: &Machine) -> super::Interpretation {
+    let prog = gcode::parse(src.as_bytes());
+    super::interpret(&prog, src.as_bytes(), m)
+}
+
+#[test]
+fn a_move_stays_128_bytes() {
+    assert!(
+        std::mem::size_of::<super::Move>() <= 128,
+        "{}",
+        std::mem::size_of::<super::Move>()
+    );
+}
+
+/// A turning program on a turn-mill machine: the same moves as on the 2-axis machine and no
+/// extra-axis entry; the extra words of a 2-axis machine stay refused as before.
+#[test]
+fn turning_on_a_turn_mill_machine_has_no_extra_entries_and_the_same_moves() {
+    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X52 Z3\nG1 Z-20 F0.2\nG2 X60 Z-24 R4\nG0 X80 Z10\nG28 U0 W0\nM30\n";
+    let plain = interp(src, &Machine::builtin());
+    let tm = interp(src, &turn_mill(Machine::builtin()));
+    assert_eq!(plain.moves, tm.moves);
+    assert!(tm.extra.is_empty());
+    let with_c = "G21\nG0 X50 Z5 C30\nG0 Y2\nM30\n";
+    let plain = interp(with_c, &Machine::builtin());
+    assert!(plain.extra.is_empty());
+    assert!(plain
+        .findings
+        .iter()
+        .any(|f| f.line == 2 && f.message.contains("no such axis")));
+    assert!(plain
+        .findings
+        .iter()
+        .any(|f| f.line == 3 && f.message.contains("no Y axis")));
+}
+
+/// Extra-axis entries carry their move's index across a streaming run's chunks, and a C word
+/// outside C-axis mode makes no move.
+#[test]
+fn extra_entries_name_their_moves_in_whole_and_streamed_runs() {
+    let mut src = String::from("G21 G18 G98\nT0101\nM154\n");
+    for i in 0..3000 {
+        src.push_str(&format!(
+            "G0 X{} Z5\nG0 C{}\nG1 Z-5 Y{} F500\n",
+            40 + i % 5,
+            i % 360,
+            i % 3
+        ));
+    }
+    src.push_str("M155\nC10\nM30\n");
+    let m = turn_mill(Machine::builtin());
+    let prog = gcode::parse(src.as_bytes());
+    let whole = super::interpret(&prog, src.as_bytes(), &m);
+    let rest = super::interpret_streaming(&prog, src.as_bytes(), &m, |_, _| {});
+    assert_eq!(whole.extra, rest.extra);
+    assert!(whole.moves.len() > 2 * super::flow::STREAM_CHUNK);
+    // Every move after M154 is in C-axis mode: one entry each, index order.
+    assert_eq!(whole.extra.len(), whole.moves.len());
+    for (k, e) in whole.extra.iter().enumerate() {
+        assert_eq!(e.index as usize, k);
+        assert!(e.c_mode);
+        assert_eq!(whole.extra_of(k), Some(e));
+    }
+    let c = whole
+        .extra
+        .iter()
+        .find(|e| whole.moves[e.index as usize].line == 8)
+        .unwrap();
+    assert_eq!(c.end[1], 1.0, "C1 on the second pass");
+    let last_line = src.lines().count() as u32 - 1;
+    assert!(whole.moves.iter().all(|mv| mv.line != last_line));
+    assert!(whole
+        .findings
+        .iter()
+        .any(|f| f.line == last_line && f.message.contains("not in C-axis mode")));
+}
+
+/// Timing: a rapid takes as long as its slowest axis; a rotary-only feed runs F in deg/min; a
+/// feed with Y runs F over the combined path; moves without an entry keep their time.
+#[test]
+fn extra_axes_are_timed_by_their_own_rates_and_the_combined_path() {
+    let m = linuxcnc();
+    let tm = turn_mill(m.clone());
+    // Y rapid 6000 mm/min: 100 mm in 1 s, slower than X's few mm.
+    let src = "G18 G21 G90 G94\nG0 X0 Z0\nG0 X10 Y100\nG1 C90 F900\nG1 Y30 Z40 F600\nG1 Z50\nM2\n";
+    let run = interp(src, &tm);
+    let tl = crate::motion::timeline(&run, &tm);
+    let by_line = |l: u32| tl.items.iter().find(|t| run.moves[t.index].line == l).unwrap().duration;
+    assert!((by_line(3) - 1.0).abs() < 1e-9, "{}", by_line(3));
+    assert!((by_line(4) - 6.0).abs() < 1e-9, "90 deg at 900 deg/min: {}", by_line(4));
+    // (y 100 → 30, z 0 → 40): 80.62 mm at 600 mm/min.
+    let d = (70.0f64 * 70.0 + 40.0 * 40.0).sqrt() / 10.0;
+    assert!((by_line(5) - d).abs() < 1e-9, "{}", by_line(5));
+    // The same program without Y/C on the 2-axis machine: the plain move keeps its time.
+    let plain = interp("G18 G21 G90 G94\nG0 X0 Z40\nG1 Z50 F600\nM2\n", &m);
+    let tp = crate::motion::timeline(&plain, &m);
+    assert!((by_line(6) - tp.items[1].duration).abs() < 1e-12);
+}
+
+fn arb_plane_arc_move() -> impl Strategy<Value = (super::Move, super::ExtraMove)> {
+    (
+        prop_oneof![Just(super::Plane::Xy), Just(super::Plane::Yz)],
+        -50.0..50.0f64,
+        -50.0..50.0f64,
+        1.0..40.0f64,
+        -3.0..3.0f64,
+        -6.0..6.0f64,
+        -20.0..20.0f64,
+        -20.0..20.0f64,
+    )
+        .prop_map(|(plane, c0, c1, r, a0, sweep, third0, third1)| {
+            let p0 = [c0 + r * a0.cos(), c1 + r * a0.sin()];
+            let p1 = [c0 + r * (a0 + sweep).cos(), c1 + r * (a0 + sweep).sin()];
+            let (s2, e2, ys, ye) = match plane {
+                super::Plane::Xy => (
+                    crate::geom::P2::new(p0[0], third0),
+                    crate::geom::P2::new(p1[0], third1),
+                    p0[1],
+                    p1[1],
+                ),
+                _ => (
+                    crate::geom::P2::new(third0, p0[1]),
+                    crate::geom::P2::new(third1, p1[1]),
+                    p0[0],
+                    p1[0],
+                ),
+            };
+            let mv = super::Move {
+                kind: super::MoveKind::Line,
+                line: 1,
+                n: None,
+                profile_line: 0,
+                start: s2,
+                end: e2,
+                tip: crate::geom::V2::zeros(),
+                station: 1,
+                feed: super::Feed::PerMinute(100.0),
+                state: 0,
+            };
+            let e = super::ExtraMove {
+                index: 0,
+                start: [ys, 0.0, 0.0, 0.0],
+                end: [ye, 15.0, 0.0, 0.0],
+                plane,
+                c_mode: true,
+                live_rpm: 0.0,
+                origin: [0.0; 4],
+                arc: Some(super::PlaneArc {
+                    plane,
+                    center: [c0, c1],
+                    sweep,
+                }),
+            };
+            (mv, e)
+        })
+}
+
+fn arb_xz_move() -> impl Strategy<Value = super::Move> {
+    (
+        -50.0..50.0f64,
+        -50.0..50.0f64,
+        -50.0..50.0f64,
+        -50.0..50.0f64,
+        prop::option::of(-6.0..6.0f64),
+    )
+        .prop_map(|(x0, z0, x1, z1, arc)| {
+            let start = crate::geom::P2::new(x0, z0);
+            let end = crate::geom::P2::new(x1, z1);
+            let kind = match arc {
+                Some(sweep) => super::MoveKind::Arc {
+                    center: crate::geom::P2::new((x0 + x1) / 2.0 + 3.0, (z0 + z1) / 2.0),
+                    sweep,
+                },
+                None => super::MoveKind::Line,
+            };
+            super::Move {
+                kind,
+                line: 1,
+                n: None,
+                profile_line: 0,
+                start,
+                end,
+                tip: crate::geom::V2::zeros(),
+                station: 1,
+                feed: super::Feed::PerMinute(100.0),
+                state: 0,
+            }
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    /// position3: t = 0 is the start, t = 1 the end, and every point of an XY or YZ arc is at
+    /// its radius from the centre, with the third coordinate and the other axes linear.
+    #[test]
+    fn position3_of_a_plane_arc_starts_ends_and_keeps_its_radius((mv, e) in arb_plane_arc_move(), t in 0.0..=1.0f64) {
+        let (p0, a0) = super::position3(&mv, Some(&e), 0.0);
+        let (p1, a1) = super::position3(&mv, Some(&e), 1.0);
+        prop_assert!((p0[0] - mv.start.x).abs() < 1e-9 && (p0[1] - e.start[0]).abs() < 1e-9 && (p0[2] - mv.start.y).abs() < 1e-9);
+        prop_assert!((p1[0] - mv.end.x).abs() < 1e-9 && (p1[1] - e.end[0]).abs() < 1e-9 && (p1[2] - mv.end.y).abs() < 1e-9);
+        prop_assert_eq!(a0, e.start);
+        prop_assert_eq!(a1, e.end);
+        let arc = e.arc.unwrap();
+        let (p, a) = super::position3(&mv, Some(&e), t);
+        let (u, v, third, t0, t1) = match arc.plane {
+            super::Plane::Xy => (p[0], p[1], p[2], mv.start.y, mv.end.y),
+            _ => (p[1], p[2], p[0], mv.start.x, mv.end.x),
+        };
+        let (s0, s1) = match arc.plane {
+            super::Plane::Xy => (mv.start.x, e.start[0]),
+            _ => (e.start[0], mv.start.y),
+        };
+        let r = ((s0 - arc.center[0]).powi(2) + (s1 - arc.center[1]).powi(2)).sqrt();
+        let rt = ((u - arc.center[0]).powi(2) + (v - arc.center[1]).powi(2)).sqrt();
+        prop_assert!((rt - r).abs() < 1e-6 * (1.0 + r), "radius {} at t {} against {}", rt, t, r);
+        prop_assert!((third - (t0 + (t1 - t0) * t)).abs() < 1e-9);
+        prop_assert!((a[1] - 15.0 * t).abs() < 1e-9);
+        prop_assert!((a[0] - p[1]).abs() < 1e-12, "the Y axis is the point's y");
+    }
+
+    /// position3 of an XZ move (line or arc) is the 2D path of `Move::point_at`, with y from the
+    /// entry (0 without one).
+    #[test]
+    fn position3_of_an_xz_move_agrees_with_the_2d_path(mv in arb_xz_move(), t in 0.0..=1.0f64, y0 in -10.0..10.0f64, y1 in -10.0..10.0f64) {
+        let p2 = mv.point_at(t);
+        let (p, a) = super::position3(&mv, None, t);
+        prop_assert_eq!(p, [p2.x, 0.0, p2.y]);
+        prop_assert_eq!(a, [0.0; 4]);
+        let e = super::ExtraMove {
+            index: 0,
+            start: [y0, 0.0, 0.0, 0.0],
+            end: [y1, 0.0, 0.0, 0.0],
+            plane: super::Plane::Zx,
+            c_mode: false,
+            live_rpm: 0.0,
+            origin: [0.0; 4],
+            arc: None,
+        };
+        let (p, _) = super::position3(&mv, Some(&e), t);
+        prop_assert_eq!([p[0], p[2]], [p2.x, p2.y]);
+        prop_assert!((p[1] - (y0 + (y1 - y0) * t)).abs() < 1e-12);
+    }
 }

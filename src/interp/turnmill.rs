@@ -266,10 +266,10 @@ impl Run<'_> {
         let Some(tm) = self.tm.as_deref_mut() else {
             return;
         };
-        for k in 0..4 {
+        for (k, &letter) in EXTRA_LETTERS.iter().enumerate() {
             let Some(info) = tm.axes[k] else { continue };
             let unit = if info.linear { s } else { 1.0 };
-            match w.get(EXTRA_LETTERS[k] as u8) {
+            match w.get(letter as u8) {
                 Some(v) if g52 => tm.shift[k] = v * unit,
                 Some(v) => tm.shift[k] = tm.pos[k] - v * unit,
                 None if g52 => tm.shift[k] = 0.0,
