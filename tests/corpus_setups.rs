@@ -273,9 +273,10 @@ fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says()
         for f in findings.iter().filter(|f| CRASH_KINDS.contains(&f.kind)) {
             if only.is_some() {
                 println!(
-                    "  {}:{}: {} {:?} {:?} depth {:?} at X{:?} Z{:?} t={:?}: {}",
+                    "  {}:{}-{}: {} {:?} {:?} depth {:?} at X{:?} Z{:?} t={:?}: {}",
                     e.program,
                     f.line,
+                    f.end_line,
                     f.kind.name(),
                     f.severity,
                     f.objects,
