@@ -156,9 +156,9 @@ proptest! {
         prop_assert!(!under.is_empty());
         prop_assert_eq!(n, under.len());
         prop_assert_eq!(poser.last_reposed, under.len());
-        for c in 0..k.components.len() {
+        for (c, was) in before.iter().enumerate() {
             if !under.contains(&c) {
-                prop_assert_eq!(poser.world(c), &before[c], "{} moved", k.components[c].name);
+                prop_assert_eq!(poser.world(c), was, "{} moved", k.components[c].name);
             }
         }
         // Posing the same values again re-poses nothing.

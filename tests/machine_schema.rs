@@ -92,10 +92,12 @@ fn the_configuration_schema_is_current_and_every_fixture_configuration_validates
 /// 13 are there with the traits each one is shipped for.
 #[test]
 fn every_shipped_machine_loads_clean_with_its_defining_traits() {
-    use latheguard::machine::{from_toml, Dialect, MAction, TurretKind};
+    use latheguard::machine::{from_toml_with, Dialect, MAction, TurretKind};
     let load = |name: &str| {
         let text = std::fs::read_to_string(root().join("machines").join(name)).unwrap();
-        let m = from_toml(&text, name).unwrap_or_else(|e| panic!("{e}"));
+        // STL files of a [kinematics] section are read beside the machine file.
+        let read = |n: &str| std::fs::read(root().join("machines").join(n)).map_err(|e| e.to_string());
+        let m = from_toml_with(&text, name, &read).unwrap_or_else(|e| panic!("{e}"));
         assert!(m.warnings.is_empty(), "{name}: {:?}", m.warnings);
         m
     };

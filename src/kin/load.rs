@@ -59,6 +59,8 @@ pub const LETTERS: [char; 6] = ['X', 'Z', 'Y', 'C', 'B', 'A'];
 pub type Resolve<'r> = &'r dyn Fn(&str) -> Result<Vec<u8>, String>;
 
 type P3 = Spanned<Vec<f64>>;
+/// `never_touch` as written: pairs of names, each with its span.
+type RawPairs = Spanned<Vec<Spanned<Vec<Spanned<String>>>>>;
 
 #[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
@@ -69,7 +71,7 @@ pub(crate) struct RawKinematics {
     components: Spanned<Vec<Spanned<RawComponent>>>,
     /// Pairs of component names (or `"role:NAME"`, `"*"`) that must never touch.
     #[schemars(with = "Option<Vec<[String; 2]>>")]
-    never_touch: Option<Spanned<Vec<Spanned<Vec<Spanned<String>>>>>>,
+    never_touch: Option<RawPairs>,
 }
 
 #[derive(Deserialize, JsonSchema, Clone, Copy, PartialEq)]
@@ -789,11 +791,7 @@ fn geometry(
     Err(cx.err(g.span(), key, "no geometry"))
 }
 
-fn never_touch(
-    cx: &Cx<'_>,
-    nt: &Spanned<Vec<Spanned<Vec<Spanned<String>>>>>,
-    k: &Kinematics,
-) -> Result<Vec<(usize, usize)>, MachineError> {
+fn never_touch(cx: &Cx<'_>, nt: &RawPairs, k: &Kinematics) -> Result<Vec<(usize, usize)>, MachineError> {
     let related = |a: usize, b: usize| a == b || k.is_ancestor(a, b) || k.is_ancestor(b, a);
     let mut pairs = std::collections::BTreeSet::new();
     for (i, p) in nt.get_ref().iter().enumerate() {

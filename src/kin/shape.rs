@@ -27,8 +27,11 @@ pub const MAX_SHAPE_POINTS: usize = 2_000;
 /// How many segments round the axis keep the outward excess of a radius `r_max` within `tol`.
 pub fn segments_for(r_max: f64, tol: f64) -> usize {
     let mut n = MIN_SEGMENTS;
-    if !(r_max > 0.0) || !(tol > 0.0) {
-        return if r_max > 0.0 { MAX_SEGMENTS } else { MIN_SEGMENTS };
+    if r_max.is_nan() || r_max <= 0.0 {
+        return MIN_SEGMENTS;
+    }
+    if tol.is_nan() || tol <= 0.0 {
+        return MAX_SEGMENTS;
     }
     while n < MAX_SEGMENTS && r_max * (1.0 / (std::f64::consts::PI / n as f64).cos() - 1.0) > tol {
         n += 1;
@@ -138,7 +141,7 @@ fn outward(m: Mesh) -> Result<Mesh, String> {
 
 /// The outline in the (x, z) plane extruded along y from `-half_width` to `half_width`.
 pub fn extruded(outline: &[P2], half_width: f64) -> Result<Mesh, String> {
-    if !(half_width > 0.0 && half_width.is_finite()) {
+    if half_width.is_nan() || half_width <= 0.0 || half_width.is_infinite() {
         return Err(format!("half width {half_width} must be a positive number"));
     }
     let poly = polygon(outline)?;

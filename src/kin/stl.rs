@@ -12,7 +12,7 @@
 //!
 //! Vertices are welded by exact equality of their coordinates (`-0` equals `0`). The mesh must
 //! then be a closed, consistently wound surface facing outward:
-//! - every coordinate is finite;
+//! - every coordinate is finite and within ±[`MAX_STL_COORD`] (100 m);
 //! - no triangle is degenerate (two corners the same point, or all three on one line);
 //! - every edge is shared by exactly two triangles that run along it in opposite directions
 //!   (an edge with no partner is a hole; one used twice the same way is a flipped triangle or a
@@ -32,6 +32,8 @@ use super::Mesh;
 
 /// At most this many triangles in one STL file.
 pub const MAX_STL_TRIANGLES: usize = 2_000_000;
+/// Every coordinate lies within ±this (mm, 100 m: the machine file's range).
+pub const MAX_STL_COORD: f64 = crate::machine::MAX_COORD_MM;
 /// At most this many bytes in one STL file (128 MiB).
 pub const MAX_STL_BYTES: usize = 128 << 20;
 
@@ -138,6 +140,8 @@ struct Words<'a> {
     bytes: &'a [u8],
     pos: usize,
     line: u32,
+    /// The line of the last word read (where an unexpected end of the file is reported).
+    last: u32,
 }
 
 impl<'a> Words<'a> {
@@ -155,6 +159,7 @@ impl<'a> Words<'a> {
         while self.pos < self.bytes.len() && !self.bytes[self.pos].is_ascii_whitespace() {
             self.pos += 1;
         }
+        self.last = self.line;
         Some((&self.bytes[start..self.pos], self.line))
     }
 
@@ -167,7 +172,12 @@ impl<'a> Words<'a> {
 }
 
 fn ascii(bytes: &[u8], file: &str) -> Result<Soup, StlError> {
-    let mut w = Words { bytes, pos: 0, line: 1 };
+    let mut w = Words {
+        bytes,
+        pos: 0,
+        line: 1,
+        last: 1,
+    };
     let at = |line: u32, message: String| StlError {
         file: file.to_string(),
         line: Some(line),
@@ -182,30 +192,30 @@ fn ascii(bytes: &[u8], file: &str) -> Result<Soup, StlError> {
             s
         }
     };
-    let expect = |w: &mut Words<'_>, want: &str, last: u32| -> Result<u32, StlError> {
+    let expect = |w: &mut Words<'_>, want: &str| -> Result<u32, StlError> {
         match w.next() {
             Some((t, l)) if t.eq_ignore_ascii_case(want.as_bytes()) => Ok(l),
             Some((t, l)) => Err(at(l, format!("expected `{want}`, found `{}`", shown(t)))),
-            None => Err(at(last, format!("the file ends where `{want}` was expected"))),
+            None => Err(at(w.last, format!("the file ends where `{want}` was expected"))),
         }
     };
-    let number = |w: &mut Words<'_>, what: &str, last: u32| -> Result<f64, StlError> {
+    let number = |w: &mut Words<'_>, what: &str| -> Result<f64, StlError> {
         match w.next() {
             Some((t, l)) => match std::str::from_utf8(t).ok().and_then(|s| s.parse::<f64>().ok()) {
                 Some(v) => Ok(v),
                 None => Err(at(l, format!("{what}: `{}` is not a number", shown(t)))),
             },
-            None => Err(at(last, format!("the file ends where {what} was expected"))),
+            None => Err(at(w.last, format!("the file ends where {what} was expected"))),
         }
     };
-    let first = expect(&mut w, "solid", 1)?;
+    let first = expect(&mut w, "solid")?;
     w.skip_line();
     let mut tris = Vec::new();
     let mut lines = Vec::new();
     loop {
         let (t, l) = match w.next() {
             Some(x) => x,
-            None => return Err(at(w.line, "the file ends without `endsolid`".into())),
+            None => return Err(at(w.last, "the file ends without `endsolid`".into())),
         };
         if t.eq_ignore_ascii_case(b"endsolid") {
             w.skip_line();
@@ -229,21 +239,21 @@ fn ascii(bytes: &[u8], file: &str) -> Result<Soup, StlError> {
                 format!("too many triangles; an STL file may have at most {MAX_STL_TRIANGLES}"),
             ));
         }
-        expect(&mut w, "normal", l)?;
+        expect(&mut w, "normal")?;
         for _ in 0..3 {
-            number(&mut w, "a normal's coordinate", l)?;
+            number(&mut w, "a normal's coordinate")?;
         }
-        let l2 = expect(&mut w, "outer", l)?;
-        expect(&mut w, "loop", l2)?;
+        expect(&mut w, "outer")?;
+        expect(&mut w, "loop")?;
         let mut tri = [[0.0; 3]; 3];
         for v in tri.iter_mut() {
-            let lv = expect(&mut w, "vertex", l2)?;
+            expect(&mut w, "vertex")?;
             for c in v.iter_mut() {
-                *c = number(&mut w, "a vertex coordinate", lv)?;
+                *c = number(&mut w, "a vertex coordinate")?;
             }
         }
-        let l3 = expect(&mut w, "endloop", l2)?;
-        expect(&mut w, "endfacet", l3)?;
+        expect(&mut w, "endloop")?;
+        expect(&mut w, "endfacet")?;
         tris.push(tri);
         lines.push(l);
     }
@@ -279,6 +289,12 @@ fn weld_and_validate(soup: Soup, file: &str) -> Result<Mesh, StlError> {
         for (k, v) in t.iter().enumerate() {
             if let Some(c) = v.iter().find(|c| !c.is_finite()) {
                 return Err(err(i, format!("corner {k} has a coordinate that is not finite ({c})")));
+            }
+            if let Some(c) = v.iter().find(|c| c.abs() > MAX_STL_COORD) {
+                return Err(err(
+                    i,
+                    format!("corner {k} has a coordinate out of range ({c}): at most ±{MAX_STL_COORD} mm"),
+                ));
             }
             // +0.0 so that -0 and 0 weld.
             let key = [(v[0] + 0.0).to_bits(), (v[1] + 0.0).to_bits(), (v[2] + 0.0).to_bits()];
@@ -334,7 +350,7 @@ fn weld_and_validate(soup: Soup, file: &str) -> Result<Mesh, StlError> {
     }
     let mesh = Mesh { vertices, triangles };
     let v = mesh.volume();
-    if v <= 0.0 {
+    if v.is_nan() || v <= 0.0 {
         return Err(StlError {
             file: file.to_string(),
             line: None,
@@ -475,7 +491,7 @@ mod tests {
     #[test]
     fn short_garbage_is_not_an_stl_file() {
         assert!(msg(read_stl(b"hello", "x.stl")).starts_with("x.stl: not an STL file: 5 bytes"));
-        assert_eq!(msg(read_stl(b"", "x.stl")).contains("0 bytes"), true);
+        assert!(msg(read_stl(b"", "x.stl")).contains("0 bytes"));
     }
 
     #[test]
@@ -551,7 +567,7 @@ mod tests {
         );
         assert_eq!(
             msg(read_stl(b"solid x\n", "a.stl")),
-            "a.stl:2: the file ends without `endsolid`"
+            "a.stl:1: the file ends without `endsolid`"
         );
         assert_eq!(
             msg(read_stl(b"solid x\nendsolid x\n", "a.stl")),
