@@ -91,6 +91,9 @@ struct View {
     top: f64,
     w: f64,
     h: f64,
+    /// The depths the view shows (the region's extent along its line of sight): parts are cut
+    /// there, so that a part far in front of the region (a tailstock, the turret) hides nothing.
+    depth: (f64, f64),
 }
 
 impl View {
@@ -170,6 +173,7 @@ fn layout(b: &Box3) -> [View; 3] {
         top,
         w: dz * scale,
         h: dy * scale,
+        depth: (b.min.x, b.max.x),
     };
     let main_top = top + dy * scale + GAP;
     let main = View {
@@ -181,6 +185,7 @@ fn layout(b: &Box3) -> [View; 3] {
         top: main_top,
         w: dz * scale,
         h: dx * scale,
+        depth: (b.min.y, b.max.y),
     };
     let end = View {
         kind: Kind::Xy,
@@ -191,6 +196,7 @@ fn layout(b: &Box3) -> [View; 3] {
         top: main_top,
         w: dy * scale,
         h: dx * scale,
+        depth: (b.min.z, b.max.z),
     };
     [main, end, top_view]
 }
@@ -199,6 +205,10 @@ fn layout(b: &Box3) -> [View; 3] {
 struct Raster {
     w: usize,
     h: usize,
+    /// Depths outside this are not drawn.
+    clip: (f64, f64),
+    /// Depths closer than this are one depth.
+    tie: f64,
     depth: Vec<f64>,
     /// Part index + 1; 0 where nothing is drawn.
     part: Vec<u32>,
@@ -219,6 +229,8 @@ fn rasterise(v: &View, s: &Snapshot3, only: impl Fn(Role3) -> bool) -> Raster {
     let mut r = Raster {
         w,
         h,
+        clip: v.depth,
+        tie: 1e-7 * (v.depth.1 - v.depth.0).abs().max(1.0),
         depth: vec![f64::NEG_INFINITY; w * h],
         part: vec![0; w * h],
         shade: vec![0; w * h],
@@ -308,7 +320,10 @@ fn rasterise(v: &View, s: &Snapshot3, only: impl Fn(Role3) -> bool) -> Raster {
 impl Raster {
     fn put(&mut self, i: usize, j: usize, d: f64, id: u32, shade: u8) {
         let k = j * self.w + i;
-        if d > self.depth[k] {
+        // A face flush with one drawn before (the holder's top on the turret's underside)
+        // leaves it in front: the parts are drawn colliding ones first, and no rounding noise
+        // decides which of two coplanar faces shows.
+        if d > self.depth[k] + self.tie && d >= self.clip.0 && d <= self.clip.1 {
             self.depth[k] = d;
             self.part[k] = id;
             self.shade[k] = shade;
@@ -552,6 +567,8 @@ struct Cuts {
     skipped: u64,
     flat: bool,
     dropped: usize,
+    /// The parts drawn (in any view), for the legend.
+    drawn: std::collections::BTreeSet<usize>,
 }
 
 /// One view: frame, parts, spindle axis, contact ring, label.
@@ -659,6 +676,7 @@ fn view(o: &mut String, v: &View, s: &Snapshot3) -> Cuts {
         );
     }
     Cuts {
+        drawn: ol.parts.iter().map(|p| p.0).collect(),
         skipped,
         flat: ol.flat,
         dropped: ol.dropped,
@@ -873,6 +891,7 @@ fn draw(s: &Snapshot3, c: &Caption) -> String {
         cuts.skipped += k.skipped;
         cuts.flat |= k.flat;
         cuts.dropped += k.dropped;
+        cuts.drawn.extend(k.drawn);
     }
     let bottom = views.iter().map(|v| v.top + v.h).fold(0.0, f64::max);
     let bottom = footer(&mut o, &views[0], s, &cuts, bottom);
@@ -905,7 +924,11 @@ fn footer(o: &mut String, v: &View, s: &Snapshot3, cuts: &Cuts, below: f64) -> f
             if let Some(p) = s.part(role) {
                 items.push((p.name.clone(), fill, line, true));
             }
-        } else if s.parts.iter().any(|p| p.role == role) {
+        } else if cuts
+            .drawn
+            .iter()
+            .any(|&i| s.parts.get(i).is_some_and(|p| p.role == role))
+        {
             let label = if role == Role3::Stock {
                 "stock at that moment"
             } else {
@@ -956,7 +979,8 @@ fn footer(o: &mut String, v: &View, s: &Snapshot3, cuts: &Cuts, below: f64) -> f
     let mut note_y = (y + 38.0).max(ly + 26.0);
     let mut notes = vec![
         "Orthographic views at first contact, one scale, machine frame in mm (z along the spindle, 0 at the jaw faces; x toward the turret).".to_string(),
-        "Third-angle layout: the top view above the lathe's view, the end view to its right. Dashed: edges of the colliding parts hidden behind others.".to_string(),
+        "Third-angle layout: the top view above the lathe's view, the end view to its right. The views show the box around the contact;".to_string(),
+        "parts are cut at its faces. Dashed: edges of the colliding parts hidden behind other parts.".to_string(),
     ];
     if cuts.skipped > 0 {
         notes.push(format!(
