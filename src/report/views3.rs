@@ -257,7 +257,8 @@ fn rasterise(v: &View, s: &Snapshot3, only: impl Fn(Role3) -> bool) -> Raster {
                 (x - v.left, y - v.top, d)
             });
             let area = (q[1].0 - q[0].0) * (q[2].1 - q[0].1) - (q[2].0 - q[0].0) * (q[1].1 - q[0].1);
-            if !(area.abs() > 1e-12) {
+            // Edge-on (or not a number): nothing to fill.
+            if area.is_nan() || area.abs() <= 1e-12 {
                 continue;
             }
             // Facing of the triangle toward the light (either side: meshes may be inside out).
@@ -331,11 +332,18 @@ impl Raster {
     }
 }
 
+/// A directed edge between two corners of the cell lattice.
+type Edge = ((i32, i32), (i32, i32));
+/// Closed outlines in a view's cell units.
+type Loops = Vec<Vec<(f64, f64)>>;
+/// A part's index, its silhouette and its shade bands (shade, outlines).
+type PartOutlines = (usize, Loops, Vec<(u8, Loops)>);
+
 /// Closed outlines of the regions of equal key (0: no region), on the lattice of cell corners,
 /// each region on the right of its outlines as the picture's y runs down (so holes wind the
 /// other way: fill them with the nonzero rule). Keyed by region key, in scan order.
 fn trace(w: usize, h: usize, key: impl Fn(usize, usize) -> u32) -> BTreeMap<u32, Vec<Vec<(i32, i32)>>> {
-    let mut edges: BTreeMap<u32, Vec<((i32, i32), (i32, i32))>> = BTreeMap::new();
+    let mut edges: BTreeMap<u32, Vec<Edge>> = BTreeMap::new();
     let at = |i: isize, j: isize| -> u32 {
         if i < 0 || j < 0 || i >= w as isize || j >= h as isize {
             0
@@ -458,7 +466,7 @@ fn dp(p: &[(f64, f64)], a: usize, b: usize, tol: f64, keep: &mut [bool]) {
 /// Outlines of one view, ready to write: per part, its silhouette and its shade bands.
 struct Outlines {
     /// (part index, silhouette loops, [(shade, loops)]), in part order.
-    parts: Vec<(usize, Vec<Vec<(f64, f64)>>, Vec<(u8, Vec<Vec<(f64, f64)>>)>)>,
+    parts: Vec<PartOutlines>,
     /// Shades dropped to keep within [`MAX_POINTS_PER_VIEW`].
     flat: bool,
     /// Outlines dropped past [`MAX_POINTS_PER_VIEW`].
@@ -526,7 +534,7 @@ fn outlines(r: &Raster) -> Outlines {
     let mut parts = Vec::new();
     for (k, ls) in sil {
         let pi = k as usize - 1;
-        let b: Vec<(u8, Vec<Vec<(f64, f64)>>)> = [0u8, 2]
+        let b: Vec<(u8, Loops)> = [0u8, 2]
             .iter()
             .filter_map(|&s| bands.get(&(k * 4 + s as u32)).map(|l| (s, l.clone())))
             .collect();
