@@ -10,14 +10,16 @@
 //! views (the stock half transparent). Parts that share one mesh and one role share one glTF
 //! mesh. The first contact is a small red octahedron named "first contact".
 //!
-//! Bad triangles (an index past the vertices, a vertex that is not finite) are left out; a
-//! part left with none, or with a pose that is not finite, is a node without a mesh. The
+//! Bad triangles (an index past the vertices, a vertex that is not finite or past
+//! `scene3::MAX_COORD`) are left out; a part left with none, or with a pose whose translation is
+//! not drawable, is a node without a mesh. The
 //! container is written here: a 12-byte header, a JSON chunk padded with spaces and a BIN chunk
 //! padded with zeros, each to 4 bytes.
 
 use super::scene3::{Part3, Role3, Snapshot3};
 use gltf_json as json;
 use json::validation::{Checked::Valid, USize64};
+use nalgebra::Point3;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -172,8 +174,12 @@ fn container(json_text: &[u8], bin: &[u8]) -> Vec<u8> {
     out
 }
 
-/// A part's pose as a column-major node matrix; `None` when it is not finite.
+/// A part's pose as a column-major node matrix; `None` when it is not finite or its translation
+/// is past `scene3::MAX_COORD`.
 fn pose_matrix(p: &Part3) -> Option<[f32; 16]> {
+    if !super::scene3::drawable(&Point3::from(p.pose.translation.vector)) {
+        return None;
+    }
     let h = p.pose.to_homogeneous();
     let mut m = [0f32; 16];
     for (o, v) in m.iter_mut().zip(h.as_slice()) {
@@ -344,10 +350,7 @@ impl Builder {
         material: json::Index<json::Material>,
     ) -> Option<json::Index<json::Mesh>> {
         let vs = &part.mesh.vertices;
-        let ok = |i: u32| {
-            vs.get(i as usize)
-                .is_some_and(|p| p.coords.iter().all(|v| v.is_finite() && v.abs() < f32::MAX as f64))
-        };
+        let ok = |i: u32| vs.get(i as usize).is_some_and(super::scene3::drawable);
         let mut map: HashMap<u32, u32> = HashMap::new();
         let mut positions: Vec<[f32; 3]> = Vec::new();
         let mut indices: Vec<u32> = Vec::new();

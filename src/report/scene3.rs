@@ -4,12 +4,20 @@
 //! Every part is a triangle mesh in its own frame, posed in the machine frame by an isometry
 //! (`kin::Iso`). Converting a component's geometry (revolved, extruded, boxes, cylinders) to a
 //! mesh is the 3D path's job, not the reporters': they only read triangles. A mesh may be bad
-//! (an index past its vertices, a vertex that is not finite): such triangles are left out of
-//! every picture, never a panic.
+//! (an index past its vertices, a vertex that is not finite or farther than [`MAX_COORD`] from
+//! the origin): such triangles are left out of every picture, never a panic.
 
 use crate::kin::{Iso, Mesh};
 use nalgebra::Point3;
 use std::sync::Arc;
+
+/// No machine is a kilometre long: a vertex farther out (in mm, on any axis) is a bad vertex.
+pub const MAX_COORD: f64 = 1e6;
+
+/// Whether a point can be drawn: finite, within [`MAX_COORD`].
+pub fn drawable(p: &Point3<f64>) -> bool {
+    p.coords.iter().all(|v| v.abs() <= MAX_COORD)
+}
 
 /// What a part is in a finding's scene: it picks the part's colour.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -72,8 +80,8 @@ pub struct Part3 {
 }
 
 impl Part3 {
-    /// The triangles that can be drawn: every index within the vertices, every vertex finite
-    /// once posed. Yields the three posed corners.
+    /// The triangles that can be drawn: every index within the vertices, every vertex
+    /// [`drawable`] in its own frame and once posed. Yields the three posed corners.
     pub fn world_triangles(&self) -> impl Iterator<Item = [Point3<f64>; 3]> + '_ {
         let vs = &self.mesh.vertices;
         let pose = self.pose;
@@ -81,8 +89,11 @@ impl Part3 {
             let a = vs.get(t[0] as usize)?;
             let b = vs.get(t[1] as usize)?;
             let c = vs.get(t[2] as usize)?;
+            if !(drawable(a) && drawable(b) && drawable(c)) {
+                return None;
+            }
             let w = [pose * a, pose * b, pose * c];
-            w.iter().all(|p| p.coords.iter().all(|v| v.is_finite())).then_some(w)
+            w.iter().all(drawable).then_some(w)
         })
     }
 
@@ -119,9 +130,9 @@ impl Snapshot3 {
         self.parts.iter().find(|p| p.role == role)
     }
 
-    /// The contact point, when it is finite.
+    /// The contact point, when it is [`drawable`].
     pub fn contact(&self) -> Option<Point3<f64>> {
-        self.contact.filter(|p| p.coords.iter().all(|v| v.is_finite()))
+        self.contact.filter(drawable)
     }
 
     /// The box around every drawable triangle and the contact point.

@@ -91,6 +91,9 @@ struct View {
     top: f64,
     w: f64,
     h: f64,
+    /// The depths the view shows (the region's extent along its line of sight): parts are cut
+    /// there, so that a part far in front of the region (a tailstock, the turret) hides nothing.
+    depth: (f64, f64),
 }
 
 impl View {
@@ -170,6 +173,7 @@ fn layout(b: &Box3) -> [View; 3] {
         top,
         w: dz * scale,
         h: dy * scale,
+        depth: (b.min.x, b.max.x),
     };
     let main_top = top + dy * scale + GAP;
     let main = View {
@@ -181,6 +185,7 @@ fn layout(b: &Box3) -> [View; 3] {
         top: main_top,
         w: dz * scale,
         h: dx * scale,
+        depth: (b.min.y, b.max.y),
     };
     let end = View {
         kind: Kind::Xy,
@@ -191,6 +196,7 @@ fn layout(b: &Box3) -> [View; 3] {
         top: main_top,
         w: dy * scale,
         h: dx * scale,
+        depth: (b.min.z, b.max.z),
     };
     [main, end, top_view]
 }
@@ -199,6 +205,10 @@ fn layout(b: &Box3) -> [View; 3] {
 struct Raster {
     w: usize,
     h: usize,
+    /// Depths outside this are not drawn.
+    clip: (f64, f64),
+    /// Depths closer than this are one depth.
+    tie: f64,
     depth: Vec<f64>,
     /// Part index + 1; 0 where nothing is drawn.
     part: Vec<u32>,
@@ -219,6 +229,8 @@ fn rasterise(v: &View, s: &Snapshot3, only: impl Fn(Role3) -> bool) -> Raster {
     let mut r = Raster {
         w,
         h,
+        clip: v.depth,
+        tie: 1e-7 * (v.depth.1 - v.depth.0).abs().max(1.0),
         depth: vec![f64::NEG_INFINITY; w * h],
         part: vec![0; w * h],
         shade: vec![0; w * h],
@@ -245,7 +257,8 @@ fn rasterise(v: &View, s: &Snapshot3, only: impl Fn(Role3) -> bool) -> Raster {
                 (x - v.left, y - v.top, d)
             });
             let area = (q[1].0 - q[0].0) * (q[2].1 - q[0].1) - (q[2].0 - q[0].0) * (q[1].1 - q[0].1);
-            if !(area.abs() > 1e-12) {
+            // Edge-on (or not a number): nothing to fill.
+            if area.is_nan() || area.abs() <= 1e-12 {
                 continue;
             }
             // Facing of the triangle toward the light (either side: meshes may be inside out).
@@ -308,7 +321,10 @@ fn rasterise(v: &View, s: &Snapshot3, only: impl Fn(Role3) -> bool) -> Raster {
 impl Raster {
     fn put(&mut self, i: usize, j: usize, d: f64, id: u32, shade: u8) {
         let k = j * self.w + i;
-        if d > self.depth[k] {
+        // A face flush with one drawn before (the holder's top on the turret's underside)
+        // leaves it in front: the parts are drawn colliding ones first, and no rounding noise
+        // decides which of two coplanar faces shows.
+        if d > self.depth[k] + self.tie && d >= self.clip.0 && d <= self.clip.1 {
             self.depth[k] = d;
             self.part[k] = id;
             self.shade[k] = shade;
@@ -316,11 +332,18 @@ impl Raster {
     }
 }
 
+/// A directed edge between two corners of the cell lattice.
+type Edge = ((i32, i32), (i32, i32));
+/// Closed outlines in a view's cell units.
+type Loops = Vec<Vec<(f64, f64)>>;
+/// A part's index, its silhouette and its shade bands (shade, outlines).
+type PartOutlines = (usize, Loops, Vec<(u8, Loops)>);
+
 /// Closed outlines of the regions of equal key (0: no region), on the lattice of cell corners,
 /// each region on the right of its outlines as the picture's y runs down (so holes wind the
 /// other way: fill them with the nonzero rule). Keyed by region key, in scan order.
 fn trace(w: usize, h: usize, key: impl Fn(usize, usize) -> u32) -> BTreeMap<u32, Vec<Vec<(i32, i32)>>> {
-    let mut edges: BTreeMap<u32, Vec<((i32, i32), (i32, i32))>> = BTreeMap::new();
+    let mut edges: BTreeMap<u32, Vec<Edge>> = BTreeMap::new();
     let at = |i: isize, j: isize| -> u32 {
         if i < 0 || j < 0 || i >= w as isize || j >= h as isize {
             0
@@ -443,7 +466,7 @@ fn dp(p: &[(f64, f64)], a: usize, b: usize, tol: f64, keep: &mut [bool]) {
 /// Outlines of one view, ready to write: per part, its silhouette and its shade bands.
 struct Outlines {
     /// (part index, silhouette loops, [(shade, loops)]), in part order.
-    parts: Vec<(usize, Vec<Vec<(f64, f64)>>, Vec<(u8, Vec<Vec<(f64, f64)>>)>)>,
+    parts: Vec<PartOutlines>,
     /// Shades dropped to keep within [`MAX_POINTS_PER_VIEW`].
     flat: bool,
     /// Outlines dropped past [`MAX_POINTS_PER_VIEW`].
@@ -511,7 +534,7 @@ fn outlines(r: &Raster) -> Outlines {
     let mut parts = Vec::new();
     for (k, ls) in sil {
         let pi = k as usize - 1;
-        let b: Vec<(u8, Vec<Vec<(f64, f64)>>)> = [0u8, 2]
+        let b: Vec<(u8, Loops)> = [0u8, 2]
             .iter()
             .filter_map(|&s| bands.get(&(k * 4 + s as u32)).map(|l| (s, l.clone())))
             .collect();
@@ -552,6 +575,8 @@ struct Cuts {
     skipped: u64,
     flat: bool,
     dropped: usize,
+    /// The parts drawn (in any view), for the legend.
+    drawn: std::collections::BTreeSet<usize>,
 }
 
 /// One view: frame, parts, spindle axis, contact ring, label.
@@ -659,6 +684,7 @@ fn view(o: &mut String, v: &View, s: &Snapshot3) -> Cuts {
         );
     }
     Cuts {
+        drawn: ol.parts.iter().map(|p| p.0).collect(),
         skipped,
         flat: ol.flat,
         dropped: ol.dropped,
@@ -873,6 +899,7 @@ fn draw(s: &Snapshot3, c: &Caption) -> String {
         cuts.skipped += k.skipped;
         cuts.flat |= k.flat;
         cuts.dropped += k.dropped;
+        cuts.drawn.extend(k.drawn);
     }
     let bottom = views.iter().map(|v| v.top + v.h).fold(0.0, f64::max);
     let bottom = footer(&mut o, &views[0], s, &cuts, bottom);
@@ -905,7 +932,11 @@ fn footer(o: &mut String, v: &View, s: &Snapshot3, cuts: &Cuts, below: f64) -> f
             if let Some(p) = s.part(role) {
                 items.push((p.name.clone(), fill, line, true));
             }
-        } else if s.parts.iter().any(|p| p.role == role) {
+        } else if cuts
+            .drawn
+            .iter()
+            .any(|&i| s.parts.get(i).is_some_and(|p| p.role == role))
+        {
             let label = if role == Role3::Stock {
                 "stock at that moment"
             } else {
@@ -956,7 +987,8 @@ fn footer(o: &mut String, v: &View, s: &Snapshot3, cuts: &Cuts, below: f64) -> f
     let mut note_y = (y + 38.0).max(ly + 26.0);
     let mut notes = vec![
         "Orthographic views at first contact, one scale, machine frame in mm (z along the spindle, 0 at the jaw faces; x toward the turret).".to_string(),
-        "Third-angle layout: the top view above the lathe's view, the end view to its right. Dashed: edges of the colliding parts hidden behind others.".to_string(),
+        "Third-angle layout: the top view above the lathe's view, the end view to its right. The views show the box around the contact;".to_string(),
+        "parts are cut at its faces. Dashed: edges of the colliding parts hidden behind other parts.".to_string(),
     ];
     if cuts.skipped > 0 {
         notes.push(format!(
