@@ -33,24 +33,6 @@ fn poses(r: f64, off: f64, n: usize) -> Vec<Iso> {
         .collect()
 }
 
-/// Poses of the tool at `50 + off` from the z axis: on the +x face of a box (`round` false) or
-/// around a cylinder (`round` true), spread over y (or the angle) and z.
-fn side_poses(off: f64, n: usize, round: bool) -> Vec<Iso> {
-    (0..n)
-        .map(|i| {
-            let a = (i % 20) as f64 / 19.0 - 0.5;
-            let z = 80.0 * ((i / 20) as f64 / (n / 20).max(1) as f64 - 0.5);
-            let r = 50.0 + off;
-            if round {
-                let t = a * std::f64::consts::TAU;
-                pose(r * t.cos(), r * t.sin(), z, t)
-            } else {
-                pose(r, 80.0 * a, z, a)
-            }
-        })
-        .collect()
-}
-
 fn sphere(r: f64, rings: usize) -> Shape3 {
     let (v, t) = uv_sphere(r, rings, 2 * rings);
     Shape3::mesh(v, t).expect("sphere mesh")

@@ -109,7 +109,10 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
     for e in rd.flatten() {
         let p = e.path();
         if p.is_dir() {
-            walk(&p, out);
+            // A folder with its own latheguard.toml is written for another machine.
+            if !p.join("latheguard.toml").exists() {
+                walk(&p, out);
+            }
         } else if matches!(p.extension().and_then(|e| e.to_str()), Some("nc" | "ngc")) {
             out.push(p);
         }

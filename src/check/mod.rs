@@ -171,7 +171,9 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
         three: machine
             .kinematics
             .as_ref()
-            .filter(|_| !run.extra.is_empty())
+            // A tree of axes alone (no component has a geometry) describes no part to check:
+            // its moves stay with the 2D checker.
+            .filter(|k| !run.extra.is_empty() && k.components.iter().any(|c| c.geometry.is_some()))
             .map(|k| three::Three::new(k.clone(), settings.tolerance_mm)),
         plunge3: None,
         live_tool: false,

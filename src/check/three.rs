@@ -31,8 +31,8 @@ use nalgebra::Point3;
 
 use super::episodes::Contact;
 use super::Checker;
-use crate::collide3::{motion_bound, stock_gap, stock_overlap, Advance, MAX_PROBES};
 use crate::collide3::{self, Hit, Shape3};
+use crate::collide3::{motion_bound, stock_gap, stock_overlap, Advance, MAX_PROBES};
 use crate::finding::Kind;
 use crate::geom::TOUCH_EPS;
 use crate::interp::{position3, ExtraMove, Move, MoveKind};
@@ -80,7 +80,7 @@ impl Three {
         let shapes = kin
             .components
             .iter()
-            .map(|c| c.geometry.as_ref().and_then(|g| Shape3::from_geometry(g, tolerance)))
+            .map(|c| c.geometry.as_ref().and_then(|g| shape_of(g, tolerance)))
             .collect();
         let meshes = kin.components.iter().map(|_| None).collect();
         let letter = |c| kin.axis_by_letter(c);
@@ -186,7 +186,11 @@ impl Three {
         if let Some(e) = e {
             for (k, a) in self.ax_extra.iter().enumerate() {
                 if let Some(a) = *a {
-                    r[a] = if k == 0 && arc.is_some() { lin } else { (e.end[k] - e.start[k]).abs() };
+                    r[a] = if k == 0 && arc.is_some() {
+                        lin
+                    } else {
+                        (e.end[k] - e.start[k]).abs()
+                    };
                 }
             }
         }
@@ -198,8 +202,8 @@ impl Three {
         let k = &self.kin;
         let mut on = vec![true; k.components.len()];
         for (i, c) in k.components.iter().enumerate() {
-            let own = c.station.is_none_or(|s| s == active);
-            let parent = c.parent.is_none_or(|p| on[p]);
+            let own = c.station.map_or(true, |s| s == active);
+            let parent = c.parent.map_or(true, |p| on[p]);
             on[i] = own && parent;
         }
         on
@@ -243,7 +247,13 @@ impl Checker<'_> {
         let k = &three.kin;
         let active = m.station;
         let on = three.present(active);
-        let follow = Follow { three, m, e, item, rates: three.rates(m, e, item) };
+        let follow = Follow {
+            three,
+            m,
+            e,
+            item,
+            rates: three.rates(m, e, item),
+        };
         let rapid = m.kind == MoveKind::Rapid;
         let spindle_turns = self.run.spindle(m).is_on() && !e.is_some_and(|e| e.c_mode);
         let live = e.is_some_and(|e| e.live_rpm > 0.0);
@@ -284,7 +294,8 @@ impl Checker<'_> {
             }
         }
         let keys: Vec<u64> = pairs.iter().map(|&(a, b, kind)| pair_key(a, b, kind)).collect();
-        self.episodes.close_except(|key| key == u64::MAX || key < KEY_BASE || keys.contains(&key));
+        self.episodes
+            .close_except(|key| key == u64::MAX || key < KEY_BASE || keys.contains(&key));
         for (&(a, b, kind), &key) in pairs.iter().zip(&keys) {
             let res = if b == STOCK {
                 self.stock_advance(three, &follow, a)
@@ -316,7 +327,8 @@ impl Checker<'_> {
                         self.stats.pair_tests += 1;
                         match self.probe3(three, &follow, a, b, uu) {
                             Some(h) => {
-                                self.episodes.extend(key, m.line, item.t0 + uu * item.duration, h.depth, false);
+                                self.episodes
+                                    .extend(key, m.line, item.t0 + uu * item.duration, h.depth, false);
                                 still = j == DEPTH_SAMPLES;
                             }
                             None => still = false,
@@ -358,9 +370,17 @@ impl Checker<'_> {
     /// Conservative advancement of a component against the stock (see `collide3::motion`).
     fn stock_advance(&mut self, three: &Three, f: &Follow, a: CompId) -> (Advance, u64) {
         let k = &three.kin;
-        let Some(sa) = three.shapes[a].as_ref() else { return (Advance::Clear, 0) };
+        let Some(sa) = three.shapes[a].as_ref() else {
+            return (Advance::Clear, 0);
+        };
         let min_step = self.settings.tolerance_mm.max(collide3::MIN_STEP_MM);
-        let Some(stock) = self.ensure_stock() else { return (Advance::Clear, 0) };
+        let Some(b) = self.stock_box else {
+            return (Advance::Clear, 0);
+        };
+        let raw = (b.min.y, b.max.y, b.max.x.max(-b.min.x));
+        let Some(stock) = self.ensure_stock() else {
+            return (Advance::Clear, 0);
+        };
         let mut poser = Poser::new(k);
         let mut vals = Vec::new();
         // As the 2D check's conservative advancement: never a step longer than the proven gap,
@@ -376,6 +396,23 @@ impl Checker<'_> {
             }
             f.at(u, &mut vals);
             poser.pose(k, &vals);
+            // Quick reject: the part's bounding sphere against the raw stock's cylinder (the
+            // stock only loses material) bounds the gap from below at no cost.
+            let sph = sa.sphere();
+            let c = poser.world(a) * sph.center;
+            let (zr0, zr1, rr) = raw;
+            let radial = (c.x.hypot(c.y) - sph.radius - rr).max(0.0);
+            let axial = (zr0 - (c.z + sph.radius)).max(c.z - sph.radius - zr1).max(0.0);
+            let quick = radial.max(axial);
+            if quick > 0.0 {
+                if u >= 1.0 || rate == 0.0 {
+                    return (Advance::Clear, probes);
+                }
+                prev = u;
+                let next = (u + quick.max(min_step) / rate).min(1.0);
+                u = if next > u { next } else { (u + f64::EPSILON).min(1.0) };
+                continue;
+            }
             if let Some(h) = stock_overlap(sa, poser.world(a), stock, View::Now, TOUCH_EPS) {
                 if u == 0.0 {
                     return (Advance::Contact { u, hit: h }, probes);
@@ -411,10 +448,25 @@ impl Checker<'_> {
 
     /// The finding's facts at first contact, and its picture when asked for.
     #[allow(clippy::too_many_arguments)]
-    fn contact3(&mut self, three: &Three, f: &Follow, m: &Move, a: CompId, b: usize, kind: Kind, u: f64, hit: Hit, t: f64) -> Contact {
+    fn contact3(
+        &mut self,
+        three: &Three,
+        f: &Follow,
+        m: &Move,
+        a: CompId,
+        b: usize,
+        kind: Kind,
+        u: f64,
+        hit: Hit,
+        t: f64,
+    ) -> Contact {
         let k = &three.kin;
         let mut an = k.components[a].name.clone();
-        let mut bn = if b == STOCK { "stock".to_string() } else { k.components[b].name.clone() };
+        let mut bn = if b == STOCK {
+            "stock".to_string()
+        } else {
+            k.components[b].name.clone()
+        };
         if b != STOCK && !is_turret(k, a) && is_turret(k, b) {
             // The part that moves into the other comes first, as in the 2D findings.
             std::mem::swap(&mut an, &mut bn);
@@ -430,7 +482,10 @@ impl Checker<'_> {
         let xi = three.ax_x.map_or(0.0, |i| vals[i]);
         let zi = three.ax_z.map_or(0.0, |i| vals[i]);
         let (x, z) = self.run.frame(m).to_program(crate::geom::P2::new(xi, zi) + tip);
-        let snapshot3 = self.settings.snapshots.then(|| Box::new(self.scene3(three, &vals, m, a, b, &message, t, hit.point)));
+        let snapshot3 = self
+            .settings
+            .snapshots
+            .then(|| Box::new(self.scene3(three, &vals, m, a, b, &message, t, hit.point)));
         Contact {
             kind,
             objects: [an, bn],
@@ -449,7 +504,17 @@ impl Checker<'_> {
 
     /// The posed scene for a picture.
     #[allow(clippy::too_many_arguments)]
-    fn scene3(&mut self, three: &Three, vals: &[f64], m: &Move, a: CompId, b: usize, title: &str, t: f64, point: Point3<f64>) -> Snapshot3 {
+    fn scene3(
+        &mut self,
+        three: &Three,
+        vals: &[f64],
+        m: &Move,
+        a: CompId,
+        b: usize,
+        title: &str,
+        t: f64,
+        point: Point3<f64>,
+    ) -> Snapshot3 {
         let k = &three.kin;
         let mut poser = Poser::new(k);
         poser.pose(k, vals);
@@ -460,7 +525,9 @@ impl Checker<'_> {
             if !on[i] {
                 continue;
             }
-            let Some(mesh) = three.mesh(i, self.settings.tolerance_mm) else { continue };
+            let Some(mesh) = three.mesh(i, self.settings.tolerance_mm) else {
+                continue;
+            };
             let role = if i == a {
                 Role3::CollidingA
             } else if i == b {
@@ -470,22 +537,47 @@ impl Checker<'_> {
             } else {
                 Role3::Fixed
             };
-            parts.push(Part3 { name: c.name.clone(), mesh, pose: *poser.world(i), role });
+            parts.push(Part3 {
+                name: c.name.clone(),
+                mesh,
+                pose: *poser.world(i),
+                role,
+            });
         }
         if let Some(stock) = self.stock.as_ref() {
             for outline in stock.outlines(1e-9) {
-                let pts: Vec<crate::geom::P2> = outline.iter().map(|p| crate::geom::P2::new(p[0].abs(), p[1])).collect();
+                let pts: Vec<crate::geom::P2> =
+                    outline.iter().map(|p| crate::geom::P2::new(p[0].abs(), p[1])).collect();
                 if let Ok(mesh) = crate::kin::shape::revolved(&pts, self.settings.tolerance_mm.max(0.05)) {
                     let role = if b == STOCK { Role3::CollidingB } else { Role3::Stock };
-                    parts.push(Part3 { name: "stock".into(), mesh: Arc::new(mesh), pose: crate::kin::Iso::identity(), role });
+                    parts.push(Part3 {
+                        name: "stock".into(),
+                        mesh: Arc::new(mesh),
+                        pose: crate::kin::Iso::identity(),
+                        role,
+                    });
                 }
             }
         }
-        Snapshot3 { title: title.to_string(), line: m.line, time_s: Some(t), parts, contact: Some(point) }
+        Snapshot3 {
+            title: title.to_string(),
+            line: m.line,
+            time_s: Some(t),
+            parts,
+            contact: Some(point),
+        }
     }
 
     /// Whether this cutter's move runs back along the line of its own plunge (see the module docs).
-    fn in_own_plunge(&self, three: &Three, cutter: CompId, m: &Move, e: Option<&ExtraMove>, item: &Timed, _rapid: bool) -> bool {
+    fn in_own_plunge(
+        &self,
+        three: &Three,
+        cutter: CompId,
+        m: &Move,
+        e: Option<&ExtraMove>,
+        item: &Timed,
+        _rapid: bool,
+    ) -> bool {
         let Some(p) = self.plunge3 else { return false };
         if p.cutter != cutter {
             return false;
@@ -533,7 +625,7 @@ impl Checker<'_> {
                 three.values(m, Some(e), item, u, &mut vals);
                 let v = vals[a];
                 let over = (lo - v).max(v - hi);
-                if over > 1e-9 && worst.is_none_or(|w| over > w.1) {
+                if over > 1e-9 && worst.map_or(true, |w: (f64, f64)| over > w.1) {
                     worst = Some((u, over));
                 }
             }
@@ -582,6 +674,19 @@ impl Three {
     }
 }
 
+/// A component's collision shape: every geometry as a triangle mesh (`kin::shape`, revolved
+/// outlines circumscribed), since parry's mesh–mesh queries are many times faster than its
+/// mesh–primitive ones (docs/turn-mill.md, "3D collision").
+fn shape_of(g: &crate::kin::Geometry, tolerance: f64) -> Option<Shape3> {
+    match g {
+        crate::kin::Geometry::Mesh(_) => Shape3::from_geometry(g, tolerance),
+        _ => {
+            let mesh = crate::kin::shape::mesh_of(g, tolerance).ok()?;
+            Shape3::from_geometry(&crate::kin::Geometry::Mesh(Arc::new(mesh)), tolerance)
+        }
+    }
+}
+
 /// Per component: an axis on its way from the root is off its start value.
 fn moved_flags(k: &Kinematics, vals: &[f64], start: &[f64]) -> Vec<bool> {
     let mut out = vec![false; k.components.len()];
@@ -591,7 +696,6 @@ fn moved_flags(k: &Kinematics, vals: &[f64], start: &[f64]) -> Vec<bool> {
     }
     out
 }
-
 
 /// The turret reference point (x, y, z) at fraction `u`.
 fn ref3(three: &Three, m: &Move, e: Option<&ExtraMove>, item: &Timed, u: f64) -> [f64; 3] {

@@ -131,12 +131,31 @@ pub fn stock_overlap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: V
     // Per column in range: whether any triangle's section lies on its plane.
     let mut cut = vec![false; j1 - j0 + 1];
     let mut best: Option<Hit> = None;
+    // The largest radius of material in range: a triangle whose (x, y) box keeps farther from
+    // the axis than that has no section point in any material (a quick reject that changes
+    // nothing, only skips sections that would find nothing).
+    let mut rmax = f64::NEG_INFINITY;
+    for j in j0..=j1 {
+        for &(_, hi) in stock.column_material(j, view) {
+            rmax = rmax.max(hi);
+        }
+    }
     for tr in t {
         let p = [v[tr[0] as usize], v[tr[1] as usize], v[tr[2] as usize]];
         let (a, b) = (p[0].z.min(p[1].z).min(p[2].z), p[0].z.max(p[1].z).max(p[2].z));
         let Some((k0, k1)) = stock.columns_within(a - pad(a), b + pad(b)) else {
             continue;
         };
+        let (x0, x1) = (p[0].x.min(p[1].x).min(p[2].x), p[0].x.max(p[1].x).max(p[2].x));
+        let (y0, y1) = (p[0].y.min(p[1].y).min(p[2].y), p[0].y.max(p[1].y).max(p[2].y));
+        let bx = x0.max(-x1).max(0.0);
+        let by = y0.max(-y1).max(0.0);
+        if bx.hypot(by) >= rmax + eps {
+            for j in k0.max(j0)..=k1.min(j1) {
+                cut[j - j0] = true;
+            }
+            continue;
+        }
         for j in k0.max(j0)..=k1.min(j1) {
             let c = stock.column_center(j);
             let Some(Section { dmin, dmax, near, far }) = section(&p, c) else {
@@ -176,6 +195,7 @@ pub fn stock_overlap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: V
         return convex_ring(shape, pose, stock, view, eps, j0, &cut);
     };
     let wp = to_pose(pose);
+    let bbox = bounds(&v);
     for (i, &hit) in cut.iter().enumerate() {
         if !hit {
             continue;
@@ -184,6 +204,9 @@ pub fn stock_overlap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: V
         let c = stock.column_center(j);
         for &(lo, hi) in stock.column_material(j, view) {
             let q = Vector::new((lo + hi) / 2.0, 0.0, c);
+            if !in_box(bbox, q) {
+                continue; // outside the mesh's box: not inside the mesh
+            }
             if m.mesh.contains_point(&wp, q) {
                 let proj = m.mesh.project_point(&wp, q, false);
                 let depth = ((hi - lo) / 2.0).min((proj.point - q).length());
@@ -197,6 +220,21 @@ pub fn stock_overlap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: V
         }
     }
     None
+}
+
+/// The box of the points `v`.
+fn bounds(v: &[Vector]) -> (Vector, Vector) {
+    let (mut lo, mut hi) = (Vector::splat(f64::INFINITY), Vector::splat(f64::NEG_INFINITY));
+    for p in v {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    (lo, hi)
+}
+
+/// Whether `q` lies in the box `(lo, hi)`.
+fn in_box((lo, hi): (Vector, Vector), q: Vector) -> bool {
+    q.x >= lo.x && q.x <= hi.x && q.y >= lo.y && q.y <= hi.y && q.z >= lo.z && q.z <= hi.z
 }
 
 /// A ring of material inside a convex primitive (see [`stock_overlap`]).
