@@ -241,6 +241,13 @@ fn rasterise(v: &View, s: &Snapshot3, only: impl Fn(Role3) -> bool) -> Raster {
     let mut order: Vec<usize> = (0..s.parts.len()).collect();
     order.sort_by_key(|&i| (s.parts[i].role, i));
     let l = light();
+    // Cut faces: a cell where a part's surface is crossed an odd number of times in front of the
+    // near face of the view's box has that box face inside the part (a closed mesh): it is drawn
+    // there as the part's cut, so a part cut open by the box shows as a solid section, not as
+    // the nothing its edge-on sides would leave.
+    let mut parity = vec![false; w * h];
+    let mut marked = vec![false; w * h];
+    let mut touched: Vec<usize> = Vec::new();
     for &pi in &order {
         let part = &s.parts[pi];
         if !only(part.role) {
@@ -301,6 +308,16 @@ fn rasterise(v: &View, s: &Snapshot3, only: impl Fn(Role3) -> bool) -> Raster {
                     }
                     covered = true;
                     let d = w0 * q[0].2 + w1 * q[1].2 + w2 * q[2].2;
+                    // A crossing in front of the near face; the weights' edge rule (one edge
+                    // shared by two triangles counts once) keeps the parity right on seams.
+                    if d > r.clip.1 && w0 > 0.0 && w1 >= 0.0 && w2 >= 0.0 || d > r.clip.1 && w0 == 0.0 && w1 > 0.0 {
+                        let k = j * w + i;
+                        if !marked[k] {
+                            marked[k] = true;
+                            touched.push(k);
+                        }
+                        parity[k] = !parity[k];
+                    }
                     r.put(i, j, d, id, shade);
                 }
             }
@@ -312,6 +329,12 @@ fn rasterise(v: &View, s: &Snapshot3, only: impl Fn(Role3) -> bool) -> Raster {
                     let d = (q[0].2 + q[1].2 + q[2].2) / 3.0;
                     r.put(cx as usize, cy as usize, d, id, shade);
                 }
+            }
+        }
+        for k in touched.drain(..) {
+            marked[k] = false;
+            if std::mem::take(&mut parity[k]) {
+                r.put(k % w, k / w, r.clip.1, id, 0);
             }
         }
     }
