@@ -442,7 +442,7 @@ impl Checker<'_> {
         self.overtravel(m, item);
         self.live_tool = false;
         if let Some(t) = self.three.as_mut() {
-            let e = t.entry(&self.run.extra, item.index);
+            let e = self.run.extra_of(item.index);
             self.live_tool = e.is_some_and(|e| e.live_rpm > 0.0);
             let turns = self.run.spindle(m).is_on() && !e.is_some_and(|e| e.c_mode);
             let motion = matches!(m.kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. });

@@ -32,7 +32,7 @@ use nalgebra::Point3;
 use super::episodes::Contact;
 use super::Checker;
 use crate::collide3::{self, Hit, Shape3};
-use crate::collide3::{motion_bound, stock_gap, stock_overlap, Advance, MAX_PROBES};
+use crate::collide3::{bound_from, stock_gap, stock_overlap, Advance, Path as _, MAX_PROBES};
 use crate::finding::Kind;
 use crate::geom::TOUCH_EPS;
 use crate::interp::{position3, ExtraMove, Move, MoveKind};
@@ -63,14 +63,11 @@ pub(super) struct Plunge {
 pub(super) struct Three {
     kin: Arc<Kinematics>,
     shapes: Vec<Option<Shape3>>,
-    meshes: Vec<Option<Arc<crate::kin::Mesh>>>,
     ax_x: Option<AxisId>,
     ax_z: Option<AxisId>,
     /// The kinematic axis of each of `interp::EXTRA_LETTERS` (Y, C, B, A).
     ax_extra: [Option<AxisId>; 4],
     start: Vec<f64>,
-    /// Next entry of `Interpretation::extra` to look at.
-    cursor: usize,
     /// The 3D path ran on at least one move (`stats.effects` says "3d").
     pub ran: bool,
 }
@@ -80,9 +77,8 @@ impl Three {
         let shapes = kin
             .components
             .iter()
-            .map(|c| c.geometry.as_ref().and_then(|g| shape_of(g, tolerance)))
+            .map(|c| c.geometry.as_ref().and_then(|g| Shape3::meshed(g, tolerance)))
             .collect();
-        let meshes = kin.components.iter().map(|_| None).collect();
         let letter = |c| kin.axis_by_letter(c);
         let mut ax_extra = [None; 4];
         for (i, l) in crate::interp::EXTRA_LETTERS.iter().enumerate() {
@@ -94,19 +90,9 @@ impl Three {
             ax_extra,
             start: kin.start_values(),
             shapes,
-            meshes,
             kin,
-            cursor: 0,
             ran: false,
         }
-    }
-
-    /// The extra-axis entry of move `index`, if it has one (moves come in order).
-    pub fn entry<'r>(&mut self, extra: &'r [ExtraMove], index: usize) -> Option<&'r ExtraMove> {
-        while self.cursor < extra.len() && (extra[self.cursor].index as usize) < index {
-            self.cursor += 1;
-        }
-        extra.get(self.cursor).filter(|e| e.index as usize == index)
     }
 
     /// Whether the 2D section checker describes this move exactly (see the module docs).
@@ -219,18 +205,15 @@ struct Follow<'a> {
     rates: Vec<f64>,
 }
 
-impl Follow<'_> {
+impl collide3::Path for Follow<'_> {
     fn at(&self, u: f64, out: &mut Vec<f64>) {
         self.three.values(self.m, self.e, self.item, u, out);
     }
 
-    /// Bound of how far any point of `comp` moves while the fraction goes from `u0` to `u1`
-    /// (linear in `u1 - u0`: each axis at most its rate).
-    fn bound(&self, comp: CompId, u0: f64, u1: f64) -> f64 {
-        let mut v0 = Vec::new();
-        self.at(u0, &mut v0);
-        let v1: Vec<f64> = v0.iter().zip(&self.rates).map(|(v, r)| v + r * (u1 - u0)).collect();
-        motion_bound(&self.three.kin, comp, &v0, &v1)
+    /// Each axis at most its rate: linear in `u1 - u0`.
+    fn deltas(&self, u0: f64, u1: f64, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend(self.rates.iter().map(|r| r * (u1 - u0)));
     }
 }
 
@@ -275,13 +258,12 @@ impl Checker<'_> {
                 if !on[i] || three.shapes[i].is_none() {
                     continue;
                 }
-                let moving = c.station.is_some() || matches!(c.role, Role::Holder | Role::Cutter) || is_turret(k, i);
-                if !moving {
+                if !carried_by_x(k, i) {
                     continue;
                 }
                 if c.role == Role::Cutter {
                     if let Some(rule) = cutter_rule {
-                        if !self.in_own_plunge(three, i, m, e, item, rapid) {
+                        if !self.in_own_plunge(three, i, m, e, item) {
                             pairs.push((i, STOCK, rule));
                         }
                     }
@@ -383,9 +365,11 @@ impl Checker<'_> {
         };
         let mut poser = Poser::new(k);
         let mut vals = Vec::new();
+        f.at(0.0, &mut vals);
+        poser.pose(k, &vals);
         // As the 2D check's conservative advancement: never a step longer than the proven gap,
         // at least the tolerance (a contact it could step over is shallower than that).
-        let rate = f.bound(a, 0.0, 1.0);
+        let rate = bound_from(k, &poser, a, &sa.sphere(), &f.rates);
         let (mut u, mut prev, mut probes) = (0.0f64, 0.0f64, 0u64);
         // The gap is sought within a few mm: its cost grows with the columns the window spans.
         let window = rate.min(5.0) + 1.0;
@@ -467,7 +451,7 @@ impl Checker<'_> {
         } else {
             k.components[b].name.clone()
         };
-        if b != STOCK && !is_turret(k, a) && is_turret(k, b) {
+        if b != STOCK && !carried_by_x(k, a) && carried_by_x(k, b) {
             // The part that moves into the other comes first, as in the 2D findings.
             std::mem::swap(&mut an, &mut bn);
         }
@@ -569,15 +553,7 @@ impl Checker<'_> {
     }
 
     /// Whether this cutter's move runs back along the line of its own plunge (see the module docs).
-    fn in_own_plunge(
-        &self,
-        three: &Three,
-        cutter: CompId,
-        m: &Move,
-        e: Option<&ExtraMove>,
-        item: &Timed,
-        _rapid: bool,
-    ) -> bool {
+    fn in_own_plunge(&self, three: &Three, cutter: CompId, m: &Move, e: Option<&ExtraMove>, item: &Timed) -> bool {
         let Some(p) = self.plunge3 else { return false };
         if p.cutter != cutter {
             return false;
@@ -657,33 +633,15 @@ impl Checker<'_> {
                 },
             );
             self.episodes.clear(key);
-            let _ = slot;
-            let _ = e;
         }
     }
 }
 
 impl Three {
-    /// A component's mesh for pictures (built once).
+    /// A component's mesh for pictures (built when a picture is asked for).
     fn mesh(&self, i: CompId, tol: f64) -> Option<Arc<crate::kin::Mesh>> {
-        if let Some(m) = &self.meshes[i] {
-            return Some(m.clone());
-        }
         let g = self.kin.components[i].geometry.as_ref()?;
         crate::kin::shape::mesh_of(g, tol.max(0.05)).ok().map(Arc::new)
-    }
-}
-
-/// A component's collision shape: every geometry as a triangle mesh (`kin::shape`, revolved
-/// outlines circumscribed), since parry's mesh–mesh queries are many times faster than its
-/// mesh–primitive ones (docs/turn-mill.md, "3D collision").
-fn shape_of(g: &crate::kin::Geometry, tolerance: f64) -> Option<Shape3> {
-    match g {
-        crate::kin::Geometry::Mesh(_) => Shape3::from_geometry(g, tolerance),
-        _ => {
-            let mesh = crate::kin::shape::mesh_of(g, tolerance).ok()?;
-            Shape3::from_geometry(&crate::kin::Geometry::Mesh(Arc::new(mesh)), tolerance)
-        }
     }
 }
 
@@ -723,21 +681,16 @@ fn on_line(pl: &Plunge, p: [f64; 3]) -> bool {
     off2.max(0.0).sqrt() < 1e-6 && along <= len + 1e-6
 }
 
-fn is_turret(k: &Kinematics, i: CompId) -> bool {
-    // Parts carried by the slides that carry the tools (the turret body, its housing).
-    let moves_with_x = |c: CompId| {
-        let mut p = Some(c);
-        while let Some(q) = p {
-            if let Some(a) = k.components[q].axis {
-                if k.axes[a].letter == 'X' {
-                    return true;
-                }
-            }
-            p = k.components[q].parent;
+/// Whether the X slide carries component `i` (the turret, its housing, the tools).
+fn carried_by_x(k: &Kinematics, i: CompId) -> bool {
+    let mut p = Some(i);
+    while let Some(q) = p {
+        if k.components[q].axis.is_some_and(|a| k.axes[a].letter == 'X') {
+            return true;
         }
-        false
-    };
-    moves_with_x(i)
+        p = k.components[q].parent;
+    }
+    false
 }
 
 fn pair_key(a: CompId, b: usize, kind: Kind) -> u64 {
@@ -756,17 +709,8 @@ fn pair_advance(three: &Three, f: &Follow, a: CompId, b: CompId, tol: f64) -> (A
     let (Some(sa), Some(sb)) = (three.shapes[a].as_ref(), three.shapes[b].as_ref()) else {
         return (Advance::Clear, 0);
     };
-    struct P<'a, 'b>(&'a Follow<'b>);
-    impl collide3::Path for P<'_, '_> {
-        fn at(&self, u: f64, out: &mut Vec<f64>) {
-            self.0.at(u, out)
-        }
-        fn bound(&self, _k: &Kinematics, comp: CompId, u0: f64, u1: f64) -> f64 {
-            self.0.bound(comp, u0, u1)
-        }
-    }
     // The advancement's smallest step is half its `eps`: twice the tolerance makes it step as
     // the 2D check does (at least the tolerance), and a contact shallower than that is a touch.
-    let adv = collide3::first_contact(k, (a, sa), (b, sb), &P(f), 2.0 * tol);
+    let adv = collide3::first_contact(k, (a, sa), (b, sb), f, 2.0 * tol);
     (adv, 1)
 }

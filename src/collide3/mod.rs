@@ -22,9 +22,11 @@ mod tess;
 #[cfg(test)]
 mod tests;
 
-pub use motion::{first_contact, geometry_sphere, motion_bound, Advance, LinearPath, Path, MAX_PROBES, MIN_STEP_MM};
+pub use motion::{
+    bound_from, first_contact, geometry_sphere, motion_bound, Advance, LinearPath, Path, MAX_PROBES, MIN_STEP_MM,
+};
 pub use stock::{stock_gap, stock_overlap};
-pub use tess::{spokes, uv_sphere, MAX_SPOKES, MIN_SPOKES};
+pub use tess::uv_sphere;
 
 use nalgebra::Point3;
 use parry3d_f64::math::{Pose, Rotation, Vector};
@@ -32,7 +34,7 @@ use parry3d_f64::query;
 use parry3d_f64::shape::{ConvexPolyhedron, Cuboid, Cylinder, Shape, TriMesh, TriMeshFlags};
 
 use crate::geom::P2;
-use crate::kin::{Geometry, Iso};
+use crate::kin::{shape, Geometry, Iso};
 
 /// A nalgebra isometry as a parry pose.
 pub fn to_pose(iso: &Iso) -> Pose {
@@ -95,23 +97,17 @@ impl Shape3 {
     /// never smaller than the solid). `None` for a geometry with no volume or non-finite numbers.
     pub fn from_geometry(g: &Geometry, tol: f64) -> Option<Shape3> {
         match g {
-            Geometry::Mesh(m) => {
-                let v: Vec<Vector> = m.vertices.iter().map(to_vec).collect();
-                Shape3::mesh(v, m.triangles.clone())
-            }
-            Geometry::Revolved(outline) => {
-                let (v, t) = tess::revolved(outline, tol)?;
-                Shape3::mesh(v, t)
-            }
+            Geometry::Mesh(m) => Shape3::from_mesh(m),
+            Geometry::Revolved(outline) => Shape3::from_mesh(&shape::revolved(outline, tol).ok()?),
             Geometry::Extruded { outline, half_width } => {
                 let hw = *half_width;
                 if tess::is_convex(outline) {
                     return Shape3::hull(outline, hw);
                 }
-                match tess::extruded(outline, hw) {
-                    Some((v, t)) => Shape3::mesh(v, t),
+                match shape::extruded(outline, hw) {
+                    Ok(m) => Shape3::from_mesh(&m),
                     // Not a simple polygon: its convex hull holds it.
-                    None => Shape3::hull(outline, hw),
+                    Err(_) => Shape3::hull(outline, hw),
                 }
             }
             Geometry::Cuboid { min, max } => {
@@ -140,13 +136,8 @@ impl Shape3 {
                 let c = Vector::new(0.0, 0.0, (lo + hi) / 2.0);
                 // parry's cylinder axis is y: turn it onto z (a quarter turn about x).
                 let rot = Rotation::from_rotation_x(std::f64::consts::FRAC_PI_2);
-                let rect = [
-                    P2::new(0.0, lo),
-                    P2::new(*radius, lo),
-                    P2::new(*radius, hi),
-                    P2::new(0.0, hi),
-                ];
-                let surf = tess::revolved(&rect, tol)?;
+                let m = shape::cylinder(*radius, lo, hi, tol).ok()?;
+                let surf = (m.vertices.iter().map(to_vec).collect(), m.triangles);
                 Some(Shape3::Convex(Convex {
                     shape: Box::new(Cylinder::new(hh, *radius)),
                     local: Pose::from_parts(c, rot),
@@ -155,6 +146,20 @@ impl Shape3 {
                 }))
             }
         }
+    }
+
+    /// A geometry as a triangle mesh whatever its kind (`kin::shape`: revolved outlines and
+    /// cylinders circumscribed), for callers that pose many queries: parry's mesh–mesh queries
+    /// are many times faster than its mesh–primitive ones (docs/turn-mill.md, "3D collision").
+    pub fn meshed(g: &Geometry, tol: f64) -> Option<Shape3> {
+        match g {
+            Geometry::Mesh(_) => Shape3::from_geometry(g, tol),
+            _ => Shape3::from_mesh(&shape::mesh_of(g, tol).ok()?),
+        }
+    }
+
+    fn from_mesh(m: &crate::kin::Mesh) -> Option<Shape3> {
+        Shape3::mesh(m.vertices.iter().map(to_vec).collect(), m.triangles.clone())
     }
 
     /// A mesh from vertices and triangles: duplicate vertices merged, degenerate triangles

@@ -27,7 +27,7 @@
 
 use nalgebra::{Point3, Vector3};
 
-use super::{distance, overlap, Hit, Shape3};
+use super::{distance, overlap, Hit, Shape3, Sphere};
 use crate::kin::{AxisKind, CompId, Geometry, Kinematics, Poser};
 
 /// Most probes (overlap or distance tests) on one pair along one move.
@@ -37,13 +37,13 @@ pub const MIN_STEP_MM: f64 = 1e-6;
 /// Bisection of a contact boundary stops at this width in the path parameter.
 const BISECT_U: f64 = 1e-9;
 
-/// A move of the machine: axis values for each `u ∈ [0, 1]`, and a bound of the motion.
+/// A move of the machine: axis values for each `u ∈ [0, 1]`, and a bound of how far each moves.
 pub trait Path {
     /// The axis values at `u` (one per axis of the kinematics).
     fn at(&self, u: f64, out: &mut Vec<f64>);
-    /// An upper bound of how far any point of `comp`'s geometry moves while `u` goes from `u0`
-    /// to `u1`; over `[u0, u0 + t·(u1 − u0)]` at most `t` times it.
-    fn bound(&self, k: &Kinematics, comp: CompId, u0: f64, u1: f64) -> f64;
+    /// Per axis, an upper bound of how far its value travels while `u` goes from `u0` to `u1`;
+    /// over `[u0, u0 + t·(u1 − u0)]` at most `t` times it.
+    fn deltas(&self, u0: f64, u1: f64, out: &mut Vec<f64>);
 }
 
 /// Axis values going linearly from `v0` to `v1`.
@@ -59,17 +59,15 @@ impl Path for LinearPath {
         out.extend(self.v0.iter().zip(&self.v1).map(|(a, b)| a + (b - a) * u));
     }
 
-    fn bound(&self, k: &Kinematics, comp: CompId, u0: f64, u1: f64) -> f64 {
-        let (mut a, mut b) = (Vec::new(), Vec::new());
-        self.at(u0, &mut a);
-        self.at(u1, &mut b);
-        motion_bound(k, comp, &a, &b)
+    fn deltas(&self, u0: f64, u1: f64, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend(self.v0.iter().zip(&self.v1).map(|(a, b)| (b - a).abs() * (u1 - u0)));
     }
 }
 
-/// Scale of a revolved outline's circumscribed mesh with the fewest spokes.
+/// Scale of a revolved outline's circumscribed mesh with the fewest segments (`kin::shape`).
 fn revolve_scale() -> f64 {
-    1.0 / (std::f64::consts::PI / super::MIN_SPOKES as f64).cos()
+    1.0 / (std::f64::consts::PI / crate::kin::shape::MIN_SEGMENTS as f64).cos()
 }
 
 /// A sphere holding a geometry (and the collision shape `collide3` builds from it), own frame.
@@ -128,13 +126,27 @@ pub fn motion_bound(k: &Kinematics, comp: CompId, v0: &[f64], v1: &[f64]) -> f64
     let (center, radius) = geometry_sphere(g);
     let mut poser = Poser::new(k);
     poser.pose(k, v0);
+    let value = |v: &[f64], a: usize| v.get(a).copied().unwrap_or(0.0);
+    let delta: Vec<f64> = (0..k.axes.len()).map(|a| (value(v1, a) - value(v0, a)).abs()).collect();
+    bound_from(k, &poser, comp, &Sphere { center, radius }, &delta)
+}
+
+/// [`motion_bound`] from its parts: `poser` posed at the start of the motion, a sphere holding
+/// the component's solid (own frame), and per axis how far its value travels (`delta`). The
+/// callers that advance along a move pass their posed tree and the collision shape's sphere, so
+/// a bound costs a walk up the tree, not a pass over the geometry.
+pub fn bound_from(k: &Kinematics, poser: &Poser, comp: CompId, sphere: &Sphere, delta: &[f64]) -> f64 {
+    if comp >= k.components.len() {
+        return 0.0;
+    }
+    let (center, radius) = (sphere.center, sphere.radius);
     let centre_w = poser.world(comp) * center;
     let mut d = 0.0f64;
     let mut at = Some(comp);
     while let Some(i) = at {
         let ci = &k.components[i];
         if let Some(a) = ci.axis {
-            let delta = v1.get(a).copied().unwrap_or(0.0) - v0.get(a).copied().unwrap_or(0.0);
+            let delta = delta.get(a).copied().unwrap_or(0.0);
             match &k.axes[a].kind {
                 AxisKind::Linear { .. } => d += delta.abs(),
                 AxisKind::Rotary { origin, dir } => {
@@ -173,6 +185,8 @@ pub enum Advance {
 pub fn first_contact(k: &Kinematics, a: (CompId, &Shape3), b: (CompId, &Shape3), path: &dyn Path, eps: f64) -> Advance {
     let mut poser = Poser::new(k);
     let mut vals = Vec::with_capacity(k.axes.len());
+    let mut delta = Vec::with_capacity(k.axes.len());
+    let spheres = (a.1.sphere(), b.1.sphere());
     let mut probes: u64 = 0;
     let min_step = (eps / 2.0).max(MIN_STEP_MM);
     let mut probe = |u: f64, dist: bool, poser: &mut Poser| {
@@ -220,7 +234,9 @@ pub fn first_contact(k: &Kinematics, a: (CompId, &Shape3), b: (CompId, &Shape3),
         if u >= 1.0 {
             return Advance::Clear;
         }
-        let rate = (path.bound(k, a.0, u, 1.0) + path.bound(k, b.0, u, 1.0)) / (1.0 - u);
+        path.deltas(u, 1.0, &mut delta);
+        let rate = (bound_from(k, &poser, a.0, &spheres.0, &delta) + bound_from(k, &poser, b.0, &spheres.1, &delta))
+            / (1.0 - u);
         if rate == 0.0 {
             return Advance::Clear; // nothing moves for the rest of the move
         }

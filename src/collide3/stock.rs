@@ -12,7 +12,6 @@
 //! all outside).
 
 use parry3d_f64::math::Vector;
-use parry3d_f64::query::PointQuery;
 
 use super::{to_point, to_pose, Hit, Shape3};
 use crate::kin::Iso;
@@ -188,12 +187,9 @@ pub fn stock_overlap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: V
     if best.is_some() {
         return best;
     }
-    // Rings of material inside a closed mesh with no triangle reaching them.
-    let Shape3::Mesh(m) = shape else {
-        // A convex primitive: its section by a plane is convex; a ring around the axis inside it
-        // would need the axis inside too, where the ring's hole is: tested by the point below.
-        return convex_ring(shape, pose, stock, view, eps, j0, &cut);
-    };
+    // Rings of material inside the solid with no triangle reaching them. A convex primitive's
+    // section by a plane is convex: a ring around the axis inside it would need the axis inside
+    // too, where the ring's hole is; the ring's point on the +x side tests both kinds.
     let wp = to_pose(pose);
     let bbox = bounds(&v);
     for (i, &hit) in cut.iter().enumerate() {
@@ -205,11 +201,10 @@ pub fn stock_overlap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: V
         for &(lo, hi) in stock.column_material(j, view) {
             let q = Vector::new((lo + hi) / 2.0, 0.0, c);
             if !in_box(bbox, q) {
-                continue; // outside the mesh's box: not inside the mesh
+                continue; // outside the surface's box: not inside the solid
             }
-            if m.mesh.contains_point(&wp, q) {
-                let proj = m.mesh.project_point(&wp, q, false);
-                let depth = ((hi - lo) / 2.0).min((proj.point - q).length());
+            if shape.contains(&wp, q) {
+                let depth = ((hi - lo) / 2.0).min(shape.depth_of(&wp, q));
                 if depth > eps {
                     return Some(Hit {
                         depth,
@@ -235,39 +230,6 @@ fn bounds(v: &[Vector]) -> (Vector, Vector) {
 /// Whether `q` lies in the box `(lo, hi)`.
 fn in_box((lo, hi): (Vector, Vector), q: Vector) -> bool {
     q.x >= lo.x && q.x <= hi.x && q.y >= lo.y && q.y <= hi.y && q.z >= lo.z && q.z <= hi.z
-}
-
-/// A ring of material inside a convex primitive (see [`stock_overlap`]).
-fn convex_ring(
-    shape: &Shape3,
-    pose: &Iso,
-    stock: &mut DexelStock,
-    view: View,
-    eps: f64,
-    j0: usize,
-    cut: &[bool],
-) -> Option<Hit> {
-    let wp = to_pose(pose);
-    for (i, &hit) in cut.iter().enumerate() {
-        if !hit {
-            continue;
-        }
-        let j = j0 + i;
-        let c = stock.column_center(j);
-        for &(lo, hi) in stock.column_material(j, view) {
-            let q = Vector::new((lo + hi) / 2.0, 0.0, c);
-            if shape.contains(&wp, q) {
-                let depth = ((hi - lo) / 2.0).min(shape.depth_of(&wp, q));
-                if depth > eps {
-                    return Some(Hit {
-                        depth,
-                        point: to_point(q),
-                    });
-                }
-            }
-        }
-    }
-    None
 }
 
 /// A lower bound of the distance from the solid (posed at `pose`) to the stock's material as

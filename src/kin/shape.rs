@@ -1,11 +1,18 @@
 //! Primitives → closed, consistently wound triangle meshes ([`Mesh`], counter-clockwise seen
 //! from outside), for the 3D queries.
 //!
-//! A revolved outline becomes a polygonal solid that contains the true solid of revolution: the
-//! ring of each outline point facing away from the axis (a point of an edge whose outward normal
-//! points to larger radius) has its radius scaled by `1/cos(π/n)`, so that the flat faces between
-//! rings lie outside the round surface; a point of surfaces facing the axis only (a bore) keeps
-//! its radius, so the chords lie inside the hole, on the material side. `n` (segments round the
+//! A revolved outline becomes a polygonal solid that contains the true solid of revolution. With
+//! `n` segments a ring of vertices at radius `R` is a regular n-gon; the half plane at angle φ
+//! from a segment's middle cuts the band between two segments at `R · c`,
+//! `c = cos(π/n) / cos φ ∈ [cos(π/n), 1]`. The ends of every outline edge going toward +z (its
+//! outward normal points away from the axis: an outer surface) are rings at `R = r / cos(π/n)`,
+//! so the edge's section radius is `r · c / cos(π/n) ≥ r`; the ends of every edge going toward −z
+//! (a bore) keep `R = r`, so its section radius is `r · c ≤ r`, on the material side. A point
+//! where an outer and a bore edge meet becomes two rings, one of each kind, joined by a flat
+//! annulus. On every half plane each slice `[a, b]` of the outline (a on a bore edge, b on an
+//! outer edge) therefore becomes `[c·a, c·b/cos(π/n)] ⊇ [a, b]`: the mesh holds the solid. (Gaps
+//! inside the outline narrower than `r · (1/cos(π/n) − 1)` may close up: the mesh then overlaps
+//! itself but still holds the solid.) `n` (segments round the
 //! axis) is the least for which the outward excess `r_max · (1/cos(π/n) − 1)` is at most the
 //! tolerance, from [`MIN_SEGMENTS`] to [`MAX_SEGMENTS`] (at the cap the excess may exceed the
 //! tolerance: the mesh is still never smaller than the solid).
@@ -79,48 +86,57 @@ pub fn revolved(outline: &[P2], tol: f64) -> Result<Mesh, String> {
     let stretch = 1.0 / (std::f64::consts::PI / n as f64).cos();
     let m = pts.len();
     // Counter-clockwise in (r, z): the outward normal of edge p→q is (dz, −dr); it faces away
-    // from the axis when dz > 0.
-    let faces_out = |i: usize| {
-        let (p, q) = (pts[i], pts[(i + 1) % m]);
-        q.y - p.y > 0.0
+    // from the axis when dz > 0 (scaled ring) and toward it when dz < 0 (a bore: kept).
+    let rise = |i: usize| {
+        let (p, q) = (pts[i % m], pts[(i + 1) % m]);
+        (q.y - p.y).partial_cmp(&0.0).unwrap_or(std::cmp::Ordering::Equal)
     };
+    use std::cmp::Ordering::{Equal, Greater, Less};
+    let scale = |k: std::cmp::Ordering| if k == Less { 1.0 } else { stretch };
+    // One ring per outline point, two where an outer edge meets a bore edge (joined by a flat
+    // annulus), so that neither edge's ring takes the other's radius.
+    let mut rings: Vec<(P2, f64)> = Vec::with_capacity(2 * m);
+    for (i, &p) in pts.iter().enumerate() {
+        let (before, after) = (rise(i + m - 1), rise(i));
+        match (before, after) {
+            (Greater, Less) | (Less, Greater) => {
+                rings.push((p, scale(before)));
+                rings.push((p, scale(after)));
+            }
+            (Equal, k) | (k, Equal) => rings.push((p, scale(k))),
+            (k, _) => rings.push((p, scale(k))),
+        }
+    }
     let mut vertices = Vec::new();
-    // For each outline point: its first vertex index; a point on the axis has one vertex.
-    let mut first = Vec::with_capacity(m);
-    for (i, p) in pts.iter().enumerate() {
-        first.push(vertices.len() as u32);
+    // For each ring: its first vertex index, and whether it is a point on the axis (one vertex).
+    let mut first: Vec<(u32, bool)> = Vec::with_capacity(rings.len());
+    for &(p, k) in &rings {
+        first.push((vertices.len() as u32, p.x == 0.0));
         if p.x == 0.0 {
             vertices.push(Point3::new(0.0, 0.0, p.y));
             continue;
         }
-        let out = faces_out(i) || faces_out((i + m - 1) % m);
-        let r = if out { p.x * stretch } else { p.x };
-        for k in 0..n {
-            let a = std::f64::consts::TAU * k as f64 / n as f64;
+        let r = p.x * k;
+        for j in 0..n {
+            let a = std::f64::consts::TAU * j as f64 / n as f64;
             vertices.push(Point3::new(r * a.cos(), r * a.sin(), p.y));
         }
     }
-    let at = |i: usize, k: usize| -> u32 {
-        if pts[i].x == 0.0 {
-            first[i]
-        } else {
-            first[i] + (k % n) as u32
-        }
-    };
+    let at = |(v, on_axis): (u32, bool), j: usize| if on_axis { v } else { v + (j % n) as u32 };
     let mut triangles = Vec::new();
-    for i in 0..m {
-        let j = (i + 1) % m;
-        let (on_i, on_j) = (pts[i].x == 0.0, pts[j].x == 0.0);
-        for k in 0..n {
-            let (a, b, c, d) = (at(i, k), at(i, k + 1), at(j, k), at(j, k + 1));
-            match (on_i, on_j) {
-                (true, true) => {}
-                (true, false) => triangles.push([a, d, c]),
-                (false, true) => triangles.push([a, b, c]),
-                (false, false) => {
-                    triangles.push([a, b, d]);
-                    triangles.push([a, d, c]);
-                }
+    let l = rings.len();
+    for i in 0..l {
+        let (a, b) = (first[i], first[(i + 1) % l]);
+        if a.1 && b.1 {
+            continue;
+        }
+        for j in 0..n {
+            let (a0, a1, b0, b1) = (at(a, j), at(a, j + 1), at(b, j), at(b, j + 1));
+            if !a.1 {
+                triangles.push([a0, a1, b1]);
+            }
+            if !b.1 {
+                triangles.push([a0, b1, b0]);
             }
         }
     }

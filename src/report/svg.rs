@@ -374,6 +374,34 @@ fn region(s: &Snapshot) -> Bounds {
     b
 }
 
+/// The white halo that keeps a label readable over drawn parts.
+pub(super) const HALO: &str = r##"stroke="#ffffff" stroke-width="3" paint-order="stroke""##;
+
+/// A coordinate tick on a view's bottom edge at `x`, with its label (`Z200`).
+pub(super) fn bottom_tick(o: &mut String, x: f64, bottom: f64, label: &str) {
+    let _ = writeln!(
+        o,
+        r##"<line x1="{x}" y1="{}" x2="{x}" y2="{}" stroke="#57606a" stroke-width="1"/><text x="{x}" y="{}" font-size="10" fill="#57606a" text-anchor="middle" {HALO}>{label}</text>"##,
+        n(bottom),
+        n(bottom - 6.0),
+        n(bottom - 9.0),
+        x = n(x)
+    );
+}
+
+/// A coordinate tick on a view's left edge at `y`, with its label (`X40`).
+pub(super) fn left_tick(o: &mut String, left: f64, y: f64, label: &str) {
+    let _ = writeln!(
+        o,
+        r##"<line x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="#57606a" stroke-width="1"/><text x="{}" y="{}" font-size="10" fill="#57606a" {HALO}>{label}</text>"##,
+        n(left),
+        n(left + 6.0),
+        n(left + 8.0),
+        n(y + 3.5),
+        y = n(y)
+    );
+}
+
 /// 1, 2 or 5 times a power of ten, near `target`.
 pub(super) fn nice(target: f64) -> f64 {
     let p = 10f64.powf(target.max(1e-6).log10().floor());
@@ -761,7 +789,7 @@ fn program_ticks(o: &mut String, v: &View, frame: &crate::interp::ProgFrame) {
     }
     let w = v.world();
     let unit = if frame.scale > 1.5 { "in" } else { "mm" };
-    let halo = r##"stroke="#ffffff" stroke-width="3" paint-order="stroke""##;
+    let halo = HALO;
     // Z along the bottom edge.
     let (z0, z1) = (
         (w.zmin - frame.origin.y) / frame.scale,
@@ -777,15 +805,7 @@ fn program_ticks(o: &mut String, v: &View, frame: &crate::interp::ProgFrame) {
             k += 1.0;
             continue;
         }
-        let _ = writeln!(
-            o,
-            r##"<line x1="{x}" y1="{}" x2="{x}" y2="{}" stroke="#57606a" stroke-width="1"/><text x="{x}" y="{}" font-size="10" fill="#57606a" text-anchor="middle" {halo}>Z{}</text>"##,
-            n(bottom),
-            n(bottom - 6.0),
-            n(bottom - 9.0),
-            mm(zp),
-            x = n(sx)
-        );
+        bottom_tick(o, sx, bottom, &format!("Z{}", mm(zp)));
         k += 1.0;
     }
     // X along the left edge, as the program writes it.
@@ -800,16 +820,7 @@ fn program_ticks(o: &mut String, v: &View, frame: &crate::interp::ProgFrame) {
         let xp = k * step;
         let sy = v.sy(frame.origin.x + xp / xs * frame.scale);
         if sy > v.top + 8.0 && sy < bottom - 14.0 {
-            let _ = writeln!(
-                o,
-                r##"<line x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="#57606a" stroke-width="1"/><text x="{}" y="{}" font-size="10" fill="#57606a" {halo}>X{}</text>"##,
-                n(v.left),
-                n(v.left + 6.0),
-                n(v.left + 8.0),
-                n(sy + 3.5),
-                mm(xp),
-                y = n(sy)
-            );
+            left_tick(o, v.left, sy, &format!("X{}", mm(xp)));
         }
         k += 1.0;
     }

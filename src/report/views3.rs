@@ -19,7 +19,7 @@
 //! Output is a pure function of the snapshot (fixed one-decimal coordinates, no hash order).
 
 use super::scene3::{Box3, Role3, Snapshot3};
-use super::svg::{document, esc, mm, n, nice, INK, OVERLAP};
+use super::svg::{self, document, esc, mm, n, nice, INK, OVERLAP};
 use super::FileReport;
 use crate::finding::{Finding, Severity};
 use nalgebra::{Point3, Vector3};
@@ -716,7 +716,6 @@ fn view(o: &mut String, v: &View, s: &Snapshot3) -> Cuts {
 
 /// Machine coordinates along the bottom and left edges of a view (`Z200`, `X-40`, `Y30`).
 fn ticks(o: &mut String, v: &View) {
-    let halo = r##"stroke="#ffffff" stroke-width="3" paint-order="stroke""##;
     let step = nice(90.0 / v.scale);
     // The horizontal coordinate: z, or −y in the end view.
     let (letter, sign) = match v.kind {
@@ -729,15 +728,7 @@ fn ticks(o: &mut String, v: &View) {
     while k * step <= r1 && k.abs() < 1e6 {
         let x = v.left + (k * step - v.r0) * v.scale;
         if x > v.left + 14.0 && x < v.left + v.w - 14.0 {
-            let _ = writeln!(
-                o,
-                r##"<line x1="{x}" y1="{}" x2="{x}" y2="{}" stroke="#57606a" stroke-width="1"/><text x="{x}" y="{}" font-size="10" fill="#57606a" text-anchor="middle" {halo}>{letter}{}</text>"##,
-                n(bottom),
-                n(bottom - 6.0),
-                n(bottom - 9.0),
-                mm(sign * k * step),
-                x = n(x)
-            );
+            svg::bottom_tick(o, x, bottom, &format!("{letter}{}", mm(sign * k * step)));
         }
         k += 1.0;
     }
@@ -751,16 +742,7 @@ fn ticks(o: &mut String, v: &View) {
     while k * step <= v.u1 && k.abs() < 1e6 {
         let y = v.top + (v.u1 - k * step) * v.scale;
         if y > v.top + 10.0 && y < bottom - 16.0 {
-            let _ = writeln!(
-                o,
-                r##"<line x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="#57606a" stroke-width="1"/><text x="{}" y="{}" font-size="10" fill="#57606a" {halo}>{letter}{}</text>"##,
-                n(v.left),
-                n(v.left + 6.0),
-                n(v.left + 8.0),
-                n(y + 3.5),
-                mm(sign * k * step),
-                y = n(y)
-            );
+            svg::left_tick(o, v.left, y, &format!("{letter}{}", mm(sign * k * step)));
         }
         k += 1.0;
     }
