@@ -65,6 +65,24 @@ fn extra_coords(f: &ProgFrame, e: Option<&ExtraMove>) -> [f64; 4] {
     }
 }
 
+/// The arguments of an `ARC_FEED` after its opening parenthesis, as rs274 prints them: the end
+/// and centre in the plane, the signed turns, the third axis and A, B, C.
+fn arc_args(out: &mut Vec<u8>, plane: [f64; 4], rotation: i64, rest: [f64; 4]) {
+    for v in plane {
+        f4(out, v);
+        out.extend_from_slice(b", ");
+    }
+    if rotation < 0 {
+        out.push(b'-');
+    }
+    push_uint(out, rotation.unsigned_abs(), 1, b'0');
+    for v in rest {
+        out.extend_from_slice(b", ");
+        f4(out, v);
+    }
+    out.extend_from_slice(b")\n");
+}
+
 fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<u8>) {
     let [y, a, b, c] = extra_coords(f, e);
     if let Some(arc) = e.and_then(|e| e.arc) {
@@ -83,19 +101,12 @@ fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<
             _ => (y, z, x),
         };
         let turns = (arc.sweep.abs() / TAU - 1e-9).ceil().max(1.0) as i64;
-        for v in [e0, e1, c0, c1] {
-            f4(out, v);
-            out.extend_from_slice(b", ");
-        }
-        if arc.sweep < 0.0 {
-            out.push(b'-');
-        }
-        push_uint(out, turns.unsigned_abs(), 1, b'0');
-        for v in [third, a, b, c] {
-            out.extend_from_slice(b", ");
-            f4(out, v);
-        }
-        out.extend_from_slice(b")\n");
+        arc_args(
+            out,
+            [e0, e1, c0, c1],
+            if arc.sweep < 0.0 { -turns } else { turns },
+            [third, a, b, c],
+        );
         return;
     }
     let (x, z) = radius_coords(f, m.end);
@@ -120,19 +131,7 @@ fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<
             let turns = (sweep.abs() / TAU - 1e-9).ceil().max(1.0) as i64;
             let rotation = if sweep > 0.0 { -turns } else { turns };
             out.extend_from_slice(b"ARC_FEED(");
-            for v in [z, x, cz, cx] {
-                f4(out, v);
-                out.extend_from_slice(b", ");
-            }
-            if rotation < 0 {
-                out.push(b'-');
-            }
-            push_uint(out, rotation.unsigned_abs(), 1, b'0');
-            for v in [y, a, b, c] {
-                out.extend_from_slice(b", ");
-                f4(out, v);
-            }
-            out.extend_from_slice(b")\n");
+            arc_args(out, [z, x, cz, cx], rotation, [y, a, b, c]);
         }
         MoveKind::Dwell { seconds } => {
             out.extend_from_slice(b"DWELL(");
