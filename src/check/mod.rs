@@ -111,9 +111,6 @@ struct Checker<'a> {
     three: Option<three::Three>,
     /// A live tool's plunge into the positioned part (`three.rs`).
     plunge3: Option<three::Plunge>,
-    /// A live tool turns during the move being checked (`ExtraMove::live_rpm`): the cutter
-    /// cutting with the main spindle stopped is then no `spindle_stopped`.
-    live_tool: bool,
 }
 
 /// A feed move whose cut is under way (see [`DexelStock::begin_move`]).
@@ -176,7 +173,6 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
             .filter(|k| !run.extra.is_empty() && k.components.iter().any(|c| c.geometry.is_some()))
             .map(|k| three::Three::new(k.clone(), settings.tolerance_mm)),
         plunge3: None,
-        live_tool: false,
     };
     c.static_pairs();
     for item in timer.by_ref() {
@@ -440,10 +436,8 @@ impl Checker<'_> {
         }
         self.tailstock_in = state.tailstock_advanced;
         self.overtravel(m, item);
-        self.live_tool = false;
         if let Some(t) = self.three.as_mut() {
             let e = self.run.extra_of(item.index);
-            self.live_tool = e.is_some_and(|e| e.live_rpm > 0.0);
             let turns = self.run.spindle(m).is_on() && !e.is_some_and(|e| e.c_mode);
             let motion = matches!(m.kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. });
             // A cutter inside its own non-revolved cut leaves the 2D model on every move.
@@ -475,6 +469,12 @@ impl Checker<'_> {
         (k1 - k0).max(0.0) as u64 + 1
     }
 
+    /// A live tool turns during move `index` (`ExtraMove::live_rpm`): its cutter cutting with the
+    /// main spindle stopped is then no `spindle_stopped`.
+    fn live_tool_turns(&self, index: usize) -> bool {
+        self.run.extra_of(index).is_some_and(|e| e.live_rpm > 0.0)
+    }
+
     fn motion(&mut self, m: &Move, item: &Timed) {
         let active = m.station;
         let rb = motion::reference_box(m, item);
@@ -482,7 +482,7 @@ impl Checker<'_> {
         let feed = !rapid;
         let insert_rule = if rapid {
             Some(Kind::RapidIntoStock)
-        } else if !self.run.spindle(m).is_on() && !self.live_tool {
+        } else if !self.run.spindle(m).is_on() && !self.live_tool_turns(item.index) {
             Some(Kind::SpindleStopped)
         } else {
             None
