@@ -709,8 +709,10 @@ fn pair_advance(three: &Three, f: &Follow, a: CompId, b: CompId, tol: f64) -> (A
     let (Some(sa), Some(sb)) = (three.shapes[a].as_ref(), three.shapes[b].as_ref()) else {
         return (Advance::Clear, 0);
     };
-    // The advancement's smallest step is half its `eps`: twice the tolerance makes it step as
-    // the 2D check does (at least the tolerance), and a contact shallower than that is a touch.
-    let adv = collide3::first_contact(k, (a, sa), (b, sb), f, 2.0 * tol);
+    // Overlaps count from twice the tolerance: the meshes of revolved parts and cylinders stand
+    // up to the tolerance proud of their true surfaces (circumscribed), so two touching parts may
+    // overlap that much as meshes alone (a drill sliding along a jaw's radius). Steps as the 2D
+    // check's advancement: never longer than the proven gap, at least the tolerance.
+    let adv = collide3::first_contact(k, (a, sa), (b, sb), f, 2.0 * tol, tol);
     (adv, 1)
 }

@@ -18,10 +18,11 @@
 //! **Conservative advancement** ([`first_contact`]). At `u` the pair is apart by the proven
 //! distance `d` (parry's boundary distance; 0 when overlapping); their relative motion over the
 //! next `δ` is at most `ρ · δ`, `ρ` the sum of both components' rates, so no overlap can start
-//! before `d / ρ`: the step is `max(d, m) / ρ`, `m` the minimum step (half the touching tolerance,
-//! at least [`MIN_STEP_MM`]). A step longer than the proven gap moves any point at most `m`
-//! further than the gap, so a contact it could step over reaches at most `m ≤ eps/2` into the
-//! other solid: shallower than the tolerance, touching. A probe that overlaps ends the search: the
+//! before `d / ρ`: the step is `max(d, m) / ρ`, `m` the caller's minimum step (at least
+//! [`MIN_STEP_MM`]). A step longer than the proven gap moves any point at most `m` further than
+//! the gap, so a contact it could step over reaches at most `m` into the other solid: with
+//! `m ≤ eps` (the tests take `eps / 2`) shallower than the touching tolerance; the 3D path takes
+//! `m` = the `--tolerance`, as the 2D check's advancement does. A probe that overlaps ends the search: the
 //! contact boundary in the last step is bisected to 1e-9 in `u`. At most [`MAX_PROBES`] probes
 //! are spent on one pair along one move; past them the rest of the move is `Unchecked`.
 
@@ -182,13 +183,20 @@ pub enum Advance {
 
 /// Conservative advancement of the pair `a`, `b` (components with their shapes) along `path`
 /// (see the module docs): the first `u` where they overlap by more than `eps`.
-pub fn first_contact(k: &Kinematics, a: (CompId, &Shape3), b: (CompId, &Shape3), path: &dyn Path, eps: f64) -> Advance {
+pub fn first_contact(
+    k: &Kinematics,
+    a: (CompId, &Shape3),
+    b: (CompId, &Shape3),
+    path: &dyn Path,
+    eps: f64,
+    min_step: f64,
+) -> Advance {
     let mut poser = Poser::new(k);
     let mut vals = Vec::with_capacity(k.axes.len());
     let mut delta = Vec::with_capacity(k.axes.len());
     let spheres = (a.1.sphere(), b.1.sphere());
     let mut probes: u64 = 0;
-    let min_step = (eps / 2.0).max(MIN_STEP_MM);
+    let min_step = min_step.max(MIN_STEP_MM);
     let mut probe = |u: f64, dist: bool, poser: &mut Poser| {
         path.at(u, &mut vals);
         poser.pose(k, &vals);

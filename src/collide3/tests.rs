@@ -476,7 +476,7 @@ proptest! {
         let (b0, b1, c0, c1) = if rotary { (b0, b1, c0, c1) } else { (0.0, 0.0, 0.0, 0.0) };
         let path = LinearPath { v0: vec![z0, x0, b0, c0], v1: vec![z1, x1, b1, c1] };
         let eps = 1e-3;
-        let got = first_contact(&k, (3, &ta), (5, &tb), &path, eps);
+        let got = first_contact(&k, (3, &ta), (5, &tb), &path, eps, eps / 2.0);
         let want = oracle_first(&k, (3, &ta), (5, &tb), &path, eps * 10.0, 2000);
         match (got, want) {
             (Advance::Unchecked { .. }, _) => {}
@@ -506,7 +506,7 @@ fn first_contact_finds_a_thin_plate_in_one_fast_move() {
         v1: vec![-50.0, 30.0, 0.0, 0.0],
     };
     // Start: the plate in the y-z plane, the blade at x = 30 with its centre z = 10 + 5 - 50.
-    match first_contact(&k, (3, &ta), (5, &tb), &path, 1e-3) {
+    match first_contact(&k, (3, &ta), (5, &tb), &path, 1e-3, 1e-3 / 2.0) {
         Advance::Contact { u, .. } => assert!(u > 0.0 && u < 1.0, "{u}"),
         other => panic!("{other:?}"),
     }
@@ -516,7 +516,7 @@ fn first_contact_finds_a_thin_plate_in_one_fast_move() {
         v1: vec![-50.0, -100.0, 0.0, 0.0],
     };
     assert!(matches!(
-        first_contact(&k, (3, &ta), (5, &tb), &far, 1e-3),
+        first_contact(&k, (3, &ta), (5, &tb), &far, 1e-3, 1e-3 / 2.0),
         Advance::Contact { .. }
     ));
 }
