@@ -6,9 +6,9 @@
 //! **The index axis.** The drum's index is not an axis a program drives, and a machine file's tree
 //! need not have one: its tools are posed as they stand when their station faces the spindle. The
 //! checker adds one: the **carrier** is the nearest common ancestor of every component with a
-//! `station` (the shipped machine's `turret`). If the carrier has a rotary axis of its own, that is
-//! the index axis (its direction and origin as the file gives them); otherwise the checker gives
-//! the carrier a rotary joint of its own, in memory (the machine file is not changed), about the
+//! `station` (the shipped machine's `turret`). The file's schema gives every axis a program
+//! letter, so a tree never holds the index itself: the checker gives the carrier a rotary joint
+//! of its own, in memory (the machine file is not changed), about the
 //! line parallel to z through `[turret] axis` mm along +x from the carrier's parent's origin — the
 //! 2D model's turret axis, with the reference point at that origin (the Y slide's, on the shipped
 //! machine). Value 0 is the pose of the file, so every other move is posed exactly as before.
@@ -100,20 +100,18 @@ fn under(k: &Kinematics, top: CompId, c: CompId) -> bool {
 }
 
 impl Three {
-    /// Find the tree's index axis, or add one to the carrier (see the module docs). `None`: the
-    /// tree has no tools by station, or the carrier has a linear axis.
+    /// Add the index axis to the carrier (see the module docs), once. `None`: the tree has no tools
+    /// by station, or a program axis already moves the carrier (a milling head's B swivel): the T
+    /// word is then swept in 2D.
     fn index_axis(&mut self, turret_axis: f64) -> Option<IndexAxis> {
         if let Some(ix) = self.index {
             return Some(ix);
         }
         let carrier = carrier(&self.kin)?;
         let c = &self.kin.components[carrier];
-        if let Some(a) = c.axis {
-            return matches!(self.kin.axes[a].kind, AxisKind::Rotary { .. }).then(|| {
-                let ix = IndexAxis { axis: a, carrier };
-                self.index = Some(ix);
-                ix
-            });
+        if c.axis.is_some() {
+            // A program letter drives it (a B head's swivel): not the drum's index.
+            return None;
         }
         // The joint's line is in the carrier's parent frame after its mount.
         let inv = c.mount.inverse();
