@@ -125,3 +125,129 @@ fn plain_turning_on_the_turn_mill_machine_is_the_2d_check_unchanged() {
         }
     }
 }
+
+/// Every finding of a program on the turn-mill machine at a clearance, in one mode.
+fn findings_at(rel: &str, m: &Machine, mode: Mode, clearance_mm: f64) -> Vec<latheguard::finding::Finding> {
+    let src = std::fs::read(root().join(rel)).unwrap();
+    let settings = Settings {
+        mode,
+        clearance_mm,
+        ..Settings::default()
+    };
+    pipeline::check(&src, m, &settings).findings
+}
+
+/// The index of the T word 50 mm off centre: the drill's point sweeps past the spindle axis
+/// through the live centre's shank. On the centre line the 2D sweep would see nothing of this
+/// (its drill stands clear beside the centre, and the 2D section folds the sign of Y away).
+#[test]
+fn an_index_with_the_turret_off_centre_in_y_swings_the_drill_into_the_live_centre() {
+    let rel = "programs/turn-mill/crash_y_index_into_tailstock.nc";
+    both_modes(rel, &[(16, Kind::Collision, ["t8_drill", "live_centre"])]);
+    let m = turn_mill();
+    for mode in [Mode::Step, Mode::Exact] {
+        let f = findings_at(rel, &m, mode, 0.0);
+        let hit = f.iter().find(|f| f.kind == Kind::Collision).unwrap();
+        assert!(
+            hit.message
+                .starts_with("indexing T08 → T07 swings t8_drill into live_centre"),
+            "{}",
+            hit.message
+        );
+        assert!(hit.depth_mm.unwrap() > 0.1, "{hit:?}");
+    }
+}
+
+/// The other way round (T09), the same index swings the drill away from the axis: clean. The
+/// 3D sweep keeps the sense of the turret's rotation, which the 2D section cannot.
+#[test]
+fn the_same_off_centre_index_turning_the_other_way_is_clean() {
+    let text = std::fs::read_to_string(root().join("programs/turn-mill/crash_y_index_into_tailstock.nc")).unwrap();
+    let other = text.replace("T0707 (INDEXED", "T0909 (INDEXED");
+    assert_ne!(text, other);
+    let m = turn_mill();
+    for mode in [Mode::Step, Mode::Exact] {
+        let out = pipeline::check(
+            other.as_bytes(),
+            &m,
+            &Settings {
+                mode,
+                ..Settings::default()
+            },
+        );
+        let errs: Vec<_> = out.findings.iter().filter(|f| f.severity == Severity::Error).collect();
+        assert!(errs.is_empty(), "{mode:?}: {errs:#?}");
+        assert!(out.stats.effects.iter().any(|e| e == "kinematic_3d"));
+    }
+}
+
+/// A T word with every extra axis at its start value keeps the 2D index sweep: the same
+/// findings and pair tests as the machine without its tree.
+#[test]
+fn an_index_on_the_centre_line_keeps_the_2d_sweep() {
+    let tm = turn_mill();
+    let flat = Machine {
+        kinematics: None,
+        ..tm.clone()
+    };
+    let src = b"G21 G18 G40 G97 G99\nG28 U0 W0\nT0101\nG0 X60. Z5.\nT0808\nG0 X200.\nT0303\nG28 U0 W0\nM30\n";
+    for mode in [Mode::Step, Mode::Exact] {
+        let s = Settings {
+            mode,
+            ..Settings::default()
+        };
+        let a = pipeline::check(src, &tm, &s);
+        let b = pipeline::check(src, &flat, &s);
+        assert_eq!(format!("{:?}", a.findings), format!("{:?}", b.findings), "{mode:?}");
+        assert_eq!(a.stats.pair_tests, b.stats.pair_tests, "{mode:?}");
+        assert!(!a.stats.effects.iter().any(|e| e == "kinematic_3d"), "{mode:?}");
+    }
+}
+
+/// `--clearance` on the 3D path: the drill stopping 0.5 mm from the sub chuck is one near miss,
+/// from the line that brings it there to the line that takes it away, with its closest gap; none
+/// below that clearance and none without one.
+#[test]
+fn the_3d_path_reports_a_near_miss_once_per_episode_with_its_closest_gap() {
+    let rel = "programs/turn-mill/near_miss_beside_sub_chuck.nc";
+    let m = turn_mill();
+    for mode in [Mode::Step, Mode::Exact] {
+        let f = findings_at(rel, &m, mode, 1.0);
+        assert_eq!(f.len(), 1, "{mode:?}: {f:#?}");
+        let n = &f[0];
+        assert_eq!(
+            (n.kind, n.severity, n.line, n.end_line),
+            (Kind::NearMiss, Severity::Warning, 13, 15)
+        );
+        assert_eq!(n.objects, ["t8_drill", "sub_chuck"]);
+        assert!(
+            n.message
+                .starts_with("t8_drill passes within 1.000 mm of sub_chuck (closest 0.49"),
+            "{}",
+            n.message
+        );
+        assert!(findings_at(rel, &m, mode, 0.3).is_empty(), "{mode:?}");
+        assert!(findings_at(rel, &m, mode, 0.0).is_empty(), "{mode:?}");
+    }
+}
+
+/// A crash approached at a clearance is a near miss first and then the collision, as on the 2D
+/// path; the collision itself is the same as without a clearance.
+#[test]
+fn a_3d_crash_at_a_clearance_keeps_its_collision_and_warns_of_the_approach() {
+    let rel = "programs/turn-mill/crash_y_move_into_sub_chuck.nc";
+    let m = turn_mill();
+    for mode in [Mode::Step, Mode::Exact] {
+        let f = findings_at(rel, &m, mode, 2.0);
+        let errs: Vec<_> = f
+            .iter()
+            .filter(|f| f.severity == Severity::Error)
+            .map(|f| (f.line, f.kind))
+            .collect();
+        assert_eq!(errs, [(13, Kind::Collision)], "{mode:?}");
+        let near = f.iter().find(|f| f.kind == Kind::NearMiss).expect("a near miss");
+        assert_eq!(near.line, 13);
+        assert_eq!(near.objects, ["t8_drill", "sub_chuck"]);
+        assert!(near.time_s.unwrap() <= f.iter().find(|f| f.kind == Kind::Collision).unwrap().time_s.unwrap());
+    }
+}

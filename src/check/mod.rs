@@ -446,6 +446,15 @@ impl Checker<'_> {
                 self.three_move(m, e, item);
                 return;
             }
+            // A T word out of the working plane swings the turret in 3D (three/index.rs).
+            if let MoveKind::ToolChange { from, to } = m.kind {
+                if self.plunge3.is_some() || !t.in_plane(m, e, turns) {
+                    t.ran = true;
+                    self.three_index(m, e, item, from, to);
+                    self.plunge3 = None;
+                    return;
+                }
+            }
         }
         match m.kind {
             MoveKind::ToolChange { from, to } => {

@@ -25,6 +25,9 @@
 //! model times it (`motion::reference_at`: dogleg rapids too), the extra axes go linearly over the
 //! move's time, a G17/G19 arc follows `interp::position3`.
 
+mod index;
+mod near;
+
 use std::sync::Arc;
 
 use nalgebra::Point3;
@@ -68,6 +71,8 @@ pub(super) struct Three {
     /// The kinematic axis of each of `interp::EXTRA_LETTERS` (Y, C, B, A).
     ax_extra: [Option<AxisId>; 4],
     start: Vec<f64>,
+    /// The turret's index axis, once a T word on this path needed it (`index.rs`).
+    index: Option<index::IndexAxis>,
     /// The 3D path ran on at least one move (`stats.effects` says "3d").
     pub ran: bool,
 }
@@ -89,6 +94,7 @@ impl Three {
             ax_z: letter('Z'),
             ax_extra,
             start: kin.start_values(),
+            index: None,
             shapes,
             kin,
             ran: false,
@@ -275,9 +281,25 @@ impl Checker<'_> {
                 }
             }
         }
-        let keys: Vec<u64> = pairs.iter().map(|&(a, b, kind)| pair_key(a, b, kind)).collect();
+        let mut keys: Vec<u64> = pairs.iter().map(|&(a, b, kind)| pair_key(a, b, kind)).collect();
+        // Near misses (`near.rs`): the component pairs, as the 2D path's parts against the chuck
+        // and the tailstock; never the stock.
+        let clearance = self.settings.clearance_mm;
+        let near_pairs: Vec<(CompId, CompId)> = if clearance > 0.0 {
+            pairs
+                .iter()
+                .filter(|&&(_, b, _)| b != STOCK)
+                .map(|&(a, b, _)| (a, b))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        keys.extend(near_pairs.iter().map(|&(a, b)| pair_key(a, b, Kind::NearMiss)));
         self.episodes
             .close_except(|key| key == u64::MAX || key < KEY_BASE || keys.contains(&key));
+        for &(a, b) in &near_pairs {
+            self.near_misses(three, &follow, m, item, a, b);
+        }
         for (&(a, b, kind), &key) in pairs.iter().zip(&keys) {
             let res = if b == STOCK {
                 self.stock_advance(three, &follow, a)
@@ -325,8 +347,61 @@ impl Checker<'_> {
         self.end_plunge(three, &follow);
     }
 
+    /// Near misses of the pair `(a, b)` along the move (`near.rs`), as episodes.
+    fn near_misses(&mut self, three: &Three, f: &Follow, m: &Move, item: &Timed, a: CompId, b: CompId) {
+        let (Some(sa), Some(sb)) = (three.shapes[a].as_ref(), three.shapes[b].as_ref()) else {
+            return;
+        };
+        let tol = self.settings.tolerance_mm;
+        let c = self.settings.clearance_mm;
+        // As the 2D exact scan: steps of at least min(tolerance, C/2) once in or near the band.
+        let scan = near::scan(&three.kin, (a, sa), (b, sb), f, c, 2.0 * tol, tol.min(c / 2.0));
+        self.stats.pair_tests += scan.probes;
+        let key = pair_key(a, b, Kind::NearMiss);
+        let time = |u: f64| item.t0 + u * item.duration;
+        let mut first = true;
+        for s in &scan.spans {
+            let continues = first && s.u0 == 0.0 && self.episodes.is_open(key);
+            first = false;
+            if !continues {
+                // A new episode: a band that left off in the previous move and did not go on
+                // at this one's start ended there.
+                self.episodes.clear(key);
+                let mut vals = Vec::new();
+                f.at(s.u0, &mut vals);
+                let mut poser = Poser::new(&three.kin);
+                poser.pose(&three.kin, &vals);
+                let (pa, pb) = (*poser.world(a), *poser.world(b));
+                let point = collide3::closest_point(sa, &pa, sb, &pb, c)
+                    .unwrap_or_else(|| nalgebra::center(&(pa * sa.sphere().center), &(pb * sb.sphere().center)));
+                let hit = Hit { depth: s.gap, point };
+                let contact = self.contact3(three, f, m, a, b, Kind::NearMiss, s.u0, hit, time(s.u0));
+                self.episodes.contact(key, contact);
+            }
+            self.episodes.extend(key, m.line, time(s.u_min), s.gap, true);
+            self.episodes.extend(key, m.line, time(s.u1), s.gap, true);
+            if !s.to_end {
+                self.episodes.clear(key);
+            }
+        }
+        if scan.spans.is_empty() {
+            // Never within the clearance: an episode of the previous move ended with it.
+            self.episodes.clear(key);
+        }
+        if let Some(u) = scan.unchecked {
+            self.budget.push((
+                m.line,
+                format!(
+                    "the near-miss scan of {} stopped after {MAX_PROBES} probes at {:.3} s: the rest of this move is unchecked",
+                    names(&three.kin, a, b),
+                    time(u)
+                ),
+            ));
+        }
+    }
+
     /// The cutter of a plunge that is out of the part at the end of the move has left its hole.
-    fn end_plunge(&mut self, three: &Three, f: &Follow) {
+    fn end_plunge(&mut self, three: &Three, f: &dyn collide3::Path) {
         let Some(p) = self.plunge3 else { return };
         if self.probe3(three, f, p.cutter, STOCK, 1.0).is_none() {
             self.plunge3 = None;
@@ -334,7 +409,7 @@ impl Checker<'_> {
     }
 
     /// Overlap of pair (a, b) at fraction `u` (b may be the stock).
-    fn probe3(&mut self, three: &Three, f: &Follow, a: CompId, b: usize, u: f64) -> Option<Hit> {
+    fn probe3(&mut self, three: &Three, f: &dyn collide3::Path, a: CompId, b: usize, u: f64) -> Option<Hit> {
         let k = &three.kin;
         let mut vals = Vec::new();
         f.at(u, &mut vals);
@@ -350,7 +425,7 @@ impl Checker<'_> {
     }
 
     /// Conservative advancement of a component against the stock (see `collide3::motion`).
-    fn stock_advance(&mut self, three: &Three, f: &Follow, a: CompId) -> (Advance, u64) {
+    fn stock_advance(&mut self, three: &Three, f: &dyn collide3::Path, a: CompId) -> (Advance, u64) {
         let k = &three.kin;
         let Some(sa) = three.shapes[a].as_ref() else {
             return (Advance::Clear, 0);
@@ -369,7 +444,9 @@ impl Checker<'_> {
         poser.pose(k, &vals);
         // As the 2D check's conservative advancement: never a step longer than the proven gap,
         // at least the tolerance (a contact it could step over is shallower than that).
-        let rate = bound_from(k, &poser, a, &sa.sphere(), &f.rates);
+        let mut rates = Vec::new();
+        f.deltas(0.0, 1.0, &mut rates);
+        let rate = bound_from(k, &poser, a, &sa.sphere(), &rates);
         let (mut u, mut prev, mut probes) = (0.0f64, 0.0f64, 0u64);
         // The gap is sought within a few mm: its cost grows with the columns the window spans.
         let window = rate.min(5.0) + 1.0;
@@ -435,7 +512,7 @@ impl Checker<'_> {
     fn contact3(
         &mut self,
         three: &Three,
-        f: &Follow,
+        f: &dyn collide3::Path,
         m: &Move,
         a: CompId,
         b: usize,
@@ -458,6 +535,7 @@ impl Checker<'_> {
         let message = match kind {
             Kind::RapidIntoStock => format!("rapid move drives {an} into the stock"),
             Kind::SpindleStopped => format!("{an} cuts the stock with neither the spindle nor a live tool turning"),
+            Kind::NearMiss => format!("{an} passes within {:.3} mm of {bn}", self.settings.clearance_mm),
             _ => format!("{an} hits {bn}"),
         };
         let mut vals = Vec::new();
@@ -506,7 +584,8 @@ impl Checker<'_> {
         let on = three.present(m.station);
         let mut parts = Vec::new();
         for (i, c) in k.components.iter().enumerate() {
-            if !on[i] {
+            // The pair itself always (a tool of another station swung by an index).
+            if !on[i] && i != a && i != b {
                 continue;
             }
             let Some(mesh) = three.mesh(i, self.settings.tolerance_mm) else {

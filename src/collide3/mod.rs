@@ -367,6 +367,17 @@ fn contained(inner: &Shape3, pi: &Pose, outer: &Shape3, po: &Pose, eps: f64) -> 
     })
 }
 
+/// A point midway between the closest points of the two boundaries when they are less than
+/// `within` apart (for the pictures of near misses); `None` when farther or when parry has no
+/// answer for the pair.
+pub fn closest_point(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, within: f64) -> Option<Point3<f64>> {
+    let (pa, pb) = (to_pose(pa), to_pose(pb));
+    let (sa, qa) = a.parts(&pa);
+    let (sb, qb) = b.parts(&pb);
+    let c = query::contact(&qa, sa, &qb, sb, within.max(0.0)).ok().flatten()?;
+    Some(to_point((c.point1 + c.point2) * 0.5))
+}
+
 /// Distance between the two solids (0 when they overlap, containment included), mm: parry's
 /// closest distance between their boundaries. A lower bound for skips to within GJK's accuracy.
 pub fn distance(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso) -> f64 {
