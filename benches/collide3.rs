@@ -6,10 +6,19 @@
 //! 2. The cost of one pair test against the number of triangles of the other component: spheres of
 //!    about 10k, 100k and 1M triangles against the tool, the same poses scaled; the ratios against
 //!    10k show the growth (a bounding-volume hierarchy: sub-linear).
+//! 3. The turn-mill machine (`machines/turn-mill.toml`) checking the examples of
+//!    `programs/turn-mill/` in exact mode: pair tests per second of the whole check, and the cost
+//!    per move with every STL part of the machine subdivided (each triangle into four, the surface
+//!    unchanged) to about 10k, 100k and 1M triangles per part (alone: `-- turn-mill`).
 
 use latheguard::collide3::{distance, overlap, uv_sphere, Shape3};
-use latheguard::kin::{Geometry, Iso};
+use latheguard::kin::stl::{read_stl, write_stl};
+use latheguard::kin::{Geometry, Iso, Mesh};
+use latheguard::machine::{self, Machine};
+use latheguard::pipeline::{self, Mode, Settings};
 use nalgebra::{Point3, Translation3, UnitQuaternion};
+use std::collections::HashMap;
+use std::path::PathBuf;
 use std::time::Instant;
 
 fn pose(x: f64, y: f64, z: f64, a: f64) -> Iso {
@@ -60,6 +69,11 @@ fn per_test(a: &Shape3, b: &Shape3, ps: &[Iso], rounds: usize) -> (f64, usize) {
 }
 
 fn main() {
+    // `cargo bench --bench collide3 -- turn-mill` runs only the turn-mill machine's section.
+    if std::env::args().any(|a| a == "turn-mill") {
+        turn_mill_machine();
+        return;
+    }
     let tool = sphere(5.0, 24);
     let near = poses(50.0, 7.0, 400); // apart by about 2 mm: overlap, then distance
     let deep = poses(50.0, 3.0, 400); // crossing by about 2 mm: overlap with its depth
@@ -113,6 +127,113 @@ fn main() {
             td * 1e6,
             td / bd,
             build
+        );
+    }
+
+    turn_mill_machine();
+}
+
+/// Each triangle into four through its edges' midpoints (shared between neighbours, so the mesh
+/// stays welded, closed and consistently wound).
+fn subdivide(m: &Mesh) -> Mesh {
+    let mut vertices = m.vertices.clone();
+    let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut at = |a: u32, b: u32, v: &mut Vec<Point3<f64>>| -> u32 {
+        let key = (a.min(b), a.max(b));
+        *mid.entry(key).or_insert_with(|| {
+            let p = v[a as usize] + (v[b as usize] - v[a as usize]) * 0.5;
+            v.push(p);
+            (v.len() - 1) as u32
+        })
+    };
+    let mut triangles = Vec::with_capacity(m.triangles.len() * 4);
+    for &[a, b, c] in &m.triangles {
+        let ab = at(a, b, &mut vertices);
+        let bc = at(b, c, &mut vertices);
+        let ca = at(c, a, &mut vertices);
+        triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+    }
+    Mesh { vertices, triangles }
+}
+
+/// The turn-mill machine with every STL part subdivided to about `target` triangles (none: as
+/// shipped); also the largest part's triangle count.
+fn turn_mill_with(target: Option<usize>) -> (Machine, usize) {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let dir = root.join("machines");
+    let text = std::fs::read_to_string(dir.join("turn-mill.toml")).expect("machine file");
+    let most = std::cell::Cell::new(0usize);
+    let m = machine::from_toml_with(&text, "machines/turn-mill.toml", &|name: &str| {
+        let bytes = std::fs::read(dir.join(name)).map_err(|e| e.to_string())?;
+        let Some(target) = target else {
+            return Ok(bytes);
+        };
+        let mut mesh = read_stl(&bytes, name).map_err(|e| e.message)?;
+        while mesh.triangles.len() * 2 < target {
+            mesh = subdivide(&mesh);
+        }
+        most.set(most.get().max(mesh.triangles.len()));
+        Ok(write_stl(&mesh, name, false))
+    })
+    .expect("turn-mill machine");
+    (m, most.get())
+}
+
+fn turn_mill_machine() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let mut programs: Vec<PathBuf> = std::fs::read_dir(root.join("programs/turn-mill"))
+        .expect("programs/turn-mill")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "nc"))
+        .collect();
+    programs.sort();
+    let settings = Settings {
+        mode: Mode::Exact,
+        ..Settings::default()
+    };
+    let run = |m: &Machine, rounds: usize| -> (f64, u64, u64) {
+        let mut best = f64::INFINITY;
+        let (mut tests, mut moves) = (0, 0);
+        for _ in 0..rounds {
+            let t = Instant::now();
+            tests = 0;
+            moves = 0;
+            for p in &programs {
+                let src = std::fs::read(p).expect("program");
+                let out = pipeline::check(&src, m, &settings);
+                tests += out.stats.pair_tests;
+                moves += out.stats.moves;
+            }
+            best = best.min(t.elapsed().as_secs_f64());
+        }
+        (best, tests, moves)
+    };
+    println!(
+        "the turn-mill machine, the {} programs of programs/turn-mill/ in exact mode",
+        programs.len()
+    );
+    let (m, _) = turn_mill_with(None);
+    let (secs, tests, moves) = run(&m, 5);
+    println!(
+        "  as shipped: {tests} pair tests, {moves} moves in {:.1} ms: {:.0} pair tests/s, {:.1} µs per move",
+        secs * 1e3,
+        tests as f64 / secs,
+        secs * 1e6 / moves as f64
+    );
+    let mut base = None;
+    for target in [10_000usize, 100_000, 1_000_000] {
+        let t0 = Instant::now();
+        let (m, most) = turn_mill_with(Some(target));
+        let load = t0.elapsed().as_secs_f64();
+        let (secs, tests, moves) = run(&m, 3);
+        let per_move = secs / moves as f64;
+        let b = *base.get_or_insert(per_move);
+        println!(
+            "  STL parts of up to {most} triangles: {:.1} µs per move (ratio {:.2}), {:.0} pair tests/s; load {:.2} s",
+            per_move * 1e6,
+            per_move / b,
+            tests as f64 / secs,
+            load
         );
     }
 }

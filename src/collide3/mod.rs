@@ -230,14 +230,19 @@ impl Shape3 {
 
     /// A sphere holding the shape, component frame.
     pub fn sphere(&self) -> Sphere {
-        let aabb = match self {
-            Shape3::Mesh(m) => m.mesh.local_aabb(),
-            Shape3::Convex(c) => c.shape.compute_aabb(&c.local),
-        };
+        let aabb = self.local_box();
         let center = (aabb.mins + aabb.maxs) * 0.5;
         Sphere {
             center: to_point(center),
             radius: ((aabb.maxs - aabb.mins) * 0.5).length(),
+        }
+    }
+
+    /// The box holding the shape, component frame.
+    fn local_box(&self) -> parry3d_f64::bounding_volume::Aabb {
+        match self {
+            Shape3::Mesh(m) => m.mesh.local_aabb(),
+            Shape3::Convex(c) => c.shape.compute_aabb(&c.local),
         }
     }
 

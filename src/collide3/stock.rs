@@ -110,10 +110,56 @@ fn section(p: &[Vector; 3], c: f64) -> Option<Section> {
 }
 
 /// The mesh's triangles in the world (a primitive's circumscribing surface).
-fn world_triangles<'a>(shape: &'a Shape3, pose: &Iso) -> (Vec<Vector>, &'a [[u32; 3]]) {
+/// The posed solid's triangles that can come within `reach` of the spindle axis and within
+/// `[zlo, zhi]` along it, in ascending order, as world points: a mesh's bounding-volume hierarchy
+/// prunes whole subtrees whose box (its bounding sphere, posed) stays farther (parry's BVH leaves
+/// are the triangles' indices). A convex shape gives every triangle of its surface. What is left
+/// out has no point within `reach` of the axis or within the z range, so no query below can find
+/// anything in it; the world box is that of the whole solid (its local box, posed).
+struct Near {
+    tris: Vec<[Vector; 3]>,
+    bbox: (Vector, Vector),
+}
+
+fn near_triangles(shape: &Shape3, pose: &Iso, reach: f64, zlo: f64, zhi: f64) -> Near {
     let p = to_pose(pose);
     let (v, t) = shape.surface();
-    (v.iter().map(|&x| p * x).collect(), t)
+    let tri = |i: usize| {
+        let [a, b, c] = t[i];
+        [p * v[a as usize], p * v[b as usize], p * v[c as usize]]
+    };
+    let bbox = world_box(shape, pose);
+    let tris = match shape.as_trimesh() {
+        Some(mesh) => {
+            let keep = |lo: Vector, hi: Vector| {
+                let c = p * ((lo + hi) * 0.5);
+                let h = (hi - lo).length() * 0.5;
+                c.z + h >= zlo && c.z - h <= zhi && c.x.hypot(c.y) - h <= reach
+            };
+            let mut idx: Vec<u32> = mesh.bvh().leaves(|n| keep(n.mins(), n.maxs())).collect();
+            idx.sort_unstable();
+            idx.into_iter().map(|i| tri(i as usize)).collect()
+        }
+        None => (0..t.len()).map(tri).collect(),
+    };
+    Near { tris, bbox }
+}
+
+/// The world box of the posed solid: its local box's corners, posed.
+fn world_box(shape: &Shape3, pose: &Iso) -> (Vector, Vector) {
+    let p = to_pose(pose);
+    let b = shape.local_box();
+    let corners: Vec<Vector> = (0..8)
+        .map(|k| {
+            let pick = |bit: usize, lo: f64, hi: f64| if k & bit == 0 { lo } else { hi };
+            p * Vector::new(
+                pick(1, b.mins.x, b.maxs.x),
+                pick(2, b.mins.y, b.maxs.y),
+                pick(4, b.mins.z, b.maxs.z),
+            )
+        })
+        .collect();
+    bounds(&corners)
 }
 
 /// Does the solid (posed at `pose`) overlap the stock's material, as `view` sees it, by more than
@@ -122,9 +168,10 @@ fn world_triangles<'a>(shape: &'a Shape3, pose: &Iso) -> (Vec<Vector>, &'a [[u32
 /// min(ρ − lo, hi − ρ)`; for a ring of material inside the solid, `min` of the ring's half
 /// width and the ring point's depth inside the mesh.
 pub fn stock_overlap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: View, eps: f64) -> Option<Hit> {
-    let (v, t) = world_triangles(shape, pose);
-    let zmin = v.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
-    let zmax = v.iter().map(|p| p.z).fold(f64::NEG_INFINITY, f64::max);
+    let (zmin, zmax) = {
+        let (lo, hi) = world_box(shape, pose);
+        (lo.z, hi.z)
+    };
     let pad = |z: f64| 1e-12 * (1.0 + z.abs());
     let (j0, j1) = stock.columns_within(zmin - pad(zmin), zmax + pad(zmax))?;
     // Per column in range: whether any triangle's section lies on its plane.
@@ -132,15 +179,22 @@ pub fn stock_overlap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: V
     let mut best: Option<Hit> = None;
     // The largest radius of material in range: a triangle whose (x, y) box keeps farther from
     // the axis than that has no section point in any material (a quick reject that changes
-    // nothing, only skips sections that would find nothing).
+    // nothing, only skips sections that would find nothing). Subtrees of the mesh that keep
+    // farther are not visited at all; their columns count as cut (below), which only adds
+    // containment tests.
     let mut rmax = f64::NEG_INFINITY;
     for j in j0..=j1 {
         for &(_, hi) in stock.column_material(j, view) {
             rmax = rmax.max(hi);
         }
     }
-    for tr in t {
-        let p = [v[tr[0] as usize], v[tr[1] as usize], v[tr[2] as usize]];
+    if rmax == f64::NEG_INFINITY {
+        return None;
+    }
+    let near = near_triangles(shape, pose, rmax + eps, zmin, zmax);
+    cut.iter_mut().for_each(|c| *c = true);
+    for p in &near.tris {
+        let p = *p;
         let (a, b) = (p[0].z.min(p[1].z).min(p[2].z), p[0].z.max(p[1].z).max(p[2].z));
         let Some((k0, k1)) = stock.columns_within(a - pad(a), b + pad(b)) else {
             continue;
@@ -191,7 +245,7 @@ pub fn stock_overlap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: V
     // section by a plane is convex: a ring around the axis inside it would need the axis inside
     // too, where the ring's hole is; the ring's point on the +x side tests both kinds.
     let wp = to_pose(pose);
-    let bbox = bounds(&v);
+    let bbox = near.bbox;
     for (i, &hit) in cut.iter().enumerate() {
         if !hit {
             continue;
@@ -246,10 +300,25 @@ pub fn stock_gap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: View,
     if stock_overlap(shape, pose, stock, view, 0.0).is_some() {
         return 0.0;
     }
-    let (v, t) = world_triangles(shape, pose);
+    let (lo, hi) = world_box(shape, pose);
+    let Some((j0, j1)) = stock.columns_within(lo.z - window, hi.z + window) else {
+        return window;
+    };
+    let mut rmax = f64::NEG_INFINITY;
+    for j in j0..=j1 {
+        for &(_, top) in stock.column_material(j, view) {
+            rmax = rmax.max(top);
+        }
+    }
+    if rmax == f64::NEG_INFINITY {
+        return window;
+    }
+    // A triangle all of whose points keep farther than rmax + window from the axis, or farther
+    // than window along z from every column with material, improves nothing below.
+    let near = near_triangles(shape, pose, rmax + window, lo.z - window, hi.z + window);
     let mut best = window;
-    for tr in t {
-        let p = [v[tr[0] as usize], v[tr[1] as usize], v[tr[2] as usize]];
+    for p in &near.tris {
+        let p = *p;
         let (z0, z1) = (p[0].z.min(p[1].z).min(p[2].z), p[0].z.max(p[1].z).max(p[2].z));
         let Some((k0, k1)) = stock.columns_within(z0 - best, z1 + best) else {
             continue;

@@ -301,6 +301,26 @@ fn stock_ring_inside_a_mesh_is_an_overlap() {
     assert!(stock_overlap(&ball, &at(0.0, 0.0, -5.0), &mut stock, View::Now, 1e-6).is_some());
 }
 
+#[test]
+fn stock_inside_a_mesh_whose_triangles_are_all_pruned_is_an_overlap() {
+    // A long box mesh around the bar: its sides stand 60 mm from the axis, its ends far past the
+    // stock along z, so the hierarchy prunes every triangle; the rings inside it still count.
+    let mut stock = DexelStock::new(25.0, 0.0, 50.0, 0.0, 0.5);
+    let sleeve = box_mesh(60.0, 60.0, 500.0);
+    let h = stock_overlap(&sleeve, &at(0.0, 0.0, 0.0), &mut stock, View::Now, 1e-6);
+    assert!(h.is_some_and(|h| h.depth > 1.0), "{h:?}");
+    assert_eq!(
+        stock_gap(&sleeve, &at(0.0, 0.0, 0.0), &mut stock, View::Now, 100.0),
+        0.0
+    );
+    // Moved off the bar altogether: apart, and the gap found through the pruned hierarchy is
+    // the true one (the sleeve's near side at y 30, the bar's surface at radius 12.5).
+    let off = at(0.0, 90.0, 0.0);
+    assert!(stock_overlap(&sleeve, &off, &mut stock, View::Now, 1e-6).is_none());
+    let g = stock_gap(&sleeve, &off, &mut stock, View::Now, 100.0);
+    assert!((g - 17.5).abs() < 0.5, "{g}");
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
