@@ -96,7 +96,7 @@ def main():
     # the holder's frame, the collet face at z = 0).
     write_binary("live-holder.stl", box(-25, 25, -25, 25, 0, 60))
     # Sub-spindle housing: behind the sub chuck, whose back face is at z = 830 at B = 0.
-    write_binary("sub-headstock.stl", box(-200, 120, -200, 200, 830, 1100))
+    write_binary("sub-headstock.stl", box(-200, 100, -200, 200, 830, 1100))
 
 
 if __name__ == "__main__":

@@ -251,3 +251,156 @@ fn a_3d_crash_at_a_clearance_keeps_its_collision_and_warns_of_the_approach() {
         assert!(near.time_s.unwrap() <= f.iter().find(|f| f.kind == Kind::Collision).unwrap().time_s.unwrap());
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Pick-off and part-off (programs/turn-mill/pick-off/): the live centre is out of the sub chuck
+// there (the folder's job: `tailstock.in_use = false`, which is `tailstock_advanced = false`).
+
+const PICK: &str = "programs/turn-mill/pick-off/";
+
+/// The turn-mill machine as the pick-off folder's job sets it up.
+fn pick_machine() -> Machine {
+    let mut m = turn_mill();
+    m.tailstock_advanced = false;
+    m
+}
+
+/// Every finding of a program text on the pick-off setup, in one mode.
+fn pick_findings(text: &str, mode: Mode) -> pipeline::Outcome {
+    let settings = Settings {
+        mode,
+        ..Settings::default()
+    };
+    pipeline::check(text.as_bytes(), &pick_machine(), &settings)
+}
+
+fn pick_text(name: &str) -> String {
+    std::fs::read_to_string(root().join(PICK).join(name)).unwrap()
+}
+
+/// The 1-based line of the first line of `text` that starts with `prefix`.
+fn line_of(text: &str, prefix: &str) -> u32 {
+    text.lines().position(|l| l.starts_with(prefix)).expect(prefix) as u32 + 1
+}
+
+fn pick_both_modes(name: &str, want: &[(u32, Kind, [&str; 2])]) {
+    let m = pick_machine();
+    for mode in [Mode::Step, Mode::Exact] {
+        let got = errors(&format!("{PICK}{name}"), &m, mode);
+        let want: Vec<(u32, Kind, Vec<String>)> = want
+            .iter()
+            .map(|(l, k, o)| (*l, *k, o.iter().map(|s| s.to_string()).collect()))
+            .collect();
+        assert_eq!(got, want, "{name} in {mode:?} mode");
+    }
+}
+
+/// The part leaves the bar with the sub-spindle: the clean program is clean, the material beyond
+/// the groove is gone from the main spindle's stock, and the same program with a rapid into where
+/// the sub-spindle now holds the part is a collision with it (the hand-over happened).
+#[test]
+fn a_pick_off_and_part_off_is_clean_and_hands_the_part_to_the_sub_spindle() {
+    let text = pick_text("pick_off.nc");
+    for mode in [Mode::Step, Mode::Exact] {
+        let out = pick_findings(&text, mode);
+        assert!(out.findings.is_empty(), "{mode:?}: {:#?}", out.findings);
+        assert!(out.stats.effects.iter().any(|e| e == "kinematic_3d"), "{mode:?}");
+        // The stock left in the main chuck ends at the groove (z 22): nothing of the part
+        // (z 24.5 .. 78) is in it.
+        let far = out.stock.iter().flatten().map(|p| p[1]).fold(f64::MIN, f64::max);
+        assert!(far < 24.0, "{mode:?}: the stock reaches z {far}");
+    }
+}
+
+#[test]
+fn the_sub_spindle_stopped_too_far_forward_meets_the_turret_feeding_in() {
+    pick_both_modes(
+        "crash_sub_chuck_into_turret.nc",
+        &[(30, Kind::Collision, ["turret", "sub_chuck"])],
+    );
+}
+
+#[test]
+fn a_rapid_into_the_part_the_sub_spindle_holds_is_a_collision_with_it() {
+    pick_both_modes(
+        "crash_rapid_into_picked_part.nc",
+        &[(33, Kind::Collision, ["t9_insert", "part_in_sub_chuck"])],
+    );
+}
+
+#[test]
+fn the_sub_spindle_pulling_away_before_the_part_off_is_through_tears_the_bar() {
+    pick_both_modes(
+        "crash_sub_retracts_before_part_off.nc",
+        &[(31, Kind::Collision, ["sub_chuck", "stock"])],
+    );
+}
+
+/// Without the clamp (no M110) the part falls when it is parted off: the same rapid that hits it
+/// in the sub chuck passes, and the part is not in the stock either.
+#[test]
+fn a_part_off_with_the_sub_chuck_open_drops_the_part() {
+    let text = pick_text("crash_rapid_into_picked_part.nc").replace("M110 (CLAMP THE SUB CHUCK)", "(NO CLAMP)");
+    for mode in [Mode::Step, Mode::Exact] {
+        let out = pick_findings(&text, mode);
+        assert!(out.findings.is_empty(), "{mode:?}: {:#?}", out.findings);
+        let far = out.stock.iter().flatten().map(|p| p[1]).fold(f64::MIN, f64::max);
+        assert!(far < 24.0, "{mode:?}: the stock reaches z {far}");
+    }
+}
+
+/// Unclamping drops the part the sub chuck holds: after M111 the rapid passes.
+#[test]
+fn unclamping_the_sub_chuck_drops_the_part_it_holds() {
+    let text = pick_text("crash_rapid_into_picked_part.nc").replace("G0 X30.\n", "M111\nG0 X30.\n");
+    assert!(text.contains("M111\nG0 X30."));
+    for mode in [Mode::Step, Mode::Exact] {
+        let out = pick_findings(&text, mode);
+        assert!(out.findings.is_empty(), "{mode:?}: {:#?}", out.findings);
+    }
+}
+
+/// The sub chuck's jaws (bore Ø40) over a bar turned only to Ø44: they hit it as the sub-spindle
+/// comes forward.
+#[test]
+fn the_sub_jaws_over_a_bar_they_do_not_clear_hit_it() {
+    let text = pick_text("pick_off.nc").replace("X38.\nG1 Z-53.\nG0 U2. Z2.\nX36.\nG1 Z-53.\n", "");
+    assert!(!text.contains("X36."));
+    let at = line_of(&text, "G0 B-636.");
+    for mode in [Mode::Step, Mode::Exact] {
+        let out = pick_findings(&text, mode);
+        let errs: Vec<_> = out
+            .findings
+            .iter()
+            .filter(|f| f.severity == Severity::Error)
+            .map(|f| (f.line, f.kind, f.objects.clone()))
+            .collect();
+        assert_eq!(
+            errs,
+            vec![(at, Kind::Collision, vec!["sub_chuck".to_string(), "stock".to_string()])],
+            "{mode:?}"
+        );
+    }
+}
+
+/// With the machine's own setup (the live centre in the sub chuck) the same pick-off drives the
+/// centre into the bar: the folder's job is what takes it out, and the CLI reads it.
+#[test]
+fn the_pick_off_folder_takes_the_live_centre_out_and_without_it_the_centre_hits_the_bar() {
+    let rel = format!("{PICK}pick_off.nc");
+    let errs = errors(&rel, &turn_mill(), Mode::Step);
+    assert_eq!(
+        errs.first().map(|e| (e.0, e.1, e.2.clone())),
+        Some((
+            28,
+            Kind::Collision,
+            vec!["live_centre".to_string(), "stock".to_string()]
+        ))
+    );
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_latheguard"))
+        .current_dir(root())
+        .args(["check", &rel])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stdout));
+}

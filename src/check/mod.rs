@@ -170,7 +170,12 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
             .as_ref()
             // A tree of axes alone (no component has a geometry) describes no part to check:
             // its moves stay with the 2D checker.
-            .filter(|k| !run.extra.is_empty() && k.components.iter().any(|c| c.geometry.is_some()))
+            // Nor does a program with no extra-axis word while the 2D tailstock outline (on a
+            // turn-mill, the parked sub-spindle) is in the scene throughout.
+            .filter(|k| {
+                let tailstock_out = !machine.tailstock_advanced || run.states.iter().any(|s| !s.tailstock_advanced);
+                (!run.extra.is_empty() || tailstock_out) && k.components.iter().any(|c| c.geometry.is_some())
+            })
             .map(|k| three::Three::new(k.clone(), settings.tolerance_mm)),
         plunge3: None,
     };
@@ -436,24 +441,49 @@ impl Checker<'_> {
         }
         self.tailstock_in = state.tailstock_advanced;
         self.overtravel(m, item);
-        if let Some(t) = self.three.as_mut() {
+        if self.three.is_some() {
             let e = self.run.extra_of(item.index);
+            self.transfer_before(m, e, item);
             let turns = self.run.spindle(m).is_on() && !e.is_some_and(|e| e.c_mode);
             let motion = matches!(m.kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. });
+            let Some(t) = self.three.as_mut() else { return };
+            let mut route = t.route(m, e, turns, self.tailstock_in);
             // A cutter inside its own non-revolved cut leaves the 2D model on every move.
-            if motion && (self.plunge3.is_some() || !t.in_plane(m, e, turns)) {
-                t.ran = true;
-                self.three_move(m, e, item);
-                return;
+            if self.plunge3.is_some() {
+                route = three::Route::Space;
             }
-            // A T word out of the working plane swings the turret in 3D (three/index.rs).
-            if let MoveKind::ToolChange { from, to } = m.kind {
-                if self.plunge3.is_some() || !t.in_plane(m, e, turns) {
-                    t.ran = true;
+            if route != three::Route::Plane {
+                t.ran = true;
+            }
+            match (route, m.kind) {
+                (three::Route::Space, MoveKind::ToolChange { from, to }) => {
+                    // A T word out of the working plane swings the turret in 3D (three/index.rs).
                     self.three_index(m, e, item, from, to);
                     self.plunge3 = None;
                     return;
                 }
+                (three::Route::Space, _) if motion => {
+                    self.three_move(m, e, item, false);
+                    self.transfer_after(m, e, item);
+                    return;
+                }
+                (three::Route::Hybrid, MoveKind::ToolChange { from, to }) => {
+                    // The swing of the turret near the sub-spindle's side is a 3D question.
+                    self.three_index(m, e, item, from, to);
+                    self.plunge3 = None;
+                    return;
+                }
+                (three::Route::Hybrid, _) if motion => {
+                    // The 2D sections without their tailstock outline (the sub-spindle's side
+                    // is the 3D path's), then the 3D pairs.
+                    self.tailstock_in = false;
+                    self.motion(m, item);
+                    self.tailstock_in = state.tailstock_advanced;
+                    self.three_move(m, e, item, true);
+                    self.transfer_after(m, e, item);
+                    return;
+                }
+                _ => {}
             }
         }
         match m.kind {
@@ -466,6 +496,9 @@ impl Checker<'_> {
                 self.stats.steps += self.samples_in(item.t0, item.t1());
             }
             _ => self.motion(m, item),
+        }
+        if self.three.is_some() {
+            self.transfer_after(m, self.run.extra_of(item.index), item);
         }
     }
 

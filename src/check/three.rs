@@ -1,13 +1,17 @@
 //! The 3D path (issue 15): the moves of a turn-mill machine that leave the lathe's working plane,
 //! checked on the machine's kinematic tree (`kin`) with 3D queries (`collide3`).
 //!
-//! Which path a move takes ([`Three::in_plane`]): the 2D section checker is exact for a lathe in
+//! Which path a move takes ([`Three::route`]): the 2D section checker is exact for a lathe in
 //! its working plane, so a move stays on it while every extra axis is where the 2D model assumes
 //! (Y at its start value, the sub-spindle's B and A at theirs, no G17/G19 arc) and the part turns
-//! (or, positioned as a C axis, is cut only on the spindle axis: X = 0). Any other move is checked
-//! here, and only here: every `never_touch` pair of the machine file (the tools of the active
-//! station only: the others stand turned away), and the turret, the active tool's holder and its
-//! cutter against the in-process stock.
+//! (or, positioned as a C axis, is cut only on the spindle axis: X = 0). A move whose tool leaves
+//! that plane is checked here, and only here ([`Route::Space`]): every `never_touch` pair of the
+//! machine file (the tools of the active station only: the others stand turned away), and the
+//! turret, the active tool's holder and its cutter against the in-process stock. A move whose tool
+//! stays in the plane while the sub-spindle's side does not ([`Route::Hybrid`]) is checked by
+//! both: the 2D sections for the tools against the main chuck and the stock, this path for the
+//! component pairs, the sub-spindle's chuck and centre against the stock, and the pieces it holds
+//! after a part-off (`transfer.rs`).
 //!
 //! Rules: a pair of components that overlaps by more than `TOUCH_EPS` is a `collision`; the
 //! cutter in the stock is `rapid_into_stock` in a rapid, `spindle_stopped` in a feed with neither
@@ -27,6 +31,7 @@
 
 mod index;
 mod near;
+pub(super) mod transfer;
 
 use std::sync::Arc;
 
@@ -51,6 +56,19 @@ const STOCK: usize = usize::MAX;
 /// Samples after first contact at which the depth of a 3D contact is measured.
 const DEPTH_SAMPLES: u32 = 16;
 
+/// The path that checks a move ([`Three::route`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Route {
+    /// The 2D sections alone: the lathe in its working plane.
+    Plane,
+    /// The tool in the working plane, the sub-spindle's side not: the 2D sections check the
+    /// tools against the main chuck and the stock (and cut it); the 3D path checks the
+    /// component pairs, the sub-spindle's chucks and pieces.
+    Hybrid,
+    /// The 3D path alone.
+    Space,
+}
+
 /// What a live tool has cut with the spindle positioned: the line its cutter fed along.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Plunge {
@@ -73,13 +91,26 @@ pub(super) struct Three {
     start: Vec<f64>,
     /// The turret's index axis, once a T word on this path needed it (`index.rs`).
     index: Option<index::IndexAxis>,
+    /// Per extra axis: it carries a tool (the Y slide, a B head) rather than the sub-spindle's
+    /// side of the machine (its slide and its C axis).
+    tool_axis: [bool; 4],
+    /// The chucks the sub-spindle's axes carry: the 2D sections have them only as the
+    /// tailstock outline at their start values (`transfer.rs`).
+    sub_chucks: Vec<CompId>,
+    /// The chucks and centres the sub-spindle's axes carry: checked against the stock.
+    sub_parts: Vec<CompId>,
+    /// The pieces the sub-spindle holds after a part-off (components added to the tree, always
+    /// its last ones: `transfer.rs`).
+    pieces: Vec<CompId>,
+    /// The sub chuck's clamp and what it holds (`transfer.rs`).
+    transfer: transfer::Transfer,
     /// The 3D path ran on at least one move (`stats.effects` says "3d").
     pub ran: bool,
 }
 
 impl Three {
     pub fn new(kin: Arc<Kinematics>, tolerance: f64) -> Three {
-        let shapes = kin
+        let shapes: Vec<Option<Shape3>> = kin
             .components
             .iter()
             .map(|c| c.geometry.as_ref().and_then(|g| Shape3::meshed(g, tolerance)))
@@ -89,7 +120,44 @@ impl Three {
         for (i, l) in crate::interp::EXTRA_LETTERS.iter().enumerate() {
             ax_extra[i] = letter(*l);
         }
+        let moved_by = |c: CompId, a: AxisId| {
+            let mut p = Some(c);
+            while let Some(q) = p {
+                if kin.components[q].axis == Some(a) {
+                    return true;
+                }
+                p = kin.components[q].parent;
+            }
+            false
+        };
+        let tools: Vec<CompId> = (0..kin.components.len())
+            .filter(|&i| matches!(kin.components[i].role, Role::Holder | Role::Cutter) || carried_by_x(&kin, i))
+            .collect();
+        let mut tool_axis = [false; 4];
+        for (k, a) in ax_extra.iter().enumerate() {
+            // C turns the part; every other extra axis is the tool's unless it moves no tool.
+            tool_axis[k] = a.is_some_and(|a| k != 1 && tools.iter().any(|&t| moved_by(t, a)));
+        }
+        let sub_parts: Vec<CompId> = (0..kin.components.len())
+            .filter(|&i| matches!(kin.components[i].role, Role::Chuck | Role::Tailstock) && shapes[i].is_some())
+            .filter(|&i| {
+                ax_extra
+                    .iter()
+                    .enumerate()
+                    .any(|(k, a)| k != 1 && !tool_axis[k] && a.is_some_and(|a| moved_by(i, a)))
+            })
+            .collect();
+        let sub_chucks = sub_parts
+            .iter()
+            .copied()
+            .filter(|&i| kin.components[i].role == Role::Chuck)
+            .collect();
         Three {
+            tool_axis,
+            sub_chucks,
+            sub_parts,
+            pieces: Vec::new(),
+            transfer: transfer::Transfer::default(),
             ax_x: letter('X'),
             ax_z: letter('Z'),
             ax_extra,
@@ -101,25 +169,41 @@ impl Three {
         }
     }
 
-    /// Whether the 2D section checker describes this move exactly (see the module docs).
-    pub fn in_plane(&self, m: &Move, e: Option<&ExtraMove>, spindle_turns: bool) -> bool {
-        let Some(e) = e else { return true };
-        if e.arc.is_some() {
-            return false;
-        }
-        // Y, B and A where the 2D model has them (their start values); C is free while the part
-        // is revolved — and it is: the stock and the chuck are revolved outlines.
-        for k in [0usize, 2, 3] {
-            if let Some(a) = self.ax_extra[k] {
-                let z = self.start[a];
-                if e.start[k] != z || e.end[k] != z {
-                    return false;
+    /// Which path checks this move (see the module docs): `tailstock_in` is whether the 2D
+    /// tailstock (the parked sub-spindle's outline on a turn-mill) is in the scene.
+    pub fn route(&self, m: &Move, e: Option<&ExtraMove>, spindle_turns: bool, tailstock_in: bool) -> Route {
+        let mut sub_moved = false;
+        if let Some(e) = e {
+            if e.arc.is_some() {
+                return Route::Space;
+            }
+            // Y, B and A where the 2D model has them (their start values); C is free while the
+            // part is revolved — and it is: the stock and the chuck are revolved outlines.
+            for k in [0usize, 2, 3] {
+                if let Some(a) = self.ax_extra[k] {
+                    let z = self.start[a];
+                    if e.start[k] != z || e.end[k] != z {
+                        if self.tool_axis[k] {
+                            return Route::Space;
+                        }
+                        sub_moved = true;
+                    }
                 }
             }
+            // A positioned spindle is cut as a revolved part only on its axis.
+            let cuts_positioned = e.c_mode || !spindle_turns;
+            if cuts_positioned && e.live_rpm > 0.0 && (m.start.x != 0.0 || m.end.x != 0.0) {
+                return Route::Space;
+            }
         }
-        // A positioned spindle is cut as a revolved part only on its axis.
-        let cuts_positioned = e.c_mode || !spindle_turns;
-        !(cuts_positioned && e.live_rpm > 0.0 && (m.start.x != 0.0 || m.end.x != 0.0))
+        // The tool is in the working plane, but the sub-spindle's side is not where the 2D
+        // tailstock outline has it (moved, holding a piece, or that outline is out of the scene
+        // while its chuck is still there).
+        if sub_moved || !self.pieces.is_empty() || (!tailstock_in && !self.sub_chucks.is_empty()) {
+            Route::Hybrid
+        } else {
+            Route::Plane
+        }
     }
 
     /// The axis values at time fraction `u` of the move.
@@ -189,12 +273,13 @@ impl Three {
         r
     }
 
-    /// The components that take part in this move: all but the tools of other stations.
-    fn present(&self, active: u32) -> Vec<bool> {
+    /// The components that take part in this move: all but the tools of other stations, and
+    /// the tailstock's parts only while it is in (as in 2D).
+    fn present(&self, active: u32, tailstock_in: bool) -> Vec<bool> {
         let k = &self.kin;
         let mut on = vec![true; k.components.len()];
         for (i, c) in k.components.iter().enumerate() {
-            let own = c.station.map_or(true, |s| s == active);
+            let own = c.station.map_or(true, |s| s == active) && (tailstock_in || c.role != Role::Tailstock);
             let parent = c.parent.map_or(true, |p| on[p]);
             on[i] = own && parent;
         }
@@ -225,17 +310,19 @@ impl collide3::Path for Follow<'_> {
 
 impl Checker<'_> {
     /// Check one move on the 3D path (the caller decided it leaves the working plane).
-    pub(super) fn three_move(&mut self, m: &Move, e: Option<&ExtraMove>, item: &Timed) {
+    /// `hybrid`: the 2D sections check the tools against the main chuck and the stock (see
+    /// [`Route::Hybrid`]); this path the rest.
+    pub(super) fn three_move(&mut self, m: &Move, e: Option<&ExtraMove>, item: &Timed, hybrid: bool) {
         let Some(three) = self.three.take() else { return };
-        self.three_move_with(&three, m, e, item);
+        self.three_move_with(&three, m, e, item, hybrid);
         self.three = Some(three);
     }
 
-    fn three_move_with(&mut self, three: &Three, m: &Move, e: Option<&ExtraMove>, item: &Timed) {
+    fn three_move_with(&mut self, three: &Three, m: &Move, e: Option<&ExtraMove>, item: &Timed, hybrid: bool) {
         self.extra_overtravel(three, m, e, item);
         let k = &three.kin;
         let active = m.station;
-        let on = three.present(active);
+        let on = three.present(active, self.tailstock_in);
         let follow = Follow {
             three,
             m,
@@ -260,6 +347,15 @@ impl Checker<'_> {
             }
         }
         if self.machine.stock.is_some() {
+            // The sub-spindle's chuck (its jaws over the bar), a centre it carries (driven into
+            // the bar) and the pieces it holds.
+            for &i in three.sub_parts.iter().chain(&three.pieces) {
+                if on[i] && three.shapes[i].is_some() {
+                    pairs.push((i, STOCK, Kind::Collision));
+                }
+            }
+        }
+        if self.machine.stock.is_some() && !hybrid {
             for (i, c) in k.components.iter().enumerate() {
                 if !on[i] || three.shapes[i].is_none() {
                     continue;
@@ -581,7 +677,7 @@ impl Checker<'_> {
         let mut poser = Poser::new(k);
         poser.pose(k, vals);
         let moved = moved_flags(k, vals, &three.start);
-        let on = three.present(m.station);
+        let on = three.present(m.station, self.tailstock_in);
         let mut parts = Vec::new();
         for (i, c) in k.components.iter().enumerate() {
             // The pair itself always (a tool of another station swung by an index).

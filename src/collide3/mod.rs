@@ -239,7 +239,7 @@ impl Shape3 {
     }
 
     /// The box holding the shape, component frame.
-    fn local_box(&self) -> parry3d_f64::bounding_volume::Aabb {
+    pub fn local_box(&self) -> parry3d_f64::bounding_volume::Aabb {
         match self {
             Shape3::Mesh(m) => m.mesh.local_aabb(),
             Shape3::Convex(c) => c.shape.compute_aabb(&c.local),

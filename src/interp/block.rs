@@ -327,6 +327,7 @@ impl Run<'_> {
             frame: self.frame(),
             tailstock_advanced: self.devices.tailstock_advanced,
             tool_unknown: self.devices.tool_unknown,
+            sub_chuck_closed: self.devices.sub_chuck_closed,
         };
         if self.states.last() != Some(&state) {
             self.states.push(state);

@@ -22,6 +22,8 @@ pub(crate) struct Devices {
     pub tailstock_advanced: bool,
     /// The chuck is open (unclamped).
     pub chuck_open: bool,
+    /// The sub-spindle's chuck is clamped.
+    pub sub_chuck_closed: bool,
     /// The active station holds no tool the machine file describes (or does not exist): the
     /// moves until the next tool change are not checked.
     pub tool_unknown: bool,
@@ -32,6 +34,7 @@ impl Devices {
         Devices {
             tailstock_advanced: machine.tailstock_advanced,
             chuck_open: false,
+            sub_chuck_closed: false,
             tool_unknown: false,
         }
     }
@@ -85,6 +88,8 @@ impl Run<'_> {
                     chuck_opened_at = Some((code, at));
                 }
                 MAction::ChuckClose => self.devices.chuck_open = false,
+                MAction::SubChuckClose => self.devices.sub_chuck_closed = true,
+                MAction::SubChuckOpen => self.devices.sub_chuck_closed = false,
                 MAction::ProgramEnd => ends = true,
                 MAction::ProgramStop
                 | MAction::OptionalStop

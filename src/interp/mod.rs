@@ -160,6 +160,8 @@ pub struct MoveState {
     /// missing station): where the turret is depends on that tool's offsets, so the checker
     /// does not check the move.
     pub tool_unknown: bool,
+    /// The sub-spindle's chuck is clamped (`[mcodes]` `sub_chuck_close`/`sub_chuck_open`).
+    pub sub_chuck_closed: bool,
 }
 
 impl Move {

@@ -47,10 +47,15 @@ pub enum MAction {
     LiveToolCcw,
     /// The live tool stops (Haas M135).
     LiveToolStop,
+    /// The sub-spindle's chuck clamps (Haas M110): it holds what is in its jaws, and takes the
+    /// piece a part-off severs (docs/turn-mill.md, "Pick-off and part-off").
+    SubChuckClose,
+    /// The sub-spindle's chuck unclamps (Haas M111): a piece it held falls (a part catcher).
+    SubChuckOpen,
 }
 
 /// The action names of a machine file's `[mcodes]` table.
-pub const ACTIONS: [(&str, MAction); 23] = [
+pub const ACTIONS: [(&str, MAction); 25] = [
     ("program_stop", MAction::ProgramStop),
     ("optional_stop", MAction::OptionalStop),
     ("program_end", MAction::ProgramEnd),
@@ -74,6 +79,8 @@ pub const ACTIONS: [(&str, MAction); 23] = [
     ("live_tool_cw", MAction::LiveToolCw),
     ("live_tool_ccw", MAction::LiveToolCcw),
     ("live_tool_stop", MAction::LiveToolStop),
+    ("sub_chuck_close", MAction::SubChuckClose),
+    ("sub_chuck_open", MAction::SubChuckOpen),
 ];
 
 /// Largest M code a table may hold.

@@ -179,6 +179,42 @@ impl DexelStock {
         self.h
     }
 
+    /// How many columns hold no material (a part-off empties the columns of its groove).
+    pub fn empty_columns(&self) -> usize {
+        self.removed_columns
+    }
+
+    /// A part-off: when an empty column separates material on both of its sides, the material
+    /// beyond the last such column (toward `+z`) leaves this stock and is returned as a stock of
+    /// its own (same columns, the others empty). `None` while the stock is in one piece along
+    /// `z`, or while a move's cut is under way (between `begin_move` and `end_move`).
+    pub fn split_off_beyond(&mut self) -> Option<DexelStock> {
+        if self.journal.active || self.removed_columns == 0 {
+            return None;
+        }
+        let n = self.cols.len();
+        let top = (0..n).rev().find(|&j| !self.cols[j].iv.is_empty())?;
+        let gap = (0..top).rev().find(|&j| self.cols[j].iv.is_empty())?;
+        if !(0..gap).any(|j| !self.cols[j].iv.is_empty()) {
+            return None;
+        }
+        let mut piece = self.clone();
+        piece.journal = Journal::default();
+        for c in &mut piece.cols[..=gap] {
+            c.iv.clear();
+        }
+        for c in &mut self.cols[gap + 1..] {
+            c.iv.clear();
+        }
+        for s in [&mut *self, &mut piece] {
+            s.removed_columns = s.cols.iter().filter(|c| c.iv.is_empty()).count();
+            for b in 0..s.blk_max.len() {
+                s.refresh_block(b);
+            }
+        }
+        Some(piece)
+    }
+
     pub fn columns(&self) -> usize {
         self.cols.len()
     }
@@ -1118,6 +1154,32 @@ mod tests {
             .map(|i| p[i][0] * p[(i + 1) % n][1] - p[(i + 1) % n][0] * p[i][1])
             .sum::<f64>()
             / 2.0
+    }
+
+    #[test]
+    fn a_part_off_splits_the_piece_beyond_the_groove_and_nothing_else() {
+        let mut s = DexelStock::new(40.0, 0.0, 100.0, 0.0, 0.1);
+        let before = s.section_area();
+        // A groove not yet through: still one piece.
+        s.cut(&rect(5.0, -30.0, 25.0, -27.5));
+        assert!(s.split_off_beyond().is_none());
+        // Through to the axis: the 27 mm beyond the groove leave.
+        s.cut(&rect(-1.0, -30.0, 25.0, -27.5));
+        let piece = s.split_off_beyond().expect("severed");
+        assert!(s.split_off_beyond().is_none(), "the piece is gone from the bar");
+        let (pa, sa) = (piece.section_area(), s.section_area());
+        assert!((pa - 20.0 * 27.5).abs() < 0.5, "{pa}");
+        assert!((pa + sa + 20.0 * 2.5 - before).abs() < 0.5, "{pa} + {sa} vs {before}");
+        assert!(s.material_at(-10.0).is_empty() && !piece.material_at(-10.0).is_empty());
+        assert!(piece.material_at(-50.0).is_empty() && !s.material_at(-50.0).is_empty());
+    }
+
+    #[test]
+    fn a_faced_bar_is_not_a_part_off() {
+        let mut s = DexelStock::new(40.0, 0.0, 100.0, 0.0, 0.1);
+        s.cut(&rect(-1.0, -5.0, 25.0, 1.0));
+        assert!(s.empty_columns() > 0);
+        assert!(s.split_off_beyond().is_none());
     }
 
     #[test]
