@@ -10,6 +10,7 @@ pub mod finding;
 pub mod gate;
 pub mod gcode;
 pub mod geom;
+pub mod grid;
 pub mod interp;
 pub mod job;
 pub mod kin;

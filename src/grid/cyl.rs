@@ -1,0 +1,228 @@
+//! The cylindrical grid: a turned part's outer surface as `R(θ, z)`, with its bore `r_in(z)`.
+//!
+//! Node `(i, j)` stands for the ray from the spindle axis at angle `θ_i = (i + ½)·2π/nθ` and
+//! height `z_j = z0 + (j + ½)·dz`: material from `r_in(z_j)` out to `R(i, j)`. A cut changes a
+//! node only where the swept solid reaches the ray's outer end (the material is taken from
+//! outside in): `R` becomes where the ray enters the sweep. A void a ray cannot see from outside
+//! (a cross hole's far wall seen along another ray) is left as material: the grid never holds
+//! less material than the part has.
+
+use nalgebra::Vector3;
+
+use super::cutter::Sweep;
+
+/// The cylindrical grid.
+#[derive(Clone, Debug)]
+pub struct CylGrid {
+    pub(crate) z0: f64,
+    pub(crate) dz: f64,
+    pub(crate) nz: usize,
+    pub(crate) nth: usize,
+    /// `R` per node, θ fastest.
+    pub(crate) r: Vec<f64>,
+    /// The bore per z column.
+    pub(crate) inner: Vec<f64>,
+    /// The largest `R` per column (for quick rejects and the revolved envelope).
+    pub(crate) col_max: Vec<f64>,
+}
+
+impl CylGrid {
+    /// A grid of `nth × nz` nodes over `z0 .. z0 + nz·dz`, each column's material from the
+    /// revolved profile `profile(z) → (r_in, r_out)` at the column's centre (`None`: empty).
+    pub fn new(z0: f64, dz: f64, nz: usize, nth: usize, profile: impl Fn(f64) -> Option<(f64, f64)>) -> CylGrid {
+        let mut r = vec![0.0; nth * nz];
+        let mut inner = vec![0.0; nz];
+        let mut col_max = vec![0.0; nz];
+        for j in 0..nz {
+            let z = z0 + (j as f64 + 0.5) * dz;
+            let (ri, ro) = profile(z).unwrap_or((0.0, 0.0));
+            let ro = ro.max(ri);
+            inner[j] = ri;
+            col_max[j] = ro;
+            r[j * nth..(j + 1) * nth].fill(ro);
+        }
+        CylGrid {
+            z0,
+            dz,
+            nz,
+            nth,
+            r,
+            inner,
+            col_max,
+        }
+    }
+
+    pub fn theta(&self, i: usize) -> f64 {
+        (i as f64 + 0.5) * std::f64::consts::TAU / self.nth as f64
+    }
+
+    pub fn z(&self, j: usize) -> f64 {
+        self.z0 + (j as f64 + 0.5) * self.dz
+    }
+
+    /// `R` at node `(i, j)`.
+    pub fn radius(&self, i: usize, j: usize) -> f64 {
+        self.r[j * self.nth + i]
+    }
+
+    /// The columns whose centre lies in `[lo, hi]`.
+    fn columns(&self, lo: f64, hi: f64) -> Option<(usize, usize)> {
+        let a = ((lo - self.z0) / self.dz - 0.5).ceil().max(0.0);
+        let b = ((hi - self.z0) / self.dz - 0.5).floor();
+        if !(a.is_finite() && b.is_finite()) || b < a || a >= self.nz as f64 || b < 0.0 {
+            return None;
+        }
+        Some((a as usize, (b as usize).min(self.nz - 1)))
+    }
+
+    /// The node angles whose ray can meet the box `[min, max]` in x, y: all of them when the box
+    /// holds the axis, else the arc it spans seen from the axis.
+    fn angles(&self, min: &Vector3<f64>, max: &Vector3<f64>) -> Vec<(usize, usize)> {
+        if min.x <= 0.0 && max.x >= 0.0 && min.y <= 0.0 && max.y >= 0.0 {
+            return vec![(0, self.nth - 1)];
+        }
+        let tau = std::f64::consts::TAU;
+        let corners = [(min.x, min.y), (max.x, min.y), (max.x, max.y), (min.x, max.y)];
+        // The box does not hold the axis: its corners' angles lie within less than π of its
+        // centre's; the arc is from the least to the greatest of them, unwrapped about it.
+        let c = ((min.y + max.y) / 2.0).atan2((min.x + max.x) / 2.0);
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        for (x, y) in corners {
+            let mut a = y.atan2(x) - c;
+            a -= tau * (a / tau).round();
+            lo = lo.min(a);
+            hi = hi.max(a);
+        }
+        let step = tau / self.nth as f64;
+        let i0 = ((c + lo) / step - 0.5).floor() as i64;
+        let i1 = ((c + hi) / step - 0.5).ceil() as i64;
+        let n = self.nth as i64;
+        if i1 - i0 + 1 >= n {
+            return vec![(0, self.nth - 1)];
+        }
+        let (a, b) = (i0.rem_euclid(n) as usize, i1.rem_euclid(n) as usize);
+        if a <= b {
+            vec![(a, b)]
+        } else {
+            vec![(a, self.nth - 1), (0, b)]
+        }
+    }
+
+    /// Apply a sweep (or with `apply` false only measure it): each node whose ray meets it at its outer end loses what the sweep holds.
+    /// Returns the volume removed (mm³) and the columns changed (first, last).
+    ///
+    /// A ray also loses the sweep's stretch when everything between the sweep and its boundary
+    /// `R` is air by the stock's other grids (`air`, sampled every `step` mm).
+    pub fn cut(
+        &mut self,
+        sw: &Sweep,
+        air: &dyn Fn(Vector3<f64>) -> bool,
+        step: f64,
+        apply: bool,
+    ) -> (f64, Option<(usize, usize)>) {
+        let Some((j0, j1)) = self.columns(sw.min.z, sw.max.z) else {
+            return (0.0, None);
+        };
+        // The sweep reaches no nearer the axis than its box's distance from it.
+        let reach = (sw.max.x.max(-sw.min.x)).hypot(sw.max.y.max(-sw.min.y));
+        let dth = std::f64::consts::TAU / self.nth as f64;
+        let mut removed = 0.0;
+        let mut changed: Option<(usize, usize)> = None;
+        let arcs = self.angles(&sw.min, &sw.max);
+        for j in j0..=j1 {
+            if self.col_max[j] <= self.inner[j] {
+                continue;
+            }
+            let z = self.z(j);
+            let ri = self.inner[j];
+            let mut col_changed = false;
+            for &(a, b) in &arcs {
+                for i in a..=b {
+                    let k = j * self.nth + i;
+                    let rr = self.r[k];
+                    if rr <= ri {
+                        continue;
+                    }
+                    let th = self.theta(i);
+                    let u = Vector3::new(th.cos(), th.sin(), 0.0);
+                    let o = Vector3::new(0.0, 0.0, z);
+                    let Some((t_in, t_out)) = sw.ray(o, u, ri, rr.min(reach)) else {
+                        continue;
+                    };
+                    if t_in >= rr {
+                        continue;
+                    }
+                    // The sweep short of the boundary: only through air.
+                    if t_out + 1e-9 < rr && !super::face::air_along(o, u, t_out, rr, step, air) {
+                        continue;
+                    }
+                    let nr = t_in.max(ri);
+                    if nr < rr - 1e-9 {
+                        removed += (rr * rr - nr * nr) / 2.0 * dth * self.dz;
+                        if apply {
+                            self.r[k] = nr;
+                            col_changed = true;
+                        }
+                    }
+                }
+            }
+            if col_changed {
+                self.col_max[j] = self.r[j * self.nth..(j + 1) * self.nth]
+                    .iter()
+                    .copied()
+                    .fold(ri, f64::max);
+                changed = Some(changed.map_or((j, j), |(a, b)| (a.min(j), b.max(j))));
+            }
+        }
+        (removed, changed)
+    }
+
+    /// A turning cut: every node of the columns in `[lo, hi]` gets `R = min(R, r)`.
+    pub fn turn(&mut self, lo: f64, hi: f64, r: f64) {
+        let Some((j0, j1)) = self.columns(lo, hi) else { return };
+        for j in j0..=j1 {
+            let ri = self.inner[j];
+            for x in &mut self.r[j * self.nth..(j + 1) * self.nth] {
+                *x = x.min(r.max(ri));
+            }
+            self.col_max[j] = self.col_max[j].min(r.max(ri));
+        }
+    }
+
+    /// Whether the point is material by this grid (the node nearest it in θ and z).
+    pub fn contains(&self, p: Vector3<f64>) -> bool {
+        let j = ((p.z - self.z0) / self.dz).floor();
+        if !(0.0..self.nz as f64).contains(&j) {
+            return false;
+        }
+        let j = j as usize;
+        let rho = p.x.hypot(p.y);
+        let th = p.y.atan2(p.x).rem_euclid(std::f64::consts::TAU);
+        let i = ((th / std::f64::consts::TAU * self.nth as f64).floor() as usize).min(self.nth - 1);
+        rho >= self.inner[j] && rho <= self.r[j * self.nth + i]
+    }
+
+    /// The volume of material (mm³): each node a wedge of its angle and column.
+    pub fn volume(&self) -> f64 {
+        let dth = std::f64::consts::TAU / self.nth as f64;
+        let mut v = 0.0;
+        for j in 0..self.nz {
+            let ri = self.inner[j];
+            for &r in &self.r[j * self.nth..(j + 1) * self.nth] {
+                v += (r * r - ri * ri).max(0.0) / 2.0;
+            }
+        }
+        v * dth * self.dz
+    }
+
+    /// The largest radius of material in column `j` (the revolved envelope a turning spindle
+    /// sweeps).
+    pub fn envelope(&self, j: usize) -> f64 {
+        self.col_max[j]
+    }
+
+    pub fn bytes(&self) -> usize {
+        (self.r.len() + self.inner.len() + self.col_max.len()) * std::mem::size_of::<f64>()
+    }
+}

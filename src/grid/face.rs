@@ -1,0 +1,209 @@
+//! A planar face grid (seed 002's matrix grid): the depth `d(u, v)` of material removed from a
+//! face along its inward normal.
+//!
+//! Node `(i, j)` stands for the ray from the face point `origin + u_i·e_u + v_j·e_v` along the
+//! inward normal `n`: material from depth `d(i, j)` to the grid's `thickness`. A cut changes a
+//! node only where the swept solid reaches the ray at its current depth (the material is taken
+//! from the face in): `d` becomes where the ray leaves the sweep.
+
+use nalgebra::Vector3;
+
+use super::cutter::Sweep;
+
+/// A face grid.
+#[derive(Clone, Debug)]
+pub struct FaceGrid {
+    pub(crate) origin: Vector3<f64>,
+    pub(crate) eu: Vector3<f64>,
+    pub(crate) ev: Vector3<f64>,
+    /// Inward normal.
+    pub(crate) n: Vector3<f64>,
+    pub(crate) du: f64,
+    pub(crate) dv: f64,
+    pub(crate) nu: usize,
+    pub(crate) nv: usize,
+    /// How deep the material goes along a ray.
+    pub(crate) thickness: f64,
+    /// Depth removed per node, u fastest.
+    pub(crate) d: Vec<f64>,
+    /// A box holding every sweep that removed something from this grid (world coordinates).
+    pub(crate) touched: Option<(Vector3<f64>, Vector3<f64>)>,
+}
+
+impl FaceGrid {
+    /// A face over `origin + [0, nu·du]·e_u + [0, nv·dv]·e_v` (unit, orthogonal), material from
+    /// depth `start(u, v)` (`None`: no material on that ray) to `thickness` along `n = e_u × e_v`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        origin: Vector3<f64>,
+        eu: Vector3<f64>,
+        ev: Vector3<f64>,
+        (du, dv): (f64, f64),
+        (nu, nv): (usize, usize),
+        thickness: f64,
+        start: impl Fn(f64, f64) -> Option<f64>,
+    ) -> FaceGrid {
+        let mut d = vec![thickness; nu * nv];
+        for j in 0..nv {
+            for i in 0..nu {
+                let (u, v) = ((i as f64 + 0.5) * du, (j as f64 + 0.5) * dv);
+                if let Some(s) = start(u, v) {
+                    d[j * nu + i] = s.clamp(0.0, thickness);
+                }
+            }
+        }
+        FaceGrid {
+            origin,
+            eu,
+            ev,
+            n: eu.cross(&ev),
+            du,
+            dv,
+            nu,
+            nv,
+            thickness,
+            d,
+            touched: None,
+        }
+    }
+
+    /// A grid of no nodes (a placeholder while a grid is being cut).
+    pub(crate) fn empty() -> FaceGrid {
+        FaceGrid {
+            origin: Vector3::zeros(),
+            eu: Vector3::x(),
+            ev: Vector3::y(),
+            n: Vector3::z(),
+            du: 1.0,
+            dv: 1.0,
+            nu: 0,
+            nv: 0,
+            thickness: 0.0,
+            d: Vec::new(),
+            touched: None,
+        }
+    }
+
+    /// The depth removed at node `(i, j)`.
+    pub fn depth(&self, i: usize, j: usize) -> f64 {
+        self.d[j * self.nu + i]
+    }
+
+    /// The face point of node `(i, j)`.
+    pub fn node(&self, i: usize, j: usize) -> Vector3<f64> {
+        self.origin + (i as f64 + 0.5) * self.du * self.eu + (j as f64 + 0.5) * self.dv * self.ev
+    }
+
+    /// The node range `[a, b]` along one face axis whose centres lie in `[lo, hi]`.
+    fn range(lo: f64, hi: f64, step: f64, n: usize) -> Option<(usize, usize)> {
+        let a = (lo / step - 0.5).ceil().max(0.0);
+        let b = (hi / step - 0.5).floor();
+        if !(a.is_finite() && b.is_finite()) || b < a || a >= n as f64 || b < 0.0 {
+            return None;
+        }
+        Some((a as usize, (b as usize).min(n - 1)))
+    }
+
+    /// Apply a sweep (or with `apply` false only measure it); returns the volume removed (mm³). A node's ray loses the stretch the
+    /// sweep holds when the sweep holds its boundary `d`, or when everything between `d` and the
+    /// sweep is air by the stock's other grids (`air`, sampled every `step` mm).
+    pub fn cut(&mut self, sw: &Sweep, air: &dyn Fn(Vector3<f64>) -> bool, step: f64, apply: bool) -> f64 {
+        // The sweep's box in face coordinates.
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for k in 0..8 {
+            let c = Vector3::new(
+                if k & 1 == 0 { sw.min.x } else { sw.max.x },
+                if k & 2 == 0 { sw.min.y } else { sw.max.y },
+                if k & 4 == 0 { sw.min.z } else { sw.max.z },
+            ) - self.origin;
+            for (a, e) in [self.eu, self.ev, self.n].iter().enumerate() {
+                let x = c.dot(e);
+                lo[a] = lo[a].min(x);
+                hi[a] = hi[a].max(x);
+            }
+        }
+        // Nothing within the material's depth.
+        if hi[2] < 0.0 || lo[2] > self.thickness {
+            return 0.0;
+        }
+        let (Some((i0, i1)), Some((j0, j1))) = (
+            Self::range(lo[0], hi[0], self.du, self.nu),
+            Self::range(lo[1], hi[1], self.dv, self.nv),
+        ) else {
+            return 0.0;
+        };
+        let mut removed = 0.0;
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let k = j * self.nu + i;
+                let d = self.d[k];
+                if d >= self.thickness || d > hi[2] + 1e-9 {
+                    continue;
+                }
+                let o = self.node(i, j);
+                let Some((t_in, t_out)) = sw.ray(o, self.n, lo[2].max(0.0), self.thickness) else {
+                    continue;
+                };
+                if t_out <= d {
+                    continue;
+                }
+                if t_in > d + 1e-9 && !air_along(o, self.n, d, t_in, step, air) {
+                    continue;
+                }
+                let nd = t_out.min(self.thickness);
+                if nd <= d + 1e-9 {
+                    continue;
+                }
+                removed += (nd - d) * self.du * self.dv;
+                if apply {
+                    self.d[k] = nd;
+                }
+            }
+        }
+        if apply && removed > 0.0 {
+            let (a, b) = self.touched.unwrap_or((sw.min, sw.max));
+            self.touched = Some((a.inf(&sw.min), b.sup(&sw.max)));
+        }
+        removed
+    }
+
+    /// Whether the point is material by this grid.
+    pub fn contains(&self, p: Vector3<f64>) -> bool {
+        let w = p - self.origin;
+        let (u, v, t) = (w.dot(&self.eu), w.dot(&self.ev), w.dot(&self.n));
+        let (i, j) = ((u / self.du).floor(), (v / self.dv).floor());
+        if !(0.0..self.nu as f64).contains(&i) || !(0.0..self.nv as f64).contains(&j) {
+            // Outside the face: this grid takes nothing there.
+            return t >= 0.0;
+        }
+        t >= self.d[j as usize * self.nu + i as usize] && t <= self.thickness
+    }
+
+    /// The volume removed from the face so far (mm³): depth × node area.
+    pub fn removed(&self) -> f64 {
+        self.d.iter().sum::<f64>() * self.du * self.dv
+    }
+
+    pub fn bytes(&self) -> usize {
+        self.d.len() * std::mem::size_of::<f64>()
+    }
+}
+
+/// Whether the ray `o + t·u` is air by `air` over `[a, b)`, sampled every `step` (at most 4096
+/// samples: past them, not air).
+pub(crate) fn air_along(
+    o: Vector3<f64>,
+    u: Vector3<f64>,
+    a: f64,
+    b: f64,
+    step: f64,
+    air: &dyn Fn(Vector3<f64>) -> bool,
+) -> bool {
+    let n = ((b - a) / step.max(1e-6)).ceil();
+    if !(n.is_finite() && n <= 4096.0) {
+        return false;
+    }
+    let n = n.max(1.0) as usize;
+    (0..n).all(|k| air(o + (a + (b - a) * (k as f64 + 0.5) / n as f64) * u))
+}

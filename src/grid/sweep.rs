@@ -1,0 +1,376 @@
+//! A ray against a convex piece of a cutter swept along a segment, exactly.
+//!
+//! A cutter's pieces (`cutter.rs`) are discs (cylinders about the cutter axis between two
+//! heights) and balls. A piece moved along the segment `p0 → p0 + v` with its axis fixed sweeps
+//! a convex solid (the Minkowski sum of a convex piece and a segment), so a ray `o + t·u` meets
+//! it in one interval of `t`. In the plane of `(t, s)` (`s` the fraction of the move) the pairs
+//! with the ray point inside the piece at `s` form a convex set: one convex quadratic constraint
+//! (the radius) and a few linear ones (the heights, `0 ≤ s ≤ 1`, the ray's range). Its extreme
+//! `t` lie at a vertex of the linear constraints' polygon inside the quadratic, where an edge of
+//! that polygon crosses the quadratic's boundary, or at the boundary's own extreme `t`: all
+//! closed forms, tried in turn.
+
+use nalgebra::{Vector2, Vector3};
+
+/// `Q(t, s) = |c + t·p − s·q|² − r²`, as `A t² + 2B ts + C s² + 2D t + 2E s + F`.
+#[derive(Clone, Copy, Debug)]
+struct Quad {
+    a: f64,
+    b: f64,
+    c: f64,
+    d: f64,
+    e: f64,
+    f: f64,
+}
+
+impl Quad {
+    fn new3(c: Vector3<f64>, p: Vector3<f64>, q: Vector3<f64>, r: f64) -> Quad {
+        Quad {
+            a: p.dot(&p),
+            b: -p.dot(&q),
+            c: q.dot(&q),
+            d: c.dot(&p),
+            e: -c.dot(&q),
+            f: c.dot(&c) - r * r,
+        }
+    }
+
+    fn new2(c: Vector2<f64>, p: Vector2<f64>, q: Vector2<f64>, r: f64) -> Quad {
+        Quad {
+            a: p.dot(&p),
+            b: -p.dot(&q),
+            c: q.dot(&q),
+            d: c.dot(&p),
+            e: -c.dot(&q),
+            f: c.dot(&c) - r * r,
+        }
+    }
+
+    fn at(&self, t: f64, s: f64) -> f64 {
+        self.a * t * t + 2.0 * self.b * t * s + self.c * s * s + 2.0 * self.d * t + 2.0 * self.e * s + self.f
+    }
+}
+
+/// A linear constraint `α t + β s + γ ≥ 0`.
+type Lin = [f64; 3];
+
+/// Roots of `a x² + 2 b x + c = 0` (a tangent counts once; none when there is none).
+fn roots(a: f64, b: f64, c: f64) -> ([f64; 2], usize) {
+    if a.abs() < 1e-300 {
+        if b.abs() < 1e-300 {
+            return ([0.0; 2], 0);
+        }
+        return ([-c / (2.0 * b), 0.0], 1);
+    }
+    let disc = b * b - a * c;
+    let scale = (b * b).max((a * c).abs()).max(1e-300);
+    if disc < -1e-12 * scale {
+        return ([0.0; 2], 0);
+    }
+    let sq = disc.max(0.0).sqrt();
+    // The stable pair of formulas: x = k / a and x = c / k with k = −(b ± √disc), sign of b.
+    let k = -(b + if b >= 0.0 { sq } else { -sq });
+    if k == 0.0 {
+        // b = 0 and disc = 0: a double root at 0.
+        return ([0.0, 0.0], 2);
+    }
+    let (x1, x2) = (k / a, c / k);
+    ([x1.min(x2), x1.max(x2)], 2)
+}
+
+/// The interval of `t` over the convex set `{Q ≤ 0} ∩ {t0 ≤ t ≤ t1, 0 ≤ s ≤ 1} ∩ lins`.
+fn extreme_t(q: &Quad, lins: &[Lin], t0: f64, t1: f64) -> Option<(f64, f64)> {
+    // The polygon of the linear constraints: the (t, s) box clipped by each (at most 4 + 1 per
+    // constraint vertices: on the stack).
+    const CAP: usize = 12;
+    let mut poly = [[0.0f64; 2]; CAP];
+    let mut len = 4;
+    poly[..4].copy_from_slice(&[[t0, 0.0], [t1, 0.0], [t1, 1.0], [t0, 1.0]]);
+    let mut next = [[0.0f64; 2]; CAP];
+    for l in lins {
+        let mut n = 0;
+        let val = |p: &[f64; 2]| l[0] * p[0] + l[1] * p[1] + l[2];
+        for i in 0..len {
+            let (a, b) = (poly[i], poly[(i + 1) % len]);
+            let (va, vb) = (val(&a), val(&b));
+            if va >= 0.0 && n < CAP {
+                next[n] = a;
+                n += 1;
+            }
+            if (va >= 0.0) != (vb >= 0.0) && n < CAP {
+                let w = va / (va - vb);
+                next[n] = [a[0] + w * (b[0] - a[0]), a[1] + w * (b[1] - a[1])];
+                n += 1;
+            }
+        }
+        std::mem::swap(&mut poly, &mut next);
+        len = n;
+        if len == 0 {
+            return None;
+        }
+    }
+    let poly = &poly[..len];
+    let inside_lin = |t: f64, s: f64| {
+        let eps = 1e-9 * (1.0 + t.abs());
+        (t0 - eps..=t1 + eps).contains(&t)
+            && (-1e-12..=1.0 + 1e-12).contains(&s)
+            && lins
+                .iter()
+                .all(|l| l[0] * t + l[1] * s + l[2] >= -1e-9 * (1.0 + l[2].abs()))
+    };
+    let tol_q = |t: f64, s: f64| 1e-9 * (1.0 + q.f.abs() + q.a * t * t + q.c * s * s);
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    let mut take = |t: f64| {
+        lo = lo.min(t);
+        hi = hi.max(t);
+    };
+    // Vertices inside the quadratic.
+    for v in poly {
+        if q.at(v[0], v[1]) <= tol_q(v[0], v[1]) {
+            take(v[0]);
+        }
+    }
+    // Edges crossing its boundary.
+    for i in 0..poly.len() {
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        let (dt, ds) = (b[0] - a[0], b[1] - a[1]);
+        // Q(a + λ (b − a)) as a quadratic in λ.
+        let qa = q.a * dt * dt + 2.0 * q.b * dt * ds + q.c * ds * ds;
+        let qb = q.a * a[0] * dt + q.b * (a[0] * ds + a[1] * dt) + q.c * a[1] * ds + q.d * dt + q.e * ds;
+        let qc = q.at(a[0], a[1]);
+        let (r, n) = roots(qa, qb, qc);
+        for &lam in &r[..n] {
+            if (-1e-12..=1.0 + 1e-12).contains(&lam) {
+                take(a[0] + lam.clamp(0.0, 1.0) * dt);
+            }
+        }
+    }
+    // The boundary's own extreme t (where ∂Q/∂s = 0), when inside the polygon.
+    if q.c > 1e-300 {
+        let a2 = q.a - q.b * q.b / q.c;
+        let b2 = q.d - q.b * q.e / q.c;
+        let c2 = q.f - q.e * q.e / q.c;
+        let (r, n) = roots(a2, b2, c2);
+        for &t in &r[..n] {
+            let s = -(q.b * t + q.e) / q.c;
+            if inside_lin(t, s) {
+                take(t);
+            }
+        }
+    }
+    (lo <= hi).then_some((lo.max(t0), hi.min(t1)))
+}
+
+/// The ray `o + t·u`, `t ∈ [t0, t1]`, against a disc piece (radius `r` about the axis `a`, from
+/// height `h0` to `h1` above the tip) of a cutter whose tip moves from `p0` by `v`.
+#[allow(clippy::too_many_arguments)]
+pub fn ray_disc(
+    o: Vector3<f64>,
+    u: Vector3<f64>,
+    (t0, t1): (f64, f64),
+    p0: Vector3<f64>,
+    v: Vector3<f64>,
+    a: Vector3<f64>,
+    r: f64,
+    (h0, h1): (f64, f64),
+) -> Option<(f64, f64)> {
+    let w = o - p0;
+    // A basis of the plane across the axis.
+    let e1 = a
+        .cross(&if a.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() })
+        .normalize();
+    let e2 = a.cross(&e1);
+    let proj = |x: Vector3<f64>| Vector2::new(x.dot(&e1), x.dot(&e2));
+    // h(t, s) = w·a + t u·a − s v·a
+    let (ha, ua, va) = (w.dot(&a), u.dot(&a), v.dot(&a));
+    let (pw, pu, pv) = (proj(w), proj(u), proj(v));
+    if pu.norm_squared() < 1e-24 {
+        // The ray along the cutter's axis (a face grid under an end mill: seed 002's case): the
+        // fractions s that put the ray inside the disc's circle, then the heights at their ends.
+        let (qq, qw, ww) = (pv.norm_squared(), pw.dot(&pv), pw.norm_squared() - r * r);
+        let (s0, s1) = if qq < 1e-24 {
+            if ww > 0.0 {
+                return None;
+            }
+            (0.0, 1.0)
+        } else {
+            let (rt, n) = roots(qq, -qw, ww);
+            if n == 0 {
+                return None;
+            }
+            (rt[0].max(0.0), rt[n - 1].min(1.0))
+        };
+        if s0 > s1 {
+            return None;
+        }
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        for s in [s0, s1] {
+            for h in [h0, h1] {
+                let t = (h - ha + s * va) / ua;
+                lo = lo.min(t);
+                hi = hi.max(t);
+            }
+        }
+        let (lo, hi) = (lo.max(t0), hi.min(t1));
+        return (lo <= hi).then_some((lo, hi));
+    }
+    let q = Quad::new2(pw, pu, pv, r);
+    let lins = [[ua, -va, ha - h0], [-ua, va, h1 - ha]];
+    extreme_t(&q, &lins, t0, t1)
+}
+
+/// The ray against a ball of radius `r` whose centre moves from `c0` by `v` (a capsule).
+pub fn ray_ball(
+    o: Vector3<f64>,
+    u: Vector3<f64>,
+    (t0, t1): (f64, f64),
+    c0: Vector3<f64>,
+    v: Vector3<f64>,
+    r: f64,
+) -> Option<(f64, f64)> {
+    let q = Quad::new3(o - c0, u, v, r);
+    extreme_t(&q, &[], t0, t1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Slow oracle: sample t and s finely.
+    fn brute_disc(
+        o: Vector3<f64>,
+        u: Vector3<f64>,
+        p0: Vector3<f64>,
+        v: Vector3<f64>,
+        a: Vector3<f64>,
+        r: f64,
+        h: (f64, f64),
+    ) -> Option<(f64, f64)> {
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        for i in 0..=2000 {
+            let t = -20.0 + 40.0 * i as f64 / 2000.0;
+            let x = o + t * u;
+            let inside = (0..=400).any(|j| {
+                let s = j as f64 / 400.0;
+                let d = x - p0 - s * v;
+                let hh = d.dot(&a);
+                let rad = (d - hh * a).norm();
+                hh >= h.0 && hh <= h.1 && rad <= r
+            });
+            if inside {
+                lo = lo.min(t);
+                hi = hi.max(t);
+            }
+        }
+        (lo <= hi).then_some((lo, hi))
+    }
+
+    #[test]
+    fn a_ray_across_a_flat_mill_swept_sideways_meets_it_where_sampling_does() {
+        let a = Vector3::new(0.0, 0.0, 1.0);
+        let cases = [
+            (
+                Vector3::new(-10.0, 0.5, 1.0),
+                Vector3::new(1.0, 0.0, 0.0),
+                Vector3::new(0.0, 0.0, 0.0),
+                Vector3::new(5.0, 0.0, 0.0),
+            ),
+            (
+                Vector3::new(0.0, -10.0, 2.0),
+                Vector3::new(0.0, 1.0, 0.0),
+                Vector3::new(1.0, 1.0, 0.0),
+                Vector3::new(3.0, 4.0, -1.0),
+            ),
+            (
+                Vector3::new(1.0, 1.0, -10.0),
+                Vector3::new(0.0, 0.6, 0.8),
+                Vector3::new(0.0, 0.0, 0.0),
+                Vector3::new(0.0, 2.0, 0.0),
+            ),
+            (
+                Vector3::new(3.0, 0.0, 0.5),
+                Vector3::new(-0.6, 0.0, 0.8),
+                Vector3::new(0.0, 0.0, 0.0),
+                Vector3::new(0.0, 0.0, 0.0),
+            ),
+        ];
+        for (o, u, p0, v) in cases {
+            let got = ray_disc(o, u, (-20.0, 20.0), p0, v, a, 2.0, (0.0, 4.0));
+            let want = brute_disc(o, u, p0, v, a, 2.0, (0.0, 4.0));
+            match (got, want) {
+                (Some(g), Some(w)) => {
+                    assert!((g.0 - w.0).abs() < 0.05 && (g.1 - w.1).abs() < 0.05, "{g:?} vs {w:?}");
+                }
+                (None, None) => {}
+                _ => panic!("{got:?} vs {want:?} for {o:?} {u:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn a_ray_along_the_axis_of_a_mill_moving_across_it_meets_it_where_sampling_does() {
+        let a = Vector3::new(0.0, 0.0, 1.0);
+        for (o, p0, v) in [
+            (
+                Vector3::new(1.0, 0.5, 10.0),
+                Vector3::new(0.0, 0.0, 0.0),
+                Vector3::new(5.0, 0.0, -1.0),
+            ),
+            (
+                Vector3::new(6.5, 0.0, 10.0),
+                Vector3::new(0.0, 0.0, 0.0),
+                Vector3::new(5.0, 0.0, -2.0),
+            ),
+            (
+                Vector3::new(3.0, 2.9, 10.0),
+                Vector3::new(0.0, 0.0, 0.0),
+                Vector3::new(5.0, 0.0, 0.0),
+            ),
+            (
+                Vector3::new(0.0, 3.0, 10.0),
+                Vector3::new(0.0, 0.0, 0.0),
+                Vector3::new(0.0, 0.0, -3.0),
+            ),
+        ] {
+            let u = -a;
+            let got = ray_disc(o, u, (-20.0, 20.0), p0, v, a, 2.0, (0.0, 4.0));
+            let want = brute_disc(o, u, p0, v, a, 2.0, (0.0, 4.0));
+            match (got, want) {
+                (Some(g), Some(w)) => assert!((g.0 - w.0).abs() < 0.05 && (g.1 - w.1).abs() < 0.05, "{g:?} vs {w:?}"),
+                (None, None) => {}
+                _ => panic!("{got:?} vs {want:?} for {o:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn a_ray_through_a_capsule_meets_its_round_ends() {
+        // Ball of radius 1 from (0,0,0) to (4,0,0); the ray along x at y = 0.6.
+        let got = ray_ball(
+            Vector3::new(-5.0, 0.6, 0.0),
+            Vector3::x(),
+            (-10.0, 20.0),
+            Vector3::zeros(),
+            Vector3::new(4.0, 0.0, 0.0),
+            1.0,
+        )
+        .unwrap();
+        let half = (1.0f64 - 0.36).sqrt();
+        assert!(
+            (got.0 - (5.0 - half)).abs() < 1e-9 && (got.1 - (9.0 + half)).abs() < 1e-9,
+            "{got:?}"
+        );
+        assert!(ray_ball(
+            Vector3::new(-5.0, 1.1, 0.0),
+            Vector3::x(),
+            (-10.0, 20.0),
+            Vector3::zeros(),
+            Vector3::new(4.0, 0.0, 0.0),
+            1.0
+        )
+        .is_none());
+    }
+}

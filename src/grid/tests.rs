@@ -1,0 +1,371 @@
+//! Volumes removed against closed forms, and the grids against a slow oracle.
+
+use super::*;
+use nalgebra::Vector3;
+use std::f64::consts::PI;
+
+fn bar(r: f64, len: f64, tol: f64) -> Stock {
+    Stock::turned(0.0, len, r, tol, |_| Some((0.0, r))).unwrap()
+}
+
+fn flat(d: f64, l: f64) -> Cutter {
+    Cutter::new(CutterKind::Flat, d, l).unwrap()
+}
+
+fn sweep(c: &Cutter, axis: [f64; 3], a: [f64; 3], b: [f64; 3], tol: f64) -> Sweep {
+    Sweep::new(c, Vector3::from(axis), Vector3::from(a), Vector3::from(b), tol).unwrap()
+}
+
+/// A flat of depth h across a bar of radius R by the end face of a radial mill moved across it:
+/// the circular segment's area × the mill's diameter.
+fn segment(r: f64, h: f64) -> f64 {
+    r * r * ((r - h) / r).acos() - (r - h) * (2.0 * r * h - h * h).sqrt()
+}
+
+#[test]
+fn a_milled_flat_removes_the_circular_segment_times_its_width() {
+    let (r, h, d, tol) = (20.0, 5.0, 16.0, 0.1);
+    let mut s = bar(r, 60.0, tol);
+    let v0 = s.volume();
+    assert!((v0 - PI * r * r * 60.0).abs() < 0.01 * v0, "{v0}");
+    // Axis +x (the shank outward), the end face at x = R − h, moved along y across the bar.
+    let sw = sweep(
+        &flat(d, 30.0),
+        [1.0, 0.0, 0.0],
+        [r - h, -30.0, 30.0],
+        [r - h, 30.0, 30.0],
+        tol,
+    );
+    let cut = s.cut(&sw);
+    assert!(cut > 0.0);
+    let want = segment(r, h) * d;
+    let got = v0 - s.volume();
+    assert!((got - want).abs() < 0.03 * want, "removed {got}, closed form {want}");
+    // The flat is there: a point just under where the surface was is air, one under the flat is
+    // material, and the far side is untouched.
+    assert!(!s.contains(Vector3::new(r - 1.0, 0.0, 30.0)));
+    assert!(s.contains(Vector3::new(r - h - 0.5, 0.0, 30.0)));
+    assert!(s.contains(Vector3::new(-(r - 1.0), 0.0, 30.0)));
+    assert!(s.contains(Vector3::new(r - 1.0, 0.0, 45.0)));
+}
+
+#[test]
+fn six_flats_leave_a_hex_across_flats() {
+    let (r, af, tol) = (20.0, 30.0, 0.1);
+    let mut s = bar(r, 60.0, tol);
+    let v0 = s.volume();
+    for k in 0..6 {
+        let phi = (k as f64) * PI / 3.0;
+        let (c, sn) = (phi.cos(), phi.sin());
+        let a = af / 2.0;
+        // 20 mm wide band: z 20 .. 40.
+        let sw = sweep(
+            &flat(20.0, 30.0),
+            [c, sn, 0.0],
+            [a * c + 30.0 * sn, a * sn - 30.0 * c, 30.0],
+            [a * c - 30.0 * sn, a * sn + 30.0 * c, 30.0],
+            tol,
+        );
+        s.cut(&sw);
+    }
+    let hex = 3.0f64.sqrt() / 2.0 * af * af;
+    let want = (PI * r * r - hex) * 20.0;
+    let got = v0 - s.volume();
+    assert!((got - want).abs() < 0.03 * want, "removed {got}, closed form {want}");
+}
+
+#[test]
+fn a_slot_around_the_circumference_removes_a_ring() {
+    let (r, h, w, tol) = (20.0, 3.0, 6.0, 0.1);
+    let mut s = bar(r, 60.0, tol);
+    let v0 = s.volume();
+    // A radial mill of width w: the part turns under it (chords of its path in the part frame).
+    let n = 180;
+    for k in 0..n {
+        let (p0, p1) = (2.0 * PI * k as f64 / n as f64, 2.0 * PI * (k + 1) as f64 / n as f64);
+        let mid = (p0 + p1) / 2.0;
+        let rr = r - h;
+        let sw = sweep(
+            &flat(w, 20.0),
+            [mid.cos(), mid.sin(), 0.0],
+            [rr * p0.cos(), rr * p0.sin(), 30.0],
+            [rr * p1.cos(), rr * p1.sin(), 30.0],
+            tol,
+        );
+        s.cut(&sw);
+    }
+    let want = PI * (r * r - (r - h) * (r - h)) * w;
+    let got = v0 - s.volume();
+    assert!((got - want).abs() < 0.03 * want, "removed {got}, closed form {want}");
+}
+
+#[test]
+fn a_cross_hole_through_a_bar_removes_the_cylinders_intersection() {
+    // Equal diameters: Steinmetz's 16 r³ / 3.
+    let (r, tol) = (10.0, 0.1);
+    let mut s = bar(r, 60.0, tol);
+    let v0 = s.volume();
+    let sw = sweep(
+        &flat(2.0 * r, 40.0),
+        [1.0, 0.0, 0.0],
+        [15.0, 0.0, 30.0],
+        [-15.0, 0.0, 30.0],
+        tol,
+    );
+    s.cut(&sw);
+    let want = 16.0 * r * r * r / 3.0;
+    let got = v0 - s.volume();
+    assert!((got - want).abs() < 0.04 * want, "removed {got}, Steinmetz {want}");
+    assert!(
+        !s.contains(Vector3::new(0.0, 0.0, 30.0)),
+        "the hole goes through the axis"
+    );
+    assert!(!s.contains(Vector3::new(0.0, 9.0, 30.0)));
+}
+
+#[test]
+fn a_face_pocket_removes_its_box_and_round_ends() {
+    // A Ø10 flat mill along z into the front face 4 deep, moved 20 mm along x: a slot of
+    // (20 × 10 + π 5²) × 4.
+    let (r, tol) = (30.0, 0.1);
+    let mut s = bar(r, 60.0, tol);
+    let v0 = s.volume();
+    let sw0 = sweep(
+        &flat(10.0, 20.0),
+        [0.0, 0.0, 1.0],
+        [-10.0, 5.0, 61.0],
+        [-10.0, 5.0, 56.0],
+        tol,
+    );
+    let sw1 = sweep(
+        &flat(10.0, 20.0),
+        [0.0, 0.0, 1.0],
+        [-10.0, 5.0, 56.0],
+        [10.0, 5.0, 56.0],
+        tol,
+    );
+    s.cut(&sw0);
+    s.cut(&sw1);
+    let want = (20.0 * 10.0 + PI * 25.0) * 4.0;
+    let got = v0 - s.volume();
+    assert!((got - want).abs() < 0.04 * want, "removed {got}, closed form {want}");
+    assert!(!s.contains(Vector3::new(0.0, 5.0, 58.0)));
+    assert!(s.contains(Vector3::new(0.0, 5.0, 55.0)));
+}
+
+#[test]
+fn a_dry_run_measures_without_cutting() {
+    let mut s = bar(20.0, 60.0, 0.1);
+    let sw = sweep(
+        &flat(16.0, 30.0),
+        [1.0, 0.0, 0.0],
+        [15.0, -30.0, 30.0],
+        [15.0, 30.0, 30.0],
+        0.1,
+    );
+    let v0 = s.volume();
+    let would = s.would_remove(&sw);
+    assert!(would > 0.0);
+    assert_eq!(s.volume(), v0);
+    assert!((s.cut(&sw) - would).abs() < 1e-9);
+    // Air: the same sweep again removes nothing.
+    assert_eq!(s.would_remove(&sw), 0.0);
+}
+
+#[test]
+fn cutters_are_checked_and_their_pieces_stay_inside_their_profile() {
+    assert!(Cutter::new(CutterKind::Flat, 0.0, 10.0).is_err());
+    assert!(Cutter::new(CutterKind::Bull { corner_radius: 6.0 }, 10.0, 20.0).is_err());
+    assert!(Cutter::new(CutterKind::Drill { point_angle_deg: 180.0 }, 10.0, 20.0).is_err());
+    assert!(Cutter::new(CutterKind::Tap { pitch: 10.0 }, 10.0, 20.0).is_err());
+    for kind in [
+        CutterKind::Flat,
+        CutterKind::Ball,
+        CutterKind::Bull { corner_radius: 2.0 },
+        CutterKind::Drill { point_angle_deg: 118.0 },
+        CutterKind::Tap { pitch: 1.5 },
+    ] {
+        let c = Cutter::new(kind, 10.0, 20.0).unwrap();
+        for p in c.pieces(0.05) {
+            let (r, h0, h1) = match p {
+                cutter::Piece::Disc { r, h0, h1 } => (r, h0, h1),
+                cutter::Piece::Ball { r, h } => (r, h - r, h + r),
+            };
+            for k in 0..=10 {
+                let h = h0 + (h1 - h0) * k as f64 / 10.0;
+                let width = match p {
+                    cutter::Piece::Ball { r: br, h: bh } => (br * br - (h - bh) * (h - bh)).max(0.0).sqrt(),
+                    _ => r,
+                };
+                assert!(width <= c.radius_at(h) + 1e-9, "{kind:?}: piece {p:?} at h {h}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_ball_end_groove_along_the_bar_is_a_half_round() {
+    // A Ø8 ball end along z, its centre on the bar's surface: a groove of half a Ø8 circle.
+    let (r, tol) = (20.0, 0.05);
+    let mut s = bar(r, 60.0, tol);
+    let v0 = s.volume();
+    let c = Cutter::new(CutterKind::Ball, 8.0, 20.0).unwrap();
+    // Axis +x, tip at x = r − 4 (centre at x = r), from z 10 to z 50.
+    s.cut(&sweep(
+        &c,
+        [1.0, 0.0, 0.0],
+        [r - 4.0, 0.0, 10.0],
+        [r - 4.0, 0.0, 50.0],
+        tol,
+    ));
+    let got = v0 - s.volume();
+    // Inside the bar: about half the Ø8 disc (the bar's curvature takes a little) × 40, plus the
+    // round ends.
+    let lens = {
+        // Area of the Ø8 disc centred on the circle of radius r, inside it.
+        let (a, b) = (4.0f64, r);
+        let d = r;
+        a * a * ((d * d + a * a - b * b) / (2.0 * d * a)).acos()
+            + b * b * ((d * d + b * b - a * a) / (2.0 * d * b)).acos()
+            - 0.5 * ((-d + a + b) * (d + a - b) * (d - a + b) * (d + a + b)).sqrt()
+    };
+    let want = lens * 40.0 + 2.0 / 3.0 * PI * 64.0 * 0.5 * 2.0 * 0.5;
+    assert!((got - want).abs() < 0.06 * want, "removed {got}, about {want}");
+}
+
+/// Oracle: a point the grids call air was inside some sweep (never removed what no cut
+/// removed), on random radial and axial cuts.
+#[test]
+fn the_grids_never_remove_what_no_sweep_holds() {
+    let mut seed = 12345u64;
+    let mut rnd = || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let tol = 0.2;
+    let mut s = bar(15.0, 40.0, tol);
+    let mut sweeps = Vec::new();
+    for _ in 0..12 {
+        let phi = rnd() * 2.0 * PI;
+        let axial = rnd() < 0.3;
+        let c = Cutter::new(
+            if rnd() < 0.5 {
+                CutterKind::Flat
+            } else {
+                CutterKind::Ball
+            },
+            4.0 + 6.0 * rnd(),
+            20.0,
+        )
+        .unwrap();
+        let sw = if axial {
+            let (x, y) = (10.0 * rnd() - 5.0, 10.0 * rnd() - 5.0);
+            sweep(
+                &c,
+                [0.0, 0.0, 1.0],
+                [x, y, 42.0],
+                [x + 4.0 * rnd() - 2.0, y, 40.0 - 6.0 * rnd()],
+                tol,
+            )
+        } else {
+            let depth = 15.0 - 4.0 * rnd();
+            let z = 5.0 + 30.0 * rnd();
+            let (c0, s0) = (phi.cos(), phi.sin());
+            sweep(
+                &c,
+                [c0, s0, 0.0],
+                [depth * c0 - 8.0 * s0, depth * s0 + 8.0 * c0, z],
+                [depth * c0 + 8.0 * s0, depth * s0 - 8.0 * c0, z + 6.0 * rnd()],
+                tol,
+            )
+        };
+        s.cut(&sw);
+        sweeps.push(sw);
+    }
+    let mut air = 0;
+    for _ in 0..20000 {
+        let p = Vector3::new(30.0 * rnd() - 15.0, 30.0 * rnd() - 15.0, 40.0 * rnd());
+        if p.x.hypot(p.y) > 14.5 || p.z < 0.5 || p.z > 39.5 {
+            continue;
+        }
+        if !s.contains(p) {
+            air += 1;
+            // Within a node's size of a sweep.
+            let near = sweeps.iter().any(|sw| {
+                (0..27).any(|k| {
+                    let o = Vector3::new((k % 3) as f64 - 1.0, ((k / 3) % 3) as f64 - 1.0, (k / 9) as f64 - 1.0) * 0.3;
+                    sw.contains(p + o)
+                })
+            });
+            assert!(near, "{p:?} is air but no sweep holds it");
+        }
+    }
+    assert!(air > 100, "the cuts removed something: {air}");
+}
+
+#[test]
+fn the_stl_of_a_milled_bar_is_closed_and_holds_its_volume() {
+    let mut s = bar(20.0, 60.0, 0.2);
+    s.cut(&sweep(
+        &flat(16.0, 30.0),
+        [1.0, 0.0, 0.0],
+        [15.0, -30.0, 30.0],
+        [15.0, 30.0, 30.0],
+        0.2,
+    ));
+    let stl = s.stl().unwrap();
+    let n = u32::from_le_bytes(stl[80..84].try_into().unwrap()) as usize;
+    assert_eq!(stl.len(), 84 + 50 * n);
+    // Divergence theorem over the triangles; every edge used twice in opposite directions.
+    let mut vol = 0.0;
+    let mut edges = std::collections::HashMap::new();
+    let key = |p: [f32; 3]| (p[0].to_bits(), p[1].to_bits(), p[2].to_bits());
+    for t in 0..n {
+        let b = &stl[84 + 50 * t..84 + 50 * t + 50];
+        let f = |o: usize| f32::from_le_bytes(b[o..o + 4].try_into().unwrap());
+        let v: Vec<[f32; 3]> = (0..3)
+            .map(|k| [f(12 + 12 * k), f(16 + 12 * k), f(20 + 12 * k)])
+            .collect();
+        let a = Vector3::new(v[0][0] as f64, v[0][1] as f64, v[0][2] as f64);
+        let bb = Vector3::new(v[1][0] as f64, v[1][1] as f64, v[1][2] as f64);
+        let c = Vector3::new(v[2][0] as f64, v[2][1] as f64, v[2][2] as f64);
+        vol += a.dot(&bb.cross(&c)) / 6.0;
+        for k in 0..3 {
+            *edges.entry((key(v[k]), key(v[(k + 1) % 3]))).or_insert(0i32) += 1;
+        }
+    }
+    for ((a, b), c) in &edges {
+        let back = edges.get(&(*b, *a)).copied().unwrap_or(0);
+        assert_eq!(*c, back, "edge {a:?} → {b:?}");
+    }
+    // The mesh runs between the first and last column centres: about one column short.
+    let want = s.volume();
+    assert!((vol - want).abs() < 0.02 * want, "mesh {vol} vs grid {want}");
+}
+
+#[test]
+fn a_block_milled_on_two_faces_loses_both_pockets() {
+    let mut s = Stock::block(Vector3::zeros(), Vector3::new(300.0, 300.0, 200.0), 256, 0.5).unwrap();
+    let v0 = s.volume();
+    // Top face (z = 200): a Ø14 mill 5 deep along x from 50 to 250 at y 150.
+    let c = flat(14.0, 30.0);
+    s.cut(&sweep(
+        &c,
+        [0.0, 0.0, 1.0],
+        [50.0, 150.0, 195.0],
+        [250.0, 150.0, 195.0],
+        0.5,
+    ));
+    // Side face (x = 300): a Ø6 mill 3 deep along y.
+    let c6 = flat(6.0, 30.0);
+    s.cut(&sweep(
+        &c6,
+        [1.0, 0.0, 0.0],
+        [297.0, 50.0, 100.0],
+        [297.0, 250.0, 100.0],
+        0.5,
+    ));
+    let want = (200.0 * 14.0 + PI * 49.0) * 5.0 + (200.0 * 6.0 + PI * 9.0) * 3.0;
+    let got = v0 - s.volume();
+    assert!((got - want).abs() < 0.05 * want, "removed {got}, closed form {want}");
+}
