@@ -16,12 +16,14 @@
 //! closest distance between the two boundaries (BVH branch and bound, GJK to about 1e-9 mm), and 0
 //! when the solids overlap by any amount (crossing or containment).
 
+mod grid;
 mod motion;
 mod stock;
 mod tess;
 #[cfg(test)]
 mod tests;
 
+pub use grid::grid_overlap;
 pub use motion::{
     bound_from, first_contact, geometry_sphere, motion_bound, Advance, LinearPath, Path, MAX_PROBES, MIN_STEP_MM,
 };

@@ -66,7 +66,7 @@ impl CylGrid {
     }
 
     /// The columns whose centre lies in `[lo, hi]`.
-    fn columns(&self, lo: f64, hi: f64) -> Option<(usize, usize)> {
+    pub(crate) fn columns(&self, lo: f64, hi: f64) -> Option<(usize, usize)> {
         let a = ((lo - self.z0) / self.dz - 0.5).ceil().max(0.0);
         let b = ((hi - self.z0) / self.dz - 0.5).floor();
         if !(a.is_finite() && b.is_finite()) || b < a || a >= self.nz as f64 || b < 0.0 {
@@ -77,7 +77,7 @@ impl CylGrid {
 
     /// The node angles whose ray can meet the box `[min, max]` in x, y: all of them when the box
     /// holds the axis, else the arc it spans seen from the axis.
-    fn angles(&self, min: &Vector3<f64>, max: &Vector3<f64>) -> Vec<(usize, usize)> {
+    pub(crate) fn angles(&self, min: &Vector3<f64>, max: &Vector3<f64>) -> Vec<(usize, usize)> {
         if min.x <= 0.0 && max.x >= 0.0 && min.y <= 0.0 && max.y >= 0.0 {
             return vec![(0, self.nth - 1)];
         }
