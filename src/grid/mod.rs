@@ -108,10 +108,15 @@ impl Stock {
         let origin = Vector3::new(-r_max, r_max, z_hi);
         let (dzc, z0) = (cyl.dz, cyl.z0);
         let cols: Vec<Option<(f64, f64)>> = (0..nz).map(|j| profile(z0 + (j as f64 + 0.5) * dzc)).collect();
+        // Beyond every column's outer radius no ray meets material: no search.
+        let r_top = cols.iter().flatten().map(|c| c.1).fold(0.0, f64::max);
         let face = FaceGrid::new(origin, Vector3::x(), -Vector3::y(), (df, df), (nf, nf), len, |u, v| {
             // e_v = −y so that e_u × e_v = −z (inward from the front face).
             let (x, y) = (-r_max + u, r_max - v);
             let rho = x.hypot(y);
+            if rho > r_top {
+                return None;
+            }
             (0..nz).rev().find_map(|j| {
                 cols[j]
                     .filter(|&(ri, ro)| rho >= ri && rho <= ro)
