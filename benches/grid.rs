@@ -60,6 +60,20 @@ fn passes(
     out
 }
 
+/// The Ø14 mill's passes on the top face, 10 mm moves.
+fn top_passes(moves: usize) -> Vec<Sweep> {
+    passes(
+        &flat(14.0),
+        Vector3::z(),
+        Vector3::new(50.0, 50.0, 200.0),
+        Vector3::x(),
+        Vector3::y(),
+        10.0,
+        moves,
+        1.0,
+    )
+}
+
 fn time_moves(stock: &mut Stock, sweeps: &[Sweep]) -> f64 {
     let t = Instant::now();
     let mut removed = 0.0;
@@ -78,16 +92,7 @@ fn main() {
     for n in [256usize, 512] {
         let mut s = block(n);
         let mut all = Vec::new();
-        all.extend(passes(
-            &flat(14.0),
-            Vector3::z(),
-            top,
-            Vector3::x(),
-            Vector3::y(),
-            10.0,
-            4000 / scale,
-            1.0,
-        ));
+        all.extend(top_passes(4000 / scale));
         all.extend(passes(
             &flat(6.0),
             Vector3::x(),
@@ -144,16 +149,7 @@ fn main() {
     let mut base = None;
     for n in [128usize, 256, 512, 1024] {
         let mut s = block(n);
-        let sw = passes(
-            &flat(14.0),
-            Vector3::z(),
-            top,
-            Vector3::x(),
-            Vector3::y(),
-            10.0,
-            2000 / scale,
-            1.0,
-        );
+        let sw = top_passes(2000 / scale);
         let per = time_moves(&mut s, &sw);
         let b = *base.get_or_insert(per);
         println!("   {n}²: {:.1} µs per move ({:.2}× the 128² cost)", per * 1e6, per / b);

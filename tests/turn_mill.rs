@@ -38,9 +38,12 @@ fn errors(rel: &str, m: &Machine, mode: Mode) -> Vec<(u32, Kind, Vec<String>)> {
 }
 
 fn both_modes(rel: &str, want: &[(u32, Kind, [&str; 2])]) {
-    let m = turn_mill();
+    both_modes_on(rel, &turn_mill(), want);
+}
+
+fn both_modes_on(rel: &str, m: &Machine, want: &[(u32, Kind, [&str; 2])]) {
     for mode in [Mode::Step, Mode::Exact] {
-        let got = errors(rel, &m, mode);
+        let got = errors(rel, m, mode);
         let want: Vec<(u32, Kind, Vec<String>)> = want
             .iter()
             .map(|(l, k, o)| (*l, *k, o.iter().map(|s| s.to_string()).collect()))
@@ -284,15 +287,7 @@ fn line_of(text: &str, prefix: &str) -> u32 {
 }
 
 fn pick_both_modes(name: &str, want: &[(u32, Kind, [&str; 2])]) {
-    let m = pick_machine();
-    for mode in [Mode::Step, Mode::Exact] {
-        let got = errors(&format!("{PICK}{name}"), &m, mode);
-        let want: Vec<(u32, Kind, Vec<String>)> = want
-            .iter()
-            .map(|(l, k, o)| (*l, *k, o.iter().map(|s| s.to_string()).collect()))
-            .collect();
-        assert_eq!(got, want, "{name} in {mode:?} mode");
-    }
+    both_modes_on(&format!("{PICK}{name}"), &pick_machine(), want);
 }
 
 /// The part leaves the bar with the sub-spindle: the clean program is clean, the material beyond

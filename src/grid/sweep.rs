@@ -24,26 +24,24 @@ struct Quad {
 }
 
 impl Quad {
-    fn new3(c: Vector3<f64>, p: Vector3<f64>, q: Vector3<f64>, r: f64) -> Quad {
+    /// From the dot products of `c`, `p`, `q` (any dimension) and the radius.
+    fn from_dots([pp, pq, qq, cp, cq, cc]: [f64; 6], r: f64) -> Quad {
         Quad {
-            a: p.dot(&p),
-            b: -p.dot(&q),
-            c: q.dot(&q),
-            d: c.dot(&p),
-            e: -c.dot(&q),
-            f: c.dot(&c) - r * r,
+            a: pp,
+            b: -pq,
+            c: qq,
+            d: cp,
+            e: -cq,
+            f: cc - r * r,
         }
     }
 
+    fn new3(c: Vector3<f64>, p: Vector3<f64>, q: Vector3<f64>, r: f64) -> Quad {
+        Quad::from_dots([p.dot(&p), p.dot(&q), q.dot(&q), c.dot(&p), c.dot(&q), c.dot(&c)], r)
+    }
+
     fn new2(c: Vector2<f64>, p: Vector2<f64>, q: Vector2<f64>, r: f64) -> Quad {
-        Quad {
-            a: p.dot(&p),
-            b: -p.dot(&q),
-            c: q.dot(&q),
-            d: c.dot(&p),
-            e: -c.dot(&q),
-            f: c.dot(&c) - r * r,
-        }
+        Quad::from_dots([p.dot(&p), p.dot(&q), q.dot(&q), c.dot(&p), c.dot(&q), c.dot(&c)], r)
     }
 
     fn at(&self, t: f64, s: f64) -> f64 {

@@ -637,13 +637,21 @@ fn view(o: &mut String, v: &View, s: &Snapshot3) -> Cuts {
         n(v.w),
         n(v.h)
     );
+    // A view narrower than its whole title (about 7 px a character at 13 px) keeps the title's
+    // name and leaves out its axis directions, so that it does not run into the next view's.
+    let label = v.kind.label();
+    let rest = if label.chars().count() as f64 * 7.0 > v.w {
+        label[2..].split("   (").next().unwrap_or(&label[2..])
+    } else {
+        &label[2..]
+    };
     let _ = writeln!(
         o,
         r##"<text x="{}" y="{}" font-size="13" fill="{INK}"><tspan font-weight="bold">{}</tspan>{}</text>"##,
         n(v.left),
         n(v.top - 8.0),
-        &v.kind.label()[..2],
-        esc(&v.kind.label()[2..])
+        &label[..2],
+        esc(rest)
     );
     let _ = writeln!(o, r#"<g id="view-{id}" stroke-linejoin="round" fill-rule="nonzero">"#);
     for (pi, sil, bands) in &ol.parts {
