@@ -70,6 +70,7 @@ pub fn run(src: &[u8], machine: &Machine, clearance_mm: f64, min_depth_mm: Optio
             clearance_mm,
             min_depth_mm,
             snapshots: false,
+            part_mesh: false,
             ..Settings::default()
         };
         let (exact, ms) = timed(src, machine, &base, repeats);

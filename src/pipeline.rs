@@ -42,6 +42,9 @@ pub struct Settings {
     /// Record a [`crate::scene::Snapshot`] of the scene at each finding's first contact.
     #[serde(skip)]
     pub snapshots: bool,
+    /// Make the final part as a triangle mesh ([`Outcome::part_stl`], `--stock-out FILE.stl`).
+    #[serde(skip)]
+    pub part_mesh: bool,
 }
 
 impl Default for Settings {
@@ -54,6 +57,7 @@ impl Default for Settings {
             min_depth_mm: None,
             work_budget: DEFAULT_WORK_BUDGET,
             snapshots: false,
+            part_mesh: false,
         }
     }
 }
@@ -102,6 +106,9 @@ pub struct Outcome {
     /// The stock at the end of the program: closed `[x, z]` outlines in the half plane x ≥ 0
     /// (the raw stock when the program never reached it; empty when the machine has none).
     pub stock: Vec<Vec<[f64; 2]>>,
+    /// With [`Settings::part_mesh`]: the final part as binary STL (the milled stock when the
+    /// program milled, else the section revolved).
+    pub part_stl: Option<Vec<u8>>,
 }
 
 /// The machine as it reads this program: with `dialect = "auto"`, the dialect the program's own
@@ -200,5 +207,11 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
         (None, Some(s)) => vec![s.section()],
         (None, None) => Vec::new(),
     };
-    Outcome { findings, stats, stock }
+    let part_stl = result.part_stl;
+    Outcome {
+        findings,
+        stats,
+        stock,
+        part_stl,
+    }
 }

@@ -105,6 +105,26 @@ fn a_b_tilted_hole_drilled_and_backed_out_along_its_line_is_clean() {
     }
 }
 
+/// On this machine a rapid is a dogleg (Z at 24 m/min arrives before X at 20 m/min): backing out
+/// of the tilted hole at a rapid leaves the hole's line by about 5° and drags the drill through
+/// its wall, a crash the milled stock sees (the plunge line of issue 15 let it pass).
+#[test]
+fn a_dogleg_rapid_out_of_a_tilted_hole_drags_the_drill_through_its_wall() {
+    let src = program("b_tilted_drilling.nc").replace("G1 X-14.437 Z79.782 F2000.", "G0 X-14.437 Z79.782");
+    for mode in [Mode::Step, Mode::Exact] {
+        let (errs, _) = errors(&src, mode);
+        assert_eq!(
+            errs,
+            vec![(
+                17,
+                Kind::RapidIntoStock,
+                vec!["head_drill".to_string(), "stock".to_string()]
+            )],
+            "{mode:?}"
+        );
+    }
+}
+
 /// The clean hole is a real cut: the same line at a rapid drives the drill into the bar, and
 /// backing out sideways (Z first) drags it through the part.
 #[test]
@@ -120,7 +140,7 @@ fn the_tilted_hole_reaches_the_bar_a_rapid_along_it_is_a_crash() {
             "{mode:?}"
         );
     }
-    let sideways = src.replace("G0 X-14.437 Z79.782 (BACK OUT", "G0 Z79.782 (BACK OUT");
+    let sideways = src.replace("G1 X-14.437 Z79.782 F2000. (BACK OUT", "G0 Z79.782 (BACK OUT");
     assert_ne!(sideways, src);
     for mode in [Mode::Step, Mode::Exact] {
         let (errs, _) = errors(&sideways, mode);

@@ -74,6 +74,8 @@ pub struct CheckResult {
     pub stats: Stats,
     /// The stock at the end, when the program reached it.
     pub stock: Option<DexelStock>,
+    /// With `Settings::part_mesh`: the final part as binary STL.
+    pub part_stl: Option<Vec<u8>>,
 }
 
 struct Checker<'a> {
@@ -111,6 +113,10 @@ struct Checker<'a> {
     three: Option<three::Three>,
     /// A live tool's plunge into the positioned part (`three.rs`).
     plunge3: Option<three::Plunge>,
+    /// The milled stock once a live cutter milled the positioned part (`three/mill.rs`).
+    mill: Option<three::mill::Mill>,
+    /// Lower bounds of the 3D component pairs' gaps at the end of move `.0` (`three.rs`).
+    gap3: Option<(usize, three::PairGaps)>,
 }
 
 /// A feed move whose cut is under way (see [`DexelStock::begin_move`]).
@@ -178,6 +184,8 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
             })
             .map(|k| three::Three::new(k.clone(), settings.tolerance_mm)),
         plunge3: None,
+        mill: None,
+        gap3: None,
     };
     c.static_pairs();
     for item in timer.by_ref() {
@@ -215,6 +223,7 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
             .with_n(m.n),
         );
     }
+    let part_stl = if settings.part_mesh { c.part_stl() } else { None };
     let mut stats = c.stats;
     stats.machine_time_s = machine_time_s;
     if c.three.as_ref().is_some_and(|t| t.ran) {
@@ -222,6 +231,9 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
     }
     if c.cut_any {
         stats.effects.push("stock_removal".into());
+    }
+    if c.mill.is_some() {
+        stats.effects.push("grid_stock".into());
     }
     if c.indexed {
         stats.effects.push("turret_index".into());
@@ -239,6 +251,7 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
         findings,
         stats,
         stock: c.stock,
+        part_stl,
     }
 }
 
@@ -448,8 +461,10 @@ impl Checker<'_> {
             let motion = matches!(m.kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. });
             let Some(t) = self.three.as_mut() else { return };
             let mut route = t.route(m, e, turns, self.tailstock_in);
-            // A cutter inside its own non-revolved cut leaves the 2D model on every move.
-            if self.plunge3.is_some() {
+            // A cutter inside its own non-revolved cut leaves the 2D model on every move; so does
+            // every move while a milled part stands still (the 2D model sees it revolved: a
+            // spinning part sweeps its revolved outline, a standing one does not).
+            if self.plunge3.is_some() || (self.mill.is_some() && !turns) {
                 route = three::Route::Space;
             }
             if route != three::Route::Plane {

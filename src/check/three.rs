@@ -30,6 +30,7 @@
 //! move's time, a G17/G19 arc follows `interp::position3`.
 
 mod index;
+pub(super) mod mill;
 mod near;
 pub(super) mod transfer;
 
@@ -40,14 +41,13 @@ use nalgebra::Point3;
 use super::episodes::Contact;
 use super::Checker;
 use crate::collide3::{self, Hit, Shape3};
-use crate::collide3::{bound_from, stock_gap, stock_overlap, Advance, Path as _, MAX_PROBES};
+use crate::collide3::{bound_from, Advance, Path as _, MAX_PROBES};
 use crate::finding::Kind;
 use crate::geom::TOUCH_EPS;
 use crate::interp::{position3, ExtraMove, Move, MoveKind};
-use crate::kin::{AxisId, CompId, Kinematics, Poser, Role};
+use crate::kin::{AxisId, CompId, Geometry, Kinematics, Poser, Role};
 use crate::motion::{self, Timed};
 use crate::report::scene3::{Part3, Role3, Snapshot3};
-use crate::scene::View;
 
 /// Episode keys of the 3D path: above every 2D key.
 const KEY_BASE: u64 = 1 << 48;
@@ -84,6 +84,9 @@ pub(super) struct Plunge {
 pub(super) struct Three {
     kin: Arc<Kinematics>,
     shapes: Vec<Option<Shape3>>,
+    /// Cylinders and boxes as parry's primitives (exact, and cast in closed form) for the milled
+    /// stock's ray queries (`mill.rs`); `None`: the mesh serves.
+    grid_shapes: Vec<Option<Shape3>>,
     ax_x: Option<AxisId>,
     ax_z: Option<AxisId>,
     /// The kinematic axis of each of `interp::EXTRA_LETTERS` (Y, C, B, A).
@@ -104,6 +107,8 @@ pub(super) struct Three {
     pieces: Vec<CompId>,
     /// The sub chuck's clamp and what it holds (`transfer.rs`).
     transfer: transfer::Transfer,
+    /// The component the C axis turns: the part's frame (`mill.rs`).
+    main_spindle: Option<CompId>,
     /// The 3D path ran on at least one move (`stats.effects` says "3d").
     pub ran: bool,
 }
@@ -114,6 +119,14 @@ impl Three {
             .components
             .iter()
             .map(|c| c.geometry.as_ref().and_then(|g| Shape3::meshed(g, tolerance)))
+            .collect();
+        let grid_shapes = kin
+            .components
+            .iter()
+            .map(|c| match &c.geometry {
+                Some(g @ (Geometry::Cylinder { .. } | Geometry::Cuboid { .. })) => Shape3::from_geometry(g, tolerance),
+                _ => None,
+            })
             .collect();
         let letter = |c| kin.axis_by_letter(c);
         let mut ax_extra = [None; 4];
@@ -158,12 +171,14 @@ impl Three {
             sub_parts,
             pieces: Vec::new(),
             transfer: transfer::Transfer::default(),
+            main_spindle: ax_extra[1].and_then(|a| kin.components.iter().position(|c| c.axis == Some(a))),
             ax_x: letter('X'),
             ax_z: letter('Z'),
             ax_extra,
             start: kin.start_values(),
             index: None,
             shapes,
+            grid_shapes,
             kin,
             ran: false,
         }
@@ -341,6 +356,7 @@ impl Checker<'_> {
             None
         };
         let mut pairs: Vec<(CompId, usize, Kind)> = Vec::new();
+        let mut to_mill: Vec<CompId> = Vec::new();
         for &(a, b) in &k.never_touch {
             if on[a] && on[b] && three.shapes[a].is_some() && three.shapes[b].is_some() {
                 pairs.push((a, b, Kind::Collision));
@@ -370,7 +386,12 @@ impl Checker<'_> {
                         }
                     }
                     if live && !rapid && !spindle_turns {
-                        self.record_plunge(three, i, m, e, item);
+                        if self.grid_cutter(three, i).is_some() {
+                            // Milled into the grid after the pairs (`mill.rs`).
+                            to_mill.push(i);
+                        } else {
+                            self.record_plunge(three, i, m, e, item);
+                        }
                     }
                 } else {
                     pairs.push((i, STOCK, Kind::Collision));
@@ -396,11 +417,21 @@ impl Checker<'_> {
         for &(a, b) in &near_pairs {
             self.near_misses(three, &follow, m, item, a, b);
         }
+        // The component pairs' gaps at the end of the previous move, when that was the move just
+        // before this one on this path (the parts then start where they stood).
+        let known = match self.gap3.take() {
+            Some((i, g)) if i + 1 == item.index => g,
+            _ => Vec::new(),
+        };
+        let mut gaps: PairGaps = Vec::new();
         for (&(a, b, kind), &key) in pairs.iter().zip(&keys) {
             let res = if b == STOCK {
                 self.stock_advance(three, &follow, a)
             } else {
-                pair_advance(three, &follow, a, b, self.settings.tolerance_mm)
+                let start = known.iter().find(|(p, _)| *p == (a, b)).map_or(0.0, |g| g.1);
+                let (adv, end, n) = pair_advance(three, &follow, a, b, self.settings.tolerance_mm, start);
+                gaps.push(((a, b), end));
+                (adv, n)
             };
             self.stats.pair_tests += res.1;
             match res.0 {
@@ -438,6 +469,12 @@ impl Checker<'_> {
                         self.episodes.clear(key);
                     }
                 }
+            }
+        }
+        self.gap3 = Some((item.index, gaps));
+        for c in to_mill {
+            if !self.mill_cut(three, c, m, e, item) {
+                self.record_plunge(three, c, m, e, item);
             }
         }
         self.end_plunge(three, &follow);
@@ -513,8 +550,17 @@ impl Checker<'_> {
         poser.pose(k, &vals);
         let sa = three.shapes[a].as_ref()?;
         if b == STOCK {
-            let stock = self.ensure_stock()?;
-            stock_overlap(sa, poser.world(a), stock, View::Now, TOUCH_EPS)
+            self.ensure_stock()?;
+            let stock = self.stock.as_mut()?;
+            mill::stock_hit(
+                self.mill.as_ref(),
+                stock,
+                sa,
+                three.grid_shape(a, sa),
+                poser.world(a),
+                &three.part_pose(&poser),
+                false,
+            )
         } else {
             collide3::overlap(sa, poser.world(a), three.shapes[b].as_ref()?, poser.world(b), TOUCH_EPS)
         }
@@ -531,9 +577,16 @@ impl Checker<'_> {
             return (Advance::Clear, 0);
         };
         let raw = (b.min.y, b.max.y, b.max.x.max(-b.min.x));
-        let Some(stock) = self.ensure_stock() else {
+        if self.ensure_stock().is_none() {
+            return (Advance::Clear, 0);
+        }
+        let Some(stock) = self.stock.as_mut() else {
             return (Advance::Clear, 0);
         };
+        let mill = self.mill.as_ref();
+        // Against the milled stock, contacts up to its touch depth are touches: a step of that
+        // much can step over nothing that counts.
+        let min_step = mill.map_or(min_step, |m| min_step.max(m.touch()));
         let mut poser = Poser::new(k);
         let mut vals = Vec::new();
         f.at(0.0, &mut vals);
@@ -570,7 +623,15 @@ impl Checker<'_> {
                 u = if next > u { next } else { (u + f64::EPSILON).min(1.0) };
                 continue;
             }
-            if let Some(h) = stock_overlap(sa, poser.world(a), stock, View::Now, TOUCH_EPS) {
+            if let Some(h) = mill::stock_hit(
+                mill,
+                stock,
+                sa,
+                three.grid_shape(a, sa),
+                poser.world(a),
+                &three.part_pose(&poser),
+                true,
+            ) {
                 if u == 0.0 {
                     return (Advance::Contact { u, hit: h }, probes);
                 }
@@ -583,7 +644,15 @@ impl Checker<'_> {
                     }
                     f.at(mid, &mut vals);
                     poser.pose(k, &vals);
-                    match stock_overlap(sa, poser.world(a), stock, View::Now, TOUCH_EPS) {
+                    match mill::stock_hit(
+                        mill,
+                        stock,
+                        sa,
+                        three.grid_shape(a, sa),
+                        poser.world(a),
+                        &three.part_pose(&poser),
+                        true,
+                    ) {
                         Some(h) => (hi, best) = (mid, h),
                         None => lo = mid,
                     }
@@ -593,7 +662,15 @@ impl Checker<'_> {
             if u >= 1.0 || rate == 0.0 {
                 return (Advance::Clear, probes);
             }
-            let gap = stock_gap(sa, poser.world(a), stock, View::Now, window);
+            let gap = mill::stock_gap(
+                mill,
+                stock,
+                sa,
+                three.grid_shape(a, sa),
+                poser.world(a),
+                &three.part_pose(&poser),
+                window,
+            );
             if !rate.is_finite() || gap.is_nan() {
                 return (Advance::Unchecked { u }, probes);
             }
@@ -879,15 +956,21 @@ fn names(k: &Kinematics, a: CompId, b: usize) -> String {
 }
 
 /// Conservative advancement of a pair of components.
-fn pair_advance(three: &Three, f: &Follow, a: CompId, b: CompId, tol: f64) -> (Advance, u64) {
+/// Lower bounds of component pairs' gaps, by pair (`Checker::gap3`).
+pub(super) type PairGaps = Vec<((CompId, usize), f64)>;
+
+/// A component pair along the move: the advance, a lower bound of the pair's gap at the move's
+/// end (0 when unknown), and the probes it cost. `start_gap` is a known lower bound of the gap
+/// at the move's start (0: none).
+fn pair_advance(three: &Three, f: &Follow, a: CompId, b: CompId, tol: f64, start_gap: f64) -> (Advance, f64, u64) {
     let k = &three.kin;
     let (Some(sa), Some(sb)) = (three.shapes[a].as_ref(), three.shapes[b].as_ref()) else {
-        return (Advance::Clear, 0);
+        return (Advance::Clear, 0.0, 0);
     };
     // Overlaps count from twice the tolerance: the meshes of revolved parts and cylinders stand
     // up to the tolerance proud of their true surfaces (circumscribed), so two touching parts may
     // overlap that much as meshes alone (a drill sliding along a jaw's radius). Steps as the 2D
     // check's advancement: never longer than the proven gap, at least the tolerance.
-    let adv = collide3::first_contact(k, (a, sa), (b, sb), f, 2.0 * tol, tol);
-    (adv, 1)
+    let (adv, end) = collide3::first_contact_from(k, (a, sa), (b, sb), f, 2.0 * tol, tol, start_gap);
+    (adv, end, 1)
 }

@@ -112,8 +112,14 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
     if let Some(out) = &a.stock_out {
         match report.files.as_slice() {
             [f] => {
-                let svg = report::part::part_svg(&f.path, &f.stock);
-                std::fs::write(out, svg).map_err(|e| format!("{}: cannot write: {}", shown(out), plain(&e)))?;
+                let bytes = if is_stl(out) {
+                    f.part_stl
+                        .clone()
+                        .ok_or_else(|| format!("{}: the final part has no surface to write (no stock)", shown(out)))?
+                } else {
+                    report::part::part_svg(&f.path, &f.stock).into_bytes()
+                };
+                std::fs::write(out, bytes).map_err(|e| format!("{}: cannot write: {}", shown(out), plain(&e)))?;
             }
             files => {
                 return Err(format!(
@@ -212,6 +218,7 @@ fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>, Vec<P
         s.min_depth_mm = a.min_depth.or(s.min_depth_mm);
         // The 3D path's scenes (--glb) are taken with the pictures' snapshots.
         s.snapshots = a.svg.is_some() || a.glb.is_some();
+        s.part_mesh = a.stock_out.as_deref().is_some_and(is_stl);
         s
     };
     let defaults = (planner.default_machine(), cli(Settings::default()));
@@ -343,6 +350,7 @@ fn check_one(job: &Job, input: &Input) -> (FileReport, bool) {
                     stats: out.stats,
                     source: if keep_source { src } else { Vec::new() },
                     stock: out.stock,
+                    part_stl: out.part_stl,
                     ..FileReport::default()
                 },
                 false,
@@ -511,4 +519,9 @@ fn write_pictures(dir: &Path, report: &mut Report) -> Result<usize, Trouble> {
         n += 1;
     }
     Ok(n)
+}
+
+/// Whether `--stock-out` asks for a mesh (`.stl`, any case) rather than the SVG section.
+fn is_stl(p: &Path) -> bool {
+    p.extension().is_some_and(|e| e.eq_ignore_ascii_case("stl"))
 }

@@ -23,7 +23,8 @@ use crate::scene::DexelStock;
 /// Most boundary crossings followed along one ray.
 const MAX_CROSSINGS: usize = 64;
 
-/// The stretches of the ray `o + t·u`, `t ∈ [t0, t1]`, inside the shape (posed at `pose`).
+/// The stretches of the ray `o + t·u`, `t ∈ [t0, t1]`, inside the shape (posed at `pose`); both
+/// ends of the ray lie outside the shape.
 fn inside_stretches(
     shape: &Shape3,
     pose: &parry3d_f64::math::Pose,
@@ -37,14 +38,35 @@ fn inside_stretches(
     let (s, pos) = shape.parts(pose);
     let at = |t: f64| Vector::new(o.x + t * u.x, o.y + t * u.y, o.z + t * u.z);
     let dir = Vector::new(u.x, u.y, u.z);
+    if let Some(iv) = shape.line_interval(pose, at(0.0), dir, t0, t1) {
+        // A cylinder or a box: its stretch in closed form.
+        out.extend(iv);
+        return;
+    }
+    if shape.is_convex() {
+        // One stretch at most: in from one end, out from the other.
+        let fwd = s.cast_ray(&pos, &Ray::new(at(t0), dir), t1 - t0, false);
+        let back = s.cast_ray(&pos, &Ray::new(at(t1), -dir), t1 - t0, false);
+        if let (Some(a), Some(b)) = (fwd, back) {
+            if t1 - b > t0 + a {
+                out.push((t0 + a, t1 - b));
+            }
+        }
+        return;
+    }
     let mut t = t0;
-    let mut inside = s.contains_point(&pos, at(t));
+    let mut inside = false;
     let mut start = t;
+    // Two crossings this close may be one counted twice (a ray through an edge or a vertex).
+    let mut doubtful = false;
+    let mut last = f64::NEG_INFINITY;
     for _ in 0..MAX_CROSSINGS {
         let ray = Ray::new(at(t), dir);
         match s.cast_ray(&pos, &ray, t1 - t, false) {
             Some(toi) if t + toi < t1 => {
                 let th = t + toi;
+                doubtful |= th - last < 1e-3;
+                last = th;
                 if inside {
                     out.push((start, th));
                 } else {
@@ -61,29 +83,171 @@ fn inside_stretches(
             _ => break,
         }
     }
+    // Both ends are outside: an odd count is a crossing counted twice (or a missed one).
     if inside {
+        doubtful = true;
         out.push((start, t1));
     }
-    // A ray through an edge or a vertex can count a crossing twice: each stretch must hold the
-    // solid at its middle.
-    out.retain(|&(a, b)| s.contains_point(&pos, at((a + b) / 2.0)));
+    if doubtful {
+        // Each stretch must hold the solid at its middle; between two stretches that do not, the
+        // gap may be solid too: rebuild from containment at the crossings' midpoints.
+        let mut cuts: Vec<f64> = std::iter::once(t0)
+            .chain(out.iter().flat_map(|&(a, b)| [a, b]))
+            .chain(std::iter::once(t1))
+            .collect();
+        cuts.dedup();
+        out.clear();
+        for w in cuts.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            if b > a && s.contains_point(&pos, at((a + b) / 2.0)) {
+                match out.last_mut() {
+                    Some(l) if l.1 == a => l.1 = b,
+                    _ => out.push((a, b)),
+                }
+            }
+        }
+    }
 }
 
-/// Does the shape (posed at `pose`, machine frame) overlap the stock by more than `eps`? The
-/// stock's frame is `part` (machine frame of the part: the main spindle's pose).
-///
-/// `dexel`: the checker's dexel stock, which turning cuts after the hand-over; the material is
-/// what both hold (its radial intervals are intersected with each ray's, exactly).
-pub fn grid_overlap(
-    shape: &Shape3,
-    pose: &Iso,
-    part: &Iso,
-    stock: &Stock,
-    eps: f64,
-    dexel: Option<&DexelStock>,
-) -> Option<Hit> {
-    // The shape in the part's frame.
-    let local = part.inverse() * pose;
+/// The grid whose node rays carry a query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Rays {
+    Cyl,
+    Face(usize),
+}
+
+/// The stretch `[t0, t1]` of the ray `o + t·u` inside the box `[min, max]`, within `[lo, hi]`.
+fn slab(
+    o: Vector3<f64>,
+    u: Vector3<f64>,
+    min: &Vector3<f64>,
+    max: &Vector3<f64>,
+    lo: f64,
+    hi: f64,
+) -> Option<(f64, f64)> {
+    let (mut t0, mut t1) = (lo, hi);
+    for k in 0..3 {
+        if u[k].abs() < 1e-15 {
+            if o[k] < min[k] || o[k] > max[k] {
+                return None;
+            }
+        } else {
+            let (x0, x1) = ((min[k] - o[k]) / u[k], (max[k] - o[k]) / u[k]);
+            t0 = t0.max(x0.min(x1));
+            t1 = t1.min(x0.max(x1));
+        }
+    }
+    (t1 > t0).then_some((t0, t1))
+}
+
+/// The box `[min, max]`'s extent along `e` (relative to the point `o`).
+fn extent(min: &Vector3<f64>, max: &Vector3<f64>, o: &Vector3<f64>, e: &Vector3<f64>) -> (f64, f64) {
+    let c = (min + max) / 2.0 - o;
+    let h = (max - min) / 2.0;
+    let r = h.x * e.x.abs() + h.y * e.y.abs() + h.z * e.z.abs();
+    (c.dot(e) - r, c.dot(e) + r)
+}
+
+/// A stock query: the box of the posed component in the part's frame and what it needs.
+struct Query<'a> {
+    stock: &'a Stock,
+    dexel: Option<&'a DexelStock>,
+    min: Vector3<f64>,
+    max: Vector3<f64>,
+}
+
+impl Query<'_> {
+    /// Calls `f(o, u, t0, t1)` for each node ray of `rays` whose material meets the box (its
+    /// stretch `[t0, t1]` inside both), stopping when `f` returns false.
+    fn each(&self, rays: Rays, mut f: impl FnMut(Vector3<f64>, Vector3<f64>, f64, f64) -> bool) {
+        let (min, max) = (&self.min, &self.max);
+        match rays {
+            Rays::Cyl => {
+                let Some(c) = self.stock.cyl.as_ref() else { return };
+                let Some((j0, j1)) = c.columns(min.z, max.z) else {
+                    return;
+                };
+                // The box's nearest reach to the axis: a column whose outermost radius stays
+                // inside it holds nothing in the box.
+                let dx = (min.x.max(0.0) + (-max.x).max(0.0)).max(0.0);
+                let dy = (min.y.max(0.0) + (-max.y).max(0.0)).max(0.0);
+                let reach = dx.hypot(dy);
+                let dirs: Vec<(usize, Vector3<f64>)> = c
+                    .angles(min, max)
+                    .into_iter()
+                    .flat_map(|(a, b)| a..=b)
+                    .map(|i| {
+                        let (s, co) = c.theta(i).sin_cos();
+                        (i, Vector3::new(co, s, 0.0))
+                    })
+                    .collect();
+                for j in j0..=j1 {
+                    let z = c.z(j);
+                    let ri = c.inner[j];
+                    if c.col_max[j] <= reach || self.dexel.is_some_and(|d| d.material_at(z).is_empty()) {
+                        continue;
+                    }
+                    let o = Vector3::new(0.0, 0.0, z);
+                    for &(i, u) in &dirs {
+                        let r = c.radius(i, j);
+                        if r <= ri.max(reach) {
+                            continue;
+                        }
+                        if let Some((t0, t1)) = slab(o, u, min, max, ri, r) {
+                            if !f(o, u, t0, t1) {
+                                return;
+                            }
+                        }
+                    }
+                }
+            }
+            Rays::Face(k) => {
+                let g = &self.stock.faces[k];
+                let (u0, u1) = extent(min, max, &g.origin, &g.eu);
+                let (v0, v1) = extent(min, max, &g.origin, &g.ev);
+                let (n0, n1) = extent(min, max, &g.origin, &g.n);
+                let (Some((i0, i1)), Some((j0, j1))) = (
+                    crate::grid::FaceGrid::range(u0, u1, g.du, g.nu),
+                    crate::grid::FaceGrid::range(v0, v1, g.dv, g.nv),
+                ) else {
+                    return;
+                };
+                if n1 <= 0.0 || n0 >= g.thickness {
+                    return;
+                }
+                for j in j0..=j1 {
+                    for i in i0..=i1 {
+                        let d = g.depth(i, j);
+                        // The box's reach along the normal (all of it, for any node): a cheap
+                        // rejection before the ray's own slab.
+                        if d >= g.thickness || d >= n1 {
+                            continue;
+                        }
+                        let o = g.node(i, j);
+                        if let Some((t0, t1)) = slab(o, g.n, min, max, d, g.thickness) {
+                            if !f(o, g.n, t0, t1) {
+                                return;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// How many rays of `rays` meet the box's material, counting no further than `cap`.
+    fn count(&self, rays: Rays, cap: usize) -> usize {
+        let mut n = 0;
+        self.each(rays, |_, _, _, _| {
+            n += 1;
+            n <= cap
+        });
+        n
+    }
+}
+
+/// The box of the shape posed at `local` (part frame), grown by `margin` on every side.
+fn part_box(shape: &Shape3, local: &Iso, margin: f64) -> (Vector3<f64>, Vector3<f64>) {
     let lb = shape.local_box();
     let mut min = Vector3::repeat(f64::INFINITY);
     let mut max = Vector3::repeat(f64::NEG_INFINITY);
@@ -97,145 +261,174 @@ pub fn grid_overlap(
         min = min.inf(&w);
         max = max.sup(&w);
     }
+    (min.add_scalar(-margin), max.add_scalar(margin))
+}
+
+/// The face grids that must be sampled for a box (a cut changed them near it: elsewhere a face
+/// grid holds at least the cylindrical grid's material, its starting depths following the same
+/// profile; a block has no cylindrical grid and every face grid counts), and the grids whose
+/// rays can carry the query.
+fn walks(stock: &Stock, min: &Vector3<f64>, max: &Vector3<f64>) -> (Vec<usize>, Vec<Rays>) {
+    let near = |(a, b): &(Vector3<f64>, Vector3<f64>)| (0..3).all(|i| b[i] >= min[i] && a[i] <= max[i]);
+    let touched: Vec<usize> = if stock.cyl.is_some() {
+        (0..stock.faces.len())
+            .filter(|&k| stock.faces[k].touched.as_ref().is_some_and(near))
+            .collect()
+    } else {
+        (0..stock.faces.len()).collect()
+    };
+    let mut options: Vec<Rays> = touched.iter().map(|&k| Rays::Face(k)).collect();
+    if stock.cyl.is_some() {
+        options.push(Rays::Cyl);
+    }
+    (touched, options)
+}
+
+/// Whether the shape's box (posed at `pose`, grown by `margin`) holds no material by at least
+/// one of the stock's grids: then no point of the stock's material lies deeper than a node
+/// spacing (`Stock::spacing`) inside the shape, and none lies closer to it than `margin` less
+/// a node spacing. (A material point's node ray passes within a spacing of it, and a point of
+/// the shape within a spacing of its box's boundary is within a spacing of its surface.)
+pub fn grid_clear(shape: &Shape3, pose: &Iso, part: &Iso, stock: &Stock, margin: f64) -> bool {
+    let (min, max) = part_box(shape, &(part.inverse() * pose), margin);
+    let q = Query {
+        stock,
+        dexel: None,
+        min,
+        max,
+    };
+    let (_, options) = walks(stock, &min, &max);
+    options.is_empty() || options.iter().any(|&r| q.count(r, 0) == 0)
+}
+
+/// Does the shape (posed at `pose`, machine frame) overlap the stock by more than `eps`? The
+/// stock's frame is `part` (machine frame of the part: the main spindle's pose).
+///
+/// `dexel`: the checker's dexel stock, which turning cuts after the hand-over; the material is
+/// what both hold. `any`: only whether (the first contact found, not the deepest).
+///
+/// Every grid spans the stock's box and a point is material only when every grid says so, so
+/// the rays of any one grid find all of it. The query walks the grid with the fewest rays whose
+/// material meets the component's box (a drill in the hole it cut: the hole's own side grid,
+/// whose rays there end above the hole's floor — none), and samples the others along each
+/// stretch of material inside the component. A grid with no such ray proves the box clear.
+pub fn grid_overlap(
+    shape: &Shape3,
+    pose: &Iso,
+    part: &Iso,
+    stock: &Stock,
+    eps: f64,
+    dexel: Option<&DexelStock>,
+    any: bool,
+) -> Option<Hit> {
+    // The shape in the part's frame.
+    let local = part.inverse() * pose;
+    let (min, max) = part_box(shape, &local, 0.0);
+    let q = Query { stock, dexel, min, max };
+    let (touched, options) = walks(stock, &min, &max);
+    let mut best_rays = *options.first()?;
+    let mut best_n = usize::MAX;
+    for &r in &options {
+        let n = q.count(r, best_n);
+        if n == 0 {
+            return None;
+        }
+        if n < best_n {
+            (best_rays, best_n) = (r, n);
+        }
+    }
+    // Whether a point is material by the grids other than the walked one (and the dexel stock,
+    // unless the walk already holds to its intervals).
+    let others: Vec<usize> = touched
+        .iter()
+        .copied()
+        .filter(|&k| Rays::Face(k) != best_rays)
+        .collect();
+    let sample_cyl = best_rays != Rays::Cyl && stock.cyl.is_some();
+    let material = |p: Vector3<f64>| {
+        (!sample_cyl || stock.cyl.as_ref().is_some_and(|c| c.contains(p)))
+            && others.iter().all(|&k| stock.faces[k].contains(p))
+            && (best_rays == Rays::Cyl || dexel.map_or(true, |d| d.holds(p.x.hypot(p.y), p.z)))
+    };
+    let needs_samples = sample_cyl || !others.is_empty() || (dexel.is_some() && best_rays != Rays::Cyl);
     let ppose = to_pose(&local);
     let step = stock.tolerance.max(1e-3);
     let mut best: Option<Hit> = None;
-    let mut spans = Vec::new();
-    // The face grids a cut changed, by their boxes: only there can they disagree with the
-    // cylindrical grid (their starting depths follow the same profile).
-    let touched: Vec<(usize, Vector3<f64>, Vector3<f64>)> = stock
-        .faces
-        .iter()
-        .enumerate()
-        .filter_map(|(k, f)| f.touched.map(|(a, b)| (k, a, b)))
-        .filter(|(_, a, b)| (0..3).all(|i| b[i] >= min[i] && a[i] <= max[i]))
-        .collect();
-    let keep = |p0: Vector3<f64>, best: &mut Option<Hit>| {
-        let depth = shape.depth_of(&ppose, Vector::new(p0.x, p0.y, p0.z));
-        if depth > eps && best.map_or(true, |h| depth > h.depth) {
-            *best = Some(Hit {
-                depth,
-                point: part * nalgebra::Point3::from(p0),
-            });
-        }
-    };
-    // Runs of material along [a, b] of a ray by the face grids that were cut near it.
-    let runs = |o: Vector3<f64>, u: Vector3<f64>, a: f64, b: f64, faces: &[usize], best: &mut Option<Hit>| {
-        if faces.is_empty() {
-            keep(o + (a + b) / 2.0 * u, best);
-            return;
-        }
-        let n = (((b - a) / step).ceil() as usize).clamp(1, 4096);
-        let dt = (b - a) / n as f64;
-        let mat = |k: usize| {
-            let p = o + (a + (k as f64 + 0.5) * dt) * u;
-            faces.iter().all(|&i| stock.faces[i].contains(p))
+    // A run `[a, b]` of material inside the shape's stretch `[c0, c1]` of the ray: no point of it
+    // lies deeper in the shape than its distance along the ray to the stretch's ends (they are on
+    // the surface), so a run that cannot beat the best so far (or `eps`) is not measured. Its
+    // deepest point is at one of its ends (where the material ends inside the shape) or, on a run
+    // through the shape, near its middle.
+    let keep_run =
+        |best: &mut Option<Hit>, o: Vector3<f64>, u: Vector3<f64>, (a, b): (f64, f64), (c0, c1): (f64, f64)| {
+            let m = ((c0 + c1) / 2.0).clamp(a, b);
+            let bound = (m - c0).min(c1 - m);
+            let floor = best.map_or(eps, |h| h.depth.max(eps));
+            if bound <= floor {
+                return;
+            }
+            for t in [a, (a + b) / 2.0, b] {
+                let p0 = o + t * u;
+                let depth = shape.depth_of(&ppose, Vector::new(p0.x, p0.y, p0.z));
+                if depth > eps && best.map_or(true, |h| depth > h.depth) {
+                    *best = Some(Hit {
+                        depth,
+                        point: part * nalgebra::Point3::from(p0),
+                    });
+                }
+            }
         };
-        let mut k = 0;
-        while k < n {
-            if !mat(k) {
-                k += 1;
+    let mut spans = Vec::new();
+    let mut pieces: Vec<(f64, f64)> = Vec::new();
+    q.each(best_rays, |o, u, t0, t1| {
+        // Cast from outside the component's box (its faces may be the component's own: a start
+        // on the boundary would leave the parity to chance), then keep the node's material.
+        let Some((b0, b1)) = slab(o, u, &min, &max, f64::NEG_INFINITY, f64::INFINITY) else {
+            return true;
+        };
+        inside_stretches(shape, &ppose, o, u, b0 - 1.0, b1 + 1.0, &mut spans);
+        for &(c0, c1) in &spans {
+            let (s0, s1) = (c0.max(t0), c1.min(t1));
+            if s1 <= s0 {
                 continue;
             }
-            let first = k;
-            while k < n && mat(k) {
-                k += 1;
+            pieces.clear();
+            // Along a radial ray the dexel stock's material is its column's radial intervals.
+            match (best_rays, dexel) {
+                (Rays::Cyl, Some(d)) => pieces.extend(
+                    d.material_at(o.z)
+                        .iter()
+                        .map(|&(lo, hi)| (s0.max(lo), s1.min(hi)))
+                        .filter(|(a, b)| b > a),
+                ),
+                _ => pieces.push((s0, s1)),
             }
-            keep(o + (a + (first + k) as f64 / 2.0 * dt) * u, best);
-        }
-    };
-    if let Some(c) = stock.cyl.as_ref() {
-        let (j0, j1) = c.columns(min.z, max.z)?;
-        let arcs = c.angles(&min, &max);
-        let mut faces_here: Vec<usize> = Vec::new();
-        for j in j0..=j1 {
-            let z = c.z(j);
-            let ri = c.inner[j];
-            let dex = dexel.map(|d| d.material_at(z));
-            if dex.as_ref().is_some_and(|m| m.is_empty()) {
-                continue;
-            }
-            for &(a, b) in &arcs {
-                for i in a..=b {
-                    let r = c.radius(i, j);
-                    if r <= ri {
-                        continue;
-                    }
-                    let th = c.theta(i);
-                    let u = Vector3::new(th.cos(), th.sin(), 0.0);
-                    // The ray's stretch inside the box's x and y slabs.
-                    let (mut t0, mut t1) = (ri, r);
-                    for (d, lo, hi) in [(u.x, min.x, max.x), (u.y, min.y, max.y)] {
-                        if d.abs() < 1e-15 {
-                            if 0.0 < lo || 0.0 > hi {
-                                t1 = f64::NEG_INFINITY;
-                            }
-                        } else {
-                            let (x0, x1) = (lo / d, hi / d);
-                            t0 = t0.max(x0.min(x1));
-                            t1 = t1.min(x0.max(x1));
-                        }
-                    }
-                    if t1 <= t0 {
-                        continue;
-                    }
-                    let o = Vector3::new(0.0, 0.0, z);
-                    // Cast from outside the component's box (its faces may be the component's
-                    // own: a start on the boundary would leave the parity to chance), then keep
-                    // the node's material stretch.
-                    inside_stretches(shape, &ppose, o, u, t0 - 1.0, t1 + 1.0, &mut spans);
-                    for &(s0, s1) in &spans {
-                        let (s0, s1) = (s0.max(t0), s1.min(t1));
-                        if s1 <= s0 {
-                            continue;
-                        }
-                        let mut pieces: Vec<(f64, f64)> = Vec::new();
-                        match &dex {
-                            Some(m) => pieces.extend(
-                                m.iter()
-                                    .map(|&(lo, hi)| (s0.max(lo), s1.min(hi)))
-                                    .filter(|(a, b)| b > a),
-                            ),
-                            None => pieces.push((s0, s1)),
-                        }
-                        for (a, b) in pieces {
-                            let (pa, pb) = (o + a * u, o + b * u);
-                            faces_here.clear();
-                            faces_here.extend(
-                                touched
-                                    .iter()
-                                    .filter(|(_, lo, hi)| {
-                                        (0..3).all(|k| pa[k].max(pb[k]) >= lo[k] && pa[k].min(pb[k]) <= hi[k])
-                                    })
-                                    .map(|t| t.0),
-                            );
-                            runs(o, u, a, b, &faces_here, &mut best);
-                        }
-                    }
-                }
-            }
-        }
-    } else if let Some(f) = stock.faces.first() {
-        let all: Vec<usize> = (0..stock.faces.len()).collect();
-        for j in 0..f.nv {
-            for i in 0..f.nu {
-                let o = f.node(i, j);
-                let d = f.depth(i, j);
-                if d >= f.thickness {
+            for &(a, b) in &pieces {
+                if !needs_samples {
+                    keep_run(&mut best, o, u, (a, b), (c0, c1));
                     continue;
                 }
-                let (pa, pb) = (o + d * f.n, o + f.thickness * f.n);
-                let (lo, hi) = (pa.inf(&pb), pa.sup(&pb));
-                if (0..3).any(|k| hi[k] < min[k] || lo[k] > max[k]) {
-                    continue;
-                }
-                inside_stretches(shape, &ppose, o, f.n, d, f.thickness, &mut spans);
-                for &(s0, s1) in &spans.clone() {
-                    runs(o, f.n, s0, s1, &all, &mut best);
+                // Runs of material by the other grids, sampled at the stock's tolerance.
+                let n = (((b - a) / step).ceil() as usize).clamp(1, 4096);
+                let dt = (b - a) / n as f64;
+                let mat = |k: usize| material(o + (a + (k as f64 + 0.5) * dt) * u);
+                let mut k = 0;
+                while k < n {
+                    if !mat(k) {
+                        k += 1;
+                        continue;
+                    }
+                    let first = k;
+                    while k < n && mat(k) {
+                        k += 1;
+                    }
+                    keep_run(&mut best, o, u, (a + first as f64 * dt, a + k as f64 * dt), (c0, c1));
                 }
             }
         }
-    }
+        // Asked only whether: the first contact deeper than `eps` answers it.
+        !(any && best.is_some())
+    });
     best
 }
 
@@ -309,15 +502,15 @@ mod tests {
         let down = nalgebra::UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_2);
         for tip in [15.76, 17.0, 20.0] {
             let pose = Iso::from_parts(Translation3::new(0.0, -tip, 58.0), down);
-            let h = grid_overlap(&drill, &pose, &Iso::identity(), &s, touch, None);
+            let h = grid_overlap(&drill, &pose, &Iso::identity(), &s, touch, None, false);
             assert!(h.is_none(), "tip at y −{tip}: {h:?}");
         }
         let along_x = nalgebra::UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
         let pose = Iso::from_parts(Translation3::new(15.7, 0.0, 58.0), along_x);
-        assert!(grid_overlap(&drill, &pose, &Iso::identity(), &s, touch, None).is_none());
+        assert!(grid_overlap(&drill, &pose, &Iso::identity(), &s, touch, None, false).is_none());
         // Off its hole's axis by a millimetre, the drill cuts into the wall.
         let off = Iso::from_parts(Translation3::new(1.0, -17.0, 58.0), down);
-        assert!(grid_overlap(&drill, &off, &Iso::identity(), &s, touch, None).is_some());
+        assert!(grid_overlap(&drill, &off, &Iso::identity(), &s, touch, None, false).is_some());
     }
 
     #[test]
@@ -326,20 +519,20 @@ mod tests {
         let b = cube(2.0);
         let part = Iso::identity();
         // Above the flat (x 15 .. 19 at y 0): where the bar was, now air.
-        assert!(grid_overlap(&b, &at(17.5, 0.0, 30.0), &part, &s, 1e-6, None).is_none());
+        assert!(grid_overlap(&b, &at(17.5, 0.0, 30.0), &part, &s, 1e-6, None, false).is_none());
         // The same place 15 mm along z, where the bar is still round: a hit (the depth is a lower
         // bound: the deepest material point's distance to the block's surface, about 2).
-        let h = grid_overlap(&b, &at(17.5, 0.0, 48.0), &part, &s, 1e-6, None).expect("hits the round bar");
+        let h = grid_overlap(&b, &at(17.5, 0.0, 48.0), &part, &s, 1e-6, None, false).expect("hits the round bar");
         assert!(h.depth > 1.5 && h.depth < 4.5, "{h:?}");
         // Dipping 1 mm under the flat: a hit.
-        assert!(grid_overlap(&b, &at(16.0, 0.0, 30.0), &part, &s, 1e-6, None).is_some());
+        assert!(grid_overlap(&b, &at(16.0, 0.0, 30.0), &part, &s, 1e-6, None, false).is_some());
         // The part turned by 180° about the axis: the flat is on the other side.
         let turned = Iso::from_parts(
             Translation3::identity(),
             nalgebra::UnitQuaternion::from_axis_angle(&Vector3::z_axis(), std::f64::consts::PI),
         );
-        assert!(grid_overlap(&b, &at(-17.5, 0.0, 30.0), &turned, &s, 1e-6, None).is_none());
-        assert!(grid_overlap(&b, &at(17.5, 0.0, 30.0), &turned, &s, 1e-6, None).is_some());
+        assert!(grid_overlap(&b, &at(-17.5, 0.0, 30.0), &turned, &s, 1e-6, None, false).is_none());
+        assert!(grid_overlap(&b, &at(17.5, 0.0, 30.0), &turned, &s, 1e-6, None, false).is_some());
     }
 
     /// Against sampling: a box whose centre region holds material is found; a box the query
@@ -356,7 +549,7 @@ mod tests {
         let mut hits = 0;
         for _ in 0..150 {
             let c = Vector3::new(10.0 + 12.0 * rnd(), 8.0 * rnd() - 4.0, 15.0 + 30.0 * rnd());
-            let got = grid_overlap(&b, &at(c.x, c.y, c.z), &Iso::identity(), &s, 1e-6, None);
+            let got = grid_overlap(&b, &at(c.x, c.y, c.z), &Iso::identity(), &s, 1e-6, None, false);
             let sample = |half: f64| {
                 let n = 12;
                 (0..n * n * n).any(|k| {
@@ -373,5 +566,35 @@ mod tests {
             }
         }
         assert!(hits > 10 && hits < 150, "{hits}");
+    }
+
+    /// A cylinder as parry's primitive (cast in closed form) and as its mesh give the same
+    /// answers in a face slot: clear above its floor, 0.2 and 1 mm deep below it. (The rays are
+    /// cast from outside the component's box, not from the material's start: a start inside the
+    /// cutter once hid the contact.)
+    #[test]
+    fn a_cylinder_primitive_and_its_mesh_agree_in_a_face_slot() {
+        let mut s = Stock::turned(-100.0, 0.0, 25.0, 0.05, |_| Some((0.0, 25.0))).unwrap();
+        let c = Cutter::new(CutterKind::Flat, 10.0, 30.0).unwrap();
+        let a = Vector3::new(10.0, -8.0, -3.0);
+        s.cut(&Sweep::new(&c, Vector3::z(), a, Vector3::new(10.0, 8.0, -3.0), 0.05).unwrap());
+        let g = Geometry::Cylinder {
+            radius: 5.0,
+            z0: 0.0,
+            z1: 40.0,
+        };
+        let mesh = Shape3::meshed(&g, 0.05).unwrap();
+        let prim = Shape3::from_geometry(&g, 0.05).unwrap();
+        assert!(prim.is_convex() && !mesh.is_convex());
+        for (z, want) in [(-2.0, None), (-3.2, Some(0.2)), (-4.0, Some(1.0))] {
+            for shape in [&mesh, &prim] {
+                let h = grid_overlap(shape, &at(10.0, 0.0, z), &Iso::identity(), &s, 0.1, None, false);
+                match (h, want) {
+                    (None, None) => {}
+                    (Some(h), Some(d)) => assert!((h.depth - d).abs() < 0.02, "z {z}: {h:?}"),
+                    _ => panic!("z {z}: {h:?}, want {want:?}"),
+                }
+            }
+        }
     }
 }

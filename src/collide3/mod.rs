@@ -23,9 +23,10 @@ mod tess;
 #[cfg(test)]
 mod tests;
 
-pub use grid::grid_overlap;
+pub use grid::{grid_clear, grid_overlap};
 pub use motion::{
-    bound_from, first_contact, geometry_sphere, motion_bound, Advance, LinearPath, Path, MAX_PROBES, MIN_STEP_MM,
+    bound_from, first_contact, first_contact_from, geometry_sphere, motion_bound, Advance, LinearPath, Path,
+    MAX_PROBES, MIN_STEP_MM,
 };
 pub use stock::{stock_gap, stock_overlap};
 pub use tess::uv_sphere;
@@ -203,6 +204,61 @@ impl Shape3 {
             inner,
             surf,
         }))
+    }
+
+    /// Whether the shape is one of parry's convex primitives (not a mesh).
+    pub fn is_convex(&self) -> bool {
+        matches!(self, Shape3::Convex(_))
+    }
+
+    /// The stretch `[t0, t1]` (within `[lo, hi]`) of the line `o + t·u` (world frame; `u` a unit
+    /// vector) inside a cylinder or box primitive posed at `pose`, in closed form: `Some(None)`
+    /// when it misses, `None` when the shape is neither.
+    pub fn line_interval(&self, pose: &Pose, o: Vector, u: Vector, lo: f64, hi: f64) -> Option<Option<(f64, f64)>> {
+        let Shape3::Convex(c) = self else { return None };
+        let pos = *pose * c.local;
+        let (lo_p, lu) = (pos.inverse_transform_point(o), pos.inverse_transform_vector(u));
+        let (mut t0, mut t1) = (lo, hi);
+        // One slab per bounded local axis.
+        let mut slab = |p: f64, d: f64, h: f64| {
+            if d.abs() < 1e-300 {
+                if p.abs() > h {
+                    t1 = f64::NEG_INFINITY;
+                }
+            } else {
+                let (a, b) = ((-h - p) / d, (h - p) / d);
+                t0 = t0.max(a.min(b));
+                t1 = t1.min(a.max(b));
+            }
+        };
+        if let Some(cyl) = c.shape.as_cylinder() {
+            // parry's cylinder: axis y, |y| ≤ half height, x² + z² ≤ r².
+            slab(lo_p.y, lu.y, cyl.half_height);
+            let a = lu.x * lu.x + lu.z * lu.z;
+            let b = lo_p.x * lu.x + lo_p.z * lu.z;
+            let cc = lo_p.x * lo_p.x + lo_p.z * lo_p.z - cyl.radius * cyl.radius;
+            if a < 1e-300 {
+                if cc > 0.0 {
+                    return Some(None);
+                }
+            } else {
+                let disc = b * b - a * cc;
+                if disc < 0.0 {
+                    return Some(None);
+                }
+                let q = disc.sqrt();
+                t0 = t0.max((-b - q) / a);
+                t1 = t1.min((-b + q) / a);
+            }
+        } else if let Some(cub) = c.shape.as_cuboid() {
+            let h = cub.half_extents;
+            slab(lo_p.x, lu.x, h.x);
+            slab(lo_p.y, lu.y, h.y);
+            slab(lo_p.z, lu.z, h.z);
+        } else {
+            return None;
+        }
+        Some((t1 > t0).then_some((t0, t1)))
     }
 
     /// Number of triangles (0 for a primitive).

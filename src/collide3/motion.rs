@@ -191,6 +191,51 @@ pub fn first_contact(
     eps: f64,
     min_step: f64,
 ) -> Advance {
+    first_contact_from(k, a, b, path, eps, min_step, 0.0).0
+}
+
+/// [`first_contact`] given a lower bound `start_gap` of the pair's gap at the path's start (0:
+/// none known), and returning with it a lower bound of the gap at its end (0 after a contact or
+/// when unknown). A pair whose known gap exceeds the most its parts can move over the whole
+/// path is clear without a distance query: the gap at the end is then at least their difference.
+/// (A run of short moves — the chords of polar interpolation — then costs one query now and
+/// then instead of one per move.)
+pub fn first_contact_from(
+    k: &Kinematics,
+    a: (CompId, &Shape3),
+    b: (CompId, &Shape3),
+    path: &dyn Path,
+    eps: f64,
+    min_step: f64,
+    start_gap: f64,
+) -> (Advance, f64) {
+    if start_gap > 0.0 {
+        let mut poser = Poser::new(k);
+        let mut vals = Vec::with_capacity(k.axes.len());
+        let mut delta = Vec::with_capacity(k.axes.len());
+        path.at(0.0, &mut vals);
+        poser.pose(k, &vals);
+        path.deltas(0.0, 1.0, &mut delta);
+        let reach =
+            bound_from(k, &poser, a.0, &a.1.sphere(), &delta) + bound_from(k, &poser, b.0, &b.1.sphere(), &delta);
+        if reach.is_finite() && start_gap - reach > 0.0 {
+            return (Advance::Clear, start_gap - reach);
+        }
+    }
+    let mut end_gap = 0.0;
+    let adv = advance(k, a, b, path, eps, min_step, &mut end_gap);
+    (adv, end_gap)
+}
+
+fn advance(
+    k: &Kinematics,
+    a: (CompId, &Shape3),
+    b: (CompId, &Shape3),
+    path: &dyn Path,
+    eps: f64,
+    min_step: f64,
+    end_gap: &mut f64,
+) -> Advance {
     let mut poser = Poser::new(k);
     let mut vals = Vec::with_capacity(k.axes.len());
     let mut delta = Vec::with_capacity(k.axes.len());
@@ -240,12 +285,14 @@ pub fn first_contact(
             return Advance::Contact { u: hi, hit: best };
         }
         if u >= 1.0 {
+            *end_gap = d;
             return Advance::Clear;
         }
         path.deltas(u, 1.0, &mut delta);
         let rate = (bound_from(k, &poser, a.0, &spheres.0, &delta) + bound_from(k, &poser, b.0, &spheres.1, &delta))
             / (1.0 - u);
         if rate == 0.0 {
+            *end_gap = d;
             return Advance::Clear; // nothing moves for the rest of the move
         }
         if !rate.is_finite() || d.is_nan() {

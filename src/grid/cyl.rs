@@ -190,17 +190,21 @@ impl CylGrid {
         }
     }
 
-    /// Whether the point is material by this grid (the node nearest it in θ and z).
+    /// Whether the point is material by this grid (the node of its cell in θ and z).
     pub fn contains(&self, p: Vector3<f64>) -> bool {
         let j = ((p.z - self.z0) / self.dz).floor();
         if !(0.0..self.nz as f64).contains(&j) {
             return false;
         }
         let j = j as usize;
-        let rho = p.x.hypot(p.y);
-        let th = p.y.atan2(p.x).rem_euclid(std::f64::consts::TAU);
-        let i = ((th / std::f64::consts::TAU * self.nth as f64).floor() as usize).min(self.nth - 1);
-        rho >= self.inner[j] && rho <= self.r[j * self.nth + i]
+        let rho2 = p.x * p.x + p.y * p.y;
+        let ri = self.inner[j];
+        if rho2 < ri * ri || rho2 > self.col_max[j] * self.col_max[j] {
+            return false;
+        }
+        let i = ((angle(p.x, p.y) / std::f64::consts::TAU * self.nth as f64).floor() as usize).min(self.nth - 1);
+        let r = self.r[j * self.nth + i];
+        rho2 <= r * r
     }
 
     /// The volume of material (mm³): each node a wedge of its angle and column.
@@ -224,5 +228,51 @@ impl CylGrid {
 
     pub fn bytes(&self) -> usize {
         (self.r.len() + self.inner.len() + self.col_max.len()) * std::mem::size_of::<f64>()
+    }
+}
+
+/// The angle of `(x, y)` in `[0, 2π)`, within 2e-5 rad of `atan2` (an octant reduction and an
+/// odd polynomial on `[0, 1]`), at a fraction of its cost: the grid's point tests take it
+/// millions of times per move, and 2e-5 rad is 1 µm at 50 mm, far below any node's spacing.
+pub(crate) fn angle(x: f64, y: f64) -> f64 {
+    use std::f64::consts::{FRAC_PI_2, PI, TAU};
+    let (ax, ay) = (x.abs(), y.abs());
+    if ax == 0.0 && ay == 0.0 {
+        return 0.0;
+    }
+    let (n, d, swap) = if ay <= ax { (ay, ax, false) } else { (ax, ay, true) };
+    let t = n / d;
+    let t2 = t * t;
+    let mut a = t * (0.999_866_0 + t2 * (-0.330_299_5 + t2 * (0.180_141_0 + t2 * (-0.085_133_0 + t2 * 0.020_835_1))));
+    if swap {
+        a = FRAC_PI_2 - a;
+    }
+    if x < 0.0 {
+        a = PI - a;
+    }
+    if y < 0.0 {
+        a = TAU - a;
+    }
+    if a >= TAU {
+        a -= TAU;
+    }
+    a
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_fast_angle_is_within_2e5_rad_of_atan2_all_round() {
+        let tau = std::f64::consts::TAU;
+        for k in 0..100_000 {
+            let th = tau * k as f64 / 100_000.0;
+            let r = 0.1 + (k % 97) as f64;
+            let (x, y) = (r * th.cos(), r * th.sin());
+            let want = y.atan2(x).rem_euclid(tau);
+            let mut d = (super::angle(x, y) - want).abs();
+            d = d.min(tau - d);
+            assert!(d < 2e-5, "{th}: {d}");
+            assert!((0.0..tau).contains(&super::angle(x, y)));
+        }
     }
 }

@@ -95,7 +95,7 @@ impl FaceGrid {
     }
 
     /// The node range `[a, b]` along one face axis whose centres lie in `[lo, hi]`.
-    fn range(lo: f64, hi: f64, step: f64, n: usize) -> Option<(usize, usize)> {
+    pub(crate) fn range(lo: f64, hi: f64, step: f64, n: usize) -> Option<(usize, usize)> {
         let a = (lo / step - 0.5).ceil().max(0.0);
         let b = (hi / step - 0.5).floor();
         if !(a.is_finite() && b.is_finite()) || b < a || a >= n as f64 || b < 0.0 {

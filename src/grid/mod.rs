@@ -91,8 +91,8 @@ impl Stock {
         let len = z_hi - z_lo;
         let circ = std::f64::consts::TAU * r_max;
         let face_area = (2.0 * r_max) * (2.0 * r_max);
-        // Two thirds of the nodes for the cylinder, one third for the face.
-        let s = spacing(tol, circ * len + 2.0 * face_area, MAX_NODES * 9 / 10);
+        // Half the nodes for the cylinder and the face; the rest for side grids.
+        let s = spacing(tol, circ * len + 2.0 * face_area, MAX_NODES / 2);
         let nz = ((len / s).ceil() as usize).max(1);
         let nth = ((circ / s).ceil() as usize).max(8);
         let nf = ((2.0 * r_max / s).ceil() as usize).max(2);
@@ -261,7 +261,8 @@ impl Stock {
         if budget < 4 {
             return;
         }
-        let s = spacing(self.tolerance, lu * lv, budget);
+        // No finer than the stock's own grids (their spacing sets what the stock resolves).
+        let s = spacing(self.tolerance, lu * lv, budget).max(self.spacing());
         let (nu, nv) = (((lu / s).ceil() as usize).max(1), ((lv / s).ceil() as usize).max(1));
         if nu * nv > budget {
             return;
@@ -372,6 +373,21 @@ impl Stock {
     /// face grid's features are not in it). `None` for a block.
     pub fn stl(&self) -> Option<Vec<u8>> {
         mesh::stl(self.cyl.as_ref()?)
+    }
+
+    /// The coarsest node spacing of the stock's grids (mm): what it resolves.
+    pub fn spacing(&self) -> f64 {
+        let mut s = self.tolerance;
+        if let Some(c) = &self.cyl {
+            let r = c.col_max.iter().copied().fold(0.0, f64::max);
+            s = s.max(c.dz).max(std::f64::consts::TAU * r / c.nth as f64);
+        }
+        for f in &self.faces {
+            if f.nu > 0 {
+                s = s.max(f.du).max(f.dv);
+            }
+        }
+        s
     }
 
     /// Bytes the grids hold.

@@ -44,6 +44,8 @@ pub struct FileReport {
     pub source: Vec<u8>,
     /// The final stock outlines, `[x, z]` (see [`crate::pipeline::Outcome::stock`]).
     pub stock: Vec<Vec<[f64; 2]>>,
+    /// The final part as binary STL, when asked for (`--stock-out FILE.stl`).
+    pub part_stl: Option<Vec<u8>>,
     /// The machine's name, when it is not the report's (a per-folder `latheguard.toml`).
     pub machine: Option<String>,
     /// The settings, when they are not the report's.

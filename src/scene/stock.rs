@@ -179,6 +179,20 @@ impl DexelStock {
         self.h
     }
 
+    /// The z range the columns cover.
+    pub fn extent(&self) -> (f64, f64) {
+        (self.z0, self.z0 + self.h * self.cols.len() as f64)
+    }
+
+    /// Whether the point at radius `r` and height `z` is material now (the column holding `z`).
+    pub fn holds(&self, r: f64, z: f64) -> bool {
+        let j = ((z - self.z0) / self.h).floor();
+        if !(j >= 0.0 && j < self.cols.len() as f64) {
+            return false;
+        }
+        self.cols[j as usize].iv.iter().any(|&(lo, hi)| r >= lo && r <= hi)
+    }
+
     /// How many columns hold no material (a part-off empties the columns of its groove).
     pub fn empty_columns(&self) -> usize {
         self.removed_columns

@@ -1,0 +1,263 @@
+//! Milling on the lathe (issue 16): the milled stock (`grid`) on the 3D path.
+//!
+//! - **Hand-over.** The dexel stock is the model while the part is only turned. At the first feed
+//!   of a live cutter with the spindle positioned (what issue 15 kept as a *plunge*), the grid
+//!   stock is built from the dexel stock's columns as they are then (`grid::Stock::turned`: each
+//!   column's innermost and outermost radius), and `stats.effects` says `grid_stock`.
+//! - **Material** from then on is what both hold: the grid's (milled) and the dexel stock's
+//!   (turned after the hand-over). The 2D path keeps the dexel stock alone: it holds at least the
+//!   part's material, so the 2D checks stay on the safe side.
+//! - **Cuts.** A live cutter whose geometry is a cylinder (its tip at its `z0` end, its axis its
+//!   frame's z) feeding with the live tool turning and the spindle positioned sweeps the grid: the
+//!   move in the part's frame (the main spindle turned by C), one chord per ½° of C (or per 1/64
+//!   of an out-of-plane arc), each chord with the cutter's axis at its start. The sweep is applied
+//!   after the move's pairs are checked: the move's other parts meet the stock as it was before it
+//!   (never a missed crash; a holder that follows its own cutter into the hole it cuts in the same
+//!   move would be judged against the uncut stock). Other cutters keep issue 15's plunge lines.
+//! - **Queries.** A component against the stock: the dexel stock's query first (it holds all the
+//!   material, so no overlap there is no overlap at all), then `collide3::grid_overlap` against
+//!   the grid, points kept where the dexel stock also holds them. The gap for advancement stays
+//!   the dexel stock's lower bound.
+
+use nalgebra::Vector3;
+
+use super::Three;
+use crate::check::Checker;
+use crate::collide3::{grid_clear, grid_overlap, stock_overlap, Hit, Shape3};
+use crate::geom::TOUCH_EPS;
+use crate::grid::{Cutter, CutterKind, Stock, Sweep};
+use crate::interp::{ExtraMove, Move};
+use crate::kin::{CompId, Geometry, Iso, Poser};
+use crate::motion::Timed;
+use crate::scene::{DexelStock, View};
+
+/// The grid's node spacing never goes below this (mm): a finer `--tolerance` leaves the milled
+/// stock here (the node budget of a bar).
+pub const MIN_SPACING_MM: f64 = 0.05;
+
+/// The milled stock of a check.
+pub(in crate::check) struct Mill {
+    pub stock: Stock,
+}
+
+impl Mill {
+    /// Contacts with the milled stock up to this depth are touches: a milled wall stands up to a
+    /// node spacing off the cutter's true surface, and meshes stand up to the tolerance proud.
+    pub fn touch(&self) -> f64 {
+        2.0 * self.stock.spacing()
+    }
+
+    /// The final part as binary STL: the cylindrical grid turned down to the dexel stock's
+    /// columns (the turning after the hand-over). The face and side grids' features (a face
+    /// pocket, a hole along a side grid) are not in the surface yet; radial features are.
+    fn part_stl(&self, d: &DexelStock) -> Option<Vec<u8>> {
+        let mut s = self.stock.clone();
+        if let Some(c) = s.cyl.as_mut() {
+            for j in 0..c.nz {
+                let z = c.z(j);
+                let m = d.material_at(z);
+                let (ri, ro) = (m.first().map_or(0.0, |p| p.0), m.last().map_or(0.0, |p| p.1));
+                c.turn(z - c.dz / 4.0, z + c.dz / 4.0, ro);
+                c.inner[j] = c.inner[j].max(ri.min(c.col_max[j]));
+            }
+        }
+        s.stl()
+    }
+
+    /// The grid stock of the dexel stock as it is now.
+    fn from_dexel(d: &DexelStock, tol: f64) -> Option<Mill> {
+        let (z0, z1) = d.extent();
+        let n = d.columns();
+        let mut r_max = 0.0f64;
+        for j in 0..n {
+            let z = z0 + (j as f64 + 0.5) * d.column_width();
+            if let Some(&(_, hi)) = d.material_at(z).last() {
+                r_max = r_max.max(hi);
+            }
+        }
+        if r_max <= 0.0 {
+            return None;
+        }
+        let stock = Stock::turned(z0, z1, r_max, tol.max(MIN_SPACING_MM), |z| {
+            let m = d.material_at(z);
+            Some((m.first()?.0, m.last()?.1))
+        })
+        .ok()?;
+        Some(Mill { stock })
+    }
+}
+
+/// A component against the stock. With a milled grid: its quick proof of a clear box first (the
+/// cheap answer inside a hole the cutter made), then the grid, its material cut down to the
+/// dexel stock's (which turning after the hand-over cuts). Without: the dexel stock. `any`:
+/// whether there is a contact, not how deep it goes (the advancement's probes).
+pub(super) fn stock_hit(
+    mill: Option<&Mill>,
+    dexel: &mut DexelStock,
+    sa: &Shape3,
+    sg: &Shape3,
+    pose: &Iso,
+    part: &Iso,
+    any: bool,
+) -> Option<Hit> {
+    let Some(m) = mill else {
+        return stock_overlap(sa, pose, dexel, View::Now, TOUCH_EPS);
+    };
+    if grid_clear(sg, pose, part, &m.stock, 0.0) {
+        return None;
+    }
+    grid_overlap(sg, pose, part, &m.stock, m.touch(), Some(dexel), any)
+}
+
+/// A lower bound of the distance from a component to the stock, looking no further than
+/// `window` mm. With a milled grid: the largest of a few margins at which the component's box
+/// holds no grid material, less a node spacing (`grid_clear`); when the box is clear only at
+/// its own size, 0 (the caller steps by the touch depth). Without: the dexel stock's bound.
+pub(super) fn stock_gap(
+    mill: Option<&Mill>,
+    dexel: &mut DexelStock,
+    sa: &Shape3,
+    sg: &Shape3,
+    pose: &Iso,
+    part: &Iso,
+    window: f64,
+) -> f64 {
+    let Some(m) = mill else {
+        return crate::collide3::stock_gap(sa, pose, dexel, View::Now, window);
+    };
+    let s = m.stock.spacing();
+    let mut margin = window;
+    while margin > 2.0 * s {
+        if grid_clear(sg, pose, part, &m.stock, margin) {
+            return margin - s;
+        }
+        margin /= 4.0;
+    }
+    0.0
+}
+
+impl Three {
+    /// The shape of component `a` for the milled stock's queries: its primitive when it is a
+    /// cylinder or a box, else its mesh `sa` (also for the pieces added to the tree later).
+    pub(super) fn grid_shape<'s>(&'s self, a: CompId, sa: &'s Shape3) -> &'s Shape3 {
+        self.grid_shapes.get(a).and_then(Option::as_ref).unwrap_or(sa)
+    }
+
+    /// The part's frame: the pose of the component the C axis turns (identity without one).
+    pub(super) fn part_pose(&self, poser: &Poser) -> Iso {
+        self.main_spindle.map_or(Iso::identity(), |c| *poser.world(c))
+    }
+}
+
+impl Checker<'_> {
+    /// The final part as binary STL: the milled stock when the program milled, else the dexel
+    /// stock's section (or the raw stock's) revolved.
+    pub(in crate::check) fn part_stl(&self) -> Option<Vec<u8>> {
+        let tol = self.settings.tolerance_mm;
+        if let (Some(m), Some(d)) = (&self.mill, &self.stock) {
+            return m.part_stl(d);
+        }
+        let outlines = match (&self.stock, &self.machine.stock) {
+            (Some(d), _) => d.outlines(tol),
+            (None, Some(s)) => vec![s.section()],
+            (None, None) => return None,
+        };
+        let mut mesh = crate::kin::Mesh {
+            vertices: Vec::new(),
+            triangles: Vec::new(),
+        };
+        // A revolved outline's mesh circumscribes it within the tolerance (kin::shape).
+        let tol = tol.max(0.01);
+        for o in outlines {
+            let pts: Vec<crate::geom::P2> = o.iter().map(|p| crate::geom::P2::new(p[0], p[1])).collect();
+            let Ok(part) = crate::kin::shape::revolved(&pts, tol) else {
+                continue;
+            };
+            let base = mesh.vertices.len() as u32;
+            mesh.vertices.extend(part.vertices);
+            mesh.triangles
+                .extend(part.triangles.iter().map(|t| t.map(|i| i + base)));
+        }
+        if mesh.triangles.is_empty() {
+            return None;
+        }
+        Some(crate::kin::stl::write_stl(&mesh, "latheguard part", false))
+    }
+
+    /// The milled stock's cutter of a cutter component, with the z range of its frame it spans
+    /// (its point at the low end): a job's milling tool (`mill = { … }`, built by
+    /// `kin::station` with its point at z = 0 and its flutes along +z), else a cylinder taken as
+    /// a flat end mill. `None`: the component mills nothing (it keeps a plunge line).
+    pub(super) fn grid_cutter(&self, three: &Three, cutter: CompId) -> Option<(Cutter, f64, f64)> {
+        let c = &three.kin.components[cutter];
+        if let Some(mt) = c.station.and_then(|s| self.machine.tool(s)).and_then(|t| t.mill) {
+            let tool = Cutter::new(mt.grid_kind(), mt.diameter, mt.flute_length).ok()?;
+            return Some((tool, 0.0, mt.flute_length));
+        }
+        let Some(Geometry::Cylinder { radius, z0, z1 }) = c.geometry.as_ref() else {
+            return None;
+        };
+        let tool = Cutter::new(CutterKind::Flat, 2.0 * radius, (z1 - z0).abs()).ok()?;
+        Some((tool, *z0, *z1))
+    }
+
+    /// Sweep the grid with `cutter`'s move; false when the cutter is not a cylinder (the caller
+    /// keeps a plunge line instead).
+    pub(super) fn mill_cut(
+        &mut self,
+        three: &Three,
+        cutter: CompId,
+        m: &Move,
+        e: Option<&ExtraMove>,
+        item: &Timed,
+    ) -> bool {
+        let Some((tool, z0, z1)) = self.grid_cutter(three, cutter) else {
+            return false;
+        };
+        let tol = self.settings.tolerance_mm;
+        if self.mill.is_none() {
+            let Some(d) = self.ensure_stock() else { return false };
+            let Some(mill) = Mill::from_dexel(d, tol) else {
+                return false;
+            };
+            self.mill = Some(mill);
+        }
+        let c_turns = e.map_or(0.0, |e| (e.end[1] - e.start[1]).abs());
+        // Chords of the turn: a chord strays inside the cutter's true arc by its sagitta, at
+        // most half a node spacing at the stock's outer radius (within what the grid resolves;
+        // outside the arc the chord removes less, never more).
+        let Some(mill) = self.mill.as_ref() else { return false };
+        let r_out = mill
+            .stock
+            .cyl
+            .as_ref()
+            .map_or(1.0, |c| c.col_max.iter().copied().fold(1.0, f64::max));
+        let half = (mill.stock.spacing() / 2.0 / r_out).min(1.0);
+        let step_deg = (2.0 * (1.0 - half).acos().to_degrees()).clamp(0.5, 10.0);
+        let n = if e.is_some_and(|e| e.arc.is_some()) {
+            64
+        } else {
+            ((c_turns / step_deg).ceil() as usize).clamp(1, 720)
+        };
+        let mut poser = Poser::new(&three.kin);
+        let mut vals = Vec::new();
+        let mut at = |u: f64| {
+            three.values(m, e, item, u, &mut vals);
+            poser.pose(&three.kin, &vals);
+            let local = three.part_pose(&poser).inverse() * poser.world(cutter);
+            let tip = (local * nalgebra::Point3::new(0.0, 0.0, z0.min(z1))).coords;
+            let axis = local.rotation * Vector3::z() * if z1 >= z0 { 1.0 } else { -1.0 };
+            (tip, axis)
+        };
+        let Some(mill) = self.mill.as_mut() else { return false };
+        let (mut tip, mut axis) = at(0.0);
+        for k in 1..=n {
+            let (t1, a1) = at(k as f64 / n as f64);
+            if let Some(sw) = Sweep::new(&tool, axis, tip, t1, tol.max(MIN_SPACING_MM)) {
+                mill.stock.cut(&sw);
+            }
+            (tip, axis) = (t1, a1);
+        }
+        true
+    }
+}
