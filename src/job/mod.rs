@@ -352,6 +352,12 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
         }
         m.tools.retain(|o| o.station != station);
         m.tools.push(t.value.tool.clone());
+        // A milling tool on a machine with a tree: its 3D parts replace the station's cutter.
+        if let (Some(mt), Some(k)) = (&t.value.tool.mill, &m.kinematics) {
+            if let Some(k) = crate::kin::station::fit(k, station, t.value.tool.tip, mt) {
+                m.kinematics = Some(std::sync::Arc::new(k));
+            }
+        }
     }
     m.tools.sort_by_key(|t| t.station);
     for c in &job.tool_changes {

@@ -10,6 +10,7 @@ use toml::Spanned;
 use super::{DialectChoice, JobError, JobStock, JobTool, Layer, Place, Resolve, Set};
 use crate::geom::{Polygon, P2};
 use crate::machine::{self, Cx, Num, Outline, Point, RawUnits, Tool};
+use crate::tooling::milling::{Live, MillSpec, MillTool};
 use crate::tooling::{self, tbl, BuiltTool, CatalogueSpec, DrillSpec};
 
 // ---------------------------------------------------------------------------------------------
@@ -137,6 +138,12 @@ struct RawTool {
     tip_direction: Option<Spanned<i64>>,
     #[schemars(with = "Option<RawDrill>")]
     drill: Option<Spanned<RawDrill>>,
+    /// A milling tool by its sizes (docs/tools.md, "Milling tools"); with `live`.
+    #[schemars(with = "Option<RawMill>")]
+    mill: Option<Spanned<RawMill>>,
+    /// `"axial"` or `"radial"`: which way the live station points a `mill`.
+    #[schemars(with = "Option<String>")]
+    live: Option<Spanned<String>>,
     #[serde(rename = "use")]
     #[schemars(rename = "use", with = "Option<String>")]
     use_: Option<Spanned<String>>,
@@ -153,6 +160,41 @@ struct RawDrill {
     length: Num,
     #[schemars(with = "Option<f64>")]
     point_angle: Option<Num>,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a table { type, diameter, flute_length, stick_out, holder, … }"
+)]
+struct RawMill {
+    #[serde(rename = "type")]
+    #[schemars(rename = "type", with = "String")]
+    kind: Spanned<String>,
+    #[schemars(with = "f64")]
+    diameter: Num,
+    #[schemars(with = "f64")]
+    flute_length: Num,
+    #[schemars(with = "f64")]
+    stick_out: Num,
+    #[schemars(with = "Option<f64>")]
+    corner_radius: Option<Num>,
+    #[schemars(with = "Option<f64>")]
+    point_angle: Option<Num>,
+    #[schemars(with = "Option<f64>")]
+    pitch: Option<Num>,
+    #[schemars(with = "Option<f64>")]
+    shank: Option<Num>,
+    holder: RawMillHolder,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table { diameter, length }")]
+struct RawMillHolder {
+    #[schemars(with = "f64")]
+    diameter: Num,
+    #[schemars(with = "f64")]
+    length: Num,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -661,6 +703,7 @@ struct Partial {
     nose_radius: Option<f64>,
     tip_direction: Option<u8>,
     drill: Option<(DrillSpec, Place)>,
+    mill: Option<(MillSpec, Place)>,
 }
 
 enum Geom {
@@ -673,7 +716,7 @@ impl Partial {
         macro_rules! take {
             ($($f:ident),*) => { $( if top.$f.is_some() { self.$f = top.$f; } )* };
         }
-        take!(name, tip, insert, holder, nose_radius, tip_direction, drill);
+        take!(name, tip, insert, holder, nose_radius, tip_direction, drill, mill);
     }
 
     fn from_built(b: BuiltTool, at: &Place) -> Partial {
@@ -746,6 +789,53 @@ fn partial(cx: &Cx<'_>, t: &RawTool, key: &str) -> Result<Partial, JobError> {
             },
         };
         p.drill = Some((spec, place(cx, d.span(), &k("drill"))));
+    }
+    match (&t.mill, &t.live) {
+        (Some(m), Some(l)) => {
+            let r = m.get_ref();
+            let live = match l.get_ref().as_str() {
+                "axial" => Live::Axial,
+                "radial" => Live::Radial,
+                other => {
+                    return Err(cx.err(
+                        l.span(),
+                        k("live"),
+                        format!("{other:?} is not a live station: give \"axial\" or \"radial\""),
+                    ))
+                }
+            };
+            let opt = |n: &str, v: &Option<Num>| -> Result<Option<f64>, JobError> {
+                v.as_ref().map(|v| cx.length(&k(&format!("mill.{n}")), v)).transpose()
+            };
+            let spec = MillSpec {
+                kind: r.kind.get_ref().clone(),
+                diameter: cx.length(&k("mill.diameter"), &r.diameter)?,
+                flute_length: cx.length(&k("mill.flute_length"), &r.flute_length)?,
+                stick_out: cx.length(&k("mill.stick_out"), &r.stick_out)?,
+                corner_radius: opt("corner_radius", &r.corner_radius)?,
+                point_angle: match &r.point_angle {
+                    None => None,
+                    Some(a) => Some(cx.within(&k("mill.point_angle"), a, (1.0, 180.0), "degrees")?),
+                },
+                pitch: opt("pitch", &r.pitch)?,
+                shank: opt("shank", &r.shank)?,
+                holder_diameter: cx.length(&k("mill.holder.diameter"), &r.holder.diameter)?,
+                holder_length: cx.length(&k("mill.holder.length"), &r.holder.length)?,
+                live,
+            };
+            p.mill = Some((spec, place(cx, m.span(), &k("mill"))));
+        }
+        (Some(m), None) => {
+            return Err(cx.err(
+                m.span(),
+                k("live"),
+                "a milling tool needs `live = \"axial\"` or `live = \"radial\"`: which way its station points it",
+            ))
+        }
+        (None, Some(l)) => {
+            return Err(cx.err(l.span(), k("live"), "`live` goes with `mill = { … }`"));
+        }
+        (None, None) => {}
     }
     Ok(p)
 }
@@ -888,7 +978,19 @@ fn job_tool(
         },
     };
     let mut built: Option<BuiltTool> = None;
-    if spec.insert.is_some() || spec.holder.is_some() || spec.drill.is_some() {
+    let mut mill: Option<MillTool> = None;
+    if let Some((m, at)) = &p.mill {
+        if p.insert.is_some() || p.holder.is_some() || p.drill.is_some() {
+            return Err(
+                at.err("a milling tool is given by its sizes alone: leave out insert, holder and drill".to_string())
+            );
+        }
+        let (b, t, _) =
+            tooling::milling::build(m).map_err(|e| at.err(format!("cannot build the milling tool: {e}")))?;
+        origin.push(format!("mill: {}", b.summary));
+        built = Some(b);
+        mill = Some(t);
+    } else if spec.insert.is_some() || spec.holder.is_some() || spec.drill.is_some() {
         let b = tooling::build(&spec).map_err(|e| {
             let at = match e.key {
                 "insert" => p.insert.as_ref().map(|g| &g.1),
@@ -946,6 +1048,7 @@ fn job_tool(
             holder,
             nose_radius: p.nose_radius.or(built.as_ref().map(|b| b.nose_radius)).unwrap_or(0.0),
             tip_direction: p.tip_direction.or(built.as_ref().map(|b| b.tip_direction)).unwrap_or(0),
+            mill,
         },
         origin: origin.join(", "),
     })

@@ -21,6 +21,7 @@ use crate::geom::P2;
 pub mod lathe;
 pub mod load;
 pub mod shape;
+pub mod station;
 pub mod stl;
 
 pub type Iso = Isometry3<f64>;

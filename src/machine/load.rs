@@ -1233,6 +1233,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
                 holder,
                 nose_radius,
                 tip_direction,
+                mill: None,
             });
         }
     }

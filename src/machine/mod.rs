@@ -239,6 +239,9 @@ pub struct Tool {
     /// Imaginary-tip direction for nose-radius compensation, 0–9 (LinuxCNC orientation,
     /// Fanuc/Haas tip code T), as the machine file gives it; 0 when absent.
     pub tip_direction: u8,
+    /// A milling tool built from its sizes (a job's `mill = { … }`): the milled stock's cutter
+    /// and, on a machine with a kinematic tree, the station's 3D parts (`kin::station`).
+    pub mill: Option<crate::tooling::milling::MillTool>,
 }
 
 /// What depends on the dialect in a machine file with `dialect = "auto"`.

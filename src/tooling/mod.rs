@@ -13,6 +13,7 @@ use crate::geom::{Polygon, P2};
 pub mod drill;
 pub mod holder;
 pub mod insert;
+pub mod milling;
 pub mod outline;
 pub mod tbl;
 

@@ -538,6 +538,7 @@ pub fn long_tool(base: &Tool, extra: f64) -> Option<Tool> {
         holder: rect(0.0, SHANK, 2.0, extra + 40.0)?,
         nose_radius: 0.4,
         tip_direction: base.tip_direction,
+        mill: None,
     })
 }
 
