@@ -364,12 +364,7 @@ fn the_sub_jaws_over_a_bar_they_do_not_clear_hit_it() {
     let at = line_of(&text, "G0 B-636.");
     for mode in [Mode::Step, Mode::Exact] {
         let out = pick_findings(&text, mode);
-        let errs: Vec<_> = out
-            .findings
-            .iter()
-            .filter(|f| f.severity == Severity::Error)
-            .map(|f| (f.line, f.kind, f.objects.clone()))
-            .collect();
+        let errs = error_triples(&out);
         assert_eq!(
             errs,
             vec![(at, Kind::Collision, vec!["sub_chuck".to_string(), "stock".to_string()])],
@@ -398,4 +393,155 @@ fn the_pick_off_folder_takes_the_live_centre_out_and_without_it_the_centre_hits_
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stdout));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Milling on the lathe (issue 16): the milled stock (`src/grid`) after the first live cut.
+
+const MILL: &str = "programs/turn-mill/milling/";
+
+/// A program's outcome from its text, in one mode.
+fn mill_outcome(text: &str, mode: Mode) -> pipeline::Outcome {
+    let settings = Settings {
+        mode,
+        ..Settings::default()
+    };
+    pipeline::check(text.as_bytes(), &turn_mill(), &settings)
+}
+
+/// An outcome's errors as (line, kind, objects).
+fn error_triples(out: &pipeline::Outcome) -> Vec<(u32, Kind, Vec<String>)> {
+    out.findings
+        .iter()
+        .filter(|f| f.severity == Severity::Error)
+        .map(|f| (f.line, f.kind, f.objects.clone()))
+        .collect()
+}
+
+fn mill_text(name: &str) -> String {
+    std::fs::read_to_string(root().join(MILL).join(name)).unwrap()
+}
+
+#[test]
+fn a_rapid_back_over_a_milled_flat_is_clean_and_runs_the_milled_stock() {
+    for mode in [Mode::Step, Mode::Exact] {
+        let out = mill_outcome(&mill_text("flat_then_rapid_over_it.nc"), mode);
+        let errs: Vec<_> = out.findings.iter().filter(|f| f.severity == Severity::Error).collect();
+        assert!(errs.is_empty(), "{mode:?}: {errs:#?}");
+        assert!(
+            out.stats.effects.iter().any(|e| e == "grid_stock"),
+            "{:?}",
+            out.stats.effects
+        );
+    }
+}
+
+/// Without the flat, the same rapid 1 mm above where the flat would be runs into the round bar:
+/// the finding above is the milled stock's doing, not a hole in the check.
+#[test]
+fn the_same_rapid_over_the_round_bar_is_a_rapid_into_the_stock() {
+    let text = mill_text("flat_then_rapid_over_it.nc")
+        .replace("G1 X40. F300. (5 MM BELOW THE SURFACE, BESIDE THE BAR)\n", "")
+        .replace(
+            "G1 Y40. F200. (THE FLAT)",
+            "G0 Y40. (NO FLAT: OVER THE BAR TO ITS OTHER SIDE)",
+        );
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("G0 Y-40. (RAPID BACK"))
+        .unwrap() as u32
+        + 1;
+    for mode in [Mode::Step, Mode::Exact] {
+        let out = mill_outcome(&text, mode);
+        let errs = error_triples(&out);
+        assert!(
+            errs.contains(&(line, Kind::RapidIntoStock, vec!["t10_mill".into(), "stock".into()])),
+            "{mode:?}: {errs:?}"
+        );
+    }
+}
+
+#[test]
+fn a_rapid_back_into_a_face_pocket_below_its_floor_is_a_rapid_into_the_stock() {
+    both_modes(
+        &format!("{MILL}crash_rapid_into_pocket_floor.nc"),
+        &[(17, Kind::RapidIntoStock, ["t11_mill", "stock"])],
+    );
+    // 1 mm below the floor: the depth is that millimetre, within the milled stock's resolution.
+    let out = mill_outcome(&mill_text("crash_rapid_into_pocket_floor.nc"), Mode::Step);
+    let f = out.findings.iter().find(|f| f.kind == Kind::RapidIntoStock).unwrap();
+    let d = f.depth_mm.unwrap();
+    assert!((d - 1.0).abs() < 0.15, "{d}");
+}
+
+#[test]
+fn a_live_drill_fed_with_the_live_tool_stopped_is_a_cut_with_the_spindle_stopped() {
+    both_modes(
+        &format!("{MILL}crash_drill_with_live_tool_stopped.nc"),
+        &[(11, Kind::SpindleStopped, ["T08 insert", "stock"])],
+    );
+}
+
+/// The collet nut of a short end mill passes 1 mm inside the bar's round where a pocket was
+/// milled: clean; the same slot run on until the nut reaches the pocket's shoulder: a collision
+/// of the nut (a holder) with the stock at the slot's line.
+#[test]
+fn a_collet_nut_over_a_pocket_floor_is_clean() {
+    for mode in [Mode::Step, Mode::Exact] {
+        let out = mill_outcome(&mill_text("slot_in_pocket_floor.nc"), mode);
+        let errs: Vec<_> = out.findings.iter().filter(|f| f.severity == Severity::Error).collect();
+        assert!(errs.is_empty(), "{mode:?}: {errs:#?}");
+    }
+}
+
+#[test]
+fn a_collet_nut_that_rubs_the_shoulder_a_pocket_left_is_a_collision() {
+    both_modes(
+        &format!("{MILL}crash_collet_rubs_pocket_shoulder.nc"),
+        &[(46, Kind::Collision, ["t12_collet", "stock"])],
+    );
+}
+
+/// Without the pocket the nut plunges into the round bar: a collision at the plunge.
+#[test]
+fn the_same_collet_nut_without_the_pocket_hits_the_round_bar() {
+    let text = mill_text("slot_in_pocket_floor.nc").replace("G1 Y40. F200.\n", "");
+    let line = text.lines().position(|l| l.starts_with("G1 X28.")).unwrap() as u32 + 1;
+    let out = mill_outcome(&text, Mode::Step);
+    let errs = error_triples(&out);
+    assert!(
+        errs.contains(&(line, Kind::Collision, vec!["t12_collet".into(), "stock".into()])),
+        "{errs:?}"
+    );
+}
+
+/// `--stock-out FILE.stl` of a milled part: the milled stock's surface, closed (it reads back
+/// as a machine part), less than the uncut bar by the pocket and the slot (worked out: a
+/// segment 8 mm deep of the Ø50 bar, 202.8 mm² by acos, over the pocket's 40 mm, 8112 mm³; the
+/// slot Ø10 × 3 deep, 4 mm long, about 355 mm³).
+#[test]
+fn the_final_part_of_a_milled_program_is_a_closed_stl_without_the_pocket() {
+    let volume = |text: &str| {
+        let settings = Settings {
+            part_mesh: true,
+            ..Settings::default()
+        };
+        let out = pipeline::check(text.as_bytes(), &turn_mill(), &settings);
+        let stl = out.part_stl.expect("a part");
+        latheguard::kin::stl::read_stl(&stl, "part.stl")
+            .expect("closed")
+            .volume()
+    };
+    let milled = volume(&mill_text("slot_in_pocket_floor.nc"));
+    // The bar as the milled stock holds it uncut: the same program with every cut in the air
+    // above it (the hand-over still happens: the same grid, the same surface discretised).
+    let air = mill_text("slot_in_pocket_floor.nc")
+        .replace("X34.", "X80.")
+        .replace("X28.", "X80.");
+    let round = volume(&air);
+    let removed = round - milled;
+    assert!(
+        (removed - 8467.0).abs() < 0.05 * 8467.0,
+        "{removed} ({round} − {milled})"
+    );
 }

@@ -14,11 +14,11 @@ use crate::machine::{DecimalPoint, Dialect, GcodeSystem};
 const MAX_CODES: usize = 16;
 
 /// Every G code (×10) some dialect knows; its index is its bit in [`Words::gbits`].
-pub(super) const KNOWN_G: [u16; 79] = [
+pub(super) const KNOWN_G: [u16; 82] = [
     0, 10, 20, 30, 330, 800, 320, 331, 760, 700, 710, 720, 711, 712, 721, 722, 730, 740, 750, 810, 820, 830, 840, 850,
     860, 870, 880, 890, 170, 180, 190, 900, 910, 920, 940, 901, 911, 930, 950, 980, 990, 200, 210, 400, 410, 420, 411,
     421, 430, 431, 490, 540, 550, 560, 570, 580, 590, 610, 611, 640, 960, 970, 70, 80, 40, 280, 281, 300, 301, 530,
-    100, 500, 520, 921, 922, 923, 770, 780, 790,
+    100, 500, 520, 921, 922, 923, 770, 780, 790, 121, 131, 71,
 ];
 
 /// Bit index of each G code below 1000 in [`KNOWN_G`]; 255 for the others.
@@ -141,6 +141,23 @@ impl Words {
     }
 
     /// The letter's word was written with a decimal point.
+    /// The letter's value, the word then gone from the block for every later reader (used).
+    pub(super) fn take(&mut self, letter: u8) -> Option<f64> {
+        let v = self.get(letter);
+        self.has &= !bit(letter);
+        v
+    }
+
+    /// Every word of the block counted as used (a block refused as a whole).
+    pub(super) fn use_all(&mut self) {
+        self.used = self.has;
+    }
+
+    /// The offset of the G code's word, also for codes outside [`KNOWN_G`] (G112, G113).
+    pub(super) fn find_g(&self, code: u16) -> Option<u32> {
+        self.g[..self.ng].iter().find(|(c, _)| *c == code).map(|&(_, a)| a)
+    }
+
     pub(super) fn has_point(&self, letter: u8) -> bool {
         self.point & bit(letter) != 0
     }
@@ -232,6 +249,10 @@ fn g_group(code: u16, d: Dialect, sys_b: bool, axis_words: bool) -> Option<u8> {
         40 | 280 | 281 | 300 | 301 | 530 | 100 => 0,
         500 if fanuc => 0,
         520 | 921 | 922 | 923 if !fanuc => 0,
+        // Polar coordinate interpolation G12.1/G13.1 (G112/G113 in system A): Fanuc group 21.
+        121 | 131 | 1120 | 1130 if fanuc => 21,
+        // Cylindrical interpolation G7.1 (G107): group 21 too.
+        71 | 1070 if fanuc => 21,
         920 => 0,
         _ => return None,
     })
@@ -768,6 +789,12 @@ impl Run<'_> {
         let d = self.machine.dialect;
         let fanuc = d == Dialect::Fanuc;
         let sys_b = fanuc && self.machine.gcode_system == GcodeSystem::B;
+        if fanuc && w.ng > 0 {
+            // G7.1's C word is the cylinder's radius, not a move (`cylindrical.rs`).
+            if let Some(at) = w.find_g(71).or(w.find_g(1070)) {
+                self.cylindrical_code(b, w, at);
+            }
+        }
         let axis = w.axis_words() || self.extra_words(w);
 
         // Modal group conflicts and unknown codes.
@@ -995,6 +1022,15 @@ impl Run<'_> {
         let has_y = self.has_y_axis();
         let g17_ok = !fanuc || has_y;
         let plane_error_here = !has_y && ((w.g(170) && !g17_ok) || w.g(190));
+        if fanuc && w.ng > 0 {
+            // Polar coordinate interpolation (`polar.rs`).
+            if let Some(at) = w.find_g(121).or(w.find_g(1120)) {
+                self.polar_start(b, at);
+            }
+            if w.find_g(131).or(w.find_g(1130)).is_some() {
+                self.polar_stop();
+            }
+        }
         if w.any_g(PLANE_COMP_OFFSET_CODES) {
             let refused = if has_y {
                 None
@@ -1036,6 +1072,7 @@ impl Run<'_> {
                 self.modal.plane_xz = true;
                 self.modal.plane_xy = false;
             }
+
             if let Some(at) = w.has_g(400) {
                 self.comp_off(b, at);
             }
@@ -1480,6 +1517,14 @@ impl Run<'_> {
     }
 
     fn motion(&mut self, b: &Block, w: &mut Words, g53: bool, plane_error_here: bool) {
+        if self.polar_on() && !g53 {
+            self.polar_motion(b, w);
+            return;
+        }
+        if let Some(r) = self.cylindrical().filter(|_| !g53) {
+            self.cylindrical_motion(b, w, r);
+            return;
+        }
         if let (Some(Motion::Cycle(code)), false) = (self.modal.motion, g53) {
             // A later block of a modal cycle: the cycle again with the new words.
             if super::cycles::repeat(self, b, w, code) {

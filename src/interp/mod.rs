@@ -11,10 +11,12 @@ mod block;
 pub mod canon;
 mod comp;
 mod cycles;
+mod cylindrical;
 mod eval;
 mod flow;
 mod macro_b;
 mod mcodes;
+mod polar;
 mod state;
 #[cfg(test)]
 mod tests;

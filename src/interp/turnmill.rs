@@ -43,6 +43,10 @@ pub(crate) struct TurnMill {
     pub handed: u64,
     /// The extra-axis end and plane arc of the move about to be pushed.
     pub pending: Option<(ExtraAxes, Option<PlaneArc>)>,
+    /// Polar coordinate interpolation (G12.1) and its hypothetical point (`polar.rs`).
+    pub polar: Option<super::polar::Polar>,
+    /// Cylindrical interpolation (G7.1): the cylinder's radius, mm (`cylindrical.rs`).
+    pub cylinder: Option<f64>,
 }
 
 impl TurnMill {
@@ -75,6 +79,8 @@ impl TurnMill {
             list: Vec::new(),
             handed: 0,
             pending: None,
+            polar: None,
+            cylinder: None,
         })
     }
 

@@ -1,0 +1,288 @@
+//! Polar coordinate interpolation (issue 16): Fanuc G12.1 / G13.1, written G112 / G113 in
+//! Fanuc's G-code system A (docs/turn-mill.md, "Polar coordinate interpolation").
+//!
+//! Between G12.1 and G13.1 a milling contour on the part's face is programmed in a Cartesian
+//! plane normal to the spindle: X (a diameter in diameter mode, as everywhere on a lathe) and
+//! the hypothetical axis C, a length in mm (radius values), with G1 and G2/G3 (R, or I for X and
+//! J for C, both radius values) and F the feed along the contour. The control turns each point
+//! into the real axes: X the point's distance from the spindle axis, C its angle. Rules read from
+//! the Fanuc 0i-TD / 16i/18i-TB operator's manuals' description of the function (no text of them
+//! here): the plane's origin is the workpiece origin, the hypothetical axis starts at 0 at
+//! G12.1, a rapid (G0) is not allowed in the mode, and the mode is cancelled by G13.1 (and must
+//! be, before the program ends).
+//!
+//! The moves made: each programmed segment or arc as chords of at most 1 mm and 1° of C, each a
+//! line in X (radius) and C (degrees, unwrapped so that C never jumps by a turn), timed so that
+//! the chord takes its Cartesian length at F. A chord's X–C line strays from the Cartesian chord
+//! by less than 0.01 mm at a radius of 1 mm and by far less farther out (the chord is at most 1°
+//! of a circle about the axis and 1 mm long). Through the spindle axis itself the angle turns by
+//! 180° at once, as on the control: the segment is split there, and the C turn happens at X0.
+//!
+//! C turns so that the tool meets the part's point of polar angle φ: the part is turned by −φ
+//! (the 3D path poses the part turned by C), so the programmed (X, C) picture is the part seen
+//! from +Z in its own frame.
+//!
+//! Not modelled: nose/cutter-radius compensation in the mode (G41/G42 there is `unsupported`),
+//! incremental addresses U and H in the mode (`unsupported`), and feeds per revolution.
+
+use super::arc::{arc_from_center, arc_from_radius, ArcTolerance};
+use super::block::Words;
+use super::flow::Run;
+use super::state::Motion;
+use super::{Feed, MoveKind};
+use crate::gcode::Block;
+use crate::geom::P2;
+
+/// Longest chord (mm) and widest one (degrees of C).
+const CHORD_MM: f64 = 1.0;
+const CHORD_DEG: f64 = 1.0;
+/// Most chords one programmed move makes.
+const MAX_CHORDS: usize = 20_000;
+
+/// The mode's state: the hypothetical point (x a radius, c) in mm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Polar {
+    pub x: f64,
+    pub c: f64,
+}
+
+impl Run<'_> {
+    /// Whether polar coordinate interpolation is on.
+    pub(crate) fn polar_on(&self) -> bool {
+        self.tm.as_ref().is_some_and(|t| t.polar.is_some())
+    }
+
+    /// G12.1 / G112: polar coordinate interpolation on, from where the tool is (C must be a
+    /// positioned axis of the machine).
+    pub(crate) fn polar_start(&mut self, b: &Block, at: u32) {
+        let x = self.programmed().x;
+        let Some(tm) = self.tm.as_deref_mut() else {
+            self.unsupported(
+                b,
+                Some(at),
+                "polar coordinate interpolation needs a C axis: this machine has none (docs/turn-mill.md)".into(),
+                true,
+            );
+            return;
+        };
+        if tm.axes[1].is_none() {
+            self.unsupported(
+                b,
+                Some(at),
+                "polar coordinate interpolation needs a C axis: this machine's tree has none".into(),
+                true,
+            );
+            return;
+        }
+        if !tm.c_mode && tm.c_needs_mode {
+            self.error(
+                b,
+                Some(at),
+                "polar coordinate interpolation with the spindle not in C-axis mode: a control alarms here".into(),
+            );
+            return;
+        }
+        if self.comp.as_deref().is_some_and(|c| c.engaged()) {
+            self.unsupported(
+                b,
+                Some(at),
+                "polar coordinate interpolation with nose-radius compensation on is not modelled: cancel it with G40 first".into(),
+                true,
+            );
+            return;
+        }
+        if let Some(tm) = self.tm.as_deref_mut() {
+            tm.polar = Some(Polar { x, c: 0.0 });
+        }
+    }
+
+    /// G13.1 / G113: the mode off.
+    pub(crate) fn polar_stop(&mut self) {
+        if let Some(tm) = self.tm.as_deref_mut() {
+            tm.polar = None;
+        }
+    }
+
+    /// A motion block in the mode: G1, G2, G3 in the X–C plane (Z may move along).
+    pub(crate) fn polar_motion(&mut self, b: &Block, w: &mut Words) {
+        let Some(p) = self.tm.as_ref().and_then(|t| t.polar) else {
+            return;
+        };
+        for (letter, why) in [(b'U', "U"), (b'H', "H")] {
+            if w.peek(letter) {
+                self.unsupported(
+                    b,
+                    w.at(letter),
+                    format!("{why} (an incremental address) in polar coordinate interpolation is not modelled: give X and C"),
+                    true,
+                );
+                w.use_all();
+                return;
+            }
+        }
+        let s = self.scale();
+        let had_x = w.peek(b'X');
+        // C is the hypothetical axis here (mm), not the rotary axis: read and gone.
+        let c_word = w.take(b'C');
+        // X and Z as any block reads them (X a diameter in diameter mode); C is read here.
+        let Some(end) = self.target(b, w) else { return };
+        let Some(extra) = self.extra_target(b, w, false) else {
+            return;
+        };
+        let ex = if had_x { end.x } else { p.x };
+        let ec = c_word.map_or(p.c, |c| c * s);
+        let z0 = self.programmed().y;
+        let Some((ccw, f)) = self.contour_motion(b, "polar coordinate interpolation", "G13.1") else {
+            return;
+        };
+        let (ps, pe) = (P2::new(p.x, p.c), P2::new(ex, ec));
+        // The path as a function of its fraction, and its length.
+        let arc = match ccw {
+            None => None,
+            Some(ccw) => {
+                let tol = if self.modal.inch {
+                    ArcTolerance::INCH
+                } else {
+                    ArcTolerance::MM
+                };
+                let has_r = w.peek(b'R');
+                let has_ij = w.peek(b'I') || w.peek(b'J');
+                let arc = if has_r && !has_ij {
+                    arc_from_radius(ps, pe, w.get(b'R').unwrap_or(0.0) * s, ccw, 1, tol)
+                } else if has_ij && !has_r {
+                    let c = P2::new(
+                        ps.x + w.get(b'I').unwrap_or(0.0) * s,
+                        ps.y + w.get(b'J').unwrap_or(0.0) * s,
+                    );
+                    arc_from_center(ps, pe, c, ccw, 1, tol).map(|sw| (c, sw))
+                } else {
+                    self.error(
+                        b,
+                        None,
+                        "an arc in polar coordinate interpolation takes R or I/J".into(),
+                    );
+                    return;
+                };
+                match arc {
+                    Ok(a) => Some(a),
+                    Err(e) => {
+                        self.error(b, None, format!("{e}"));
+                        return;
+                    }
+                }
+            }
+        };
+        let path = contour_path(ps, pe, arc);
+        // Chords: fine enough in length and in the angle about the spindle axis.
+        // (The steepest 1/64 of the path sets the angle's share: the angle turns fastest where
+        // the path passes nearest the axis.)
+        let probe = 64;
+        let (mut len, mut turn) = (0.0f64, 0.0f64);
+        let mut prev = path(0.0);
+        for k in 1..=probe {
+            let q = path(k as f64 / probe as f64);
+            len += (q.x - prev.x).hypot(q.y - prev.y);
+            let (a0, a1) = (prev.y.atan2(prev.x), q.y.atan2(q.x));
+            let mut d = a1 - a0;
+            d -= std::f64::consts::TAU * (d / std::f64::consts::TAU).round();
+            turn = turn.max(probe as f64 * d.abs().to_degrees().min(180.0));
+            prev = q;
+        }
+        let n = ((len / CHORD_MM).max(turn / CHORD_DEG).ceil() as usize).clamp(1, MAX_CHORDS);
+        let c_zero = self.tm.as_ref().map_or(0.0, |t| t.shift[1]);
+        let mut c_prev = self.tm.as_ref().map_or(0.0, |t| t.pos[1]);
+        let mut at = path(0.0);
+        for k in 1..=n {
+            let u = k as f64 / n as f64;
+            let q = path(u);
+            let r = q.x.hypot(q.y);
+            let z = z0 + (end.y - z0) * u;
+            // The angle nearest the last C (the same point, unwrapped); on the axis C stays.
+            let c = if r < 1e-9 {
+                c_prev
+            } else {
+                let mut c = c_zero - q.y.atan2(q.x).to_degrees();
+                c += 360.0 * ((c_prev - c) / 360.0).round();
+                c
+            };
+            let mut e = extra;
+            e[1] = c;
+            let chord = (q.x - at.x).hypot(q.y - at.y).hypot(z - self.programmed().y);
+            self.push_chord(b, P2::new(r, z), e, chord, f);
+            c_prev = c;
+            at = q;
+        }
+        if let Some(tm) = self.tm.as_deref_mut() {
+            tm.polar = Some(Polar { x: ex, c: ec });
+        }
+    }
+}
+
+impl Run<'_> {
+    /// The motion of a block in a contour mode (polar or cylindrical interpolation): `Some(ccw)`
+    /// for an arc, `None` for a line, with the feed per minute; a rapid is an alarm, any other
+    /// motion or a feed per revolution is not modelled (findings at the block).
+    pub(crate) fn contour_motion(&mut self, b: &Block, mode: &str, cancel: &str) -> Option<(Option<bool>, f64)> {
+        let ccw = match self.modal.motion.unwrap_or(Motion::Line) {
+            Motion::Line => None,
+            Motion::ArcCcw => Some(true),
+            Motion::ArcCw => Some(false),
+            Motion::Rapid => {
+                self.error(
+                    b,
+                    None,
+                    format!("G0 in {mode}: a control alarms here (cancel it with {cancel} first)"),
+                );
+                return None;
+            }
+            _ => {
+                self.unsupported(b, None, format!("only G1, G2 and G3 move in {mode}"), true);
+                return None;
+            }
+        };
+        let Feed::PerMinute(f) = self.feed(b)? else {
+            self.unsupported(
+                b,
+                None,
+                format!("a feed per revolution in {mode} is not modelled: give G98 (per minute)"),
+                true,
+            );
+            return None;
+        };
+        Some((ccw, f))
+    }
+
+    /// One chord of a contour mode: a line to `to` (x a radius, z) with the extra axes at
+    /// `extra`, timed as the control runs it — `chord` mm of the contour at `f` mm/min. (The
+    /// motion module times a feed by its linear travel, or with none by its rotary travel in
+    /// °/min: the feed given to it is scaled so that either takes the chord's time.)
+    pub(crate) fn push_chord(&mut self, b: &Block, to: P2, extra: super::ExtraAxes, chord: f64, f: f64) {
+        let from = self.programmed();
+        let c_prev = self.tm.as_ref().map_or(0.0, |t| t.pos[1]);
+        let lin = (to.x - from.x).hypot(to.y - from.y);
+        let fk = if chord < 1e-12 {
+            f
+        } else if lin > 1e-9 {
+            f * lin / chord
+        } else {
+            f * (extra[1] - c_prev).abs() / chord
+        };
+        self.set_pending(extra, None);
+        self.push_move(b, MoveKind::Line, from, to, Feed::PerMinute(fk.max(1e-6)));
+    }
+}
+
+/// A contour's path in its plane as a function of its fraction: the segment `ps`–`pe`, or the
+/// arc from `ps` about `centre` through `sweep` radians.
+pub(crate) fn contour_path(ps: P2, pe: P2, arc: Option<(P2, f64)>) -> Box<dyn Fn(f64) -> P2> {
+    match arc {
+        None => Box::new(move |u| P2::new(ps.x + (pe.x - ps.x) * u, ps.y + (pe.y - ps.y) * u)),
+        Some((c, sweep)) => {
+            let (r, a0) = ((ps.x - c.x).hypot(ps.y - c.y), (ps.y - c.y).atan2(ps.x - c.x));
+            Box::new(move |u| {
+                let a = a0 + sweep * u;
+                P2::new(c.x + r * a.cos(), c.y + r * a.sin())
+            })
+        }
+    }
+}

@@ -1,0 +1,227 @@
+//! Polar coordinate interpolation G12.1/G13.1 (G112/G113) on the turn-mill machine (issue 16;
+//! docs/turn-mill.md, "Polar coordinate interpolation"): the chords it makes lie on the
+//! programmed Cartesian path, the hand-worked points are where they should be, and the control's
+//! alarms are findings.
+
+use std::process::Command;
+
+const HEX: &str = "tests/fixtures/polar/hex_g12_1.nc";
+
+fn run(args: &[&str], stdin: Option<&str>) -> (String, String, Option<i32>) {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_latheguard"));
+    c.current_dir(env!("CARGO_MANIFEST_DIR")).args(args);
+    let out = match stdin {
+        Some(text) => {
+            use std::io::Write;
+            let mut child = c
+                .stdin(std::process::Stdio::piped())
+                .stdout(std::process::Stdio::piped())
+                .stderr(std::process::Stdio::piped())
+                .spawn()
+                .unwrap();
+            child.stdin.take().unwrap().write_all(text.as_bytes()).unwrap();
+            child.wait_with_output().unwrap()
+        }
+        None => c.output().unwrap(),
+    };
+    (
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+        out.status.code(),
+    )
+}
+
+/// The feed moves' (line, x radius, z, c degrees) from the canonical output.
+fn feeds(program: &str) -> Vec<(u32, f64, f64, f64)> {
+    let (out, err, _) = run(
+        &[
+            "moves",
+            "--machine",
+            "machines/turn-mill.toml",
+            "--format",
+            "canon",
+            program,
+        ],
+        None,
+    );
+    let mut v = Vec::new();
+    for l in out.lines() {
+        let l = l.trim();
+        let Some((line, rest)) = l.split_once(' ') else {
+            continue;
+        };
+        let Some(args) = rest.strip_prefix("STRAIGHT_FEED(") else {
+            continue;
+        };
+        let n: Vec<f64> = args
+            .trim_end_matches(')')
+            .split(',')
+            .map(|s| s.trim().parse().unwrap())
+            .collect();
+        v.push((line.parse().unwrap(), n[0], n[2], n[5]));
+    }
+    assert!(!v.is_empty(), "{err}");
+    v
+}
+
+/// Worked by hand: the hex's corners (radius 40/2 / cos 30° = 23.094 at 30°, 90°, …) come at C
+/// −30°, −90°, −150° … (the part turned by minus the corner's angle), and every chord's end, turned
+/// back into the plane (x = X cos(−C), c = X sin(−C)), lies on its programmed side within the
+/// canonical output's 1e-4 rounding.
+#[test]
+fn a_g12_1_hex_runs_on_its_sides_and_through_its_corners() {
+    let f = feeds(HEX);
+    let corners = [
+        (13, 30.0),
+        (14, 90.0),
+        (15, 150.0),
+        (16, 210.0),
+        (17, 270.0),
+        (18, 330.0),
+    ];
+    for (line, deg) in corners {
+        let last = f.iter().rfind(|m| m.0 == line).unwrap();
+        assert!((last.1 - 23.094).abs() < 1e-3, "line {line}: {last:?}");
+        let c = (-last.3).rem_euclid(360.0);
+        assert!(
+            (c - deg).abs() < 1e-3,
+            "line {line}: C {} for a corner at {deg}°",
+            last.3
+        );
+    }
+    // The sides: |point − its projection on the side| ≤ 1e-3 (rounding of X and C to 1e-4).
+    let corner = |deg: f64| {
+        let a = deg.to_radians();
+        (23.094011 * a.cos(), 23.094011 * a.sin())
+    };
+    for (line, deg) in corners.iter().skip(1) {
+        let (p, q) = (corner(deg - 60.0), corner(*deg));
+        for m in f.iter().filter(|m| m.0 == *line) {
+            let a = (-m.3).to_radians();
+            let (x, c) = (m.1 * a.cos(), m.1 * a.sin());
+            let (dx, dc) = (q.0 - p.0, q.1 - p.1);
+            let t = ((x - p.0) * dx + (c - p.1) * dc) / (dx * dx + dc * dc);
+            assert!((-1e-6..=1.0 + 1e-6).contains(&t), "line {line}: {m:?}");
+            let d = ((x - p.0 - t * dx).powi(2) + (c - p.1 - t * dc).powi(2)).sqrt();
+            assert!(d < 1e-3, "line {line}: {m:?} is {d} off its side");
+        }
+    }
+    // C never jumps: at most 1° between consecutive chords of the mode.
+    for w in f
+        .windows(2)
+        .filter(|w| (12..=19).contains(&w[0].0) && (12..=19).contains(&w[1].0))
+    {
+        assert!((w[1].3 - w[0].3).abs() <= 1.0 + 1e-9, "{w:?}");
+    }
+}
+
+/// G112/G113 (Fanuc's system A names) are the same mode.
+#[test]
+fn g112_and_g113_are_g12_1_and_g13_1() {
+    let hex = std::fs::read_to_string(format!("{}/{HEX}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let dir = std::env::temp_dir().join(format!("lg-polar-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("g112.nc");
+    std::fs::write(&p, hex.replace("G12.1", "G112").replace("G13.1", "G113")).unwrap();
+    assert_eq!(feeds(p.to_str().unwrap()), feeds(HEX));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// An arc in the mode: G2 with I/J about (15, 0), radius 5: every chord end 5 from the centre.
+#[test]
+fn a_g12_1_arc_keeps_its_radius_about_its_centre() {
+    let text = "G21 G18 G40 G97 G98\nG28 U0 W0\nT1111\nM154\nG28 H0\nM133 P3000\nG0 X40. Z2. C0.\nG1 Z-1. F200.\nG12.1\nG1 X40. C0. F300.\nG2 X40. C0. I-5. J0.\nG13.1\nG1 Z2.\nM135\nM155\nM30\n";
+    let dir = std::env::temp_dir().join(format!("lg-polar-arc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("arc.nc");
+    std::fs::write(&p, text).unwrap();
+    let f = feeds(p.to_str().unwrap());
+    let arc: Vec<_> = f.iter().filter(|m| m.0 == 11).collect();
+    assert!(arc.len() >= 31, "{}", arc.len());
+    for m in arc {
+        let a = (-m.3).to_radians();
+        let (x, c) = (m.1 * a.cos(), m.1 * a.sin());
+        let d = (x - 15.0).hypot(c);
+        assert!((d - 5.0).abs() < 1e-3, "{m:?}: {d}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_rapid_in_the_mode_and_the_mode_without_a_c_axis_are_findings() {
+    let hex = std::fs::read_to_string(format!("{}/{HEX}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let rapid = hex.replace("G1 X40. C11.547", "G0 X40. C11.547");
+    let rapid = format!("{}\nM30\n", &rapid[..rapid.find("G0 X40. C11.547").unwrap() + 15]);
+    let (out, _, code) = run(&["check", "--machine", "machines/turn-mill.toml", "-"], Some(&rapid));
+    assert_eq!(code, Some(1), "{out}");
+    assert!(
+        out.contains(":13:") && out.contains("G0 in polar coordinate interpolation"),
+        "{out}"
+    );
+    // The built-in 2-axis lathe has no C axis.
+    let (out, _, code) = run(&["check", "-"], Some("G21 G18\nG12.1\nG13.1\nM30\n"));
+    assert_eq!(code, Some(1), "{out}");
+    assert!(
+        out.contains("error[unsupported]") && out.contains("needs a C axis"),
+        "{out}"
+    );
+}
+
+const SLOT: &str = "tests/fixtures/polar/slot_g7_1.nc";
+
+/// G7.1 on a 25 mm cylinder: a line in C is one move (a line in Z and C is a line on the
+/// unrolled surface); the arc's chords lie on a circle of radius 25 in (Z, s = 25·C·π/180), at
+/// most 1 mm apart, from Z-20 C90 to Z-30 C180; G7.1 C0 ends the mode.
+#[test]
+fn a_g7_1_slot_keeps_c_in_degrees_and_its_arc_on_the_unrolled_circle() {
+    let f = feeds(SLOT);
+    let line: Vec<_> = f.iter().filter(|m| m.0 == 14).collect();
+    assert_eq!(line.len(), 1);
+    assert!((line[0].3 - 90.0).abs() < 1e-9 && (line[0].2 + 20.0).abs() < 1e-9);
+    let k = 25.0 * std::f64::consts::PI / 180.0;
+    let arc: Vec<(f64, f64)> = f.iter().filter(|m| m.0 == 15).map(|m| (m.2, m.3 * k)).collect();
+    let mut pts = vec![(-20.0, 90.0 * k)];
+    pts.extend(arc.iter().copied());
+    let (a, b, c) = (pts[0], pts[pts.len() / 2], *pts.last().unwrap());
+    assert!((c.0 + 30.0).abs() < 1e-4 && (c.1 / k - 180.0).abs() < 1e-3, "{c:?}");
+    // The circumcentre of the first, middle and last points.
+    let d = 2.0 * (a.0 * (b.1 - c.1) + b.0 * (c.1 - a.1) + c.0 * (a.1 - b.1));
+    let sq = |p: (f64, f64)| p.0 * p.0 + p.1 * p.1;
+    let ux = (sq(a) * (b.1 - c.1) + sq(b) * (c.1 - a.1) + sq(c) * (a.1 - b.1)) / d;
+    let uy = (sq(a) * (c.0 - b.0) + sq(b) * (a.0 - c.0) + sq(c) * (b.0 - a.0)) / d;
+    for w in pts.windows(2) {
+        assert!((w[1].0 - w[0].0).hypot(w[1].1 - w[0].1) <= 1.0 + 1e-3, "{w:?}");
+    }
+    for p in &pts {
+        let r = (p.0 - ux).hypot(p.1 - uy);
+        assert!((r - 25.0).abs() < 2e-3, "{p:?}: {r}");
+    }
+    // After G7.1 C0, C is the rotary axis again and X moves as programmed.
+    let last = f.last().unwrap();
+    assert!(
+        (last.1 - 30.0).abs() < 1e-9 && (last.3 - 360.0).abs() < 1e-9,
+        "{last:?}"
+    );
+}
+
+#[test]
+fn g7_1_without_its_radius_and_a_rapid_in_the_mode_are_findings() {
+    // The fixture up to the line in question (the milling after it is not what is tested).
+    let slot = std::fs::read_to_string(format!("{}/{SLOT}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let upto = |text: &str, last: &str| {
+        let end = text.find(last).unwrap() + last.len();
+        format!("{}\nM30\n", &text[..end])
+    };
+    let (out, _, code) = run(
+        &["check", "--machine", "machines/turn-mill.toml", "-"],
+        Some(&upto(&slot.replace("G7.1 C25.", "G7.1"), "\nG7.1")),
+    );
+    assert_eq!(code, Some(1), "{out}");
+    assert!(out.contains("G7.1 needs C"), "{out}");
+    let (out, _, code) = run(
+        &["check", "--machine", "machines/turn-mill.toml", "-"],
+        Some(&upto(&slot.replace("G1 C90. F300.", "G0 C90."), "\nG0 C90.")),
+    );
+    assert_eq!(code, Some(1), "{out}");
+    assert!(out.contains("G0 in cylindrical interpolation"), "{out}");
+}
