@@ -259,11 +259,13 @@ fn g_group(code: u16, d: Dialect, sys_b: bool, axis_words: bool) -> Option<u8> {
 }
 
 fn g_name(code: u16) -> String {
-    if code % 10 == 0 {
-        format!("G{}", code / 10)
-    } else {
-        format!("G{}.{}", code / 10, code % 10)
-    }
+    crate::machine::g_code_name(code)
+}
+
+/// The dialect runs the G code (×10) in some G-code system (the codes a machine file's
+/// `[gcodes]` may name as what a builder code runs as).
+pub(crate) fn models_g(code: u16, d: Dialect) -> bool {
+    g_group(code, d, false, true).is_some() || g_group(code, d, true, true).is_some()
 }
 
 fn m_group(code: u16) -> u8 {
@@ -477,6 +479,20 @@ impl Run<'_> {
             let tool = self.machine.tool(station);
             (tool.map_or(0.0, |t| t.nose_radius), tool.map_or(0, |t| t.tip_direction))
         };
+        if self.polar_on() || self.cylindrical().is_some() {
+            // The contour would be offset in the virtual plane before the transform to X, C;
+            // latheguard does not model that yet: the tool centre follows the programmed path.
+            self.unsupported(
+                b,
+                Some(at),
+                format!(
+                    "{} in polar or cylindrical interpolation (cutter compensation before the transform) is not modelled: the tool's centre is checked on the programmed path",
+                    g_name(code)
+                ),
+                true,
+            );
+            return;
+        }
         if !self.modal.plane_xz && dir != 0 && dir != 9 {
             self.error(
                 b,
@@ -702,6 +718,13 @@ impl Run<'_> {
                         continue;
                     }
                     let code = if letter == b'M' { code / 10 } else { code };
+                    // A builder's own number for a code (`[gcodes]`): the code it runs as, or
+                    // a mode switch that moves nothing.
+                    let code = match (letter, self.machine.gcodes.get(code)) {
+                        (b'G', Some(crate::machine::GAlias::As(c))) => c,
+                        (b'G', Some(crate::machine::GAlias::Ignore)) => continue,
+                        _ => code,
+                    };
                     list[*n] = (code, at);
                     *n += 1;
                     if letter == b'G' {
@@ -938,7 +961,7 @@ impl Run<'_> {
                     self.error(b, w.at(b'S'), format!("negative spindle speed S{s}"));
                 } else if clamp_block {
                     self.modal.css_clamp = Some(s);
-                } else {
+                } else if !self.live_start_takes_s(w) {
                     self.modal.s = s;
                 }
             }
@@ -955,7 +978,8 @@ impl Run<'_> {
             }
             // A speed in rpm above the machine's limit: the control holds it at max_rpm.
             let max = self.machine.max_rpm;
-            if w.peek(b'S') && !clamp_block && !self.modal.spindle_css && self.modal.s > max {
+            let spindle_s = w.peek(b'S') && !clamp_block && !self.live_start_takes_s(w);
+            if spindle_s && !self.modal.spindle_css && self.modal.s > max {
                 let msg = format!(
                     "spindle speed S{} is above the machine's max_rpm ({max} rpm): the spindle runs at {max} rpm",
                     self.modal.s

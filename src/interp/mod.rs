@@ -28,6 +28,7 @@ use crate::geom::{P2, V2};
 use crate::machine::Machine;
 
 pub use arc::{arc_from_center, arc_from_radius, ArcError, ArcTolerance};
+pub(crate) use block::models_g;
 
 /// Direction of the spindle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -300,13 +300,15 @@ impl Run<'_> {
             return false;
         }
         let speed = if matches!(action, MAction::LiveToolCw | MAction::LiveToolCcw) {
-            match w.get(b'P') {
+            // Without P, an S on the code's line is the live tool's speed (`S600 M13`).
+            let s = if w.peek(b'P') { None } else { w.get(b'S') };
+            match w.get(b'P').or(s) {
                 Some(p) if p.is_finite() && p >= 0.0 => Some(p),
                 Some(p) => {
                     self.error(
                         b,
-                        w.at(b'P'),
-                        format!("P{p}: a live-tool speed is a rev/min of 0 or more"),
+                        w.at(b'P').or(w.at(b'S')),
+                        format!("{p}: a live-tool speed (P, or S on its line) is a rev/min of 0 or more"),
                     );
                     return true;
                 }
@@ -333,13 +335,26 @@ impl Run<'_> {
                 tm.live_rpm = tm.live_speed;
                 if tm.live_rpm <= 0.0 {
                     let msg =
-                        format!("M{code} starts the live tool without a speed (P, rev/min): it is taken as stopped");
+                        format!("M{code} starts the live tool without a speed (P, or S on its line, rev/min): it is taken as stopped");
                     self.warn_once(b, Some(at), msg);
                 }
             }
             _ => tm.live_rpm = 0.0,
         }
         true
+    }
+
+    /// The block starts the live tool with no P word: its S word is the live tool's speed
+    /// (Mori Seiki's and other Fanuc builders' `S2000 M13`), not the main spindle's.
+    pub(crate) fn live_start_takes_s(&self, w: &Words) -> bool {
+        self.tm.is_some()
+            && !w.peek(b'P')
+            && w.m_codes().iter().any(|&(c, _)| {
+                matches!(
+                    self.machine.mcodes.action(c),
+                    Some(MAction::LiveToolCw | MAction::LiveToolCcw)
+                )
+            })
     }
 
     /// A spindle start (M3/M4) leaves C-axis mode: the spindle turns again.

@@ -268,6 +268,10 @@ struct RawDoc {
     tools: Option<Spanned<Vec<Spanned<RawTool>>>>,
     #[schemars(with = "Option<std::collections::BTreeMap<String, RawCodes>>")]
     mcodes: Option<std::collections::BTreeMap<String, Spanned<RawCodes>>>,
+    /// Builder G codes: each key a code the builder numbered its own way, each value the
+    /// standard code it runs as or `{ ignore = "…" }` (docs/machine.md, "Builder G codes").
+    #[schemars(with = "Option<std::collections::BTreeMap<String, RawGcode>>")]
+    gcodes: Option<std::collections::BTreeMap<String, Spanned<RawGcode>>>,
     /// The kinematic machine (turn-mill): axes, components, pairs that must never touch
     /// (`docs/turn-mill.md`).
     kinematics: Option<crate::kin::load::RawKinematics>,
@@ -347,6 +351,10 @@ struct RawHeader {
     decimal_point: Option<Spanned<RawDecimalPoint>>,
     #[schemars(with = "Option<RawGcodeSystem>")]
     gcode_system: Option<Spanned<RawGcodeSystem>>,
+    /// Which drilling cycles G83-G89 are: "haas" (spindle axis, the default) or "fanuc" (live
+    /// tools: face G83/G84/G85, side G87/G88/G89 at a C angle). docs/machine.md.
+    #[schemars(with = "Option<RawDrilling>")]
+    drilling_cycles: Option<Spanned<RawDrilling>>,
     turret_side: Option<RawTurretSide>,
     units: Option<RawUnits>,
     #[schemars(with = "Option<f64>")]
@@ -373,6 +381,32 @@ enum RawTurretSide {
 enum RawGcodeSystem {
     A,
     B,
+}
+
+#[derive(Deserialize, JsonSchema, Clone, Copy)]
+#[serde(rename_all = "lowercase", expecting = "\"haas\" or \"fanuc\"")]
+enum RawDrilling {
+    Haas,
+    Fanuc,
+}
+
+/// One builder code of `[gcodes]`: the standard code it runs as (`"G12.1"`), or a mode switch
+/// that moves nothing (`{ ignore = "why" }`).
+#[derive(Deserialize, JsonSchema)]
+#[serde(
+    untagged,
+    expecting = "a G code such as \"G12.1\", or { ignore = \"what the code does\" }"
+)]
+enum RawGcode {
+    As(String),
+    Ignore(RawGcodeIgnore),
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+struct RawGcodeIgnore {
+    /// What the code does on the control, and why nothing of it needs checking.
+    ignore: String,
 }
 
 #[derive(Deserialize, JsonSchema, Clone, Copy)]
@@ -807,6 +841,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         turret,
         tools,
         mcodes,
+        gcodes,
         kinematics,
     } = raw;
 
@@ -914,6 +949,23 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
             }
         },
     };
+
+    let drilling_cycles = match &hdr.drilling_cycles {
+        None => super::DrillingCycles::Haas,
+        Some(d) => match d.get_ref() {
+            RawDrilling::Haas => super::DrillingCycles::Haas,
+            RawDrilling::Fanuc if dialect == Dialect::Fanuc && !auto => super::DrillingCycles::Fanuc,
+            RawDrilling::Fanuc => {
+                cx.push(cx.err(
+                    d.span(),
+                    "machine.drilling_cycles",
+                    "drilling_cycles = \"fanuc\" applies to the fanuc dialect only",
+                ));
+                super::DrillingCycles::Haas
+            }
+        },
+    };
+    let gcodes = cx.keep(gcode_table(cx, dialect, gcodes.as_ref())).unwrap_or_default();
 
     let min_depth = hdr
         .min_depth
@@ -1293,6 +1345,8 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         rapid,
         decimal_point,
         gcode_system,
+        drilling_cycles,
+        gcodes,
         turret_side: match hdr.turret_side {
             None | Some(RawTurretSide::Rear) => super::TurretSide::Rear,
             Some(RawTurretSide::Front) => super::TurretSide::Front,
@@ -1812,6 +1866,67 @@ fn mcode_table(
         given.push((action, codes));
     }
     Ok(McodeTable::with(dialect, &given))
+}
+
+/// `[gcodes]`: each key a builder's G code (`G121`, `"G87.6"`), each value the code it runs as
+/// (one latheguard models in the machine's dialect) or `{ ignore = "…" }` with a reason.
+fn gcode_table(
+    cx: &Cx<'_>,
+    dialect: Dialect,
+    raw: Option<&std::collections::BTreeMap<String, Spanned<RawGcode>>>,
+) -> Result<super::GcodeTable, MachineError> {
+    use super::gcodes::{code_name, parse_code, GAlias};
+    let Some(raw) = raw else {
+        return Ok(super::GcodeTable::default());
+    };
+    if raw.len() > 100 {
+        return Err(cx.err(0..0, "gcodes", "too many builder G codes: at most 100"));
+    }
+    let mut out: Vec<(u16, GAlias)> = Vec::with_capacity(raw.len());
+    for (name, v) in raw {
+        let key = format!("gcodes.{name}");
+        let Some(code) = parse_code(name) else {
+            return Err(cx.err(
+                v.span(),
+                key,
+                format!("`{name}` is not a G code: write it as a program does (G121, \"G87.6\")"),
+            ));
+        };
+        if out.iter().any(|e| e.0 == code) {
+            return Err(cx.err(v.span(), key, format!("{} is given twice", code_name(code))));
+        }
+        let alias = match v.get_ref() {
+            RawGcode::As(target) => {
+                let Some(t) = parse_code(target) else {
+                    return Err(cx.err(
+                        v.span(),
+                        key,
+                        format!("`{target}` is not a G code: write the standard code it runs as (\"G12.1\")"),
+                    ));
+                };
+                if !crate::interp::models_g(t, dialect) {
+                    return Err(cx.err(
+                        v.span(),
+                        key,
+                        format!("{} is not a {} code latheguard models", code_name(t), dialect.as_str()),
+                    ));
+                }
+                GAlias::As(t)
+            }
+            RawGcode::Ignore(i) => {
+                if i.ignore.trim().is_empty() {
+                    return Err(cx.err(
+                        v.span(),
+                        key,
+                        "`ignore` needs the reason: what the code does, and why nothing of it needs checking",
+                    ));
+                }
+                GAlias::Ignore
+            }
+        };
+        out.push((code, alias));
+    }
+    Ok(super::GcodeTable::new(out))
 }
 
 /// Points of an outline that normalisation drops and along which the outline turns back.

@@ -5,6 +5,7 @@
 //! Outlines are normalised [`Polygon`]s.
 
 mod barrier;
+mod gcodes;
 mod load;
 mod mcodes;
 #[cfg(test)]
@@ -16,6 +17,7 @@ use crate::geom::{Polygon, P2};
 pub mod auto;
 pub mod new;
 
+pub use gcodes::{code_name as g_code_name, parse_code as parse_g_code, DrillingCycles, GAlias, GcodeTable};
 pub use mcodes::{reserved as mcodes_reserved, MAction, McodeTable, ACTIONS as MCODE_ACTIONS, MAX_MCODE};
 
 pub(crate) use load::{
@@ -270,6 +272,10 @@ pub struct Machine {
     pub decimal_point: DecimalPoint,
     /// Fanuc G-code system (A unless the machine file says `gcode_system = "B"`).
     pub gcode_system: GcodeSystem,
+    /// Which drilling cycles G83–G89 are (`machine.drilling_cycles`, default Haas's).
+    pub drilling_cycles: DrillingCycles,
+    /// Builder G codes (`[gcodes]`): codes the control runs as standard ones, or ignores.
+    pub gcodes: GcodeTable,
     /// Which side of the spindle the turret stands on (`machine.turret_side`, default rear).
     pub turret_side: TurretSide,
     /// The program starts in inch (G20) rather than mm (`machine.units = "inch"`).
@@ -385,7 +391,22 @@ impl Machine {
         if self.turret_side == TurretSide::Front {
             modes.push_str(", turret in front (+X toward the operator)");
         }
+        if self.drilling_cycles == DrillingCycles::Fanuc {
+            modes.push_str(", drilling cycles Fanuc's live-tool face and side cycles");
+        }
         let _ = writeln!(s, "  dialect     {modes}");
+        if !self.gcodes.is_empty() {
+            let list: Vec<String> = self
+                .gcodes
+                .entries()
+                .iter()
+                .map(|&(c, a)| match a {
+                    GAlias::As(t) => format!("{} as {}", g_code_name(c), g_code_name(t)),
+                    GAlias::Ignore => format!("{} ignored", g_code_name(c)),
+                })
+                .collect();
+            let _ = writeln!(s, "  G codes     {}", list.join(", "));
+        }
         for (name, a) in [("x", &self.x), ("z", &self.z)] {
             let _ = writeln!(
                 s,

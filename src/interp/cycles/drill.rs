@@ -71,7 +71,7 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
         run.unsupported(
             b,
             Some(at),
-            "a drilling cycle with C (a spindle-indexed hole) needs live tooling, which is not modelled".into(),
+            "a drilling cycle with C (a spindle-indexed hole) on the spindle-axis cycles: Fanuc's live-tool cycles need `drilling_cycles = \"fanuc\"` in the machine file (docs/turn-mill.md); Haas's live-tool drilling is not modelled".into(),
             true,
         );
         return;

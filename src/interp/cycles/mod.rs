@@ -7,7 +7,8 @@
 //! itself to [`run`]; a later block of a modal cycle (box, drilling and LinuxCNC cycles) comes
 //! back through [`repeat`]. One file per family: `rough` (Fanuc/Haas G70 finishing, G71/G72
 //! stock removal, G73 pattern repeat; `common` holds their profile reading), `box_`
-//! (G90/G92/G94, system B G77/G78/G79), `thread` (G76), `groove` (G74/G75), `drill` (G80–G89);
+//! (G90/G92/G94, system B G77/G78/G79), `thread` (G76), `groove` (G74/G75), `drill` (G80–G89
+//! on the spindle axis), `live_drill` (Fanuc's face and side cycles for live tools);
 //! LinuxCNC: `lcnc_thread` (G33.1 rigid tapping, G76), `lcnc_drill` (G73, G74, G81–G89
 //! along Z in G17) and `lcnc_rough` (G70, G71, G72 and their .1/.2 forms, o-word profiles).
 
@@ -22,6 +23,7 @@ mod groove;
 mod lcnc_drill;
 pub(crate) mod lcnc_rough;
 mod lcnc_thread;
+mod live_drill;
 mod rough;
 mod thread;
 
@@ -56,6 +58,9 @@ pub(crate) struct Sticky {
     pub p: Option<f64>,
     /// Drilling: the Z of the initial level (where the cycle began).
     pub initial_z: f64,
+    /// Live-tool drilling (`live_drill`): the initial level along the drilling axis (z on the
+    /// face, x on the side).
+    pub level: f64,
 }
 
 /// Run the cycle `code` (G number ×10) of block `b`; `at` is the offset of its G word. `true` when
@@ -75,6 +80,7 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
             740 | 750 => groove::run(run, b, w, code, at),
             760 => thread::g76(run, b, w, at),
             770 | 780 | 790 | 900 | 920 | 940 => box_::run(run, b, w, code, at),
+            c if fanuc_live(run, c) => live_drill::run(run, b, w, code),
             810..=890 => drill::run(run, b, w, code, at),
             _ => false,
         }
@@ -84,6 +90,12 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
         flow_codes_on_a_cycle_line(run, b, w);
     }
     handled
+}
+
+/// The machine reads `code` as one of Fanuc's live-tool drilling cycles (`drilling_cycles =
+/// "fanuc"`), not as the spindle-axis cycle of `drill.rs`.
+fn fanuc_live(run: &Run<'_>, code: u16) -> bool {
+    run.machine.drilling_cycles == crate::machine::DrillingCycles::Fanuc && live_drill::runs(code)
 }
 
 /// The executor returns after a cycle: program flow written on the cycle's own line is done
@@ -133,6 +145,7 @@ pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) -> 
     }
     match code {
         770 | 780 | 790 | 900 | 920 | 940 => box_::repeat(run, b, w, code),
+        c if fanuc_live(run, c) => live_drill::repeat(run, b, w, code),
         810..=890 => drill::repeat(run, b, w, code),
         _ => return false,
     }
