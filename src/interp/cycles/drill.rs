@@ -176,39 +176,15 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     go(run, b, MoveKind::Rapid, start, at_x, Feed::Rapid);
     let rp = P2::new(x, r);
     go(run, b, MoveKind::Rapid, at_x, rp, Feed::Rapid);
-    let bottom = P2::new(x, z);
-    let mut here = rp;
-    if code == 830 && pecks > 1 {
-        let q = run.cycle.q.unwrap_or(0.0);
-        for i in 1..=pecks {
-            let depth = if i == pecks { z } else { r + dir * q * i as f64 };
-            let to = P2::new(x, depth);
-            go(run, b, MoveKind::Line, here, to, feed);
-            if i == pecks {
-                here = to;
-                break;
-            }
-            go(run, b, MoveKind::Rapid, to, rp, Feed::Rapid);
-            let down_z = depth - dir * PECK_CLEARANCE_MM;
-            let down = P2::new(x, if (down_z - r) * dir > 0.0 { down_z } else { r });
-            go(run, b, MoveKind::Rapid, rp, down, Feed::Rapid);
-            here = down;
-        }
-    } else {
-        go(run, b, MoveKind::Line, here, bottom, feed);
-        here = bottom;
-    }
+    let q = run.cycle.q.unwrap_or(0.0);
+    let here = feed_in(run, b, &|level| P2::new(x, level), (r, z), q, pecks, feed);
     if matches!(code, 820 | 880 | 890) && dwell > 0.0 {
         run.push_move(b, MoveKind::Dwell { seconds: dwell }, here, here, Feed::Rapid);
     }
     let dir_before = run.spindle_dir;
     match code {
         840 => {
-            run.spindle_dir = match dir_before {
-                SpindleDir::Cw => SpindleDir::Ccw,
-                SpindleDir::Ccw => SpindleDir::Cw,
-                SpindleDir::Off => SpindleDir::Off,
-            };
+            run.spindle_dir = reversed(dir_before);
             go(run, b, MoveKind::Line, here, rp, feed);
             run.spindle_dir = dir_before;
         }
@@ -232,6 +208,48 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
         _ => go(run, b, MoveKind::Rapid, here, rp, Feed::Rapid),
     }
     go(run, b, MoveKind::Rapid, rp, P2::new(x, ret), Feed::Rapid);
+}
+
+/// The feed from the R point to the bottom of a hole along its line (`point(level)`): `pecks` of
+/// `q` (the last one to the bottom), each but the last followed by a rapid out to the R point and
+/// a rapid back to [`PECK_CLEARANCE_MM`] above the depth reached; one feed when `pecks` is 1.
+/// Returns the bottom. Shared by the spindle-axis and the live-tool cycles.
+pub(super) fn feed_in(
+    run: &mut Run<'_>,
+    b: &Block,
+    point: &dyn Fn(f64) -> P2,
+    (r, bottom): (f64, f64),
+    q: f64,
+    pecks: u64,
+    feed: Feed,
+) -> P2 {
+    let dir = (bottom - r).signum();
+    let rp = point(r);
+    let mut here = rp;
+    for i in 1..=pecks {
+        let depth = if i == pecks { bottom } else { r + dir * q * i as f64 };
+        let to = point(depth);
+        go(run, b, MoveKind::Line, here, to, feed);
+        here = to;
+        if i == pecks {
+            break;
+        }
+        go(run, b, MoveKind::Rapid, to, rp, Feed::Rapid);
+        let back = depth - dir * PECK_CLEARANCE_MM;
+        let down = point(if (back - r) * dir > 0.0 { back } else { r });
+        go(run, b, MoveKind::Rapid, rp, down, Feed::Rapid);
+        here = down;
+    }
+    here
+}
+
+/// The other direction of a turning spindle (a tap backing out).
+pub(super) fn reversed(d: SpindleDir) -> SpindleDir {
+    match d {
+        SpindleDir::Cw => SpindleDir::Ccw,
+        SpindleDir::Ccw => SpindleDir::Cw,
+        SpindleDir::Off => SpindleDir::Off,
+    }
 }
 
 /// A block whose cycle is reported as a whole: its words are accounted for by that finding.

@@ -36,14 +36,11 @@
 use super::super::block::Words;
 use super::super::flow::Run;
 use super::super::state::Motion;
-use super::super::{ExtraAxes, Feed, MoveKind, SpindleDir};
+use super::super::{ExtraAxes, Feed, MoveKind};
 use super::box_::go;
 use crate::gcode::Block;
 use crate::geom::P2;
 use crate::machine::GcodeSystem;
-
-/// The clearance above the last depth where a peck's rapid back in stops, mm (parameter 5114).
-const PECK_CLEARANCE_MM: f64 = super::drill::PECK_CLEARANCE_MM;
 
 /// The cycles this module runs (×10): the face and side drilling, tapping and boring cycles.
 pub(super) fn runs(code: u16) -> bool {
@@ -203,22 +200,8 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     position(run, b, start, over, extra);
     let rp = point(code, r, at);
     go(run, b, MoveKind::Rapid, over, rp, Feed::Rapid);
-    let mut here = rp;
     let q = run.cycle.q.unwrap_or(0.0);
-    for i in 1..=pecks {
-        let depth = if i == pecks { bottom } else { r + dir * q * i as f64 };
-        let to = point(code, depth, at);
-        go(run, b, MoveKind::Line, here, to, feed);
-        here = to;
-        if i == pecks {
-            break;
-        }
-        go(run, b, MoveKind::Rapid, to, rp, Feed::Rapid);
-        let back = depth - dir * PECK_CLEARANCE_MM;
-        let down = point(code, if (back - r) * dir > 0.0 { back } else { r }, at);
-        go(run, b, MoveKind::Rapid, rp, down, Feed::Rapid);
-        here = down;
-    }
+    let here = super::drill::feed_in(run, b, &|level| point(code, level, at), (r, bottom), q, pecks, feed);
     if dwell > 0.0 {
         run.push_move(b, MoveKind::Dwell { seconds: dwell }, here, here, Feed::Rapid);
     }
@@ -229,11 +212,7 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
             let live = run.tm.as_deref().is_some_and(|t| t.c_mode || t.live_rpm > 0.0);
             let before = run.spindle_dir;
             if !live {
-                run.spindle_dir = match before {
-                    SpindleDir::Cw => SpindleDir::Ccw,
-                    SpindleDir::Ccw => SpindleDir::Cw,
-                    SpindleDir::Off => SpindleDir::Off,
-                };
+                run.spindle_dir = super::drill::reversed(before);
             }
             go(run, b, MoveKind::Line, here, rp, feed);
             run.spindle_dir = before;
