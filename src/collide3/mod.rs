@@ -383,8 +383,23 @@ pub fn overlap(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> Option<H
     }
 }
 
-/// Meshes: crossing triangles (parry's BVH against BVH), then containment both ways.
+/// Meshes: crossing triangles (parry's BVH against BVH), then containment both ways. parry's
+/// contact between two composite shapes depends on their order (of the triangle pairs deep
+/// enough it keeps the one its traversal meets best, which need not be the same pair the other
+/// way round): the pair is taken in one order, by the poses' positions, so that a query and its
+/// mirror give the same depth.
 fn mesh_mesh(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64) -> Option<Hit> {
+    let key = |p: &Pose| [p.translation.x, p.translation.y, p.translation.z];
+    let (ka, kb) = (key(pa), key(pb));
+    let later = ka
+        .iter()
+        .zip(kb.iter())
+        .map(|(x, y)| x.total_cmp(y))
+        .find(|o| o.is_ne())
+        .is_some_and(|o| o.is_gt());
+    if later {
+        return mesh_mesh(b, pb, a, pa, eps);
+    }
     crossing(a, pa, b, pb, eps)
         .or_else(|| contained(a, pa, b, pb, eps))
         .or_else(|| contained(b, pb, a, pa, eps))
