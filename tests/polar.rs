@@ -225,3 +225,118 @@ fn g7_1_without_its_radius_and_a_rapid_in_the_mode_are_findings() {
     assert_eq!(code, Some(1), "{out}");
     assert!(out.contains("G0 in cylindrical interpolation"), "{out}");
 }
+
+/// G41 in the mode (tests/fixtures/polar/hex_g41.nc): the programmed flats are the hex's (40
+/// across), the control offsets the cutter's centre by its radius, 5 (the T11 end mill's
+/// cylinder in the machine's tree), to the left of the path. The path runs counter-clockwise,
+/// so the centre runs on the hex inset by 5: 30 across flats, every point of lines 13–19 with
+/// its largest projection on the six flat normals at 15 (a corner inset by 5 / cos 30°, at
+/// 17.32 from the centre), line 13 on x = 15 from the entry below the hex. The start-up block (line 12) ends normal to the next block's start,
+/// the block before G40 normal to its own end, and the G40 block returns to the programmed X80.
+#[test]
+fn g41_in_the_mode_offsets_the_contour_before_the_transform() {
+    let f = feeds("tests/fixtures/polar/hex_g41.nc");
+    let plane = |m: &(u32, f64, f64, f64)| {
+        let a = (-m.3).to_radians();
+        (m.1 * a.cos(), m.1 * a.sin())
+    };
+    let apothem = |(x, c): (f64, f64)| {
+        (0..6)
+            .map(|k| {
+                let a = (k as f64 * 60.0).to_radians();
+                x * a.cos() + c * a.sin()
+            })
+            .fold(f64::MIN, f64::max)
+    };
+    // Line 13 climbs the flat from the entry below the hex (C-15): on x = 15 all the way.
+    for m in f.iter().filter(|m| m.0 == 13) {
+        assert!((plane(m).0 - 15.0).abs() < 1e-3, "{m:?}");
+    }
+    let on_inset: Vec<_> = f.iter().filter(|m| (14..=19).contains(&m.0)).collect();
+    assert!(on_inset.len() > 100, "{}", on_inset.len());
+    for m in &on_inset {
+        let a = apothem(plane(m));
+        assert!((a - 15.0).abs() < 1e-3, "{m:?}: {a}");
+    }
+    let end_of = |line: u32| plane(f.iter().rfind(|m| m.0 == line).unwrap());
+    let close = |p: (f64, f64), q: (f64, f64)| (p.0 - q.0).abs() < 1e-3 && (p.1 - q.1).abs() < 1e-3;
+    assert!(close(end_of(12), (15.0, -15.0)), "{:?}", end_of(12));
+    assert!(close(end_of(14), (0.0, 17.3205)), "{:?}", end_of(14));
+    assert!(close(end_of(19), (15.0, 0.0)), "{:?}", end_of(19));
+    assert!(close(end_of(20), (40.0, 0.0)), "{:?}", end_of(20));
+    // G42 puts the centre outside: the same contour with the flats at 25.
+    let text = std::fs::read_to_string(format!(
+        "{}/tests/fixtures/polar/hex_g41.nc",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let dir = std::env::temp_dir().join(format!("lg-polar-g42-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("g42.nc");
+    std::fs::write(&p, text.replace("G41 G1", "G42 G1")).unwrap();
+    let g = feeds(p.to_str().unwrap());
+    for m in g.iter().filter(|m| m.0 == 13) {
+        assert!((plane(m).0 - 25.0).abs() < 1e-3, "{m:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The mode cancelled with compensation on is the control's alarm; a tool whose radius
+/// latheguard does not know (T11 with no milling sizes, no nose radius and, here, no cylinder
+/// cutter in the tree) is `unsupported`.
+#[test]
+fn g13_1_with_compensation_on_and_an_unknown_radius_are_findings() {
+    let text = std::fs::read_to_string(format!(
+        "{}/tests/fixtures/polar/hex_g41.nc",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let dir = std::env::temp_dir().join(format!("lg-polar-g13-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let read = |name: &str, text: String| {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        run(
+            &[
+                "moves",
+                "--machine",
+                "machines/turn-mill.toml",
+                "--format",
+                "canon",
+                p.to_str().unwrap(),
+            ],
+            None,
+        )
+        .1
+    };
+    let err = read("no_g40.nc", text.replace("G40 G1 X80. C0.", "G1 X80. C0."));
+    assert!(
+        err.contains(":21:") && err.contains("cancelled with cutter compensation on"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    // The machine without T11's cutter cylinder in its tree: no radius to offset by.
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("machines/turn-mill.toml");
+    let base = path.parent().unwrap().to_path_buf();
+    let mut m = latheguard::machine::from_toml_with(
+        &std::fs::read_to_string(&path).unwrap(),
+        "machines/turn-mill.toml",
+        &move |name: &str| std::fs::read(base.join(name)).map_err(|e| e.to_string()),
+    )
+    .unwrap();
+    let mut k = (**m.kinematics.as_ref().unwrap()).clone();
+    for c in &mut k.components {
+        if c.station == Some(11) && c.role == latheguard::kin::Role::Cutter {
+            c.geometry = None;
+        }
+    }
+    m.kinematics = Some(std::sync::Arc::new(k));
+    let (_, i) = latheguard::pipeline::interpret(text.as_bytes(), &m);
+    let f: Vec<_> = i
+        .findings
+        .iter()
+        .filter(|f| f.message.contains("the cutter's radius is unknown"))
+        .collect();
+    assert_eq!(f.len(), 1, "{:?}", i.findings);
+    assert_eq!(f[0].line, 12);
+}

@@ -415,6 +415,10 @@ impl Run<'_> {
 
     /// G40: compensation off (the next move leaves the offset).
     fn comp_off(&mut self, b: &Block, at: u32) {
+        if self.polar_comp_engaged() {
+            self.polar_comp_off(b, at);
+            return;
+        }
         let Some(c) = self.comp.as_deref_mut() else {
             return;
         };
@@ -479,14 +483,19 @@ impl Run<'_> {
             let tool = self.machine.tool(station);
             (tool.map_or(0.0, |t| t.nose_radius), tool.map_or(0, |t| t.tip_direction))
         };
-        if self.polar_on() || self.cylindrical().is_some() {
-            // The contour would be offset in the virtual plane before the transform to X, C;
-            // latheguard does not model that yet: the tool centre follows the programmed path.
+        if self.polar_on() && matches!(code, 410 | 420) {
+            // The contour is offset in the mode's plane before the transform (`contour_comp.rs`).
+            self.polar_comp_on(b, code == 410, &g_name(code), at);
+            return;
+        }
+        if self.cylindrical().is_some() {
+            // The contour would be offset in the unrolled plane before the transform; not
+            // modelled yet: the tool centre follows the programmed path.
             self.unsupported(
                 b,
                 Some(at),
                 format!(
-                    "{} in polar or cylindrical interpolation (cutter compensation before the transform) is not modelled: the tool's centre is checked on the programmed path",
+                    "{} in cylindrical interpolation (cutter compensation before the transform) is not modelled: the tool's centre is checked on the programmed path",
                     g_name(code)
                 ),
                 true,
@@ -1051,8 +1060,12 @@ impl Run<'_> {
             if let Some(at) = w.find_g(121).or(w.find_g(1120)) {
                 self.polar_start(b, at);
             }
-            if w.find_g(131).or(w.find_g(1130)).is_some() {
-                self.polar_stop();
+            if let Some(at) = w.find_g(131).or(w.find_g(1130)) {
+                // G40 on the same line cancels the compensation first.
+                if let (Some(a40), true) = (w.has_g(400), self.polar_comp_engaged()) {
+                    self.polar_comp_off(b, a40);
+                }
+                self.polar_stop(b, at);
             }
         }
         if w.any_g(PLANE_COMP_OFFSET_CODES) {
@@ -1356,7 +1369,14 @@ impl Run<'_> {
 
     fn tool_word(&mut self, b: &Block, t: f64, at: Option<u32>, fanuc: bool) {
         if t < 0.0 || t.fract() != 0.0 || t > 9999.0 {
-            self.error(b, at, format!("T{t} is not a tool number"));
+            // The control changes to some tool here, which one latheguard cannot tell: the moves
+            // until the next tool change are not checked (as after a T for an unknown station).
+            self.error(
+                b,
+                at,
+                format!("T{t} is not a tool number; the moves until the next tool change are not checked"),
+            );
+            self.devices.tool_unknown = true;
             return;
         }
         let t = t as u32;

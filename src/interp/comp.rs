@@ -154,7 +154,7 @@ struct Queued {
 }
 
 /// The compensation stage of one run.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct Comp {
     side: Option<Side>,
     radius: f64,

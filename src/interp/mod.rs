@@ -10,6 +10,7 @@ mod arc;
 mod block;
 pub mod canon;
 mod comp;
+mod contour_comp;
 mod cycles;
 mod cylindrical;
 mod eval;

@@ -22,8 +22,9 @@
 //! (the 3D path poses the part turned by C), so the programmed (X, C) picture is the part seen
 //! from +Z in its own frame.
 //!
-//! Not modelled: nose/cutter-radius compensation in the mode (G41/G42 there is `unsupported`),
-//! incremental addresses U and H in the mode (`unsupported`), and feeds per revolution.
+//! Cutter compensation in the mode (G41/G42 after G12.1) is `contour_comp.rs`: the contour is
+//! offset in the plane before the chords are made. Not modelled: incremental addresses U and H
+//! in the mode (`unsupported`), and feeds per revolution.
 
 use super::arc::{arc_from_center, arc_from_radius, ArcTolerance};
 use super::block::Words;
@@ -96,10 +97,25 @@ impl Run<'_> {
         }
     }
 
-    /// G13.1 / G113: the mode off.
-    pub(crate) fn polar_stop(&mut self) {
+    /// G13.1 / G113: the mode off. Cutter compensation must be cancelled first (else the
+    /// control alarms): what it still holds goes out, and it ends with the mode.
+    pub(crate) fn polar_stop(&mut self, b: &Block, at: u32) {
+        let comp_on = self
+            .tm
+            .as_deref()
+            .and_then(|t| t.polar_comp.as_deref())
+            .is_some_and(|c| c.is_on());
+        if comp_on {
+            self.error(
+                b,
+                Some(at),
+                "polar coordinate interpolation cancelled with cutter compensation on: a control alarms here (give G40 first)".into(),
+            );
+        }
+        self.polar_comp_flush();
         if let Some(tm) = self.tm.as_deref_mut() {
             tm.polar = None;
+            tm.polar_comp = None;
         }
     }
 
@@ -131,7 +147,6 @@ impl Run<'_> {
         };
         let ex = if had_x { end.x } else { p.x };
         let ec = c_word.map_or(p.c, |c| c * s);
-        let z0 = self.programmed().y;
         let Some((ccw, f)) = self.contour_motion(b, "polar coordinate interpolation", "G13.1") else {
             return;
         };
@@ -172,6 +187,40 @@ impl Run<'_> {
                 }
             }
         };
+        if self.polar_comp_engaged() {
+            let m = super::contour_comp::PlaneMove {
+                start: ps,
+                end: pe,
+                arc,
+                line: b.line,
+                feed: f,
+            };
+            self.polar_comp_take(b, m, end.y);
+        } else {
+            self.polar_chords(b, ps, pe, arc, end.y, f, extra);
+        }
+        if let Some(tm) = self.tm.as_deref_mut() {
+            tm.polar = Some(Polar { x: ex, c: ec });
+        }
+    }
+}
+
+impl Run<'_> {
+    /// The chords of one plane move from `ps` to `pe` (x radius, c; the arc about a centre by a
+    /// sweep, or a line), Z running from where it is to `z_end`, at `f` mm/min along the contour;
+    /// `extra` the other extra axes.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn polar_chords(
+        &mut self,
+        b: &Block,
+        ps: P2,
+        pe: P2,
+        arc: Option<(P2, f64)>,
+        z_end: f64,
+        f: f64,
+        extra: super::ExtraAxes,
+    ) {
+        let z0 = self.programmed().y;
         let path = contour_path(ps, pe, arc);
         // Chords: fine enough in length and in the angle about the spindle axis.
         // (The steepest 1/64 of the path sets the angle's share: the angle turns fastest where
@@ -196,7 +245,7 @@ impl Run<'_> {
             let u = k as f64 / n as f64;
             let q = path(u);
             let r = q.x.hypot(q.y);
-            let z = z0 + (end.y - z0) * u;
+            let z = z0 + (z_end - z0) * u;
             // The angle nearest the last C (the same point, unwrapped); on the axis C stays.
             let c = if r < 1e-9 {
                 c_prev
@@ -211,9 +260,6 @@ impl Run<'_> {
             self.push_chord(b, P2::new(r, z), e, chord, f);
             c_prev = c;
             at = q;
-        }
-        if let Some(tm) = self.tm.as_deref_mut() {
-            tm.polar = Some(Polar { x: ex, c: ec });
         }
     }
 }

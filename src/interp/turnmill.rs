@@ -47,6 +47,9 @@ pub(crate) struct TurnMill {
     pub polar: Option<super::polar::Polar>,
     /// Cylindrical interpolation (G7.1): the cylinder's radius, mm (`cylindrical.rs`).
     pub cylinder: Option<f64>,
+    /// Cutter compensation in polar interpolation (`contour_comp.rs`), once G41/G42 was given
+    /// in the mode.
+    pub polar_comp: Option<Box<super::contour_comp::ContourComp>>,
 }
 
 impl TurnMill {
@@ -80,6 +83,7 @@ impl TurnMill {
             handed: 0,
             pending: None,
             polar: None,
+            polar_comp: None,
             cylinder: None,
         })
     }

@@ -1,0 +1,248 @@
+//! Cutter compensation in polar coordinate interpolation (G12.1 with G41/G42/G40): the contour
+//! programmed in the mode's Cartesian plane (X, the hypothetical C) is offset by the cutter's
+//! radius before it is turned into X and C moves, as the Fanuc 0i-TD / 16i/18i-TB manuals
+//! describe the function (compensation is applied to the hypothetical plane's path).
+//!
+//! The offsetting is the lathe's own compensation stage (`comp.rs`, Fanuc style: the start-up
+//! block ends normal to the next block, outside corners between lines take the intersection or
+//! two vectors, arcs about the programmed corner otherwise, inside corners cut back), run on the
+//! plane's moves: a plane point (x, c) enters the stage as the spindle-frame point (c, x), whose
+//! compensation plane is then (x, c) itself, so G41 keeps the cutter on the left of the path seen
+//! from +Z, as a milling control does. What leaves the stage is the cutter centre's path; the
+//! polar module makes its chords.
+//!
+//! The cutter's radius is the active tool's: its milling diameter (`mill = { diameter }` in the
+//! job) halved, else the radius of the station's cylindrical cutter in the machine's kinematic
+//! tree, else its nose radius. A tool with none is `unsupported` (the control's offset table has
+//! a radius latheguard does not know), and the path is checked as programmed.
+//!
+//! Z may move in a compensated block (a plunge or the retract of the G40 block): each block's Z
+//! end is kept with its line until the stage lets the block's moves out, and their chords run
+//! Z linearly to it.
+
+use super::comp::{Comp, Side, Style};
+use super::flow::Run;
+use super::{Feed, Move, MoveKind};
+use crate::gcode::Block;
+use crate::geom::{P2, V2};
+
+/// The stage and the Z ends of the blocks whose moves wait in it.
+#[derive(Clone, Debug)]
+pub(crate) struct ContourComp {
+    comp: Comp,
+    /// (line, Z at the end of that block, spindle frame) of the blocks not yet out.
+    z_ends: Vec<(u32, f64)>,
+}
+
+impl ContourComp {
+    /// G41/G42 is in force (not cancelled by G40).
+    pub(crate) fn is_on(&self) -> bool {
+        self.comp.is_on()
+    }
+}
+
+/// The radius of the cutter in `station`: its milling diameter (a job's `mill`) halved, else the
+/// radius of the station's cylindrical cutter in the kinematic tree, else its nose radius; 0
+/// when none is known.
+fn cutter_radius(machine: &crate::machine::Machine, station: u32) -> f64 {
+    let tool = machine.tool(station);
+    if let Some(m) = tool.and_then(|t| t.mill.as_ref()) {
+        return m.diameter / 2.0;
+    }
+    let from_tree = machine.kinematics.as_deref().and_then(|k| {
+        k.components
+            .iter()
+            .find_map(|c| match (&c.geometry, c.role, c.station) {
+                (Some(crate::kin::Geometry::Cylinder { radius, .. }), crate::kin::Role::Cutter, Some(s))
+                    if s == station =>
+                {
+                    Some(*radius)
+                }
+                _ => None,
+            })
+    });
+    from_tree.unwrap_or_else(|| tool.map_or(0.0, |t| t.nose_radius))
+}
+
+/// A plane point (x a radius, c) as the stage's spindle-frame point, and back.
+fn to_stage(p: P2) -> P2 {
+    P2::new(p.y, p.x)
+}
+
+fn from_stage(p: P2) -> P2 {
+    P2::new(p.y, p.x)
+}
+
+/// One compensated move of the plane: from `start` to `end` (x radius, c), the arc about
+/// `centre` by `sweep` radians (counter-clockwise in the plane seen from +Z) or a line, at the
+/// block of line `line`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PlaneMove {
+    pub start: P2,
+    pub end: P2,
+    pub arc: Option<(P2, f64)>,
+    pub line: u32,
+    pub feed: f64,
+}
+
+impl Run<'_> {
+    /// The cutter-radius compensation of polar interpolation is on (or its moves still wait).
+    pub(crate) fn polar_comp_engaged(&self) -> bool {
+        self.tm
+            .as_ref()
+            .and_then(|t| t.polar_comp.as_ref())
+            .is_some_and(|c| c.comp.engaged())
+    }
+
+    /// G41/G42 while polar interpolation is on. `false` when the cutter's radius is unknown
+    /// (reported): the path is then checked as programmed.
+    pub(crate) fn polar_comp_on(&mut self, b: &Block, left: bool, code_name: &str, at: u32) -> bool {
+        let radius = cutter_radius(self.machine, self.station);
+        if radius <= 0.0 {
+            self.unsupported(
+                b,
+                Some(at),
+                format!(
+                    "{code_name} in polar coordinate interpolation: the cutter's radius is unknown (give the tool `mill = {{ diameter = … }}` in the job, docs/tools.md); the cutter's centre is checked on the programmed path"
+                ),
+                true,
+            );
+            return false;
+        }
+        let side = if left { Side::Left } else { Side::Right };
+        let scale = self.scale();
+        let Some(tm) = self.tm.as_deref_mut() else { return false };
+        let pc = tm.polar_comp.get_or_insert_with(|| {
+            Box::new(ContourComp {
+                comp: Comp::new(),
+                z_ends: Vec::new(),
+            })
+        });
+        match pc.comp.on(side, radius, V2::zeros(), Style::Fanuc, scale) {
+            Ok(()) => true,
+            Err(msg) => {
+                self.error(b, Some(at), msg);
+                false
+            }
+        }
+    }
+
+    /// G40 in polar interpolation: the next move leaves the offset.
+    pub(crate) fn polar_comp_off(&mut self, b: &Block, at: u32) {
+        let mut out = Vec::new();
+        let res = match self.tm.as_deref_mut().and_then(|t| t.polar_comp.as_deref_mut()) {
+            Some(pc) => pc.comp.off(&mut out),
+            None => return,
+        };
+        if let Err(msg) = res {
+            self.polar_comp_abandon();
+            self.error(b, Some(at), msg);
+        }
+        self.polar_comp_emit(out);
+    }
+
+    /// A plane move of a compensated block (or one that follows G40 while moves wait): into the
+    /// stage; what it lets out is made into chords.
+    pub(crate) fn polar_comp_take(&mut self, b: &Block, m: PlaneMove, z_end: f64) {
+        let stage = Move {
+            kind: match m.arc {
+                None => MoveKind::Line,
+                Some((c, sweep)) => MoveKind::Arc {
+                    center: to_stage(c),
+                    sweep: -sweep,
+                },
+            },
+            line: m.line,
+            n: None,
+            profile_line: 0,
+            start: to_stage(m.start),
+            end: to_stage(m.end),
+            tip: V2::zeros(),
+            station: self.station,
+            feed: Feed::PerMinute(m.feed),
+            state: 0,
+        };
+        let mut out = Vec::new();
+        let res = {
+            let Some(pc) = self.tm.as_deref_mut().and_then(|t| t.polar_comp.as_deref_mut()) else {
+                return;
+            };
+            match pc.z_ends.last_mut() {
+                Some(last) if last.0 == m.line => last.1 = z_end,
+                _ => pc.z_ends.push((m.line, z_end)),
+            }
+            pc.comp.take(stage, &mut out)
+        };
+        if let Err(msg) = res {
+            // As on the lathe: the move is refused, compensation stops, the rest is checked as
+            // programmed.
+            self.polar_comp_abandon();
+            self.error(
+                b,
+                None,
+                format!("{msg}; cutter compensation stops here and the rest is checked as programmed"),
+            );
+        }
+        self.polar_comp_emit(out);
+    }
+
+    /// Everything the stage holds goes out (G13.1, the end of the program).
+    pub(crate) fn polar_comp_flush(&mut self) {
+        let mut out = Vec::new();
+        if let Some(pc) = self.tm.as_deref_mut().and_then(|t| t.polar_comp.as_deref_mut()) {
+            pc.comp.flush(&mut out);
+        }
+        self.polar_comp_emit(out);
+    }
+
+    /// Compensation stops after an error: what waits leaves as it is.
+    fn polar_comp_abandon(&mut self) {
+        let mut out = Vec::new();
+        if let Some(pc) = self.tm.as_deref_mut().and_then(|t| t.polar_comp.as_deref_mut()) {
+            pc.comp.abandon(&mut out);
+        }
+        self.polar_comp_emit(out);
+        if let Some(tm) = self.tm.as_deref_mut() {
+            tm.polar_comp = None;
+        }
+    }
+
+    /// The stage's moves as chords, each at its own block's line and Z.
+    fn polar_comp_emit(&mut self, out: Vec<Move>) {
+        for m in out {
+            if !matches!(m.kind, MoveKind::Line | MoveKind::Rapid | MoveKind::Arc { .. }) {
+                continue;
+            }
+            let z_end = self
+                .tm
+                .as_deref()
+                .and_then(|t| t.polar_comp.as_deref())
+                .and_then(|pc| pc.z_ends.iter().find(|e| e.0 == m.line).map(|e| e.1))
+                .unwrap_or(self.programmed().y);
+            let f = match m.feed {
+                Feed::PerMinute(f) => f,
+                _ => continue,
+            };
+            let arc = match m.kind {
+                MoveKind::Arc { center, sweep } => Some((from_stage(center), -sweep)),
+                _ => None,
+            };
+            let Some(b) = self.block_at_line(m.line) else { continue };
+            let extra = self.tm.as_deref().map_or([0.0; 4], |t| t.pos);
+            self.polar_chords(b, from_stage(m.start), from_stage(m.end), arc, z_end, f, extra);
+            // The blocks before this one are out: their Z ends are no longer needed.
+            if let Some(pc) = self.tm.as_deref_mut().and_then(|t| t.polar_comp.as_deref_mut()) {
+                pc.z_ends.retain(|e| e.0 >= m.line);
+            }
+        }
+    }
+}
+
+impl<'a> Run<'a> {
+    /// The block at a physical line (the blocks are in line order).
+    fn block_at_line(&self, line: u32) -> Option<&'a Block> {
+        let blocks: &'a [Block] = &self.prog.blocks;
+        let i = blocks.partition_point(|b| b.line < line);
+        blocks.get(i).filter(|b| b.line == line)
+    }
+}
