@@ -597,6 +597,18 @@ impl Checker<'_> {
         f.deltas(0.0, 1.0, &mut rates);
         let rate = bound_from(k, &poser, a, &sa.sphere(), &rates);
         let (mut u, mut prev, mut probes) = (0.0f64, 0.0f64, 0u64);
+        // A contact deeper than a touch of the component, posed as `poser` says, with the stock.
+        let hit_at = |poser: &Poser, stock: &mut _| {
+            mill::stock_hit(
+                mill,
+                stock,
+                sa,
+                three.grid_shape(a, sa),
+                poser.world(a),
+                &three.part_pose(poser),
+                true,
+            )
+        };
         // The gap is sought within a few mm: its cost grows with the columns the window spans.
         let window = rate.min(5.0) + 1.0;
         loop {
@@ -623,15 +635,7 @@ impl Checker<'_> {
                 u = if next > u { next } else { (u + f64::EPSILON).min(1.0) };
                 continue;
             }
-            if let Some(h) = mill::stock_hit(
-                mill,
-                stock,
-                sa,
-                three.grid_shape(a, sa),
-                poser.world(a),
-                &three.part_pose(&poser),
-                true,
-            ) {
+            if let Some(h) = hit_at(&poser, stock) {
                 if u == 0.0 {
                     return (Advance::Contact { u, hit: h }, probes);
                 }
@@ -644,15 +648,7 @@ impl Checker<'_> {
                     }
                     f.at(mid, &mut vals);
                     poser.pose(k, &vals);
-                    match mill::stock_hit(
-                        mill,
-                        stock,
-                        sa,
-                        three.grid_shape(a, sa),
-                        poser.world(a),
-                        &three.part_pose(&poser),
-                        true,
-                    ) {
+                    match hit_at(&poser, stock) {
                         Some(h) => (hi, best) = (mid, h),
                         None => lo = mid,
                     }

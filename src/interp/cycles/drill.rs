@@ -90,13 +90,7 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     // Words of the cycle (read before any early return, so none is reported unused).
     let r_word = w.get(b'R');
     let q_word = super::least(run, w, b'Q');
-    let p_word = if w.peek(b'P') {
-        let point = w.has_point(b'P');
-        let v = w.get(b'P').unwrap_or(0.0);
-        Some(if point { v } else { v / 1000.0 })
-    } else {
-        None
-    };
+    let p_word = dwell_word(w);
     let Some(t) = run.target(b, w) else { return };
     if let Some(r) = r_word {
         run.cycle.r = Some(run.origin().y + r * s_);
@@ -241,6 +235,14 @@ pub(super) fn feed_in(
         here = down;
     }
     here
+}
+
+/// A drilling cycle's P word, the dwell at the bottom in seconds: ms, or s when written with a
+/// decimal point (as G4 reads it).
+pub(super) fn dwell_word(w: &mut Words) -> Option<f64> {
+    let point = w.has_point(b'P');
+    let v = w.get(b'P')?;
+    Some(if point { v } else { v / 1000.0 })
 }
 
 /// The other direction of a turning spindle (a tap backing out).

@@ -104,13 +104,7 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     };
     let r_word = w.get(b'R');
     let q_word = super::least(run, w, b'Q');
-    let p_word = if w.peek(b'P') {
-        let point = w.has_point(b'P');
-        let v = w.get(b'P').unwrap_or(0.0);
-        Some(if point { v } else { v / 1000.0 })
-    } else {
-        None
-    };
+    let p_word = super::drill::dwell_word(w);
     let k_word = w.get(b'K');
     let Some(t) = run.target(b, w) else { return };
     let extra = match run.tm.is_some() {
