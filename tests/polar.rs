@@ -340,3 +340,44 @@ fn g13_1_with_compensation_on_and_an_unknown_radius_are_findings() {
     assert_eq!(f.len(), 1, "{:?}", i.findings);
     assert_eq!(f[0].line, 12);
 }
+
+/// G41 in cylindrical interpolation (tests/fixtures/polar/slot_wall_g7_1_g41.nc): the wall is
+/// programmed on Z-20 with C rising; seen from the tool (Z to the right, the unrolled C up) the
+/// D12 end mill's centre runs left of it, on Z-26 (G42: Z-14), from the start-up block's end at
+/// C90 to C180; the G40 block returns to the programmed Z-20 at C200.
+#[test]
+fn g41_in_g7_1_offsets_the_unrolled_contour() {
+    let wall = "tests/fixtures/polar/slot_wall_g7_1_g41.nc";
+    let f = feeds(wall);
+    let at = |line: u32| *f.iter().rfind(|m| m.0 == line).unwrap();
+    for (line, z, c) in [(13, -26.0, 90.0), (14, -26.0, 180.0), (15, -20.0, 200.0)] {
+        let m = at(line);
+        assert!((m.2 - z).abs() < 1e-9 && (m.3 - c).abs() < 1e-9, "line {line}: {m:?}");
+    }
+    let text = std::fs::read_to_string(format!("{}/{wall}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let dir = std::env::temp_dir().join(format!("lg-cyl-g42-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("g42.nc");
+    std::fs::write(&p, text.replace("G41 G1", "G42 G1")).unwrap();
+    let g = feeds(p.to_str().unwrap());
+    let m = g.iter().rfind(|m| m.0 == 14).unwrap();
+    assert!((m.2 + 14.0).abs() < 1e-9, "{m:?}");
+    let q = dir.join("no_g40.nc");
+    std::fs::write(&q, text.replace("G40 G1 C200.", "G1 C200.")).unwrap();
+    let (_, err, _) = run(
+        &[
+            "moves",
+            "--machine",
+            "machines/turn-mill.toml",
+            "--format",
+            "canon",
+            q.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(
+        err.contains(":16:") && err.contains("cancelled with cutter compensation on"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

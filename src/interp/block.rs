@@ -415,8 +415,8 @@ impl Run<'_> {
 
     /// G40: compensation off (the next move leaves the offset).
     fn comp_off(&mut self, b: &Block, at: u32) {
-        if self.polar_comp_engaged() {
-            self.polar_comp_off(b, at);
+        if self.contour_comp_engaged() {
+            self.contour_comp_off(b, at);
             return;
         }
         let Some(c) = self.comp.as_deref_mut() else {
@@ -483,24 +483,18 @@ impl Run<'_> {
             let tool = self.machine.tool(station);
             (tool.map_or(0.0, |t| t.nose_radius), tool.map_or(0, |t| t.tip_direction))
         };
-        if self.polar_on() && matches!(code, 410 | 420) {
-            // The contour is offset in the mode's plane before the transform (`contour_comp.rs`).
-            self.polar_comp_on(b, code == 410, &g_name(code), at);
-            return;
-        }
-        if self.cylindrical().is_some() {
-            // The contour would be offset in the unrolled plane before the transform; not
-            // modelled yet: the tool centre follows the programmed path.
-            self.unsupported(
-                b,
-                Some(at),
-                format!(
-                    "{} in cylindrical interpolation (cutter compensation before the transform) is not modelled: the tool's centre is checked on the programmed path",
-                    g_name(code)
-                ),
-                true,
-            );
-            return;
+        if matches!(code, 410 | 420) {
+            // In a contour mode the contour is offset in the mode's plane before the transform
+            // (`contour_comp.rs`).
+            let plane = if self.polar_on() {
+                Some(super::contour_comp::Plane::Polar)
+            } else {
+                self.cylindrical().map(super::contour_comp::Plane::Cylinder)
+            };
+            if let Some(plane) = plane {
+                self.contour_comp_on(b, code == 410, &g_name(code), at, plane);
+                return;
+            }
         }
         if !self.modal.plane_xz && dir != 0 && dir != 9 {
             self.error(
@@ -1062,8 +1056,8 @@ impl Run<'_> {
             }
             if let Some(at) = w.find_g(131).or(w.find_g(1130)) {
                 // G40 on the same line cancels the compensation first.
-                if let (Some(a40), true) = (w.has_g(400), self.polar_comp_engaged()) {
-                    self.polar_comp_off(b, a40);
+                if let (Some(a40), true) = (w.has_g(400), self.contour_comp_engaged()) {
+                    self.contour_comp_off(b, a40);
                 }
                 self.polar_stop(b, at);
             }

@@ -1,24 +1,26 @@
-//! Cutter compensation in polar coordinate interpolation (G12.1 with G41/G42/G40): the contour
-//! programmed in the mode's Cartesian plane (X, the hypothetical C) is offset by the cutter's
-//! radius before it is turned into X and C moves, as the Fanuc 0i-TD / 16i/18i-TB manuals
-//! describe the function (compensation is applied to the hypothetical plane's path).
+//! Cutter compensation in the contour modes (G41/G42/G40 in polar coordinate interpolation G12.1
+//! and in cylindrical interpolation G7.1): the contour programmed in the mode's plane — (X, the
+//! hypothetical C) for polar, (Z, the unrolled length s) for cylindrical — is offset by the
+//! cutter's radius before it is turned into X, Z and C moves, as the Fanuc 0i-TD / 16i/18i-TB
+//! manuals describe the functions (compensation is applied to the plane's path).
 //!
 //! The offsetting is the lathe's own compensation stage (`comp.rs`, Fanuc style: the start-up
 //! block ends normal to the next block, outside corners between lines take the intersection or
 //! two vectors, arcs about the programmed corner otherwise, inside corners cut back), run on the
-//! plane's moves: a plane point (x, c) enters the stage as the spindle-frame point (c, x), whose
-//! compensation plane is then (x, c) itself, so G41 keeps the cutter on the left of the path seen
-//! from +Z, as a milling control does. What leaves the stage is the cutter centre's path; the
-//! polar module makes its chords.
+//! plane's moves: a plane point (p, q) enters the stage as the spindle-frame point (q, p), whose
+//! compensation plane is then (p, q) itself, so G41 keeps the cutter on the left of the path seen
+//! with p to the right and q up — from +Z for polar, from +X (the radial tool's side) for
+//! cylindrical —, as a milling control does. What leaves the stage is the cutter centre's path;
+//! the mode's module makes its chords.
 //!
 //! The cutter's radius is the active tool's: its milling diameter (`mill = { diameter }` in the
 //! job) halved, else the radius of the station's cylindrical cutter in the machine's kinematic
 //! tree, else its nose radius. A tool with none is `unsupported` (the control's offset table has
 //! a radius latheguard does not know), and the path is checked as programmed.
 //!
-//! Z may move in a compensated block (a plunge or the retract of the G40 block): each block's Z
-//! end is kept with its line until the stage lets the block's moves out, and their chords run
-//! Z linearly to it.
+//! The axis out of the plane (Z for polar, X for cylindrical) may move in a compensated block (a
+//! plunge, the retract of the G40 block): each block's end on it is kept with its line until the
+//! stage lets the block's moves out, and their chords run it linearly there.
 
 use super::comp::{Comp, Side, Style};
 use super::flow::Run;
@@ -26,12 +28,31 @@ use super::{Feed, Move, MoveKind};
 use crate::gcode::Block;
 use crate::geom::{P2, V2};
 
-/// The stage and the Z ends of the blocks whose moves wait in it.
+/// Which contour mode's plane the stage works in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Plane {
+    /// Polar interpolation: (x radius, c), Z out of the plane.
+    Polar,
+    /// Cylindrical interpolation on a cylinder of this radius (mm): (z, s), X out of the plane.
+    Cylinder(f64),
+}
+
+/// The stage and the out-of-plane ends of the blocks whose moves wait in it.
 #[derive(Clone, Debug)]
 pub(crate) struct ContourComp {
     comp: Comp,
-    /// (line, Z at the end of that block, spindle frame) of the blocks not yet out.
-    z_ends: Vec<(u32, f64)>,
+    plane: Plane,
+    /// (line, the out-of-plane coordinate at the end of that block, spindle frame) of the
+    /// blocks not yet out.
+    ends: Vec<(u32, f64)>,
+}
+
+/// The mode's name in findings.
+fn mode_name(plane: Plane) -> &'static str {
+    match plane {
+        Plane::Polar => "polar coordinate interpolation",
+        Plane::Cylinder(_) => "cylindrical interpolation",
+    }
 }
 
 impl ContourComp {
@@ -64,7 +85,7 @@ fn cutter_radius(machine: &crate::machine::Machine, station: u32) -> f64 {
     from_tree.unwrap_or_else(|| tool.map_or(0.0, |t| t.nose_radius))
 }
 
-/// A plane point (x a radius, c) as the stage's spindle-frame point, and back.
+/// A plane point (p, q) as the stage's spindle-frame point, and back.
 fn to_stage(p: P2) -> P2 {
     P2::new(p.y, p.x)
 }
@@ -73,9 +94,9 @@ fn from_stage(p: P2) -> P2 {
     P2::new(p.y, p.x)
 }
 
-/// One compensated move of the plane: from `start` to `end` (x radius, c), the arc about
-/// `centre` by `sweep` radians (counter-clockwise in the plane seen from +Z) or a line, at the
-/// block of line `line`.
+/// One compensated move of the plane: from `start` to `end` (plane points), the arc about
+/// `centre` by `sweep` radians (counter-clockwise with the plane's first axis to the right and
+/// its second up) or a line, at the block of line `line`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PlaneMove {
     pub start: P2,
@@ -86,24 +107,25 @@ pub(crate) struct PlaneMove {
 }
 
 impl Run<'_> {
-    /// The cutter-radius compensation of polar interpolation is on (or its moves still wait).
-    pub(crate) fn polar_comp_engaged(&self) -> bool {
+    /// The cutter-radius compensation of a contour mode is on (or its moves still wait).
+    pub(crate) fn contour_comp_engaged(&self) -> bool {
         self.tm
             .as_ref()
-            .and_then(|t| t.polar_comp.as_ref())
+            .and_then(|t| t.contour_comp.as_ref())
             .is_some_and(|c| c.comp.engaged())
     }
 
-    /// G41/G42 while polar interpolation is on. `false` when the cutter's radius is unknown
-    /// (reported): the path is then checked as programmed.
-    pub(crate) fn polar_comp_on(&mut self, b: &Block, left: bool, code_name: &str, at: u32) -> bool {
+    /// G41/G42 while a contour mode is on (its `plane`). `false` when the cutter's radius is
+    /// unknown (reported): the path is then checked as programmed.
+    pub(crate) fn contour_comp_on(&mut self, b: &Block, left: bool, code_name: &str, at: u32, plane: Plane) -> bool {
         let radius = cutter_radius(self.machine, self.station);
         if radius <= 0.0 {
             self.unsupported(
                 b,
                 Some(at),
                 format!(
-                    "{code_name} in polar coordinate interpolation: the cutter's radius is unknown (give the tool `mill = {{ diameter = … }}` in the job, docs/tools.md); the cutter's centre is checked on the programmed path"
+                    "{code_name} in {}: the cutter's radius is unknown (give the tool `mill = {{ diameter = … }}` in the job, docs/tools.md); the cutter's centre is checked on the programmed path",
+                    mode_name(plane)
                 ),
                 true,
             );
@@ -112,12 +134,14 @@ impl Run<'_> {
         let side = if left { Side::Left } else { Side::Right };
         let scale = self.scale();
         let Some(tm) = self.tm.as_deref_mut() else { return false };
-        let pc = tm.polar_comp.get_or_insert_with(|| {
+        let pc = tm.contour_comp.get_or_insert_with(|| {
             Box::new(ContourComp {
                 comp: Comp::new(),
-                z_ends: Vec::new(),
+                plane,
+                ends: Vec::new(),
             })
         });
+        pc.plane = plane;
         match pc.comp.on(side, radius, V2::zeros(), Style::Fanuc, scale) {
             Ok(()) => true,
             Err(msg) => {
@@ -127,23 +151,24 @@ impl Run<'_> {
         }
     }
 
-    /// G40 in polar interpolation: the next move leaves the offset.
-    pub(crate) fn polar_comp_off(&mut self, b: &Block, at: u32) {
+    /// G40 in a contour mode: the next move leaves the offset.
+    pub(crate) fn contour_comp_off(&mut self, b: &Block, at: u32) {
         let mut out = Vec::new();
-        let res = match self.tm.as_deref_mut().and_then(|t| t.polar_comp.as_deref_mut()) {
+        let res = match self.tm.as_deref_mut().and_then(|t| t.contour_comp.as_deref_mut()) {
             Some(pc) => pc.comp.off(&mut out),
             None => return,
         };
         if let Err(msg) = res {
-            self.polar_comp_abandon();
+            self.contour_comp_abandon();
             self.error(b, Some(at), msg);
         }
-        self.polar_comp_emit(out);
+        self.contour_comp_emit(out);
     }
 
-    /// A plane move of a compensated block (or one that follows G40 while moves wait): into the
-    /// stage; what it lets out is made into chords.
-    pub(crate) fn polar_comp_take(&mut self, b: &Block, m: PlaneMove, z_end: f64) {
+    /// A plane move of a compensated block (or one that follows G40 while moves wait), `end` its
+    /// block's end on the axis out of the plane: into the stage; what it lets out is made into
+    /// chords.
+    pub(crate) fn contour_comp_take(&mut self, b: &Block, m: PlaneMove, end: f64) {
         let stage = Move {
             kind: match m.arc {
                 None => MoveKind::Line,
@@ -164,61 +189,61 @@ impl Run<'_> {
         };
         let mut out = Vec::new();
         let res = {
-            let Some(pc) = self.tm.as_deref_mut().and_then(|t| t.polar_comp.as_deref_mut()) else {
+            let Some(pc) = self.tm.as_deref_mut().and_then(|t| t.contour_comp.as_deref_mut()) else {
                 return;
             };
-            match pc.z_ends.last_mut() {
-                Some(last) if last.0 == m.line => last.1 = z_end,
-                _ => pc.z_ends.push((m.line, z_end)),
+            match pc.ends.last_mut() {
+                Some(last) if last.0 == m.line => last.1 = end,
+                _ => pc.ends.push((m.line, end)),
             }
             pc.comp.take(stage, &mut out)
         };
         if let Err(msg) = res {
             // As on the lathe: the move is refused, compensation stops, the rest is checked as
             // programmed.
-            self.polar_comp_abandon();
+            self.contour_comp_abandon();
             self.error(
                 b,
                 None,
                 format!("{msg}; cutter compensation stops here and the rest is checked as programmed"),
             );
         }
-        self.polar_comp_emit(out);
+        self.contour_comp_emit(out);
     }
 
-    /// Everything the stage holds goes out (G13.1, the end of the program).
-    pub(crate) fn polar_comp_flush(&mut self) {
+    /// Everything the stage holds goes out (the mode's end, the end of the program).
+    pub(crate) fn contour_comp_flush(&mut self) {
         let mut out = Vec::new();
-        if let Some(pc) = self.tm.as_deref_mut().and_then(|t| t.polar_comp.as_deref_mut()) {
+        if let Some(pc) = self.tm.as_deref_mut().and_then(|t| t.contour_comp.as_deref_mut()) {
             pc.comp.flush(&mut out);
         }
-        self.polar_comp_emit(out);
+        self.contour_comp_emit(out);
     }
 
     /// Compensation stops after an error: what waits leaves as it is.
-    fn polar_comp_abandon(&mut self) {
+    fn contour_comp_abandon(&mut self) {
         let mut out = Vec::new();
-        if let Some(pc) = self.tm.as_deref_mut().and_then(|t| t.polar_comp.as_deref_mut()) {
+        if let Some(pc) = self.tm.as_deref_mut().and_then(|t| t.contour_comp.as_deref_mut()) {
             pc.comp.abandon(&mut out);
         }
-        self.polar_comp_emit(out);
+        self.contour_comp_emit(out);
         if let Some(tm) = self.tm.as_deref_mut() {
-            tm.polar_comp = None;
+            tm.contour_comp = None;
         }
     }
 
-    /// The stage's moves as chords, each at its own block's line and Z.
-    fn polar_comp_emit(&mut self, out: Vec<Move>) {
+    /// The stage's moves as chords, each at its own block's line and out-of-plane end.
+    fn contour_comp_emit(&mut self, out: Vec<Move>) {
         for m in out {
             if !matches!(m.kind, MoveKind::Line | MoveKind::Rapid | MoveKind::Arc { .. }) {
                 continue;
             }
-            let z_end = self
-                .tm
-                .as_deref()
-                .and_then(|t| t.polar_comp.as_deref())
-                .and_then(|pc| pc.z_ends.iter().find(|e| e.0 == m.line).map(|e| e.1))
-                .unwrap_or(self.programmed().y);
+            let Some((plane, end)) = self.tm.as_deref().and_then(|t| t.contour_comp.as_deref()).map(|pc| {
+                let end = pc.ends.iter().find(|e| e.0 == m.line).map(|e| e.1);
+                (pc.plane, end)
+            }) else {
+                continue;
+            };
             let f = match m.feed {
                 Feed::PerMinute(f) => f,
                 _ => continue,
@@ -229,10 +254,15 @@ impl Run<'_> {
             };
             let Some(b) = self.block_at_line(m.line) else { continue };
             let extra = self.tm.as_deref().map_or([0.0; 4], |t| t.pos);
-            self.polar_chords(b, from_stage(m.start), from_stage(m.end), arc, z_end, f, extra);
+            let here = self.programmed();
+            let (ps, pe) = (from_stage(m.start), from_stage(m.end));
+            match plane {
+                Plane::Polar => self.polar_chords(b, ps, pe, arc, end.unwrap_or(here.y), f, extra),
+                Plane::Cylinder(r) => self.cylindrical_chords(b, ps, pe, arc, end.unwrap_or(here.x), f, extra, r),
+            }
             // The blocks before this one are out: their Z ends are no longer needed.
-            if let Some(pc) = self.tm.as_deref_mut().and_then(|t| t.polar_comp.as_deref_mut()) {
-                pc.z_ends.retain(|e| e.0 >= m.line);
+            if let Some(pc) = self.tm.as_deref_mut().and_then(|t| t.contour_comp.as_deref_mut()) {
+                pc.ends.retain(|e| e.0 >= m.line);
             }
         }
     }

@@ -10,8 +10,7 @@
 //! feed along the unrolled path (the move is timed by its (Z, s) length at F). G2/G3 take R only
 //! (I, J, K are refused, as the control refuses them) and turn in (Z, s): G3 counter-clockwise
 //! with +Z to the right and +s up, G2 clockwise; an arc is made as chords of at most 1 mm. X
-//! stays where it is (the tool on the cylinder) unless given. Not modelled: compensation in the
-//! mode (`unsupported`), rapids in the mode (a `program` error: the control alarms).
+//! stays where it is (the tool on the cylinder) unless given. Not modelled: rapids in the mode (a `program` error: the control alarms).
 
 use super::arc::{arc_from_radius, ArcTolerance};
 use super::block::Words;
@@ -53,8 +52,29 @@ impl Run<'_> {
             return;
         }
         if r == 0.0 {
+            // Compensation must be cancelled first (G40 on this line does it), else the control
+            // alarms; what it still holds goes out, and it ends with the mode.
+            if let (Some(a40), true) = (w.has_g(400), self.contour_comp_engaged()) {
+                self.contour_comp_off(b, a40);
+            }
+            let comp_on = self
+                .tm
+                .as_deref()
+                .and_then(|t| t.contour_comp.as_deref())
+                .is_some_and(|c| c.is_on());
+            if comp_on {
+                self.error(
+                    b,
+                    Some(at),
+                    "cylindrical interpolation cancelled with cutter compensation on: a control alarms here (give G40 first)"
+                        .into(),
+                );
+            }
+            self.contour_comp_flush();
             if let Some(tm) = self.tm.as_deref_mut() {
                 tm.cylinder = None;
+                tm.contour_comp = None;
+                tm.cylinder_prog = None;
             }
             return;
         }
@@ -87,19 +107,38 @@ impl Run<'_> {
 
     /// A motion block in the mode: G1 or G2/G3 (R) in the unrolled (Z, s) plane.
     pub(crate) fn cylindrical_motion(&mut self, b: &Block, w: &mut Words, radius: f64) {
+        let (named_z, named_c) = (w.peek(b'Z'), w.peek(b'C'));
         let Some(end) = self.target(b, w) else { return };
         let Some(extra) = self.extra_target(b, w, false) else {
             return;
         };
         let start = self.programmed();
         let c0 = self.tm.as_ref().map_or(0.0, |t| t.pos[1]);
-        let c1 = extra[1];
         let k = radius * std::f64::consts::PI / 180.0;
         let Some((ccw, f)) = self.contour_motion(b, "cylindrical interpolation", "G7.1 C0") else {
             return;
         };
+        // Under cutter compensation the tool stands off the programmed path: the block's
+        // programmed start is the last programmed point, and what it does not name (or names
+        // incrementally, W and H) is taken from there, not from where the tool is.
+        let comp = self.contour_comp_engaged();
+        let prog = self.tm.as_ref().and_then(|t| t.cylinder_prog).filter(|_| comp);
+        let (z0, c_start) = prog.map_or((start.y, c0), |p| (p.x, p.y));
+        let z1 = if named_z || prog.is_none() {
+            end.y
+        } else {
+            z0 + (end.y - start.y)
+        };
+        let c1 = if named_c || prog.is_none() {
+            extra[1]
+        } else {
+            c_start + (extra[1] - c0)
+        };
+        if let Some(tm) = self.tm.as_deref_mut() {
+            tm.cylinder_prog = comp.then_some(P2::new(z1, c1));
+        }
         // (z, s) of the ends.
-        let (ps, pe) = (P2::new(start.y, c0 * k), P2::new(end.y, c1 * k));
+        let (ps, pe) = (P2::new(z0, c_start * k), P2::new(z1, c1 * k));
         let arc = match ccw {
             None => None,
             Some(ccw) => {
@@ -126,8 +165,39 @@ impl Run<'_> {
                 }
             }
         };
+        if self.contour_comp_engaged() {
+            let m = super::contour_comp::PlaneMove {
+                start: ps,
+                end: pe,
+                arc,
+                line: b.line,
+                feed: f,
+            };
+            self.contour_comp_take(b, m, end.x);
+        } else {
+            self.cylindrical_chords(b, ps, pe, arc, end.x, f, extra, radius);
+        }
+    }
+
+    /// The moves of one plane move from `ps` to `pe` ((z, s) on the unrolled cylinder of
+    /// `radius`; a line, or the arc about a centre by a sweep, made as chords), X running from
+    /// where it is to `x_end`, at `f` mm/min along the path; `extra` the other extra axes.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn cylindrical_chords(
+        &mut self,
+        b: &Block,
+        ps: P2,
+        pe: P2,
+        arc: Option<(P2, f64)>,
+        x_end: f64,
+        f: f64,
+        extra: super::ExtraAxes,
+        radius: f64,
+    ) {
+        let k = radius * std::f64::consts::PI / 180.0;
+        let x0 = self.programmed().x;
         let path = contour_path(ps, pe, arc);
-        let (n, len) = match ccw {
+        let (n, len) = match arc {
             None => (1, (pe.x - ps.x).hypot(pe.y - ps.y)),
             Some(_) => {
                 let mut len = 0.0;
@@ -140,18 +210,17 @@ impl Run<'_> {
                 (((len / CHORD_MM).ceil() as usize).clamp(1, MAX_CHORDS), len)
             }
         };
-        let x0 = start.x;
         let mut at = path(0.0);
         for i in 1..=n {
             let u = i as f64 / n as f64;
             let q = path(u);
-            let to = P2::new(x0 + (end.x - x0) * u, q.x);
+            let to = P2::new(x0 + (x_end - x0) * u, q.x);
             let mut e = extra;
             e[1] = q.y / k;
             let chord = if n == 1 {
-                len.hypot(end.x - x0)
+                len.hypot(x_end - x0)
             } else {
-                (q.x - at.x).hypot(q.y - at.y).hypot((end.x - x0) / n as f64)
+                (q.x - at.x).hypot(q.y - at.y).hypot((x_end - x0) / n as f64)
             };
             self.push_chord(b, to, e, chord, f);
             at = q;

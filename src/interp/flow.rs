@@ -368,7 +368,7 @@ impl<'a> Run<'a> {
     pub fn finish(mut self) -> Interpretation {
         // Moves nose-radius compensation still holds (the program ended with it on).
         self.comp_flush();
-        self.polar_comp_flush();
+        self.contour_comp_flush();
         self.hand_over();
         // The moves were reserved for one per block; give back a large unused part (address
         // space counts against a memory cap even when never touched).

@@ -103,7 +103,7 @@ impl Run<'_> {
         let comp_on = self
             .tm
             .as_deref()
-            .and_then(|t| t.polar_comp.as_deref())
+            .and_then(|t| t.contour_comp.as_deref())
             .is_some_and(|c| c.is_on());
         if comp_on {
             self.error(
@@ -112,10 +112,10 @@ impl Run<'_> {
                 "polar coordinate interpolation cancelled with cutter compensation on: a control alarms here (give G40 first)".into(),
             );
         }
-        self.polar_comp_flush();
+        self.contour_comp_flush();
         if let Some(tm) = self.tm.as_deref_mut() {
             tm.polar = None;
-            tm.polar_comp = None;
+            tm.contour_comp = None;
         }
     }
 
@@ -187,7 +187,7 @@ impl Run<'_> {
                 }
             }
         };
-        if self.polar_comp_engaged() {
+        if self.contour_comp_engaged() {
             let m = super::contour_comp::PlaneMove {
                 start: ps,
                 end: pe,
@@ -195,7 +195,7 @@ impl Run<'_> {
                 line: b.line,
                 feed: f,
             };
-            self.polar_comp_take(b, m, end.y);
+            self.contour_comp_take(b, m, end.y);
         } else {
             self.polar_chords(b, ps, pe, arc, end.y, f, extra);
         }

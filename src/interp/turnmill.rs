@@ -47,9 +47,12 @@ pub(crate) struct TurnMill {
     pub polar: Option<super::polar::Polar>,
     /// Cylindrical interpolation (G7.1): the cylinder's radius, mm (`cylindrical.rs`).
     pub cylinder: Option<f64>,
-    /// Cutter compensation in polar interpolation (`contour_comp.rs`), once G41/G42 was given
-    /// in the mode.
-    pub polar_comp: Option<Box<super::contour_comp::ContourComp>>,
+    /// Cylindrical interpolation under cutter compensation: the programmed point (z, C degrees),
+    /// where the tool is not (`cylindrical.rs`).
+    pub cylinder_prog: Option<P2>,
+    /// Cutter compensation in a contour mode (`contour_comp.rs`), once G41/G42 was given in
+    /// polar or cylindrical interpolation.
+    pub contour_comp: Option<Box<super::contour_comp::ContourComp>>,
 }
 
 impl TurnMill {
@@ -83,7 +86,8 @@ impl TurnMill {
             handed: 0,
             pending: None,
             polar: None,
-            polar_comp: None,
+            contour_comp: None,
+            cylinder_prog: None,
             cylinder: None,
         })
     }
