@@ -165,10 +165,21 @@ impl Run<'_> {
         self.contour_comp_emit(out);
     }
 
+    /// A contour mode's programmed move, `end` its block's end on the axis out of the plane: into
+    /// the compensation stage when it is engaged (`true`); `false` leaves the chords to the
+    /// caller (the move as programmed).
+    pub(crate) fn contour_comp_route(&mut self, b: &Block, m: PlaneMove, end: f64) -> bool {
+        if !self.contour_comp_engaged() {
+            return false;
+        }
+        self.contour_comp_take(b, m, end);
+        true
+    }
+
     /// A plane move of a compensated block (or one that follows G40 while moves wait), `end` its
     /// block's end on the axis out of the plane: into the stage; what it lets out is made into
     /// chords.
-    pub(crate) fn contour_comp_take(&mut self, b: &Block, m: PlaneMove, end: f64) {
+    fn contour_comp_take(&mut self, b: &Block, m: PlaneMove, end: f64) {
         let stage = Move {
             kind: match m.arc {
                 None => MoveKind::Line,

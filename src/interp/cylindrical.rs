@@ -165,16 +165,14 @@ impl Run<'_> {
                 }
             }
         };
-        if self.contour_comp_engaged() {
-            let m = super::contour_comp::PlaneMove {
-                start: ps,
-                end: pe,
-                arc,
-                line: b.line,
-                feed: f,
-            };
-            self.contour_comp_take(b, m, end.x);
-        } else {
+        let m = super::contour_comp::PlaneMove {
+            start: ps,
+            end: pe,
+            arc,
+            line: b.line,
+            feed: f,
+        };
+        if !self.contour_comp_route(b, m, end.x) {
             self.cylindrical_chords(b, ps, pe, arc, end.x, f, extra, radius);
         }
     }

@@ -187,16 +187,14 @@ impl Run<'_> {
                 }
             }
         };
-        if self.contour_comp_engaged() {
-            let m = super::contour_comp::PlaneMove {
-                start: ps,
-                end: pe,
-                arc,
-                line: b.line,
-                feed: f,
-            };
-            self.contour_comp_take(b, m, end.y);
-        } else {
+        let m = super::contour_comp::PlaneMove {
+            start: ps,
+            end: pe,
+            arc,
+            line: b.line,
+            feed: f,
+        };
+        if !self.contour_comp_route(b, m, end.y) {
             self.polar_chords(b, ps, pe, arc, end.y, f, extra);
         }
         if let Some(tm) = self.tm.as_deref_mut() {
