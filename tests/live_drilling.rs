@@ -329,3 +329,66 @@ fn the_corpus_turn_mill_programs_read_with_no_unsupported_code() {
         );
     }
 }
+
+/// The turn-mill machine read with Haas's drilling cycles (the default `drilling_cycles`).
+fn haas_turn_mill() -> latheguard::machine::Machine {
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(TM);
+    let dir = path.parent().unwrap().to_path_buf();
+    let mut m =
+        latheguard::machine::from_toml_with(&std::fs::read_to_string(&path).unwrap(), TM, &move |name: &str| {
+            std::fs::read(dir.join(name)).map_err(|e| e.to_string())
+        })
+        .unwrap();
+    m.drilling_cycles = latheguard::machine::DrillingCycles::Haas;
+    m
+}
+
+/// Haas's axial live drilling (the Haas lathe manual's G81–G89 with C): in C-axis mode a G81 at
+/// X30 C0 (R the absolute R plane, Z2) drills at radius 15, and a block with only C drills the
+/// next hole there after the spindle turns; off the axis without C-axis mode it is the
+/// control's refusal, as before.
+#[test]
+fn haas_g81_with_c_drills_a_live_hole_in_c_axis_mode() {
+    let m = haas_turn_mill();
+    let src = "G21 G18 G99\nT0707\nM154\nG0 X30. Z5. C0.\nM133 P2000\nG98\nG81 X30. C0. Z-10. R2. F100.\nC90.\nG80\nM135\nG0 Z50.\nM155\nM30\n";
+    let (_, i) = latheguard::pipeline::interpret(src.as_bytes(), &m);
+    assert!(i.findings.is_empty(), "{:?}", i.findings);
+    let holes: Vec<(u32, f64, f64, f64)> = i
+        .moves
+        .iter()
+        .enumerate()
+        .filter(|(_, mv)| mv.line == 7 || mv.line == 8)
+        .map(|(k, mv)| {
+            let (x, z) = i.frame(mv).to_program(mv.end);
+            (mv.line, x, z, i.extra_of(k).map_or(f64::NAN, |e| e.end[1]))
+        })
+        .collect();
+    // Line 7: to R (Z2), feed to Z-10, out to R, back to the initial Z5; all at X30 C0.
+    let l7: Vec<_> = holes.iter().filter(|h| h.0 == 7).collect();
+    assert_eq!(l7.len(), 4, "{holes:?}");
+    for (h, z) in l7.iter().zip([2.0, -10.0, 2.0, 5.0]) {
+        assert!(close(h.1, 30.0) && close(h.2, z) && close(h.3, 0.0), "{h:?}");
+    }
+    // Line 8: the spindle turns to C90 first, then the same hole.
+    let l8: Vec<_> = holes.iter().filter(|h| h.0 == 8).collect();
+    assert!(close(l8[0].2, 5.0) && close(l8[0].3, 90.0), "{l8:?}");
+    assert!(l8.iter().any(|h| close(h.2, -10.0) && close(h.3, 90.0)), "{l8:?}");
+    let off = src.replace("M154\n", "");
+    let (_, i) = latheguard::pipeline::interpret(off.as_bytes(), &m);
+    assert!(
+        i.findings.iter().any(|f| f.message.contains("not in C-axis mode")),
+        "{:?}",
+        i.findings
+    );
+    let no_c = off
+        .replace("G81 X30. C0.", "G81 X30.")
+        .replace("G0 X30. Z5. C0.", "G0 X30. Z5.");
+    let (_, i) = latheguard::pipeline::interpret(no_c.as_bytes(), &m);
+    assert!(
+        i.findings
+            .iter()
+            .any(|f| f.line == 6 && f.message.contains("put the spindle in C-axis mode first")),
+        "{:?}",
+        i.findings
+    );
+}

@@ -4,8 +4,10 @@
 //! Words: Z (or W) the bottom of the hole, R the R plane (absolute program Z; default the initial
 //! level), Q the peck (G83; least input increment unless written with a decimal point), P the
 //! dwell at the bottom (G82, G88, G89; ms, or s with a decimal point, as G4 reads it), F the feed
-//! (G84: the pitch), X (or U) the hole's X — it must be 0: a hole off the spindle axis needs a
-//! live tool, which a 2-axis lathe has not (live tooling is issue 15).
+//! (G84: the pitch), X (or U) the hole's X — 0 on a 2-axis lathe (off the axis a stationary
+//! drill meets a turning part); on a machine with a C axis, C (and Y) index the spindle for a
+//! live tool's hole, and with the spindle in C-axis mode X may be off the axis (Haas: axial live
+//! drilling with these same cycles).
 //!
 //! Passes: rapid to the hole's X at the initial level, rapid to R, then
 //! - G81 feed to Z; G82 feed to Z, dwell; G83 pecks of Q, each followed by a rapid out to R and a
@@ -66,12 +68,15 @@ pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
 fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     let s_ = run.scale();
     let gz = w.peek(b'Z') || w.peek(b'W');
-    if let Some(at) = w.at(b'C') {
+    // A machine with a C axis indexes the spindle for a live tool's holes (Haas: C, and Y, on
+    // the drilling block); on one without, C has no meaning here.
+    let c_axis = run.tm.as_deref().is_some_and(|t| t.axes[1].is_some());
+    if let (Some(at), false) = (w.at(b'C'), c_axis) {
         consume_all(w);
         run.unsupported(
             b,
             Some(at),
-            "a drilling cycle with C (a spindle-indexed hole) on the spindle-axis cycles: Fanuc's live-tool cycles need `drilling_cycles = \"fanuc\"` in the machine file (docs/turn-mill.md); Haas's live-tool drilling is not modelled".into(),
+            "a drilling cycle with C (a spindle-indexed hole) needs a machine with a C axis and live tools (docs/turn-mill.md)".into(),
             true,
         );
         return;
@@ -92,6 +97,13 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     let q_word = super::least(run, w, b'Q');
     let p_word = dwell_word(w);
     let Some(t) = run.target(b, w) else { return };
+    let extra = match run.tm.is_some() {
+        true => match run.extra_target(b, w, false) {
+            Some(e) => Some(e),
+            None => return,
+        },
+        false => None,
+    };
     if let Some(r) = r_word {
         run.cycle.r = Some(run.origin().y + r * s_);
     }
@@ -114,12 +126,20 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     };
     run.cycle.z = Some(z);
     let x = t.x;
-    if x.abs() > 1e-6 {
+    // Off the axis a hole needs the spindle positioned (C-axis mode) and a live tool: a
+    // stationary drill would meet a turning part.
+    let positioned = run.tm.as_deref().is_some_and(|t| t.c_mode);
+    if x.abs() > 1e-6 && !positioned {
+        let why = if c_axis {
+            "put the spindle in C-axis mode first (the machine's c_axis_on code)"
+        } else {
+            "drilling there needs a live tool, which this lathe has not (X must be 0)"
+        };
         run.error(
             b,
             None,
             format!(
-                "G{}: a hole at X{} is off the spindle axis; drilling there needs a live tool, which this lathe has not (X must be 0)",
+                "G{}: a hole at X{} is off the spindle axis; {why}",
                 code / 10,
                 short(run.frame().to_program(P2::new(x, t.y)).0)
             ),
@@ -167,7 +187,7 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
         return;
     }
     let at_x = P2::new(x, z0);
-    go(run, b, MoveKind::Rapid, start, at_x, Feed::Rapid);
+    super::live_drill::position(run, b, start, at_x, extra);
     let rp = P2::new(x, r);
     go(run, b, MoveKind::Rapid, at_x, rp, Feed::Rapid);
     let q = run.cycle.q.unwrap_or(0.0);

@@ -219,7 +219,7 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
 
 /// The rapid to the hole's position, with the extra axes (C, Y) of the block: made even when
 /// only they move, so that the spindle turns to the hole's angle before the tool goes in.
-fn position(run: &mut Run<'_>, b: &Block, from: P2, to: P2, extra: Option<ExtraAxes>) {
+pub(super) fn position(run: &mut Run<'_>, b: &Block, from: P2, to: P2, extra: Option<ExtraAxes>) {
     let turns = match (extra, run.tm.as_deref()) {
         (Some(e), Some(tm)) => e != tm.pos,
         _ => false,
