@@ -158,11 +158,12 @@ impl Run<'_> {
             Some(pc) => pc.comp.off(&mut out),
             None => return,
         };
+        // What the stage let out comes before what an abandon lets out after it.
+        self.contour_comp_emit(out);
         if let Err(msg) = res {
             self.contour_comp_abandon();
             self.error(b, Some(at), msg);
         }
-        self.contour_comp_emit(out);
     }
 
     /// A contour mode's programmed move, `end` its block's end on the axis out of the plane: into
@@ -209,6 +210,8 @@ impl Run<'_> {
             }
             pc.comp.take(stage, &mut out)
         };
+        // What the stage let out comes before what an abandon lets out after it.
+        self.contour_comp_emit(out);
         if let Err(msg) = res {
             // As on the lathe: the move is refused, compensation stops, the rest is checked as
             // programmed.
@@ -219,7 +222,6 @@ impl Run<'_> {
                 format!("{msg}; cutter compensation stops here and the rest is checked as programmed"),
             );
         }
-        self.contour_comp_emit(out);
     }
 
     /// Everything the stage holds goes out (the mode's end, the end of the program).
