@@ -552,15 +552,7 @@ impl Checker<'_> {
         if b == STOCK {
             self.ensure_stock()?;
             let stock = self.stock.as_mut()?;
-            mill::stock_hit(
-                self.mill.as_ref(),
-                stock,
-                sa,
-                three.grid_shape(a, sa),
-                poser.world(a),
-                &three.part_pose(&poser),
-                false,
-            )
+            mill::stock_hit(self.mill.as_ref(), stock, &three.posed(a, sa, &poser), false)
         } else {
             collide3::overlap(sa, poser.world(a), three.shapes[b].as_ref()?, poser.world(b), TOUCH_EPS)
         }
@@ -598,17 +590,7 @@ impl Checker<'_> {
         let rate = bound_from(k, &poser, a, &sa.sphere(), &rates);
         let (mut u, mut prev, mut probes) = (0.0f64, 0.0f64, 0u64);
         // A contact deeper than a touch of the component, posed as `poser` says, with the stock.
-        let hit_at = |poser: &Poser, stock: &mut _| {
-            mill::stock_hit(
-                mill,
-                stock,
-                sa,
-                three.grid_shape(a, sa),
-                poser.world(a),
-                &three.part_pose(poser),
-                true,
-            )
-        };
+        let hit_at = |poser: &Poser, stock: &mut _| mill::stock_hit(mill, stock, &three.posed(a, sa, poser), true);
         // The gap is sought within a few mm: its cost grows with the columns the window spans.
         let window = rate.min(5.0) + 1.0;
         loop {
@@ -658,15 +640,7 @@ impl Checker<'_> {
             if u >= 1.0 || rate == 0.0 {
                 return (Advance::Clear, probes);
             }
-            let gap = mill::stock_gap(
-                mill,
-                stock,
-                sa,
-                three.grid_shape(a, sa),
-                poser.world(a),
-                &three.part_pose(&poser),
-                window,
-            );
+            let gap = mill::stock_gap(mill, stock, &three.posed(a, sa, &poser), window);
             if !rate.is_finite() || gap.is_nan() {
                 return (Advance::Unchecked { u }, probes);
             }

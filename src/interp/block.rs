@@ -140,7 +140,6 @@ impl Words {
         }
     }
 
-    /// The letter's word was written with a decimal point.
     /// The letter's value, the word then gone from the block for every later reader (used).
     pub(super) fn take(&mut self, letter: u8) -> Option<f64> {
         let v = self.get(letter);
@@ -158,6 +157,7 @@ impl Words {
         self.g[..self.ng].iter().find(|(c, _)| *c == code).map(|&(_, a)| a)
     }
 
+    /// The letter's word was written with a decimal point.
     pub(super) fn has_point(&self, letter: u8) -> bool {
         self.point & bit(letter) != 0
     }
@@ -282,6 +282,15 @@ fn m_group(code: u16) -> u8 {
 }
 
 impl Run<'_> {
+    /// How far an arc's radii may differ at its ends, for the program's units.
+    pub(crate) fn arc_tolerance(&self) -> ArcTolerance {
+        if self.modal.inch {
+            ArcTolerance::INCH
+        } else {
+            ArcTolerance::MM
+        }
+    }
+
     /// mm per program unit.
     pub(crate) fn scale(&self) -> f64 {
         if self.modal.inch {
@@ -957,6 +966,8 @@ impl Run<'_> {
         // 3. Spindle speed: S is a clamp with G50/G92 (Fanuc) and D with G96 (LinuxCNC).
         if w.peek(b'S') || w.any_g(SPINDLE_CODES) {
             let clamp_block = fanuc && (w.g(500) || w.g(920)) && !axis;
+            // `S2000 M13`: the S is the live tool's speed, not the main spindle's.
+            let live_s = self.live_start_takes_s(w);
             if let Some(s) = w.peek(b'S').then(|| w.get(b'S')).flatten() {
                 if !s.is_finite() {
                     self.error(b, w.at(b'S'), format!("spindle speed S{s} is not a finite number"));
@@ -964,7 +975,7 @@ impl Run<'_> {
                     self.error(b, w.at(b'S'), format!("negative spindle speed S{s}"));
                 } else if clamp_block {
                     self.modal.css_clamp = Some(s);
-                } else if !self.live_start_takes_s(w) {
+                } else if !live_s {
                     self.modal.s = s;
                 }
             }
@@ -981,8 +992,7 @@ impl Run<'_> {
             }
             // A speed in rpm above the machine's limit: the control holds it at max_rpm.
             let max = self.machine.max_rpm;
-            let spindle_s = w.peek(b'S') && !clamp_block && !self.live_start_takes_s(w);
-            if spindle_s && !self.modal.spindle_css && self.modal.s > max {
+            if w.peek(b'S') && !clamp_block && !live_s && !self.modal.spindle_css && self.modal.s > max {
                 let msg = format!(
                     "spindle speed S{} is above the machine's max_rpm ({max} rpm): the spindle runs at {max} rpm",
                     self.modal.s
@@ -1103,7 +1113,6 @@ impl Run<'_> {
                 self.modal.plane_xz = true;
                 self.modal.plane_xy = false;
             }
-
             if let Some(at) = w.has_g(400) {
                 self.comp_off(b, at);
             }
@@ -1572,13 +1581,8 @@ impl Run<'_> {
         let Some(mut end) = self.target(b, w) else {
             return;
         };
-        let extra_end = if self.tm.is_some() {
-            match self.extra_target(b, w, g53) {
-                Some(e) => Some(e),
-                None => return,
-            }
-        } else {
-            None
+        let Some(extra_end) = self.extra_end(b, w, g53) else {
+            return;
         };
         let start = self.programmed();
         if g53 {
@@ -1688,11 +1692,7 @@ impl Run<'_> {
                     self.plane_arc(b, w, motion, start, end, e, feed, turns);
                     return;
                 }
-                let tol = if self.modal.inch {
-                    ArcTolerance::INCH
-                } else {
-                    ArcTolerance::MM
-                };
+                let tol = self.arc_tolerance();
                 let s = self.scale();
                 let has_r = w.peek(b'R');
                 let has_ik = w.peek(b'I') || w.peek(b'K');
@@ -1805,12 +1805,8 @@ impl Run<'_> {
         let start = self.programmed();
         let Some(mid) = self.target(b, w) else { return };
         let extra_start = self.tm.as_deref().map(|t| t.pos);
-        let extra_mid = match extra_start {
-            Some(_) => match self.extra_target(b, w, false) {
-                Some(e) => Some(e),
-                None => return,
-            },
-            None => None,
+        let Some(extra_mid) = self.extra_end(b, w, false) else {
+            return;
         };
         if mid != start || extra_mid != extra_start {
             if let Some(e) = extra_mid {

@@ -94,18 +94,6 @@ fn from_stage(p: P2) -> P2 {
     P2::new(p.y, p.x)
 }
 
-/// One compensated move of the plane: from `start` to `end` (plane points), the arc about
-/// `centre` by `sweep` radians (counter-clockwise with the plane's first axis to the right and
-/// its second up) or a line, at the block of line `line`.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct PlaneMove {
-    pub start: P2,
-    pub end: P2,
-    pub arc: Option<(P2, f64)>,
-    pub line: u32,
-    pub feed: f64,
-}
-
 impl Run<'_> {
     /// The cutter-radius compensation of a contour mode is on (or its moves still wait).
     pub(crate) fn contour_comp_engaged(&self) -> bool {
@@ -166,47 +154,59 @@ impl Run<'_> {
         }
     }
 
-    /// A contour mode's programmed move, `end` its block's end on the axis out of the plane: into
-    /// the compensation stage when it is engaged (`true`); `false` leaves the chords to the
-    /// caller (the move as programmed).
-    pub(crate) fn contour_comp_route(&mut self, b: &Block, m: PlaneMove, end: f64) -> bool {
+    /// A contour mode's programmed move of block `b` from `ps` to `pe` (plane points), the arc
+    /// about a centre by a sweep (counter-clockwise with the plane's first axis to the right and
+    /// its second up) or a line, at `f` mm/min, `end` the block's end on the axis out of the
+    /// plane: into the compensation stage when it is engaged (`true`); `false` leaves the chords
+    /// to the caller (the move as programmed).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn contour_comp_route(
+        &mut self,
+        b: &Block,
+        ps: P2,
+        pe: P2,
+        arc: Option<(P2, f64)>,
+        f: f64,
+        end: f64,
+    ) -> bool {
         if !self.contour_comp_engaged() {
             return false;
         }
-        self.contour_comp_take(b, m, end);
-        true
-    }
-
-    /// A plane move of a compensated block (or one that follows G40 while moves wait), `end` its
-    /// block's end on the axis out of the plane: into the stage; what it lets out is made into
-    /// chords.
-    fn contour_comp_take(&mut self, b: &Block, m: PlaneMove, end: f64) {
         let stage = Move {
-            kind: match m.arc {
+            kind: match arc {
                 None => MoveKind::Line,
                 Some((c, sweep)) => MoveKind::Arc {
                     center: to_stage(c),
                     sweep: -sweep,
                 },
             },
-            line: m.line,
+            line: b.line,
             n: None,
             profile_line: 0,
-            start: to_stage(m.start),
-            end: to_stage(m.end),
+            start: to_stage(ps),
+            end: to_stage(pe),
             tip: V2::zeros(),
             station: self.station,
-            feed: Feed::PerMinute(m.feed),
+            feed: Feed::PerMinute(f),
             state: 0,
         };
+        self.contour_comp_take(b, stage, end);
+        true
+    }
+
+    /// A stage move of a compensated block (or one that follows G40 while moves wait), `end` its
+    /// block's end on the axis out of the plane: into the stage; what it lets out is made into
+    /// chords.
+    fn contour_comp_take(&mut self, b: &Block, stage: Move, end: f64) {
+        let line = stage.line;
         let mut out = Vec::new();
         let res = {
             let Some(pc) = self.tm.as_deref_mut().and_then(|t| t.contour_comp.as_deref_mut()) else {
                 return;
             };
             match pc.ends.last_mut() {
-                Some(last) if last.0 == m.line => last.1 = end,
-                _ => pc.ends.push((m.line, end)),
+                Some(last) if last.0 == line => last.1 = end,
+                _ => pc.ends.push((line, end)),
             }
             pc.comp.take(stage, &mut out)
         };

@@ -12,7 +12,7 @@
 //! with +Z to the right and +s up, G2 clockwise; an arc is made as chords of at most 1 mm. X
 //! stays where it is (the tool on the cylinder) unless given. Not modelled: rapids in the mode (a `program` error: the control alarms).
 
-use super::arc::{arc_from_radius, ArcTolerance};
+use super::arc::arc_from_radius;
 use super::block::Words;
 use super::flow::Run;
 use super::polar::contour_path;
@@ -151,11 +151,7 @@ impl Run<'_> {
                     self.error(b, None, "an arc in cylindrical interpolation needs R".into());
                     return;
                 };
-                let tol = if self.modal.inch {
-                    ArcTolerance::INCH
-                } else {
-                    ArcTolerance::MM
-                };
+                let tol = self.arc_tolerance();
                 match arc_from_radius(ps, pe, r * self.scale(), ccw, 1, tol) {
                     Ok(a) => Some(a),
                     Err(e) => {
@@ -165,14 +161,7 @@ impl Run<'_> {
                 }
             }
         };
-        let m = super::contour_comp::PlaneMove {
-            start: ps,
-            end: pe,
-            arc,
-            line: b.line,
-            feed: f,
-        };
-        if !self.contour_comp_route(b, m, end.x) {
+        if !self.contour_comp_route(b, ps, pe, arc, f, end.x) {
             self.cylindrical_chords(b, ps, pe, arc, end.x, f, extra, radius);
         }
     }

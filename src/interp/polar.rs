@@ -26,7 +26,7 @@
 //! offset in the plane before the chords are made. Not modelled: incremental addresses U and H
 //! in the mode (`unsupported`), and feeds per revolution.
 
-use super::arc::{arc_from_center, arc_from_radius, ArcTolerance};
+use super::arc::{arc_from_center, arc_from_radius};
 use super::block::Words;
 use super::flow::Run;
 use super::state::Motion;
@@ -155,11 +155,7 @@ impl Run<'_> {
         let arc = match ccw {
             None => None,
             Some(ccw) => {
-                let tol = if self.modal.inch {
-                    ArcTolerance::INCH
-                } else {
-                    ArcTolerance::MM
-                };
+                let tol = self.arc_tolerance();
                 let has_r = w.peek(b'R');
                 let has_ij = w.peek(b'I') || w.peek(b'J');
                 let arc = if has_r && !has_ij {
@@ -187,14 +183,7 @@ impl Run<'_> {
                 }
             }
         };
-        let m = super::contour_comp::PlaneMove {
-            start: ps,
-            end: pe,
-            arc,
-            line: b.line,
-            feed: f,
-        };
-        if !self.contour_comp_route(b, m, end.y) {
+        if !self.contour_comp_route(b, ps, pe, arc, f, end.y) {
             self.polar_chords(b, ps, pe, arc, end.y, f, extra);
         }
         if let Some(tm) = self.tm.as_deref_mut() {

@@ -3,7 +3,7 @@
 //! C-axis mode and the live tool. A machine without kinematics never builds a [`TurnMill`]: its
 //! programs run exactly as before (docs/turn-mill.md, "Axes and modes in programs").
 
-use super::arc::{arc_from_center, arc_from_radius, ArcTolerance};
+use super::arc::{arc_from_center, arc_from_radius};
 use super::block::Words;
 use super::flow::Run;
 use super::state::Motion;
@@ -211,6 +211,15 @@ impl Run<'_> {
         Some(out)
     }
 
+    /// The extra axes' target of the block ([`Self::extra_target`]) on a turn-mill machine,
+    /// `Some(None)` on a 2-axis one (nothing to read), `None` after a finding.
+    pub(crate) fn extra_end(&mut self, b: &Block, w: &mut Words, g53: bool) -> Option<Option<ExtraAxes>> {
+        if self.tm.is_none() {
+            return Some(None);
+        }
+        self.extra_target(b, w, g53).map(Some)
+    }
+
     /// Set the extra-axis end (and plane arc) of the next move pushed.
     pub(crate) fn set_pending(&mut self, end: ExtraAxes, arc: Option<PlaneArc>) {
         if let Some(tm) = self.tm.as_deref_mut() {
@@ -309,8 +318,7 @@ impl Run<'_> {
         }
         let speed = if matches!(action, MAction::LiveToolCw | MAction::LiveToolCcw) {
             // Without P, an S on the code's line is the live tool's speed (`S600 M13`).
-            let s = if w.peek(b'P') { None } else { w.get(b'S') };
-            match w.get(b'P').or(s) {
+            match w.get(b'P').or_else(|| w.get(b'S')) {
                 Some(p) if p.is_finite() && p >= 0.0 => Some(p),
                 Some(p) => {
                     self.error(
@@ -394,11 +402,7 @@ impl Run<'_> {
         let y1 = extra_end[0];
         let y_shift = tm.shift[0];
         let s = self.scale();
-        let tol = if self.modal.inch {
-            ArcTolerance::INCH
-        } else {
-            ArcTolerance::MM
-        };
+        let tol = self.arc_tolerance();
         // Plane coordinates (first, second) of start and end, the centre's offset letters and
         // the program zero of the two coordinates.
         let origin = self.origin();

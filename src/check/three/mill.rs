@@ -87,48 +87,41 @@ impl Mill {
     }
 }
 
+/// A component posed for the stock's queries: its shape, the shape the milled grid is queried
+/// with (its primitive when it has one), where it is, and where the part is.
+pub(super) struct Posed<'s> {
+    pub sa: &'s Shape3,
+    pub sg: &'s Shape3,
+    pub pose: &'s Iso,
+    pub part: Iso,
+}
+
 /// A component against the stock. With a milled grid: its quick proof of a clear box first (the
 /// cheap answer inside a hole the cutter made), then the grid, its material cut down to the
 /// dexel stock's (which turning after the hand-over cuts). Without: the dexel stock. `any`:
 /// whether there is a contact, not how deep it goes (the advancement's probes).
-pub(super) fn stock_hit(
-    mill: Option<&Mill>,
-    dexel: &mut DexelStock,
-    sa: &Shape3,
-    sg: &Shape3,
-    pose: &Iso,
-    part: &Iso,
-    any: bool,
-) -> Option<Hit> {
+pub(super) fn stock_hit(mill: Option<&Mill>, dexel: &mut DexelStock, c: &Posed<'_>, any: bool) -> Option<Hit> {
     let Some(m) = mill else {
-        return stock_overlap(sa, pose, dexel, View::Now, TOUCH_EPS);
+        return stock_overlap(c.sa, c.pose, dexel, View::Now, TOUCH_EPS);
     };
-    if grid_clear(sg, pose, part, &m.stock, 0.0) {
+    if grid_clear(c.sg, c.pose, &c.part, &m.stock, 0.0) {
         return None;
     }
-    grid_overlap(sg, pose, part, &m.stock, m.touch(), Some(dexel), any)
+    grid_overlap(c.sg, c.pose, &c.part, &m.stock, m.touch(), Some(dexel), any)
 }
 
 /// A lower bound of the distance from a component to the stock, looking no further than
 /// `window` mm. With a milled grid: the largest of a few margins at which the component's box
 /// holds no grid material, less a node spacing (`grid_clear`); when the box is clear only at
 /// its own size, 0 (the caller steps by the touch depth). Without: the dexel stock's bound.
-pub(super) fn stock_gap(
-    mill: Option<&Mill>,
-    dexel: &mut DexelStock,
-    sa: &Shape3,
-    sg: &Shape3,
-    pose: &Iso,
-    part: &Iso,
-    window: f64,
-) -> f64 {
+pub(super) fn stock_gap(mill: Option<&Mill>, dexel: &mut DexelStock, c: &Posed<'_>, window: f64) -> f64 {
     let Some(m) = mill else {
-        return crate::collide3::stock_gap(sa, pose, dexel, View::Now, window);
+        return crate::collide3::stock_gap(c.sa, c.pose, dexel, View::Now, window);
     };
     let s = m.stock.spacing();
     let mut margin = window;
     while margin > 2.0 * s {
-        if grid_clear(sg, pose, part, &m.stock, margin) {
+        if grid_clear(c.sg, c.pose, &c.part, &m.stock, margin) {
             return margin - s;
         }
         margin /= 4.0;
@@ -146,6 +139,16 @@ impl Three {
     /// The part's frame: the pose of the component the C axis turns (identity without one).
     pub(super) fn part_pose(&self, poser: &Poser) -> Iso {
         self.main_spindle.map_or(Iso::identity(), |c| *poser.world(c))
+    }
+
+    /// Component `a` (shape `sa`) as `poser` poses it, for the stock's queries.
+    pub(super) fn posed<'s>(&'s self, a: CompId, sa: &'s Shape3, poser: &'s Poser) -> Posed<'s> {
+        Posed {
+            sa,
+            sg: self.grid_shape(a, sa),
+            pose: poser.world(a),
+            part: self.part_pose(poser),
+        }
     }
 }
 

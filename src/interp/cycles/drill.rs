@@ -26,7 +26,7 @@
 use super::super::block::Words;
 use super::super::flow::Run;
 use super::super::state::Motion;
-use super::super::{Feed, MoveKind, SpindleDir};
+use super::super::{ExtraAxes, Feed, MoveKind, SpindleDir};
 use super::box_::go;
 use crate::gcode::Block;
 use crate::geom::P2;
@@ -44,14 +44,14 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
     if run.modal.motion != Some(Motion::Cycle(code)) {
         let keep = run.cycle;
         run.cycle = super::Sticky::default();
-        run.cycle.initial_z = run.programmed().y;
+        run.cycle.level = run.programmed().y;
         // A cycle following another drilling cycle keeps its words (R, Q, P) until G80.
         if matches!(run.modal.motion, Some(Motion::Cycle(c)) if (810..=890).contains(&c)) {
             run.cycle.r = keep.r;
             run.cycle.q = keep.q;
             run.cycle.p = keep.p;
             run.cycle.z = keep.z;
-            run.cycle.initial_z = keep.initial_z;
+            run.cycle.level = keep.level;
         }
     }
     run.modal.motion = Some(Motion::Cycle(code));
@@ -97,22 +97,14 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     let q_word = super::least(run, w, b'Q');
     let p_word = dwell_word(w);
     let Some(t) = run.target(b, w) else { return };
-    let extra = match run.tm.is_some() {
-        true => match run.extra_target(b, w, false) {
-            Some(e) => Some(e),
-            None => return,
-        },
-        false => None,
+    let Some(extra) = run.extra_end(b, w, false) else {
+        return;
     };
     if let Some(r) = r_word {
         run.cycle.r = Some(run.origin().y + r * s_);
     }
-    if let Some(q) = q_word {
-        run.cycle.q = Some(q);
-    }
-    if let Some(p) = p_word {
-        run.cycle.p = Some(p);
-    }
+    run.cycle.q = q_word.or(run.cycle.q);
+    run.cycle.p = p_word.or(run.cycle.p);
     let z = if gz { Some(t.y) } else { run.cycle.z };
     let Some(z) = z else {
         if w.peek(b'X') || w.peek(b'U') || gz {
@@ -180,14 +172,14 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     let ret = if sys_b && run.cycles.return_r {
         r
     } else {
-        run.cycle.initial_z
+        run.cycle.level
     };
 
     if !super::charge(run, b, pecks * 3 + 6) {
         return;
     }
     let at_x = P2::new(x, z0);
-    super::live_drill::position(run, b, start, at_x, extra);
+    position(run, b, start, at_x, extra);
     let rp = P2::new(x, r);
     go(run, b, MoveKind::Rapid, at_x, rp, Feed::Rapid);
     let q = run.cycle.q.unwrap_or(0.0);
@@ -255,6 +247,21 @@ pub(super) fn feed_in(
         here = down;
     }
     here
+}
+
+/// The rapid to a hole's position, with the extra axes (C, Y) of the block: made even when only
+/// they move, so that the spindle turns to the hole's angle before the tool goes in.
+pub(super) fn position(run: &mut Run<'_>, b: &Block, from: P2, to: P2, extra: Option<ExtraAxes>) {
+    let turns = match (extra, run.tm.as_deref()) {
+        (Some(e), Some(tm)) => e != tm.pos,
+        _ => false,
+    };
+    if let Some(e) = extra {
+        run.set_pending(e, None);
+    }
+    if turns || from != to {
+        run.push_move(b, MoveKind::Rapid, from, to, Feed::Rapid);
+    }
 }
 
 /// A drilling cycle's P word, the dwell at the bottom in seconds: ms, or s when written with a

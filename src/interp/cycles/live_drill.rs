@@ -36,7 +36,7 @@
 use super::super::block::Words;
 use super::super::flow::Run;
 use super::super::state::Motion;
-use super::super::{ExtraAxes, Feed, MoveKind};
+use super::super::{Feed, MoveKind};
 use super::box_::go;
 use crate::gcode::Block;
 use crate::geom::P2;
@@ -53,15 +53,14 @@ fn side(code: u16) -> bool {
 }
 
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) -> bool {
-    if run.modal.motion != Some(Motion::Cycle(code)) {
-        let keep = run.cycle;
-        let was_live = matches!(run.modal.motion, Some(Motion::Cycle(c)) if runs(c) && side(c) == side(code));
-        run.cycle = super::Sticky::default();
-        run.cycle.level = level(run, code);
-        // Another cycle along the same axis keeps the words in force (R, Q, P, the bottom).
-        if was_live {
-            run.cycle = keep;
-        }
+    // Another cycle along the same axis keeps the words in force (R, Q, P, the bottom, the
+    // initial level); any other starts afresh.
+    let same_axis = matches!(run.modal.motion, Some(Motion::Cycle(c)) if runs(c) && side(c) == side(code));
+    if !same_axis {
+        run.cycle = super::Sticky {
+            level: level(run, code),
+            ..Default::default()
+        };
     }
     run.modal.motion = Some(Motion::Cycle(code));
     hole(run, b, w, code);
@@ -107,22 +106,14 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     let p_word = super::drill::dwell_word(w);
     let k_word = w.get(b'K');
     let Some(t) = run.target(b, w) else { return };
-    let extra = match run.tm.is_some() {
-        true => match run.extra_target(b, w, false) {
-            Some(e) => Some(e),
-            None => return,
-        },
-        false => None,
+    let Some(extra) = run.extra_end(b, w, false) else {
+        return;
     };
     if let Some(r) = r_word {
         run.cycle.r = Some(run.cycle.level + r * s_);
     }
-    if let Some(q) = q_word {
-        run.cycle.q = Some(q);
-    }
-    if let Some(p) = p_word {
-        run.cycle.p = Some(p);
-    }
+    run.cycle.q = q_word.or(run.cycle.q);
+    run.cycle.p = p_word.or(run.cycle.p);
     let (at, named_bottom) = if side { (t.y, t.x) } else { (t.x, t.y) };
     if bottom_named {
         if side {
@@ -191,7 +182,7 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
     // To the hole's position at the initial level (the C, Y of the block turn with it).
     let start = run.programmed();
     let over = point(code, level(run, code), at);
-    position(run, b, start, over, extra);
+    super::drill::position(run, b, start, over, extra);
     let rp = point(code, r, at);
     go(run, b, MoveKind::Rapid, over, rp, Feed::Rapid);
     let q = run.cycle.q.unwrap_or(0.0);
@@ -215,19 +206,4 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
         _ => go(run, b, MoveKind::Rapid, here, rp, Feed::Rapid),
     }
     go(run, b, MoveKind::Rapid, rp, point(code, ret, at), Feed::Rapid);
-}
-
-/// The rapid to the hole's position, with the extra axes (C, Y) of the block: made even when
-/// only they move, so that the spindle turns to the hole's angle before the tool goes in.
-pub(super) fn position(run: &mut Run<'_>, b: &Block, from: P2, to: P2, extra: Option<ExtraAxes>) {
-    let turns = match (extra, run.tm.as_deref()) {
-        (Some(e), Some(tm)) => e != tm.pos,
-        _ => false,
-    };
-    if let Some(e) = extra {
-        run.set_pending(e, None);
-    }
-    if turns || from != to {
-        run.push_move(b, MoveKind::Rapid, from, to, Feed::Rapid);
-    }
 }

@@ -56,10 +56,8 @@ pub(crate) struct Sticky {
     /// Drilling: peck Q (mm) and dwell P (s).
     pub q: Option<f64>,
     pub p: Option<f64>,
-    /// Drilling: the Z of the initial level (where the cycle began).
-    pub initial_z: f64,
-    /// Live-tool drilling (`live_drill`): the initial level along the drilling axis (z on the
-    /// face, x on the side).
+    /// Drilling: the initial level (where the cycle began) along the drilling axis: z, or x for
+    /// the side cycles of `live_drill`.
     pub level: f64,
 }
 
