@@ -1065,11 +1065,7 @@ impl Run<'_> {
                 self.polar_start(b, at);
             }
             if let Some(at) = w.find_g(131).or(w.find_g(1130)) {
-                // G40 on the same line cancels the compensation first.
-                if let (Some(a40), true) = (w.has_g(400), self.contour_comp_engaged()) {
-                    self.contour_comp_off(b, a40);
-                }
-                self.polar_stop(b, at);
+                self.polar_stop(b, at, w.has_g(400));
             }
         }
         if w.any_g(PLANE_COMP_OFFSET_CODES) {

@@ -224,6 +224,34 @@ impl Run<'_> {
         }
     }
 
+    /// The contour mode of `plane` ends at `at` (G13.1, G7.1 C0): G40 on that line (`g40`, its
+    /// offset) cancels the compensation first; still on, it is the control's alarm. What the
+    /// stage holds goes out, and the stage ends with the mode.
+    pub(crate) fn contour_comp_end(&mut self, b: &Block, at: u32, g40: Option<u32>, plane: Plane) {
+        if let (Some(a40), true) = (g40, self.contour_comp_engaged()) {
+            self.contour_comp_off(b, a40);
+        }
+        let on = self
+            .tm
+            .as_deref()
+            .and_then(|t| t.contour_comp.as_deref())
+            .is_some_and(|c| c.is_on());
+        if on {
+            self.error(
+                b,
+                Some(at),
+                format!(
+                    "{} cancelled with cutter compensation on: a control alarms here (give G40 first)",
+                    mode_name(plane)
+                ),
+            );
+        }
+        self.contour_comp_flush();
+        if let Some(tm) = self.tm.as_deref_mut() {
+            tm.contour_comp = None;
+        }
+    }
+
     /// Everything the stage holds goes out (the mode's end, the end of the program).
     pub(crate) fn contour_comp_flush(&mut self) {
         let mut out = Vec::new();

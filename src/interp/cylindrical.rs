@@ -52,28 +52,11 @@ impl Run<'_> {
             return;
         }
         if r == 0.0 {
-            // Compensation must be cancelled first (G40 on this line does it), else the control
-            // alarms; what it still holds goes out, and it ends with the mode.
-            if let (Some(a40), true) = (w.has_g(400), self.contour_comp_engaged()) {
-                self.contour_comp_off(b, a40);
-            }
-            let comp_on = self
-                .tm
-                .as_deref()
-                .and_then(|t| t.contour_comp.as_deref())
-                .is_some_and(|c| c.is_on());
-            if comp_on {
-                self.error(
-                    b,
-                    Some(at),
-                    "cylindrical interpolation cancelled with cutter compensation on: a control alarms here (give G40 first)"
-                        .into(),
-                );
-            }
-            self.contour_comp_flush();
+            // Cutter compensation ends with the mode (`contour_comp_end`).
+            let plane = super::contour_comp::Plane::Cylinder(self.cylindrical().unwrap_or(0.0));
+            self.contour_comp_end(b, at, w.has_g(400), plane);
             if let Some(tm) = self.tm.as_deref_mut() {
                 tm.cylinder = None;
-                tm.contour_comp = None;
                 tm.cylinder_prog = None;
             }
             return;

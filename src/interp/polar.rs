@@ -97,25 +97,12 @@ impl Run<'_> {
         }
     }
 
-    /// G13.1 / G113: the mode off. Cutter compensation must be cancelled first (else the
-    /// control alarms): what it still holds goes out, and it ends with the mode.
-    pub(crate) fn polar_stop(&mut self, b: &Block, at: u32) {
-        let comp_on = self
-            .tm
-            .as_deref()
-            .and_then(|t| t.contour_comp.as_deref())
-            .is_some_and(|c| c.is_on());
-        if comp_on {
-            self.error(
-                b,
-                Some(at),
-                "polar coordinate interpolation cancelled with cutter compensation on: a control alarms here (give G40 first)".into(),
-            );
-        }
-        self.contour_comp_flush();
+    /// G13.1 / G113 at `at`: the mode off (`g40`: a G40 on the same line, which cancels the
+    /// cutter compensation first; `contour_comp_end`).
+    pub(crate) fn polar_stop(&mut self, b: &Block, at: u32, g40: Option<u32>) {
+        self.contour_comp_end(b, at, g40, super::contour_comp::Plane::Polar);
         if let Some(tm) = self.tm.as_deref_mut() {
             tm.polar = None;
-            tm.contour_comp = None;
         }
     }
 
