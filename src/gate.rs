@@ -242,16 +242,20 @@ pub fn apply(findings: Vec<Finding>, rules: &Rules, sup: &Suppressions, problems
 }
 
 /// Merge findings that repeat one another into the first of them, counting them in
-/// [`Finding::repeats`]: the same line, kind, parts and message (a block that crashes on every
-/// pass of a loop), or, for findings with no motion data (reading and interpreting problems),
-/// the same kind and message on any line.
+/// [`Finding::repeats`]: the same line, kind, severity, parts and message (a block that crashes
+/// on every pass of a loop), or, for findings with no motion data (reading and interpreting
+/// problems), the same kind, severity and message on any line. Never an error into a warning (a
+/// crash into a follow-on or a graze on the same line): that would hide the crash.
 pub fn collapse(findings: Vec<Finding>) -> Vec<Finding> {
+    /// Line (findings with motion data), kind, is an error, parts, message.
+    type Repeat = (Option<u32>, Kind, bool, Vec<String>, String);
     let mut out: Vec<Finding> = Vec::with_capacity(findings.len());
-    let mut seen: HashMap<(Option<u32>, Kind, Vec<String>, String), usize> = HashMap::new();
+    let mut seen: HashMap<Repeat, usize> = HashMap::new();
     for f in findings {
         let key = (
             f.time_s.is_some().then_some(f.line),
             f.kind,
+            f.severity == Severity::Error,
             f.objects.clone(),
             f.message.clone(),
         );

@@ -3,7 +3,7 @@
 //! `-` for standard input, a path that does not exist (exit 2), the summary on standard error
 //! with `-o`, and `--explain` by code.
 
-mod common;
+use crate::common;
 
 use common::{json, stderr, stdout, Tree};
 use std::io::Write;
@@ -317,4 +317,59 @@ fn with_svg_every_report_links_a_finding_to_its_picture() {
     // Without --svg no report names a picture.
     let doc = json(&t.run(&["check", "--format", "json", "cell-a/crash_holder.nc"]));
     assert!(doc["files"][0]["findings"][0].get("picture").is_none());
+}
+
+/// Issue 26: an allowed over-travel (a tool change point above a raised soft limit) must not
+/// hide the crash two lines later — the insert into the bar, the holder and the turret into the
+/// chuck are errors of their own at line 5 — and an allow of one line's over-travel never
+/// removes the next line's.
+#[test]
+fn an_allowed_overtravel_hides_neither_the_crash_after_it_nor_the_next_overtravel() {
+    let dir = tempfile::tempdir().unwrap();
+    let allow = "(latheguard: allow overtravel -- tool change point, soft limit raised on this machine)";
+    std::fs::write(
+        dir.path().join("p.nc"),
+        format!("G21 G18\nT0101\nG0 X500. Z200. {allow}\nG0 X54. Z144.\nG0 X38. Z-200.\nM30\n"),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("q.nc"),
+        format!("G21 G18\nT0101\nG0 X500. Z200. {allow}\nG0 X700. Z300.\nG0 X54. Z144.\nM30\n"),
+    )
+    .unwrap();
+    let out = common::latheguard(dir.path(), &["check", "--format", "json", "p.nc"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stdout(&out));
+    let doc = json(&out);
+    let errors: Vec<(u64, String, String)> = doc["files"][0]["findings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|f| f["severity"] == "error")
+        .map(|f| {
+            (
+                f["line"].as_u64().unwrap(),
+                f["kind"].as_str().unwrap().to_string(),
+                f["objects"].to_string(),
+            )
+        })
+        .collect();
+    for (kind, objects) in [
+        ("rapid_into_stock", r#"["T01 insert","stock"]"#),
+        ("collision", r#"["T01 holder","chuck"]"#),
+        ("collision", r#"["turret","chuck"]"#),
+    ] {
+        assert!(
+            errors.contains(&(5, kind.to_string(), objects.to_string())),
+            "{kind} {objects} at line 5: {errors:?}"
+        );
+    }
+    assert_eq!(doc["files"][0]["suppressed"].as_array().unwrap().len(), 1);
+
+    let out = common::latheguard(dir.path(), &["check", "--format", "json", "q.nc"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stdout(&out));
+    let doc = json(&out);
+    let f = &doc["files"][0]["findings"];
+    assert_eq!(f[0]["line"], 4, "{f}");
+    assert_eq!(f[0]["kind"], "overtravel");
+    assert_eq!(f[0]["severity"], "error");
 }

@@ -2,7 +2,7 @@
 //! and exits 0; `--min-depth 0`, `latheguard.toml` and `machine.min_depth` change it, in that
 //! order of precedence (command line over configuration over machine file); out of range is exit 2.
 
-mod common;
+use crate::common;
 
 use common::{json, latheguard, stderr};
 use std::path::Path;

@@ -444,6 +444,37 @@ fn output_over_a_checked_program_or_an_input_is_refused_and_nothing_is_lost() {
     assert_eq!(o.status.code(), Some(1), "{}", err(&o));
 }
 
+/// A report or a stock written to a hard link of the program (or of the machine file) would
+/// replace it: outputs are compared with inputs by file identity, not by path.
+#[test]
+fn output_through_a_hard_link_to_an_input_is_refused_and_nothing_is_lost() {
+    let dir = tmp();
+    let d = dir.path();
+    std::fs::copy(program("crash_dogleg.nc"), d.join("p.nc")).unwrap();
+    std::fs::copy(builtin_machine(), d.join("m.toml")).unwrap();
+    std::fs::hard_link(d.join("p.nc"), d.join("r.txt")).unwrap();
+    std::fs::hard_link(d.join("p.nc"), d.join("part.svg")).unwrap();
+    std::fs::hard_link(d.join("m.toml"), d.join("m.txt")).unwrap();
+    let prog = std::fs::read(d.join("p.nc")).unwrap();
+    let machine = std::fs::read(d.join("m.toml")).unwrap();
+    for args in [
+        &["check", "p.nc", "-o", "r.txt"][..],
+        &["check", "p.nc", "--stock-out", "part.svg"],
+        &["check", "p.nc", "-m", "m.toml", "-o", "m.txt"],
+        &["accuracy", "p.nc", "--plot", "part.svg"],
+    ] {
+        let o = run(d, args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", err(&o));
+        assert!(
+            err(&o).contains("refusing to write over an input of this run"),
+            "{args:?}: {}",
+            err(&o)
+        );
+    }
+    assert_eq!(std::fs::read(d.join("p.nc")).unwrap(), prog);
+    assert_eq!(std::fs::read(d.join("m.toml")).unwrap(), machine);
+}
+
 // 6. Globs.
 
 #[test]

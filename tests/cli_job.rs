@@ -2,7 +2,7 @@
 //! file:line:col:key and exit 2, a job that makes a crash program clean and one that makes a
 //! clean program crash, and `latheguard setup` in text and JSON.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Output;

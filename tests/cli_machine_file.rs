@@ -2,8 +2,8 @@
 //! 2): every error reported at once with exit 2, a warning for an outline's spike, and a stock
 //! that does not fit the chuck refused.
 
+use crate::common;
 use std::path::{Path, PathBuf};
-mod common;
 
 use std::process::Output;
 

@@ -2,7 +2,7 @@
 //! Run `cargo insta review` (or set `INSTA_UPDATE=always`) after a deliberate change, and read
 //! the diff.
 
-mod common;
+use crate::common;
 
 use common::{stdout, Tree};
 

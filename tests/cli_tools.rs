@@ -1,7 +1,7 @@
 //! `latheguard tools show` and `latheguard tools import` (docs/tools.md).
 
+use crate::common;
 use std::path::{Path, PathBuf};
-mod common;
 
 use std::process::Output;
 

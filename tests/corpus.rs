@@ -15,8 +15,7 @@ use std::time::{Duration, Instant};
 /// A program that takes longer than this in the (debug) test build is named in the output.
 const SLOW: Duration = Duration::from_secs(10);
 
-#[path = "common/files.rs"]
-mod files;
+use crate::files;
 
 fn shared(name: &str) -> PathBuf {
     files::shared().join(name)

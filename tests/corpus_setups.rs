@@ -13,10 +13,8 @@
 //! a crash kind (grazes and follow-ons too, with their severity); `LG_CORPUS_DUMP=dir` also writes there, per program, the `latheguard check
 //! --machine … --job …` command line that checks it as this test does (add `--svg …`).
 
-#[path = "common/corpus_job.rs"]
-mod corpus_job;
-#[path = "common/files.rs"]
-mod files;
+use crate::corpus_job;
+use crate::files;
 
 use latheguard::finding::{Finding, Kind, Severity};
 use latheguard::machine::{self, Machine};

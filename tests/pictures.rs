@@ -119,12 +119,13 @@ fn the_contact_is_ringed_and_the_detail_panel_lies_below_the_main_view() {
 
 #[test]
 fn a_follow_on_contact_is_drawn_in_the_follow_on_colour() {
+    // The same two parts still inside each other under another rule: a follow-on.
     let svg = picture(
-        "programs/crash_index_long_tool.nc",
+        "tests/fixtures/follow-on/rapid_then_stopped_feed.nc",
         None,
-        "L15.collision.T07-insert.chuck",
+        "L7.spindle_stopped.T01-insert.stock",
     );
-    assert!(svg.contains("follow-on of the crash at line 14"), "caption");
+    assert!(svg.contains("follow-on of the crash at line 6"), "caption");
     assert!(
         svg.contains(r##"fill="#f08c00" stroke="#f08c00" stroke-width="3""##),
         "overlap"

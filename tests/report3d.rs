@@ -4,7 +4,7 @@
 //! Meshes are built here (a box, a tessellated cylinder): converting machine geometry to meshes
 //! is another module's job.
 
-mod common;
+use crate::common;
 
 use common::{latheguard, stderr};
 use latheguard::finding::{Finding, Kind, Severity};

@@ -48,8 +48,7 @@ const KNOWN: &[(&str, &str)] = &[
     ),
 ];
 
-#[path = "common/files.rs"]
-mod files;
+use crate::files;
 
 fn shared() -> PathBuf {
     files::shared()

@@ -194,19 +194,29 @@ fn mm(v: f64) -> String {
     }
 }
 
-/// Mark every crash that began while an earlier one was still in progress (one part already
-/// inside another) as that crash's follow-on, a warning: it exists because of the first crash.
-/// Contacts that begin at the same instant are separate crashes; near misses are never either.
+/// Mark every contact that is a follow-on of an earlier crash as a warning that names it. The
+/// rule (ARCHITECTURE.md, "Invariants"): a follow-on is a contact between the **same two parts**
+/// that an earlier episode put inside each other and that have not separated since — its episode
+/// begins after that crash began and no later than it ended (the same parts, under another rule:
+/// an insert still in the bar when a rapid becomes a feed with the spindle stopped, a 2D and a 3D
+/// view of one pair). Nothing else is a follow-on: a contact of other parts is a crash of its
+/// own, however soon after another it begins; an over-travel puts nothing inside anything, so
+/// nothing follows on from it; near misses and grazes neither follow on nor are followed.
 pub fn mark_follow_ons(findings: &mut [Finding]) {
-    let timed = |f: &Finding| f.kind != Kind::NearMiss && f.time_s.is_some() && f.end_time_s.is_some();
-    let mut order: Vec<usize> = (0..findings.len()).filter(|&i| timed(&findings[i])).collect();
+    let crash = |f: &Finding| {
+        !matches!(f.kind, Kind::NearMiss | Kind::Overtravel) && f.time_s.is_some() && f.end_time_s.is_some()
+    };
+    let mut order: Vec<usize> = (0..findings.len()).filter(|&i| crash(&findings[i])).collect();
     order.sort_by(|&a, &b| findings[a].time_s.unwrap().total_cmp(&findings[b].time_s.unwrap()));
     // Crashes in progress: (start, end, index), the earliest first.
     let mut active: Vec<(f64, f64, usize)> = Vec::new();
     for i in order {
         let (start, end) = (findings[i].time_s.unwrap(), findings[i].end_time_s.unwrap());
         active.retain(|&(_, e, _)| e >= start - 1e-9);
-        if let Some(&(t, _, j)) = active.iter().find(|&&(t, _, _)| t < start - 1e-9) {
+        let parent = active
+            .iter()
+            .find(|&&(t, _, j)| t < start - 1e-9 && same_parts(&findings[j].objects, &findings[i].objects));
+        if let Some(&(t, _, j)) = parent {
             let parent = FollowOn {
                 line: findings[j].line,
                 objects: findings[j].objects.clone(),
@@ -223,6 +233,14 @@ pub fn mark_follow_ons(findings: &mut [Finding]) {
     }
 }
 
+/// The two parts of a contact, in either order.
+fn same_parts(a: &[String], b: &[String]) -> bool {
+    match (a, b) {
+        ([a0, a1], [b0, b1]) => (a0 == b0 && a1 == b1) || (a0 == b1 && a1 == b0),
+        _ => false,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -231,6 +249,7 @@ mod tests {
 
     fn contact(kind: Kind, depth: f64, start: f64, end: f64) -> Finding {
         let mut f = Finding::at(kind, Severity::Error, 1, 0, "the T01 holder hits the stock");
+        f.objects = vec!["T01 holder".into(), "stock".into()];
         f.depth_mm = Some(depth);
         f.time_s = Some(start);
         f.end_time_s = Some(end);
@@ -286,6 +305,58 @@ mod tests {
         assert!(fs[1].follow_on.is_none());
         // The third follows on from the deep crash, not from the graze that began earlier.
         assert_eq!(fs[2].follow_on.as_ref().map(|p| p.time_s), Some(1.0));
+    }
+
+    fn between(mut f: Finding, a: &str, b: &str) -> Finding {
+        f.objects = vec![a.into(), b.into()];
+        f
+    }
+
+    #[test]
+    fn a_contact_of_other_parts_during_a_crash_is_a_crash_of_its_own() {
+        // The insert in the bar from 1 s; the holder and the turret reach the chuck while it is.
+        let mut fs = vec![
+            between(contact(Kind::RapidIntoStock, 5.0, 1.0, 9.0), "T01 insert", "stock"),
+            between(contact(Kind::Collision, 2.0, 2.0, 9.0), "T01 holder", "chuck"),
+            between(contact(Kind::Collision, 26.0, 3.0, 9.0), "turret", "chuck"),
+        ];
+        mark_follow_ons(&mut fs);
+        assert!(fs
+            .iter()
+            .all(|f| f.severity == Severity::Error && f.follow_on.is_none()));
+    }
+
+    #[test]
+    fn the_same_parts_still_inside_each_other_under_another_rule_follow_on() {
+        // A rapid drives the insert into the bar; the next feed, spindle stopped, is still in it
+        // (either order of the names).
+        let mut fs = vec![
+            between(contact(Kind::RapidIntoStock, 5.0, 1.0, 2.0), "T01 insert", "stock"),
+            between(contact(Kind::SpindleStopped, 5.0, 2.0, 3.0), "stock", "T01 insert"),
+            // After they separated (the first episode ended at 2 s), a new contact is a crash.
+            between(contact(Kind::SpindleStopped, 1.0, 4.0, 5.0), "T01 insert", "stock"),
+        ];
+        mark_follow_ons(&mut fs);
+        assert_eq!(fs[0].severity, Severity::Error);
+        assert_eq!(fs[1].severity, Severity::Warning);
+        assert_eq!(fs[1].follow_on.as_ref().map(|p| p.line), Some(1));
+        assert_eq!(fs[2].severity, Severity::Error);
+        assert!(fs[2].follow_on.is_none());
+    }
+
+    #[test]
+    fn nothing_follows_on_from_an_overtravel() {
+        let mut ot = contact(Kind::Overtravel, 26.0, 0.0, 10.0);
+        ot.objects = vec!["turret".into(), "X travel".into()];
+        let mut fs = vec![
+            ot,
+            between(contact(Kind::Collision, 26.0, 1.0, 2.0), "turret", "chuck"),
+            between(contact(Kind::Collision, 1.0, 1.5, 2.0), "turret", "X travel"),
+        ];
+        mark_follow_ons(&mut fs);
+        assert!(fs
+            .iter()
+            .all(|f| f.severity == Severity::Error && f.follow_on.is_none()));
     }
 
     #[test]

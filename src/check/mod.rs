@@ -91,7 +91,6 @@ struct Checker<'a> {
     cut_any: bool,
     indexed: bool,
     others_tested: bool,
-    overtravel_open: bool,
     /// The feed move whose cut is under way, if any: stock queries see the stock as it is at the
     /// path fraction `instant` of that move.
     cutting: Option<Cutting>,
@@ -162,7 +161,6 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
         cut_any: false,
         indexed: false,
         others_tested: false,
-        overtravel_open: false,
         cutting: None,
         spare: None,
         instant: 1.0,
@@ -575,7 +573,7 @@ impl Checker<'_> {
 
         // Pairs that cannot touch during this move end their episodes.
         let live: Vec<u64> = cands.iter().flat_map(|&(p, o)| pair_keys(p, active, o)).collect();
-        self.episodes.close_except(|k| k == u64::MAX || live.contains(&k));
+        self.episodes.close_except(|k| k == OVERTRAVEL_KEY || live.contains(&k));
         let cuts = feed && insert_box.zip(self.stock_box).is_some_and(|(a, b)| a.meets(&b, 1e-6));
         if cuts {
             // The whole cut is applied now, but every stock query of this move sees the stock as
@@ -1108,62 +1106,61 @@ impl Checker<'_> {
         }
     }
 
-    /// The turret reference point against the axis limits, on the exact path.
+    /// The turret reference point against the axis limits, on the exact path. Each move that
+    /// takes it past a limit farther than it already was at the move's start is an over-travel
+    /// of its own (a finding per move, never an episode across moves: a suppression of one line's
+    /// over-travel must not hide the next line's); a move that starts out of travel and comes
+    /// back, or stays as far out, commands nothing new and is not one.
     fn overtravel(&mut self, m: &Move, item: &Timed) {
         let ax = (self.machine.x, self.machine.z);
-        let out = |p: P2| -> f64 {
-            let dx = (ax.0.min - p.x).max(p.x - ax.0.max).max(0.0);
-            let dz = (ax.1.min - p.y).max(p.y - ax.1.max).max(0.0);
-            dx.max(dz)
+        // How far the point is past each limit: X min, X max, Z min, Z max.
+        let past = |p: P2| -> [f64; 4] {
+            [ax.0.min - p.x, p.x - ax.0.max, ax.1.min - p.y, p.y - ax.1.max].map(|e| e.max(0.0))
         };
         let rb = motion::reference_box(m, item);
-        let worst = out(rb.min)
-            .max(out(rb.max))
-            .max(out(P2::new(rb.min.x, rb.max.y)))
-            .max(out(P2::new(rb.max.x, rb.min.y)));
-        if worst <= 1e-9 {
-            if self.overtravel_open {
-                self.overtravel_open = false;
-                self.episodes.clear(u64::MAX);
-            }
+        let corners = [rb.min, rb.max, P2::new(rb.min.x, rb.max.y), P2::new(rb.max.x, rb.min.y)];
+        if corners.iter().all(|&p| past(p).iter().all(|&e| e <= 1e-9)) {
             return;
         }
-        // First time out of travel: scan then bisect.
         let at = |u: f64| motion::reference_at(m, item, u * item.duration);
+        let base = past(at(0.0));
+        // How far beyond its start the move goes past a limit, and which limit.
+        let beyond = |p: P2| -> (f64, usize) {
+            let e = past(p);
+            (0..4)
+                .map(|i| (e[i] - base[i], i))
+                .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a })
+        };
+        // Scan, then bisect the first sample past the start's state.
         let n = 256;
         let mut first = None;
         let mut depth: f64 = 0.0;
-        for j in 0..=n {
+        for j in 1..=n {
             let u = j as f64 / n as f64;
-            let e = out(at(u));
-            depth = depth.max(e);
-            if e > 1e-9 && first.is_none() {
-                first = Some(j);
+            let (e, i) = beyond(at(u));
+            if e > 1e-9 {
+                depth = depth.max(past(at(u))[i]);
+                first.get_or_insert(j);
             }
         }
         let Some(j) = first else { return };
-        let (mut lo, mut hi) = (
-            if j == 0 { 0.0 } else { (j - 1) as f64 / n as f64 },
-            j as f64 / n as f64,
-        );
-        if j > 0 {
-            for _ in 0..50 {
-                let mid = 0.5 * (lo + hi);
-                if out(at(mid)) > 1e-9 {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
+        let (mut lo, mut hi) = ((j - 1) as f64 / n as f64, j as f64 / n as f64);
+        for _ in 0..50 {
+            let mid = 0.5 * (lo + hi);
+            if beyond(at(mid)).0 > 1e-9 {
+                hi = mid;
+            } else {
+                lo = mid;
             }
         }
         let r = at(hi);
-        let (x, z) = self.run.frame(m).to_program(r + m.tip);
-        let axis = if (ax.0.min - r.x).max(r.x - ax.0.max) > 1e-9 {
+        let axis = if beyond(at(j as f64 / n as f64)).1 < 2 {
             "X"
         } else {
             "Z"
         };
-        let c = Contact {
+        let (x, z) = self.run.frame(m).to_program(r + m.tip);
+        let mut c = Contact {
             kind: Kind::Overtravel,
             objects: ["turret".into(), format!("{axis} travel")],
             line: m.line,
@@ -1177,18 +1174,19 @@ impl Checker<'_> {
             snapshot: None,
             snapshot3: None,
         };
-        let mut c = c;
-        if self.settings.snapshots && !self.episodes.is_open(u64::MAX) {
+        if self.settings.snapshots {
             let turret = self.scene.turret.translated(r.coords);
             let mut s = self.snapshot(m, item, r, m.station, &turret, None, true);
             s.travel = Some(travel_facts(axis, &ax, at));
             c.snapshot = Some(Box::new(s));
         }
-
-        self.overtravel_open = true;
-        self.episodes.contact(u64::MAX, c);
+        self.episodes.contact(OVERTRAVEL_KEY, c);
+        self.episodes.clear(OVERTRAVEL_KEY);
     }
 }
+
+/// The episode key of an over-travel of X or Z (one finding per move, closed at once).
+const OVERTRAVEL_KEY: u64 = u64::MAX;
 
 /// Where the turret reference point (`at(u)` along the move, `u` in 0..=1) is farthest beyond
 /// the broken limit of `axis`, sampled finely enough for a picture.

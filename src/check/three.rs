@@ -818,12 +818,19 @@ impl Checker<'_> {
             let (lo, hi) = k.axes[a].travel;
             let mut worst: Option<(f64, f64)> = None;
             let n = if e.arc.is_some() { 64 } else { 1 };
+            // As for X and Z: a move over-travels when it goes past a limit farther than it
+            // already was at its start (one finding per such move).
+            let mut base = 0.0f64;
             for j in 0..=n {
                 let u = j as f64 / n as f64;
                 three.values(m, Some(e), item, u, &mut vals);
                 let v = vals[a];
                 let over = (lo - v).max(v - hi);
-                if over > 1e-9 && worst.map_or(true, |w: (f64, f64)| over > w.1) {
+                if j == 0 {
+                    base = over.max(0.0);
+                    continue;
+                }
+                if over > base + 1e-9 && worst.map_or(true, |w: (f64, f64)| over > w.1) {
                     worst = Some((u, over));
                 }
             }

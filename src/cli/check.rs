@@ -385,7 +385,7 @@ fn read_program(path: &Path) -> Result<Vec<u8>, String> {
 }
 
 /// Refuse to write `out` (given as `flag`) when that would destroy an input: a program being
-/// checked, a machine or configuration file read (`inputs`, compared as canonical paths), any
+/// checked, a machine or configuration file read (`inputs`, compared by file identity), any
 /// `latheguard.toml`, or any existing file with an NC extension of `exts` (but `.txt`, which
 /// reports are often written to; a `.txt` program being checked is still protected).
 pub fn refuse_overwrite(out: &Path, flag: &str, inputs: &[&Path], exts: &[String]) -> Result<(), Trouble> {
@@ -401,11 +401,15 @@ pub fn refuse_overwrite(out: &Path, flag: &str, inputs: &[&Path], exts: &[String
     let Ok(target) = std::fs::canonicalize(out) else {
         return Ok(()); // nothing there yet
     };
-    if inputs
-        .iter()
-        .any(|p| std::fs::canonicalize(p).is_ok_and(|c| c == target))
-    {
-        return refuse("an input of this run");
+    // By file identity (device and inode, or the file index on Windows), not by path: a hard
+    // link to a program has a path of its own, and writing through it replaces the program.
+    if let Ok(out_file) = same_file::Handle::from_path(out) {
+        if inputs
+            .iter()
+            .any(|p| same_file::Handle::from_path(p).is_ok_and(|h| h == out_file))
+        {
+            return refuse("an input of this run");
+        }
     }
     let nc: Vec<String> = exts
         .iter()
