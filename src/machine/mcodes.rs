@@ -111,8 +111,10 @@ pub struct McodeTable {
 impl McodeTable {
     /// The table of a dialect when the machine file has no `[mcodes]`: the codes both controls
     /// agree on (M0, M1, M2/M30, M3–M5, M7–M9), Fanuc gear ranges M41–M44, the override
-    /// switches M48–M53 and Haas's live-tool and C-axis codes (M133–M135, M154/M155), LinuxCNC's M48–M53 overrides, M60 pallet stop and M62–M68 outputs. No
-    /// tailstock, chuck or part-catcher codes: those differ from builder to builder.
+    /// switches M48–M53, the common Haas lathe codes that move no axis (M12–M15, M19, M23/M24,
+    /// M31/M33, M36/M37, M38/M39, M76/M77, M85/M86, M88/M89) and Haas's live-tool and C-axis codes
+    /// (M133–M135, M154/M155); LinuxCNC's M48–M53 overrides, M60 pallet stop and M62–M68
+    /// outputs. No tailstock or chuck codes: those differ from builder to builder.
     pub fn builtin(d: Dialect) -> McodeTable {
         use MAction::*;
         let mut codes = vec![
@@ -131,6 +133,21 @@ impl McodeTable {
         match d {
             Dialect::Fanuc => {
                 codes.extend((41..=44).map(|c| (c, NoEffect)));
+                // The common Haas lathe codes that move no axis: air blast (M12/M13), spindle
+                // brake (M14/M15), thread chamfer-out on/off (M23/M24: the cycles take their
+                // pull-out from their own words), spindle speed variation (M38/M39), display
+                // (M76/M77), automatic door (M85/M86); the chip conveyor, high-pressure coolant
+                // and part catcher by their actions; M19 orients the spindle, which stops it.
+                codes.extend([12, 13, 14, 15, 23, 24, 38, 39, 76, 77, 85, 86].map(|c| (c, NoEffect)));
+                codes.extend([
+                    (19, SpindleStop),
+                    (31, ConveyorOn),
+                    (33, ConveyorOff),
+                    (36, PartCatcherAdvance),
+                    (37, PartCatcherRetract),
+                    (88, CoolantOn),
+                    (89, CoolantOff),
+                ]);
                 // Haas lathes' live tooling and C axis (their numbers clash with no code above).
                 codes.extend([
                     (133, LiveToolCw),
@@ -200,6 +217,27 @@ mod tests {
         assert_eq!(McodeTable::builtin(Dialect::Linuxcnc).action(42), None);
     }
 
+    /// On a Haas set, 14 of 24 programs carried `unsupported` only for these codes.
+    #[test]
+    fn the_fanuc_table_knows_the_common_haas_codes_that_move_no_axis() {
+        let t = McodeTable::builtin(Dialect::Fanuc);
+        for c in [12, 13, 14, 15, 23, 24, 38, 39, 76, 77, 85, 86] {
+            assert_eq!(t.action(c), Some(MAction::NoEffect), "M{c}");
+        }
+        assert_eq!(t.action(19), Some(MAction::SpindleStop));
+        assert_eq!(t.action(31), Some(MAction::ConveyorOn));
+        assert_eq!(t.action(33), Some(MAction::ConveyorOff));
+        assert_eq!(t.action(88), Some(MAction::CoolantOn));
+        assert_eq!(t.action(89), Some(MAction::CoolantOff));
+        // M97 (Haas local subprogram call) runs blocks: never silently a no-effect code.
+        assert_eq!(t.action(97), None);
+        let entries = t.entries();
+        assert!(
+            entries.windows(2).all(|w| w[0].0 < w[1].0),
+            "one action per code, sorted"
+        );
+    }
+
     #[test]
     fn the_fanuc_table_has_haas_live_tool_and_c_axis_codes_and_linuxcnc_none() {
         let f = McodeTable::builtin(Dialect::Fanuc);
@@ -237,7 +275,8 @@ mod tests {
             Some(MAction::ChuckOpen),
             "the file's action wins over coolant_off"
         );
-        assert_eq!(t.codes_of(MAction::CoolantOff).count(), 0);
+        // M9 went to chuck_open; the Fanuc table's M89 (Haas high-pressure coolant off) stays.
+        assert_eq!(t.codes_of(MAction::CoolantOff).collect::<Vec<_>>(), vec![89]);
         for a in ACTIONS {
             assert_eq!(MAction::from_name(a.0), Some(a.1));
             assert_eq!(a.1.as_str(), a.0);
