@@ -783,6 +783,11 @@ impl Run<'_> {
         if let Some(tm) = self.tm.as_deref_mut() {
             tm.pending = None;
         }
+        // The group-01 motion in force as this block begins (set by any path, the plain-block
+        // one too): what a Fanuc G80 gives back.
+        if let Some(m) = self.modal.motion.filter(|m| !m.is_drilling()) {
+            self.modal.group1 = Some(m);
+        }
         // One word table serves every block (see `Words::clear`).
         let mut w = self.words.take().unwrap_or_else(|| Box::new(Words::new()));
         w.clear();
@@ -1246,8 +1251,14 @@ impl Run<'_> {
             }
         }
         if fanuc && motion_code.is_none() && w.g(800) {
-            // Fanuc G80 (group 9 here): cancels the cycle in force.
-            self.modal.motion = None;
+            // Fanuc G80 (group 9 here) cancels the drilling cycle only: the group-01 motion it
+            // ran over (G0 or G1, usually) is in force again, so `X… Z…` after it moves.
+            // A box cycle (G90/G92/G94) ends with no motion mode, as before.
+            self.modal.motion = match self.modal.motion {
+                Some(m) if m.is_drilling() => self.modal.group1.filter(|g| !matches!(g, Motion::Cycle(_))),
+                Some(Motion::Cycle(_)) => None,
+                m => m,
+            };
         }
         let g53 = w.has_g(530);
         if unknown && axis {

@@ -294,6 +294,7 @@ impl<'a> Run<'a> {
             arc_incremental: true,
             diameter: machine.diameter_mode,
             motion: None,
+            group1: None,
             feed_per_rev: fanuc,
             feed: 0.0,
             spindle_css: false,

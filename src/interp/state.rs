@@ -18,6 +18,13 @@ pub(crate) enum Motion {
     Cycle(u16),
 }
 
+impl Motion {
+    /// A drilling cycle G81–G89 (group 10 on Fanuc, where it runs over the group-01 motion).
+    pub fn is_drilling(self) -> bool {
+        matches!(self, Motion::Cycle(810..=890))
+    }
+}
+
 /// Everything M70 saves and M72 restores.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Modal {
@@ -27,6 +34,9 @@ pub(crate) struct Modal {
     pub arc_incremental: bool,
     pub diameter: bool,
     pub motion: Option<Motion>,
+    /// Fanuc: the group-01 motion (G0–G3, G32, G90/G92/G94) last in force; a drilling cycle
+    /// (group 10) runs over it and G80 gives it back (Fanuc 0i-TD manual, G-code groups).
+    pub group1: Option<Motion>,
     pub feed_per_rev: bool,
     /// F in program units per minute or per revolution; 0 = never set.
     pub feed: f64,
