@@ -1,4 +1,4 @@
-//! The cost of accuracy (DESIGN §5): one program in exact mode and in step mode at several
+//! The cost of accuracy (docs/checking.md): one program in exact mode and in step mode at several
 //! timesteps and tolerances, with what each setting costs and what it misses.
 //!
 //! Exact mode at a tolerance is the reference for the step runs at that tolerance. A reference

@@ -171,7 +171,7 @@ impl Finding {
     }
 }
 
-/// The most findings a file's report keeps (DESIGN: bounded work and memory on any input). Each
+/// The most findings a file's report keeps (bounded work and memory on any input, docs/limits.md). Each
 /// stage stops storing findings at this many and counts the rest; the report then ends with one
 /// `program` finding that says how many were left out ([`LeftOut::finding`]).
 pub const MAX_FINDINGS: usize = 10_000;

@@ -23,7 +23,7 @@ pub const DEFAULT_MIN_DEPTH_MM: f64 = 0.1;
 /// 1 mm, so that no real crash can be waved through as a graze by a slip of the unit.
 pub const MIN_DEPTH_MM: (f64, f64) = (0.0, 1.0);
 
-/// How a check runs (DESIGN §5, §6).
+/// How a check runs (docs/checking.md, docs/cli.md).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Settings {
     pub mode: Mode,

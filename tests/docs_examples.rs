@@ -189,3 +189,178 @@ fn the_pre_commit_recipes_name_every_default_extension_but_txt() {
     yaml.sort();
     assert_eq!(yaml, want, "the pre-commit framework's files pattern");
 }
+
+/// The pages a reader of the repository sees: the README, ARCHITECTURE.md and every page of
+/// `docs/` and `docs/findings/`.
+fn pages() -> Vec<PathBuf> {
+    let mut pages = vec![root().join("README.md"), root().join("ARCHITECTURE.md")];
+    for dir in ["docs", "docs/findings"] {
+        for e in std::fs::read_dir(root().join(dir)).unwrap().flatten() {
+            if e.path().extension().is_some_and(|x| x == "md") {
+                pages.push(e.path());
+            }
+        }
+    }
+    pages.sort();
+    pages
+}
+
+/// Every `.rs` file under `dir`.
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap().flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// The anchors GitHub gives a page's headings: lower case, letters, digits, `-` and `_` kept,
+/// spaces made `-`, everything else dropped; a repeated heading gets `-1`, `-2`, ….
+fn anchors(text: &str) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    let mut seen = std::collections::HashMap::<String, usize>::new();
+    let mut in_block = false;
+    for line in text.lines() {
+        if line.trim_start().starts_with("```") {
+            in_block = !in_block;
+            continue;
+        }
+        if in_block || !line.starts_with('#') {
+            continue;
+        }
+        let title = line.trim_start_matches('#').trim();
+        let slug: String = title
+            .to_lowercase()
+            .chars()
+            .filter_map(|c| match c {
+                ' ' => Some('-'),
+                c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
+                _ => None,
+            })
+            .collect();
+        let n = seen.entry(slug.clone()).or_insert(0);
+        out.push(if *n == 0 { slug } else { format!("{slug}-{n}") });
+        *n += 1;
+    }
+    out
+}
+
+/// The targets of the Markdown links and images of `text` outside fenced blocks and code spans.
+fn link_targets(text: &str) -> Vec<(usize, String)> {
+    let mut out = Vec::new();
+    let mut in_block = false;
+    for (i, line) in text.lines().enumerate() {
+        if line.trim_start().starts_with("```") {
+            in_block = !in_block;
+            continue;
+        }
+        if in_block {
+            continue;
+        }
+        // Drop code spans: a `](` inside backquotes is not a link.
+        let plain: String = line.split('`').step_by(2).collect::<Vec<_>>().join(" ");
+        let mut rest = plain.as_str();
+        while let Some(at) = rest.find("](") {
+            let after = &rest[at + 2..];
+            let Some(end) = after.find(')') else { break };
+            out.push((i + 1, after[..end].trim().to_string()));
+            rest = &after[end..];
+        }
+    }
+    out
+}
+
+#[test]
+fn every_relative_link_of_the_readme_and_the_docs_points_to_a_file_that_exists() {
+    let mut broken = Vec::new();
+    let mut checked = 0;
+    for page in pages() {
+        let text = std::fs::read_to_string(&page).unwrap();
+        let name = page.strip_prefix(root()).unwrap().display().to_string();
+        for (line, target) in link_targets(&text) {
+            if target.contains("://") || target.starts_with("mailto:") {
+                continue;
+            }
+            let (file, anchor) = match target.split_once('#') {
+                Some((f, a)) => (f, Some(a)),
+                None => (target.as_str(), None),
+            };
+            let path = if file.is_empty() {
+                page.clone()
+            } else {
+                page.parent().unwrap().join(file)
+            };
+            checked += 1;
+            if !path.exists() {
+                broken.push(format!("{name}:{line}: {target}: no such file"));
+                continue;
+            }
+            if let Some(a) = anchor {
+                if path.extension().is_some_and(|x| x == "md") {
+                    let there = std::fs::read_to_string(&path).unwrap();
+                    if !anchors(&there).iter().any(|h| h == a) {
+                        broken.push(format!("{name}:{line}: {target}: no heading with that anchor"));
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked >= 20, "found only {checked} relative links");
+    assert!(broken.is_empty(), "broken links:\n{}", broken.join("\n"));
+}
+
+#[test]
+fn the_docs_stand_on_their_own_and_the_readme_stays_short() {
+    // The team's design brief and the corpora live beside the repository, not in it: no page a
+    // reader of a clone sees may send them there. The corpora's place is explained once, for
+    // the tests, in docs/testing.md.
+    let mut found = Vec::new();
+    for page in pages() {
+        let text = std::fs::read_to_string(&page).unwrap();
+        let name = page.strip_prefix(root()).unwrap().display().to_string();
+        for (i, line) in text.lines().enumerate() {
+            let shared_ok = name == "docs/testing.md";
+            if line.contains("DESIGN") || (!shared_ok && line.contains("../shared")) {
+                found.push(format!("{name}:{}: {line}", i + 1));
+            }
+        }
+    }
+    let mut sources = Vec::new();
+    rust_files(&root().join("src"), &mut sources);
+    sources.sort();
+    for file in sources {
+        let text = std::fs::read_to_string(&file).unwrap();
+        let name = file.strip_prefix(root()).unwrap().display().to_string();
+        for (i, line) in text.lines().enumerate() {
+            let comment = line.trim_start().starts_with("//");
+            if comment && (line.contains("DESIGN") || line.contains("../shared")) {
+                found.push(format!("{name}:{}: {line}", i + 1));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "references outside the repository:\n{}",
+        found.join("\n")
+    );
+
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let lines = readme.lines().count();
+    assert!(
+        lines <= 200,
+        "README.md has {lines} lines: keep it at most 200 (details go to docs/)"
+    );
+}
+
+#[test]
+fn the_link_helpers_read_what_github_renders() {
+    assert_eq!(
+        anchors("# A\n## `dialect = \"auto\"`\n```\n# not a heading\n```\n## Editor support: JSON Schema\n## A\n"),
+        ["a", "dialect--auto", "editor-support-json-schema", "a-1"]
+    );
+    let links = link_targets("see [x](a.md#b) and ![p](pic.svg), not `[y](z.md)`\n```\n[q](r.md)\n```\n");
+    assert_eq!(links, [(1, "a.md#b".to_string()), (1, "pic.svg".to_string())]);
+}

@@ -1,4 +1,4 @@
-//! Exact mode (DESIGN §5): every move checked as a continuous motion.
+//! Exact mode (docs/checking.md): every move checked as a continuous motion.
 //!
 //! Between turret indexes the parts only translate, so the first contact of a part with a
 //! polygon obstacle (chuck, tailstock) along a straight piece or a circular arc is computed

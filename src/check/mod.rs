@@ -1,4 +1,4 @@
-//! The checks of DESIGN §4: which parts may never touch which, and what an overlap means.
+//! The checks (docs/checking.md): which parts may never touch which, and what an overlap means.
 //!
 //! Moving parts: the turret body, the active tool's holder and insert, and the tools of the other
 //! stations. Obstacles: the chuck, the tailstock and the (in-process) stock. Rules:

@@ -1,4 +1,4 @@
-//! The 3D path (issue 15): the moves of a turn-mill machine that leave the lathe's working plane,
+//! The 3D path (turn-mill): the moves of a turn-mill machine that leave the lathe's working plane,
 //! checked on the machine's kinematic tree (`kin`) with 3D queries (`collide3`).
 //!
 //! Which path a move takes ([`Three::route`]): the 2D section checker is exact for a lathe in
@@ -17,7 +17,7 @@
 //! cutter in the stock is `rapid_into_stock` in a rapid, `spindle_stopped` in a feed with neither
 //! the main spindle nor a live tool turning, machining otherwise. The dexel stock is revolved, so
 //! only a turning spindle's cuts are taken from it; a live tool's cut with the spindle positioned
-//! leaves it as it is (seed 002's milled stock is issue 16). What that cut removed is kept as a
+//! leaves it as it is (the milled stock is `three/mill.rs`). What that cut removed is kept as a
 //! **plunge**: the straight line the cutter fed along, at its C angle. Moves of that cutter back
 //! along the line, at the same C, are in its own hole and not judged against the stock; any other
 //! motion with the cutter still in the part (a C index, a Y or Z move sideways) is judged against

@@ -1,4 +1,4 @@
-//! Command-line front end (DESIGN §6). Exit status: 0 no error finding, 1 at least one, 2 when
+//! Command-line front end (docs/cli.md). Exit status: 0 no error finding, 1 at least one, 2 when
 //! latheguard could not run (bad arguments, unreadable or invalid machine file, an output that
 //! cannot be written). Nothing here prints with `print!`/`println!` (they panic on a closed pipe
 //! or a full disk): standard output goes through [`emit`], standard error through [`say`].

@@ -1,4 +1,4 @@
-//! A posed component against the milled stock (`grid::Stock`, issue 16).
+//! A posed component against the milled stock (`grid::Stock`).
 //!
 //! The stock's material lies on its cylindrical grid's rays (every grid cuts the cylindrical
 //! grid's material down; a block without one: its first face grid's rays). The query walks the

@@ -1,4 +1,4 @@
-//! 3D collision queries for turn-mill machines (issue 15): shapes from `kin` geometry, pair
+//! 3D collision queries for turn-mill machines: shapes from `kin` geometry, pair
 //! overlap with depth and distance (`parry3d-f64`), meshes against the revolved in-process stock,
 //! a proven motion bound, and conservative advancement along a move.
 //!

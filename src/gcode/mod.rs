@@ -10,7 +10,7 @@
 //! # What the reader accepts
 //!
 //! The reference is LinuxCNC's rs274ngc, with the Fanuc program-number forms added. Choices where
-//! the rules in `DESIGN.md` §2 are silent:
+//! the documented reading rules (docs/programs.md) are silent:
 //!
 //! - Lines end at LF, CRLF or a lone CR. A UTF-8 byte-order mark at the start of the file is
 //!   skipped and is not counted in the columns of line 1 (editors do not show it).

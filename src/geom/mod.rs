@@ -71,7 +71,7 @@ pub fn golden_section_max(lo: f64, hi: f64, width: f64, steps: usize, mut f: imp
     (if f1 >= f2 { x1 } else { x2 }, best)
 }
 
-/// Two parts collide when they overlap by more than this (DESIGN §4).
+/// Two parts collide when they overlap by more than this (docs/checking.md).
 pub const TOUCH_EPS: f64 = 1e-6;
 
 /// Axis-aligned bounding box.

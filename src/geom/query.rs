@@ -129,8 +129,8 @@ pub fn penetration_depth(a: &Polygon, b: &Polygon) -> f64 {
     depth_rings(&la, &lb)
 }
 
-/// `Some(depth)` when the interiors of `a` and `b` overlap by more than [`TOUCH_EPS`] (DESIGN
-/// §4), with the penetration depth of the module documentation, in mm. Touching — shared edges
+/// `Some(depth)` when the interiors of `a` and `b` overlap by more than [`TOUCH_EPS`]
+/// (docs/checking.md), with the penetration depth of the module documentation, in mm. Touching — shared edges
 /// or vertices, an edge lying on a face — is `None`.
 pub fn overlap(a: &Polygon, b: &Polygon) -> Option<f64> {
     let d = penetration_depth(a, b);

@@ -1,4 +1,4 @@
-//! Continuous first contact of a translating polygon (DESIGN §5, `--mode exact`).
+//! Continuous first contact of a translating polygon (`--mode exact`, docs/checking.md).
 //!
 //! Polygon `a` translates along a path — a straight line, or a circle traced by its reference
 //! point without rotating — while `b` stays put; `t ∈ [0, 1]` is the fraction of the path. A

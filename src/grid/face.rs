@@ -1,4 +1,4 @@
-//! A planar face grid (seed 002's matrix grid): the depth `d(u, v)` of material removed from a
+//! A planar face grid (a matrix grid, docs/grid-stock.md): the depth `d(u, v)` of material removed from a
 //! face along its inward normal.
 //!
 //! Node `(i, j)` stands for the ray from the face point `origin + u_i·e_u + v_j·e_v` along the

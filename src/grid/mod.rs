@@ -1,11 +1,11 @@
-//! The milled stock (issue 16; seed 002's matrix grids): what live tools leave on a part.
+//! The milled stock (matrix grids, docs/grid-stock.md): what live tools leave on a part.
 //!
 //! A [`Stock`] is the raw solid cut down by grids of nodes, each node a ray into the material
 //! along which the material's boundary is held:
 //! - a turned part: the **cylindrical grid** ([`CylGrid`]: `R(θ, z)` from the spindle axis, with
 //!   the bore `r_in(z)`) and a **face grid** over its front face ([`FaceGrid`]: the depth `d(x, y)`
 //!   removed along −z);
-//! - a block (the seed's example): a face grid on each of its six faces.
+//! - a block: a face grid on each of its six faces.
 //!
 //! A point is material when every grid says so. A cut ([`Sweep`]: a [`Cutter`] moved along a
 //! line with its axis fixed) changes a node only where the swept solid reaches its ray at the
@@ -131,7 +131,7 @@ impl Stock {
         })
     }
 
-    /// A block from `min` to `max` with an `n × n` grid on each face (the seed's example).
+    /// A block from `min` to `max` with an `n × n` grid on each face.
     pub fn block(min: Vector3<f64>, max: Vector3<f64>, n: usize, tol: f64) -> Result<Stock, GridError> {
         let size = max - min;
         if !(size.iter().all(|x| x.is_finite() && *x > 0.0))

@@ -184,7 +184,7 @@ pub fn ray_disc(
     let (ha, ua, va) = (w.dot(&a), u.dot(&a), v.dot(&a));
     let (pw, pu, pv) = (proj(w), proj(u), proj(v));
     if pu.norm_squared() < 1e-24 {
-        // The ray along the cutter's axis (a face grid under an end mill: seed 002's case): the
+        // The ray along the cutter's axis (a face grid under an end mill): the
         // fractions s that put the ray inside the disc's circle, then the heights at their ends.
         let (qq, qw, ww) = (pv.norm_squared(), pw.dot(&pv), pw.norm_squared() - r * r);
         let (s0, s1) = if qq < 1e-24 {

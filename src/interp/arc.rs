@@ -1,4 +1,4 @@
-//! Arc geometry and the rs274ngc arc checks (DESIGN §2).
+//! Arc geometry and the rs274ngc arc checks (docs/programs.md, "Arcs").
 //!
 //! Tolerances (rs274ngc): an I/K arc's start and end radius may differ by at most
 //! 0.028284 mm (0.0028284 in), and by at most 0.1 % when the difference is over that, never over

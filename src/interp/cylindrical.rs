@@ -1,4 +1,4 @@
-//! Cylindrical interpolation (issue 16): Fanuc G7.1 (G107 in system A naming) — a groove or a
+//! Cylindrical interpolation: Fanuc G7.1 (G107 in system A naming) — a groove or a
 //! cam track milled on the side of a turned part with a radial live tool, programmed on the
 //! cylinder's surface unrolled (docs/turn-mill.md, "Cylindrical interpolation").
 //!

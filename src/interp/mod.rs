@@ -215,7 +215,7 @@ pub(crate) fn path_point(kind: MoveKind, start: P2, end: P2, t: f64) -> P2 {
     }
 }
 
-/// The address letters of the axes beyond X and Z that the interpreter tracks (issue 15), in
+/// The address letters of the axes beyond X and Z that the interpreter tracks (turn-mill), in
 /// the order of [`ExtraAxes`]. Which of them a machine has, and whether each is linear (mm, in
 /// the spindle frame; inch programs are converted) or rotary (degrees), its kinematic tree says
 /// (`Machine::kinematics`, `Kinematics::axis_by_letter`).

@@ -1,4 +1,4 @@
-//! Polar coordinate interpolation (issue 16): Fanuc G12.1 / G13.1, written G112 / G113 in
+//! Polar coordinate interpolation: Fanuc G12.1 / G13.1, written G112 / G113 in
 //! Fanuc's G-code system A (docs/turn-mill.md, "Polar coordinate interpolation").
 //!
 //! Between G12.1 and G13.1 a milling contour on the part's face is programmed in a Cartesian

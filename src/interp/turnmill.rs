@@ -1,4 +1,4 @@
-//! Turn-mill axes and modes (issue 15): the extra axes Y, C, B and A ([`EXTRA_LETTERS`]) on a
+//! Turn-mill axes and modes (docs/turn-mill.md): the extra axes Y, C, B and A ([`EXTRA_LETTERS`]) on a
 //! machine whose kinematic tree has them, the G17/G19 planes with their arcs, the spindle's
 //! C-axis mode and the live tool. A machine without kinematics never builds a [`TurnMill`]: its
 //! programs run exactly as before (docs/turn-mill.md, "Axes and modes in programs").

@@ -89,7 +89,8 @@ pub struct Set<T> {
 pub enum DialectChoice {
     Fanuc,
     Linuxcnc,
-    /// Read from the program's own signs (issue 13 item 4); until that exists, the machine's.
+    /// Keeps the machine file's dialect: a machine whose file says `dialect = "auto"` reads it
+    /// from each program's own signs (`machine::auto`), any other keeps its own.
     Auto,
 }
 

@@ -1,4 +1,4 @@
-//! The kinematic machine (issue 15, seed 003): a tree of components, each posed in its parent's
+//! The kinematic machine (pose transforms from servo-axis values): a tree of components, each posed in its parent's
 //! frame by a fixed mount and at most one servo axis, with a geometry of its own.
 //!
 //! Frames: the machine frame extends the spindle frame of the 2D checker to 3D: `z` along the
@@ -8,7 +8,7 @@
 //! reference point in the spindle frame (x as a radius), so a 2-axis machine's poses equal the
 //! 2D model's.
 //!
-//! Seed 003's two models: the **initial model** is each component's mount and geometry in its own
+//! Two models, as in the pose-transform method: the **initial model** is each component's mount and geometry in its own
 //! frame (never changed after loading); the **real-time model** is each component's world pose,
 //! which [`Poser::pose`] recomputes only for the components whose own axis, or an ancestor's,
 //! changed value since the last call.

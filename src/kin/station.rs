@@ -1,4 +1,4 @@
-//! A station's 3D parts from a milling tool given by its sizes (issue 16; docs/tools.md,
+//! A station's 3D parts from a milling tool given by its sizes (docs/tools.md,
 //! "Milling tools"): a job's `mill = { … }` on a machine with a kinematic tree.
 //!
 //! Where a station's tool sits in the tree: the station's components (those with its `station`)

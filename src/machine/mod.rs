@@ -1,4 +1,4 @@
-//! The machine description: TOML (DESIGN §3) → a validated [`Machine`].
+//! The machine description: TOML (docs/machine.md) → a validated [`Machine`].
 //!
 //! All lengths are mm in the spindle frame: `x` is a radius (distance from the spindle axis, `+x`
 //! toward the turret), `z` runs along the spindle axis with `z = 0` at the jaw faces.
@@ -321,7 +321,7 @@ pub struct Machine {
     /// `file:line:col: key: message`, for `latheguard machine` to print. Empty for the shipped
     /// machines.
     pub warnings: Vec<String>,
-    /// The kinematic tree of a turn-mill machine (`[kinematics]`, issue 15; `crate::kin`), or
+    /// The kinematic tree of a turn-mill machine (`[kinematics]`; `crate::kin`), or
     /// `None` for a 2-axis lathe, which the 2D checker alone describes.
     pub kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
 }

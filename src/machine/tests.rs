@@ -129,7 +129,7 @@ fn builtin_machine_loads_with_eight_tools_in_stations_1_to_8() {
     assert!(m.tailstock.is_none());
 }
 
-/// DESIGN §3 quotes these values; the built-in machine must keep them.
+/// The examples of docs/machine.md quote these values; the built-in machine must keep them.
 #[test]
 fn builtin_machine_keeps_the_values_design_quotes() {
     let m = Machine::builtin();
@@ -1096,7 +1096,7 @@ fn turret_side_is_rear_unless_the_file_says_front() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Issue 14 item 2: every error at once, warnings for folds, a stock that fits the chuck.
+// Every error at once, warnings for folds, a stock that fits the chuck.
 
 #[test]
 fn three_independent_mistakes_are_reported_together_in_file_order() {
@@ -1377,7 +1377,7 @@ fn a_drum_turret_needs_its_axis_and_a_gang_slide_does_not() {
     assert!(from_toml(&gang, "m").is_ok());
 }
 
-// Issue 13 item 1: a revolved-outline stock and a spindle running from program start.
+// A revolved-outline stock and a spindle running from program start.
 
 const FLANGE_STOCK: &str =
     "[stock]\noutline = [[0, -40], [20, -40], [20, 30], [40, 30], [40, 50], [15, 50], [15, 80], [0, 80]]\n";

@@ -1,4 +1,4 @@
-//! The JSON report of DESIGN §6.
+//! The JSON report (docs/cli.md, "The JSON report").
 
 use super::{Report, Summary};
 use crate::finding::Finding;

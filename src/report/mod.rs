@@ -1,7 +1,7 @@
 //! Reporters: the findings of a batch as text, JSON, JUnit and SARIF, and a picture (SVG) of
 //! each finding's scene.
 //!
-//! A finding of the 3D path (issue 15) carries a [`scene3::Snapshot3`] beside (or instead of) the
+//! A finding of the 3D path (turn-mill) carries a [`scene3::Snapshot3`] beside (or instead of) the
 //! 2D snapshot (`Finding::snapshot3`): `--svg` draws it as three orthographic views
 //! ([`views3`]), `--glb` writes it as a glTF binary ([`glb`]).
 //!
@@ -145,7 +145,7 @@ impl Report {
         s
     }
 
-    /// Exit status 1 of DESIGN §6: a reported (not suppressed) finding of a severity
+    /// Exit status 1 (docs/cli.md): a reported (not suppressed) finding of a severity
     /// [`Report::fail_on`] names (by default, an error).
     pub fn fails(&self) -> bool {
         self.files

@@ -1,4 +1,4 @@
-//! The scene of a 3D finding at first contact (issue 15): what its three orthographic views
+//! The scene of a 3D finding at first contact (turn-mill): what its three orthographic views
 //! (`views3`) and its glTF binary (`glb`) are drawn from.
 //!
 //! Every part is a triangle mesh in its own frame, posed in the machine frame by an isometry

@@ -5,7 +5,7 @@
 //! Moving parts translate with the turret reference point `R`: the turret body (`R` + outline),
 //! the active tool's insert and holder (`R + tip` + shape). Tools in the other stations sit on the
 //! turret rotated about its axis, out of the working plane; they are mapped into the radial
-//! section `(r, z)` (DESIGN §2), which is exact for collisions with revolved parts.
+//! section `(r, z)` (docs/checking.md), which is exact for collisions with revolved parts.
 
 pub mod snapshot;
 pub mod stock;

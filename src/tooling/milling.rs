@@ -1,4 +1,4 @@
-//! Milling tools by their sizes (issue 16): flat, ball and bull end mills, drills, spot drills and
+//! Milling tools by their sizes: flat, ball and bull end mills, drills, spot drills and
 //! taps in a live station, with their shank and holder.
 //!
 //! One description gives three things: the 2D section in the working plane (the `insert` is the

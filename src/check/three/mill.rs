@@ -1,7 +1,7 @@
-//! Milling on the lathe (issue 16): the milled stock (`grid`) on the 3D path.
+//! Milling on the lathe: the milled stock (`grid`) on the 3D path.
 //!
 //! - **Hand-over.** The dexel stock is the model while the part is only turned. At the first feed
-//!   of a live cutter with the spindle positioned (what issue 15 kept as a *plunge*), the grid
+//!   of a live cutter with the spindle positioned (what was kept as a *plunge* before the milled stock), the grid
 //!   stock is built from the dexel stock's columns as they are then (`grid::Stock::turned`: each
 //!   column's innermost and outermost radius), and `stats.effects` says `grid_stock`.
 //! - **Material** from then on is what both hold: the grid's (milled) and the dexel stock's
@@ -13,7 +13,7 @@
 //!   of an out-of-plane arc), each chord with the cutter's axis at its start. The sweep is applied
 //!   after the move's pairs are checked: the move's other parts meet the stock as it was before it
 //!   (never a missed crash; a holder that follows its own cutter into the hole it cuts in the same
-//!   move would be judged against the uncut stock). Other cutters keep issue 15's plunge lines.
+//!   move would be judged against the uncut stock). Other cutters keep their plunge lines.
 //! - **Queries.** A component against the stock: the dexel stock's query first (it holds all the
 //!   material, so no overlap there is no overlap at all), then `collide3::grid_overlap` against
 //!   the grid, points kept where the dexel stock also holds them. The gap for advancement stays

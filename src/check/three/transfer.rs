@@ -1,4 +1,4 @@
-//! Pick-off and part-off (issue 15): the part changing hands between the main spindle and the
+//! Pick-off and part-off: the part changing hands between the main spindle and the
 //! sub-spindle.
 //!
 //! The sub-spindle's chuck (the first `chuck` component that a sub-spindle axis carries, see
