@@ -433,6 +433,11 @@ impl Checker<'_> {
                 gaps.push(((a, b), end));
                 (adv, n)
             };
+            // A pair the broad phase clears (no query) is a skipped test, as a 2D pair whose
+            // envelopes never meet.
+            if res.1 == 0 {
+                self.stats.pair_tests_skipped += 1;
+            }
             self.stats.pair_tests += res.1;
             match res.0 {
                 Advance::Clear => self.episodes.clear(key),
@@ -609,6 +614,10 @@ impl Checker<'_> {
             let axial = (zr0 - (c.z + sph.radius)).max(c.z - sph.radius - zr1).max(0.0);
             let quick = radial.max(axial);
             if quick > 0.0 {
+                if u == 0.0 && quick > rate {
+                    // Out of the raw stock's reach over the whole move: the broad phase.
+                    return (Advance::Clear, 0);
+                }
                 if u >= 1.0 || rate == 0.0 {
                     return (Advance::Clear, probes);
                 }
@@ -941,6 +950,5 @@ fn pair_advance(three: &Three, f: &Follow, a: CompId, b: CompId, tol: f64, start
     // up to the tolerance proud of their true surfaces (circumscribed), so two touching parts may
     // overlap that much as meshes alone (a drill sliding along a jaw's radius). Steps as the 2D
     // check's advancement: never longer than the proven gap, at least the tolerance.
-    let (adv, end) = collide3::first_contact_from(k, (a, sa), (b, sb), f, 2.0 * tol, tol, start_gap);
-    (adv, end, 1)
+    collide3::first_contact_from(k, (a, sa), (b, sb), f, 2.0 * tol, tol, start_gap)
 }

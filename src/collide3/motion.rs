@@ -28,7 +28,7 @@
 
 use nalgebra::{Point3, Vector3};
 
-use super::{distance, overlap, Hit, Shape3, Sphere};
+use super::{box_gap, distance, overlap, Hit, Shape3, Sphere};
 use crate::kin::{AxisKind, CompId, Geometry, Kinematics, Poser};
 
 /// Most probes (overlap or distance tests) on one pair along one move.
@@ -196,10 +196,12 @@ pub fn first_contact(
 
 /// [`first_contact`] given a lower bound `start_gap` of the pair's gap at the path's start (0:
 /// none known), and returning with it a lower bound of the gap at its end (0 after a contact or
-/// when unknown). A pair whose known gap exceeds the most its parts can move over the whole
-/// path is clear without a distance query: the gap at the end is then at least their difference.
+/// when unknown) and the probes (overlap and distance queries) it spent. The broad phase first:
+/// the gap of the two parts' posed boxes at the start ([`box_gap`]) is a lower bound of the
+/// gap too, and a pair whose known gap exceeds the most its parts can move over the whole path
+/// is clear without a query (0 probes): the gap at the end is then at least their difference.
 /// (A run of short moves — the chords of polar interpolation — then costs one query now and
-/// then instead of one per move.)
+/// then instead of one per move; a tool far from a chuck costs none.)
 pub fn first_contact_from(
     k: &Kinematics,
     a: (CompId, &Shape3),
@@ -208,23 +210,24 @@ pub fn first_contact_from(
     eps: f64,
     min_step: f64,
     start_gap: f64,
-) -> (Advance, f64) {
+) -> (Advance, f64, u64) {
+    let mut poser = Poser::new(k);
+    let mut vals = Vec::with_capacity(k.axes.len());
+    let mut delta = Vec::with_capacity(k.axes.len());
+    path.at(0.0, &mut vals);
+    poser.pose(k, &vals);
+    let start_gap = start_gap.max(box_gap(a.1, poser.world(a.0), b.1, poser.world(b.0)));
     if start_gap > 0.0 {
-        let mut poser = Poser::new(k);
-        let mut vals = Vec::with_capacity(k.axes.len());
-        let mut delta = Vec::with_capacity(k.axes.len());
-        path.at(0.0, &mut vals);
-        poser.pose(k, &vals);
         path.deltas(0.0, 1.0, &mut delta);
         let reach =
             bound_from(k, &poser, a.0, &a.1.sphere(), &delta) + bound_from(k, &poser, b.0, &b.1.sphere(), &delta);
         if reach.is_finite() && start_gap - reach > 0.0 {
-            return (Advance::Clear, start_gap - reach);
+            return (Advance::Clear, start_gap - reach, 0);
         }
     }
     let mut end_gap = 0.0;
-    let adv = advance(k, a, b, path, eps, min_step, &mut end_gap);
-    (adv, end_gap)
+    let (adv, probes) = advance(k, a, b, path, eps, min_step, &mut end_gap);
+    (adv, end_gap, probes)
 }
 
 fn advance(
@@ -235,7 +238,7 @@ fn advance(
     eps: f64,
     min_step: f64,
     end_gap: &mut f64,
-) -> Advance {
+) -> (Advance, u64) {
     let mut poser = Poser::new(k);
     let mut vals = Vec::with_capacity(k.axes.len());
     let mut delta = Vec::with_capacity(k.axes.len());
@@ -259,19 +262,19 @@ fn advance(
     loop {
         probes += 1;
         if probes > MAX_PROBES {
-            return Advance::Unchecked { u };
+            return (Advance::Unchecked { u }, probes);
         }
         let (hit, d) = probe(u, true, &mut poser);
         if let Some(h) = hit {
             if u == 0.0 {
-                return Advance::Contact { u, hit: h };
+                return (Advance::Contact { u, hit: h }, probes);
             }
             // Bisect the boundary between the last clear probe and this one.
             let (mut lo, mut hi, mut best) = (prev, u, h);
             while hi - lo > BISECT_U {
                 probes += 1;
                 if probes > MAX_PROBES {
-                    return Advance::Unchecked { u: lo };
+                    return (Advance::Unchecked { u: lo }, probes);
                 }
                 let mid = lo + (hi - lo) / 2.0;
                 if mid <= lo || mid >= hi {
@@ -282,21 +285,21 @@ fn advance(
                     None => lo = mid,
                 }
             }
-            return Advance::Contact { u: hi, hit: best };
+            return (Advance::Contact { u: hi, hit: best }, probes);
         }
         if u >= 1.0 {
             *end_gap = d;
-            return Advance::Clear;
+            return (Advance::Clear, probes);
         }
         path.deltas(u, 1.0, &mut delta);
         let rate = (bound_from(k, &poser, a.0, &spheres.0, &delta) + bound_from(k, &poser, b.0, &spheres.1, &delta))
             / (1.0 - u);
         if rate == 0.0 {
             *end_gap = d;
-            return Advance::Clear; // nothing moves for the rest of the move
+            return (Advance::Clear, probes); // nothing moves for the rest of the move
         }
         if !rate.is_finite() || d.is_nan() {
-            return Advance::Unchecked { u };
+            return (Advance::Unchecked { u }, probes);
         }
         let step = d.max(min_step) / rate;
         prev = u;

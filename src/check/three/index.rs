@@ -219,8 +219,12 @@ impl super::Checker<'_> {
                     self.stock_advance(three, &path, a)
                 } else {
                     let (sa, sb) = (three.shapes[a].as_ref().unwrap(), three.shapes[b].as_ref().unwrap());
-                    (collide3::first_contact(&k, (a, sa), (b, sb), &path, 2.0 * tol, tol), 1)
+                    let (adv, _, probes) = collide3::first_contact_from(&k, (a, sa), (b, sb), &path, 2.0 * tol, tol, 0.0);
+                    (adv, probes)
                 };
+                if res.1 == 0 {
+                    self.stats.pair_tests_skipped += 1;
+                }
                 self.stats.pair_tests += res.1;
                 match res.0 {
                     Advance::Clear => {}
