@@ -39,7 +39,7 @@ use crate::kin::{Axis, AxisId, AxisKind, CompId, Kinematics};
 use crate::motion::{self, Timed};
 
 /// The index axis of a tree, once found or added.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct IndexAxis {
     pub axis: AxisId,
     pub carrier: CompId,
@@ -103,7 +103,7 @@ impl Three {
     /// Add the index axis to the carrier (see the module docs), once. `None`: the tree has no tools
     /// by station, or a program axis already moves the carrier (a milling head's B swivel): the T
     /// word is then swept in 2D.
-    fn index_axis(&mut self, turret_axis: f64) -> Option<IndexAxis> {
+    pub(super) fn index_axis(&mut self, turret_axis: f64) -> Option<IndexAxis> {
         if let Some(ix) = self.index {
             return Some(ix);
         }
