@@ -184,7 +184,9 @@ impl Three {
             .collect();
         let mut station_of: Vec<Option<u32>> = Vec::with_capacity(kin.components.len());
         for c in &kin.components {
-            let own = c.station.or_else(|| c.parent.and_then(|p| station_of.get(p).copied().flatten()));
+            let own = c
+                .station
+                .or_else(|| c.parent.and_then(|p| station_of.get(p).copied().flatten()));
             station_of.push(own);
         }
         Three {
@@ -631,7 +633,10 @@ impl Checker<'_> {
                 ..f.clone()
             };
             let mut c = self.contact3(three, &fa, m, a, b, Kind::Collision, 0.0, hit, item.t0);
-            c.message = format!("{}: they are fixed to each other, so they overlap wherever the machine stands", c.message);
+            c.message = format!(
+                "{}: they are fixed to each other, so they overlap wherever the machine stands",
+                c.message
+            );
             if let Some(s) = c.snapshot3.as_mut() {
                 s.title = c.message.clone();
             }

@@ -25,8 +25,8 @@ mod tests;
 
 pub use grid::{grid_clear, grid_overlap};
 pub use motion::{
-    bound_from, first_contact, first_contact_from, geometry_sphere, motion_bound, Advance, LinearPath, Path,
-    MAX_PROBES, MIN_STEP_MM,
+    bound_from, first_contact, first_contact_from, geometry_sphere, motion_bound, pair_bound, Advance, LinearPath,
+    Path, MAX_PROBES, MIN_STEP_MM,
 };
 pub use stock::{stock_gap, stock_overlap};
 pub use tess::uv_sphere;

@@ -137,6 +137,45 @@ pub fn motion_bound(k: &Kinematics, comp: CompId, v0: &[f64], v1: &[f64]) -> f64
 /// callers that advance along a move pass their posed tree and the collision shape's sphere, so
 /// a bound costs a walk up the tree, not a pass over the geometry.
 pub fn bound_from(k: &Kinematics, poser: &Poser, comp: CompId, sphere: &Sphere, delta: &[f64]) -> f64 {
+    bound_below(k, poser, comp, sphere, delta, None)
+}
+
+/// The nearest common ancestor of two components (`None`: they share no root).
+fn common_ancestor(k: &Kinematics, a: CompId, b: CompId) -> Option<CompId> {
+    let mut chain = Vec::new();
+    let mut p = Some(a);
+    while let Some(q) = p {
+        chain.push(q);
+        p = k.components.get(q).and_then(|c| c.parent);
+    }
+    let mut p = Some(b);
+    while let Some(q) = p {
+        if chain.contains(&q) {
+            return Some(q);
+        }
+        p = k.components.get(q).and_then(|c| c.parent);
+    }
+    None
+}
+
+/// An upper bound of how far the pair `a`, `b` can move relative to each other: the joints at
+/// and above their nearest common ancestor carry both rigidly (distances between them do not
+/// change), so each side's bound counts only its joints below it ([`bound_from`]'s sum,
+/// stopped there). Two parts fixed to one slide that a move carries: 0.
+pub fn pair_bound(k: &Kinematics, poser: &Poser, a: (CompId, &Sphere), b: (CompId, &Sphere), delta: &[f64]) -> f64 {
+    let lca = common_ancestor(k, a.0, b.0);
+    bound_below(k, poser, a.0, a.1, delta, lca) + bound_below(k, poser, b.0, b.1, delta, lca)
+}
+
+/// [`bound_from`] over the joints from `comp` up to, not including, `stop`.
+fn bound_below(
+    k: &Kinematics,
+    poser: &Poser,
+    comp: CompId,
+    sphere: &Sphere,
+    delta: &[f64],
+    stop: Option<CompId>,
+) -> f64 {
     if comp >= k.components.len() {
         return 0.0;
     }
@@ -145,13 +184,15 @@ pub fn bound_from(k: &Kinematics, poser: &Poser, comp: CompId, sphere: &Sphere, 
     let mut d = 0.0f64;
     let mut at = Some(comp);
     while let Some(i) = at {
+        if Some(i) == stop {
+            break;
+        }
         let ci = &k.components[i];
         if let Some(a) = ci.axis {
             let delta = delta.get(a).copied().unwrap_or(0.0);
             match &k.axes[a].kind {
                 AxisKind::Linear { .. } => d += delta.abs(),
                 AxisKind::Rotary { origin, dir } => {
-                    // The joint's frame: the parent's world pose times the mount, at v0.
                     let frame = ci.parent.map_or(crate::kin::Iso::identity(), |p| *poser.world(p)) * ci.mount;
                     let o = frame * origin;
                     let u: Vector3<f64> = frame.rotation * dir.into_inner();
@@ -219,8 +260,7 @@ pub fn first_contact_from(
     let start_gap = start_gap.max(box_gap(a.1, poser.world(a.0), b.1, poser.world(b.0)));
     if start_gap > 0.0 {
         path.deltas(0.0, 1.0, &mut delta);
-        let reach =
-            bound_from(k, &poser, a.0, &a.1.sphere(), &delta) + bound_from(k, &poser, b.0, &b.1.sphere(), &delta);
+        let reach = pair_bound(k, &poser, (a.0, &a.1.sphere()), (b.0, &b.1.sphere()), &delta);
         if reach.is_finite() && start_gap - reach > 0.0 {
             return (Advance::Clear, start_gap - reach, 0);
         }
@@ -292,8 +332,7 @@ fn advance(
             return (Advance::Clear, probes);
         }
         path.deltas(u, 1.0, &mut delta);
-        let rate = (bound_from(k, &poser, a.0, &spheres.0, &delta) + bound_from(k, &poser, b.0, &spheres.1, &delta))
-            / (1.0 - u);
+        let rate = pair_bound(k, &poser, (a.0, &spheres.0), (b.0, &spheres.1), &delta) / (1.0 - u);
         if rate == 0.0 {
             *end_gap = d;
             return (Advance::Clear, probes); // nothing moves for the rest of the move

@@ -219,7 +219,8 @@ impl super::Checker<'_> {
                     self.stock_advance(three, &path, a)
                 } else {
                     let (sa, sb) = (three.shapes[a].as_ref().unwrap(), three.shapes[b].as_ref().unwrap());
-                    let (adv, _, probes) = collide3::first_contact_from(&k, (a, sa), (b, sb), &path, 2.0 * tol, tol, 0.0);
+                    let (adv, _, probes) =
+                        collide3::first_contact_from(&k, (a, sa), (b, sb), &path, 2.0 * tol, tol, 0.0);
                     (adv, probes)
                 };
                 if res.1 == 0 {
