@@ -6,8 +6,9 @@
 //! (Y at its start value, the sub-spindle's B and A at theirs, no G17/G19 arc) and the part turns
 //! (or, positioned as a C axis, is cut only on the spindle axis: X = 0). A move whose tool leaves
 //! that plane is checked here, and only here ([`Route::Space`]): every `never_touch` pair of the
-//! machine file (the tools of the active station only: the others stand turned away), and the
-//! turret, the active tool's holder and its cutter against the in-process stock. A move whose tool
+//! machine file, and the turret, the holders and the cutters against the in-process stock — the
+//! tools of every station: the other stations' stand at their angle on the drum, posed with the
+//! index axis held there ([`Carousel`]); parts fixed to each other are tested once. A move whose tool
 //! stays in the plane while the sub-spindle's side does not ([`Route::Hybrid`]) is checked by
 //! both: the 2D sections for the tools against the main chuck and the stock, this path for the
 //! component pairs, the sub-spindle's chuck and centre against the stock, and the pieces it holds

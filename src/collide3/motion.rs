@@ -15,9 +15,14 @@
 //! `δ / (1 − u)` and `D_below` does not grow, so the bound of the part is at most that fraction
 //! of the bound of `[u, 1]`: the rate used by the advancement.
 //!
+//! **A pair's bound** ([`pair_bound`]). The joints at and above the pair's nearest common
+//! ancestor move both parts by one rigid motion, which changes no distance between them: the
+//! pair's relative motion is bounded by the sum of each part's bound over its joints below that
+//! ancestor (the same integral, stopped there).
+//!
 //! **Conservative advancement** ([`first_contact`]). At `u` the pair is apart by the proven
 //! distance `d` (parry's boundary distance; 0 when overlapping); their relative motion over the
-//! next `δ` is at most `ρ · δ`, `ρ` the sum of both components' rates, so no overlap can start
+//! next `δ` is at most `ρ · δ`, `ρ` the pair's rate ([`pair_bound`]), so no overlap can start
 //! before `d / ρ`: the step is `max(d, m) / ρ`, `m` the caller's minimum step (at least
 //! [`MIN_STEP_MM`]). A step longer than the proven gap moves any point at most `m` further than
 //! the gap, so a contact it could step over reaches at most `m` into the other solid: with
