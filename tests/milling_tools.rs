@@ -56,7 +56,12 @@ fn a_job_radial_drill_fed_into_the_jaws_is_a_collision_of_its_generated_cutter()
         all,
         vec![
             (11, "collision", serde_json::json!(["t11_mill", "headstock"]), "error"),
-            (12, "collision", serde_json::json!(["t12_cutter", "main_chuck"]), "warning"),
+            (
+                12,
+                "collision",
+                serde_json::json!(["t12_cutter", "main_chuck"]),
+                "warning"
+            ),
         ],
         "{f:#}"
     );
