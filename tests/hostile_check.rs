@@ -104,3 +104,115 @@ fn a_program_that_uses_up_its_work_budget_says_where_the_check_stopped() {
     assert_eq!(stop[0].kind, Kind::Program);
     assert!(out.stats.pair_tests < 1_000, "{}", out.stats.pair_tests);
 }
+
+/// A machine file of `dir` with its STL files read beside it.
+fn machine_in(text: &str, dir: std::path::PathBuf, name: &str) -> Machine {
+    latheguard::machine::from_toml_with(text, name, &move |f: &str| {
+        std::fs::read(dir.join(f)).map_err(|e| e.to_string())
+    })
+    .unwrap()
+}
+
+fn root() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `never_touch = [["*", "*"]]` on the turn-mill machine (issue 26): every pair of components.
+/// Once 400 s for the turn-mill examples (every pair queried on every move, and the turret
+/// against its own housing stepped at the tolerance until its probe budget ran out). Now: parts
+/// fixed to each other are tested once (the boring bar's insert in its bar: one finding), the
+/// relative motion of a pair counts only the joints below their common ancestor (the drum and
+/// its housing ride one slide: 0), and the 3D broad phase clears the rest without a query.
+#[test]
+fn never_touch_every_pair_on_the_turn_mill_machine_is_bounded_work() {
+    let path = root().join("tests/fixtures/hostile/turn-mill-never-touch-all.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let all = machine_in(
+        &text,
+        path.parent().unwrap().to_path_buf(),
+        "turn-mill-never-touch-all.toml",
+    );
+    let shipped_path = root().join("machines/turn-mill.toml");
+    let shipped_text = std::fs::read_to_string(&shipped_path).unwrap();
+    let shipped = machine_in(&shipped_text, root().join("machines"), "turn-mill.toml");
+    let src = std::fs::read(root().join("programs/turn-mill/cross_drill.nc")).unwrap();
+    for mode in [Mode::Step, Mode::Exact] {
+        let s = Settings {
+            mode,
+            ..Settings::default()
+        };
+        let a = pipeline::check(&src, &all, &s);
+        let b = pipeline::check(&src, &shipped, &s);
+        // No probe budget ran out.
+        assert!(
+            !a.findings.iter().any(|f| f.kind == Kind::Program),
+            "{mode:?}: {:?}",
+            a.findings
+        );
+        // The one pair that overlaps by design, once: the insert seated in the boring bar.
+        let rigid: Vec<_> = a.findings.iter().filter(|f| f.kind == Kind::Collision).collect();
+        assert_eq!(rigid.len(), 1, "{mode:?}: {rigid:?}");
+        assert_eq!(rigid[0].objects, ["t3_bar", "t3_insert"]);
+        // Bounded: within a few times the shipped machine's 15 pair patterns (measured: 2,662
+        // pair tests against 2,313; 228,949 and two unchecked moves before the pair bound).
+        assert!(
+            a.stats.pair_tests < 3 * b.stats.pair_tests,
+            "{mode:?}: {} against {}",
+            a.stats.pair_tests,
+            b.stats.pair_tests
+        );
+    }
+}
+
+/// A chuck outline of 10,000 points (issue 26): its jaw tips rounded by 9,990 points. The 3D
+/// turret index (`check/three/index.rs`) meets the chuck as a revolved mesh through its BVH: the
+/// work of the index (its pair tests) does not grow with the outline's points.
+#[test]
+fn a_ten_thousand_point_chuck_outline_keeps_the_3d_index_check_bounded() {
+    let path = root().join("machines/turn-mill.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let plain = "outline = [[25, -100], [105, -100], [105, -30], [70, -30], [70, -12], [45, -12], [45, 0], [25, 0]]";
+    assert!(text.contains(plain));
+    let mut pts = vec![
+        [25.0, -100.0],
+        [105.0, -100.0],
+        [105.0, -30.0],
+        [70.0, -30.0],
+        [70.0, -12.0],
+    ];
+    let n = 9_990;
+    for i in 1..n {
+        let t = i as f64 / n as f64 * std::f64::consts::FRAC_PI_2;
+        pts.push([45.0 + 25.0 * t.cos(), -12.0 + 12.0 * t.sin()]);
+    }
+    pts.extend([[45.0, 0.0], [25.0, 0.0]]);
+    assert!(pts.len() >= 9_990 && pts.len() <= 10_000);
+    let fine = format!(
+        "outline = [{}]",
+        pts.iter()
+            .map(|p| format!("[{:.9}, {:.9}]", p[0], p[1]))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let dir = root().join("machines");
+    let coarse_m = machine_in(&text, dir.clone(), "turn-mill.toml");
+    let fine_m = machine_in(&text.replace(plain, &fine), dir, "turn-mill.toml");
+    let src = std::fs::read(root().join("programs/turn-mill/crash_y_index_into_tailstock.nc")).unwrap();
+    let s = Settings::default();
+    let a = pipeline::check(&src, &coarse_m, &s);
+    let b = pipeline::check(&src, &fine_m, &s);
+    let errs = |o: &pipeline::Outcome| {
+        o.findings
+            .iter()
+            .filter(|f| f.severity == latheguard::finding::Severity::Error)
+            .map(|f| (f.line, f.kind, f.objects.clone()))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(errs(&a), errs(&b));
+    assert!(
+        b.stats.pair_tests <= 2 * a.stats.pair_tests,
+        "{} against {}",
+        b.stats.pair_tests,
+        a.stats.pair_tests
+    );
+}

@@ -116,6 +116,8 @@ struct Checker<'a> {
     mill: Option<three::mill::Mill>,
     /// Lower bounds of the 3D component pairs' gaps at the end of move `.0` (`three.rs`).
     gap3: Option<(usize, three::PairGaps)>,
+    /// The pairs of parts fixed to each other already tested (`three.rs`, `rigid_pairs`).
+    rigid3: std::collections::BTreeSet<(usize, usize)>,
 }
 
 /// A feed move whose cut is under way (see [`DexelStock::begin_move`]).
@@ -145,6 +147,7 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
     let moves = &run.moves[..];
     let mut timer = motion::Timer::new(run, machine);
     let scene = Scene::new(machine, settings.tolerance_mm);
+    let turret = (scene.gang, scene.turret_axis, scene.stations);
     let stock_box = machine.stock.as_ref().map(|s| Aabb {
         min: P2::new(-s.diameter / 2.0, s.front - s.length),
         max: P2::new(s.diameter / 2.0, s.front),
@@ -180,10 +183,15 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
                 let tailstock_out = !machine.tailstock_advanced || run.states.iter().any(|s| !s.tailstock_advanced);
                 (!run.extra.is_empty() || tailstock_out) && k.components.iter().any(|c| c.geometry.is_some())
             })
-            .map(|k| three::Three::new(k.clone(), settings.tolerance_mm)),
+            .map(|k| {
+                let mut t = three::Three::new(k.clone(), settings.tolerance_mm);
+                t.set_turret(turret.0, turret.1, turret.2);
+                t
+            }),
         plunge3: None,
         mill: None,
         gap3: None,
+        rigid3: std::collections::BTreeSet::new(),
     };
     c.static_pairs();
     for item in timer.by_ref() {

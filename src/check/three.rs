@@ -6,8 +6,9 @@
 //! (Y at its start value, the sub-spindle's B and A at theirs, no G17/G19 arc) and the part turns
 //! (or, positioned as a C axis, is cut only on the spindle axis: X = 0). A move whose tool leaves
 //! that plane is checked here, and only here ([`Route::Space`]): every `never_touch` pair of the
-//! machine file (the tools of the active station only: the others stand turned away), and the
-//! turret, the active tool's holder and its cutter against the in-process stock. A move whose tool
+//! machine file, and the turret, the holders and the cutters against the in-process stock — the
+//! tools of every station: the other stations' stand at their angle on the drum, posed with the
+//! index axis held there ([`Carousel`]); parts fixed to each other are tested once. A move whose tool
 //! stays in the plane while the sub-spindle's side does not ([`Route::Hybrid`]) is checked by
 //! both: the 2D sections for the tools against the main chuck and the stock, this path for the
 //! component pairs, the sub-spindle's chuck and centre against the stock, and the pieces it holds
@@ -69,6 +70,19 @@ pub(super) enum Route {
     Space,
 }
 
+/// How the tree poses the tools of the stations that are not active (`Three::set_turret`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Carousel {
+    /// A drum: station `s` stands turned `(s − active)·360°/n` about the index axis added to the
+    /// carrier (`index.rs`), as the 2D model's `Scene::station_angle` has it.
+    Drum { ix: index::IndexAxis, n: u32 },
+    /// A gang slide: every tool stands where the file poses it.
+    InPlace,
+    /// A carrier that a program axis moves (a B head) or a tree without stations: the file poses
+    /// only the active station's tools, and only they are checked.
+    ActiveOnly,
+}
+
 /// What a live tool has cut with the spindle positioned: the line its cutter fed along.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Plunge {
@@ -109,6 +123,10 @@ pub(super) struct Three {
     transfer: transfer::Transfer,
     /// The component the C axis turns: the part's frame (`mill.rs`).
     main_spindle: Option<CompId>,
+    /// How the tools of the stations that are not active stand on an ordinary move.
+    carousel: Carousel,
+    /// Per component: the station of its tool (its own or its nearest ancestor's `station`).
+    station_of: Vec<Option<u32>>,
     /// The 3D path ran on at least one move (`stats.effects` says "3d").
     pub ran: bool,
 }
@@ -165,7 +183,16 @@ impl Three {
             .copied()
             .filter(|&i| kin.components[i].role == Role::Chuck)
             .collect();
+        let mut station_of: Vec<Option<u32>> = Vec::with_capacity(kin.components.len());
+        for c in &kin.components {
+            let own = c
+                .station
+                .or_else(|| c.parent.and_then(|p| station_of.get(p).copied().flatten()));
+            station_of.push(own);
+        }
         Three {
+            carousel: Carousel::ActiveOnly,
+            station_of,
             tool_axis,
             sub_chucks,
             sub_parts,
@@ -288,32 +315,92 @@ impl Three {
         r
     }
 
-    /// The components that take part in this move: all but the tools of other stations, and
-    /// the tailstock's parts only while it is in (as in 2D).
+    /// The components that take part in this move: every tool of every station (the others
+    /// posed at their station's angle, [`Three::index_of`]) unless the carrier cannot pose them
+    /// ([`Carousel::ActiveOnly`]), and the tailstock's parts only while it is in (as in 2D).
     fn present(&self, active: u32, tailstock_in: bool) -> Vec<bool> {
         let k = &self.kin;
+        let all = self.carousel != Carousel::ActiveOnly;
         let mut on = vec![true; k.components.len()];
         for (i, c) in k.components.iter().enumerate() {
-            let own = c.station.map_or(true, |s| s == active) && (tailstock_in || c.role != Role::Tailstock);
+            let station = all || c.station.map_or(true, |s| s == active);
+            let own = station && (tailstock_in || c.role != Role::Tailstock);
             let parent = c.parent.map_or(true, |p| on[p]);
             on[i] = own && parent;
         }
         on
     }
+
+    /// Set how the stations that are not active stand (the 2D model's turret: a gang slide or a
+    /// drum of `stations` about `turret_axis`). A drum gets its index axis now (`index.rs`), at
+    /// value 0 on every move of the file's pose; a carrier a program axis moves has none.
+    pub fn set_turret(&mut self, gang: bool, turret_axis: f64, stations: u32) {
+        if !self.kin.components.iter().any(|c| c.station.is_some()) {
+            return;
+        }
+        self.carousel = if gang {
+            Carousel::InPlace
+        } else {
+            match self.index_axis(turret_axis) {
+                Some(ix) => Carousel::Drum { ix, n: stations.max(1) },
+                None => Carousel::ActiveOnly,
+            }
+        };
+    }
+
+    /// The index axis value that poses component `c` on a move made with station `active`:
+    /// `None` where the file's pose is the one (the active station, parts of no station, a
+    /// gang slide).
+    fn index_of(&self, c: usize, active: u32) -> Option<(AxisId, f64)> {
+        let Carousel::Drum { ix, n } = self.carousel else {
+            return None;
+        };
+        let s = self.station_of.get(c).copied().flatten()?;
+        if s == active || !(c == ix.carrier || self.kin.is_ancestor(ix.carrier, c)) {
+            return None;
+        }
+        Some((ix.axis, (s as f64 - active as f64) * 360.0 / n as f64))
+    }
+
+    /// Whether two components are fixed to each other: no joint (a program axis or the turret's
+    /// index) lies between them, so their relative pose never changes and one test decides them
+    /// for the whole program.
+    fn rigid(&self, a: usize, b: usize) -> bool {
+        let joint = |c: usize| {
+            let mut p = Some(c);
+            while let Some(q) = p {
+                if self.kin.components[q].axis.is_some() {
+                    return Some(q);
+                }
+                p = self.kin.components[q].parent;
+            }
+            None
+        };
+        joint(a) == joint(b)
+    }
 }
 
 /// A pair's follower along the move: positions and bounds at any `u`.
+#[derive(Clone)]
 struct Follow<'a> {
     three: &'a Three,
     m: &'a Move,
     e: Option<&'a ExtraMove>,
     item: &'a Timed,
     rates: Vec<f64>,
+    /// The turret's index axis held at a station's angle (the pair's tool is of a station that
+    /// is not active): it does not move during the move.
+    index: Option<(AxisId, f64)>,
 }
 
 impl collide3::Path for Follow<'_> {
     fn at(&self, u: f64, out: &mut Vec<f64>) {
         self.three.values(self.m, self.e, self.item, u, out);
+        if let Some((a, v)) = self.index {
+            if let Some(x) = out.get_mut(a) {
+                *x = v;
+            }
+        }
     }
 
     /// Each axis at most its rate: linear in `u1 - u0`.
@@ -344,6 +431,20 @@ impl Checker<'_> {
             e,
             item,
             rates: three.rates(m, e, item),
+            index: None,
+        };
+        // One follower per station that is not active: its tools stand at the station's angle.
+        let mut follows: Vec<Follow> = vec![follow.clone()];
+        let mut follow_of = |c: usize| -> usize {
+            let Some(ix) = three.index_of(c, active) else { return 0 };
+            if let Some(j) = follows.iter().position(|f| f.index == Some(ix)) {
+                return j;
+            }
+            follows.push(Follow {
+                index: Some(ix),
+                ..follow.clone()
+            });
+            follows.len() - 1
         };
         let rapid = m.kind == MoveKind::Rapid;
         let spindle_turns = self.run.spindle(m).is_on() && !e.is_some_and(|e| e.c_mode);
@@ -355,11 +456,21 @@ impl Checker<'_> {
         } else {
             None
         };
-        let mut pairs: Vec<(CompId, usize, Kind)> = Vec::new();
+        // Each pair with the follower that poses it: the tools of a station that is not active
+        // at that station's angle (a pair has at most one side on the turret: two parts fixed to
+        // each other are `rigid`, decided once).
+        let mut pairs: Vec<(CompId, usize, Kind, usize)> = Vec::new();
+        let mut rigid: Vec<(CompId, CompId)> = Vec::new();
         let mut to_mill: Vec<CompId> = Vec::new();
         for &(a, b) in &k.never_touch {
             if on[a] && on[b] && three.shapes[a].is_some() && three.shapes[b].is_some() {
-                pairs.push((a, b, Kind::Collision));
+                if three.rigid(a, b) {
+                    rigid.push((a, b));
+                } else {
+                    let fa = follow_of(a);
+                    let fi = if fa == 0 { follow_of(b) } else { fa };
+                    pairs.push((a, b, Kind::Collision, fi));
+                }
             }
         }
         if self.machine.stock.is_some() {
@@ -367,7 +478,7 @@ impl Checker<'_> {
             // the bar) and the pieces it holds.
             for &i in three.sub_parts.iter().chain(&three.pieces) {
                 if on[i] && three.shapes[i].is_some() {
-                    pairs.push((i, STOCK, Kind::Collision));
+                    pairs.push((i, STOCK, Kind::Collision, 0));
                 }
             }
         }
@@ -379,10 +490,17 @@ impl Checker<'_> {
                 if !carried_by_x(k, i) {
                     continue;
                 }
+                let fi = follow_of(i);
+                if three.station_of[i].is_some_and(|s| s != active) {
+                    // A tool of another station (holder or cutter) in the stock: a collision,
+                    // as the 2D path's other stations.
+                    pairs.push((i, STOCK, Kind::Collision, fi));
+                    continue;
+                }
                 if c.role == Role::Cutter {
                     if let Some(rule) = cutter_rule {
                         if !self.in_own_plunge(three, i, m, e, item) {
-                            pairs.push((i, STOCK, rule));
+                            pairs.push((i, STOCK, rule, fi));
                         }
                     }
                     if live && !rapid && !spindle_turns {
@@ -394,28 +512,29 @@ impl Checker<'_> {
                         }
                     }
                 } else {
-                    pairs.push((i, STOCK, Kind::Collision));
+                    pairs.push((i, STOCK, Kind::Collision, fi));
                 }
             }
         }
-        let mut keys: Vec<u64> = pairs.iter().map(|&(a, b, kind)| pair_key(a, b, kind)).collect();
+        let mut keys: Vec<u64> = pairs.iter().map(|&(a, b, kind, _)| pair_key(a, b, kind)).collect();
         // Near misses (`near.rs`): the component pairs, as the 2D path's parts against the chuck
         // and the tailstock; never the stock.
         let clearance = self.settings.clearance_mm;
-        let near_pairs: Vec<(CompId, CompId)> = if clearance > 0.0 {
+        let near_pairs: Vec<(CompId, CompId, usize)> = if clearance > 0.0 {
             pairs
                 .iter()
-                .filter(|&&(_, b, _)| b != STOCK)
-                .map(|&(a, b, _)| (a, b))
+                .filter(|&&(_, b, _, _)| b != STOCK)
+                .map(|&(a, b, _, fi)| (a, b, fi))
                 .collect()
         } else {
             Vec::new()
         };
-        keys.extend(near_pairs.iter().map(|&(a, b)| pair_key(a, b, Kind::NearMiss)));
+        keys.extend(near_pairs.iter().map(|&(a, b, _)| pair_key(a, b, Kind::NearMiss)));
         self.episodes
             .close_except(|key| key == u64::MAX || key < KEY_BASE || keys.contains(&key));
-        for &(a, b) in &near_pairs {
-            self.near_misses(three, &follow, m, item, a, b);
+        self.rigid_pairs(three, &follow, m, item, &rigid);
+        for &(a, b, fi) in &near_pairs {
+            self.near_misses(three, &follows[fi], m, item, a, b);
         }
         // The component pairs' gaps at the end of the previous move, when that was the move just
         // before this one on this path (the parts then start where they stood).
@@ -424,15 +543,21 @@ impl Checker<'_> {
             _ => Vec::new(),
         };
         let mut gaps: PairGaps = Vec::new();
-        for (&(a, b, kind), &key) in pairs.iter().zip(&keys) {
+        for (&(a, b, kind, fi), &key) in pairs.iter().zip(&keys) {
+            let follow = &follows[fi];
             let res = if b == STOCK {
-                self.stock_advance(three, &follow, a)
+                self.stock_advance(three, follow, a)
             } else {
                 let start = known.iter().find(|(p, _)| *p == (a, b)).map_or(0.0, |g| g.1);
-                let (adv, end, n) = pair_advance(three, &follow, a, b, self.settings.tolerance_mm, start);
+                let (adv, end, n) = pair_advance(three, follow, a, b, self.settings.tolerance_mm, start);
                 gaps.push(((a, b), end));
                 (adv, n)
             };
+            // A pair the broad phase clears (no query) is a skipped test, as a 2D pair whose
+            // envelopes never meet.
+            if res.1 == 0 {
+                self.stats.pair_tests_skipped += 1;
+            }
             self.stats.pair_tests += res.1;
             match res.0 {
                 Advance::Clear => self.episodes.clear(key),
@@ -448,7 +573,7 @@ impl Checker<'_> {
                     if self.episodes.is_open(key) {
                         self.episodes.extend(key, m.line, t, hit.depth, false);
                     } else {
-                        let c = self.contact3(three, &follow, m, a, b, kind, u, hit, t);
+                        let c = self.contact3(three, follow, m, a, b, kind, u, hit, t);
                         self.episodes.contact(key, c);
                     }
                     // The depth over the rest of the move, and whether contact lasts to its end.
@@ -456,7 +581,7 @@ impl Checker<'_> {
                     for j in 1..=DEPTH_SAMPLES {
                         let uu = u + (1.0 - u) * j as f64 / DEPTH_SAMPLES as f64;
                         self.stats.pair_tests += 1;
-                        match self.probe3(three, &follow, a, b, uu) {
+                        match self.probe3(three, follow, a, b, uu) {
                             Some(h) => {
                                 self.episodes
                                     .extend(key, m.line, item.t0 + uu * item.duration, h.depth, false);
@@ -478,6 +603,47 @@ impl Checker<'_> {
             }
         }
         self.end_plunge(three, &follow);
+    }
+
+    /// Pairs of parts fixed to each other (`Three::rigid`: two tools on the turret, a holder's
+    /// block and its drill): their relative pose never changes, so one overlap test, at the first
+    /// move that checks them, decides them for the whole program. An overlap is one `collision`.
+    fn rigid_pairs(&mut self, three: &Three, f: &Follow, m: &Move, item: &Timed, pairs: &[(CompId, CompId)]) {
+        if pairs.iter().all(|p| self.rigid3.contains(p)) {
+            return;
+        }
+        let mut vals = Vec::new();
+        f.at(0.0, &mut vals);
+        let tol = self.settings.tolerance_mm;
+        for &(a, b) in pairs {
+            if !self.rigid3.insert((a, b)) {
+                continue;
+            }
+            let (Some(sa), Some(sb)) = (three.shapes[a].as_ref(), three.shapes[b].as_ref()) else {
+                continue;
+            };
+            let pa = three.pose_of(a, m.station, &vals);
+            let pb = three.pose_of(b, m.station, &vals);
+            self.stats.pair_tests += 1;
+            let Some(hit) = collide3::overlap(sa, &pa, sb, &pb, 2.0 * tol) else {
+                continue;
+            };
+            let key = pair_key(a, b, Kind::Collision);
+            let fa = Follow {
+                index: three.index_of(a, m.station),
+                ..f.clone()
+            };
+            let mut c = self.contact3(three, &fa, m, a, b, Kind::Collision, 0.0, hit, item.t0);
+            c.message = format!(
+                "{}: they are fixed to each other, so they overlap wherever the machine stands",
+                c.message
+            );
+            if let Some(s) = c.snapshot3.as_mut() {
+                s.title = c.message.clone();
+            }
+            self.episodes.contact(key, c);
+            self.episodes.clear(key);
+        }
     }
 
     /// Near misses of the pair `(a, b)` along the move (`near.rs`), as episodes.
@@ -609,6 +775,10 @@ impl Checker<'_> {
             let axial = (zr0 - (c.z + sph.radius)).max(c.z - sph.radius - zr1).max(0.0);
             let quick = radial.max(axial);
             if quick > 0.0 {
+                if u == 0.0 && quick > rate {
+                    // Out of the raw stock's reach over the whole move: the broad phase.
+                    return (Advance::Clear, 0);
+                }
                 if u >= 1.0 || rate == 0.0 {
                     return (Advance::Clear, probes);
                 }
@@ -725,12 +895,41 @@ impl Checker<'_> {
         poser.pose(k, vals);
         let moved = moved_flags(k, vals, &three.start);
         let on = three.present(m.station, self.tailstock_in);
+        // An index sweep draws the pair as it swings and the active station's tools; any other
+        // move every station's tools, each at its station's angle.
+        let sweep = matches!(m.kind, MoveKind::ToolChange { .. });
+        let drum = match three.carousel {
+            Carousel::Drum { ix, .. } if !sweep => Some(ix.axis),
+            _ => None,
+        };
+        let mut posers: Vec<(u64, Poser)> = Vec::new();
         let mut parts = Vec::new();
         for (i, c) in k.components.iter().enumerate() {
+            let other = three.station_of[i].is_some_and(|s| s != m.station);
             // The pair itself always (a tool of another station swung by an index).
-            if !on[i] && i != a && i != b {
+            if (!on[i] || (sweep && other)) && i != a && i != b {
                 continue;
             }
+            let pose = match drum {
+                Some(ax) => {
+                    let v = three.index_of(i, m.station).map_or(0.0, |x| x.1);
+                    let j = match posers.iter().position(|p| p.0 == v.to_bits()) {
+                        Some(j) => j,
+                        None => {
+                            let mut vv = vals.to_vec();
+                            if let Some(x) = vv.get_mut(ax) {
+                                *x = v;
+                            }
+                            let mut p = Poser::new(k);
+                            p.pose(k, &vv);
+                            posers.push((v.to_bits(), p));
+                            posers.len() - 1
+                        }
+                    };
+                    *posers[j].1.world(i)
+                }
+                None => *poser.world(i),
+            };
             let Some(mesh) = three.mesh(i, self.settings.tolerance_mm) else {
                 continue;
             };
@@ -746,7 +945,7 @@ impl Checker<'_> {
             parts.push(Part3 {
                 name: c.name.clone(),
                 mesh,
-                pose: *poser.world(i),
+                pose,
                 role,
             });
         }
@@ -867,6 +1066,20 @@ impl Checker<'_> {
 }
 
 impl Three {
+    /// Component `c`'s pose with the axes at `vals` and the turret's index at `c`'s station's
+    /// angle for a move made with station `active` (0: the file's pose).
+    fn pose_of(&self, c: CompId, active: u32, vals: &[f64]) -> crate::kin::Iso {
+        let mut v = vals.to_vec();
+        if let Carousel::Drum { ix, .. } = self.carousel {
+            if let Some(x) = v.get_mut(ix.axis) {
+                *x = self.index_of(c, active).map_or(0.0, |i| i.1);
+            }
+        }
+        let mut poser = Poser::new(&self.kin);
+        poser.pose(&self.kin, &v);
+        *poser.world(c)
+    }
+
     /// A component's mesh for pictures (built when a picture is asked for).
     fn mesh(&self, i: CompId, tol: f64) -> Option<Arc<crate::kin::Mesh>> {
         let g = self.kin.components[i].geometry.as_ref()?;
@@ -948,6 +1161,5 @@ fn pair_advance(three: &Three, f: &Follow, a: CompId, b: CompId, tol: f64, start
     // up to the tolerance proud of their true surfaces (circumscribed), so two touching parts may
     // overlap that much as meshes alone (a drill sliding along a jaw's radius). Steps as the 2D
     // check's advancement: never longer than the proven gap, at least the tolerance.
-    let (adv, end) = collide3::first_contact_from(k, (a, sa), (b, sb), f, 2.0 * tol, tol, start_gap);
-    (adv, end, 1)
+    collide3::first_contact_from(k, (a, sa), (b, sb), f, 2.0 * tol, tol, start_gap)
 }

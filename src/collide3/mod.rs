@@ -25,8 +25,8 @@ mod tests;
 
 pub use grid::{grid_clear, grid_overlap};
 pub use motion::{
-    bound_from, first_contact, first_contact_from, geometry_sphere, motion_bound, Advance, LinearPath, Path,
-    MAX_PROBES, MIN_STEP_MM,
+    bound_from, first_contact, first_contact_from, geometry_sphere, motion_bound, pair_bound, Advance, LinearPath,
+    Path, MAX_PROBES, MIN_STEP_MM,
 };
 pub use stock::{stock_gap, stock_overlap};
 pub use tess::uv_sphere;
@@ -443,6 +443,41 @@ fn contained(inner: &Shape3, pi: &Pose, outer: &Shape3, po: &Pose, eps: f64) -> 
             point: to_point(p),
         })
     })
+}
+
+/// The box of a shape posed at `pose`, world frame: the posed box of its own frame's box (its
+/// centre moved, its half extents through the rotation's absolute values), holding the solid.
+pub fn world_box(s: &Shape3, pose: &Iso) -> (Point3<f64>, Point3<f64>) {
+    let b = s.local_box();
+    let c = to_point((b.mins + b.maxs) * 0.5);
+    let h = (b.maxs - b.mins) * 0.5;
+    let r = pose.rotation.to_rotation_matrix();
+    let m = r.matrix();
+    let wc = pose * c;
+    let e = |i: usize| m[(i, 0)].abs() * h.x + m[(i, 1)].abs() * h.y + m[(i, 2)].abs() * h.z;
+    let ext = nalgebra::Vector3::new(e(0), e(1), e(2));
+    (wc - ext, wc + ext)
+}
+
+/// A lower bound of the distance between two posed solids at no query's cost: the distance
+/// between their world boxes ([`world_box`]) or between their bounding spheres, whichever is
+/// larger (0 when both meet). The broad phase of [`first_contact_from`].
+pub fn box_gap(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso) -> f64 {
+    let (a0, a1) = world_box(a, pa);
+    let (b0, b1) = world_box(b, pb);
+    let mut d2 = 0.0;
+    for i in 0..3 {
+        let g = (a0[i] - b1[i]).max(b0[i] - a1[i]).max(0.0);
+        d2 += g * g;
+    }
+    let (sa, sb) = (a.sphere(), b.sphere());
+    let spheres = ((pa * sa.center) - (pb * sb.center)).norm() - sa.radius - sb.radius;
+    let g = d2.sqrt().max(spheres).max(0.0);
+    if g.is_finite() {
+        g
+    } else {
+        0.0
+    }
 }
 
 /// A point midway between the closest points of the two boundaries when they are less than

@@ -15,9 +15,14 @@
 //! `δ / (1 − u)` and `D_below` does not grow, so the bound of the part is at most that fraction
 //! of the bound of `[u, 1]`: the rate used by the advancement.
 //!
+//! **A pair's bound** ([`pair_bound`]). The joints at and above the pair's nearest common
+//! ancestor move both parts by one rigid motion, which changes no distance between them: the
+//! pair's relative motion is bounded by the sum of each part's bound over its joints below that
+//! ancestor (the same integral, stopped there).
+//!
 //! **Conservative advancement** ([`first_contact`]). At `u` the pair is apart by the proven
 //! distance `d` (parry's boundary distance; 0 when overlapping); their relative motion over the
-//! next `δ` is at most `ρ · δ`, `ρ` the sum of both components' rates, so no overlap can start
+//! next `δ` is at most `ρ · δ`, `ρ` the pair's rate ([`pair_bound`]), so no overlap can start
 //! before `d / ρ`: the step is `max(d, m) / ρ`, `m` the caller's minimum step (at least
 //! [`MIN_STEP_MM`]). A step longer than the proven gap moves any point at most `m` further than
 //! the gap, so a contact it could step over reaches at most `m` into the other solid: with
@@ -28,7 +33,7 @@
 
 use nalgebra::{Point3, Vector3};
 
-use super::{distance, overlap, Hit, Shape3, Sphere};
+use super::{box_gap, distance, overlap, Hit, Shape3, Sphere};
 use crate::kin::{AxisKind, CompId, Geometry, Kinematics, Poser};
 
 /// Most probes (overlap or distance tests) on one pair along one move.
@@ -137,6 +142,45 @@ pub fn motion_bound(k: &Kinematics, comp: CompId, v0: &[f64], v1: &[f64]) -> f64
 /// callers that advance along a move pass their posed tree and the collision shape's sphere, so
 /// a bound costs a walk up the tree, not a pass over the geometry.
 pub fn bound_from(k: &Kinematics, poser: &Poser, comp: CompId, sphere: &Sphere, delta: &[f64]) -> f64 {
+    bound_below(k, poser, comp, sphere, delta, None)
+}
+
+/// The nearest common ancestor of two components (`None`: they share no root).
+fn common_ancestor(k: &Kinematics, a: CompId, b: CompId) -> Option<CompId> {
+    let mut chain = Vec::new();
+    let mut p = Some(a);
+    while let Some(q) = p {
+        chain.push(q);
+        p = k.components.get(q).and_then(|c| c.parent);
+    }
+    let mut p = Some(b);
+    while let Some(q) = p {
+        if chain.contains(&q) {
+            return Some(q);
+        }
+        p = k.components.get(q).and_then(|c| c.parent);
+    }
+    None
+}
+
+/// An upper bound of how far the pair `a`, `b` can move relative to each other: the joints at
+/// and above their nearest common ancestor carry both rigidly (distances between them do not
+/// change), so each side's bound counts only its joints below it ([`bound_from`]'s sum,
+/// stopped there). Two parts fixed to one slide that a move carries: 0.
+pub fn pair_bound(k: &Kinematics, poser: &Poser, a: (CompId, &Sphere), b: (CompId, &Sphere), delta: &[f64]) -> f64 {
+    let lca = common_ancestor(k, a.0, b.0);
+    bound_below(k, poser, a.0, a.1, delta, lca) + bound_below(k, poser, b.0, b.1, delta, lca)
+}
+
+/// [`bound_from`] over the joints from `comp` up to, not including, `stop`.
+fn bound_below(
+    k: &Kinematics,
+    poser: &Poser,
+    comp: CompId,
+    sphere: &Sphere,
+    delta: &[f64],
+    stop: Option<CompId>,
+) -> f64 {
     if comp >= k.components.len() {
         return 0.0;
     }
@@ -145,13 +189,15 @@ pub fn bound_from(k: &Kinematics, poser: &Poser, comp: CompId, sphere: &Sphere, 
     let mut d = 0.0f64;
     let mut at = Some(comp);
     while let Some(i) = at {
+        if Some(i) == stop {
+            break;
+        }
         let ci = &k.components[i];
         if let Some(a) = ci.axis {
             let delta = delta.get(a).copied().unwrap_or(0.0);
             match &k.axes[a].kind {
                 AxisKind::Linear { .. } => d += delta.abs(),
                 AxisKind::Rotary { origin, dir } => {
-                    // The joint's frame: the parent's world pose times the mount, at v0.
                     let frame = ci.parent.map_or(crate::kin::Iso::identity(), |p| *poser.world(p)) * ci.mount;
                     let o = frame * origin;
                     let u: Vector3<f64> = frame.rotation * dir.into_inner();
@@ -196,10 +242,12 @@ pub fn first_contact(
 
 /// [`first_contact`] given a lower bound `start_gap` of the pair's gap at the path's start (0:
 /// none known), and returning with it a lower bound of the gap at its end (0 after a contact or
-/// when unknown). A pair whose known gap exceeds the most its parts can move over the whole
-/// path is clear without a distance query: the gap at the end is then at least their difference.
+/// when unknown) and the probes (overlap and distance queries) it spent. The broad phase first:
+/// the gap of the two parts' posed boxes at the start ([`box_gap`]) is a lower bound of the
+/// gap too, and a pair whose known gap exceeds the most its parts can move over the whole path
+/// is clear without a query (0 probes): the gap at the end is then at least their difference.
 /// (A run of short moves — the chords of polar interpolation — then costs one query now and
-/// then instead of one per move.)
+/// then instead of one per move; a tool far from a chuck costs none.)
 pub fn first_contact_from(
     k: &Kinematics,
     a: (CompId, &Shape3),
@@ -208,23 +256,23 @@ pub fn first_contact_from(
     eps: f64,
     min_step: f64,
     start_gap: f64,
-) -> (Advance, f64) {
+) -> (Advance, f64, u64) {
+    let mut poser = Poser::new(k);
+    let mut vals = Vec::with_capacity(k.axes.len());
+    let mut delta = Vec::with_capacity(k.axes.len());
+    path.at(0.0, &mut vals);
+    poser.pose(k, &vals);
+    let start_gap = start_gap.max(box_gap(a.1, poser.world(a.0), b.1, poser.world(b.0)));
     if start_gap > 0.0 {
-        let mut poser = Poser::new(k);
-        let mut vals = Vec::with_capacity(k.axes.len());
-        let mut delta = Vec::with_capacity(k.axes.len());
-        path.at(0.0, &mut vals);
-        poser.pose(k, &vals);
         path.deltas(0.0, 1.0, &mut delta);
-        let reach =
-            bound_from(k, &poser, a.0, &a.1.sphere(), &delta) + bound_from(k, &poser, b.0, &b.1.sphere(), &delta);
+        let reach = pair_bound(k, &poser, (a.0, &a.1.sphere()), (b.0, &b.1.sphere()), &delta);
         if reach.is_finite() && start_gap - reach > 0.0 {
-            return (Advance::Clear, start_gap - reach);
+            return (Advance::Clear, start_gap - reach, 0);
         }
     }
     let mut end_gap = 0.0;
-    let adv = advance(k, a, b, path, eps, min_step, &mut end_gap);
-    (adv, end_gap)
+    let (adv, probes) = advance(k, a, b, path, eps, min_step, &mut end_gap);
+    (adv, end_gap, probes)
 }
 
 fn advance(
@@ -235,7 +283,7 @@ fn advance(
     eps: f64,
     min_step: f64,
     end_gap: &mut f64,
-) -> Advance {
+) -> (Advance, u64) {
     let mut poser = Poser::new(k);
     let mut vals = Vec::with_capacity(k.axes.len());
     let mut delta = Vec::with_capacity(k.axes.len());
@@ -259,19 +307,19 @@ fn advance(
     loop {
         probes += 1;
         if probes > MAX_PROBES {
-            return Advance::Unchecked { u };
+            return (Advance::Unchecked { u }, probes);
         }
         let (hit, d) = probe(u, true, &mut poser);
         if let Some(h) = hit {
             if u == 0.0 {
-                return Advance::Contact { u, hit: h };
+                return (Advance::Contact { u, hit: h }, probes);
             }
             // Bisect the boundary between the last clear probe and this one.
             let (mut lo, mut hi, mut best) = (prev, u, h);
             while hi - lo > BISECT_U {
                 probes += 1;
                 if probes > MAX_PROBES {
-                    return Advance::Unchecked { u: lo };
+                    return (Advance::Unchecked { u: lo }, probes);
                 }
                 let mid = lo + (hi - lo) / 2.0;
                 if mid <= lo || mid >= hi {
@@ -282,21 +330,20 @@ fn advance(
                     None => lo = mid,
                 }
             }
-            return Advance::Contact { u: hi, hit: best };
+            return (Advance::Contact { u: hi, hit: best }, probes);
         }
         if u >= 1.0 {
             *end_gap = d;
-            return Advance::Clear;
+            return (Advance::Clear, probes);
         }
         path.deltas(u, 1.0, &mut delta);
-        let rate = (bound_from(k, &poser, a.0, &spheres.0, &delta) + bound_from(k, &poser, b.0, &spheres.1, &delta))
-            / (1.0 - u);
+        let rate = pair_bound(k, &poser, (a.0, &spheres.0), (b.0, &spheres.1), &delta) / (1.0 - u);
         if rate == 0.0 {
             *end_gap = d;
-            return Advance::Clear; // nothing moves for the rest of the move
+            return (Advance::Clear, probes); // nothing moves for the rest of the move
         }
         if !rate.is_finite() || d.is_nan() {
-            return Advance::Unchecked { u };
+            return (Advance::Unchecked { u }, probes);
         }
         let step = d.max(min_step) / rate;
         prev = u;

@@ -39,7 +39,7 @@ use crate::kin::{Axis, AxisId, AxisKind, CompId, Kinematics};
 use crate::motion::{self, Timed};
 
 /// The index axis of a tree, once found or added.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct IndexAxis {
     pub axis: AxisId,
     pub carrier: CompId,
@@ -103,7 +103,7 @@ impl Three {
     /// Add the index axis to the carrier (see the module docs), once. `None`: the tree has no tools
     /// by station, or a program axis already moves the carrier (a milling head's B swivel): the T
     /// word is then swept in 2D.
-    fn index_axis(&mut self, turret_axis: f64) -> Option<IndexAxis> {
+    pub(super) fn index_axis(&mut self, turret_axis: f64) -> Option<IndexAxis> {
         if let Some(ix) = self.index {
             return Some(ix);
         }
@@ -219,8 +219,13 @@ impl super::Checker<'_> {
                     self.stock_advance(three, &path, a)
                 } else {
                     let (sa, sb) = (three.shapes[a].as_ref().unwrap(), three.shapes[b].as_ref().unwrap());
-                    (collide3::first_contact(&k, (a, sa), (b, sb), &path, 2.0 * tol, tol), 1)
+                    let (adv, _, probes) =
+                        collide3::first_contact_from(&k, (a, sa), (b, sb), &path, 2.0 * tol, tol, 0.0);
+                    (adv, probes)
                 };
+                if res.1 == 0 {
+                    self.stats.pair_tests_skipped += 1;
+                }
                 self.stats.pair_tests += res.1;
                 match res.0 {
                     Advance::Clear => {}

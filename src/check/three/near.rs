@@ -17,7 +17,7 @@
 //! (`docs/findings/near_miss.md`): `collide3::stock_gap` is a lower bound of the gap (column by
 //! column, triangles boxed), good for proving skips but not for stating a closest gap.
 
-use crate::collide3::{self, bound_from, Path, Shape3, MAX_PROBES};
+use crate::collide3::{self, pair_bound, Path, Shape3, MAX_PROBES};
 use crate::kin::{CompId, Kinematics, Poser};
 
 /// One stretch of a move where the pair was within the clearance.
@@ -108,8 +108,7 @@ pub(crate) fn scan(
             break;
         }
         path.deltas(u, 1.0, &mut delta);
-        let rate = (bound_from(k, &poser, a.0, &spheres.0, &delta) + bound_from(k, &poser, b.0, &spheres.1, &delta))
-            / (1.0 - u);
+        let rate = pair_bound(k, &poser, (a.0, &spheres.0), (b.0, &spheres.1), &delta) / (1.0 - u);
         if rate == 0.0 {
             // Nothing moves for the rest of the move: as it is now, so it stays.
             if let Some(s) = open.as_mut() {
