@@ -104,3 +104,77 @@ fn a_program_that_uses_up_its_work_budget_says_where_the_check_stopped() {
     assert_eq!(stop[0].kind, Kind::Program);
     assert!(out.stats.pair_tests < 1_000, "{}", out.stats.pair_tests);
 }
+
+/// A hostile program of `tests/fixtures/hostile/`, checked on the machine its name says
+/// (`lcnc_…`: the small LinuxCNC lathe, `tm_…`: the turn-mill machine, else the built-in one).
+fn hostile(name: &str) -> pipeline::Outcome {
+    hostile_with(name, Settings::default())
+}
+
+fn hostile_with(name: &str, settings: Settings) -> pipeline::Outcome {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let src = std::fs::read(root.join("tests/fixtures/hostile").join(name)).unwrap();
+    pipeline::check(&src, &hostile_machine(name), &settings)
+}
+
+fn hostile_machine(name: &str) -> Machine {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let file = if name.starts_with("lcnc_") {
+        "machines/linuxcnc-small-lathe.toml"
+    } else if name.starts_with("tm_") {
+        "machines/turn-mill.toml"
+    } else {
+        return Machine::builtin();
+    };
+    let path = root.join(file);
+    let dir = path.parent().unwrap().to_path_buf();
+    let text = std::fs::read_to_string(&path).unwrap();
+    latheguard::machine::from_toml_with(&text, file, &move |n: &str| {
+        std::fs::read(dir.join(n)).map_err(|e| e.to_string())
+    })
+    .unwrap()
+}
+
+/// The `program` findings of an outcome whose message holds `words`, as their lines.
+fn program_lines(out: &pipeline::Outcome, words: &str) -> Vec<u32> {
+    out.findings
+        .iter()
+        .filter(|f| f.kind == Kind::Program && f.message.contains(words))
+        .map(|f| f.line)
+        .collect()
+}
+
+#[test]
+fn an_arc_radius_or_centre_past_the_range_is_a_program_error_and_ends() {
+    // Each once hung the checker (R ≥ 1e16, a centre 1e20 or 1e40 away) or was accepted with a
+    // NaN centre (R1e155): the range of plain moves (±1e12 mm) holds for R, I, K and the centre.
+    for (name, line) in [
+        ("arc_radius_1e16.nc", 7),
+        ("arc_radius_1e155.nc", 7),
+        ("arc_centre_k1e40.nc", 7),
+        ("arc_centre_i1e20.nc", 7),
+        ("lcnc_arc_radius_1e20.nc", 7),
+    ] {
+        let out = hostile(name);
+        assert_eq!(program_lines(&out, "out of any range"), [line], "{name}: {:?}", out.findings);
+        assert!(out.stats.pair_tests < 100_000, "{name}: {} pair tests", out.stats.pair_tests);
+        assert!(out.stats.steps < 100_000, "{name}: {} steps", out.stats.steps);
+    }
+}
+
+#[test]
+fn a_cycle_word_past_the_range_is_a_program_error_and_ends() {
+    // The cycle's moves reach the words' points: each once hung the checker.
+    for (name, line) in [
+        ("cycle_g76_i1e40.nc", 7),
+        ("cycle_g90_r1e20.nc", 6),
+        ("cycle_g84_r1e20.nc", 7),
+        ("lcnc_cycle_g84_r1e20.nc", 9),
+        ("lcnc_cycle_g76_i1e20.nc", 8),
+    ] {
+        let out = hostile(name);
+        assert_eq!(program_lines(&out, "out of any range"), [line], "{name}: {:?}", out.findings);
+        assert!(out.stats.pair_tests < 100_000, "{name}: {} pair tests", out.stats.pair_tests);
+        assert!(out.stats.steps < 100_000, "{name}: {} steps", out.stats.steps);
+    }
+}

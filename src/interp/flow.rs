@@ -246,6 +246,10 @@ pub(crate) struct Run<'a> {
     pub main_repeats: HashMap<usize, u64>,
     /// `Y0` was already reported once.
     pub y_reported: bool,
+    /// The block (its address) one of whose moves went out of range ([`super::MAX_COORD`]): its
+    /// later moves are not made either (a cycle stops at its first such move). Cleared before
+    /// each block of the program's flow.
+    pub(super) out_of_range: Option<usize>,
     /// The "no motion mode" problem was already reported.
     pub motion_reported: bool,
     /// Take [`Run::plain_block`] for the blocks it serves (off only in tests that compare).
@@ -339,6 +343,7 @@ impl<'a> Run<'a> {
             saved_modal: None,
             main_repeats: HashMap::new(),
             y_reported: false,
+            out_of_range: None,
             motion_reported: false,
             words: None,
             cycles: Default::default(),
@@ -445,6 +450,7 @@ impl<'a> Run<'a> {
             }
             self.current_line = b.line;
             self.pc = i + 1;
+            self.out_of_range = None;
             if b.bad {
                 continue;
             }
