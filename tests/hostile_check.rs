@@ -178,3 +178,18 @@ fn a_cycle_word_past_the_range_is_a_program_error_and_ends() {
         assert!(out.stats.steps < 100_000, "{name}: {} steps", out.stats.steps);
     }
 }
+
+#[test]
+fn a_loop_that_divides_by_zero_stops_at_the_alarm() {
+    // Fanuc alarms (PS0112 "divided by zero") and LinuxCNC aborts: the run ends there, where it
+    // once went on to the block budget (2 million blocks, 727k moves).
+    for (name, line) in [
+        ("macro_while_divides_by_zero.nc", 9),
+        ("lcnc_owhile_divides_by_zero.nc", 8),
+    ] {
+        let out = hostile(name);
+        assert_eq!(program_lines(&out, "division by zero"), [line], "{name}: {:?}", out.findings);
+        assert!(out.stats.blocks < 20, "{name}: {} blocks", out.stats.blocks);
+        assert!(out.stats.moves < 10, "{name}: {} moves", out.stats.moves);
+    }
+}

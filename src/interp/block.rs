@@ -725,7 +725,7 @@ impl Run<'_> {
                 Ok(Some(v)) => v,
                 Ok(None) => continue, // Fanuc: a vacant value leaves the word out
                 Err(m) => {
-                    self.error(b, Some(word.at), m);
+                    self.eval_error(b, Some(word.at), m);
                     ok = false;
                     continue;
                 }
@@ -841,14 +841,15 @@ impl Run<'_> {
                 match self.eval_assign(a.value) {
                     Ok(v) => vals.push((a.target, v, a.span.start)),
                     Err(m) => {
-                        self.error(b, Some(a.span.start), m);
+                        self.eval_error(b, Some(a.span.start), m);
                         return;
                     }
                 }
             }
             for (t, v, at) in vals {
                 if let Err(m) = self.assign(t, v) {
-                    self.error(b, Some(at), m);
+                    self.eval_error(b, Some(at), m);
+                    return;
                 }
             }
         }

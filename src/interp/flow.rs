@@ -404,6 +404,20 @@ impl<'a> Run<'a> {
         self.report(Finding::program(b.line, col, msg).with_n(b.n()));
     }
 
+    /// A value the control cannot compute (division by zero, a function outside its domain, a
+    /// parameter number out of range, …): a `program` finding at `b`, and the run stops, as the
+    /// control stops with an alarm (Fanuc) or aborts the program (LinuxCNC) — nothing after it
+    /// runs (docs/macro-b.md, docs/reference-rs274.md). A failure on a variable latheguard does
+    /// not model is an `unsupported` finding and the run goes on (`error`).
+    pub(crate) fn eval_error(&mut self, b: &Block, col_offset: Option<u32>, msg: String) {
+        if self.macro_b.as_ref().is_some_and(|m| m.unsupported.get()) {
+            self.error(b, col_offset, msg);
+            return;
+        }
+        self.error(b, col_offset, format!("{msg}: the control stops here with an alarm (nothing after it runs)"));
+        self.stopped = true;
+    }
+
     /// Keep a finding of the run, once, up to the cap.
     pub(crate) fn report_finding(&mut self, f: Finding) {
         self.report(f);
@@ -540,7 +554,7 @@ impl<'a> Run<'a> {
         match self.eval(e) {
             Ok(v) => Some(v != 0.0),
             Err(m) => {
-                self.error(b, None, m);
+                self.eval_error(b, None, m);
                 None
             }
         }
@@ -565,7 +579,7 @@ impl<'a> Run<'a> {
                             self.last_value = x;
                             self.value_returned = true;
                         }
-                        Err(m) => self.error(b, None, m),
+                        Err(m) => self.eval_error(b, None, m),
                     }
                 } else {
                     self.value_returned = false;
@@ -610,7 +624,7 @@ impl<'a> Run<'a> {
                             0
                         }
                         Err(m) => {
-                            self.error(b, None, m);
+                            self.eval_error(b, None, m);
                             0
                         }
                     },
@@ -723,7 +737,7 @@ impl<'a> Run<'a> {
             match self.eval(a) {
                 Ok(v) => values.push(v),
                 Err(m) => {
-                    self.error(b, Some(at), m);
+                    self.eval_error(b, Some(at), m);
                     return;
                 }
             }
