@@ -193,3 +193,23 @@ fn a_loop_that_divides_by_zero_stops_at_the_alarm() {
         assert!(out.stats.moves < 10, "{name}: {} moves", out.stats.moves);
     }
 }
+
+#[test]
+fn c_turned_many_times_costs_what_one_or_two_turns_cost() {
+    // The drill grooves the bar while C turns: once, ten times, 1e11 degrees. After a whole turn
+    // with nothing else moving nothing new can happen: the milled grid is cut for one turn and
+    // the 3D path follows at most two (it once cost 5 ms a degree: C36000 over 100 s).
+    let one = hostile("tm_c_one_turn.nc").stats;
+    let ten = hostile("tm_c_ten_turns.nc").stats;
+    let huge = hostile("tm_c_1e11.nc").stats;
+    assert!(one.grid_rays > 0, "the drill cuts: {one:?}");
+    assert_eq!((ten.grid_rays, ten.pair_tests), (one.grid_rays, one.pair_tests));
+    assert_eq!(huge.grid_rays, one.grid_rays);
+    assert!(huge.pair_tests <= 2 * one.pair_tests, "{huge:?} against {one:?}");
+}
+
+#[test]
+fn a_c_word_past_the_range_is_a_program_error() {
+    let out = hostile("tm_c_past_the_range.nc");
+    assert_eq!(program_lines(&out, "out of any range"), [11], "{:?}", out.findings);
+}
