@@ -213,3 +213,26 @@ fn a_c_word_past_the_range_is_a_program_error() {
     let out = hostile("tm_c_past_the_range.nc");
     assert_eq!(program_lines(&out, "out of any range"), [11], "{:?}", out.findings);
 }
+
+#[test]
+fn polar_chords_near_the_axis_follow_the_tolerance_not_the_angle() {
+    // Line 11 of each: an 80 mm line through the axis (it made 11,520 chords), one passing
+    // 0.5 mm from it (3,286), a 4e-7 mm move across it (11,520). About a chord a millimetre,
+    // at most 1° of C each away from the axis, and a C turn at X0 where the line crosses it.
+    for (name, most) in [
+        ("tm_polar_through_the_axis.nc", 90),
+        ("tm_polar_beside_the_axis.nc", 200),
+        ("tm_polar_tiny_at_the_axis.nc", 2),
+    ] {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let src = std::fs::read(root.join("tests/fixtures/hostile").join(name)).unwrap();
+        let (_, run) = pipeline::interpret(&src, &hostile_machine(name));
+        let chords = run.moves.iter().filter(|m| m.line == 11).count();
+        assert!((1..=most).contains(&chords), "{name}: {chords} chords");
+        assert!(
+            run.findings.iter().all(|f| f.severity != latheguard::finding::Severity::Error),
+            "{name}: {:?}",
+            run.findings
+        );
+    }
+}
