@@ -156,8 +156,17 @@ fn an_arc_radius_or_centre_past_the_range_is_a_program_error_and_ends() {
         ("lcnc_arc_radius_1e20.nc", 7),
     ] {
         let out = hostile(name);
-        assert_eq!(program_lines(&out, "out of any range"), [line], "{name}: {:?}", out.findings);
-        assert!(out.stats.pair_tests < 100_000, "{name}: {} pair tests", out.stats.pair_tests);
+        assert_eq!(
+            program_lines(&out, "out of any range"),
+            [line],
+            "{name}: {:?}",
+            out.findings
+        );
+        assert!(
+            out.stats.pair_tests < 100_000,
+            "{name}: {} pair tests",
+            out.stats.pair_tests
+        );
         assert!(out.stats.steps < 100_000, "{name}: {} steps", out.stats.steps);
     }
 }
@@ -173,8 +182,17 @@ fn a_cycle_word_past_the_range_is_a_program_error_and_ends() {
         ("lcnc_cycle_g76_i1e20.nc", 8),
     ] {
         let out = hostile(name);
-        assert_eq!(program_lines(&out, "out of any range"), [line], "{name}: {:?}", out.findings);
-        assert!(out.stats.pair_tests < 100_000, "{name}: {} pair tests", out.stats.pair_tests);
+        assert_eq!(
+            program_lines(&out, "out of any range"),
+            [line],
+            "{name}: {:?}",
+            out.findings
+        );
+        assert!(
+            out.stats.pair_tests < 100_000,
+            "{name}: {} pair tests",
+            out.stats.pair_tests
+        );
         assert!(out.stats.steps < 100_000, "{name}: {} steps", out.stats.steps);
     }
 }
@@ -188,7 +206,12 @@ fn a_loop_that_divides_by_zero_stops_at_the_alarm() {
         ("lcnc_owhile_divides_by_zero.nc", 8),
     ] {
         let out = hostile(name);
-        assert_eq!(program_lines(&out, "division by zero"), [line], "{name}: {:?}", out.findings);
+        assert_eq!(
+            program_lines(&out, "division by zero"),
+            [line],
+            "{name}: {:?}",
+            out.findings
+        );
         assert!(out.stats.blocks < 20, "{name}: {} blocks", out.stats.blocks);
         assert!(out.stats.moves < 10, "{name}: {} moves", out.stats.moves);
     }
@@ -230,7 +253,9 @@ fn polar_chords_near_the_axis_follow_the_tolerance_not_the_angle() {
         let chords = run.moves.iter().filter(|m| m.line == 11).count();
         assert!((1..=most).contains(&chords), "{name}: {chords} chords");
         assert!(
-            run.findings.iter().all(|f| f.severity != latheguard::finding::Severity::Error),
+            run.findings
+                .iter()
+                .all(|f| f.severity != latheguard::finding::Severity::Error),
             "{name}: {:?}",
             run.findings
         );

@@ -892,7 +892,7 @@ impl Three {
 /// any other move.
 fn first_turns(m: &Move, e: &ExtraMove, item: &Timed) -> Option<(ExtraMove, Timed)> {
     let dc = e.end[1] - e.start[1];
-    if !only_c_turns(m, e) || !(dc.abs() > 720.0) {
+    if !only_c_turns(m, e) || dc.is_nan() || dc.abs() <= 720.0 {
         return None;
     }
     let turn = (360.0 + dc.abs().rem_euclid(360.0)).copysign(dc);

@@ -6,8 +6,8 @@
 //! error, by less it becomes a semicircle. Everything here is in mm; the caller converts the
 //! tolerances of inch programs.
 
-use crate::geom::P2;
 use super::MAX_COORD;
+use crate::geom::P2;
 use std::f64::consts::{PI, TAU};
 
 /// The arc tolerances in mm for the program's units.

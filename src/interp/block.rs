@@ -361,10 +361,10 @@ impl Run<'_> {
             MoveKind::Arc { center, .. } => center,
             _ => start,
         };
-        if !(in_range(start) && in_range(end) && in_range(center)) || self.out_of_range.is_some() {
-            if self.move_out_of_range(b, start, end, center) {
-                return;
-            }
+        if (!(in_range(start) && in_range(end) && in_range(center)) || self.out_of_range.is_some())
+            && self.move_out_of_range(b, start, end, center)
+        {
+            return;
         }
         if matches!(kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }) {
             self.reference = end - self.tip();

@@ -414,7 +414,11 @@ impl<'a> Run<'a> {
             self.error(b, col_offset, msg);
             return;
         }
-        self.error(b, col_offset, format!("{msg}: the control stops here with an alarm (nothing after it runs)"));
+        self.error(
+            b,
+            col_offset,
+            format!("{msg}: the control stops here with an alarm (nothing after it runs)"),
+        );
         self.stopped = true;
     }
 

@@ -138,7 +138,7 @@ impl Run<'_> {
         };
         let ex = if had_x { end.x } else { p.x };
         let ec = c_word.map_or(p.c, |c| c * s);
-        if !(ec.abs() <= super::MAX_COORD) {
+        if !super::in_range_value(ec) {
             self.error(b, w.at(b'C'), "the target point is out of any range".into());
             return;
         }
