@@ -79,6 +79,10 @@ pub enum Mode {
     Exact,
 }
 
+fn is_zero(n: &u64) -> bool {
+    *n == 0
+}
+
 /// What a check cost and which effects ran (the JSON report's `stats`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Stats {
@@ -90,6 +94,10 @@ pub struct Stats {
     pub steps: u64,
     pub pair_tests: u64,
     pub pair_tests_skipped: u64,
+    /// Rays the milled stock's cuts cast into its grids (`grid`): the work of milling, shown only
+    /// when a program milled.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub grid_rays: u64,
     pub effects: Vec<String>,
     pub elapsed_ms: f64,
     /// With `machine.dialect = "auto"`: the dialect chosen for this program and why (the

@@ -113,6 +113,36 @@ fn machine_in(text: &str, dir: std::path::PathBuf, name: &str) -> Machine {
     .unwrap()
 }
 
+/// A hostile program of `tests/fixtures/hostile/`, checked on the machine its name says
+/// (`lcnc_…`: the small LinuxCNC lathe, `tm_…`: the turn-mill machine, else the built-in one).
+fn hostile(name: &str) -> pipeline::Outcome {
+    hostile_with(name, Settings::default())
+}
+
+fn hostile_with(name: &str, settings: Settings) -> pipeline::Outcome {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let src = std::fs::read(root.join("tests/fixtures/hostile").join(name)).unwrap();
+    pipeline::check(&src, &hostile_machine(name), &settings)
+}
+
+fn hostile_machine(name: &str) -> Machine {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let file = if name.starts_with("lcnc_") {
+        "machines/linuxcnc-small-lathe.toml"
+    } else if name.starts_with("tm_") {
+        "machines/turn-mill.toml"
+    } else {
+        return Machine::builtin();
+    };
+    let path = root.join(file);
+    let dir = path.parent().unwrap().to_path_buf();
+    let text = std::fs::read_to_string(&path).unwrap();
+    latheguard::machine::from_toml_with(&text, file, &move |n: &str| {
+        std::fs::read(dir.join(n)).map_err(|e| e.to_string())
+    })
+    .unwrap()
+}
+
 fn root() -> std::path::PathBuf {
     std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -215,4 +245,131 @@ fn a_ten_thousand_point_chuck_outline_keeps_the_3d_index_check_bounded() {
         b.stats.pair_tests,
         a.stats.pair_tests
     );
+}
+
+/// The `program` findings of an outcome whose message holds `words`, as their lines.
+fn program_lines(out: &pipeline::Outcome, words: &str) -> Vec<u32> {
+    out.findings
+        .iter()
+        .filter(|f| f.kind == Kind::Program && f.message.contains(words))
+        .map(|f| f.line)
+        .collect()
+}
+
+#[test]
+fn an_arc_radius_or_centre_past_the_range_is_a_program_error_and_ends() {
+    // Each once hung the checker (R ≥ 1e16, a centre 1e20 or 1e40 away) or was accepted with a
+    // NaN centre (R1e155): the range of plain moves (±1e12 mm) holds for R, I, K and the centre.
+    for (name, line) in [
+        ("arc_radius_1e16.nc", 7),
+        ("arc_radius_1e155.nc", 7),
+        ("arc_centre_k1e40.nc", 7),
+        ("arc_centre_i1e20.nc", 7),
+        ("lcnc_arc_radius_1e20.nc", 7),
+    ] {
+        let out = hostile(name);
+        assert_eq!(
+            program_lines(&out, "out of any range"),
+            [line],
+            "{name}: {:?}",
+            out.findings
+        );
+        assert!(
+            out.stats.pair_tests < 100_000,
+            "{name}: {} pair tests",
+            out.stats.pair_tests
+        );
+        assert!(out.stats.steps < 100_000, "{name}: {} steps", out.stats.steps);
+    }
+}
+
+#[test]
+fn a_cycle_word_past_the_range_is_a_program_error_and_ends() {
+    // The cycle's moves reach the words' points: each once hung the checker.
+    for (name, line) in [
+        ("cycle_g76_i1e40.nc", 7),
+        ("cycle_g90_r1e20.nc", 6),
+        ("cycle_g84_r1e20.nc", 7),
+        ("lcnc_cycle_g84_r1e20.nc", 9),
+        ("lcnc_cycle_g76_i1e20.nc", 8),
+    ] {
+        let out = hostile(name);
+        assert_eq!(
+            program_lines(&out, "out of any range"),
+            [line],
+            "{name}: {:?}",
+            out.findings
+        );
+        assert!(
+            out.stats.pair_tests < 100_000,
+            "{name}: {} pair tests",
+            out.stats.pair_tests
+        );
+        assert!(out.stats.steps < 100_000, "{name}: {} steps", out.stats.steps);
+    }
+}
+
+#[test]
+fn a_loop_that_divides_by_zero_stops_at_the_alarm() {
+    // Fanuc alarms (PS0112 "divided by zero") and LinuxCNC aborts: the run ends there, where it
+    // once went on to the block budget (2 million blocks, 727k moves).
+    for (name, line) in [
+        ("macro_while_divides_by_zero.nc", 9),
+        ("lcnc_owhile_divides_by_zero.nc", 8),
+    ] {
+        let out = hostile(name);
+        assert_eq!(
+            program_lines(&out, "division by zero"),
+            [line],
+            "{name}: {:?}",
+            out.findings
+        );
+        assert!(out.stats.blocks < 20, "{name}: {} blocks", out.stats.blocks);
+        assert!(out.stats.moves < 10, "{name}: {} moves", out.stats.moves);
+    }
+}
+
+#[test]
+fn c_turned_many_times_costs_what_one_or_two_turns_cost() {
+    // The drill grooves the bar while C turns: once, ten times, 1e11 degrees. After a whole turn
+    // with nothing else moving nothing new can happen: the milled grid is cut for one turn and
+    // the 3D path follows at most two (it once cost 5 ms a degree: C36000 over 100 s).
+    let one = hostile("tm_c_one_turn.nc").stats;
+    let ten = hostile("tm_c_ten_turns.nc").stats;
+    let huge = hostile("tm_c_1e11.nc").stats;
+    assert!(one.grid_rays > 0, "the drill cuts: {one:?}");
+    assert_eq!((ten.grid_rays, ten.pair_tests), (one.grid_rays, one.pair_tests));
+    assert_eq!(huge.grid_rays, one.grid_rays);
+    assert!(huge.pair_tests <= 2 * one.pair_tests, "{huge:?} against {one:?}");
+}
+
+#[test]
+fn a_c_word_past_the_range_is_a_program_error() {
+    let out = hostile("tm_c_past_the_range.nc");
+    assert_eq!(program_lines(&out, "out of any range"), [11], "{:?}", out.findings);
+}
+
+#[test]
+fn polar_chords_near_the_axis_follow_the_tolerance_not_the_angle() {
+    // Line 11 of each: an 80 mm line through the axis (it made 11,520 chords), one passing
+    // 0.5 mm from it (3,286), a 4e-7 mm move across it (11,520). About a chord a millimetre,
+    // at most 1° of C each away from the axis, and a C turn at X0 where the line crosses it.
+    for (name, most) in [
+        ("tm_polar_through_the_axis.nc", 90),
+        ("tm_polar_beside_the_axis.nc", 200),
+        ("tm_polar_tiny_at_the_axis.nc", 2),
+    ] {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let src = std::fs::read(root.join("tests/fixtures/hostile").join(name)).unwrap();
+        let (_, run) = pipeline::interpret(&src, &hostile_machine(name));
+        let chords = run.moves.iter().filter(|m| m.line == 11).count();
+        assert!((1..=most).contains(&chords), "{name}: {chords} chords");
+        assert!(
+            run.findings
+                .iter()
+                .all(|f| f.severity != latheguard::finding::Severity::Error),
+            "{name}: {:?}",
+            run.findings
+        );
+    }
 }

@@ -238,8 +238,9 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
     if c.cut_any {
         stats.effects.push("stock_removal".into());
     }
-    if c.mill.is_some() {
+    if let Some(m) = &c.mill {
         stats.effects.push("grid_stock".into());
+        stats.grid_rays = m.stock.rays();
     }
     if c.indexed {
         stats.effects.push("turret_index".into());

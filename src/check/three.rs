@@ -416,12 +416,29 @@ impl Checker<'_> {
     /// [`Route::Hybrid`]); this path the rest.
     pub(super) fn three_move(&mut self, m: &Move, e: Option<&ExtraMove>, item: &Timed, hybrid: bool) {
         let Some(three) = self.three.take() else { return };
-        self.three_move_with(&three, m, e, item, hybrid);
+        match e.and_then(|e| first_turns(m, e, item)) {
+            Some((e1, item1)) => {
+                // The travel limits see the whole move; the parts, the turns that pose them all.
+                self.extra_overtravel(&three, m, e, item);
+                self.three_move_with(&three, m, Some(&e1), &item1, hybrid, false);
+            }
+            None => self.three_move_with(&three, m, e, item, hybrid, true),
+        }
         self.three = Some(three);
     }
 
-    fn three_move_with(&mut self, three: &Three, m: &Move, e: Option<&ExtraMove>, item: &Timed, hybrid: bool) {
-        self.extra_overtravel(three, m, e, item);
+    fn three_move_with(
+        &mut self,
+        three: &Three,
+        m: &Move,
+        e: Option<&ExtraMove>,
+        item: &Timed,
+        hybrid: bool,
+        overtravel: bool,
+    ) {
+        if overtravel {
+            self.extra_overtravel(three, m, e, item);
+        }
         let k = &three.kin;
         let active = m.station;
         let on = three.present(active, self.tailstock_in);
@@ -1085,6 +1102,32 @@ impl Three {
         let g = self.kin.components[i].geometry.as_ref()?;
         crate::kin::shape::mesh_of(g, tol.max(0.05)).ok().map(Arc::new)
     }
+}
+
+/// A move that only turns the main spindle (C) through more than a turn, everything else
+/// standing still, poses every part during its first turn as it ever will: after it, nothing new
+/// can happen. Its prefix in time that turns C by one turn and the part of a turn that brings C
+/// to the move's end modulo 360° (so the parts end where the whole move leaves them): the move
+/// the 3D path checks in its place, at a cost independent of the number of turns. `None` for
+/// any other move.
+fn first_turns(m: &Move, e: &ExtraMove, item: &Timed) -> Option<(ExtraMove, Timed)> {
+    let dc = e.end[1] - e.start[1];
+    if !only_c_turns(m, e) || dc.is_nan() || dc.abs() <= 720.0 {
+        return None;
+    }
+    let turn = (360.0 + dc.abs().rem_euclid(360.0)).copysign(dc);
+    let mut e1 = *e;
+    e1.end[1] = e.start[1] + turn;
+    let item1 = Timed {
+        duration: item.duration * (turn / dc),
+        ..item.clone()
+    };
+    Some((e1, item1))
+}
+
+/// The move turns C and nothing else moves: X, Z, Y, B and A stand, no arc.
+pub(super) fn only_c_turns(m: &Move, e: &ExtraMove) -> bool {
+    m.start == m.end && e.arc.is_none() && [0usize, 2, 3].iter().all(|&k| e.start[k] == e.end[k])
 }
 
 /// Per component: an axis on its way from the root is off its start value.

@@ -24,6 +24,8 @@ pub struct CylGrid {
     pub(crate) inner: Vec<f64>,
     /// The largest `R` per column (for quick rejects and the revolved envelope).
     pub(crate) col_max: Vec<f64>,
+    /// Rays cast by cuts so far (`Stock::rays`).
+    pub(crate) rays: u64,
 }
 
 impl CylGrid {
@@ -49,6 +51,7 @@ impl CylGrid {
             r,
             inner,
             col_max,
+            rays: 0,
         }
     }
 
@@ -126,12 +129,15 @@ impl CylGrid {
         };
         // The sweep reaches no nearer the axis than its box's distance from it.
         let reach = (sw.max.x.max(-sw.min.x)).hypot(sw.max.y.max(-sw.min.y));
+        // Nor nearer than the box's nearest point: material inside that radius is out of reach
+        // (a node's ray meets the sweep only beyond it, so this skips only rays that miss).
+        let near = (sw.min.x.max(-sw.max.x).max(0.0)).hypot(sw.min.y.max(-sw.max.y).max(0.0));
         let dth = std::f64::consts::TAU / self.nth as f64;
         let mut removed = 0.0;
         let mut changed: Option<(usize, usize)> = None;
         let arcs = self.angles(&sw.min, &sw.max);
         for j in j0..=j1 {
-            if self.col_max[j] <= self.inner[j] {
+            if self.col_max[j] <= self.inner[j] || self.col_max[j] + 1e-9 < near {
                 continue;
             }
             let z = self.z(j);
@@ -147,6 +153,7 @@ impl CylGrid {
                     let th = self.theta(i);
                     let u = Vector3::new(th.cos(), th.sin(), 0.0);
                     let o = Vector3::new(0.0, 0.0, z);
+                    self.rays += 1;
                     let Some((t_in, t_out)) = sw.ray(o, u, ri, rr.min(reach)) else {
                         continue;
                     };

@@ -28,6 +28,8 @@ pub struct FaceGrid {
     pub(crate) d: Vec<f64>,
     /// A box holding every sweep that removed something from this grid (world coordinates).
     pub(crate) touched: Option<(Vector3<f64>, Vector3<f64>)>,
+    /// Rays cast by cuts so far (`Stock::rays`).
+    pub(crate) rays: u64,
 }
 
 impl FaceGrid {
@@ -64,6 +66,7 @@ impl FaceGrid {
             thickness,
             d,
             touched: None,
+            rays: 0,
         }
     }
 
@@ -81,6 +84,7 @@ impl FaceGrid {
             thickness: 0.0,
             d: Vec::new(),
             touched: None,
+            rays: 0,
         }
     }
 
@@ -142,6 +146,7 @@ impl FaceGrid {
                     continue;
                 }
                 let o = self.node(i, j);
+                self.rays += 1;
                 let Some((t_in, t_out)) = sw.ray(o, self.n, lo[2].max(0.0), self.thickness) else {
                     continue;
                 };

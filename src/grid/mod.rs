@@ -190,6 +190,12 @@ impl Stock {
         self.run(sw, false)
     }
 
+    /// The rays the cuts (and measures) of this stock have cast into its grids: the work of its
+    /// cuts, whatever their size (`stats.grid_rays`).
+    pub fn rays(&self) -> u64 {
+        self.cyl.as_ref().map_or(0, |c| c.rays) + self.faces.iter().map(|f| f.rays).sum::<u64>()
+    }
+
     fn run(&mut self, sw: &Sweep, apply: bool) -> f64 {
         let step = self.air_step();
         let mut v = 0.0;

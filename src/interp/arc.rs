@@ -6,8 +6,9 @@
 //! error, by less it becomes a semicircle. Everything here is in mm; the caller converts the
 //! tolerances of inch programs.
 
+use super::MAX_COORD;
 use crate::geom::P2;
-use std::f64::consts::TAU;
+use std::f64::consts::{PI, TAU};
 
 /// The arc tolerances in mm for the program's units.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,6 +42,8 @@ pub enum ArcError {
     StartEqualsEnd,
     #[error("arc geometry is not finite")]
     NotFinite,
+    #[error("the arc's {what} is out of any range (beyond ±{max:e} mm)", max = super::MAX_COORD)]
+    OutOfRange { what: &'static str },
 }
 
 /// Signed sweep (positive counter-clockwise) of an arc from `start` to `end` about `center`.
@@ -53,6 +56,9 @@ pub fn arc_from_center(
     turns: u32,
     tol: ArcTolerance,
 ) -> Result<f64, ArcError> {
+    if !(center.x.abs() <= MAX_COORD && center.y.abs() <= MAX_COORD) {
+        return Err(ArcError::OutOfRange { what: "centre" });
+    }
     let r0 = (start - center).norm();
     let r1 = (end - center).norm();
     if !(r0.is_finite() && r1.is_finite()) {
@@ -104,6 +110,9 @@ pub fn arc_from_radius(
     if !radius.is_finite() {
         return Err(ArcError::NotFinite);
     }
+    if radius.abs() > MAX_COORD {
+        return Err(ArcError::OutOfRange { what: "radius" });
+    }
     if start == end {
         return Err(ArcError::StartEqualsEnd);
     }
@@ -128,7 +137,18 @@ pub fn arc_from_radius(
     // Counter-clockwise and at most 180°: the centre is to the left of start→end.
     let to_left = ccw == (radius > 0.0);
     let center = if to_left { mid + left * d } else { mid - left * d };
-    Ok((center, sweep_between(start, end, center, ccw, turns)))
+    if !(center.x.abs() <= MAX_COORD && center.y.abs() <= MAX_COORD) {
+        return Err(ArcError::OutOfRange { what: "centre" });
+    }
+    let mut sweep = sweep_between(start, end, center, ccw, turns);
+    let extra = TAU * (turns.max(1) - 1) as f64;
+    if radius > 0.0 && sweep.abs() - extra > PI + 1e-6 {
+        // The angles of the ends about a far centre differ by less than `sweep_between` tells
+        // from a whole turn; an R arc of R > 0 turns at most 180°: its true sweep.
+        let short = 2.0 * (half / r).min(1.0).asin();
+        sweep = (short + extra).copysign(sweep);
+    }
+    Ok((center, sweep))
 }
 
 #[cfg(test)]
@@ -169,5 +189,38 @@ mod tests {
         // half chord exceeds R by just under / over the tolerance
         assert!(arc_from_radius(p2(0.0, 0.0), p2(2.0, 0.0), 1.0 - 0.0012, true, 1, t).is_ok());
         assert!(arc_from_radius(p2(0.0, 0.0), p2(2.0, 0.0), 1.0 - 0.0013, true, 1, t).is_err());
+    }
+
+    #[test]
+    fn a_radius_or_centre_past_the_range_is_an_error() {
+        let t = ArcTolerance::MM;
+        let (s, e) = (p2(50.0, 0.0), p2(50.0, -100.0));
+        for r in [1e16, -1e16, 1e155, 1.0e12 + 1e6] {
+            assert_eq!(
+                arc_from_radius(s, e, r, true, 1, t),
+                Err(ArcError::OutOfRange { what: "radius" }),
+                "R{r}"
+            );
+        }
+        assert_eq!(
+            arc_from_center(s, s, p2(55.0, 1e40), true, 1, t),
+            Err(ArcError::OutOfRange { what: "centre" })
+        );
+        assert_eq!(
+            arc_from_center(s, e, p2(f64::NAN, 0.0), true, 1, t),
+            Err(ArcError::OutOfRange { what: "centre" })
+        );
+    }
+
+    #[test]
+    fn a_short_r_arc_about_a_far_centre_stays_short() {
+        // The ends' angles about the centre differ by ~1e-14: never a whole turn.
+        let (s, e) = (p2(50.0, 0.0), p2(50.0, -0.001));
+        for ccw in [true, false] {
+            let (_, sw) = arc_from_radius(s, e, 1e11, ccw, 1, ArcTolerance::MM).unwrap();
+            assert!(sw.abs() < 1e-12 && (sw > 0.0) == ccw, "{sw}");
+            let (_, sw) = arc_from_radius(s, e, 1e11, ccw, 3, ArcTolerance::MM).unwrap();
+            assert!((sw.abs() - 2.0 * TAU).abs() < 1e-9, "{sw}");
+        }
     }
 }

@@ -4,7 +4,7 @@ use super::arc::{arc_from_center, arc_from_radius, ArcTolerance};
 use super::comp;
 use super::flow::Run;
 use super::state::Motion;
-use super::{Feed, Move, MoveKind, MoveState, ProgFrame, Spindle, SpindleDir, SpindleSpeed};
+use super::{Feed, Move, MoveKind, MoveState, ProgFrame, Spindle, SpindleDir, SpindleSpeed, MAX_COORD};
 use crate::finding::{Finding, Kind, Severity};
 use crate::gcode::Block;
 use crate::geom::{P2, V2};
@@ -96,6 +96,12 @@ pub(super) struct Words {
     mbits: u128,
     /// Bits of letters some code used.
     used: u32,
+}
+
+/// A point within ±[`MAX_COORD`] mm on both axes (false for NaN).
+#[inline]
+pub(crate) fn in_range(p: P2) -> bool {
+    p.x.abs() <= MAX_COORD && p.y.abs() <= MAX_COORD
 }
 
 const fn bit(letter: u8) -> u32 {
@@ -351,6 +357,15 @@ impl Run<'_> {
     }
 
     pub(super) fn push_move(&mut self, b: &Block, kind: MoveKind, start: P2, end: P2, feed: Feed) {
+        let center = match kind {
+            MoveKind::Arc { center, .. } => center,
+            _ => start,
+        };
+        if (!(in_range(start) && in_range(end) && in_range(center)) || self.out_of_range.is_some())
+            && self.move_out_of_range(b, start, end, center)
+        {
+            return;
+        }
         if matches!(kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. }) {
             self.reference = end - self.tip();
         }
@@ -393,6 +408,30 @@ impl Run<'_> {
         }
         let count = self.moves.len().saturating_sub(first);
         self.record_extra(kind, first, count);
+    }
+
+    /// Whether a move of block `b` is refused: it goes out of range (a word of a cycle, a
+    /// computed point), or an earlier move of the block did. The first is reported at the block;
+    /// no later move of the block is made (a cycle stops at its first such move).
+    #[cold]
+    fn move_out_of_range(&mut self, b: &Block, start: P2, end: P2, center: P2) -> bool {
+        let key = b as *const Block as usize;
+        if self.out_of_range == Some(key) {
+            return true;
+        }
+        if in_range(start) && in_range(end) && in_range(center) {
+            return false;
+        }
+        self.out_of_range = Some(key);
+        self.error(
+            b,
+            None,
+            format!(
+                "a move of this block goes out of any range (a coordinate beyond ±{MAX_COORD:e} mm, or not a number): \
+                 it is not made, nor the rest of the block's moves"
+            ),
+        );
+        true
     }
 
     /// A move through nose-radius compensation (src/interp/comp.rs). An error of the control
@@ -686,7 +725,7 @@ impl Run<'_> {
                 Ok(Some(v)) => v,
                 Ok(None) => continue, // Fanuc: a vacant value leaves the word out
                 Err(m) => {
-                    self.error(b, Some(word.at), m);
+                    self.eval_error(b, Some(word.at), m);
                     ok = false;
                     continue;
                 }
@@ -807,14 +846,15 @@ impl Run<'_> {
                 match self.eval_assign(a.value) {
                     Ok(v) => vals.push((a.target, v, a.span.start)),
                     Err(m) => {
-                        self.error(b, Some(a.span.start), m);
+                        self.eval_error(b, Some(a.span.start), m);
                         return;
                     }
                 }
             }
             for (t, v, at) in vals {
                 if let Err(m) = self.assign(t, v) {
-                    self.error(b, Some(at), m);
+                    self.eval_error(b, Some(at), m);
+                    return;
                 }
             }
         }
@@ -1563,7 +1603,7 @@ impl Run<'_> {
                 );
             }
         }
-        if !(x.is_finite() && z.is_finite()) || x.abs() > 1e12 || z.abs() > 1e12 {
+        if !in_range(P2::new(x, z)) {
             self.error(b, None, "the target point is out of any range".into());
             return None;
         }

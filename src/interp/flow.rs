@@ -246,6 +246,10 @@ pub(crate) struct Run<'a> {
     pub main_repeats: HashMap<usize, u64>,
     /// `Y0` was already reported once.
     pub y_reported: bool,
+    /// The block (its address) one of whose moves went out of range ([`super::MAX_COORD`]): its
+    /// later moves are not made either (a cycle stops at its first such move). Cleared before
+    /// each block of the program's flow.
+    pub(super) out_of_range: Option<usize>,
     /// The "no motion mode" problem was already reported.
     pub motion_reported: bool,
     /// Take [`Run::plain_block`] for the blocks it serves (off only in tests that compare).
@@ -340,6 +344,7 @@ impl<'a> Run<'a> {
             saved_modal: None,
             main_repeats: HashMap::new(),
             y_reported: false,
+            out_of_range: None,
             motion_reported: false,
             words: None,
             cycles: Default::default(),
@@ -400,6 +405,24 @@ impl<'a> Run<'a> {
         self.report(Finding::program(b.line, col, msg).with_n(b.n()));
     }
 
+    /// A value the control cannot compute (division by zero, a function outside its domain, a
+    /// parameter number out of range, …): a `program` finding at `b`, and the run stops, as the
+    /// control stops with an alarm (Fanuc) or aborts the program (LinuxCNC) — nothing after it
+    /// runs (docs/macro-b.md, docs/reference-rs274.md). A failure on a variable latheguard does
+    /// not model is an `unsupported` finding and the run goes on (`error`).
+    pub(crate) fn eval_error(&mut self, b: &Block, col_offset: Option<u32>, msg: String) {
+        if self.macro_b.as_ref().is_some_and(|m| m.unsupported.get()) {
+            self.error(b, col_offset, msg);
+            return;
+        }
+        self.error(
+            b,
+            col_offset,
+            format!("{msg}: the control stops here with an alarm (nothing after it runs)"),
+        );
+        self.stopped = true;
+    }
+
     /// Keep a finding of the run, once, up to the cap.
     pub(crate) fn report_finding(&mut self, f: Finding) {
         self.report(f);
@@ -446,6 +469,7 @@ impl<'a> Run<'a> {
             }
             self.current_line = b.line;
             self.pc = i + 1;
+            self.out_of_range = None;
             if b.bad {
                 continue;
             }
@@ -535,7 +559,7 @@ impl<'a> Run<'a> {
         match self.eval(e) {
             Ok(v) => Some(v != 0.0),
             Err(m) => {
-                self.error(b, None, m);
+                self.eval_error(b, None, m);
                 None
             }
         }
@@ -560,7 +584,7 @@ impl<'a> Run<'a> {
                             self.last_value = x;
                             self.value_returned = true;
                         }
-                        Err(m) => self.error(b, None, m),
+                        Err(m) => self.eval_error(b, None, m),
                     }
                 } else {
                     self.value_returned = false;
@@ -605,7 +629,7 @@ impl<'a> Run<'a> {
                             0
                         }
                         Err(m) => {
-                            self.error(b, None, m);
+                            self.eval_error(b, None, m);
                             0
                         }
                     },
@@ -718,7 +742,7 @@ impl<'a> Run<'a> {
             match self.eval(a) {
                 Ok(v) => values.push(v),
                 Err(m) => {
-                    self.error(b, Some(at), m);
+                    self.eval_error(b, Some(at), m);
                     return;
                 }
             }

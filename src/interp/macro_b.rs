@@ -531,7 +531,7 @@ impl Run<'_> {
         match self.macro_eval(e) {
             Ok(v) => Some(v.is_some_and(|x| x != 0.0)),
             Err(m) => {
-                self.error(b, None, m);
+                self.eval_error(b, None, m);
                 None
             }
         }
@@ -596,7 +596,7 @@ impl Run<'_> {
                 return;
             }
             Err(m) => {
-                self.error(b, None, m);
+                self.eval_error(b, None, m);
                 self.stopped = true;
                 return;
             }
@@ -664,7 +664,7 @@ impl Run<'_> {
             let v = match self.word_value(w.value()) {
                 Ok(v) => v,
                 Err(m) => {
-                    self.error(b, Some(w.at), m);
+                    self.eval_error(b, Some(w.at), m);
                     return true;
                 }
             };

@@ -29,6 +29,18 @@ use crate::geom::{P2, V2};
 use crate::machine::Machine;
 
 pub use arc::{arc_from_center, arc_from_radius, ArcError, ArcTolerance};
+
+/// The range of every coordinate a move may reach, mm (and of the extra axes' values, in their
+/// units): a target point, an arc's radius and centre, a point a canned cycle computes from its
+/// words. Past it a block is a `program` finding and makes no move. Far beyond any machine, and
+/// small enough that the checker's arithmetic on it stays exact to well under a millimetre.
+pub const MAX_COORD: f64 = 1e12;
+
+/// A value within ±[`MAX_COORD`] (false for NaN).
+#[inline]
+pub(crate) fn in_range_value(v: f64) -> bool {
+    v.abs() <= MAX_COORD
+}
 pub(crate) use block::models_g;
 
 /// Direction of the spindle.

@@ -34,9 +34,13 @@ use super::{Feed, MoveKind};
 use crate::gcode::Block;
 use crate::geom::P2;
 
-/// Longest chord (mm) and widest one (degrees of C).
+/// Longest chord (mm), and widest one (degrees of C) where it keeps [`ANGLE_FROM_MM`] or more
+/// from the axis.
 const CHORD_MM: f64 = 1.0;
 const CHORD_DEG: f64 = 1.0;
+const ANGLE_FROM_MM: f64 = 1.0;
+/// How far a chord's X–C line may stray from the programmed contour (mm).
+const CHORD_TOL_MM: f64 = 0.005;
 /// Most chords one programmed move makes.
 const MAX_CHORDS: usize = 20_000;
 
@@ -134,6 +138,10 @@ impl Run<'_> {
         };
         let ex = if had_x { end.x } else { p.x };
         let ec = c_word.map_or(p.c, |c| c * s);
+        if !super::in_range_value(ec) {
+            self.error(b, w.at(b'C'), "the target point is out of any range".into());
+            return;
+        }
         let Some((ccw, f)) = self.contour_motion(b, "polar coordinate interpolation", "G13.1") else {
             return;
         };
@@ -196,38 +204,29 @@ impl Run<'_> {
     ) {
         let z0 = self.programmed().y;
         let path = contour_path(ps, pe, arc);
-        // Chords: fine enough in length and in the angle about the spindle axis.
-        // (The steepest 1/64 of the path sets the angle's share: the angle turns fastest where
-        // the path passes nearest the axis.)
-        let probe = 64;
-        let (mut len, mut turn) = (0.0f64, 0.0f64);
-        let mut prev = path(0.0);
-        for k in 1..=probe {
-            let q = path(k as f64 / probe as f64);
-            len += (q.x - prev.x).hypot(q.y - prev.y);
-            let (a0, a1) = (prev.y.atan2(prev.x), q.y.atan2(q.x));
-            let mut d = a1 - a0;
-            d -= std::f64::consts::TAU * (d / std::f64::consts::TAU).round();
-            turn = turn.max(probe as f64 * d.abs().to_degrees().min(180.0));
-            prev = q;
-        }
-        let n = ((len / CHORD_MM).max(turn / CHORD_DEG).ceil() as usize).clamp(1, MAX_CHORDS);
         let c_zero = self.tm.as_ref().map_or(0.0, |t| t.shift[1]);
         let mut c_prev = self.tm.as_ref().map_or(0.0, |t| t.pos[1]);
         let mut at = path(0.0);
-        for k in 1..=n {
-            let u = k as f64 / n as f64;
+        let mut ends = Vec::new();
+        chord_ends(&path, arc, &mut ends);
+        for u in ends {
             let q = path(u);
             let r = q.x.hypot(q.y);
             let z = z0 + (z_end - z0) * u;
             // The angle nearest the last C (the same point, unwrapped); on the axis C stays.
-            let c = if r < 1e-9 {
+            let c = if r < AXIS_MM {
                 c_prev
             } else {
                 let mut c = c_zero - q.y.atan2(q.x).to_degrees();
                 c += 360.0 * ((c_prev - c) / 360.0).round();
                 c
             };
+            if at.x.hypot(at.y) < AXIS_MM && (c - c_prev).abs() > 1e-9 {
+                // Leaving the axis: C turns there first, as on the control.
+                let mut e = extra;
+                e[1] = c;
+                self.push_chord(b, P2::new(0.0, self.programmed().y), e, 0.0, f);
+            }
             let mut e = extra;
             e[1] = c;
             let chord = (q.x - at.x).hypot(q.y - at.y).hypot(z - self.programmed().y);
@@ -236,6 +235,103 @@ impl Run<'_> {
             at = q;
         }
     }
+}
+
+/// A point this near the spindle axis (mm) is on it: its angle is the one C already has.
+const AXIS_MM: f64 = 1e-9;
+
+/// The path fractions (ascending, the last 1) where the chords of a polar move end: each chord
+/// at most [`CHORD_MM`] long, at most [`CHORD_DEG`] of C where it stays [`ANGLE_FROM_MM`] or more
+/// from the axis, and its X–C line — the radius and the angle each linear along it, which is how
+/// the control moves — within [`CHORD_TOL_MM`] of the programmed contour. Pieces are halved until
+/// they pass; a piece at most `CHORD_TOL_MM` long always passes (its X–C line stays within a few
+/// tolerances of it, even through the axis). So the count follows the geometry: the length, the
+/// turn of C away from the axis, and near the axis the tolerance (a few dozen chords where a line
+/// passes through it), never the angle there; at most [`MAX_CHORDS`] in all.
+fn chord_ends(path: &dyn Fn(f64) -> P2, arc: Option<(P2, f64)>, out: &mut Vec<f64>) {
+    // The path's length, and how far an arc piece strays from its chord per unit of fraction².
+    let (len, radius, sweep) = match arc {
+        Some((c, sweep)) => {
+            let p = path(0.0);
+            let r = (p.x - c.x).hypot(p.y - c.y);
+            (r * sweep.abs(), r, sweep.abs())
+        }
+        None => {
+            let (a, b) = (path(0.0), path(1.0));
+            ((b.x - a.x).hypot(b.y - a.y), 0.0, 0.0)
+        }
+    };
+    // First, pieces no longer than a chord may be (as many as the cap allows), then each halved
+    // as it needs, within what the cap leaves.
+    let n0 = ((len / CHORD_MM).ceil().max(1.0) as usize).min(MAX_CHORDS / 2);
+    let mut stack: Vec<(f64, f64, P2, P2)> = Vec::new();
+    for k in 0..n0 {
+        let (u0, u1) = (k as f64 / n0 as f64, (k + 1) as f64 / n0 as f64);
+        stack.clear();
+        stack.push((u0, u1, path(u0), path(u1)));
+        while let Some((u0, u1, q0, q1)) = stack.pop() {
+            let room = MAX_CHORDS.saturating_sub(out.len() + stack.len() + (n0 - k));
+            let parts = match chord_split(q0, q1, radius * (1.0 - (sweep * (u1 - u0) / 2.0).cos())) {
+                Some(parts) if room > 1 => parts.min(room),
+                _ => {
+                    out.push(u1);
+                    continue;
+                }
+            };
+            // The parts wait last first, so that they leave in order.
+            let mut q_hi = q1;
+            for j in (0..parts).rev() {
+                let ua = u0 + (u1 - u0) * j as f64 / parts as f64;
+                let qa = if j == 0 { q0 } else { path(ua) };
+                let ub = u0 + (u1 - u0) * (j + 1) as f64 / parts as f64;
+                stack.push((ua, ub, qa, q_hi));
+                q_hi = qa;
+            }
+        }
+    }
+}
+
+/// `None` when the chord from `q0` to `q1` of a path passes (see [`chord_ends`]), else into how
+/// many equal parts to cut its piece (2 to 64; a part may need cutting again); `sag` is how far
+/// the path itself strays from the segment `q0`–`q1`.
+fn chord_split(q0: P2, q1: P2, sag: f64) -> Option<usize> {
+    let len = (q1.x - q0.x).hypot(q1.y - q0.y);
+    if len <= CHORD_TOL_MM {
+        return None;
+    }
+    let (r0, r1) = (q0.x.hypot(q0.y), q1.x.hypot(q1.y));
+    let (mut a0, mut a1) = (q0.y.atan2(q0.x), q1.y.atan2(q1.x));
+    // From or to the axis the chord is radial (C turns on the axis, not along the chord).
+    if r0 < AXIS_MM {
+        a0 = a1;
+    }
+    if r1 < AXIS_MM {
+        a1 = a0;
+    }
+    let tau = std::f64::consts::TAU;
+    let mut da = a1 - a0;
+    da -= tau * (da / tau).round();
+    let mut need = len / CHORD_MM;
+    if r0.min(r1) >= ANGLE_FROM_MM {
+        need = need.max(da.abs().to_degrees() / CHORD_DEG);
+    }
+    // The X–C line at a quarter, the half and three quarters, against the segment: its
+    // distance shrinks with the square of the chord's length.
+    let (dx, dy) = (q1.x - q0.x, q1.y - q0.y);
+    let dev = [0.25, 0.5, 0.75]
+        .iter()
+        .map(|&t| {
+            let (r, a) = (r0 + (r1 - r0) * t, a0 + da * t);
+            let (px, py) = (r * a.cos() - q0.x, r * a.sin() - q0.y);
+            let s = ((px * dx + py * dy) / (len * len)).clamp(0.0, 1.0);
+            (px - s * dx).hypot(py - s * dy)
+        })
+        .fold(0.0f64, f64::max);
+    need = need.max(((dev + sag) / CHORD_TOL_MM).sqrt());
+    if need <= 1.0 {
+        return None;
+    }
+    Some((need.ceil() as usize).clamp(2, 64))
 }
 
 impl Run<'_> {

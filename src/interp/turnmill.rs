@@ -203,7 +203,7 @@ impl Run<'_> {
             } else {
                 shift[k] + v * unit
             };
-            if !out[k].is_finite() || out[k].abs() > 1e12 {
+            if !super::in_range_value(out[k]) {
                 self.error(b, at, "the target point is out of any range".into());
                 return None;
             }

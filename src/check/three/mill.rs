@@ -9,8 +9,10 @@
 //!   part's material, so the 2D checks stay on the safe side.
 //! - **Cuts.** A live cutter whose geometry is a cylinder (its tip at its `z0` end, its axis its
 //!   frame's z) feeding with the live tool turning and the spindle positioned sweeps the grid: the
-//!   move in the part's frame (the main spindle turned by C), one chord per ½° of C (or per 1/64
-//!   of an out-of-plane arc), each chord with the cutter's axis at its start. The sweep is applied
+//!   move in the part's frame (the main spindle turned by C), chords of C whose sagitta at the
+//!   stock's outer radius is at most half a node spacing, ½° to 10° (or 1/64 of an out-of-plane
+//!   arc), each chord with the cutter's axis at its start; C turning alone past a whole turn is cut
+//!   for one turn (it sweeps nothing more after it). The sweep is applied
 //!   after the move's pairs are checked: the move's other parts meet the stock as it was before it
 //!   (never a missed crash; a holder that follows its own cutter into the hole it cuts in the same
 //!   move would be judged against the uncut stock). Other cutters keep their plunge lines.
@@ -225,7 +227,13 @@ impl Checker<'_> {
             };
             self.mill = Some(mill);
         }
-        let c_turns = e.map_or(0.0, |e| (e.end[1] - e.start[1]).abs());
+        let mut c_turns = e.map_or(0.0, |e| (e.end[1] - e.start[1]).abs());
+        // C alone turning past a whole turn sweeps in its first turn all it ever sweeps.
+        let mut u_end = 1.0;
+        if c_turns > 360.0 && e.is_some_and(|e| super::only_c_turns(m, e)) {
+            u_end = 360.0 / c_turns;
+            c_turns = 360.0;
+        }
         // Chords of the turn: a chord strays inside the cutter's true arc by its sagitta, at
         // most half a node spacing at the stock's outer radius (within what the grid resolves;
         // outside the arc the chord removes less, never more).
@@ -255,7 +263,7 @@ impl Checker<'_> {
         let Some(mill) = self.mill.as_mut() else { return false };
         let (mut tip, mut axis) = at(0.0);
         for k in 1..=n {
-            let (t1, a1) = at(k as f64 / n as f64);
+            let (t1, a1) = at(u_end * k as f64 / n as f64);
             if let Some(sw) = Sweep::new(&tool, axis, tip, t1, tol.max(MIN_SPACING_MM)) {
                 mill.stock.cut(&sw);
             }

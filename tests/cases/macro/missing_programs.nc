@@ -5,6 +5,5 @@ M98 P7777
 G65 P8888 A1
 #1 = #1000 (an input signal: not modelled)
 #1012 = 1 (an output signal: not modelled)
-#2 = #50 (no such variable)
 GOTO 1234
 M30
