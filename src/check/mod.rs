@@ -15,6 +15,8 @@
 
 pub mod episodes;
 mod exact;
+#[cfg(test)]
+mod tests;
 mod three;
 
 use crate::finding::{Finding, Kind, Severity};
@@ -148,6 +150,13 @@ impl Cutting {
 
 /// Check a program's moves on a machine.
 pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> CheckResult {
+    check_capped(run, machine, settings, crate::finding::MAX_FINDINGS)
+}
+
+/// [`check`] for a report that keeps the first `cap` findings of a file in line order: a contact
+/// certainly left out is counted but measured only as far as the findings shown depend on it
+/// (`exact::Measure::Coarse`).
+fn check_capped(run: &Interpretation, machine: &Machine, settings: &Settings, cap: usize) -> CheckResult {
     let moves = &run.moves[..];
     let mut timer = motion::Timer::new(run, machine);
     let scene = Scene::new(machine, settings.tolerance_mm);
@@ -192,6 +201,7 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
         mill: None,
         gap3: None,
     };
+    c.episodes.cap = cap;
     c.static_pairs();
     for item in timer.by_ref() {
         if c.stats.pair_tests > settings.work_budget {
@@ -981,8 +991,8 @@ impl Checker<'_> {
                     .is_none()
             }
             _ => self.obstacle(o).is_some_and(|rev| {
-                !geom::interiors_overlap(&hull, &rev.outline)
-                    && !(in_plane && geom::interiors_overlap(&hull, &rev.mirror))
+                let meets = |b: &Polygon| geom::interiors_overlap(&hull, b);
+                !meets(&rev.outline) && (!in_plane || !meets(&rev.mirror))
             }),
         }
     }
