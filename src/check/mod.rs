@@ -57,9 +57,12 @@ pub const MAX_STEP_SAMPLES: u64 = 200_000;
 /// samples; the others only confirm that the contact goes on.
 const FULL_DEPTH_EVERY: u64 = 16;
 
-/// How much of the way between two samples step mode may leave unproven: at every instant of a
-/// stretch whose bounds cover all but this, the part is clear or a translation by half of it
-/// clears it — a touch (`geom::TOUCH_EPS`), not a collision (see [`Checker::sample`]).
+/// How much of the way between two samples step mode may leave unproven against a polygon
+/// obstacle (chuck, tailstock): at every instant of a stretch whose bounds cover all but this,
+/// the part is clear or a translation by half of it clears it, and the depth of an overlap
+/// (`geom::overlap`) never exceeds the translation that clears it: a touch (`geom::TOUCH_EPS`),
+/// not a collision (see [`Checker::sample`]). Against the stock none: its depth is the radial
+/// overlap in one column, which a part barely across a column's centre can have in full.
 const SLACK: f64 = 2.0 * geom::TOUCH_EPS;
 
 /// Episode key of a pair and rule. Tools are keyed by station, whatever station is active, so a
@@ -671,23 +674,36 @@ impl Checker<'_> {
     ///
     /// The samples are every multiple of dt (and the move's end); between two samples the sampler
     /// proves the pair clear or hands it to exact mode's measure, so that step mode misses no
-    /// contact exact mode finds (ARCHITECTURE.md, "What step mode guarantees"). The proof, per
-    /// pair: let the pair be proven clear by `ga` at time `ta` (reference point `ra`) and by `gb`
-    /// at `tb` (`rb`), and let `L` bound how far the reference point travels from `ta` to `tb` —
-    /// exactly `|rb − ra|` on a straight path, `vmax·(tb − ta)` on any. A part translates with the
-    /// reference point (another station's section moves no more than it does), so its distance
-    /// to a fixed obstacle changes no faster than the reference point moves: at any `t` in
-    /// between, the distance is at least `ga − L(ta, t)` and at least `gb − L(t, tb)`, and their
-    /// sum is `ga + gb − L`. If `ga + gb > L`, one of the two is positive at every `t`: no
-    /// contact hides in between. The stock of a cutting move is not fixed: it only loses
-    /// material as the move goes on, so a bound measured at `ta` against the stock at `ta` holds
-    /// for every later instant (the stock then is a subset), but a bound at `tb` says nothing
-    /// about material the insert removes before `tb` — for those pairs only `ga > L` proves the
-    /// stretch (the next test comes at the last sample the bound still covers, and a test at the
-    /// move's start gives the first stretch its bound). A stretch the bounds do not prove goes
-    /// to exact mode's measure of the pair over the move ([`Self::follow_exact`]): whatever
-    /// exact mode finds there, step mode reports with the same facts. Samples skipped because
-    /// their pair is proven clear are exactly the proven stretches, so skips change nothing.
+    /// contact exact mode finds (ARCHITECTURE.md, "What step mode guarantees"). Per pair:
+    ///
+    /// 1. Bounds. Let the pair be proven clear by `ga` at time `ta` (reference point `ra`) and by
+    ///    `gb` at `tb` (`rb`), and let `L` bound how far the reference point travels from `ta` to
+    ///    `tb` — exactly the chord on a line, the two legs on a dogleg, `vmax·(tb − ta)` on an
+    ///    arc. A part translates with the reference point (another station's section moves no
+    ///    more than it does), so its distance to a fixed obstacle changes no faster than the
+    ///    reference point moves: at any `t` in between it is at least `ga − L(ta, t)` and at
+    ///    least `gb − L(t, tb)`, whose sum is `ga + gb − L`. If `ga + gb ≥ L`, the larger of the
+    ///    two is never negative: the part at most touches. Against a polygon obstacle `L` may
+    ///    exceed the sum by [`SLACK`]: the part is then never more than `TOUCH_EPS` in, and an
+    ///    overlap's depth never exceeds the translation that clears it. The stock of a cutting
+    ///    move is not fixed: it only loses material as the move goes on, so a bound at `ta`
+    ///    against the stock then holds for every later instant (the stock then is a subset), but
+    ///    a bound at `tb` says nothing about material the insert removes before `tb`: for those
+    ///    pairs `gb` counts 0, and a test at the move's start gives the first stretch its `ga`.
+    ///    Each test is made at the last sample the previous bound still covers, so a part that
+    ///    heads straight at an obstacle is proven by the bound alone.
+    /// 2. Hulls. A stretch the bounds leave open is tested as one ([`Self::stretch_clear`]): the
+    ///    convex hull of the part's poses at the corners of the path holds every pose between,
+    ///    so a hull that overlaps nothing proves it (a part touching what it slides along: an
+    ///    insert leaving the groove or the shoulder it cut). A sliding part is then proven twice
+    ///    as far ahead after each success, and the samples there are skipped: they are clear.
+    /// 3. Exact measure. A stretch neither proves goes to exact mode's measure of the pair over
+    ///    the whole move ([`Self::follow_exact`]), once: whatever contacts exact mode finds for
+    ///    the pair in this move, step mode reports with the same facts; if it finds none, there
+    ///    is nothing left for step mode to miss in this move.
+    ///
+    /// Samples skipped because their pair is proven clear are exactly the proven stretches (and
+    /// never inside the clearance band of a near miss), so skips change nothing.
     fn sample(&mut self, m: &Move, item: &Timed, cands: &[(Part, Obstacle)], active: u32, insert_rule: Option<Kind>) {
         if cands.is_empty() {
             return;
@@ -811,7 +827,8 @@ impl Checker<'_> {
                     let (ta, ra, ga) = proven[ci];
                     let back = if forward_only[ci] { 0.0 } else { g };
                     let way = travel(ta, ra, t, r);
-                    if !tried[ci] && !at_start && ga + back < way - SLACK {
+                    let slack = if o == Obstacle::Stock { 0.0 } else { SLACK };
+                    if !tried[ci] && !at_start && ga + back < way - slack {
                         slides = self.stretch_clear(p, o, active, (ta, ra), (t, r), way, item);
                         self.instant = instant;
                         if !slides {
