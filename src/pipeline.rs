@@ -98,6 +98,10 @@ pub struct Stats {
     /// when a program milled.
     #[serde(skip_serializing_if = "is_zero")]
     pub grid_rays: u64,
+    /// Step mode: pairs whose stretch between two samples the proven gaps could not clear, so
+    /// that their move was measured as exact mode measures it (`check::sample`).
+    #[serde(skip)]
+    pub refined: u64,
     pub effects: Vec<String>,
     pub elapsed_ms: f64,
     /// With `machine.dialect = "auto"`: the dialect chosen for this program and why (the

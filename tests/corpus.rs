@@ -4,10 +4,14 @@
 //!
 //! The corpora are kept out of this repository; CI has them beside the checkout. Without one the
 //! test prints "skipped" and passes (a developer machine without `shared/`).
+//!
+//! Also here: step mode against exact mode on every program of `programs/`, `tests/cases/` and
+//! the corpus programs with a job (`tests/corpus-jobs/`): every error exact mode reports, step
+//! mode reports too (ARCHITECTURE.md, "What step mode guarantees").
 
-use latheguard::finding::Kind;
+use latheguard::finding::{Finding, Kind, Severity};
 use latheguard::machine::{self, Machine};
-use latheguard::pipeline::{self, Settings};
+use latheguard::pipeline::{self, Mode, Settings};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -15,6 +19,7 @@ use std::time::{Duration, Instant};
 /// A program that takes longer than this in the (debug) test build is named in the output.
 const SLOW: Duration = Duration::from_secs(10);
 
+use crate::corpus_job;
 use crate::files;
 
 fn shared(name: &str) -> PathBuf {
@@ -158,5 +163,151 @@ fn every_corpus_extra_program_is_read_interpreted_and_checked() {
     assert!(
         moves_total > 1_000,
         "corpus-extra should produce real motion, got {moves_total} moves"
+    );
+}
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A program to check in both modes, with the machine and settings it is written for.
+struct Target {
+    name: String,
+    src: Vec<u8>,
+    machine: Machine,
+    settings: Settings,
+}
+
+/// The programs of `programs/` and `tests/cases/` with the machine and the settings their
+/// `(test-case: …)` line gives (as `tests/cases.rs` reads it; the mode and dt are the test's).
+/// Left out: folders with their own `latheguard.toml` (the turn-mill examples, compared in both
+/// modes by `tests/turn_mill.rs`) and cases with a hand-made kinematic tree (`kin=`).
+fn case_targets(dir: &Path, out: &mut Vec<Target>) {
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return;
+    };
+    let mut entries: Vec<PathBuf> = rd.flatten().map(|e| e.path()).collect();
+    entries.sort();
+    for p in entries {
+        if p.is_dir() {
+            if !p.join("latheguard.toml").exists() {
+                case_targets(&p, out);
+            }
+            continue;
+        }
+        if !matches!(p.extension().and_then(|e| e.to_str()), Some("nc" | "ngc")) {
+            continue;
+        }
+        let src = std::fs::read(&p).unwrap();
+        let first = String::from_utf8_lossy(src.split(|&b| b == b'\n').next().unwrap_or(&[])).into_owned();
+        let mut machine = Machine::builtin();
+        let mut settings = Settings::default();
+        let mut hand_made_tree = false;
+        if let Some(rest) = first.split("test-case:").nth(1) {
+            for kv in rest.trim_end_matches([')', '\r', ' ']).split_whitespace() {
+                let (k, v) = kv.split_once('=').unwrap_or((kv, ""));
+                match k {
+                    "machine" => {
+                        let mut path = root().join("machines").join(format!("{v}.toml"));
+                        if !path.exists() {
+                            path = root().join("tests/machines").join(format!("{v}.toml"));
+                        }
+                        let text = std::fs::read_to_string(&path).unwrap();
+                        machine = machine::from_toml(&text, &path.display().to_string()).unwrap();
+                    }
+                    "kin" => hand_made_tree = true,
+                    "tolerance" => settings.tolerance_mm = v.parse().unwrap(),
+                    "clearance" => settings.clearance_mm = v.parse().unwrap(),
+                    "min_depth" => settings.min_depth_mm = Some(v.parse().unwrap()),
+                    _ => {}
+                }
+            }
+        }
+        if !hand_made_tree {
+            let name = p.strip_prefix(root()).unwrap().display().to_string();
+            out.push(Target {
+                name,
+                src,
+                machine,
+                settings,
+            });
+        }
+    }
+}
+
+/// The corpus programs of `tests/corpus-jobs/index.toml` with their machine and job, as
+/// `tests/corpus_setups.rs` checks them; none without `../shared`.
+fn corpus_job_targets(out: &mut Vec<Target>) {
+    if !files::shared().join("corpus").is_dir() {
+        println!(
+            "step against exact: corpus programs skipped: no corpus at {}",
+            files::shared().display()
+        );
+        return;
+    }
+    let jobs = root().join("tests/corpus-jobs");
+    let index: toml::Table = std::fs::read_to_string(jobs.join("index.toml"))
+        .unwrap()
+        .parse()
+        .unwrap();
+    for e in index["program"].as_array().unwrap() {
+        let field = |k: &str| e[k].as_str().unwrap().to_string();
+        let (program, machine_file, job) = (field("path"), field("machine"), field("job"));
+        let text = std::fs::read_to_string(root().join(&machine_file)).unwrap();
+        let machine = corpus_job::apply(&text, &machine_file, &jobs.join(&job)).unwrap();
+        out.push(Target {
+            src: std::fs::read(files::shared().join(&program)).unwrap(),
+            name: program,
+            machine,
+            settings: Settings::default(),
+        });
+    }
+}
+
+/// The errors of a check as (line, kind, objects).
+fn errors(findings: &[Finding]) -> Vec<(u32, Kind, Vec<String>)> {
+    findings
+        .iter()
+        .filter(|f| f.severity == Severity::Error)
+        .map(|f| (f.line, f.kind, f.objects.clone()))
+        .collect()
+}
+
+#[test]
+fn step_mode_reports_every_error_exact_mode_reports() {
+    let mut targets = Vec::new();
+    case_targets(&root().join("programs"), &mut targets);
+    case_targets(&root().join("tests/cases"), &mut targets);
+    let cases = targets.len();
+    corpus_job_targets(&mut targets);
+    assert!(cases > 100, "too few programs and cases: {cases}");
+    let t = Instant::now();
+    let mut failures = Vec::new();
+    for x in &targets {
+        let step = Settings {
+            mode: Mode::Step,
+            ..x.settings
+        };
+        let exact = Settings {
+            mode: Mode::Exact,
+            ..x.settings
+        };
+        let step = errors(&pipeline::check(&x.src, &x.machine, &step).findings);
+        for e in errors(&pipeline::check(&x.src, &x.machine, &exact).findings) {
+            if !step.contains(&e) {
+                failures.push(format!("{}:{}: {} {:?}", x.name, e.0, e.1.name(), e.2));
+            }
+        }
+    }
+    println!(
+        "step against exact: {} programs ({cases} programs and cases, {} corpus programs with a job) in {:.1} s",
+        targets.len(),
+        targets.len() - cases,
+        t.elapsed().as_secs_f64()
+    );
+    assert!(
+        failures.is_empty(),
+        "errors of exact mode that step mode (dt 1 ms) does not report:\n{}",
+        failures.join("\n")
     );
 }

@@ -1,8 +1,8 @@
 //! Collision episodes: one finding per pair from the sample where contact begins to the last
 //! sample in contact.
 
-use crate::finding::{Finding, FollowOn, Kind, Severity};
-use std::collections::BTreeMap;
+use crate::finding::{Finding, FollowOn, Kind, Severity, MAX_FINDINGS};
+use std::collections::{BTreeMap, BinaryHeap};
 
 /// What is known at one contact sample.
 #[derive(Clone, Debug)]
@@ -38,13 +38,40 @@ struct Open {
 }
 
 /// Open episodes by pair key.
-#[derive(Default)]
 pub struct Episodes {
     open: BTreeMap<u64, Open>,
     pub findings: Vec<Finding>,
+    /// The lines of the findings emitted so far: the smallest `cap` of them, the largest on top.
+    lowest: BinaryHeap<u32>,
+    /// How many findings a file's report keeps ([`MAX_FINDINGS`]; smaller in tests).
+    pub cap: usize,
+}
+
+impl Default for Episodes {
+    fn default() -> Episodes {
+        Episodes {
+            open: BTreeMap::new(),
+            findings: Vec::new(),
+            lowest: BinaryHeap::new(),
+            cap: MAX_FINDINGS,
+        }
+    }
 }
 
 impl Episodes {
+    /// Whether a finding at `line` is certainly left out of the report: `cap` findings at smaller
+    /// lines are already made, and the report keeps the first `cap` findings of the file in line
+    /// order (`pipeline::check`). Such a finding still counts (the report says how many were
+    /// left out and the first line of them), but its facts are never shown.
+    pub fn left_out(&self, line: u32) -> bool {
+        self.lowest.len() >= self.cap && self.lowest.peek().is_some_and(|&top| line > top)
+    }
+
+    /// The line where the open episode of pair `key` began.
+    pub fn open_line(&self, key: u64) -> Option<u32> {
+        self.open.get(&key).map(|o| o.first.line)
+    }
+
     /// Record contact of pair `key` at a sample.
     pub fn contact(&mut self, key: u64, c: Contact) {
         match self.open.get_mut(&key) {
@@ -129,6 +156,10 @@ impl Episodes {
 
     fn emit(&mut self, o: Open) {
         let c = o.first;
+        self.lowest.push(c.line);
+        if self.lowest.len() > self.cap {
+            self.lowest.pop();
+        }
         let severity = if c.kind == Kind::NearMiss {
             Severity::Warning
         } else {

@@ -194,6 +194,21 @@ fn pieces<'a>(m: &Move, item: &'a Timed) -> Vec<Piece<'a>> {
     }
 }
 
+/// How closely conservative advancement measures the contacts it finds.
+#[derive(Clone, Copy)]
+enum Measure {
+    /// Start and end refined by bisection, the deepest point sought (what a report shows).
+    Full,
+    /// The contact is certainly left out of the report (the file's finding cap): it still counts,
+    /// and the findings shown may depend on it only as a crash in progress when they begin
+    /// (`episodes::mark_follow_ons`) — they begin on other lines, so in other moves. So its start
+    /// is its first probe in contact; its end is refined only when it comes within 1e-8 s of the
+    /// move's end (`duration`); its depth is sought only while the probes leave it a graze (below
+    /// `min_depth`). How many contacts there are does not change: they are told apart by the
+    /// probes between them, which are the same.
+    Coarse { duration: f64, min_depth: f64 },
+}
+
 /// A contact interval found in one move: times in seconds from the move's start.
 struct Interval {
     t0: f64,
@@ -262,13 +277,27 @@ impl Checker<'_> {
             return false;
         };
         let k = key(p, active, o, kind);
+        // A contact that begins on this line now is certainly left out of the report (the file's
+        // finding cap), and so is the open episode this move may continue: it is counted, its
+        // facts are never shown, so it is measured only as far as the findings that are shown
+        // depend on it (see `Measure::Coarse`).
+        let coarse =
+            self.episodes.left_out(m.line) && self.episodes.open_line(k).map_or(true, |l| self.episodes.left_out(l));
+        let measure = if coarse {
+            Measure::Coarse {
+                duration: dur,
+                min_depth: self.settings.min_depth(self.machine),
+            }
+        } else {
+            Measure::Full
+        };
         let rigid = o != Obstacle::Stock && !matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_));
         let mut found: Vec<Interval> = Vec::new();
         for piece in pieces {
             if rigid {
                 self.swept(p, o, piece, active, &mut found);
             } else {
-                self.advanced(p, o, piece, active, &mut found);
+                self.advanced(p, o, piece, active, measure, &mut found);
             }
         }
         found.sort_by(|a, b| a.t0.total_cmp(&b.t0));
@@ -292,7 +321,7 @@ impl Checker<'_> {
                 self.episodes.clear(k); // a contact from the previous move ended at its end
             }
             let mut c = self.contact(m, iv.at, p, o, kind, Some(iv.depth), item.t0 + iv.t0, active);
-            if self.settings.snapshots && !self.episodes.is_open(k) {
+            if self.settings.snapshots && !coarse && !self.episodes.is_open(k) {
                 self.instant = iv.u;
                 self.refresh_swept();
                 if let Some((poly, in_plane)) = self.pose(p, iv.at, active as f64) {
@@ -361,10 +390,18 @@ impl Checker<'_> {
 
     /// Conservative advancement along a piece: steps of at least the tolerance, and as long as
     /// the proven gap allows; contact boundaries refined by bisection.
-    fn advanced(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, out: &mut Vec<Interval>) {
+    fn advanced(
+        &mut self,
+        p: Part,
+        o: Obstacle,
+        piece: &Piece,
+        active: u32,
+        measure: Measure,
+        out: &mut Vec<Interval>,
+    ) {
         let mut probes = 0u64;
         for (a, b) in self.spans(p, o, piece, active) {
-            if !self.advanced_span(p, o, piece, active, a, b, out, &mut probes) {
+            if !self.advanced_span(p, o, piece, active, measure, a, b, out, &mut probes) {
                 return;
             }
         }
@@ -410,6 +447,7 @@ impl Checker<'_> {
         o: Obstacle,
         piece: &Piece,
         active: u32,
+        measure: Measure,
         a: f64,
         b: f64,
         out: &mut Vec<Interval>,
@@ -439,10 +477,12 @@ impl Checker<'_> {
                     match &mut open {
                         Some(iv) => iv.depth = iv.depth.max(d),
                         None => {
-                            let u0 = if u > a {
-                                self.refine(p, o, piece, active, prev_u, u, true)
-                            } else {
-                                a
+                            let u0 = match measure {
+                                _ if u <= a => a,
+                                Measure::Full => self.refine(p, o, piece, active, prev_u, u, true),
+                                // The first probe in contact: the start only orders this contact
+                                // among others of its own move, all left out too.
+                                Measure::Coarse { .. } => u,
                             };
                             open = Some(Interval {
                                 t0: piece.time(u0),
@@ -457,9 +497,16 @@ impl Checker<'_> {
                 Err(_) => {
                     if let Some(mut iv) = open.take() {
                         peak.probe(prev_u, u, 0.0);
-                        let u1 = self.refine(p, o, piece, active, prev_u, u, false);
+                        let u1 = match measure {
+                            // Ends (before this clear probe) well before the move does: no
+                            // contact shown can begin while it lasts (those begin on other
+                            // lines, in other moves). The last probe in contact stands for the
+                            // end: it never merges with a contact after it.
+                            Measure::Coarse { duration, .. } if piece.time(u) < duration - 1e-8 => prev_u,
+                            _ => self.refine(p, o, piece, active, prev_u, u, false),
+                        };
                         iv.t1 = piece.time(u1);
-                        iv.depth = iv.depth.max(self.peak_depth(p, o, piece, active, &peak));
+                        iv.depth = self.final_depth(p, o, piece, active, measure, iv.depth, &peak);
                         peak = Peak::default();
                         out.push(iv);
                     }
@@ -482,10 +529,31 @@ impl Checker<'_> {
         }
         if let Some(mut iv) = open {
             iv.t1 = piece.time(b);
-            iv.depth = iv.depth.max(self.peak_depth(p, o, piece, active, &peak));
+            iv.depth = self.final_depth(p, o, piece, active, measure, iv.depth, &peak);
             out.push(iv);
         }
         true
+    }
+
+    /// The depth of a contact interval whose probes found `probed` at the deepest: sought
+    /// between the deepest probe's neighbours, unless the contact is left out of the report and
+    /// the probes already show it is no graze (then its depth only says that it is a crash in
+    /// progress, which a later contact may follow on from).
+    #[allow(clippy::too_many_arguments)]
+    fn final_depth(
+        &mut self,
+        p: Part,
+        o: Obstacle,
+        piece: &Piece,
+        active: u32,
+        measure: Measure,
+        probed: f64,
+        peak: &Peak,
+    ) -> f64 {
+        match measure {
+            Measure::Coarse { min_depth, .. } if probed >= min_depth => probed,
+            _ => probed.max(self.peak_depth(p, o, piece, active, peak)),
+        }
     }
 
     /// The largest depth a golden-section search finds between the neighbours of the deepest

@@ -15,6 +15,8 @@
 
 pub mod episodes;
 mod exact;
+#[cfg(test)]
+mod tests;
 mod three;
 
 use crate::finding::{Finding, Kind, Severity};
@@ -54,6 +56,14 @@ pub const MAX_STEP_SAMPLES: u64 = 200_000;
 /// Inside an open episode against the stock, the full depth is computed at every this many
 /// samples; the others only confirm that the contact goes on.
 const FULL_DEPTH_EVERY: u64 = 16;
+
+/// How much of the way between two samples step mode may leave unproven against a polygon
+/// obstacle (chuck, tailstock): at every instant of a stretch whose bounds cover all but this,
+/// the part is clear or a translation by half of it clears it, and the depth of an overlap
+/// (`geom::overlap`) never exceeds the translation that clears it: a touch (`geom::TOUCH_EPS`),
+/// not a collision (see [`Checker::sample`]). Against the stock none: its depth is the radial
+/// overlap in one column, which a part barely across a column's centre can have in full.
+const SLACK: f64 = 2.0 * geom::TOUCH_EPS;
 
 /// Episode key of a pair and rule. Tools are keyed by station, whatever station is active, so a
 /// contact that goes on through a turret index stays one episode.
@@ -144,6 +154,13 @@ impl Cutting {
 
 /// Check a program's moves on a machine.
 pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> CheckResult {
+    check_capped(run, machine, settings, crate::finding::MAX_FINDINGS)
+}
+
+/// [`check`] for a report that keeps the first `cap` findings of a file in line order: a contact
+/// certainly left out is counted but measured only as far as the findings shown depend on it
+/// (`exact::Measure::Coarse`).
+fn check_capped(run: &Interpretation, machine: &Machine, settings: &Settings, cap: usize) -> CheckResult {
     let moves = &run.moves[..];
     let mut timer = motion::Timer::new(run, machine);
     let scene = Scene::new(machine, settings.tolerance_mm);
@@ -193,6 +210,7 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
         gap3: None,
         rigid3: std::collections::BTreeSet::new(),
     };
+    c.episodes.cap = cap;
     c.static_pairs();
     for item in timer.by_ref() {
         if c.stats.pair_tests > settings.work_budget {
@@ -660,6 +678,39 @@ impl Checker<'_> {
     }
 
     /// Fixed-timestep sampling of the candidate pairs over one move.
+    ///
+    /// The samples are every multiple of dt (and the move's end); between two samples the sampler
+    /// proves the pair clear or hands it to exact mode's measure, so that step mode misses no
+    /// contact exact mode finds (ARCHITECTURE.md, "What step mode guarantees"). Per pair:
+    ///
+    /// 1. Bounds. Let the pair be proven clear by `ga` at time `ta` (reference point `ra`) and by
+    ///    `gb` at `tb` (`rb`), and let `L` bound how far the reference point travels from `ta` to
+    ///    `tb` — exactly the chord on a line, the two legs on a dogleg, `vmax·(tb − ta)` on an
+    ///    arc. A part translates with the reference point (another station's section moves no
+    ///    more than it does), so its distance to a fixed obstacle changes no faster than the
+    ///    reference point moves: at any `t` in between it is at least `ga − L(ta, t)` and at
+    ///    least `gb − L(t, tb)`, whose sum is `ga + gb − L`. If `ga + gb ≥ L`, the larger of the
+    ///    two is never negative: the part at most touches. Against a polygon obstacle `L` may
+    ///    exceed the sum by [`SLACK`]: the part is then never more than `TOUCH_EPS` in, and an
+    ///    overlap's depth never exceeds the translation that clears it. The stock of a cutting
+    ///    move is not fixed: it only loses material as the move goes on, so a bound at `ta`
+    ///    against the stock then holds for every later instant (the stock then is a subset), but
+    ///    a bound at `tb` says nothing about material the insert removes before `tb`: for those
+    ///    pairs `gb` counts 0, and a test at the move's start gives the first stretch its `ga`.
+    ///    Each test is made at the last sample the previous bound still covers, so a part that
+    ///    heads straight at an obstacle is proven by the bound alone.
+    /// 2. Hulls. A stretch the bounds leave open is tested as one ([`Self::stretch_clear`]): the
+    ///    convex hull of the part's poses at the corners of the path holds every pose between,
+    ///    so a hull that overlaps nothing proves it (a part touching what it slides along: an
+    ///    insert leaving the groove or the shoulder it cut). A sliding part is then proven twice
+    ///    as far ahead after each success, and the samples there are skipped: they are clear.
+    /// 3. Exact measure. A stretch neither proves goes to exact mode's measure of the pair over
+    ///    the whole move ([`Self::follow_exact`]), once: whatever contacts exact mode finds for
+    ///    the pair in this move, step mode reports with the same facts; if it finds none, there
+    ///    is nothing left for step mode to miss in this move.
+    ///
+    /// Samples skipped because their pair is proven clear are exactly the proven stretches (and
+    /// never inside the clearance band of a near miss), so skips change nothing.
     fn sample(&mut self, m: &Move, item: &Timed, cands: &[(Part, Obstacle)], active: u32, insert_rule: Option<Kind>) {
         if cands.is_empty() {
             return;
@@ -667,44 +718,84 @@ impl Checker<'_> {
         let dt = self.settings.dt_ms / 1000.0;
         let mut k = (item.t0 / dt - 1e-9).ceil().max(0.0) as u64;
         let t1 = item.t1();
+        let clearance = self.settings.clearance_mm;
         let mut posed: Vec<(Part, Option<(Polygon, bool)>)> = Vec::new();
-        // Per pair: the reference point at its last clear test and a proven lower bound of the
-        // gap then. Parts translate rigidly with the reference point (other stations' sections
-        // move no more than it does), so the pair cannot touch until the reference point has
-        // moved that far: those samples are skipped without changing the result.
-        let mut clear_until: Vec<Option<(P2, f64)>> = vec![None; cands.len()];
-        // With a bound on the speed, the first sample that can need a test is known: when every
-        // pair is provably clear, jump straight to the earliest one.
+        // How far the reference point can travel between two instants of the move: exactly, along
+        // a line or a dogleg's legs; at most vmax·Δt on an arc.
         let vmax = motion::max_speed(m, item);
+        let travel = |ta: f64, ra: P2, tb: f64, rb: P2| -> f64 {
+            match motion::polyline_between(m, item, ta - item.t0, tb - item.t0) {
+                Some(bend) => {
+                    let len = bend.map_or((rb - ra).norm(), |c| (c - ra).norm() + (rb - c).norm());
+                    len * (1.0 + 1e-12) + 1e-12
+                }
+                None if vmax.is_finite() => vmax * (tb - ta).max(0.0),
+                None => f64::INFINITY,
+            }
+        };
+        // Per pair: its bound holds only forward in time (the stock while a cutting move changes
+        // it; not for the insert's own spindle-stopped test, which sees the stock before the move).
+        let forward_only: Vec<bool> = cands
+            .iter()
+            .map(|&(_, o)| o == Obstacle::Stock && self.cutting.is_some() && !self.pre_move)
+            .collect();
+        // Per pair: its last clear test (time, reference point, proven gap). The move's start
+        // with a gap of 0 proves nothing: the first stretch is proven by the first test's bound
+        // alone (looking back), or by a test at the start for the forward-only pairs.
+        let r_start = motion::reference_at(m, item, 0.0);
+        let mut proven: Vec<(f64, P2, f64)> = vec![(item.t0, r_start, 0.0); cands.len()];
+        let mut start_pass = forward_only.iter().any(|&f| f);
+        // Per pair: the first sample that can need a test. With a bound on the speed it is known
+        // from the proven gap; when every pair is provably clear, jump straight to the earliest.
         let mut resume: Vec<u64> = vec![0; cands.len()];
         // Per pair: its contacts in this move were measured exactly (see `follow_exact`), and
         // whether that was tried.
         let mut followed: Vec<bool> = vec![false; cands.len()];
         let mut tried: Vec<bool> = vec![false; cands.len()];
+        // Per pair: how many samples ahead the next hull of a sliding part reaches.
+        let mut ahead: Vec<u64> = vec![2; cands.len()];
         let k_end = (t1 / dt - 1e-9).ceil().max(0.0) as u64;
         let mut last = false;
         while !last {
-            let next = resume.iter().copied().min().unwrap_or(0);
-            if next > k {
-                let jump = next.min(k_end);
-                self.stats.pair_tests_skipped += (jump - k) * cands.len() as u64;
-                k = jump;
-            }
-            let mut t = k as f64 * dt;
-            if t >= t1 - 1e-12 {
-                t = t1;
-                last = true;
-            }
+            let at_start = start_pass;
+            let t = if at_start {
+                item.t0
+            } else {
+                let next = resume.iter().copied().min().unwrap_or(0);
+                if next > k {
+                    let jump = next.min(k_end);
+                    self.stats.pair_tests_skipped += (jump - k) * cands.len() as u64;
+                    k = jump;
+                }
+                let mut t = k as f64 * dt;
+                if t >= t1 - 1e-12 {
+                    t = t1;
+                    last = true;
+                }
+                t
+            };
+            // The first sample after this one.
+            let next_k = if at_start { k } else { k + 1 };
 
             let r = motion::reference_at(m, item, t - item.t0);
-            self.instant = motion::fraction_at(item, t - item.t0);
+            let instant = motion::fraction_at(item, t - item.t0);
+            self.instant = instant;
             posed.clear();
             for (ci, &(p, o)) in cands.iter().enumerate() {
-                if followed[ci] {
+                if followed[ci] || (at_start && !forward_only[ci]) {
                     continue;
                 }
-                if let Some((r0, g)) = clear_until[ci] {
-                    if (r - r0).norm() < g {
+                if !at_start {
+                    if k < resume[ci] {
+                        self.stats.pair_tests_skipped += 1;
+                        continue;
+                    }
+                    // Along a line or a dogleg the way travelled is known exactly (tighter than
+                    // vmax·Δt): a sample still within the proven gap (less the clearance band)
+                    // needs no test when the next sample is within it too.
+                    let (ta, ra, ga) = proven[ci];
+                    let d = travel(ta, ra, t, r);
+                    if d < ga - clearance && (last || d + vmax * dt < ga) {
                         self.stats.pair_tests_skipped += 1;
                         continue;
                     }
@@ -727,6 +818,40 @@ impl Checker<'_> {
                 let near_key = key(p, active, o, Kind::NearMiss);
                 let quick = k % FULL_DEPTH_EVERY != 0 && self.episodes.is_open(hit_key);
                 let (depth, gap) = self.test_with(&poly, in_plane, o, quick);
+                // Clear: the proven gap now (a lower bound; the distance itself in the clearance
+                // band of a polygon obstacle).
+                let g = match (depth, gap) {
+                    (Some(_), _) => None,
+                    (None, Some(g)) => Some(g),
+                    (None, None) => Some(self.gap_lower_bound(&poly, in_plane, o)),
+                };
+                // The stretch since the last clear test was proven by the hull of the part's
+                // poses (see `stretch_clear`): the part slides along what it touches.
+                let mut slides = false;
+                if let Some(g) = g {
+                    // Can a contact hide between the last clear test and this one? (The test at
+                    // the move's start has no stretch before it.)
+                    let (ta, ra, ga) = proven[ci];
+                    let back = if forward_only[ci] { 0.0 } else { g };
+                    let way = travel(ta, ra, t, r);
+                    let slack = if o == Obstacle::Stock { 0.0 } else { SLACK };
+                    if !tried[ci] && !at_start && ga + back < way - slack {
+                        slides = self.stretch_clear(p, o, active, (ta, ra), (t, r), way, item);
+                        self.instant = instant;
+                        if !slides {
+                            tried[ci] = true;
+                            self.stats.refined += 1;
+                            let found = self.follow_exact(m, item, p, o, active, insert_rule);
+                            self.instant = instant;
+                            if found {
+                                followed[ci] = true;
+                                resume[ci] = u64::MAX;
+                                continue;
+                            }
+                        }
+                    }
+                    proven[ci] = (t, r, g);
+                }
                 match (depth, gap) {
                     (Some(d), _) => {
                         self.episodes.clear(near_key);
@@ -735,10 +860,11 @@ impl Checker<'_> {
                         // it costs in exact mode.
                         if !tried[ci] && {
                             tried[ci] = true;
-                            self.follow_exact(m, item, p, o, active, insert_rule)
+                            let found = self.follow_exact(m, item, p, o, active, insert_rule);
+                            self.instant = instant;
+                            found
                         } {
                             followed[ci] = true;
-                            clear_until[ci] = None;
                             resume[ci] = u64::MAX;
                             continue;
                         }
@@ -756,6 +882,7 @@ impl Checker<'_> {
                     }
                     (None, Some(g)) => {
                         self.episodes.clear(hit_key);
+                        resume[ci] = next_k;
                         if self.episodes.extend(near_key, m.line, t, g, true) {
                             continue;
                         }
@@ -769,23 +896,128 @@ impl Checker<'_> {
                     (None, None) => {
                         self.episodes.clear(hit_key);
                         self.episodes.clear(near_key);
-                        let g = self.gap_lower_bound(&poly, in_plane, o) - self.settings.clearance_mm;
-                        clear_until[ci] = (g > 0.0).then_some((r, g));
-                        if g > 0.0 && !last {
-                            // Samples k+1 .. k+n move the part less than g: n·vmax·dt < g.
-                            let n = (g / (vmax * dt)).ceil() - 1.0;
-                            resume[ci] = k
-                                + 1
-                                + if n.is_finite() {
-                                    n.clamp(0.0, 1e15) as u64
+                        let g = proven[ci].2;
+                        // The first sample the part can reach `d` from here: samples before it
+                        // travel less (vmax·(j·dt − t) < d).
+                        let first_at = |d: f64| -> u64 {
+                            let x = ((t + d / vmax) / dt).ceil();
+                            if x.is_finite() {
+                                x.clamp(0.0, 1e15) as u64
+                            } else {
+                                u64::MAX / 4
+                            }
+                        };
+                        let s = g - clearance;
+                        resume[ci] = if s > 0.0 && !last {
+                            // Outside the clearance band until the part can have travelled s;
+                            // tested again at the last sample the bound still covers (the next
+                            // test's own bound then proves the stretch after it).
+                            first_at(s).min(first_at(g).saturating_sub(1)).max(next_k)
+                        } else {
+                            next_k
+                        };
+                        // A part sliding along what it touches: prove the way ahead by hulls,
+                        // twice as far after each success (a sample inside a proven stretch is
+                        // clear, and the stock has no near misses to sample).
+                        if slides && !last && (o == Obstacle::Stock || clearance <= 0.0) {
+                            let j = k.saturating_add(ahead[ci]).min(k_end);
+                            if j >= resume[ci] {
+                                let tj = if j == k_end { t1 } else { j as f64 * dt };
+                                let rj = motion::reference_at(m, item, tj - item.t0);
+                                let way = travel(t, r, tj, rj);
+                                if self.stretch_clear(p, o, active, (t, r), (tj, rj), way, item) {
+                                    proven[ci] = (tj, rj, 0.0);
+                                    resume[ci] = j + 1;
+                                    ahead[ci] = ahead[ci].saturating_mul(2).min(1 << 40);
                                 } else {
-                                    u64::MAX / 4
-                                };
+                                    ahead[ci] = (ahead[ci] / 4).max(1);
+                                }
+                                self.instant = instant;
+                            }
                         }
                     }
                 }
             }
-            k += 1;
+            if at_start {
+                start_pass = false;
+            } else {
+                k += 1;
+            }
+        }
+    }
+
+    /// Whether pair `(p, o)` is clear over a whole stretch of a move, the reference point going
+    /// from `ra` (at time `ta`) to `rb` (at `tb`) and travelling at most `way`: the part is tested
+    /// once, as the convex hull of its poses at the corners of a convex region holding the
+    /// reference point's path — the ends (and a dogleg's bend between them) on a line or a
+    /// dogleg; on an arc the square of half-width `way`/2 around the ends' midpoint (a point
+    /// whose distances to the two ends sum to at most `way` is within `way`/2 of it). Every pose
+    /// in between lies inside that hull, so a hull that overlaps nothing proves the stretch:
+    /// against the stock, no column's radial overlap exceeds `TOUCH_EPS`/2 (a part inside the
+    /// hull overlaps each column no more than the hull does), seen at `ta` (the stock then holds
+    /// all the material of later instants); against the chuck or the tailstock, the hull's
+    /// interior meets neither half of the outline. A part touching what it slides along (an
+    /// insert leaving the shoulder it has just cut) is proven clear by one query instead of
+    /// being followed by conservative advancement. Another station's section changes shape as it
+    /// moves, so its stretches are never proven this way.
+    #[allow(clippy::too_many_arguments)]
+    fn stretch_clear(
+        &mut self,
+        p: Part,
+        o: Obstacle,
+        active: u32,
+        (ta, ra): (f64, P2),
+        (tb, rb): (f64, P2),
+        way: f64,
+        item: &Timed,
+    ) -> bool {
+        if matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_)) {
+            return false;
+        }
+        let Some((poly, in_plane)) = self.pose(p, ra, active as f64) else {
+            return false;
+        };
+        let run = self.run;
+        let m = &run.moves[item.index];
+        let corners: Vec<V2> = match motion::polyline_between(m, item, ta - item.t0, tb - item.t0) {
+            Some(None) => vec![V2::zeros(), rb - ra],
+            Some(Some(c)) => vec![V2::zeros(), c - ra, rb - ra],
+            None if way.is_finite() => {
+                let (mid, h) = (0.5 * (rb - ra), 0.5 * way);
+                vec![
+                    mid + V2::new(-h, -h),
+                    mid + V2::new(h, -h),
+                    mid + V2::new(h, h),
+                    mid + V2::new(-h, h),
+                ]
+            }
+            None => return false,
+        };
+        let mut pts = Vec::with_capacity(poly.points().len() * corners.len());
+        for c in &corners {
+            pts.extend(poly.points().iter().map(|q| q + c));
+        }
+        let Ok(hull) = Polygon::new(&crate::tooling::outline::hull(&pts)) else {
+            return false;
+        };
+        self.stats.pair_tests += 1;
+        match o {
+            Obstacle::Stock => {
+                self.instant = motion::fraction_at(item, ta - item.t0);
+                self.ensure_stock();
+                self.refresh_swept();
+                let (Some(stock), cutting) = (self.stock.as_mut(), self.cutting.as_ref()) else {
+                    return true;
+                };
+                let view = cutting.map_or(View::Now, |c| c.view(self.pre_move));
+                stock
+                    .overlap_view(hull.points(), 0.5 * geom::TOUCH_EPS, true, view)
+                    .is_none()
+            }
+            _ => self.obstacle(o).is_some_and(|rev| {
+                let meets = |b: &Polygon| geom::interiors_overlap(&hull, b);
+                !meets(&rev.outline) && (!in_plane || !meets(&rev.mirror))
+            }),
         }
     }
 

@@ -360,6 +360,21 @@ pub fn reference_box(m: &Move, item: &Timed) -> crate::geom::Aabb {
     b
 }
 
+/// The path of the turret reference point between two instants `ta` ≤ `tb` of a move (seconds
+/// from the move's start) when it is a polyline that never turns back along itself: `Some(None)`
+/// when it is the straight segment between the two points, `Some(Some(c))` when it bends once at
+/// `c` (a dogleg rapid whose first axis arrives in between), `None` on an arc.
+pub fn polyline_between(m: &Move, item: &Timed, ta: f64, tb: f64) -> Option<Option<P2>> {
+    match &item.path {
+        Path::Still(_) | Path::Line { .. } => Some(None),
+        Path::Dogleg { tx, tz, .. } => {
+            let tc = tx.min(*tz);
+            Some((tc > ta && tc < tb).then(|| reference_at(m, item, tc)))
+        }
+        Path::Uniform | Path::Varying { .. } => (!matches!(m.kind, MoveKind::Arc { .. })).then_some(None),
+    }
+}
+
 /// An upper bound of the speed of the turret reference point during a move, mm/s.
 pub fn max_speed(m: &Move, item: &Timed) -> f64 {
     let d = item.duration;
