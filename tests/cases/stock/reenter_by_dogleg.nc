@@ -1,7 +1,7 @@
-(test-case: mode=exact)
+(test-case: modes=step,exact)
 (the same pass, but the way back is one rapid on both axes: on this dogleg machine Z, the faster axis,)
 (reaches Z-30 first while X is still 0.17 mm out, so the insert's leading edge dips into the shoulder)
-(the pass left. Exact mode sees it; a straight line back would only touch.)
+(the pass left. Both modes see it; a straight line back would only touch.)
 %
 G21 G18 G40 G97 G99
 G28 U0 W0
