@@ -12,8 +12,11 @@
 //! Run with `UPDATE_EXPECT=1` to rewrite the expected files from the current output (then review
 //! the diff: a test that is updated blindly proves nothing).
 
+#[path = "common/case_machine.rs"]
+mod case_machine;
+use case_machine::case_machine;
 use latheguard::finding::Severity;
-use latheguard::machine::{self, Machine};
+use latheguard::machine::Machine;
 use latheguard::pipeline::{self, Mode, Settings};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -54,14 +57,7 @@ fn options(src: &[u8]) -> (Machine, Settings, Vec<Mode>) {
         for kv in rest.trim_end_matches([')', '\r', ' ']).split_whitespace() {
             let (k, v) = kv.split_once('=').unwrap_or((kv, ""));
             match k {
-                "machine" => {
-                    let mut path = root().join("machines").join(format!("{v}.toml"));
-                    if !path.exists() {
-                        path = root().join("tests/machines").join(format!("{v}.toml"));
-                    }
-                    let text = std::fs::read_to_string(&path).unwrap();
-                    machine = machine::from_toml(&text, &path.display().to_string()).unwrap();
-                }
+                "machine" => machine = case_machine(&root(), v),
                 // A machine with the extra axes of issue 15 (the kinematics given by hand until
                 // machine files describe them): Y linear, C rotary, B linear, A rotary.
                 "kin" if v == "turnmill" => {

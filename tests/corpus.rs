@@ -9,6 +9,9 @@
 //! the corpus programs with a job (`tests/corpus-jobs/`): every error exact mode reports, step
 //! mode reports too (ARCHITECTURE.md, "What step mode guarantees").
 
+#[path = "common/case_machine.rs"]
+mod case_machine;
+use case_machine::case_machine;
 use latheguard::finding::{Finding, Kind, Severity};
 use latheguard::machine::{self, Machine};
 use latheguard::pipeline::{self, Mode, Settings};
@@ -207,14 +210,7 @@ fn case_targets(dir: &Path, out: &mut Vec<Target>) {
             for kv in rest.trim_end_matches([')', '\r', ' ']).split_whitespace() {
                 let (k, v) = kv.split_once('=').unwrap_or((kv, ""));
                 match k {
-                    "machine" => {
-                        let mut path = root().join("machines").join(format!("{v}.toml"));
-                        if !path.exists() {
-                            path = root().join("tests/machines").join(format!("{v}.toml"));
-                        }
-                        let text = std::fs::read_to_string(&path).unwrap();
-                        machine = machine::from_toml(&text, &path.display().to_string()).unwrap();
-                    }
+                    "machine" => machine = case_machine(&root(), v),
                     "kin" => hand_made_tree = true,
                     "tolerance" => settings.tolerance_mm = v.parse().unwrap(),
                     "clearance" => settings.clearance_mm = v.parse().unwrap(),

@@ -51,7 +51,7 @@ fn a_job_radial_drill_fed_into_the_jaws_is_a_collision_of_its_generated_cutter()
     // Issue 26: the rapid to Z-80. (z -2) first drives T11's axial end mill, on the next station
     // (30° round the drum, 105 mm below the turret's reference point), 7 mm into the headstock's
     // face at z -100 — hidden while only the active station was checked; the job drill's crash
-    // into the jaws is then its follow-on.
+    // into the jaws is a crash of its own (other parts: not a follow-on).
     assert_eq!(
         all,
         vec![
@@ -60,7 +60,7 @@ fn a_job_radial_drill_fed_into_the_jaws_is_a_collision_of_its_generated_cutter()
                 12,
                 "collision",
                 serde_json::json!(["t12_cutter", "main_chuck"]),
-                "warning"
+                "error"
             ),
         ],
         "{f:#}"
