@@ -244,6 +244,9 @@ pub(crate) struct Run<'a> {
     pub saved_modal: Option<Modal>,
     /// Remaining passes of `repeat` loops of the main program.
     pub main_repeats: HashMap<usize, u64>,
+    /// Loop back edges (block index) → passes made and the state at the last checked pass
+    /// ([`Run::back_edge`]).
+    pub(super) loop_marks: HashMap<usize, (u64, Vec<u64>)>,
     /// `Y0` was already reported once.
     pub y_reported: bool,
     /// The block (its address) one of whose moves went out of range ([`super::MAX_COORD`]): its
@@ -343,6 +346,7 @@ impl<'a> Run<'a> {
             value_returned: false,
             saved_modal: None,
             main_repeats: HashMap::new(),
+            loop_marks: HashMap::new(),
             y_reported: false,
             out_of_range: None,
             motion_reported: false,
@@ -536,6 +540,66 @@ impl<'a> Run<'a> {
         }
     }
 
+    /// A loop's back edge at block `i` (macro B `ENDm`, a LinuxCNC `endwhile`) is taken: false,
+    /// with a `program` error at `b` and the run stopped, when the loop provably never ends. At
+    /// the 1024th pass and every power of two after it, everything a loop's condition and body
+    /// can read (parameters and system variables: the positions, the modal state, the tool, the
+    /// call frames, macro B's levels and counters) is compared with that state at the previous
+    /// such pass: the same state at the same block means the run is in a cycle that repeats for
+    /// ever (interpreting is deterministic). So an endless loop ends after about 2048 passes
+    /// instead of the whole block budget. A loop whose state changes (a counter, a position) is
+    /// never stopped here; its work stays bounded by the budget.
+    pub(super) fn back_edge(&mut self, i: usize, b: &Block) -> bool {
+        let passes = {
+            let e = self.loop_marks.entry(i).or_insert((0, Vec::new()));
+            e.0 += 1;
+            e.0
+        };
+        if passes < 1024 || !passes.is_power_of_two() {
+            return true;
+        }
+        let state = self.loop_state();
+        let Some(mark) = self.loop_marks.get_mut(&i) else {
+            return true;
+        };
+        if mark.1 == state {
+            self.error(
+                b,
+                None,
+                format!(
+                    "this loop never ends: after {} passes the program's state is what it was {} passes earlier; \
+                     the run stops here",
+                    passes,
+                    passes / 2
+                ),
+            );
+            self.stopped = true;
+            return false;
+        }
+        mark.1 = state;
+        true
+    }
+
+    /// The state a loop can read, as words to compare (see [`Run::back_edge`]).
+    fn loop_state(&self) -> Vec<u64> {
+        let mut v: Vec<u64> = self.params.numbered.iter().map(|x| x.to_bits()).collect();
+        let mut named: Vec<(u32, u64)> = self.params.global.iter().map(|(k, x)| (*k, x.to_bits())).collect();
+        named.sort_unstable();
+        v.extend(named.into_iter().flat_map(|(k, x)| [u64::from(k), x]));
+        for p in [self.reference.coords, self.tip, self.shift, self.base_origin.coords] {
+            v.extend([p.x.to_bits(), p.y.to_bits()]);
+        }
+        v.extend([u64::from(self.station), self.selected.map_or(u64::MAX, u64::from)]);
+        // Modes and frames by their printed form (exact for numbers; a map printed in another
+        // order only makes two states look different, never alike).
+        let text = format!("{:?}|{:?}|{:?}", self.modal, self.frames, self.spindle_dir);
+        v.extend(text.bytes().map(u64::from));
+        if let Some(m) = self.macro_b.as_deref() {
+            m.loop_state(&mut v);
+        }
+        v
+    }
+
     /// Count one block executed (or one `elseif` tested) against the budget; false, with a
     /// `program` finding at `b`, when the budget is spent.
     pub(super) fn count_executed(&mut self, b: &Block) -> bool {
@@ -612,7 +676,9 @@ impl<'a> Run<'a> {
             }
             OOp::EndWhile => {
                 if let Some(s) = jump(self, i) {
-                    self.pc = s;
+                    if self.back_edge(i, b) {
+                        self.pc = s;
+                    }
                 }
             }
             OOp::Repeat(c) => {

@@ -67,6 +67,27 @@ struct ModalCall {
 }
 
 impl State {
+    /// What of macro B's own state a loop can read, for the endless-loop test
+    /// (`Run::back_edge`): the call levels and their arguments, a modal call, the last words
+    /// and the part counters.
+    pub(super) fn loop_state(&self, v: &mut Vec<u64>) {
+        for (depth, args) in &self.levels {
+            v.push(*depth as u64);
+            v.extend(args.iter().map(|x| x.to_bits()));
+        }
+        if let Some(c) = &self.modal_call {
+            v.extend([c.start as u64, c.count, c.depth as u64]);
+            v.extend(c.args.iter().map(|x| x.to_bits()));
+        }
+        v.extend(
+            self.last
+                .iter()
+                .chain([&self.last_n])
+                .map(|x| x.map_or(u64::MAX, f64::to_bits)),
+        );
+        v.extend(self.parts.iter().map(|x| x.to_bits()));
+    }
+
     /// The programs of the file and the `DO`/`END` pairs, with a `program` finding for every
     /// loop the manual forbids.
     pub fn new(prog: &Program, findings: &mut Vec<Finding>, left_out: &mut LeftOut) -> State {
@@ -577,7 +598,11 @@ impl Run<'_> {
                 }
             }
             MacroOp::End(m) => match self.mstate().and_then(|s| s.loops.get(&i).copied()) {
-                Some(start) => self.pc = start,
+                Some(start) => {
+                    if self.back_edge(i, b) {
+                        self.pc = start;
+                    }
+                }
                 None => {
                     self.error(b, None, format!("END{m} has no matching DO{m}: the program stops here"));
                     self.stopped = true;
@@ -1043,6 +1068,27 @@ mod tests {
     fn an_endless_while_loop_stops_at_the_budget() {
         let out = run("O0001\nWHILE [1] DO1\n#1 = #1 + 1\nEND1\n", true, 5000);
         assert!(out.contains("stopped after executing 5000 blocks"), "{out}");
+    }
+
+    /// An endless loop whose state never changes (found by fuzzing: it ran the whole 2M-block
+    /// budget, over 2 s) stops after 2048 passes with a finding at its END; a long loop whose
+    /// counter changes is never stopped by that test.
+    #[test]
+    fn a_loop_whose_state_repeats_stops_early_and_a_counting_loop_runs_out() {
+        let out = run(
+            "O0001\nG0 X200 Z100\nWHILE [1] DO1\nG0 X21 Z2\nG0 X40 Z5\nEND1\nM30\n",
+            true,
+            1_000_000,
+        );
+        assert!(out.contains("this loop never ends: after 2048 passes"), "{out}");
+        assert!(out.contains("line: 6,"), "at its END1: {out}");
+        assert!(!out.contains("stopped after executing"), "{out}");
+        let out = run(
+            "O0001\n#1 = 0\nWHILE [#1 LT 5000] DO1\n#1 = #1 + 1\nEND1\nM30\n",
+            true,
+            1_000_000,
+        );
+        assert!(!out.contains("never ends") && !out.contains("stopped after"), "{out}");
     }
 
     #[test]
