@@ -627,6 +627,8 @@ impl Run<'_> {
             }
         };
         match self.find_seq(i, n) {
+            // A jump back is a loop's back edge: an endless one whose state repeats stops there.
+            Some(k) if k <= i && !self.back_edge(i, b) => {}
             Some(k) => self.pc = k,
             None => {
                 self.error(b, None, format!("GOTO {n}: no block N{n} in this program"));
@@ -1088,6 +1090,20 @@ mod tests {
             true,
             1_000_000,
         );
+        assert!(!out.contains("never ends") && !out.contains("stopped after"), "{out}");
+    }
+
+    /// The same for a loop made by a backward GOTO (found by fuzzing: a part-family program whose
+    /// counter assignment reads an unmodelled variable ran its 2M-block budget, 24 s).
+    #[test]
+    fn a_goto_loop_whose_state_repeats_stops_early() {
+        let src = "O0001\nN1 G0 X100 Z5\nG0 X60 Z5\nIF [#1 LT 3] GOTO 1\nM30\n";
+        let out = run(src, true, 1_000_000);
+        assert!(out.contains("this loop never ends: after 2048 passes"), "{out}");
+        assert!(out.contains("line: 4,"), "at the GOTO: {out}");
+        // A counted GOTO loop runs its passes.
+        let src = "O0001\n#1 = 0\nN1 G0 X100 Z5\n#1 = #1 + 1\nIF [#1 LT 3000] GOTO 1\nM30\n";
+        let out = run(src, true, 1_000_000);
         assert!(!out.contains("never ends") && !out.contains("stopped after"), "{out}");
     }
 
