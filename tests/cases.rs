@@ -12,9 +12,7 @@
 //! Run with `UPDATE_EXPECT=1` to rewrite the expected files from the current output (then review
 //! the diff: a test that is updated blindly proves nothing).
 
-#[path = "common/case_machine.rs"]
-mod case_machine;
-use case_machine::case_machine;
+use crate::case_machine::case_machine;
 use latheguard::finding::Severity;
 use latheguard::machine::Machine;
 use latheguard::pipeline::{self, Mode, Settings};

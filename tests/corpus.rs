@@ -9,9 +9,7 @@
 //! the corpus programs with a job (`tests/corpus-jobs/`): every error exact mode reports, step
 //! mode reports too (ARCHITECTURE.md, "What step mode guarantees").
 
-#[path = "common/case_machine.rs"]
-mod case_machine;
-use case_machine::case_machine;
+use crate::case_machine::case_machine;
 use latheguard::finding::{Finding, Kind, Severity};
 use latheguard::machine::{self, Machine};
 use latheguard::pipeline::{self, Mode, Settings};

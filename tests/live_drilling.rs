@@ -5,8 +5,7 @@
 
 use std::process::Command;
 
-#[path = "common/files.rs"]
-mod files;
+use crate::files;
 
 const TM: &str = "machines/turn-mill.toml";
 const F16T: &str = "tests/corpus-jobs/machines/fanuc-16t-mill-turn.toml";

@@ -40,7 +40,7 @@ fn docs_machine_drawings_are_current() {
     }
     assert!(
         stale.is_empty(),
-        "stale machine drawings (run `UPDATE_EXPECT=1 cargo test --test cli machine_drawings::`): {stale:?}"
+        "stale machine drawings (run `UPDATE_EXPECT=1 cargo test --test all machine_drawings::`): {stale:?}"
     );
 }
 

@@ -2,7 +2,7 @@
 //! [`pairs`] is mutated at known lines into programs that crash there by construction
 //! (`common/mutate.rs` says how each kind is proved), and each mutant is checked in step and in
 //! exact mode. A mutant is detected when a finding of severity error is reported at its mutated
-//! line. The table per kind is printed (`cargo test --test corpora mutation:: -- --nocapture`).
+//! line. The table per kind is printed (`cargo test --test all mutation:: -- --nocapture`).
 
 use crate::corpus_job;
 use crate::mutate;

@@ -1,20 +1,59 @@
-//! The checker on programs: data-driven cases, depths, fidelity of the modes, hostile inputs,
-//! turn-mill machines.
-//!
-//! One test binary of a few (`autotests = false` in Cargo.toml): each file beside this one is a
-//! module here, so the library is linked once per group, not once per file.
+//! Every integration test of latheguard, in one test binary (`autotests = false` in Cargo.toml):
+//! each file beside this one is a module here, so the library is linked once, not once per file.
+//! The command line (`cli_*`, `docs_examples`, `pictures`, …), property tests against oracles
+//! (`*_props`), data-driven cases, hostile inputs and turn-mill machines, and the real programs of
+//! the corpora (`corpus*`, `mutation`, `rs274_reference`). Run one file's tests with
+//! `cargo test --test all cases::`.
+
+#[path = "common/case_machine.rs"]
+mod case_machine;
+mod common;
+#[path = "common/corpus_job.rs"]
+mod corpus_job;
+#[path = "common/files.rs"]
+mod files;
+#[path = "common/mutate.rs"]
+mod mutate;
 
 mod cases;
+mod cli_batch;
+mod cli_gate;
+mod cli_graze;
+mod cli_hostile;
+mod cli_job;
+mod cli_machine_file;
+mod cli_snapshots;
+mod cli_stock_out;
+mod cli_tools;
+mod comp_props;
+mod comp_svg;
+mod corpus;
+mod corpus_setups;
+mod cycles2_props;
+mod cycles_props;
 mod depth;
 mod depth_cases;
+mod docs_examples;
+mod exact_props;
 mod fidelity;
+mod follow_on_props;
+mod gap_props;
 mod hostile_check;
 mod hostile_read;
+mod kin_props;
 mod live_drilling;
+mod machine_drawings;
+mod machine_schema;
 mod milling_tools;
+mod mutation;
+mod pictures;
 mod polar;
+mod report3d;
 mod robustness;
+mod rs274_reference;
 mod shifted;
+mod stock_instant_props;
+mod stock_props;
 mod turn_mill;
 mod turn_mill_bhead;
 
@@ -30,7 +69,7 @@ fn every_test_file_is_a_module_of_a_declared_test_binary() {
         .filter_map(|l| l.strip_suffix('"'))
         .map(str::to_string)
         .collect();
-    assert!(roots.len() >= 4, "test binaries declared in Cargo.toml: {roots:?}");
+    assert_eq!(roots, ["all.rs"], "test binaries declared in Cargo.toml");
     let declared: String = roots
         .iter()
         .map(|r| std::fs::read_to_string(dir.join(r)).unwrap())
