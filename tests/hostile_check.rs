@@ -256,6 +256,23 @@ fn program_lines(out: &pipeline::Outcome, words: &str) -> Vec<u32> {
         .collect()
 }
 
+/// A hostile input past the range of moves: one `program` finding at `line`, and little work.
+fn out_of_range_at(name: &str, line: u32) {
+    let out = hostile(name);
+    assert_eq!(
+        program_lines(&out, "out of any range"),
+        [line],
+        "{name}: {:?}",
+        out.findings
+    );
+    assert!(
+        out.stats.pair_tests < 100_000,
+        "{name}: {} pair tests",
+        out.stats.pair_tests
+    );
+    assert!(out.stats.steps < 100_000, "{name}: {} steps", out.stats.steps);
+}
+
 #[test]
 fn an_arc_radius_or_centre_past_the_range_is_a_program_error_and_ends() {
     // Each once hung the checker (R ≥ 1e16, a centre 1e20 or 1e40 away) or was accepted with a
@@ -267,19 +284,7 @@ fn an_arc_radius_or_centre_past_the_range_is_a_program_error_and_ends() {
         ("arc_centre_i1e20.nc", 7),
         ("lcnc_arc_radius_1e20.nc", 7),
     ] {
-        let out = hostile(name);
-        assert_eq!(
-            program_lines(&out, "out of any range"),
-            [line],
-            "{name}: {:?}",
-            out.findings
-        );
-        assert!(
-            out.stats.pair_tests < 100_000,
-            "{name}: {} pair tests",
-            out.stats.pair_tests
-        );
-        assert!(out.stats.steps < 100_000, "{name}: {} steps", out.stats.steps);
+        out_of_range_at(name, line);
     }
 }
 
@@ -293,19 +298,7 @@ fn a_cycle_word_past_the_range_is_a_program_error_and_ends() {
         ("lcnc_cycle_g84_r1e20.nc", 9),
         ("lcnc_cycle_g76_i1e20.nc", 8),
     ] {
-        let out = hostile(name);
-        assert_eq!(
-            program_lines(&out, "out of any range"),
-            [line],
-            "{name}: {:?}",
-            out.findings
-        );
-        assert!(
-            out.stats.pair_tests < 100_000,
-            "{name}: {} pair tests",
-            out.stats.pair_tests
-        );
-        assert!(out.stats.steps < 100_000, "{name}: {} steps", out.stats.steps);
+        out_of_range_at(name, line);
     }
 }
 
