@@ -366,3 +366,17 @@ fn polar_chords_near_the_axis_follow_the_tolerance_not_the_angle() {
         );
     }
 }
+
+/// A G71 of 0.01 mm passes whose profile ran first (found by a campaign of random G71
+/// programs): one pass's last sample, `k_end·dt`, rounded a hair below the move's end, the
+/// sampler stepped past `k_end`, and the jump to the next pair's resume sample took it back:
+/// step mode sampled the same instant forever. The sampler's index now only moves forward and
+/// `k_end` is the move's end; the check's samples stay within one per dt of machine time.
+#[test]
+fn step_sampling_ends_when_the_last_sample_rounds_below_the_move_end() {
+    let out = hostile("g71_passes_a_tolerance_apart.nc");
+    let s = &out.stats;
+    assert!(s.moves > 5_000, "{s:?}");
+    let bound = s.machine_time_s / (Settings::default().dt_ms / 1000.0) + 2.0 * s.moves as f64;
+    assert!((s.steps as f64) < bound, "{s:?}");
+}

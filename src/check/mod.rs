@@ -762,13 +762,15 @@ impl Checker<'_> {
                 item.t0
             } else {
                 let next = resume.iter().copied().min().unwrap_or(0);
-                if next > k {
+                if next > k && k < k_end {
                     let jump = next.min(k_end);
                     self.stats.pair_tests_skipped += (jump - k) * cands.len() as u64;
                     k = jump;
                 }
                 let mut t = k as f64 * dt;
-                if t >= t1 - 1e-12 {
+                // Sample `k_end` is the move's end, whatever the rounding of `k_end·dt` against
+                // `t1` (a jump must never take `k` back, or the loop would never end).
+                if k >= k_end || t >= t1 - 1e-12 {
                     t = t1;
                     last = true;
                 }
