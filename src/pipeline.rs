@@ -45,6 +45,11 @@ pub struct Settings {
     /// Make the final part as a triangle mesh ([`Outcome::part_stl`], `--stock-out FILE.stl`).
     #[serde(skip)]
     pub part_mesh: bool,
+    /// Let conservative advancement step over a stretch of a move it proves clear, or in contact
+    /// and no deeper, by one query (`check/exact.rs`). Off only for the test that holds the
+    /// proofs to the probe-by-probe measure (`tests/corpus.rs`).
+    #[serde(skip)]
+    pub prove_stretches: bool,
 }
 
 impl Default for Settings {
@@ -58,6 +63,7 @@ impl Default for Settings {
             work_budget: DEFAULT_WORK_BUDGET,
             snapshots: false,
             part_mesh: false,
+            prove_stretches: true,
         }
     }
 }

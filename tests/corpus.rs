@@ -277,6 +277,7 @@ fn step_mode_reports_every_error_exact_mode_reports() {
     assert!(cases > 100, "too few programs and cases: {cases}");
     let t = Instant::now();
     let mut failures = Vec::new();
+    let mut proof_failures = Vec::new();
     for x in &targets {
         let step = Settings {
             mode: Mode::Step,
@@ -287,10 +288,21 @@ fn step_mode_reports_every_error_exact_mode_reports() {
             ..x.settings
         };
         let step = errors(&pipeline::check(&x.src, &x.machine, &step).findings);
-        for e in errors(&pipeline::check(&x.src, &x.machine, &exact).findings) {
+        let exact_findings = pipeline::check(&x.src, &x.machine, &exact).findings;
+        for e in errors(&exact_findings) {
             if !step.contains(&e) {
                 failures.push(format!("{}:{}: {} {:?}", x.name, e.0, e.1.name(), e.2));
             }
+        }
+        // The proofs of stretches clear or in contact (check/exact.rs) against measuring probe
+        // by probe: the same findings, depths within half the tolerance.
+        let probed = Settings {
+            prove_stretches: false,
+            ..exact
+        };
+        let probed = pipeline::check(&x.src, &x.machine, &probed).findings;
+        if let Some(why) = same_findings(&exact_findings, &probed, 0.5 * x.settings.tolerance_mm) {
+            proof_failures.push(format!("{}: {why}", x.name));
         }
     }
     println!(
@@ -304,4 +316,41 @@ fn step_mode_reports_every_error_exact_mode_reports() {
         "errors of exact mode that step mode (dt 1 ms) does not report:\n{}",
         failures.join("\n")
     );
+    assert!(
+        proof_failures.is_empty(),
+        "exact mode with proven stretches against probe by probe:\n{}",
+        proof_failures.join("\n")
+    );
+}
+
+/// Why two checks' findings differ (none: they agree): the same lines with the same kinds,
+/// parts and severities, and per line, kind and parts the same greatest depth within
+/// `depth_tol`. How many contacts one line makes may differ: probing in contact strides by half
+/// the depth, so a separation shorter than the stride may fall between probes in one measure
+/// and on a probe in the other.
+fn same_findings(a: &[Finding], b: &[Finding], depth_tol: f64) -> Option<String> {
+    type Facts = (u32, Kind, Vec<String>, Severity);
+    let deepest = |v: &[Finding]| {
+        let mut m: BTreeMap<Facts, f64> = BTreeMap::new();
+        for f in v {
+            let e = m.entry((f.line, f.kind, f.objects.clone(), f.severity)).or_insert(0.0);
+            *e = e.max(f.depth_mm.unwrap_or(0.0));
+        }
+        m
+    };
+    let (x, y) = (deepest(a), deepest(b));
+    if x.keys().ne(y.keys()) {
+        let only = |p: &BTreeMap<Facts, f64>, q: &BTreeMap<Facts, f64>| {
+            p.keys().filter(|k| !q.contains_key(*k)).cloned().collect::<Vec<_>>()
+        };
+        return Some(format!(
+            "only proven: {:?}; only probed: {:?}",
+            only(&x, &y),
+            only(&y, &x)
+        ));
+    }
+    x.iter()
+        .zip(&y)
+        .find(|((_, dx), (_, dy))| (*dx - *dy).abs() > depth_tol + 1e-9)
+        .map(|((k, dx), (_, dy))| format!("line {}: depth {dx} against {dy}", k.0))
 }

@@ -22,6 +22,9 @@ const GAP_WINDOW: f64 = 20.0;
 const REFINE: usize = 40;
 /// Golden-section steps seeking the deepest point of a contact interval.
 const PEAK_STEPS: usize = 24;
+/// The first stretch (in tolerances) conservative advancement tries to prove in contact ahead
+/// of a probe in contact; it doubles after each proof and shrinks after a failure.
+const CONTACT_AHEAD: f64 = 8.0;
 /// Longest stretch of a piece whose motion envelope is tested as one, mm.
 const SPAN_MM: f64 = 50.0;
 /// Most probes conservative advancement (or the near-miss scan) spends on one pair along one
@@ -460,6 +463,8 @@ impl Checker<'_> {
         let mut open: Option<Interval> = None;
         // The deepest probe of the open interval and its neighbours (where the peak is sought).
         let mut peak = Peak::default();
+        // How far ahead (mm) the next proof of a stretch in contact reaches.
+        let mut ahead = CONTACT_AHEAD * step;
         loop {
             *probes += 1;
             if *probes > MAX_PROBES {
@@ -523,6 +528,32 @@ impl Checker<'_> {
                 Ok(d) => (0.5 * d.min(GAP_WINDOW)).max(step),
                 _ => step,
             };
+            // A stretch ahead proven clear throughout (a part sliding along what it touches),
+            // or in contact throughout and no deeper than the contact already is (within half
+            // the tolerance), holds nothing a probe could add: step over it, and try twice as
+            // far the next time.
+            let proof = match (res, &open) {
+                _ if !self.settings.prove_stretches => None,
+                (Ok(_), Some(iv)) => Some(Some(iv.depth.max(peak.depth) + 0.5 * step)),
+                (Err(_), None) if advance < 0.5 * ahead => Some(None),
+                _ => None,
+            };
+            if let Some(cap) = proof {
+                ahead = ahead.max(2.0 * advance);
+                let to = (u + ahead / len).min(b);
+                let proven = match cap {
+                    Some(cap) => self.stretch_in_contact(p, o, piece, active, u, to, cap),
+                    None => self.stretch_clear_line(p, o, piece, active, u, to),
+                };
+                if proven {
+                    *probes += 1;
+                    ahead *= 2.0;
+                    prev_u = u;
+                    u = to;
+                    continue;
+                }
+                ahead = (0.25 * ahead).max(CONTACT_AHEAD * step);
+            }
 
             prev_u = u;
             u = (u + advance / len).min(b);
@@ -533,6 +564,89 @@ impl Checker<'_> {
             out.push(iv);
         }
         true
+    }
+
+    /// Whether a part stays in contact with the stock over the whole stretch `[a, b]` of a
+    /// straight piece, and is nowhere in it deeper than `cap` — then no probe in the stretch can
+    /// end the contact or deepen it, and conservative advancement may step over it.
+    ///
+    /// Contact: the part only translates along the stretch, by `δ` from its pose at `a`; for a
+    /// convex piece `K` of the part, every pose holds `K ∩ (K + δ)`, so when that region overlaps
+    /// the stock as it is at `b` (the least material of the stretch: a cutting move only removes
+    /// it), every pose overlaps the stock at its own instant at least as much. Depth: every pose
+    /// lies in the convex hull of the poses at `a` and `b`, whose depth against the stock as it
+    /// is at `a` (the most material) bounds theirs (a column's radial overlap and the axial
+    /// extent of the overlapping columns only grow with the part).
+    #[allow(clippy::too_many_arguments)]
+    fn stretch_in_contact(
+        &mut self,
+        p: Part,
+        o: Obstacle,
+        piece: &Piece,
+        active: u32,
+        a: f64,
+        b: f64,
+        cap: f64,
+    ) -> bool {
+        if o != Obstacle::Stock || !matches!(p, Part::Turret | Part::Holder | Part::Insert) || b <= a {
+            return false;
+        }
+        let Shape::Line { .. } = piece.shape else {
+            return false;
+        };
+        let (ra, rb) = (piece.at(a), piece.at(b));
+        let Some((pose_a, _)) = self.pose(p, ra, active as f64) else {
+            return false;
+        };
+        let d = rb - ra;
+        self.stats.pair_tests += 2;
+        self.instant = b;
+        let inside = geom::convex::convex_pieces(pose_a.points()).iter().any(|k| {
+            let moved: Vec<P2> = k.iter().map(|q| q + d).collect();
+            let common = geom::convex::clip_convex(k, &moved);
+            common.len() >= 3 && self.stock_overlap(&common, geom::TOUCH_EPS, true).is_some()
+        });
+        if !inside {
+            return false;
+        }
+        let Some(hull) = self.hull_between(p, piece, active, a, b) else {
+            return false;
+        };
+        self.instant = a;
+        let deepest = self
+            .stock_overlap(&hull, geom::TOUCH_EPS, false)
+            .map_or(0.0, |h| h.depth);
+        deepest <= cap
+    }
+
+    /// Whether a part is clear of the stock over the whole stretch `[a, b]` of a straight piece:
+    /// the convex hull of its poses at `a` and `b` holds every pose between, and overlaps no
+    /// column of the stock as it is at `a` (the most material of the stretch) by more than half
+    /// the touch tolerance, so no pose does (as [`Checker::stretch_clear`] proves a stretch
+    /// between two samples).
+    fn stretch_clear_line(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, a: f64, b: f64) -> bool {
+        if o != Obstacle::Stock || !matches!(p, Part::Turret | Part::Holder | Part::Insert) || b <= a {
+            return false;
+        }
+        let Shape::Line { .. } = piece.shape else {
+            return false;
+        };
+        let Some(hull) = self.hull_between(p, piece, active, a, b) else {
+            return false;
+        };
+        self.stats.pair_tests += 1;
+        self.instant = a;
+        self.stock_overlap(&hull, 0.5 * geom::TOUCH_EPS, true).is_none()
+    }
+
+    /// The convex hull of a part's poses at fractions `a` and `b` of a straight piece.
+    fn hull_between(&self, p: Part, piece: &Piece, active: u32, a: f64, b: f64) -> Option<Vec<P2>> {
+        let (ra, rb) = (piece.at(a), piece.at(b));
+        let (pose_a, _) = self.pose(p, ra, active as f64)?;
+        let d = rb - ra;
+        let mut pts: Vec<P2> = pose_a.points().to_vec();
+        pts.extend(pose_a.points().iter().map(|q| q + d));
+        Some(crate::tooling::outline::hull(&pts))
     }
 
     /// The depth of a contact interval whose probes found `probed` at the deepest: sought

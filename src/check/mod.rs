@@ -25,7 +25,7 @@ use crate::interp::{Interpretation, Move, MoveKind};
 use crate::machine::Machine;
 use crate::motion::{self, Timed};
 use crate::pipeline::{Mode, Settings, Stats};
-use crate::scene::{DexelStock, Revolved, Scene, Snapshot, Swept, Travel, View, NO_SWEEP};
+use crate::scene::{DexelStock, Revolved, Scene, Snapshot, StockHit, Swept, Travel, View, NO_SWEEP};
 
 use episodes::{Contact, Episodes};
 
@@ -432,20 +432,11 @@ impl Checker<'_> {
         self.stats.pair_tests += 1;
         let clearance = self.settings.clearance_mm;
         match obs {
-            Obstacle::Stock => {
-                self.ensure_stock();
-                self.refresh_swept();
-                let (Some(stock), cutting) = (self.stock.as_mut(), self.cutting.as_ref()) else {
-                    return (None, None);
-                };
-                let view = cutting.map_or(View::Now, |c| c.view(self.pre_move));
-                (
-                    stock
-                        .overlap_view(poly.points(), geom::TOUCH_EPS, quick, view)
-                        .map(|h| h.depth),
-                    None,
-                )
-            }
+            Obstacle::Stock => (
+                self.stock_overlap(poly.points(), geom::TOUCH_EPS, quick)
+                    .map(|h| h.depth),
+                None,
+            ),
             _ => {
                 let Some(rev) = self.obstacle(obs) else {
                     return (None, None);
@@ -1006,21 +997,26 @@ impl Checker<'_> {
         match o {
             Obstacle::Stock => {
                 self.instant = motion::fraction_at(item, ta - item.t0);
-                self.ensure_stock();
-                self.refresh_swept();
-                let (Some(stock), cutting) = (self.stock.as_mut(), self.cutting.as_ref()) else {
-                    return true;
-                };
-                let view = cutting.map_or(View::Now, |c| c.view(self.pre_move));
-                stock
-                    .overlap_view(hull.points(), 0.5 * geom::TOUCH_EPS, true, view)
-                    .is_none()
+                self.stock_overlap(hull.points(), 0.5 * geom::TOUCH_EPS, true).is_none()
             }
             _ => self.obstacle(o).is_some_and(|rev| {
                 let meets = |b: &Polygon| geom::interiors_overlap(&hull, b);
                 !meets(&rev.outline) && (!in_plane || !meets(&rev.mirror))
             }),
         }
+    }
+
+    /// A part's overlap with the stock as the current query sees it: at `self.instant` of the
+    /// cutting move under way, or before it for the insert's own spindle-stopped test (see
+    /// [`DexelStock::overlap_view`]); none when there is no stock.
+    fn stock_overlap(&mut self, pts: &[P2], eps: f64, first_only: bool) -> Option<StockHit> {
+        self.ensure_stock();
+        self.refresh_swept();
+        let (Some(stock), cutting) = (self.stock.as_mut(), self.cutting.as_ref()) else {
+            return None;
+        };
+        let view = cutting.map_or(View::Now, |c| c.view(self.pre_move));
+        stock.overlap_view(pts, eps, first_only, view)
     }
 
     /// A proven lower bound of the distance between a posed part and an obstacle it is clear of.

@@ -122,13 +122,14 @@ fn contacts_past_the_finding_cap_are_counted_alike_and_cost_less_to_measure() {
         let all = |r: &CheckResult| r.findings.iter().map(counted).collect::<Vec<_>>();
         assert_eq!(all(&capped), all(&whole), "{mode:?}");
         assert!(whole.findings.iter().any(|f| f.severity == Severity::Warning));
-        // What the last half of the rapids costs (all past the cap): well under half of
-        // measuring them fully.
+        // What the last half of the rapids costs (all past the cap): well under what measuring
+        // them fully costs (under half of it before stretches in contact were proven by one
+        // query, which made the full measure cheaper too; now 54 %).
         let half = crashing_rapids(45);
         let w = whole.stats.pair_tests - run(&half, &s, MAX_FINDINGS).stats.pair_tests;
         let c = capped.stats.pair_tests - run(&half, &s, cap).stats.pair_tests;
         assert!(
-            2 * c < w,
+            5 * c < 3 * w,
             "{mode:?}: {c} pair tests past the cap against {w} measured fully"
         );
     }

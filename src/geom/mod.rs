@@ -13,6 +13,7 @@
 //! Topology (touching or not, inside or not) is decided with exact predicates; lengths are
 //! computed relative to a local origin so that results do not depend on where the parts are.
 
+pub mod convex;
 pub mod polygon;
 pub mod query;
 pub mod sweep;

@@ -170,7 +170,7 @@ pub fn extruded(outline: &[P2], half_width: f64) -> Result<Mesh, String> {
         }
     }
     let mut triangles = Vec::new();
-    for t in ear_clip(pts) {
+    for t in crate::geom::convex::triangulate(pts) {
         // Counter-clockwise in (x, z) faces −y: the cap at −y as it is, the one at +y reversed.
         triangles.push(t);
         triangles.push([t[0] + m, t[2] + m, t[1] + m]);
@@ -182,45 +182,6 @@ pub fn extruded(outline: &[P2], half_width: f64) -> Result<Mesh, String> {
         triangles.push([j, i + m, j + m]);
     }
     outward(Mesh { vertices, triangles })
-}
-
-/// Triangles of a counter-clockwise simple polygon, by ear clipping.
-fn ear_clip(pts: &[P2]) -> Vec<[u32; 3]> {
-    use crate::geom::orient;
-    let mut idx: Vec<usize> = (0..pts.len()).collect();
-    let mut out = Vec::with_capacity(pts.len().saturating_sub(2));
-    let inside =
-        |a: P2, b: P2, c: P2, p: P2| orient(a, b, p) >= 0.0 && orient(b, c, p) >= 0.0 && orient(c, a, p) >= 0.0;
-    while idx.len() > 3 {
-        let n = idx.len();
-        let mut clipped = None;
-        for i in 0..n {
-            let (ia, ib, ic) = (idx[(i + n - 1) % n], idx[i], idx[(i + 1) % n]);
-            let (a, b, c) = (pts[ia], pts[ib], pts[ic]);
-            if orient(a, b, c) <= 0.0 {
-                continue;
-            }
-            let blocked = idx.iter().any(|&j| {
-                j != ia && j != ib && j != ic && pts[j] != a && pts[j] != b && pts[j] != c && inside(a, b, c, pts[j])
-            });
-            if !blocked {
-                clipped = Some(i);
-                break;
-            }
-        }
-        // A simple polygon always has an ear; rounding may hide it: clip the first convex corner.
-        let i = clipped.unwrap_or_else(|| {
-            (0..n)
-                .find(|&i| orient(pts[idx[(i + n - 1) % n]], pts[idx[i]], pts[idx[(i + 1) % n]]) > 0.0)
-                .unwrap_or(0)
-        });
-        out.push([idx[(i + n - 1) % n] as u32, idx[i] as u32, idx[(i + 1) % n] as u32]);
-        idx.remove(i);
-    }
-    if idx.len() == 3 {
-        out.push([idx[0] as u32, idx[1] as u32, idx[2] as u32]);
-    }
-    out
 }
 
 /// An axis-aligned box (corners in any order).

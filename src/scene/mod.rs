@@ -15,7 +15,7 @@ use crate::machine::Machine;
 use std::f64::consts::TAU;
 
 pub use snapshot::{Snapshot, Travel};
-pub use stock::{DexelStock, Swept, View, NO_SWEEP};
+pub use stock::{DexelStock, StockHit, Swept, View, NO_SWEEP};
 
 /// A revolved static part: its outline (x ≥ 0) and the mirror (x ≤ 0).
 #[derive(Clone, Debug)]

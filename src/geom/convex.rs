@@ -1,0 +1,206 @@
+//! Convex pieces of a simple polygon and the intersection of convex polygons.
+//!
+//! The checker proves that a translating part stays in contact over a stretch of a move by a
+//! region every pose of the part holds: for a convex piece `K` of the part and a translation
+//! along a segment `δ`, the poses `K + sδ` (`0 ≤ s ≤ 1`) all hold `K ∩ (K + δ)` (a point of both
+//! lies in every pose between, by convexity). A non-convex part is split into convex pieces
+//! first ([`convex_pieces`]).
+
+use super::{orient, P2};
+
+/// Triangles of a counter-clockwise simple polygon, by ear clipping (indices into `pts`).
+pub fn triangulate(pts: &[P2]) -> Vec<[u32; 3]> {
+    let mut idx: Vec<usize> = (0..pts.len()).collect();
+    let mut out = Vec::with_capacity(pts.len().saturating_sub(2));
+    let inside =
+        |a: P2, b: P2, c: P2, p: P2| orient(a, b, p) >= 0.0 && orient(b, c, p) >= 0.0 && orient(c, a, p) >= 0.0;
+    while idx.len() > 3 {
+        let n = idx.len();
+        let mut clipped = None;
+        for i in 0..n {
+            let (ia, ib, ic) = (idx[(i + n - 1) % n], idx[i], idx[(i + 1) % n]);
+            let (a, b, c) = (pts[ia], pts[ib], pts[ic]);
+            if orient(a, b, c) <= 0.0 {
+                continue;
+            }
+            let blocked = idx.iter().any(|&j| {
+                j != ia && j != ib && j != ic && pts[j] != a && pts[j] != b && pts[j] != c && inside(a, b, c, pts[j])
+            });
+            if !blocked {
+                clipped = Some(i);
+                break;
+            }
+        }
+        // A simple polygon always has an ear; rounding may hide it: clip the first convex corner.
+        let i = clipped.unwrap_or_else(|| {
+            (0..n)
+                .find(|&i| orient(pts[idx[(i + n - 1) % n]], pts[idx[i]], pts[idx[(i + 1) % n]]) > 0.0)
+                .unwrap_or(0)
+        });
+        out.push([idx[(i + n - 1) % n] as u32, idx[i] as u32, idx[(i + 1) % n] as u32]);
+        idx.remove(i);
+    }
+    if idx.len() == 3 {
+        out.push([idx[0] as u32, idx[1] as u32, idx[2] as u32]);
+    }
+    out
+}
+
+/// Whether a counter-clockwise ring of points turns left (or goes straight) at every vertex.
+pub fn is_convex_ccw(p: &[P2]) -> bool {
+    let n = p.len();
+    n >= 3 && (0..n).all(|i| orient(p[i], p[(i + 1) % n], p[(i + 2) % n]) >= 0.0)
+}
+
+/// Convex pieces whose union is a counter-clockwise simple polygon: the polygon itself when it
+/// is convex, else its triangles merged across shared edges while the union stays convex (at
+/// most a few pieces for a tool holder's L or T shape).
+pub fn convex_pieces(pts: &[P2]) -> Vec<Vec<P2>> {
+    if is_convex_ccw(pts) {
+        return vec![pts.to_vec()];
+    }
+    let mut pieces: Vec<Vec<u32>> = triangulate(pts).into_iter().map(|t| t.to_vec()).collect();
+    let ring = |ix: &[u32]| -> Vec<P2> { ix.iter().map(|&i| pts[i as usize]).collect() };
+    let mut merged = true;
+    while merged {
+        merged = false;
+        'outer: for a in 0..pieces.len() {
+            for b in a + 1..pieces.len() {
+                if let Some(u) = union_across_edge(&pieces[a], &pieces[b]) {
+                    if is_convex_ccw(&ring(&u)) {
+                        pieces[a] = u;
+                        pieces.swap_remove(b);
+                        merged = true;
+                        break 'outer;
+                    }
+                }
+            }
+        }
+    }
+    pieces.iter().map(|ix| ring(ix)).collect()
+}
+
+/// The ring of two counter-clockwise index rings that share one edge (in opposite directions),
+/// joined across it.
+fn union_across_edge(a: &[u32], b: &[u32]) -> Option<Vec<u32>> {
+    let (na, nb) = (a.len(), b.len());
+    for i in 0..na {
+        let (p, q) = (a[i], a[(i + 1) % na]);
+        if let Some(j) = (0..nb).find(|&j| b[j] == q && b[(j + 1) % nb] == p) {
+            // a: … p, q …; b: … q, p …: walk a from q round to p, then b from p round to q.
+            let mut out = Vec::with_capacity(na + nb - 2);
+            for k in 0..na {
+                out.push(a[(i + 1 + k) % na]);
+            }
+            // b after p up to (not including) q.
+            for k in 2..nb {
+                out.push(b[(j + k) % nb]);
+            }
+            return Some(out);
+        }
+    }
+    None
+}
+
+/// The intersection of two convex counter-clockwise polygons (Sutherland–Hodgman): a convex
+/// counter-clockwise ring, empty (or under 3 points) when they share no area.
+pub fn clip_convex(subject: &[P2], clip: &[P2]) -> Vec<P2> {
+    let mut out: Vec<P2> = subject.to_vec();
+    let n = clip.len();
+    let mut input = Vec::with_capacity(out.len() + n);
+    for i in 0..n {
+        if out.is_empty() {
+            break;
+        }
+        let (a, b) = (clip[i], clip[(i + 1) % n]);
+        std::mem::swap(&mut input, &mut out);
+        out.clear();
+        let side = |p: P2| (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+        let m = input.len();
+        for k in 0..m {
+            let (p, q) = (input[k], input[(k + 1) % m]);
+            let (sp, sq) = (side(p), side(q));
+            if sp >= 0.0 {
+                out.push(p);
+            }
+            if (sp >= 0.0) != (sq >= 0.0) {
+                let t = sp / (sp - sq);
+                out.push(p + (q - p) * t);
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::p2;
+
+    fn area(p: &[P2]) -> f64 {
+        let n = p.len();
+        0.5 * (0..n)
+            .map(|i| p[i].x * p[(i + 1) % n].y - p[(i + 1) % n].x * p[i].y)
+            .sum::<f64>()
+    }
+
+    #[test]
+    fn two_overlapping_squares_clip_to_their_common_square() {
+        let a = [p2(0.0, 0.0), p2(2.0, 0.0), p2(2.0, 2.0), p2(0.0, 2.0)];
+        let b = [p2(1.0, 1.0), p2(3.0, 1.0), p2(3.0, 3.0), p2(1.0, 3.0)];
+        let c = clip_convex(&a, &b);
+        assert!((area(&c) - 1.0).abs() < 1e-12, "{c:?}");
+        assert!(clip_convex(&a, &[p2(5.0, 5.0), p2(6.0, 5.0), p2(6.0, 6.0)]).len() < 3);
+    }
+
+    #[test]
+    fn an_l_shaped_holder_splits_into_convex_pieces_of_its_whole_area() {
+        // The built-in boring bar's holder block: a T shape.
+        let pts = [
+            p2(-15.0, 2.0),
+            p2(-4.0, 2.0),
+            p2(-3.0, 8.0),
+            p2(-3.0, 50.0),
+            p2(31.0, 50.0),
+            p2(31.0, 110.0),
+            p2(-29.0, 110.0),
+            p2(-29.0, 50.0),
+            p2(-15.0, 50.0),
+        ];
+        let pieces = convex_pieces(&pts);
+        assert!(pieces.len() <= 4, "{pieces:?}");
+        assert!(pieces.iter().all(|p| is_convex_ccw(p)));
+        let total: f64 = pieces.iter().map(|p| area(p)).sum();
+        assert!((total - area(&pts)).abs() < 1e-9, "{total} vs {}", area(&pts));
+    }
+
+    proptest::proptest! {
+        /// The common region of a convex piece and its translate lies in every pose between
+        /// them (what the checker's proof of a stretch in contact rests on).
+        #[test]
+        fn the_common_region_of_two_poses_lies_in_every_pose_between(
+            pts in proptest::collection::vec((-20.0f64..20.0, -20.0f64..20.0), 3..12),
+            d in (-15.0f64..15.0, -15.0f64..15.0),
+            s in 0.0f64..=1.0,
+        ) {
+            let pts: Vec<P2> = pts.into_iter().map(|(x, z)| p2(x, z)).collect();
+            let k = crate::tooling::outline::hull(&pts);
+            proptest::prop_assume!(k.len() >= 3 && area(&k) > 1e-6);
+            let d = crate::geom::V2::new(d.0, d.1);
+            let moved: Vec<P2> = k.iter().map(|q| q + d).collect();
+            let common = clip_convex(&k, &moved);
+            // Not vacuous: with no translation the common region is the piece itself.
+            proptest::prop_assert!(is_convex_ccw(&k));
+            proptest::prop_assert!((area(&clip_convex(&k, &k)) - area(&k)).abs() < 1e-9 * (1.0 + area(&k)));
+            let pose: Vec<P2> = k.iter().map(|q| q + d * s).collect();
+            let n = pose.len();
+            for c in &common {
+                for i in 0..n {
+                    let (a, b) = (pose[i], pose[(i + 1) % n]);
+                    let side = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+                    proptest::prop_assert!(side >= -1e-9 * (1.0 + (b - a).norm()), "{c:?} outside the pose at {s}");
+                }
+            }
+        }
+    }
+}
