@@ -31,7 +31,11 @@ fn close(a: P2, b: P2) -> bool {
 fn g53_goes_to_the_tool_change_point_in_machine_coordinates_under_g54_and_g55() {
     let m = offsets_lathe();
     assert_eq!(m.machine_zero, P2::new(150.0, 400.0));
-    assert_eq!(m.work_zero(1), Some(P2::new(0.0, 40.0)), "G55 Z -360 from machine zero z 400");
+    assert_eq!(
+        m.work_zero(1),
+        Some(P2::new(0.0, 40.0)),
+        "G55 Z -360 from machine zero z 400"
+    );
     let (_, run) = pipeline::interpret(&program("tool-change-point.nc"), &m);
     // `G53 G0 X100. Z100.`: the turret reference point at machine zero + (X100 on diameter, Z100),
     // at line 3 (G54 in force), 13 (G55) and 18 (G55, another tool): x 200, z 500 each time.
@@ -56,13 +60,21 @@ fn an_offset_not_given_is_reported_at_its_word_and_names_the_key_to_write() {
     let f: Vec<_> = out.findings.iter().filter(|f| f.kind == Kind::Unsupported).collect();
     assert_eq!(f.len(), 1, "{:#?}", out.findings);
     assert_eq!((f[0].line, f[0].col, f[0].severity), (4, 1, Severity::Error));
-    assert!(f[0].message.contains("[work_offsets] G56 = { z = … }"), "{}", f[0].message);
+    assert!(
+        f[0].message.contains("[work_offsets] G56 = { z = … }"),
+        "{}",
+        f[0].message
+    );
     // Program zero stays where it was: the move lands at program_zero_z + 5.
     let (_, run) = pipeline::interpret(src, &m);
     let mv = run.moves.iter().find(|m| m.line == 5).unwrap();
     assert!(close(mv.end, P2::new(30.0, 83.0)), "{:?}", mv.end);
     // G54 is always given: program_zero_z.
-    let out = pipeline::check(b"G21 G99\nG28 U0 W0\nT0101\nG54\nG0 X60. Z5.\nM30\n", &m, &Settings::default());
+    let out = pipeline::check(
+        b"G21 G99\nG28 U0 W0\nT0101\nG54\nG0 X60. Z5.\nM30\n",
+        &m,
+        &Settings::default(),
+    );
     assert!(out.findings.is_empty(), "{:#?}", out.findings);
 }
 
@@ -81,13 +93,20 @@ fn a_g50_shift_stays_over_every_work_offset() {
 #[test]
 fn a_machine_file_gives_work_offsets_in_setup_with_errors_and_warnings_naming_the_key() {
     let base = machine::BUILTIN_TOML;
-    let with = |setup: &str| base.replace("[setup]\nprogram_zero_z = 78.0      # 2 mm faced off the bar end\n", setup);
+    let with = |setup: &str| {
+        base.replace(
+            "[setup]\nprogram_zero_z = 78.0      # 2 mm faced off the bar end\n",
+            setup,
+        )
+    };
     assert_ne!(with("X"), base, "the built-in file's [setup] changed: update this test");
     // G54 written is program zero: z 600 - 530 = 70.
     let m = machine::from_toml(&with("[setup]\nwork_offsets.G54 = { z = -530.0 }\n"), "m.toml").unwrap();
     assert_eq!(m.program_zero_z, 70.0);
     assert_eq!(m.work_offsets[0], Some(WorkOffset { x: 0.0, z: -530.0 }));
-    assert!(m.describe().contains("  G54         z -530 from machine zero: program zero at z 70\n"));
+    assert!(m
+        .describe()
+        .contains("  G54         z -530 from machine zero: program zero at z 70\n"));
     // Both ways at once is an error at program_zero_z.
     let e = machine::from_toml(
         &with("[setup]\nprogram_zero_z = 78.0\nwork_offsets.G54 = { z = -530.0 }\n"),
@@ -116,7 +135,9 @@ fn a_machine_file_gives_work_offsets_in_setup_with_errors_and_warnings_naming_th
         let p = entry.unwrap().path();
         if p.extension().is_some_and(|e| e == "toml") {
             let text = std::fs::read_to_string(&p).unwrap();
-            let Ok(m) = machine::from_toml(&text, "m.toml") else { continue };
+            let Ok(m) = machine::from_toml(&text, "m.toml") else {
+                continue;
+            };
             assert_eq!(m.work_offsets, [None; 6], "{}", p.display());
             assert_eq!(m.work_zero(0), Some(P2::new(0.0, m.program_zero_z)));
         }
@@ -127,7 +148,13 @@ fn a_machine_file_gives_work_offsets_in_setup_with_errors_and_warnings_naming_th
 fn the_second_operation_is_clean_with_its_g55_and_hits_the_chuck_with_a_wrong_one() {
     let dir = docs();
     let clean = common::latheguard(&dir, &["check", "--no-timing", "second-op.nc"]);
-    assert_eq!(clean.status.code(), Some(0), "{}{}", common::stdout(&clean), common::stderr(&clean));
+    assert_eq!(
+        clean.status.code(),
+        Some(0),
+        "{}{}",
+        common::stdout(&clean),
+        common::stderr(&clean)
+    );
     // The job beside the program gives G55 Z -560 (z 40); wrong-g55.job.toml, laid over it,
     // -563 (z 37): the OD pass to Z-38. ends at z -1 with the insert over the jaws.
     let crash = common::latheguard(
@@ -142,9 +169,22 @@ fn the_second_operation_is_clean_with_its_g55_and_hits_the_chuck_with_a_wrong_on
     );
     assert_eq!(text.matches("error[").count(), 1, "{text}");
     // Without a G55 at all, the program is refused where it selects it.
-    let none = common::latheguard(&dir, &["check", "--no-timing", "--no-config", "-m", "../../../machines/generic-slant-bed.toml", "tool-change-point.nc"]);
+    let none = common::latheguard(
+        &dir,
+        &[
+            "check",
+            "--no-timing",
+            "--no-config",
+            "-m",
+            "../../../machines/generic-slant-bed.toml",
+            "tool-change-point.nc",
+        ],
+    );
     let text = common::stdout(&none);
-    assert!(text.contains("tool-change-point.nc:5:1: error[unsupported]: G55: the work offset G55 is not given"), "{text}");
+    assert!(
+        text.contains("tool-change-point.nc:5:1: error[unsupported]: G55: the work offset G55 is not given"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -161,7 +201,17 @@ fn setup_prints_the_work_offsets_in_force_and_where_each_came_from() {
         text.contains("  work offset   G55 z -563 from machine zero: program zero at z 37  [wrong-g55.job.toml]\n"),
         "{text}"
     );
-    let o = common::latheguard(&dir, &["setup", "--format", "json", "-m", "offsets-lathe.toml", "tool-change-point.nc"]);
+    let o = common::latheguard(
+        &dir,
+        &[
+            "setup",
+            "--format",
+            "json",
+            "-m",
+            "offsets-lathe.toml",
+            "tool-change-point.nc",
+        ],
+    );
     let j = common::json(&o);
     let w = j["work_offsets"].as_array().unwrap();
     assert_eq!(w.len(), 2, "{j}");

@@ -436,10 +436,17 @@ fn a_tailstock_z_moves_its_tip_there_and_diameter_mode_is_set() {
 
 #[test]
 fn work_offsets_read_as_the_control_stores_them_and_g55_is_placed_from_machine_zero() {
-    let l = layer("[work_offsets]\nG55 = { z = -560.0 }\nG59 = { x = 1.5, z = -300 }\n", "job").unwrap();
+    let l = layer(
+        "[work_offsets]\nG55 = { z = -560.0 }\nG59 = { x = 1.5, z = -300 }\n",
+        "job",
+    )
+    .unwrap();
     let g55 = l.work_offsets[1].as_ref().unwrap();
     assert_eq!(g55.value, WorkOffset { x: 0.0, z: -560.0 });
-    assert_eq!((g55.at.key.as_str(), g55.at.line, g55.at.col), ("work_offsets.G55", 2, 7));
+    assert_eq!(
+        (g55.at.key.as_str(), g55.at.line, g55.at.col),
+        ("work_offsets.G55", 2, 7)
+    );
     assert!(l.work_offsets[0].is_none() && l.work_offsets[2].is_none());
     let m = Machine::builtin();
     let out = apply(&m, &EffectiveJob::merge([&l])).unwrap();
@@ -468,11 +475,17 @@ fn g54_is_program_zero_so_a_layer_gives_it_or_program_zero_z_and_the_later_layer
     assert_eq!(out.work_offsets[0], Some(WorkOffset { x: 0.0, z: -520.0 }));
     let out = apply(&m, &EffectiveJob::merge([&g54, &pz])).unwrap();
     assert_eq!(out.program_zero_z, 70.0);
-    assert_eq!(out.work_offsets[0], None, "program_zero_z replaced the earlier layer's G54");
+    assert_eq!(
+        out.work_offsets[0], None,
+        "program_zero_z replaced the earlier layer's G54"
+    );
     // A job's stock without either takes program zero from the stock's face, as before.
     let st = layer("[stock]\ndiameter = 40\nlength = 100\nstick_out = 60\n", "c").unwrap();
     let out = apply(&m, &EffectiveJob::merge([&g54, &st])).unwrap();
-    assert_eq!(out.program_zero_z, 80.0, "G54 of a lower layer still stands over the stock's face");
+    assert_eq!(
+        out.program_zero_z, 80.0,
+        "G54 of a lower layer still stands over the stock's face"
+    );
     let out = apply(&m, &EffectiveJob::merge([&st])).unwrap();
     assert_eq!(out.program_zero_z, 60.0);
 }
