@@ -500,7 +500,10 @@ fn bad_work_offsets_name_file_line_column_and_key() {
     let e = err("[work_offsets]\nG55 = { x = nan, z = 0 }\n");
     assert!(e.starts_with("part.job.toml:2:13: work_offsets.G55.x: "), "{e}");
     let e = err("[work_offsets]\nG55 = { x = 0 }\n");
-    assert!(e.contains("work_offsets.G55") && e.contains("missing field `z`"), "{e}");
+    assert!(
+        e.starts_with("part.job.toml:2:7: work_offsets.G55.z: missing required key `z`"),
+        "{e}"
+    );
     let e = err("[work_offsets]\nG55 = -560\n");
     assert!(e.contains("work_offsets.G55") && e.contains("a table { x, z }"), "{e}");
 }
