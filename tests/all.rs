@@ -56,6 +56,7 @@ mod stock_instant_props;
 mod stock_props;
 mod turn_mill;
 mod turn_mill_bhead;
+mod work_offsets;
 
 /// With `autotests = false`, a new file in `tests/` runs only once a test binary names it: this
 /// fails until it does (or until a new binary is declared in Cargo.toml).

@@ -189,6 +189,9 @@ impl Planner {
                     base.name
                 )
             })?;
+            for w in job::warnings(base, &job) {
+                super::say(&format!("warning: {w}"));
+            }
             Arc::new(m)
         };
         self.applied.insert(key, (machine.clone(), job.clone()));
@@ -280,6 +283,34 @@ fn tool_rows(r: &Resolved) -> Vec<(&latheguard::machine::Tool, String, String)> 
         .collect()
 }
 
+/// The work offsets in force, each with its text and the layer that gave it: G54 always (the
+/// program zero at start), G55–G59 when given.
+fn offset_rows(r: &Resolved) -> Vec<(usize, String, String)> {
+    let (m, j) = (&r.machine, &r.job);
+    (0..machine::WORK_OFFSET_NAMES.len())
+        .filter_map(|n| {
+            let text = m.work_offset_text(n)?;
+            let from = match (&j.work_offsets[n], n) {
+                (Some(o), _) => o.layer.clone(),
+                (None, 0) => program_zero_from(m, j).to_string(),
+                (None, _) => MACHINE.to_string(),
+            };
+            Some((n, text, from))
+        })
+        .collect()
+}
+
+/// Which layer set program zero at start (G54): its `program_zero_z` or `work_offsets.G54`, or
+/// the stock it was taken from, else the machine file.
+fn program_zero_from<'a>(m: &Machine, j: &'a EffectiveJob) -> &'a str {
+    match (&j.work_offsets[0], &j.program_zero_z, &j.stock) {
+        (Some(o), _, _) => o.layer.as_str(),
+        (None, Some(z), _) => z.layer.as_str(),
+        (None, None, Some(st)) if m.stock.is_some() => st.layer.as_str(),
+        _ => MACHINE,
+    }
+}
+
 fn text(program: &Path, r: &Resolved) -> String {
     let m = &r.machine;
     let j = &r.job;
@@ -308,12 +339,12 @@ fn text(program: &Path, r: &Resolved) -> String {
     }
     let _ = writeln!(s, "  dialect       {dialect}  [{}]", from(&j.dialect));
     let _ = writeln!(s, "  stock         {}  [{}]", stock_text(m), from(&j.stock));
-    let pz_from = match (&j.program_zero_z, &j.stock) {
-        (Some(z), _) => z.layer.as_str(),
-        (None, Some(st)) if m.stock.is_some() => st.layer.as_str(),
-        _ => MACHINE,
-    };
+    let pz_from = program_zero_from(m, j);
     let _ = writeln!(s, "  program Z0    z {}  [{pz_from}]", num(m.program_zero_z));
+    for (n, text, from) in offset_rows(r) {
+        let name = machine::WORK_OFFSET_NAMES[n];
+        let _ = writeln!(s, "  work offset   {name} {text}  [{from}]");
+    }
     let _ = writeln!(
         s,
         "  chuck         {}  [{}]",
@@ -410,11 +441,16 @@ fn json(program: &Path, r: &Resolved) -> serde_json::Value {
             }),
             "from": from(&j.stock),
         },
-        "program_zero_z": { "value": m.program_zero_z, "from": match (&j.program_zero_z, &j.stock) {
-            (Some(z), _) => z.layer.as_str(),
-            (None, Some(st)) if m.stock.is_some() => st.layer.as_str(),
-            _ => MACHINE,
-        } },
+        "program_zero_z": { "value": m.program_zero_z, "from": program_zero_from(m, j) },
+        "work_offsets": offset_rows(r).iter().map(|(n, _, from)| {
+            let (o, p) = (m.work_offset(*n), m.work_zero(*n));
+            json!({
+                "name": machine::WORK_OFFSET_NAMES[*n],
+                "x": o.map(|o| o.x), "z": o.map(|o| o.z),
+                "program_zero": p.map(|p| [p.x, p.y]),
+                "from": from,
+            })
+        }).collect::<Vec<_>>(),
         "chuck": { "outline": outline(&m.chuck), "from": from(&j.chuck) },
         "tailstock": {
             "outline": outline(&m.tailstock),

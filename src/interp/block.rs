@@ -61,6 +61,7 @@ const PLANE_COMP_OFFSET_CODES: u128 = gb(170)
     | gb(421)
     | gb(430)
     | gb(431)
+    | gb(540)
     | gb(550)
     | gb(560)
     | gb(570)
@@ -1173,14 +1174,9 @@ impl Run<'_> {
                     true,
                 );
             }
-            for code in [550u16, 560, 570, 580, 590] {
+            for code in [540u16, 550, 560, 570, 580, 590] {
                 if let Some(at) = w.has_g(code) {
-                    self.unsupported(
-                        b,
-                        Some(at),
-                        format!("{}: work offsets other than G54 are not in the machine file; program zero stays at setup.program_zero_z", g_name(code)),
-                        true,
-                    );
+                    self.select_work_offset(b, code, at);
                 }
             }
             if w.g(640) {
@@ -1897,6 +1893,32 @@ impl Run<'_> {
             self.push_move(b, MoveKind::Rapid, mid, end, Feed::Rapid);
         }
         self.reference = r;
+    }
+
+    /// G54–G59: the work offset `code` names becomes program zero for what follows (the
+    /// machine's or the job's `work_offsets`; G54 without one is `program_zero_z`). A G50/G92
+    /// or G52 shift stays in force over it, as both controls shift every work coordinate system
+    /// by it. An offset that is not given leaves program zero where it is, as an `unsupported`
+    /// error that names the key to write.
+    fn select_work_offset(&mut self, b: &Block, code: u16, at: u32) {
+        let n = usize::from((code - 540) / 10);
+        match self.machine.work_zero(n) {
+            Some(p) => {
+                self.base_origin = p;
+                self.coord_system = n as u8;
+            }
+            None => {
+                let name = g_name(code);
+                self.unsupported(
+                    b,
+                    Some(at),
+                    format!(
+                        "{name}: the work offset {name} is not given, so program zero stays where it was: write it in the job as `[work_offsets] {name} = {{ z = … }}` (the control's work offset page: Z from machine zero, mm) or in the machine file's [setup.work_offsets]"
+                    ),
+                    true,
+                );
+            }
+        }
     }
 
     /// Fanuc G50 X Z / LinuxCNC G92 X Z: the current point gets the given program coordinates.

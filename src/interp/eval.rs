@@ -216,7 +216,7 @@ impl Run<'_> {
                     190.0
                 }
             }
-            "_coord_system" => 540.0,
+            "_coord_system" => 540.0 + 10.0 * f64::from(self.coord_system),
             "_units_per_rev" | "_feed_per_rev" => bool_f(m.feed_per_rev),
             "_units_per_minute" => bool_f(!m.feed_per_rev),
             "_line" => self.current_line as f64,

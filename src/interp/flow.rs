@@ -227,6 +227,8 @@ pub(crate) struct Run<'a> {
     pub(super) devices: super::mcodes::Devices,
     /// Spindle-frame point of program X0 Z0 before G92/G52/G50 shifts.
     pub base_origin: P2,
+    /// The work offset in force: 0 = G54 … 5 = G59 (`Machine::work_zero` gives its zero).
+    pub coord_system: u8,
     pub shift: V2,
     pub moves: Vec<Move>,
     /// Where moves go as they are made, when the caller streams them ([`super::interpret_streaming`]):
@@ -331,7 +333,8 @@ impl<'a> Run<'a> {
                 SpindleDir::Off
             },
             devices: super::mcodes::Devices::new(machine),
-            base_origin: P2::new(0.0, machine.program_zero_z),
+            base_origin: machine.work_zero(0).unwrap_or(P2::new(0.0, machine.program_zero_z)),
+            coord_system: 0,
             shift: V2::zeros(),
             moves: Vec::with_capacity(prog.blocks.len().min(1 << 22)),
             sink: None,
@@ -589,7 +592,11 @@ impl<'a> Run<'a> {
         for p in [self.reference.coords, self.tip, self.shift, self.base_origin.coords] {
             v.extend([p.x.to_bits(), p.y.to_bits()]);
         }
-        v.extend([u64::from(self.station), self.selected.map_or(u64::MAX, u64::from)]);
+        v.extend([
+            u64::from(self.station),
+            self.selected.map_or(u64::MAX, u64::from),
+            u64::from(self.coord_system),
+        ]);
         // Modes and frames by their printed form (exact for numbers; a map printed in another
         // order only makes two states look different, never alike).
         let text = format!("{:?}|{:?}|{:?}", self.modal, self.frames, self.spindle_dir);

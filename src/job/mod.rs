@@ -19,7 +19,7 @@ mod parse;
 mod tests;
 
 use crate::geom::Polygon;
-use crate::machine::{self, Dialect, Machine, McodeTable, Stock, Tool};
+use crate::machine::{self, Dialect, Machine, McodeTable, Stock, Tool, WorkOffset};
 
 pub use parse::{parse, parse_embedded, schema, Embedded, JobSchema, RawJob, MAX_JOB_TOOLS};
 
@@ -142,6 +142,9 @@ pub struct Layer {
     pub units_inch: Option<Set<bool>>,
     pub dialect: Option<Set<DialectChoice>>,
     pub program_zero_z: Option<Set<f64>>,
+    /// `[work_offsets]`: G54–G59 as the control's work offset page stores them (index 0 is
+    /// G54, which is program zero itself: a layer gives it or `program_zero_z`, not both).
+    pub work_offsets: [Option<Set<WorkOffset>>; 6],
     pub stock: Option<Set<JobStock>>,
     pub chuck: Option<Set<Polygon>>,
     pub tailstock_in_use: Option<Set<bool>>,
@@ -173,6 +176,7 @@ impl Layer {
         self.units_inch.is_none()
             && self.dialect.is_none()
             && self.program_zero_z.is_none()
+            && self.work_offsets.iter().all(Option::is_none)
             && self.stock.is_none()
             && self.chuck.is_none()
             && self.tailstock_in_use.is_none()
@@ -225,6 +229,17 @@ impl Layer {
         over(&mut self.units_inch, &l.units_inch);
         over(&mut self.dialect, &l.dialect);
         over(&mut self.program_zero_z, &l.program_zero_z);
+        // G54 and `program_zero_z` are one value (program zero at start): the later layer's
+        // wins, whichever key it wrote.
+        if l.program_zero_z.is_some() {
+            self.work_offsets[0] = None;
+        }
+        if l.work_offsets[0].is_some() {
+            self.program_zero_z = None;
+        }
+        for (to, from) in self.work_offsets.iter_mut().zip(&l.work_offsets) {
+            over(to, from);
+        }
         over(&mut self.stock, &l.stock);
         over(&mut self.chuck, &l.chuck);
         over(&mut self.tailstock_in_use, &l.tailstock_in_use);
@@ -334,11 +349,23 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
             )),
         }
     }
-    m.program_zero_z = match (&job.program_zero_z, &m.stock, &job.stock) {
-        (Some(z), _, _) => z.value,
-        (None, Some(st), Some(_)) => st.front,
-        _ => machine.program_zero_z,
+    // Program zero at start (G54): the job's G54, its program_zero_z, its stock's front, else
+    // the machine file's (whose written G54, if any, then stays).
+    let zero = match (&job.work_offsets[0], &job.program_zero_z, &m.stock, &job.stock) {
+        (Some(g54), _, _, _) => Some(m.machine_zero.y + g54.value.z),
+        (None, Some(z), _, _) => Some(z.value),
+        (None, None, Some(st), Some(_)) => Some(st.front),
+        _ => None,
     };
+    if let Some(z) = zero {
+        m.program_zero_z = z;
+        m.work_offsets[0] = None;
+    }
+    for (to, from) in m.work_offsets.iter_mut().zip(&job.work_offsets) {
+        if let Some(o) = from {
+            *to = Some(o.value);
+        }
+    }
     for t in &job.tools {
         let station = t.value.tool.station;
         if station > m.turret.stations {
@@ -420,6 +447,20 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
     }
     m.warnings.extend(job.warnings.iter().cloned());
     Ok(m)
+}
+
+/// The job's work offsets that look like mistakes on `machine` (program zero outside the Z
+/// travel), as `file:line:col: key: message` (the binary prints them as warnings).
+pub fn warnings(machine: &Machine, job: &EffectiveJob) -> Vec<String> {
+    job.work_offsets
+        .iter()
+        .flatten()
+        .filter_map(|o| {
+            let why = machine::work_offset_doubt(&machine.z, machine.machine_zero, o.value)?;
+            let e = o.at.err(why);
+            Some(e.to_string())
+        })
+        .collect()
 }
 
 /// Another dialect than the machine file's: its defaults follow (diameter mode, the built-in M

@@ -9,7 +9,7 @@ use toml::Spanned;
 
 use super::{DialectChoice, JobError, JobStock, JobTool, Layer, Place, Resolve, Set};
 use crate::geom::{Polygon, P2};
-use crate::machine::{self, Cx, Num, Outline, Point, RawUnits, Tool};
+use crate::machine::{self, Cx, Num, Outline, Point, RawUnits, RawWorkOffsets, Tool};
 use crate::tooling::milling::{Live, MillSpec, MillTool};
 use crate::tooling::{self, tbl, BuiltTool, CatalogueSpec, DrillSpec};
 
@@ -31,6 +31,8 @@ pub struct RawJob {
     tool_table: Option<Spanned<String>>,
     #[schemars(with = "Option<f64>")]
     program_zero_z: Option<Num>,
+    /// Work offsets G54–G59 as the control's work offset page stores them (docs/job.md).
+    work_offsets: Option<RawWorkOffsets>,
     #[schemars(with = "Option<RawStock>")]
     stock: Option<Spanned<RawStock>>,
     #[schemars(with = "Option<RawChuck>")]
@@ -399,6 +401,27 @@ fn layer(
     if let Some(z) = &raw.program_zero_z {
         let v = cx.keep(cx.coord(&key("program_zero_z"), z));
         l.program_zero_z = v.map(|v| set!(v, z.span(), "program_zero_z"));
+    }
+    if let Some(w) = &raw.work_offsets {
+        for g in machine::work_offsets(cx, w, &key("work_offsets")) {
+            if let (0, Some(z)) = (g.n, &raw.program_zero_z) {
+                cx.push(cx.err(
+                    z.span(),
+                    key("program_zero_z"),
+                    format!(
+                        "program zero is given twice: by {} and by {} (G54 is program zero at start); give one of them",
+                        key("program_zero_z"),
+                        g.key
+                    ),
+                ));
+                continue;
+            }
+            l.work_offsets[g.n] = Some(Set {
+                value: g.value,
+                at: place(cx, g.at, &g.key),
+                layer: label.to_string(),
+            });
+        }
     }
     if let Some(s) = &raw.stock {
         l.stock = cx.keep(stock(cx, s, &key("stock"))).map(|v| set!(v, s.span(), "stock"));

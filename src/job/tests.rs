@@ -433,3 +433,92 @@ fn a_tailstock_z_moves_its_tip_there_and_diameter_mode_is_set() {
         "{e}"
     );
 }
+
+#[test]
+fn work_offsets_read_as_the_control_stores_them_and_g55_is_placed_from_machine_zero() {
+    let l = layer(
+        "[work_offsets]\nG55 = { z = -560.0 }\nG59 = { x = 1.5, z = -300 }\n",
+        "job",
+    )
+    .unwrap();
+    let g55 = l.work_offsets[1].as_ref().unwrap();
+    assert_eq!(g55.value, WorkOffset { x: 0.0, z: -560.0 });
+    assert_eq!(
+        (g55.at.key.as_str(), g55.at.line, g55.at.col),
+        ("work_offsets.G55", 2, 7)
+    );
+    assert!(l.work_offsets[0].is_none() && l.work_offsets[2].is_none());
+    let m = Machine::builtin();
+    let out = apply(&m, &EffectiveJob::merge([&l])).unwrap();
+    // Machine zero is home (z 600) on the built-in machine: 600 - 560 = z 40.
+    assert_eq!(out.work_zero(1), Some(crate::geom::P2::new(0.0, 40.0)));
+    assert_eq!(out.work_zero(5), Some(crate::geom::P2::new(1.5, 300.0)));
+    assert_eq!(out.work_zero(2), None);
+    // G54 not written: program_zero_z, unchanged.
+    assert_eq!(out.program_zero_z, m.program_zero_z);
+    assert_eq!(out.work_zero(0), Some(crate::geom::P2::new(0.0, 78.0)));
+    assert_eq!(out.work_offset(0), Some(WorkOffset { x: 0.0, z: -522.0 }));
+}
+
+#[test]
+fn g54_is_program_zero_so_a_layer_gives_it_or_program_zero_z_and_the_later_layer_wins() {
+    let e = err("program_zero_z = 70\n[work_offsets]\nG54 = { z = -530 }\n");
+    assert!(
+        e.starts_with("part.job.toml:1:18: program_zero_z: program zero is given twice: by program_zero_z and by work_offsets.G54"),
+        "{e}"
+    );
+    let g54 = layer("[work_offsets]\nG54 = { z = -520 }\n", "a").unwrap();
+    let pz = layer("program_zero_z = 70\n", "b").unwrap();
+    let m = Machine::builtin();
+    let out = apply(&m, &EffectiveJob::merge([&pz, &g54])).unwrap();
+    assert_eq!(out.program_zero_z, 80.0, "G54 Z -520 from machine zero z 600");
+    assert_eq!(out.work_offsets[0], Some(WorkOffset { x: 0.0, z: -520.0 }));
+    let out = apply(&m, &EffectiveJob::merge([&g54, &pz])).unwrap();
+    assert_eq!(out.program_zero_z, 70.0);
+    assert_eq!(
+        out.work_offsets[0], None,
+        "program_zero_z replaced the earlier layer's G54"
+    );
+    // A job's stock without either takes program zero from the stock's face, as before.
+    let st = layer("[stock]\ndiameter = 40\nlength = 100\nstick_out = 60\n", "c").unwrap();
+    let out = apply(&m, &EffectiveJob::merge([&g54, &st])).unwrap();
+    assert_eq!(
+        out.program_zero_z, 80.0,
+        "G54 of a lower layer still stands over the stock's face"
+    );
+    let out = apply(&m, &EffectiveJob::merge([&st])).unwrap();
+    assert_eq!(out.program_zero_z, 60.0);
+}
+
+#[test]
+fn bad_work_offsets_name_file_line_column_and_key() {
+    let e = err("[work_offsets]\nG60 = { z = 0 }\n");
+    assert!(e.starts_with("part.job.toml:2:1: work_offsets"), "{e}");
+    assert!(e.contains("G60"), "{e}");
+    let e = err("[work_offsets]\nG55 = { z = 1e9 }\n");
+    assert!(e.starts_with("part.job.toml:2:13: work_offsets.G55.z: "), "{e}");
+    let e = err("[work_offsets]\nG55 = { x = nan, z = 0 }\n");
+    assert!(e.starts_with("part.job.toml:2:13: work_offsets.G55.x: "), "{e}");
+    let e = err("[work_offsets]\nG55 = { x = 0 }\n");
+    assert!(
+        e.starts_with("part.job.toml:2:7: work_offsets.G55.z: missing required key `z`"),
+        "{e}"
+    );
+    let e = err("[work_offsets]\nG55 = -560\n");
+    assert!(e.contains("work_offsets.G55") && e.contains("a table { x, z }"), "{e}");
+}
+
+#[test]
+fn a_work_offset_outside_the_z_travel_is_a_warning_naming_its_key() {
+    // Built-in: z travel -50 .. 600, machine zero z 600: machine Z -650 .. 0.
+    let l = layer("[work_offsets]\nG55 = { z = 560 }\nG56 = { z = -560 }\n", "job").unwrap();
+    let m = Machine::builtin();
+    let j = EffectiveJob::merge([&l]);
+    let w = warnings(&m, &j);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].starts_with("part.job.toml:2:7: work_offsets.G55: program zero at machine Z 560 lies outside the Z travel (machine Z -650 .. 0"),
+        "{w:?}"
+    );
+    assert!(apply(&m, &j).is_ok(), "a warning, not an error");
+}

@@ -501,6 +501,95 @@ struct RawStock {
 struct RawSetup {
     #[schemars(with = "Option<f64>")]
     program_zero_z: Option<Num>,
+    /// Work offsets G54–G59 as the control's work offset page stores them (docs/machine.md).
+    work_offsets: Option<RawWorkOffsets>,
+}
+
+/// `work_offsets`: G54–G59, each `{ x, z }` (a machine file's `[setup.work_offsets]`, a job's
+/// `[work_offsets]`).
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table of work offsets G54 to G59")]
+pub(crate) struct RawWorkOffsets {
+    #[serde(rename = "G54")]
+    #[schemars(rename = "G54", with = "Option<RawWorkOffset>")]
+    g54: Option<Spanned<RawWorkOffset>>,
+    #[serde(rename = "G55")]
+    #[schemars(rename = "G55", with = "Option<RawWorkOffset>")]
+    g55: Option<Spanned<RawWorkOffset>>,
+    #[serde(rename = "G56")]
+    #[schemars(rename = "G56", with = "Option<RawWorkOffset>")]
+    g56: Option<Spanned<RawWorkOffset>>,
+    #[serde(rename = "G57")]
+    #[schemars(rename = "G57", with = "Option<RawWorkOffset>")]
+    g57: Option<Spanned<RawWorkOffset>>,
+    #[serde(rename = "G58")]
+    #[schemars(rename = "G58", with = "Option<RawWorkOffset>")]
+    g58: Option<Spanned<RawWorkOffset>>,
+    #[serde(rename = "G59")]
+    #[schemars(rename = "G59", with = "Option<RawWorkOffset>")]
+    g59: Option<Spanned<RawWorkOffset>>,
+}
+
+/// One work offset as the control stores it, mm.
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table { x, z }")]
+struct RawWorkOffset {
+    /// Program X0's distance from the spindle axis, a radius (default 0: on the axis).
+    #[schemars(with = "Option<f64>")]
+    x: Option<Num>,
+    /// Program zero's machine Z coordinate: its distance from machine zero (`axes.machine_zero`)
+    /// along Z, as G53 Z measures it.
+    #[schemars(with = "f64")]
+    z: Num,
+}
+
+/// A work offset as written: its value, the span of its table and its key.
+pub(crate) struct GivenOffset {
+    pub n: usize,
+    pub value: super::WorkOffset,
+    pub at: Range<usize>,
+    pub key: String,
+}
+
+/// The work offsets of `raw`, each within range (errors are kept in `cx`); `prefix` is the
+/// dotted key of the table (`setup.work_offsets`, `work_offsets`).
+pub(crate) fn work_offsets(cx: &Cx<'_>, raw: &RawWorkOffsets, prefix: &str) -> Vec<GivenOffset> {
+    let mut out = Vec::new();
+    let all = [&raw.g54, &raw.g55, &raw.g56, &raw.g57, &raw.g58, &raw.g59];
+    for (n, (o, name)) in all.into_iter().zip(super::WORK_OFFSET_NAMES).enumerate() {
+        let Some(o) = o else { continue };
+        let key = format!("{prefix}.{name}");
+        let r = o.get_ref();
+        let x = match &r.x {
+            None => Some(0.0),
+            Some(x) => cx.keep(cx.coord(&format!("{key}.x"), x)),
+        };
+        let z = cx.keep(cx.coord(&format!("{key}.z"), &r.z));
+        if let (Some(x), Some(z)) = (x, z) {
+            out.push(GivenOffset {
+                n,
+                value: super::WorkOffset { x, z },
+                at: o.span(),
+                key,
+            });
+        }
+    }
+    out
+}
+
+/// Why a work offset looks like a mistake on machine `m` (its program zero's machine Z outside
+/// the Z travel: a sign or a unit slip), or None.
+pub(crate) fn work_offset_doubt(m_z: &super::Axis, machine_zero: P2, o: super::WorkOffset) -> Option<String> {
+    let (lo, hi) = (m_z.min - machine_zero.y, m_z.max - machine_zero.y);
+    if (lo..=hi).contains(&o.z) {
+        return None;
+    }
+    Some(format!(
+        "program zero at machine Z {} lies outside the Z travel (machine Z {} .. {}, from axes.z and axes.machine_zero): is the sign or the unit wrong? (the work offset page's Z is the distance from machine zero to program zero, mm)",
+        show(o.z),
+        show(lo),
+        show(hi)
+    ))
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -1137,10 +1226,37 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         }
     };
 
-    // [setup]
-    let program_zero_z = match setup.as_ref().and_then(|s| s.program_zero_z.as_ref()) {
-        Some(v) => cx.keep(cx.coord("setup.program_zero_z", v)),
-        None => stock.as_ref().map(|s| s.as_ref().map_or(0.0, |s| s.front)),
+    // [setup]: program zero, and the work offsets (G54 written is program zero itself).
+    let given = setup
+        .as_ref()
+        .and_then(|s| s.work_offsets.as_ref())
+        .map(|w| work_offsets(cx, w, "setup.work_offsets"))
+        .unwrap_or_default();
+    let mut offsets: [Option<super::WorkOffset>; 6] = [None; 6];
+    for g in &given {
+        offsets[g.n] = Some(g.value);
+        if let (Some(z), Some(mz)) = (z, machine_zero) {
+            if let Some(why) = work_offset_doubt(&z, mz, g.value) {
+                cx.warn(g.at.clone(), &g.key, why);
+            }
+        }
+    }
+    let g54 = given.iter().find(|g| g.n == 0);
+    let program_zero_z = match (setup.as_ref().and_then(|s| s.program_zero_z.as_ref()), g54) {
+        (Some(v), Some(g)) => {
+            cx.push(cx.err(
+                v.span(),
+                "setup.program_zero_z",
+                format!(
+                    "program zero is given twice: by setup.program_zero_z and by {} (G54 is program zero at start); give one of them",
+                    g.key
+                ),
+            ));
+            None
+        }
+        (Some(v), None) => cx.keep(cx.coord("setup.program_zero_z", v)),
+        (None, Some(g)) => machine_zero.map(|mz| mz.y + g.value.z),
+        (None, None) => stock.as_ref().map(|s| s.as_ref().map_or(0.0, |s| s.front)),
     };
 
     // [chuck], [tailstock]: an outline, or Fanuc's barrier parameters (measured from program Z0).
@@ -1366,6 +1482,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         mcodes,
         stock,
         program_zero_z,
+        work_offsets: offsets,
         turret: Turret {
             kind,
             stations,

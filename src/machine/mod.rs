@@ -21,7 +21,8 @@ pub use gcodes::{code_name as g_code_name, parse_code as parse_g_code, DrillingC
 pub use mcodes::{reserved as mcodes_reserved, MAction, McodeTable, ACTIONS as MCODE_ACTIONS, MAX_MCODE};
 
 pub(crate) use load::{
-    deserialize, deserialize_at, home_clashes, stock_clash, Cx, Embedded, Num, Outline, Point, RawUnits, StockKey,
+    deserialize, deserialize_at, home_clashes, stock_clash, work_offset_doubt, work_offsets, Cx, Embedded, Num,
+    Outline, Point, RawUnits, RawWorkOffsets, StockKey,
 };
 pub use load::{
     from_toml, from_toml_with, schema, MachineError, INDEX_TIME_RANGE, MAX_COORD_MM, MAX_OUTLINE_POINTS, MAX_RPM_RANGE,
@@ -246,6 +247,20 @@ pub struct Tool {
     pub mill: Option<crate::tooling::milling::MillTool>,
 }
 
+/// The names of the work offsets a job or a machine file can give, in order: index 0 is G54.
+pub const WORK_OFFSET_NAMES: [&str; 6] = ["G54", "G55", "G56", "G57", "G58", "G59"];
+
+/// One work offset as the control's work offset page stores it (Fanuc 0i-TD and Haas lathes,
+/// G54–G59; docs/machine.md, "Work offsets"), in mm: `z` is program zero's machine Z coordinate
+/// (measured from machine zero, `axes.machine_zero`, as G53 is), `x` program X0's distance from
+/// the spindle axis as a radius (0 on an ordinary setup: the X geometry offsets carry the
+/// distance from machine zero to the axis).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WorkOffset {
+    pub x: f64,
+    pub z: f64,
+}
+
 /// What depends on the dialect in a machine file with `dialect = "auto"`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DialectParts {
@@ -306,7 +321,12 @@ pub struct Machine {
     /// What each M code does on this machine (`[mcodes]`, over the dialect's built-in table).
     pub mcodes: McodeTable,
     pub stock: Option<Stock>,
+    /// Program Z0 of G54 (the program's zero at start) in the spindle frame.
     pub program_zero_z: f64,
+    /// Work offsets G54–G59 as written (`setup.work_offsets`, a job's `[work_offsets]`); `None`:
+    /// not given. When G54 is given, `program_zero_z` is its program zero
+    /// (`machine_zero.z + z`); when not, G54 is `program_zero_z` on the spindle axis.
+    pub work_offsets: [Option<WorkOffset>; 6],
     pub turret: Turret,
     /// Sorted by station.
     pub tools: Vec<Tool>,
@@ -349,6 +369,43 @@ impl Machine {
             auto_dialect: None,
             ..self.clone()
         })
+    }
+
+    /// Program zero of work offset `n` (0 = G54 … 5 = G59) in the spindle frame: the offset's
+    /// Z from machine zero, its X from the spindle axis; G54 without a written offset is
+    /// `program_zero_z` on the axis. `None`: offset `n` is not given.
+    pub fn work_zero(&self, n: usize) -> Option<P2> {
+        match (n, self.work_offsets.get(n).copied().flatten()) {
+            (0, o) => Some(P2::new(o.map_or(0.0, |o| o.x), self.program_zero_z)),
+            (_, Some(o)) => Some(P2::new(o.x, self.machine_zero.y + o.z)),
+            (_, None) => None,
+        }
+    }
+
+    /// Work offset `n` as the control's page would show it: the written one, else (G54 only)
+    /// the one `program_zero_z` amounts to.
+    pub fn work_offset(&self, n: usize) -> Option<WorkOffset> {
+        let p = self.work_zero(n)?;
+        Some(WorkOffset {
+            x: p.x,
+            z: p.y - self.machine_zero.y,
+        })
+    }
+
+    /// Work offset `n` in words: `z -522 from machine zero: program zero at z 78` (and the x
+    /// when it is not 0).
+    pub fn work_offset_text(&self, n: usize) -> Option<String> {
+        let (o, p) = (self.work_offset(n)?, self.work_zero(n)?);
+        let mut t = format!("z {} from machine zero", num(o.z));
+        if o.x != 0.0 {
+            let _ = write!(t, ", x {} from the spindle axis", num(o.x));
+        }
+        let _ = write!(t, ": program zero at ");
+        if p.x != 0.0 {
+            let _ = write!(t, "x {}, ", num(p.x));
+        }
+        let _ = write!(t, "z {}", num(p.y));
+        Some(t)
     }
 
     pub fn tool(&self, station: u32) -> Option<&Tool> {
@@ -480,6 +537,13 @@ impl Machine {
         };
         let _ = writeln!(s, "  stock       {stock}");
         let _ = writeln!(s, "  program Z0  z {}", num(self.program_zero_z));
+        if self.work_offsets.iter().any(Option::is_some) {
+            for (n, name) in WORK_OFFSET_NAMES.iter().enumerate() {
+                if let Some(text) = self.work_offset_text(n) {
+                    let _ = writeln!(s, "  {name}         {text}");
+                }
+            }
+        }
         let t = &self.turret;
         let b = t.outline.aabb();
         let carrier = match t.kind {
