@@ -245,6 +245,11 @@ impl Comp {
         } else {
             (side, radius)
         };
+        if !self.resume {
+            // Moves made while the stage stood aside (after G40 and the move that left the
+            // offset) went where the program put them: the start-up starts where the tool is.
+            self.last_out = None;
+        }
         self.side = Some(side);
         self.radius = radius;
         self.tip = V2::new(tip.y, tip.x);
