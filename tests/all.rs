@@ -29,6 +29,7 @@ mod comp_props;
 mod comp_svg;
 mod corpus;
 mod corpus_setups;
+mod cycle_comp;
 mod cycles2_props;
 mod cycles_props;
 mod depth;

@@ -468,11 +468,25 @@ impl Run<'_> {
             self.contour_comp_off(b, at);
             return;
         }
-        let Some(c) = self.comp.as_deref_mut() else {
+        if self.comp.is_none() && self.cycles.profile_comp.is_none() {
             return;
-        };
-        if let Err(msg) = c.off(&mut self.moves) {
-            c.abandon(&mut self.moves);
+        }
+        self.comp_word(b, at, comp::Word::Off);
+    }
+
+    /// A G41/G42/G40 word to the compensation stage, or, while a Fanuc stock-removal cycle reads
+    /// its profile, to the cycle (`cycles::ProfileComp`): roughing drops it, G70 has it replayed
+    /// at its move (`run_cycle`).
+    fn comp_word(&mut self, b: &Block, at: u32, word: comp::Word) {
+        if let Some(words) = self.cycles.profile_comp.as_mut() {
+            words.push(super::cycles::ProfileComp {
+                at: self.moves.len(),
+                word,
+            });
+            return;
+        }
+        let c = self.comp.get_or_insert_with(Default::default);
+        if let Err(msg) = c.word(word, &mut self.moves) {
             self.error(b, Some(at), msg);
         }
     }
@@ -555,19 +569,15 @@ impl Run<'_> {
         }
         let style = if fanuc { comp::Style::Fanuc } else { comp::Style::Rs274 };
         let tip = comp::tip_vector(dir, radius.abs(), fanuc, self.machine.turret_side);
-        let scale = self.scale();
-        let c = self.comp.get_or_insert_with(Default::default);
-        if fanuc && c.is_on() {
-            // Fanuc switches sides (or tools) without G40: a new start-up from where the tool is.
-            if let Err(msg) = c.off(&mut self.moves) {
-                c.abandon(&mut self.moves);
-                self.error(b, Some(at), msg);
-                return;
-            }
-        }
-        if let Err(msg) = c.on(side, radius, tip, style, scale) {
-            self.error(b, Some(at), msg);
-        }
+        // (Fanuc switches sides or tools without G40: a new start-up from where the tool is.)
+        let word = comp::Word::On {
+            side,
+            radius,
+            tip,
+            style,
+            unit: self.scale(),
+        };
+        self.comp_word(b, at, word);
     }
 
     /// A canned cycle with nose-radius compensation standing aside while it expands (its
@@ -575,6 +585,9 @@ impl Run<'_> {
     /// compensated like any path; roughing and other cycles run on the programmed profile, and
     /// compensation starts again with the next move (docs/comp.md).
     fn run_cycle(&mut self, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+        if code == 700 && self.machine.dialect == Dialect::Fanuc {
+            return self.fanuc_g70(b, w, at);
+        }
         let Some(mut comp) = self.comp.take() else {
             return super::cycles::run(self, b, w, code, at);
         };
@@ -623,29 +636,7 @@ impl Run<'_> {
         }
         if comp.is_on() && ran && m0 < self.moves.len() {
             if code == 700 {
-                let made: Vec<Move> = self.moves.drain(m0..).collect();
-                let mut failed = None;
-                for (k, m) in made.into_iter().enumerate() {
-                    if let Some((_, p)) = read.filter(|&(i, _)| i == k) {
-                        comp.profile_read(p);
-                    }
-                    if failed.is_none() {
-                        if let Err(msg) = comp.take(m, &mut self.moves) {
-                            comp.abandon(&mut self.moves);
-                            failed = Some((m.line, msg));
-                            let _ = comp.take(m, &mut self.moves);
-                        }
-                    } else {
-                        let _ = comp.take(m, &mut self.moves);
-                    }
-                }
-                if let Some((_, msg)) = failed {
-                    self.error(
-                        b,
-                        None,
-                        format!("{msg}; nose radius compensation stops here and the rest is checked as programmed"),
-                    );
-                }
+                self.replay_through_comp(b, &mut comp, m0, read, &[]);
             } else {
                 if let Some(p) = comp.last_out() {
                     let first = &mut self.moves[m0];
@@ -658,6 +649,74 @@ impl Run<'_> {
         }
         self.comp = Some(comp);
         ran
+    }
+
+    /// Fanuc G70: the profile blocks and the way back to the start point run through
+    /// compensation as plain blocks would: what waits for its corner (a start-up block just
+    /// before the G70) is settled by the cycle's first move, and the profile's own G41/G42/G40
+    /// act before the moves of their blocks. Compensation is then as the profile left it.
+    fn fanuc_g70(&mut self, b: &Block, w: &mut Words, at: u32) -> bool {
+        let comp = self.comp.take();
+        let m0 = self.moves.len();
+        let ran = super::cycles::run(self, b, w, 700, at);
+        let words = std::mem::take(&mut self.cycles.g70_comp);
+        let mut comp = match comp {
+            Some(c) => c,
+            None if words.is_empty() => return ran,
+            None => Box::default(),
+        };
+        self.replay_through_comp(b, &mut comp, m0, None, &words);
+        self.comp = Some(comp);
+        ran
+    }
+
+    /// Hand the moves a cycle made from `m0` on to compensation, with rs274's reading of the
+    /// profile (`read`: the index of the move it comes before, and the profile's last point)
+    /// and the profile's G41/G42/G40 (`words`, at absolute move indices) taken where they fall.
+    /// An error of the control is one finding at the cycle's line; compensation stops there.
+    fn replay_through_comp(
+        &mut self,
+        b: &Block,
+        comp: &mut comp::Comp,
+        m0: usize,
+        read: Option<(usize, P2)>,
+        words: &[super::cycles::ProfileComp],
+    ) {
+        let made: Vec<Move> = self.moves.drain(m0..).collect();
+        let mut failed = None;
+        let mut words = words.iter().peekable();
+        let word = |comp: &mut comp::Comp, w: comp::Word, out: &mut Vec<Move>, failed: &mut Option<String>| {
+            if failed.is_none() {
+                *failed = comp.word(w, out).err();
+            }
+        };
+        for (k, m) in made.into_iter().enumerate() {
+            while let Some(pw) = words.next_if(|pw| pw.at <= m0 + k) {
+                word(comp, pw.word, &mut self.moves, &mut failed);
+            }
+            if let Some((_, p)) = read.filter(|&(i, _)| i == k) {
+                comp.profile_read(p);
+            }
+            if failed.is_none() {
+                if let Err(msg) = comp.take(m, &mut self.moves) {
+                    comp.abandon(&mut self.moves);
+                    failed = Some(msg);
+                    let _ = comp.take(m, &mut self.moves);
+                }
+            } else {
+                let _ = comp.take(m, &mut self.moves);
+            }
+        }
+        for pw in words {
+            word(comp, pw.word, &mut self.moves, &mut failed);
+        }
+        if let Some(msg) = failed {
+            self.error(
+                b,
+                None,
+                format!("{msg}; nose radius compensation stops here and the rest is checked as programmed"),
+            );
+        }
     }
 
     /// A feed move under constant surface speed that would need more than the machine's

@@ -132,6 +132,23 @@ pub(crate) fn find_turn(a: P2, c: P2, turn: i32, b: P2) -> f64 {
     }
 }
 
+/// A G41/G42 or G40 as the stage takes it: from a block as it runs, or from a G70's profile
+/// block, replayed before the move of that block (the cycle expands with the stage aside).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Word {
+    /// G41/G42: the side, the nose radius (mm; negative swaps the side), the vector from the
+    /// nose centre to the imaginary tip (spindle frame), the control's style, mm per program unit.
+    On {
+        side: Side,
+        radius: f64,
+        tip: V2,
+        style: Style,
+        unit: f64,
+    },
+    /// G40.
+    Off,
+}
+
 #[derive(Clone, Copy, Debug)]
 enum QKind {
     /// A line or rapid; `dir` is the direction it was made in (a correction that reverses it
@@ -245,6 +262,11 @@ impl Comp {
         } else {
             (side, radius)
         };
+        if !self.resume {
+            // Moves made while the stage stood aside (after G40 and the move that left the
+            // offset) went where the program put them: the start-up starts where the tool is.
+            self.last_out = None;
+        }
         self.side = Some(side);
         self.radius = radius;
         self.tip = V2::new(tip.y, tip.x);
@@ -267,6 +289,32 @@ impl Comp {
         self.first = true;
         self.entry_pending = false;
         res
+    }
+
+    /// Take a G41/G42/G40 word. A Fanuc G41/G42 while compensation is on switches: a new
+    /// start-up from where the tool is. An error is the control's; when cancelling failed,
+    /// compensation has stopped (what waited has left as it was).
+    pub(crate) fn word(&mut self, w: Word, out: &mut Vec<Move>) -> Result<(), String> {
+        let cancel = match w {
+            Word::Off => true,
+            Word::On { style, .. } => style == Style::Fanuc && self.is_on(),
+        };
+        if cancel {
+            if let Err(msg) = self.off(out) {
+                self.abandon(out);
+                return Err(msg);
+            }
+        }
+        match w {
+            Word::On {
+                side,
+                radius,
+                tip,
+                style,
+                unit,
+            } => self.on(side, radius, tip, style, unit),
+            Word::Off => Ok(()),
+        }
     }
 
     /// Let every waiting move out (end of the program, or before a canned cycle runs).

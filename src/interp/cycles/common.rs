@@ -76,6 +76,16 @@ pub(crate) struct Traced {
     pub q: usize,
 }
 
+/// A G41/G42/G40 of a Fanuc stock-removal cycle's profile block, kept from the compensation
+/// stage while the profile is read (docs/comp.md, "Canned cycles"): roughing reads the profile
+/// uncompensated and drops it; G70 has the block executor replay it before the move at `at`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ProfileComp {
+    /// Index in the run's moves of the first move made after the word.
+    pub at: usize,
+    pub word: super::super::comp::Word,
+}
+
 /// What the cycles remember between blocks.
 #[derive(Default, Debug)]
 pub(crate) struct Memory {
@@ -102,6 +112,12 @@ pub(crate) struct Memory {
     /// executor): the cycle keeps its moves that go nowhere and says where rs274 re-read the
     /// profile (`lcnc_rough::CompRead`).
     pub lcnc_g70_comp: Option<super::lcnc_rough::CompRead>,
+    /// While a Fanuc G70–G73 runs its profile blocks: their G41/G42/G40, in order (the block
+    /// executor hands them here instead of to the compensation stage).
+    pub profile_comp: Option<Vec<ProfileComp>>,
+    /// The G41/G42/G40 of the profile the last Fanuc G70 finished, for the block executor to
+    /// replay at their moves (`Run::run_cycle`).
+    pub g70_comp: Vec<ProfileComp>,
 }
 
 /// The block with N number `n`: the first one after block `from`, else the first in the file.
@@ -289,22 +305,27 @@ pub(crate) fn trace(
 
     let mark = Mark::new(run);
     let (stopped, pc) = (run.stopped, run.pc);
+    // The profile's G41/G42/G40 stay out of the compensation stage (see `ProfileComp`).
+    let outer = run.cycles.profile_comp.replace(Vec::new());
     for i in pi..=qi {
         let pb = run.block(i);
         if pb.bad {
             continue;
         }
         if !run.count_executed(pb) {
+            run.cycles.profile_comp = outer;
             return None;
         }
         run.execute(pb);
     }
+    let comp_words = std::mem::replace(&mut run.cycles.profile_comp, outer).unwrap_or_default();
     let refused = mark.reported(run);
     let mut segs = mark.segs(run, false);
     mark.restore_modes(run);
     run.stopped = stopped;
     run.pc = pc;
     if keep {
+        run.cycles.g70_comp = comp_words;
         let line = b.line;
         let n = b.n();
         for m in &mut run.moves[mark.moves..] {

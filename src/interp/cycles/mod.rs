@@ -27,7 +27,7 @@ mod live_drill;
 mod rough;
 mod thread;
 
-pub(crate) use common::Memory;
+pub(crate) use common::{Memory, ProfileComp};
 
 /// A length word (Fanuc P/Q/R of the threading, grooving and drilling cycles) in the least input
 /// increment (0.001 mm, 0.0001 in) unless written with a decimal point; in mm.
