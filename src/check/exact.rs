@@ -391,6 +391,20 @@ impl Checker<'_> {
         Err(self.gap_lower_bound(&poly, in_plane, o).min(GAP_WINDOW))
     }
 
+    /// Whether a pair is in contact at path fraction `u` of a piece (as [`Self::probe`] finds it,
+    /// without measuring how deep: the stock's scan stops at the first column in contact).
+    fn probe_hit(&mut self, p: Part, o: Obstacle, piece: &Piece, u: f64, active: u32) -> bool {
+        let r = piece.at(u);
+        self.instant = u;
+        let Some((poly, in_plane)) = self.pose(p, r, active as f64) else {
+            return false;
+        };
+        if matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_)) {
+            self.others_tested = true;
+        }
+        self.test_with(&poly, in_plane, o, true).0.is_some()
+    }
+
     /// Conservative advancement along a piece: steps of at least the tolerance, and as long as
     /// the proven gap allows; contact boundaries refined by bisection.
     fn advanced(
@@ -694,7 +708,7 @@ impl Checker<'_> {
         let (mut lo, mut hi) = (a, b);
         for _ in 0..REFINE {
             let mid = 0.5 * (lo + hi);
-            let hit = self.probe(p, o, piece, mid, active).is_ok();
+            let hit = self.probe_hit(p, o, piece, mid, active);
             if hit == entering {
                 hi = mid;
             } else {
