@@ -380,3 +380,38 @@ fn step_sampling_ends_when_the_last_sample_rounds_below_the_move_end() {
     let bound = s.machine_time_s / (Settings::default().dt_ms / 1000.0) + 2.0 * s.moves as f64;
     assert!((s.steps as f64) < bound, "{s:?}");
 }
+
+/// A G71 whose profile ran first as plain moves (from a campaign of random G71 programs): the
+/// roughing passes drag the T01 holder through what the profile left, shallow, over most of each
+/// pass — once 840 probes a move at the tolerance. Stretches proven in contact (or clear) are
+/// stepped over by one query each: the same findings as probing every stretch, for well under
+/// half the pair tests.
+#[test]
+fn a_holder_dragged_along_long_passes_is_stepped_over_by_proofs() {
+    let proven = hostile_with("g71_profile_run_first_drags_the_holder.nc", Settings::default());
+    let probed = hostile_with(
+        "g71_profile_run_first_drags_the_holder.nc",
+        Settings {
+            prove_stretches: false,
+            ..Settings::default()
+        },
+    );
+    let facts = |o: &pipeline::Outcome| {
+        o.findings
+            .iter()
+            .map(|f| (f.line, f.kind, f.objects.clone(), f.severity))
+            .collect::<std::collections::BTreeSet<_>>()
+    };
+    assert!(
+        proven.findings.iter().any(|f| f.kind == Kind::Collision),
+        "{:?}",
+        proven.findings
+    );
+    assert_eq!(facts(&proven), facts(&probed));
+    assert!(
+        2 * proven.stats.pair_tests < probed.stats.pair_tests,
+        "{} pair tests proven against {} probed",
+        proven.stats.pair_tests,
+        probed.stats.pair_tests
+    );
+}
