@@ -165,7 +165,7 @@ proptest! {
     fn g83_pecks_never_feed_more_than_q_and_end_at_the_initial_level(
         bottom in 1.0f64..40.0, q_um in 500u32..10_000, r in 0.5f64..3.0,
     ) {
-        let src = format!("G21 G99 S500 M3\nT0606\nG0 X0 Z10\nG83 Z-{bottom:.3} R{r:.3} Q{q_um} F0.1\n");
+        let src = format!("G21 G99 S500 M3\nT0606\nG0 X0 Z10\nG83 Z-{bottom:.3} R-{r:.3} Q{q_um} F0.1\n");
         let i = run(&src);
         prop_assert!(errors(&i).is_empty(), "{:?}", errors(&i));
         let ms = line(&i, 4);
@@ -185,7 +185,8 @@ proptest! {
 
 #[test]
 fn g84_feeds_out_with_the_spindle_reversed_and_restores_it() {
-    let i = run("G21 G99 S300 M3\nT0606\nG0 X0 Z10\nG84 Z-10 R3. F1.5\nG0 Z20\n");
+    // The built-in machine reads R as Fanuc does: R-7. from the initial level Z10 is Z3.
+    let i = run("G21 G99 S300 M3\nT0606\nG0 X0 Z10\nG84 Z-10 R-7. F1.5\nG0 Z20\n");
     assert!(errors(&i).is_empty(), "{:?}", errors(&i));
     let ms = line(&i, 4);
     let feeds: Vec<&Move> = ms.iter().filter(|m| m.feed != Feed::Rapid).collect();
@@ -236,7 +237,8 @@ fn system_b_reads_g92_as_coordinate_setting_and_g77_to_g79_as_box_cycles() {
 fn system_b_g99_returns_drilling_to_the_r_plane() {
     let mut m = Machine::builtin();
     m.gcode_system = GcodeSystem::B;
-    let i = run_on("G21 G95 S500 M3\nT0606\nG0 X0 Z10\nG99 G81 Z-5 R2. F0.1\n", &m);
+    // from the initial level Z10: the R point Z2 (Fanuc's R, as the built-in machine reads it).
+    let i = run_on("G21 G95 S500 M3\nT0606\nG0 X0 Z10\nG99 G81 Z-5 R-8. F0.1\n", &m);
     assert!(errors(&i).is_empty(), "{:?}", errors(&i));
     assert!(close(line(&i, 4).last().unwrap().end.y, Z0 + 2.0));
     let a = run("G21 G99 S500 M3\nT0606\nG0 X0 Z10\nG81 Z-5 R2. F0.1\n");

@@ -355,6 +355,16 @@ struct RawHeader {
     /// tools: face G83/G84/G85, side G87/G88/G89 at a C angle). docs/machine.md.
     #[schemars(with = "Option<RawDrilling>")]
     drilling_cycles: Option<Spanned<RawDrilling>>,
+    /// How R of the spindle-axis drilling cycles G81-G89 is read: "absolute" (Haas: the R
+    /// plane's Z; the default with drilling_cycles = "haas") or "incremental" (Fanuc: the
+    /// distance from the initial level; the default with drilling_cycles = "fanuc").
+    /// docs/machine.md.
+    #[schemars(with = "Option<RawDrillR>")]
+    drill_r: Option<Spanned<RawDrillR>>,
+    /// How a G71/G72 one-block D without a decimal point is read: "length" (as written, the
+    /// default) or "increment" (Fanuc 0-TC/10T/15T: D1500 = 1.5 mm). docs/machine.md.
+    #[schemars(with = "Option<RawG71D>")]
+    g71_d: Option<Spanned<RawG71D>>,
     turret_side: Option<RawTurretSide>,
     units: Option<RawUnits>,
     #[schemars(with = "Option<f64>")]
@@ -388,6 +398,20 @@ enum RawGcodeSystem {
 enum RawDrilling {
     Haas,
     Fanuc,
+}
+
+#[derive(Deserialize, JsonSchema, Clone, Copy)]
+#[serde(rename_all = "lowercase", expecting = "\"absolute\" or \"incremental\"")]
+enum RawDrillR {
+    Absolute,
+    Incremental,
+}
+
+#[derive(Deserialize, JsonSchema, Clone, Copy)]
+#[serde(rename_all = "lowercase", expecting = "\"length\" or \"increment\"")]
+enum RawG71D {
+    Length,
+    Increment,
 }
 
 /// One builder code of `[gcodes]`: the standard code it runs as (`"G12.1"`), or a mode switch
@@ -1054,6 +1078,43 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
             }
         },
     };
+    // The R of the drilling cycles and the D of G71/G72 are Fanuc-dialect words (LinuxCNC's
+    // cycles have their own rules); Fanuc's live-tool cycles always read R from the initial level.
+    let drill_r = hdr.drill_r.as_ref().and_then(|d| {
+        let r = match d.get_ref() {
+            RawDrillR::Absolute => super::DrillR::Absolute,
+            RawDrillR::Incremental => super::DrillR::Incremental,
+        };
+        let why = if dialect != Dialect::Fanuc {
+            Some("drill_r applies to the fanuc dialect only: linuxcnc's drilling cycles read R as rs274ngc does")
+        } else if r == super::DrillR::Absolute && drilling_cycles == super::DrillingCycles::Fanuc {
+            Some("drill_r = \"absolute\" does not go with drilling_cycles = \"fanuc\": Fanuc's drilling cycles read R as the distance from the initial level")
+        } else {
+            None
+        };
+        match why {
+            Some(why) => {
+                cx.push(cx.err(d.span(), "machine.drill_r", why));
+                None
+            }
+            None => Some(r),
+        }
+    });
+    let g71_d = match &hdr.g71_d {
+        None => super::G71D::Length,
+        Some(d) => match d.get_ref() {
+            RawG71D::Length => super::G71D::Length,
+            RawG71D::Increment if dialect == Dialect::Fanuc => super::G71D::Increment,
+            RawG71D::Increment => {
+                cx.push(cx.err(
+                    d.span(),
+                    "machine.g71_d",
+                    "g71_d = \"increment\" applies to the fanuc dialect only",
+                ));
+                super::G71D::Length
+            }
+        },
+    };
     let gcodes = cx.keep(gcode_table(cx, dialect, gcodes.as_ref())).unwrap_or_default();
 
     let min_depth = hdr
@@ -1462,6 +1523,8 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         decimal_point,
         gcode_system,
         drilling_cycles,
+        drill_r,
+        g71_d,
         gcodes,
         turret_side: match hdr.turret_side {
             None | Some(RawTurretSide::Rear) => super::TurretSide::Rear,

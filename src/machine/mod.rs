@@ -86,6 +86,48 @@ impl DecimalPoint {
     }
 }
 
+/// How the R word of the spindle-axis drilling cycles G81–G89 is read (`machine.drill_r`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DrillR {
+    /// Haas: R is the program Z of the R plane.
+    Absolute,
+    /// Fanuc (0i-TD and the lathe controls before it): R is the signed distance from the
+    /// initial level (the Z where the cycle starts) to the R point.
+    Incremental,
+}
+
+impl DrillR {
+    /// The name used in machine files: `absolute`, `incremental`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            DrillR::Absolute => "absolute",
+            DrillR::Incremental => "incremental",
+        }
+    }
+}
+
+/// How a G71/G72 one-block `D` (the depth of cut) written without a decimal point is read
+/// (`machine.g71_d`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum G71D {
+    /// As written, in the program's unit (Haas: `D1.5` and `D1` are 1.5 mm and 1 mm).
+    #[default]
+    Length,
+    /// Fanuc 0-TC, 10T, 15T: in the least input increment (`D1500` = 1.5 mm, 0.0001 in in
+    /// inch); with a decimal point as written.
+    Increment,
+}
+
+impl G71D {
+    /// The name used in machine files: `length`, `increment`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            G71D::Length => "length",
+            G71D::Increment => "increment",
+        }
+    }
+}
+
 /// Fanuc lathe G-code system (Fanuc 0i-TD, B-64304EN): which codes name the box cycles and the
 /// coordinate setting.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -289,6 +331,11 @@ pub struct Machine {
     pub gcode_system: GcodeSystem,
     /// Which drilling cycles G83–G89 are (`machine.drilling_cycles`, default Haas's).
     pub drilling_cycles: DrillingCycles,
+    /// How G81–G89's R is read on the spindle axis (`machine.drill_r`); `None`: the default of
+    /// the drilling cycles, [`Machine::drill_r`].
+    pub drill_r: Option<DrillR>,
+    /// How a G71/G72 one-block `D` without a decimal point is read (`machine.g71_d`).
+    pub g71_d: G71D,
     /// Builder G codes (`[gcodes]`): codes the control runs as standard ones, or ignores.
     pub gcodes: GcodeTable,
     /// Which side of the spindle the turret stands on (`machine.turret_side`, default rear).
@@ -371,6 +418,15 @@ impl Machine {
         })
     }
 
+    /// How the spindle-axis drilling cycles read R: `machine.drill_r`, else incremental with
+    /// Fanuc's drilling cycles (`drilling_cycles = "fanuc"`) and absolute with Haas's.
+    pub fn drill_r(&self) -> DrillR {
+        self.drill_r.unwrap_or(match self.drilling_cycles {
+            DrillingCycles::Fanuc => DrillR::Incremental,
+            DrillingCycles::Haas => DrillR::Absolute,
+        })
+    }
+
     /// Program zero of work offset `n` (0 = G54 … 5 = G59) in the spindle frame: the offset's
     /// Z from machine zero, its X from the spindle axis; G54 without a written offset is
     /// `program_zero_z` on the axis. `None`: offset `n` is not given.
@@ -450,6 +506,14 @@ impl Machine {
         }
         if self.drilling_cycles == DrillingCycles::Fanuc {
             modes.push_str(", drilling cycles Fanuc's live-tool face and side cycles");
+        }
+        if self.dialect == Dialect::Fanuc {
+            if self.drill_r() == DrillR::Incremental {
+                let _ = write!(modes, ", drilling R incremental (from the initial level)");
+            }
+            if self.g71_d == G71D::Increment {
+                modes.push_str(", G71/G72 D without a point in increments (D1500 = 1.5 mm)");
+            }
         }
         let _ = writeln!(s, "  dialect     {modes}");
         if !self.gcodes.is_empty() {

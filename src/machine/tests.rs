@@ -706,6 +706,32 @@ fn increment_decimal_point_is_refused_for_linuxcnc() {
 }
 
 #[test]
+fn drill_r_follows_the_key_else_the_drilling_cycles() {
+    use super::{DrillR, DrillingCycles, G71D};
+    let m = load(MINI).unwrap();
+    assert_eq!((m.drill_r(), m.g71_d), (DrillR::Absolute, G71D::Length));
+    let fanuc_cycles = Machine {
+        drilling_cycles: DrillingCycles::Fanuc,
+        ..m.clone()
+    };
+    assert_eq!(fanuc_cycles.drill_r(), DrillR::Incremental);
+    let with = |keys: &str| edit(MINI, "name = \"mini\"", &format!("name = \"mini\"\n{keys}"));
+    let m = load(&with("drill_r = \"incremental\"\ng71_d = \"increment\"")).unwrap();
+    assert_eq!((m.drill_r(), m.g71_d), (DrillR::Incremental, G71D::Increment));
+    assert_eq!(Machine::builtin().drill_r(), DrillR::Incremental);
+    // Fanuc's live-tool cycles measure R from the initial level; linuxcnc has its own rules.
+    for keys in [
+        "drilling_cycles = \"fanuc\"\ndrill_r = \"absolute\"",
+        "dialect = \"linuxcnc\"\ndrill_r = \"absolute\"",
+    ] {
+        let text = with(keys);
+        assert_at(&refused(&text), line_of(&text, "drill_r"), "machine.drill_r");
+    }
+    let text = with("dialect = \"linuxcnc\"\ng71_d = \"increment\"");
+    assert_at(&refused(&text), line_of(&text, "g71_d"), "machine.g71_d");
+}
+
+#[test]
 fn error_display_names_file_line_column_and_key() {
     let text = edit(MINI, "diameter = 50.0", "diameter = -5");
     let e = refused(&text);

@@ -1,13 +1,16 @@
 //! Drilling cycles on the spindle axis, as Haas lathes run them (Haas lathe operator's manual,
-//! G81–G89, G80): a stationary drill, boring bar or tap on the turret, the part turning.
+//! G81–G89, G80) and as Fanuc lathes run the same codes with a turret drill: a stationary drill,
+//! boring bar or tap on the turret, the part turning.
 //!
-//! Words: Z (or W) the bottom of the hole, R the R plane (absolute program Z; default the initial
-//! level), Q the peck (G83; least input increment unless written with a decimal point), P the
-//! dwell at the bottom (G82, G88, G89; ms, or s with a decimal point, as G4 reads it), F the feed
-//! (G84: the pitch), X (or U) the hole's X — 0 on a 2-axis lathe (off the axis a stationary
-//! drill meets a turning part); on a machine with a C axis, C (and Y) index the spindle for a
-//! live tool's hole, and with the spindle in C-axis mode X may be off the axis (Haas: axial live
-//! drilling with these same cycles).
+//! Words: Z (or W) the bottom of the hole, R the R plane (default the initial level), read as
+//! the machine's `drill_r` says: Haas's absolute program Z of the R plane, or Fanuc's distance
+//! from the initial level to the R point, signed along Z (Fanuc 0i-TD, "Canned cycle for
+//! drilling": `G83 Z-20. R-2.` from Z3 feeds from Z1); Q the peck (G83; least input increment
+//! unless written with a decimal point), P the dwell at the bottom (G82, G88, G89; ms, or s with
+//! a decimal point, as G4 reads it), F the feed (G84: the pitch), X (or U) the hole's X — 0 on a
+//! 2-axis lathe (off the axis a stationary drill meets a turning part); on a machine with a C
+//! axis, C (and Y) index the spindle for a live tool's hole, and with the spindle in C-axis mode
+//! X may be off the axis (Haas: axial live drilling with these same cycles).
 //!
 //! Passes: rapid to the hole's X at the initial level, rapid to R, then
 //! - G81 feed to Z; G82 feed to Z, dwell; G83 pecks of Q, each followed by a rapid out to R and a
@@ -30,7 +33,7 @@ use super::super::{ExtraAxes, Feed, MoveKind, SpindleDir};
 use super::box_::go;
 use crate::gcode::Block;
 use crate::geom::P2;
-use crate::machine::GcodeSystem;
+use crate::machine::{DrillR, GcodeSystem};
 
 /// The clearance above the last depth where a G83 peck's rapid back down stops, mm.
 pub(crate) const PECK_CLEARANCE_MM: f64 = 1.0;
@@ -101,7 +104,12 @@ fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
         return;
     };
     if let Some(r) = r_word {
-        run.cycle.r = Some(run.origin().y + r * s_);
+        run.cycle.r = Some(match run.machine.drill_r() {
+            // Haas: the R plane's program Z.
+            DrillR::Absolute => run.origin().y + r * s_,
+            // Fanuc: the distance from the initial level to the R point, signed along Z.
+            DrillR::Incremental => run.cycle.level + r * s_,
+        });
     }
     run.cycle.q = q_word.or(run.cycle.q);
     run.cycle.p = p_word.or(run.cycle.p);

@@ -121,10 +121,14 @@ fn g71_g72(run: &mut Run<'_>, b: &Block, w: &mut Words, ax: Axes) {
     let at = here(run);
     common::skip_profile(run, at, q);
     let mem = if ax.facing { run.cycles.g72 } else { run.cycles.g71 };
-    let depth = match w.get(b'D') {
-        Some(d) => Some(d * s),
-        None => mem.map(|m| m.0),
+    // One-block D: as written (Haas), or on the old Fanuc controls (0-TC, 10T, 15T: `g71_d =
+    // "increment"`) in the least input increment unless written with a decimal point.
+    let d_word = if run.machine.g71_d == crate::machine::G71D::Increment {
+        super::least(run, w, b'D')
+    } else {
+        w.get(b'D').map(|d| d * s)
     };
+    let depth = d_word.or(mem.map(|m| m.0));
     let retract = w
         .get(b'R')
         .map(|r| r * s)

@@ -1,4 +1,4 @@
-(Drilling cycles on the spindle axis as Haas lathes run them: G83 modal with a repeat, G82, G84, G85, an off-axis hole refused, G80)
+(Drilling cycles on the spindle axis as Haas lathes run them [R the absolute Z of the R plane, drill_r = "absolute"]: G83 modal with a repeat, G82, G84, G85, an off-axis hole refused, G80) (test-case: machine=haas-style-tailstock)
 G21 G99 G97 S800 M3
 G28 U0 W0
 T0606
