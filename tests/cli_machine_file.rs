@@ -108,6 +108,22 @@ fn dialect_auto_chooses_per_file_and_the_reports_say_which() {
         out.contains("facing.nc: dialect fanuc (auto: a program number `O…` at line 2)"),
         "{out}"
     );
+    // `moves` reads each program in its own dialect too (it once read them all as the machine
+    // file's fallback: G7 unsupported in the LinuxCNC program).
+    let o = run(&["moves", "-m", &m, &lc]);
+    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
+    assert!(!err(&o).contains("unsupported"), "{}", err(&o));
+    // `setup` says the same of each program, as `check` reads it.
+    let o = run(&["setup", "-m", &m, &lc]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("dialect       linuxcnc (auto: a named o-word at line 1)"),
+        "{out}"
+    );
+    let o = run(&["setup", "-m", &m, &fanuc, "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["dialect"]["value"], "fanuc", "{v}");
+    assert_eq!(v["dialect"]["auto"], "a program number `O…` at line 2", "{v}");
     let o = run(&["check", "-m", &m, &lc, "--format", "json"]);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["files"][0]["dialect"], "linuxcnc");

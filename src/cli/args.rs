@@ -58,7 +58,9 @@ pub enum Command {
 
 #[derive(Args, Debug)]
 pub struct AccuracyArgs {
+    /// The NC program to check at every setting.
     pub program: PathBuf,
+    /// Machine description (default: the built-in machine; latheguard.toml is not read here).
     #[arg(short, long, value_name = "FILE")]
     pub machine: Option<PathBuf>,
     /// Report format.
@@ -216,9 +218,12 @@ pub struct CheckArgs {
 
 #[derive(Args, Debug)]
 pub struct MovesArgs {
+    /// The NC program to interpret.
     pub program: PathBuf,
+    /// Machine description (default: the built-in machine; latheguard.toml is not read here).
     #[arg(short, long, value_name = "FILE")]
     pub machine: Option<PathBuf>,
+    /// Output: rs274-style canonical calls, or a JSON array of the moves.
     #[arg(long, value_enum, default_value_t = MovesFormat::Canon)]
     pub format: MovesFormat,
     #[command(flatten)]

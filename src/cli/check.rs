@@ -380,7 +380,7 @@ fn check_one(job: &Job, input: &Input) -> (FileReport, bool) {
 }
 
 /// The bytes of a program, or why they cannot be had.
-fn read_program(path: &Path) -> Result<Vec<u8>, String> {
+pub(super) fn read_program(path: &Path) -> Result<Vec<u8>, String> {
     read_capped(path, MAX_PROGRAM_BYTES).map_err(|why| format!("cannot read the file: {why}"))
 }
 

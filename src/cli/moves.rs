@@ -16,7 +16,11 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
         .machine;
     let src = read_capped(&a.program, MAX_PROGRAM_BYTES)
         .map_err(|why| format!("{}: cannot read: {why}", shown(&a.program)))?;
-    let mut prog = pipeline::read(&src, &machine);
+    // A machine whose file says `dialect = "auto"` reads the program in the dialect its own
+    // signs show, as `check` does.
+    let (machine, _) = pipeline::resolve(&src, &machine);
+    let machine = machine.as_ref();
+    let mut prog = pipeline::read(&src, machine);
     let mut written: std::io::Result<()> = Ok(());
     let mut run = match a.format {
         MovesFormat::Canon if machine.kinematics.is_some() => {

@@ -225,10 +225,11 @@ pub fn run(a: SetupArgs) -> Result<u8, Trouble> {
     }
     let mut planner = Planner::new(a.machine.as_deref(), a.no_config, &a.job)?;
     let r = planner.resolve(&a.program)?;
+    let auto = auto_dialect(&a.program, &r);
     let text = match a.format {
-        TableFormat::Text => safe_lines(&text(&a.program, &r)),
+        TableFormat::Text => safe_lines(&text(&a.program, &r, &auto)),
         TableFormat::Json => {
-            let mut s = serde_json::to_string_pretty(&json(&a.program, &r)).unwrap_or_default();
+            let mut s = serde_json::to_string_pretty(&json(&a.program, &r, &auto)).unwrap_or_default();
             s.push('\n');
             s
         }
@@ -238,6 +239,13 @@ pub fn run(a: SetupArgs) -> Result<u8, Trouble> {
 }
 
 const MACHINE: &str = "machine";
+
+/// On a machine whose file says `dialect = "auto"`: the dialect the program's own signs choose
+/// and why, as `check` reads it (or why the program could not be read).
+fn auto_dialect(program: &Path, r: &Resolved) -> Option<Result<(machine::Dialect, String), String>> {
+    r.machine.auto_dialect.as_ref()?;
+    Some(super::check::read_program(program).map(|src| machine::auto::detect(&src)))
+}
 
 /// Which layer set a value: the last job layer that did, else the machine file.
 fn from<T>(s: &Option<job::Set<T>>) -> &str {
@@ -311,7 +319,7 @@ fn program_zero_from<'a>(m: &Machine, j: &'a EffectiveJob) -> &'a str {
     }
 }
 
-fn text(program: &Path, r: &Resolved) -> String {
+fn text(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, String), String>>) -> String {
     let m = &r.machine;
     let j = &r.job;
     let mut s = String::new();
@@ -333,10 +341,15 @@ fn text(program: &Path, r: &Resolved) -> String {
     }
     let units = if m.inch { "inch (G20)" } else { "mm (G21)" };
     let _ = writeln!(s, "  units         {units}  [{}]", from(&j.units_inch));
-    let mut dialect = m.dialect.as_str().to_string();
-    if j.dialect.as_ref().is_some_and(|d| d.value == job::DialectChoice::Auto) {
-        dialect.push_str(" (auto: reading the program's dialect is not built yet; the machine's)");
-    }
+    let dialect = match auto {
+        Some(Ok((d, why))) => format!("{} ({why})", d.as_str()),
+        Some(Err(why)) => format!("{} (auto: the program could not be read: {why})", m.dialect.as_str()),
+        None if j.dialect.as_ref().is_some_and(|d| d.value == job::DialectChoice::Auto) => format!(
+            "{} (auto in a job keeps the machine's; `dialect = \"auto\"` in the machine file reads each program's)",
+            m.dialect.as_str()
+        ),
+        None => m.dialect.as_str().to_string(),
+    };
     let _ = writeln!(s, "  dialect       {dialect}  [{}]", from(&j.dialect));
     let _ = writeln!(s, "  stock         {}  [{}]", stock_text(m), from(&j.stock));
     let pz_from = program_zero_from(m, j);
@@ -417,7 +430,7 @@ fn text(program: &Path, r: &Resolved) -> String {
     s
 }
 
-fn json(program: &Path, r: &Resolved) -> serde_json::Value {
+fn json(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, String), String>>) -> serde_json::Value {
     let m = &r.machine;
     let j = &r.job;
     let outline = |p: &Option<latheguard::geom::Polygon>| {
@@ -430,7 +443,12 @@ fn json(program: &Path, r: &Resolved) -> serde_json::Value {
         "config": r.config.as_ref().map(|c| super::shown(c.strip_prefix(std::env::current_dir().unwrap_or_default()).unwrap_or(c))),
         "job": { "layers": j.layers, "files": j.files },
         "units": { "value": if m.inch { "inch" } else { "mm" }, "from": from(&j.units_inch) },
-        "dialect": { "value": m.dialect.as_str(), "from": from(&j.dialect) },
+        "dialect": match auto {
+            Some(Ok((d, why))) => json!({
+                "value": d.as_str(), "from": from(&j.dialect), "auto": why.strip_prefix("auto: ").unwrap_or(why) }),
+            Some(Err(why)) => json!({ "value": m.dialect.as_str(), "from": from(&j.dialect), "auto": why }),
+            None => json!({ "value": m.dialect.as_str(), "from": from(&j.dialect) }),
+        },
         "stock": {
             "value": m.stock.as_ref().map(|s| match &s.outline {
                 Some(o) => json!({
