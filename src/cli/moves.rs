@@ -25,7 +25,7 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     let mut run = match a.format {
         MovesFormat::Canon if machine.kinematics.is_some() => {
             // A turn-mill machine: the extra axes' side table is whole only at the end.
-            let run = interp::interpret(&prog, &src, &machine);
+            let run = interp::interpret(&prog, &src, machine);
             let mut sink = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
             written = canon::write(&run, &mut sink).and_then(|_| std::io::Write::flush(&mut sink));
             run
@@ -34,7 +34,7 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
             // Streamed: the moves go out as the interpreter makes them, so neither the canonical
             // text nor the moves of a long program are ever whole in memory.
             let mut sink = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
-            let run = interp::interpret_streaming(&prog, &src, &machine, |moves, states| {
+            let run = interp::interpret_streaming(&prog, &src, machine, |moves, states| {
                 if written.is_ok() {
                     written = canon::write_moves(moves, states, &mut sink);
                 }
@@ -44,7 +44,7 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
             }
             run
         }
-        MovesFormat::Json => interp::interpret(&prog, &src, &machine),
+        MovesFormat::Json => interp::interpret(&prog, &src, machine),
     };
     let findings = pipeline::read_findings(&mut prog, &mut run);
     drop(prog);
