@@ -551,3 +551,23 @@ fn moves_reads_fanuc_macro_b_as_check_does() {
         "{text}"
     );
 }
+
+/// A follow-on contact says which crash it follows in SARIF too (`properties.follow_on`), as the
+/// JSON report does: a code-scanning view must not show it as a crash of its own making.
+#[test]
+fn sarif_results_name_the_crash_a_follow_on_follows_as_json_does() {
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let file = "tests/fixtures/follow-on/rapid_then_stopped_feed.nc";
+    let doc = json(&latheguard(&root, &["check", "--format", "json", file]));
+    let sarif = json(&latheguard(&root, &["check", "--format", "sarif", file]));
+    let findings = doc["files"][0]["findings"].as_array().unwrap();
+    let results = sarif["runs"][0]["results"].as_array().unwrap();
+    assert_eq!(findings.len(), results.len());
+    let mut seen = 0;
+    for (f, r) in findings.iter().zip(results) {
+        assert_eq!(f["line"], r["locations"][0]["physicalLocation"]["region"]["startLine"]);
+        assert_eq!(f["follow_on"], r["properties"]["follow_on"], "line {}", f["line"]);
+        seen += usize::from(!f["follow_on"].is_null());
+    }
+    assert!(seen > 0, "no follow-on to test");
+}

@@ -92,11 +92,7 @@ impl<'a> From<&'a Finding> for FindingDoc<'a> {
             x: f.x.map(round6),
             z: f.z.map(round6),
             message: &f.message,
-            follow_on: f.follow_on.as_ref().map(|p| FollowOnDoc {
-                line: p.line,
-                objects: &p.objects,
-                time_s: round6(p.time_s),
-            }),
+            follow_on: f.follow_on.as_ref().map(FollowOnDoc::of),
             profile_line: f.profile_line,
             picture: f.picture.as_deref(),
             repeats: (f.repeats > 1).then_some(f.repeats),
@@ -104,12 +100,23 @@ impl<'a> From<&'a Finding> for FindingDoc<'a> {
     }
 }
 
-/// The crash a follow-on contact comes from, its time rounded as every JSON number is.
+/// The crash a follow-on contact comes from, its time rounded as every JSON number is (the
+/// JSON report's `follow_on`, and the SARIF result's `properties.follow_on`).
 #[derive(Serialize)]
-struct FollowOnDoc<'a> {
+pub(super) struct FollowOnDoc<'a> {
     line: u32,
     objects: &'a [String],
     time_s: f64,
+}
+
+impl<'a> FollowOnDoc<'a> {
+    pub(super) fn of(p: &'a crate::finding::FollowOn) -> FollowOnDoc<'a> {
+        FollowOnDoc {
+            line: p.line,
+            objects: &p.objects,
+            time_s: round6(p.time_s),
+        }
+    }
 }
 
 /// Six decimals: nm and µs, stable across platforms' last-bit differences.
