@@ -224,6 +224,11 @@ impl Comp {
         }
     }
 
+    /// The side compensation is on (none after G40).
+    pub(crate) fn side(&self) -> Option<Side> {
+        self.side
+    }
+
     /// Compensation is on (G41/G42 in force).
     pub(crate) fn is_on(&self) -> bool {
         self.side.is_some()

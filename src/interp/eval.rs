@@ -221,6 +221,20 @@ impl Run<'_> {
             "_units_per_minute" => bool_f(!m.feed_per_rev),
             "_line" => self.current_line as f64,
             "_task" => 0.0,
+            // The LinuxCNC version whose rs274 these rules follow (2.9).
+            "_vmajor" => 2.0,
+            "_vminor" => 9.0,
+            "_ccomp" => match self.comp.as_ref().and_then(|c| c.side()) {
+                None => 400.0,
+                Some(super::comp::Side::Left) => 410.0,
+                Some(super::comp::Side::Right) => 420.0,
+            },
+            "_spindle_css_mode" => bool_f(m.spindle_css),
+            "_spindle_rpm_mode" => bool_f(!m.spindle_css),
+            "_ijk_absolute_mode" => bool_f(!m.arc_incremental),
+            "_inverse_time" => 0.0,
+            "_call_level" => self.frames.len() as f64,
+            "_remap_level" => 0.0,
             _ => return None,
         })
     }

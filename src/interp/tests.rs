@@ -468,3 +468,33 @@ proptest! {
         prop_assert!((p[1] - (y0 + (y1 - y0) * t)).abs() < 1e-12);
     }
 }
+
+/// LinuxCNC's predefined named parameters that a program may test (`o100 if [#<_vmajor> GE 2]`):
+/// the version whose rs274 these rules follow, compensation, spindle and arc-centre modes, the
+/// o-word call level.
+#[test]
+fn linuxcnc_predefined_named_parameters_read_the_modes_in_force() {
+    let src = "G7 G18 G21 G90.1\n\
+               G0 X[#<_vmajor>] Z[#<_vminor>]\n\
+               G0 X[#<_ccomp> / 100] Z[#<_ijk_absolute_mode>]\n\
+               G96 S100 D1000 M3\n\
+               G0 X[#<_spindle_css_mode> * 10 + #<_spindle_rpm_mode>] Z[#<_call_level>]\n\
+               o100 sub\n\
+               G0 X[#<_call_level> * 2] Z[#<_remap_level> + #<_inverse_time>]\n\
+               o100 endsub\n\
+               o100 call\n\
+               M2\n";
+    let i = interp(src, &linuxcnc());
+    assert!(i.findings.is_empty(), "{:?}", i.findings);
+    // X words are diameters (G7): the spindle frame holds radii. Program zero is the machine's.
+    let dz = i.moves[0].ref_end().y + i.moves[0].tip.y - 9.0;
+    let ends: Vec<(f64, f64)> = i
+        .moves
+        .iter()
+        .map(|m| {
+            let p = m.ref_end() + m.tip;
+            ((2.0 * p.x * 1e6).round() / 1e6, ((p.y - dz) * 1e6).round() / 1e6)
+        })
+        .collect();
+    assert_eq!(ends, vec![(2.0, 9.0), (4.0, 1.0), (10.0, 0.0), (2.0, 0.0)], "{ends:?}");
+}
