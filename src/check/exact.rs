@@ -197,6 +197,16 @@ fn pieces<'a>(m: &Move, item: &'a Timed) -> Vec<Piece<'a>> {
     }
 }
 
+/// What a stretch ahead of conservative advancement is proven to be (see
+/// [`Checker::stretch_proven`]).
+#[derive(Clone, Copy)]
+enum Proof {
+    /// Clear of the stock throughout.
+    Clear,
+    /// In contact throughout, and nowhere deeper than `cap`.
+    Contact { cap: f64 },
+}
+
 /// How closely conservative advancement measures the contacts it finds.
 #[derive(Clone, Copy)]
 enum Measure {
@@ -376,14 +386,9 @@ impl Checker<'_> {
     /// Depth of a pair at path fraction `u` of a piece, or the gap when clear (a lower bound).
     /// The stock is seen as it is at that instant of the move.
     fn probe(&mut self, p: Part, o: Obstacle, piece: &Piece, u: f64, active: u32) -> Result<f64, f64> {
-        let r = piece.at(u);
-        self.instant = u;
-        let Some((poly, in_plane)) = self.pose(p, r, active as f64) else {
+        let Some((poly, in_plane)) = self.posed_at(p, piece, u, active) else {
             return Err(f64::INFINITY);
         };
-        if matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_)) {
-            self.others_tested = true;
-        }
         let (depth, _) = self.test(&poly, in_plane, o);
         if let Some(d) = depth {
             return Ok(d);
@@ -394,15 +399,20 @@ impl Checker<'_> {
     /// Whether a pair is in contact at path fraction `u` of a piece (as [`Self::probe`] finds it,
     /// without measuring how deep: the stock's scan stops at the first column in contact).
     fn probe_hit(&mut self, p: Part, o: Obstacle, piece: &Piece, u: f64, active: u32) -> bool {
-        let r = piece.at(u);
-        self.instant = u;
-        let Some((poly, in_plane)) = self.pose(p, r, active as f64) else {
+        let Some((poly, in_plane)) = self.posed_at(p, piece, u, active) else {
             return false;
         };
+        self.test_with(&poly, in_plane, o, true).0.is_some()
+    }
+
+    /// The part posed at path fraction `u` of a piece, the stock's instant set to it.
+    fn posed_at(&mut self, p: Part, piece: &Piece, u: f64, active: u32) -> Option<(Polygon, bool)> {
+        self.instant = u;
+        let posed = self.pose(p, piece.at(u), active as f64)?;
         if matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_)) {
             self.others_tested = true;
         }
-        self.test_with(&poly, in_plane, o, true).0.is_some()
+        Some(posed)
     }
 
     /// Conservative advancement along a piece: steps of at least the tolerance, and as long as
@@ -548,18 +558,16 @@ impl Checker<'_> {
             // far the next time.
             let proof = match (res, &open) {
                 _ if !self.settings.prove_stretches => None,
-                (Ok(_), Some(iv)) => Some(Some(iv.depth.max(peak.depth) + 0.5 * step)),
-                (Err(_), None) if advance < 0.5 * ahead => Some(None),
+                (Ok(_), Some(iv)) => Some(Proof::Contact {
+                    cap: iv.depth.max(peak.depth) + 0.5 * step,
+                }),
+                (Err(_), None) if advance < 0.5 * ahead => Some(Proof::Clear),
                 _ => None,
             };
-            if let Some(cap) = proof {
+            if let Some(proof) = proof {
                 ahead = ahead.max(2.0 * advance);
                 let to = (u + ahead / len).min(b);
-                let proven = match cap {
-                    Some(cap) => self.stretch_in_contact(p, o, piece, active, u, to, cap),
-                    None => self.stretch_clear_line(p, o, piece, active, u, to),
-                };
-                if proven {
+                if self.stretch_proven(p, o, piece, active, (u, to), proof) {
                     *probes += 1;
                     ahead *= 2.0;
                     prev_u = u;
@@ -580,27 +588,28 @@ impl Checker<'_> {
         true
     }
 
-    /// Whether a part stays in contact with the stock over the whole stretch `[a, b]` of a
-    /// straight piece, and is nowhere in it deeper than `cap` — then no probe in the stretch can
-    /// end the contact or deepen it, and conservative advancement may step over it.
+    /// Whether a stretch `[a, b]` of a straight piece holds nothing a probe of the part against
+    /// the stock could add (only the turret, holder and insert: they translate along the piece,
+    /// by `δ` from their pose at `a`):
     ///
-    /// Contact: the part only translates along the stretch, by `δ` from its pose at `a`; for a
-    /// convex piece `K` of the part, every pose holds `K ∩ (K + δ)`, so when that region overlaps
-    /// the stock as it is at `b` (the least material of the stretch: a cutting move only removes
-    /// it), every pose overlaps the stock at its own instant at least as much. Depth: every pose
-    /// lies in the convex hull of the poses at `a` and `b`, whose depth against the stock as it
-    /// is at `a` (the most material) bounds theirs (a column's radial overlap and the axial
-    /// extent of the overlapping columns only grow with the part).
-    #[allow(clippy::too_many_arguments)]
-    fn stretch_in_contact(
+    /// - [`Proof::Clear`]: the convex hull of the poses at `a` and `b` holds every pose between,
+    ///   and overlaps no column of the stock as it is at `a` (the most material of the stretch:
+    ///   a cutting move only removes it) by more than half the touch tolerance, so no pose does
+    ///   (as [`Checker::stretch_clear`] proves a stretch between two samples).
+    /// - [`Proof::Contact`]: in contact throughout — for a convex piece `K` of the part, every
+    ///   pose holds `K ∩ (K + δ)`, so when that region overlaps the stock as it is at `b` (the
+    ///   least material), every pose overlaps the stock at its own instant at least as much —
+    ///   and nowhere deeper than `cap`: the hull's depth against the stock at `a` bounds every
+    ///   pose's (a column's radial overlap and the axial extent of the overlapping columns only
+    ///   grow with the part).
+    fn stretch_proven(
         &mut self,
         p: Part,
         o: Obstacle,
         piece: &Piece,
         active: u32,
-        a: f64,
-        b: f64,
-        cap: f64,
+        (a, b): (f64, f64),
+        proof: Proof,
     ) -> bool {
         if o != Obstacle::Stock || !matches!(p, Part::Turret | Part::Holder | Part::Insert) || b <= a {
             return false;
@@ -608,59 +617,37 @@ impl Checker<'_> {
         let Shape::Line { .. } = piece.shape else {
             return false;
         };
-        let (ra, rb) = (piece.at(a), piece.at(b));
-        let Some((pose_a, _)) = self.pose(p, ra, active as f64) else {
+        let Some((pose_a, _)) = self.pose(p, piece.at(a), active as f64) else {
             return false;
         };
-        let d = rb - ra;
-        self.stats.pair_tests += 2;
-        self.instant = b;
-        let inside = geom::convex::convex_pieces(pose_a.points()).iter().any(|k| {
-            let moved: Vec<P2> = k.iter().map(|q| q + d).collect();
-            let common = geom::convex::clip_convex(k, &moved);
-            common.len() >= 3 && self.stock_overlap(&common, geom::TOUCH_EPS, true).is_some()
-        });
-        if !inside {
-            return false;
+        let d = piece.at(b) - piece.at(a);
+        // One query for a clear stretch; two for one in contact (counted whether or not the
+        // first one already fails).
+        self.stats.pair_tests += if let Proof::Contact { .. } = proof { 2 } else { 1 };
+        if let Proof::Contact { .. } = proof {
+            self.instant = b;
+            let inside = geom::convex::convex_pieces(pose_a.points()).iter().any(|k| {
+                let moved: Vec<P2> = k.iter().map(|q| q + d).collect();
+                let common = geom::convex::clip_convex(k, &moved);
+                common.len() >= 3 && self.stock_overlap(&common, geom::TOUCH_EPS, true).is_some()
+            });
+            if !inside {
+                return false;
+            }
         }
-        let Some(hull) = self.hull_between(p, piece, active, a, b) else {
-            return false;
-        };
-        self.instant = a;
-        let deepest = self
-            .stock_overlap(&hull, geom::TOUCH_EPS, false)
-            .map_or(0.0, |h| h.depth);
-        deepest <= cap
-    }
-
-    /// Whether a part is clear of the stock over the whole stretch `[a, b]` of a straight piece:
-    /// the convex hull of its poses at `a` and `b` holds every pose between, and overlaps no
-    /// column of the stock as it is at `a` (the most material of the stretch) by more than half
-    /// the touch tolerance, so no pose does (as [`Checker::stretch_clear`] proves a stretch
-    /// between two samples).
-    fn stretch_clear_line(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, a: f64, b: f64) -> bool {
-        if o != Obstacle::Stock || !matches!(p, Part::Turret | Part::Holder | Part::Insert) || b <= a {
-            return false;
-        }
-        let Shape::Line { .. } = piece.shape else {
-            return false;
-        };
-        let Some(hull) = self.hull_between(p, piece, active, a, b) else {
-            return false;
-        };
-        self.stats.pair_tests += 1;
-        self.instant = a;
-        self.stock_overlap(&hull, 0.5 * geom::TOUCH_EPS, true).is_none()
-    }
-
-    /// The convex hull of a part's poses at fractions `a` and `b` of a straight piece.
-    fn hull_between(&self, p: Part, piece: &Piece, active: u32, a: f64, b: f64) -> Option<Vec<P2>> {
-        let (ra, rb) = (piece.at(a), piece.at(b));
-        let (pose_a, _) = self.pose(p, ra, active as f64)?;
-        let d = rb - ra;
         let mut pts: Vec<P2> = pose_a.points().to_vec();
         pts.extend(pose_a.points().iter().map(|q| q + d));
-        Some(crate::tooling::outline::hull(&pts))
+        let hull = crate::tooling::outline::hull(&pts);
+        self.instant = a;
+        match proof {
+            Proof::Clear => self.stock_overlap(&hull, 0.5 * geom::TOUCH_EPS, true).is_none(),
+            Proof::Contact { cap } => {
+                let deepest = self
+                    .stock_overlap(&hull, geom::TOUCH_EPS, false)
+                    .map_or(0.0, |h| h.depth);
+                deepest <= cap
+            }
+        }
     }
 
     /// The depth of a contact interval whose probes found `probed` at the deepest: sought

@@ -241,10 +241,13 @@ pub fn run(a: SetupArgs) -> Result<u8, Trouble> {
 const MACHINE: &str = "machine";
 
 /// On a machine whose file says `dialect = "auto"`: the dialect the program's own signs choose
-/// and why, as `check` reads it (or why the program could not be read).
+/// and why, as `check` reads it (`pipeline::resolve`), or why the program could not be read.
 fn auto_dialect(program: &Path, r: &Resolved) -> Option<Result<(machine::Dialect, String), String>> {
     r.machine.auto_dialect.as_ref()?;
-    Some(super::check::read_program(program).map(|src| machine::auto::detect(&src)))
+    match super::check::read_program(program) {
+        Ok(src) => latheguard::pipeline::resolve(&src, &r.machine).1.map(Ok),
+        Err(why) => Some(Err(why)),
+    }
 }
 
 /// Which layer set a value: the last job layer that did, else the machine file.

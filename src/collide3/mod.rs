@@ -104,7 +104,7 @@ impl Shape3 {
             Geometry::Revolved(outline) => Shape3::from_mesh(&shape::revolved(outline, tol).ok()?),
             Geometry::Extruded { outline, half_width } => {
                 let hw = *half_width;
-                if tess::is_convex(outline) {
+                if crate::geom::convex::is_convex(outline) {
                     return Shape3::hull(outline, hw);
                 }
                 match shape::extruded(outline, hw) {

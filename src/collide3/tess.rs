@@ -4,8 +4,6 @@
 
 use parry3d_f64::math::Vector;
 
-use crate::geom::P2;
-
 /// Flip every triangle when the mesh's signed volume is negative (inward facing).
 fn orient_outward(v: &[Vector], t: &mut [[u32; 3]]) {
     let vol: f64 = t
@@ -20,23 +18,6 @@ fn orient_outward(v: &[Vector], t: &mut [[u32; 3]]) {
             tr.swap(1, 2);
         }
     }
-}
-
-/// Whether a polygon (at least 3 points, either winding) is convex.
-pub fn is_convex(p: &[P2]) -> bool {
-    let n = p.len();
-    let mut sign = 0.0;
-    for i in 0..n {
-        let (a, b, c) = (p[i], p[(i + 1) % n], p[(i + 2) % n]);
-        let cr = (b.x - a.x) * (c.y - b.y) - (b.y - a.y) * (c.x - b.x);
-        if cr != 0.0 {
-            if sign != 0.0 && cr.signum() != sign {
-                return false;
-            }
-            sign = cr.signum();
-        }
-    }
-    true
 }
 
 /// A tessellated sphere (UV, `rings` × `segs`), for tests and benchmarks.

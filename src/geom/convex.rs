@@ -46,17 +46,28 @@ pub fn triangulate(pts: &[P2]) -> Vec<[u32; 3]> {
     out
 }
 
-/// Whether a counter-clockwise ring of points turns left (or goes straight) at every vertex.
-pub fn is_convex_ccw(p: &[P2]) -> bool {
+/// Whether a ring of points (at least 3, either winding) is convex: it turns the same way, or
+/// goes straight, at every vertex (exact orientation).
+pub fn is_convex(p: &[P2]) -> bool {
     let n = p.len();
-    n >= 3 && (0..n).all(|i| orient(p[i], p[(i + 1) % n], p[(i + 2) % n]) >= 0.0)
+    let mut sign = 0.0;
+    for i in 0..n {
+        let o = orient(p[i], p[(i + 1) % n], p[(i + 2) % n]);
+        if o != 0.0 {
+            if sign != 0.0 && o.signum() != sign {
+                return false;
+            }
+            sign = o.signum();
+        }
+    }
+    n >= 3
 }
 
 /// Convex pieces whose union is a counter-clockwise simple polygon: the polygon itself when it
 /// is convex, else its triangles merged across shared edges while the union stays convex (at
 /// most a few pieces for a tool holder's L or T shape).
 pub fn convex_pieces(pts: &[P2]) -> Vec<Vec<P2>> {
-    if is_convex_ccw(pts) {
+    if is_convex(pts) {
         return vec![pts.to_vec()];
     }
     let mut pieces: Vec<Vec<u32>> = triangulate(pts).into_iter().map(|t| t.to_vec()).collect();
@@ -67,7 +78,7 @@ pub fn convex_pieces(pts: &[P2]) -> Vec<Vec<P2>> {
         'outer: for a in 0..pieces.len() {
             for b in a + 1..pieces.len() {
                 if let Some(u) = union_across_edge(&pieces[a], &pieces[b]) {
-                    if is_convex_ccw(&ring(&u)) {
+                    if is_convex(&ring(&u)) {
                         pieces[a] = u;
                         pieces.swap_remove(b);
                         merged = true;
@@ -169,7 +180,7 @@ mod tests {
         ];
         let pieces = convex_pieces(&pts);
         assert!(pieces.len() <= 4, "{pieces:?}");
-        assert!(pieces.iter().all(|p| is_convex_ccw(p)));
+        assert!(pieces.iter().all(|p| is_convex(p)));
         let total: f64 = pieces.iter().map(|p| area(p)).sum();
         assert!((total - area(&pts)).abs() < 1e-9, "{total} vs {}", area(&pts));
     }
@@ -190,7 +201,7 @@ mod tests {
             let moved: Vec<P2> = k.iter().map(|q| q + d).collect();
             let common = clip_convex(&k, &moved);
             // Not vacuous: with no translation the common region is the piece itself.
-            proptest::prop_assert!(is_convex_ccw(&k));
+            proptest::prop_assert!(is_convex(&k));
             proptest::prop_assert!((area(&clip_convex(&k, &k)) - area(&k)).abs() < 1e-9 * (1.0 + area(&k)));
             let pose: Vec<P2> = k.iter().map(|q| q + d * s).collect();
             let n = pose.len();
