@@ -12,6 +12,7 @@ use serde::Serialize;
 pub enum Kind {
     Collision,
     RapidIntoStock,
+    RapidScrape,
     SpindleStopped,
     NearMiss,
     Overtravel,
@@ -21,9 +22,10 @@ pub enum Kind {
 }
 
 impl Kind {
-    pub const ALL: [Kind; 8] = [
+    pub const ALL: [Kind; 9] = [
         Kind::Collision,
         Kind::RapidIntoStock,
+        Kind::RapidScrape,
         Kind::SpindleStopped,
         Kind::NearMiss,
         Kind::Overtravel,
@@ -37,6 +39,7 @@ impl Kind {
         match self {
             Kind::Collision => "collision",
             Kind::RapidIntoStock => "rapid_into_stock",
+            Kind::RapidScrape => "rapid_scrape",
             Kind::SpindleStopped => "spindle_stopped",
             Kind::NearMiss => "near_miss",
             Kind::Overtravel => "overtravel",
@@ -245,6 +248,7 @@ pub fn code(kind: Kind) -> &'static str {
     match kind {
         Kind::Collision => "LG01",
         Kind::RapidIntoStock => "LG02",
+        Kind::RapidScrape => "LG06",
         Kind::SpindleStopped => "LG03",
         Kind::NearMiss => "LG04",
         Kind::Overtravel => "LG05",
@@ -259,6 +263,7 @@ pub fn explain(kind: Kind) -> &'static str {
     match kind {
         Kind::Collision => include_str!("../docs/findings/collision.md"),
         Kind::RapidIntoStock => include_str!("../docs/findings/rapid_into_stock.md"),
+        Kind::RapidScrape => include_str!("../docs/findings/rapid_scrape.md"),
         Kind::SpindleStopped => include_str!("../docs/findings/spindle_stopped.md"),
         Kind::NearMiss => include_str!("../docs/findings/near_miss.md"),
         Kind::Overtravel => include_str!("../docs/findings/overtravel.md"),

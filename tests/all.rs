@@ -52,6 +52,7 @@ mod polar;
 mod report3d;
 mod robustness;
 mod rs274_reference;
+mod scrape;
 mod shifted;
 mod stock_instant_props;
 mod stock_props;

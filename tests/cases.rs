@@ -13,7 +13,7 @@
 //! the diff: a test that is updated blindly proves nothing).
 
 use crate::case_machine::case_machine;
-use latheguard::finding::Severity;
+use latheguard::finding::{Kind, Severity};
 use latheguard::machine::Machine;
 use latheguard::pipeline::{self, Mode, Settings};
 use std::fmt::Write;
@@ -133,7 +133,9 @@ fn render(src: &[u8], machine: &Machine, settings: &Settings) -> String {
         let follow = match &f.follow_on {
             Some(p) => format!(" follow-on of {}", p.line),
             // A contact reported as a warning on its own: a graze (below min_depth).
-            None if f.severity == Severity::Warning && f.depth_mm.is_some() => " graze".to_string(),
+            None if f.severity == Severity::Warning && f.depth_mm.is_some() && f.kind != Kind::RapidScrape => {
+                " graze".to_string()
+            }
             None => String::new(),
         };
         let _ = writeln!(s, "{}{col} {}{objects}{follow}", f.line, f.kind);

@@ -4,6 +4,7 @@
 use crate::common;
 
 use common::{json, latheguard, stderr, stdout, Tree};
+use latheguard::finding::Kind;
 use std::collections::BTreeMap;
 
 /// Every file of a JSON report: path → (status, kinds of its findings).
@@ -325,7 +326,7 @@ fn sarif_validates_against_the_sarif_2_1_0_schema() {
 
     let run = &log["runs"][0];
     let rules = run["tool"]["driver"]["rules"].as_array().unwrap();
-    assert_eq!(rules.len(), 8, "one rule per finding kind");
+    assert_eq!(rules.len(), Kind::ALL.len(), "one rule per finding kind");
     assert!(rules
         .iter()
         .all(|r| r["help"]["markdown"].as_str().unwrap().contains("## What it means")));

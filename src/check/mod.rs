@@ -4,8 +4,9 @@
 //! stations. Obstacles: the chuck, the tailstock and the (in-process) stock. Rules:
 //! - holder, turret and other stations against chuck, tailstock or stock: `collision`;
 //! - the insert against chuck or tailstock: `collision`;
-//! - the insert in the stock: `rapid_into_stock` in a rapid, `spindle_stopped` in a feed with the
-//!   spindle stopped, machining otherwise (the stock loses what the insert sweeps);
+//! - the insert in the stock: `rapid_into_stock` in a rapid (`rapid_scrape`, a warning, when it is
+//!   only the wedge the preceding feed's edge left, see [`scrape`]), `spindle_stopped` in a feed
+//!   with the spindle stopped, machining otherwise (the stock loses what the insert sweeps);
 //! - any of those pairs closer than `--clearance` without touching: `near_miss` (a warning);
 //! - the turret reference point outside the axis limits: `overtravel`.
 //!
@@ -15,6 +16,7 @@
 
 pub mod episodes;
 mod exact;
+mod scrape;
 #[cfg(test)]
 mod tests;
 mod three;
@@ -112,6 +114,8 @@ struct Checker<'a> {
     pre_move: bool,
     /// The source line of the move being checked.
     current_line: u32,
+    /// The index of the last feed move whose cut changed the stock's journal (`scrape.rs`).
+    last_cut: Option<usize>,
     /// Moves whose check ran out of its work budget: (line, message).
     budget: Vec<(u32, String)>,
     /// Moves step mode checked as exact mode does because they had too many samples.
@@ -187,6 +191,7 @@ fn check_capped(run: &Interpretation, machine: &Machine, settings: &Settings, ca
         pre_move: false,
         current_line: 0,
         budget: Vec::new(),
+        last_cut: None,
         long_moves: false,
         tailstock_in: machine.tailstock_advanced,
         three: machine
@@ -600,6 +605,7 @@ impl Checker<'_> {
             if let Some(s) = self.ensure_stock() {
                 s.begin_move();
             }
+            self.last_cut = Some(item.index);
             let mut c = self.spare.take().unwrap_or_default();
             c.index = item.index;
             c.f = f64::NAN;
@@ -620,8 +626,12 @@ impl Checker<'_> {
             cands.retain(|c| *c != (Part::Insert, Obstacle::Stock));
         }
         self.stats.pair_tests_skipped += (total_pairs - cands.len() as u64) * samples;
+        let first_finding = self.episodes.findings.len();
         if !cands.is_empty() {
             self.check_pairs(m, item, samples, &cands, active, insert_rule);
+        }
+        if rapid && cands.contains(&(Part::Insert, Obstacle::Stock)) {
+            self.mark_scrape(m, item, active, first_finding);
         }
         if cuts {
             if let Some(s) = self.stock.as_mut() {

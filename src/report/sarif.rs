@@ -240,7 +240,7 @@ fn rule(kind: Kind, docs_url: Option<&str>) -> Rule {
         help_uri: docs_url.map(|base| format!("{base}/{}.md", kind.name())),
         default_configuration: Configuration {
             level: match kind {
-                Kind::NearMiss => "warning",
+                Kind::NearMiss | Kind::RapidScrape => "warning",
                 _ => "error",
             },
         },

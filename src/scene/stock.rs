@@ -109,6 +109,9 @@ pub struct StockHit {
     /// Penetration estimate: the smaller of the largest radial overlap in one column and the
     /// axial extent of the overlapping columns.
     pub depth: f64,
+    /// The first and last column in which the part overlaps the material by more than `eps`
+    /// (with `first_only`: that first column, twice).
+    pub cols: (usize, usize),
 }
 
 impl DexelStock {
@@ -307,6 +310,13 @@ impl DexelStock {
     /// End the move begun with [`Self::begin_move`]: queries see the stock as it is now.
     pub fn end_move(&mut self) {
         self.journal.active = false;
+    }
+
+    /// Whether the last move begun with [`Self::begin_move`] changed every column from `j0` to
+    /// `j1` (its cut removed material from each). Holds until the next `begin_move`.
+    pub fn last_move_changed(&self, j0: usize, j1: usize) -> bool {
+        let j = &self.journal;
+        j.gen > 0 && j1 < j.col_gen.len() && j0 <= j1 && j.col_gen[j0..=j1].iter().all(|&g| g == j.gen)
     }
 
     /// The material of column `col` before the current move, when the move changed it.
@@ -508,10 +518,14 @@ impl DexelStock {
         if first_only {
             return Some(StockHit {
                 depth: best.min(bb.max.y - bb.min.y),
+                cols: (first, first),
             });
         }
         let axial = (self.center(last) - self.center(first) + self.h).min(bb.max.y - bb.min.y);
-        Some(StockHit { depth: best.min(axial) })
+        Some(StockHit {
+            depth: best.min(axial),
+            cols: (first, last),
+        })
     }
 
     /// A copy of the stock as `view` sees it (for pictures).
