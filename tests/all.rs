@@ -16,6 +16,7 @@ mod files;
 mod mutate;
 
 mod cases;
+mod ci_recipes;
 mod cli_batch;
 mod cli_gate;
 mod cli_graze;
