@@ -7,6 +7,8 @@
 //! (named so that it does not look like a setting of the command, which reads only
 //! `(latheguard: allow … -- reason)` comments);
 //! `modes=step,exact` runs both modes and prefixes each expected line with the mode.
+//! A case with a job beside it (`NAME.job.toml`, docs/job.md) is checked with that job applied
+//! over its machine, as `latheguard check` applies it.
 //! Cases under `tests/cases/{interp,comp,macro,cycles,cycles_lcnc}/` also pin their interpreted motion in a `.moves` file
 //! (`latheguard moves --format canon`).
 //! Run with `UPDATE_EXPECT=1` to rewrite the expected files from the current output (then review
@@ -77,6 +79,22 @@ fn options(src: &[u8]) -> (Machine, Settings, Vec<Mode>) {
         }
     }
     (machine, s, modes)
+}
+
+/// The case's machine with the job beside the case (`NAME.job.toml` for `NAME.nc`) applied, as
+/// `latheguard check` applies a job beside a program; the machine as it is without one.
+fn with_job_beside(case: &Path, machine: Machine) -> Machine {
+    let path = case.with_extension("job.toml");
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        return machine;
+    };
+    let shown = path.display().to_string();
+    let mut no_files = |_: &str, rel: &str| -> Result<(String, String), String> {
+        Err(format!("a case's job reads no other file ({rel})"))
+    };
+    let layer = latheguard::job::parse(&text, &shown, ".", &shown, &mut no_files).unwrap_or_else(|e| panic!("{e}"));
+    let job = latheguard::job::EffectiveJob::merge([&layer]);
+    latheguard::job::apply(&machine, &job).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn turn_mill_kinematics() -> latheguard::kin::Kinematics {
@@ -161,6 +179,7 @@ fn every_case_reports_exactly_its_expected_findings() {
     for f in &files {
         let src = std::fs::read(f).unwrap();
         let (machine, settings, modes) = options(&src);
+        let machine = with_job_beside(f, machine);
         let got = if modes.is_empty() {
             render(&src, &machine, &settings)
         } else {
