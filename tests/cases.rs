@@ -14,7 +14,7 @@
 //! Run with `UPDATE_EXPECT=1` to rewrite the expected files from the current output (then review
 //! the diff: a test that is updated blindly proves nothing).
 
-use crate::case_machine::case_machine;
+use crate::case_machine::{case_machine, with_job_beside};
 use latheguard::finding::Severity;
 use latheguard::machine::Machine;
 use latheguard::pipeline::{self, Mode, Settings};
@@ -79,22 +79,6 @@ fn options(src: &[u8]) -> (Machine, Settings, Vec<Mode>) {
         }
     }
     (machine, s, modes)
-}
-
-/// The case's machine with the job beside the case (`NAME.job.toml` for `NAME.nc`) applied, as
-/// `latheguard check` applies a job beside a program; the machine as it is without one.
-fn with_job_beside(case: &Path, machine: Machine) -> Machine {
-    let path = case.with_extension("job.toml");
-    let Ok(text) = std::fs::read_to_string(&path) else {
-        return machine;
-    };
-    let shown = path.display().to_string();
-    let mut no_files = |_: &str, rel: &str| -> Result<(String, String), String> {
-        Err(format!("a case's job reads no other file ({rel})"))
-    };
-    let layer = latheguard::job::parse(&text, &shown, ".", &shown, &mut no_files).unwrap_or_else(|e| panic!("{e}"));
-    let job = latheguard::job::EffectiveJob::merge([&layer]);
-    latheguard::job::apply(&machine, &job).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn turn_mill_kinematics() -> latheguard::kin::Kinematics {
