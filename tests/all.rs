@@ -42,6 +42,7 @@ mod follow_on_props;
 mod gap_props;
 mod hostile_check;
 mod hostile_read;
+mod jaws;
 mod kin_props;
 mod live_drilling;
 mod machine_drawings;

@@ -9,7 +9,7 @@
 //! the corpus programs with a job (`tests/corpus-jobs/`): every error exact mode reports, step
 //! mode reports too (ARCHITECTURE.md, "What step mode guarantees").
 
-use crate::case_machine::case_machine;
+use crate::case_machine::{case_machine, with_job_beside};
 use latheguard::finding::{Finding, Kind, Severity};
 use latheguard::machine::{self, Machine};
 use latheguard::pipeline::{self, Mode, Settings};
@@ -222,7 +222,7 @@ fn case_targets(dir: &Path, out: &mut Vec<Target>) {
             out.push(Target {
                 name,
                 src,
-                machine,
+                machine: with_job_beside(&p, machine),
                 settings,
             });
         }

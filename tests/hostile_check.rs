@@ -201,8 +201,12 @@ fn never_touch_every_pair_on_the_turn_mill_machine_is_bounded_work() {
 fn a_ten_thousand_point_chuck_outline_keeps_the_3d_index_check_bounded() {
     let path = root().join("machines/turn-mill.toml");
     let text = std::fs::read_to_string(&path).unwrap();
-    let plain = "outline = [[25, -100], [105, -100], [105, -30], [70, -30], [70, -12], [45, -12], [45, 0], [25, 0]]";
-    assert!(text.contains(plain));
+    // The machine's chuck is given by its body and jaws; the same chuck as a fine outline
+    // replaces both.
+    let body = "body = { diameter = 210.0, bore = 50.0, face = -30.0, depth = 70.0 }";
+    let jaws_at = text.find("[chuck.jaws]").unwrap();
+    let jaws = &text[jaws_at..jaws_at + text[jaws_at..].find("\n\n").unwrap() + 1];
+    assert!(text.contains(body));
     let mut pts = vec![
         [25.0, -100.0],
         [105.0, -100.0],
@@ -226,7 +230,27 @@ fn a_ten_thousand_point_chuck_outline_keeps_the_3d_index_check_bounded() {
     );
     let dir = root().join("machines");
     let coarse_m = machine_in(&text, dir.clone(), "turn-mill.toml");
-    let fine_m = machine_in(&text.replace(plain, &fine), dir, "turn-mill.toml");
+    let fine_m = machine_in(&text.replace(jaws, "").replace(body, &fine), dir, "turn-mill.toml");
+    let plain = [
+        [25.0, -100.0],
+        [105.0, -100.0],
+        [105.0, -30.0],
+        [70.0, -30.0],
+        [70.0, -12.0],
+        [45.0, -12.0],
+        [45.0, 0.0],
+        [25.0, 0.0],
+    ];
+    let coarse: Vec<[f64; 2]> = coarse_m
+        .chuck
+        .as_ref()
+        .unwrap()
+        .points()
+        .iter()
+        .map(|p| [p.x, p.y])
+        .collect();
+    assert_eq!(coarse, plain);
+    assert!(fine_m.chuck.as_ref().unwrap().points().len() > 9_000);
     let src = std::fs::read(root().join("programs/turn-mill/crash_y_index_into_tailstock.nc")).unwrap();
     let s = Settings::default();
     let a = pipeline::check(&src, &coarse_m, &s);

@@ -139,6 +139,7 @@ fn pairs() -> Vec<Pair> {
         }
         let src = std::fs::read(&f).unwrap();
         if let Some(machine) = case_machine(&src) {
+            let machine = crate::case_machine::with_job_beside(&f, machine);
             out.push(Pair {
                 program: f,
                 machine,

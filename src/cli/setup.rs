@@ -311,6 +311,25 @@ fn offset_rows(r: &Resolved) -> Vec<(usize, String, String)> {
         .collect()
 }
 
+/// Which layers set the jaws: those that gave a key of `[chuck.jaws]`, and the one whose bar the
+/// jaws close on; else the machine file.
+fn jaws_from(r: &Resolved) -> String {
+    if r.machine.chuck_jaws().is_none() {
+        return MACHINE.to_string();
+    }
+    let mut layers: Vec<&str> = r.job.jaws.layers();
+    if let Some((_, s)) = job::grip_from_stock(&r.machine, &r.job) {
+        if !layers.contains(&s.layer.as_str()) {
+            layers.push(s.layer.as_str());
+        }
+    }
+    if layers.is_empty() {
+        MACHINE.to_string()
+    } else {
+        layers.join(", ")
+    }
+}
+
 /// Which layer set program zero at start (G54): its `program_zero_z` or `work_offsets.G54`, or
 /// the stock it was taken from, else the machine file.
 fn program_zero_from<'a>(m: &Machine, j: &'a EffectiveJob) -> &'a str {
@@ -361,12 +380,19 @@ fn text(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
         let name = machine::WORK_OFFSET_NAMES[n];
         let _ = writeln!(s, "  work offset   {name} {text}  [{from}]");
     }
+    let jaws_from = jaws_from(r);
+    let chuck_from = match (&j.chuck, m.chuck_jaws()) {
+        (None, Some(_)) => jaws_from.clone(),
+        _ => from(&j.chuck).to_string(),
+    };
     let _ = writeln!(
         s,
-        "  chuck         {}  [{}]",
+        "  chuck         {}  [{chuck_from}]",
         machine::outline_text(m.chuck.as_ref()),
-        from(&j.chuck)
     );
+    if let Some(c) = m.chuck_jaws() {
+        let _ = writeln!(s, "  jaws          {}  [{jaws_from}]", c.describe_jaws());
+    }
     let tail = match (&m.tailstock, m.tailstock_advanced) {
         (None, _) => "none".to_string(),
         (Some(_), adv) => format!(
@@ -472,7 +498,24 @@ fn json(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
                 "from": from,
             })
         }).collect::<Vec<_>>(),
-        "chuck": { "outline": outline(&m.chuck), "from": from(&j.chuck) },
+        "chuck": {
+            "outline": outline(&m.chuck),
+            "from": match (&j.chuck, m.chuck_jaws()) {
+                (None, Some(_)) => jaws_from(r),
+                _ => from(&j.chuck).to_string(),
+            },
+        },
+        "jaws": m.chuck_jaws().map(|c| json!({
+            "grip": c.jaws.grip.as_str(),
+            "type": c.jaws.kind.as_str(),
+            "grip_diameter": c.jaws.grip_diameter,
+            "grip_length": c.jaws.grip_length,
+            "height": c.jaws.height,
+            "width": c.jaws.width,
+            "step": c.jaws.step,
+            "faces_z": c.faces(),
+            "from": jaws_from(r),
+        })),
         "tailstock": {
             "outline": outline(&m.tailstock),
             "advanced_at_start": m.tailstock.is_some() && m.tailstock_advanced,

@@ -1,13 +1,16 @@
 //! Jobs: what changes from program to program on one machine (docs/job.md).
 //!
 //! A machine file describes the lathe; a **job** describes the stock, program zero, the jaws
-//! (chuck outline), whether the tailstock is in use, the program's units and dialect, and which
-//! tool sits in which station. Jobs come in layers (the machine's own setup, `latheguard.toml`,
-//! its overrides, the file beside the program, `--job`, one-off flags): [`parse`] reads one layer,
-//! [`EffectiveJob::merge`] lays them over one another (a later layer wins key by key, `[stock]`
-//! and `[chuck]` as whole tables, `[[tools]]` station by station), and [`apply`] turns a machine
-//! and the merged job into the [`Machine`] the checker runs, validated as a machine file is (the
-//! stock fits the chuck, every part clear at home).
+//! (a chuck outline, or `[chuck.jaws]` over the machine file's body and jaws), whether the
+//! tailstock is in use, the program's units and dialect, and which tool sits in which station.
+//! Jobs come in layers (the machine's own setup, `latheguard.toml`, its overrides, the file beside
+//! the program, `--job`, one-off flags): [`parse`] reads one layer, [`EffectiveJob::merge`] lays
+//! them over one another (a later layer wins key by key, `[stock]` and `chuck.outline` as whole
+//! tables, `[chuck.jaws]` key by key, `[[tools]]` station by station), and [`apply`] turns a
+//! machine and the merged job into the [`Machine`] the checker runs, validated as a machine file
+//! is (the jaws fit together, the stock fits the chuck, every part clear at home). On a machine
+//! whose chuck is given by its body and jaws, the jaws close on the job's bar unless a layer
+//! gives `chuck.jaws.grip_diameter` ([`grip_from_stock`]).
 //!
 //! The library does no I/O: a job that names a tool library or a LinuxCNC tool table gets their
 //! text through a [`Resolve`]r, which the binary backs with the file system.
@@ -19,7 +22,7 @@ mod parse;
 mod tests;
 
 use crate::geom::Polygon;
-use crate::machine::{self, Dialect, Machine, McodeTable, Stock, Tool, WorkOffset};
+use crate::machine::{self, jaws, ChuckForm, Dialect, Machine, McodeTable, Stock, Tool, WorkOffset};
 
 pub use parse::{parse, parse_embedded, schema, Embedded, JobSchema, RawJob, MAX_JOB_TOOLS};
 
@@ -123,6 +126,93 @@ pub struct JobStock {
     pub length_at: Place,
 }
 
+/// A job's `[chuck.jaws]`: each key it gives, over the machine file's jaws (key by key, also
+/// from layer to layer). The machine's chuck must be given by its `body` and `jaws`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct JobJaws {
+    /// Where the (last) `[chuck.jaws]` table was written: set whenever a layer gives one, even
+    /// an empty one.
+    pub table: Option<Set<()>>,
+    pub grip: Option<Set<jaws::Grip>>,
+    pub kind: Option<Set<jaws::JawType>>,
+    pub grip_diameter: Option<Set<f64>>,
+    pub grip_length: Option<Set<f64>>,
+    pub height: Option<Set<f64>>,
+    pub width: Option<Set<f64>>,
+    pub step: Option<Set<f64>>,
+}
+
+impl JobJaws {
+    /// Whether no layer gave `[chuck.jaws]`.
+    pub fn is_empty(&self) -> bool {
+        self.table.is_none()
+    }
+
+    fn lay_over(&mut self, l: &JobJaws) {
+        fn over<T: Clone>(to: &mut Option<Set<T>>, from: &Option<Set<T>>) {
+            if from.is_some() {
+                to.clone_from(from);
+            }
+        }
+        over(&mut self.table, &l.table);
+        over(&mut self.grip, &l.grip);
+        over(&mut self.kind, &l.kind);
+        over(&mut self.grip_diameter, &l.grip_diameter);
+        over(&mut self.grip_length, &l.grip_length);
+        over(&mut self.height, &l.height);
+        over(&mut self.width, &l.width);
+        over(&mut self.step, &l.step);
+    }
+
+    /// `jaws`'s values with this job's keys over them.
+    fn over(&self, jaws: &jaws::Jaws) -> jaws::Jaws {
+        let v = |s: &Option<Set<f64>>, d: f64| s.as_ref().map_or(d, |s| s.value);
+        jaws::Jaws {
+            grip: self.grip.as_ref().map_or(jaws.grip, |s| s.value),
+            kind: self.kind.as_ref().map_or(jaws.kind, |s| s.value),
+            grip_diameter: v(&self.grip_diameter, jaws.grip_diameter),
+            grip_length: v(&self.grip_length, jaws.grip_length),
+            height: v(&self.height, jaws.height),
+            width: v(&self.width, jaws.width),
+            step: v(&self.step, jaws.step),
+        }
+    }
+
+    /// Where this job wrote a size of the jaws (`jaws.step`, as [`jaws::JawError`] names them).
+    fn place_of(&self, key: &str) -> Option<&Place> {
+        let at = match key {
+            "jaws.grip_diameter" => self.grip_diameter.as_ref().map(|s| &s.at),
+            "jaws.grip_length" => self.grip_length.as_ref().map(|s| &s.at),
+            "jaws.height" => self.height.as_ref().map(|s| &s.at),
+            "jaws.width" => self.width.as_ref().map(|s| &s.at),
+            "jaws.step" => self.step.as_ref().map(|s| &s.at),
+            _ => None,
+        };
+        at
+    }
+
+    /// The labels of the layers that gave a key of the jaws, in the order of the keys, once each.
+    pub fn layers(&self) -> Vec<&str> {
+        let mut out: Vec<&str> = Vec::new();
+        let labels = [
+            self.grip.as_ref().map(|s| s.layer.as_str()),
+            self.kind.as_ref().map(|s| s.layer.as_str()),
+            self.grip_diameter.as_ref().map(|s| s.layer.as_str()),
+            self.grip_length.as_ref().map(|s| s.layer.as_str()),
+            self.height.as_ref().map(|s| s.layer.as_str()),
+            self.width.as_ref().map(|s| s.layer.as_str()),
+            self.step.as_ref().map(|s| s.layer.as_str()),
+            self.table.as_ref().map(|s| s.layer.as_str()),
+        ];
+        for l in labels.into_iter().flatten() {
+            if !out.contains(&l) {
+                out.push(l);
+            }
+        }
+        out
+    }
+}
+
 /// A tool a job puts in a station, built, and how it was described.
 #[derive(Clone, Debug, PartialEq)]
 pub struct JobTool {
@@ -147,6 +237,8 @@ pub struct Layer {
     pub work_offsets: [Option<Set<WorkOffset>>; 6],
     pub stock: Option<Set<JobStock>>,
     pub chuck: Option<Set<Polygon>>,
+    /// `[chuck.jaws]`: the jaws of this job over the machine file's (not with `chuck`).
+    pub jaws: JobJaws,
     pub tailstock_in_use: Option<Set<bool>>,
     /// `tailstock.z`: the z of the live centre's tip (the smallest z of the tailstock outline).
     pub tailstock_z: Option<Set<f64>>,
@@ -179,6 +271,7 @@ impl Layer {
             && self.work_offsets.iter().all(Option::is_none)
             && self.stock.is_none()
             && self.chuck.is_none()
+            && self.jaws.is_empty()
             && self.tailstock_in_use.is_none()
             && self.tailstock_z.is_none()
             && self.diameter_mode.is_none()
@@ -213,8 +306,9 @@ impl std::ops::DerefMut for EffectiveJob {
 }
 
 impl Layer {
-    /// Lay `l` over this layer: scalars key by key, `stock` and `chuck` as whole tables, tool
-    /// changes line by line, tools station by station; files and warnings accumulate.
+    /// Lay `l` over this layer: scalars key by key, `stock` and `chuck.outline` as whole tables,
+    /// `chuck.jaws` key by key, tool changes line by line, tools station by station; files and
+    /// warnings accumulate.
     fn lay_over(&mut self, l: &Layer) {
         for f in &l.files {
             if !self.files.contains(f) {
@@ -241,7 +335,16 @@ impl Layer {
             over(to, from);
         }
         over(&mut self.stock, &l.stock);
+        // A chuck outline replaces the whole chuck, jaws too; jaws are laid over the machine
+        // file's body and jaws, so they drop an outline below them.
+        if l.chuck.is_some() {
+            self.jaws = JobJaws::default();
+        }
+        if !l.jaws.is_empty() {
+            self.chuck = None;
+        }
         over(&mut self.chuck, &l.chuck);
+        self.jaws.lay_over(&l.jaws);
         over(&mut self.tailstock_in_use, &l.tailstock_in_use);
         over(&mut self.tailstock_z, &l.tailstock_z);
         over(&mut self.diameter_mode, &l.diameter_mode);
@@ -299,6 +402,23 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
     }
     if let Some(c) = &job.chuck {
         m.chuck = Some(c.value.clone());
+        m.chuck_form = Some(ChuckForm::Outline);
+    }
+    match job_jaws(machine, job) {
+        Ok(Some((p, c))) => {
+            m.chuck = Some(p);
+            m.chuck_form = Some(ChuckForm::Jaws(c));
+        }
+        Ok(None) => {}
+        Err(e) => errors.push(e),
+    }
+    // A turn-mill machine's 3D chuck is revolved from the same outline: it follows.
+    if let (Some(k), Some(old), Some(new)) = (&m.kinematics, &machine.chuck, &m.chuck) {
+        if old != new {
+            if let Some(k) = k.with_chuck(old.points(), new.points()) {
+                m.kinematics = Some(std::sync::Arc::new(k));
+            }
+        }
     }
     if let Some(d) = &job.diameter_mode {
         m.diameter_mode = d.value;
@@ -408,15 +528,24 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
     // The setup checks of a machine file, on the job's parts; each problem is blamed on the job
     // value that brought the parts together.
     let mut errors = Vec::new();
+    let jaws_at = job.jaws.table.as_ref().map(|t| &t.at);
     if let Some(st) = &m.stock {
         if let Some((key, message)) = machine::stock_clash(&m, st) {
-            let e = match (&job.stock, &job.chuck) {
-                (Some(s), _) => match key {
+            let grip_at = job.jaws.grip_diameter.as_ref().map(|g| &g.at);
+            let e = match (&job.stock, &job.chuck, grip_at) {
+                (_, None, Some(g)) if key != machine::StockKey::Length => g.err(format!(
+                    "{message} (the jaws grip Ø{})",
+                    machine::num(job.jaws.grip_diameter.as_ref().map_or(0.0, |g| g.value))
+                )),
+                (Some(s), _, _) => match key {
                     machine::StockKey::Length => s.value.length_at.err(message),
                     machine::StockKey::Diameter | machine::StockKey::Outline => s.value.diameter_at.err(message),
                 },
-                (None, Some(c)) => c.at.err(message),
-                (None, None) => Place::command_line("job").err(message),
+                (None, Some(c), _) => c.at.err(message),
+                (None, None, _) => jaws_at.map_or_else(
+                    || Place::command_line("job").err(message.clone()),
+                    |a| a.err(message.clone()),
+                ),
             };
             errors.push(e);
         }
@@ -429,7 +558,13 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
                 .map(|t| t.at.err_key(&format!("{}.{part}", t.at.key), c.message.clone()))
         });
         let by_obstacle = || match c.obstacle {
-            "chuck" => job.chuck.as_ref().map(|s| s.at.err(c.message.clone())),
+            "chuck" => job
+                .chuck
+                .as_ref()
+                .map(|s| &s.at)
+                .or(jaws_at)
+                .or_else(|| grip_from_stock(machine, job).map(|(_, s)| &s.at))
+                .map(|at| at.err(c.message.clone())),
             _ => job
                 .tailstock_z
                 .as_ref()
@@ -447,6 +582,89 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
     }
     m.warnings.extend(job.warnings.iter().cloned());
     Ok(m)
+}
+
+/// The diameter a job's jaws close on when no layer gives `chuck.jaws.grip_diameter`, on a
+/// machine whose chuck is given by its body and jaws: the job's bar or tube (its outer diameter)
+/// when the jaws grip outside, a tube's bore when they grip inside; with the stock it comes from.
+/// None otherwise (a job's chuck outline, a revolved stock, no stock in the job, a solid bar with
+/// an inside grip): the grip stays the machine file's.
+pub fn grip_from_stock<'j>(machine: &Machine, job: &'j EffectiveJob) -> Option<(f64, &'j Set<JobStock>)> {
+    let base = machine.chuck_jaws()?;
+    if job.chuck.is_some() || job.jaws.grip_diameter.is_some() {
+        return None;
+    }
+    let s = job.stock.as_ref()?;
+    if s.value.none || s.value.outline.is_some() {
+        return None;
+    }
+    let grip = job.jaws.grip.as_ref().map_or(base.jaws.grip, |g| g.value);
+    match grip {
+        jaws::Grip::Outside => Some((s.value.diameter, s)),
+        jaws::Grip::Inside if s.value.bore > 0.0 => Some((s.value.bore, s)),
+        jaws::Grip::Inside => None,
+    }
+}
+
+/// The chuck a job's jaws give on `machine`: the machine file's body with the job's
+/// `[chuck.jaws]` over its jaws, closed on the job's bar when no layer gives the grip diameter
+/// ([`grip_from_stock`]). None: the job changes no jaws. A job's jaws on a machine whose chuck
+/// is an outline (or Fanuc's barrier, or none) are an error at the job's `[chuck.jaws]`.
+fn job_jaws(machine: &Machine, job: &EffectiveJob) -> Result<Option<(Polygon, jaws::Chuck)>, JobError> {
+    if job.chuck.is_some() {
+        return Ok(None);
+    }
+    let Some(base) = machine.chuck_jaws() else {
+        let Some(t) = &job.jaws.table else { return Ok(None) };
+        let how = match machine.chuck_form {
+            Some(ChuckForm::Outline) => "gives its chuck as an outline",
+            Some(ChuckForm::Barrier) => "gives its chuck as Fanuc's barrier parameters",
+            Some(ChuckForm::Jaws(_)) | None => "has no chuck",
+        };
+        return Err(t.at.err(format!(
+            "the machine file {how}; jaws need chuck.body in the machine file"
+        )));
+    };
+    let mut jaws = job.jaws.over(&base.jaws);
+    let from_stock = grip_from_stock(machine, job);
+    if let Some((d, _)) = from_stock {
+        jaws.grip_diameter = d;
+    }
+    if job.jaws.is_empty() && from_stock.is_none() {
+        return Ok(None);
+    }
+    let c = jaws::Chuck { body: base.body, jaws };
+    match c.polygon() {
+        Ok(p) => Ok(Some((p, c))),
+        Err(e) => {
+            let by_size = e.keys.iter().find_map(|k| job.jaws.place_of(k));
+            let by_key = by_size
+                .or(job.jaws.grip.as_ref().map(|s| &s.at))
+                .or(job.jaws.kind.as_ref().map(|s| &s.at));
+            let by_stock = from_stock
+                .filter(|_| e.keys.contains(&"jaws.grip_diameter"))
+                .map(|(_, s)| &s.value.diameter_at);
+            let at = by_key
+                .or(by_stock)
+                .or(job.jaws.table.as_ref().map(|t| &t.at))
+                .or(from_stock.map(|(_, s)| &s.at));
+            let machine_key = e.keys.first().map_or("jaws".to_string(), |k| format!("chuck.{k}"));
+            let mut message = e.message;
+            if let Some((d, _)) = from_stock {
+                message.push_str(&format!(
+                    " (the jaws close on the job's bar, Ø{}; give chuck.jaws.grip_diameter for another grip)",
+                    machine::num(d)
+                ));
+            }
+            if by_size.is_none() && by_stock.is_none() {
+                message.push_str(&format!(" (the machine file's {machine_key} with this job's jaws)"));
+            }
+            Err(at.map_or_else(
+                || Place::command_line("job").err(message.clone()),
+                |a| a.err(message.clone()),
+            ))
+        }
+    }
 }
 
 /// The job's work offsets that look like mistakes on `machine` (program zero outside the Z

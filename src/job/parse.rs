@@ -9,7 +9,7 @@ use toml::Spanned;
 
 use super::{DialectChoice, JobError, JobStock, JobTool, Layer, Place, Resolve, Set};
 use crate::geom::{Polygon, P2};
-use crate::machine::{self, Cx, Num, Outline, Point, RawUnits, RawWorkOffsets, Tool};
+use crate::machine::{self, Cx, Num, Outline, Point, RawGrip, RawJawType, RawUnits, RawWorkOffsets, Tool};
 use crate::tooling::milling::{Live, MillSpec, MillTool};
 use crate::tooling::{self, tbl, BuiltTool, CatalogueSpec, DrillSpec};
 
@@ -103,8 +103,37 @@ struct RawStock {
 #[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawChuck {
-    #[schemars(with = "Vec<[f64; 2]>")]
-    outline: Outline,
+    /// The chuck as set up for this job, drawn: replaces the machine's chuck (not with `jaws`).
+    #[schemars(with = "Option<Vec<[f64; 2]>>")]
+    outline: Option<Outline>,
+    /// The jaws of this job, key by key over the machine file's (whose chuck must be given by
+    /// `body` and `jaws`); not with `outline`.
+    #[schemars(with = "Option<RawJaws>")]
+    jaws: Option<Spanned<RawJaws>>,
+}
+
+/// `[chuck.jaws]` of a job: any of the machine file's keys.
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawJaws {
+    /// "outside" or "inside".
+    #[schemars(with = "Option<RawGrip>")]
+    grip: Option<Spanned<RawGrip>>,
+    /// "hard" or "soft".
+    #[serde(rename = "type")]
+    #[schemars(rename = "type", with = "Option<RawJawType>")]
+    kind: Option<Spanned<RawJawType>>,
+    /// The diameter held (default: the job's bar, when the job gives one).
+    #[schemars(with = "Option<f64>")]
+    grip_diameter: Option<Num>,
+    #[schemars(with = "Option<f64>")]
+    grip_length: Option<Num>,
+    #[schemars(with = "Option<f64>")]
+    height: Option<Num>,
+    #[schemars(with = "Option<f64>")]
+    width: Option<Num>,
+    #[schemars(with = "Option<f64>")]
+    step: Option<Num>,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -427,13 +456,47 @@ fn layer(
         l.stock = cx.keep(stock(cx, s, &key("stock"))).map(|v| set!(v, s.span(), "stock"));
     }
     if let Some(c) = &raw.chuck {
-        let o = &c.get_ref().outline;
-        if o.get_ref().len() > machine::MAX_OUTLINE_POINTS {
-            cx.push(cx.err(o.span(), key("chuck.outline"), "too many points"));
-        } else {
-            l.chuck = cx
-                .keep(cx.outline(&key("chuck.outline"), o))
-                .map(|p| set!(p, c.span(), "chuck.outline"));
+        match (&c.get_ref().outline, &c.get_ref().jaws) {
+            (Some(o), Some(_)) => cx.push(cx.err(
+                o.span(),
+                key("chuck.outline"),
+                "give the chuck either as an `outline` or as `[chuck.jaws]` over the machine file's jaws, not both",
+            )),
+            (None, None) => cx.push(cx.err(
+                c.span(),
+                key("chuck.outline"),
+                "missing required key `chuck.outline` (or a `[chuck.jaws]` table)",
+            )),
+            (Some(o), None) if o.get_ref().len() > machine::MAX_OUTLINE_POINTS => {
+                cx.push(cx.err(o.span(), key("chuck.outline"), "too many points"));
+            }
+            (Some(o), None) => {
+                l.chuck = cx
+                    .keep(cx.outline(&key("chuck.outline"), o))
+                    .map(|p| set!(p, c.span(), "chuck.outline"));
+            }
+            (None, Some(j)) => {
+                let r = j.get_ref();
+                l.jaws.table = Some(set!((), j.span(), "chuck.jaws"));
+                l.jaws.grip = r
+                    .grip
+                    .as_ref()
+                    .map(|g| set!(g.get_ref().value(), g.span(), "chuck.jaws.grip"));
+                l.jaws.kind = r
+                    .kind
+                    .as_ref()
+                    .map(|k| set!(k.get_ref().value(), k.span(), "chuck.jaws.type"));
+                let size = |name: &str, v: &Option<Num>| -> Option<Set<f64>> {
+                    let v = v.as_ref()?;
+                    let k = format!("chuck.jaws.{name}");
+                    cx.keep(cx.length(&key(&k), v)).map(|x| set!(x, v.span(), &k))
+                };
+                l.jaws.grip_diameter = size("grip_diameter", &r.grip_diameter);
+                l.jaws.grip_length = size("grip_length", &r.grip_length);
+                l.jaws.height = size("height", &r.height);
+                l.jaws.width = size("width", &r.width);
+                l.jaws.step = size("step", &r.step);
+            }
         }
     }
     l.tailstock_in_use = raw

@@ -143,6 +143,23 @@ pub struct Kinematics {
 }
 
 impl Kinematics {
+    /// This tree with every component revolved from the machine's chuck outline `old`
+    /// (`revolved = "chuck"` in the machine file) revolved from `new` instead: the chuck a job
+    /// sets up (its jaws, or its chuck outline). None when no component is revolved from `old`.
+    pub fn with_chuck(&self, old: &[P2], new: &[P2]) -> Option<Kinematics> {
+        let mut k = self.clone();
+        let mut changed = false;
+        for c in &mut k.components {
+            if let Some(Geometry::Revolved(pts)) = &mut c.geometry {
+                if pts.as_slice() == old {
+                    *pts = new.to_vec();
+                    changed = true;
+                }
+            }
+        }
+        changed.then_some(k)
+    }
+
     /// The axis a program letter drives, if the machine has one.
     pub fn axis_by_letter(&self, letter: char) -> Option<AxisId> {
         self.axes.iter().position(|a| a.letter == letter)

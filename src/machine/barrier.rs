@@ -281,11 +281,12 @@ mod tests {
         assert_eq!(e.key, "d3");
     }
 
-    /// The built-in machine with its `[chuck]` table replaced by `chuck`.
+    /// The built-in machine with its `[chuck]` and `[chuck.jaws]` tables replaced by `chuck`.
     fn builtin_with(chuck: &str, tail: &str) -> String {
         let t = crate::machine::BUILTIN_TOML;
         let start = t.find("[chuck]").unwrap();
-        let end = start + t[start..].find("\n\n").unwrap();
+        let jaws = start + t[start..].find("[chuck.jaws]").unwrap();
+        let end = jaws + t[jaws..].find("\n\n").unwrap();
         format!("{}{chuck}\n{tail}{}", &t[..start], &t[end..])
     }
 

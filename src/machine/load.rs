@@ -503,6 +503,95 @@ struct RawPart {
     outline: Option<Outline>,
     /// Fanuc's chuck barrier parameters, instead of `outline` (docs/machine.md).
     barrier: Option<RawChuckBarrier>,
+    /// The chuck body, with `jaws`, instead of `outline` (docs/machine.md).
+    #[schemars(with = "Option<RawBody>")]
+    body: Option<Spanned<RawBody>>,
+    /// The jaws on the body: what they grip and their sizes (docs/machine.md).
+    #[schemars(with = "Option<RawJaws>")]
+    jaws: Option<Spanned<RawJaws>>,
+}
+
+/// `[chuck] body`: the chuck body, mm.
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table { diameter, bore, face, depth }")]
+struct RawBody {
+    /// The body's outer diameter.
+    #[schemars(with = "f64")]
+    diameter: Num,
+    /// The through bore's diameter (default 0: none).
+    #[schemars(with = "Option<f64>")]
+    bore: Option<Num>,
+    /// The z of the chuck face, where the jaws stand.
+    #[schemars(with = "f64")]
+    face: Num,
+    /// How far the body reaches back from its face (toward -z).
+    #[schemars(with = "f64")]
+    depth: Num,
+}
+
+/// `[chuck.jaws]` of a machine file: what the jaws grip and their sizes, mm.
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawJaws {
+    /// "outside" (the jaws close on an outer diameter, the default) or "inside" (they open in a
+    /// bore).
+    #[schemars(with = "Option<RawGrip>")]
+    grip: Option<Spanned<RawGrip>>,
+    /// "hard" (a gripping step at the tip, the default) or "soft" (bored to the grip, a seat
+    /// behind).
+    #[serde(rename = "type")]
+    #[schemars(rename = "type", with = "Option<RawJawType>")]
+    kind: Option<Spanned<RawJawType>>,
+    /// The diameter held.
+    #[schemars(with = "f64")]
+    grip_diameter: Num,
+    /// How long (along z, back from the jaw faces) the jaws hold it.
+    #[schemars(with = "f64")]
+    grip_length: Num,
+    /// How far the jaws stand out of the chuck face.
+    #[schemars(with = "f64")]
+    height: Num,
+    /// A jaw's whole radial extent.
+    #[schemars(with = "f64")]
+    width: Num,
+    /// Hard jaws: the radial width of the gripping step; soft jaws: how far the seat reaches past
+    /// the grip diameter.
+    #[schemars(with = "f64")]
+    step: Num,
+}
+
+/// `chuck.jaws.grip`: machine files and jobs.
+#[derive(Deserialize, JsonSchema, Clone, Copy)]
+#[serde(rename_all = "lowercase", expecting = "\"outside\" or \"inside\"")]
+pub(crate) enum RawGrip {
+    Outside,
+    Inside,
+}
+
+impl RawGrip {
+    pub(crate) fn value(self) -> super::jaws::Grip {
+        match self {
+            RawGrip::Outside => super::jaws::Grip::Outside,
+            RawGrip::Inside => super::jaws::Grip::Inside,
+        }
+    }
+}
+
+/// `chuck.jaws.type`: machine files and jobs.
+#[derive(Deserialize, JsonSchema, Clone, Copy)]
+#[serde(rename_all = "lowercase", expecting = "\"hard\" or \"soft\"")]
+pub(crate) enum RawJawType {
+    Hard,
+    Soft,
+}
+
+impl RawJawType {
+    pub(crate) fn value(self) -> super::jaws::JawType {
+        match self {
+            RawJawType::Hard => super::jaws::JawType::Hard,
+            RawJawType::Soft => super::jaws::JawType::Soft,
+        }
+    }
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -1322,6 +1411,8 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
 
     // [chuck], [tailstock]: an outline, or Fanuc's barrier parameters (measured from program Z0).
     let chuck = chuck.map(|c| chuck_part(cx, &c, program_zero_z));
+    let chuck_form = chuck.as_ref().and_then(|c| c.as_ref().map(|c| c.1.clone()));
+    let chuck = chuck.map(|c| c.map(|c| c.0));
     let tailstock = tailstock.map(|t| tailstock_part(cx, &t, program_zero_z));
 
     // [turret]
@@ -1540,6 +1631,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         max_rpm,
         start_rpm,
         chuck,
+        chuck_form,
         tailstock,
         tailstock_advanced,
         mcodes,
@@ -1651,9 +1743,140 @@ fn reference_points(
     ok.then_some(out)
 }
 
-/// `[chuck]`: its `outline` or its `barrier`, exactly one; None when refused (or when the
-/// barrier's program zero is).
-fn chuck_part(cx: &Cx<'_>, c: &RawPart, program_zero_z: Option<f64>) -> Option<Polygon> {
+/// `[chuck]`: its `outline`, its `barrier` or its `body` and `jaws`, exactly one; None when
+/// refused (or when the barrier's program zero is).
+fn chuck_part(cx: &Cx<'_>, c: &RawPart, program_zero_z: Option<f64>) -> Option<(Polygon, super::ChuckForm)> {
+    use super::ChuckForm;
+    let parts = c.body.is_some() || c.jaws.is_some();
+    if let (true, Some(o)) = (parts, &c.outline) {
+        cx.push(cx.err(
+            o.span(),
+            "chuck.outline",
+            "give the chuck either as `outline` or as its `body` and `jaws`, not both",
+        ));
+        return None;
+    }
+    if let (true, Some(b)) = (parts, &c.barrier) {
+        cx.push(cx.err(
+            b.ty.span(),
+            "chuck.barrier",
+            "give the chuck either as Fanuc's `barrier` parameters or as its `body` and `jaws`, not both",
+        ));
+        return None;
+    }
+    if parts {
+        return chuck_of_parts(cx, c).map(|(p, ch)| (p, ChuckForm::Jaws(ch)));
+    }
+    let polygon = chuck_drawn(cx, c, program_zero_z)?;
+    let form = if c.outline.is_some() {
+        ChuckForm::Outline
+    } else {
+        ChuckForm::Barrier
+    };
+    Some((polygon, form))
+}
+
+/// `[chuck] body` and `[chuck.jaws]`, both given: their sizes and the outline drawn from them.
+fn chuck_of_parts(cx: &Cx<'_>, c: &RawPart) -> Option<(Polygon, super::jaws::Chuck)> {
+    use super::jaws;
+    let (body, raw_jaws) = match (&c.body, &c.jaws) {
+        (Some(b), Some(j)) => (b, j),
+        (Some(b), None) => {
+            cx.push(cx.err(
+                b.span(),
+                "chuck.jaws",
+                "missing required table `[chuck.jaws]`: a chuck given by its `body` needs its jaws",
+            ));
+            return None;
+        }
+        (None, Some(j)) => {
+            cx.push(cx.err(
+                j.span(),
+                "chuck.body",
+                "missing required key `chuck.body`: jaws stand on a chuck body, `body = { diameter, bore, face, depth }`",
+            ));
+            return None;
+        }
+        (None, None) => return None,
+    };
+    let (b, j) = (body.get_ref(), raw_jaws.get_ref());
+    let diameter = cx.keep(cx.length("chuck.body.diameter", &b.diameter));
+    let bore = match &b.bore {
+        None => Some(0.0),
+        Some(v) => cx.keep(cx.non_negative("chuck.body.bore", v)),
+    };
+    let face = cx.keep(cx.coord("chuck.body.face", &b.face));
+    let depth = cx.keep(cx.length("chuck.body.depth", &b.depth));
+    let grip_diameter = cx.keep(cx.length("chuck.jaws.grip_diameter", &j.grip_diameter));
+    let grip_length = cx.keep(cx.length("chuck.jaws.grip_length", &j.grip_length));
+    let height = cx.keep(cx.length("chuck.jaws.height", &j.height));
+    let width = cx.keep(cx.length("chuck.jaws.width", &j.width));
+    let step = cx.keep(cx.length("chuck.jaws.step", &j.step));
+    let (
+        Some(diameter),
+        Some(bore),
+        Some(face),
+        Some(depth),
+        Some(grip_diameter),
+        Some(grip_length),
+        Some(height),
+        Some(width),
+        Some(step),
+    ) = (
+        diameter,
+        bore,
+        face,
+        depth,
+        grip_diameter,
+        grip_length,
+        height,
+        width,
+        step,
+    )
+    else {
+        return None;
+    };
+    let chuck = jaws::Chuck {
+        body: jaws::Body {
+            diameter,
+            bore,
+            face,
+            depth,
+        },
+        jaws: jaws::Jaws {
+            grip: j.grip.as_ref().map_or(jaws::Grip::Outside, |g| g.get_ref().value()),
+            kind: j.kind.as_ref().map_or(jaws::JawType::Hard, |k| k.get_ref().value()),
+            grip_diameter,
+            grip_length,
+            height,
+            width,
+            step,
+        },
+    };
+    let span = |key: &str| match key {
+        "body.diameter" => b.diameter.span(),
+        "body.bore" => b.bore.as_ref().map_or(body.span(), |v| v.span()),
+        "body.face" => b.face.span(),
+        "body.depth" => b.depth.span(),
+        "jaws.grip_diameter" => j.grip_diameter.span(),
+        "jaws.grip_length" => j.grip_length.span(),
+        "jaws.height" => j.height.span(),
+        "jaws.width" => j.width.span(),
+        "jaws.step" => j.step.span(),
+        _ => raw_jaws.span(),
+    };
+    let polygon = chuck
+        .polygon()
+        .map_err(|e| {
+            let key = e.keys.first().copied().unwrap_or("jaws");
+            cx.push(cx.err(span(key), format!("chuck.{key}"), e.message));
+        })
+        .ok()?;
+    Some((polygon, chuck))
+}
+
+/// `[chuck]` drawn: its `outline` or its `barrier`, exactly one.
+fn chuck_drawn(cx: &Cx<'_>, c: &RawPart, program_zero_z: Option<f64>) -> Option<Polygon> {
     match (&c.outline, &c.barrier) {
         (Some(o), None) => cx.keep(cx.outline("chuck.outline", o)),
         (None, Some(b)) => {
@@ -1713,7 +1936,7 @@ fn chuck_part(cx: &Cx<'_>, c: &RawPart, program_zero_z: Option<f64>) -> Option<P
             cx.push(cx.err(
                 0..0,
                 "chuck.outline",
-                "missing required key `chuck.outline` (or `chuck.barrier`)",
+                "missing required key `chuck.outline` (or `chuck.barrier`, or `chuck.body` with `[chuck.jaws]`)",
             ));
             None
         }
@@ -1967,6 +2190,23 @@ pub(crate) fn stock_clash(machine: &Machine, stock: &Stock) -> Option<(StockKey,
         show(back),
         show(front)
     );
+    // A part in soft jaws rests on their seat: a bar that fits the bored grip but reaches past
+    // the seat is too long, not too wide.
+    if let Some(c) = machine.chuck_jaws() {
+        let j = &c.jaws;
+        let seat = c.faces() - j.grip_length;
+        let soft_outside = j.kind == super::jaws::JawType::Soft && j.grip == super::jaws::Grip::Outside;
+        if soft_outside && r_out <= j.grip_diameter / 2.0 && back < seat {
+            return Some((
+                StockKey::Length,
+                format!(
+                    "{what}: its back end reaches past the soft jaws' seat at z {} (a part in soft jaws rests on it); make it at most {} mm long or move stock.front",
+                    show(seat),
+                    show(front - seat)
+                ),
+            ));
+        }
+    }
     if skin.and_then(|s| overlap(&s, chuck)).is_some() {
         Some((
             StockKey::Length,

@@ -15,6 +15,7 @@ use std::fmt::Write as _;
 
 use crate::geom::{Polygon, P2};
 pub mod auto;
+pub mod jaws;
 pub mod new;
 
 pub use gcodes::{code_name as g_code_name, parse_code as parse_g_code, DrillingCycles, GAlias, GcodeTable};
@@ -22,7 +23,7 @@ pub use mcodes::{reserved as mcodes_reserved, MAction, McodeTable, ACTIONS as MC
 
 pub(crate) use load::{
     deserialize, deserialize_at, home_clashes, stock_clash, work_offset_doubt, work_offsets, Cx, Embedded, Num,
-    Outline, Point, RawUnits, RawWorkOffsets, StockKey,
+    Outline, Point, RawGrip, RawJawType, RawUnits, RawWorkOffsets, StockKey,
 };
 pub use load::{
     from_toml, from_toml_with, schema, MachineError, INDEX_TIME_RANGE, MAX_COORD_MM, MAX_OUTLINE_POINTS, MAX_RPM_RANGE,
@@ -289,6 +290,18 @@ pub struct Tool {
     pub mill: Option<crate::tooling::milling::MillTool>,
 }
 
+/// How the chuck was given: the machine file's `[chuck]`, or a job's.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ChuckForm {
+    /// `outline`: drawn by hand (the machine file's, or a job's `chuck.outline`).
+    Outline,
+    /// `barrier`: Fanuc's chuck barrier parameters.
+    Barrier,
+    /// `body` and `[chuck.jaws]`: [`Machine::chuck`] is drawn from them, and a job's
+    /// `[chuck.jaws]` (or its bar) sets the jaws over them.
+    Jaws(jaws::Chuck),
+}
+
 /// The names of the work offsets a job or a machine file can give, in order: index 0 is G54.
 pub const WORK_OFFSET_NAMES: [&str; 6] = ["G54", "G55", "G56", "G57", "G58", "G59"];
 
@@ -361,6 +374,8 @@ pub struct Machine {
     pub start_rpm: Option<f64>,
     /// Revolved outline in the half plane x ≥ 0.
     pub chuck: Option<Polygon>,
+    /// How `chuck` was given (None: no chuck); with body and jaws, their sizes.
+    pub chuck_form: Option<ChuckForm>,
     pub tailstock: Option<Polygon>,
     /// The tailstock is advanced (an obstacle) at program start (`tailstock.advanced`, default
     /// true); its M codes (`[mcodes]` `tailstock_advance`/`tailstock_retract`) change it.
@@ -462,6 +477,14 @@ impl Machine {
         }
         let _ = write!(t, "z {}", num(p.y));
         Some(t)
+    }
+
+    /// The chuck's body and jaws, when the chuck is given by them.
+    pub fn chuck_jaws(&self) -> Option<&jaws::Chuck> {
+        match &self.chuck_form {
+            Some(ChuckForm::Jaws(c)) => Some(c),
+            _ => None,
+        }
     }
 
     pub fn tool(&self, station: u32) -> Option<&Tool> {
@@ -567,6 +590,9 @@ impl Machine {
                 ""
             };
             let _ = writeln!(s, "  {name:<11} {text}{state}");
+            if let (true, Some(c)) = (name == "chuck", self.chuck_jaws()) {
+                let _ = writeln!(s, "  jaws        {}", c.describe());
+            }
         }
         let codes: Vec<String> = self
             .mcodes

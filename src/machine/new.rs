@@ -2,8 +2,8 @@
 //!
 //! Every answer has a default (a small Fanuc slant-bed lathe); the file written is a valid
 //! machine file for every combination of answers within their ranges ([`NewSpec::check`]), with
-//! one OD tool (and a parting tool) to edit, a chuck drawn from the chuck size, jaw height and bar
-//! capacity, and a bar of 80 % of the bar capacity.
+//! one OD tool (and a parting tool) to edit, a chuck given by its body and hard jaws from the chuck
+//! size, jaw height and bar capacity, and a bar of 80 % of the bar capacity (the jaws closed on it).
 
 use std::fmt::Write as _;
 
@@ -148,9 +148,11 @@ pub fn starter(s: &NewSpec) -> String {
     let _ = writeln!(o, "z = {{ min = {}, max = {}, rapid = 24000.0 }}", n(z_min), n(z_max));
     let _ = writeln!(o, "home = [{}, {}]\n", n(x_max), n(z_max));
     let _ = writeln!(o, "[spindle]\nmax_rpm = 4000.0\n");
+    let width = jaw_out - rs;
+    let step = ((width * 0.5) * 10.0).round() / 10.0;
     let _ = writeln!(
         o,
-        "[chuck]\n# Ø{} mm chuck, {} mm spindle bore; the jaws stand {} mm out of its face and grip the bar for\n# z -{} .. 0.",
+        "[chuck]\n# Ø{} mm chuck, {} mm spindle bore, its face at z -{}; the jaws stand {} mm out of it (their\n# faces at z 0) and close on the bar. A job's bar closes them on its diameter (docs/job.md).",
         n(s.chuck_diameter),
         n(s.bar_capacity),
         n(h),
@@ -158,14 +160,33 @@ pub fn starter(s: &NewSpec) -> String {
     );
     let _ = writeln!(
         o,
-        "outline = [[{b}, {zb}], [{r}, {zb}], [{r}, {zh}], [{jo}, {zh}], [{jo}, 0.0], [{rs}, 0.0], [{rs}, {zh}], [{b}, {zh}]]\n",
-        b = n(bore),
-        zb = n(-h - body),
-        r = n(big_r),
-        zh = n(-h),
-        jo = n(jaw_out),
-        rs = n(rs)
+        "body = {{ diameter = {}, bore = {}, face = {}, depth = {} }}\n",
+        n(s.chuck_diameter),
+        n(s.bar_capacity),
+        n(-h),
+        n(body)
     );
+    let _ = writeln!(o, "[chuck.jaws]");
+    for (key, value, note) in [
+        ("grip", "\"outside\"".to_string(), "\"inside\": the jaws open in a bore"),
+        (
+            "type",
+            "\"hard\"".to_string(),
+            "\"soft\": bored to the grip, the part seated behind it",
+        ),
+        ("grip_diameter", n(stock_d), "the diameter held"),
+        (
+            "grip_length",
+            n(h.min(12.0)),
+            "how long they hold it, back from their faces",
+        ),
+        ("height", n(h), "how far they stand out of the chuck face"),
+        ("width", n(width), "a jaw's radial extent"),
+        ("step", n(step), "the gripping step at the jaw tip, radially"),
+    ] {
+        let _ = writeln!(o, "{:<26}# {note}", format!("{key} = {value}"));
+    }
+    o.push('\n');
     let _ = writeln!(o, "# [tailstock]\n# outline = [[0, 300], [10, 315], [30, 315], [30, 900], [0, 900]]   # where it stands when advanced\n# advanced = false\n");
     let _ = writeln!(o, "# [mcodes]\n# tailstock_advance = 21\n# tailstock_retract = 22\n");
     let _ = writeln!(

@@ -1474,3 +1474,193 @@ fn a_spindle_start_speed_is_read_and_may_not_exceed_max_rpm() {
     assert_at(&e, line_of(&text, "start_rpm"), "spindle.start_rpm");
     assert!(e.to_string().contains("faster than max_rpm = 4000"), "{e}");
 }
+
+/// The shipped machines whose chuck was a hand-drawn outline of a plain stepped jaw are given by
+/// their body and jaws now (`[chuck] body`, `[chuck.jaws]`): the outline drawn from them is the
+/// one they had, point for point (haas-style-inch.toml's jaws stand on the bore's edge rather
+/// than on their grip, which the jaw shapes do not draw, and gang-tool.toml's is a collet: both
+/// keep their outlines).
+#[test]
+fn converted_machines_draw_their_former_chuck_outline_point_for_point() {
+    let builtin_outline = [
+        [25.0, -100.0],
+        [105.0, -100.0],
+        [105.0, -30.0],
+        [70.0, -30.0],
+        [70.0, -12.0],
+        [45.0, -12.0],
+        [45.0, 0.0],
+        [25.0, 0.0],
+    ];
+    let small_outline = [
+        [12.5, -55.0],
+        [50.0, -55.0],
+        [50.0, -18.0],
+        [34.0, -18.0],
+        [34.0, -8.0],
+        [22.0, -8.0],
+        [22.0, 0.0],
+        [12.5, 0.0],
+    ];
+    let turn_mill = include_str!("../../machines/turn-mill.toml");
+    // The turn-mill machine's STL files do not matter here: its 2D sections are read first.
+    let turn_mill_2d = &turn_mill[..turn_mill.find("\n[kinematics]").unwrap()];
+    for (name, text, old) in [
+        ("generic-slant-bed.toml", BUILTIN_TOML, &builtin_outline),
+        ("linuxcnc-small-lathe.toml", LINUXCNC_TOML, &small_outline),
+        ("turn-mill.toml", turn_mill_2d, &builtin_outline),
+    ] {
+        let m = load(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(
+            matches!(m.chuck_form, Some(ChuckForm::Jaws(_))),
+            "{name} gives its chuck by body and jaws"
+        );
+        let old: Vec<P2> = old.iter().map(|&[x, z]| p2(x, z)).collect();
+        let drawn = m.chuck.as_ref().unwrap().points();
+        assert_eq!(drawn, &old[..], "{name}: the chuck as drawn by hand");
+        assert_eq!(drawn, Polygon::new(&old).unwrap().points(), "{name}");
+        let c = m.chuck_jaws().unwrap();
+        assert_eq!(c.faces(), 0.0, "{name}: the jaw faces at z 0");
+    }
+}
+
+/// `[chuck] body` with `[chuck.jaws]`: each malformed value is an error at its line, column
+/// and key; exactly one of outline, barrier, body and jaws.
+#[test]
+fn chuck_body_and_jaws_errors_name_file_line_column_and_key() {
+    let chuck =
+        "[chuck]\noutline = [[25, -100], [105, -100], [105, -30], [70, -30], [70, -12], [45, -12], [45, 0], [25, 0]]\n";
+    let with = |new: &str| MINI.replace(chuck, new);
+    let jaws = "[chuck]\nbody = { diameter = 210.0, bore = 50.0, face = -30.0, depth = 70.0 }\n\n[chuck.jaws]\ngrip_diameter = 50\ngrip_length = 12\nheight = 30\nwidth = 45\nstep = 20\n";
+    let m = load(&with(jaws)).unwrap();
+    assert_eq!(m.chuck, load(MINI).unwrap().chuck);
+    let c = m.chuck_jaws().unwrap();
+    assert_eq!(
+        (c.jaws.grip, c.jaws.kind),
+        (jaws::Grip::Outside, jaws::JawType::Hard),
+        "grip and type default to outside and hard"
+    );
+    let first = |text: &str| {
+        let e = load(text).unwrap_err();
+        (e.line, e.col, e.key.clone(), e.message.clone())
+    };
+    // Lines: [chuck] is line 11 of MINI, body 12, [chuck.jaws] 14, grip_diameter 15 … step 19.
+    // (replace, with, (line, column, key, message))
+    type Case<'a> = (&'a str, &'a str, (u32, u32, &'a str, &'a str));
+    let cases: [Case; 10] = [
+        (
+            "grip_length = 12",
+            "grip_length = 31",
+            (
+                16,
+                15,
+                "chuck.jaws.grip_length",
+                "the jaws grip for 31 mm but stand only 30 mm out of the chuck face",
+            ),
+        ),
+        (
+            "step = 20",
+            "step = 46",
+            (
+                19,
+                8,
+                "chuck.jaws.step",
+                "the gripping step (46 mm) is wider than the jaw (45 mm",
+            ),
+        ),
+        (
+            "width = 45",
+            "width = -45",
+            (18, 9, "chuck.jaws.width", "must be greater than 0, not -45"),
+        ),
+        (
+            "grip_diameter = 50",
+            "grip_diameter = 0",
+            (15, 17, "chuck.jaws.grip_diameter", "must be greater than 0, not 0"),
+        ),
+        (
+            "bore = 50.0",
+            "bore = -1.0",
+            (12, 35, "chuck.body.bore", "must not be negative, not -1"),
+        ),
+        (
+            "bore = 50.0",
+            "bore = 210.0",
+            (
+                12,
+                35,
+                "chuck.body.bore",
+                "the bore (Ø210) must be smaller than the body (Ø210)",
+            ),
+        ),
+        (
+            "depth = 70.0",
+            "depth = 0.0",
+            (12, 63, "chuck.body.depth", "must be greater than 0, not 0"),
+        ),
+        (
+            "grip_diameter = 50",
+            "grip = \"inside\"\ngrip_diameter = 60",
+            (
+                19,
+                9,
+                "chuck.jaws.width",
+                "jaws 45 mm wide opened in Ø60: they reach 15 mm past the spindle axis",
+            ),
+        ),
+        (
+            "grip_diameter = 50",
+            "grip_diameter = 300",
+            (
+                15,
+                17,
+                "chuck.jaws.grip_diameter",
+                "jaws gripping Ø300 stand at radius 150 .. 195 at the chuck face, off the body (radius 25 .. 105)",
+            ),
+        ),
+        (
+            "grip_diameter = 50",
+            "type = \"medium\"\ngrip_diameter = 50",
+            (
+                15,
+                8,
+                "chuck.jaws.type",
+                "unknown value `medium`, expected `hard` or `soft`",
+            ),
+        ),
+    ];
+    for (from, to, (line, col, key, message)) in cases {
+        let text = with(&jaws.replace(from, to));
+        let got = first(&text);
+        assert_eq!((got.0, got.1, got.2.as_str()), (line, col, key), "{to}: {}", got.3);
+        assert!(got.3.contains(message), "{to}: {}", got.3);
+    }
+    // Soft jaws: the seat must leave a wall, and must not reach past the axis.
+    let soft = jaws.replace("grip_diameter = 50", "type = \"soft\"\ngrip_diameter = 50");
+    assert_eq!(
+        first(&with(&soft.replace("step = 20", "step = 45"))).2,
+        "chuck.jaws.step"
+    );
+    let soft_small = soft.replace("grip_diameter = 50", "grip_diameter = 30");
+    let e = first(&with(&soft_small.replace("step = 20", "step = 16")));
+    assert_eq!(e.2, "chuck.jaws.step", "{}", e.3);
+    assert!(e.3.contains("their seat reaches 1 mm past the spindle axis"), "{}", e.3);
+    // Exactly one form.
+    let both = with(&jaws.replace(
+        "[chuck]\n",
+        "[chuck]\noutline = [[25, -100], [105, -100], [105, 0], [25, 0]]\n",
+    ));
+    assert_eq!(first(&both).2, "chuck.outline");
+    assert!(first(&both).3.contains("not both"));
+    let no_jaws = with(&jaws[..jaws.find("\n\n[chuck.jaws]").unwrap() + 1]);
+    let e = first(&no_jaws);
+    assert_eq!((e.0, e.2.as_str()), (12, "chuck.jaws"), "{}", e.3);
+    let no_body = with(&jaws.replace(
+        "body = { diameter = 210.0, bore = 50.0, face = -30.0, depth = 70.0 }\n",
+        "",
+    ));
+    assert_eq!(first(&no_body).2, "chuck.body");
+    let missing = with(&jaws.replace("step = 20\n", ""));
+    assert_eq!(first(&missing).2, "chuck.jaws.step");
+    assert!(first(&missing).3.contains("missing required key `step`"));
+}
