@@ -146,10 +146,19 @@ pub struct FinalPart {
 }
 
 impl FinalPart {
-    /// The part in `stock` (the checker's final stock), its outlines simplified within `tol`.
+    /// The part in `stock` (the checker's final stock). Its outline goes through the radius of
+    /// every column where the profile bends, simplified only within 1e-6 mm — a coarser
+    /// simplification cuts corners outward, and a part read back a µm fatter than it was meets
+    /// jaws that touched it — and only as far as `tol` when an outline would have more points
+    /// than a stock outline may (`machine::MAX_OUTLINE_POINTS`).
     pub fn of(stock: &crate::scene::DexelStock, tol: f64) -> Option<FinalPart> {
         let (part, parted_off) = crate::scene::turn_round::the_part(stock)?;
-        let pieces = part.outlines(tol);
+        let mut eps = 1e-6;
+        let mut pieces = part.outlines(eps);
+        while eps < tol && pieces.iter().any(|o| o.len() > crate::machine::MAX_OUTLINE_POINTS) {
+            eps = (eps * 8.0).min(tol);
+            pieces = part.outlines(eps);
+        }
         let area = |o: &Vec<[f64; 2]>| {
             let n = o.len();
             (0..n)

@@ -16,3 +16,24 @@ pub fn case_machine(root: &Path, name: &str) -> Machine {
     let text = std::fs::read_to_string(&path).unwrap();
     machine::from_toml(&text, &path.display().to_string()).unwrap()
 }
+
+/// `machine` with the job beside case `program` applied (`NAME.job.toml` for `NAME.nc`, as
+/// `latheguard check` reads the file beside a program), when there is one: parsed, merged as the
+/// one job layer and applied by the library, the files it names read relative to it.
+pub fn with_case_job(machine: Machine, program: &Path) -> Machine {
+    let job = program.with_extension("job.toml");
+    let Ok(text) = std::fs::read_to_string(&job) else {
+        return machine;
+    };
+    let shown = job.display().to_string();
+    let dir = job.parent().unwrap_or(Path::new(".")).display().to_string();
+    let mut resolve = |base: &str, rel: &str| -> Result<(String, String), String> {
+        let p = Path::new(base).join(rel);
+        std::fs::read_to_string(&p)
+            .map(|t| (p.display().to_string(), t))
+            .map_err(|e| format!("{}: {e}", p.display()))
+    };
+    let layer = latheguard::job::parse(&text, &shown, &dir, &shown, &mut resolve).unwrap();
+    let effective = latheguard::job::EffectiveJob::merge([&layer]);
+    latheguard::job::apply(&machine, &effective).unwrap()
+}
