@@ -31,7 +31,7 @@ fn apply(text: &str, name: &str, dir: &Path) -> Result<Machine, String> {
         let p = Path::new(base).join(rel);
         std::fs::read_to_string(&p)
             .map(|t| (rel.to_string(), t))
-            .map_err(|e| format!("{rel}: {e}"))
+            .map_err(|e| e.to_string())
     };
     let layer = job::parse(text, name, &dir.display().to_string(), name, &mut resolve).map_err(|e| e.to_string())?;
     job::apply(&Machine::builtin(), &EffectiveJob::merge([&layer])).map_err(|e| e.to_string())
@@ -421,7 +421,7 @@ fn each_job_error_of_operations_and_part_files_names_file_line_column_and_key() 
         ),
         (
             "[stock]\nfrom = \"nowhere.toml\"\n",
-            "part.job.toml:2:8: stock.from: cannot read the part file: nowhere.toml:",
+            "part.job.toml:2:8: stock.from: cannot read the part file nowhere.toml: No such file",
         ),
         (
             "[stock]\nfrom = \"part.toml\"\ndiameter = 50.0\n",

@@ -907,9 +907,13 @@ fn stock_from(
     if from.get_ref().trim().is_empty() {
         return Err(cx.err(from.span(), k("from"), "the part file name is empty"));
     }
-    let (name, text) = resolve
-        .read(base, from.get_ref())
-        .map_err(|why| cx.err(from.span(), k("from"), format!("cannot read the part file: {why}")))?;
+    let (name, text) = resolve.read(base, from.get_ref()).map_err(|why| {
+        cx.err(
+            from.span(),
+            k("from"),
+            format!("cannot read the part file {}: {why}", from.get_ref()),
+        )
+    })?;
     let pcx = Cx::new(&text, &name);
     let part: RawPartFile = machine::deserialize(&pcx, "a part file ([stock] outline = [...])")?;
     let poly = pcx.stock_outline("stock.outline", &part.stock.get_ref().outline)?;
