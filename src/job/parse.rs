@@ -118,53 +118,6 @@ struct RawStock {
 }
 
 #[derive(Deserialize, JsonSchema)]
-#[serde(
-    deny_unknown_fields,
-    expecting = "a table { line or stop, reverse, front or grip, chuck, … }"
-)]
-struct RawOperation {
-    /// The program's file line (1-based) where this operation starts, before the block's
-    /// words (usually the M0 that stops for the turn-round); instead of `stop`.
-    #[schemars(with = "Option<i64>")]
-    line: Option<Spanned<i64>>,
-    /// The program stop (M0 or M1, counted from 1 as they run) after which this operation
-    /// starts; instead of `line`.
-    #[schemars(with = "Option<i64>")]
-    stop: Option<Spanned<i64>>,
-    /// The part turned end for end (z mirrored); needs `front` or `grip`.
-    #[schemars(with = "Option<bool>")]
-    reverse: Option<Spanned<bool>>,
-    /// z of the part's front face (its largest z) in this operation.
-    #[schemars(with = "Option<f64>")]
-    front: Option<Num>,
-    /// The length held in the jaws from the part's back end: its smallest z at -grip.
-    #[schemars(with = "Option<f64>")]
-    grip: Option<Num>,
-    /// The jaws of this operation (default: the job's chuck).
-    #[schemars(with = "Option<RawChuck>")]
-    chuck: Option<Spanned<RawChuck>>,
-    /// G54's program zero from this operation on (the operator touched off the new face).
-    #[schemars(with = "Option<f64>")]
-    program_zero_z: Option<Num>,
-    /// What the operator does, for the reader of the job (and `latheguard setup`).
-    #[schemars(with = "Option<String>")]
-    note: Option<Spanned<String>>,
-}
-
-/// A part file: `[stock] outline = [...]` (what `latheguard check --stock-out part.toml` writes).
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields, expecting = "a table")]
-struct RawPartFile {
-    stock: Spanned<RawPartStock>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields, expecting = "a table { outline }")]
-struct RawPartStock {
-    outline: Outline,
-}
-
-#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 struct RawChuck {
     #[schemars(with = "Vec<[f64; 2]>")]
@@ -314,6 +267,63 @@ impl<'de> Deserialize<'de> for Shape {
         }
         d.deserialize_any(V)
     }
+}
+
+// Operations and part files (docs/job.md, "Operations") as written.
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a table { line or stop, reverse, front or grip, chuck, … }"
+)]
+struct RawOperation {
+    /// The program's file line (1-based) where this operation starts, before the block's
+    /// words (usually the M0 that stops for the turn-round); instead of `stop`.
+    #[schemars(with = "Option<i64>")]
+    line: Option<Spanned<i64>>,
+    /// The program stop (M0 or M1, counted from 1 as they run) after which this operation
+    /// starts; instead of `line`.
+    #[schemars(with = "Option<i64>")]
+    stop: Option<Spanned<i64>>,
+    /// The part turned end for end (z mirrored); needs `front` or `grip`.
+    #[schemars(with = "Option<bool>")]
+    reverse: Option<Spanned<bool>>,
+    /// z of the part's front face (its largest z) in this operation.
+    #[schemars(with = "Option<f64>")]
+    front: Option<Num>,
+    /// The length held in the jaws from the part's back end: its smallest z at -grip.
+    #[schemars(with = "Option<f64>")]
+    grip: Option<Num>,
+    /// The jaws of this operation (default: the job's chuck).
+    #[schemars(with = "Option<RawOpChuck>")]
+    chuck: Option<Spanned<RawOpChuck>>,
+    /// G54's program zero from this operation on (the operator touched off the new face).
+    #[schemars(with = "Option<f64>")]
+    program_zero_z: Option<Num>,
+    /// What the operator does, for the reader of the job (and `latheguard setup`).
+    #[schemars(with = "Option<String>")]
+    note: Option<Spanned<String>>,
+}
+
+/// An operation's jaws: `chuck = { outline = [...] }`.
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table { outline }")]
+struct RawOpChuck {
+    #[schemars(with = "Vec<[f64; 2]>")]
+    outline: Outline,
+}
+
+/// A part file: `[stock] outline = [...]` (what `latheguard check --stock-out part.toml` writes).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawPartFile {
+    stock: Spanned<RawPartStock>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table { outline }")]
+struct RawPartStock {
+    outline: Outline,
 }
 
 /// The JSON Schema (draft 2020-12) of a job file (`latheguard schema job`).
