@@ -124,6 +124,11 @@ pub struct Finding {
     /// for pictures (`--svg`: three views instead of the working plane; `--glb`).
     #[serde(skip)]
     pub snapshot3: Option<Box<crate::report::scene3::Snapshot3>>,
+    /// With a job that has operations (`[[operations]]`): the operation a finding of the check
+    /// began in, from 1 (the job's start) to the last (docs/job.md, "Operations"); `None`
+    /// without operations, and for the reader's and the interpreter's findings.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub operation: Option<u32>,
 }
 
 /// The crash a follow-on contact comes from: its line, parts and time of first contact.
@@ -157,6 +162,7 @@ impl Finding {
             picture: None,
             snapshot: None,
             snapshot3: None,
+            operation: None,
         }
     }
 

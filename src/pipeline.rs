@@ -127,6 +127,56 @@ pub struct Outcome {
     /// With [`Settings::part_mesh`]: the final part as binary STL (the milled stock when the
     /// program milled, else the section revolved).
     pub part_stl: Option<Vec<u8>>,
+    /// The part a later operation takes (`--stock-out part.toml`), as a job's turn-round takes
+    /// it; `None` when the machine has no stock or none is left.
+    pub part: Option<FinalPart>,
+}
+
+/// The final part as the next operation takes it (docs/cli.md, `--stock-out part.toml`): after
+/// a part-off the piece cut off, else the whole stock (`scene::turn_round::the_part`, what a
+/// job's operation turns round); of several pieces left in it (a ring cut loose), the largest.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FinalPart {
+    /// Its closed outline, `[x, z]` in the half plane x ≥ 0 (the spindle frame of this check).
+    pub outline: Vec<[f64; 2]>,
+    /// It is the piece a part-off cut off (the bar left in the jaws is not the part).
+    pub parted_off: bool,
+    /// Other pieces of material in it that `outline` leaves out.
+    pub pieces_left_out: usize,
+}
+
+impl FinalPart {
+    /// The part in `stock` (the checker's final stock). Its outline goes through the radius of
+    /// every column where the profile bends, simplified only within 1e-6 mm — a coarser
+    /// simplification cuts corners outward, and a part read back a µm fatter than it was meets
+    /// jaws that touched it — and only as far as `tol` when an outline would have more points
+    /// than a stock outline may (`machine::MAX_OUTLINE_POINTS`).
+    pub fn of(stock: &crate::scene::DexelStock, tol: f64) -> Option<FinalPart> {
+        let (part, parted_off) = crate::scene::turn_round::the_part(stock)?;
+        let mut eps = 1e-6;
+        let mut pieces = part.outlines(eps);
+        while eps < tol && pieces.iter().any(|o| o.len() > crate::machine::MAX_OUTLINE_POINTS) {
+            eps = (eps * 8.0).min(tol);
+            pieces = part.outlines(eps);
+        }
+        let area = |o: &Vec<[f64; 2]>| {
+            let n = o.len();
+            (0..n)
+                .map(|i| {
+                    let (a, b) = (o[i], o[(i + 1) % n]);
+                    a[0] * b[1] - b[0] * a[1]
+                })
+                .sum::<f64>()
+                .abs()
+        };
+        let n = pieces.len();
+        let outline = pieces.into_iter().max_by(|a, b| area(a).total_cmp(&area(b)))?;
+        Some(FinalPart {
+            outline,
+            parted_off,
+            pieces_left_out: n - 1,
+        })
+    }
 }
 
 /// The machine as it reads this program: with `dialect = "auto"`, the dialect the program's own
@@ -218,7 +268,12 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
     stats.moves = run
         .moves
         .iter()
-        .filter(|m| !matches!(m.kind, interp::MoveKind::Dwell { .. }))
+        .filter(|m| {
+            !matches!(
+                m.kind,
+                interp::MoveKind::Dwell { .. } | interp::MoveKind::Operation { .. }
+            )
+        })
         .count() as u64;
     let stock = match (&result.stock, &machine.stock) {
         (Some(s), _) => s.outlines(settings.tolerance_mm),
@@ -226,10 +281,20 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
         (None, None) => Vec::new(),
     };
     let part_stl = result.part_stl;
+    let part = match (&result.stock, &machine.stock) {
+        (Some(s), _) => FinalPart::of(s, settings.tolerance_mm),
+        (None, Some(s)) => Some(FinalPart {
+            outline: s.section(),
+            parted_off: false,
+            pieces_left_out: 0,
+        }),
+        (None, None) => None,
+    };
     Outcome {
         findings,
         stats,
         stock,
         part_stl,
+        part,
     }
 }

@@ -49,6 +49,7 @@ mod machine_drawings;
 mod machine_schema;
 mod milling_tools;
 mod mutation;
+mod operations;
 mod pictures;
 mod polar;
 mod report3d;

@@ -7,14 +7,14 @@
 //! (named so that it does not look like a setting of the command, which reads only
 //! `(latheguard: allow … -- reason)` comments);
 //! `modes=step,exact` runs both modes and prefixes each expected line with the mode.
-//! A case with a job beside it (`NAME.job.toml`, docs/job.md) is checked with that job applied
-//! over its machine, as `latheguard check` applies it.
-//! Cases under `tests/cases/{interp,comp,macro,cycles,cycles_lcnc}/` also pin their interpreted motion in a `.moves` file
+//! A case with a job beside it (`NAME.job.toml` for `NAME.nc`, as `latheguard check` reads it) is
+//! checked with that job applied to its machine.
+//! Cases under `tests/cases/{interp,comp,macro,cycles,cycles_lcnc,ops}/` also pin their interpreted motion in a `.moves` file
 //! (`latheguard moves --format canon`).
 //! Run with `UPDATE_EXPECT=1` to rewrite the expected files from the current output (then review
 //! the diff: a test that is updated blindly proves nothing).
 
-use crate::case_machine::{case_machine, with_job_beside};
+use crate::case_machine::{case_machine, with_case_job};
 use latheguard::finding::{Kind, Severity};
 use latheguard::machine::Machine;
 use latheguard::pipeline::{self, Mode, Settings};
@@ -165,7 +165,7 @@ fn every_case_reports_exactly_its_expected_findings() {
     for f in &files {
         let src = std::fs::read(f).unwrap();
         let (machine, settings, modes) = options(&src);
-        let machine = with_job_beside(f, machine);
+        let machine = with_case_job(machine, f);
         let got = if modes.is_empty() {
             render(&src, &machine, &settings)
         } else {
@@ -229,7 +229,7 @@ fn every_case_reports_exactly_its_expected_findings() {
 
 /// Cases in these folders also pin their interpreted motion in a `.moves` file.
 fn pins_moves(dir: &std::ffi::OsStr) -> bool {
-    ["interp", "comp", "macro", "cycles", "cycles_lcnc"]
+    ["interp", "comp", "macro", "cycles", "cycles_lcnc", "ops"]
         .iter()
         .any(|d| dir == *d)
 }

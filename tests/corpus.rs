@@ -9,7 +9,7 @@
 //! the corpus programs with a job (`tests/corpus-jobs/`): every error exact mode reports, step
 //! mode reports too (ARCHITECTURE.md, "What step mode guarantees").
 
-use crate::case_machine::{case_machine, with_job_beside};
+use crate::case_machine::{case_machine, with_case_job};
 use latheguard::finding::{Finding, Kind, Severity};
 use latheguard::machine::{self, Machine};
 use latheguard::pipeline::{self, Mode, Settings};
@@ -180,7 +180,8 @@ struct Target {
 }
 
 /// The programs of `programs/` and `tests/cases/` with the machine and the settings their
-/// `(test-case: …)` line gives (as `tests/cases.rs` reads it; the mode and dt are the test's).
+/// `(test-case: …)` line gives and the job beside them (as `tests/cases.rs` reads them; the mode
+/// and dt are the test's).
 /// Left out: folders with their own `latheguard.toml` (the turn-mill examples, compared in both
 /// modes by `tests/turn_mill.rs`) and cases with a hand-made kinematic tree (`kin=`).
 fn case_targets(dir: &Path, out: &mut Vec<Target>) {
@@ -218,11 +219,12 @@ fn case_targets(dir: &Path, out: &mut Vec<Target>) {
             }
         }
         if !hand_made_tree {
+            let machine = with_case_job(machine, &p);
             let name = p.strip_prefix(root()).unwrap().display().to_string();
             out.push(Target {
                 name,
                 src,
-                machine: with_job_beside(&p, machine),
+                machine,
                 settings,
             });
         }

@@ -180,14 +180,15 @@ fn the_pre_commit_recipes_name_every_default_extension_but_txt() {
         .collect();
     hook.sort();
     assert_eq!(hook, want, "the git hook's pathspecs");
-    let yaml = ci
-        .split("files: '(?i)\\.(")
+    let manifest = std::fs::read_to_string(root().join(".pre-commit-hooks.yaml")).unwrap();
+    let yaml = manifest
+        .split("files: (?i)\\.(")
         .nth(1)
         .and_then(|p| p.split(')').next())
-        .unwrap();
+        .expect("the hooks' files pattern in .pre-commit-hooks.yaml");
     let mut yaml: Vec<&str> = yaml.split('|').collect();
     yaml.sort();
-    assert_eq!(yaml, want, "the pre-commit framework's files pattern");
+    assert_eq!(yaml, want, "the pre-commit hooks' files pattern");
 }
 
 /// The pages a reader of the repository sees: the README, ARCHITECTURE.md and every page of

@@ -195,6 +195,7 @@ fn many_findings_on_one_long_line_decode_the_line_once_in_the_text_report() {
                 source: src,
                 stock: Vec::new(),
                 part_stl: None,
+                part: None,
                 machine: None,
                 settings: None,
                 job: Vec::new(),

@@ -35,6 +35,8 @@ struct Open {
     seen: bool,
     /// Time of the last contact seen.
     end_time: f64,
+    /// The job's operation when it began (0: the job has none).
+    operation: u32,
 }
 
 /// Open episodes by pair key.
@@ -45,6 +47,9 @@ pub struct Episodes {
     lowest: BinaryHeap<u32>,
     /// How many findings a file's report keeps ([`MAX_FINDINGS`]; smaller in tests).
     pub cap: usize,
+    /// The job's operation in progress, from 1, which findings opened now carry (0: the job
+    /// has no operations, and findings carry none).
+    pub operation: u32,
 }
 
 impl Default for Episodes {
@@ -54,6 +59,7 @@ impl Default for Episodes {
             findings: Vec::new(),
             lowest: BinaryHeap::new(),
             cap: MAX_FINDINGS,
+            operation: 0,
         }
     }
 }
@@ -92,6 +98,7 @@ impl Episodes {
                 let gap = (c.kind == Kind::NearMiss).then_some(c.depth).flatten();
                 let depth = (c.kind != Kind::NearMiss).then_some(c.depth).flatten();
                 let time = c.time;
+                let operation = self.operation;
                 self.open.insert(
                     key,
                     Open {
@@ -101,6 +108,7 @@ impl Episodes {
                         first: c,
                         seen: true,
                         end_time: time,
+                        operation,
                     },
                 );
             }
@@ -189,6 +197,7 @@ impl Episodes {
             picture: None,
             snapshot: c.snapshot,
             snapshot3: c.snapshot3,
+            operation: (o.operation > 0).then_some(o.operation),
         });
     }
 }
@@ -244,9 +253,12 @@ pub fn mark_follow_ons(findings: &mut [Finding]) {
     for i in order {
         let (start, end) = (findings[i].time_s.unwrap(), findings[i].end_time_s.unwrap());
         active.retain(|&(_, e, _)| e >= start - 1e-9);
-        let parent = active
-            .iter()
-            .find(|&&(t, _, j)| t < start - 1e-9 && same_parts(&findings[j].objects, &findings[i].objects));
+        let parent = active.iter().find(|&&(t, _, j)| {
+            // A turn-round between them (a job's operations) puts another part in the jaws.
+            t < start - 1e-9
+                && same_parts(&findings[j].objects, &findings[i].objects)
+                && findings[j].operation == findings[i].operation
+        });
         if let Some(&(t, _, j)) = parent {
             let parent = FollowOn {
                 line: findings[j].line,

@@ -20,6 +20,7 @@ mod scrape;
 #[cfg(test)]
 mod tests;
 mod three;
+mod turn_round;
 
 use crate::finding::{Finding, Kind, Severity};
 use crate::geom::{self, Aabb, Polygon, P2, V2};
@@ -132,6 +133,8 @@ struct Checker<'a> {
     gap3: Option<(usize, three::PairGaps)>,
     /// The pairs of parts fixed to each other already tested (`three.rs`, `rigid_pairs`).
     rigid3: std::collections::BTreeSet<(usize, usize)>,
+    /// A job's operation began: the part was turned round (`turn_round.rs`).
+    turned: bool,
 }
 
 /// A feed move whose cut is under way (see [`DexelStock::begin_move`]).
@@ -214,8 +217,12 @@ fn check_capped(run: &Interpretation, machine: &Machine, settings: &Settings, ca
         mill: None,
         gap3: None,
         rigid3: std::collections::BTreeSet::new(),
+        turned: false,
     };
     c.episodes.cap = cap;
+    if !machine.operations.is_empty() {
+        c.episodes.operation = 1;
+    }
     c.static_pairs();
     for item in timer.by_ref() {
         if c.stats.pair_tests > settings.work_budget {
@@ -260,6 +267,9 @@ fn check_capped(run: &Interpretation, machine: &Machine, settings: &Settings, ca
     }
     if c.cut_any {
         stats.effects.push("stock_removal".into());
+    }
+    if c.turned {
+        stats.effects.push("turn_round".into());
     }
     if let Some(m) = &c.mill {
         stats.effects.push("grid_stock".into());
@@ -343,6 +353,7 @@ impl Checker<'_> {
         f.objects = vec!["tailstock".into(), other.into()];
         f.depth_mm = Some(depth);
         f.time_s = Some(0.0);
+        f.operation = (self.episodes.operation > 0).then_some(self.episodes.operation);
         self.episodes.findings.push(f);
     }
 
@@ -467,6 +478,11 @@ impl Checker<'_> {
     fn one_move(&mut self, item: &Timed) {
         let m = &self.run.moves[item.index];
         self.current_line = m.line;
+        if let MoveKind::Operation { op } = m.kind {
+            // Whatever tool the turret holds, the operator turns the part round.
+            self.turn_round(m, item, op as usize);
+            return;
+        }
         let state = &self.run.states[m.state as usize];
         if state.tool_unknown {
             // The station holds no tool the machine file describes: the turret's place is unknown

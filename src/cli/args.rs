@@ -189,8 +189,9 @@ pub struct CheckArgs {
     #[arg(long, value_name = "DIR")]
     pub glb: Option<PathBuf>,
     /// Write the final part (the stock at the end) of the one program checked: its section as SVG,
-    /// or with a .stl name the part as an STL mesh (milled features included).
-    #[arg(long, value_name = "FILE.svg|FILE.stl")]
+    /// with a .stl name the part as an STL mesh (milled features included), with a .toml name the
+    /// part as a job fragment ([stock] outline) for the next operation's `[stock] from`.
+    #[arg(long, value_name = "FILE.svg|FILE.stl|FILE.toml")]
     pub stock_out: Option<PathBuf>,
     /// Files checked in parallel, 1 to 256, never more than the files [default: all cores].
     #[arg(short, long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=MAX_JOBS))]

@@ -116,6 +116,12 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
                     f.part_stl
                         .clone()
                         .ok_or_else(|| format!("{}: the final part has no surface to write (no stock)", shown(out)))?
+                } else if is_toml(out) {
+                    let part = f
+                        .part
+                        .as_ref()
+                        .ok_or_else(|| format!("{}: the final part has no material to write (no stock)", shown(out)))?;
+                    report::part::part_toml(&f.path, part).into_bytes()
                 } else {
                     report::part::part_svg(&f.path, &f.stock).into_bytes()
                 };
@@ -351,6 +357,7 @@ fn check_one(job: &Job, input: &Input) -> (FileReport, bool) {
                     source: if keep_source { src } else { Vec::new() },
                     stock: out.stock,
                     part_stl: out.part_stl,
+                    part: out.part,
                     ..FileReport::default()
                 },
                 false,
@@ -528,4 +535,10 @@ fn write_pictures(dir: &Path, report: &mut Report) -> Result<usize, Trouble> {
 /// Whether `--stock-out` asks for a mesh (`.stl`, any case) rather than the SVG section.
 fn is_stl(p: &Path) -> bool {
     p.extension().is_some_and(|e| e.eq_ignore_ascii_case("stl"))
+}
+
+/// Whether `--stock-out` asks for the part as a job fragment (`.toml`, any case): the next
+/// operation's `[stock] from`.
+fn is_toml(p: &Path) -> bool {
+    p.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"))
 }

@@ -91,6 +91,10 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
                         }
                         MoveKind::Dwell { seconds } => ("dwell", json!({"seconds": seconds})),
                         MoveKind::ToolChange { from, to } => ("tool_change", json!({"from": from, "to": to})),
+                        MoveKind::Operation { op } => (
+                            "operation",
+                            json!({"operation": op + 2, "job_key": format!("operations[{op}]")}),
+                        ),
                     };
                     let feed = match m.feed {
                         Feed::Rapid => json!(null),

@@ -159,6 +159,14 @@ impl Planner {
             (None, None) => (self.builtin.clone(), format!("built-in: {}", machine::BUILTIN_NAME)),
         };
         let (machine, job) = self.apply(&base, &layers, program)?;
+        // The files the job read besides its own (tool libraries, tool tables, part files), as
+        // shown (relative to the working folder): no output may overwrite them either.
+        for f in &job.files {
+            let p = PathBuf::from(f);
+            if !self.inputs.contains(&p) {
+                self.inputs.push(p);
+            }
+        }
         Ok(Resolved {
             machine,
             machine_file,
@@ -278,6 +286,105 @@ fn stock_text(m: &Machine) -> String {
             )
         }
     }
+}
+
+/// One of the job's operations after the first, as `setup` lists it.
+struct OperationRow<'a> {
+    /// 2 for the first of `[[operations]]`.
+    number: usize,
+    set: &'a job::Set<job::JobOperation>,
+    /// The operation as the machine holds it (its jaws resolved).
+    op: &'a machine::Operation,
+    text: String,
+    layer: &'a str,
+}
+
+/// The job's operations, each described in words: where it starts (with the program stop the
+/// program writes on that line, if any), how the part stands, its jaws, its program zero, its
+/// note.
+fn operation_rows<'a>(program: &Path, r: &'a Resolved) -> Vec<OperationRow<'a>> {
+    let Some(ops) = r.job.operations.as_ref() else {
+        return Vec::new();
+    };
+    let src = if ops.iter().any(|o| matches!(o.value.start, machine::OpStart::Line(_))) {
+        super::check::read_program(program).unwrap_or_default()
+    } else {
+        Vec::new()
+    };
+    ops.iter()
+        .zip(&r.machine.operations)
+        .enumerate()
+        .map(|(i, (set, op))| {
+            let v = &set.value;
+            let mut t = match v.start {
+                machine::OpStart::Line(l) => match stop_word(&src, l) {
+                    Some(m) => format!("from line {l} ({m}): "),
+                    None => format!("from line {l}: "),
+                },
+                machine::OpStart::Stop(n) => format!("after program stop {n} (the {n}. M0 or M1 the program makes): "),
+            };
+            t.push_str(if v.reverse {
+                "part turned round"
+            } else {
+                "part re-clamped"
+            });
+            match v.stand {
+                latheguard::scene::Stand::Front(f) => {
+                    let _ = write!(t, ", front at z {}", num(f));
+                }
+                latheguard::scene::Stand::Grip(g) => {
+                    let _ = write!(t, ", held {} mm in the jaws (back end at z {})", num(g), num(-g));
+                }
+                latheguard::scene::Stand::Stay => t.push_str(", where it stood"),
+            }
+            let _ = write!(t, ", jaws {}", machine::outline_text(op.chuck.as_ref()),);
+            if v.chuck.is_none() {
+                t.push_str(" (the job's chuck)");
+            }
+            if let Some(z) = v.program_zero_z {
+                let _ = write!(t, ", G54 program zero at z {}", num(z));
+            }
+            if let Some(n) = &v.note {
+                let _ = write!(t, ", note: {n}");
+            }
+            OperationRow {
+                number: i + 2,
+                set,
+                op,
+                text: t,
+                layer: set.layer.as_str(),
+            }
+        })
+        .collect()
+}
+
+/// The program stop (M0, M00, M1, M01 as written) on file line `line` of `src`, outside
+/// comments, if there is one.
+fn stop_word(src: &[u8], line: u32) -> Option<String> {
+    let text = src.split(|&b| b == b'\n').nth(line.checked_sub(1)? as usize)?;
+    let text = String::from_utf8_lossy(text).to_ascii_uppercase();
+    let mut code = String::new();
+    let mut depth = 0u32;
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '(' => depth += 1,
+            ')' => depth = depth.saturating_sub(1),
+            ';' if depth == 0 => break,
+            'M' if depth == 0 => {
+                code.clear();
+                while let Some(d) = chars.peek().copied().filter(char::is_ascii_digit) {
+                    code.push(d);
+                    chars.next();
+                }
+                if !code.is_empty() && matches!(code.parse::<u32>(), Ok(0 | 1)) {
+                    return Some(format!("M{code}"));
+                }
+            }
+            _ => {}
+        }
+    }
+    None
 }
 
 /// Where each tool came from: the job layer that put it in its station, else the machine file.
@@ -431,6 +538,15 @@ fn text(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
             c.layer
         );
     }
+    for row in operation_rows(program, r) {
+        let _ = writeln!(
+            s,
+            "  {:<13} {}  [{}]",
+            format!("operation {}", row.number),
+            row.text,
+            row.layer
+        );
+    }
     let _ = writeln!(s, "  tools");
     for (t, layer, origin) in tool_rows(r) {
         let mut line = format!(
@@ -527,6 +643,22 @@ fn json(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
         "tool_changes": j.tool_changes.iter().map(|c| json!({
             "line": c.value.0, "station": c.value.1, "from": c.layer,
         })).collect::<Vec<_>>(),
+        "operations": operation_rows(program, r).iter().map(|row| {
+            let (o, v) = (&row.op, &row.set.value);
+            json!({
+                "operation": row.number,
+                "key": row.set.at.key,
+                "line": match v.start { machine::OpStart::Line(l) => Some(l), _ => None },
+                "stop": match v.start { machine::OpStart::Stop(n) => Some(n), _ => None },
+                "reverse": v.reverse,
+                "front": match v.stand { latheguard::scene::Stand::Front(f) => Some(f), _ => None },
+                "grip": match v.stand { latheguard::scene::Stand::Grip(g) => Some(g), _ => None },
+                "chuck": { "outline": outline(&o.chuck), "own": v.chuck.is_some() },
+                "program_zero_z": v.program_zero_z,
+                "note": v.note,
+                "from": row.layer,
+            })
+        }).collect::<Vec<_>>(),
         "tools": tool_rows(r).iter().map(|(t, layer, origin)| json!({
             "station": t.station, "name": t.name, "tip": [t.tip.x, t.tip.y],
             "nose_radius": t.nose_radius, "tip_direction": t.tip_direction,

@@ -876,6 +876,10 @@ impl Run<'_> {
 
     /// Execute one block that is not an o-word.
     pub(crate) fn execute(&mut self, b: &Block) {
+        let ops = self.ops_pending();
+        if ops {
+            self.operation_before(b);
+        }
         if !self.machine.tool_changes.is_empty() {
             self.manual_tool_change(b);
         }
@@ -890,8 +894,12 @@ impl Run<'_> {
         // One word table serves every block (see `Words::clear`).
         let mut w = self.words.take().unwrap_or_else(|| Box::new(Words::new()));
         w.clear();
+        let stops = self.stops_made();
         self.execute_words(b, &mut w);
         self.words = Some(w);
+        if ops && self.stops_made() != stops {
+            self.operation_after(b, stops);
+        }
     }
 
     fn execute_words(&mut self, b: &Block, w: &mut Words) {
@@ -1961,7 +1969,11 @@ impl Run<'_> {
     /// error that names the key to write.
     fn select_work_offset(&mut self, b: &Block, code: u16, at: u32) {
         let n = usize::from((code - 540) / 10);
-        match self.machine.work_zero(n) {
+        let zero = match n {
+            0 => self.g54_zero().or(self.machine.work_zero(0)),
+            _ => self.machine.work_zero(n),
+        };
+        match zero {
             Some(p) => {
                 self.base_origin = p;
                 self.coord_system = n as u8;

@@ -15,7 +15,8 @@ use super::{ExtraMove, Interpretation, Move, MoveKind, MoveState, Plane, ProgFra
 use std::f64::consts::TAU;
 use std::io::Write;
 
-/// One line per move: `STRAIGHT_TRAVERSE`, `STRAIGHT_FEED`, `ARC_FEED`, `DWELL`, `CHANGE_TOOL`.
+/// One line per move: `STRAIGHT_TRAVERSE`, `STRAIGHT_FEED`, `ARC_FEED`, `DWELL`, `CHANGE_TOOL`
+/// (and `COMMENT` where a job's operation starts).
 /// Each line is built in a small buffer and written whole, so a long run streams without a copy
 /// of the whole output in memory.
 pub fn write<W: Write>(run: &Interpretation, sink: &mut W) -> std::io::Result<()> {
@@ -142,6 +143,14 @@ fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<
             out.extend_from_slice(b"CHANGE_TOOL(");
             push_uint(out, to as u64, 1, b'0');
             out.extend_from_slice(b")\n");
+        }
+        MoveKind::Operation { op } => {
+            // Not an rs274 call: the job's turn-round, as a comment (rs274 prints `COMMENT`).
+            out.extend_from_slice(b"COMMENT(\"latheguard: operation ");
+            push_uint(out, u64::from(op) + 2, 1, b'0');
+            out.extend_from_slice(b" starts: the part turned round or re-clamped (job operations[");
+            push_uint(out, u64::from(op), 1, b'0');
+            out.extend_from_slice(b"])\")\n");
         }
     }
 }

@@ -282,6 +282,8 @@ pub(crate) struct Run<'a> {
     /// The extra axes and turn-mill modes, on a machine whose kinematics has extra axes
     /// (`turnmill.rs`); `None` on a 2-axis lathe.
     pub(crate) tm: Option<Box<super::turnmill::TurnMill>>,
+    /// The job's operations after the first: which starts next (`operations.rs`).
+    pub(super) ops: super::operations::Ops,
 }
 
 impl<'a> Run<'a> {
@@ -364,6 +366,7 @@ impl<'a> Run<'a> {
             comp: None,
             macro_b,
             tm: super::turnmill::TurnMill::new(machine).map(Box::new),
+            ops: Default::default(),
         }
     }
 
@@ -382,6 +385,9 @@ impl<'a> Run<'a> {
         // Moves nose-radius compensation still holds (the program ended with it on).
         self.comp_flush();
         self.contour_comp_flush();
+        if self.ops_pending() {
+            self.operations_not_started();
+        }
         self.hand_over();
         // The moves were reserved for one per block; give back a large unused part (address
         // space counts against a memory cap even when never touched).
@@ -531,7 +537,9 @@ impl<'a> Run<'a> {
             let moved = self.moves[moves.min(self.moves.len())..].iter().any(|m| {
                 !matches!(
                     m.kind,
-                    super::MoveKind::Dwell { .. } | super::MoveKind::ToolChange { .. }
+                    super::MoveKind::Dwell { .. }
+                        | super::MoveKind::ToolChange { .. }
+                        | super::MoveKind::Operation { .. }
                 )
             });
             if moved {

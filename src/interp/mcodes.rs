@@ -91,9 +91,8 @@ impl Run<'_> {
                 MAction::SubChuckClose => self.devices.sub_chuck_closed = true,
                 MAction::SubChuckOpen => self.devices.sub_chuck_closed = false,
                 MAction::ProgramEnd => ends = true,
-                MAction::ProgramStop
-                | MAction::OptionalStop
-                | MAction::CoolantOn
+                MAction::ProgramStop | MAction::OptionalStop => self.program_stop(),
+                MAction::CoolantOn
                 | MAction::CoolantOff
                 | MAction::PartCatcherAdvance
                 | MAction::PartCatcherRetract

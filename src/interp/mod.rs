@@ -17,6 +17,7 @@ mod eval;
 mod flow;
 mod macro_b;
 mod mcodes;
+mod operations;
 mod polar;
 mod state;
 #[cfg(test)]
@@ -138,6 +139,9 @@ pub enum MoveKind {
     /// The turret indexes from one station to another (at the T word on Fanuc, at M6 on
     /// LinuxCNC); the reference point stays where it is.
     ToolChange { from: u32, to: u32 },
+    /// A job's operation after the first begins (`Machine::operations[op]`): the operator has
+    /// turned the part round or re-clamped it; nothing moves, the checker replaces the stock.
+    Operation { op: u32 },
 }
 
 /// One motion of the machine.
@@ -204,7 +208,7 @@ impl Move {
                 let arc = r * sweep.abs();
                 (arc * arc + (r1 - r0) * (r1 - r0)).sqrt()
             }
-            MoveKind::Dwell { .. } | MoveKind::ToolChange { .. } => 0.0,
+            MoveKind::Dwell { .. } | MoveKind::ToolChange { .. } | MoveKind::Operation { .. } => 0.0,
             _ => (self.end - self.start).norm(),
         }
     }

@@ -2,11 +2,12 @@
 //!
 //! A machine file describes the lathe; a **job** describes the stock, program zero, the jaws
 //! (a chuck outline, or `[chuck.jaws]` over the machine file's body and jaws), whether the
-//! tailstock is in use, the program's units and dialect, and which tool sits in which station.
-//! Jobs come in layers (the machine's own setup, `latheguard.toml`, its overrides, the file beside
-//! the program, `--job`, one-off flags): [`parse`] reads one layer, [`EffectiveJob::merge`] lays
-//! them over one another (a later layer wins key by key, `[stock]` and `chuck.outline` as whole
-//! tables, `[chuck.jaws]` key by key, `[[tools]]` station by station), and [`apply`] turns a
+//! tailstock is in use, the program's units and dialect, which tool sits in which station, and
+//! the operations of a part turned round. Jobs come in layers (the machine's own setup,
+//! `latheguard.toml`, its overrides, the file beside the program, `--job`, one-off flags):
+//! [`parse`] reads one layer, [`EffectiveJob::merge`] lays them over one another (a later layer
+//! wins key by key, `[stock]` and `chuck.outline` as whole tables, `[chuck.jaws]` key by key,
+//! `[[tools]]` station by station, `[[operations]]` as a whole list), and [`apply`] turns a
 //! machine and the merged job into the [`Machine`] the checker runs, validated as a machine file
 //! is (the jaws fit together, the stock fits the chuck, every part clear at home). On a machine
 //! whose chuck is given by its body and jaws, the jaws close on the job's bar unless a layer
@@ -213,6 +214,22 @@ impl JobJaws {
     }
 }
 
+/// One of a job's operations after the first (`[[operations]]`, docs/job.md "Operations"),
+/// validated: where it starts and how the part then stands.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JobOperation {
+    pub start: machine::OpStart,
+    pub reverse: bool,
+    pub stand: crate::scene::Stand,
+    /// Its own jaws (`chuck.outline`); None: the job's chuck.
+    pub chuck: Option<Polygon>,
+    /// G54's program zero from this operation on.
+    pub program_zero_z: Option<f64>,
+    pub note: Option<String>,
+    /// Where its `chuck.outline` was written (errors of jaws that meet the turret at home).
+    pub chuck_at: Option<Place>,
+}
+
 /// A tool a job puts in a station, built, and how it was described.
 #[derive(Clone, Debug, PartialEq)]
 pub struct JobTool {
@@ -248,6 +265,10 @@ pub struct Layer {
     pub start_rpm: Option<Set<f64>>,
     /// `[[tool_changes]]`: `(line, station)`, at most one per line.
     pub tool_changes: Vec<Set<(u32, u32)>>,
+    /// `[[operations]]`, in the order they start (each `Set`'s place is its table,
+    /// `operations[i]`); a layer that gives them replaces every operation below it (`Some` of
+    /// an empty list: none).
+    pub operations: Option<Vec<Set<JobOperation>>>,
     /// At most one per station.
     pub tools: Vec<Set<JobTool>>,
     /// Values accepted but suspicious (an outline's spike), as `file:line:col: key: message`.
@@ -277,6 +298,7 @@ impl Layer {
             && self.diameter_mode.is_none()
             && self.start_rpm.is_none()
             && self.tool_changes.is_empty()
+            && self.operations.is_none()
             && self.tools.is_empty()
     }
 }
@@ -352,6 +374,11 @@ impl Layer {
         for c in &l.tool_changes {
             self.tool_changes.retain(|o| o.value.0 != c.value.0);
             self.tool_changes.push(c.clone());
+        }
+        // The operations describe one sequence of set-ups together: a later layer's replace
+        // them all.
+        if l.operations.is_some() {
+            self.operations.clone_from(&l.operations);
         }
         for t in &l.tools {
             self.tools.retain(|o| o.value.tool.station != t.value.tool.station);
@@ -521,6 +548,7 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
         }
     }
     m.tool_changes = job.tool_changes.iter().map(|c| c.value).collect();
+    operations(&mut m, job, &mut errors);
     if let Some(e) = JobError::gather(errors) {
         return Err(e);
     }
@@ -577,6 +605,7 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
                 .unwrap_or_else(|| Place::command_line("job").err(c.message.clone())),
         );
     }
+    operation_home_clashes(&m, job, &mut errors);
     if let Some(e) = JobError::gather(errors) {
         return Err(e);
     }
@@ -663,6 +692,55 @@ fn job_jaws(machine: &Machine, job: &EffectiveJob) -> Result<Option<(Polygon, ja
                 || Place::command_line("job").err(message.clone()),
                 |a| a.err(message.clone()),
             ))
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Operations (`[[operations]]`, docs/job.md "Operations").
+
+/// The job's operations on the machine: each with its jaws (its own, else the job's chuck).
+fn operations(m: &mut Machine, job: &EffectiveJob, errors: &mut Vec<JobError>) {
+    let Some(ops) = job.operations.as_ref().filter(|o| !o.is_empty()) else {
+        return;
+    };
+    if m.kinematics.is_some() {
+        errors.push(ops[0].at.err(
+            "operations are not built for a machine with [kinematics] (a turn-mill machine) yet: check each operation as a program of its own, with its part as `[stock] from`",
+        ));
+        return;
+    }
+    m.operations = ops
+        .iter()
+        .map(|o| {
+            let v = &o.value;
+            machine::Operation {
+                start: v.start,
+                reverse: v.reverse,
+                stand: v.stand,
+                chuck: v.chuck.clone().or_else(|| m.chuck.clone()),
+                program_zero_z: v.program_zero_z,
+                origin: format!("{}:{}:{}: {}", o.at.file, o.at.line, o.at.col, o.at.key),
+            }
+        })
+        .collect();
+}
+
+/// An operation's own jaws checked as the job's chuck is: the turret and every tool clear of
+/// them at home.
+fn operation_home_clashes(m: &Machine, job: &EffectiveJob, errors: &mut Vec<JobError>) {
+    let Some(ops) = &job.operations else { return };
+    for (i, o) in ops.iter().enumerate() {
+        let (Some(chuck), Some(at)) = (&o.value.chuck, &o.value.chuck_at) else {
+            continue;
+        };
+        let mut with = m.clone();
+        with.chuck = Some(chuck.clone());
+        with.tailstock = None;
+        for c in machine::home_clashes(&with) {
+            if c.obstacle == "chuck" {
+                errors.push(at.err(format!("{} (the jaws of operation {})", c.message, i + 2)));
+            }
         }
     }
 }

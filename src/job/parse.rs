@@ -7,9 +7,10 @@ use serde::de::{Deserializer, SeqAccess, Visitor};
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::{DialectChoice, JobError, JobStock, JobTool, Layer, Place, Resolve, Set};
+use super::{DialectChoice, JobError, JobOperation, JobStock, JobTool, Layer, Place, Resolve, Set};
 use crate::geom::{Polygon, P2};
-use crate::machine::{self, Cx, Num, Outline, Point, RawGrip, RawJawType, RawUnits, RawWorkOffsets, Tool};
+use crate::machine::{self, Cx, Num, OpStart, Outline, Point, RawGrip, RawJawType, RawUnits, RawWorkOffsets, Tool};
+use crate::scene::{Stand, StockTransform};
 use crate::tooling::milling::{Live, MillSpec, MillTool};
 use crate::tooling::{self, tbl, BuiltTool, CatalogueSpec, DrillSpec};
 
@@ -45,6 +46,10 @@ pub struct RawJob {
     tool_changes: Option<Spanned<Vec<Spanned<RawToolChange>>>>,
     #[schemars(with = "Option<Vec<RawTool>>")]
     tools: Option<Spanned<Vec<Spanned<RawTool>>>>,
+    /// The operations after the first: the part turned round or re-clamped (docs/job.md,
+    /// "Operations").
+    #[schemars(with = "Option<Vec<RawOperation>>")]
+    operations: Option<Spanned<Vec<Spanned<RawOperation>>>>,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -98,6 +103,18 @@ struct RawStock {
     /// `none = true`: no stock at all (a dry run in the air).
     #[schemars(with = "Option<bool>")]
     none: Option<Spanned<bool>>,
+    /// A part file (`latheguard check --stock-out part.toml`) whose `[stock] outline` is this
+    /// stock, relative to the job file: a second operation's part made by the first's program.
+    #[schemars(with = "Option<String>")]
+    from: Option<Spanned<String>>,
+    /// With `outline` or `from`: the part turned end for end (z mirrored); needs `front` or
+    /// `grip`.
+    #[schemars(with = "Option<bool>")]
+    reverse: Option<Spanned<bool>>,
+    /// With `outline` or `from`: the length held in the jaws from the part's back end (its
+    /// smallest z at -grip); instead of `front`.
+    #[schemars(with = "Option<f64>")]
+    grip: Option<Num>,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -281,6 +298,63 @@ impl<'de> Deserialize<'de> for Shape {
     }
 }
 
+// Operations and part files (docs/job.md, "Operations") as written.
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a table { line or stop, reverse, front or grip, chuck, … }"
+)]
+struct RawOperation {
+    /// The program's file line (1-based) where this operation starts, before the block's
+    /// words (usually the M0 that stops for the turn-round); instead of `stop`.
+    #[schemars(with = "Option<i64>")]
+    line: Option<Spanned<i64>>,
+    /// The program stop (M0 or M1, counted from 1 as they run) after which this operation
+    /// starts; instead of `line`.
+    #[schemars(with = "Option<i64>")]
+    stop: Option<Spanned<i64>>,
+    /// The part turned end for end (z mirrored); needs `front` or `grip`.
+    #[schemars(with = "Option<bool>")]
+    reverse: Option<Spanned<bool>>,
+    /// z of the part's front face (its largest z) in this operation.
+    #[schemars(with = "Option<f64>")]
+    front: Option<Num>,
+    /// The length held in the jaws from the part's back end: its smallest z at -grip.
+    #[schemars(with = "Option<f64>")]
+    grip: Option<Num>,
+    /// The jaws of this operation (default: the job's chuck).
+    #[schemars(with = "Option<RawOpChuck>")]
+    chuck: Option<Spanned<RawOpChuck>>,
+    /// G54's program zero from this operation on (the operator touched off the new face).
+    #[schemars(with = "Option<f64>")]
+    program_zero_z: Option<Num>,
+    /// What the operator does, for the reader of the job (and `latheguard setup`).
+    #[schemars(with = "Option<String>")]
+    note: Option<Spanned<String>>,
+}
+
+/// An operation's jaws: `chuck = { outline = [...] }`.
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table { outline }")]
+struct RawOpChuck {
+    #[schemars(with = "Vec<[f64; 2]>")]
+    outline: Outline,
+}
+
+/// A part file: `[stock] outline = [...]` (what `latheguard check --stock-out part.toml` writes).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+struct RawPartFile {
+    stock: Spanned<RawPartStock>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table { outline }")]
+struct RawPartStock {
+    outline: Outline,
+}
+
 /// The JSON Schema (draft 2020-12) of a job file (`latheguard schema job`).
 pub fn schema() -> String {
     let mut schema = schemars::schema_for!(RawJob);
@@ -308,6 +382,9 @@ pub const MAX_JOB_TOOLS: usize = machine::MAX_TOOLS;
 
 /// At most this many `[[tool_changes]]` in a job.
 pub const MAX_TOOL_CHANGES: usize = 1000;
+
+/// At most this many `[[operations]]` in a job.
+pub const MAX_OPERATIONS: usize = 100;
 
 /// Read one job file. `file` names it in messages, `base` is the folder its `tool_library` and
 /// `tool_table` are relative to (handed to `resolve` as is), `label` names the layer.
@@ -453,7 +530,14 @@ fn layer(
         }
     }
     if let Some(s) = &raw.stock {
-        l.stock = cx.keep(stock(cx, s, &key("stock"))).map(|v| set!(v, s.span(), "stock"));
+        let v = match &s.get_ref().from {
+            Some(f) => stock_from(cx, s, f, &key("stock"), base, &mut *resolve).map(|(v, file)| {
+                l.files.push(file);
+                v
+            }),
+            None => stock(cx, s, &key("stock")),
+        };
+        l.stock = cx.keep(v).map(|v| set!(v, s.span(), "stock"));
     }
     if let Some(c) = &raw.chuck {
         match (&c.get_ref().outline, &c.get_ref().jaws) {
@@ -578,6 +662,9 @@ fn layer(
             });
         }
     }
+    if let Some(ops) = &raw.operations {
+        l.operations = operations(cx, ops, prefix, label);
+    }
     let mut refs = Refs {
         base,
         resolve,
@@ -684,7 +771,9 @@ fn stock(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str) -> Result<JobStock, JobE
         let other = given
             .first()
             .cloned()
-            .or(r.outline.as_ref().map(|o| ("outline", o.span())));
+            .or(r.outline.as_ref().map(|o| ("outline", o.span())))
+            .or(r.reverse.as_ref().map(|o| ("reverse", o.span())))
+            .or(r.grip.as_ref().map(|o| ("grip", o.span())));
         if let Some((name, at)) = other {
             return Err(cx.err(
                 at,
@@ -705,7 +794,11 @@ fn stock(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str) -> Result<JobStock, JobE
         });
     }
     if let Some(o) = &r.outline {
-        if let Some((name, at)) = given.first().cloned() {
+        if let Some((name, at)) = given
+            .iter()
+            .find(|(n, _)| !matches!(*n, "stick_out" | "front"))
+            .cloned()
+        {
             return Err(cx.err(
                 at,
                 k(name),
@@ -713,18 +806,22 @@ fn stock(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str) -> Result<JobStock, JobE
             ));
         }
         let poly = cx.stock_outline(&k("outline"), o)?;
-        let st = machine::Stock::from_outline(poly);
         let at = place(cx, o.span(), &k("outline"));
-        return Ok(JobStock {
-            diameter: st.diameter,
-            length: st.length,
-            front: Some(st.front),
-            bore: 0.0,
-            outline: st.outline,
-            none: false,
-            diameter_at: at.clone(),
-            length_at: at,
-        });
+        return placed_part(cx, r, poly, key, at);
+    }
+    for (name, given) in [
+        ("reverse", r.reverse.as_ref().map(|v| v.span())),
+        ("grip", r.grip.as_ref().map(|v| v.span())),
+    ] {
+        if let Some(at) = given {
+            return Err(cx.err(
+                at,
+                k(name),
+                format!(
+                    "`{name}` places a part given by its outline (`outline` or `from`); a bar is placed by `stick_out`"
+                ),
+            ));
+        }
     }
     let need = |v: &Option<Num>, n: &str| -> Result<Num, JobError> {
         v.clone()
@@ -775,6 +872,261 @@ fn stock(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str) -> Result<JobStock, JobE
         none: false,
         diameter_at: place(cx, diameter.span(), &k("diameter")),
         length_at: place(cx, length.span(), &k("length")),
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// A part placed by its outline (`[stock] outline` or `from`, with `reverse`, `front`, `grip`).
+
+/// Where a part stands: `front` (or `stick_out`) or `grip`, at most one; None: as written.
+fn stand_of(
+    cx: &Cx<'_>,
+    front: Option<(&Num, String)>,
+    grip: Option<(&Num, String)>,
+) -> Result<Option<(Stand, Place)>, JobError> {
+    match (front, grip) {
+        (Some(_), Some((g, gk))) => Err(cx.err(
+            g.span(),
+            gk,
+            "give where the part stands once: `front` (z of its front face) or `grip` (the length held in the jaws), not both",
+        )),
+        (Some((f, fk)), None) => Ok(Some((Stand::Front(cx.coord(&fk, f)?), place(cx, f.span(), &fk)))),
+        (None, Some((g, gk))) => {
+            let v = cx.non_negative(&gk, g)?;
+            if v > machine::MAX_COORD_MM {
+                return Err(cx.err(g.span(), gk, "the grip is out of range"));
+            }
+            Ok(Some((Stand::Grip(v), place(cx, g.span(), &gk))))
+        }
+        (None, None) => Ok(None),
+    }
+}
+
+/// The part `poly` (its outline as written), turned round when `reverse` and standing where
+/// `front`/`grip` say, as the job's stock. Errors of a part that does not fit the chuck name the
+/// key that placed it (else `at`, the outline or the file).
+fn placed_part(cx: &Cx<'_>, r: &RawStock, poly: Polygon, key: &str, at: Place) -> Result<JobStock, JobError> {
+    let k = |n: &str| format!("{key}.{n}");
+    if let (Some(_), Some(b)) = (&r.stick_out, &r.front) {
+        return Err(cx.err(
+            b.span(),
+            k("front"),
+            "give `stick_out` or `front` (the same value), not both",
+        ));
+    }
+    let front = match (&r.stick_out, &r.front) {
+        (Some(a), _) => Some((a, k("stick_out"))),
+        (_, Some(b)) => Some((b, k("front"))),
+        _ => None,
+    };
+    let stand = stand_of(cx, front, r.grip.as_ref().map(|g| (g, k("grip"))))?;
+    let reverse = r.reverse.as_ref().is_some_and(|v| *v.get_ref());
+    if let (true, None, Some(rv)) = (reverse, &stand, &r.reverse) {
+        return Err(cx.err(
+            rv.span(),
+            k("reverse"),
+            "a part turned round needs where it then stands: give `front` (z of its front face) or `grip` (the length held in the jaws)",
+        ));
+    }
+    let poly = match &stand {
+        None => poly,
+        Some((s, s_at)) => {
+            let bb = poly.aabb();
+            let t = StockTransform::placing(bb.min.y, bb.max.y, reverse, *s);
+            Polygon::new(&t.outline(poly.points()))
+                .map_err(|e| s_at.err(format!("the part placed here is no outline: {e}")))?
+        }
+    };
+    let st = machine::Stock::from_outline(poly);
+    let at = stand.map_or(at, |(_, p)| p);
+    Ok(JobStock {
+        diameter: st.diameter,
+        length: st.length,
+        front: Some(st.front),
+        bore: 0.0,
+        outline: st.outline,
+        none: false,
+        diameter_at: at.clone(),
+        length_at: at,
+    })
+}
+
+/// `[stock] from = "part.toml"`: the outline of a part file (relative to the job's folder),
+/// placed by the table's own `reverse`, `front`, `grip`. Returns the stock and the file's name.
+fn stock_from(
+    cx: &Cx<'_>,
+    s: &Spanned<RawStock>,
+    from: &Spanned<String>,
+    key: &str,
+    base: &str,
+    resolve: &mut dyn Resolve,
+) -> Result<(JobStock, String), JobError> {
+    let r = s.get_ref();
+    let k = |n: &str| format!("{key}.{n}");
+    let other = [
+        ("diameter", r.diameter.as_ref().map(|v| v.span())),
+        ("length", r.length.as_ref().map(|v| v.span())),
+        ("bore", r.bore.as_ref().map(|v| v.span())),
+        ("outline", r.outline.as_ref().map(|v| v.span())),
+        ("none", r.none.as_ref().map(|v| v.span())),
+    ];
+    if let Some((name, Some(at))) = other.into_iter().find(|(_, v)| v.is_some()) {
+        return Err(cx.err(
+            at,
+            k(name),
+            "a stock `from` a part file takes its outline from that file: give `from` or the stock's sizes, not both",
+        ));
+    }
+    if from.get_ref().trim().is_empty() {
+        return Err(cx.err(from.span(), k("from"), "the part file name is empty"));
+    }
+    let (name, text) = resolve.read(base, from.get_ref()).map_err(|why| {
+        cx.err(
+            from.span(),
+            k("from"),
+            format!("cannot read the part file {}: {why}", from.get_ref()),
+        )
+    })?;
+    let pcx = Cx::new(&text, &name);
+    let part: RawPartFile = machine::deserialize(&pcx, "a part file ([stock] outline = [...])")?;
+    let poly = pcx.stock_outline("stock.outline", &part.stock.get_ref().outline)?;
+    let at = place(cx, from.span(), &k("from"));
+    Ok((placed_part(cx, r, poly, key, at)?, name))
+}
+
+// ---------------------------------------------------------------------------------------------
+// Operations (`[[operations]]`).
+
+/// The latest start of one kind (a line, a stop) so far, and the key of its operation.
+type Latest = Option<(i64, String)>;
+
+fn operations(
+    cx: &Cx<'_>,
+    ops: &Spanned<Vec<Spanned<RawOperation>>>,
+    prefix: &str,
+    label: &str,
+) -> Option<Vec<Set<JobOperation>>> {
+    if ops.get_ref().len() > MAX_OPERATIONS {
+        cx.push(cx.err(
+            ops.span(),
+            format!("{prefix}operations"),
+            format!("too many operations: at most {MAX_OPERATIONS}"),
+        ));
+        return None;
+    }
+    let mut out: Vec<Set<JobOperation>> = Vec::new();
+    let (mut last_line, mut last_stop): (Latest, Latest) = (None, None);
+    for (i, o) in ops.get_ref().iter().enumerate() {
+        let k = format!("{prefix}operations[{i}]");
+        let Some(v) = cx.keep(operation(cx, o, &k, &mut last_line, &mut last_stop)) else {
+            continue;
+        };
+        out.push(Set {
+            value: v,
+            at: place(cx, o.span(), &k),
+            layer: label.to_string(),
+        });
+    }
+    Some(out)
+}
+
+/// One `[[operations]]` entry. `last_line` and `last_stop`: the latest start of each kind so far
+/// (operations start in the order they are listed).
+fn operation(
+    cx: &Cx<'_>,
+    o: &Spanned<RawOperation>,
+    k: &str,
+    last_line: &mut Latest,
+    last_stop: &mut Latest,
+) -> Result<JobOperation, JobError> {
+    let r = o.get_ref();
+    let kk = |n: &str| format!("{k}.{n}");
+    let start = match (&r.line, &r.stop) {
+        (Some(_), Some(s)) => {
+            return Err(cx.err(
+                s.span(),
+                kk("stop"),
+                "an operation starts at a `line` or at a program `stop`, not both",
+            ))
+        }
+        (None, None) => {
+            return Err(cx.err(
+                o.span(),
+                kk("line"),
+                "missing required key `line` (the program line where the operation starts; or `stop`, the program stop after which it starts)",
+            ))
+        }
+        (Some(l), None) => {
+            let v = *l.get_ref();
+            if !(1..=i64::from(u32::MAX)).contains(&v) {
+                return Err(cx.err(l.span(), kk("line"), format!("{v} is not a line: lines count from 1")));
+            }
+            if let Some((before, by)) = last_line.as_ref().filter(|(b, _)| *b >= v) {
+                return Err(cx.err(
+                    l.span(),
+                    kk("line"),
+                    format!("line {v} does not come after line {before} of {by}: list the operations in the order they start"),
+                ));
+            }
+            *last_line = Some((v, k.to_string()));
+            OpStart::Line(v as u32)
+        }
+        (None, Some(s)) => {
+            let v = *s.get_ref();
+            if !(1..=i64::from(u32::MAX)).contains(&v) {
+                return Err(cx.err(s.span(), kk("stop"), format!("{v} is not a program stop: the first is stop = 1")));
+            }
+            if let Some((before, by)) = last_stop.as_ref().filter(|(b, _)| *b >= v) {
+                return Err(cx.err(
+                    s.span(),
+                    kk("stop"),
+                    format!("stop {v} does not come after stop {before} of {by}: list the operations in the order they start"),
+                ));
+            }
+            *last_stop = Some((v, k.to_string()));
+            OpStart::Stop(v as u32)
+        }
+    };
+    let reverse = r.reverse.as_ref().is_some_and(|v| *v.get_ref());
+    let stand = stand_of(
+        cx,
+        r.front.as_ref().map(|f| (f, kk("front"))),
+        r.grip.as_ref().map(|g| (g, kk("grip"))),
+    )?;
+    let stand = match (stand, &r.reverse) {
+        (Some((s, _)), _) => s,
+        (None, Some(rv)) if reverse => {
+            return Err(cx.err(
+                rv.span(),
+                kk("reverse"),
+                "a part turned round needs where it then stands: give `front` (z of its front face) or `grip` (the length held in the jaws)",
+            ))
+        }
+        (None, _) => Stand::Stay,
+    };
+    let (chuck, chuck_at) = match &r.chuck {
+        None => (None, None),
+        Some(c) => {
+            let ol = &c.get_ref().outline;
+            if ol.get_ref().len() > machine::MAX_OUTLINE_POINTS {
+                return Err(cx.err(ol.span(), kk("chuck.outline"), "too many points"));
+            }
+            let poly = cx.outline(&kk("chuck.outline"), ol)?;
+            (Some(poly), Some(place(cx, c.span(), &kk("chuck.outline"))))
+        }
+    };
+    let program_zero_z = match &r.program_zero_z {
+        None => None,
+        Some(z) => Some(cx.coord(&kk("program_zero_z"), z)?),
+    };
+    Ok(JobOperation {
+        start,
+        reverse,
+        stand,
+        chuck,
+        program_zero_z,
+        note: r.note.as_ref().map(|n| n.get_ref().clone()),
+        chuck_at,
     })
 }
 

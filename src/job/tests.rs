@@ -62,8 +62,8 @@ fn errors_name_file_line_column_and_key() {
     );
     assert!(err("[tailstock]\nin_use = 1\n").starts_with("part.job.toml:2:10: tailstock.in_use: invalid type"));
     assert!(err("dialect = \"heidenhain\"\n").contains("dialect: unknown value `heidenhain`"));
-    assert!(err("[stock]\noutline = [[0, 0], [10, 0], [10, 5]]\nstick_out = 5\n")
-        .starts_with("part.job.toml:3:13: stock.stick_out: a stock with an `outline` takes its sizes from it"));
+    assert!(err("[stock]\noutline = [[0, 0], [10, 0], [10, 5]]\nlength = 5\n")
+        .starts_with("part.job.toml:3:10: stock.length: a stock with an `outline` takes its sizes from it"));
     assert!(err(&format!("[[tools]]\n{TOOL}[[tools]]\n{TOOL}"))
         .contains("tools[1].station: station 2 is already given by tools[0]"));
 }

@@ -316,6 +316,33 @@ pub struct WorkOffset {
     pub z: f64,
 }
 
+/// Where an operation after the first begins (`[[operations]]`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OpStart {
+    /// Before the words of the block at this file line (1-based), the first time it runs.
+    Line(u32),
+    /// At the `n`-th program stop the program makes (M0 or M1 as it runs, counted from 1), after
+    /// the stop's block has run.
+    Stop(u32),
+}
+
+/// One operation of a job after the first: where it starts, and how the part stands then.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Operation {
+    pub start: OpStart,
+    /// The part turned end for end (z mirrored).
+    pub reverse: bool,
+    /// Where it then stands.
+    pub stand: crate::scene::Stand,
+    /// The jaws of this operation: its own `chuck.outline`, else the job's chuck.
+    pub chuck: Option<Polygon>,
+    /// G54's program zero from this operation on (the operator touched off the new face);
+    /// `None`: as it was.
+    pub program_zero_z: Option<f64>,
+    /// Where the job gave it, for messages: `part.job.toml:12:1: operations[0]`.
+    pub origin: String,
+}
+
 /// What depends on the dialect in a machine file with `dialect = "auto"`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DialectParts {
@@ -396,6 +423,10 @@ pub struct Machine {
     /// most one per line. Each time the block at that line runs, the operator has put the tool
     /// of that station in, as a T word would have switched to it, before the block's words.
     pub tool_changes: Vec<(u32, u32)>,
+    /// The operations of a job after the first (`[[operations]]`, docs/job.md "Operations"), in
+    /// the order they start: at each, the operator turns the part round (or re-clamps it) and
+    /// the program goes on with that part, standing where the operation says, in its jaws.
+    pub operations: Vec<Operation>,
     /// `machine.dialect = "auto"`: the settings of each dialect, one of which
     /// [`Machine::with_dialect`] applies per program (the fields above hold Fanuc's).
     pub auto_dialect: Option<Box<AutoDialect>>,

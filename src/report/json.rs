@@ -60,6 +60,10 @@ struct FindingDoc<'a> {
     /// The profile block a canned cycle's move follows (absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     profile_line: Option<u32>,
+    /// With a job that has operations: the operation the contact began in, from 1 (absent
+    /// otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    operation: Option<u32>,
     /// The picture of the finding written with `--svg` (absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     picture: Option<&'a str>,
@@ -94,6 +98,7 @@ impl<'a> From<&'a Finding> for FindingDoc<'a> {
             message: &f.message,
             follow_on: f.follow_on.as_ref().map(FollowOnDoc::of),
             profile_line: f.profile_line,
+            operation: f.operation,
             picture: f.picture.as_deref(),
             repeats: (f.repeats > 1).then_some(f.repeats),
         }

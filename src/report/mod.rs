@@ -46,6 +46,8 @@ pub struct FileReport {
     pub stock: Vec<Vec<[f64; 2]>>,
     /// The final part as binary STL, when asked for (`--stock-out FILE.stl`).
     pub part_stl: Option<Vec<u8>>,
+    /// The part the next operation takes (`--stock-out FILE.toml`).
+    pub part: Option<crate::pipeline::FinalPart>,
     /// The machine's name, when it is not the report's (a per-folder `latheguard.toml`).
     pub machine: Option<String>,
     /// The settings, when they are not the report's.

@@ -213,6 +213,9 @@ struct ResultProperties<'a> {
     machine: Option<&'a str>,
     #[serde(skip_serializing_if = "Option::is_none")]
     profile_line: Option<u32>,
+    /// With a job that has operations: the operation the contact began in (as in the JSON report).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    operation: Option<u32>,
     /// Only for a follow-on contact: the crash it follows (as in the JSON report).
     #[serde(skip_serializing_if = "Option::is_none")]
     follow_on: Option<super::json::FollowOnDoc<'a>>,
@@ -427,6 +430,7 @@ pub fn sarif(r: &Report) -> String {
                     z: x.z.map(round6),
                     machine: f.machine.as_deref(),
                     profile_line: x.profile_line,
+                    operation: x.operation,
                     follow_on: x.follow_on.as_ref().map(super::json::FollowOnDoc::of),
                 },
             });

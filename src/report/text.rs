@@ -201,6 +201,9 @@ pub(crate) fn with_facts(mut s: String, x: &Finding, point: bool, n: bool) -> St
     if let Some(p) = x.profile_line {
         facts.push(format!("profile line {p}"));
     }
+    if let Some(o) = x.operation {
+        facts.push(format!("operation {o}"));
+    }
     if let (true, Some(nn)) = (n, x.n) {
         facts.push(format!("N{nn}"));
     }

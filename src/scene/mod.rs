@@ -9,6 +9,7 @@
 
 pub mod snapshot;
 pub mod stock;
+pub mod turn_round;
 
 use crate::geom::{Aabb, Polygon, P2, V2};
 use crate::machine::Machine;
@@ -16,6 +17,7 @@ use std::f64::consts::TAU;
 
 pub use snapshot::{Snapshot, Travel};
 pub use stock::{DexelStock, StockHit, Swept, View, NO_SWEEP};
+pub use turn_round::{Stand, StockTransform};
 
 /// A revolved static part: its outline (x ≥ 0) and the mirror (x ≤ 0).
 #[derive(Clone, Debug)]

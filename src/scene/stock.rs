@@ -120,10 +120,26 @@ impl DexelStock {
         let n = ((length / h).ceil() as usize).clamp(1, MAX_COLUMNS);
         let h = length / n as f64;
         let iv = vec![(bore / 2.0, diameter / 2.0)];
-        let cols = vec![Column { iv }; n];
-        let nb = n.div_ceil(BLOCK);
+        DexelStock::with_columns(front - length, h, vec![Column { iv }; n])
+    }
+
+    /// A stock of `cols.len()` columns (at least one) of width `h` from `z0`, each holding the
+    /// material given for it (sorted, disjoint radial intervals, as [`Self::column_now`] gives
+    /// them): the columns of another stock rearranged (`scene::turn_round`).
+    pub fn from_columns(z0: f64, h: f64, cols: Vec<Vec<(f64, f64)>>) -> DexelStock {
+        let mut cols: Vec<Column> = cols.into_iter().take(MAX_COLUMNS).map(|iv| Column { iv }).collect();
+        if cols.is_empty() {
+            cols.push(Column::default());
+        }
+        let mut s = DexelStock::with_columns(z0, h, cols);
+        s.removed_columns = s.cols.iter().filter(|c| c.iv.is_empty()).count();
+        s
+    }
+
+    fn with_columns(z0: f64, h: f64, cols: Vec<Column>) -> DexelStock {
+        let nb = cols.len().div_ceil(BLOCK);
         let mut s = DexelStock {
-            z0: front - length,
+            z0,
             h,
             cols,
             blk_max: vec![0.0; nb],
@@ -234,6 +250,19 @@ impl DexelStock {
 
     pub fn columns(&self) -> usize {
         self.cols.len()
+    }
+
+    /// Column `j`'s material now (after every cut so far): sorted, disjoint radial intervals;
+    /// empty past the last column.
+    pub fn column_now(&self, j: usize) -> &[(f64, f64)] {
+        self.cols.get(j).map_or(&[], |c| &c.iv[..])
+    }
+
+    /// The first and last columns that hold material (None: no material left).
+    pub fn material_columns(&self) -> Option<(usize, usize)> {
+        let first = self.cols.iter().position(|c| !c.iv.is_empty())?;
+        let last = self.cols.iter().rposition(|c| !c.iv.is_empty())?;
+        Some((first, last))
     }
 
     fn center(&self, j: usize) -> f64 {

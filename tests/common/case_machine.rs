@@ -3,7 +3,6 @@
 //! run too; read by the data-driven cases, the step/exact agreement test and the seeded
 //! crashes), and the job beside a case applied over it.
 
-use latheguard::job;
 use latheguard::machine::{self, Machine};
 use std::path::Path;
 
@@ -19,17 +18,23 @@ pub fn case_machine(root: &Path, name: &str) -> Machine {
     machine::from_toml(&text, &path.display().to_string()).unwrap()
 }
 
-/// `machine` with the job beside the case (`NAME.job.toml` for `NAME.nc`) applied, as
-/// `latheguard check` applies a job beside a program; `machine` as it is without one.
-pub fn with_job_beside(case: &Path, machine: Machine) -> Machine {
-    let path = case.with_extension("job.toml");
-    let Ok(text) = std::fs::read_to_string(&path) else {
+/// `machine` with the job beside case `program` applied (`NAME.job.toml` for `NAME.nc`, as
+/// `latheguard check` reads the file beside a program), when there is one: parsed, merged as the
+/// one job layer and applied by the library, the files it names read relative to it.
+pub fn with_case_job(machine: Machine, program: &Path) -> Machine {
+    let job = program.with_extension("job.toml");
+    let Ok(text) = std::fs::read_to_string(&job) else {
         return machine;
     };
-    let shown = path.display().to_string();
-    let mut no_files = |_: &str, rel: &str| -> Result<(String, String), String> {
-        Err(format!("a case's job reads no other file ({rel})"))
+    let shown = job.display().to_string();
+    let dir = job.parent().unwrap_or(Path::new(".")).display().to_string();
+    let mut resolve = |base: &str, rel: &str| -> Result<(String, String), String> {
+        let p = Path::new(base).join(rel);
+        std::fs::read_to_string(&p)
+            .map(|t| (p.display().to_string(), t))
+            .map_err(|e| format!("{}: {e}", p.display()))
     };
-    let layer = job::parse(&text, &shown, ".", &shown, &mut no_files).unwrap_or_else(|e| panic!("{e}"));
-    job::apply(&machine, &job::EffectiveJob::merge([&layer])).unwrap_or_else(|e| panic!("{e}"))
+    let layer = latheguard::job::parse(&text, &shown, &dir, &shown, &mut resolve).unwrap();
+    let effective = latheguard::job::EffectiveJob::merge([&layer]);
+    latheguard::job::apply(&machine, &effective).unwrap()
 }

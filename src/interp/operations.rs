@@ -1,0 +1,111 @@
+//! A job's operations after the first (`[[operations]]`, docs/job.md "Operations"): where each
+//! begins in the run, and the mark the interpreter leaves there for the checker.
+//!
+//! An operation starts before the words of the block at its line (the first time that block
+//! runs), or after the block of the program stop it names has run (the n-th M0/M1 of the run).
+//! Operations start in the order the job lists them: one waits for the one before it. At the
+//! start the run emits a [`MoveKind::Operation`] move that goes nowhere (the machine stands while
+//! the operator turns the part round); the checker replaces the stock there. With the
+//! operation's `program_zero_z`, G54's program zero moves there from then on. An operation that
+//! never starts is a `program` warning at the end of the run: everything after its place was
+//! checked against the part as it stood before.
+
+use super::flow::Run;
+use super::{Feed, MoveKind};
+use crate::finding::{Finding, Kind, Severity};
+use crate::gcode::Block;
+use crate::geom::P2;
+use crate::machine::OpStart;
+
+/// Where the run stands among the job's operations.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Ops {
+    /// The next operation to start (an index into `Machine::operations`).
+    next: usize,
+    /// Program stops (M0, M1) made so far.
+    stops: u32,
+    /// G54's program zero as the last operation that moved it left it.
+    g54_z: Option<f64>,
+}
+
+impl Run<'_> {
+    /// Before a block's words: the next operation, if it starts at this block's line.
+    #[cold]
+    pub(super) fn operation_before(&mut self, b: &Block) {
+        let start = self.machine.operations.get(self.ops.next).map(|o| o.start);
+        if start == Some(OpStart::Line(b.line)) {
+            self.start_operation(b);
+        }
+    }
+
+    /// A program stop (M0 or M1) in this block: counted, for the operations that start at one.
+    pub(super) fn program_stop(&mut self) {
+        self.ops.stops = self.ops.stops.saturating_add(1);
+    }
+
+    /// After a block has run: the next operation, if it starts at a program stop this block made.
+    #[cold]
+    pub(super) fn operation_after(&mut self, b: &Block, stops_before: u32) {
+        let start = self.machine.operations.get(self.ops.next).map(|o| o.start);
+        if let Some(OpStart::Stop(n)) = start {
+            if stops_before < n && self.ops.stops >= n {
+                self.start_operation(b);
+            }
+        }
+    }
+
+    /// Whether an operation is still to start (false on every run of a job without any).
+    #[inline]
+    pub(super) fn ops_pending(&self) -> bool {
+        self.ops.next < self.machine.operations.len()
+    }
+
+    pub(super) fn stops_made(&self) -> u32 {
+        self.ops.stops
+    }
+
+    /// G54's program zero now: the machine's, or where an operation moved it.
+    pub(super) fn g54_zero(&self) -> Option<P2> {
+        let z = self.ops.g54_z?;
+        let x = self.machine.work_zero(0).map_or(0.0, |p| p.x);
+        Some(P2::new(x, z))
+    }
+
+    fn start_operation(&mut self, b: &Block) {
+        let i = self.ops.next;
+        self.ops.next += 1;
+        if let Some(z) = self.machine.operations[i].program_zero_z {
+            self.ops.g54_z = Some(z);
+            if self.coord_system == 0 {
+                self.base_origin.y = z;
+            }
+        }
+        let here = self.programmed();
+        self.push_move(b, MoveKind::Operation { op: i as u32 }, here, here, Feed::Rapid);
+    }
+
+    /// At the end of the run: each operation that never started, a warning.
+    pub(super) fn operations_not_started(&mut self) {
+        let ops = &self.machine.operations;
+        for (i, op) in ops.iter().enumerate().skip(self.ops.next) {
+            let (line, where_) = match op.start {
+                OpStart::Line(l) => (l, format!("the block at line {l} never ran")),
+                OpStart::Stop(n) => (
+                    1,
+                    format!("the program made {} program stop(s), not {n}", self.ops.stops),
+                ),
+            };
+            let after = if i > self.ops.next {
+                format!(" (it waits for operation {} before it)", self.ops.next + 2)
+            } else {
+                String::new()
+            };
+            let msg = format!(
+                "{}: operation {} never started: {where_}{after}; the program was checked against the part as it stood before",
+                op.origin,
+                i + 2
+            );
+            self.report_finding(Finding::at(Kind::Program, Severity::Warning, line, 0, msg));
+        }
+    }
+}
