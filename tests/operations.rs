@@ -476,3 +476,70 @@ fn each_job_error_of_operations_and_part_files_names_file_line_column_and_key() 
         "{e}"
     );
 }
+
+#[test]
+fn an_operation_closes_the_jaws_on_the_diameter_it_grips() {
+    // Operation 2 as the case's job gives it, with its jaws as `chuck.jaws` over the built-in
+    // machine's hard jaws: closed on the Ø40 it holds, the jaws slide in 5 mm from the Ø50 bar of
+    // operation 1 (x 20 .. 65 behind the step, 20 .. 40 at the tips, up to the jaw faces at z 0).
+    let dir = ops_dir();
+    let (prog, job) = (read(&dir.join("two_ops.nc")), read(&dir.join("two_ops.job.toml")));
+    let outline_line = job.lines().find(|l| l.starts_with("chuck = { outline")).unwrap();
+    let with_jaws = job.replace(outline_line, "chuck = { jaws = { grip_diameter = 40.0 } }");
+    let m = apply(&with_jaws, "two_ops.job.toml", &dir).unwrap();
+    let mut got: Vec<[f64; 2]> = m.operations[0]
+        .chuck
+        .as_ref()
+        .unwrap()
+        .points()
+        .iter()
+        .map(|p| [p.x, p.y])
+        .collect();
+    got.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    let mut want = vec![
+        [25.0, -100.0],
+        [105.0, -100.0],
+        [105.0, -30.0],
+        [65.0, -30.0],
+        [65.0, -12.0],
+        [40.0, -12.0],
+        [40.0, 0.0],
+        [20.0, 0.0],
+        [20.0, -30.0],
+        [25.0, -30.0],
+    ];
+    want.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    assert_eq!(got, want, "{got:?}");
+    // The job's own chuck (operation 1) stays closed on the Ø50 bar.
+    assert!(m
+        .chuck
+        .as_ref()
+        .unwrap()
+        .points()
+        .iter()
+        .any(|p| (p.x - 45.0).abs() < 1e-9));
+    assert!(check(&prog, &m).is_empty());
+
+    // Errors: jaws on a machine whose chuck is an outline; jaws and an outline together.
+    let outline_job = format!("{with_jaws}\n[chuck]\noutline = [[25, -100], [105, -100], [105, 0], [25, 0]]\n");
+    let e = job_error(&outline_job, &dir);
+    assert!(
+        e.contains("operations[0].chuck.jaws") && e.contains("need chuck.body"),
+        "{e}"
+    );
+    let both = job.replace(
+        outline_line,
+        &format!(
+            "{}, jaws = {{ grip_diameter = 40.0 }} }}",
+            outline_line.trim_end_matches(" }")
+        ),
+    );
+    let e = job_error(&both, &dir);
+    assert!(
+        e.contains("operations[0].chuck.outline") && e.contains("not both"),
+        "{e}"
+    );
+    let bad = job.replace(outline_line, "chuck = { jaws = { grip_diameter = 40.0, step = 60.0 } }");
+    let e = job_error(&bad, &dir);
+    assert!(e.contains("operations[0].chuck.jaws.step"), "{e}");
+}

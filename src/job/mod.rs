@@ -226,8 +226,12 @@ pub struct JobOperation {
     /// G54's program zero from this operation on.
     pub program_zero_z: Option<f64>,
     pub note: Option<String>,
-    /// Where its `chuck.outline` was written (errors of jaws that meet the turret at home).
+    /// Where its `chuck.outline` (or `chuck.jaws`) was written (errors of jaws that meet the
+    /// turret at home).
     pub chuck_at: Option<Place>,
+    /// Its own jaws as keys over the job's (`chuck.jaws`); the machine's chuck must be given by
+    /// its body and jaws.
+    pub jaws: Option<JobJaws>,
 }
 
 /// A tool a job puts in a station, built, and how it was described.
@@ -710,20 +714,60 @@ fn operations(m: &mut Machine, job: &EffectiveJob, errors: &mut Vec<JobError>) {
         ));
         return;
     }
-    m.operations = ops
-        .iter()
-        .map(|o| {
-            let v = &o.value;
-            machine::Operation {
-                start: v.start,
-                reverse: v.reverse,
-                stand: v.stand,
-                chuck: v.chuck.clone().or_else(|| m.chuck.clone()),
-                program_zero_z: v.program_zero_z,
-                origin: format!("{}:{}:{}: {}", o.at.file, o.at.line, o.at.col, o.at.key),
-            }
-        })
-        .collect();
+    let mut out = Vec::with_capacity(ops.len());
+    for o in ops {
+        let v = &o.value;
+        let chuck = match &v.jaws {
+            Some(j) => match operation_jaws(m, j) {
+                Ok(p) => Some(p),
+                Err(e) => {
+                    errors.push(e);
+                    continue;
+                }
+            },
+            None => v.chuck.clone().or_else(|| m.chuck.clone()),
+        };
+        out.push(machine::Operation {
+            start: v.start,
+            reverse: v.reverse,
+            stand: v.stand,
+            chuck,
+            program_zero_z: v.program_zero_z,
+            origin: format!("{}:{}:{}: {}", o.at.file, o.at.line, o.at.col, o.at.key),
+        });
+    }
+    m.operations = out;
+}
+
+/// An operation's `chuck.jaws`: its keys over the jaws the job set up (the machine file's with
+/// the job's `[chuck.jaws]`, closed on the job's bar), drawn over the machine's body. Its own
+/// `grip_diameter` is the part's diameter it holds; without one the jaws stay as they were.
+fn operation_jaws(m: &Machine, j: &JobJaws) -> Result<Polygon, JobError> {
+    let table = j.table.as_ref().map(|t| &t.at);
+    let Some(base) = m.chuck_jaws() else {
+        let how = match m.chuck_form {
+            Some(ChuckForm::Outline) => "the chuck is an outline (the machine file's or the job's)",
+            Some(ChuckForm::Barrier) => "the machine file gives its chuck as Fanuc's barrier parameters",
+            Some(ChuckForm::Jaws(_)) | None => "the machine has no chuck",
+        };
+        let message =
+            format!("{how}; an operation's jaws need chuck.body in the machine file (or give its chuck.outline)");
+        return Err(table.map_or_else(
+            || Place::command_line("job").err(message.clone()),
+            |t| t.err(message.clone()),
+        ));
+    };
+    let c = jaws::Chuck {
+        body: base.body,
+        jaws: j.over(&base.jaws),
+    };
+    c.polygon().map_err(|e| {
+        let at = e.keys.iter().find_map(|k| j.place_of(k)).or(table);
+        at.map_or_else(
+            || Place::command_line("job").err(e.message.clone()),
+            |a| a.err(e.message.clone()),
+        )
+    })
 }
 
 /// An operation's own jaws checked as the job's chuck is: the turret and every tool clear of
@@ -731,11 +775,15 @@ fn operations(m: &mut Machine, job: &EffectiveJob, errors: &mut Vec<JobError>) {
 fn operation_home_clashes(m: &Machine, job: &EffectiveJob, errors: &mut Vec<JobError>) {
     let Some(ops) = &job.operations else { return };
     for (i, o) in ops.iter().enumerate() {
-        let (Some(chuck), Some(at)) = (&o.value.chuck, &o.value.chuck_at) else {
+        // Its own jaws: an outline as written, or `chuck.jaws` as `operations` drew them.
+        let drawn = (o.value.jaws.is_some() && m.operations.len() == ops.len())
+            .then(|| m.operations[i].chuck.clone())
+            .flatten();
+        let (Some(chuck), Some(at)) = (o.value.chuck.clone().or(drawn), &o.value.chuck_at) else {
             continue;
         };
         let mut with = m.clone();
-        with.chuck = Some(chuck.clone());
+        with.chuck = Some(chuck);
         with.tailstock = None;
         for c in machine::home_clashes(&with) {
             if c.obstacle == "chuck" {

@@ -7,7 +7,7 @@ use serde::de::{Deserializer, SeqAccess, Visitor};
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::{DialectChoice, JobError, JobOperation, JobStock, JobTool, Layer, Place, Resolve, Set};
+use super::{DialectChoice, JobError, JobJaws, JobOperation, JobStock, JobTool, Layer, Place, Resolve, Set};
 use crate::geom::{Polygon, P2};
 use crate::machine::{self, Cx, Num, OpStart, Outline, Point, RawGrip, RawJawType, RawUnits, RawWorkOffsets, Tool};
 use crate::scene::{Stand, StockTransform};
@@ -334,12 +334,15 @@ struct RawOperation {
     note: Option<Spanned<String>>,
 }
 
-/// An operation's jaws: `chuck = { outline = [...] }`.
+/// An operation's jaws: `chuck = { outline = [...] }`, or `[operations.chuck.jaws]` over the
+/// job's jaws (`grip_diameter`: the diameter of the part this operation holds).
 #[derive(Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields, expecting = "a table { outline }")]
+#[serde(deny_unknown_fields, expecting = "a table { outline } or { jaws }")]
 struct RawOpChuck {
-    #[schemars(with = "Vec<[f64; 2]>")]
-    outline: Outline,
+    #[schemars(with = "Option<Vec<[f64; 2]>>")]
+    outline: Option<Outline>,
+    #[schemars(with = "Option<RawJaws>")]
+    jaws: Option<Spanned<RawJaws>>,
 }
 
 /// A part file: `[stock] outline = [...]` (what `latheguard check --stock-out part.toml` writes).
@@ -559,28 +562,7 @@ fn layer(
                     .keep(cx.outline(&key("chuck.outline"), o))
                     .map(|p| set!(p, c.span(), "chuck.outline"));
             }
-            (None, Some(j)) => {
-                let r = j.get_ref();
-                l.jaws.table = Some(set!((), j.span(), "chuck.jaws"));
-                l.jaws.grip = r
-                    .grip
-                    .as_ref()
-                    .map(|g| set!(g.get_ref().value(), g.span(), "chuck.jaws.grip"));
-                l.jaws.kind = r
-                    .kind
-                    .as_ref()
-                    .map(|k| set!(k.get_ref().value(), k.span(), "chuck.jaws.type"));
-                let size = |name: &str, v: &Option<Num>| -> Option<Set<f64>> {
-                    let v = v.as_ref()?;
-                    let k = format!("chuck.jaws.{name}");
-                    cx.keep(cx.length(&key(&k), v)).map(|x| set!(x, v.span(), &k))
-                };
-                l.jaws.grip_diameter = size("grip_diameter", &r.grip_diameter);
-                l.jaws.grip_length = size("grip_length", &r.grip_length);
-                l.jaws.height = size("height", &r.height);
-                l.jaws.width = size("width", &r.width);
-                l.jaws.step = size("step", &r.step);
-            }
+            (None, Some(j)) => l.jaws = job_jaws(cx, j, &key("chuck.jaws"), label),
         }
     }
     l.tailstock_in_use = raw
@@ -1000,6 +982,44 @@ fn stock_from(
 /// The latest start of one kind (a line, a stop) so far, and the key of its operation.
 type Latest = Option<(i64, String)>;
 
+/// A `[chuck.jaws]` table (a job's, or an operation's `chuck.jaws`) as the keys it gives, each
+/// with its place: `key` is the table's full key (`chuck.jaws`, `operations[0].chuck.jaws`).
+fn job_jaws(cx: &Cx<'_>, j: &Spanned<RawJaws>, key: &str, label: &str) -> JobJaws {
+    let set = |v, at: Range<usize>, k: String| Set {
+        value: v,
+        at: place(cx, at, &k),
+        layer: label.to_string(),
+    };
+    let r = j.get_ref();
+    let size = |name: &str, v: &Option<Num>| -> Option<Set<f64>> {
+        let v = v.as_ref()?;
+        let k = format!("{key}.{name}");
+        cx.keep(cx.length(&k, v)).map(|x| set(x, v.span(), k))
+    };
+    JobJaws {
+        table: Some(Set {
+            value: (),
+            at: place(cx, j.span(), key),
+            layer: label.to_string(),
+        }),
+        grip: r.grip.as_ref().map(|g| Set {
+            value: g.get_ref().value(),
+            at: place(cx, g.span(), &format!("{key}.grip")),
+            layer: label.to_string(),
+        }),
+        kind: r.kind.as_ref().map(|k| Set {
+            value: k.get_ref().value(),
+            at: place(cx, k.span(), &format!("{key}.type")),
+            layer: label.to_string(),
+        }),
+        grip_diameter: size("grip_diameter", &r.grip_diameter),
+        grip_length: size("grip_length", &r.grip_length),
+        height: size("height", &r.height),
+        width: size("width", &r.width),
+        step: size("step", &r.step),
+    }
+}
+
 fn operations(
     cx: &Cx<'_>,
     ops: &Spanned<Vec<Spanned<RawOperation>>>,
@@ -1018,7 +1038,7 @@ fn operations(
     let (mut last_line, mut last_stop): (Latest, Latest) = (None, None);
     for (i, o) in ops.get_ref().iter().enumerate() {
         let k = format!("{prefix}operations[{i}]");
-        let Some(v) = cx.keep(operation(cx, o, &k, &mut last_line, &mut last_stop)) else {
+        let Some(v) = cx.keep(operation(cx, o, &k, label, &mut last_line, &mut last_stop)) else {
             continue;
         };
         out.push(Set {
@@ -1036,6 +1056,7 @@ fn operation(
     cx: &Cx<'_>,
     o: &Spanned<RawOperation>,
     k: &str,
+    label: &str,
     last_line: &mut Latest,
     last_stop: &mut Latest,
 ) -> Result<JobOperation, JobError> {
@@ -1104,17 +1125,36 @@ fn operation(
         }
         (None, _) => Stand::Stay,
     };
-    let (chuck, chuck_at) = match &r.chuck {
-        None => (None, None),
-        Some(c) => {
-            let ol = &c.get_ref().outline;
-            if ol.get_ref().len() > machine::MAX_OUTLINE_POINTS {
-                return Err(cx.err(ol.span(), kk("chuck.outline"), "too many points"));
+    let (mut chuck, mut chuck_at, mut jaws) = (None, None, None);
+    if let Some(c) = &r.chuck {
+        match (&c.get_ref().outline, &c.get_ref().jaws) {
+            (Some(ol), None) => {
+                if ol.get_ref().len() > machine::MAX_OUTLINE_POINTS {
+                    return Err(cx.err(ol.span(), kk("chuck.outline"), "too many points"));
+                }
+                chuck = Some(cx.outline(&kk("chuck.outline"), ol)?);
+                chuck_at = Some(place(cx, c.span(), &kk("chuck.outline")));
             }
-            let poly = cx.outline(&kk("chuck.outline"), ol)?;
-            (Some(poly), Some(place(cx, c.span(), &kk("chuck.outline"))))
+            (None, Some(j)) => {
+                jaws = Some(job_jaws(cx, j, &kk("chuck.jaws"), label));
+                chuck_at = Some(place(cx, j.span(), &kk("chuck.jaws")));
+            }
+            (Some(ol), Some(_)) => {
+                return Err(cx.err(
+                    ol.span(),
+                    kk("chuck.outline"),
+                    "give an operation's jaws either as an `outline` or as `jaws` over the job's jaws, not both",
+                ))
+            }
+            (None, None) => {
+                return Err(cx.err(
+                    c.span(),
+                    kk("chuck"),
+                    "missing required key `outline` (or a `jaws` table)",
+                ))
+            }
         }
-    };
+    }
     let program_zero_z = match &r.program_zero_z {
         None => None,
         Some(z) => Some(cx.coord(&kk("program_zero_z"), z)?),
@@ -1127,6 +1167,7 @@ fn operation(
         program_zero_z,
         note: r.note.as_ref().map(|n| n.get_ref().clone()),
         chuck_at,
+        jaws,
     })
 }
 
