@@ -220,17 +220,8 @@ pub fn mark_grazes(findings: &mut [Finding], min_depth: f64) {
         let Some(d) = f.depth_mm else { continue };
         if grazes(f.kind) && f.severity == Severity::Error && d < min_depth {
             f.severity = Severity::Warning;
-            f.message = format!("{} (graze, deepest {} mm < min_depth {min_depth} mm)", f.message, mm(d));
+            f.message = format!("{} (a graze: shallower than min_depth {min_depth} mm)", f.message);
         }
-    }
-}
-
-/// A depth for a message: three decimals, more when that would show 0.
-fn mm(v: f64) -> String {
-    if v != 0.0 && v.abs() < 0.0005 {
-        format!("{v:.6}")
-    } else {
-        format!("{v:.3}")
     }
 }
 
@@ -315,7 +306,7 @@ mod tests {
         );
         assert_eq!(
             fs[0].message,
-            "the T01 holder hits the stock (graze, deepest 0.020 mm < min_depth 0.1 mm)"
+            "the T01 holder hits the stock (a graze: shallower than min_depth 0.1 mm)"
         );
         assert_eq!(fs[1].message, "the T01 holder hits the stock");
     }

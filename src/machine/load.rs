@@ -2433,8 +2433,36 @@ fn show(x: f64) -> String {
     }
 }
 
-/// Serde's words for Rust types, in the words of a machine file.
+/// Serde's words for Rust types, in the words of a machine file; an unknown key or value gets
+/// the closest expected one as a suggestion.
 fn plain_words(message: &str) -> String {
+    let plain = plain_types(message);
+    match did_you_mean(message) {
+        Some(s) => format!("{plain}: did you mean `{s}`?"),
+        None => plain,
+    }
+}
+
+/// For serde's "unknown field `x`, expected one of `a`, `b`" (or "expected `a` or `b`", and the
+/// same for variants): the expected name closest to `x`, when it is a likely slip — at most a
+/// third of its letters apart (one letter for short names; a name in other case is one).
+pub fn did_you_mean(message: &str) -> Option<String> {
+    let rest = message
+        .strip_prefix("unknown field `")
+        .or_else(|| message.strip_prefix("unknown variant `"))?;
+    let (got, expected) = rest.split_once('`')?;
+    let expected = expected.split_once("expected")?.1;
+    let candidates = expected.split('`').skip(1).step_by(2);
+    let got_l = got.to_lowercase();
+    candidates
+        .map(|c| (strsim::damerau_levenshtein(&got_l, &c.to_lowercase()), c))
+        .filter(|&(d, c)| c != got && d <= (c.chars().count() / 3).max(1))
+        .min_by_key(|&(d, _)| d)
+        .map(|(_, c)| c.to_string())
+}
+
+/// Serde's words for Rust types, in the words of a machine file.
+fn plain_types(message: &str) -> String {
     message
         .replace("unknown field", "unknown key")
         .replace("unknown variant", "unknown value")

@@ -444,6 +444,33 @@ fn unknown_key_is_refused_at_its_line_and_key() {
 }
 
 #[test]
+fn a_misspelt_key_or_value_gets_the_closest_one_as_a_suggestion() {
+    let text = edit(MINI, "front = 80.0\n", "frnt = 80.0\n");
+    let e = refused(&text);
+    assert!(
+        e.message.contains("unknown key `frnt`") && e.message.ends_with("did you mean `front`?"),
+        "{e}"
+    );
+    // Nothing close: no suggestion.
+    let text = edit(MINI, "front = 80.0\n", "front = 80.0\ncolour = \"red\"\n");
+    assert!(!refused(&text).message.contains("did you mean"));
+    assert_eq!(
+        did_you_mean("unknown field `turet`, expected one of `machine`, `turret`, `tools`").as_deref(),
+        Some("turret")
+    );
+    assert_eq!(
+        did_you_mean("unknown variant `Fanuc`, expected `fanuc` or `linuxcnc`").as_deref(),
+        Some("fanuc")
+    );
+    assert_eq!(
+        did_you_mean("unknown variant `fanux`, expected `fanuc` or `linuxcnc`").as_deref(),
+        Some("fanuc")
+    );
+    assert_eq!(did_you_mean("unknown field `x`, expected `z`").as_deref(), Some("z"));
+    assert_eq!(did_you_mean("invalid type: string, expected an array"), None);
+}
+
+#[test]
 fn unknown_key_in_an_inline_table_is_refused_at_its_key() {
     let text = edit(MINI, "rapid = 24000.0 }", "rapid = 24000.0, accel = 2 }");
     let e = refused(&text);

@@ -187,7 +187,13 @@ fn describe(x: &Finding) -> String {
 pub(crate) fn with_facts(mut s: String, x: &Finding, point: bool, n: bool) -> String {
     let mut facts = Vec::new();
     if let Some(d) = x.depth_mm {
-        facts.push(format!("depth {d:.3} mm"));
+        // Three decimals; six when three would show a contact as 0.000 mm.
+        let shown = if d != 0.0 && d.abs() < 0.0005 {
+            format!("{d:.6}")
+        } else {
+            format!("{d:.3}")
+        };
+        facts.push(format!("depth {shown} mm"));
     }
     if let Some(t) = x.time_s {
         facts.push(format!("at {t:.3} s"));
