@@ -137,6 +137,8 @@ pub fn starter(s: &NewSpec) -> String {
     } else {
         (-10.0, s.x_travel - 10.0)
     };
+    // Home is at x max: the tools there must clear the chuck (its radius and 120 mm for them).
+    let asked = x_max;
     let x_max = x_max.max(big_r + 120.0);
     let z_min = -h - 10.0;
     let z_max = z_min + s.z_travel;
@@ -144,6 +146,16 @@ pub fn starter(s: &NewSpec) -> String {
         o,
         "[axes]\n# The turret reference point's travel and rapid rates (mm/min)."
     );
+    if x_max > asked {
+        let _ = writeln!(
+            o,
+            "# x max is {} here, not {} as --x-travel {} gives: home is at x max, and the tools there must\n# clear the Ø{} chuck (its radius and 120 mm). Measure your lathe's travel and home and edit.",
+            n(x_max),
+            n(asked),
+            n(s.x_travel),
+            n(s.chuck_diameter)
+        );
+    }
     let _ = writeln!(o, "x = {{ min = {}, max = {}, rapid = 20000.0 }}", n(x_min), n(x_max));
     let _ = writeln!(o, "z = {{ min = {}, max = {}, rapid = 24000.0 }}", n(z_min), n(z_max));
     let _ = writeln!(o, "home = [{}, {}]\n", n(x_max), n(z_max));
@@ -318,5 +330,23 @@ mod tests {
             ..NewSpec::default()
         };
         assert!(bad.check().unwrap_err().starts_with("--stations"));
+    }
+
+    #[test]
+    fn an_x_travel_too_short_for_home_to_clear_the_chuck_is_raised_and_the_file_says_why() {
+        // 205 mm of travel puts x max at 195, inside the 210 mm chuck's radius + 120.
+        let short = NewSpec {
+            x_travel: 205.0,
+            ..NewSpec::default()
+        };
+        let text = starter(&short);
+        assert!(text.contains("x = { min = -10.0, max = 225.0,"), "{text}");
+        assert!(
+            text.contains("# x max is 225.0 here, not 195.0 as --x-travel 205.0 gives"),
+            "{text}"
+        );
+        // Travel enough: as asked, and no such note.
+        let text = starter(&NewSpec::default());
+        assert!(text.contains("max = 290.0,") && !text.contains("x max is"), "{text}");
     }
 }
