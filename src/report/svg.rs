@@ -682,9 +682,72 @@ pub(super) fn document(o: &str, bottom: f64) -> String {
         w = n(WIDTH),
     );
     svg.push('\n');
-    svg.push_str(o);
+    svg.push_str(&split_halos(o));
     svg.push_str("</svg>\n");
     svg
+}
+
+/// Every label drawn with a halo (`stroke="…" … paint-order="stroke"`: the outline under the
+/// letters) as two elements: the halo (its stroke and fill in the halo's colour) and then the
+/// letters on top. `paint-order` is not read by every renderer (cairosvg paints the stroke over
+/// the fill: white letters on white), two elements are.
+pub(super) fn split_halos(body: &str) -> String {
+    let mut out = String::with_capacity(body.len() + body.len() / 4);
+    let mut rest = body;
+    while let Some(i) = rest.find("<text ") {
+        out.push_str(&rest[..i]);
+        rest = &rest[i..];
+        let (Some(open_end), Some(close)) = (rest.find('>'), rest.find("</text>")) else {
+            break;
+        };
+        let tag = &rest[..open_end];
+        if !tag.contains(r#"paint-order="stroke""#) || close < open_end {
+            out.push_str(&rest[..open_end + 1]);
+            rest = &rest[open_end + 1..];
+            continue;
+        }
+        let content = &rest[open_end + 1..close];
+        let attrs = attributes(&tag["<text ".len()..]);
+        let get = |name: &str| attrs.iter().find(|(k, _)| *k == name).map(|(_, v)| *v);
+        let halo = get("stroke").unwrap_or("#ffffff");
+        let common: String = attrs
+            .iter()
+            .filter(|(k, _)| {
+                !matches!(
+                    *k,
+                    "fill" | "stroke" | "stroke-width" | "stroke-opacity" | "paint-order"
+                )
+            })
+            .map(|(k, v)| format!(r#" {k}="{v}""#))
+            .collect();
+        let opacity = get("stroke-opacity").map_or(String::new(), |o| format!(r#" opacity="{o}""#));
+        out.push_str(&format!(
+            r#"<text{common} fill="{halo}" stroke="{halo}" stroke-width="{}" stroke-linejoin="round"{opacity}>{content}</text>"#,
+            get("stroke-width").unwrap_or("3")
+        ));
+        out.push_str(&format!(
+            r#"<text{common} fill="{}">{content}</text>"#,
+            get("fill").unwrap_or("#000000")
+        ));
+        rest = &rest[close + "</text>".len()..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// `name="value"` pairs of a tag's attribute text, in order (values hold no quotes: they are
+/// escaped with [`esc`]).
+fn attributes(s: &str) -> Vec<(&str, &str)> {
+    let mut out = Vec::new();
+    let mut rest = s.trim_end_matches('/');
+    while let Some(eq) = rest.find("=\"") {
+        let name = rest[..eq].trim();
+        let after = &rest[eq + 2..];
+        let Some(end) = after.find('"') else { break };
+        out.push((name, &after[..end]));
+        rest = &after[end + 1..];
+    }
+    out
 }
 
 /// An enlarged view of the contact, for contacts too small to see in the main view.
@@ -1349,4 +1412,26 @@ pub(super) fn footer(o: &mut String, v: &View, s: &Snapshot, legend: &Legend, be
         env!("CARGO_PKG_VERSION"),
     );
     note_y
+}
+
+#[cfg(test)]
+mod halo_tests {
+    use super::split_halos;
+
+    #[test]
+    fn a_haloed_label_becomes_its_halo_then_its_letters() {
+        let body = r##"<path d="M0,0"/><text x="1" y="2" font-size="12" fill="#b42318" text-anchor="end" stroke="#ffffff" stroke-width="3" stroke-opacity="0.8" paint-order="stroke">X10 &amp; Z5</text><text x="3" y="4" fill="#000">plain</text>"##;
+        assert_eq!(
+            split_halos(body),
+            r##"<path d="M0,0"/><text x="1" y="2" font-size="12" text-anchor="end" fill="#ffffff" stroke="#ffffff" stroke-width="3" stroke-linejoin="round" opacity="0.8">X10 &amp; Z5</text><text x="1" y="2" font-size="12" text-anchor="end" fill="#b42318">X10 &amp; Z5</text><text x="3" y="4" fill="#000">plain</text>"##
+        );
+        // Nothing else changes, and no paint-order is left anywhere.
+        assert_eq!(split_halos("<g><rect/></g>"), "<g><rect/></g>");
+        let rotated = r##"<text transform="translate(5,6) rotate(-90)" fill="#333" stroke="#fbfbfa" stroke-width="3" paint-order="stroke">X travel</text>"##;
+        let out = split_halos(rotated);
+        assert!(
+            !out.contains("paint-order") && out.matches("rotate(-90)").count() == 2,
+            "{out}"
+        );
+    }
 }
