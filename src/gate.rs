@@ -29,12 +29,56 @@ pub struct Rules {
     pub select: Option<Vec<Kind>>,
     /// Never these kinds (wins over `select`).
     pub ignore: Vec<Kind>,
+    /// Do not report suppressions that suppress nothing (`unused-suppressions = false`).
+    pub quiet_unused: bool,
 }
 
 impl Rules {
     pub fn reports(&self, kind: Kind) -> bool {
         self.select.as_ref().map_or(true, |s| s.contains(&kind)) && !self.ignore.contains(&kind)
     }
+
+    /// Resolve layers of selection, lowest first, as ruff does: a layer's `select` starts over
+    /// from its kinds (dropping what the layers below selected, extended and ignored), its
+    /// `extend_select` adds kinds, its `ignore` removes kinds (it wins over its own layer's
+    /// `select` and `extend_select`). No `select` in any layer: every kind.
+    pub fn resolve<'a>(layers: impl IntoIterator<Item = &'a Selection>) -> Rules {
+        let mut set: Option<Vec<Kind>> = None;
+        let mut removed: Vec<Kind> = Vec::new();
+        for l in layers {
+            if let Some(s) = &l.select {
+                set = Some(s.clone());
+                removed.clear();
+            }
+            for k in &l.extend_select {
+                removed.retain(|r| r != k);
+                if let Some(set) = &mut set {
+                    if !set.contains(k) {
+                        set.push(*k);
+                    }
+                }
+            }
+            for k in &l.ignore {
+                if !removed.contains(k) {
+                    removed.push(*k);
+                }
+            }
+        }
+        let select = set.map(|s| s.into_iter().filter(|k| !removed.contains(k)).collect());
+        Rules {
+            select,
+            ignore: removed,
+            quiet_unused: false,
+        }
+    }
+}
+
+/// One layer of kind selection (`latheguard.toml` or the command line).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Selection {
+    pub select: Option<Vec<Kind>>,
+    pub extend_select: Vec<Kind>,
+    pub ignore: Vec<Kind>,
 }
 
 /// The least severity that fails a run.
@@ -136,23 +180,69 @@ impl Suppressions {
         (out, problems)
     }
 
-    /// The reason and comment line of the suppression that covers `f`, if one does.
-    fn covering(&self, f: &Finding) -> Option<(&str, u32)> {
+    /// The suppression that covers `f`, if one does: a line one (`Ok(index)`) before a
+    /// file-wide one (`Err(index)`).
+    fn covering(&self, f: &Finding) -> Option<Result<usize, usize>> {
         self.lines
             .iter()
-            .find(|(line, kinds, _, _)| *line == f.line && kinds.contains(&f.kind))
-            .map(|(_, _, r, at)| (r.as_str(), *at))
+            .position(|(line, kinds, _, _)| *line == f.line && kinds.contains(&f.kind))
+            .map(Ok)
             .or_else(|| {
                 self.file
                     .iter()
-                    .find(|(kinds, _, _)| kinds.contains(&f.kind))
-                    .map(|(_, r, at)| (r.as_str(), *at))
+                    .position(|(kinds, _, _)| kinds.contains(&f.kind))
+                    .map(Err)
             })
+    }
+
+    /// The reason and comment line of a suppression found by [`Suppressions::covering`].
+    fn reason(&self, which: Result<usize, usize>) -> (&str, u32) {
+        match which {
+            Ok(i) => (self.lines[i].2.as_str(), self.lines[i].3),
+            Err(i) => (self.file[i].1.as_str(), self.file[i].2),
+        }
+    }
+
+    /// A `program` warning for each kind of each suppression that covered no finding in `used`
+    /// ((suppression, kind) pairs), at the suppression's line, in line order.
+    fn unused(&self, used: &[(Result<usize, usize>, Kind)]) -> Vec<Finding> {
+        let mut out = Vec::new();
+        for (i, (line, kinds, _, at)) in self.lines.iter().enumerate() {
+            for &k in kinds {
+                if !used.contains(&(Ok(i), k)) {
+                    let place = if line == at {
+                        "on this line".to_string()
+                    } else {
+                        format!("on line {line}, the line it covers")
+                    };
+                    out.push(unused_warning(*at, k, &place));
+                }
+            }
+        }
+        for (i, (kinds, _, at)) in self.file.iter().enumerate() {
+            for &k in kinds {
+                if !used.contains(&(Err(i), k)) {
+                    out.push(unused_warning(*at, k, "in this file"));
+                }
+            }
+        }
+        out.sort_by_key(|f| f.line);
+        out
     }
 
     pub fn is_empty(&self) -> bool {
         self.lines.is_empty() && self.file.is_empty()
     }
+}
+
+fn unused_warning(line: u32, k: Kind, place: &str) -> Finding {
+    Finding::at(
+        Kind::Program,
+        Severity::Warning,
+        line,
+        0,
+        format!("unused suppression: no {} finding {place}", k.name()),
+    )
 }
 
 /// The comments of one line (their text, without `(`, `)` or `;`) and whether anything but
@@ -215,26 +305,46 @@ pub struct Gated {
 }
 
 /// Pass a file's findings (in report order) through the gate: drop the kinds not reported, set
-/// aside the suppressed ones, add the warnings about unusable suppressions, collapse repeats. The
-/// order of what remains is kept.
+/// aside the suppressed ones, add the warnings about unusable suppressions and (unless
+/// [`Rules::quiet_unused`]) about suppressions that cover no finding, collapse repeats. The order
+/// of what remains is kept.
+///
+/// A suppression is used when it covers a finding of the check, reported or not: one that
+/// covers a finding of a kind not selected is not called unused (it is needed again when the
+/// kind is).
 pub fn apply(findings: Vec<Finding>, rules: &Rules, sup: &Suppressions, problems: Vec<Finding>) -> Gated {
     let mut out = Gated::default();
     let mut kept = Vec::with_capacity(findings.len() + problems.len());
-    let has_problems = !problems.is_empty();
+    let mut used = Vec::new();
+    let mut resort = !problems.is_empty();
     for f in findings.into_iter().chain(problems) {
+        let cover = sup.covering(&f);
+        if let Some(c) = cover {
+            if !used.contains(&(c, f.kind)) {
+                used.push((c, f.kind));
+            }
+        }
         if !rules.reports(f.kind) {
             continue;
         }
-        match sup.covering(&f) {
-            Some((reason, at)) => out.suppressed.push(Suppressed {
-                reason: reason.to_string(),
-                at,
-                finding: f,
-            }),
+        match cover {
+            Some(c) => {
+                let (reason, at) = sup.reason(c);
+                out.suppressed.push(Suppressed {
+                    reason: reason.to_string(),
+                    at,
+                    finding: f,
+                })
+            }
             None => kept.push(f),
         }
     }
-    if has_problems {
+    if !rules.quiet_unused && rules.reports(Kind::Program) {
+        let unused = sup.unused(&used);
+        resort |= !unused.is_empty();
+        kept.extend(unused);
+    }
+    if resort {
         crate::finding::sort_findings(&mut kept);
     }
     out.findings = collapse(kept);
@@ -309,6 +419,7 @@ mod tests {
         let rules = Rules {
             select: Some(vec![Kind::Collision, Kind::Unsupported]),
             ignore: vec![Kind::Unsupported],
+            ..Rules::default()
         };
         let g = apply(
             vec![unsupported(1, "G41"), crash(2, 1.0), Finding::program(3, 0, "no feed")],
@@ -332,7 +443,11 @@ mod tests {
                 unsupported(5, "other"),
                 crash(5, 2.0),
             ],
-            &Rules::default(),
+            // `program` covers nothing on line 4: not said here.
+            &Rules {
+                quiet_unused: true,
+                ..Rules::default()
+            },
             &sup,
             problems,
         );
@@ -395,6 +510,80 @@ mod tests {
                 (9, Kind::Unsupported, 1)
             ]
         );
+    }
+
+    #[test]
+    fn layers_of_selection_resolve_as_ruff_does() {
+        use Kind::*;
+        let file = Selection {
+            select: Some(vec![Collision, NearMiss, Unsupported]),
+            extend_select: vec![Program],
+            ignore: vec![NearMiss],
+        };
+        let r = Rules::resolve([&file]);
+        assert_eq!(r.select, Some(vec![Collision, Unsupported, Program]));
+        // The command line's select starts over: the file's ignore and extend-select are gone.
+        let cli = Selection {
+            select: Some(vec![NearMiss]),
+            ..Selection::default()
+        };
+        assert_eq!(Rules::resolve([&file, &cli]).select, Some(vec![NearMiss]));
+        // The command line's ignore adds to the file's; its extend-select takes back an ignore.
+        let cli = Selection {
+            extend_select: vec![NearMiss],
+            ignore: vec![Unsupported],
+            ..Selection::default()
+        };
+        let r = Rules::resolve([&file, &cli]);
+        assert!(r.reports(NearMiss) && r.reports(Collision) && !r.reports(Unsupported));
+        // No select anywhere: every kind but the ignored.
+        let r = Rules::resolve([&Selection {
+            ignore: vec![Syntax],
+            ..Selection::default()
+        }]);
+        assert_eq!(r.select, None);
+        assert!(!r.reports(Syntax) && r.reports(Collision));
+    }
+
+    #[test]
+    fn a_suppression_that_covers_nothing_is_a_warning_at_its_line_unless_quiet() {
+        let src = b"G0 X1 (latheguard: allow collision, near_miss -- ok)\n(latheguard: allow unsupported -- old)\nG1 X2\n; latheguard: allow-file syntax -- post\n";
+        let (sup, problems) = Suppressions::read(src);
+        let g = apply(vec![crash(1, 0.1)], &Rules::default(), &sup, problems.clone());
+        let got: Vec<(u32, Kind, &str)> = g
+            .findings
+            .iter()
+            .map(|f| (f.line, f.kind, f.message.as_str()))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                (
+                    1,
+                    Kind::Program,
+                    "unused suppression: no near_miss finding on this line"
+                ),
+                (
+                    2,
+                    Kind::Program,
+                    "unused suppression: no unsupported finding on line 3, the line it covers"
+                ),
+                (4, Kind::Program, "unused suppression: no syntax finding in this file"),
+            ]
+        );
+        assert_eq!(g.suppressed.len(), 1);
+        // A suppression of a finding not selected is not unused.
+        let only_program = Rules {
+            select: Some(vec![Kind::Program]),
+            ..Rules::default()
+        };
+        let g = apply(vec![crash(1, 0.1)], &only_program, &sup, problems.clone());
+        assert_eq!(g.findings.len(), 3);
+        let quiet = Rules {
+            quiet_unused: true,
+            ..Rules::default()
+        };
+        assert!(apply(vec![crash(1, 0.1)], &quiet, &sup, problems).findings.is_empty());
     }
 
     #[test]

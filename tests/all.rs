@@ -19,6 +19,7 @@ mod cases;
 mod ci_recipes;
 mod cli_batch;
 mod cli_gate;
+mod cli_gate_config;
 mod cli_graze;
 mod cli_hostile;
 mod cli_job;

@@ -200,6 +200,7 @@ fn many_findings_on_one_long_line_decode_the_line_once_in_the_text_report() {
                 settings: None,
                 job: Vec::new(),
                 suppressed: Vec::new(),
+                fail_on: None,
             }],
         };
         text(&report, TextOptions::default())

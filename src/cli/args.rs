@@ -138,8 +138,8 @@ pub enum TableFormat {
 
 #[derive(Args, Debug)]
 pub struct CheckArgs {
-    /// Programs, or folders walked for NC files; `-` reads one program from standard input.
-    #[arg(required_unless_present = "explain")]
+    /// Programs, or folders walked for NC files; `-` reads one program from standard input
+    /// [default: `.`; `-` with --stdin-filename].
     pub paths: Vec<PathBuf>,
     /// Print the documentation of a finding kind, by name or code (collision, LG02, …), and exit.
     #[arg(long, value_name = "KIND")]
@@ -147,9 +147,13 @@ pub struct CheckArgs {
     /// Report only these finding kinds, by name or code, comma-separated (rapid_into_stock,LG01).
     #[arg(long, value_name = "KIND,…", value_delimiter = ',', value_parser = kind)]
     pub select: Option<Vec<Kind>>,
-    /// Never report these finding kinds, by name or code, comma-separated; wins over --select.
+    /// Never report these finding kinds, by name or code, comma-separated; wins over --select and
+    /// adds to latheguard.toml's `ignore`.
     #[arg(long, value_name = "KIND,…", value_delimiter = ',', value_parser = kind)]
     pub ignore: Option<Vec<Kind>>,
+    /// Report these finding kinds too, over --select and latheguard.toml's `select` and `ignore`.
+    #[arg(long, value_name = "KIND,…", value_delimiter = ',', value_parser = kind)]
+    pub extend_select: Option<Vec<Kind>>,
     /// The least severity that fails the run (exit 1) [default: error].
     #[arg(long, value_enum, value_name = "SEVERITY")]
     pub fail_on: Option<FailOnArg>,
@@ -175,8 +179,8 @@ pub struct CheckArgs {
     /// min_depth, else 0.1].
     #[arg(long, value_name = "MM", value_parser = min_depth)]
     pub min_depth: Option<f64>,
-    /// Report format.
-    #[arg(long, value_enum, default_value_t = FormatArg::Text)]
+    /// Report format (also --output-format).
+    #[arg(long, alias = "output-format", value_enum, default_value_t = FormatArg::Text)]
     pub format: FormatArg,
     /// Write the report here instead of standard output.
     #[arg(short, long, value_name = "FILE")]
@@ -204,8 +208,20 @@ pub struct CheckArgs {
     #[arg(long, value_name = "I/N", value_parser = shard)]
     pub shard: Option<Shard>,
     /// Ignore latheguard.toml files.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "config")]
     pub no_config: bool,
+    /// Use this file as the latheguard.toml of every program instead of looking for the nearest
+    /// one (paths in it are relative to its folder).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Print what applies to a program (the first of PATH, else of the paths checked) and where
+    /// each value came from, then exit.
+    #[arg(long, value_name = "PATH", num_args = 0..=1, default_missing_value = "")]
+    pub show_settings: Option<String>,
+    /// The name of the program read from standard input (`-`): latheguard.toml, the job file
+    /// beside it and per-file-ignores are looked up as for this path, and reports name it.
+    #[arg(long, value_name = "NAME")]
+    pub stdin_filename: Option<PathBuf>,
     /// Leave run times out of the report (JSON elapsed_ms is 0, no JUnit times): byte-identical
     /// output from run to run.
     #[arg(long)]

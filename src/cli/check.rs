@@ -34,9 +34,15 @@ struct Job {
     settings: Settings,
     /// The job layers that applied (docs/job.md).
     job: Vec<String>,
+    /// The name the report gives it (`--stdin-filename` for `-`).
+    name: String,
+    /// The gate's rules for it (latheguard.toml, the command line, per-file-ignores).
+    rules: gate::Rules,
+    /// Its latheguard.toml's `fail-on`.
+    fail_on: Option<FailOn>,
 }
 
-pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
+pub fn run(mut a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
     if let Some(kind) = &a.explain {
         let k = gate::kind_by_name_or_code(kind).ok_or_else(|| {
             let all: Vec<_> = Kind::ALL
@@ -47,6 +53,9 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
         })?;
         emit(None, latheguard::finding::explain(k))?;
         return Ok(EXIT_CLEAN);
+    }
+    if a.paths.is_empty() {
+        a.paths = vec![PathBuf::from(if a.stdin_filename.is_some() { "-" } else { "." })];
     }
     let exts: Vec<String> = match &a.ext {
         Some(list) => list.clone(),
@@ -66,14 +75,18 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
         }
         return Err(last.clone());
     }
+    if let Some(p) = &a.show_settings {
+        let p = if p.is_empty() {
+            a.paths[0].clone()
+        } else {
+            PathBuf::from(p)
+        };
+        return show_settings(&a, &p, &exts);
+    }
     let stdin = if a.paths.iter().any(|p| is_stdin(p)) {
         Some(read_stdin()?)
     } else {
         None
-    };
-    let rules = gate::Rules {
-        select: a.select.clone(),
-        ignore: a.ignore.clone().unwrap_or_default(),
     };
     let mut entries = walk::collect(&a.paths, &exts);
     if let Some(s) = a.shard {
@@ -98,7 +111,6 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
     let show_progress = !a.quiet && std::io::stderr().is_terminal() && std::env::var_os("CI").is_none();
     let input = Input {
         stdin: stdin.as_deref(),
-        rules: &rules,
         timing: !a.no_timing,
     };
     let reports = check_all(&jobs, a.jobs, show_progress, &input)?;
@@ -108,6 +120,12 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
         Some(FailOnArg::Warning) => FailOn::Warning,
         _ => FailOn::Error,
     };
+    if a.fail_on.is_none() {
+        // Each file fails on what its latheguard.toml says; the command line's is over all.
+        for (f, j) in report.files.iter_mut().zip(&jobs) {
+            f.fail_on = j.fail_on;
+        }
+    }
 
     if let Some(out) = &a.stock_out {
         match report.files.as_slice() {
@@ -173,6 +191,7 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
         ));
     }
     let text = match a.format {
+        FormatArg::Json if a.statistics => report::statistics_json(&report),
         _ if a.statistics => report::statistics(&report),
         FormatArg::Text => {
             let color = match color {
@@ -211,6 +230,10 @@ pub fn run(a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
 /// the files read, which no output may overwrite.
 fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>, Vec<PathBuf>), Trouble> {
     let mut planner = Planner::new(a.machine.as_deref(), a.no_config, &a.job)?;
+    if let Some(c) = &a.config {
+        planner.force_config(c)?;
+    }
+    let selection = cli_selection(a);
     let cli = |mut s: Settings| {
         if let Some(m) = a.mode {
             s.mode = match m {
@@ -230,8 +253,13 @@ fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>, Vec<P
     let defaults = (planner.default_machine(), cli(Settings::default()));
     let mut jobs = Vec::with_capacity(entries.len());
     for entry in entries {
-        let r = planner.resolve(&entry.path)?;
+        let as_path = looked_up_as(a, &entry.path);
+        let r = planner.resolve(as_path)?;
+        let abs = std::env::current_dir().unwrap_or_default().join(as_path);
         jobs.push(Job {
+            name: as_path.display().to_string(),
+            rules: super::config::rules_for(r.cfg.as_deref(), &abs, &selection),
+            fail_on: r.cfg.as_ref().and_then(|c| c.gate.fail_on),
             entry,
             machine: r.machine,
             settings: cli(r.settings),
@@ -247,8 +275,193 @@ fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>, Vec<P
 /// whether run times are reported.
 struct Input<'a> {
     stdin: Option<&'a [u8]>,
-    rules: &'a gate::Rules,
     timing: bool,
+}
+
+/// The path a program's configuration, job and per-file-ignores are looked up as: its own, or
+/// `--stdin-filename` for `-`.
+fn looked_up_as<'p>(a: &'p CheckArgs, path: &'p Path) -> &'p Path {
+    match &a.stdin_filename {
+        Some(name) if is_stdin(path) => name,
+        _ => path,
+    }
+}
+
+/// The command line's layer of kind selection.
+fn cli_selection(a: &CheckArgs) -> gate::Selection {
+    gate::Selection {
+        select: a.select.clone(),
+        extend_select: a.extend_select.clone().unwrap_or_default(),
+        ignore: a.ignore.clone().unwrap_or_default(),
+    }
+}
+
+fn kinds(ks: &[Kind]) -> String {
+    let names: Vec<&str> = ks.iter().map(|k| k.name()).collect();
+    format!("[{}]", names.join(", "))
+}
+
+/// `--show-settings`: what applies to one program (the first found under `path`) and where each
+/// value came from.
+fn show_settings(a: &CheckArgs, path: &Path, exts: &[String]) -> Result<u8, Trouble> {
+    use std::fmt::Write as _;
+    let program = if is_stdin(path) {
+        path.to_path_buf()
+    } else {
+        walk::collect(std::slice::from_ref(&path.to_path_buf()), exts)
+            .into_iter()
+            .next()
+            .map(|e| e.path)
+            .ok_or_else(|| format!("{}: no NC file to show the settings of", shown(path)))?
+    };
+    let as_path = looked_up_as(a, &program);
+    let mut planner = Planner::new(a.machine.as_deref(), a.no_config, &a.job)?;
+    if let Some(c) = &a.config {
+        planner.force_config(c)?;
+    }
+    let r = planner.resolve(as_path)?;
+    let abs = std::env::current_dir().unwrap_or_default().join(as_path);
+    let cfg = r.cfg.as_deref();
+    let cfg_name = cfg.map(|c| c.shown.clone()).unwrap_or_default();
+    let mut o = String::new();
+    let _ = writeln!(o, "program: {}", shown(as_path));
+    let _ = writeln!(
+        o,
+        "configuration: {}",
+        match (cfg, a.no_config, &a.config) {
+            (Some(c), _, Some(_)) => format!("{} (--config)", c.shown),
+            (Some(c), _, None) => format!("{} (the nearest)", c.shown),
+            (None, true, _) => "none (--no-config)".into(),
+            (None, false, _) => "none found".into(),
+        }
+    );
+    // Which layer of the configuration last set a key.
+    let layers: Vec<(String, &super::config::Layer)> = match cfg {
+        None => Vec::new(),
+        Some(c) => {
+            let mut v = vec![(c.shown.clone(), &c.base)];
+            for (g, l) in &c.overrides {
+                if c.layers_for(&abs).iter().any(|x| std::ptr::eq(*x, l)) {
+                    v.push((format!("{} [[override]] glob = \"{}\"", c.shown, g.glob().glob()), l));
+                }
+            }
+            v
+        }
+    };
+    let from = |cli: bool, set: &dyn Fn(&super::config::Layer) -> bool| -> String {
+        if cli {
+            return "command line".into();
+        }
+        layers
+            .iter()
+            .rev()
+            .find(|(_, l)| set(l))
+            .map_or_else(|| "default".into(), |(n, _)| n.clone())
+    };
+    let machine_from = if a.machine.is_some() {
+        "command line".to_string()
+    } else {
+        from(false, &|l| l.machine.is_some())
+    };
+    let _ = writeln!(o, "machine: {}  ({machine_from})", r.machine_file);
+    let mode = a
+        .mode
+        .map(|m| if m == ModeArg::Exact { Mode::Exact } else { Mode::Step })
+        .unwrap_or(r.settings.mode);
+    let mode_name = if mode == Mode::Exact { "exact" } else { "step" };
+    let _ = writeln!(
+        o,
+        "mode: {mode_name}  ({})",
+        from(a.mode.is_some(), &|l| l.mode.is_some())
+    );
+    let _ = writeln!(
+        o,
+        "dt: {} ms  ({})",
+        a.dt.unwrap_or(r.settings.dt_ms),
+        from(a.dt.is_some(), &|l| l.dt_ms.is_some())
+    );
+    let _ = writeln!(
+        o,
+        "tolerance: {} mm  ({})",
+        a.tolerance.unwrap_or(r.settings.tolerance_mm),
+        from(a.tolerance.is_some(), &|l| l.tolerance_mm.is_some())
+    );
+    let _ = writeln!(
+        o,
+        "clearance: {} mm  ({})",
+        a.clearance.unwrap_or(r.settings.clearance_mm),
+        from(a.clearance.is_some(), &|l| l.clearance_mm.is_some())
+    );
+    let min_depth = a.min_depth.or(r.settings.min_depth_mm);
+    let _ = writeln!(
+        o,
+        "min_depth: {}  ({})",
+        min_depth.map_or_else(
+            || "the machine's min_depth, else 0.1 mm".to_string(),
+            |d| format!("{d} mm")
+        ),
+        from(a.min_depth.is_some(), &|l| l.min_depth_mm.is_some())
+    );
+    if r.job.layers.is_empty() {
+        let _ = writeln!(o, "job: none");
+    } else {
+        let _ = writeln!(o, "job: {}  (lowest first)", r.job.layers.join(", "));
+    }
+    let _ = writeln!(o, "gate:");
+    if let Some(c) = cfg {
+        let g = &c.gate.selection;
+        if let Some(s) = &g.select {
+            let _ = writeln!(o, "  select = {}  ({cfg_name})", kinds(s));
+        }
+        if !g.extend_select.is_empty() {
+            let _ = writeln!(o, "  extend-select = {}  ({cfg_name})", kinds(&g.extend_select));
+        }
+        if !g.ignore.is_empty() {
+            let _ = writeln!(o, "  ignore = {}  ({cfg_name})", kinds(&g.ignore));
+        }
+        for (glob, ks) in c.per_file_ignores(&abs) {
+            let _ = writeln!(o, "  per-file-ignores \"{glob}\" = {}  ({cfg_name})", kinds(ks));
+        }
+    }
+    if let Some(s) = &a.select {
+        let _ = writeln!(o, "  --select {}  (command line)", kinds(s));
+    }
+    if let Some(s) = &a.extend_select {
+        let _ = writeln!(o, "  --extend-select {}  (command line)", kinds(s));
+    }
+    if let Some(s) = &a.ignore {
+        let _ = writeln!(o, "  --ignore {}  (command line)", kinds(s));
+    }
+    let rules = super::config::rules_for(cfg, &abs, &cli_selection(a));
+    let reported: Vec<Kind> = Kind::ALL.into_iter().filter(|&k| rules.reports(k)).collect();
+    let _ = writeln!(
+        o,
+        "  reported: {}",
+        if reported.len() == Kind::ALL.len() {
+            "every kind".to_string()
+        } else {
+            kinds(&reported)
+        }
+    );
+    let (fail_on, fail_from) = match (a.fail_on, cfg.and_then(|c| c.gate.fail_on)) {
+        (Some(f), _) => (f == FailOnArg::Warning, "command line".to_string()),
+        (None, Some(f)) => (f == FailOn::Warning, cfg_name.clone()),
+        (None, None) => (false, "default".into()),
+    };
+    let _ = writeln!(
+        o,
+        "  fail-on: {}  ({fail_from})",
+        if fail_on { "warning" } else { "error" }
+    );
+    let unused = cfg.and_then(|c| c.gate.unused_suppressions);
+    let _ = writeln!(
+        o,
+        "  unused-suppressions: {}  ({})",
+        unused.unwrap_or(true),
+        if unused.is_some() { cfg_name.as_str() } else { "default" }
+    );
+    emit(None, &o)?;
+    Ok(EXIT_CLEAN)
 }
 
 fn is_stdin(p: &Path) -> bool {
@@ -312,12 +525,12 @@ fn check_all(
 
 fn check_one(job: &Job, input: &Input) -> (FileReport, bool) {
     let timing = input.timing;
-    let path = job.entry.path.display().to_string();
+    let path = job.name.clone();
     let unread = |why: String| FileReport {
         path: path.clone(),
         findings: gate::apply(
             vec![Finding::syntax(1, 0, why)],
-            input.rules,
+            &job.rules,
             &gate::Suppressions::default(),
             Vec::new(),
         )
@@ -346,7 +559,7 @@ fn check_one(job: &Job, input: &Input) -> (FileReport, bool) {
                 0.0
             };
             let (sup, problems) = gate::Suppressions::read(&src);
-            let gated = gate::apply(out.findings, input.rules, &sup, problems);
+            let gated = gate::apply(out.findings, &job.rules, &sup, problems);
             let keep_source = !gated.findings.is_empty() || !gated.suppressed.is_empty();
             (
                 FileReport {

@@ -7,6 +7,8 @@
 
 use super::args::{out_of_range, CLEARANCE_MM, DT_MS, TOLERANCE_MM};
 use globset::{GlobBuilder, GlobMatcher};
+use latheguard::finding::Kind;
+use latheguard::gate::{FailOn, Rules, Selection};
 use latheguard::job;
 use latheguard::pipeline::Mode;
 use latheguard::pipeline::MIN_DEPTH_MM;
@@ -71,8 +73,63 @@ pub struct MachineRef {
 pub struct Config {
     /// Its folder, absolute.
     pub dir: PathBuf,
+    /// The file, as shown in messages.
+    pub shown: String,
     pub base: Layer,
     pub overrides: Vec<(GlobMatcher, Layer)>,
+    pub gate: Gate,
+}
+
+/// The gate keys of a configuration (docs/config.md): which kinds are reported and what fails.
+#[derive(Debug, Default)]
+pub struct Gate {
+    /// `select`, `extend-select`, `ignore`.
+    pub selection: Selection,
+    /// `fail-on`.
+    pub fail_on: Option<FailOn>,
+    /// `per-file-ignores`: (glob as written, matcher, kinds), in file order.
+    pub per_file: Vec<(String, GlobMatcher, Vec<Kind>)>,
+    /// `unused-suppressions` (default true).
+    pub unused_suppressions: Option<bool>,
+}
+
+impl Config {
+    /// The `per-file-ignores` entries that match `file` (absolute): glob and kinds.
+    pub fn per_file_ignores(&self, file: &Path) -> Vec<(&str, &[Kind])> {
+        let Ok(rel) = file.strip_prefix(&self.dir) else {
+            return Vec::new();
+        };
+        let rel = slash_path(rel);
+        self.gate
+            .per_file
+            .iter()
+            .filter(|(_, g, _)| g.is_match(&rel))
+            .map(|(s, _, k)| (s.as_str(), k.as_slice()))
+            .collect()
+    }
+}
+
+/// The rules of the gate for one program (absolute path): the configuration's selection, then
+/// the command line's (`cli`), resolved as ruff does ([`Rules::resolve`]), then the
+/// configuration's `per-file-ignores` that match, then `unused-suppressions`.
+pub fn rules_for(cfg: Option<&Config>, file: &Path, cli: &Selection) -> Rules {
+    let mut layers = Vec::new();
+    if let Some(c) = cfg {
+        layers.push(&c.gate.selection);
+    }
+    layers.push(cli);
+    let mut rules = Rules::resolve(layers);
+    if let Some(c) = cfg {
+        for (_, kinds) in c.per_file_ignores(file) {
+            for k in kinds {
+                if !rules.ignore.contains(k) {
+                    rules.ignore.push(*k);
+                }
+            }
+        }
+        rules.quiet_unused = c.gate.unused_suppressions == Some(false);
+    }
+    rules
 }
 
 impl Config {
@@ -116,6 +173,8 @@ fn slash_path(p: &Path) -> String {
 /// Finds and loads the nearest configuration of each program, each file once.
 pub struct Finder {
     cwd: PathBuf,
+    /// `--config FILE`: this configuration for every program.
+    forced: Option<Arc<Config>>,
     /// Absolute folder → the configuration that applies in it.
     nearest: HashMap<PathBuf, Option<Arc<Config>>>,
     /// Files jobs refer to (tool libraries, tool tables), by path: each read once.
@@ -155,8 +214,18 @@ impl Finder {
                 read: HashMap::new(),
             },
             jobs: HashMap::new(),
+            forced: None,
             cwd,
         }
+    }
+
+    /// `--config FILE`: read that file now, and use it for every program instead of looking
+    /// for the nearest one.
+    pub fn force(&mut self, file: &Path) -> Result<(), ConfigError> {
+        let abs = normalize(&self.absolute(file));
+        let dir = abs.parent().unwrap_or(Path::new("/")).to_path_buf();
+        self.forced = Some(Arc::new(self.load(&abs, &dir)?));
+        Ok(())
     }
 
     /// The absolute form of a path (not resolving links).
@@ -175,6 +244,9 @@ impl Finder {
 
     /// The configuration that applies to a program (absolute path), if any.
     pub fn config_for(&mut self, file_abs: &Path) -> Result<Option<Arc<Config>>, ConfigError> {
+        if let Some(c) = &self.forced {
+            return Ok(Some(c.clone()));
+        }
         let Some(dir) = file_abs.parent() else {
             return Ok(None);
         };
@@ -310,6 +382,27 @@ struct RawConfig {
     min_depth: Option<Spanned<f64>>,
     #[schemars(with = "Option<job::JobSchema>")]
     job: Option<serde::de::IgnoredAny>,
+    /// Report only these finding kinds, by name or code (`collision`, `LG01`).
+    #[schemars(with = "Option<Vec<String>>")]
+    select: Option<Vec<Spanned<String>>>,
+    /// Report these kinds too, over `select`.
+    #[serde(rename = "extend-select")]
+    #[schemars(with = "Option<Vec<String>>")]
+    extend_select: Option<Vec<Spanned<String>>>,
+    /// Never report these kinds; wins over `select` and `extend-select`.
+    #[schemars(with = "Option<Vec<String>>")]
+    ignore: Option<Vec<Spanned<String>>>,
+    /// The least severity that fails the run.
+    #[serde(rename = "fail-on")]
+    #[schemars(with = "Option<RawFailOn>")]
+    fail_on: Option<Spanned<RawFailOn>>,
+    /// Kinds never reported in the programs a glob matches (relative to this file's folder).
+    #[serde(rename = "per-file-ignores")]
+    #[schemars(with = "Option<std::collections::BTreeMap<String, Vec<String>>>")]
+    per_file_ignores: Option<std::collections::BTreeMap<Spanned<String>, Vec<Spanned<String>>>>,
+    /// Report suppression comments that suppress nothing (default true).
+    #[serde(rename = "unused-suppressions")]
+    unused_suppressions: Option<bool>,
     #[serde(rename = "override", default)]
     #[schemars(with = "Vec<RawOverride>")]
     overrides: Vec<Spanned<RawOverride>>,
@@ -341,6 +434,13 @@ struct RawOverride {
 enum RawMode {
     Step,
     Exact,
+}
+
+#[derive(Deserialize, schemars::JsonSchema, Clone, Copy)]
+#[serde(rename_all = "lowercase")]
+enum RawFailOn {
+    Error,
+    Warning,
 }
 
 struct Cx<'a> {
@@ -417,6 +517,32 @@ impl Cx<'_> {
         })
     }
 
+    /// Kinds by name or code; an unknown one is an error at its place.
+    fn kinds(&self, key: &str, names: Vec<Spanned<String>>) -> Result<Vec<Kind>, ConfigError> {
+        let mut out = Vec::new();
+        for (i, n) in names.into_iter().enumerate() {
+            let k = latheguard::gate::kind_by_name_or_code(n.get_ref()).ok_or_else(|| {
+                let all: Vec<String> = Kind::ALL
+                    .iter()
+                    .map(|&k| format!("{} ({})", k.name(), latheguard::finding::code(k)))
+                    .collect();
+                self.err(
+                    n.span(),
+                    format!("{key}[{i}]"),
+                    format!(
+                        "`{}` is not a finding kind; the kinds are: {}",
+                        n.get_ref(),
+                        all.join(", ")
+                    ),
+                )
+            })?;
+            if !out.contains(&k) {
+                out.push(k);
+            }
+        }
+        Ok(out)
+    }
+
     /// The `job` at `path` of this configuration, if any.
     fn job(&self, path: &[&str], resolve: &mut dyn job::Resolve) -> Result<Option<JobRef>, ConfigError> {
         let base = self.dir.display().to_string();
@@ -486,6 +612,31 @@ pub fn parse(text: &str, file: &str, dir: &Path, resolve: &mut dyn job::Resolve)
     if raw.job.is_some() {
         base.job = cx.job(&["job"], resolve)?;
     }
+    let mut gate = Gate {
+        selection: Selection {
+            select: raw.select.map(|s| cx.kinds("select", s)).transpose()?,
+            extend_select: cx.kinds("extend-select", raw.extend_select.unwrap_or_default())?,
+            ignore: cx.kinds("ignore", raw.ignore.unwrap_or_default())?,
+        },
+        fail_on: raw.fail_on.map(|f| match f.into_inner() {
+            RawFailOn::Error => FailOn::Error,
+            RawFailOn::Warning => FailOn::Warning,
+        }),
+        per_file: Vec::new(),
+        unused_suppressions: raw.unused_suppressions,
+    };
+    let mut per_file: Vec<_> = raw.per_file_ignores.unwrap_or_default().into_iter().collect();
+    per_file.sort_by_key(|(g, _)| g.span().start);
+    if per_file.len() > MAX_OVERRIDES {
+        let at = per_file[MAX_OVERRIDES].0.span();
+        return Err(cx.err(at, "per-file-ignores", format!("at most {MAX_OVERRIDES} globs")));
+    }
+    for (glob, kinds) in per_file {
+        let key = format!("per-file-ignores.\"{}\"", glob.get_ref());
+        let matcher = glob_matcher(glob.get_ref()).map_err(|why| cx.err(glob.span(), key.clone(), why))?;
+        let kinds = cx.kinds(&key, kinds)?;
+        gate.per_file.push((glob.into_inner(), matcher, kinds));
+    }
     let mut overrides = Vec::with_capacity(raw.overrides.len());
     for (i, o) in raw.overrides.into_iter().enumerate() {
         let prefix = format!("override[{i}].");
@@ -501,8 +652,10 @@ pub fn parse(text: &str, file: &str, dir: &Path, resolve: &mut dyn job::Resolve)
     }
     Ok(Config {
         dir: dir.to_path_buf(),
+        shown: file.to_string(),
         base,
         overrides,
+        gate,
     })
 }
 
@@ -667,7 +820,8 @@ mod tests {
         assert_eq!(
             err("mode = \"exact\"\nclerance = 1\n"),
             "latheguard.toml:2:1: clerance: unknown field `clerance`, expected one of `machine`, `mode`, `dt`, \
-             `tolerance`, `clearance`, `min_depth`, `job`, `override`"
+             `tolerance`, `clearance`, `min_depth`, `job`, `select`, `extend-select`, `ignore`, `fail-on`, \
+             `per-file-ignores`, `unused-suppressions`, `override`"
         );
         assert_eq!(
             err("mode = \"fast\"\n"),
@@ -695,5 +849,34 @@ mod tests {
             "latheguard.toml:1:13: clearance: invalid type: string \"big\", expected f64"
         );
         assert!(err("mode = \n").starts_with("latheguard.toml:1:8: mode: TOML syntax error"));
+        assert!(err("select = [\"LG01\", \"crash\"]\n").starts_with(
+            "latheguard.toml:1:19: select[1]: `crash` is not a finding kind; the kinds are: collision (LG01)"
+        ));
+        assert!(err("[per-file-ignores]\n\"old/*.nc\" = [\"nearmiss\"]\n")
+            .starts_with("latheguard.toml:2:15: per-file-ignores.\"old/*.nc\"[0]: `nearmiss` is not a finding kind"));
+        assert_eq!(
+            err("fail-on = \"never\"\n"),
+            "latheguard.toml:1:11: fail-on: unknown variant `never`, expected `error` or `warning`"
+        );
+    }
+
+    #[test]
+    fn the_gate_keys_and_per_file_ignores() {
+        let c = parse(
+            "select = [\"collision\", \"LG04\"]\nextend-select = [\"program\"]\nignore = [\"LG04\"]\nfail-on = \"warning\"\n\
+             unused-suppressions = false\n[per-file-ignores]\n\"legacy/**/*.nc\" = [\"near_miss\", \"LG06\"]\n",
+            "latheguard.toml",
+            Path::new("/shop"),
+            &mut Texts::default(),
+        )
+        .unwrap();
+        assert_eq!(c.gate.fail_on, Some(FailOn::Warning));
+        let none = Selection::default();
+        let r = rules_for(Some(&c), Path::new("/shop/a.nc"), &none);
+        assert_eq!(r.select, Some(vec![Kind::Collision, Kind::Program]));
+        assert!(r.quiet_unused);
+        let r = rules_for(Some(&c), Path::new("/shop/legacy/x/a.nc"), &none);
+        assert_eq!(c.per_file_ignores(Path::new("/shop/legacy/x/a.nc")).len(), 1);
+        assert!(r.ignore.contains(&Kind::NearMiss) && r.reports(Kind::Collision));
     }
 }

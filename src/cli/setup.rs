@@ -24,6 +24,8 @@ pub struct Resolved {
     pub settings: Settings,
     /// The configuration that applied, if any.
     pub config: Option<PathBuf>,
+    /// That configuration, read.
+    pub cfg: Option<Arc<super::config::Config>>,
     pub job: Arc<EffectiveJob>,
 }
 
@@ -99,6 +101,13 @@ impl Planner {
         })
     }
 
+    /// `--config FILE`: that configuration for every program, read now.
+    pub fn force_config(&mut self, file: &Path) -> Result<(), Trouble> {
+        self.finder.force(file).map_err(|e| e.to_string())?;
+        self.inputs.push(file.to_path_buf());
+        Ok(())
+    }
+
     /// The machine of the command line, else the built-in one (without any job).
     pub fn default_machine(&self) -> Arc<Machine> {
         self.cli_machine
@@ -113,6 +122,7 @@ impl Planner {
         let mut named: Option<MachineRef> = None;
         let mut layers: Vec<Arc<Layer>> = Vec::new();
         let mut config = None;
+        let mut cfg_read = None;
         let stdin = program.as_os_str() == "-";
         if !self.no_config {
             let abs = self.finder.absolute(program);
@@ -122,6 +132,7 @@ impl Planner {
                     self.inputs.push(file.clone());
                 }
                 config = Some(file);
+                cfg_read = Some(cfg.clone());
                 for layer in cfg.layers_for(&abs) {
                     if let Some(m) = layer.mode {
                         settings.mode = m;
@@ -172,6 +183,7 @@ impl Planner {
             machine_file,
             settings,
             config,
+            cfg: cfg_read,
             job,
         })
     }

@@ -31,7 +31,7 @@ pub use gitlab::gitlab;
 pub use json::json;
 pub use junit::{junit, JunitOptions};
 pub use sarif::sarif;
-pub use statistics::statistics;
+pub use statistics::{statistics, statistics_json};
 pub use text::{summary_line, terminal_safe, text, TextOptions};
 
 /// One checked file.
@@ -56,6 +56,8 @@ pub struct FileReport {
     pub job: Vec<String>,
     /// Findings set aside by suppression comments in the program (never counted as errors).
     pub suppressed: Vec<crate::gate::Suppressed>,
+    /// The file's own `fail-on` (its `latheguard.toml`'s), over [`Report::fail_on`].
+    pub fail_on: Option<crate::gate::FailOn>,
 }
 
 /// What became of one checked file.
@@ -150,8 +152,10 @@ impl Report {
     /// Exit status 1 (docs/cli.md): a reported (not suppressed) finding of a severity
     /// [`Report::fail_on`] names (by default, an error).
     pub fn fails(&self) -> bool {
-        self.files
-            .iter()
-            .any(|f| f.findings.iter().any(|x| self.fail_on.fails(x.severity)))
+        self.files.iter().any(|f| {
+            f.findings
+                .iter()
+                .any(|x| f.fail_on.unwrap_or(self.fail_on).fails(x.severity))
+        })
     }
 }

@@ -15,7 +15,10 @@ use crate::finding::{code, Kind, Severity};
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
-pub fn statistics(r: &Report) -> String {
+/// (kind, (reported, suppressed, errors among both)), most frequent first.
+type Rows = Vec<(Kind, (u64, u64, u64))>;
+
+fn rows(r: &Report) -> Rows {
     // kind → (reported, suppressed, errors among both)
     let mut counts: BTreeMap<Kind, (u64, u64, u64)> = BTreeMap::new();
     for f in &r.files {
@@ -38,14 +41,49 @@ pub fn statistics(r: &Report) -> String {
     }
     let mut rows: Vec<(Kind, (u64, u64, u64))> = counts.into_iter().collect();
     rows.sort_by(|a, b| b.1 .0.cmp(&a.1 .0).then(a.0.cmp(&b.0)));
+    rows
+}
+
+fn severity(n: u64, suppressed: u64, errors: u64) -> &'static str {
+    match errors {
+        0 => "warning",
+        e if e == n + suppressed => "error",
+        _ => "error/warning",
+    }
+}
+
+/// `--statistics --format json`: `{"counts": {KIND: N, …}, "kinds": [{"kind", "code", "count",
+/// "suppressed", "severity"}, …] (most frequent first), "summary": {…}}`.
+pub fn statistics_json(r: &Report) -> String {
+    let rows = rows(r);
+    let counts: serde_json::Map<String, serde_json::Value> = rows
+        .iter()
+        .map(|(k, (n, _, _))| (k.name().to_string(), (*n).into()))
+        .collect();
+    let kinds: Vec<serde_json::Value> = rows
+        .iter()
+        .map(|(k, (n, suppressed, errors))| {
+            serde_json::json!({
+                "kind": k.name(),
+                "code": code(*k),
+                "count": n,
+                "suppressed": suppressed,
+                "severity": severity(*n, *suppressed, *errors),
+            })
+        })
+        .collect();
+    let doc = serde_json::json!({ "counts": counts, "kinds": kinds, "summary": r.summary() });
+    let mut s = serde_json::to_string_pretty(&doc).unwrap_or_default();
+    s.push('\n');
+    s
+}
+
+pub fn statistics(r: &Report) -> String {
+    let rows = rows(r);
     let width = rows.iter().map(|(k, _)| k.name().len()).max().unwrap_or(0);
     let mut out = String::new();
     for (k, (n, suppressed, errors)) in rows {
-        let severity = match errors {
-            0 => "warning",
-            e if e == n + suppressed => "error",
-            _ => "error/warning",
-        };
+        let severity = severity(n, suppressed, errors);
         let more = if suppressed > 0 {
             format!("  ({suppressed} more suppressed)")
         } else {
