@@ -594,6 +594,10 @@ pub fn parse(text: &str, file: &str, dir: &Path, resolve: &mut dyn job::Resolve)
             path.push(field.to_string());
             return cx.err(at, render(&path), format!("missing required key `{field}`"));
         }
+        let message = match latheguard::machine::did_you_mean(&message) {
+            Some(s) => format!("{message}: did you mean `{s}`?"),
+            None => message,
+        };
         cx.err(at, render(&path), message)
     })?;
     if raw.overrides.len() > MAX_OVERRIDES {
@@ -821,7 +825,7 @@ mod tests {
             err("mode = \"exact\"\nclerance = 1\n"),
             "latheguard.toml:2:1: clerance: unknown field `clerance`, expected one of `machine`, `mode`, `dt`, \
              `tolerance`, `clearance`, `min_depth`, `job`, `select`, `extend-select`, `ignore`, `fail-on`, \
-             `per-file-ignores`, `unused-suppressions`, `override`"
+             `per-file-ignores`, `unused-suppressions`, `override`: did you mean `clearance`?"
         );
         assert_eq!(
             err("mode = \"fast\"\n"),
