@@ -1648,6 +1648,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         },
         tools: out,
         tool_changes: Vec::new(),
+        tool_numbers: Vec::new(),
         operations: Vec::new(),
         auto_dialect: None,
         warnings: Vec::new(),
