@@ -65,8 +65,8 @@ enum RawTn {
     Flag(bool),
 }
 
-/// `[tool_numbers]` (its JSON Schema only; read as a map of [`RawTn`]): which turret station
-/// each LinuxCNC tool number is in. Keys `T<tool> = <station>`, and `from_table = true`: every
+/// `[tool_numbers]`: which turret station each LinuxCNC tool number is in (LinuxCNC dialect
+/// only; Fanuc T words name the station). Keys `T<tool> = <station>`, and `from_table = true`: every
 /// tool of the job's `tool_table` is in its pocket P (an explicit `T<tool>` wins), and its shape
 /// comes from the table for a station no `[[tools]]` entry describes.
 #[derive(JsonSchema)]
@@ -74,7 +74,7 @@ enum RawTn {
 struct RawToolNumbersSchema {
     /// Every tool of the job's `tool_table` is in the station of its pocket P.
     from_table: Option<bool>,
-    /// `T12 = 3`: tool 12 is in station 3.
+    /// `T12 = 3`: tool 12 is in station 3 (read as a map of [`RawTn`]).
     #[serde(flatten)]
     tools: std::collections::BTreeMap<String, u32>,
 }
