@@ -676,9 +676,17 @@ fn tool_numbers(m: &mut Machine, machine: &Machine, job: &EffectiveJob, errors: 
         if described.contains(station) {
             continue;
         }
-        if let Some((_, other, _)) = shaped.iter().find(|s| s.0 == *station) {
-            errors.push(at.err(format!(
-                "T{other} and T{tool} are both in station {station} and both have a shape in the tool table: map one of them elsewhere (tool_numbers.T{tool} = STATION)"
+        if let Some(&(_, other, other_at)) = shaped.iter().find(|s| s.0 == *station) {
+            // Blame an explicit `T<tool> = <station>` over the table's pocket.
+            let table = |p: &Place| p.key.ends_with("from_table");
+            let (blame, moved) = if table(at) && !table(other_at) {
+                (other_at, other)
+            } else {
+                (*at, tool)
+            };
+            let (a, b) = (other.min(tool), other.max(tool));
+            errors.push(blame.err(format!(
+                "T{a} and T{b} are both in station {station} and both have a shape in the tool table: map one of them elsewhere (tool_numbers.T{moved} = STATION)"
             )));
             continue;
         }
