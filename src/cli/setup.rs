@@ -426,15 +426,15 @@ fn tool_number_rows(r: &Resolved) -> Vec<(u32, u32, String, Option<String>)> {
         .map(
             |&(tool, station)| match j.tool_numbers.iter().find(|n| n.value.0 == tool) {
                 Some(n) => (tool, station, n.layer.clone(), None),
-                None => {
-                    let t = j.tool_numbers_table.as_ref();
-                    (
-                        tool,
-                        station,
-                        t.map_or_else(String::new, |t| t.layer.clone()),
-                        t.map(|t| t.value.file.clone()),
-                    )
-                }
+                None => match j
+                    .tool_numbers_table
+                    .as_ref()
+                    .filter(|t| t.value.rows.iter().any(|row| row.0 == tool))
+                {
+                    Some(t) => (tool, station, t.layer.clone(), Some(t.value.file.clone())),
+                    // The machine file's own `[tool_numbers]`.
+                    None => (tool, station, MACHINE.to_string(), None),
+                },
             },
         )
         .collect()

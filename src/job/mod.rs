@@ -697,6 +697,13 @@ fn tool_numbers(m: &mut Machine, machine: &Machine, job: &EffectiveJob, errors: 
         m.tools.push(t);
     }
     m.tools.sort_by_key(|t| t.station);
+    // The machine file's own map, under the job's (its stations were checked as it was read).
+    for &(tool, station) in &machine.tool_numbers {
+        if !map.contains_key(&tool) {
+            out.push((tool, station));
+        }
+    }
+    out.sort_unstable();
     m.tool_numbers = out;
 }
 
