@@ -510,3 +510,31 @@ fn setup_lists_the_tool_numbers_and_the_tools_the_table_shaped() {
     let o = run(&["setup", "--machine", m, "tests/cases/tools/tnum_unmapped.ngc"]);
     assert!(!out(&o).contains("tool numbers"), "{}", out(&o));
 }
+
+#[test]
+fn a_tool_number_the_map_lacks_is_an_error_at_its_t_word_naming_the_key_to_add() {
+    let m = "machines/linuxcnc-small-lathe.toml";
+    let (code, doc) = check_json(&["--machine", m, "tests/cases/tools/tnum_from_table.ngc"]);
+    assert_eq!(code, Some(1), "{doc}");
+    let f = &doc["files"][0]["findings"][0];
+    assert_eq!(
+        (f["line"].as_u64(), f["kind"].as_str()),
+        (Some(13), Some("program")),
+        "{doc}"
+    );
+    assert_eq!(
+        f["message"].as_str(),
+        Some("T9: tool 9 is in no station: add tool_numbers.T9 = STATION to the job (or list it in its tool_table); the moves after M6 until the next tool change are not checked"),
+        "{doc}"
+    );
+    // Without the map the old error: T12 read as a station of the 4-station turret.
+    let (_, doc) = check_json(&["--machine", m, "tests/cases/tools/tnum_unmapped.ngc"]);
+    let f = &doc["files"][0]["findings"][0];
+    assert!(
+        f["message"]
+            .as_str()
+            .unwrap()
+            .starts_with("T12: the turret has no station 12 (it has 1 to 4"),
+        "{doc}"
+    );
+}
