@@ -473,3 +473,68 @@ fn a_job_moves_the_tailstock_and_sets_diameter_mode() {
     let o = run(&["check", "--no-timing", "--job", job, "programs/crash_rapid_into_bar.nc"]);
     assert_eq!(o.status.code(), Some(0), "{}{}", out(&o), err(&o));
 }
+
+#[test]
+fn setup_lists_the_tool_numbers_and_the_tools_the_table_shaped() {
+    let m = "machines/linuxcnc-small-lathe.toml";
+    let prog = "tests/cases/tools/tnum_from_table.ngc";
+    let o = run(&["setup", "--machine", m, prog]);
+    let text = out(&o);
+    let table = "tests/fixtures/tools/small-lathe-mm.tbl";
+    let line = text
+        .lines()
+        .find(|l| l.contains("tool numbers"))
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(
+        line.starts_with(&format!(
+            "  tool numbers  T7 → station 4; T12 → station 1, T13 → station 3, T14 → station 4, T21 → station 2 ({table} pockets)  [tests/cases/tools/tnum_from_table.job.toml]"
+        )),
+        "{text}"
+    );
+    assert!(text.contains("    T02 OD finish  tip [-40, -10]"), "{text}");
+    assert!(text.contains(&format!("tbl 21 ({table})]")), "{text}");
+    let j = setup_json(root(), &["--machine", m, prog]);
+    let rows = j["tool_numbers"].as_array().unwrap();
+    assert_eq!(rows.len(), 5, "{j}");
+    assert_eq!(
+        (&rows[0]["tool"], &rows[0]["station"], &rows[0]["table"]),
+        (&serde_json::json!(7), &serde_json::json!(4), &serde_json::Value::Null),
+        "{j}"
+    );
+    assert_eq!(
+        (&rows[1]["tool"], &rows[1]["station"]),
+        (&serde_json::json!(12), &serde_json::json!(1))
+    );
+    assert_eq!(rows[1]["table"], serde_json::json!(table));
+    // Without a map, setup says nothing of tool numbers.
+    let o = run(&["setup", "--machine", m, "tests/cases/tools/tnum_unmapped.ngc"]);
+    assert!(!out(&o).contains("tool numbers"), "{}", out(&o));
+}
+
+#[test]
+fn a_tool_number_the_map_lacks_is_an_error_at_its_t_word_naming_the_key_to_add() {
+    let m = "machines/linuxcnc-small-lathe.toml";
+    let (code, doc) = check_json(&["--machine", m, "tests/cases/tools/tnum_from_table.ngc"]);
+    assert_eq!(code, Some(1), "{doc}");
+    let f = &doc["files"][0]["findings"][0];
+    assert_eq!(
+        (f["line"].as_u64(), f["kind"].as_str()),
+        (Some(13), Some("program")),
+        "{doc}"
+    );
+    assert_eq!(
+        f["message"].as_str(),
+        Some("T9: tool 9 is in no station: add tool_numbers.T9 = STATION to the job (or list it in its tool_table); the moves after M6 until the next tool change are not checked"),
+        "{doc}"
+    );
+    // Without the map the old error: T12 read as a station of the 4-station turret.
+    let (_, doc) = check_json(&["--machine", m, "tests/cases/tools/tnum_unmapped.ngc"]);
+    let f = &doc["files"][0]["findings"][0];
+    assert!(
+        f["message"]
+            .as_str()
+            .unwrap()
+            .starts_with("T12: the turret has no station 12 (it has 1 to 4"),
+        "{doc}"
+    );
+}

@@ -407,7 +407,46 @@ fn tool_rows(r: &Resolved) -> Vec<(&latheguard::machine::Tool, String, String)> 
         .map(
             |t| match r.job.tools.iter().find(|j| j.value.tool.station == t.station) {
                 Some(j) => (t, j.layer.clone(), j.value.origin.clone()),
-                None => (t, MACHINE.to_string(), String::new()),
+                None => match from_table(r, t) {
+                    Some((layer, origin)) => (t, layer, origin),
+                    None => (t, MACHINE.to_string(), String::new()),
+                },
+            },
+        )
+        .collect()
+}
+
+/// A tool `[tool_numbers] from_table` put in its station: the layer and `tbl 12 (lathe.tbl)`.
+fn from_table(r: &Resolved, t: &latheguard::machine::Tool) -> Option<(String, String)> {
+    let table = r.job.tool_numbers_table.as_ref()?;
+    r.machine
+        .tool_numbers
+        .iter()
+        .filter(|n| n.1 == t.station)
+        .find_map(|n| table.value.rows.iter().find(|row| row.0 == n.0))
+        .filter(|row| row.2.tool.insert == t.insert && row.2.tool.holder == t.holder)
+        .map(|row| (table.layer.clone(), row.2.origin.clone()))
+}
+
+/// The tool-number map in force: `(tool, station, the layer that gave it, the tool table whose
+/// pocket it is when it came from one)`, by tool.
+fn tool_number_rows(r: &Resolved) -> Vec<(u32, u32, String, Option<String>)> {
+    let j = &r.job;
+    r.machine
+        .tool_numbers
+        .iter()
+        .map(
+            |&(tool, station)| match j.tool_numbers.iter().find(|n| n.value.0 == tool) {
+                Some(n) => (tool, station, n.layer.clone(), None),
+                None => match j
+                    .tool_numbers_table
+                    .as_ref()
+                    .filter(|t| t.value.rows.iter().any(|row| row.0 == tool))
+                {
+                    Some(t) => (tool, station, t.layer.clone(), Some(t.value.file.clone())),
+                    // The machine file's own `[tool_numbers]`.
+                    None => (tool, station, MACHINE.to_string(), None),
+                },
             },
         )
         .collect()
@@ -550,6 +589,31 @@ fn text(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
             c.layer
         );
     }
+    let numbers = tool_number_rows(r);
+    if !numbers.is_empty() {
+        let shown = |table: bool| {
+            numbers
+                .iter()
+                .filter(|n| n.3.is_some() == table)
+                .map(|n| format!("T{} → station {}", n.0, n.1))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let mut text = shown(false);
+        if let Some(file) = numbers.iter().find_map(|n| n.3.as_ref()) {
+            if !text.is_empty() {
+                text.push_str("; ");
+            }
+            let _ = write!(text, "{} ({file} pockets)", shown(true));
+        }
+        let mut layers: Vec<&str> = Vec::new();
+        for n in &numbers {
+            if !layers.contains(&n.2.as_str()) {
+                layers.push(&n.2);
+            }
+        }
+        let _ = writeln!(s, "  tool numbers  {text}  [{}]", layers.join(", "));
+    }
     for row in operation_rows(program, r) {
         let _ = writeln!(
             s,
@@ -654,6 +718,9 @@ fn json(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
         "spindle_start_rpm": { "value": m.start_rpm, "from": from(&j.start_rpm) },
         "tool_changes": j.tool_changes.iter().map(|c| json!({
             "line": c.value.0, "station": c.value.1, "from": c.layer,
+        })).collect::<Vec<_>>(),
+        "tool_numbers": tool_number_rows(r).iter().map(|(tool, station, layer, table)| json!({
+            "tool": tool, "station": station, "from": layer, "table": table,
         })).collect::<Vec<_>>(),
         "operations": operation_rows(program, r).iter().map(|row| {
             let (o, v) = (&row.op, &row.set.value);

@@ -13,6 +13,10 @@ use crate::machine::{DecimalPoint, Dialect, GcodeSystem};
 /// Most G or M codes one block may hold.
 const MAX_CODES: usize = 16;
 
+/// `Run::selected` after a LinuxCNC T word for a tool number the job's `[tool_numbers]` lacks:
+/// no station (past any turret's), so the M6 that follows leaves the moves unchecked.
+pub(crate) const UNMAPPED: u32 = u32::MAX;
+
 /// Every G code (×10) some dialect knows; its index is its bit in [`Words::gbits`].
 pub(super) const KNOWN_G: [u16; 82] = [
     0, 10, 20, 30, 330, 800, 320, 331, 760, 700, 710, 720, 711, 712, 721, 722, 730, 740, 750, 810, 820, 830, 840, 850,
@@ -1494,8 +1498,21 @@ impl Run<'_> {
         }
         let t = t as u32;
         // Fanuc T0101 / T101: station in front of the last two digits (offset number); T1..T99:
-        // the station itself. LinuxCNC: the tool number is the station.
-        let station = if fanuc && t >= 100 { t / 100 } else { t };
+        // the station itself. LinuxCNC: the tool number is the station, unless the job maps tool
+        // numbers to stations (`[tool_numbers]`: the tool table's pockets).
+        let station = if fanuc && t >= 100 {
+            t / 100
+        } else if !fanuc && t != 0 && !self.machine.tool_numbers.is_empty() {
+            match self.machine.station_of_tool(t) {
+                Some(s) => s,
+                None => {
+                    self.unmapped_tool(b, t, at);
+                    return;
+                }
+            }
+        } else {
+            t
+        };
         if station == 0 {
             // T0 / T0000: cancel the offset, keep the station (no index).
             return;
@@ -1538,6 +1555,21 @@ impl Run<'_> {
             let station = changes[i].1;
             self.change_tool(b, station, None);
         }
+    }
+
+    /// A LinuxCNC `T` for a tool number the job's `[tool_numbers]` map lacks: a `program`
+    /// finding at the T word; the M6 that follows changes to a tool latheguard does not know
+    /// (`UNMAPPED`), so the moves until the next tool change are not checked.
+    #[cold]
+    fn unmapped_tool(&mut self, b: &Block, t: u32, at: Option<u32>) {
+        self.error(
+            b,
+            at,
+            format!(
+                "T{t}: tool {t} is in no station: add tool_numbers.T{t} = STATION to the job (or list it in its tool_table); the moves after M6 until the next tool change are not checked"
+            ),
+        );
+        self.selected = Some(UNMAPPED);
     }
 
     /// A `T` for a station the turret lacks or the machine file has no tool in: a `program`

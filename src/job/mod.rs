@@ -242,6 +242,17 @@ pub struct JobTool {
     pub origin: String,
 }
 
+/// `[tool_numbers] from_table = true`: the tools of a layer's LinuxCNC tool table, each in its
+/// pocket (docs/job.md "Tool numbers").
+#[derive(Clone, Debug, PartialEq)]
+pub struct TableNumbers {
+    /// The table as messages name it (`lathe.tbl`).
+    pub file: String,
+    /// `(tool, pocket, its tool built from the row as `[[tools]] tbl` builds it)`, in the
+    /// table's order; the tool's station is set where it lands.
+    pub rows: Vec<(u32, u32, JobTool)>,
+}
+
 /// One layer of a job, validated on its own (values in range, outlines simple, tools complete).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Layer {
@@ -275,6 +286,10 @@ pub struct Layer {
     pub operations: Option<Vec<Set<JobOperation>>>,
     /// At most one per station.
     pub tools: Vec<Set<JobTool>>,
+    /// `[tool_numbers] T<tool> = <station>`: `(tool, station)`, at most one per tool.
+    pub tool_numbers: Vec<Set<(u32, u32)>>,
+    /// `[tool_numbers] from_table = true`: the tool table's tools in their pockets.
+    pub tool_numbers_table: Option<Set<TableNumbers>>,
     /// Values accepted but suspicious (an outline's spike), as `file:line:col: key: message`.
     pub warnings: Vec<String>,
 }
@@ -304,6 +319,8 @@ impl Layer {
             && self.tool_changes.is_empty()
             && self.operations.is_none()
             && self.tools.is_empty()
+            && self.tool_numbers.is_empty()
+            && self.tool_numbers_table.is_none()
     }
 }
 
@@ -388,6 +405,11 @@ impl Layer {
             self.tools.retain(|o| o.value.tool.station != t.value.tool.station);
             self.tools.push(t.clone());
         }
+        for n in &l.tool_numbers {
+            self.tool_numbers.retain(|o| o.value.0 != n.value.0);
+            self.tool_numbers.push(n.clone());
+        }
+        over(&mut self.tool_numbers_table, &l.tool_numbers_table);
         self.warnings.extend(l.warnings.iter().cloned());
     }
 }
@@ -405,6 +427,7 @@ impl EffectiveJob {
         }
         out.merged.tools.sort_by_key(|t| t.value.tool.station);
         out.merged.tool_changes.sort_by_key(|c| c.value.0);
+        out.merged.tool_numbers.sort_by_key(|c| c.value.0);
         out
     }
 }
@@ -539,6 +562,7 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
         }
     }
     m.tools.sort_by_key(|t| t.station);
+    tool_numbers(&mut m, machine, job, &mut errors);
     for c in &job.tool_changes {
         let (line, station) = c.value;
         if m.tool(station).is_none() {
@@ -615,6 +639,72 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
     }
     m.warnings.extend(job.warnings.iter().cloned());
     Ok(m)
+}
+
+/// The job's `[tool_numbers]` → `m.tool_numbers`: the table's tools in their pockets, explicit
+/// `T<tool> = <station>` entries over them; a table tool's shape goes to its station unless a
+/// `[[tools]]` entry of the job describes that station. Errors: a station past the turret's,
+/// two shaped tools in one station.
+fn tool_numbers(m: &mut Machine, machine: &Machine, job: &EffectiveJob, errors: &mut Vec<JobError>) {
+    // tool → (station, where the mapping was written, how it is named, the table's tool)
+    let mut map: std::collections::BTreeMap<u32, (u32, &Place, String, Option<&JobTool>)> = Default::default();
+    if let Some(t) = &job.tool_numbers_table {
+        for (tool, pocket, built) in &t.value.rows {
+            let how = format!("{} puts T{tool} in pocket {pocket}", t.value.file);
+            map.insert(*tool, (*pocket, &t.at, how, Some(built)));
+        }
+    }
+    for n in &job.tool_numbers {
+        let (tool, station) = n.value;
+        let shape = map.get(&tool).and_then(|e| e.3);
+        map.insert(tool, (station, &n.at, format!("{} = {station}", n.at.key), shape));
+    }
+    let stations = m.turret.stations;
+    let described: Vec<u32> = job.tools.iter().map(|t| t.value.tool.station).collect();
+    let mut shaped: Vec<(u32, u32, &Place)> = Vec::new(); // (station, tool, place)
+    let mut out = Vec::new();
+    for (&tool, (station, at, how, shape)) in &map {
+        if *station > stations {
+            errors.push(at.err(format!(
+                "T{tool}: station {station} does not exist ({how}): the turret of {} has stations 1 to {stations}",
+                machine.name
+            )));
+            continue;
+        }
+        out.push((tool, *station));
+        let Some(built) = shape else { continue };
+        if described.contains(station) {
+            continue;
+        }
+        if let Some(&(_, other, other_at)) = shaped.iter().find(|s| s.0 == *station) {
+            // Blame an explicit `T<tool> = <station>` over the table's pocket.
+            let table = |p: &Place| p.key.ends_with("from_table");
+            let (blame, moved) = if table(at) && !table(other_at) {
+                (other_at, other)
+            } else {
+                (*at, tool)
+            };
+            let (a, b) = (other.min(tool), other.max(tool));
+            errors.push(blame.err(format!(
+                "T{a} and T{b} are both in station {station} and both have a shape in the tool table: map one of them elsewhere (tool_numbers.T{moved} = STATION)"
+            )));
+            continue;
+        }
+        shaped.push((*station, tool, at));
+        let mut t = built.tool.clone();
+        t.station = *station;
+        m.tools.retain(|o| o.station != *station);
+        m.tools.push(t);
+    }
+    m.tools.sort_by_key(|t| t.station);
+    // The machine file's own map, under the job's (its stations were checked as it was read).
+    for &(tool, station) in &machine.tool_numbers {
+        if !map.contains_key(&tool) {
+            out.push((tool, station));
+        }
+    }
+    out.sort_unstable();
+    m.tool_numbers = out;
 }
 
 /// The diameter a job's jaws close on when no layer gives `chuck.jaws.grip_diameter`, on a

@@ -7,7 +7,9 @@ use serde::de::{Deserializer, SeqAccess, Visitor};
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::{DialectChoice, JobError, JobJaws, JobOperation, JobStock, JobTool, Layer, Place, Resolve, Set};
+use super::{
+    DialectChoice, JobError, JobJaws, JobOperation, JobStock, JobTool, Layer, Place, Resolve, Set, TableNumbers,
+};
 use crate::geom::{Polygon, P2};
 use crate::machine::{self, Cx, Num, OpStart, Outline, Point, RawGrip, RawJawType, RawUnits, RawWorkOffsets, Tool};
 use crate::scene::{Stand, StockTransform};
@@ -46,10 +48,35 @@ pub struct RawJob {
     tool_changes: Option<Spanned<Vec<Spanned<RawToolChange>>>>,
     #[schemars(with = "Option<Vec<RawTool>>")]
     tools: Option<Spanned<Vec<Spanned<RawTool>>>>,
+    /// LinuxCNC tool numbers → turret stations (docs/job.md "Tool numbers").
+    #[schemars(with = "Option<RawToolNumbersSchema>")]
+    tool_numbers: Option<Spanned<std::collections::BTreeMap<Spanned<String>, Spanned<RawTn>>>>,
     /// The operations after the first: the part turned round or re-clamped (docs/job.md,
     /// "Operations").
     #[schemars(with = "Option<Vec<RawOperation>>")]
     operations: Option<Spanned<Vec<Spanned<RawOperation>>>>,
+}
+
+/// A value of `[tool_numbers]`: a station (`T12 = 3`) or `from_table = true`.
+#[derive(Deserialize)]
+#[serde(untagged, expecting = "a station number (or `from_table = true`)")]
+enum RawTn {
+    Number(i64),
+    Flag(bool),
+}
+
+/// `[tool_numbers]`: which turret station each LinuxCNC tool number is in (LinuxCNC dialect
+/// only; Fanuc T words name the station). Keys `T<tool> = <station>`, and `from_table = true`: every
+/// tool of the job's `tool_table` is in its pocket P (an explicit `T<tool>` wins), and its shape
+/// comes from the table for a station no `[[tools]]` entry describes.
+#[derive(JsonSchema)]
+#[allow(dead_code)]
+struct RawToolNumbersSchema {
+    /// Every tool of the job's `tool_table` is in the station of its pocket P.
+    from_table: Option<bool>,
+    /// `T12 = 3`: tool 12 is in station 3 (read as a map of [`RawTn`]).
+    #[serde(flatten)]
+    tools: std::collections::BTreeMap<String, u32>,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -716,6 +743,9 @@ fn layer(
             }
         }
     }
+    if let Some(map) = &raw.tool_numbers {
+        tool_numbers(cx, &raw, map, prefix, label, &mut refs, &mut l);
+    }
     if let Some((f, _)) = &refs.library {
         l.files.push(f.clone());
     }
@@ -1340,45 +1370,15 @@ fn job_tool(
                 format!("`tbl` takes a tool of the job's tool table: give `{prefix}tool_table = \"FILE.tbl\"`"),
             ));
         };
-        if refs.table.is_none() {
-            let (shown, text) = refs.resolve.read(refs.base, table.get_ref()).map_err(|why| {
-                cx.err(
-                    table.span(),
-                    format!("{prefix}tool_table"),
-                    format!("cannot read {}: {why}", table.get_ref()),
-                )
-            })?;
-            let tools = tbl::parse(&text).map_err(|e| {
-                cx.err(
-                    table.span(),
-                    format!("{prefix}tool_table"),
-                    format!("{shown}:{}:{}: {}", e.line, e.col, e.message),
-                )
-            })?;
-            refs.table = Some((shown, tools));
-        }
-        let Some((shown, tools)) = &refs.table else {
-            unreachable!()
-        };
+        let (shown, tools) = read_table(cx, table, prefix, refs)?;
         let want = *n.get_ref();
         let Some(row) = tools.iter().find(|r| r.tool == want) else {
             return Err(cx.err(n.span(), k("tbl"), format!("{shown} has no tool T{want}")));
         };
         let at = place(cx, n.span(), &k("tbl"));
-        let built = tooling::tbl::shape(row).map_err(|e| {
-            at.err(format!(
-                "cannot build tool T{want} of {shown} ({}): {}",
-                e.key, e.message
-            ))
-        })?;
-        let mut base = Partial::from_built(built, &at);
-        base.tip = Some(crate::geom::p2(row.x, row.z));
+        let (base, name) = tbl_partial(row, shown, &at)?;
         p = base;
-        default_name = Some(if row.comment.trim().is_empty() {
-            format!("T{want}")
-        } else {
-            row.comment.trim().to_string()
-        });
+        default_name = Some(name);
         origin.push(format!("tbl {want} ({shown})"));
     }
     if let Some(id) = &t.use_ {
@@ -1531,6 +1531,182 @@ fn job_tool(
         },
         origin: origin.join(", "),
     })
+}
+
+/// The job's tool table, read once per layer: the name messages show and its rows.
+fn read_table<'a>(
+    cx: &Cx<'_>,
+    table: &Spanned<String>,
+    prefix: &str,
+    refs: &'a mut Refs<'_>,
+) -> Result<(&'a str, &'a [tbl::TblTool]), JobError> {
+    if refs.table.is_none() {
+        let (shown, text) = refs.resolve.read(refs.base, table.get_ref()).map_err(|why| {
+            cx.err(
+                table.span(),
+                format!("{prefix}tool_table"),
+                format!("cannot read {}: {why}", table.get_ref()),
+            )
+        })?;
+        let tools = tbl::parse(&text).map_err(|e| {
+            cx.err(
+                table.span(),
+                format!("{prefix}tool_table"),
+                format!("{shown}:{}:{}: {}", e.line, e.col, e.message),
+            )
+        })?;
+        refs.table = Some((shown, tools));
+    }
+    let Some((shown, tools)) = &refs.table else {
+        unreachable!()
+    };
+    Ok((shown, tools))
+}
+
+/// A tool table's row as a tool entry's values (`[[tools]] tbl = N`, `[tool_numbers]
+/// from_table`): its shape from D, I, J and Q, its tip [X, Z], and its name (the comment, else
+/// `T<n>`).
+fn tbl_partial(row: &tbl::TblTool, shown: &str, at: &Place) -> Result<(Partial, String), JobError> {
+    let want = row.tool;
+    let built = tooling::tbl::shape(row).map_err(|e| {
+        at.err(format!(
+            "cannot build tool T{want} of {shown} ({}): {}",
+            e.key, e.message
+        ))
+    })?;
+    let mut base = Partial::from_built(built, at);
+    base.tip = Some(crate::geom::p2(row.x, row.z));
+    let name = if row.comment.trim().is_empty() {
+        format!("T{want}")
+    } else {
+        row.comment.trim().to_string()
+    };
+    Ok((base, name))
+}
+
+/// `[tool_numbers]`: `T<tool> = <station>` entries and `from_table = true` (docs/job.md "Tool
+/// numbers"). Stations are checked against the turret when the job is applied.
+fn tool_numbers(
+    cx: &Cx<'_>,
+    raw: &RawJob,
+    map: &Spanned<std::collections::BTreeMap<Spanned<String>, Spanned<RawTn>>>,
+    prefix: &str,
+    label: &str,
+    refs: &mut Refs<'_>,
+    l: &mut Layer,
+) {
+    let key = |k: &str| format!("{prefix}tool_numbers.{k}");
+    let mut from_table = None;
+    for (k, v) in map.get_ref() {
+        let name = k.get_ref().as_str();
+        if name == "from_table" {
+            match v.get_ref() {
+                RawTn::Flag(true) => from_table = Some(v.span()),
+                RawTn::Flag(false) => {}
+                RawTn::Number(_) => cx.push(cx.err(v.span(), key(name), "invalid type: expected true or false")),
+            }
+            continue;
+        }
+        let tool = name
+            .strip_prefix(['T', 't'])
+            .filter(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
+            .and_then(|d| d.parse::<u32>().ok());
+        let Some(tool) = tool.filter(|t| (1..=tbl::MAX_NUMBER).contains(t)) else {
+            cx.push(cx.err(
+                k.span(),
+                key(name),
+                format!(
+                    "`{name}` is not a tool number: write T<tool> = <station> (T12 = 3, tools 1 to {}) or from_table = true",
+                    tbl::MAX_NUMBER
+                ),
+            ));
+            continue;
+        };
+        let RawTn::Number(station) = *v.get_ref() else {
+            cx.push(cx.err(v.span(), key(name), "invalid type: expected a station number"));
+            continue;
+        };
+        if !(1..=i64::from(machine::MAX_STATIONS)).contains(&station) {
+            cx.push(cx.err(
+                v.span(),
+                key(name),
+                format!(
+                    "station {station} does not exist: stations run from 1 to {}",
+                    machine::MAX_STATIONS
+                ),
+            ));
+            continue;
+        }
+        let kk = key(&format!("T{tool}"));
+        if let Some(o) = l.tool_numbers.iter().find(|o| o.value.0 == tool) {
+            cx.push(cx.err(k.span(), kk, format!("tool {tool} is already given by {}", o.at.key)));
+            continue;
+        }
+        l.tool_numbers.push(Set {
+            value: (tool, station as u32),
+            at: place(cx, v.span(), &kk),
+            layer: label.to_string(),
+        });
+    }
+    let Some(span) = from_table else { return };
+    let fk = key("from_table");
+    let Some(table) = &raw.tool_table else {
+        cx.push(cx.err(
+            span,
+            fk,
+            format!("`from_table` takes the tools of the job's tool table: give `{prefix}tool_table = \"FILE.tbl\"`"),
+        ));
+        return;
+    };
+    let at = place(cx, span.clone(), &fk);
+    let (shown, rows) = match read_table(cx, table, prefix, refs) {
+        Ok(t) => t,
+        Err(e) => {
+            cx.push(e);
+            return;
+        }
+    };
+    let mut out = Vec::new();
+    for row in rows {
+        if row.pocket == 0 && !l.tool_numbers.iter().any(|n| n.value.0 == row.tool) {
+            cx.push(at.err(format!(
+                "{shown}: T{} is in pocket 0, which is no turret station: give its station with tool_numbers.T{} = STATION",
+                row.tool, row.tool
+            )));
+            continue;
+        }
+        let built = tbl_partial(row, shown, &at).map(|(p, name)| {
+            let outline = |g: Option<(Geom, Place)>| match g {
+                Some((Geom::Outline(o), _)) => o,
+                _ => unreachable!("a table row's shape is outlines"),
+            };
+            JobTool {
+                tool: Tool {
+                    station: row.pocket,
+                    name,
+                    tip: p.tip.unwrap_or_default(),
+                    insert: outline(p.insert),
+                    holder: outline(p.holder),
+                    nose_radius: p.nose_radius.unwrap_or(0.0),
+                    tip_direction: p.tip_direction.unwrap_or(0),
+                    mill: None,
+                },
+                origin: format!("tbl {} ({shown})", row.tool),
+            }
+        });
+        match built {
+            Ok(t) => out.push((row.tool, row.pocket, t)),
+            Err(e) => cx.push(e),
+        }
+    }
+    l.tool_numbers_table = Some(Set {
+        value: TableNumbers {
+            file: shown.to_string(),
+            rows: out,
+        },
+        at,
+        layer: label.to_string(),
+    });
 }
 
 /// An error about a missing key of a tool entry, placed at the entry (its `station`).

@@ -522,3 +522,116 @@ fn a_work_offset_outside_the_z_travel_is_a_warning_naming_its_key() {
     );
     assert!(apply(&m, &j).is_ok(), "a warning, not an error");
 }
+
+// ---------------------------------------------------------------------------------------------
+// [tool_numbers]
+
+const TBL: &str = "T12 P3 X-0.5 Z-1.0 D0.8 I85 J25 Q2 ;OD rough\nT5 P4 X-0.4 Z-2.5 D0.4 I265 J205 Q3 ;boring bar\n";
+
+fn with_table(tbl: &'static str) -> impl FnMut(&str, &str) -> Result<(String, String), String> {
+    move |_: &str, rel: &str| Ok((rel.to_string(), tbl.to_string()))
+}
+
+fn tn_layer(text: &str, tbl: &'static str) -> Result<Layer, JobError> {
+    parse(text, "part.job.toml", "/shop", "part.job.toml", &mut with_table(tbl))
+}
+
+fn tn_apply(text: &str, tbl: &'static str) -> Result<Machine, JobError> {
+    let l = tn_layer(text, tbl)?;
+    apply(&Machine::builtin(), &EffectiveJob::merge([&l]))
+}
+
+#[test]
+fn tool_numbers_map_tools_to_stations_and_explicit_entries_win_over_the_table() {
+    let m = tn_apply("[tool_numbers]\nT12 = 3\nT7 = 2\n", TBL).unwrap();
+    assert_eq!(m.tool_numbers, vec![(7, 2), (12, 3)]);
+    assert_eq!(
+        (m.station_of_tool(12), m.station_of_tool(7), m.station_of_tool(8)),
+        (Some(3), Some(2), None)
+    );
+    // The machine's tools stay: explicit entries carry no shape.
+    assert_eq!(m.tools, Machine::builtin().tools);
+
+    let m = tn_apply(
+        "tool_table = \"lathe.tbl\"\n[tool_numbers]\nfrom_table = true\nT5 = 6\n",
+        TBL,
+    )
+    .unwrap();
+    assert_eq!(m.tool_numbers, vec![(5, 6), (12, 3)]);
+    // Each table tool's shape goes to its station: T12 to its pocket 3, T5 where T5 = 6 puts it.
+    assert_eq!(m.tool(3).unwrap().name, "OD rough");
+    assert_eq!(m.tool(6).unwrap().name, "boring bar");
+    assert_eq!(m.tool(6).unwrap().tip, crate::geom::p2(-0.4, -2.5));
+    // A [[tools]] entry of the job describes its station over the table.
+    let m = tn_apply(
+        &format!(
+            "tool_table = \"lathe.tbl\"\n[tool_numbers]\nfrom_table = true\n\n[[tools]]\n{}",
+            TOOL.replace("station = 2", "station = 3")
+        ),
+        TBL,
+    )
+    .unwrap();
+    assert_eq!(m.tool(3).unwrap().name, "OD finish");
+    assert_eq!(m.station_of_tool(12), Some(3));
+}
+
+#[test]
+fn tool_numbers_merge_tool_by_tool() {
+    let a = tn_layer("[tool_numbers]\nT12 = 3\nT7 = 2\n", TBL).unwrap();
+    let b = tn_layer("[tool_numbers]\nT7 = 5\n", TBL).unwrap();
+    let m = apply(&Machine::builtin(), &EffectiveJob::merge([&a, &b])).unwrap();
+    assert_eq!(m.tool_numbers, vec![(7, 5), (12, 3)]);
+}
+
+#[test]
+fn tool_numbers_errors_name_file_line_column_and_key() {
+    let e = |text: &str| match tn_apply(text, TBL) {
+        Err(e) => e.to_string(),
+        Ok(_) => panic!("{text}: no error"),
+    };
+    assert_eq!(
+        e("[tool_numbers]\nT12 = 9\n"),
+        "part.job.toml:2:7: tool_numbers.T12: T12: station 9 does not exist (tool_numbers.T12 = 9): the turret of Generic 2-axis slant-bed lathe has stations 1 to 8"
+    );
+    assert_eq!(
+        e("[tool_numbers]\nT12 = 0\n"),
+        "part.job.toml:2:7: tool_numbers.T12: station 0 does not exist: stations run from 1 to 64"
+    );
+    assert_eq!(
+        e("[tool_numbers]\nX12 = 1\n"),
+        "part.job.toml:2:1: tool_numbers.X12: `X12` is not a tool number: write T<tool> = <station> (T12 = 3, tools 1 to 99999) or from_table = true"
+    );
+    assert_eq!(
+        e("[tool_numbers]\nfrom_table = true\n"),
+        "part.job.toml:2:14: tool_numbers.from_table: `from_table` takes the tools of the job's tool table: give `tool_table = \"FILE.tbl\"`"
+    );
+    assert_eq!(
+        e("tool_table = \"lathe.tbl\"\n[tool_numbers]\nfrom_table = true\nT5 = 3\n"),
+        "part.job.toml:4:6: tool_numbers.T5: T5 and T12 are both in station 3 and both have a shape in the tool table: map one of them elsewhere (tool_numbers.T5 = STATION)"
+    );
+    let zero = "T3 P0 X0 Z0 D0.4 Q2 ;in the spindle\n";
+    assert_eq!(
+        match tn_apply("tool_table = \"lathe.tbl\"\n[tool_numbers]\nfrom_table = true\n", zero) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!(),
+        },
+        "part.job.toml:3:14: tool_numbers.from_table: lathe.tbl: T3 is in pocket 0, which is no turret station: give its station with tool_numbers.T3 = STATION"
+    );
+    // An explicit entry gives the pocket-0 tool its station.
+    let m = match tn_apply(
+        "tool_table = \"lathe.tbl\"\n[tool_numbers]\nfrom_table = true\nT3 = 2\n",
+        zero,
+    ) {
+        Ok(m) => m,
+        Err(e) => panic!("{e}"),
+    };
+    assert_eq!(m.station_of_tool(3), Some(2));
+    let far = "T4 P12 X0 Z0 D0.4 Q2\n";
+    assert_eq!(
+        match tn_apply("tool_table = \"lathe.tbl\"\n[tool_numbers]\nfrom_table = true\n", far) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!(),
+        },
+        "part.job.toml:3:14: tool_numbers.from_table: T4: station 12 does not exist (lathe.tbl puts T4 in pocket 12): the turret of Generic 2-axis slant-bed lathe has stations 1 to 8"
+    );
+}

@@ -180,6 +180,54 @@ fn root_table<'t>(cx: &Cx<'t>, what: &str) -> Result<Spanned<DeTable<'t>>, Machi
     Ok(root)
 }
 
+/// A machine file's `[tool_numbers]`: `T<tool> = <station>` entries, `(tool, station)` by tool;
+/// a bad key or a station past the turret's is an error (`stations` None: the turret's own count
+/// was refused, already an error).
+fn machine_tool_numbers(
+    cx: &Cx<'_>,
+    raw: Option<&std::collections::BTreeMap<Spanned<String>, Spanned<i64>>>,
+    stations: Option<u32>,
+) -> Vec<(u32, u32)> {
+    let mut out = Vec::new();
+    for (k, v) in raw.into_iter().flatten() {
+        let name = k.get_ref().as_str();
+        let key = format!("tool_numbers.{name}");
+        let tool = name
+            .strip_prefix(['T', 't'])
+            .filter(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
+            .and_then(|d| d.parse::<u32>().ok())
+            .filter(|t| (1..=crate::tooling::tbl::MAX_NUMBER).contains(t));
+        let Some(tool) = tool else {
+            cx.push(cx.err(
+                k.span(),
+                key,
+                format!(
+                    "`{name}` is not a tool number: write T<tool> = <station> (T12 = 3, tools 1 to {})",
+                    crate::tooling::tbl::MAX_NUMBER
+                ),
+            ));
+            continue;
+        };
+        let station = *v.get_ref();
+        let Some(stations) = stations else { continue };
+        if !(1..=i64::from(stations)).contains(&station) {
+            cx.push(cx.err(
+                v.span(),
+                key,
+                format!("station {station} does not exist: the turret has stations 1 to {stations}"),
+            ));
+            continue;
+        }
+        if out.iter().any(|o: &(u32, u32)| o.0 == tool) {
+            cx.push(cx.err(k.span(), key, format!("tool {tool} is given twice")));
+            continue;
+        }
+        out.push((tool, station as u32));
+    }
+    out.sort_unstable();
+    out
+}
+
 /// Parse `cx`'s text as a `T` (the raw types of a TOML file with spans), with errors that name
 /// the file, line, column and dotted key. Shared by machine and job files.
 pub(crate) fn deserialize<T: serde::de::DeserializeOwned>(cx: &Cx<'_>, what: &str) -> Result<T, MachineError> {
@@ -275,6 +323,9 @@ struct RawDoc {
     /// The kinematic machine (turn-mill): axes, components, pairs that must never touch
     /// (`docs/turn-mill.md`).
     kinematics: Option<crate::kin::load::RawKinematics>,
+    /// LinuxCNC tool numbers → turret stations: `T12 = 3` (docs/machine.md, "Tool numbers").
+    #[schemars(with = "Option<std::collections::BTreeMap<String, u32>>")]
+    tool_numbers: Option<std::collections::BTreeMap<Spanned<String>, Spanned<i64>>>,
 }
 
 /// The codes of one action in `[mcodes]`: one number or an array.
@@ -1045,6 +1096,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         mcodes,
         gcodes,
         kinematics,
+        tool_numbers,
     } = raw;
 
     // Bound the work before doing any of it.
@@ -1558,6 +1610,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         }
     }
     out.sort_by_key(|t| t.station);
+    let numbers = machine_tool_numbers(cx, tool_numbers.as_ref(), stations);
 
     if let Some(e) = cx.kept() {
         return Err(e);
@@ -1648,6 +1701,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         },
         tools: out,
         tool_changes: Vec::new(),
+        tool_numbers: numbers,
         operations: Vec::new(),
         auto_dialect: None,
         warnings: Vec::new(),

@@ -424,6 +424,10 @@ pub struct Machine {
     /// most one per line. Each time the block at that line runs, the operator has put the tool
     /// of that station in, as a T word would have switched to it, before the block's words.
     pub tool_changes: Vec<(u32, u32)>,
+    /// A job's tool-number map (`[tool_numbers]`, docs/job.md "Tool numbers"): `(tool, station)`
+    /// sorted by tool, one per tool. When it is not empty, a LinuxCNC-dialect T word (and
+    /// `M61 Q`) names a tool of this map, which sits in that station; Fanuc T words ignore it.
+    pub tool_numbers: Vec<(u32, u32)>,
     /// The operations of a job after the first (`[[operations]]`, docs/job.md "Operations"), in
     /// the order they start: at each, the operator turns the part round (or re-clamps it) and
     /// the program goes on with that part, standing where the operation says, in its jaws.
@@ -521,6 +525,14 @@ impl Machine {
 
     pub fn tool(&self, station: u32) -> Option<&Tool> {
         self.tools.iter().find(|t| t.station == station)
+    }
+
+    /// The station tool number `tool` sits in by the job's `[tool_numbers]` map, if it is mapped.
+    pub fn station_of_tool(&self, tool: u32) -> Option<u32> {
+        self.tool_numbers
+            .binary_search_by_key(&tool, |m| m.0)
+            .ok()
+            .map(|i| self.tool_numbers[i].1)
     }
 
     /// A human summary, several lines, for `latheguard machine FILE`: name, dialect and modes,

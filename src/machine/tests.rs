@@ -1691,3 +1691,37 @@ fn chuck_body_and_jaws_errors_name_file_line_column_and_key() {
     assert_eq!(first(&missing).2, "chuck.jaws.step");
     assert!(first(&missing).3.contains("missing required key `step`"));
 }
+
+#[test]
+fn a_machine_file_maps_tool_numbers_to_stations() {
+    let with = |map: &str| LINUXCNC_TOML.replacen("[turret]", &format!("[tool_numbers]\n{map}\n\n[turret]"), 1);
+    let m = from_toml(&with("T12 = 1\nT7 = 4"), "m.toml").unwrap();
+    assert_eq!(m.tool_numbers, vec![(7, 4), (12, 1)]);
+    assert_eq!(m.station_of_tool(12), Some(1));
+    let line = LINUXCNC_TOML[..LINUXCNC_TOML.find("[turret]").unwrap()].lines().count() + 3;
+    let e = from_toml(&with("T12 = 1\nT7 = 5"), "m.toml").unwrap_err().to_string();
+    assert!(
+        e.starts_with(&format!(
+            "m.toml:{line}:6: tool_numbers.T7: station 5 does not exist: the turret has stations 1 to 4"
+        )),
+        "{e}"
+    );
+    let e = from_toml(&with("T12 = 1\nX7 = 2"), "m.toml").unwrap_err().to_string();
+    assert!(
+        e.starts_with(&format!(
+            "m.toml:{line}:1: tool_numbers.X7: `X7` is not a tool number: write T<tool> = <station>"
+        )),
+        "{e}"
+    );
+    // A job's entries go over the machine's, tool by tool.
+    let job = crate::job::parse(
+        "[tool_numbers]\nT7 = 2\nT3 = 3\n",
+        "j.toml",
+        ".",
+        "j.toml",
+        &mut |_: &str, r: &str| -> Result<(String, String), String> { Err(r.to_string()) },
+    )
+    .unwrap();
+    let applied = crate::job::apply(&m, &crate::job::EffectiveJob::merge([&job])).unwrap();
+    assert_eq!(applied.tool_numbers, vec![(3, 3), (7, 2), (12, 1)]);
+}
