@@ -27,7 +27,7 @@ use crate::finding::{Kind, Severity};
 use crate::geom::{self, Polygon, P2, V2};
 use crate::interp::{Move, MoveKind};
 use crate::motion::{self, Timed};
-use crate::scene::{StockHit, View};
+use crate::scene::StockHit;
 
 /// The largest edge lean whose wedge counts as a scrape, degrees (a 107.5° holder leans 17.5°).
 pub const LEAN_DEG: f64 = 20.0;
@@ -186,14 +186,10 @@ impl Checker<'_> {
         None
     }
 
-    /// The active insert's (or holder's) overlap with the stock as it is now, the part moved by
-    /// `shift`.
+    /// A posed part's overlap with the stock (as it is now: a rapid cuts nothing), the part
+    /// moved by `shift`.
     fn overlap_now(&mut self, poly: &Polygon, shift: V2, first_only: bool) -> Option<StockHit> {
-        let stock = self.stock.as_mut()?;
-        if shift == V2::zeros() {
-            return stock.overlap_view(poly.points(), geom::TOUCH_EPS, first_only, View::Now);
-        }
         let moved: Vec<P2> = poly.points().iter().map(|p| p + shift).collect();
-        stock.overlap_view(&moved, geom::TOUCH_EPS, first_only, View::Now)
+        self.stock_overlap(&moved, geom::TOUCH_EPS, first_only)
     }
 }

@@ -594,10 +594,7 @@ pub fn parse(text: &str, file: &str, dir: &Path, resolve: &mut dyn job::Resolve)
             path.push(field.to_string());
             return cx.err(at, render(&path), format!("missing required key `{field}`"));
         }
-        let message = match latheguard::machine::did_you_mean(&message) {
-            Some(s) => format!("{message}: did you mean `{s}`?"),
-            None => message,
-        };
+        let message = latheguard::machine::with_suggestion(&message, &message);
         cx.err(at, render(&path), message)
     })?;
     if raw.overrides.len() > MAX_OVERRIDES {

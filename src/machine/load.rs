@@ -2490,10 +2490,14 @@ fn show(x: f64) -> String {
 /// Serde's words for Rust types, in the words of a machine file; an unknown key or value gets
 /// the closest expected one as a suggestion.
 fn plain_words(message: &str) -> String {
-    let plain = plain_types(message);
+    with_suggestion(&plain_types(message), message)
+}
+
+/// `shown` with the suggestion [`did_you_mean`] finds in serde's `message`, if any.
+pub fn with_suggestion(shown: &str, message: &str) -> String {
     match did_you_mean(message) {
-        Some(s) => format!("{plain}: did you mean `{s}`?"),
-        None => plain,
+        Some(s) => format!("{shown}: did you mean `{s}`?"),
+        None => shown.to_string(),
     }
 }
 

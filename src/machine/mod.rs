@@ -26,9 +26,9 @@ pub(crate) use load::{
     Outline, Point, RawGrip, RawJawType, RawUnits, RawWorkOffsets, StockKey,
 };
 pub use load::{
-    did_you_mean, from_toml, from_toml_with, schema, MachineError, INDEX_TIME_RANGE, MAX_COORD_MM, MAX_OUTLINE_POINTS,
-    MAX_RPM_RANGE, MAX_STATIONS, MAX_TEXT_BYTES, MAX_TOOLS, MAX_TOTAL_OUTLINE_POINTS, NOSE_RADIUS_RANGE, RAPID_RANGE,
-    TOP_LEVEL,
+    did_you_mean, from_toml, from_toml_with, schema, with_suggestion, MachineError, INDEX_TIME_RANGE, MAX_COORD_MM,
+    MAX_OUTLINE_POINTS, MAX_RPM_RANGE, MAX_STATIONS, MAX_TEXT_BYTES, MAX_TOOLS, MAX_TOTAL_OUTLINE_POINTS,
+    NOSE_RADIUS_RANGE, RAPID_RANGE, TOP_LEVEL,
 };
 
 /// The built-in machine's TOML, embedded in the binary.
