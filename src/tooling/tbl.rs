@@ -312,27 +312,51 @@ pub fn shape_decoded(t: &TblTool) -> Result<Decoded, CatalogueError> {
     let cn = c.x * n.x + c.y * n.y;
     let reach = ins.iter().map(|p| p.x * ax.x + p.y * ax.y).fold(0.0, f64::max);
     let w = HOLDER_WIDTH / 2.0;
-    let at = |s: f64, off: f64| P2::new(ax.x * s + n.x * (cn + off), ax.y * s + n.y * (cn + off));
-    let body = |s: f64| {
-        let s1 = s.max(reach) + HOLDER_LENGTH;
-        vec![at(s, -w), at(s, w), at(s1, w), at(s1, -w)]
+    // The bar's centre line across its axis: on the insert's centroid, or shifted so that the
+    // bar's side lies on the insert's extreme across the axis (a holder offset to the side the
+    // insert leans to, as real offset-style shanks are). Of the placements found, the one that
+    // ends nearest the tip: a bar lined up on the centroid behind a 93° edge must start 100 mm
+    // back to stay behind the leading edge, and would reach through the turret.
+    let across: Vec<f64> = ins.iter().map(|p| p.x * n.x + p.y * n.y).collect();
+    let (amin, amax) = across
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+    let mut centres = vec![cn, amin + w, amax - w];
+    centres.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    let place = |centre: f64| -> Option<Vec<P2>> {
+        let at = |s: f64, off: f64| P2::new(ax.x * s + n.x * (centre + off), ax.y * s + n.y * (centre + off));
+        let body = |s: f64| {
+            let s1 = s.max(reach) + HOLDER_LENGTH;
+            vec![at(s, -w), at(s, w), at(s1, w), at(s1, -w)]
+        };
+        if i == j {
+            // A round nose: the bar alone, from half its radius out (every point of the nose may
+            // cut).
+            Some(hull(&body(0.5 * reach)))
+        } else {
+            // The seat: the insert less its cutting corner, a little inside it.
+            let n = ins.len();
+            place_body(
+                &shrink(&ins[1..], 0.9),
+                &[ins[1], ins[n - 1]],
+                reach,
+                body,
+                lo,
+                lo + eps,
+            )
+        }
     };
-    let hold = if i == j {
-        // A round nose: the bar alone, from half its radius out (every point of the nose may cut).
-        hull(&body(0.5 * reach))
-    } else {
-        // The seat: the insert less its cutting corner, a little inside it.
-        let n = ins.len();
-        place_body(
-            &shrink(&ins[1..], 0.9),
-            &[ins[1], ins[n - 1]],
-            reach,
-            body,
-            lo,
-            lo + eps,
-        )
-        .ok_or_else(|| bad("the generic holder cannot be placed behind the insert".into()))?
+    let far = |h: &Vec<P2>| {
+        h.iter()
+            .map(|p| p.x * ax.x + p.y * ax.y)
+            .fold(f64::NEG_INFINITY, f64::max)
     };
+    let centres = if i == j { vec![cn] } else { centres };
+    let hold = centres
+        .into_iter()
+        .filter_map(place)
+        .min_by(|a, b| far(a).total_cmp(&far(b)))
+        .ok_or_else(|| bad("the generic holder cannot be placed behind the insert".into()))?;
     let insert = polygon("insert", &ins).map_err(bad)?;
     let holder = polygon("holder", &hold).map_err(bad)?;
     let facts = vec![

@@ -460,6 +460,27 @@ fn lathe_comp_tool_table_reads_19_tools_with_their_angles_and_orientations() {
     }
 }
 
+/// A table line's generic holder ends near the turret, not through it: lined up on the insert's
+/// centroid, a 93° finishing tool's bar had to start 107 mm back to stay behind its leading edge
+/// (187 mm in all), so that on a drum turret the tool of the opposite station reached through the
+/// spindle axis into the bar (a false collision of a tool that never moves near the part).
+#[test]
+fn tbl_holder_of_a_93_degree_tool_ends_within_a_turret_of_its_tip() {
+    for line in [
+        "T21 P2 X-40 Z-10 D0.4 I93 J58 Q2",
+        "T12 P1 X-40 Z-8 D0.8 I85 J25 Q2",
+        "T13 P3 X-13 Z-70 D0.4 I265 J205 Q3",
+        "T5 P5 D0.8 I95 J35 Q2",
+        "T6 P6 D0.8 I-5 J-55 Q1",
+    ] {
+        let t = &tbl::parse(line).unwrap()[0];
+        let b = tbl::shape(t).unwrap();
+        let far = b.holder.points().iter().map(|p| p.coords.norm()).fold(0.0, f64::max);
+        assert!(far <= 110.0, "{line}: the holder reaches {far} mm from the tip");
+        assert_eq!(locate(P2::new(0.0, 0.0), &b.holder), Location::Outside, "{line}");
+    }
+}
+
 #[test]
 fn tbl_orientation_2_is_an_od_tool_whose_insert_lies_toward_plus_x_and_plus_z() {
     let t = &tbl::parse("T2 P2 Z0.0 X0.0 D0.1 I85.0 J25.0 Q2;").unwrap()[0];
