@@ -32,6 +32,10 @@ pub struct RawJob {
     tool_library: Option<Spanned<String>>,
     #[schemars(with = "Option<String>")]
     tool_table: Option<Spanned<String>>,
+    /// The units of the `tool_table`'s X, Z and D (the LinuxCNC machine's units): "mm" or
+    /// "inch"; by default this job's `units`, else mm.
+    #[schemars(with = "Option<RawUnits>")]
+    tool_table_units: Option<Spanned<RawUnits>>,
     #[schemars(with = "Option<f64>")]
     program_zero_z: Option<Num>,
     /// Work offsets G54–G59 as the control's work offset page stores them (docs/job.md).
@@ -526,6 +530,13 @@ fn layer(
         .units
         .as_ref()
         .map(|u| set!(matches!(u.get_ref(), RawUnits::Inch), u.span(), "units"));
+    if let (Some(u), None) = (&raw.tool_table_units, &raw.tool_table) {
+        cx.push(cx.err(
+            u.span(),
+            key("tool_table_units"),
+            format!("`tool_table_units` says the units of the job's tool table: give `{prefix}tool_table = \"FILE.tbl\"` too"),
+        ));
+    }
     l.dialect = raw.dialect.as_ref().map(|d| {
         let v = match d.get_ref() {
             RawDialect::Fanuc => DialectChoice::Fanuc,
@@ -1370,7 +1381,7 @@ fn job_tool(
                 format!("`tbl` takes a tool of the job's tool table: give `{prefix}tool_table = \"FILE.tbl\"`"),
             ));
         };
-        let (shown, tools) = read_table(cx, table, prefix, refs)?;
+        let (shown, tools) = read_table(cx, job, table, prefix, refs)?;
         let want = *n.get_ref();
         let Some(row) = tools.iter().find(|r| r.tool == want) else {
             return Err(cx.err(n.span(), k("tbl"), format!("{shown} has no tool T{want}")));
@@ -1536,6 +1547,7 @@ fn job_tool(
 /// The job's tool table, read once per layer: the name messages show and its rows.
 fn read_table<'a>(
     cx: &Cx<'_>,
+    raw: &RawJob,
     table: &Spanned<String>,
     prefix: &str,
     refs: &'a mut Refs<'_>,
@@ -1555,6 +1567,13 @@ fn read_table<'a>(
                 format!("{shown}:{}:{}: {}", e.line, e.col, e.message),
             )
         })?;
+        // The table's lengths are in the LinuxCNC machine's units; the job's are mm.
+        let inch = raw
+            .tool_table_units
+            .as_ref()
+            .or(raw.units.as_ref())
+            .is_some_and(|u| matches!(u.get_ref(), RawUnits::Inch));
+        let tools = tools.iter().map(|t| t.in_mm(inch)).collect();
         refs.table = Some((shown, tools));
     }
     let Some((shown, tools)) = &refs.table else {
@@ -1659,7 +1678,7 @@ fn tool_numbers(
         return;
     };
     let at = place(cx, span.clone(), &fk);
-    let (shown, rows) = match read_table(cx, table, prefix, refs) {
+    let (shown, rows) = match read_table(cx, raw, table, prefix, refs) {
         Ok(t) => t,
         Err(e) => {
             cx.push(e);

@@ -575,6 +575,31 @@ fn tool_numbers_map_tools_to_stations_and_explicit_entries_win_over_the_table() 
     assert_eq!(m.station_of_tool(12), Some(3));
 }
 
+/// A LinuxCNC tool table is in the machine's units: an inch table's offsets and nose radius were
+/// taken as mm (T5's as 0.4 mm from the reference point instead of 10.16 mm).
+#[test]
+fn an_inch_tool_table_is_read_in_inches_by_the_jobs_units_or_tool_table_units() {
+    let table = "tool_table = \"lathe.tbl\"\n[tool_numbers]\nfrom_table = true\nT5 = 6\n";
+    let tip = |head: &str| match tn_apply(&format!("{head}{table}"), TBL) {
+        Ok(m) => (m.tool(6).unwrap().tip, m.tool(6).unwrap().nose_radius),
+        Err(e) => panic!("{head}: {e}"),
+    };
+    let mm = tip("");
+    let inch = tip("units = \"inch\"\n");
+    assert_eq!(inch.0, crate::geom::p2(-0.4 * 25.4, -2.5 * 25.4));
+    assert!((inch.1 - 25.4 * mm.1).abs() < 1e-9, "{inch:?} {mm:?}");
+    assert_eq!(tip("tool_table_units = \"inch\"\n"), inch);
+    // The table's own units win over the program's.
+    assert_eq!(tip("units = \"inch\"\ntool_table_units = \"mm\"\n"), mm);
+    match tn_apply("tool_table_units = \"inch\"\n", TBL) {
+        Err(e) => assert_eq!(
+            e.to_string(),
+            "part.job.toml:1:20: tool_table_units: `tool_table_units` says the units of the job's tool table: give `tool_table = \"FILE.tbl\"` too"
+        ),
+        Ok(_) => panic!("tool_table_units alone"),
+    }
+}
+
 #[test]
 fn tool_numbers_merge_tool_by_tool() {
     let a = tn_layer("[tool_numbers]\nT12 = 3\nT7 = 2\n", TBL).unwrap();
