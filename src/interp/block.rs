@@ -1382,7 +1382,10 @@ impl Run<'_> {
                 super::cycles::lcnc_rough::corner_words(self, b, w);
             }
         } else if let Some(at) = g53 {
-            if !axis {
+            // A G53 block with no axis word: Fanuc runs it as a one-shot with nothing to move
+            // (posts write it alone before a tool change); rs274ngc refuses it (G53 needs G0 or
+            // G1, and a motion needs an axis word).
+            if !axis && !fanuc {
                 self.error(b, Some(at), "G53 without axis words".into());
             }
         }
