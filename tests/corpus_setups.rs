@@ -207,7 +207,7 @@ fn index() -> Vec<Entry> {
                     .map(|a| a.iter().map(|v| v.as_integer().expect("lines: integers")).collect())
                     .unwrap_or_default();
                 assert!(
-                    one.is_some() != !many.is_empty(),
+                    one.is_some() == many.is_empty(),
                     "index.toml: {}: a {key} entry needs `line = N` or `lines = [N, …]` (one of them): {c:?}",
                     s("path")
                 );
