@@ -1,6 +1,7 @@
 //! Every program of `../shared/corpus` and `../shared/corpus-extra` (real lathe programs by
 //! others) is read, interpreted and checked without a panic; each test prints a table of findings
-//! by kind and program, with the time each program took.
+//! by kind and program, with the time each program took, and the read rate (programs with no
+//! `syntax` and no `unsupported` finding; docs/corpus.md).
 //!
 //! The corpora are kept out of this repository; CI has them beside the checkout. Without one the
 //! test prints "skipped" and passes (a developer machine without `shared/`).
@@ -80,6 +81,8 @@ fn run_corpus(name: &str, min_files: usize, machine: &dyn Fn(&str) -> Machine) -
     let mut totals: BTreeMap<Kind, usize> = BTreeMap::new();
     let mut moves_total = 0usize;
     let mut slow = Vec::new();
+    // The read rate: programs with no `syntax` and no `unsupported` finding (any severity).
+    let mut read = 0usize;
     for f in &files {
         let src = std::fs::read(f).unwrap();
         let rel = f.strip_prefix(&dir).unwrap().display().to_string();
@@ -91,6 +94,13 @@ fn run_corpus(name: &str, min_files: usize, machine: &dyn Fn(&str) -> Machine) -
         let took = t.elapsed();
         if took > SLOW {
             slow.push(format!("{rel}: {:.1} s", took.as_secs_f64()));
+        }
+        if !out
+            .findings
+            .iter()
+            .any(|x| matches!(x.kind, Kind::Syntax | Kind::Unsupported))
+        {
+            read += 1;
         }
         let row = table.entry(rel).or_default();
         row.1 = took;
@@ -130,6 +140,11 @@ fn run_corpus(name: &str, min_files: usize, machine: &dyn Fn(&str) -> Machine) -
         s += &format!(" {:>7}", totals.get(&k).copied().unwrap_or(0));
     }
     println!("{s}");
+    println!(
+        "{name}: read rate: {read} of {} programs ({:.0} %) with no syntax and no unsupported finding",
+        files.len(),
+        100.0 * read as f64 / files.len().max(1) as f64
+    );
     for x in &slow {
         println!("{name}: SLOW (over {} s in this build): {x}", SLOW.as_secs());
     }

@@ -1,17 +1,25 @@
-//! Setups for the corpus (issue 13): every Fanuc/Haas and LinuxCNC lathe program of
-//! `../shared/corpus` and `../shared/corpus-extra` has a job under `tests/corpus-jobs/` that
-//! describes the lathe and the job it was written for, and `tests/corpus-jobs/index.toml` maps
-//! each program to its machine, its job and the lines that are real crashes of the program (each
-//! argued in the index and the job). Checked with its job (step mode, default settings), a
-//! program gives no crash finding but those lines, and each of those lines is still reported.
-//! The test prints crash findings by kind per program with the shipped machine as
-//! `tests/corpus.rs` picks it ("before") against the job ("after").
+//! Setups for the corpus: every Fanuc/Haas and LinuxCNC lathe program of `../shared/corpus` and
+//! `../shared/corpus-extra` has a job under `tests/corpus-jobs/` that describes the lathe and the
+//! job it was written for, and `tests/corpus-jobs/index.toml` maps each program to its machine,
+//! its job and the lines of its error findings, each classified with its argument: a real crash
+//! (`real_crashes`), an error the control itself would raise (`real_errors`), latheguard's mistake
+//! (`checker_false_positives`), a machine or job that does not match the program yet
+//! (`setup_false_alarms`), a setup the formats cannot say (`not_expressible`) or not yet decided
+//! (`unexplained`). Checked with its job (step mode, default settings), a program gives no
+//! error finding of any kind (crash kinds, `program`, `unsupported`, `syntax`) but on those lines,
+//! and each listed line is still reported (a stale entry fails): a `real_crashes` line as a crash
+//! finding, a `real_errors` line as an error of another kind. One entry may cover several lines
+//! of one argument (`lines = [36, 61, 63]` instead of `line = 36`).
+//! The test prints error findings by kind per program with the shipped machine as
+//! `tests/corpus.rs` picks it ("before") against the job ("after"), and the count of listed
+//! lines per category.
 //!
 //! The corpora are kept out of this repository; without `../shared` the test prints "skipped".
 //!
 //! Exploring: `LG_CORPUS_ONLY=substring` checks only matching programs and prints each finding of
-//! a crash kind (grazes and follow-ons too, with their severity); `LG_CORPUS_DUMP=dir` also writes there, per program, the `latheguard check
-//! --machine … --job …` command line that checks it as this test does (add `--svg …`).
+//! a crash kind (grazes and follow-ons too, with their severity) and each other error;
+//! `LG_CORPUS_DUMP=dir` also writes there, per program, the `latheguard check --machine … --job …`
+//! command line that checks it as this test does (add `--svg …` or `--format json`).
 
 use crate::corpus_job;
 use crate::files;
@@ -37,16 +45,29 @@ fn jobs_dir() -> PathBuf {
 /// The crash kinds: a finding of one of these says the program would crash when it is an error
 /// — not a follow-on warning, and not a graze (a contact shallower than `min_depth`, reported as
 /// a warning).
-fn is_crash(f: &Finding) -> bool {
-    CRASH_KINDS.contains(&f.kind) && f.severity == Severity::Error
-}
-
 const CRASH_KINDS: [Kind; 4] = [
     Kind::Collision,
     Kind::RapidIntoStock,
     Kind::SpindleStopped,
     Kind::Overtravel,
 ];
+
+/// Every kind an error finding can have, as the printed table's columns: the crash kinds, then
+/// the errors of reading and running the program.
+const ERROR_KINDS: [Kind; 7] = [
+    Kind::Collision,
+    Kind::RapidIntoStock,
+    Kind::SpindleStopped,
+    Kind::Overtravel,
+    Kind::Program,
+    Kind::Unsupported,
+    Kind::Syntax,
+];
+
+/// A finding the index must classify: any finding of severity error.
+fn is_error(f: &Finding) -> bool {
+    f.severity == Severity::Error
+}
 
 /// `corpus-extra/SOURCES.md`: relative path → (class, dialect) columns.
 fn extra_sources() -> BTreeMap<String, (String, String)> {
@@ -127,20 +148,38 @@ struct Entry {
     lines: BTreeMap<&'static str, BTreeMap<u32, String>>,
 }
 
-/// Why a crash finding of a program checked with its job may stand, as index.toml's keys; each
+/// Why an error finding of a program checked with its job may stand, as index.toml's keys; each
 /// line listed must still be reported (a stale entry fails the test):
-/// - `real_crashes`: the program itself would crash there;
-/// - `checker_false_positives`: latheguard's mistake, not the program's (reported to the lead
-///   with a reproducer; remove the entry when the checker is fixed);
+/// - `real_crashes`: the program itself would crash there (a crash kind: collision,
+///   rapid_into_stock, spindle_stopped, overtravel);
+/// - `real_errors`: a `program`, `unsupported` or `syntax` error the control itself would raise
+///   there (its manual, or for LinuxCNC what LinuxCNC reports), argued without choosing a
+///   dialect or an invented setup that makes it one;
+/// - `checker_false_positives`: latheguard's mistake, not the program's (with a reproducer;
+///   remove the entry when the checker is fixed);
+/// - `setup_false_alarms`: the program is right, the checked machine or job does not match what
+///   it needs (a turret with fewer stations than it calls), and the fix is not made yet;
 /// - `not_expressible`: the lathe or job does what the program needs, but neither the machine
 ///   file nor the job format can say so yet (a spindle run by hand, tools changed by hand);
 /// - `unexplained`: looked at, not yet decided; the entry says what was tried.
-const CATEGORIES: [&str; 4] = [
+const CATEGORIES: [&str; 6] = [
     "real_crashes",
+    "real_errors",
     "checker_false_positives",
+    "setup_false_alarms",
     "not_expressible",
     "unexplained",
 ];
+
+/// Whether a category may hold an error finding of this kind: `real_crashes` only the crash
+/// kinds, `real_errors` only the others, the rest either.
+fn category_fits(cat: &str, kind: Kind) -> bool {
+    match cat {
+        "real_crashes" => CRASH_KINDS.contains(&kind),
+        "real_errors" => !CRASH_KINDS.contains(&kind),
+        _ => true,
+    }
+}
 
 fn index() -> Vec<Entry> {
     let path = jobs_dir().join("index.toml");
@@ -161,17 +200,35 @@ fn index() -> Vec<Entry> {
         let lines = |key: &str| {
             let mut m = BTreeMap::new();
             for c in e.get(key).and_then(|v| v.as_array()).into_iter().flatten() {
-                let line = c
-                    .get("line")
-                    .and_then(|v| v.as_integer())
-                    .unwrap_or_else(|| panic!("{key}: line")) as u32;
-                let why = c.get("why").and_then(|v| v.as_str()).unwrap_or_default();
+                let one = c.get("line").and_then(|v| v.as_integer());
+                let many: Vec<i64> = c
+                    .get("lines")
+                    .and_then(|v| v.as_array())
+                    .map(|a| a.iter().map(|v| v.as_integer().expect("lines: integers")).collect())
+                    .unwrap_or_default();
                 assert!(
-                    why.len() > 20,
-                    "index.toml: {}: {key} line {line} needs its evidence in `why`",
+                    one.is_some() == many.is_empty(),
+                    "index.toml: {}: a {key} entry needs `line = N` or `lines = [N, …]` (one of them): {c:?}",
                     s("path")
                 );
-                m.insert(line, why.to_string());
+                for k in c.as_table().unwrap().keys() {
+                    assert!(
+                        ["line", "lines", "why"].contains(&k.as_str()),
+                        "index.toml: {}: {key}: unknown key `{k}`",
+                        s("path")
+                    );
+                }
+                let why = c.get("why").and_then(|v| v.as_str()).unwrap_or_default();
+                for line in one.into_iter().chain(many) {
+                    let line = line as u32;
+                    assert!(
+                        why.len() > 20,
+                        "index.toml: {}: {key} line {line} needs its evidence in `why`",
+                        s("path")
+                    );
+                    let twice = m.insert(line, why.to_string()).is_some();
+                    assert!(!twice, "index.toml: {}: {key} lists line {line} twice", s("path"));
+                }
             }
             m
         };
@@ -191,22 +248,22 @@ fn index() -> Vec<Entry> {
 
 fn counts(findings: &[Finding]) -> BTreeMap<Kind, usize> {
     let mut m = BTreeMap::new();
-    for f in findings.iter().filter(|f| is_crash(f)) {
+    for f in findings.iter().filter(|f| is_error(f)) {
         *m.entry(f.kind).or_default() += 1;
     }
     m
 }
 
 fn row(c: &BTreeMap<Kind, usize>) -> String {
-    CRASH_KINDS
+    ERROR_KINDS
         .iter()
-        .map(|k| format!("{:>4}", c.get(k).copied().unwrap_or(0)))
+        .map(|k| format!("{:>5}", c.get(k).copied().unwrap_or(0)))
         .collect::<Vec<_>>()
         .join("")
 }
 
 #[test]
-fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says() {
+fn every_corpus_program_checked_with_its_job_errs_only_where_its_index_says() {
     if !shared().join("corpus").is_dir() {
         println!("corpus_setups: skipped: no corpus at {}", shared().display());
         eprintln!("corpus_setups: skipped: no corpus at {}", shared().display());
@@ -239,6 +296,7 @@ fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says()
     let mut table = String::new();
     let mut red_before = 0;
     let mut listed_lines: BTreeMap<&str, usize> = BTreeMap::new();
+    let mut classified: BTreeMap<(&str, Kind), usize> = BTreeMap::new();
     for e in &entries {
         if only.as_deref().is_some_and(|o| !e.program.contains(o)) {
             continue;
@@ -267,9 +325,14 @@ fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says()
         let findings = pipeline::check(&src, &m, &Settings::default()).findings;
         let after = counts(&findings);
 
-        let crash_lines: BTreeSet<u32> = findings.iter().filter(|f| is_crash(f)).map(|f| f.line).collect();
-        for f in findings.iter().filter(|f| CRASH_KINDS.contains(&f.kind)) {
-            if only.is_some() {
+        // Each listed line must still be reported with an error its category can hold.
+        let reported: BTreeSet<(u32, bool)> = findings
+            .iter()
+            .filter(|f| is_error(f))
+            .map(|f| (f.line, CRASH_KINDS.contains(&f.kind)))
+            .collect();
+        for f in &findings {
+            if only.is_some() && (CRASH_KINDS.contains(&f.kind) || is_error(f)) {
                 println!(
                     "  {}:{}-{}: {} {:?} {:?} depth {:?} at X{:?} Z{:?} t={:?}: {}",
                     e.program,
@@ -285,22 +348,34 @@ fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says()
                     f.message
                 );
             }
-            if is_crash(f) && !e.lines.values().any(|m| m.contains_key(&f.line)) {
-                failures.push(format!(
+            if !is_error(f) {
+                continue;
+            }
+            let cat = CATEGORIES
+                .iter()
+                .find(|c| category_fits(c, f.kind) && e.lines[*c].contains_key(&f.line));
+            match cat {
+                Some(c) => *classified.entry((*c, f.kind)).or_insert(0) += 1,
+                None => failures.push(format!(
                     "{}:{}: {} {:?}: {}",
                     e.program,
                     f.line,
                     f.kind.name(),
                     f.objects,
                     f.message
-                ));
+                )),
             }
         }
         for (cat, m) in &e.lines {
             for line in m.keys() {
-                if !crash_lines.contains(line) {
+                let found = match *cat {
+                    "real_crashes" => reported.contains(&(*line, true)),
+                    "real_errors" => reported.contains(&(*line, false)),
+                    _ => reported.contains(&(*line, true)) || reported.contains(&(*line, false)),
+                };
+                if !found {
                     failures.push(format!(
-                        "{}:{line}: listed in index.toml's {cat} but not reported",
+                        "{}:{line}: listed in index.toml's {cat} but no error of its kind is reported there",
                         e.program
                     ));
                 }
@@ -318,24 +393,23 @@ fn every_corpus_program_checked_with_its_job_crashes_only_where_its_index_says()
         }
         table += &format!("{:<78} {}   {}\n", e.program, row(&before), row(&after));
     }
+    let head = "coll rapid spin  over  prog unsup  synt";
     println!(
-        "{:<78} {:>16}   {:>16}\n{:<78} {}   {}",
-        "crash findings by kind",
-        "shipped machine",
-        "with the job",
-        "program",
-        "coll rap spin over".replace(' ', "  "),
-        "coll rap spin over".replace(' ', "  ")
+        "{:<78} {:>34}   {:>34}\n{:<78} {head}   {head}",
+        "error findings by kind", "shipped machine", "with the job", "program",
     );
     print!("{table}");
     println!("{:<78} {}   {}", "TOTAL", row(&before_total), row(&after_total));
-    println!("programs with a crash finding on the shipped machine: {red_before}");
+    println!("programs with an error finding on the shipped machine: {red_before}");
     for (cat, n) in &listed_lines {
         println!("lines listed as {cat}: {n}");
     }
+    for ((cat, kind), n) in &classified {
+        println!("error findings with the job, {cat}, {}: {n}", kind.name());
+    }
     assert!(
         failures.is_empty(),
-        "crash findings not argued as real crashes:\n{}",
+        "error findings not classified in index.toml (or listed lines no longer reported):\n{}",
         failures.join("\n")
     );
 }

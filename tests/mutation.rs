@@ -188,6 +188,10 @@ fn corpus_pairs() -> Option<Vec<Pair>> {
                 if let Some(l) = c.get("line").and_then(|v| v.as_integer()) {
                     listed.insert(l as u32);
                 }
+                // One entry may list several lines of one argument.
+                for l in c.get("lines").and_then(|v| v.as_array()).into_iter().flatten() {
+                    listed.extend(l.as_integer().map(|l| l as u32));
+                }
             }
         }
         let program = shared().join(&path);

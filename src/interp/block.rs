@@ -1382,7 +1382,10 @@ impl Run<'_> {
                 super::cycles::lcnc_rough::corner_words(self, b, w);
             }
         } else if let Some(at) = g53 {
-            if !axis {
+            // A G53 block with no axis word: Fanuc runs it as a one-shot with nothing to move
+            // (posts write it alone before a tool change); rs274ngc refuses it (G53 needs G0 or
+            // G1, and a motion needs an axis word).
+            if !axis && !fanuc {
                 self.error(b, Some(at), "G53 without axis words".into());
             }
         }
@@ -1646,11 +1649,13 @@ impl Run<'_> {
         let cur = self.programmed();
         let origin = self.origin();
         let s = self.scale();
-        let fanuc = self.machine.dialect == Dialect::Fanuc;
+        // U and W are incremental X and Z on Fanuc, and in a LinuxCNC G70-G72 profile (LinuxCNC's
+        // own `g71-endless-loop_2` test: `W-5` then `U0.5`); elsewhere LinuxCNC's U and W are axes.
+        let incremental_uw = self.machine.dialect == Dialect::Fanuc || self.cycles.profile_corners.is_some();
         let mut x = cur.x;
         let mut z = cur.y;
-        let (xw, uw) = (w.peek(b'X'), fanuc && w.peek(b'U'));
-        let (zw, ww) = (w.peek(b'Z'), fanuc && w.peek(b'W'));
+        let (xw, uw) = (w.peek(b'X'), incremental_uw && w.peek(b'U'));
+        let (zw, ww) = (w.peek(b'Z'), incremental_uw && w.peek(b'W'));
         if xw && uw {
             self.error(b, w.at(b'U'), "X and U in one block".into());
             return None;

@@ -1016,7 +1016,9 @@ impl<'a> Run<'a> {
                 self.return_from_call();
             }
             None => {
-                self.error(
+                // Fanuc (and LinuxCNC) run the program again from its start: no alarm, a loop by
+                // design (a bar feeder's next part). One pass is checked.
+                self.warn_once(
                     b,
                     None,
                     "M99 in the main program restarts it without end (a bar-feed loop); checked once".into(),

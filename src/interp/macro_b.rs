@@ -812,7 +812,8 @@ impl Run<'_> {
                 }
                 None => "M99 in the main program restarts it without end (a bar-feed loop); checked once".into(),
             };
-            self.error(b, None, msg);
+            // Not an alarm: the control runs the program again (see `m99`). One pass is checked.
+            self.warn_once(b, None, msg);
             self.stopped = true;
             return;
         };

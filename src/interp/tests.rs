@@ -498,3 +498,35 @@ fn linuxcnc_predefined_named_parameters_read_the_modes_in_force() {
         .collect();
     assert_eq!(ends, vec![(2.0, 9.0), (4.0, 1.0), (10.0, 0.0), (2.0, 0.0)], "{ends:?}");
 }
+
+/// M99 at the end of a main program (a bar-feed loop: the control runs the program again from its
+/// start, no alarm) is a warning that says one pass is checked, not an error; in both dialects,
+/// with and without custom macro B, and with `M99 Pn`. The moves of the pass are kept.
+#[test]
+fn m99_in_the_main_program_is_a_warning_not_an_error() {
+    use crate::finding::Severity;
+    let fanuc = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X52 Z3\nG1 Z-20 F0.2\nG0 X80 Z10\nM99\n";
+    let lcnc = "G21 G18\nT1 M6\nS800 M3\nG0 X26 Z3\nG1 Z-20 F100\nG0 X40 Z10\nM99\n";
+    let macro_p = "G21 G18 G99\nT0101\nN10 G0 X52 Z3\n#100 = 1\nG0 X60\nM99 P10\n";
+    for (src, m) in [
+        (fanuc, Machine::builtin()),
+        (lcnc, linuxcnc()),
+        (macro_p, Machine::builtin()),
+    ] {
+        // Read as the machine's dialect reads it (Fanuc: with macro B, whose M99 is its own).
+        let (_, i) = crate::pipeline::interpret(src.as_bytes(), &m);
+        let at: Vec<_> = i
+            .findings
+            .iter()
+            .filter(|f| f.message.contains("main program"))
+            .collect();
+        assert_eq!(at.len(), 1, "{src}: {:?}", i.findings);
+        assert_eq!(at[0].severity, Severity::Warning, "{src}: {:?}", at[0]);
+        assert!(
+            i.findings.iter().all(|f| f.severity == Severity::Warning),
+            "{src}: {:?}",
+            i.findings
+        );
+        assert!(i.moves.len() >= 2, "{src}: the pass before M99 is interpreted");
+    }
+}
