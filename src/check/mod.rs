@@ -372,13 +372,22 @@ impl Checker<'_> {
         v
     }
 
+    /// What the cutting part of the tool in `station` is called ("insert", "drill", …).
+    fn cutter_word(&self, station: u32) -> &'static str {
+        self.machine
+            .tools
+            .iter()
+            .find(|t| t.station == station)
+            .map_or("insert", |t| t.cutter.word())
+    }
+
     fn name(&self, part: Part, active: u32) -> String {
         match part {
             Part::Turret => "turret".into(),
             Part::Holder => format!("T{active:02} holder"),
-            Part::Insert => format!("T{active:02} insert"),
+            Part::Insert => format!("T{active:02} {}", self.cutter_word(active)),
             Part::OtherHolder(s) => format!("T{s:02} holder"),
-            Part::OtherInsert(s) => format!("T{s:02} insert"),
+            Part::OtherInsert(s) => format!("T{s:02} {}", self.cutter_word(s)),
         }
     }
 

@@ -1529,9 +1529,15 @@ fn job_tool(
     if origin.is_empty() {
         origin.push("outlines".into());
     }
+    let cutter = built
+        .as_ref()
+        .map(|b| b.cutter)
+        .filter(|c| *c != tooling::Cutter::Insert)
+        .unwrap_or_else(|| tooling::Cutter::from_name(&name));
     Ok(JobTool {
         tool: Tool {
             station,
+            cutter,
             name,
             tip,
             insert,
@@ -1702,6 +1708,7 @@ fn tool_numbers(
             JobTool {
                 tool: Tool {
                     station: row.pocket,
+                    cutter: tooling::Cutter::from_name(&name),
                     name,
                     tip: p.tip.unwrap_or_default(),
                     insert: outline(p.insert),

@@ -1599,6 +1599,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         {
             out.push(Tool {
                 station,
+                cutter: crate::tooling::Cutter::from_name(&name),
                 name,
                 tip,
                 insert,

@@ -289,6 +289,8 @@ pub struct Tool {
     /// A milling tool built from its sizes (a job's `mill = { … }`): the milled stock's cutter
     /// and, on a machine with a kinematic tree, the station's 3D parts (`kin::station`).
     pub mill: Option<crate::tooling::milling::MillTool>,
+    /// What the cutting part is, for the report's words ("the T04 drill").
+    pub cutter: crate::tooling::Cutter,
 }
 
 /// How the chuck was given: the machine file's `[chuck]`, or a job's.

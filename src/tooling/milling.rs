@@ -312,6 +312,11 @@ pub fn build(s: &MillSpec) -> Result<(BuiltTool, MillTool, Facts), String> {
             nose_radius: 0.0,
             tip_direction: 0,
             summary,
+            cutter: match m.kind {
+                MillKind::Drill { .. } => crate::tooling::Cutter::Drill,
+                MillKind::Tap { .. } => crate::tooling::Cutter::Tap,
+                _ => crate::tooling::Cutter::Mill,
+            },
         },
         m,
         facts,

@@ -46,6 +46,54 @@ pub struct CatalogueSpec {
     pub drill: Option<DrillSpec>,
 }
 
+/// What a tool's cutting part is, as a machinist names it in a report ("the T04 drill hits the
+/// jaws", not "the T04 insert").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Cutter {
+    /// A turning, grooving, parting or threading insert (and any tool drawn by its outlines
+    /// whose name says nothing else).
+    #[default]
+    Insert,
+    /// A twist, spot or centre drill.
+    Drill,
+    /// A tap.
+    Tap,
+    /// An end mill (flat, ball or bull nose).
+    Mill,
+}
+
+impl Cutter {
+    /// The word for the cutting part in a report.
+    pub fn word(self) -> &'static str {
+        match self {
+            Cutter::Insert => "insert",
+            Cutter::Drill => "drill",
+            Cutter::Tap => "tap",
+            Cutter::Mill => "mill",
+        }
+    }
+
+    /// The cutter a tool drawn by its outlines is, by its name: a "drill" (also "centre drill",
+    /// "spot drill"), a "tap", an "end mill"; anything else is an insert.
+    pub fn from_name(name: &str) -> Cutter {
+        let lower = name.to_ascii_lowercase();
+        let words: Vec<&str> = lower
+            .split(|c: char| !c.is_ascii_alphanumeric())
+            .filter(|w| !w.is_empty())
+            .collect();
+        let has = |w: &str| words.contains(&w);
+        if has("drill") || has("drills") {
+            Cutter::Drill
+        } else if has("tap") {
+            Cutter::Tap
+        } else if has("mill") || has("endmill") {
+            Cutter::Mill
+        } else {
+            Cutter::Insert
+        }
+    }
+}
+
 /// The geometry a catalogue tool stands for, in a `[[tools]]` entry's frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BuiltTool {
@@ -61,6 +109,8 @@ pub struct BuiltTool {
     /// One line for `latheguard setup`: what the codes were read as (`80° rhombic, 12.9 mm
     /// IC, r0.8, 95° right-hand holder, 25 × 25 shank, 150 mm`).
     pub summary: String,
+    /// What the cutting part is (a drill from `drill = { … }`, a mill or tap from `mill`).
+    pub cutter: Cutter,
 }
 
 /// A designation that cannot be used: which of `insert`, `holder`, `drill` and why.
@@ -111,10 +161,15 @@ pub fn decode(spec: &CatalogueSpec) -> Result<Decoded, CatalogueError> {
                 "a drill is given by its sizes alone: leave out insert and holder",
             );
         }
-        return drill::build(d).map_err(|m| CatalogueError {
-            key: "drill",
-            message: m,
-        });
+        return drill::build(d)
+            .map(|mut b| {
+                b.tool.cutter = Cutter::Drill;
+                b
+            })
+            .map_err(|m| CatalogueError {
+                key: "drill",
+                message: m,
+            });
     }
     let ins = match &spec.insert {
         Some(code) => Some(insert::parse(code).map_err(|m| CatalogueError {
@@ -644,6 +699,7 @@ pub(crate) fn finish(
             nose_radius,
             tip_direction,
             summary,
+            cutter: Cutter::Insert,
         },
         facts,
     }

@@ -668,3 +668,35 @@ proptest! {
         let _ = tbl::parse(&code);
     }
 }
+
+/// A report names a drill "the T04 drill", a tap "the T05 tap", an end mill "the T11 mill": by
+/// how the tool was built, or for a tool drawn by its outlines, by the words of its name.
+#[test]
+fn a_tools_cutter_is_named_by_how_it_was_built_or_by_its_name() {
+    use super::Cutter;
+    for (name, want) in [
+        ("Drill 0.53 in", Cutter::Drill),
+        ("centre drill", Cutter::Drill),
+        ("U-drill D25", Cutter::Drill),
+        ("M8 tap", Cutter::Tap),
+        ("End mill D10", Cutter::Mill),
+        ("OD turn DCMT 55", Cutter::Insert),
+        ("Boring bar D10 min bore 13", Cutter::Insert),
+        ("Drillmaster grooving", Cutter::Insert),
+        ("parting", Cutter::Insert),
+    ] {
+        assert_eq!(Cutter::from_name(name), want, "{name}");
+    }
+    let d = DrillSpec {
+        diameter: 10.0,
+        length: 60.0,
+        point_angle: None,
+    };
+    let built = build(&CatalogueSpec {
+        drill: Some(d),
+        ..CatalogueSpec::default()
+    })
+    .unwrap();
+    assert_eq!(built.cutter.word(), "drill");
+    assert_eq!(build(&spec(Some("CNMG 120408"), None)).unwrap().cutter, Cutter::Insert);
+}

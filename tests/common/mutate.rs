@@ -539,6 +539,7 @@ pub fn long_tool(base: &Tool, extra: f64) -> Option<Tool> {
         nose_radius: 0.4,
         tip_direction: base.tip_direction,
         mill: None,
+        cutter: latheguard::tooling::Cutter::Insert,
     })
 }
 
