@@ -325,12 +325,12 @@ fn the_sub_spindle_stopped_too_far_forward_meets_the_turret_feeding_in() {
 }
 
 #[test]
-fn a_rapid_into_the_part_the_sub_spindle_holds_is_a_collision_with_it() {
+fn a_rapid_into_the_part_the_sub_spindle_holds_drives_the_insert_into_it_and_the_holder_hits_it() {
     pick_both_modes(
         "crash_rapid_into_picked_part.nc",
         // The holder follows its insert into the part: a crash of its own.
         &[
-            (33, Kind::Collision, ["t9_insert", "part_in_sub_chuck"]),
+            (33, Kind::RapidIntoStock, ["t9_insert", "part_in_sub_chuck"]),
             (33, Kind::Collision, ["t9_holder", "part_in_sub_chuck"]),
         ],
     );
@@ -491,7 +491,7 @@ fn a_rapid_back_into_a_face_pocket_below_its_floor_is_a_rapid_into_the_stock() {
 fn a_live_drill_fed_with_the_live_tool_stopped_is_a_cut_with_the_spindle_stopped() {
     both_modes(
         &format!("{MILL}crash_drill_with_live_tool_stopped.nc"),
-        &[(11, Kind::SpindleStopped, ["T08 insert", "stock"])],
+        &[(11, Kind::SpindleStopped, ["T08 drill", "stock"])],
     );
 }
 

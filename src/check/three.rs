@@ -486,7 +486,19 @@ impl Checker<'_> {
                 } else {
                     let fa = follow_of(a);
                     let fi = if fa == 0 { follow_of(b) } else { fa };
-                    pairs.push((a, b, Kind::Collision, fi));
+                    // The active cutter rapiding into a part the sub-spindle holds drives a tool
+                    // into material, as into the bar: rapid_into_stock, not a collision.
+                    let cutter_into_piece = |c: CompId, p: CompId| {
+                        k.components[c].role == Role::Cutter
+                            && three.station_of[c].map_or(true, |s| s == active)
+                            && three.pieces.contains(&p)
+                    };
+                    let kind = if rapid && (cutter_into_piece(a, b) || cutter_into_piece(b, a)) {
+                        Kind::RapidIntoStock
+                    } else {
+                        Kind::Collision
+                    };
+                    pairs.push((a, b, kind, fi));
                 }
             }
         }
@@ -863,7 +875,8 @@ impl Checker<'_> {
             std::mem::swap(&mut an, &mut bn);
         }
         let message = match kind {
-            Kind::RapidIntoStock => format!("rapid move drives {an} into the stock"),
+            Kind::RapidIntoStock if b == STOCK => format!("rapid move drives {an} into the stock"),
+            Kind::RapidIntoStock => format!("rapid move drives {an} into {bn}"),
             Kind::SpindleStopped => format!("{an} cuts the stock with neither the spindle nor a live tool turning"),
             Kind::NearMiss => format!("{an} passes within {:.3} mm of {bn}", self.settings.clearance_mm),
             _ => format!("{an} hits {bn}"),
