@@ -550,6 +550,7 @@ fn report_with_a_3d_finding() -> Report {
     let mut f = Finding::at(Kind::Collision, Severity::Error, 2, 0, "T05 holder hits the sub chuck");
     f.objects = vec!["T05 holder".into(), "sub chuck".into()];
     f.time_s = Some(12.5);
+    (f.x, f.z) = (Some(100.0), Some(-35.25));
     f.snapshot3 = Some(Box::new(scene()));
     Report {
         machine: "turn-mill".into(),
@@ -577,6 +578,10 @@ fn a_finding_with_a_3d_snapshot_gets_three_views_and_a_glb_named_like_its_pictur
     // The caption has the place, the kind and the block's text.
     let text: String = d.descendants().filter_map(|n| n.text()).collect();
     assert!(text.contains("progs/mill.nc:2") && text.contains("error[collision]") && text.contains("G0 Z205 Y30"));
+    // Where the program was, in program coordinates as the text report says it; the contact
+    // point in the views' machine frame.
+    assert!(text.contains("programmed point X100 Z-35.25"), "{text}");
+    assert!(text.contains("(machine frame)"), "{text}");
     let gs = glb::files(&r);
     assert_eq!(gs.len(), 1);
     assert_eq!(gs[0].name, "progs__mill.nc.L2.collision.T05-holder.sub-chuck.glb");

@@ -844,7 +844,7 @@ fn facts(s: &Snapshot3) -> Vec<String> {
     }
     if let Some(c) = s.contact() {
         f.push(format!(
-            "x {}, y {}, z {} mm (machine frame)",
+            "contact x {} y {} z {} (machine frame)",
             mm(c.x),
             mm(c.y),
             mm(c.z)
@@ -884,8 +884,17 @@ pub(super) fn picture(file: &FileReport, f: &Finding, s: &Snapshot3, block: &str
         "#9a6700"
     };
     let mut facts = facts(s);
+    // The message and the legend name the two parts: the line keeps room for the figures.
+    facts.retain(|x| !x.contains(" × "));
+    let mut at = 1.min(facts.len());
     if let Some(d) = f.depth_mm {
-        facts.insert(1.min(facts.len()), format!("depth {} mm", mm(d)));
+        facts.insert(at, format!("depth {} mm", mm(d)));
+        at += 1;
+    }
+    // Where the program was, as the text report and the 2D pictures say it (X on diameter where
+    // the program writes diameters); the contact point stays in the machine frame of the views.
+    if let (Some(x), Some(z)) = (f.x, f.z) {
+        facts.insert(at, format!("programmed point X{} Z{}", mm(x), mm(z)));
     }
     draw(
         s,
