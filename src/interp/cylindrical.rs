@@ -13,9 +13,9 @@
 //! stays where it is (the tool on the cylinder) unless given. Not modelled: rapids in the mode (a `program` error: the control alarms).
 
 use super::arc::arc_from_radius;
-use super::block::Words;
 use super::flow::Run;
 use super::polar::contour_path;
+use super::words::Words;
 use crate::gcode::Block;
 use crate::geom::P2;
 

@@ -9,8 +9,8 @@
 //! devices (coolant, part catcher, bar feeder, conveyor) change nothing that is checked. A code the
 //! table lacks is a warning that names it.
 
-use super::block::Words;
 use super::flow::Run;
+use super::words::Words;
 use super::SpindleDir;
 use crate::gcode::Block;
 use crate::machine::MAction;

@@ -27,9 +27,9 @@
 //! in the mode (`unsupported`), and feeds per revolution.
 
 use super::arc::{arc_from_center, arc_from_radius};
-use super::block::Words;
 use super::flow::Run;
 use super::state::Motion;
+use super::words::Words;
 use super::{Feed, MoveKind};
 use crate::gcode::Block;
 use crate::geom::P2;

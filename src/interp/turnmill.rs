@@ -4,9 +4,9 @@
 //! programs run exactly as before (docs/turn-mill.md, "Axes and modes in programs").
 
 use super::arc::{arc_from_center, arc_from_radius};
-use super::block::Words;
 use super::flow::Run;
 use super::state::Motion;
+use super::words::Words;
 use super::{ExtraAxes, ExtraMove, Feed, MoveKind, Plane, PlaneArc, EXTRA_LETTERS};
 use crate::gcode::Block;
 use crate::geom::P2;

@@ -10,9 +10,9 @@
 //! end; 0 for a straight cut. X(U), Z(W) and R are modal while the cycle is: a later block with
 //! only X (or Z) makes the next box from the same start point with the other values kept.
 
-use super::super::block::Words;
 use super::super::flow::Run;
 use super::super::state::Motion;
+use super::super::words::Words;
 use super::super::{Feed, MoveKind};
 use crate::gcode::Block;
 use crate::geom::P2;

@@ -26,9 +26,9 @@
 //! the feed modes), G98 initial / G99 R level in system B. Modal until G80 or a group-01 code: a
 //! later block with Z (or X0) drills the next hole with the same R, Q, P.
 
-use super::super::block::Words;
 use super::super::flow::Run;
 use super::super::state::Motion;
+use super::super::words::Words;
 use super::super::{ExtraAxes, Feed, MoveKind, SpindleDir};
 use super::box_::go;
 use crate::gcode::Block;

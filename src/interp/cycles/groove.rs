@@ -17,8 +17,8 @@
 //! (a feed along the shift axis, back toward S), the rapid out along the peck axis to S's level,
 //! and the rapid along the shift axis to the next groove. At the end a rapid back to S.
 
-use super::super::block::Words;
 use super::super::flow::Run;
+use super::super::words::Words;
 use super::super::{Feed, MoveKind};
 use super::box_::go;
 use crate::gcode::Block;

@@ -12,9 +12,9 @@
 use super::common::{emit, feed, rapid, MAX_PASSES};
 use crate::gcode::Block;
 use crate::geom::P2;
-use crate::interp::block::Words;
 use crate::interp::flow::Run;
 use crate::interp::state::Motion;
+use crate::interp::words::Words;
 use crate::interp::{Feed, MoveKind, SpindleDir};
 
 /// What LinuxCNC keeps between cycle blocks (rs274ngc's `cycle_*` settings).

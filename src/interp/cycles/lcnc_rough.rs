@@ -15,9 +15,9 @@ mod g7x;
 use super::common::{emit, feed, Mark, Seg, MAX_PASSES};
 use crate::gcode::{Block, OName};
 use crate::geom::{P2, V2};
-use crate::interp::block::Words;
 use crate::interp::flow::Run;
 use crate::interp::state::Motion;
+use crate::interp::words::Words;
 use crate::interp::MoveKind;
 use std::f64::consts::TAU;
 

@@ -6,9 +6,9 @@
 use super::common::{emit, rapid, MAX_PASSES};
 use crate::gcode::Block;
 use crate::geom::P2;
-use crate::interp::block::Words;
 use crate::interp::flow::Run;
 use crate::interp::state::Motion;
+use crate::interp::words::Words;
 use crate::interp::{Feed, MoveKind, SpindleDir};
 
 pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {

@@ -33,9 +33,9 @@
 //! with the spindle turning, the spindle. G81, G82 and G86 keep the spindle-axis meaning of
 //! `drill.rs` (they are not Fanuc lathe drilling cycles).
 
-use super::super::block::Words;
 use super::super::flow::Run;
 use super::super::state::Motion;
+use super::super::words::Words;
 use super::super::{Feed, MoveKind};
 use super::box_::go;
 use crate::gcode::Block;

@@ -12,8 +12,8 @@
 //! LinuxCNC: `lcnc_thread` (G33.1 rigid tapping, G76), `lcnc_drill` (G73, G74, G81–G89
 //! along Z in G17) and `lcnc_rough` (G70, G71, G72 and their .1/.2 forms, o-word profiles).
 
-use super::block::Words;
 use super::flow::Run;
+use super::words::Words;
 use crate::gcode::Block;
 
 mod box_;

@@ -4,8 +4,8 @@
 use super::common::{self, emit, feed, rapid, Seg, Traced, MAX_PASSES};
 use crate::gcode::Block;
 use crate::geom::{P2, V2};
-use crate::interp::block::Words;
 use crate::interp::flow::Run;
+use crate::interp::words::Words;
 use crate::interp::{Feed, MoveKind};
 
 /// Retract e when no `G71 U R` / `G72 W R` block set one (Haas: setting 73), mm.

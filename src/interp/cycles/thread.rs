@@ -20,8 +20,8 @@
 //! synchronised, feed per revolution = lead), with r > 0 a 45° chamfer-out of length r·L/10 at
 //! its end, the rapid out in X to the start X and the rapid back to the start point.
 
-use super::super::block::Words;
 use super::super::flow::Run;
+use super::super::words::Words;
 use super::super::{Feed, MoveKind};
 use super::box_::go;
 use crate::gcode::Block;
