@@ -28,8 +28,8 @@
 
 use super::arc::{arc_from_center, arc_from_radius};
 use super::flow::Run;
+use super::letters::Letters;
 use super::state::Motion;
-use super::words::Words;
 use super::{Feed, MoveKind};
 use crate::gcode::Block;
 use crate::geom::P2;
@@ -111,7 +111,7 @@ impl Run<'_> {
     }
 
     /// A motion block in the mode: G1, G2, G3 in the X–C plane (Z may move along).
-    pub(crate) fn polar_motion(&mut self, b: &Block, w: &mut Words) {
+    pub(crate) fn polar_motion(&mut self, b: &Block, w: &mut Letters) {
         let Some(p) = self.tm.as_ref().and_then(|t| t.polar) else {
             return;
         };

@@ -14,7 +14,7 @@ impl Run<'_> {
     /// state; sets [`Cx::ends`].
     pub(crate) fn convert_m_codes(&mut self, b: &Block, w: &mut Words, cx: &mut Cx) {
         if w.nm > 0 {
-            cx.ends = self.m_codes(b, w);
+            cx.ends = self.m_codes(b, &w.m[..w.nm], &mut w.letters);
             if w.m(70) || w.m(73) {
                 if w.m(73) {
                     let m = self.modal.clone();

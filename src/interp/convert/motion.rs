@@ -10,8 +10,10 @@ use crate::geom::P2;
 use crate::interp::arc::{arc_from_center, arc_from_radius};
 use crate::interp::block::in_range;
 use crate::interp::comp;
+use crate::interp::cycles::{self, CycleWords};
 use crate::interp::flow::Run;
 use crate::interp::groups::g_name;
+use crate::interp::letters::Letters;
 use crate::interp::order::Cx;
 use crate::interp::state::Motion;
 use crate::interp::words::Words;
@@ -85,7 +87,7 @@ impl Run<'_> {
                 w.used = w.has;
             } else if self.cycles.profile_corners.is_some() && (w.peek(b'A') || w.peek(b'C')) {
                 // A LinuxCNC G7x profile: A and C round or bevel the corner after this move.
-                crate::interp::cycles::lcnc_rough::corner_words(self, b, w);
+                cycles::lcnc_rough::corner_words(self, b, w);
             }
         } else if let Some(at) = g53 {
             if !axis {
@@ -100,11 +102,20 @@ impl Run<'_> {
     /// compensated like any path; roughing and other cycles run on the programmed profile, and
     /// compensation starts again with the next move (docs/comp.md).
     fn run_cycle(&mut self, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+        let mut cw = cycle_words(w, code, at);
+        let ran = self.cycle_with_comp_aside(b, &mut cw);
+        w.letters = cw.letters;
+        ran
+    }
+
+    /// [`Self::run_cycle`] with the cycle's words as the cycles read them.
+    fn cycle_with_comp_aside(&mut self, b: &Block, cw: &mut CycleWords) -> bool {
+        let (code, at) = (cw.code, cw.at);
         if code == 700 && self.machine.dialect == Dialect::Fanuc {
-            return self.fanuc_g70(b, w, at);
+            return self.fanuc_g70(b, cw);
         }
         let Some(mut comp) = self.comp.take() else {
-            return crate::interp::cycles::run(self, b, w, code, at);
+            return cycles::run(self, b, cw);
         };
         if comp.is_on()
             && self.machine.dialect == Dialect::Linuxcnc
@@ -132,7 +143,7 @@ impl Run<'_> {
         if lcnc_g70 {
             self.cycles.lcnc_g70_comp = Some(Default::default());
         }
-        let ran = crate::interp::cycles::run(self, b, w, code, at);
+        let ran = cycles::run(self, b, cw);
         // Where rs274 read the profile, as an index into the cycle's moves.
         let read = self
             .cycles
@@ -170,10 +181,10 @@ impl Run<'_> {
     /// compensation as plain blocks would: what waits for its corner (a start-up block just
     /// before the G70) is settled by the cycle's first move, and the profile's own G41/G42/G40
     /// act before the moves of their blocks. Compensation is then as the profile left it.
-    fn fanuc_g70(&mut self, b: &Block, w: &mut Words, at: u32) -> bool {
+    fn fanuc_g70(&mut self, b: &Block, cw: &mut CycleWords) -> bool {
         let comp = self.comp.take();
         let m0 = self.moves.len();
-        let ran = crate::interp::cycles::run(self, b, w, 700, at);
+        let ran = cycles::run(self, b, cw);
         let words = std::mem::take(&mut self.cycles.g70_comp);
         let mut comp = match comp {
             Some(c) => c,
@@ -195,7 +206,7 @@ impl Run<'_> {
         comp: &mut comp::Comp,
         m0: usize,
         read: Option<(usize, P2)>,
-        words: &[crate::interp::cycles::ProfileComp],
+        words: &[cycles::ProfileComp],
     ) {
         let made: Vec<Move> = self.moves.drain(m0..).collect();
         let mut failed = None;
@@ -235,7 +246,7 @@ impl Run<'_> {
     }
 
     /// Target programmed point of the axis words (X/Z absolute or incremental, U/W incremental).
-    pub(crate) fn target(&mut self, b: &Block, w: &mut Words) -> Option<P2> {
+    pub(crate) fn target(&mut self, b: &Block, w: &mut Letters) -> Option<P2> {
         let cur = self.programmed();
         let origin = self.origin();
         let s = self.scale();
@@ -309,7 +320,10 @@ impl Run<'_> {
         }
         if let (Some(Motion::Cycle(code)), false) = (self.modal.motion, g53) {
             // A later block of a modal cycle: the cycle again with the new words.
-            if crate::interp::cycles::repeat(self, b, w, code) {
+            let mut cw = cycle_words(w, code, 0);
+            let ran = cycles::repeat(self, b, &mut cw);
+            w.letters = cw.letters;
+            if ran {
                 return;
             }
         }
@@ -463,7 +477,20 @@ impl Run<'_> {
         }
     }
 
-    fn val(&self, w: &mut Words, letter: u8) -> f64 {
+    fn val(&self, w: &mut Letters, letter: u8) -> f64 {
         w.get(letter).unwrap_or(0.0)
+    }
+}
+
+/// The plain data a canned cycle reads of its block ([`CycleWords`]), built here and nowhere
+/// else: the cycle's code and word, the block's letter words, and the program flow on its line.
+fn cycle_words(w: &Words, code: u16, at: u32) -> CycleWords {
+    CycleWords {
+        code,
+        at,
+        letters: w.letters,
+        ends: w.has_m(2).is_some() || w.has_m(30).is_some(),
+        m98: w.has_m(98),
+        m99: w.has_m(99),
     }
 }

@@ -39,7 +39,8 @@ impl Run<'_> {
     pub(crate) fn convert_cylindrical(&mut self, b: &Block, w: &mut Words) {
         if self.machine.dialect == Dialect::Fanuc && w.ng > 0 {
             if let Some(at) = w.find_g(71).or(w.find_g(1070)) {
-                self.cylindrical_code(b, w, at);
+                let g40 = w.has_g(400);
+                self.cylindrical_code(b, w, at, g40);
             }
         }
     }

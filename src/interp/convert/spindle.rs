@@ -21,7 +21,7 @@ impl Run<'_> {
         if w.peek(b'S') || w.any_g(SPINDLE_CODES) {
             let clamp_block = fanuc && (w.g(500) || w.g(920)) && !axis;
             // `S2000 M13`: the S is the live tool's speed, not the main spindle's.
-            let live_s = self.live_start_takes_s(w);
+            let live_s = self.live_start_takes_s(w, w.m_codes());
             if let Some(s) = w.peek(b'S').then(|| w.get(b'S')).flatten() {
                 if !s.is_finite() {
                     self.error(b, w.at(b'S'), format!("spindle speed S{s} is not a finite number"));
