@@ -18,7 +18,7 @@
 //! | 6 | `convert_dwell` | G4 (0) | `convert/dwell.rs` |
 //! | 7 | `convert_plane_and_comp` | G17/G18/G19 (2), G12.1/G13.1 (21), G40–G42 (7), G43/G49 (8), G54–G59 (12), G61/G64 (13) | `convert/plane.rs` |
 //! | 8 | `convert_coordinates` | G28/G30, G10, G50/G92 X Z, G52, G92.1/G92.2 (0) | `convert/coords.rs` |
-//! | 9 | `convert_motion` | G0–G3, G32/G33, the canned cycles (1), G80 (Fanuc 9), G53 | `convert/motion.rs` |
+//! | 9 | `convert_motion` | G0–G3, G32/G33, the canned cycles (1), G80 (Fanuc 9), G53 | `convert/motion.rs`, `convert/cycle.rs` |
 //! | 10 | `convert_flow` | M98/M99, program end, the words no code used | `convert/flow.rs` |
 //!
 //! Where the order comes from: the "Order of Execution" table of LinuxCNC's G-code overview

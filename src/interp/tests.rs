@@ -26,6 +26,7 @@ fn every_g_code_the_block_executor_tests_has_a_bit() {
         include_str!("groups.rs"),
         include_str!("order.rs"),
         include_str!("convert/coords.rs"),
+        include_str!("convert/cycle.rs"),
         include_str!("convert/dwell.rs"),
         include_str!("convert/feed.rs"),
         include_str!("convert/flow.rs"),

@@ -3,6 +3,7 @@
 //! of steps and where it comes from, is in `order.rs`.
 
 mod coords;
+mod cycle;
 mod dwell;
 mod feed;
 mod flow;
