@@ -24,9 +24,9 @@
 //! Where the order comes from: the "Order of Execution" table of LinuxCNC's G-code overview
 //! (feed mode, feed, speed, tool selection, tool change, spindle, coolant and the other M codes,
 //! dwell, plane, units, cutter compensation, length offset, coordinate system, path mode,
-//! distance mode, retract mode, the non-modal coordinate codes and returns home, motion, stop),
-//! and for Fanuc the operator's manual of the Series 0i-TD (B-64304EN): its G-code list by
-//! group, G-code systems A and B (`G50`/`G92`, `G90`/`G77`…), the T word that indexes at once.
+//! distance mode, retract mode, the non-modal coordinate codes and returns home, motion, stop).
+//! The Fanuc dialect runs the same order over the codes, modal groups and G-code systems A and B
+//! (`G50`/`G92`, `G90`/`G77`…) of the Series 0i-TD operator's manual (B-64304EN).
 //! Where latheguard's order differs from LinuxCNC's table, in both dialects: units, diameter and
 //! distance modes come first (step 1), since they govern how every later value reads; the
 //! retract mode G98/G99 is read with the feed modes (step 2: on Fanuc they are feed modes in

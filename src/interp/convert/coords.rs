@@ -17,8 +17,9 @@ const NONMODAL_CODES: u128 =
     gb(280) | gb(281) | gb(300) | gb(301) | gb(100) | gb(500) | gb(520) | gb(920) | gb(921) | gb(922);
 
 impl Run<'_> {
-    /// Step 8: G28, G30, G10, G50/G92, G52. Touches the shift of program zero and the
-    /// machine's position (the returns); sets [`Cx::axes_taken`].
+    /// Step 8: G28, G30, G10, G50/G92, G52 (group 0). Touches the shift of program zero and the
+    /// machine's position (the returns); sets [`Cx::axes_taken`]. Order: LinuxCNC's "go to
+    /// reference location, change coordinate system data, set axis offsets", just before motion.
     pub(crate) fn convert_coordinates(&mut self, b: &Block, w: &mut Words, cx: &mut Cx) {
         let Cx { fanuc, sys_b, axis, .. } = *cx;
         if w.any_g(NONMODAL_CODES) {

@@ -11,7 +11,8 @@ use crate::interp::words::Words;
 use crate::interp::{Feed, MoveKind};
 
 impl Run<'_> {
-    /// Step 6: G4. Makes the dwell; sets [`Cx::axes_taken`] when Fanuc's G4 took the axis words.
+    /// Step 6: G4 (group 0). Makes the dwell; sets [`Cx::axes_taken`] when Fanuc's G4 took the
+    /// axis words. Order: LinuxCNC's "dwell", after the M codes and before the plane.
     pub(crate) fn convert_dwell(&mut self, b: &Block, w: &mut Words, cx: &mut Cx) {
         if w.g(40) {
             self.dwell(b, w.has_g(40), w, cx.fanuc);

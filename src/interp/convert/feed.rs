@@ -14,8 +14,10 @@ use crate::interp::Feed;
 const FEED_MODE_CODES: u128 = gb(930) | gb(940) | gb(950) | gb(980) | gb(990);
 
 impl Run<'_> {
-    /// Step 2: feed mode and feed. Touches `modal.feed_per_rev`, `modal.feed` and the drilling
-    /// cycles' return level.
+    /// Step 2: feed mode and feed (group 5; G98/G99 group 10 or, Fanuc system A, 5). Touches
+    /// `modal.feed_per_rev`, `modal.feed` and the drilling cycles' return level. Order:
+    /// LinuxCNC's "set feed rate mode", then "set feed rate" (its "set retract mode" is read here
+    /// too, see `order.rs`).
     pub(crate) fn convert_feed(&mut self, b: &Block, w: &mut Words, cx: &Cx) {
         let Cx { fanuc, sys_b, axis, .. } = *cx;
         if w.any_g(FEED_MODE_CODES) {

@@ -8,8 +8,9 @@ use crate::interp::order::Cx;
 use crate::interp::words::Words;
 
 impl Run<'_> {
-    /// Step 10: M98/M99, the unused words, the program's end. Touches the call stack and
-    /// `stopped`.
+    /// Step 10: M98/M99 (M group 10), the unused words, the program's
+    /// end. Touches the call stack and `stopped`. Order: LinuxCNC's "stop" (M2, M30) comes
+    /// last, after motion; Fanuc's subprogram call and return end the block the same way.
     pub(crate) fn convert_flow(&mut self, b: &Block, w: &mut Words, cx: &Cx) {
         if w.m(98) {
             let p = w.get(b'P');

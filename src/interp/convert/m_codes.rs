@@ -10,8 +10,10 @@ use crate::interp::order::Cx;
 use crate::interp::words::Words;
 
 impl Run<'_> {
-    /// Step 5: the block's M codes. Touches the spindle direction, the devices, the saved modal
-    /// state; sets [`Cx::ends`].
+    /// Step 5: the block's M codes (the M groups of `groups.rs`: spindle 7, coolant 8,
+    /// overrides 9, stops 4, modal state 11). Touches the spindle direction, the devices, the saved modal state; sets
+    /// [`Cx::ends`]. Order: LinuxCNC's "spindle on or off", "save/restore state", "coolant",
+    /// "overrides", after the tool change and before the dwell.
     pub(crate) fn convert_m_codes(&mut self, b: &Block, w: &mut Words, cx: &mut Cx) {
         if w.nm > 0 {
             cx.ends = self.m_codes(b, &w.m[..w.nm], &mut w.letters);

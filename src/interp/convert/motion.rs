@@ -21,8 +21,9 @@ use crate::machine::Dialect;
 use std::ops::ControlFlow;
 
 impl Run<'_> {
-    /// Step 9: the motion code and the move of the axis words. Touches `modal.motion` and
-    /// makes the block's moves. `Break` when a canned cycle ran (the block is done) or a motion
+    /// Step 9: the motion code (group 1; Fanuc's G80 group 9 here) and the move of the axis
+    /// words. Touches `modal.motion` and makes the block's moves. Order: LinuxCNC's "perform
+    /// motion, as modified (possibly) by G53", after every modal setting of the block. `Break` when a canned cycle ran (the block is done) or a motion
     /// code latheguard does not model stopped the block (reported).
     pub(crate) fn convert_motion(&mut self, b: &Block, w: &mut Words, cx: &Cx) -> ControlFlow<()> {
         let Cx {

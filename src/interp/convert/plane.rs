@@ -45,9 +45,12 @@ impl Run<'_> {
         }
     }
 
-    /// Step 7: plane, polar interpolation, compensation, length offset, work coordinate system,
-    /// path mode. Touches `modal.plane_xz`/`plane_xy`, the polar mode, the compensation stage,
-    /// program zero (G54–G59); sets [`Cx::plane_error_here`].
+    /// Step 7: plane (group 2), polar interpolation (21), compensation (7), length offset (8),
+    /// work coordinate system (12), path mode (13). Touches `modal.plane_xz`/`plane_xy`, the
+    /// polar mode, the compensation stage, program zero (G54–G59); sets
+    /// [`Cx::plane_error_here`]. Order: LinuxCNC's "set active plane", "cutter radius
+    /// compensation", "cutter length compensation", "coordinate system selection", "set path
+    /// control mode", in that order.
     pub(crate) fn convert_plane_and_comp(&mut self, b: &Block, w: &mut Words, cx: &mut Cx) {
         let fanuc = cx.fanuc;
         // LinuxCNC lathe programs select G17 to drill along Z (src/interp/cycles/lcnc_drill.rs).

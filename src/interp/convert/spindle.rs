@@ -14,8 +14,9 @@ use crate::machine::Dialect;
 const SPINDLE_CODES: u128 = gb(960) | gb(970);
 
 impl Run<'_> {
-    /// Step 3: spindle speed and mode. Touches `modal.s`, `modal.spindle_css`,
-    /// `modal.css_clamp`.
+    /// Step 3: spindle speed and mode (G96/G97, group 14). Touches `modal.s`,
+    /// `modal.spindle_css`, `modal.css_clamp`. Order: LinuxCNC's "set spindle speed", after the
+    /// feed and before the tool.
     pub(crate) fn convert_spindle(&mut self, b: &Block, w: &mut Words, cx: &Cx) {
         let Cx { fanuc, axis, .. } = *cx;
         if w.peek(b'S') || w.any_g(SPINDLE_CODES) {

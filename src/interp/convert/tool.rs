@@ -19,8 +19,9 @@ pub(crate) fn tip_of(machine: &crate::machine::Machine, station: u32) -> V2 {
 }
 
 impl Run<'_> {
-    /// Step 4: T and M6. Touches the station, the tool tip, `selected`, `devices.tool_unknown`
-    /// (and makes the index move).
+    /// Step 4: T and M6 (M group 6). Touches the station, the tool tip, `selected`,
+    /// `devices.tool_unknown` (and makes the index move). Order: LinuxCNC's "select tool", then
+    /// "change tool", before the spindle codes; a Fanuc lathe indexes at the T word.
     pub(crate) fn convert_tool(&mut self, b: &Block, w: &mut Words, cx: &Cx) {
         let fanuc = cx.fanuc;
         if w.peek(b'T') || w.nm > 0 {

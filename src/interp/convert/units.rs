@@ -14,8 +14,9 @@ use crate::interp::words::{gb, Words};
 const UNIT_AND_DISTANCE_CODES: u128 = gb(70) | gb(80) | gb(200) | gb(210) | gb(900) | gb(910) | gb(901) | gb(911);
 
 impl Run<'_> {
-    /// Step 1: units, diameter/radius mode, distance modes. Touches `modal.inch`,
-    /// `modal.diameter`, `modal.incremental`, `modal.arc_incremental`.
+    /// Step 1: units (group 6), diameter/radius mode (15), distance modes (3, 4). Touches
+    /// `modal.inch`, `modal.diameter`, `modal.incremental`, `modal.arc_incremental`. Order:
+    /// first, ahead of LinuxCNC's "set length units" and "set distance mode" (see `order.rs`).
     pub(crate) fn convert_units(&mut self, w: &Words, cx: &Cx) {
         let Cx { fanuc, sys_b, axis, .. } = *cx;
         if w.any_g(UNIT_AND_DISTANCE_CODES) {
