@@ -13,8 +13,8 @@
 //! stays where it is (the tool on the cylinder) unless given. Not modelled: rapids in the mode (a `program` error: the control alarms).
 
 use super::arc::arc_from_radius;
-use super::block::Words;
 use super::flow::Run;
+use super::letters::Letters;
 use super::polar::contour_path;
 use crate::gcode::Block;
 use crate::geom::P2;
@@ -30,8 +30,9 @@ impl Run<'_> {
         self.tm.as_ref().and_then(|t| t.cylinder)
     }
 
-    /// G7.1 C<r>: on for radius r; C0: off. The block's C word is taken here.
-    pub(crate) fn cylindrical_code(&mut self, b: &Block, w: &mut Words, at: u32) {
+    /// G7.1 C<r>: on for radius r; C0: off. The block's C word is taken here; `g40` is the
+    /// block's G40 word, if any.
+    pub(crate) fn cylindrical_code(&mut self, b: &Block, w: &mut Letters, at: u32, g40: Option<u32>) {
         let s = self.scale();
         let Some(r) = w.take(b'C') else {
             self.error(
@@ -54,7 +55,7 @@ impl Run<'_> {
         if r == 0.0 {
             // Cutter compensation ends with the mode (`contour_comp_end`).
             let plane = super::contour_comp::Plane::Cylinder(self.cylindrical().unwrap_or(0.0));
-            self.contour_comp_end(b, at, w.has_g(400), plane);
+            self.contour_comp_end(b, at, g40, plane);
             if let Some(tm) = self.tm.as_deref_mut() {
                 tm.cylinder = None;
                 tm.cylinder_prog = None;
@@ -89,7 +90,7 @@ impl Run<'_> {
     }
 
     /// A motion block in the mode: G1 or G2/G3 (R) in the unrolled (Z, s) plane.
-    pub(crate) fn cylindrical_motion(&mut self, b: &Block, w: &mut Words, radius: f64) {
+    pub(crate) fn cylindrical_motion(&mut self, b: &Block, w: &mut Letters, radius: f64) {
         let (named_z, named_c) = (w.peek(b'Z'), w.peek(b'C'));
         let Some(end) = self.target(b, w) else { return };
         let Some(extra) = self.extra_target(b, w, false) else {

@@ -194,7 +194,7 @@ impl Run<'_> {
             "_spindle_cw" => bool_f(self.spindle_dir == super::SpindleDir::Cw),
             "_current_tool" => self.station as f64,
             "_selected_tool" => match self.selected.unwrap_or(self.station) {
-                super::block::UNMAPPED => -1.0,
+                super::convert::UNMAPPED => -1.0,
                 t => f64::from(t),
             },
             "_feed" => m.feed,

@@ -260,7 +260,7 @@ pub(crate) struct Run<'a> {
     /// Take [`Run::plain_block`] for the blocks it serves (off only in tests that compare).
     pub(crate) plain_blocks_fast: bool,
     /// The word table of [`Run::execute`], kept between blocks.
-    pub(super) words: Option<Box<super::block::Words>>,
+    pub(super) words: Option<Box<super::words::Words>>,
     /// What canned cycles remember between blocks (Fanuc two-block forms, N-number index).
     pub(super) cycles: super::cycles::Memory,
     /// The modal words of the canned cycle in force (Fanuc box and drilling cycles).
@@ -327,7 +327,7 @@ impl<'a> Run<'a> {
             frames: Vec::new(),
             reference: machine.home,
             station,
-            tip: super::block::tip_of(machine, station),
+            tip: super::convert::tip_of(machine, station),
             selected: None,
             spindle_dir: if machine.start_rpm.is_some() {
                 SpindleDir::Cw

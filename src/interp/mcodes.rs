@@ -1,6 +1,7 @@
 //! The M codes of a block, by the machine's table ([`crate::machine::McodeTable`]): spindle,
-//! coolant, tailstock, chuck and the other devices, program stops and end. M6, M98/M99 and
-//! M70–M73 steer the interpreter and stay in `block.rs`/`flow.rs`.
+//! coolant, tailstock, chuck and the other devices, program stops and end. M6 (step 4 of the
+//! order of execution, `convert/tool.rs`), M70–M73 (step 5, `convert/m_codes.rs`) and M98/M99
+//! (step 10, `convert/flow.rs`, run by `flow.rs`) steer the interpreter.
 //!
 //! What latheguard does with each action (see `docs/mcodes.md`): the spindle codes set the
 //! spindle of the following moves; the tailstock codes decide whether the tailstock is an
@@ -9,8 +10,8 @@
 //! devices (coolant, part catcher, bar feeder, conveyor) change nothing that is checked. A code the
 //! table lacks is a warning that names it.
 
-use super::block::Words;
 use super::flow::Run;
+use super::letters::Letters;
 use super::SpindleDir;
 use crate::gcode::Block;
 use crate::machine::MAction;
@@ -41,20 +42,21 @@ impl Devices {
 }
 
 impl Run<'_> {
-    /// Run the M codes of a block that the machine's table maps (step 5 of a block). Returns
-    /// whether one of them ends the program (run after the block's motion and flow).
-    pub(super) fn m_codes(&mut self, b: &Block, w: &mut Words) -> bool {
+    /// Run the M codes of a block (`list`, with their offsets, in block order) that the
+    /// machine's table maps (step 5 of the order of execution, `convert/m_codes.rs`); `w` the
+    /// block's letter words. Returns whether one of them ends the program (run after the block's
+    /// motion and flow).
+    pub(crate) fn m_codes(&mut self, b: &Block, list: &[(u16, u32)], w: &mut Letters) -> bool {
         let mut ends = false;
         let mut chuck_opened_at = None;
         let mut spindle_started_at = None;
         // In block order; the chuck is judged against the spindle as the block leaves it.
         let codes: [(u16, u32); 16] = {
             let mut c = [(0u16, 0u32); 16];
-            let list = w.m_codes();
             c[..list.len()].copy_from_slice(list);
             c
         };
-        let n = w.m_codes().len();
+        let n = list.len();
         for &(code, at) in &codes[..n] {
             if crate::machine::mcodes_reserved(code) {
                 continue;

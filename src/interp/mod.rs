@@ -11,18 +11,23 @@ mod block;
 pub mod canon;
 mod comp;
 mod contour_comp;
+mod convert;
 mod cycles;
 mod cylindrical;
 mod eval;
 mod flow;
+mod groups;
+mod letters;
 mod macro_b;
 mod mcodes;
 mod operations;
+mod order;
 mod polar;
 mod state;
 #[cfg(test)]
 mod tests;
 mod turnmill;
+mod words;
 
 use crate::finding::Finding;
 use crate::gcode::Program;
@@ -42,7 +47,7 @@ pub const MAX_COORD: f64 = 1e12;
 pub(crate) fn in_range_value(v: f64) -> bool {
     v.abs() <= MAX_COORD
 }
-pub(crate) use block::models_g;
+pub(crate) use groups::models_g;
 
 /// Direction of the spindle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

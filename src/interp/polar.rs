@@ -27,8 +27,8 @@
 //! in the mode (`unsupported`), and feeds per revolution.
 
 use super::arc::{arc_from_center, arc_from_radius};
-use super::block::Words;
 use super::flow::Run;
+use super::letters::Letters;
 use super::state::Motion;
 use super::{Feed, MoveKind};
 use crate::gcode::Block;
@@ -111,7 +111,7 @@ impl Run<'_> {
     }
 
     /// A motion block in the mode: G1, G2, G3 in the X–C plane (Z may move along).
-    pub(crate) fn polar_motion(&mut self, b: &Block, w: &mut Words) {
+    pub(crate) fn polar_motion(&mut self, b: &Block, w: &mut Letters) {
         let Some(p) = self.tm.as_ref().and_then(|t| t.polar) else {
             return;
         };

@@ -4,8 +4,8 @@
 //! programs run exactly as before (docs/turn-mill.md, "Axes and modes in programs").
 
 use super::arc::{arc_from_center, arc_from_radius};
-use super::block::Words;
 use super::flow::Run;
+use super::letters::Letters;
 use super::state::Motion;
 use super::{ExtraAxes, ExtraMove, Feed, MoveKind, Plane, PlaneArc, EXTRA_LETTERS};
 use crate::gcode::Block;
@@ -124,7 +124,7 @@ impl Run<'_> {
     }
 
     /// The block has a word for one of the machine's extra axes (Fanuc: also V, H).
-    pub(crate) fn extra_words(&self, w: &Words) -> bool {
+    pub(crate) fn extra_words(&self, w: &Letters) -> bool {
         let Some(tm) = self.tm.as_deref() else {
             return false;
         };
@@ -136,7 +136,7 @@ impl Run<'_> {
     }
 
     /// Which extra axes the block names (absolute or incremental word).
-    pub(crate) fn extra_named(&self, w: &Words) -> [bool; 4] {
+    pub(crate) fn extra_named(&self, w: &Letters) -> [bool; 4] {
         let mut named = [false; 4];
         let Some(tm) = self.tm.as_deref() else {
             return named;
@@ -154,7 +154,7 @@ impl Run<'_> {
     /// degrees with no wrap; with `g53`, axis values. `None` after a finding (a C word with the
     /// spindle not in C-axis mode, an absolute and incremental word together, a value out of
     /// range).
-    pub(crate) fn extra_target(&mut self, b: &Block, w: &mut Words, g53: bool) -> Option<ExtraAxes> {
+    pub(crate) fn extra_target(&mut self, b: &Block, w: &mut Letters, g53: bool) -> Option<ExtraAxes> {
         let tm = self.tm.as_deref()?;
         let fanuc = self.machine.dialect == Dialect::Fanuc;
         let s = self.scale();
@@ -213,7 +213,7 @@ impl Run<'_> {
 
     /// The extra axes' target of the block ([`Self::extra_target`]) on a turn-mill machine,
     /// `Some(None)` on a 2-axis one (nothing to read), `None` after a finding.
-    pub(crate) fn extra_end(&mut self, b: &Block, w: &mut Words, g53: bool) -> Option<Option<ExtraAxes>> {
+    pub(crate) fn extra_end(&mut self, b: &Block, w: &mut Letters, g53: bool) -> Option<Option<ExtraAxes>> {
         if self.tm.is_none() {
             return Some(None);
         }
@@ -284,7 +284,7 @@ impl Run<'_> {
 
     /// G92 / G50 (coordinate setting): the current extra-axis values get the given program
     /// values. G52: the offsets are the given values (0 for the axes not named).
-    pub(crate) fn extra_set_origin(&mut self, w: &mut Words, g52: bool) {
+    pub(crate) fn extra_set_origin(&mut self, w: &mut Letters, g52: bool) {
         let s = self.scale();
         let Some(tm) = self.tm.as_deref_mut() else {
             return;
@@ -309,7 +309,7 @@ impl Run<'_> {
     }
 
     /// A turn-mill M code (c_axis_on, c_axis_off, live_tool_*). Returns whether it was one.
-    pub(crate) fn turn_mill_m_code(&mut self, b: &Block, w: &mut Words, action: MAction, code: u16, at: u32) -> bool {
+    pub(crate) fn turn_mill_m_code(&mut self, b: &Block, w: &mut Letters, action: MAction, code: u16, at: u32) -> bool {
         if !matches!(
             action,
             MAction::CAxisOn | MAction::CAxisOff | MAction::LiveToolCw | MAction::LiveToolCcw | MAction::LiveToolStop
@@ -361,11 +361,12 @@ impl Run<'_> {
     }
 
     /// The block starts the live tool with no P word: its S word is the live tool's speed
-    /// (Mori Seiki's and other Fanuc builders' `S2000 M13`), not the main spindle's.
-    pub(crate) fn live_start_takes_s(&self, w: &Words) -> bool {
+    /// (Mori Seiki's and other Fanuc builders' `S2000 M13`), not the main spindle's. `m_codes`:
+    /// the block's M codes with their offsets.
+    pub(crate) fn live_start_takes_s(&self, w: &Letters, m_codes: &[(u16, u32)]) -> bool {
         self.tm.is_some()
             && !w.peek(b'P')
-            && w.m_codes().iter().any(|&(c, _)| {
+            && m_codes.iter().any(|&(c, _)| {
                 matches!(
                     self.machine.mcodes.action(c),
                     Some(MAction::LiveToolCw | MAction::LiveToolCcw)
@@ -388,7 +389,7 @@ impl Run<'_> {
     pub(crate) fn plane_arc(
         &mut self,
         b: &Block,
-        w: &mut Words,
+        w: &mut Letters,
         motion: Motion,
         start: P2,
         end: P2,

@@ -10,12 +10,12 @@
 //! end; 0 for a straight cut. X(U), Z(W) and R are modal while the cycle is: a later block with
 //! only X (or Z) makes the next box from the same start point with the other values kept.
 
-use super::super::block::Words;
 use super::super::flow::Run;
 use super::super::state::Motion;
 use super::super::{Feed, MoveKind};
 use crate::gcode::Block;
 use crate::geom::P2;
+use crate::interp::letters::Letters;
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Kind {
@@ -32,7 +32,7 @@ fn kind(code: u16) -> Kind {
     }
 }
 
-pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, _at: u32) -> bool {
+pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16, _at: u32) -> bool {
     if !w.axis_words() {
         // No axis words: no cycle. G90 is then the absolute mode (step 1), G94 the feed per
         // minute (step 2) and G92 S the spindle clamp (step 3), as programs written for G-code
@@ -49,13 +49,13 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, _at: u
     true
 }
 
-pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
+pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16) {
     one_box(run, b, w, code);
 }
 
 /// The cycle's end point: the axis words of the block, the modal ones for the axes it does not
 /// name. `None` (reported) when an axis was never given.
-pub(super) fn end_point(run: &mut Run<'_>, b: &Block, w: &mut Words, what: &str) -> Option<P2> {
+pub(super) fn end_point(run: &mut Run<'_>, b: &Block, w: &mut Letters, what: &str) -> Option<P2> {
     let gx = w.peek(b'X') || w.peek(b'U');
     let gz = w.peek(b'Z') || w.peek(b'W');
     let t = run.target(b, w)?;
@@ -74,7 +74,7 @@ pub(super) fn end_point(run: &mut Run<'_>, b: &Block, w: &mut Words, what: &str)
     Some(P2::new(x, z))
 }
 
-fn one_box(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
+fn one_box(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16) {
     let k = kind(code);
     let name = format!("G{}", code / 10);
     if let Some(r) = w.get(b'R') {

@@ -26,13 +26,13 @@
 //! the feed modes), G98 initial / G99 R level in system B. Modal until G80 or a group-01 code: a
 //! later block with Z (or X0) drills the next hole with the same R, Q, P.
 
-use super::super::block::Words;
 use super::super::flow::Run;
 use super::super::state::Motion;
 use super::super::{ExtraAxes, Feed, MoveKind, SpindleDir};
 use super::box_::go;
 use crate::gcode::Block;
 use crate::geom::P2;
+use crate::interp::letters::Letters;
 use crate::machine::{DrillR, GcodeSystem};
 
 /// The clearance above the last depth where a G83 peck's rapid back down stops, mm.
@@ -40,7 +40,7 @@ pub(crate) const PECK_CLEARANCE_MM: f64 = 1.0;
 /// Most pecks of one hole; more is a `program` finding.
 pub(crate) const MAX_PECKS: u64 = 10_000;
 
-pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16, at: u32) -> bool {
     if code % 10 != 0 {
         return false;
     }
@@ -64,11 +64,11 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
     true
 }
 
-pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
+pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16) {
     hole(run, b, w, code);
 }
 
-fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
+fn hole(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16) {
     let s_ = run.scale();
     let gz = w.peek(b'Z') || w.peek(b'W');
     // A machine with a C axis indexes the spindle for a live tool's holes (Haas: C, and Y, on
@@ -274,7 +274,7 @@ pub(super) fn position(run: &mut Run<'_>, b: &Block, from: P2, to: P2, extra: Op
 
 /// A drilling cycle's P word, the dwell at the bottom in seconds: ms, or s when written with a
 /// decimal point (as G4 reads it).
-pub(super) fn dwell_word(w: &mut Words) -> Option<f64> {
+pub(super) fn dwell_word(w: &mut Letters) -> Option<f64> {
     let point = w.has_point(b'P');
     let v = w.get(b'P')?;
     Some(if point { v } else { v / 1000.0 })
@@ -290,7 +290,7 @@ pub(super) fn reversed(d: SpindleDir) -> SpindleDir {
 }
 
 /// A block whose cycle is reported as a whole: its words are accounted for by that finding.
-fn consume_all(w: &mut Words) {
+fn consume_all(w: &mut Letters) {
     for l in b'A'..=b'Z' {
         w.get(l);
     }

@@ -17,19 +17,19 @@
 //! (a feed along the shift axis, back toward S), the rapid out along the peck axis to S's level,
 //! and the rapid along the shift axis to the next groove. At the end a rapid back to S.
 
-use super::super::block::Words;
 use super::super::flow::Run;
 use super::super::{Feed, MoveKind};
 use super::box_::go;
 use crate::gcode::Block;
 use crate::geom::P2;
+use crate::interp::letters::Letters;
 
 /// The return amount e when no `G74 R` / `G75 R` block set one, mm.
 pub(crate) const DEFAULT_RETURN_MM: f64 = 1.0;
 /// Most moves one grooving cycle may make; more is a `program` finding.
 pub(crate) const MAX_MOVES: usize = 100_000;
 
-pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16, at: u32) -> bool {
     let face = code == 740;
     let name = if face { "G74" } else { "G75" };
     let axis = w.peek(b'X') || w.peek(b'Z') || w.peek(b'U') || w.peek(b'W');

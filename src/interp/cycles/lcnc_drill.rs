@@ -12,8 +12,8 @@
 use super::common::{emit, feed, rapid, MAX_PASSES};
 use crate::gcode::Block;
 use crate::geom::P2;
-use crate::interp::block::Words;
 use crate::interp::flow::Run;
+use crate::interp::letters::Letters;
 use crate::interp::state::Motion;
 use crate::interp::{Feed, MoveKind, SpindleDir};
 
@@ -40,7 +40,7 @@ fn is_drill(code: u16) -> bool {
     code == 730 || (810..=890).contains(&code)
 }
 
-pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16, at: u32) -> bool {
     let name = format!("G{}", code / 10);
     let at = (at > 0).then_some(at);
     if matches!(code, 870 | 880) {
@@ -89,7 +89,7 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
     true
 }
 
-fn drill(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, same: bool, series: bool) {
+fn drill(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16, name: &str, same: bool, series: bool) {
     let s = run.scale();
     let o = run.origin();
     let cur = run.programmed();

@@ -15,8 +15,8 @@ mod g7x;
 use super::common::{emit, feed, Mark, Seg, MAX_PASSES};
 use crate::gcode::{Block, OName};
 use crate::geom::{P2, V2};
-use crate::interp::block::Words;
 use crate::interp::flow::Run;
+use crate::interp::letters::Letters;
 use crate::interp::state::Motion;
 use crate::interp::MoveKind;
 use std::f64::consts::TAU;
@@ -280,7 +280,7 @@ pub(crate) struct Corner {
 
 /// The A or C word of a profile block that made a move (called by the block executor while a
 /// G7x profile is being collected): noted for the cycle to turn the corner at the move's end.
-pub(crate) fn corner_words(run: &mut Run<'_>, b: &Block, w: &mut Words) {
+pub(crate) fn corner_words(run: &mut Run<'_>, b: &Block, w: &mut Letters) {
     if !matches!(
         run.modal.motion,
         Some(Motion::Line | Motion::Rapid | Motion::ArcCw | Motion::ArcCcw)
@@ -453,7 +453,7 @@ fn turn_corners(segs: &mut Vec<Seg>, corners: &[(usize, Corner)]) -> Result<(), 
     Ok(())
 }
 
-pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16, at: u32) -> bool {
     let name = match code {
         700 => "G70",
         710 => "G71",
@@ -472,7 +472,7 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
 }
 
 /// The cycle; the motion mode to leave in force.
-fn cycle(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, name: &str, at: u32) -> Option<Motion> {
+fn cycle(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16, name: &str, at: u32) -> Option<Motion> {
     let at_o = (at > 0).then_some(at);
     let s = run.scale();
     let q = w.get(b'Q');

@@ -6,12 +6,12 @@
 use super::common::{emit, rapid, MAX_PASSES};
 use crate::gcode::Block;
 use crate::geom::P2;
-use crate::interp::block::Words;
 use crate::interp::flow::Run;
+use crate::interp::letters::Letters;
 use crate::interp::state::Motion;
 use crate::interp::{Feed, MoveKind, SpindleDir};
 
-pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16, at: u32) -> bool {
     let at = (at > 0).then_some(at);
     let name = if code == 331 { "G33.1" } else { "G76" };
     if run.spindle_dir == SpindleDir::Off {
@@ -31,7 +31,7 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
 
 /// G33.1 X Z K (I): feed to the point at K per revolution, reverse the spindle, feed back to
 /// where the tap started. I (the retract speed factor) changes no path.
-fn rigid_tap(run: &mut Run<'_>, b: &Block, w: &mut Words) {
+fn rigid_tap(run: &mut Run<'_>, b: &Block, w: &mut Letters) {
     let s = run.scale();
     let Some(k) = w.get(b'K').filter(|k| *k > 0.0) else {
         run.error(b, w.at(b'K'), "G33.1 needs K, the thread pitch (positive)".into());
@@ -46,13 +46,13 @@ fn rigid_tap(run: &mut Run<'_>, b: &Block, w: &mut Words) {
 }
 
 /// G76 P Z I J R K Q H E L: threading passes from the drive line (the current point).
-fn g76(run: &mut Run<'_>, b: &Block, w: &mut Words, at: Option<u32>) {
+fn g76(run: &mut Run<'_>, b: &Block, w: &mut Letters, at: Option<u32>) {
     if !run.modal.plane_xz {
         run.error(b, at, "G76 runs in the XZ plane: select G18".into());
         return;
     }
     let s = run.scale();
-    let word = |w: &mut Words, l: u8| w.get(l);
+    let word = |w: &mut Letters, l: u8| w.get(l);
     let (p, i, j, k) = (word(w, b'P'), word(w, b'I'), word(w, b'J'), word(w, b'K'));
     let (r, q, h, e, l) = (
         word(w, b'R'),

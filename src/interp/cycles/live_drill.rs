@@ -33,13 +33,13 @@
 //! with the spindle turning, the spindle. G81, G82 and G86 keep the spindle-axis meaning of
 //! `drill.rs` (they are not Fanuc lathe drilling cycles).
 
-use super::super::block::Words;
 use super::super::flow::Run;
 use super::super::state::Motion;
 use super::super::{Feed, MoveKind};
 use super::box_::go;
 use crate::gcode::Block;
 use crate::geom::P2;
+use crate::interp::letters::Letters;
 use crate::machine::GcodeSystem;
 
 /// The cycles this module runs (×10): the face and side drilling, tapping and boring cycles.
@@ -52,7 +52,7 @@ fn side(code: u16) -> bool {
     matches!(code, 870 | 880 | 890)
 }
 
-pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) -> bool {
+pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16) -> bool {
     // Another cycle along the same axis keeps the words in force (R, Q, P, the bottom, the
     // initial level); any other starts afresh.
     let same_axis = matches!(run.modal.motion, Some(Motion::Cycle(c)) if runs(c) && side(c) == side(code));
@@ -68,7 +68,7 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) -> boo
     true
 }
 
-pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
+pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16) {
     hole(run, b, w, code);
 }
 
@@ -91,7 +91,7 @@ fn point(code: u16, along: f64, at: f64) -> P2 {
     }
 }
 
-fn hole(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) {
+fn hole(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16) {
     let name = format!("G{}", code / 10);
     let side = side(code);
     let s_ = run.scale();

@@ -3,17 +3,19 @@
 //! cycle block's source line (and, for a move that follows a profile block, that block's line in
 //! `Move::profile_line`), so the checker sees them like any other move.
 //!
-//! The block executor (`block.rs`, step 9 "Motion") hands every motion code it does not run
-//! itself to [`run`]; a later block of a modal cycle (box, drilling and LinuxCNC cycles) comes
-//! back through [`repeat`]. One file per family: `rough` (Fanuc/Haas G70 finishing, G71/G72
+//! The order of execution's motion converter (`convert/motion.rs`, step 9) hands every motion
+//! code it does not run itself to [`run`]; a later block of a modal cycle (box, drilling and
+//! LinuxCNC cycles) comes back through [`repeat`]. Both take the cycle's block as plain data,
+//! [`CycleWords`], which the motion converter builds in one place: the cycle's code, its letter
+//! words and the program flow written on its line. No cycle sees the block's G or M codes. One file per family: `rough` (Fanuc/Haas G70 finishing, G71/G72
 //! stock removal, G73 pattern repeat; `common` holds their profile reading), `box_`
 //! (G90/G92/G94, system B G77/G78/G79), `thread` (G76), `groove` (G74/G75), `drill` (G80–G89
 //! on the spindle axis), `live_drill` (Fanuc's face and side cycles for live tools);
 //! LinuxCNC: `lcnc_thread` (G33.1 rigid tapping, G76), `lcnc_drill` (G73, G74, G81–G89
 //! along Z in G17) and `lcnc_rough` (G70, G71, G72 and their .1/.2 forms, o-word profiles).
 
-use super::block::Words;
 use super::flow::Run;
+use super::letters::Letters;
 use crate::gcode::Block;
 
 mod box_;
@@ -31,7 +33,7 @@ pub(crate) use common::{Memory, ProfileComp};
 
 /// A length word (Fanuc P/Q/R of the threading, grooving and drilling cycles) in the least input
 /// increment (0.001 mm, 0.0001 in) unless written with a decimal point; in mm.
-pub(super) fn least(run: &Run<'_>, w: &mut Words, letter: u8) -> Option<f64> {
+pub(super) fn least(run: &Run<'_>, w: &mut Letters, letter: u8) -> Option<f64> {
     let point = w.has_point(letter);
     let v = w.get(letter)?;
     let unit = if point {
@@ -61,10 +63,29 @@ pub(crate) struct Sticky {
     pub level: f64,
 }
 
-/// Run the cycle `code` (G number ×10) of block `b`; `at` is the offset of its G word. `true` when
-/// the cycle is one this module runs (its findings, if any, are reported); `false` leaves the
-/// code to the executor's `unsupported` report.
-pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+/// A cycle's block as the cycles read it, plain data built by the motion converter
+/// (`Run::cycle_words`): the letter words come back to the block afterwards, with the ones the
+/// cycle used marked (the rest are reported unused, as on any block).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CycleWords {
+    /// The cycle's G code (×10).
+    pub code: u16,
+    /// The offset of its G word (0 when a later block repeats a modal cycle).
+    pub at: u32,
+    /// The block's letter words.
+    pub letters: Letters,
+    /// Program flow on the cycle's line: M2 or M30 (the program ends after the cycle).
+    pub ends: bool,
+    /// The offsets of an M98 or M99 word on the cycle's line (not run: reported).
+    pub m98: Option<u32>,
+    pub m99: Option<u32>,
+}
+
+/// Run the cycle `cw.code` (G number ×10) of block `b`. `true` when the cycle is one this module
+/// runs (its findings, if any, are reported); `false` leaves the code to the motion converter's
+/// `unsupported` report.
+pub(crate) fn run(run: &mut Run<'_>, b: &Block, cw: &mut CycleWords) -> bool {
+    let (code, at, w) = (cw.code, cw.at, &mut cw.letters);
     let lcnc = run.machine.dialect == crate::machine::Dialect::Linuxcnc;
     // One dialect's families each: a Fanuc family never sees a LinuxCNC block, nor the reverse.
     let handled = if lcnc {
@@ -85,7 +106,7 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u3
     };
     // (Fanuc G70–G73 handle the flow codes of their own lines.)
     if handled && (lcnc || !(700..=730).contains(&code)) {
-        flow_codes_on_a_cycle_line(run, b, w);
+        flow_codes_on_a_cycle_line(run, b, cw);
     }
     handled
 }
@@ -98,12 +119,12 @@ fn fanuc_live(run: &Run<'_>, code: u16) -> bool {
 
 /// The executor returns after a cycle: program flow written on the cycle's own line is done
 /// here (M2/M30 end the program) or reported (M98/M99), never dropped.
-fn flow_codes_on_a_cycle_line(run: &mut Run<'_>, b: &Block, w: &Words) {
-    if w.has_m(2).is_some() || w.has_m(30).is_some() {
+fn flow_codes_on_a_cycle_line(run: &mut Run<'_>, b: &Block, cw: &CycleWords) {
+    if cw.ends {
         run.stopped = true;
     }
-    for m in [98u16, 99] {
-        if let Some(at) = w.has_m(m) {
+    for (m, at) in [(98u16, cw.m98), (99, cw.m99)] {
+        if let Some(at) = at {
             run.unsupported(
                 b,
                 Some(at),
@@ -134,10 +155,11 @@ pub(super) fn charge(run: &mut Run<'_>, b: &Block, moves: u64) -> bool {
     true
 }
 
-/// A block with axis words and no motion code while the modal cycle `code` is in force: the
+/// A block with axis words and no motion code while the modal cycle `cw.code` is in force: the
 /// cycle again with the new words. `false` when no family here runs it (the block then moves as
 /// an ordinary one).
-pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) -> bool {
+pub(crate) fn repeat(run: &mut Run<'_>, b: &Block, cw: &mut CycleWords) -> bool {
+    let (code, w) = (cw.code, &mut cw.letters);
     if run.machine.dialect == crate::machine::Dialect::Linuxcnc {
         return run_lcnc(run, b, w, code, 0);
     }
@@ -152,7 +174,7 @@ pub(super) fn repeat(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16) -> 
 
 /// The LinuxCNC threading and drilling cycles: on their own block, and run again by a later
 /// block with axis words while in force (as rs274ngc does; `at` is then 0).
-fn run_lcnc(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, at: u32) -> bool {
+fn run_lcnc(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16, at: u32) -> bool {
     match code {
         331 | 760 => lcnc_thread::run(run, b, w, code, at),
         730 | 740 | 810..=890 => lcnc_drill::run(run, b, w, code, at),

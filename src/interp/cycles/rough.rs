@@ -4,8 +4,8 @@
 use super::common::{self, emit, feed, rapid, Seg, Traced, MAX_PASSES};
 use crate::gcode::Block;
 use crate::geom::{P2, V2};
-use crate::interp::block::Words;
 use crate::interp::flow::Run;
+use crate::interp::letters::Letters;
 use crate::interp::{Feed, MoveKind};
 
 /// Retract e when no `G71 U R` / `G72 W R` block set one (Haas: setting 73), mm.
@@ -54,7 +54,7 @@ fn sign(v: f64, default: f64) -> f64 {
     }
 }
 
-pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, _at: u32) -> bool {
+pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Letters, code: u16, _at: u32) -> bool {
     match code {
         700 => g70(run, b, w),
         710 => g71_g72(run, b, w, Axes { facing: false }),
@@ -66,7 +66,7 @@ pub(super) fn run(run: &mut Run<'_>, b: &Block, w: &mut Words, code: u16, _at: u
 }
 
 /// The finishing allowance (Δu/2, Δw) in mm: U (diameter) or Haas I (radius), W or Haas K.
-fn allowance(run: &Run<'_>, w: &mut Words) -> V2 {
+fn allowance(run: &Run<'_>, w: &mut Letters) -> V2 {
     let s = run.scale();
     let x = match w.get(b'I') {
         Some(i) => i * s,
@@ -97,7 +97,7 @@ fn here(run: &Run<'_>) -> usize {
     run.pc.saturating_sub(1)
 }
 
-fn g71_g72(run: &mut Run<'_>, b: &Block, w: &mut Words, ax: Axes) {
+fn g71_g72(run: &mut Run<'_>, b: &Block, w: &mut Letters, ax: Axes) {
     let name = if ax.facing { "G72" } else { "G71" };
     let s = run.scale();
     if !w.peek(b'P') {
@@ -475,7 +475,7 @@ fn return_to(run: &mut Run<'_>, b: &Block, a: P2, dird: f64, ax: Axes) {
 }
 
 /// G70 P Q: the profile as programmed, with its own F, S and T, then back to the start point.
-fn g70(run: &mut Run<'_>, b: &Block, w: &mut Words) {
+fn g70(run: &mut Run<'_>, b: &Block, w: &mut Letters) {
     let Some(p) = w.get(b'P') else {
         run.error(b, None, "G70 needs P and Q, the profile's first and last blocks".into());
         return;
@@ -502,7 +502,7 @@ fn g70(run: &mut Run<'_>, b: &Block, w: &mut Words) {
 
 /// G73: the profile repeated d times, shifted by the relief (Δi, Δk) on the first pass and by
 /// nothing but the allowance on the last.
-fn g73(run: &mut Run<'_>, b: &Block, w: &mut Words) {
+fn g73(run: &mut Run<'_>, b: &Block, w: &mut Letters) {
     let s = run.scale();
     if !w.peek(b'P') {
         // G73 U(Δi) W(Δk) R(d)

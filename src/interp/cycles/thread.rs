@@ -20,12 +20,12 @@
 //! synchronised, feed per revolution = lead), with r > 0 a 45° chamfer-out of length r·L/10 at
 //! its end, the rapid out in X to the start X and the rapid back to the start point.
 
-use super::super::block::Words;
 use super::super::flow::Run;
 use super::super::{Feed, MoveKind};
 use super::box_::go;
 use crate::gcode::Block;
 use crate::geom::P2;
+use crate::interp::letters::Letters;
 
 /// Passes one cycle may make; more is a `program` finding (a tiny Δd with no Δdmin).
 pub(crate) const MAX_PASSES: usize = 10_000;
@@ -59,7 +59,7 @@ impl Default for G76Params {
     }
 }
 
-pub(super) fn g76(run: &mut Run<'_>, b: &Block, w: &mut Words, at: u32) -> bool {
+pub(super) fn g76(run: &mut Run<'_>, b: &Block, w: &mut Letters, at: u32) -> bool {
     let axis = w.peek(b'X') || w.peek(b'Z') || w.peek(b'U') || w.peek(b'W');
     if !axis {
         first_block(run, b, w, at);
@@ -72,7 +72,7 @@ pub(super) fn g76(run: &mut Run<'_>, b: &Block, w: &mut Words, at: u32) -> bool 
     true
 }
 
-fn first_block(run: &mut Run<'_>, b: &Block, w: &mut Words, at: u32) {
+fn first_block(run: &mut Run<'_>, b: &Block, w: &mut Letters, at: u32) {
     let mut g = run.cycles.g76;
     if let Some(p) = w.get(b'P') {
         if !(0.0..=999_999.0).contains(&p) || p.fract() != 0.0 {
@@ -137,7 +137,7 @@ struct Cut {
     lead: f64,
 }
 
-fn second_block(run: &mut Run<'_>, b: &Block, w: &mut Words, _at: u32) {
+fn second_block(run: &mut Run<'_>, b: &Block, w: &mut Letters, _at: u32) {
     let g = run.cycles.g76;
     let Some(end) = run.target(b, w) else { return };
     let taper = w.get(b'R').unwrap_or(0.0) * run.scale();
@@ -167,7 +167,7 @@ fn second_block(run: &mut Run<'_>, b: &Block, w: &mut Words, _at: u32) {
     passes(run, b, &cut);
 }
 
-fn haas(run: &mut Run<'_>, b: &Block, w: &mut Words, _at: u32) {
+fn haas(run: &mut Run<'_>, b: &Block, w: &mut Letters, _at: u32) {
     let Some(end) = run.target(b, w) else { return };
     let s = run.scale();
     let taper = w.get(b'I').unwrap_or(0.0) * s;
@@ -219,7 +219,7 @@ fn haas(run: &mut Run<'_>, b: &Block, w: &mut Words, _at: u32) {
 }
 
 /// The lead in mm: F of the block (also the modal F, as on the control), or the modal F.
-fn lead(run: &mut Run<'_>, b: &Block, w: &mut Words) -> Option<f64> {
+fn lead(run: &mut Run<'_>, b: &Block, w: &mut Letters) -> Option<f64> {
     let f = w.get(b'F').or_else(|| w.get(b'E')).unwrap_or(run.modal.feed);
     if f.is_nan() || f <= 0.0 {
         run.error(b, None, "G76 needs the thread lead (F word)".into());
