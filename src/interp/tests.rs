@@ -546,3 +546,28 @@ fn m99_in_the_main_program_is_a_warning_not_an_error() {
         assert!(i.moves.len() >= 2, "{src}: the pass before M99 is interpreted");
     }
 }
+
+/// Fanuc keeps one modal F for feed and thread lead: a G32 without F or E cuts at the F in
+/// force, a G1 after a thread without F feeds at the lead, and a K in a G32 block (LinuxCNC's
+/// G33 lead word) is a warning, the thread cut at the modal F. Before, a G32 without F was refused
+/// ("threading move needs its lead"): 32 false errors on two NX posts of the corpus.
+#[test]
+fn fanuc_g32_without_f_cuts_at_the_modal_f_and_its_f_stays_the_feed() {
+    use crate::finding::Severity;
+    use crate::interp::Feed;
+    let src = "G21 G18 G99\nT0101\nG97 S300 M3\nG0 X120 Z30\nG1 X118 F0.2\nG32 Z10 K1.5\nG0 X122\nZ30\nX118\nG32 Z10 F1.5\nG0 X122\nZ30\nX118\nG32 Z10\nG0 X122\nG1 Z40\nM30\n";
+    let (_, i) = crate::pipeline::interpret(src.as_bytes(), &Machine::builtin());
+    let feed = |line: u32| i.moves.iter().find(|m| m.line == line).map(|m| m.feed);
+    assert_eq!(feed(6), Some(Feed::PerRev(0.2)));
+    assert_eq!(feed(10), Some(Feed::PerRev(1.5)));
+    assert_eq!(feed(14), Some(Feed::PerRev(1.5)));
+    assert_eq!(feed(16), Some(Feed::PerRev(1.5)));
+    let k: Vec<_> = i.findings.iter().filter(|f| f.message.contains("not K")).collect();
+    assert_eq!(k.len(), 1, "{:?}", i.findings);
+    assert_eq!((k[0].line, k[0].severity), (6, Severity::Warning));
+    assert!(
+        i.findings.iter().all(|f| f.severity == Severity::Warning),
+        "{:?}",
+        i.findings
+    );
+}

@@ -49,9 +49,14 @@ impl Run<'_> {
                 }
             }
         }
+        // In a Fanuc G32 block F is the thread's lead (the motion step reads it); it is the same
+        // modal F register, so it stays the feed of later blocks too (as on the control: a G1
+        // after the thread without F feeds at the lead).
         let thread_lead_f = fanuc && (w.g(320) || w.g(330));
         if !thread_lead_f {
             self.feed_word(b, w);
+        } else if let Some(f) = w.get(b'F').filter(|f| *f > 0.0) {
+            self.modal.feed = f;
         }
     }
 

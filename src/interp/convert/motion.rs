@@ -100,6 +100,26 @@ impl Run<'_> {
         ControlFlow::Continue(())
     }
 
+    /// The lead of a Fanuc G32 block without F or E: the modal F, with a warning when the block
+    /// gives its lead as K (a LinuxCNC G33 word) and the two differ.
+    fn modal_lead(&mut self, b: &Block, w: &mut Letters) -> Option<f64> {
+        let f = self.modal.feed;
+        if let Some(k) = w.get(b'K') {
+            if f > 0.0 && (k - f).abs() > 1e-12 {
+                self.warn_once(
+                    b,
+                    w.at(b'K'),
+                    format!(
+                        "G32 takes its lead from F, not K (LinuxCNC's G33 word): this thread is cut at the modal F{} as its lead, not K{}",
+                        crate::tooling::fmt_mm(f),
+                        crate::tooling::fmt_mm(k)
+                    ),
+                );
+            }
+        }
+        (f > 0.0).then_some(f)
+    }
+
     /// Target programmed point of the axis words (X/Z absolute or incremental, U/W incremental).
     pub(crate) fn target(&mut self, b: &Block, w: &mut Letters) -> Option<P2> {
         let cur = self.programmed();
@@ -263,7 +283,14 @@ impl Run<'_> {
             Motion::Thread => {
                 let fanuc = self.machine.dialect == Dialect::Fanuc;
                 let lead = if fanuc {
-                    w.get(b'F').or(w.get(b'E'))
+                    match w.get(b'F').or(w.get(b'E')) {
+                        Some(l) => Some(l),
+                        // No F or E: the lead is the F register's value (one register for feed
+                        // and lead, modal), as a Fanuc or a Haas cuts it. A K there is LinuxCNC's
+                        // G33 lead word, which a Fanuc G32 does not read: the thread comes out
+                        // at the modal F, not at K.
+                        None => self.modal_lead(b, w),
+                    }
                 } else {
                     w.get(b'K')
                 };
