@@ -58,7 +58,10 @@ impl Run<'_> {
         };
         let n = list.len();
         for &(code, at) in &codes[..n] {
-            if crate::machine::mcodes_reserved(code) {
+            if crate::machine::mcodes_reserved(code)
+                || (code == 61 && self.machine.dialect == crate::machine::Dialect::Linuxcnc)
+            {
+                // LinuxCNC's M61 (set the tool number) is the tool step's (`convert/tool.rs`).
                 continue;
             }
             let Some(action) = self.machine.mcodes.action(code) else {

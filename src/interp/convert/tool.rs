@@ -28,6 +28,11 @@ impl Run<'_> {
             if let Some(t) = w.get(b'T') {
                 self.tool_word(b, t, w.at(b'T'), fanuc);
             }
+            if !fanuc {
+                if let Some(at) = w.has_m(61) {
+                    self.set_tool_number(b, w, at);
+                }
+            }
             if let Some(at) = w.has_m(6) {
                 if fanuc {
                     // Fanuc lathes index at the T word; M6 has nothing left to do.
@@ -81,6 +86,45 @@ impl Run<'_> {
         } else {
             self.selected = Some(station);
         }
+    }
+
+    /// LinuxCNC `M61 Q<tool>`: the control takes tool Q as the one in place, without a tool
+    /// change (nothing moves). When Q is the tool the turret holds (its station, through the
+    /// job's `[tool_numbers]`), nothing changes. Otherwise the program says a tool is in place
+    /// that the setup does not put there: latheguard checks the tool the turret holds, and says
+    /// so as an `unsupported` error (the offsets LinuxCNC then applies are tool Q's).
+    fn set_tool_number(&mut self, b: &Block, w: &mut Words, at: u32) {
+        let Some(q) = w.get(b'Q') else {
+            self.error(b, Some(at), "M61 needs Q, the tool number now in place".into());
+            return;
+        };
+        if q < 0.0 || q.fract() != 0.0 || q > 9999.0 {
+            self.error(b, w.at(b'Q'), format!("M61 Q{q}: Q is not a tool number"));
+            return;
+        }
+        let t = q as u32;
+        let station = if self.machine.tool_numbers.is_empty() {
+            Some(t)
+        } else {
+            self.machine.station_of_tool(t)
+        };
+        if t == 0 || station == Some(self.station) {
+            return;
+        }
+        let held = self.station;
+        let at_station = station.map_or_else(
+            || format!("tool {t} is in no station of the job's [tool_numbers]"),
+            |s| format!("tool {t} is in station {s}"),
+        );
+        self.unsupported(
+            b,
+            Some(at),
+            format!(
+                "M61 Q{t} says tool {t} is in place without a tool change, but the turret holds station {held} ({at_station}): \
+                 the moves are checked with station {held}'s tool; if tool {t} is in place when the program starts, set turret.start_station in the machine file"
+            ),
+            true,
+        );
     }
 
     fn change_tool(&mut self, b: &Block, station: u32, _at: Option<u32>) {
