@@ -761,8 +761,10 @@ pub(crate) fn work_offset_doubt(m_z: &super::Axis, machine_zero: P2, o: super::W
 struct RawTurret {
     #[serde(rename = "type")]
     kind: Option<RawTurretKind>,
-    #[schemars(with = "u32")]
-    stations: Spanned<u32>,
+    /// How many stations the turret has: 1 to 64.
+    // Read as any whole number, so that the error for -1 states the range too ([`MAX_STATIONS`]).
+    #[schemars(with = "u32", range(min = 1, max = 64))]
+    stations: Spanned<i64>,
     #[schemars(with = "Option<u32>")]
     start_station: Option<Spanned<u32>>,
     #[schemars(with = "Option<f64>")]
@@ -1469,8 +1471,8 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
 
     // [turret]
     let stations = *turret.stations.get_ref();
-    let stations = if (1..=MAX_STATIONS).contains(&stations) {
-        Some(stations)
+    let stations = if (1..=i64::from(MAX_STATIONS)).contains(&stations) {
+        Some(stations as u32)
     } else {
         cx.push(cx.err(
             turret.stations.span(),
@@ -2527,6 +2529,7 @@ fn plain_types(message: &str) -> String {
         .replace("unknown variant", "unknown value")
         .replace("expected f64", "expected a number")
         .replace("expected u32", "expected a whole number from 0 to 4294967295")
+        .replace("expected i64", "expected a whole number")
         .replace("expected a sequence", "expected an array")
         .replace("expected a boolean", "expected true or false")
 }

@@ -642,6 +642,30 @@ fn turret_station_count_and_start_are_checked() {
 }
 
 #[test]
+fn turret_stations_errors_state_the_range_the_loader_accepts() {
+    for bad in ["0", "-1", "65", "5000000000"] {
+        let text = edit(MINI, "stations = 8", &format!("stations = {bad}"));
+        let e = refused(&text);
+        assert_at(&e, line_of(&text, "stations = "), "turret.stations");
+        assert_eq!(e.message, format!("{bad} stations: a turret has 1 to {MAX_STATIONS}"));
+    }
+    let e = refused(&edit(MINI, "stations = 8", "stations = 4.5"));
+    assert_eq!(e.message, "invalid type: floating point `4.5`, expected a whole number");
+    for ok in [1, MAX_STATIONS] {
+        // Only the turret's count is under test (with 1 station, the other tools are refused).
+        if let Err(e) = load(&edit(MINI, "stations = 8", &format!("stations = {ok}"))) {
+            assert!(!e.to_string().contains("turret.stations"), "{e}");
+        }
+    }
+    let schema: serde_json::Value = serde_json::from_str(&schema()).unwrap();
+    let s = &schema["$defs"]["RawTurret"]["properties"]["stations"];
+    assert_eq!(
+        (s["minimum"].as_u64(), s["maximum"].as_u64()),
+        (Some(1), Some(u64::from(MAX_STATIONS)))
+    );
+}
+
+#[test]
 fn no_tools_is_refused() {
     let cut = MINI.find("[[tools]]").unwrap();
     let e = refused(&MINI[..cut]);
