@@ -55,6 +55,7 @@ use serde::Deserialize;
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
+use super::tool_entry::{self, RawDrill, Shape, ShapeSchema};
 use super::{
     Axis, DecimalPoint, Dialect, GcodeSystem, MAction, Machine, McodeTable, RapidMode, Stock, Tool, Turret, MAX_MCODE,
     MCODE_ACTIONS,
@@ -784,14 +785,33 @@ struct RawTool {
     name: Spanned<String>,
     #[schemars(with = "[f64; 2]")]
     tip: Point,
-    #[schemars(with = "Vec<[f64; 2]>")]
-    insert: Outline,
-    #[schemars(with = "Vec<[f64; 2]>")]
-    holder: Outline,
+    /// An outline, or an ISO designation (`"CNMG 120408"`); may be left out with `holder` or
+    /// `drill` as a designation (docs/tools.md).
+    #[schemars(with = "Option<ShapeSchema>")]
+    insert: Option<Spanned<Shape>>,
+    /// An outline, or an ISO designation (`"PCLNR 2525M12"`).
+    #[schemars(with = "Option<ShapeSchema>")]
+    holder: Option<Spanned<Shape>>,
     #[schemars(with = "Option<f64>")]
     nose_radius: Option<Num>,
     #[schemars(with = "Option<i64>")]
     tip_direction: Option<Spanned<i64>>,
+    /// A drill by its sizes, instead of `insert` and `holder`.
+    #[schemars(with = "Option<RawDrill>")]
+    drill: Option<Spanned<RawDrill>>,
+}
+
+impl RawTool {
+    /// Where the entry's insert or holder (`part`) was given: that key, else its `drill`, else
+    /// its `station`.
+    fn span_of(&self, part: &str) -> Range<usize> {
+        let shape = if part == "holder" { &self.holder } else { &self.insert };
+        match (shape, &self.drill) {
+            (Some(v), _) => v.span(),
+            (None, Some(d)) => d.span(),
+            (None, None) => self.station.span(),
+        }
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1084,6 +1104,9 @@ impl Cx<'_> {
     }
 }
 
+/// A tool's insert or holder with its place, if given (None: not given).
+type GivenShape = Option<(tool_entry::Geom, (Range<usize>, String))>;
+
 fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) -> Result<Machine, MachineError> {
     let RawDoc {
         machine: hdr,
@@ -1123,24 +1146,33 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
             ),
         ));
     }
-    let mut outlines: Vec<(String, &Outline)> = Vec::new();
-    if let Some(o) = chuck.as_ref().and_then(|c| c.outline.as_ref()) {
-        outlines.push(("chuck.outline".into(), o));
+    let mut outlines: Vec<(String, Range<usize>, &[Point])> = Vec::new();
+    for (key, o) in [
+        ("chuck.outline", chuck.as_ref().and_then(|c| c.outline.as_ref())),
+        ("tailstock.outline", tailstock.as_ref().and_then(|t| t.outline.as_ref())),
+        ("turret.outline", Some(&turret.outline)),
+    ] {
+        if let Some(o) = o {
+            outlines.push((key.into(), o.span(), o.get_ref()));
+        }
     }
-    if let Some(o) = tailstock.as_ref().and_then(|t| t.outline.as_ref()) {
-        outlines.push(("tailstock.outline".into(), o));
-    }
-    outlines.push(("turret.outline".into(), &turret.outline));
     for (i, t) in tools.iter().enumerate() {
-        outlines.push((format!("tools[{i}].insert"), &t.get_ref().insert));
-        outlines.push((format!("tools[{i}].holder"), &t.get_ref().holder));
+        for (which, v) in [("insert", &t.get_ref().insert), ("holder", &t.get_ref().holder)] {
+            if let Some(pts) = v.as_ref().and_then(|v| v.get_ref().points()) {
+                outlines.push((
+                    format!("tools[{i}].{which}"),
+                    v.as_ref().map_or(0..0, |v| v.span()),
+                    pts,
+                ));
+            }
+        }
     }
     let mut total = 0usize;
-    for (key, o) in &outlines {
-        let n = o.get_ref().len();
+    for (key, span, o) in &outlines {
+        let n = o.len();
         if n > MAX_OUTLINE_POINTS {
             return Err(cx.err(
-                o.span(),
+                span.clone(),
                 key.as_str(),
                 format!("too many points: {n}; an outline may have at most {MAX_OUTLINE_POINTS}"),
             ));
@@ -1148,7 +1180,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         total += n;
         if total > MAX_TOTAL_OUTLINE_POINTS {
             return Err(cx.err(
-                o.span(),
+                span.clone(),
                 key.as_str(),
                 format!("too many outline points: the outlines up to this one have {total}; a machine file may have at most {MAX_TOTAL_OUTLINE_POINTS} in all"),
             ));
@@ -1537,6 +1569,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
     let mut owner: Vec<Option<usize>> = vec![None; stations.unwrap_or(0) as usize + 1];
     let mut out = Vec::with_capacity(tools.len());
     for (i, t) in tools.iter().enumerate() {
+        let entry = t.span();
         let t = t.get_ref();
         let key = |k: &str| format!("tools[{i}].{k}");
         let station = *t.station.get_ref();
@@ -1573,14 +1606,58 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
             cx.push(cx.err(t.name.span(), key("name"), "must not be blank"));
         }
         let tip = cx.keep(cx.point(&key("tip"), &t.tip));
-        let insert = cx.keep(cx.outline(&key("insert"), &t.insert));
-        let holder = cx.keep(cx.outline(&key("holder"), &t.holder));
+        // An outline or a designation (Some(None): not given), then the catalogue's tool.
+        let shape = |which: &str, v: &Option<Spanned<Shape>>| match v {
+            None => Some(None),
+            Some(v) => cx
+                .keep(tool_entry::geom(cx, &key(which), v))
+                .map(|g| Some((g, (v.span(), key(which))))),
+        };
+        let (insert, holder) = (shape("insert", &t.insert), shape("holder", &t.holder));
+        let drill = match &t.drill {
+            None => Some(None),
+            Some(d) => cx
+                .keep(tool_entry::drill(cx, &key("drill"), d.get_ref()))
+                .map(|s| Some((s, (d.span(), key("drill"))))),
+        };
+        let built = match (&insert, &holder, &drill) {
+            (Some(i), Some(h), Some(d)) => {
+                use tool_entry::given;
+                match tool_entry::build(given(i), given(h), given(d)) {
+                    Ok(b) => Some(b),
+                    Err(((span, k), message)) => {
+                        cx.push(cx.err(span, k, message));
+                        None
+                    }
+                }
+            }
+            _ => None,
+        };
+        let outline = |which: &str, g: Option<GivenShape>| match (g, &built) {
+            (Some(Some((tool_entry::Geom::Outline(o), _))), _) => Some(o),
+            (Some(_), Some(Some(b))) => Some(if which == "insert" {
+                b.insert.clone()
+            } else {
+                b.holder.clone()
+            }),
+            (Some(None), Some(None)) => {
+                cx.push(cx.err(
+                    entry.clone(),
+                    key(which),
+                    format!("missing required key `{which}`: give an outline, a catalogue designation or `drill`"),
+                ));
+                None
+            }
+            _ => None,
+        };
+        let (insert, holder) = (outline("insert", insert), outline("holder", holder));
+        let built = built.flatten();
         let nose_radius = match &t.nose_radius {
-            None => Some(0.0),
+            None => Some(built.as_ref().map_or(0.0, |b| b.nose_radius)),
             Some(r) => cx.keep(cx.within(&key("nose_radius"), r, NOSE_RADIUS_RANGE, "mm")),
         };
         let tip_direction = match &t.tip_direction {
-            None => Some(0),
+            None => Some(built.as_ref().map_or(0, |b| b.tip_direction)),
             Some(d) => match u8::try_from(*d.get_ref()) {
                 Ok(v) if v <= 9 => Some(v),
                 _ => {
@@ -1601,7 +1678,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         {
             out.push(Tool {
                 station,
-                cutter: crate::tooling::Cutter::from_name(&name),
+                cutter: tool_entry::cutter(built.as_ref(), &name),
                 name,
                 tip,
                 insert,
@@ -2194,12 +2271,7 @@ fn clear_at_home(cx: &Cx<'_>, machine: &Machine, turret_outline: &Outline, raw_t
                     continue;
                 };
                 let raw = raw_tools[i].get_ref();
-                let span = if part == "holder" {
-                    raw.holder.span()
-                } else {
-                    raw.insert.span()
-                };
-                cx.push(cx.err(span, format!("tools[{i}].{part}"), c.message));
+                cx.push(cx.err(raw.span_of(part), format!("tools[{i}].{part}"), c.message));
             }
         }
     }
