@@ -1333,44 +1333,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
     let reference_points = reference_points(cx, axes.reference_points.as_ref(), x, z);
 
     // [spindle]
-    let max_rpm = cx.keep(cx.within("spindle.max_rpm", &spindle.max_rpm, MAX_RPM_RANGE, "rpm"));
-    match max_rpm {
-        Some(r) if r < 100.0 => cx.warn(
-            spindle.max_rpm.span(),
-            "spindle.max_rpm",
-            format!(
-                "max_rpm = {} is implausibly low for a lathe spindle: the unit is rev/min (was it rev/s?)",
-                show(r)
-            ),
-        ),
-        Some(r) if r > 50_000.0 => cx.warn(
-            spindle.max_rpm.span(),
-            "spindle.max_rpm",
-            format!(
-                "max_rpm = {} is implausibly high for a lathe spindle: the unit is rev/min",
-                show(r)
-            ),
-        ),
-        _ => {}
-    }
-    let start_rpm = match (&spindle.start_rpm, max_rpm) {
-        (None, _) => Some(None),
-        (Some(v), max) => match cx.keep(cx.within("spindle.start_rpm", v, MAX_RPM_RANGE, "rpm")) {
-            Some(r) if max.is_some_and(|m| r > m) => {
-                cx.push(cx.err(
-                    v.span(),
-                    "spindle.start_rpm",
-                    format!(
-                        "start_rpm = {} is faster than max_rpm = {}",
-                        show(r),
-                        show(max.unwrap_or(0.0))
-                    ),
-                ));
-                None
-            }
-            r => r.map(Some),
-        },
-    };
+    let (max_rpm, start_rpm) = spindle_of(cx, &spindle);
 
     let tailstock_advanced = tailstock.as_ref().and_then(|t| t.advanced).unwrap_or(true);
     let mcodes_linuxcnc = if auto {
@@ -1566,130 +1529,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
     let turret_outline = cx.keep(cx.outline("turret.outline", &turret.outline));
 
     // [[tools]]
-    let mut owner: Vec<Option<usize>> = vec![None; stations.unwrap_or(0) as usize + 1];
-    let mut out = Vec::with_capacity(tools.len());
-    for (i, t) in tools.iter().enumerate() {
-        let entry = t.span();
-        let t = t.get_ref();
-        let key = |k: &str| format!("tools[{i}].{k}");
-        let station = *t.station.get_ref();
-        let station_ok = match stations {
-            None => false,
-            Some(stations) if !(1..=stations).contains(&station) => {
-                cx.push(cx.err(
-                    t.station.span(),
-                    key("station"),
-                    format!("station {station} does not exist: the turret has stations 1 to {stations}"),
-                ));
-                false
-            }
-            Some(_) => match owner[station as usize] {
-                Some(j) => {
-                    cx.push(cx.err(
-                        t.station.span(),
-                        key("station"),
-                        format!(
-                            "station {station} is already taken by tools[{j}] ({:?})",
-                            tools[j].get_ref().name.get_ref()
-                        ),
-                    ));
-                    false
-                }
-                None => {
-                    owner[station as usize] = Some(i);
-                    true
-                }
-            },
-        };
-        let name = t.name.get_ref().trim().to_string();
-        if name.is_empty() {
-            cx.push(cx.err(t.name.span(), key("name"), "must not be blank"));
-        }
-        let tip = cx.keep(cx.point(&key("tip"), &t.tip));
-        // An outline or a designation (Some(None): not given), then the catalogue's tool.
-        let shape = |which: &str, v: &Option<Spanned<Shape>>| match v {
-            None => Some(None),
-            Some(v) => cx
-                .keep(tool_entry::geom(cx, &key(which), v))
-                .map(|g| Some((g, (v.span(), key(which))))),
-        };
-        let (insert, holder) = (shape("insert", &t.insert), shape("holder", &t.holder));
-        let drill = match &t.drill {
-            None => Some(None),
-            Some(d) => cx
-                .keep(tool_entry::drill(cx, &key("drill"), d.get_ref()))
-                .map(|s| Some((s, (d.span(), key("drill"))))),
-        };
-        let built = match (&insert, &holder, &drill) {
-            (Some(i), Some(h), Some(d)) => {
-                use tool_entry::given;
-                match tool_entry::build(given(i), given(h), given(d)) {
-                    Ok(b) => Some(b),
-                    Err(((span, k), message)) => {
-                        cx.push(cx.err(span, k, message));
-                        None
-                    }
-                }
-            }
-            _ => None,
-        };
-        let outline = |which: &str, g: Option<GivenShape>| match (g, &built) {
-            (Some(Some((tool_entry::Geom::Outline(o), _))), _) => Some(o),
-            (Some(_), Some(Some(b))) => Some(if which == "insert" {
-                b.insert.clone()
-            } else {
-                b.holder.clone()
-            }),
-            (Some(None), Some(None)) => {
-                cx.push(cx.err(
-                    entry.clone(),
-                    key(which),
-                    format!("missing required key `{which}`: give an outline, a catalogue designation or `drill`"),
-                ));
-                None
-            }
-            _ => None,
-        };
-        let (insert, holder) = (outline("insert", insert), outline("holder", holder));
-        let built = built.flatten();
-        let nose_radius = match &t.nose_radius {
-            None => Some(built.as_ref().map_or(0.0, |b| b.nose_radius)),
-            Some(r) => cx.keep(cx.within(&key("nose_radius"), r, NOSE_RADIUS_RANGE, "mm")),
-        };
-        let tip_direction = match &t.tip_direction {
-            None => Some(built.as_ref().map_or(0, |b| b.tip_direction)),
-            Some(d) => match u8::try_from(*d.get_ref()) {
-                Ok(v) if v <= 9 => Some(v),
-                _ => {
-                    cx.push(cx.err(
-                        d.span(),
-                        key("tip_direction"),
-                        format!(
-                            "{} is not a tip direction: give a whole number from 0 to 9",
-                            d.get_ref()
-                        ),
-                    ));
-                    None
-                }
-            },
-        };
-        if let (true, Some(tip), Some(insert), Some(holder), Some(nose_radius), Some(tip_direction)) =
-            (station_ok, tip, insert, holder, nose_radius, tip_direction)
-        {
-            out.push(Tool {
-                station,
-                cutter: tool_entry::cutter(built.as_ref(), &name),
-                name,
-                tip,
-                insert,
-                holder,
-                nose_radius,
-                tip_direction,
-                mill: None,
-            });
-        }
-    }
-    out.sort_by_key(|t| t.station);
+    let out = tools_of(cx, &tools, stations);
     let numbers = machine_tool_numbers(cx, tool_numbers.as_ref(), stations);
 
     if let Some(e) = cx.kept() {
@@ -1827,6 +1667,179 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         kinematics,
         ..machine
     })
+}
+
+/// `[spindle]`: `max_rpm`, and `start_rpm` (Some(None) when not given); None where refused.
+fn spindle_of(cx: &Cx<'_>, spindle: &RawSpindle) -> (Option<f64>, Option<Option<f64>>) {
+    let max_rpm = cx.keep(cx.within("spindle.max_rpm", &spindle.max_rpm, MAX_RPM_RANGE, "rpm"));
+    match max_rpm {
+        Some(r) if r < 100.0 => cx.warn(
+            spindle.max_rpm.span(),
+            "spindle.max_rpm",
+            format!(
+                "max_rpm = {} is implausibly low for a lathe spindle: the unit is rev/min (was it rev/s?)",
+                show(r)
+            ),
+        ),
+        Some(r) if r > 50_000.0 => cx.warn(
+            spindle.max_rpm.span(),
+            "spindle.max_rpm",
+            format!(
+                "max_rpm = {} is implausibly high for a lathe spindle: the unit is rev/min",
+                show(r)
+            ),
+        ),
+        _ => {}
+    }
+    let start_rpm = match (&spindle.start_rpm, max_rpm) {
+        (None, _) => Some(None),
+        (Some(v), max) => match cx.keep(cx.within("spindle.start_rpm", v, MAX_RPM_RANGE, "rpm")) {
+            Some(r) if max.is_some_and(|m| r > m) => {
+                cx.push(cx.err(
+                    v.span(),
+                    "spindle.start_rpm",
+                    format!(
+                        "start_rpm = {} is faster than max_rpm = {}",
+                        show(r),
+                        show(max.unwrap_or(0.0))
+                    ),
+                ));
+                None
+            }
+            r => r.map(Some),
+        },
+    };
+    (max_rpm, start_rpm)
+}
+
+/// `[[tools]]`: each entry validated (its station against `stations`, when that is valid), the
+/// valid ones by station.
+fn tools_of(cx: &Cx<'_>, tools: &[Spanned<RawTool>], stations: Option<u32>) -> Vec<Tool> {
+    let mut owner: Vec<Option<usize>> = vec![None; stations.unwrap_or(0) as usize + 1];
+    let mut out = Vec::with_capacity(tools.len());
+    for (i, t) in tools.iter().enumerate() {
+        let entry = t.span();
+        let t = t.get_ref();
+        let key = |k: &str| format!("tools[{i}].{k}");
+        let station = *t.station.get_ref();
+        let station_ok = match stations {
+            None => false,
+            Some(stations) if !(1..=stations).contains(&station) => {
+                cx.push(cx.err(
+                    t.station.span(),
+                    key("station"),
+                    format!("station {station} does not exist: the turret has stations 1 to {stations}"),
+                ));
+                false
+            }
+            Some(_) => match owner[station as usize] {
+                Some(j) => {
+                    cx.push(cx.err(
+                        t.station.span(),
+                        key("station"),
+                        format!(
+                            "station {station} is already taken by tools[{j}] ({:?})",
+                            tools[j].get_ref().name.get_ref()
+                        ),
+                    ));
+                    false
+                }
+                None => {
+                    owner[station as usize] = Some(i);
+                    true
+                }
+            },
+        };
+        let name = t.name.get_ref().trim().to_string();
+        if name.is_empty() {
+            cx.push(cx.err(t.name.span(), key("name"), "must not be blank"));
+        }
+        let tip = cx.keep(cx.point(&key("tip"), &t.tip));
+        // An outline or a designation (Some(None): not given), then the catalogue's tool.
+        let shape = |which: &str, v: &Option<Spanned<Shape>>| match v {
+            None => Some(None),
+            Some(v) => cx
+                .keep(tool_entry::geom(cx, &key(which), v))
+                .map(|g| Some((g, (v.span(), key(which))))),
+        };
+        let (insert, holder) = (shape("insert", &t.insert), shape("holder", &t.holder));
+        let drill = match &t.drill {
+            None => Some(None),
+            Some(d) => cx
+                .keep(tool_entry::drill(cx, &key("drill"), d.get_ref()))
+                .map(|s| Some((s, (d.span(), key("drill"))))),
+        };
+        let built = match (&insert, &holder, &drill) {
+            (Some(i), Some(h), Some(d)) => {
+                use tool_entry::given;
+                match tool_entry::build(given(i), given(h), given(d)) {
+                    Ok(b) => Some(b),
+                    Err(((span, k), message)) => {
+                        cx.push(cx.err(span, k, message));
+                        None
+                    }
+                }
+            }
+            _ => None,
+        };
+        let outline = |which: &str, g: Option<GivenShape>| match (g, &built) {
+            (Some(Some((tool_entry::Geom::Outline(o), _))), _) => Some(o),
+            (Some(_), Some(Some(b))) => Some(if which == "insert" {
+                b.insert.clone()
+            } else {
+                b.holder.clone()
+            }),
+            (Some(None), Some(None)) => {
+                cx.push(cx.err(
+                    entry.clone(),
+                    key(which),
+                    format!("missing required key `{which}`: give an outline, a catalogue designation or `drill`"),
+                ));
+                None
+            }
+            _ => None,
+        };
+        let (insert, holder) = (outline("insert", insert), outline("holder", holder));
+        let built = built.flatten();
+        let nose_radius = match &t.nose_radius {
+            None => Some(built.as_ref().map_or(0.0, |b| b.nose_radius)),
+            Some(r) => cx.keep(cx.within(&key("nose_radius"), r, NOSE_RADIUS_RANGE, "mm")),
+        };
+        let tip_direction = match &t.tip_direction {
+            None => Some(built.as_ref().map_or(0, |b| b.tip_direction)),
+            Some(d) => match u8::try_from(*d.get_ref()) {
+                Ok(v) if v <= 9 => Some(v),
+                _ => {
+                    cx.push(cx.err(
+                        d.span(),
+                        key("tip_direction"),
+                        format!(
+                            "{} is not a tip direction: give a whole number from 0 to 9",
+                            d.get_ref()
+                        ),
+                    ));
+                    None
+                }
+            },
+        };
+        if let (true, Some(tip), Some(insert), Some(holder), Some(nose_radius), Some(tip_direction)) =
+            (station_ok, tip, insert, holder, nose_radius, tip_direction)
+        {
+            out.push(Tool {
+                station,
+                cutter: tool_entry::cutter(built.as_ref(), &name),
+                name,
+                tip,
+                insert,
+                holder,
+                nose_radius,
+                tip_direction,
+                mill: None,
+            });
+        }
+    }
+    out.sort_by_key(|t| t.station);
+    out
 }
 
 /// `axes.reference_points`: at most 3 points (the 2nd to 4th reference points), each inside both
