@@ -3,7 +3,6 @@
 use std::ops::Range;
 
 use schemars::JsonSchema;
-use serde::de::{Deserializer, SeqAccess, Visitor};
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -11,10 +10,11 @@ use super::{
     DialectChoice, JobError, JobJaws, JobOperation, JobStock, JobTool, Layer, Place, Resolve, Set, TableNumbers,
 };
 use crate::geom::{Polygon, P2};
+use crate::machine::tool_entry::{self, Geom, RawDrill, Shape, ShapeSchema};
 use crate::machine::{self, Cx, Num, OpStart, Outline, Point, RawGrip, RawJawType, RawUnits, RawWorkOffsets, Tool};
 use crate::scene::{Stand, StockTransform};
 use crate::tooling::milling::{Live, MillSpec, MillTool};
-use crate::tooling::{self, tbl, BuiltTool, CatalogueSpec, DrillSpec};
+use crate::tooling::{self, tbl, BuiltTool, DrillSpec};
 
 // ---------------------------------------------------------------------------------------------
 // The file as written (also its JSON Schema: [`schema`]).
@@ -231,17 +231,6 @@ struct RawTool {
 }
 
 #[derive(Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields, expecting = "a table { diameter, length, point_angle }")]
-struct RawDrill {
-    #[schemars(with = "f64")]
-    diameter: Num,
-    #[schemars(with = "f64")]
-    length: Num,
-    #[schemars(with = "Option<f64>")]
-    point_angle: Option<Num>,
-}
-
-#[derive(Deserialize, JsonSchema)]
 #[serde(
     deny_unknown_fields,
     expecting = "a table { type, diameter, flute_length, stick_out, holder, … }"
@@ -281,52 +270,6 @@ struct RawMillHolder {
 struct RawLibrary {
     #[schemars(with = "Vec<RawTool>")]
     tools: Vec<Spanned<RawTool>>,
-}
-
-/// An insert or holder: a catalogue designation or an outline.
-enum Shape {
-    Name(String),
-    Outline(Vec<Point>),
-}
-
-/// The schema of [`Shape`].
-#[derive(JsonSchema)]
-#[serde(untagged)]
-#[allow(dead_code)]
-enum ShapeSchema {
-    /// An ISO designation: `"CNMG 120408"`, `"PCLNR 2525M12"`.
-    Name(String),
-    /// An outline relative to the programmed point, `[[x, z], …]`.
-    Outline(Vec<[f64; 2]>),
-}
-
-impl<'de> Deserialize<'de> for Shape {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Shape, D::Error> {
-        struct V;
-        impl<'de> Visitor<'de> for V {
-            type Value = Shape;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a catalogue designation (a string) or an outline [[x, z], ...]")
-            }
-            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Shape, E> {
-                Ok(Shape::Name(v.to_string()))
-            }
-            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Shape, A::Error> {
-                let mut pts = Vec::new();
-                while let Some(p) = seq.next_element::<Point>()? {
-                    if pts.len() > machine::MAX_OUTLINE_POINTS {
-                        return Err(serde::de::Error::custom(format!(
-                            "too many points; an outline may have at most {}",
-                            machine::MAX_OUTLINE_POINTS
-                        )));
-                    }
-                    pts.push(p);
-                }
-                Ok(Shape::Outline(pts))
-            }
-        }
-        d.deserialize_any(V)
-    }
 }
 
 // Operations and part files (docs/job.md, "Operations") as written.
@@ -1226,11 +1169,6 @@ struct Partial {
     mill: Option<(MillSpec, Place)>,
 }
 
-enum Geom {
-    Outline(Polygon),
-    Name(String),
-}
-
 impl Partial {
     fn over(&mut self, top: Partial) {
         macro_rules! take {
@@ -1266,13 +1204,7 @@ fn partial(cx: &Cx<'_>, t: &RawTool, key: &str) -> Result<Partial, JobError> {
     }
     for (which, v) in [("insert", &t.insert), ("holder", &t.holder)] {
         let Some(v) = v else { continue };
-        let g = match v.get_ref() {
-            Shape::Name(s) if s.trim().is_empty() => {
-                return Err(cx.err(v.span(), k(which), "the designation is empty"));
-            }
-            Shape::Name(s) => Geom::Name(s.trim().to_string()),
-            Shape::Outline(pts) => Geom::Outline(cx.outline(&k(which), &Spanned::new(v.span(), pts.clone()))?),
-        };
+        let g = tool_entry::geom(cx, &k(which), v)?;
         let slot = (g, place(cx, v.span(), &k(which)));
         if which == "insert" {
             p.insert = Some(slot);
@@ -1299,15 +1231,7 @@ fn partial(cx: &Cx<'_>, t: &RawTool, key: &str) -> Result<Partial, JobError> {
         }
     }
     if let Some(d) = &t.drill {
-        let r = d.get_ref();
-        let spec = DrillSpec {
-            diameter: cx.length(&k("drill.diameter"), &r.diameter)?,
-            length: cx.length(&k("drill.length"), &r.length)?,
-            point_angle: match &r.point_angle {
-                None => None,
-                Some(a) => Some(cx.within(&k("drill.point_angle"), a, (1.0, 180.0), "degrees")?),
-            },
-        };
+        let spec = tool_entry::drill(cx, &k("drill"), d.get_ref())?;
         p.drill = Some((spec, place(cx, d.span(), &k("drill"))));
     }
     match (&t.mill, &t.live) {
@@ -1455,18 +1379,7 @@ fn job_tool(
     p.over(partial(cx, t, key)?);
 
     // Catalogue designations and drills.
-    let name_of = |g: &Option<(Geom, Place)>| match g {
-        Some((Geom::Name(s), _)) => Some(s.clone()),
-        _ => None,
-    };
-    let spec = CatalogueSpec {
-        insert: name_of(&p.insert),
-        holder: name_of(&p.holder),
-        drill: match (&p.drill, &p.insert, &p.holder) {
-            (Some((d, _)), None, _) | (Some((d, _)), _, None) => Some(d.clone()),
-            _ => None,
-        },
-    };
+    use tool_entry::given;
     let mut built: Option<BuiltTool> = None;
     let mut mill: Option<MillTool> = None;
     if let Some((m, at)) = &p.mill {
@@ -1480,25 +1393,9 @@ fn job_tool(
         origin.push(format!("mill: {}", b.summary));
         built = Some(b);
         mill = Some(t);
-    } else if spec.insert.is_some() || spec.holder.is_some() || spec.drill.is_some() {
-        let b = tooling::build(&spec).map_err(|e| {
-            let at = match e.key {
-                "insert" => p.insert.as_ref().map(|g| &g.1),
-                "holder" => p.holder.as_ref().map(|g| &g.1),
-                _ => p.drill.as_ref().map(|g| &g.1),
-            };
-            let at = at
-                .or(p.insert.as_ref().map(|g| &g.1))
-                .or(p.holder.as_ref().map(|g| &g.1));
-            let at = at
-                .or(p.drill.as_ref().map(|g| &g.1))
-                .cloned()
-                .unwrap_or_else(|| place(cx, 0..0, key));
-            at.err(format!(
-                "cannot build the tool from its catalogue description: {}",
-                e.message
-            ))
-        })?;
+    } else if let Some(b) = tool_entry::build(given(&p.insert), given(&p.holder), given(&p.drill))
+        .map_err(|(at, message)| at.err(message))?
+    {
         origin.push(format!("catalogue: {}", b.summary));
         built = Some(b);
     }
@@ -1529,11 +1426,7 @@ fn job_tool(
     if origin.is_empty() {
         origin.push("outlines".into());
     }
-    let cutter = built
-        .as_ref()
-        .map(|b| b.cutter)
-        .filter(|c| *c != tooling::Cutter::Insert)
-        .unwrap_or_else(|| tooling::Cutter::from_name(&name));
+    let cutter = tool_entry::cutter(built.as_ref(), &name);
     Ok(JobTool {
         tool: Tool {
             station,

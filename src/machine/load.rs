@@ -55,6 +55,7 @@ use serde::Deserialize;
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
+use super::tool_entry::{self, RawDrill, Shape, ShapeSchema};
 use super::{
     Axis, DecimalPoint, Dialect, GcodeSystem, MAction, Machine, McodeTable, RapidMode, Stock, Tool, Turret, MAX_MCODE,
     MCODE_ACTIONS,
@@ -761,8 +762,10 @@ pub(crate) fn work_offset_doubt(m_z: &super::Axis, machine_zero: P2, o: super::W
 struct RawTurret {
     #[serde(rename = "type")]
     kind: Option<RawTurretKind>,
-    #[schemars(with = "u32")]
-    stations: Spanned<u32>,
+    /// How many stations the turret has: 1 to 64.
+    // Read as any whole number, so that the error for -1 states the range too ([`MAX_STATIONS`]).
+    #[schemars(with = "u32", range(min = 1, max = 64))]
+    stations: Spanned<i64>,
     #[schemars(with = "Option<u32>")]
     start_station: Option<Spanned<u32>>,
     #[schemars(with = "Option<f64>")]
@@ -782,14 +785,33 @@ struct RawTool {
     name: Spanned<String>,
     #[schemars(with = "[f64; 2]")]
     tip: Point,
-    #[schemars(with = "Vec<[f64; 2]>")]
-    insert: Outline,
-    #[schemars(with = "Vec<[f64; 2]>")]
-    holder: Outline,
+    /// An outline, or an ISO designation (`"CNMG 120408"`); may be left out with `holder` or
+    /// `drill` as a designation (docs/tools.md).
+    #[schemars(with = "Option<ShapeSchema>")]
+    insert: Option<Spanned<Shape>>,
+    /// An outline, or an ISO designation (`"PCLNR 2525M12"`).
+    #[schemars(with = "Option<ShapeSchema>")]
+    holder: Option<Spanned<Shape>>,
     #[schemars(with = "Option<f64>")]
     nose_radius: Option<Num>,
     #[schemars(with = "Option<i64>")]
     tip_direction: Option<Spanned<i64>>,
+    /// A drill by its sizes, instead of `insert` and `holder`.
+    #[schemars(with = "Option<RawDrill>")]
+    drill: Option<Spanned<RawDrill>>,
+}
+
+impl RawTool {
+    /// Where the entry's insert or holder (`part`) was given: that key, else its `drill`, else
+    /// its `station`.
+    fn span_of(&self, part: &str) -> Range<usize> {
+        let shape = if part == "holder" { &self.holder } else { &self.insert };
+        match (shape, &self.drill) {
+            (Some(v), _) => v.span(),
+            (None, Some(d)) => d.span(),
+            (None, None) => self.station.span(),
+        }
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1082,6 +1104,9 @@ impl Cx<'_> {
     }
 }
 
+/// A tool's insert or holder with its place, if given (None: not given).
+type GivenShape = Option<(tool_entry::Geom, (Range<usize>, String))>;
+
 fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) -> Result<Machine, MachineError> {
     let RawDoc {
         machine: hdr,
@@ -1121,24 +1146,33 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
             ),
         ));
     }
-    let mut outlines: Vec<(String, &Outline)> = Vec::new();
-    if let Some(o) = chuck.as_ref().and_then(|c| c.outline.as_ref()) {
-        outlines.push(("chuck.outline".into(), o));
+    let mut outlines: Vec<(String, Range<usize>, &[Point])> = Vec::new();
+    for (key, o) in [
+        ("chuck.outline", chuck.as_ref().and_then(|c| c.outline.as_ref())),
+        ("tailstock.outline", tailstock.as_ref().and_then(|t| t.outline.as_ref())),
+        ("turret.outline", Some(&turret.outline)),
+    ] {
+        if let Some(o) = o {
+            outlines.push((key.into(), o.span(), o.get_ref()));
+        }
     }
-    if let Some(o) = tailstock.as_ref().and_then(|t| t.outline.as_ref()) {
-        outlines.push(("tailstock.outline".into(), o));
-    }
-    outlines.push(("turret.outline".into(), &turret.outline));
     for (i, t) in tools.iter().enumerate() {
-        outlines.push((format!("tools[{i}].insert"), &t.get_ref().insert));
-        outlines.push((format!("tools[{i}].holder"), &t.get_ref().holder));
+        for (which, v) in [("insert", &t.get_ref().insert), ("holder", &t.get_ref().holder)] {
+            if let Some(pts) = v.as_ref().and_then(|v| v.get_ref().points()) {
+                outlines.push((
+                    format!("tools[{i}].{which}"),
+                    v.as_ref().map_or(0..0, |v| v.span()),
+                    pts,
+                ));
+            }
+        }
     }
     let mut total = 0usize;
-    for (key, o) in &outlines {
-        let n = o.get_ref().len();
+    for (key, span, o) in &outlines {
+        let n = o.len();
         if n > MAX_OUTLINE_POINTS {
             return Err(cx.err(
-                o.span(),
+                span.clone(),
                 key.as_str(),
                 format!("too many points: {n}; an outline may have at most {MAX_OUTLINE_POINTS}"),
             ));
@@ -1146,7 +1180,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         total += n;
         if total > MAX_TOTAL_OUTLINE_POINTS {
             return Err(cx.err(
-                o.span(),
+                span.clone(),
                 key.as_str(),
                 format!("too many outline points: the outlines up to this one have {total}; a machine file may have at most {MAX_TOTAL_OUTLINE_POINTS} in all"),
             ));
@@ -1299,44 +1333,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
     let reference_points = reference_points(cx, axes.reference_points.as_ref(), x, z);
 
     // [spindle]
-    let max_rpm = cx.keep(cx.within("spindle.max_rpm", &spindle.max_rpm, MAX_RPM_RANGE, "rpm"));
-    match max_rpm {
-        Some(r) if r < 100.0 => cx.warn(
-            spindle.max_rpm.span(),
-            "spindle.max_rpm",
-            format!(
-                "max_rpm = {} is implausibly low for a lathe spindle: the unit is rev/min (was it rev/s?)",
-                show(r)
-            ),
-        ),
-        Some(r) if r > 50_000.0 => cx.warn(
-            spindle.max_rpm.span(),
-            "spindle.max_rpm",
-            format!(
-                "max_rpm = {} is implausibly high for a lathe spindle: the unit is rev/min",
-                show(r)
-            ),
-        ),
-        _ => {}
-    }
-    let start_rpm = match (&spindle.start_rpm, max_rpm) {
-        (None, _) => Some(None),
-        (Some(v), max) => match cx.keep(cx.within("spindle.start_rpm", v, MAX_RPM_RANGE, "rpm")) {
-            Some(r) if max.is_some_and(|m| r > m) => {
-                cx.push(cx.err(
-                    v.span(),
-                    "spindle.start_rpm",
-                    format!(
-                        "start_rpm = {} is faster than max_rpm = {}",
-                        show(r),
-                        show(max.unwrap_or(0.0))
-                    ),
-                ));
-                None
-            }
-            r => r.map(Some),
-        },
-    };
+    let (max_rpm, start_rpm) = spindle_of(cx, &spindle);
 
     let tailstock_advanced = tailstock.as_ref().and_then(|t| t.advanced).unwrap_or(true);
     let mcodes_linuxcnc = if auto {
@@ -1469,8 +1466,8 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
 
     // [turret]
     let stations = *turret.stations.get_ref();
-    let stations = if (1..=MAX_STATIONS).contains(&stations) {
-        Some(stations)
+    let stations = if (1..=i64::from(MAX_STATIONS)).contains(&stations) {
+        Some(stations as u32)
     } else {
         cx.push(cx.err(
             turret.stations.span(),
@@ -1532,85 +1529,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
     let turret_outline = cx.keep(cx.outline("turret.outline", &turret.outline));
 
     // [[tools]]
-    let mut owner: Vec<Option<usize>> = vec![None; stations.unwrap_or(0) as usize + 1];
-    let mut out = Vec::with_capacity(tools.len());
-    for (i, t) in tools.iter().enumerate() {
-        let t = t.get_ref();
-        let key = |k: &str| format!("tools[{i}].{k}");
-        let station = *t.station.get_ref();
-        let station_ok = match stations {
-            None => false,
-            Some(stations) if !(1..=stations).contains(&station) => {
-                cx.push(cx.err(
-                    t.station.span(),
-                    key("station"),
-                    format!("station {station} does not exist: the turret has stations 1 to {stations}"),
-                ));
-                false
-            }
-            Some(_) => match owner[station as usize] {
-                Some(j) => {
-                    cx.push(cx.err(
-                        t.station.span(),
-                        key("station"),
-                        format!(
-                            "station {station} is already taken by tools[{j}] ({:?})",
-                            tools[j].get_ref().name.get_ref()
-                        ),
-                    ));
-                    false
-                }
-                None => {
-                    owner[station as usize] = Some(i);
-                    true
-                }
-            },
-        };
-        let name = t.name.get_ref().trim().to_string();
-        if name.is_empty() {
-            cx.push(cx.err(t.name.span(), key("name"), "must not be blank"));
-        }
-        let tip = cx.keep(cx.point(&key("tip"), &t.tip));
-        let insert = cx.keep(cx.outline(&key("insert"), &t.insert));
-        let holder = cx.keep(cx.outline(&key("holder"), &t.holder));
-        let nose_radius = match &t.nose_radius {
-            None => Some(0.0),
-            Some(r) => cx.keep(cx.within(&key("nose_radius"), r, NOSE_RADIUS_RANGE, "mm")),
-        };
-        let tip_direction = match &t.tip_direction {
-            None => Some(0),
-            Some(d) => match u8::try_from(*d.get_ref()) {
-                Ok(v) if v <= 9 => Some(v),
-                _ => {
-                    cx.push(cx.err(
-                        d.span(),
-                        key("tip_direction"),
-                        format!(
-                            "{} is not a tip direction: give a whole number from 0 to 9",
-                            d.get_ref()
-                        ),
-                    ));
-                    None
-                }
-            },
-        };
-        if let (true, Some(tip), Some(insert), Some(holder), Some(nose_radius), Some(tip_direction)) =
-            (station_ok, tip, insert, holder, nose_radius, tip_direction)
-        {
-            out.push(Tool {
-                station,
-                cutter: crate::tooling::Cutter::from_name(&name),
-                name,
-                tip,
-                insert,
-                holder,
-                nose_radius,
-                tip_direction,
-                mill: None,
-            });
-        }
-    }
-    out.sort_by_key(|t| t.station);
+    let out = tools_of(cx, &tools, stations);
     let numbers = machine_tool_numbers(cx, tool_numbers.as_ref(), stations);
 
     if let Some(e) = cx.kept() {
@@ -1748,6 +1667,179 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         kinematics,
         ..machine
     })
+}
+
+/// `[spindle]`: `max_rpm`, and `start_rpm` (Some(None) when not given); None where refused.
+fn spindle_of(cx: &Cx<'_>, spindle: &RawSpindle) -> (Option<f64>, Option<Option<f64>>) {
+    let max_rpm = cx.keep(cx.within("spindle.max_rpm", &spindle.max_rpm, MAX_RPM_RANGE, "rpm"));
+    match max_rpm {
+        Some(r) if r < 100.0 => cx.warn(
+            spindle.max_rpm.span(),
+            "spindle.max_rpm",
+            format!(
+                "max_rpm = {} is implausibly low for a lathe spindle: the unit is rev/min (was it rev/s?)",
+                show(r)
+            ),
+        ),
+        Some(r) if r > 50_000.0 => cx.warn(
+            spindle.max_rpm.span(),
+            "spindle.max_rpm",
+            format!(
+                "max_rpm = {} is implausibly high for a lathe spindle: the unit is rev/min",
+                show(r)
+            ),
+        ),
+        _ => {}
+    }
+    let start_rpm = match (&spindle.start_rpm, max_rpm) {
+        (None, _) => Some(None),
+        (Some(v), max) => match cx.keep(cx.within("spindle.start_rpm", v, MAX_RPM_RANGE, "rpm")) {
+            Some(r) if max.is_some_and(|m| r > m) => {
+                cx.push(cx.err(
+                    v.span(),
+                    "spindle.start_rpm",
+                    format!(
+                        "start_rpm = {} is faster than max_rpm = {}",
+                        show(r),
+                        show(max.unwrap_or(0.0))
+                    ),
+                ));
+                None
+            }
+            r => r.map(Some),
+        },
+    };
+    (max_rpm, start_rpm)
+}
+
+/// `[[tools]]`: each entry validated (its station against `stations`, when that is valid), the
+/// valid ones by station.
+fn tools_of(cx: &Cx<'_>, tools: &[Spanned<RawTool>], stations: Option<u32>) -> Vec<Tool> {
+    let mut owner: Vec<Option<usize>> = vec![None; stations.unwrap_or(0) as usize + 1];
+    let mut out = Vec::with_capacity(tools.len());
+    for (i, t) in tools.iter().enumerate() {
+        let entry = t.span();
+        let t = t.get_ref();
+        let key = |k: &str| format!("tools[{i}].{k}");
+        let station = *t.station.get_ref();
+        let station_ok = match stations {
+            None => false,
+            Some(stations) if !(1..=stations).contains(&station) => {
+                cx.push(cx.err(
+                    t.station.span(),
+                    key("station"),
+                    format!("station {station} does not exist: the turret has stations 1 to {stations}"),
+                ));
+                false
+            }
+            Some(_) => match owner[station as usize] {
+                Some(j) => {
+                    cx.push(cx.err(
+                        t.station.span(),
+                        key("station"),
+                        format!(
+                            "station {station} is already taken by tools[{j}] ({:?})",
+                            tools[j].get_ref().name.get_ref()
+                        ),
+                    ));
+                    false
+                }
+                None => {
+                    owner[station as usize] = Some(i);
+                    true
+                }
+            },
+        };
+        let name = t.name.get_ref().trim().to_string();
+        if name.is_empty() {
+            cx.push(cx.err(t.name.span(), key("name"), "must not be blank"));
+        }
+        let tip = cx.keep(cx.point(&key("tip"), &t.tip));
+        // An outline or a designation (Some(None): not given), then the catalogue's tool.
+        let shape = |which: &str, v: &Option<Spanned<Shape>>| match v {
+            None => Some(None),
+            Some(v) => cx
+                .keep(tool_entry::geom(cx, &key(which), v))
+                .map(|g| Some((g, (v.span(), key(which))))),
+        };
+        let (insert, holder) = (shape("insert", &t.insert), shape("holder", &t.holder));
+        let drill = match &t.drill {
+            None => Some(None),
+            Some(d) => cx
+                .keep(tool_entry::drill(cx, &key("drill"), d.get_ref()))
+                .map(|s| Some((s, (d.span(), key("drill"))))),
+        };
+        let built = match (&insert, &holder, &drill) {
+            (Some(i), Some(h), Some(d)) => {
+                use tool_entry::given;
+                match tool_entry::build(given(i), given(h), given(d)) {
+                    Ok(b) => Some(b),
+                    Err(((span, k), message)) => {
+                        cx.push(cx.err(span, k, message));
+                        None
+                    }
+                }
+            }
+            _ => None,
+        };
+        let outline = |which: &str, g: Option<GivenShape>| match (g, &built) {
+            (Some(Some((tool_entry::Geom::Outline(o), _))), _) => Some(o),
+            (Some(_), Some(Some(b))) => Some(if which == "insert" {
+                b.insert.clone()
+            } else {
+                b.holder.clone()
+            }),
+            (Some(None), Some(None)) => {
+                cx.push(cx.err(
+                    entry.clone(),
+                    key(which),
+                    format!("missing required key `{which}`: give an outline, a catalogue designation or `drill`"),
+                ));
+                None
+            }
+            _ => None,
+        };
+        let (insert, holder) = (outline("insert", insert), outline("holder", holder));
+        let built = built.flatten();
+        let nose_radius = match &t.nose_radius {
+            None => Some(built.as_ref().map_or(0.0, |b| b.nose_radius)),
+            Some(r) => cx.keep(cx.within(&key("nose_radius"), r, NOSE_RADIUS_RANGE, "mm")),
+        };
+        let tip_direction = match &t.tip_direction {
+            None => Some(built.as_ref().map_or(0, |b| b.tip_direction)),
+            Some(d) => match u8::try_from(*d.get_ref()) {
+                Ok(v) if v <= 9 => Some(v),
+                _ => {
+                    cx.push(cx.err(
+                        d.span(),
+                        key("tip_direction"),
+                        format!(
+                            "{} is not a tip direction: give a whole number from 0 to 9",
+                            d.get_ref()
+                        ),
+                    ));
+                    None
+                }
+            },
+        };
+        if let (true, Some(tip), Some(insert), Some(holder), Some(nose_radius), Some(tip_direction)) =
+            (station_ok, tip, insert, holder, nose_radius, tip_direction)
+        {
+            out.push(Tool {
+                station,
+                cutter: tool_entry::cutter(built.as_ref(), &name),
+                name,
+                tip,
+                insert,
+                holder,
+                nose_radius,
+                tip_direction,
+                mill: None,
+            });
+        }
+    }
+    out.sort_by_key(|t| t.station);
+    out
 }
 
 /// `axes.reference_points`: at most 3 points (the 2nd to 4th reference points), each inside both
@@ -2192,12 +2284,7 @@ fn clear_at_home(cx: &Cx<'_>, machine: &Machine, turret_outline: &Outline, raw_t
                     continue;
                 };
                 let raw = raw_tools[i].get_ref();
-                let span = if part == "holder" {
-                    raw.holder.span()
-                } else {
-                    raw.insert.span()
-                };
-                cx.push(cx.err(span, format!("tools[{i}].{part}"), c.message));
+                cx.push(cx.err(raw.span_of(part), format!("tools[{i}].{part}"), c.message));
             }
         }
     }
@@ -2527,6 +2614,7 @@ fn plain_types(message: &str) -> String {
         .replace("unknown variant", "unknown value")
         .replace("expected f64", "expected a number")
         .replace("expected u32", "expected a whole number from 0 to 4294967295")
+        .replace("expected i64", "expected a whole number")
         .replace("expected a sequence", "expected an array")
         .replace("expected a boolean", "expected true or false")
 }

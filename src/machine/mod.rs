@@ -10,6 +10,7 @@ mod load;
 mod mcodes;
 #[cfg(test)]
 mod tests;
+pub(crate) mod tool_entry;
 
 use std::fmt::Write as _;
 

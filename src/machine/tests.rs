@@ -502,7 +502,11 @@ fn wrong_type_is_refused_at_its_line_and_key() {
     let text = edit(MINI, "holder = [[-15, 2], [-3, 2], [-3, 50], [-15, 50]]", "holder = 5");
     let e = refused(&text);
     assert_at(&e, line_of(&text, "holder = 5"), "tools[2].holder");
-    assert!(e.message.contains("expected an array"), "{e}");
+    assert!(
+        e.message
+            .ends_with("expected a catalogue designation (a string) or an outline [[x, z], ...]"),
+        "{e}"
+    );
 
     let text = edit(MINI, "station = 2", "station = 2.5");
     let e = refused(&text);
@@ -639,6 +643,30 @@ fn turret_station_count_and_start_are_checked() {
     assert_at(&refused(&text), line_of(&text, "index_time"), "turret.index_time");
     let text = edit(MINI, "axis = 140.0", "axis = nan");
     assert_at(&refused(&text), line_of(&text, "axis = nan"), "turret.axis");
+}
+
+#[test]
+fn turret_stations_errors_state_the_range_the_loader_accepts() {
+    for bad in ["0", "-1", "65", "5000000000"] {
+        let text = edit(MINI, "stations = 8", &format!("stations = {bad}"));
+        let e = refused(&text);
+        assert_at(&e, line_of(&text, "stations = "), "turret.stations");
+        assert_eq!(e.message, format!("{bad} stations: a turret has 1 to {MAX_STATIONS}"));
+    }
+    let e = refused(&edit(MINI, "stations = 8", "stations = 4.5"));
+    assert_eq!(e.message, "invalid type: floating point `4.5`, expected a whole number");
+    for ok in [1, MAX_STATIONS] {
+        // Only the turret's count is under test (with 1 station, the other tools are refused).
+        if let Err(e) = load(&edit(MINI, "stations = 8", &format!("stations = {ok}"))) {
+            assert!(!e.to_string().contains("turret.stations"), "{e}");
+        }
+    }
+    let schema: serde_json::Value = serde_json::from_str(&schema()).unwrap();
+    let s = &schema["$defs"]["RawTurret"]["properties"]["stations"];
+    assert_eq!(
+        (s["minimum"].as_u64(), s["maximum"].as_u64()),
+        (Some(1), Some(u64::from(MAX_STATIONS)))
+    );
 }
 
 #[test]
@@ -1724,4 +1752,116 @@ fn a_machine_file_maps_tool_numbers_to_stations() {
     .unwrap();
     let applied = crate::job::apply(&m, &crate::job::EffectiveJob::merge([&job])).unwrap();
     assert_eq!(applied.tool_numbers, vec![(3, 3), (7, 2), (12, 1)]);
+}
+
+/// MINI's second tool (station 2) as given.
+const TWO: &str = "name = \"two\"\ntip = [-58.0, -10.0]\ninsert = [[0, 0], [12, 2], [14, 14], [2, 12]]\nholder = [[5, 8], [60, 8], [60, 33], [8, 33]]\n";
+
+/// The tool a job builds from `entry` (a `[[tools]]` table's keys).
+fn job_tool(entry: &str) -> Tool {
+    let mut no_files = |_: &str, rel: &str| -> Result<(String, String), String> { Err(format!("no file {rel}")) };
+    let layer = crate::job::parse(&format!("[[tools]]\n{entry}"), "j.toml", "/", "job", &mut no_files).unwrap();
+    layer.tools[0].value.tool.clone()
+}
+
+#[test]
+fn a_catalogue_tool_in_a_machine_file_is_the_tool_a_job_builds() {
+    for keys in [
+        "name = \"OD rough\"\ntip = [-58.0, -10.0]\ninsert = \"CNMG 120408\"\nholder = \"PCLNR 2525M12\"\n",
+        "name = \"OD rough\"\ntip = [-58.0, -10.0]\ninsert = \"CNMG 120408\"\nholder = [[5, 8], [60, 8], [60, 33], [8, 33]]\nnose_radius = 0.4\n",
+        "name = \"centre\"\ntip = [-58.0, -10.0]\ndrill = { diameter = 10, length = 40, point_angle = 118 }\n",
+    ] {
+        let m = load(&edit(MINI, TWO, keys)).unwrap_or_else(|e| panic!("{e}\n{keys}"));
+        let t = m.tools.iter().find(|t| t.station == 2).unwrap();
+        assert_eq!(*t, job_tool(&format!("station = 2\n{keys}")), "{keys}");
+    }
+    let m = load(&edit(
+        MINI,
+        TWO,
+        "name = \"centre\"\ntip = [-58.0, -10.0]\ndrill = { diameter = 10, length = 40 }\n",
+    ))
+    .unwrap();
+    assert_eq!(m.tools[1].cutter, crate::tooling::Cutter::Drill);
+    assert_eq!(m.tools[1].nose_radius, 0.0);
+    let m = load(&edit(
+        MINI,
+        TWO,
+        "name = \"r\"\ntip = [-58.0, -10.0]\ninsert = \"CNMG 120408\"\nholder = \"PCLNR 2525M12\"\n",
+    ))
+    .unwrap();
+    assert_eq!(
+        (m.tools[1].nose_radius, m.tools[1].cutter),
+        (0.8, crate::tooling::Cutter::Insert)
+    );
+}
+
+#[test]
+fn a_catalogue_tool_error_in_a_machine_file_names_file_line_column_and_key() {
+    let text = edit(
+        MINI,
+        TWO,
+        "name = \"r\"\ntip = [-58.0, -10.0]\ninsert = \"XYZW 1\"\nholder = \"PCLNR 2525M12\"\n",
+    );
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "XYZW"), "tools[1].insert");
+    assert_eq!(e.col, 10);
+    assert!(
+        e.message
+            .starts_with("cannot build the tool from its catalogue description: "),
+        "{e}"
+    );
+
+    let text = edit(
+        MINI,
+        TWO,
+        "name = \"d\"\ntip = [-58.0, -10.0]\ndrill = { diameter = -1, length = 40 }\n",
+    );
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "drill ="), "tools[1].drill.diameter");
+    assert_eq!(e.message, "must be greater than 0, not -1");
+
+    let text = edit(
+        MINI,
+        TWO,
+        "name = \"d\"\ntip = [-58.0, -10.0]\ndrill = { diameter = 10, lenght = 40 }\n",
+    );
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "drill ="), "tools[1].drill.lenght");
+    assert!(e.message.contains("did you mean `length`?"), "{e}");
+
+    let text = edit(
+        MINI,
+        TWO,
+        "name = \"d\"\ntip = [-58.0, -10.0]\ninsert = \"  \"\nholder = \"PCLNR 2525M12\"\n",
+    );
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "insert = \"  \""), "tools[1].insert");
+    assert_eq!(e.message, "the designation is empty");
+
+    let text = edit(
+        MINI,
+        TWO,
+        "name = \"d\"\ntip = [-58.0, -10.0]\nholder = [[5, 8], [60, 8], [60, 33], [8, 33]]\n",
+    );
+    let e = refused(&text);
+    assert_at(&e, nth_line(&text, "[[tools]]", 1), "tools[1].insert");
+    assert_eq!(
+        e.message,
+        "missing required key `insert`: give an outline, a catalogue designation or `drill`"
+    );
+}
+
+#[test]
+fn the_catalogue_tools_example_of_docs_machine_md_loads_as_a_job_builds_it() {
+    let page = include_str!("../../docs/machine.md");
+    let after = &page[page.find("#### Catalogue tools").unwrap()..];
+    let block = &after[after.find("```toml\n").unwrap() + 8..];
+    let block = &block[..block.find("```").unwrap()];
+    let m = load(&format!("{MINI}\n{block}")).unwrap_or_else(|e| panic!("{e}"));
+    for entry in block.split("[[tools]]\n").skip(1) {
+        let want = job_tool(entry);
+        let got = m.tools.iter().find(|t| t.station == want.station).unwrap();
+        assert_eq!(*got, want);
+    }
+    assert_eq!(m.tools[4].cutter, crate::tooling::Cutter::Drill);
 }
