@@ -1447,7 +1447,7 @@ fn job_tool(
 fn read_table<'a>(
     cx: &Cx<'_>,
     raw: &RawJob,
-    table: &Spanned<String>,
+    table: &Spanned<String>, // `raw.tool_table`, which the caller has found given
     prefix: &str,
     refs: &'a mut Refs<'_>,
 ) -> Result<(&'a str, &'a [tbl::TblTool]), JobError> {

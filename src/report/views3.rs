@@ -837,7 +837,9 @@ fn cut(s: &str, max: usize) -> String {
     }
 }
 
-fn facts(s: &Snapshot3) -> Vec<String> {
+/// The caption's figures: time, contact point and, with `names`, the colliding pair (a
+/// finding's message already names it).
+fn facts(s: &Snapshot3, names: bool) -> Vec<String> {
     let mut f = Vec::new();
     if let Some(t) = s.time_s.filter(|t| t.is_finite()) {
         f.push(format!("t = {t:.3} s"));
@@ -850,12 +852,12 @@ fn facts(s: &Snapshot3) -> Vec<String> {
             mm(c.z)
         ));
     }
-    let names: Vec<&str> = [Role3::CollidingA, Role3::CollidingB]
+    let pair: Vec<&str> = [Role3::CollidingA, Role3::CollidingB]
         .iter()
         .filter_map(|r| s.part(*r).map(|p| p.name.as_str()))
         .collect();
-    if !names.is_empty() {
-        f.push(names.join(" × "));
+    if names && !pair.is_empty() {
+        f.push(pair.join(" × "));
     }
     f
 }
@@ -870,7 +872,7 @@ pub fn svg(s: &Snapshot3) -> String {
             kind: None,
             message: s.title.clone(),
             block: None,
-            facts: facts(s),
+            facts: facts(s, true),
         },
     )
 }
@@ -883,9 +885,8 @@ pub(super) fn picture(file: &FileReport, f: &Finding, s: &Snapshot3, block: &str
     } else {
         "#9a6700"
     };
-    let mut facts = facts(s);
     // The message and the legend name the two parts: the line keeps room for the figures.
-    facts.retain(|x| !x.contains(" × "));
+    let mut facts = facts(s, false);
     let mut at = 1.min(facts.len());
     if let Some(d) = f.depth_mm {
         facts.insert(at, format!("depth {} mm", mm(d)));

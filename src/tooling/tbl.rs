@@ -317,12 +317,12 @@ pub fn shape_decoded(t: &TblTool) -> Result<Decoded, CatalogueError> {
     // insert leans to, as real offset-style shanks are). Of the placements found, the one that
     // ends nearest the tip: a bar lined up on the centroid behind a 93° edge must start 100 mm
     // back to stay behind the leading edge, and would reach through the turret.
-    let across: Vec<f64> = ins.iter().map(|p| p.x * n.x + p.y * n.y).collect();
-    let (amin, amax) = across
+    let (amin, amax) = ins
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
-    let mut centres = vec![cn, amin + w, amax - w];
-    centres.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+        .map(|p| p.x * n.x + p.y * n.y)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+    // A round nose's bar stays on its centre line.
+    let centres = if i == j { vec![cn] } else { vec![cn, amin + w, amax - w] };
     let place = |centre: f64| -> Option<Vec<P2>> {
         let at = |s: f64, off: f64| P2::new(ax.x * s + n.x * (centre + off), ax.y * s + n.y * (centre + off));
         let body = |s: f64| {
@@ -351,7 +351,6 @@ pub fn shape_decoded(t: &TblTool) -> Result<Decoded, CatalogueError> {
             .map(|p| p.x * ax.x + p.y * ax.y)
             .fold(f64::NEG_INFINITY, f64::max)
     };
-    let centres = if i == j { vec![cn] } else { centres };
     let hold = centres
         .into_iter()
         .filter_map(place)
