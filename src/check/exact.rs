@@ -545,8 +545,9 @@ impl Checker<'_> {
                 break;
             }
             // Clear: as far as the proven gap allows. In contact: only the episode's end matters
-            // (refined by bisection), so stride by half the depth; the deepest point is then
-            // sought between the neighbours of the deepest probe.
+            // (refined by bisection), so stride as far as the contact is proven to last (see
+            // `contact_stride`); the deepest point is then sought between the neighbours of the
+            // deepest probe.
             let advance = match res {
                 Err(gap) if open.is_none() => gap.max(step),
                 Ok(d) => (0.5 * d.min(GAP_WINDOW)).max(step),
@@ -576,6 +577,15 @@ impl Checker<'_> {
                 }
                 ahead = (0.25 * ahead).max(CONTACT_AHEAD * step);
             }
+            let advance = match res {
+                Ok(_) if advance > step => {
+                    let s = self.contact_stride(p, o, piece, active, (u, b), advance);
+                    #[cfg(test)]
+                    self.audit_stride(p, o, piece, active, (u, b), s);
+                    s
+                }
+                _ => advance,
+            };
 
             prev_u = u;
             u = (u + advance / len).min(b);
@@ -648,6 +658,98 @@ impl Checker<'_> {
                 deepest <= cap
             }
         }
+    }
+
+    /// How far (mm along the piece, at most `want`, at least the tolerance) a part in contact at
+    /// fraction `u` stays in contact for certain, so that a stride of that much steps over no
+    /// separation (one would end the contact and make what follows a contact of its own: never
+    /// a follow-on). `want` is half the contact's depth:
+    ///
+    /// - the turret, holder or insert against the chuck or the tailstock: the depth of two
+    ///   polygons is a lower bound of the translation that parts them (`geom::query`), and a part
+    ///   that translates along a piece moves no point farther than the path's length, so half
+    ///   the depth is a stride in contact: `want` as it is;
+    /// - against the stock (whose depth is a column measure, not a translation bound) and for a
+    ///   tool of another station (whose section changes shape with the reference point's `x`):
+    ///   the longest stride from `want`, halving down to the tolerance, over which a region every
+    ///   pose holds still meets the obstacle as it is at the stride's end (the least material):
+    ///   `K ∩ (K + δ)` of a convex piece `K` along a straight piece; along an arc `K` eroded by
+    ///   the stride's length (no point moves farther); for another station's section, eroded by
+    ///   that plus twice the tolerance its chords keep to the true section (a point's radius
+    ///   from the spindle axis moves no more than the reference point's `x` does).
+    ///
+    /// Below the tolerance the stride is the tolerance: a separation shorter than that may be
+    /// stepped over (ARCHITECTURE.md, "Exact mode").
+    fn contact_stride(
+        &mut self,
+        p: Part,
+        o: Obstacle,
+        piece: &Piece,
+        active: u32,
+        (u, b): (f64, f64),
+        want: f64,
+    ) -> f64 {
+        let step = self.settings.tolerance_mm;
+        let rigid = matches!(p, Part::Turret | Part::Holder | Part::Insert);
+        if rigid && o != Obstacle::Stock {
+            return want;
+        }
+        let len = piece.length();
+        let Some((pose, in_plane)) = self.pose(p, piece.at(u), active as f64) else {
+            return step;
+        };
+        let pieces = geom::convex::convex_pieces(pose.points());
+        let mut s = want;
+        while s > step {
+            let to = (u + s / len).min(b);
+            let d = piece.at(to) - piece.at(u);
+            let moved = (to - u) * len;
+            let region = |k: &Vec<P2>| -> Vec<P2> {
+                match piece.shape {
+                    Shape::Line { .. } if rigid => {
+                        let shifted: Vec<P2> = k.iter().map(|q| q + d).collect();
+                        geom::convex::clip_convex(k, &shifted)
+                    }
+                    _ if rigid => geom::convex::erode_convex(k, moved),
+                    _ => geom::convex::erode_convex(k, moved + 2.0 * step),
+                }
+            };
+            self.instant = to;
+            let held = pieces.iter().any(|k| {
+                let r = region(k);
+                r.len() >= 3 && Polygon::new(&r).is_ok_and(|poly| self.test_with(&poly, in_plane, o, true).0.is_some())
+            });
+            if held {
+                return s;
+            }
+            s *= 0.5;
+        }
+        step
+    }
+
+    /// With [`stride_audit::on`], probes every half tolerance along a stride in contact and
+    /// records it when it stepped over a separation (the slow, obviously right oracle of
+    /// `contact_stride`).
+    #[cfg(test)]
+    fn audit_stride(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, (u, b): (f64, f64), s: f64) {
+        // A stride of the tolerance is the resolution itself (what may step over a separation).
+        if !stride_audit::enabled() || s <= self.settings.tolerance_mm * (1.0 + 1e-9) {
+            return;
+        }
+        let (saved_stats, saved_instant) = (self.stats.clone(), self.instant);
+        let len = piece.length();
+        let to = (u + s / len).min(b);
+        let n = ((to - u) * len / (0.5 * self.settings.tolerance_mm)).ceil().max(1.0) as usize;
+        // A separation stepped over: apart somewhere inside the stride, in contact at its end
+        // (a stride that ends past the contact's end is what the boundary's bisection refines).
+        let at_end = self.probe_hit(p, o, piece, to, active);
+        let clear: Vec<f64> = (1..n)
+            .map(|k| u + (to - u) * k as f64 / n as f64)
+            .filter(|&v| !self.probe_hit(p, o, piece, v, active))
+            .collect();
+        stride_audit::record(s, clear.first().filter(|_| at_end).map(|v| (v - u) * len));
+        self.stats = saved_stats;
+        self.instant = saved_instant;
     }
 
     /// The depth of a contact interval whose probes found `probed` at the deepest: sought
@@ -771,5 +873,51 @@ impl Checker<'_> {
              the rest of the move is unchecked (a larger --tolerance checks it)"
         );
         self.budget.push((line, message));
+    }
+}
+
+/// The audit of strides in contact, for tests: off unless a test turns it on for its thread.
+#[cfg(test)]
+pub(super) mod stride_audit {
+    use std::cell::RefCell;
+
+    #[derive(Default, Debug, Clone)]
+    pub struct Audit {
+        pub on: bool,
+        /// Strides longer than the tolerance taken in contact.
+        pub strides: u64,
+        /// `(stride, first clear point along it)` of each stride that stepped over a separation.
+        pub misses: Vec<(f64, f64)>,
+    }
+
+    thread_local! {
+        static AUDIT: RefCell<Audit> = RefCell::new(Audit::default());
+    }
+
+    pub fn on() {
+        AUDIT.with(|a| {
+            *a.borrow_mut() = Audit {
+                on: true,
+                ..Audit::default()
+            }
+        });
+    }
+
+    pub fn take() -> Audit {
+        AUDIT.with(|a| std::mem::take(&mut *a.borrow_mut()))
+    }
+
+    pub(super) fn enabled() -> bool {
+        AUDIT.with(|a| a.borrow().on)
+    }
+
+    pub(super) fn record(stride: f64, clear_at: Option<f64>) {
+        AUDIT.with(|a| {
+            let mut a = a.borrow_mut();
+            a.strides += 1;
+            if let Some(c) = clear_at {
+                a.misses.push((stride, c));
+            }
+        });
     }
 }

@@ -134,3 +134,49 @@ fn contacts_past_the_finding_cap_are_counted_alike_and_cost_less_to_measure() {
         );
     }
 }
+
+#[test]
+fn strides_in_contact_step_over_no_separation_on_any_program_or_case() {
+    // Every stride conservative advancement takes in contact (longer than the tolerance) is
+    // probed every half tolerance: none may find the pair apart, on every program and case of
+    // the repository and the hostile holder-dragging G71, in both modes, on the built-in
+    // machine (the scenes differ from the cases' own machines; the strides are what is tested).
+    fn nc_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+        let Ok(rd) = std::fs::read_dir(dir) else { return };
+        let mut entries: Vec<_> = rd.flatten().map(|e| e.path()).collect();
+        entries.sort();
+        for p in entries {
+            if p.is_dir() {
+                nc_files(&p, out);
+            } else if p.extension().is_some_and(|e| e == "nc" || e == "ngc") {
+                out.push(p);
+            }
+        }
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    nc_files(&root.join("programs"), &mut files);
+    nc_files(&root.join("tests/cases"), &mut files);
+    files.push(root.join("tests/fixtures/hostile/g71_profile_run_first_drags_the_holder.nc"));
+    assert!(files.len() > 100, "{}", files.len());
+    let mut strides = 0;
+    let mut misses = Vec::new();
+    for f in &files {
+        let src = std::fs::read_to_string(f).unwrap_or_default();
+        for mode in [Mode::Exact, Mode::Step] {
+            exact::stride_audit::on();
+            run(&src, &settings(mode, 1.0), MAX_FINDINGS);
+            let audit = exact::stride_audit::take();
+            strides += audit.strides;
+            for (s, c) in audit.misses {
+                misses.push(format!(
+                    "{}: {mode:?}: a stride of {s:.3} mm apart after {c:.3} mm",
+                    f.display()
+                ));
+            }
+        }
+    }
+    assert!(misses.is_empty(), "{misses:#?}");
+    // Not vacuous: buried holders and inserts stride in contact many times over.
+    assert!(strides > 1000, "only {strides} strides in contact audited");
+}

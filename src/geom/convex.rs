@@ -5,6 +5,11 @@
 //! along a segment `δ`, the poses `K + sδ` (`0 ≤ s ≤ 1`) all hold `K ∩ (K + δ)` (a point of both
 //! lies in every pose between, by convexity). A non-convex part is split into convex pieces
 //! first ([`convex_pieces`]).
+//!
+//! Along an arc, or for a part whose section is not a rigid translate from pose to pose, the
+//! poses are no translates along one segment; but when no point of the part's outline moves more
+//! than `s` between two poses, every pose holds the piece eroded by `s` ([`erode_convex`]: the
+//! points at least `s` inside it).
 
 use super::{orient, P2};
 
@@ -143,6 +148,42 @@ pub fn clip_convex(subject: &[P2], clip: &[P2]) -> Vec<P2> {
     out
 }
 
+/// The points of a convex counter-clockwise polygon at least `s` inside it (`s ≥ 0`): every half
+/// plane of an edge moved inwards by `s`. A convex counter-clockwise ring, empty (or under 3
+/// points) when the polygon is nowhere that thick.
+pub fn erode_convex(k: &[P2], s: f64) -> Vec<P2> {
+    let n = k.len();
+    let mut out: Vec<P2> = k.to_vec();
+    let mut input = Vec::with_capacity(n + 4);
+    for i in 0..n {
+        if out.is_empty() {
+            break;
+        }
+        let (a, b) = (k[i], k[(i + 1) % n]);
+        let len = (b - a).norm();
+        if len <= 0.0 {
+            continue;
+        }
+        std::mem::swap(&mut input, &mut out);
+        out.clear();
+        // Signed distance to the left of the edge's line, less `s`.
+        let side = |p: P2| ((b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)) / len - s;
+        let m = input.len();
+        for j in 0..m {
+            let (p, q) = (input[j], input[(j + 1) % m]);
+            let (sp, sq) = (side(p), side(q));
+            if sp >= 0.0 {
+                out.push(p);
+            }
+            if (sp >= 0.0) != (sq >= 0.0) {
+                let t = sp / (sp - sq);
+                out.push(p + (q - p) * t);
+            }
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -183,6 +224,45 @@ mod tests {
         assert!(pieces.iter().all(|p| is_convex(p)));
         let total: f64 = pieces.iter().map(|p| area(p)).sum();
         assert!((total - area(&pts)).abs() < 1e-9, "{total} vs {}", area(&pts));
+    }
+
+    #[test]
+    fn a_square_eroded_by_a_quarter_of_its_side_keeps_its_middle_half() {
+        let a = [p2(0.0, 0.0), p2(4.0, 0.0), p2(4.0, 4.0), p2(0.0, 4.0)];
+        let e = erode_convex(&a, 1.0);
+        assert!((area(&e) - 4.0).abs() < 1e-12, "{e:?}");
+        assert!(erode_convex(&a, 2.5).len() < 3);
+        assert!((area(&erode_convex(&a, 0.0)) - 16.0).abs() < 1e-12);
+    }
+
+    proptest::proptest! {
+        /// Every point of a convex piece eroded by `s` lies in every pose of the piece whose
+        /// outline moved by at most `s` (here: a translate by up to `s`, in any direction), so the
+        /// eroded piece is held by every pose along an arc of length `s`.
+        #[test]
+        fn the_eroded_piece_lies_in_every_pose_moved_by_at_most_the_erosion(
+            pts in proptest::collection::vec((-20.0f64..20.0, -20.0f64..20.0), 3..12),
+            s in 0.0f64..8.0,
+            dir in 0.0f64..std::f64::consts::TAU,
+            frac in 0.0f64..=1.0,
+        ) {
+            let pts: Vec<P2> = pts.into_iter().map(|(x, z)| p2(x, z)).collect();
+            let k = crate::tooling::outline::hull(&pts);
+            proptest::prop_assume!(k.len() >= 3 && area(&k) > 1e-6);
+            let e = erode_convex(&k, s);
+            let d = crate::geom::V2::new(dir.cos(), dir.sin()) * (s * frac);
+            let pose: Vec<P2> = k.iter().map(|q| q + d).collect();
+            let n = pose.len();
+            for c in &e {
+                for i in 0..n {
+                    let (a, b) = (pose[i], pose[(i + 1) % n]);
+                    let side = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+                    proptest::prop_assert!(side >= -1e-9 * (1.0 + (b - a).norm()), "{c:?} outside the pose moved by {d:?}");
+                }
+            }
+            // Not vacuous: a piece eroded by nothing is itself.
+            proptest::prop_assert!((area(&erode_convex(&k, 0.0)) - area(&k)).abs() < 1e-9 * (1.0 + area(&k)));
+        }
     }
 
     proptest::proptest! {
