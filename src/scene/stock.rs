@@ -492,58 +492,53 @@ impl DexelStock {
             }
         }
         let mut mat = std::mem::take(&mut self.mat);
-        let mut best: f64 = 0.0;
-        let mut first: Option<usize> = None;
-        let mut last = 0usize;
-        for b in j0 / BLOCK..=j1 / BLOCK {
-            if !self.block_candidate(pts, b, eps, pre) {
-                continue;
-            }
-            let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
-            if self.crossings(pts, k0, k1).is_none() {
-                continue;
-            }
-            let scratch = std::mem::take(&mut self.scratch);
-            let mut i = 0;
-            while i < scratch.len() {
-                let col = scratch[i].0 as usize;
-                let mut k = i;
-                while k < scratch.len() && scratch[k].0 as usize == col {
-                    k += 1;
-                }
-                let material: &[(f64, f64)] = match (swept, self.saved(col)) {
-                    (Some(sw), Some(before)) => {
-                        mat.clear();
-                        mat.extend_from_slice(before);
-                        remove_swept(&mut mat, sw, &near, self.center(col));
-                        &mat
-                    }
-                    _ => &self.cols[col].iv,
-                };
-                let mut o_col: f64 = 0.0;
-                for pair in scratch[i..k].chunks_exact(2) {
-                    let (r0, r1) = radial_range(pair[0].1, pair[1].1);
-                    for &(lo, hi) in material {
-                        o_col = o_col.max(r1.min(hi) - r0.max(lo));
-                    }
-                }
-                if o_col > eps {
-                    best = best.max(o_col);
-                    if first.is_none() {
-                        first = Some(col);
-                    }
-                    last = col;
-                }
-                i = k;
-            }
-            self.scratch = scratch;
-            if first_only && first.is_some() {
+        let (b0, b1) = (j0 / BLOCK, j1 / BLOCK);
+        let mut scan = |s: &mut Self, b: usize| s.block_overlap(pts, b, (j0, j1), eps, pre, swept, &near, &mut mat);
+        // The first block in contact from either end gives the first and last columns in
+        // contact (the axial extent); the blocks between can only raise the greatest radial
+        // overlap, and are scanned only while their bound (the part's radial range in the block
+        // against the block's material) could: the result is what a scan of every column gives.
+        let mut found: Option<(f64, usize, usize)> = None;
+        let mut lo_block = b1 + 1;
+        for b in b0..=b1 {
+            if let Some(hit) = scan(self, b) {
+                found = Some(hit);
+                lo_block = b;
                 break;
+            }
+        }
+        if let Some((best, first, last)) = found.as_mut() {
+            if !first_only {
+                let mut hi_block = lo_block;
+                for b in (lo_block + 1..=b1).rev() {
+                    if let Some((bb, _, l)) = scan(self, b) {
+                        *best = best.max(bb);
+                        *last = l;
+                        hi_block = b;
+                        break;
+                    }
+                }
+                let cap = (self.center(*last) - self.center(*first) + self.h).min(bb.max.y - bb.min.y);
+                if *best < cap && hi_block > lo_block + 1 {
+                    let mut between: Vec<(f64, usize)> = (lo_block + 1..hi_block)
+                        .filter_map(|b| self.block_bound(pts, b, pre).map(|ub| (ub, b)))
+                        .filter(|&(ub, _)| ub > eps)
+                        .collect();
+                    between.sort_unstable_by(|x, y| y.0.total_cmp(&x.0));
+                    for (ub, b) in between {
+                        if ub <= *best || *best >= cap {
+                            break;
+                        }
+                        if let Some((bb, _, _)) = scan(self, b) {
+                            *best = best.max(bb);
+                        }
+                    }
+                }
             }
         }
         self.mat = mat;
         self.near = near;
-        let first = first?;
+        let (best, first, last) = found?;
         if first_only {
             return Some(StockHit {
                 depth: best.min(bb.max.y - bb.min.y),
@@ -555,6 +550,77 @@ impl DexelStock {
             depth: best.min(axial),
             cols: (first, last),
         })
+    }
+
+    /// An upper bound of the radial overlap of a part with any column of block `b`: the part's
+    /// radial range over the block's slab of `z` against the block's material (as it was before
+    /// the current move with `pre`, which holds the material at every instant of it). `None`
+    /// when the part does not reach the slab.
+    fn block_bound(&self, pts: &[P2], b: usize, pre: bool) -> Option<f64> {
+        let za = self.z0 + (b * BLOCK) as f64 * self.h;
+        let zb = self.z0 + ((b + 1) * BLOCK) as f64 * self.h;
+        let (mn, mx) = self.extremes(b, pre);
+        let (rlo, rhi) = slab_radial_range(pts, za, zb)?;
+        Some(rhi.min(mx) - rlo.max(mn))
+    }
+
+    /// The part's overlap with the columns of block `b` (within `j0..=j1`) deeper than `eps`:
+    /// the greatest radial overlap of one column, and the first and last columns that have one.
+    #[allow(clippy::too_many_arguments)]
+    fn block_overlap(
+        &mut self,
+        pts: &[P2],
+        b: usize,
+        (j0, j1): (usize, usize),
+        eps: f64,
+        pre: bool,
+        swept: Option<&Swept>,
+        near: &[usize],
+        mat: &mut Vec<(f64, f64)>,
+    ) -> Option<(f64, usize, usize)> {
+        if !self.block_candidate(pts, b, eps, pre) {
+            return None;
+        }
+        let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
+        self.crossings(pts, k0, k1)?;
+        let scratch = std::mem::take(&mut self.scratch);
+        let mut best: f64 = 0.0;
+        let mut first: Option<usize> = None;
+        let mut last = 0usize;
+        let mut i = 0;
+        while i < scratch.len() {
+            let col = scratch[i].0 as usize;
+            let mut k = i;
+            while k < scratch.len() && scratch[k].0 as usize == col {
+                k += 1;
+            }
+            let material: &[(f64, f64)] = match (swept, self.saved(col)) {
+                (Some(sw), Some(before)) => {
+                    mat.clear();
+                    mat.extend_from_slice(before);
+                    remove_swept(mat, sw, near, self.center(col));
+                    mat
+                }
+                _ => &self.cols[col].iv,
+            };
+            let mut o_col: f64 = 0.0;
+            for pair in scratch[i..k].chunks_exact(2) {
+                let (r0, r1) = radial_range(pair[0].1, pair[1].1);
+                for &(lo, hi) in material {
+                    o_col = o_col.max(r1.min(hi) - r0.max(lo));
+                }
+            }
+            if o_col > eps {
+                best = best.max(o_col);
+                if first.is_none() {
+                    first = Some(col);
+                }
+                last = col;
+            }
+            i = k;
+        }
+        self.scratch = scratch;
+        first.map(|f| (best, f, last))
     }
 
     /// A copy of the stock as `view` sees it (for pictures).
@@ -1406,6 +1472,74 @@ mod tests {
         assert!(s.cut(&tool));
         assert!(s.overlap(&tool, 1e-6).is_none());
         assert_eq!(s.material_at(40.0), vec![(0.0, 30.0)]);
+    }
+
+    /// The overlap as a scan of every column finds it: each column's crossings with the part at
+    /// its centre (half-open), paired and folded, against its material.
+    fn overlap_by_every_column(s: &DexelStock, pts: &[P2], eps: f64) -> Option<(f64, usize, usize)> {
+        let n = pts.len();
+        let (mut best, mut first, mut last) = (0.0f64, None, 0);
+        for (j, col) in s.cols.iter().enumerate() {
+            let c = s.center(j);
+            let mut xs: Vec<f64> = (0..n)
+                .filter_map(|i| {
+                    let (a, b) = (pts[i], pts[(i + 1) % n]);
+                    let (lo, hi) = if a.y < b.y { (a, b) } else { (b, a) };
+                    (a.y != b.y && c >= lo.y && c < hi.y).then(|| lo.x + (hi.x - lo.x) * ((c - lo.y) / (hi.y - lo.y)))
+                })
+                .collect();
+            xs.sort_by(f64::total_cmp);
+            let mut o: f64 = 0.0;
+            for pair in xs.chunks_exact(2) {
+                let (r0, r1) = radial_range(pair[0], pair[1]);
+                for &(lo, hi) in &col.iv {
+                    o = o.max(r1.min(hi) - r0.max(lo));
+                }
+            }
+            if o > eps {
+                best = best.max(o);
+                first.get_or_insert(j);
+                last = j;
+            }
+        }
+        first.map(|f| (best, f, last))
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+
+        /// The scan that skips the blocks between the first and last in contact whose bound
+        /// cannot raise the depth reports what a scan of every column does: the same columns and
+        /// the same depth, on a turned, grooved and bored bar and parts of any shape.
+        #[test]
+        fn the_overlap_skipping_blocks_equals_a_scan_of_every_column(
+            cuts in proptest::collection::vec((0.0f64..30.0, -100.0f64..0.0, 0.5f64..20.0, 0.5f64..30.0), 0..8),
+            part in proptest::collection::vec((-40.0f64..40.0, -110.0f64..10.0), 3..10),
+            first_only in proptest::bool::ANY,
+        ) {
+            let mut s = DexelStock::new(50.0, 8.0, 100.0, 0.0, 0.05);
+            for (x, z, w, d) in cuts {
+                s.cut(&rect(x, z, x + d, z + w));
+            }
+            let pts: Vec<P2> = part.into_iter().map(|(x, z)| p2(x, z)).collect();
+            let hull = crate::tooling::outline::hull(&pts);
+            proptest::prop_assume!(hull.len() >= 3);
+            let eps = crate::geom::TOUCH_EPS;
+            let got = s.overlap_with(&hull, eps, first_only);
+            let want = overlap_by_every_column(&s, &hull, eps);
+            proptest::prop_assert_eq!(got.is_some(), want.is_some());
+            if let (Some(g), Some((best, first, last))) = (got, want) {
+                let bb = Aabb::of_points(&hull);
+                let height = bb.max.y - bb.min.y;
+                if first_only {
+                    proptest::prop_assert_eq!(g.cols.0, first);
+                } else {
+                    proptest::prop_assert_eq!(g.cols, (first, last));
+                    let axial = (s.center(last) - s.center(first) + s.h).min(height);
+                    proptest::prop_assert_eq!(g.depth, best.min(axial));
+                }
+            }
+        }
     }
 
     proptest::proptest! {
