@@ -583,7 +583,13 @@ impl Rough {
                     }
                     return Ok(());
                 }
-                if (at.im - x).abs() > TOL {
+                // The last piece followed down: nothing is left to cut toward (rs274 since 2024).
+                if p + 1 == v.len() {
+                    return Ok(());
+                }
+                // A dive that ended exactly at its piece's end goes on from the next piece (rs274
+                // since 2026): the scan from here would find its own end point and take no level.
+                if (at.im - x).abs() > TOL || v[p].e == at {
                     p += 1;
                     continue;
                 }
@@ -628,6 +634,34 @@ impl Rough {
     }
 }
 
+/// rs274 since late 2023 (before any turn or mirror): when the entry runs toward the profile
+/// and the profile ends on the entry's far side of the start point's level (X for G71, Z for
+/// G72), with its last piece moving along the passes, a line from its end back to that level
+/// closes it. The orientation is then judged with that line: a profile that dips back toward
+/// the start point's side at its end is still roughed from the start point's side.
+fn close_to_start_level(v: &mut Vec<Piece>, facing: bool, start: C) {
+    let (first, last) = (v[0], v[v.len() - 1]);
+    let (dfront, dback) = (first.e - first.s, last.e - last.s);
+    let (along, across, gap) = if facing {
+        (dback.im, dfront.re, start.re - last.e.re)
+    } else {
+        (dback.re, dfront.im, start.im - last.e.im)
+    };
+    if along.abs() > 0.0 && across * gap < 0.0 {
+        let e = if facing {
+            C::new(start.re, last.e.im)
+        } else {
+            C::new(last.e.re, start.im)
+        };
+        v.push(Piece {
+            s: last.e,
+            e,
+            arc: None,
+            line: 0,
+        });
+    }
+}
+
 /// G71 (`facing` false) or G72 roughing from `start` along `v` (v[0] from the start point to
 /// the profile's first point). `cycle` 0, 1 or 2 for G7x, G7x.1, G7x.2; `unit` is one program
 /// unit's tolerance scale (rs274's equality tolerance 1e-4 in program units).
@@ -647,6 +681,7 @@ pub(super) fn rough(
     }
     let mut path = Path { v, flip: 0 };
     path.v[0].s = start;
+    close_to_start_level(&mut path.v, facing, start);
     if facing {
         path.rotate();
     }
