@@ -282,7 +282,9 @@ fn lcnc_cases() -> Vec<PathBuf> {
 /// The same cases against rs274 (all but `*refused*`, whose first refused block ends rs274's
 /// run, and `*endless_in_reference*`, on which rs274 runs for ever: latheguard makes newer
 /// LinuxCNC's passes there, `lcnc_g7x_tests_match_their_expected_files`), on the comparison
-/// machine: every move within 1e-4.
+/// machine: every move within 1e-4. `lcnc_g70_profile_u_w_are_incremental` is left out too: it
+/// ends on a `W` outside a profile, which rs274 refuses, and its first comment is longer than
+/// rs274 reads ("Command too long"); without those two lines rs274 moves as latheguard does.
 #[test]
 fn lcnc_cycle_cases_move_as_rs274_moves_them() {
     if !rs274_present() {
@@ -299,7 +301,10 @@ fn lcnc_cycle_cases_move_as_rs274_moves_them() {
     let mut compared = 0;
     for f in lcnc_cases() {
         let name = f.to_string_lossy();
-        if name.contains("refused") || name.contains("endless_in_reference") {
+        if name.contains("refused")
+            || name.contains("endless_in_reference")
+            || name.contains("lcnc_g70_profile_u_w_are_incremental")
+        {
             continue;
         }
         let Some(reference) = run_rs274(&f, &tools) else {
