@@ -280,7 +280,11 @@ fn lcnc_cases() -> Vec<PathBuf> {
 }
 
 /// The same cases against rs274 (all but `*refused*`, whose first refused block ends rs274's
-/// run), on the comparison machine: every move within 1e-4.
+/// run, and `*endless_in_reference*`, on which rs274 runs for ever: latheguard makes newer
+/// LinuxCNC's passes there, `lcnc_g7x_tests_match_their_expected_files`), on the comparison
+/// machine: every move within 1e-4. `lcnc_g70_profile_u_w_are_incremental` is left out too: it
+/// ends on a `W` outside a profile, which rs274 refuses, and its first comment is longer than
+/// rs274 reads ("Command too long"); without those two lines rs274 moves as latheguard does.
 #[test]
 fn lcnc_cycle_cases_move_as_rs274_moves_them() {
     if !rs274_present() {
@@ -296,7 +300,11 @@ fn lcnc_cycle_cases_move_as_rs274_moves_them() {
     let mut failures = Vec::new();
     let mut compared = 0;
     for f in lcnc_cases() {
-        if f.to_string_lossy().contains("refused") {
+        let name = f.to_string_lossy();
+        if name.contains("refused")
+            || name.contains("endless_in_reference")
+            || name.contains("lcnc_g70_profile_u_w_are_incremental")
+        {
             continue;
         }
         let Some(reference) = run_rs274(&f, &tools) else {
@@ -417,11 +425,7 @@ fn lcnc_g7x_tests_match_their_expected_files() {
     let known: BTreeMap<&str, &str> = [
         (
             "g71-endless-loop",
-            "the endless loop this LinuxCNC test pins: the rs274 here never ends the G71.2 (latheguard, computing it as that rs274 does, stops at its move cap with a program finding, case lcnc_refused_g71_2_endless), and its G71.1 equals that rs274's, whose first pass ends on the offset of the last segment, Z-21.9821, where the newer LinuxCNC that wrote the file stops at Z-21.96",
-        ),
-        (
-            "g71-endless-loop_2",
-            "its profile uses a C chamfer word and U/W increments (not modelled) and has a pocket",
+            "its G71.1 equals the rs274 here (which ends it, mirrored by its ends as a bore), whose first pass ends on the offset of the last segment, Z-21.9821, where the newer LinuxCNC that wrote the file closes the profile up to the start level and roughs it from outside; its G71.2, on which the rs274 here never ends, equals the file's (case lcnc_g71_2_endless_in_reference)",
         ),
         (
             "g72-missing-iteration",

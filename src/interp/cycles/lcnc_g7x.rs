@@ -5,6 +5,9 @@
 //! units). The profile is first brought into a canonical frame (a quarter turn for G72, then
 //! mirrored so that it runs toward −re and climbs toward +im, judged by its ends), offset in
 //! steps, and the passes are computed there; every output point is mapped back.
+//!
+//! The roughing passes are those of the reference rs274 (2023); where they never end (that
+//! version loops for ever), those of newer LinuxCNC, which fixed the loops ([`Rules`]).
 
 use nalgebra::Complex;
 
@@ -142,10 +145,7 @@ impl Out {
     }
     fn push(&mut self, c: Cmd, line: u32) -> Result<(), String> {
         if self.cmds.len() >= self.cap {
-            return Err(format!(
-                "the passes do not come to an end (more than {} moves; the rs274 of the reference runs forever on such a profile)",
-                self.cap
-            ));
+            return Err(format!("{ENDLESS} (more than {} moves)", self.cap));
         }
         self.cmds.push((c, line));
         Ok(())
@@ -366,6 +366,8 @@ impl Path {
 
 /// The settings of one roughing run.
 struct Rough {
+    /// The pocket scan of LinuxCNC since 2024 (see [`Rules`]).
+    newer: bool,
     delta: f64,
     escape: C,
     unit_tol: f64,
@@ -552,10 +554,7 @@ impl Rough {
             while p < v.len() {
                 rounds += 1;
                 if rounds > out.cap {
-                    return Err(format!(
-                        "the passes do not come to an end (more than {} passes)",
-                        out.cap
-                    ));
+                    return Err(format!("{ENDLESS} (more than {} passes)", out.cap));
                 }
                 while x - TOL > at.im {
                     x -= self.delta;
@@ -583,7 +582,14 @@ impl Rough {
                     }
                     return Ok(());
                 }
-                if (at.im - x).abs() > TOL {
+                // Newer LinuxCNC: after the last piece followed down nothing is left to cut
+                // toward, and a dive that ended exactly at its piece's end goes on from the next
+                // piece (the scan from there finds its own end point and takes no level: the
+                // reference rs274 repeats it for ever).
+                if self.newer && p + 1 == v.len() {
+                    return Ok(());
+                }
+                if (at.im - x).abs() > TOL || (self.newer && v[p].e == at) {
                     p += 1;
                     continue;
                 }
@@ -628,9 +634,49 @@ impl Rough {
     }
 }
 
+/// Newer LinuxCNC (since late 2023), before any turn or mirror: when the entry runs toward the profile
+/// and the profile ends on the entry's far side of the start point's level (X for G71, Z for
+/// G72), with its last piece moving along the passes, a line from its end back to that level
+/// closes it. The orientation is then judged with that line: a profile that dips back toward
+/// the start point's side at its end is still roughed from the start point's side.
+fn close_to_start_level(v: &mut Vec<Piece>, facing: bool, start: C) {
+    let (first, last) = (v[0], v[v.len() - 1]);
+    let (dfront, dback) = (first.e - first.s, last.e - last.s);
+    let (along, across, gap) = if facing {
+        (dback.im, dfront.re, start.re - last.e.re)
+    } else {
+        (dback.re, dfront.im, start.im - last.e.im)
+    };
+    if along.abs() > 0.0 && across * gap < 0.0 {
+        let e = if facing {
+            C::new(start.re, last.e.im)
+        } else {
+            C::new(last.e.re, start.im)
+        };
+        v.push(Piece {
+            s: last.e,
+            e,
+            arc: None,
+            line: 0,
+        });
+    }
+}
+
+/// Which LinuxCNC computes the passes: the reference rs274 (2023), or LinuxCNC since its fixes
+/// of 2023-2026 for profiles on which the reference never ends.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Rules {
+    Reference,
+    Newer,
+}
+
+/// The start of the message of passes that do not end (the reference rs274 loops for ever).
+const ENDLESS: &str = "the passes do not come to an end";
+
 /// G71 (`facing` false) or G72 roughing from `start` along `v` (v[0] from the start point to
-/// the profile's first point). `cycle` 0, 1 or 2 for G7x, G7x.1, G7x.2; `unit` is one program
-/// unit's tolerance scale (rs274's equality tolerance 1e-4 in program units).
+/// the profile's first point). `cycle` 0, 1 or 2 for G7x, G7x.1, G7x.2. The passes are the
+/// reference rs274's; where those never end (the reference loops for ever), they are the ones
+/// LinuxCNC computes since it fixed those loops (docs/cycles-linuxcnc.md).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn rough(
     v: Vec<Piece>,
@@ -642,11 +688,31 @@ pub(super) fn rough(
     r: f64,
     cap: usize,
 ) -> Result<Vec<(Cmd, u32)>, String> {
+    match rough_by(v.clone(), facing, cycle, start, (d, i, r), cap, Rules::Reference) {
+        Err(e) if e.starts_with(ENDLESS) => rough_by(v, facing, cycle, start, (d, i, r), cap, Rules::Newer)
+            .map_err(|e| format!("{e}, in the reference rs274 and in newer LinuxCNC")),
+        done => done,
+    }
+}
+
+/// [`rough`] by one set of rules; D, I and R as a triple.
+fn rough_by(
+    v: Vec<Piece>,
+    facing: bool,
+    cycle: u8,
+    start: C,
+    (d, i, r): (f64, f64, f64),
+    cap: usize,
+    rules: Rules,
+) -> Result<Vec<(Cmd, u32)>, String> {
     if v.len() < 2 {
         return Err("the profile makes no move".into());
     }
     let mut path = Path { v, flip: 0 };
     path.v[0].s = start;
+    if rules == Rules::Newer {
+        close_to_start_level(&mut path.v, facing, start);
+    }
     if facing {
         path.rotate();
     }
@@ -664,6 +730,7 @@ pub(super) fn rough(
         cap,
     };
     let mut rough = Rough {
+        newer: rules == Rules::Newer,
         delta: i.max(2.0 * TOL),
         escape: C::new(r, r),
         unit_tol: 1e-4,
@@ -771,17 +838,70 @@ mod tests {
         assert_eq!(cmds.len(), 5, "{cmds:?}");
     }
 
-    #[test]
-    fn passes_that_never_end_are_an_error_at_the_cap_not_a_hang() {
-        // rs274's endless G71.2 (LinuxCNC's g71-endless-loop test): a deep pocket after a step.
-        let v = vec![
+    /// LinuxCNC's g71-endless-loop profile (G8): X10 from Z0 to Z-14, down to X3, up to X7 at
+    /// Z-22, ending below the start point's level X15.
+    fn step_then_deep_pocket() -> Vec<Piece> {
+        vec![
             line((0.0, 15.0), (0.0, 10.0)),
             line((0.0, 10.0), (-14.0, 10.0)),
             line((-14.0, 10.0), (-14.0, 3.0)),
             line((-14.0, 3.0), (-22.0, 7.0)),
-        ];
-        let r = rough(v, false, 2, C::new(0.0, 15.0), 0.04, 0.5, 1.0, 5_000);
-        assert!(r.is_err_and(|e| e.contains("do not come to an end")));
+        ]
+    }
+
+    #[test]
+    fn the_reference_rules_never_end_on_a_deep_pocket_after_a_step() {
+        // rs274's endless G71.2 (LinuxCNC's g71-endless-loop test): stopped at the cap.
+        let v = step_then_deep_pocket();
+        let r = rough_by(
+            v,
+            false,
+            2,
+            C::new(0.0, 15.0),
+            (0.04, 0.5, 1.0),
+            5_000,
+            Rules::Reference,
+        );
+        assert!(r.is_err_and(|e| e.starts_with(ENDLESS)));
+    }
+
+    #[test]
+    fn passes_the_reference_never_ends_are_the_newer_linuxcnc_ones() {
+        // The G71.2 of g71-endless-loop as LinuxCNC master prints it (its `expected` file): the
+        // profile closed by a line up to X15 at Z-22 is roughed from outside, D 0.04: the first
+        // pocket level X9.54 under the step at X10.04, the last pass at X3.54 stopping on the
+        // offset slope, then the final climb along it (X3.0647 Z-14.04 to X7.0247 Z-21.96) and
+        // up the closing line to X15.
+        let v = step_then_deep_pocket();
+        let cmds = rough(v, false, 2, C::new(0.0, 15.0), 0.04, 0.5, 1.0, 5_000).unwrap();
+        let feeds: Vec<C> = cmds
+            .iter()
+            .filter_map(|(c, _)| match c {
+                Cmd::Feed(p) => Some(*p),
+                _ => None,
+            })
+            .collect();
+        let near = |a: C, z: f64, x: f64| (a - C::new(z, x)).norm() < 1e-4;
+        let n = feeds.len();
+        assert!(near(feeds[n - 1], -21.96, 15.0), "{:?}", feeds[n - 1]);
+        assert!(near(feeds[n - 2], -21.96, 7.0247), "{:?}", feeds[n - 2]);
+        assert!(near(feeds[n - 3], -14.04, 3.0647), "{:?}", feeds[n - 3]);
+        assert!(feeds.iter().any(|p| near(*p, -14.04, 9.54)));
+        assert!(feeds.iter().all(|p| p.im > 3.0 - 1e-9));
+    }
+
+    #[test]
+    fn where_the_reference_ends_its_passes_stand() {
+        // The G71.1 of the same profile ends in the reference rs274 (mirrored by its ends, as a
+        // bore): those passes stay, though newer LinuxCNC closes the profile and roughs it from
+        // outside.
+        let v = step_then_deep_pocket();
+        let start = C::new(0.0, 15.0);
+        let ours = rough(v.clone(), false, 1, start, 0.04, 0.5, 1.0, 5_000).unwrap();
+        let reference = rough_by(v.clone(), false, 1, start, (0.04, 0.5, 1.0), 5_000, Rules::Reference).unwrap();
+        let newer = rough_by(v, false, 1, start, (0.04, 0.5, 1.0), 5_000, Rules::Newer).unwrap();
+        assert_eq!(format!("{ours:?}"), format!("{reference:?}"));
+        assert_ne!(format!("{ours:?}"), format!("{newer:?}"));
     }
 
     #[test]
