@@ -43,6 +43,7 @@ fn comp(name: &str, parent: Option<usize>, mount: Iso, axis: Option<usize>) -> C
         geometry: None,
         role: Role::Structure,
         station: None,
+        label: None,
     }
 }
 
