@@ -96,6 +96,10 @@ pub struct Finding {
     pub time_s: Option<f64>,
     /// Largest penetration depth of the episode, mm.
     pub depth_mm: Option<f64>,
+    /// How far a part moved that should have stood still, mm: a sub-spindle clamped on a bar
+    /// the main chuck still holds (no depth: nothing went into anything).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub moved_mm: Option<f64>,
     /// Programmed point at first contact, in program coordinates (X as the program writes it).
     pub x: Option<f64>,
     pub z: Option<f64>,
@@ -152,6 +156,7 @@ impl Finding {
             objects: Vec::new(),
             time_s: None,
             depth_mm: None,
+            moved_mm: None,
             x: None,
             z: None,
             message: message.into(),

@@ -53,6 +53,7 @@ mod mutation;
 mod operations;
 mod pictures;
 mod polar;
+mod render_png;
 mod report3d;
 mod robustness;
 mod rs274_reference;

@@ -43,6 +43,7 @@ fn comp(name: &str, parent: Option<usize>, mount: Iso, axis: Option<usize>) -> C
         geometry: None,
         role: Role::Structure,
         station: None,
+        label: None,
     }
 }
 
@@ -254,6 +255,37 @@ fn variant(from: &str, to: &str) -> String {
         Ok(_) => "ok".into(),
         Err(e) => e.to_string(),
     }
+}
+
+/// A component's `label` is a few words on one line, and the loaded component keeps it.
+#[test]
+fn a_component_label_is_one_short_line_and_is_kept() {
+    let at = "label = \"sub-spindle's chuck\"";
+    for (label, why) in [
+        ("\"  \"", "must not be blank"),
+        (
+            "\"the chuck on the sub-spindle that faces the main spindle over there\"",
+            "a label is a few words: at most 60 characters",
+        ),
+        (
+            "\"sub\\tchuck\"",
+            "a label is one line: no tabs, line breaks or other control characters",
+        ),
+    ] {
+        let e = variant(at, &format!("label = {label}"));
+        assert!(e.contains(&format!(".label: {why}")), "{label}: {e}");
+        assert!(e.starts_with("tm.toml:"), "{e}");
+    }
+    let m = machine::from_toml_with(
+        &std::fs::read_to_string(root().join("machines/turn-mill.toml")).unwrap(),
+        "tm.toml",
+        &|n: &str| std::fs::read(root().join("machines").join(n)).map_err(|e| e.to_string()),
+    )
+    .unwrap();
+    let k = m.kinematics.as_ref().unwrap();
+    let sub = &k.components[k.component("sub_chuck").unwrap()];
+    assert_eq!(sub.label.as_deref(), Some("sub-spindle's chuck"));
+    assert_eq!(k.components[k.component("main_chuck").unwrap()].label, None);
 }
 
 #[test]

@@ -153,7 +153,7 @@ fn an_index_with_the_turret_off_centre_in_y_swings_the_drill_into_the_live_centr
         let hit = f.iter().find(|f| f.kind == Kind::Collision).unwrap();
         assert!(
             hit.message
-                .starts_with("indexing T08 → T07 swings t8_drill into live_centre"),
+                .starts_with("indexing T08 → T07 swings the T08 drill into the live centre"),
             "{}",
             hit.message
         );
@@ -225,7 +225,7 @@ fn the_3d_path_reports_a_near_miss_once_per_episode_with_its_closest_gap() {
         assert_eq!(n.objects, ["t8_drill", "sub_chuck"]);
         assert!(
             n.message
-                .starts_with("t8_drill passes within 1.000 mm of sub_chuck (closest 0.49"),
+                .starts_with("the T08 drill passes within 1.000 mm of the sub-spindle's chuck (closest 0.49"),
             "{}",
             n.message
         );
@@ -342,6 +342,72 @@ fn the_sub_spindle_pulling_away_before_the_part_off_is_through_tears_the_bar() {
         "crash_sub_retracts_before_part_off.nc",
         &[(31, Kind::Collision, ["sub_chuck", "stock"])],
     );
+}
+
+/// Nothing goes into anything when the clamped sub-spindle pulls on the bar: the finding says
+/// how far it moved (text, JSON and SARIF), never a depth (which would make a short pull a graze).
+#[test]
+fn a_clamped_sub_spindle_that_moves_says_how_far_not_a_depth() {
+    let text = pick_text("crash_sub_retracts_before_part_off.nc");
+    let out = pick_findings(&text, Mode::Step);
+    let f = out.findings.iter().find(|f| f.line == 31).expect("the tearing finding");
+    assert_eq!(f.moved_mm, Some(636.0));
+    assert_eq!(f.depth_mm, None);
+    assert_eq!(
+        f.message,
+        "the sub-spindle's chuck moves while clamped on a bar the main chuck still holds: the part-off is not through (the bar is torn or the sub-spindle stalls)"
+    );
+    let rel = format!("{PICK}crash_sub_retracts_before_part_off.nc");
+    let run = |format: &str| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_latheguard"))
+            .current_dir(root())
+            .args(["check", "--color", "never", "--format", format, &rel])
+            .output()
+            .unwrap();
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let shown = run("text");
+    assert!(shown.contains("(moved 636.000 mm, at 75.452 s, X54 Z-56)"), "{shown}");
+    assert!(!shown.contains("depth"), "{shown}");
+    let json: serde_json::Value = serde_json::from_str(&run("json")).unwrap();
+    let f = &json["files"][0]["findings"][0];
+    assert_eq!(f["moved_mm"], serde_json::json!(636.0), "{f}");
+    assert_eq!(f["depth_mm"], serde_json::Value::Null, "{f}");
+    assert_eq!(f["objects"], serde_json::json!(["sub_chuck", "stock"]), "{f}");
+    let sarif: serde_json::Value = serde_json::from_str(&run("sarif")).unwrap();
+    let p = &sarif["runs"][0]["results"][0]["properties"];
+    assert_eq!(p["moved_mm"], serde_json::json!(636.0), "{p}");
+    assert!(p.get("depth_mm").is_none(), "{p}");
+}
+
+/// The messages of the 3D path name the parts as a machinist does — the tool's part by its
+/// station, the rest in words or by the file's `label` — while `objects` keep the file's ids.
+#[test]
+fn turn_mill_findings_name_parts_in_words_and_keep_the_ids_in_objects() {
+    let out = pick_findings(&pick_text("crash_rapid_into_picked_part.nc"), Mode::Step);
+    let msgs: Vec<(&str, Vec<String>)> = out
+        .findings
+        .iter()
+        .filter(|f| f.line == 33)
+        .map(|f| (f.message.as_str(), f.objects.clone()))
+        .collect();
+    assert_eq!(
+        msgs,
+        vec![
+            (
+                "rapid move drives the T09 insert into the part in the sub-spindle's chuck",
+                vec!["t9_insert".to_string(), "part_in_sub_chuck".to_string()]
+            ),
+            (
+                "the T09 holder hits the part in the sub-spindle's chuck",
+                vec!["t9_holder".to_string(), "part_in_sub_chuck".to_string()]
+            ),
+        ]
+    );
+    let src = std::fs::read(root().join("programs/turn-mill/crash_live_drill_into_jaws.nc")).unwrap();
+    let out = pipeline::check(&src, &turn_mill(), &Settings::default());
+    let msgs: Vec<&str> = out.findings.iter().map(|f| f.message.as_str()).collect();
+    assert_eq!(msgs, ["the T07 drill hits the main chuck"]);
 }
 
 /// Without the clamp (no M110) the part falls when it is parted off: the same rapid that hits it

@@ -187,6 +187,7 @@ impl Episodes {
             objects: c.objects.to_vec(),
             time_s: Some(c.time),
             depth_mm: if c.kind == Kind::NearMiss { None } else { o.max_depth },
+            moved_mm: None,
             x: Some(c.x),
             z: Some(c.z),
             message,

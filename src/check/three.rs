@@ -594,7 +594,7 @@ impl Checker<'_> {
                     let t = item.t0 + u * item.duration;
                     self.budget.push((
                         m.line,
-                        format!("the 3D check of {} stopped after {MAX_PROBES} probes at {t:.3} s: the rest of this move is unchecked", names(k, a, b)),
+                        format!("the 3D check of {} stopped after {MAX_PROBES} probes at {t:.3} s: the rest of this move is unchecked", self.names(k, a, b)),
                     ));
                 }
                 Advance::Contact { u, hit } => {
@@ -721,7 +721,7 @@ impl Checker<'_> {
                 m.line,
                 format!(
                     "the near-miss scan of {} stopped after {MAX_PROBES} probes at {:.3} s: the rest of this move is unchecked",
-                    names(&three.kin, a, b),
+                    self.names(&three.kin, a, b),
                     time(u)
                 ),
             ));
@@ -864,22 +864,26 @@ impl Checker<'_> {
         t: f64,
     ) -> Contact {
         let k = &three.kin;
-        let mut an = k.components[a].name.clone();
-        let mut bn = if b == STOCK {
-            "stock".to_string()
-        } else {
-            k.components[b].name.clone()
+        // The JSON report's objects are the machine file's ids; the message is in words.
+        let id = |c: usize| {
+            if c == STOCK {
+                "stock".to_string()
+            } else {
+                k.components[c].name.clone()
+            }
         };
-        if b != STOCK && !carried_by_x(k, a) && carried_by_x(k, b) {
-            // The part that moves into the other comes first, as in the 2D findings.
-            std::mem::swap(&mut an, &mut bn);
-        }
+        let (a_, b_) = mover_first(k, a, b);
+        let (an, bn) = (id(a_), id(b_));
+        let (aw, bw) = (self.words3(k, a_), self.words3(k, b_));
         let message = match kind {
-            Kind::RapidIntoStock if b == STOCK => format!("rapid move drives {an} into the stock"),
-            Kind::RapidIntoStock => format!("rapid move drives {an} into {bn}"),
-            Kind::SpindleStopped => format!("{an} cuts the stock with neither the spindle nor a live tool turning"),
-            Kind::NearMiss => format!("{an} passes within {:.3} mm of {bn}", self.settings.clearance_mm),
-            _ => format!("{an} hits {bn}"),
+            Kind::RapidIntoStock if b == STOCK => format!("rapid move drives the {aw} into the stock"),
+            Kind::RapidIntoStock => format!("rapid move drives the {aw} into the {bw}"),
+            Kind::SpindleStopped => format!("the {aw} cuts the stock with neither the spindle nor a live tool turning"),
+            Kind::NearMiss => format!(
+                "the {aw} passes within {:.3} mm of the {bw}",
+                self.settings.clearance_mm
+            ),
+            _ => format!("the {aw} hits the {bw}"),
         };
         let mut vals = Vec::new();
         f.at(u, &mut vals);
@@ -905,6 +909,25 @@ impl Checker<'_> {
             snapshot: None,
             snapshot3,
         }
+    }
+
+    /// What a machinist calls component `c` (or the stock) in a message, without article:
+    /// [`words`](crate::kin::words::words) with the cutter of the machine's tool in its station.
+    pub(super) fn words3(&self, k: &Kinematics, c: usize) -> String {
+        if c == STOCK {
+            return "stock".into();
+        }
+        let comp = &k.components[c];
+        let cutter = comp
+            .station
+            .and_then(|s| self.machine.tools.iter().find(|t| t.station == s))
+            .map(|t| t.cutter);
+        crate::kin::words::words(comp, cutter)
+    }
+
+    /// A pair in words: "the T08 drill and the stock".
+    pub(super) fn names(&self, k: &Kinematics, a: CompId, b: usize) -> String {
+        format!("the {} and the {}", self.words3(k, a), self.words3(k, b))
     }
 
     /// The posed scene for a picture.
@@ -934,7 +957,7 @@ impl Checker<'_> {
         };
         let mut posers: Vec<(u64, Poser)> = Vec::new();
         let mut parts = Vec::new();
-        for (i, c) in k.components.iter().enumerate() {
+        for i in 0..k.components.len() {
             let other = three.station_of[i].is_some_and(|s| s != m.station);
             // The pair itself always (a tool of another station swung by an index).
             if (!on[i] || (sweep && other)) && i != a && i != b {
@@ -973,7 +996,7 @@ impl Checker<'_> {
                 Role3::Fixed
             };
             parts.push(Part3 {
-                name: c.name.clone(),
+                name: self.words3(k, i),
                 mesh,
                 pose,
                 role,
@@ -1191,14 +1214,18 @@ fn carried_by_x(k: &Kinematics, i: CompId) -> bool {
     false
 }
 
+/// The pair with the part that moves into the other first, as in the 2D findings.
+fn mover_first(k: &Kinematics, a: CompId, b: usize) -> (usize, usize) {
+    if b != STOCK && !carried_by_x(k, a) && carried_by_x(k, b) {
+        (b, a)
+    } else {
+        (a, b)
+    }
+}
+
 fn pair_key(a: CompId, b: usize, kind: Kind) -> u64 {
     let b = if b == STOCK { 0xFFFF } else { b as u64 & 0xFFFF };
     KEY_BASE | ((a as u64 & 0xFFFF) << 24) | (b << 8) | kind as u64
-}
-
-fn names(k: &Kinematics, a: CompId, b: usize) -> String {
-    let bn = if b == STOCK { "stock" } else { &k.components[b].name };
-    format!("{} and {bn}", k.components[a].name)
 }
 
 /// Conservative advancement of a pair of components.

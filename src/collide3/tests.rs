@@ -401,6 +401,7 @@ fn machine(tool: Geometry, plate: Geometry) -> Kinematics {
         geometry,
         role: Role::Structure,
         station: None,
+        label: None,
     };
     Kinematics {
         axes,

@@ -69,6 +69,7 @@ impl Kinematics {
             geometry,
             role,
             station: None,
+            label: None,
         };
         let mut c = vec![comp("bed".into(), None, None, None, Role::Structure)];
         if let Some(ch) = &m.chuck {
@@ -111,6 +112,7 @@ impl Kinematics {
                 geometry: Some(extruded(&t.holder, false)),
                 role: Role::Holder,
                 station: Some(t.station),
+                label: None,
             });
             c.push(Component {
                 name: format!("t{}_insert", t.station),
@@ -120,6 +122,7 @@ impl Kinematics {
                 geometry: Some(extruded(&t.insert, false)),
                 role: Role::Cutter,
                 station: Some(t.station),
+                label: None,
             });
         }
         let mut never_touch = Vec::new();

@@ -185,6 +185,27 @@ struct RawComponent {
     role: Option<RawRole>,
     #[schemars(with = "Option<u32>")]
     station: Option<Spanned<u32>>,
+    /// What findings and pictures call the component ("sub-spindle's chuck"); without it the
+    /// name says it ("main_chuck": "main chuck"; a tool's part by its station: "T08 drill").
+    #[schemars(with = "Option<String>")]
+    label: Option<Spanned<String>>,
+}
+
+/// Most characters of a component's `label`.
+const MAX_LABEL_CHARS: usize = 60;
+
+/// A component's `label`, trimmed: a few words on one line.
+fn label(text: &str) -> Result<String, String> {
+    let l = text.trim();
+    if l.is_empty() {
+        Err("must not be blank".into())
+    } else if l.chars().count() > MAX_LABEL_CHARS {
+        Err(format!("a label is a few words: at most {MAX_LABEL_CHARS} characters"))
+    } else if l.chars().any(char::is_control) {
+        Err("a label is one line: no tabs, line breaks or other control characters".into())
+    } else {
+        Ok(l.to_string())
+    }
 }
 
 fn show(x: f64) -> String {
@@ -445,7 +466,19 @@ pub(crate) fn kinematics(
                 }
             },
         };
-        if let (Some(mount), Some(axis), Some(station), Some(geometry)) = (mount, axis, station, geometry) {
+        let label = match &r.label {
+            None => Some(None),
+            Some(l) => match label(l.get_ref()) {
+                Ok(l) => Some(Some(l)),
+                Err(why) => {
+                    errors.push(cx.err(l.span(), key("label"), why));
+                    None
+                }
+            },
+        };
+        if let (Some(mount), Some(axis), Some(station), Some(geometry), Some(label)) =
+            (mount, axis, station, geometry, label)
+        {
             out_comps[i] = Some(Component {
                 name: r.name.get_ref().trim().to_string(),
                 parent: parent[i].map(|p| new_id[p]),
@@ -454,6 +487,7 @@ pub(crate) fn kinematics(
                 geometry,
                 role,
                 station,
+                label,
             });
         }
     }

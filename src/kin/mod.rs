@@ -23,6 +23,7 @@ pub mod load;
 pub mod shape;
 pub mod station;
 pub mod stl;
+pub mod words;
 
 pub type Iso = Isometry3<f64>;
 
@@ -130,6 +131,9 @@ pub struct Component {
     pub role: Role,
     /// For a tool: the turret station it sits in.
     pub station: Option<u32>,
+    /// What a machinist calls it in a report (the machine file's `label`), when given; else
+    /// [`words::words`] derives it from the name, role and station.
+    pub label: Option<String>,
 }
 
 /// The whole tree and the pairs that must never touch.

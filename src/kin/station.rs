@@ -104,6 +104,7 @@ pub fn fit(k: &Kinematics, station: u32, tip: P2, m: &MillTool) -> Option<Kinema
         geometry,
         role,
         station: Some(station),
+        label: None,
     };
     comps.push(part(
         name(PARTS[0]),

@@ -1125,6 +1125,177 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
     } = raw;
 
     // Bound the work before doing any of it.
+    let tools = tools_given(cx, tools)?;
+    outlines_bounded(cx, chuck.as_ref(), tailstock.as_ref(), &turret, &tools)?;
+
+    // From here on each check that fails is kept and validation goes on, so that one run reports
+    // every problem; a value that depends on a refused one is not checked.
+    let header = header_of(cx, &hdr);
+    let gcodes = cx
+        .keep(gcode_table(cx, header.dialect, gcodes.as_ref()))
+        .unwrap_or_default();
+    let ax = axes_of(cx, &axes);
+    let (max_rpm, start_rpm) = spindle_of(cx, &spindle);
+    let tailstock_advanced = tailstock.as_ref().and_then(|t| t.advanced).unwrap_or(true);
+    let mcodes_linuxcnc = if header.auto {
+        cx.keep(mcode_table(cx, Dialect::Linuxcnc, mcodes.as_ref()))
+    } else {
+        None
+    };
+    let mcodes = cx.keep(mcode_table(cx, header.dialect, mcodes.as_ref()));
+    let raw_stock = stock;
+    let stock = stock_of(cx, raw_stock.as_ref());
+    let (work_offsets, program_zero_z) = setup_of(cx, setup.as_ref(), ax.z, ax.machine_zero, stock.as_ref());
+
+    // [chuck], [tailstock]: an outline, or Fanuc's barrier parameters (measured from program Z0).
+    let chuck = chuck.map(|c| chuck_part(cx, &c, program_zero_z));
+    let chuck_form = chuck.as_ref().and_then(|c| c.as_ref().map(|c| c.1.clone()));
+    let chuck = chuck.map(|c| c.map(|c| c.0));
+    let tailstock = tailstock.map(|t| tailstock_part(cx, &t, program_zero_z));
+
+    let (stations, turret_built) = turret_of(cx, &turret);
+    let out = tools_of(cx, &tools, stations);
+    let numbers = machine_tool_numbers(cx, tool_numbers.as_ref(), stations);
+
+    if let Some(e) = cx.kept() {
+        return Err(e);
+    }
+    // No error was kept, so every value is there.
+    let (
+        Some(x),
+        Some(z),
+        Some(home),
+        Some(machine_zero),
+        Some(reference_points),
+        Some(max_rpm),
+        Some(start_rpm),
+        Some(mcodes),
+        Some(stock),
+        Some(program_zero_z),
+        Some(turret_built),
+    ) = (
+        ax.x,
+        ax.z,
+        ax.home,
+        ax.machine_zero,
+        ax.reference_points,
+        max_rpm,
+        start_rpm,
+        mcodes,
+        stock,
+        program_zero_z,
+        turret_built,
+    )
+    else {
+        return Err(cx.err(0..0, TOP_LEVEL, "invalid machine file"));
+    };
+    let (Some(chuck), Some(tailstock)) = (
+        chuck.map_or(Some(None), |c| c.map(Some)),
+        tailstock.map_or(Some(None), |t| t.map(Some)),
+    ) else {
+        return Err(cx.err(0..0, TOP_LEVEL, "invalid machine file"));
+    };
+
+    let Header {
+        name,
+        auto,
+        dialect,
+        diameter_mode,
+        rapid,
+        decimal_point,
+        gcode_system,
+        drilling_cycles,
+        drill_r,
+        g71_d,
+        min_depth,
+        turret_side,
+        inch,
+    } = header;
+    let machine = Machine {
+        name,
+        dialect,
+        diameter_mode,
+        rapid,
+        decimal_point,
+        gcode_system,
+        drilling_cycles,
+        drill_r,
+        g71_d,
+        gcodes,
+        turret_side,
+        inch,
+        min_depth,
+        x,
+        z,
+        home,
+        machine_zero,
+        reference_points,
+        max_rpm,
+        start_rpm,
+        chuck,
+        chuck_form,
+        tailstock,
+        tailstock_advanced,
+        mcodes,
+        stock,
+        program_zero_z,
+        work_offsets,
+        turret: turret_built,
+        tools: out,
+        tool_changes: Vec::new(),
+        tool_numbers: numbers,
+        operations: Vec::new(),
+        auto_dialect: None,
+        warnings: Vec::new(),
+        kinematics: None,
+    };
+    let auto_dialect = match (auto, mcodes_linuxcnc) {
+        (true, Some(lc)) => Some(Box::new(super::AutoDialect {
+            fanuc: super::DialectParts {
+                diameter_mode,
+                decimal_point,
+                gcode_system,
+                mcodes: machine.mcodes.clone(),
+            },
+            linuxcnc: super::DialectParts {
+                diameter_mode: hdr.diameter_mode.unwrap_or(false),
+                decimal_point: DecimalPoint::Calculator,
+                gcode_system: GcodeSystem::A,
+                mcodes: lc,
+            },
+        })),
+        _ => None,
+    };
+    let machine = Machine {
+        auto_dialect,
+        ..machine
+    };
+    clear_at_home(cx, &machine, &turret.outline, &tools);
+    if let (Some(s), Some(raw)) = (&machine.stock, &raw_stock) {
+        cx.keep(stock_fits_chuck(cx, &machine, s, raw.get_ref()));
+    }
+    if let Some(e) = cx.kept() {
+        return Err(e);
+    }
+    // [kinematics]: read once the 2D sections it refers to are valid.
+    let kinematics = match &kinematics {
+        None => None,
+        Some(k) => Some(std::sync::Arc::new(crate::kin::load::kinematics(
+            cx, k, &machine, resolve,
+        )?)),
+    };
+    Ok(Machine {
+        warnings: cx.warnings.take(),
+        kinematics,
+        ..machine
+    })
+}
+
+/// `[[tools]]` present, not empty and at most [`MAX_TOOLS`]: checked before any other work.
+fn tools_given(
+    cx: &Cx<'_>,
+    tools: Option<Spanned<Vec<Spanned<RawTool>>>>,
+) -> Result<Vec<Spanned<RawTool>>, MachineError> {
     let tools = match tools {
         Some(t) if t.get_ref().is_empty() => {
             return Err(cx.err(
@@ -1146,10 +1317,23 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
             ),
         ));
     }
+    Ok(tools)
+}
+
+/// Every outline of the file (chuck, tailstock, turret, the tools' inserts and holders) within
+/// [`MAX_OUTLINE_POINTS`], and all of them together within [`MAX_TOTAL_OUTLINE_POINTS`]:
+/// checked before any outline is normalised.
+fn outlines_bounded(
+    cx: &Cx<'_>,
+    chuck: Option<&RawPart>,
+    tailstock: Option<&RawTailstock>,
+    turret: &RawTurret,
+    tools: &[Spanned<RawTool>],
+) -> Result<(), MachineError> {
     let mut outlines: Vec<(String, Range<usize>, &[Point])> = Vec::new();
     for (key, o) in [
-        ("chuck.outline", chuck.as_ref().and_then(|c| c.outline.as_ref())),
-        ("tailstock.outline", tailstock.as_ref().and_then(|t| t.outline.as_ref())),
+        ("chuck.outline", chuck.and_then(|c| c.outline.as_ref())),
+        ("tailstock.outline", tailstock.and_then(|t| t.outline.as_ref())),
         ("turret.outline", Some(&turret.outline)),
     ] {
         if let Some(o) = o {
@@ -1186,16 +1370,34 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
             ));
         }
     }
+    Ok(())
+}
 
-    // From here on each check that fails is kept and validation goes on, so that one run reports
-    // every problem; a value that depends on a refused one is not checked.
+/// `[machine]` read: the dialect and the settings that depend on it, each refused where it does
+/// not apply (the default then stands in for it).
+struct Header {
+    name: String,
+    /// `dialect = "auto"`: Fanuc's settings here, LinuxCNC's beside them (`Machine::auto_dialect`).
+    auto: bool,
+    dialect: Dialect,
+    diameter_mode: bool,
+    rapid: RapidMode,
+    decimal_point: DecimalPoint,
+    gcode_system: GcodeSystem,
+    drilling_cycles: super::DrillingCycles,
+    drill_r: Option<super::DrillR>,
+    g71_d: super::G71D,
+    min_depth: Option<f64>,
+    turret_side: super::TurretSide,
+    inch: bool,
+}
 
-    // [machine]
+/// `[machine]`: see [`Header`]; its errors are kept in `cx`.
+fn header_of(cx: &Cx<'_>, hdr: &RawHeader) -> Header {
     let name = hdr.name.get_ref().trim().to_string();
     if name.is_empty() {
         cx.push(cx.err(hdr.name.span(), "machine.name", "must not be blank"));
     }
-    // "auto": Fanuc's settings here, LinuxCNC's beside them (`Machine::auto_dialect`).
     let auto = matches!(hdr.dialect, Some(RawDialect::Auto));
     let dialect = match hdr.dialect.unwrap_or(RawDialect::Fanuc) {
         RawDialect::Fanuc | RawDialect::Auto => Dialect::Fanuc,
@@ -1221,7 +1423,6 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
             }
         },
     };
-
     let gcode_system = match &hdr.gcode_system {
         None => GcodeSystem::A,
         Some(g) => match g.get_ref() {
@@ -1237,7 +1438,6 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
             }
         },
     };
-
     let drilling_cycles = match &hdr.drilling_cycles {
         None => super::DrillingCycles::Haas,
         Some(d) => match d.get_ref() {
@@ -1290,14 +1490,42 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
             }
         },
     };
-    let gcodes = cx.keep(gcode_table(cx, dialect, gcodes.as_ref())).unwrap_or_default();
-
     let min_depth = hdr
         .min_depth
         .as_ref()
         .and_then(|v| cx.keep(cx.within("machine.min_depth", v, crate::pipeline::MIN_DEPTH_MM, "mm")));
+    Header {
+        name,
+        auto,
+        dialect,
+        diameter_mode,
+        rapid,
+        decimal_point,
+        gcode_system,
+        drilling_cycles,
+        drill_r,
+        g71_d,
+        min_depth,
+        turret_side: match hdr.turret_side {
+            None | Some(RawTurretSide::Rear) => super::TurretSide::Rear,
+            Some(RawTurretSide::Front) => super::TurretSide::Front,
+        },
+        inch: matches!(hdr.units, Some(RawUnits::Inch)),
+    }
+}
 
-    // [axes]
+/// `[axes]` read; each value None where refused (or where what it is checked against is).
+struct AxesOf {
+    x: Option<Axis>,
+    z: Option<Axis>,
+    home: Option<P2>,
+    machine_zero: Option<P2>,
+    reference_points: Option<Vec<P2>>,
+}
+
+/// `[axes]`: the two axes, home inside their limits (default: both maxima), machine zero
+/// (default: home) and the reference points.
+fn axes_of(cx: &Cx<'_>, axes: &RawAxes) -> AxesOf {
     let x = cx.keep(cx.axis("axes.x", &axes.x));
     let z = cx.keep(cx.axis("axes.z", &axes.z));
     let home = match (&axes.home, x, z) {
@@ -1331,103 +1559,107 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         Some(p) => cx.keep(cx.point("axes.machine_zero", p)),
     };
     let reference_points = reference_points(cx, axes.reference_points.as_ref(), x, z);
+    AxesOf {
+        x,
+        z,
+        home,
+        machine_zero,
+        reference_points,
+    }
+}
 
-    // [spindle]
-    let (max_rpm, start_rpm) = spindle_of(cx, &spindle);
-
-    let tailstock_advanced = tailstock.as_ref().and_then(|t| t.advanced).unwrap_or(true);
-    let mcodes_linuxcnc = if auto {
-        cx.keep(mcode_table(cx, Dialect::Linuxcnc, mcodes.as_ref()))
-    } else {
-        None
-    };
-    let mcodes = cx.keep(mcode_table(cx, dialect, mcodes.as_ref()));
-
-    // [stock]
-    let raw_stock = stock;
-    let stock = match raw_stock.as_ref().map(|s| (s.span(), s.get_ref())) {
-        None => Some(None),
-        Some((_, s)) if s.outline.is_some() => {
-            let mut ok = true;
-            for (k, v) in [
-                ("diameter", s.diameter.as_ref()),
-                ("length", s.length.as_ref()),
-                ("front", s.front.as_ref()),
-                ("bore", s.bore.as_ref()),
-            ] {
-                if let Some(v) = v {
-                    cx.push(cx.err(
-                        v.span(),
-                        format!("stock.{k}"),
-                        "a stock with an `outline` takes its sizes from it: give the outline or diameter, length and front, not both",
-                    ));
-                    ok = false;
-                }
-            }
-            let o = s
-                .outline
-                .as_ref()
-                .and_then(|o| cx.keep(cx.stock_outline("stock.outline", o)));
-            o.filter(|_| ok).map(|o| Some(Stock::from_outline(o)))
-        }
-        Some((table, s)) => {
-            for (k, v) in [("diameter", &s.diameter), ("length", &s.length), ("front", &s.front)] {
-                if v.is_none() {
-                    cx.push(cx.err(
-                        table.clone(),
-                        format!("stock.{k}"),
-                        format!("missing required key `{k}` (or give a revolved `outline` instead)"),
-                    ));
-                }
-            }
-            let (rd, rl, rf) = (s.diameter.as_ref(), s.length.as_ref(), s.front.as_ref());
-            let diameter = rd.and_then(|v| cx.keep(cx.length("stock.diameter", v)));
-            let length = rl.and_then(|v| cx.keep(cx.length("stock.length", v)));
-            let front = rf.and_then(|v| cx.keep(cx.coord("stock.front", v)));
-            let bore = match &s.bore {
-                None => Some(0.0),
-                Some(b) => cx.keep(cx.non_negative("stock.bore", b)),
-            };
-            if let (Some(front), Some(length), Some(rl)) = (front, length, rl) {
-                if front - length < -MAX_COORD_MM {
-                    cx.push(cx.err(
-                        rl.span(),
-                        "stock.length",
-                        format!(
-                            "the bar's back end (front − length = {}) is out of range: coordinates must be from {} to {} mm",
-                            show(front - length),
-                            show(-MAX_COORD_MM),
-                            show(MAX_COORD_MM)
-                        ),
-                    ));
-                }
-            }
-            if let (Some(bore), Some(diameter)) = (bore, diameter) {
-                if bore >= diameter {
-                    let at = s.bore.as_ref().map_or(0..0, |b| b.span());
-                    cx.push(cx.err(
-                        at,
-                        "stock.bore",
-                        format!(
-                            "the bore ({}) must be smaller than the diameter ({})",
-                            show(bore),
-                            show(diameter)
-                        ),
-                    ));
-                }
-            }
-            match (diameter, length, front, bore) {
-                (Some(diameter), Some(length), Some(front), Some(bore)) => {
-                    Some(Some(Stock::bar(diameter, length, front, bore)))
-                }
-                _ => None,
+/// `[stock]`: a bar (`diameter`, `length`, `front`, `bore`) or a revolved `outline`, not both;
+/// Some(None) when the file has none, None when refused.
+fn stock_of(cx: &Cx<'_>, raw: Option<&Spanned<RawStock>>) -> Option<Option<Stock>> {
+    let Some(raw) = raw else { return Some(None) };
+    let (table, s) = (raw.span(), raw.get_ref());
+    if s.outline.is_some() {
+        let mut ok = true;
+        for (k, v) in [
+            ("diameter", s.diameter.as_ref()),
+            ("length", s.length.as_ref()),
+            ("front", s.front.as_ref()),
+            ("bore", s.bore.as_ref()),
+        ] {
+            if let Some(v) = v {
+                cx.push(cx.err(
+                    v.span(),
+                    format!("stock.{k}"),
+                    "a stock with an `outline` takes its sizes from it: give the outline or diameter, length and front, not both",
+                ));
+                ok = false;
             }
         }
+        let o = s
+            .outline
+            .as_ref()
+            .and_then(|o| cx.keep(cx.stock_outline("stock.outline", o)));
+        return o.filter(|_| ok).map(|o| Some(Stock::from_outline(o)));
+    }
+    for (k, v) in [("diameter", &s.diameter), ("length", &s.length), ("front", &s.front)] {
+        if v.is_none() {
+            cx.push(cx.err(
+                table.clone(),
+                format!("stock.{k}"),
+                format!("missing required key `{k}` (or give a revolved `outline` instead)"),
+            ));
+        }
+    }
+    let (rd, rl, rf) = (s.diameter.as_ref(), s.length.as_ref(), s.front.as_ref());
+    let diameter = rd.and_then(|v| cx.keep(cx.length("stock.diameter", v)));
+    let length = rl.and_then(|v| cx.keep(cx.length("stock.length", v)));
+    let front = rf.and_then(|v| cx.keep(cx.coord("stock.front", v)));
+    let bore = match &s.bore {
+        None => Some(0.0),
+        Some(b) => cx.keep(cx.non_negative("stock.bore", b)),
     };
+    if let (Some(front), Some(length), Some(rl)) = (front, length, rl) {
+        if front - length < -MAX_COORD_MM {
+            cx.push(cx.err(
+                rl.span(),
+                "stock.length",
+                format!(
+                    "the bar's back end (front − length = {}) is out of range: coordinates must be from {} to {} mm",
+                    show(front - length),
+                    show(-MAX_COORD_MM),
+                    show(MAX_COORD_MM)
+                ),
+            ));
+        }
+    }
+    if let (Some(bore), Some(diameter)) = (bore, diameter) {
+        if bore >= diameter {
+            let at = s.bore.as_ref().map_or(0..0, |b| b.span());
+            cx.push(cx.err(
+                at,
+                "stock.bore",
+                format!(
+                    "the bore ({}) must be smaller than the diameter ({})",
+                    show(bore),
+                    show(diameter)
+                ),
+            ));
+        }
+    }
+    match (diameter, length, front, bore) {
+        (Some(diameter), Some(length), Some(front), Some(bore)) => {
+            Some(Some(Stock::bar(diameter, length, front, bore)))
+        }
+        _ => None,
+    }
+}
 
-    // [setup]: program zero, and the work offsets (G54 written is program zero itself).
+/// `[setup]`: the work offsets (each doubted against the Z travel, when `z` and `machine_zero`
+/// are valid) and program zero's Z — `program_zero_z`, else G54, else the stock's front (the
+/// jaw faces without stock); None when refused.
+fn setup_of(
+    cx: &Cx<'_>,
+    setup: Option<&RawSetup>,
+    z: Option<Axis>,
+    machine_zero: Option<P2>,
+    stock: Option<&Option<Stock>>,
+) -> ([Option<super::WorkOffset>; 6], Option<f64>) {
     let given = setup
-        .as_ref()
         .and_then(|s| s.work_offsets.as_ref())
         .map(|w| work_offsets(cx, w, "setup.work_offsets"))
         .unwrap_or_default();
@@ -1441,7 +1673,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         }
     }
     let g54 = given.iter().find(|g| g.n == 0);
-    let program_zero_z = match (setup.as_ref().and_then(|s| s.program_zero_z.as_ref()), g54) {
+    let program_zero_z = match (setup.and_then(|s| s.program_zero_z.as_ref()), g54) {
         (Some(v), Some(g)) => {
             cx.push(cx.err(
                 v.span(),
@@ -1455,16 +1687,14 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         }
         (Some(v), None) => cx.keep(cx.coord("setup.program_zero_z", v)),
         (None, Some(g)) => machine_zero.map(|mz| mz.y + g.value.z),
-        (None, None) => stock.as_ref().map(|s| s.as_ref().map_or(0.0, |s| s.front)),
+        (None, None) => stock.map(|s| s.as_ref().map_or(0.0, |s| s.front)),
     };
+    (offsets, program_zero_z)
+}
 
-    // [chuck], [tailstock]: an outline, or Fanuc's barrier parameters (measured from program Z0).
-    let chuck = chuck.map(|c| chuck_part(cx, &c, program_zero_z));
-    let chuck_form = chuck.as_ref().and_then(|c| c.as_ref().map(|c| c.1.clone()));
-    let chuck = chuck.map(|c| c.map(|c| c.0));
-    let tailstock = tailstock.map(|t| tailstock_part(cx, &t, program_zero_z));
-
-    // [turret]
+/// `[turret]`: its station count (None where refused; the tools are checked against it) and
+/// the turret, None when any of its values is refused.
+fn turret_of(cx: &Cx<'_>, turret: &RawTurret) -> (Option<u32>, Option<Turret>) {
     let stations = *turret.stations.get_ref();
     let stations = if (1..=i64::from(MAX_STATIONS)).contains(&stations) {
         Some(stations as u32)
@@ -1526,147 +1756,19 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
             ),
         );
     }
-    let turret_outline = cx.keep(cx.outline("turret.outline", &turret.outline));
-
-    // [[tools]]
-    let out = tools_of(cx, &tools, stations);
-    let numbers = machine_tool_numbers(cx, tool_numbers.as_ref(), stations);
-
-    if let Some(e) = cx.kept() {
-        return Err(e);
-    }
-    // No error was kept, so every value is there.
-    let (
-        Some(x),
-        Some(z),
-        Some(home),
-        Some(machine_zero),
-        Some(reference_points),
-        Some(max_rpm),
-        Some(start_rpm),
-        Some(mcodes),
-        Some(stock),
-        Some(program_zero_z),
-        Some(stations),
-        Some(start_station),
-        Some(axis),
-        Some(index_time),
-        Some(turret_outline),
-    ) = (
-        x,
-        z,
-        home,
-        machine_zero,
-        reference_points,
-        max_rpm,
-        start_rpm,
-        mcodes,
-        stock,
-        program_zero_z,
-        stations,
-        start_station,
-        axis,
-        index_time,
-        turret_outline,
-    )
-    else {
-        return Err(cx.err(0..0, TOP_LEVEL, "invalid machine file"));
-    };
-    let (Some(chuck), Some(tailstock)) = (
-        chuck.map_or(Some(None), |c| c.map(Some)),
-        tailstock.map_or(Some(None), |t| t.map(Some)),
-    ) else {
-        return Err(cx.err(0..0, TOP_LEVEL, "invalid machine file"));
-    };
-
-    let machine = Machine {
-        name,
-        dialect,
-        diameter_mode,
-        rapid,
-        decimal_point,
-        gcode_system,
-        drilling_cycles,
-        drill_r,
-        g71_d,
-        gcodes,
-        turret_side: match hdr.turret_side {
-            None | Some(RawTurretSide::Rear) => super::TurretSide::Rear,
-            Some(RawTurretSide::Front) => super::TurretSide::Front,
-        },
-        inch: matches!(hdr.units, Some(RawUnits::Inch)),
-        min_depth,
-        x,
-        z,
-        home,
-        machine_zero,
-        reference_points,
-        max_rpm,
-        start_rpm,
-        chuck,
-        chuck_form,
-        tailstock,
-        tailstock_advanced,
-        mcodes,
-        stock,
-        program_zero_z,
-        work_offsets: offsets,
-        turret: Turret {
+    let outline = cx.keep(cx.outline("turret.outline", &turret.outline));
+    let turret = match (stations, start_station, axis, index_time, outline) {
+        (Some(stations), Some(start_station), Some(axis), Some(index_time), Some(outline)) => Some(Turret {
             kind,
             stations,
             start_station,
             axis,
             index_time,
-            outline: turret_outline,
-        },
-        tools: out,
-        tool_changes: Vec::new(),
-        tool_numbers: numbers,
-        operations: Vec::new(),
-        auto_dialect: None,
-        warnings: Vec::new(),
-        kinematics: None,
-    };
-    let auto_dialect = match (auto, mcodes_linuxcnc) {
-        (true, Some(lc)) => Some(Box::new(super::AutoDialect {
-            fanuc: super::DialectParts {
-                diameter_mode,
-                decimal_point,
-                gcode_system,
-                mcodes: machine.mcodes.clone(),
-            },
-            linuxcnc: super::DialectParts {
-                diameter_mode: hdr.diameter_mode.unwrap_or(false),
-                decimal_point: DecimalPoint::Calculator,
-                gcode_system: GcodeSystem::A,
-                mcodes: lc,
-            },
-        })),
+            outline,
+        }),
         _ => None,
     };
-    let machine = Machine {
-        auto_dialect,
-        ..machine
-    };
-    clear_at_home(cx, &machine, &turret.outline, &tools);
-    if let (Some(s), Some(raw)) = (&machine.stock, &raw_stock) {
-        cx.keep(stock_fits_chuck(cx, &machine, s, raw.get_ref()));
-    }
-    if let Some(e) = cx.kept() {
-        return Err(e);
-    }
-    // [kinematics]: read once the 2D sections it refers to are valid.
-    let kinematics = match &kinematics {
-        None => None,
-        Some(k) => Some(std::sync::Arc::new(crate::kin::load::kinematics(
-            cx, k, &machine, resolve,
-        )?)),
-    };
-    Ok(Machine {
-        warnings: cx.warnings.take(),
-        kinematics,
-        ..machine
-    })
+    (stations, turret)
 }
 
 /// `[spindle]`: `max_rpm`, and `start_rpm` (Some(None) when not given); None where refused.

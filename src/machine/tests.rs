@@ -719,6 +719,37 @@ fn home_outside_limits_is_refused() {
 }
 
 #[test]
+fn reference_points_are_at_most_three_inside_the_axis_limits() {
+    let with = |pts: &str| {
+        edit(
+            MINI,
+            "rapid = 24000.0 }\n",
+            &format!("rapid = 24000.0 }}\nreference_points = {pts}\n"),
+        )
+    };
+    let text = with("[[250, 500], [100, 0]]");
+    assert_eq!(
+        load(&text).unwrap().reference_points,
+        vec![p2(250.0, 500.0), p2(100.0, 0.0)]
+    );
+    let text = with("[[1, 1], [2, 2], [3, 3], [4, 4]]");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "reference_points ="), "axes.reference_points");
+    assert_eq!(
+        e.message,
+        "4 points: these are the 2nd, 3rd and 4th reference points (G30 P2 to P4), at most 3"
+    );
+    let text = with("[[1, 1], [301, 2]]");
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "reference_points ="), "axes.reference_points[1]");
+    assert_eq!(
+        e.message,
+        "the 3rd reference point [301, 2] lies outside the axis limits (x -10 .. 300, z -50 .. 600)"
+    );
+    assert!(e.also.is_empty(), "{e}");
+}
+
+#[test]
 fn axis_limits_and_rates_are_checked() {
     let text = edit(MINI, "min = -10.0", "min = 300.0");
     let e = refused(&text);

@@ -51,6 +51,9 @@ struct FindingDoc<'a> {
     objects: &'a [String],
     time_s: Option<f64>,
     depth_mm: Option<f64>,
+    /// How far a part that should have stood still moved, mm (absent for every other finding).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    moved_mm: Option<f64>,
     x: Option<f64>,
     z: Option<f64>,
     message: &'a str,
@@ -93,6 +96,7 @@ impl<'a> From<&'a Finding> for FindingDoc<'a> {
             objects: &f.objects,
             time_s: f.time_s.map(round6),
             depth_mm: f.depth_mm.map(round6),
+            moved_mm: f.moved_mm.map(round6),
             x: f.x.map(round6),
             z: f.z.map(round6),
             message: &f.message,

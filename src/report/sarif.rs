@@ -206,6 +206,8 @@ struct ResultProperties<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     depth_mm: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    moved_mm: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     x: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     z: Option<f64>,
@@ -426,6 +428,7 @@ pub fn sarif(r: &Report) -> String {
                     objects: &x.objects,
                     time_s: x.time_s.map(round6),
                     depth_mm: x.depth_mm.map(round6),
+                    moved_mm: x.moved_mm.map(round6),
                     x: x.x.map(round6),
                     z: x.z.map(round6),
                     machine: f.machine.as_deref(),

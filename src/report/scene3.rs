@@ -71,7 +71,7 @@ impl Role3 {
 /// One part of the scene: a mesh in its own frame and where it stands.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Part3 {
-    /// The machine file's name for the component (`"T05 drill"`, `"sub chuck"`).
+    /// What a machinist calls the component (`"T05 drill"`, `"sub chuck"`: `kin::words`).
     pub name: String,
     pub mesh: Arc<Mesh>,
     /// The mesh's pose in the machine frame.

@@ -195,6 +195,9 @@ pub(crate) fn with_facts(mut s: String, x: &Finding, point: bool, n: bool) -> St
         };
         facts.push(format!("depth {shown} mm"));
     }
+    if let Some(d) = x.moved_mm {
+        facts.push(format!("moved {d:.3} mm"));
+    }
     if let Some(t) = x.time_s {
         facts.push(format!("at {t:.3} s"));
     }

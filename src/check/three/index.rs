@@ -235,7 +235,7 @@ impl super::Checker<'_> {
                             m.line,
                             format!(
                                 "the 3D check of {} while indexing stopped after {MAX_PROBES} probes at {t:.3} s: the rest of the index is unchecked",
-                                super::names(&k, a, b)
+                                self.names(&k, a, b)
                             ),
                         ));
                     }
@@ -246,9 +246,11 @@ impl super::Checker<'_> {
                             self.episodes.extend(key, m.line, t, hit.depth, false);
                         } else {
                             let mut c = self.contact3(three, &path, m, a, b, Kind::Collision, u, hit, t);
+                            let (x, y) = super::mover_first(&k, a, b);
                             c.message = format!(
-                                "indexing T{from:02} → T{to:02} swings {} into {}",
-                                c.objects[0], c.objects[1]
+                                "indexing T{from:02} → T{to:02} swings the {} into the {}",
+                                self.words3(&k, x),
+                                self.words3(&k, y)
                             );
                             if let Some(s) = c.snapshot3.as_mut() {
                                 s.title = c.message.clone();

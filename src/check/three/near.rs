@@ -173,6 +173,7 @@ mod tests {
                     geometry: Some(cube(-10.0, 8.0)),
                     role: Role::Structure,
                     station: None,
+                    label: None,
                 },
                 Component {
                     name: "slide".into(),
@@ -182,6 +183,7 @@ mod tests {
                     geometry: Some(cube(0.0, 5.0)),
                     role: Role::Holder,
                     station: None,
+                    label: None,
                 },
             ],
             never_touch: vec![(0, 1)],

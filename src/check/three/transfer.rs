@@ -94,6 +94,7 @@ impl Checker<'_> {
         }
         three.transfer.torn = true;
         let name = three.kin.components[chuck].name.clone();
+        let words = self.words3(&three.kin, chuck);
         let (x, z) = self.run.frame(m).to_program(m.start);
         self.episodes.contact(
             TEAR_KEY,
@@ -106,15 +107,19 @@ impl Checker<'_> {
                 time: item.t0,
                 x,
                 z,
-                depth: Some(pulled),
+                depth: None,
                 message: format!(
-                    "{name} moves {pulled:.3} mm while clamped on a bar the main chuck still holds: the part-off is not through (the bar is torn or the sub-spindle stalls)"
+                    "the {words} moves while clamped on a bar the main chuck still holds: the part-off is not through (the bar is torn or the sub-spindle stalls)"
                 ),
                 snapshot: None,
                 snapshot3: None,
             },
         );
         self.episodes.clear(TEAR_KEY);
+        // Nothing went into anything: the finding says how far the clamped part moved.
+        if let Some(f) = self.episodes.findings.last_mut().filter(|f| f.objects[0] == name) {
+            f.moved_mm = Some(pulled);
+        }
     }
 
     /// After a move: a part-off hands the piece beyond the groove to the sub chuck, or drops it.
@@ -192,6 +197,7 @@ impl Three {
         let mount = poser.world(chuck).inverse();
         let k = Arc::make_mut(&mut self.kin);
         let id = k.components.len();
+        let label = format!("part in the {}", crate::kin::words::words(&k.components[chuck], None));
         k.components.push(Component {
             name: PIECE.into(),
             parent: Some(chuck),
@@ -200,6 +206,7 @@ impl Three {
             geometry: Some(geometry),
             role: Role::Structure,
             station: None,
+            label: Some(label),
         });
         for j in 0..id {
             let main_chuck = k.components[j].role == Role::Chuck && !self.sub_chucks.contains(&j);
