@@ -240,6 +240,9 @@ pub struct JobTool {
     pub tool: Tool,
     /// `outlines`, `catalogue: …`, `use T-ROUGH (tools.toml)`, `tbl 3 (lathe.tbl)`.
     pub origin: String,
+    /// Given as the control's geometry offset (`geometry_offset`): `tool.tip` is set from it
+    /// with the machine's machine zero when the job is applied.
+    pub geometry_offset: Option<machine::GeometryOffset>,
 }
 
 /// `[tool_numbers] from_table = true`: the tools of a layer's LinuxCNC tool table, each in its
@@ -552,11 +555,15 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
             ));
             continue;
         }
+        let mut tool = t.value.tool.clone();
+        if let Some(g) = &t.value.geometry_offset {
+            tool.tip = g.tip(m.machine_zero);
+        }
         m.tools.retain(|o| o.station != station);
-        m.tools.push(t.value.tool.clone());
+        m.tools.push(tool.clone());
         // A milling tool on a machine with a tree: its 3D parts replace the station's cutter.
-        if let (Some(mt), Some(k)) = (&t.value.tool.mill, &m.kinematics) {
-            if let Some(k) = crate::kin::station::fit(k, station, t.value.tool.tip, mt) {
+        if let (Some(mt), Some(k)) = (&tool.mill, &m.kinematics) {
+            if let Some(k) = crate::kin::station::fit(k, station, tool.tip, mt) {
                 m.kinematics = Some(std::sync::Arc::new(k));
             }
         }

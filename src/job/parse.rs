@@ -10,7 +10,7 @@ use super::{
     DialectChoice, JobError, JobJaws, JobOperation, JobStock, JobTool, Layer, Place, Resolve, Set, TableNumbers,
 };
 use crate::geom::{Polygon, P2};
-use crate::machine::tool_entry::{self, Geom, RawDrill, Shape, ShapeSchema};
+use crate::machine::tool_entry::{self, Geom, Placing, RawDrill, RawGeometryOffset, Shape, ShapeSchema};
 use crate::machine::{self, Cx, Num, OpStart, Outline, Point, RawGrip, RawJawType, RawUnits, RawWorkOffsets, Tool};
 use crate::scene::{Stand, StockTransform};
 use crate::tooling::milling::{Live, MillSpec, MillTool};
@@ -207,6 +207,10 @@ struct RawTool {
     name: Option<Spanned<String>>,
     #[schemars(with = "Option<[f64; 2]>")]
     tip: Option<Point>,
+    /// The tool's geometry offset as the control's page shows it (X on diameter, Z; mm),
+    /// instead of `tip`.
+    #[schemars(with = "Option<RawGeometryOffset>")]
+    geometry_offset: Option<Spanned<RawGeometryOffset>>,
     #[schemars(with = "Option<ShapeSchema>")]
     insert: Option<Spanned<Shape>>,
     #[schemars(with = "Option<ShapeSchema>")]
@@ -1160,7 +1164,7 @@ fn operation(
 #[derive(Default)]
 struct Partial {
     name: Option<String>,
-    tip: Option<P2>,
+    tip: Option<Placing>,
     insert: Option<(Geom, Place)>,
     holder: Option<(Geom, Place)>,
     nose_radius: Option<f64>,
@@ -1199,9 +1203,7 @@ fn partial(cx: &Cx<'_>, t: &RawTool, key: &str) -> Result<Partial, JobError> {
         }
         p.name = Some(name);
     }
-    if let Some(tip) = &t.tip {
-        p.tip = Some(cx.point(&k("tip"), tip)?);
-    }
+    p.tip = tool_entry::placing(cx, key, t.tip.as_ref(), t.geometry_offset.as_ref())?;
     for (which, v) in [("insert", &t.insert), ("holder", &t.holder)] {
         let Some(v) = v else { continue };
         let g = tool_entry::geom(cx, &k(which), v)?;
@@ -1418,13 +1420,21 @@ fn job_tool(
     };
     let insert = outline(p.insert, "insert", built.as_ref().map(|b| &b.insert)).map_err(|e| relocate(e, cx, t))?;
     let holder = outline(p.holder, "holder", built.as_ref().map(|b| &b.holder)).map_err(|e| relocate(e, cx, t))?;
-    let tip = p.tip.ok_or_else(|| relocate(place_of_entry("tip"), cx, t))?;
+    let placing = p.tip.ok_or_else(|| relocate(place_of_entry("tip"), cx, t))?;
+    // A geometry offset becomes a tip where the job meets the machine (its machine zero).
+    let (tip, geometry_offset) = match placing {
+        Placing::Tip(tip) => (tip, None),
+        Placing::Offset(g) => (P2::new(0.0, 0.0), Some(g)),
+    };
     let name = p
         .name
         .or(default_name)
         .ok_or_else(|| relocate(place_of_entry("name"), cx, t))?;
     if origin.is_empty() {
         origin.push("outlines".into());
+    }
+    if let Some(g) = &geometry_offset {
+        origin.push(format!("geometry offset {}", g.show()));
     }
     let cutter = tool_entry::cutter(built.as_ref(), &name);
     Ok(JobTool {
@@ -1440,6 +1450,7 @@ fn job_tool(
             mill,
         },
         origin: origin.join(", "),
+        geometry_offset,
     })
 }
 
@@ -1493,7 +1504,7 @@ fn tbl_partial(row: &tbl::TblTool, shown: &str, at: &Place) -> Result<(Partial, 
         ))
     })?;
     let mut base = Partial::from_built(built, at);
-    base.tip = Some(crate::geom::p2(row.x, row.z));
+    base.tip = Some(Placing::Tip(crate::geom::p2(row.x, row.z)));
     let name = if row.comment.trim().is_empty() {
         format!("T{want}")
     } else {
@@ -1603,7 +1614,7 @@ fn tool_numbers(
                     station: row.pocket,
                     cutter: tooling::Cutter::from_name(&name),
                     name,
-                    tip: p.tip.unwrap_or_default(),
+                    tip: p.tip.map_or_else(P2::default, |t| t.tip(P2::default())),
                     insert: outline(p.insert),
                     holder: outline(p.holder),
                     nose_radius: p.nose_radius.unwrap_or(0.0),
@@ -1611,6 +1622,7 @@ fn tool_numbers(
                     mill: None,
                 },
                 origin: format!("tbl {} ({shown})", row.tool),
+                geometry_offset: None,
             }
         });
         match built {

@@ -11,6 +11,7 @@ mod mcodes;
 #[cfg(test)]
 mod tests;
 pub(crate) mod tool_entry;
+pub use tool_entry::GeometryOffset;
 
 use std::fmt::Write as _;
 
