@@ -232,6 +232,13 @@ pub struct JobOperation {
     /// Its own jaws as keys over the job's (`chuck.jaws`); the machine's chuck must be given by
     /// its body and jaws.
     pub jaws: Option<JobJaws>,
+    /// `tailstock.in_use`: the tailstock advanced as the operation begins (true) or no obstacle
+    /// from then on (false); None: as it stood.
+    pub tailstock_in_use: Option<bool>,
+    /// `tailstock.z`: where its live centre's tip stands in this operation.
+    pub tailstock_z: Option<f64>,
+    /// Where its `tailstock` table was written.
+    pub tailstock_at: Option<Place>,
 }
 
 /// A tool a job puts in a station, built, and how it was described.
@@ -583,7 +590,7 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
         }
     }
     m.tool_changes = job.tool_changes.iter().map(|c| c.value).collect();
-    operations(&mut m, job, &mut errors);
+    operations(&mut m, machine, job, &mut errors);
     if let Some(e) = JobError::gather(errors) {
         return Err(e);
     }
@@ -801,7 +808,7 @@ fn job_jaws(machine: &Machine, job: &EffectiveJob) -> Result<Option<(Polygon, ja
 // Operations (`[[operations]]`, docs/job.md "Operations").
 
 /// The job's operations on the machine: each with its jaws (its own, else the job's chuck).
-fn operations(m: &mut Machine, job: &EffectiveJob, errors: &mut Vec<JobError>) {
+fn operations(m: &mut Machine, machine: &Machine, job: &EffectiveJob, errors: &mut Vec<JobError>) {
     let Some(ops) = job.operations.as_ref().filter(|o| !o.is_empty()) else {
         return;
     };
@@ -824,16 +831,52 @@ fn operations(m: &mut Machine, job: &EffectiveJob, errors: &mut Vec<JobError>) {
             },
             None => v.chuck.clone().or_else(|| m.chuck.clone()),
         };
+        let tailstock = match operation_tailstock(machine, job, v) {
+            Ok(t) => t,
+            Err(e) => {
+                errors.push(e);
+                continue;
+            }
+        };
         out.push(machine::Operation {
             start: v.start,
             reverse: v.reverse,
             stand: v.stand,
             chuck,
             program_zero_z: v.program_zero_z,
+            tailstock,
             origin: format!("{}:{}:{}: {}", o.at.file, o.at.line, o.at.col, o.at.key),
         });
     }
     m.operations = out;
+}
+
+/// An operation's `tailstock` (`in_use`, `z`): the machine file's tailstock outline with its
+/// live centre's tip at the operation's `z`, else at the job's, else where the machine file puts
+/// it. Either key needs a machine with a tailstock.
+fn operation_tailstock(
+    machine: &Machine,
+    job: &EffectiveJob,
+    v: &JobOperation,
+) -> Result<machine::OpTailstock, JobError> {
+    let Some(at) = &v.tailstock_at else {
+        return Ok(machine::OpTailstock::AsItStood);
+    };
+    if v.tailstock_in_use == Some(false) {
+        return Ok(machine::OpTailstock::Out);
+    }
+    let Some(outline) = &machine.tailstock else {
+        return Err(at.err("the machine has no tailstock: describe it in the machine file's [tailstock]"));
+    };
+    let z = v.tailstock_z.or(job.tailstock_z.as_ref().map(|z| z.value));
+    let outline = match z {
+        Some(z) => outline.translated(crate::geom::V2::new(0.0, z - outline.aabb().min.y)),
+        None => outline.clone(),
+    };
+    Ok(machine::OpTailstock::At {
+        outline,
+        advance: v.tailstock_in_use == Some(true),
+    })
 }
 
 /// An operation's `chuck.jaws`: its keys over the jaws the job set up (the machine file's with

@@ -281,7 +281,7 @@ struct RawLibrary {
 #[derive(Deserialize, JsonSchema)]
 #[serde(
     deny_unknown_fields,
-    expecting = "a table { line or stop, reverse, front or grip, chuck, … }"
+    expecting = "a table { line, stop or work_offset, reverse, front or grip, chuck, tailstock, … }"
 )]
 struct RawOperation {
     /// The program's file line (1-based) where this operation starts, before the block's
@@ -292,6 +292,14 @@ struct RawOperation {
     /// starts; instead of `line`.
     #[schemars(with = "Option<i64>")]
     stop: Option<Spanned<i64>>,
+    /// The work offset (`"G55"`: G54 to G59) whose first selection starts this operation,
+    /// before that block's words; instead of `line` or `stop`.
+    #[schemars(with = "Option<String>")]
+    work_offset: Option<Spanned<String>>,
+    /// The tailstock in this operation: `in_use` (advanced as it begins, or not an obstacle)
+    /// and `z` (its live centre's tip); default: as it stood.
+    #[schemars(with = "Option<RawTailstock>")]
+    tailstock: Option<Spanned<RawTailstock>>,
     /// The part turned end for end (z mirrored); needs `front` or `grip`.
     #[schemars(with = "Option<bool>")]
     reverse: Option<Spanned<bool>>,
@@ -1050,22 +1058,34 @@ fn operation(
 ) -> Result<JobOperation, JobError> {
     let r = o.get_ref();
     let kk = |n: &str| format!("{k}.{n}");
-    let start = match (&r.line, &r.stop) {
-        (Some(_), Some(s)) => {
-            return Err(cx.err(
-                s.span(),
-                kk("stop"),
-                "an operation starts at a `line` or at a program `stop`, not both",
-            ))
-        }
-        (None, None) => {
+    let given: Vec<(&str, std::ops::Range<usize>)> = [
+        ("line", r.line.as_ref().map(|v| v.span())),
+        ("stop", r.stop.as_ref().map(|v| v.span())),
+        ("work_offset", r.work_offset.as_ref().map(|v| v.span())),
+    ]
+    .into_iter()
+    .filter_map(|(k, at)| at.map(|at| (k, at)))
+    .collect();
+    if given.len() > 1 {
+        let (second, at) = given[1].clone();
+        return Err(cx.err(
+            at,
+            kk(second),
+            format!(
+                "an operation starts at one place: give one of `line`, `stop` and `work_offset`, not `{}` and `{second}`",
+                given[0].0
+            ),
+        ));
+    }
+    let start = match (&r.line, &r.stop, &r.work_offset) {
+        (None, None, None) => {
             return Err(cx.err(
                 o.span(),
                 kk("line"),
-                "missing required key `line` (the program line where the operation starts; or `stop`, the program stop after which it starts)",
+                "missing required key `line` (the program line where the operation starts; or `stop`, the program stop after which it starts; or `work_offset`, the work offset whose first selection starts it)",
             ))
         }
-        (Some(l), None) => {
+        (Some(l), _, _) => {
             let v = *l.get_ref();
             if !(1..=i64::from(u32::MAX)).contains(&v) {
                 return Err(cx.err(l.span(), kk("line"), format!("{v} is not a line: lines count from 1")));
@@ -1080,7 +1100,7 @@ fn operation(
             *last_line = Some((v, k.to_string()));
             OpStart::Line(v as u32)
         }
-        (None, Some(s)) => {
+        (None, Some(s), _) => {
             let v = *s.get_ref();
             if !(1..=i64::from(u32::MAX)).contains(&v) {
                 return Err(cx.err(s.span(), kk("stop"), format!("{v} is not a program stop: the first is stop = 1")));
@@ -1094,6 +1114,19 @@ fn operation(
             }
             *last_stop = Some((v, k.to_string()));
             OpStart::Stop(v as u32)
+        }
+        (None, None, Some(w)) => {
+            let name = w.get_ref().trim().to_ascii_uppercase();
+            match machine::WORK_OFFSET_NAMES.iter().position(|n| *n == name) {
+                Some(n) => OpStart::WorkOffset(n as u8),
+                None => {
+                    return Err(cx.err(
+                        w.span(),
+                        kk("work_offset"),
+                        format!("{:?} is not a work offset: give one of \"G54\" to \"G59\"", w.get_ref()),
+                    ))
+                }
+            }
         }
     };
     let reverse = r.reverse.as_ref().is_some_and(|v| *v.get_ref());
@@ -1147,7 +1180,19 @@ fn operation(
         None => None,
         Some(z) => Some(cx.coord(&kk("program_zero_z"), z)?),
     };
+    let (mut tailstock_in_use, mut tailstock_z, mut tailstock_at) = (None, None, None);
+    if let Some(t) = &r.tailstock {
+        let raw = t.get_ref();
+        tailstock_in_use = raw.in_use.as_ref().map(|v| *v.get_ref());
+        if let Some(z) = &raw.z {
+            tailstock_z = Some(cx.coord(&kk("tailstock.z"), z)?);
+        }
+        tailstock_at = Some(place(cx, t.span(), &kk("tailstock")));
+    }
     Ok(JobOperation {
+        tailstock_in_use,
+        tailstock_z,
+        tailstock_at,
         start,
         reverse,
         stand,

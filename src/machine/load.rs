@@ -1762,7 +1762,12 @@ fn tools_of(cx: &Cx<'_>, tools: &[Spanned<RawTool>], stations: Option<u32>, mach
         }
         // `tip`, or `geometry_offset` turned into one with machine zero (None when that is invalid:
         // its own error is kept).
-        let tip = match cx.keep(tool_entry::placing(cx, &format!("tools[{i}]"), t.tip.as_ref(), t.geometry_offset.as_ref())) {
+        let tip = match cx.keep(tool_entry::placing(
+            cx,
+            &format!("tools[{i}]"),
+            t.tip.as_ref(),
+            t.geometry_offset.as_ref(),
+        )) {
             Some(Some(p)) => machine_zero.map(|mz| p.tip(mz)),
             Some(None) => {
                 cx.push(cx.err(

@@ -1908,7 +1908,11 @@ fn a_job_tool_given_by_its_geometry_offset_is_the_machine_files_tool() {
 
 #[test]
 fn tip_and_geometry_offset_together_are_an_error_naming_the_key() {
-    let text = edit(BUILTIN_TOML, BUILTIN_T01_TIP, &format!("{BUILTIN_T01_TIP}\n{BUILTIN_T01_OFFSET}"));
+    let text = edit(
+        BUILTIN_TOML,
+        BUILTIN_T01_TIP,
+        &format!("{BUILTIN_T01_TIP}\n{BUILTIN_T01_OFFSET}"),
+    );
     let e = refused(&text);
     assert_at(&e, line_of(&text, "geometry_offset"), "tools[0].geometry_offset");
     assert!(e.message.contains("not both"), "{e}");
@@ -1919,22 +1923,45 @@ fn a_tool_without_tip_or_geometry_offset_is_an_error_naming_both() {
     let text = edit(BUILTIN_TOML, &format!("{BUILTIN_T01_TIP}\n"), "");
     let e = refused(&text);
     assert_eq!(e.key, "tools[0].tip", "{e}");
-    assert!(e.message.contains("missing required key `tip`") && e.message.contains("geometry_offset"), "{e}");
+    assert!(
+        e.message.contains("missing required key `tip`") && e.message.contains("geometry_offset"),
+        "{e}"
+    );
 }
 
 #[test]
 fn a_bad_geometry_offset_is_an_error_at_its_key() {
     for (value, key, says) in [
-        ("{ x = -480.0 }", "tools[0].geometry_offset.z", "missing required key `z`"),
-        ("{ x = -480.0, z = 12.0, y = 1.0 }", "tools[0].geometry_offset.y", "unknown key `y`"),
+        (
+            "{ x = -480.0 }",
+            "tools[0].geometry_offset.z",
+            "missing required key `z`",
+        ),
+        (
+            "{ x = -480.0, z = 12.0, y = 1.0 }",
+            "tools[0].geometry_offset.y",
+            "unknown key `y`",
+        ),
         ("{ x = \"-480\", z = 12.0 }", "tools[0].geometry_offset.x", "number"),
-        ("{ x = -480.0, z = nan }", "tools[0].geometry_offset.z", "not a finite number"),
-        ("{ x = -480.0, z = 1e300 }", "tools[0].geometry_offset.z", "out of range"),
+        (
+            "{ x = -480.0, z = nan }",
+            "tools[0].geometry_offset.z",
+            "not a finite number",
+        ),
+        (
+            "{ x = -480.0, z = 1e300 }",
+            "tools[0].geometry_offset.z",
+            "out of range",
+        ),
         ("[-480.0, 12.0]", "tools[0].geometry_offset", "a table { x, z }"),
     ] {
         let text = edit(BUILTIN_TOML, BUILTIN_T01_TIP, &format!("geometry_offset = {value}"));
         let e = load(&text).err().unwrap_or_else(|| panic!("accepted {value}"));
-        assert_eq!((e.key.as_str(), e.line), (key, line_of(&text, "geometry_offset")), "{value}: {e}");
+        assert_eq!(
+            (e.key.as_str(), e.line),
+            (key, line_of(&text, "geometry_offset")),
+            "{value}: {e}"
+        );
         assert!(e.message.contains(says), "{value}: {e}");
     }
     // The same in a job: the job's key.
