@@ -384,11 +384,27 @@ fn each_job_error_of_operations_and_part_files_names_file_line_column_and_key() 
     let cases: &[(&str, &str)] = &[
         (
             "[[operations]]\nreverse = true\ngrip = 10.0\n",
-            "part.job.toml:1:1: operations[0].line: missing required key `line` (the program line where the operation starts; or `stop`, the program stop after which it starts)",
+            "part.job.toml:1:1: operations[0].line: missing required key `line` (the program line where the operation starts; or `stop`, the program stop after which it starts; or `work_offset`, the work offset whose first selection starts it)",
         ),
         (
             "[[operations]]\nline = 5\nstop = 1\n",
-            "part.job.toml:3:8: operations[0].stop: an operation starts at a `line` or at a program `stop`, not both",
+            "part.job.toml:3:8: operations[0].stop: an operation starts at one place: give one of `line`, `stop` and `work_offset`, not `line` and `stop`",
+        ),
+        (
+            "[[operations]]\nstop = 1\nwork_offset = \"G55\"\n",
+            "part.job.toml:3:15: operations[0].work_offset: an operation starts at one place: give one of `line`, `stop` and `work_offset`, not `stop` and `work_offset`",
+        ),
+        (
+            "[[operations]]\nwork_offset = \"G60\"\n",
+            "part.job.toml:2:15: operations[0].work_offset: \"G60\" is not a work offset: give one of \"G54\" to \"G59\"",
+        ),
+        (
+            "[[operations]]\nline = 40\ntailstock = { z = 60.0 }\n",
+            "part.job.toml:3:13: operations[0].tailstock: the machine has no tailstock: describe it in the machine file's [tailstock]",
+        ),
+        (
+            "[[operations]]\nline = 40\ntailstock = { z = \"far\" }\n",
+            "part.job.toml:3:19: operations[0].tailstock.z: invalid type: string \"far\", expected a number",
         ),
         ("[[operations]]\nline = 0\n", "part.job.toml:2:8: operations[0].line: 0 is not a line: lines count from 1"),
         (
@@ -417,7 +433,7 @@ fn each_job_error_of_operations_and_part_files_names_file_line_column_and_key() 
         ),
         (
             "[[operations]]\nline = 40\nturn = true\n",
-            "part.job.toml:3:1: operations[0].turn: unknown key `turn`, expected one of `line`, `stop`, `reverse`, `front`, `grip`, `chuck`, `program_zero_z`, `note`",
+            "part.job.toml:3:1: operations[0].turn: unknown key `turn`, expected one of `line`, `stop`, `work_offset`, `tailstock`, `reverse`, `front`, `grip`, `chuck`, `program_zero_z`, `note`",
         ),
         (
             "[stock]\nfrom = \"nowhere.toml\"\n",
@@ -542,4 +558,124 @@ fn an_operation_closes_the_jaws_on_the_diameter_it_grips() {
     let bad = job.replace(outline_line, "chuck = { jaws = { grip_diameter = 40.0, step = 60.0 } }");
     let e = job_error(&bad, &dir);
     assert!(e.contains("operations[0].chuck.jaws.step"), "{e}");
+}
+
+/// The lines where the interpreter marks an operation's start (a Fanuc program).
+fn operation_marks(prog: &str, m: &Machine) -> Vec<u32> {
+    let p = latheguard::gcode::parse_fanuc(prog.as_bytes());
+    let run = latheguard::interp::interpret(&p, prog.as_bytes(), m);
+    run.moves
+        .iter()
+        .filter(|mv| matches!(mv.kind, latheguard::interp::MoveKind::Operation { .. }))
+        .map(|mv| mv.line)
+        .collect()
+}
+
+#[test]
+fn an_operation_by_work_offset_starts_at_the_first_block_that_selects_it() {
+    let (prog, job) = (
+        read(&ops_dir().join("two_ops.nc")),
+        read(&ops_dir().join("work_offset_start.job.toml")),
+    );
+    let m = apply(&job, "j.job.toml", &ops_dir()).unwrap();
+    assert_eq!(m.operations[0].start, latheguard::machine::OpStart::WorkOffset(1));
+    assert!(check(&prog, &m).is_empty());
+    assert_eq!(operation_marks(&prog, &m), vec![20], "the first block with G55");
+    // A G55 written as an expression, or a second G55, starts it at the first one all the same.
+    let twice = prog
+        .replacen("\nG55\n", "\nG[50+5]\n", 1)
+        .replacen("G28 U0 W0\nT0404", "G55\nG28 U0 W0\nT0404", 1);
+    assert_ne!(twice, prog);
+    assert_eq!(operation_marks(&twice, &m), vec![20]);
+    // The crash variant is found with this start too.
+    let crash = read(&ops_dir().join("two_ops_rapid_into_shoulder.nc"));
+    assert_eq!(facts(&check(&crash, &m))[0].0, 27);
+}
+
+#[test]
+fn an_operation_by_a_work_offset_the_program_never_selects_is_a_warning() {
+    let (prog, job) = (
+        read(&ops_dir().join("two_ops.nc")),
+        read(&ops_dir().join("work_offset_start.job.toml")),
+    );
+    let m = apply(&job.replace("\"G55\"", "\"G56\""), "j.job.toml", &ops_dir()).unwrap();
+    let f = check(&prog, &m);
+    let w: Vec<&Finding> = f.iter().filter(|f| f.kind == Kind::Program).collect();
+    assert_eq!(w.len(), 1, "{f:#?}");
+    assert!(
+        w[0].message
+            .contains("operations[0]: operation 2 never started: no block selected G56"),
+        "{}",
+        w[0].message
+    );
+}
+
+/// The small LinuxCNC lathe (its tailstock advanced from the start) with a job's text applied.
+fn on_small_lathe(text: &str) -> Result<Machine, String> {
+    let m = latheguard::machine::from_toml(
+        &read(&root().join("machines/linuxcnc-small-lathe.toml")),
+        "linuxcnc-small-lathe.toml",
+    )
+    .unwrap();
+    let mut no_files = |_: &str, rel: &str| -> Result<(String, String), String> { Err(format!("no file {rel}")) };
+    let layer = job::parse(text, "t.job.toml", ".", "t.job.toml", &mut no_files).map_err(|e| e.to_string())?;
+    job::apply(&m, &EffectiveJob::merge([&layer])).map_err(|e| e.to_string())
+}
+
+/// Nothing cut: the turret stands clear while the part is turned round at the M0 (line 4).
+const AIR: &str = "G21 G18 G95 G97\nT1 M6\nG0 X30 Z20\nM0\nG0 X30 Z40\nM2\n";
+
+#[test]
+fn the_tailstock_as_it_stood_meets_the_part_turned_round_at_the_operations_line() {
+    // Operation 1: the live centre at the bar's face (z 50, touching). Turned round and held
+    // 8 mm: z -8 .. 72, and the centre, where it stood, is 22 mm inside.
+    let job = "[tailstock]\nz = 50.0\n\n[[operations]]\nline = 4\nreverse = true\ngrip = 8.0\n";
+    let f = check(AIR, &on_small_lathe(job).unwrap());
+    assert_eq!(
+        facts(&f),
+        vec![(4, Kind::Collision, vec!["tailstock".into(), "stock".into()])],
+        "{f:#?}"
+    );
+    assert_eq!(f[0].operation, Some(2));
+    assert!(
+        f[0].message
+            .starts_with("t.job.toml:4:1: operations[0]: the tailstock in use (live centre at z 50) runs"),
+        "{}",
+        f[0].message
+    );
+    // Brought to the new face, or taken out of use: clean.
+    for op in ["tailstock = { z = 72.0 }", "tailstock = { in_use = false }"] {
+        let f = check(AIR, &on_small_lathe(&format!("{job}{op}\n")).unwrap());
+        assert!(f.is_empty(), "{op}: {f:#?}");
+    }
+    // Not in use in operation 1 (the job's in_use = false) and brought in by the operation.
+    let f = check(
+        AIR,
+        &on_small_lathe("[tailstock]\nin_use = false\n\n[[operations]]\nline = 4\nreverse = true\ngrip = 8.0\ntailstock = { in_use = true, z = 60.0 }\n").unwrap(),
+    );
+    assert_eq!(
+        facts(&f),
+        vec![(4, Kind::Collision, vec!["tailstock".into(), "stock".into()])],
+        "{f:#?}"
+    );
+}
+
+#[test]
+fn the_tailstock_of_an_operation_against_its_jaws_is_an_error_of_the_job() {
+    // The live centre brought to z -30: through the part, its r 10 .. 17 housing into the jaws
+    // (r 12.5 .. 22 over z -8 .. 0).
+    let job = "[[operations]]\nline = 4\nreverse = true\ngrip = 8.0\ntailstock = { z = -30.0 }\n";
+    let f = check(AIR, &on_small_lathe(job).unwrap());
+    let objects: Vec<Vec<String>> = f.iter().map(|f| f.objects.clone()).collect();
+    assert!(
+        objects.contains(&vec!["tailstock".to_string(), "chuck".to_string()]),
+        "{f:#?}"
+    );
+    // Both of the job's errors at the operation's line (the move after it then meets the
+    // tailstock standing where the job put it).
+    let at_start: Vec<&Finding> = f.iter().filter(|f| f.line == 4).collect();
+    assert_eq!(at_start.len(), 2, "{f:#?}");
+    assert!(at_start.iter().all(|f| f.kind == Kind::Collision
+        && f.message
+            .starts_with("t.job.toml:1:1: operations[0]: the tailstock in use")));
 }

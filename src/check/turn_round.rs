@@ -5,10 +5,11 @@
 //! (`StockTransform`), puts the operation's jaws in the scene, and goes on: every later move
 //! meets that part and those jaws. Nothing on the turret moves.
 
-use super::{Checker, OVERTRAVEL_KEY};
+use super::{Checker, Obstacle, OVERTRAVEL_KEY};
 use crate::finding::{Finding, Kind, Severity};
 use crate::geom::{self, Aabb, P2};
 use crate::interp::Move;
+use crate::machine::OpTailstock;
 use crate::motion::Timed;
 use crate::scene::turn_round::{material_extent, max_radius, the_part};
 use crate::scene::{DexelStock, Revolved, StockTransform};
@@ -29,6 +30,20 @@ impl Checker<'_> {
         self.gap3 = None;
         self.mill = None;
         self.scene.chuck = op.chuck.clone().map(|p| Revolved::new("chuck", p));
+        match &op.tailstock {
+            OpTailstock::AsItStood => {}
+            OpTailstock::Out => self.scene.tailstock = None,
+            OpTailstock::At { outline, .. } => {
+                self.scene.tailstock = Some(Revolved::new("tailstock", outline.clone()));
+            }
+        }
+        // Advanced as the operation begins: the program's state there (an operation's
+        // `tailstock.in_use` set it in the interpreter).
+        self.tailstock_in = self
+            .run
+            .states
+            .get(m.state as usize)
+            .is_some_and(|s| s.tailstock_advanced);
         let Some(stock) = self.ensure_stock() else {
             return;
         };
@@ -54,30 +69,56 @@ impl Checker<'_> {
             .chuck
             .as_ref()
             .and_then(|ch| turned.overlap(ch.outline.points(), geom::TOUCH_EPS));
+        let held = format!(
+            "the part as operation {} holds it (z {} .. {}, Ø{} max)",
+            i + 2,
+            crate::machine::num(lo),
+            crate::machine::num(hi),
+            crate::machine::num(2.0 * r)
+        );
         if let Some(hit) = hit {
-            let mut f = Finding::at(
-                Kind::Collision,
-                Severity::Error,
-                m.line,
-                0,
-                format!(
-                    "{}: the part as operation {} holds it (z {} .. {}, Ø{} max) overlaps its chuck by {:.3} mm: the jaws close on the part's surface, they cannot reach into it; check where the operation says the part stands (`front` or `grip`) and its `chuck.outline`",
+            let message = format!(
+                "{}: {held} overlaps its chuck by {:.3} mm: the jaws close on the part's surface, they cannot reach into it; check where the operation says the part stands (`front` or `grip`) and its `chuck.outline`",
+                op.origin, hit.depth
+            );
+            self.job_collision(m, item, i, ["stock", "chuck"], hit.depth, message);
+        }
+        // The tailstock in use for this operation meets the part as it now stands, and the jaws.
+        if let Some(ts) = self.obstacle(Obstacle::Tailstock).cloned() {
+            let tip = crate::machine::num(ts.outline.aabb().min.y);
+            if let Some(hit) = turned.overlap(ts.outline.points(), geom::TOUCH_EPS) {
+                let message = format!(
+                    "{}: the tailstock in use (live centre at z {tip}) runs {:.3} mm into {held}: a live centre only meets the part's end face (its centre hole); give the operation's `tailstock.z` where the part's end now is, or `tailstock.in_use = false`",
+                    op.origin, hit.depth
+                );
+                self.job_collision(m, item, i, ["tailstock", "stock"], hit.depth, message);
+            }
+            let chuck = self
+                .scene
+                .chuck
+                .as_ref()
+                .and_then(|ch| geom::overlap(&ts.outline, &ch.outline));
+            if let Some(depth) = chuck {
+                let message = format!(
+                    "{}: the tailstock in use (live centre at z {tip}) overlaps operation {}'s chuck by {depth:.3} mm; check the operation's `tailstock.z` and its `chuck`",
                     op.origin,
-                    i + 2,
-                    crate::machine::num(lo),
-                    crate::machine::num(hi),
-                    crate::machine::num(2.0 * r),
-                    hit.depth
-                ),
-            )
-            .with_n(m.n);
-            f.objects = vec!["stock".into(), "chuck".into()];
-            f.depth_mm = Some(hit.depth);
-            f.time_s = Some(item.t0);
-            f.end_time_s = Some(item.t0);
-            f.operation = Some(i as u32 + 2);
-            self.episodes.findings.push(f);
+                    i + 2
+                );
+                self.job_collision(m, item, i, ["tailstock", "chuck"], depth, message);
+            }
         }
         self.stock = Some(turned);
+    }
+
+    /// A collision that the job's operation `i` sets up (its part, jaws and tailstock), at the
+    /// operation's line; `message` begins with the operation's place in the job.
+    fn job_collision(&mut self, m: &Move, item: &Timed, i: usize, objects: [&str; 2], depth: f64, message: String) {
+        let mut f = Finding::at(Kind::Collision, Severity::Error, m.line, 0, message).with_n(m.n);
+        f.objects = objects.iter().map(|o| o.to_string()).collect();
+        f.depth_mm = Some(depth);
+        f.time_s = Some(item.t0);
+        f.end_time_s = Some(item.t0);
+        f.operation = Some(i as u32 + 2);
+        self.episodes.findings.push(f);
     }
 }

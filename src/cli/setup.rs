@@ -334,6 +334,9 @@ fn operation_rows<'a>(program: &Path, r: &'a Resolved) -> Vec<OperationRow<'a>> 
                     None => format!("from line {l}: "),
                 },
                 machine::OpStart::Stop(n) => format!("after program stop {n} (the {n}. M0 or M1 the program makes): "),
+                machine::OpStart::WorkOffset(n) => {
+                    format!("at the first block that selects {}: ", work_offset_name(n))
+                }
             };
             t.push_str(if v.reverse {
                 "part turned round"
@@ -356,6 +359,18 @@ fn operation_rows<'a>(program: &Path, r: &'a Resolved) -> Vec<OperationRow<'a>> 
             if let Some(z) = v.program_zero_z {
                 let _ = write!(t, ", G54 program zero at z {}", num(z));
             }
+            match &op.tailstock {
+                machine::OpTailstock::AsItStood => {}
+                machine::OpTailstock::Out => t.push_str(", tailstock not in use"),
+                machine::OpTailstock::At { outline, advance } => {
+                    let _ = write!(
+                        t,
+                        ", tailstock {}live centre at z {}",
+                        if *advance { "advanced, " } else { "" },
+                        num(outline.aabb().min.y)
+                    );
+                }
+            }
             if let Some(n) = &v.note {
                 let _ = write!(t, ", note: {n}");
             }
@@ -368,6 +383,11 @@ fn operation_rows<'a>(program: &Path, r: &'a Resolved) -> Vec<OperationRow<'a>> 
             }
         })
         .collect()
+}
+
+/// `G55` for work offset 1.
+fn work_offset_name(n: u8) -> &'static str {
+    machine::WORK_OFFSET_NAMES[usize::from(n).min(5)]
 }
 
 /// The program stop (M0, M00, M1, M01 as written) on file line `line` of `src`, outside
@@ -729,6 +749,14 @@ fn json(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
                 "key": row.set.at.key,
                 "line": match v.start { machine::OpStart::Line(l) => Some(l), _ => None },
                 "stop": match v.start { machine::OpStart::Stop(n) => Some(n), _ => None },
+                "work_offset": match v.start { machine::OpStart::WorkOffset(n) => Some(work_offset_name(n)), _ => None },
+                "tailstock": match &o.tailstock {
+                    machine::OpTailstock::AsItStood => json!(null),
+                    machine::OpTailstock::Out => json!({ "in_use": false }),
+                    machine::OpTailstock::At { outline, advance } => json!({
+                        "in_use": advance.then_some(true), "z": outline.aabb().min.y,
+                    }),
+                },
                 "reverse": v.reverse,
                 "front": match v.stand { latheguard::scene::Stand::Front(f) => Some(f), _ => None },
                 "grip": match v.stand { latheguard::scene::Stand::Grip(g) => Some(g), _ => None },

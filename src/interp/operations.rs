@@ -15,7 +15,7 @@ use super::{Feed, MoveKind};
 use crate::finding::{Finding, Kind, Severity};
 use crate::gcode::Block;
 use crate::geom::P2;
-use crate::machine::OpStart;
+use crate::machine::{OpStart, OpTailstock};
 
 /// Where the run stands among the job's operations.
 #[derive(Clone, Copy, Debug, Default)]
@@ -33,9 +33,38 @@ impl Run<'_> {
     #[cold]
     pub(super) fn operation_before(&mut self, b: &Block) {
         let start = self.machine.operations.get(self.ops.next).map(|o| o.start);
-        if start == Some(OpStart::Line(b.line)) {
+        let starts = match start {
+            Some(OpStart::Line(l)) => l == b.line,
+            Some(OpStart::WorkOffset(n)) => self.selects_work_offset(b, n),
+            _ => false,
+        };
+        if starts {
             self.start_operation(b);
         }
+    }
+
+    /// Whether the block has a G word that selects work offset `n` (0: G54): its value read as
+    /// the block's words will read it (an expression evaluated, a builder's number through the
+    /// machine's `[gcodes]`). A word that cannot be read selects nothing (its error comes with
+    /// the words).
+    fn selects_work_offset(&self, b: &Block, n: u8) -> bool {
+        let want = 540 + 10 * u16::from(n);
+        self.prog.words_of(b).iter().filter(|w| w.letter == b'G').any(|w| {
+            let Ok(Some(v)) = self.word_value(w.value()) else {
+                return false;
+            };
+            let scaled = v * 10.0;
+            let code = scaled.round();
+            if (scaled - code).abs() > 1e-6 || !(0.0..=9999.0).contains(&code) {
+                return false;
+            }
+            let code = match self.machine.gcodes.get(code as u16) {
+                Some(crate::machine::GAlias::As(c)) => c,
+                Some(crate::machine::GAlias::Ignore) => return false,
+                None => code as u16,
+            };
+            code == want
+        })
     }
 
     /// A program stop (M0 or M1) in this block: counted, for the operations that start at one.
@@ -80,6 +109,11 @@ impl Run<'_> {
                 self.base_origin.y = z;
             }
         }
+        match &self.machine.operations[i].tailstock {
+            OpTailstock::Out => self.devices.tailstock_advanced = false,
+            OpTailstock::At { advance: true, .. } => self.devices.tailstock_advanced = true,
+            OpTailstock::At { advance: false, .. } | OpTailstock::AsItStood => {}
+        }
         let here = self.programmed();
         self.push_move(b, MoveKind::Operation { op: i as u32 }, here, here, Feed::Rapid);
     }
@@ -94,6 +128,10 @@ impl Run<'_> {
                     1,
                     format!("the program made {} program stop(s), not {n}", self.ops.stops),
                 ),
+                OpStart::WorkOffset(n) => {
+                    let name = crate::machine::WORK_OFFSET_NAMES[usize::from(n).min(5)];
+                    (1, format!("no block selected {name}"))
+                }
             };
             let after = if i > self.ops.next {
                 format!(" (it waits for operation {} before it)", self.ops.next + 2)

@@ -232,6 +232,13 @@ pub struct JobOperation {
     /// Its own jaws as keys over the job's (`chuck.jaws`); the machine's chuck must be given by
     /// its body and jaws.
     pub jaws: Option<JobJaws>,
+    /// `tailstock.in_use`: the tailstock advanced as the operation begins (true) or no obstacle
+    /// from then on (false); None: as it stood.
+    pub tailstock_in_use: Option<bool>,
+    /// `tailstock.z`: where its live centre's tip stands in this operation.
+    pub tailstock_z: Option<f64>,
+    /// Where its `tailstock` table was written.
+    pub tailstock_at: Option<Place>,
 }
 
 /// A tool a job puts in a station, built, and how it was described.
@@ -240,6 +247,9 @@ pub struct JobTool {
     pub tool: Tool,
     /// `outlines`, `catalogue: …`, `use T-ROUGH (tools.toml)`, `tbl 3 (lathe.tbl)`.
     pub origin: String,
+    /// Given as the control's geometry offset (`geometry_offset`): `tool.tip` is set from it
+    /// with the machine's machine zero when the job is applied.
+    pub geometry_offset: Option<machine::GeometryOffset>,
 }
 
 /// `[tool_numbers] from_table = true`: the tools of a layer's LinuxCNC tool table, each in its
@@ -552,11 +562,15 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
             ));
             continue;
         }
+        let mut tool = t.value.tool.clone();
+        if let Some(g) = &t.value.geometry_offset {
+            tool.tip = g.tip(m.machine_zero);
+        }
         m.tools.retain(|o| o.station != station);
-        m.tools.push(t.value.tool.clone());
+        m.tools.push(tool.clone());
         // A milling tool on a machine with a tree: its 3D parts replace the station's cutter.
-        if let (Some(mt), Some(k)) = (&t.value.tool.mill, &m.kinematics) {
-            if let Some(k) = crate::kin::station::fit(k, station, t.value.tool.tip, mt) {
+        if let (Some(mt), Some(k)) = (&tool.mill, &m.kinematics) {
+            if let Some(k) = crate::kin::station::fit(k, station, tool.tip, mt) {
                 m.kinematics = Some(std::sync::Arc::new(k));
             }
         }
@@ -576,7 +590,7 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
         }
     }
     m.tool_changes = job.tool_changes.iter().map(|c| c.value).collect();
-    operations(&mut m, job, &mut errors);
+    operations(&mut m, machine, job, &mut errors);
     if let Some(e) = JobError::gather(errors) {
         return Err(e);
     }
@@ -794,7 +808,7 @@ fn job_jaws(machine: &Machine, job: &EffectiveJob) -> Result<Option<(Polygon, ja
 // Operations (`[[operations]]`, docs/job.md "Operations").
 
 /// The job's operations on the machine: each with its jaws (its own, else the job's chuck).
-fn operations(m: &mut Machine, job: &EffectiveJob, errors: &mut Vec<JobError>) {
+fn operations(m: &mut Machine, machine: &Machine, job: &EffectiveJob, errors: &mut Vec<JobError>) {
     let Some(ops) = job.operations.as_ref().filter(|o| !o.is_empty()) else {
         return;
     };
@@ -817,16 +831,52 @@ fn operations(m: &mut Machine, job: &EffectiveJob, errors: &mut Vec<JobError>) {
             },
             None => v.chuck.clone().or_else(|| m.chuck.clone()),
         };
+        let tailstock = match operation_tailstock(machine, job, v) {
+            Ok(t) => t,
+            Err(e) => {
+                errors.push(e);
+                continue;
+            }
+        };
         out.push(machine::Operation {
             start: v.start,
             reverse: v.reverse,
             stand: v.stand,
             chuck,
             program_zero_z: v.program_zero_z,
+            tailstock,
             origin: format!("{}:{}:{}: {}", o.at.file, o.at.line, o.at.col, o.at.key),
         });
     }
     m.operations = out;
+}
+
+/// An operation's `tailstock` (`in_use`, `z`): the machine file's tailstock outline with its
+/// live centre's tip at the operation's `z`, else at the job's, else where the machine file puts
+/// it. Either key needs a machine with a tailstock.
+fn operation_tailstock(
+    machine: &Machine,
+    job: &EffectiveJob,
+    v: &JobOperation,
+) -> Result<machine::OpTailstock, JobError> {
+    let Some(at) = &v.tailstock_at else {
+        return Ok(machine::OpTailstock::AsItStood);
+    };
+    if v.tailstock_in_use == Some(false) {
+        return Ok(machine::OpTailstock::Out);
+    }
+    let Some(outline) = &machine.tailstock else {
+        return Err(at.err("the machine has no tailstock: describe it in the machine file's [tailstock]"));
+    };
+    let z = v.tailstock_z.or(job.tailstock_z.as_ref().map(|z| z.value));
+    let outline = match z {
+        Some(z) => outline.translated(crate::geom::V2::new(0.0, z - outline.aabb().min.y)),
+        None => outline.clone(),
+    };
+    Ok(machine::OpTailstock::At {
+        outline,
+        advance: v.tailstock_in_use == Some(true),
+    })
 }
 
 /// An operation's `chuck.jaws`: its keys over the jaws the job set up (the machine file's with

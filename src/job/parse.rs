@@ -10,7 +10,7 @@ use super::{
     DialectChoice, JobError, JobJaws, JobOperation, JobStock, JobTool, Layer, Place, Resolve, Set, TableNumbers,
 };
 use crate::geom::{Polygon, P2};
-use crate::machine::tool_entry::{self, Geom, RawDrill, Shape, ShapeSchema};
+use crate::machine::tool_entry::{self, Geom, Placing, RawDrill, RawGeometryOffset, Shape, ShapeSchema};
 use crate::machine::{self, Cx, Num, OpStart, Outline, Point, RawGrip, RawJawType, RawUnits, RawWorkOffsets, Tool};
 use crate::scene::{Stand, StockTransform};
 use crate::tooling::milling::{Live, MillSpec, MillTool};
@@ -207,6 +207,10 @@ struct RawTool {
     name: Option<Spanned<String>>,
     #[schemars(with = "Option<[f64; 2]>")]
     tip: Option<Point>,
+    /// The tool's geometry offset as the control's page shows it (X on diameter, Z; mm),
+    /// instead of `tip`.
+    #[schemars(with = "Option<RawGeometryOffset>")]
+    geometry_offset: Option<Spanned<RawGeometryOffset>>,
     #[schemars(with = "Option<ShapeSchema>")]
     insert: Option<Spanned<Shape>>,
     #[schemars(with = "Option<ShapeSchema>")]
@@ -277,7 +281,7 @@ struct RawLibrary {
 #[derive(Deserialize, JsonSchema)]
 #[serde(
     deny_unknown_fields,
-    expecting = "a table { line or stop, reverse, front or grip, chuck, … }"
+    expecting = "a table { line, stop or work_offset, reverse, front or grip, chuck, tailstock, … }"
 )]
 struct RawOperation {
     /// The program's file line (1-based) where this operation starts, before the block's
@@ -288,6 +292,14 @@ struct RawOperation {
     /// starts; instead of `line`.
     #[schemars(with = "Option<i64>")]
     stop: Option<Spanned<i64>>,
+    /// The work offset (`"G55"`: G54 to G59) whose first selection starts this operation,
+    /// before that block's words; instead of `line` or `stop`.
+    #[schemars(with = "Option<String>")]
+    work_offset: Option<Spanned<String>>,
+    /// The tailstock in this operation: `in_use` (advanced as it begins, or not an obstacle)
+    /// and `z` (its live centre's tip); default: as it stood.
+    #[schemars(with = "Option<RawTailstock>")]
+    tailstock: Option<Spanned<RawTailstock>>,
     /// The part turned end for end (z mirrored); needs `front` or `grip`.
     #[schemars(with = "Option<bool>")]
     reverse: Option<Spanned<bool>>,
@@ -1046,22 +1058,34 @@ fn operation(
 ) -> Result<JobOperation, JobError> {
     let r = o.get_ref();
     let kk = |n: &str| format!("{k}.{n}");
-    let start = match (&r.line, &r.stop) {
-        (Some(_), Some(s)) => {
-            return Err(cx.err(
-                s.span(),
-                kk("stop"),
-                "an operation starts at a `line` or at a program `stop`, not both",
-            ))
-        }
-        (None, None) => {
+    let given: Vec<(&str, std::ops::Range<usize>)> = [
+        ("line", r.line.as_ref().map(|v| v.span())),
+        ("stop", r.stop.as_ref().map(|v| v.span())),
+        ("work_offset", r.work_offset.as_ref().map(|v| v.span())),
+    ]
+    .into_iter()
+    .filter_map(|(k, at)| at.map(|at| (k, at)))
+    .collect();
+    if given.len() > 1 {
+        let (second, at) = given[1].clone();
+        return Err(cx.err(
+            at,
+            kk(second),
+            format!(
+                "an operation starts at one place: give one of `line`, `stop` and `work_offset`, not `{}` and `{second}`",
+                given[0].0
+            ),
+        ));
+    }
+    let start = match (&r.line, &r.stop, &r.work_offset) {
+        (None, None, None) => {
             return Err(cx.err(
                 o.span(),
                 kk("line"),
-                "missing required key `line` (the program line where the operation starts; or `stop`, the program stop after which it starts)",
+                "missing required key `line` (the program line where the operation starts; or `stop`, the program stop after which it starts; or `work_offset`, the work offset whose first selection starts it)",
             ))
         }
-        (Some(l), None) => {
+        (Some(l), _, _) => {
             let v = *l.get_ref();
             if !(1..=i64::from(u32::MAX)).contains(&v) {
                 return Err(cx.err(l.span(), kk("line"), format!("{v} is not a line: lines count from 1")));
@@ -1076,7 +1100,7 @@ fn operation(
             *last_line = Some((v, k.to_string()));
             OpStart::Line(v as u32)
         }
-        (None, Some(s)) => {
+        (None, Some(s), _) => {
             let v = *s.get_ref();
             if !(1..=i64::from(u32::MAX)).contains(&v) {
                 return Err(cx.err(s.span(), kk("stop"), format!("{v} is not a program stop: the first is stop = 1")));
@@ -1090,6 +1114,19 @@ fn operation(
             }
             *last_stop = Some((v, k.to_string()));
             OpStart::Stop(v as u32)
+        }
+        (None, None, Some(w)) => {
+            let name = w.get_ref().trim().to_ascii_uppercase();
+            match machine::WORK_OFFSET_NAMES.iter().position(|n| *n == name) {
+                Some(n) => OpStart::WorkOffset(n as u8),
+                None => {
+                    return Err(cx.err(
+                        w.span(),
+                        kk("work_offset"),
+                        format!("{:?} is not a work offset: give one of \"G54\" to \"G59\"", w.get_ref()),
+                    ))
+                }
+            }
         }
     };
     let reverse = r.reverse.as_ref().is_some_and(|v| *v.get_ref());
@@ -1143,7 +1180,19 @@ fn operation(
         None => None,
         Some(z) => Some(cx.coord(&kk("program_zero_z"), z)?),
     };
+    let (mut tailstock_in_use, mut tailstock_z, mut tailstock_at) = (None, None, None);
+    if let Some(t) = &r.tailstock {
+        let raw = t.get_ref();
+        tailstock_in_use = raw.in_use.as_ref().map(|v| *v.get_ref());
+        if let Some(z) = &raw.z {
+            tailstock_z = Some(cx.coord(&kk("tailstock.z"), z)?);
+        }
+        tailstock_at = Some(place(cx, t.span(), &kk("tailstock")));
+    }
     Ok(JobOperation {
+        tailstock_in_use,
+        tailstock_z,
+        tailstock_at,
         start,
         reverse,
         stand,
@@ -1160,7 +1209,7 @@ fn operation(
 #[derive(Default)]
 struct Partial {
     name: Option<String>,
-    tip: Option<P2>,
+    tip: Option<Placing>,
     insert: Option<(Geom, Place)>,
     holder: Option<(Geom, Place)>,
     nose_radius: Option<f64>,
@@ -1199,9 +1248,7 @@ fn partial(cx: &Cx<'_>, t: &RawTool, key: &str) -> Result<Partial, JobError> {
         }
         p.name = Some(name);
     }
-    if let Some(tip) = &t.tip {
-        p.tip = Some(cx.point(&k("tip"), tip)?);
-    }
+    p.tip = tool_entry::placing(cx, key, t.tip.as_ref(), t.geometry_offset.as_ref())?;
     for (which, v) in [("insert", &t.insert), ("holder", &t.holder)] {
         let Some(v) = v else { continue };
         let g = tool_entry::geom(cx, &k(which), v)?;
@@ -1418,13 +1465,21 @@ fn job_tool(
     };
     let insert = outline(p.insert, "insert", built.as_ref().map(|b| &b.insert)).map_err(|e| relocate(e, cx, t))?;
     let holder = outline(p.holder, "holder", built.as_ref().map(|b| &b.holder)).map_err(|e| relocate(e, cx, t))?;
-    let tip = p.tip.ok_or_else(|| relocate(place_of_entry("tip"), cx, t))?;
+    let placing = p.tip.ok_or_else(|| relocate(place_of_entry("tip"), cx, t))?;
+    // A geometry offset becomes a tip where the job meets the machine (its machine zero).
+    let (tip, geometry_offset) = match placing {
+        Placing::Tip(tip) => (tip, None),
+        Placing::Offset(g) => (P2::new(0.0, 0.0), Some(g)),
+    };
     let name = p
         .name
         .or(default_name)
         .ok_or_else(|| relocate(place_of_entry("name"), cx, t))?;
     if origin.is_empty() {
         origin.push("outlines".into());
+    }
+    if let Some(g) = &geometry_offset {
+        origin.push(format!("geometry offset {}", g.show()));
     }
     let cutter = tool_entry::cutter(built.as_ref(), &name);
     Ok(JobTool {
@@ -1440,6 +1495,7 @@ fn job_tool(
             mill,
         },
         origin: origin.join(", "),
+        geometry_offset,
     })
 }
 
@@ -1493,7 +1549,7 @@ fn tbl_partial(row: &tbl::TblTool, shown: &str, at: &Place) -> Result<(Partial, 
         ))
     })?;
     let mut base = Partial::from_built(built, at);
-    base.tip = Some(crate::geom::p2(row.x, row.z));
+    base.tip = Some(Placing::Tip(crate::geom::p2(row.x, row.z)));
     let name = if row.comment.trim().is_empty() {
         format!("T{want}")
     } else {
@@ -1603,7 +1659,7 @@ fn tool_numbers(
                     station: row.pocket,
                     cutter: tooling::Cutter::from_name(&name),
                     name,
-                    tip: p.tip.unwrap_or_default(),
+                    tip: p.tip.map_or_else(P2::default, |t| t.tip(P2::default())),
                     insert: outline(p.insert),
                     holder: outline(p.holder),
                     nose_radius: p.nose_radius.unwrap_or(0.0),
@@ -1611,6 +1667,7 @@ fn tool_numbers(
                     mill: None,
                 },
                 origin: format!("tbl {} ({shown})", row.tool),
+                geometry_offset: None,
             }
         });
         match built {

@@ -55,7 +55,7 @@ use serde::Deserialize;
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
-use super::tool_entry::{self, RawDrill, Shape, ShapeSchema};
+use super::tool_entry::{self, RawDrill, RawGeometryOffset, Shape, ShapeSchema};
 use super::{
     Axis, DecimalPoint, Dialect, GcodeSystem, MAction, Machine, McodeTable, RapidMode, Stock, Tool, Turret, MAX_MCODE,
     MCODE_ACTIONS,
@@ -783,8 +783,14 @@ struct RawTool {
     station: Spanned<u32>,
     #[schemars(with = "String")]
     name: Spanned<String>,
-    #[schemars(with = "[f64; 2]")]
-    tip: Point,
+    /// The programmed point from the turret reference point, `[x, z]` (x a radius); or give
+    /// `geometry_offset`.
+    #[schemars(with = "Option<[f64; 2]>")]
+    tip: Option<Point>,
+    /// The tool's geometry offset as the control's page shows it (X on diameter, Z; mm),
+    /// instead of `tip`.
+    #[schemars(with = "Option<RawGeometryOffset>")]
+    geometry_offset: Option<Spanned<RawGeometryOffset>>,
     /// An outline, or an ISO designation (`"CNMG 120408"`); may be left out with `holder` or
     /// `drill` as a designation (docs/tools.md).
     #[schemars(with = "Option<ShapeSchema>")]
@@ -1154,7 +1160,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
     let tailstock = tailstock.map(|t| tailstock_part(cx, &t, program_zero_z));
 
     let (stations, turret_built) = turret_of(cx, &turret);
-    let out = tools_of(cx, &tools, stations);
+    let out = tools_of(cx, &tools, stations, ax.machine_zero);
     let numbers = machine_tool_numbers(cx, tool_numbers.as_ref(), stations);
 
     if let Some(e) = cx.kept() {
@@ -1816,7 +1822,7 @@ fn spindle_of(cx: &Cx<'_>, spindle: &RawSpindle) -> (Option<f64>, Option<Option<
 
 /// `[[tools]]`: each entry validated (its station against `stations`, when that is valid), the
 /// valid ones by station.
-fn tools_of(cx: &Cx<'_>, tools: &[Spanned<RawTool>], stations: Option<u32>) -> Vec<Tool> {
+fn tools_of(cx: &Cx<'_>, tools: &[Spanned<RawTool>], stations: Option<u32>, machine_zero: Option<P2>) -> Vec<Tool> {
     let mut owner: Vec<Option<usize>> = vec![None; stations.unwrap_or(0) as usize + 1];
     let mut out = Vec::with_capacity(tools.len());
     for (i, t) in tools.iter().enumerate() {
@@ -1856,7 +1862,25 @@ fn tools_of(cx: &Cx<'_>, tools: &[Spanned<RawTool>], stations: Option<u32>) -> V
         if name.is_empty() {
             cx.push(cx.err(t.name.span(), key("name"), "must not be blank"));
         }
-        let tip = cx.keep(cx.point(&key("tip"), &t.tip));
+        // `tip`, or `geometry_offset` turned into one with machine zero (None when that is invalid:
+        // its own error is kept).
+        let tip = match cx.keep(tool_entry::placing(
+            cx,
+            &format!("tools[{i}]"),
+            t.tip.as_ref(),
+            t.geometry_offset.as_ref(),
+        )) {
+            Some(Some(p)) => machine_zero.map(|mz| p.tip(mz)),
+            Some(None) => {
+                cx.push(cx.err(
+                    entry.clone(),
+                    key("tip"),
+                    "missing required key `tip` (the programmed point from the turret reference point; or `geometry_offset`, as the control's geometry page shows it)",
+                ));
+                None
+            }
+            None => None,
+        };
         // An outline or a designation (Some(None): not given), then the catalogue's tool.
         let shape = |which: &str, v: &Option<Spanned<Shape>>| match v {
             None => Some(None),

@@ -11,6 +11,7 @@ mod mcodes;
 #[cfg(test)]
 mod tests;
 pub(crate) mod tool_entry;
+pub use tool_entry::GeometryOffset;
 
 use std::fmt::Write as _;
 
@@ -328,6 +329,20 @@ pub enum OpStart {
     /// At the `n`-th program stop the program makes (M0 or M1 as it runs, counted from 1), after
     /// the stop's block has run.
     Stop(u32),
+    /// Before the words of the first block that selects this work offset (0: G54 … 5: G59).
+    WorkOffset(u8),
+}
+
+/// The tailstock as an operation begins (`[[operations]] tailstock`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum OpTailstock {
+    /// As it stood: where it was, advanced or not.
+    AsItStood,
+    /// Not in use: no obstacle from the operation on (`in_use = false`).
+    Out,
+    /// This outline (the live centre's tip at the operation's `z`); advanced as the operation
+    /// begins when `advance` (`in_use = true`), else as it stood.
+    At { outline: Polygon, advance: bool },
 }
 
 /// One operation of a job after the first: where it starts, and how the part stands then.
@@ -343,6 +358,8 @@ pub struct Operation {
     /// G54's program zero from this operation on (the operator touched off the new face);
     /// `None`: as it was.
     pub program_zero_z: Option<f64>,
+    /// The tailstock in this operation.
+    pub tailstock: OpTailstock,
     /// Where the job gave it, for messages: `part.job.toml:12:1: operations[0]`.
     pub origin: String,
 }

@@ -1896,3 +1896,114 @@ fn the_catalogue_tools_example_of_docs_machine_md_loads_as_a_job_builds_it() {
     }
     assert_eq!(m.tools[4].cutter, crate::tooling::Cutter::Drill);
 }
+
+/// The built-in machine's T01 as it stands in the file (its `tip`).
+const BUILTIN_T01_TIP: &str = "tip = [-60.0, -12.0]";
+/// The same tool as the control's geometry page shows it: X −2 × (300 − 60) on diameter, Z 12.
+const BUILTIN_T01_OFFSET: &str = "geometry_offset = { x = -480.0, z = 12.0 }";
+
+#[test]
+fn the_builtin_t01_written_as_its_geometry_offset_is_the_same_tool_as_its_tip() {
+    let m = Machine::builtin();
+    let text = edit(BUILTIN_TOML, BUILTIN_T01_TIP, BUILTIN_T01_OFFSET);
+    let by_offset = load(&text).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(by_offset.tools, m.tools);
+    assert_eq!(by_offset.tools[0].tip, p2(-60.0, -12.0));
+}
+
+#[test]
+fn a_geometry_offset_is_converted_with_the_machines_machine_zero_not_home() {
+    // Machine zero 100 mm nearer the axis than home: the page's X is measured from there.
+    let text = edit(
+        BUILTIN_TOML,
+        "home = [300.0, 600.0]",
+        "home = [300.0, 600.0]\nmachine_zero = [200.0, 600.0]",
+    );
+    let text = edit(&text, BUILTIN_T01_TIP, "geometry_offset = { x = -280.0, z = 12.0 }");
+    let m = load(&text).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(m.tools[0].tip, p2(-60.0, -12.0));
+}
+
+#[test]
+fn a_job_tool_given_by_its_geometry_offset_is_the_machine_files_tool() {
+    let m = Machine::builtin();
+    let t01 = BUILTIN_TOML.split("[[tools]]").nth(1).unwrap().trim();
+    let entry = edit(t01, BUILTIN_T01_TIP, BUILTIN_T01_OFFSET);
+    let mut no_files = |_: &str, rel: &str| -> Result<(String, String), String> { Err(format!("no file {rel}")) };
+    let layer = crate::job::parse(&format!("[[tools]]\n{entry}\n"), "j.toml", "/", "job", &mut no_files)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(layer.tools[0].value.origin, "outlines, geometry offset X-480 Z12");
+    let applied = crate::job::apply(&m, &crate::job::EffectiveJob::merge([&layer])).unwrap();
+    assert_eq!(applied.tools, m.tools);
+}
+
+#[test]
+fn tip_and_geometry_offset_together_are_an_error_naming_the_key() {
+    let text = edit(
+        BUILTIN_TOML,
+        BUILTIN_T01_TIP,
+        &format!("{BUILTIN_T01_TIP}\n{BUILTIN_T01_OFFSET}"),
+    );
+    let e = refused(&text);
+    assert_at(&e, line_of(&text, "geometry_offset"), "tools[0].geometry_offset");
+    assert!(e.message.contains("not both"), "{e}");
+}
+
+#[test]
+fn a_tool_without_tip_or_geometry_offset_is_an_error_naming_both() {
+    let text = edit(BUILTIN_TOML, &format!("{BUILTIN_T01_TIP}\n"), "");
+    let e = refused(&text);
+    assert_eq!(e.key, "tools[0].tip", "{e}");
+    assert!(
+        e.message.contains("missing required key `tip`") && e.message.contains("geometry_offset"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_bad_geometry_offset_is_an_error_at_its_key() {
+    for (value, key, says) in [
+        (
+            "{ x = -480.0 }",
+            "tools[0].geometry_offset.z",
+            "missing required key `z`",
+        ),
+        (
+            "{ x = -480.0, z = 12.0, y = 1.0 }",
+            "tools[0].geometry_offset.y",
+            "unknown key `y`",
+        ),
+        ("{ x = \"-480\", z = 12.0 }", "tools[0].geometry_offset.x", "number"),
+        (
+            "{ x = -480.0, z = nan }",
+            "tools[0].geometry_offset.z",
+            "not a finite number",
+        ),
+        (
+            "{ x = -480.0, z = 1e300 }",
+            "tools[0].geometry_offset.z",
+            "out of range",
+        ),
+        ("[-480.0, 12.0]", "tools[0].geometry_offset", "a table { x, z }"),
+    ] {
+        let text = edit(BUILTIN_TOML, BUILTIN_T01_TIP, &format!("geometry_offset = {value}"));
+        let e = load(&text).err().unwrap_or_else(|| panic!("accepted {value}"));
+        assert_eq!(
+            (e.key.as_str(), e.line),
+            (key, line_of(&text, "geometry_offset")),
+            "{value}: {e}"
+        );
+        assert!(e.message.contains(says), "{value}: {e}");
+    }
+    // The same in a job: the job's key.
+    let mut no_files = |_: &str, rel: &str| -> Result<(String, String), String> { Err(format!("no file {rel}")) };
+    let e = crate::job::parse(
+        "[[tools]]\nstation = 1\nname = \"t\"\ntip = [-60.0, -12.0]\ngeometry_offset = { x = -480.0, z = 12.0 }\ninsert = \"CNMG 120408\"\nholder = \"PCLNR 2525M12\"\n",
+        "j.toml",
+        "/",
+        "job",
+        &mut no_files,
+    )
+    .unwrap_err();
+    assert_eq!((e.key.as_str(), e.line), ("tools[0].geometry_offset", 5), "{e}");
+}

@@ -10,7 +10,7 @@ use toml::Spanned;
 
 use super::load::{Cx, MachineError, Num, Point};
 use super::MAX_OUTLINE_POINTS;
-use crate::geom::Polygon;
+use crate::geom::{Polygon, P2};
 use crate::tooling::{self, BuiltTool, CatalogueSpec, Cutter, DrillSpec};
 
 /// An insert or holder as written: a catalogue designation or an outline.
@@ -162,4 +162,105 @@ pub(crate) fn cutter(built: Option<&BuiltTool>, name: &str) -> Cutter {
         .map(|b| b.cutter)
         .filter(|c| *c != Cutter::Insert)
         .unwrap_or_else(|| Cutter::from_name(name))
+}
+
+// `geometry_offset = { x, z }` as written (no doc comment: the schemas show none). A table
+// only: `[x, z]` would read as a `tip` does, with another meaning.
+#[derive(JsonSchema)]
+pub(crate) struct RawGeometryOffset {
+    /// X on diameter, as the control's geometry offset page shows it (mm).
+    #[schemars(with = "f64")]
+    x: Num,
+    /// Z, as the page shows it (mm).
+    #[schemars(with = "f64")]
+    z: Num,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GeometryOffsetKeys {
+    x: Num,
+    z: Num,
+}
+
+impl<'de> Deserialize<'de> for RawGeometryOffset {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<RawGeometryOffset, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = RawGeometryOffset;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a table { x, z } (X on diameter and Z, as the geometry offset page shows them)")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<RawGeometryOffset, A::Error> {
+                let k = GeometryOffsetKeys::deserialize(serde::de::value::MapAccessDeserializer::new(map))?;
+                Ok(RawGeometryOffset { x: k.x, z: k.z })
+            }
+        }
+        d.deserialize_map(V)
+    }
+}
+
+/// A tool's geometry offset as the control's geometry offset page shows it, in mm: `x` on
+/// diameter, measured to the spindle axis; `z` the tool's length (docs/machine.md, "`tip` from
+/// the control's geometry page").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GeometryOffset {
+    pub x: f64,
+    pub z: f64,
+}
+
+impl GeometryOffset {
+    /// The tool's `tip` (its programmed point from the turret reference point, `x` a radius) on
+    /// a machine whose machine zero is `machine_zero`: `[-(machine_zero.x + X/2), -Z]`.
+    pub fn tip(&self, machine_zero: P2) -> P2 {
+        P2::new(-(machine_zero.x + self.x / 2.0), -self.z)
+    }
+
+    /// `X-480 Z12`, as the page shows it.
+    pub fn show(&self) -> String {
+        format!("X{} Z{}", super::num(self.x), super::num(self.z))
+    }
+}
+
+/// How an entry places its tool: its `tip`, or its `geometry_offset` (turned into a tip with the
+/// machine's machine zero, which a job only knows when it is applied).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Placing {
+    Tip(P2),
+    Offset(GeometryOffset),
+}
+
+impl Placing {
+    /// The tip on a machine whose machine zero is `machine_zero`.
+    pub(crate) fn tip(&self, machine_zero: P2) -> P2 {
+        match self {
+            Placing::Tip(t) => *t,
+            Placing::Offset(g) => g.tip(machine_zero),
+        }
+    }
+}
+
+/// An entry's `tip` or `geometry_offset` (`key`: the entry's key, `tools[2]`), validated: one of
+/// the two at most (None: neither given), each value finite and within the coordinate range.
+pub(crate) fn placing(
+    cx: &Cx<'_>,
+    key: &str,
+    tip: Option<&Point>,
+    offset: Option<&Spanned<RawGeometryOffset>>,
+) -> Result<Option<Placing>, MachineError> {
+    match (tip, offset) {
+        (Some(_), Some(g)) => Err(cx.err(
+            g.span(),
+            format!("{key}.geometry_offset"),
+            "give a tool's `tip` or its `geometry_offset`, not both (geometry_offset is the control's page, X on diameter; tip the programmed point from the turret reference point)",
+        )),
+        (Some(t), None) => Ok(Some(Placing::Tip(cx.point(&format!("{key}.tip"), t)?))),
+        (None, Some(g)) => {
+            let r = g.get_ref();
+            let x = cx.coord(&format!("{key}.geometry_offset.x"), &r.x)?;
+            let z = cx.coord(&format!("{key}.geometry_offset.z"), &r.z)?;
+            Ok(Some(Placing::Offset(GeometryOffset { x, z })))
+        }
+        (None, None) => Ok(None),
+    }
 }
