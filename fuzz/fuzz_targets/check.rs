@@ -1,5 +1,9 @@
 //! The whole pipeline (read, interpret, check) on arbitrary bytes, built-in machine: step mode,
-//! or exact mode when the first byte is odd.
+//! or exact mode when the first byte is odd. Each input's work is bounded tighter than a real
+//! check's (a work budget of 20,000 pair tests, a 0.05 mm tolerance, a 5 ms timestep): what a
+//! fuzzer finds is a panic or an endless stage, and an input past its budget still runs every
+//! stage up to it and the budget's own finding; a million runs then fit in an hour or so on one
+//! core instead of a day (docs/testing.md).
 #![no_main]
 
 use latheguard::machine::Machine;
@@ -18,6 +22,9 @@ fuzz_target!(|data: &[u8]| {
     };
     let settings = Settings {
         mode,
+        dt_ms: 5.0,
+        tolerance_mm: 0.05,
+        work_budget: 20_000,
         ..Settings::default()
     };
     let out = pipeline::check(data, m, &settings);

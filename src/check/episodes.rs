@@ -50,6 +50,8 @@ pub struct Episodes {
     /// The job's operation in progress, from 1, which findings opened now carry (0: the job
     /// has no operations, and findings carry none).
     pub operation: u32,
+    /// The latest time a finding emitted so far began at.
+    latest: f64,
 }
 
 impl Default for Episodes {
@@ -60,6 +62,7 @@ impl Default for Episodes {
             lowest: BinaryHeap::new(),
             cap: MAX_FINDINGS,
             operation: 0,
+            latest: f64::NEG_INFINITY,
         }
     }
 }
@@ -71,6 +74,17 @@ impl Episodes {
     /// left out and the first line of them), but its facts are never shown.
     pub fn left_out(&self, line: u32) -> bool {
         self.lowest.len() >= self.cap && self.lowest.peek().is_some_and(|&top| line > top)
+    }
+
+    /// Whether a finding at `line` that begins at `time` is certainly left out of the report:
+    /// as [`Self::left_out`], or on the last line kept when it begins after every finding made so
+    /// far (a finding of the same line sorts by its time, so the `cap` made already come first).
+    pub fn left_out_at(&self, line: u32, time: f64) -> bool {
+        self.lowest.len() >= self.cap
+            && self
+                .lowest
+                .peek()
+                .is_some_and(|&top| line > top || (line == top && time > self.latest))
     }
 
     /// The line where the open episode of pair `key` began.
@@ -164,6 +178,7 @@ impl Episodes {
 
     fn emit(&mut self, o: Open) {
         let c = o.first;
+        self.latest = self.latest.max(c.time);
         self.lowest.push(c.line);
         if self.lowest.len() > self.cap {
             self.lowest.pop();

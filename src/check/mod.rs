@@ -167,16 +167,15 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
 /// [`check`] for a report that keeps the first `cap` findings of a file in line order: a contact
 /// certainly left out is counted but measured only as far as the findings shown depend on it
 /// (`exact::Measure::Coarse`).
-fn check_capped(run: &Interpretation, machine: &Machine, settings: &Settings, cap: usize) -> CheckResult {
-    let moves = &run.moves[..];
-    let mut timer = motion::Timer::new(run, machine);
+/// A checker of `run` on `machine`, before its first move.
+fn checker<'a>(run: &'a Interpretation, machine: &'a Machine, settings: &Settings) -> Checker<'a> {
     let scene = Scene::new(machine, settings.tolerance_mm);
     let turret = (scene.gang, scene.turret_axis, scene.stations);
     let stock_box = machine.stock.as_ref().map(|s| Aabb {
         min: P2::new(-s.diameter / 2.0, s.front - s.length),
         max: P2::new(s.diameter / 2.0, s.front),
     });
-    let mut c = Checker {
+    Checker {
         run,
         machine,
         scene,
@@ -218,7 +217,13 @@ fn check_capped(run: &Interpretation, machine: &Machine, settings: &Settings, ca
         gap3: None,
         rigid3: std::collections::BTreeSet::new(),
         turned: false,
-    };
+    }
+}
+
+fn check_capped(run: &Interpretation, machine: &Machine, settings: &Settings, cap: usize) -> CheckResult {
+    let moves = &run.moves[..];
+    let mut timer = motion::Timer::new(run, machine);
+    let mut c = checker(run, machine, settings);
     c.episodes.cap = cap;
     if !machine.operations.is_empty() {
         c.episodes.operation = 1;
@@ -302,6 +307,23 @@ impl Checker<'_> {
             Obstacle::Tailstock => self.scene.tailstock.as_ref().filter(|_| self.tailstock_in),
             Obstacle::Stock => None,
         }
+    }
+
+    /// Whether no part posed anywhere along a move whose reference point stays in `rb` can come
+    /// within `margin` of any obstacle's box (both halves of the section): the parts' reach
+    /// ([`Scene::reach`]) from `rb` misses every obstacle in `z`, or keeps farther from the
+    /// spindle axis than every obstacle reaches.
+    fn out_of_reach(&self, rb: &Aabb, margin: f64) -> bool {
+        let (rx, rz) = self.scene.reach;
+        let near_r = if rb.min.x <= 0.0 && rb.max.x >= 0.0 {
+            0.0
+        } else {
+            rb.min.x.abs().min(rb.max.x.abs())
+        };
+        OBSTACLES.iter().filter_map(|&o| self.obstacle_box(o)).all(|ob| {
+            let r_obs = ob.min.x.abs().max(ob.max.x.abs());
+            rb.min.y - rz > ob.max.y + margin || rb.max.y + rz < ob.min.y - margin || near_r - rx > r_obs + margin
+        })
     }
 
     fn obstacle_box(&self, o: Obstacle) -> Option<Aabb> {
@@ -594,6 +616,13 @@ impl Checker<'_> {
         let parts = self.parts(active);
         let mut cands: Vec<(Part, Obstacle)> = Vec::new();
         let mut insert_box = None;
+        // Every part out of reach of every obstacle (a move far outside the machine): no part's
+        // envelope could meet one, so none is computed.
+        let parts = if self.out_of_reach(&rb, margin) {
+            Vec::new()
+        } else {
+            parts
+        };
         for &p in &parts {
             let Some(pb) = self.envelope(p, &rb, active) else {
                 continue;
@@ -1405,8 +1434,11 @@ impl Checker<'_> {
                 .map(|i| (e[i] - base[i], i))
                 .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a })
         };
-        // Scan, then bisect the first sample past the start's state.
+        // Scan, then bisect the first sample past the start's state. A finding certainly left
+        // out of the report (past the file's finding cap) only counts: the scan stops at its
+        // first sample past the limit, which it is found by alike, and its facts are not sought.
         let n = 256;
+        let left_out = !self.settings.snapshots && self.episodes.left_out_at(m.line, item.t0);
         let mut first = None;
         let mut depth: f64 = 0.0;
         for j in 1..=n {
@@ -1415,11 +1447,14 @@ impl Checker<'_> {
             if e > 1e-9 {
                 depth = depth.max(past(at(u))[i]);
                 first.get_or_insert(j);
+                if left_out {
+                    break;
+                }
             }
         }
         let Some(j) = first else { return };
         let (mut lo, mut hi) = ((j - 1) as f64 / n as f64, j as f64 / n as f64);
-        for _ in 0..50 {
+        for _ in 0..if left_out { 0 } else { 50 } {
             let mid = 0.5 * (lo + hi);
             if beyond(at(mid)).0 > 1e-9 {
                 hi = mid;

@@ -180,3 +180,88 @@ fn strides_in_contact_step_over_no_separation_on_any_program_or_case() {
     // Not vacuous: buried holders and inserts stride in contact many times over.
     assert!(strides > 1000, "only {strides} strides in contact audited");
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(400))]
+
+    /// A move judged out of reach of every obstacle (`Checker::out_of_reach`, which spares the
+    /// per-part envelopes) is one where no part's envelope — every station's tools, the turret —
+    /// meets any obstacle's box: the skip never drops a pair the broad phase would keep.
+    #[test]
+    fn a_move_out_of_reach_has_no_part_envelope_near_an_obstacle(
+        x0 in -2000.0f64..2000.0, z0 in -2000.0f64..2000.0,
+        dx in 0.0f64..300.0, dz in 0.0f64..300.0,
+        active in 1u32..=8,
+        margin in 0.0f64..5.0,
+    ) {
+        let machine = Machine::builtin();
+        let (_, interp) = pipeline::interpret(b"G0 X100 Z100\n", &machine);
+        let settings = Settings::default();
+        let mut c = checker(&interp, &machine, &settings);
+        c.ensure_stock();
+        let rb = crate::geom::Aabb { min: P2::new(x0, z0), max: P2::new(x0 + dx, z0 + dz) };
+        if c.out_of_reach(&rb, margin) {
+            for p in c.parts(active) {
+                let Some(pb) = c.envelope(p, &rb, active) else { continue };
+                for o in OBSTACLES {
+                    if let Some(ob) = c.obstacle_box(o) {
+                        proptest::prop_assert!(!pb.meets(&ob, margin), "{p:?} against {o:?} at {rb:?}");
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_move_beside_the_chuck_is_in_reach_and_one_far_past_the_travel_is_not() {
+    let machine = Machine::builtin();
+    let (_, interp) = pipeline::interpret(b"G0 X100 Z100\n", &machine);
+    let c = checker(&interp, &machine, &Settings::default());
+    let near = crate::geom::Aabb {
+        min: P2::new(20.0, 5.0),
+        max: P2::new(30.0, 10.0),
+    };
+    let far = crate::geom::Aabb {
+        min: P2::new(20.0, 1e6),
+        max: P2::new(30.0, 1e6 + 10.0),
+    };
+    assert!(!c.out_of_reach(&near, 0.0));
+    assert!(c.out_of_reach(&far, 0.0));
+}
+
+#[test]
+fn over_travels_past_the_finding_cap_on_one_line_are_counted_alike() {
+    // One line of a macro loop runs the turret farther past the Z limit on every pass, and rapids
+    // into the bar between: every over-travel is a finding at that line. Past the cap, those that
+    // begin after every finding made so far are found by their first sample past the limit and
+    // not measured; the report's first `cap` findings keep every fact, the rest count alike.
+    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X60 Z2\n#1 = 0\nWHILE [#1 LT 60] DO1\n#1 = #1 + 1\n\
+               G0 Z[400 + #1 * 10]\nG0 X40 Z-5\nG0 X60 Z2\nEND1\nM30\n";
+    let cap = 25;
+    for mode in [Mode::Step, Mode::Exact] {
+        let s = settings(mode, 1.0);
+        let whole = run(src, &s, MAX_FINDINGS);
+        let capped = run(src, &s, cap);
+        let over = whole.findings.iter().filter(|f| f.kind == Kind::Overtravel).count();
+        assert!(
+            over >= 40 && whole.findings.len() > 2 * cap,
+            "{over} of {}",
+            whole.findings.len()
+        );
+        let shown = |f: &Finding| (f.line, f.kind, f.objects.clone(), f.severity, f.depth_mm, f.time_s);
+        let counted = |f: &Finding| (f.line, f.kind, f.objects.clone(), f.severity);
+        let first = |r: &CheckResult| r.findings[..cap].iter().map(shown).collect::<Vec<_>>();
+        assert_eq!(first(&capped), first(&whole), "{mode:?}");
+        let all = |r: &CheckResult| r.findings.iter().map(counted).collect::<Vec<_>>();
+        assert_eq!(all(&capped), all(&whole), "{mode:?}");
+        // Not vacuous: the over-travels left out were found without their facts.
+        let differ = capped
+            .findings
+            .iter()
+            .zip(&whole.findings)
+            .filter(|(a, b)| a.time_s != b.time_s)
+            .count();
+        assert!(differ > 0, "{mode:?}: no over-travel past the cap went unmeasured");
+    }
+}

@@ -65,11 +65,14 @@ pub struct Scene {
     pub gang: bool,
     pub tools: Vec<ToolShape>,
     pub tolerance: f64,
+    /// How far any point of the turret or of any tool, in any station, posed in the section,
+    /// can lie from the turret reference point: `(x, z)` ([`Scene::reach_of`]).
+    pub reach: (f64, f64),
 }
 
 impl Scene {
     pub fn new(machine: &Machine, tolerance: f64) -> Scene {
-        let tools = machine
+        let tools: Vec<ToolShape> = machine
             .tools
             .iter()
             .map(|t| ToolShape {
@@ -80,7 +83,9 @@ impl Scene {
                 holder: t.holder.clone(),
             })
             .collect();
+        let reach = Scene::reach_of(&machine.turret.outline, machine.turret.axis, &tools);
         Scene {
+            reach,
             chuck: machine.chuck.clone().map(|p| Revolved::new("chuck", p)),
             tailstock: machine.tailstock.clone().map(|p| Revolved::new("tailstock", p)),
             turret: machine.turret.outline.clone(),
@@ -90,6 +95,28 @@ impl Scene {
             tools,
             tolerance,
         }
+    }
+
+    /// The reach of the posed parts from the reference point `r`, in `x` and `z`: the turret's
+    /// and a tool's points in the working plane lie `p` from `r`; another station's points lie
+    /// at a radius `|(r.x, 0) + v|` from the spindle axis with `|v| <= |turret_axis| + |d|`
+    /// (`d` the point's distance from the turret axis in its station's plane, as
+    /// [`Scene::map_to_section`] maps it), so within `|turret_axis| + |d|` of `|r.x|`, and
+    /// `z` from `r.y` exactly as in the plane.
+    fn reach_of(turret: &Polygon, turret_axis: f64, tools: &[ToolShape]) -> (f64, f64) {
+        let (mut rx, mut rz) = (0.0f64, 0.0f64);
+        for p in turret.points() {
+            rx = rx.max(p.x.abs());
+            rz = rz.max(p.y.abs());
+        }
+        for t in tools {
+            for q in t.insert.points().iter().chain(t.holder.points()) {
+                let p = q + t.tip;
+                rx = rx.max(p.x.abs()).max(turret_axis.abs() + (p.x - turret_axis).abs());
+                rz = rz.max(p.y.abs());
+            }
+        }
+        (rx, rz)
     }
 
     pub fn tool(&self, station: u32) -> Option<&ToolShape> {
