@@ -80,3 +80,66 @@ fn stock_out_stl_writes_the_turned_part_as_a_closed_mesh() {
     assert!(want > 1e4 && (got - want).abs() < 0.01 * want, "{got} against {want}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The highest point of a mesh's surface straight above `(x, y)` (a ray cast along −z).
+fn top_at(mesh: &latheguard::kin::Mesh, x: f64, y: f64) -> Option<f64> {
+    let mut top: Option<f64> = None;
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+        let d = (b.y - c.y) * (a.x - c.x) + (c.x - b.x) * (a.y - c.y);
+        if d == 0.0 {
+            continue;
+        }
+        let l1 = ((b.y - c.y) * (x - c.x) + (c.x - b.x) * (y - c.y)) / d;
+        let l2 = ((c.y - a.y) * (x - c.x) + (a.x - c.x) * (y - c.y)) / d;
+        let l3 = 1.0 - l1 - l2;
+        if l1 >= 0.0 && l2 >= 0.0 && l3 >= 0.0 {
+            let z = l1 * a.z + l2 * b.z + l3 * c.z;
+            top = Some(top.map_or(z, |t: f64| t.max(z)));
+        }
+    }
+    top
+}
+
+/// A slot an axial end mill cut into the front face of the turn-mill example's Ø50 × 120 bar is
+/// in the STL at its depth (3 mm below program zero, the face 2 mm above it), the file reads back
+/// as a machine part, and its plain stretches are merged: far fewer triangles than one per node
+/// pair of the grids (about 792,000 for this bar).
+#[test]
+fn stock_out_stl_holds_a_face_slot_at_its_depth() {
+    let dir = std::env::temp_dir().join(format!("lg-stock-out-slot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("part.stl");
+    let root = env!("CARGO_MANIFEST_DIR");
+    let st = Command::new(env!("CARGO_BIN_EXE_latheguard"))
+        .args([
+            "check",
+            "-q",
+            &format!("{root}/programs/turn-mill/milling/crash_rapid_into_pocket_floor.nc"),
+            "--stock-out",
+        ])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert_eq!(st.code(), Some(1));
+    let bytes = std::fs::read(&out).unwrap();
+    let mesh = latheguard::kin::stl::read_stl(&bytes, "part.stl").expect("a closed STL");
+    let n = mesh.triangles.len();
+    eprintln!("the Ø50 × 120 bar with a face slot: {n} triangles");
+    assert!(n < 250_000, "{n} triangles");
+    // Program zero is at 78 on the part (machines/turn-mill.toml), the bar's face at 80; the slot
+    // runs along Y at X10 (Ø10 mill, Y−8 to Y8): its floor at Z−3.
+    for (x, y, want) in [
+        (10.0, 0.0, 75.0),
+        (10.0, 6.0, 75.0),
+        (-10.0, 0.0, 80.0),
+        (10.0, -16.0, 80.0),
+        (0.0, 0.0, 80.0),
+    ] {
+        let got = top_at(&mesh, x, y).unwrap();
+        assert!((got - want).abs() < 0.05, "at ({x}, {y}): {got} against {want}");
+    }
+    // Ø50: nothing above the face beyond the bar's round.
+    assert!(top_at(&mesh, 25.5, 0.0).is_none());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -765,3 +765,38 @@ fn a_neighbouring_live_tool_brought_into_the_stock_by_a_y_move_is_a_collision() 
         &[(14, Kind::Collision, ["t11_live_block", "stock"])],
     );
 }
+
+/// A 3D finding's picture draws the milled part as it is at first contact: the radial drill still
+/// in its hole when C indexes has the hole's wall beside it in the stock's mesh (a plain bar's
+/// mesh has every vertex on its round or its end faces), in the SVG views and the GLB alike (both
+/// draw the snapshot's parts).
+#[test]
+fn a_finding_picture_draws_the_hole_the_drill_is_still_in() {
+    let src = std::fs::read(root().join("programs/turn-mill/crash_c_index_drill_in_hole.nc")).unwrap();
+    let settings = Settings {
+        snapshots: true,
+        ..Settings::default()
+    };
+    let out = pipeline::check(&src, &turn_mill(), &settings);
+    let f = out
+        .findings
+        .iter()
+        .find(|f| f.severity == Severity::Error && f.snapshot3.is_some())
+        .expect("a 3D finding with a picture");
+    let snap = f.snapshot3.as_ref().unwrap();
+    let contact = snap.contact.unwrap();
+    let stock = snap
+        .parts
+        .iter()
+        .find(|p| p.name == "stock")
+        .expect("the stock is drawn");
+    // Vertices inside the Ø50 bar's round, near the contact, away from the end faces: the hole.
+    let inside = stock
+        .mesh
+        .vertices
+        .iter()
+        .map(|v| stock.pose * v)
+        .filter(|p| p.x.hypot(p.y) < 23.0 && (p - contact).norm() < 12.0)
+        .count();
+    assert!(inside > 20, "{inside} vertices of the hole's wall");
+}

@@ -1002,17 +1002,29 @@ impl Checker<'_> {
                 role,
             });
         }
-        if let Some(stock) = self.stock.as_ref() {
+        let stock_role = if b == STOCK { Role3::CollidingB } else { Role3::Stock };
+        // A milled part is drawn as both its models hold it now (holes, flats and pockets in it).
+        let milled = match (self.mill.as_ref(), self.stock.as_ref()) {
+            (Some(mill), Some(d)) => mill.picture_mesh(d),
+            _ => None,
+        };
+        if let Some(mesh) = milled {
+            parts.push(Part3 {
+                name: "stock".into(),
+                mesh: Arc::new(mesh),
+                pose: three.part_pose(&poser),
+                role: stock_role,
+            });
+        } else if let Some(stock) = self.stock.as_ref() {
             for outline in stock.outlines(1e-9) {
                 let pts: Vec<crate::geom::P2> =
                     outline.iter().map(|p| crate::geom::P2::new(p[0].abs(), p[1])).collect();
                 if let Ok(mesh) = crate::kin::shape::revolved(&pts, self.settings.tolerance_mm.max(0.05)) {
-                    let role = if b == STOCK { Role3::CollidingB } else { Role3::Stock };
                     parts.push(Part3 {
                         name: "stock".into(),
                         mesh: Arc::new(mesh),
                         pose: crate::kin::Iso::identity(),
-                        role,
+                        role: stock_role,
                     });
                 }
             }

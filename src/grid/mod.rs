@@ -29,6 +29,7 @@ mod sweep;
 pub use cutter::{Cutter, CutterKind, Sweep};
 pub use cyl::CylGrid;
 pub use face::FaceGrid;
+pub use mesh::{Surface, STL_CELLS_ACROSS};
 
 use nalgebra::Vector3;
 
@@ -375,10 +376,16 @@ impl Stock {
         }
     }
 
-    /// The part as a closed triangle mesh in binary STL (the cylindrical grid's surface: the
-    /// face grid's features are not in it). `None` for a block.
+    /// The part as a closed triangle mesh in binary STL: the surface of what every grid calls
+    /// material (`mesh.rs`), face grids' pockets and holes included.
     pub fn stl(&self) -> Option<Vec<u8>> {
-        mesh::stl(self.cyl.as_ref()?)
+        mesh::stl(self)
+    }
+
+    /// The part's closed surface with about `cells` lattice cells across its width (a coarser
+    /// one for pictures; `--stock-out` takes [`mesh::STL_CELLS_ACROSS`]).
+    pub fn surface(&self, cells: usize) -> Option<Surface> {
+        mesh::surface(self, cells)
     }
 
     /// The coarsest node spacing of the stock's grids (mm): what it resolves.

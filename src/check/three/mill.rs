@@ -37,6 +37,10 @@ use crate::scene::{DexelStock, View};
 /// stock here (the node budget of a bar).
 pub const MIN_SPACING_MM: f64 = 0.05;
 
+/// Lattice cells across the part in a 3D picture's mesh of the milled stock (`--stock-out`
+/// takes `grid::STL_CELLS_ACROSS`).
+pub const PICTURE_CELLS: usize = 80;
+
 /// The milled stock of a check.
 pub(in crate::check) struct Mill {
     pub stock: Stock,
@@ -49,10 +53,9 @@ impl Mill {
         2.0 * self.stock.spacing()
     }
 
-    /// The final part as binary STL: the cylindrical grid turned down to the dexel stock's
-    /// columns (the turning after the hand-over). The face and side grids' features (a face
-    /// pocket, a hole along a side grid) are not in the surface yet; radial features are.
-    fn part_stl(&self, d: &DexelStock) -> Option<Vec<u8>> {
+    /// The milled stock turned down to the dexel stock's columns (the turning after the
+    /// hand-over): the part as both models hold it.
+    fn turned_down(&self, d: &DexelStock) -> Stock {
         let mut s = self.stock.clone();
         if let Some(c) = s.cyl.as_mut() {
             for j in 0..c.nz {
@@ -63,7 +66,23 @@ impl Mill {
                 c.inner[j] = c.inner[j].max(ri.min(c.col_max[j]));
             }
         }
-        s.stl()
+        s
+    }
+
+    /// The final part as binary STL: the surface of what every grid holds (face pockets and
+    /// holes included), turned down to the dexel stock.
+    fn part_stl(&self, d: &DexelStock) -> Option<Vec<u8>> {
+        self.turned_down(d).stl()
+    }
+
+    /// The part as it is now, for a 3D picture: the same surface on a coarser lattice
+    /// ([`PICTURE_CELLS`] across), in the part's frame.
+    pub(super) fn picture_mesh(&self, d: &DexelStock) -> Option<crate::kin::Mesh> {
+        let surf = self.turned_down(d).surface(PICTURE_CELLS)?;
+        Some(crate::kin::Mesh {
+            vertices: surf.vertices.iter().map(|p| nalgebra::Point3::from(*p)).collect(),
+            triangles: surf.triangles,
+        })
     }
 
     /// The grid stock of the dexel stock as it is now.
