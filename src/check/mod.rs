@@ -1113,6 +1113,7 @@ impl Checker<'_> {
             kind,
 
             objects: [a, b.to_string()],
+            words: None,
             line: m.line,
             n: m.n,
             profile_line: m.profile_line,
@@ -1437,6 +1438,7 @@ impl Checker<'_> {
         let mut c = Contact {
             kind: Kind::Overtravel,
             objects: ["turret".into(), format!("{axis} travel")],
+            words: None,
             line: m.line,
             n: m.n,
             profile_line: m.profile_line,

@@ -902,7 +902,11 @@ pub(super) fn picture(file: &FileReport, f: &Finding, s: &Snapshot3, block: &str
         &Caption {
             place: format!("{}:{}", file.path, f.line),
             kind: Some((format!("{}[{}]", f.severity.name(), f.kind), colour)),
-            message: f.message.clone(),
+            // A follow-on says whose crash it comes from, as the 2D pictures do.
+            message: match f.follow_on_note() {
+                Some(p) => format!("{} — {p}", f.message),
+                None => f.message.clone(),
+            },
             block: (!block.is_empty()).then(|| (f.line, block.to_string())),
             facts,
         },
