@@ -703,9 +703,19 @@ fn view(o: &mut String, v: &View, s: &Snapshot3) -> Cuts {
     spindle_axis(o, v);
     if let Some(c) = s.contact() {
         let (x, y, _) = v.project(&c);
+        // The ring is clipped to its view's frame: the views' labels and the caption stand
+        // outside the frames, so the ring is never drawn over their text.
         let _ = writeln!(
             o,
-            r##"<g class="contact"><circle cx="{x}" cy="{y}" r="10" fill="none" stroke="#ffffff" stroke-width="5" opacity="0.85"/><circle cx="{x}" cy="{y}" r="10" fill="none" stroke="{OVERLAP}" stroke-width="2.2"/><path d="M{a},{y}L{b},{y}M{x},{c}L{x},{d}" stroke="{OVERLAP}" stroke-width="1.4"/></g>"##,
+            r#"<clipPath id="frame-{id}"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath>"#,
+            n(v.left),
+            n(v.top),
+            n(v.w),
+            n(v.h)
+        );
+        let _ = writeln!(
+            o,
+            r##"<g class="contact" clip-path="url(#frame-{id})"><circle cx="{x}" cy="{y}" r="10" fill="none" stroke="#ffffff" stroke-width="5" opacity="0.85"/><circle cx="{x}" cy="{y}" r="10" fill="none" stroke="{OVERLAP}" stroke-width="2.2"/><path d="M{a},{y}L{b},{y}M{x},{c}L{x},{d}" stroke="{OVERLAP}" stroke-width="1.4"/></g>"##,
             x = n(x),
             y = n(y),
             a = n(x - 15.0),
