@@ -687,7 +687,7 @@ fn caption_boxes(d: &roxmltree::Document<'_>) -> Vec<(String, PageBox)> {
 fn assert_rings_clear_of_captions(svg: &str) {
     let d = doc(svg);
     let rings = ring_boxes(&d);
-    assert_eq!(rings.len(), 3);
+    assert!(rings.len() >= 3, "a ring in each view (and the detail's)");
     let captions = caption_boxes(&d);
     assert!(captions.len() >= 5, "the caption and three view titles: {captions:?}");
     for r in &rings {
@@ -734,4 +734,78 @@ fn the_contact_ring_is_never_drawn_over_the_caption_or_a_view_title() {
     let corner = views3::svg(&corner_scene());
     keep("corner.svg", corner.as_bytes());
     assert_rings_clear_of_captions(&corner);
+}
+
+/// The picture of one 3D finding of `depth` mm, the holder of the sample scene reaching `depth`
+/// into the sub chuck.
+fn picture_of_depth(depth: f64) -> String {
+    let mut r = report_with_a_3d_finding();
+    let mut s = scene();
+    s.parts[3].mesh = Arc::new(cuboid([60.0, 10.0, 170.0], [150.0, 50.0, 205.0 + depth]));
+    let f = &mut r.files[0].findings[0];
+    f.depth_mm = Some(depth);
+    f.snapshot3 = Some(Box::new(s));
+    svg::pictures(&r).remove(0).svg
+}
+
+/// The (left, top, width, height) of the frame of the view with id `view-ID`'s clip.
+fn frame_of(d: &roxmltree::Document<'_>, id: &str) -> Option<PageBox> {
+    let rect = d
+        .descendants()
+        .find(|n| n.attribute("id") == Some(&format!("frame-{id}")))?
+        .children()
+        .find(|c| c.has_tag_name("rect"))?;
+    let num = |a: &str| rect.attribute(a).unwrap().parse::<f64>().unwrap();
+    Some((num("x"), num("y"), num("x") + num("width"), num("y") + num("height")))
+}
+
+#[test]
+fn a_sliver_contact_gets_a_detail_panel_with_its_scale_and_a_deep_one_does_not() {
+    let sliver = picture_of_depth(0.05);
+    keep("sliver.svg", sliver.as_bytes());
+    let d = doc(&sliver);
+    let panel = frame_of(&d, "detail").expect("a 0.05 mm contact gets a detail panel");
+    for view in ["xz", "xy", "yz"] {
+        let frame = frame_of(&d, view).unwrap();
+        assert!(!overlap(panel, frame), "the detail covers the {view} view");
+    }
+    assert!(d.descendants().any(|n| n.attribute("class") == Some("detail-region")));
+    let text: String = d.descendants().filter_map(|n| n.text()).collect();
+    let zoom: u32 = text
+        .split("detail ×")
+        .nth(1)
+        .and_then(|t| t.split(|c: char| !c.is_ascii_digit()).next())
+        .and_then(|z| z.parse().ok())
+        .expect("the panel states its magnification");
+    assert!(zoom >= 3, "×{zoom}");
+    // The scale bar: the 0.05 mm depth spans many pixels in the panel.
+    let bar = d
+        .descendants()
+        .find(|n| n.attribute("class") == Some("detail-scale"))
+        .expect("the detail's scale bar");
+    let path = bar.children().find(|n| n.has_tag_name("path")).unwrap();
+    let xs: Vec<f64> = path
+        .attribute("d")
+        .unwrap()
+        .split(['M', 'L'])
+        .filter(|p| !p.is_empty())
+        .map(|p| p.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    let px = xs.iter().cloned().fold(f64::MIN, f64::max) - xs.iter().cloned().fold(f64::MAX, f64::min);
+    // (The page draws a text's white halo as a copy of it: the last copy is the text.)
+    let label = bar.descendants().filter_map(|n| n.text()).next_back().unwrap();
+    let len: f64 = label.trim_end_matches(" mm").parse().unwrap();
+    assert!(
+        0.05 * px / len >= 10.0,
+        "0.05 mm is {} px in the detail",
+        0.05 * px / len
+    );
+    assert_rings_clear_of_captions(&sliver);
+
+    let deep = doc_has_detail(&picture_of_depth(8.0));
+    assert!(!deep, "an 8 mm overlap is plain at the page's scale");
+}
+
+fn doc_has_detail(svg: &str) -> bool {
+    frame_of(&doc(svg), "detail").is_some()
 }
