@@ -92,6 +92,11 @@ pub struct Finding {
     pub severity: Severity,
     /// The parts involved, for collisions (`["T03 holder", "chuck"]`).
     pub objects: Vec<String>,
+    /// The same parts in a machinist's words, in the order of `objects`, where the ids are not
+    /// words (the turn-mill path: `t9_holder` is "T09 holder"); empty where `objects` already are
+    /// (the working plane's "T03 holder", "chuck"). Read it through [`Finding::parts_in_words`].
+    #[serde(skip)]
+    pub words: Vec<String>,
     /// Machine time at first contact, seconds from program start.
     pub time_s: Option<f64>,
     /// Largest penetration depth of the episode, mm.
@@ -139,8 +144,37 @@ pub struct Finding {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct FollowOn {
     pub line: u32,
+    /// The crash's parts as the machine file names them (the JSON and SARIF `objects`).
     pub objects: Vec<String>,
     pub time_s: f64,
+    /// The crash's parts in the words its own finding uses ([`Finding::parts_in_words`]).
+    #[serde(skip)]
+    pub words: Vec<String>,
+}
+
+impl FollowOn {
+    /// What the text report and the pictures say of it, naming the crash's parts in the words
+    /// its own finding uses: "follow-on of the crash at line 33 between the T09 holder and the
+    /// part in the sub chuck".
+    pub fn describe(&self) -> String {
+        let parts = if self.words.is_empty() {
+            &self.objects
+        } else {
+            &self.words
+        };
+        match parts.as_slice() {
+            [] => format!("follow-on of the crash at line {}", self.line),
+            [a, b] => format!(
+                "follow-on of the crash at line {} between the {a} and the {b}",
+                self.line
+            ),
+            more => format!(
+                "follow-on of the crash at line {} of the {}",
+                self.line,
+                more.join(", the ")
+            ),
+        }
+    }
 }
 
 impl Finding {
@@ -154,6 +188,7 @@ impl Finding {
             kind,
             severity,
             objects: Vec::new(),
+            words: Vec::new(),
             time_s: None,
             depth_mm: None,
             moved_mm: None,
@@ -177,6 +212,34 @@ impl Finding {
 
     pub fn program(line: u32, col: u32, message: impl Into<String>) -> Finding {
         Finding::at(Kind::Program, Severity::Error, line, col, message)
+    }
+
+    /// The parts involved in a machinist's words: `words` where the finding has them, else
+    /// `objects` (already words on the working plane).
+    pub fn parts_in_words(&self) -> &[String] {
+        if self.words.len() == self.objects.len() && !self.words.is_empty() {
+            &self.words
+        } else {
+            &self.objects
+        }
+    }
+
+    /// What a picture's message line adds for a follow-on: "follow-on of the crash at line 33"
+    /// when the crash is between the finding's own two parts (always, under the follow-on rule:
+    /// the message has just named them, and the line keeps its width), else
+    /// [`FollowOn::describe`] with the crash's parts in words.
+    pub fn follow_on_note(&self) -> Option<String> {
+        let p = self.follow_on.as_ref()?;
+        let theirs = if p.words.is_empty() { &p.objects } else { &p.words };
+        let mut a: Vec<&String> = theirs.iter().collect();
+        let mut b: Vec<&String> = self.parts_in_words().iter().collect();
+        a.sort();
+        b.sort();
+        Some(if a == b && !a.is_empty() {
+            format!("follow-on of the crash at line {}", p.line)
+        } else {
+            p.describe()
+        })
     }
 
     pub fn with_n(mut self, n: Option<u64>) -> Finding {
@@ -281,5 +344,48 @@ pub fn explain(kind: Kind) -> &'static str {
         Kind::Syntax => include_str!("../docs/findings/syntax.md"),
         Kind::Program => include_str!("../docs/findings/program.md"),
         Kind::Unsupported => include_str!("../docs/findings/unsupported.md"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn follow_on(words: &[&str]) -> FollowOn {
+        FollowOn {
+            line: 33,
+            objects: vec!["t9_holder".into(), "part_in_sub_chuck".into()],
+            time_s: 1.0,
+            words: words.iter().map(|w| w.to_string()).collect(),
+        }
+    }
+
+    #[test]
+    fn a_follow_on_names_its_crash_in_words_and_falls_back_on_the_ids() {
+        let p = follow_on(&["T09 holder", "part in the sub chuck"]);
+        assert_eq!(
+            p.describe(),
+            "follow-on of the crash at line 33 between the T09 holder and the part in the sub chuck"
+        );
+        assert_eq!(
+            follow_on(&[]).describe(),
+            "follow-on of the crash at line 33 between the t9_holder and the part_in_sub_chuck"
+        );
+    }
+
+    #[test]
+    fn a_picture_note_names_the_parts_only_when_they_are_not_the_findings_own() {
+        let mut f = Finding::at(Kind::Collision, Severity::Warning, 34, 0, "the T09 holder hits it");
+        f.objects = vec!["part_in_sub_chuck".into(), "t9_holder".into()];
+        f.words = vec!["part in the sub chuck".into(), "T09 holder".into()];
+        f.follow_on = Some(follow_on(&["T09 holder", "part in the sub chuck"]));
+        assert_eq!(f.follow_on_note().as_deref(), Some("follow-on of the crash at line 33"));
+        f.words = vec!["stock".into(), "T09 holder".into()];
+        assert_eq!(
+            f.follow_on_note().as_deref(),
+            Some("follow-on of the crash at line 33 between the T09 holder and the part in the sub chuck")
+        );
+        f.follow_on = None;
+        assert_eq!(f.follow_on_note(), None);
     }
 }

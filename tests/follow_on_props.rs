@@ -45,6 +45,7 @@ fn contact(kind: Kind, objects: [&str; 2], line: u32, time: f64, depth: f64) -> 
     Contact {
         kind,
         objects: objects.map(str::to_string),
+        words: None,
         line,
         n: None,
         profile_line: 0,

@@ -133,3 +133,53 @@ fn a_follow_on_contact_is_drawn_in_the_follow_on_colour() {
     assert!(svg.contains("overlap (follow-on of an earlier crash)"), "legend");
     assert!(!svg.contains("overlap at first contact"));
 }
+
+/// A follow-on on a turn-mill machine names the crash it follows in the words that crash's own
+/// finding uses ("the T09 holder", "the part in the sub-spindle's chuck"), in the text report
+/// and on its picture; JSON keeps the machine file's ids. (Drawing this picture also once
+/// indexed past the components known before the sub-spindle took the part.)
+#[test]
+fn a_follow_on_names_the_parent_crash_in_words_in_the_text_and_the_pictures() {
+    let program = "programs/turn-mill/pick-off/crash_rapid_into_picked_part.nc";
+    let out = Command::cargo_bin("latheguard")
+        .unwrap()
+        .current_dir(root())
+        .args(["check", program])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains(
+            "follow-on of the crash at line 33 between the T09 holder and the part in the sub-spindle's chuck"
+        ),
+        "{text}"
+    );
+    assert!(
+        !text.contains("t9_holder") && !text.contains("part_in_sub_chuck"),
+        "{text}"
+    );
+    let out = Command::cargo_bin("latheguard")
+        .unwrap()
+        .current_dir(root())
+        .args(["check", "--format", "json", program])
+        .output()
+        .unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let parents: Vec<&serde_json::Value> = json["files"][0]["findings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|f| f.get("follow_on"))
+        .collect();
+    assert!(parents
+        .iter()
+        .any(|p| p["objects"] == serde_json::json!(["t9_holder", "part_in_sub_chuck"])));
+    let svg = picture(program, None, "L34.collision.t9_holder");
+    let message = svg.lines().find(|l| l.contains(r#"y="46""#)).expect("the message line");
+    assert!(
+        message.contains("the T09 holder hits the part in the sub-spindle")
+            && message.ends_with("— follow-on of the crash at line 33</text>"),
+        "{message}"
+    );
+    assert!(!svg.lines().take(8).any(|l| l.contains("t9_")), "no ids in the caption");
+}

@@ -633,3 +633,179 @@ fn the_picture_on_the_turn_mill_page_is_what_the_views_draw_today() {
     let page = std::fs::read_to_string(&path).expect("docs/pictures/turn-mill-views.svg");
     assert!(page == now, "stale: run with REPORT3D_BLESS=1 to redraw it");
 }
+
+/// A box on the page: (left, top, right, bottom).
+type PageBox = (f64, f64, f64, f64);
+
+fn overlap(a: PageBox, b: PageBox) -> bool {
+    a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3
+}
+
+/// Each contact ring's box as drawn: its circle and cross hair (±15 px), cut to its clip rect.
+fn ring_boxes(d: &roxmltree::Document<'_>) -> Vec<PageBox> {
+    let num = |n: roxmltree::Node<'_, '_>, a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
+    d.descendants()
+        .filter(|n| n.attribute("class") == Some("contact"))
+        .map(|g| {
+            let c = g.children().find(|n| n.has_tag_name("circle")).unwrap();
+            let (x, y) = (num(c, "cx"), num(c, "cy"));
+            let mut b = (x - 15.0, y - 15.0, x + 15.0, y + 15.0);
+            let clip = g.attribute("clip-path").expect("the ring is clipped");
+            let id = clip.trim_start_matches("url(#").trim_end_matches(')');
+            let rect = d
+                .descendants()
+                .find(|n| n.attribute("id") == Some(id))
+                .and_then(|n| n.children().find(|c| c.has_tag_name("rect")))
+                .expect("the clip's rect");
+            let (l, t) = (num(rect, "x"), num(rect, "y"));
+            let (r, bo) = (l + num(rect, "width"), t + num(rect, "height"));
+            b = (b.0.max(l), b.1.max(t), b.2.min(r), b.3.min(bo));
+            b
+        })
+        .collect()
+}
+
+/// The boxes of the caption's and the views' titles (text of 13 px and more, left-aligned):
+/// about 0.62 of the font size a character, from the cap height to the descenders.
+fn caption_boxes(d: &roxmltree::Document<'_>) -> Vec<(String, PageBox)> {
+    d.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| {
+            let size: f64 = n.attribute("font-size")?.parse().ok()?;
+            if size < 13.0 || n.attribute("text-anchor").is_some() {
+                return None;
+            }
+            let text: String = n.descendants().filter_map(|t| t.text()).collect();
+            let x: f64 = n.attribute("x")?.parse().ok()?;
+            let y: f64 = n.attribute("y")?.parse().ok()?;
+            let w = 0.62 * size * text.chars().count() as f64;
+            Some((text, (x, y - size, x + w, y + 0.3 * size)))
+        })
+        .collect()
+}
+
+fn assert_rings_clear_of_captions(svg: &str) {
+    let d = doc(svg);
+    let rings = ring_boxes(&d);
+    assert!(rings.len() >= 3, "a ring in each view (and the detail's)");
+    let captions = caption_boxes(&d);
+    assert!(captions.len() >= 5, "the caption and three view titles: {captions:?}");
+    for r in &rings {
+        for (text, c) in &captions {
+            assert!(!overlap(*r, *c), "the ring {r:?} covers {text:?} at {c:?}");
+        }
+    }
+}
+
+/// Two blocks meeting at one corner, the contact at the far corner of the larger: in the top
+/// view it stands at the top left of the box the views show, next to the view's title and just
+/// under the caption.
+fn corner_scene() -> Snapshot3 {
+    Snapshot3 {
+        title: "the T05 holder hits the sub chuck at its corner".into(),
+        line: 7,
+        time_s: Some(1.0),
+        parts: vec![
+            part(
+                "T05 holder",
+                cuboid([0.0, 0.0, 0.0], [10.0, 10.0, 10.0]),
+                Iso::identity(),
+                Role3::CollidingA,
+            ),
+            part(
+                "sub chuck",
+                cuboid([-40.0, -40.0, -40.0], [0.0, 0.0, 0.0]),
+                Iso::identity(),
+                Role3::CollidingB,
+            ),
+        ],
+        contact: Some(Point3::new(0.0, -40.0, -40.0)),
+    }
+}
+
+#[test]
+fn the_contact_ring_is_never_drawn_over_the_caption_or_a_view_title() {
+    assert_rings_clear_of_captions(&views3::svg(&scene()));
+    let sample = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/pictures/turn-mill-views.svg"),
+    )
+    .unwrap();
+    assert_rings_clear_of_captions(&sample);
+    let corner = views3::svg(&corner_scene());
+    keep("corner.svg", corner.as_bytes());
+    assert_rings_clear_of_captions(&corner);
+}
+
+/// The picture of one 3D finding of `depth` mm, the holder of the sample scene reaching `depth`
+/// into the sub chuck.
+fn picture_of_depth(depth: f64) -> String {
+    let mut r = report_with_a_3d_finding();
+    let mut s = scene();
+    s.parts[3].mesh = Arc::new(cuboid([60.0, 10.0, 170.0], [150.0, 50.0, 205.0 + depth]));
+    let f = &mut r.files[0].findings[0];
+    f.depth_mm = Some(depth);
+    f.snapshot3 = Some(Box::new(s));
+    svg::pictures(&r).remove(0).svg
+}
+
+/// The (left, top, width, height) of the frame of the view with id `view-ID`'s clip.
+fn frame_of(d: &roxmltree::Document<'_>, id: &str) -> Option<PageBox> {
+    let rect = d
+        .descendants()
+        .find(|n| n.attribute("id") == Some(&format!("frame-{id}")))?
+        .children()
+        .find(|c| c.has_tag_name("rect"))?;
+    let num = |a: &str| rect.attribute(a).unwrap().parse::<f64>().unwrap();
+    Some((num("x"), num("y"), num("x") + num("width"), num("y") + num("height")))
+}
+
+#[test]
+fn a_sliver_contact_gets_a_detail_panel_with_its_scale_and_a_deep_one_does_not() {
+    let sliver = picture_of_depth(0.05);
+    keep("sliver.svg", sliver.as_bytes());
+    let d = doc(&sliver);
+    let panel = frame_of(&d, "detail").expect("a 0.05 mm contact gets a detail panel");
+    for view in ["xz", "xy", "yz"] {
+        let frame = frame_of(&d, view).unwrap();
+        assert!(!overlap(panel, frame), "the detail covers the {view} view");
+    }
+    assert!(d.descendants().any(|n| n.attribute("class") == Some("detail-region")));
+    let text: String = d.descendants().filter_map(|n| n.text()).collect();
+    let zoom: u32 = text
+        .split("detail ×")
+        .nth(1)
+        .and_then(|t| t.split(|c: char| !c.is_ascii_digit()).next())
+        .and_then(|z| z.parse().ok())
+        .expect("the panel states its magnification");
+    assert!(zoom >= 3, "×{zoom}");
+    // The scale bar: the 0.05 mm depth spans many pixels in the panel.
+    let bar = d
+        .descendants()
+        .find(|n| n.attribute("class") == Some("detail-scale"))
+        .expect("the detail's scale bar");
+    let path = bar.children().find(|n| n.has_tag_name("path")).unwrap();
+    let xs: Vec<f64> = path
+        .attribute("d")
+        .unwrap()
+        .split(['M', 'L'])
+        .filter(|p| !p.is_empty())
+        .map(|p| p.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    let px = xs.iter().cloned().fold(f64::MIN, f64::max) - xs.iter().cloned().fold(f64::MAX, f64::min);
+    // (The page draws a text's white halo as a copy of it: the last copy is the text.)
+    let label = bar.descendants().filter_map(|n| n.text()).next_back().unwrap();
+    let len: f64 = label.trim_end_matches(" mm").parse().unwrap();
+    assert!(
+        0.05 * px / len >= 10.0,
+        "0.05 mm is {} px in the detail",
+        0.05 * px / len
+    );
+    assert_rings_clear_of_captions(&sliver);
+
+    let deep = doc_has_detail(&picture_of_depth(8.0));
+    assert!(!deep, "an 8 mm overlap is plain at the page's scale");
+}
+
+fn doc_has_detail(svg: &str) -> bool {
+    frame_of(&doc(svg), "detail").is_some()
+}

@@ -9,6 +9,9 @@ use std::collections::{BTreeMap, BinaryHeap};
 pub struct Contact {
     pub kind: Kind,
     pub objects: [String; 2],
+    /// The same parts in a machinist's words, where `objects` are machine-file ids (the
+    /// turn-mill path); `None` where `objects` already are words.
+    pub words: Option<[String; 2]>,
     pub line: u32,
     pub n: Option<u64>,
     /// The profile block a canned cycle's move follows (0: none).
@@ -200,6 +203,7 @@ impl Episodes {
             kind: c.kind,
             severity,
             objects: c.objects.to_vec(),
+            words: c.words.map(|w| w.to_vec()).unwrap_or_default(),
             time_s: Some(c.time),
             depth_mm: if c.kind == Kind::NearMiss { None } else { o.max_depth },
             moved_mm: None,
@@ -271,6 +275,7 @@ pub fn mark_follow_ons(findings: &mut [Finding]) {
                 line: findings[j].line,
                 objects: findings[j].objects.clone(),
                 time_s: t,
+                words: findings[j].parts_in_words().to_vec(),
             };
             let f = &mut findings[i];
             f.follow_on = Some(parent);

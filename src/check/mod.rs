@@ -1142,6 +1142,7 @@ impl Checker<'_> {
             kind,
 
             objects: [a, b.to_string()],
+            words: None,
             line: m.line,
             n: m.n,
             profile_line: m.profile_line,
@@ -1472,6 +1473,7 @@ impl Checker<'_> {
         let mut c = Contact {
             kind: Kind::Overtravel,
             objects: ["turret".into(), format!("{axis} travel")],
+            words: None,
             line: m.line,
             n: m.n,
             profile_line: m.profile_line,

@@ -126,6 +126,7 @@ pub(super) struct Three {
     /// How the tools of the stations that are not active stand on an ordinary move.
     carousel: Carousel,
     /// Per component: the station of its tool (its own or its nearest ancestor's `station`).
+    /// A component added during the run (the part a sub-spindle takes) has no entry: no station.
     station_of: Vec<Option<u32>>,
     /// The 3D path ran on at least one move (`stats.effects` says "3d").
     pub ran: bool,
@@ -490,7 +491,7 @@ impl Checker<'_> {
                     // into material, as into the bar: rapid_into_stock, not a collision.
                     let cutter_into_piece = |c: CompId, p: CompId| {
                         k.components[c].role == Role::Cutter
-                            && three.station_of[c].map_or(true, |s| s == active)
+                            && three.station_of.get(c).copied().flatten().map_or(true, |s| s == active)
                             && three.pieces.contains(&p)
                     };
                     let kind = if rapid && (cutter_into_piece(a, b) || cutter_into_piece(b, a)) {
@@ -520,7 +521,7 @@ impl Checker<'_> {
                     continue;
                 }
                 let fi = follow_of(i);
-                if three.station_of[i].is_some_and(|s| s != active) {
+                if three.station_of.get(i).copied().flatten().is_some_and(|s| s != active) {
                     // A tool of another station (holder or cutter) in the stock: a collision,
                     // as the 2D path's other stations.
                     pairs.push((i, STOCK, Kind::Collision, fi));
@@ -898,6 +899,7 @@ impl Checker<'_> {
         Contact {
             kind,
             objects: [an, bn],
+            words: Some([aw, bw]),
             line: m.line,
             n: m.n,
             profile_line: m.profile_line,
@@ -958,7 +960,12 @@ impl Checker<'_> {
         let mut posers: Vec<(u64, Poser)> = Vec::new();
         let mut parts = Vec::new();
         for i in 0..k.components.len() {
-            let other = three.station_of[i].is_some_and(|s| s != m.station);
+            let other = three
+                .station_of
+                .get(i)
+                .copied()
+                .flatten()
+                .is_some_and(|s| s != m.station);
             // The pair itself always (a tool of another station swung by an index).
             if (!on[i] || (sweep && other)) && i != a && i != b {
                 continue;
@@ -1113,6 +1120,7 @@ impl Checker<'_> {
                 Contact {
                     kind: Kind::Overtravel,
                     objects: [format!("{letter} axis"), "travel limit".into()],
+                    words: None,
                     line: m.line,
                     n: m.n,
                     profile_line: m.profile_line,

@@ -1155,13 +1155,8 @@ fn caption(o: &mut String, file: &FileReport, f: &Finding, block: &str) {
         esc(&head),
     );
     // A follow-on says whose crash it comes from on the message line, where it is read first.
-    let message = match &f.follow_on {
-        Some(p) => format!(
-            "{} — follow-on of the crash at line {} ({})",
-            f.message,
-            p.line,
-            p.objects.join(" × ")
-        ),
+    let message = match f.follow_on_note() {
+        Some(p) => format!("{} — {p}", f.message),
         None => f.message.clone(),
     };
     let message = match f.profile_line {
@@ -1198,7 +1193,7 @@ fn caption(o: &mut String, file: &FileReport, f: &Finding, block: &str) {
         facts.push(format!("N{nn}"));
     }
     if !f.objects.is_empty() {
-        facts.push(f.objects.join(" × "));
+        facts.push(f.parts_in_words().join(" × "));
     }
     let _ = writeln!(
         o,

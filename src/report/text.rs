@@ -217,11 +217,7 @@ pub(crate) fn with_facts(mut s: String, x: &Finding, point: bool, n: bool) -> St
         facts.push(format!("N{nn}"));
     }
     if let Some(p) = &x.follow_on {
-        facts.push(format!(
-            "follow-on of the crash at line {}: {}",
-            p.line,
-            p.objects.join(" × ")
-        ));
+        facts.push(p.describe());
     }
     if let Some(p) = &x.picture {
         facts.push(format!("picture {p}"));

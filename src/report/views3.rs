@@ -94,6 +94,9 @@ struct View {
     /// The depths the view shows (the region's extent along its line of sight): parts are cut
     /// there, so that a part far in front of the region (a tailstock, the turret) hides nothing.
     depth: (f64, f64),
+    /// For the detail panel: how many times the views' scale it draws at (`None`: one of the
+    /// three views).
+    zoom: Option<u32>,
 }
 
 impl View {
@@ -174,6 +177,7 @@ fn layout(b: &Box3) -> [View; 3] {
         w: dz * scale,
         h: dy * scale,
         depth: (b.min.x, b.max.x),
+        zoom: None,
     };
     let main_top = top + dy * scale + GAP;
     let main = View {
@@ -186,6 +190,7 @@ fn layout(b: &Box3) -> [View; 3] {
         w: dz * scale,
         h: dx * scale,
         depth: (b.min.y, b.max.y),
+        zoom: None,
     };
     let end = View {
         kind: Kind::Xy,
@@ -197,6 +202,7 @@ fn layout(b: &Box3) -> [View; 3] {
         w: dy * scale,
         h: dx * scale,
         depth: (b.min.z, b.max.z),
+        zoom: None,
     };
     [main, end, top_view]
 }
@@ -628,7 +634,7 @@ fn view(o: &mut String, v: &View, s: &Snapshot3) -> Cuts {
             hidden.push((pi, loops));
         }
     }
-    let id = v.kind.id();
+    let id = if v.zoom.is_some() { "detail" } else { v.kind.id() };
     let _ = writeln!(
         o,
         r##"<rect x="{}" y="{}" width="{}" height="{}" fill="#fbfbfa" stroke="#d0d7de"/>"##,
@@ -639,7 +645,14 @@ fn view(o: &mut String, v: &View, s: &Snapshot3) -> Cuts {
     );
     // A view narrower than its whole title (about 7 px a character at 13 px) keeps the title's
     // name and leaves out its axis directions, so that it does not run into the next view's.
-    let label = v.kind.label();
+    let zoomed;
+    let label = match v.zoom {
+        Some(z) => {
+            zoomed = format!("XZ  detail ×{z}");
+            zoomed.as_str()
+        }
+        None => v.kind.label(),
+    };
     let rest = if label.chars().count() as f64 * 7.0 > v.w {
         label[2..].split("   (").next().unwrap_or(&label[2..])
     } else {
@@ -703,9 +716,19 @@ fn view(o: &mut String, v: &View, s: &Snapshot3) -> Cuts {
     spindle_axis(o, v);
     if let Some(c) = s.contact() {
         let (x, y, _) = v.project(&c);
+        // The ring is clipped to its view's frame: the views' labels and the caption stand
+        // outside the frames, so the ring is never drawn over their text.
         let _ = writeln!(
             o,
-            r##"<g class="contact"><circle cx="{x}" cy="{y}" r="10" fill="none" stroke="#ffffff" stroke-width="5" opacity="0.85"/><circle cx="{x}" cy="{y}" r="10" fill="none" stroke="{OVERLAP}" stroke-width="2.2"/><path d="M{a},{y}L{b},{y}M{x},{c}L{x},{d}" stroke="{OVERLAP}" stroke-width="1.4"/></g>"##,
+            r#"<clipPath id="frame-{id}"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath>"#,
+            n(v.left),
+            n(v.top),
+            n(v.w),
+            n(v.h)
+        );
+        let _ = writeln!(
+            o,
+            r##"<g class="contact" clip-path="url(#frame-{id})"><circle cx="{x}" cy="{y}" r="10" fill="none" stroke="#ffffff" stroke-width="5" opacity="0.85"/><circle cx="{x}" cy="{y}" r="10" fill="none" stroke="{OVERLAP}" stroke-width="2.2"/><path d="M{a},{y}L{b},{y}M{x},{c}L{x},{d}" stroke="{OVERLAP}" stroke-width="1.4"/></g>"##,
             x = n(x),
             y = n(y),
             a = n(x - 15.0),
@@ -874,6 +897,7 @@ pub fn svg(s: &Snapshot3) -> String {
             block: None,
             facts: facts(s, true),
         },
+        None,
     )
 }
 
@@ -902,14 +926,19 @@ pub(super) fn picture(file: &FileReport, f: &Finding, s: &Snapshot3, block: &str
         &Caption {
             place: format!("{}:{}", file.path, f.line),
             kind: Some((format!("{}[{}]", f.severity.name(), f.kind), colour)),
-            message: f.message.clone(),
+            // A follow-on says whose crash it comes from, as the 2D pictures do.
+            message: match f.follow_on_note() {
+                Some(p) => format!("{} — {p}", f.message),
+                None => f.message.clone(),
+            },
             block: (!block.is_empty()).then(|| (f.line, block.to_string())),
             facts,
         },
+        f.depth_mm,
     )
 }
 
-fn draw(s: &Snapshot3, c: &Caption) -> String {
+fn draw(s: &Snapshot3, c: &Caption, depth: Option<f64>) -> String {
     let region = region(s);
     let views = layout(&region);
     let mut o = String::new();
@@ -924,9 +953,83 @@ fn draw(s: &Snapshot3, c: &Caption) -> String {
         cuts.dropped += k.dropped;
         cuts.drawn.extend(k.drawn);
     }
+    if let Some(d) = detail(&views, s, depth) {
+        // Where the detail is, in the lathe's view.
+        let m = &views[0];
+        let (x0, y0, _) = m.project(&Point3::new(d.u1, 0.0, d.r0));
+        let _ = writeln!(
+            o,
+            r#"<rect class="detail-region" x="{}" y="{}" width="{}" height="{}" fill="none" stroke="{INK}" stroke-width="1" stroke-dasharray="3 2"/>"#,
+            n(x0),
+            n(y0),
+            n((d.w / d.scale * m.scale).max(2.0)),
+            n((d.h / d.scale * m.scale).max(2.0))
+        );
+        let k = view(&mut o, &d, s);
+        cuts.skipped += k.skipped;
+        detail_scale(&mut o, &d);
+    }
     let bottom = views.iter().map(|v| v.top + v.h).fold(0.0, f64::max);
     let bottom = footer(&mut o, &views[0], s, &cuts, bottom);
     document(&o, bottom)
+}
+
+/// How many pixels of the views' scale a contact's depth may span and still get a detail panel:
+/// below this, the overlap is a sliver at the page's scale.
+pub const DETAIL_BELOW_PX: f64 = 4.0;
+
+/// The detail panel of a contact whose depth is a sliver at the views' scale: the lathe's view
+/// (XZ) around the contact, magnified, in the corner of the page the third-angle layout leaves
+/// empty (right of the top view, above the end view), so that it covers no view. `None` when
+/// the depth is unknown or large enough to see.
+fn detail(views: &[View; 3], s: &Snapshot3, depth: Option<f64>) -> Option<View> {
+    let depth = depth.filter(|d| d.is_finite() && *d >= 0.0)?;
+    let c = s.contact()?;
+    let (main, end, top) = (&views[0], &views[1], &views[2]);
+    if depth * main.scale >= DETAIL_BELOW_PX {
+        return None;
+    }
+    let side = end.w.min(top.h) - 8.0;
+    if side < 60.0 {
+        return None;
+    }
+    // The region: about 12 depths across, at least 0.5 mm, and magnified 3 times at least.
+    let across = (12.0 * depth).max(0.5).min(side / (3.0 * main.scale));
+    let scale = side / across;
+    let zoom = (scale / main.scale).round() as u32;
+    let f = Kind::Xz.frame(&c);
+    Some(View {
+        kind: Kind::Xz,
+        r0: f.x - across / 2.0,
+        u1: f.y + across / 2.0,
+        scale,
+        left: end.left,
+        top: top.top,
+        w: side,
+        h: side,
+        depth: main.depth,
+        zoom: Some(zoom),
+    })
+}
+
+/// A scale bar in the detail panel's upper right corner, clear of its ticks (left and bottom
+/// edges): its scale stated in mm.
+fn detail_scale(o: &mut String, v: &View) {
+    let len = nice(0.3 * v.w / v.scale);
+    let px = len * v.scale;
+    let (x1, y) = (v.left + v.w - 12.0, v.top + 24.0);
+    let x0 = x1 - px;
+    let _ = writeln!(
+        o,
+        r##"<g class="detail-scale"><path d="M{a},{b}L{a},{c}L{d},{c}L{d},{b}" fill="none" stroke="{INK}" stroke-width="1.5"/><text x="{e}" y="{f}" font-size="11" fill="{INK}" text-anchor="middle" stroke="#ffffff" stroke-width="3" paint-order="stroke">{g} mm</text></g>"##,
+        a = n(x0),
+        b = n(y - 5.0),
+        c = n(y),
+        d = n(x1),
+        e = n((x0 + x1) / 2.0),
+        f = n(y - 8.0),
+        g = mm(len)
+    );
 }
 
 /// Scale bar, legend and notes; returns the bottom of what it drew.

@@ -101,6 +101,7 @@ impl Checker<'_> {
             Contact {
                 kind: Kind::Collision,
                 objects: [name.clone(), "stock".into()],
+                words: Some([words.clone(), "stock".into()]),
                 line: m.line,
                 n: m.n,
                 profile_line: m.profile_line,
