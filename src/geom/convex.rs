@@ -130,22 +130,29 @@ pub fn clip_convex(subject: &[P2], clip: &[P2]) -> Vec<P2> {
         }
         let (a, b) = (clip[i], clip[(i + 1) % n]);
         std::mem::swap(&mut input, &mut out);
-        out.clear();
-        let side = |p: P2| (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
-        let m = input.len();
-        for k in 0..m {
-            let (p, q) = (input[k], input[(k + 1) % m]);
-            let (sp, sq) = (side(p), side(q));
-            if sp >= 0.0 {
-                out.push(p);
-            }
-            if (sp >= 0.0) != (sq >= 0.0) {
-                let t = sp / (sp - sq);
-                out.push(p + (q - p) * t);
-            }
-        }
+        keep_side(&input, &mut out, |p: P2| {
+            (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)
+        });
     }
     out
+}
+
+/// One step of Sutherland–Hodgman: the part of the ring `input` where `side` is not negative
+/// (`side` affine), into `out` (cleared first).
+fn keep_side(input: &[P2], out: &mut Vec<P2>, side: impl Fn(P2) -> f64) {
+    out.clear();
+    let m = input.len();
+    for k in 0..m {
+        let (p, q) = (input[k], input[(k + 1) % m]);
+        let (sp, sq) = (side(p), side(q));
+        if sp >= 0.0 {
+            out.push(p);
+        }
+        if (sp >= 0.0) != (sq >= 0.0) {
+            let t = sp / (sp - sq);
+            out.push(p + (q - p) * t);
+        }
+    }
 }
 
 /// The points of a convex counter-clockwise polygon at least `s` inside it (`s ≥ 0`): every half
@@ -165,21 +172,10 @@ pub fn erode_convex(k: &[P2], s: f64) -> Vec<P2> {
             continue;
         }
         std::mem::swap(&mut input, &mut out);
-        out.clear();
         // Signed distance to the left of the edge's line, less `s`.
-        let side = |p: P2| ((b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)) / len - s;
-        let m = input.len();
-        for j in 0..m {
-            let (p, q) = (input[j], input[(j + 1) % m]);
-            let (sp, sq) = (side(p), side(q));
-            if sp >= 0.0 {
-                out.push(p);
-            }
-            if (sp >= 0.0) != (sq >= 0.0) {
-                let t = sp / (sp - sq);
-                out.push(p + (q - p) * t);
-            }
-        }
+        keep_side(&input, &mut out, |p: P2| {
+            ((b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)) / len - s
+        });
     }
     out
 }
