@@ -446,7 +446,8 @@ fn a_macro_loop_that_marches_off_the_machine_costs_little_per_move() {
     // grows (no state repeats) runs to the block budget, 500,000 rapids each 10 mm farther past
     // the Z limit. Each is an over-travel at line 10 (one shown, the rest counted past the
     // finding cap, found by their first sample past the limit); far past every obstacle a move
-    // poses no part at all (`Checker::out_of_reach`): no pair is even a candidate.
+    // poses no part at all (`Checker::out_of_reach`, tested in the library against the parts'
+    // envelopes): no pair is even a candidate, and every pair counts as skipped.
     let out = hostile("macro_loop_marches_off_the_machine.nc");
     assert_eq!(out.stats.moves, 500_000, "{:?}", out.stats);
     let over: Vec<_> = out.findings.iter().filter(|f| f.kind == Kind::Overtravel).collect();
@@ -456,6 +457,4 @@ fn a_macro_loop_that_marches_off_the_machine_costs_little_per_move() {
         out.findings
     );
     assert_eq!(out.stats.pair_tests, 0, "{:?}", out.stats);
-    // Candidates were weighed only while the turret was near the machine (a few hundred moves).
-    assert!(out.stats.pair_tests_skipped < 1_000_000, "{:?}", out.stats);
 }

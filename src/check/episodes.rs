@@ -76,7 +76,7 @@ impl Episodes {
     /// order (`pipeline::check`). Such a finding still counts (the report says how many were
     /// left out and the first line of them), but its facts are never shown.
     pub fn left_out(&self, line: u32) -> bool {
-        self.lowest.len() >= self.cap && self.lowest.peek().is_some_and(|&top| line > top)
+        self.left_out_at(line, f64::NEG_INFINITY)
     }
 
     /// Whether a finding at `line` that begins at `time` is certainly left out of the report:

@@ -665,18 +665,16 @@ impl Checker<'_> {
     /// separation (one would end the contact and make what follows a contact of its own: never
     /// a follow-on). `want` is half the contact's depth:
     ///
-    /// - the turret, holder or insert against the chuck or the tailstock: the depth of two
-    ///   polygons is a lower bound of the translation that parts them (`geom::query`), and a part
-    ///   that translates along a piece moves no point farther than the path's length, so half
-    ///   the depth is a stride in contact: `want` as it is;
-    /// - against the stock (whose depth is a column measure, not a translation bound) and for a
-    ///   tool of another station (whose section changes shape with the reference point's `x`):
-    ///   the longest stride from `want`, halving down to the tolerance, over which a region every
-    ///   pose holds still meets the obstacle as it is at the stride's end (the least material):
-    ///   `K ∩ (K + δ)` of a convex piece `K` along a straight piece; along an arc `K` eroded by
-    ///   the stride's length (no point moves farther); for another station's section, eroded by
-    ///   that plus twice the tolerance its chords keep to the true section (a point's radius
-    ///   from the spindle axis moves no more than the reference point's `x` does).
+    /// Conservative advancement only follows the pairs the exact sweeps do not (the turret,
+    /// holder and insert against the chuck and tailstock are swept): pairs with the stock, whose
+    /// depth is a column measure and not a translation bound, and tools of other stations, whose
+    /// section changes shape with the reference point's `x`. So the stride is the longest one
+    /// from `want`, halving down to the tolerance, over which a region every pose holds still
+    /// meets the obstacle as it is at the stride's end (the least material): `K ∩ (K + δ)` of a
+    /// convex piece `K` along a straight piece; along an arc `K` eroded by the stride's length
+    /// (no point moves farther); for another station's section, eroded by that plus twice the
+    /// tolerance its chords keep to the true section (a point's radius from the spindle axis
+    /// moves no more than the reference point's `x` does).
     ///
     /// Below the tolerance the stride is the tolerance: a separation shorter than that may be
     /// stepped over (ARCHITECTURE.md, "Exact mode").
@@ -691,9 +689,6 @@ impl Checker<'_> {
     ) -> f64 {
         let step = self.settings.tolerance_mm;
         let rigid = matches!(p, Part::Turret | Part::Holder | Part::Insert);
-        if rigid && o != Obstacle::Stock {
-            return want;
-        }
         let len = piece.length();
         let Some((pose, in_plane)) = self.pose(p, piece.at(u), active as f64) else {
             return step;
