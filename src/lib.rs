@@ -4,6 +4,7 @@
 //! pipeline: [`gcode`] → [`interp`] → [`motion`] → [`scene`] → [`check`] → [`report`].
 
 pub mod accuracy;
+pub mod assume;
 pub mod check;
 pub mod collide3;
 pub mod finding;

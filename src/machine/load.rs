@@ -668,6 +668,9 @@ struct RawSetup {
     program_zero_z: Option<Num>,
     /// Work offsets G54–G59 as the control's work offset page stores them (docs/machine.md).
     work_offsets: Option<RawWorkOffsets>,
+    /// The stock, program zero and tools are an example that a program's own evidence replaces
+    /// when it has no job (docs/assume.md).
+    assume: Option<bool>,
 }
 
 /// `work_offsets`: G54–G59, each `{ x, z }` (a machine file's `[setup.work_offsets]`, a job's
@@ -1254,6 +1257,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         auto_dialect: None,
         warnings: Vec::new(),
         kinematics: None,
+        assume_setup: setup.as_ref().and_then(|s| s.assume).unwrap_or(false),
     };
     let auto_dialect = match (auto, mcodes_linuxcnc) {
         (true, Some(lc)) => Some(Box::new(super::AutoDialect {

@@ -462,6 +462,9 @@ pub struct Machine {
     /// The kinematic tree of a turn-mill machine (`[kinematics]`; `crate::kin`), or
     /// `None` for a 2-axis lathe, which the 2D checker alone describes.
     pub kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
+    /// `[setup] assume = true`: the stock, program zero and tools are an example setup that a
+    /// program's own evidence replaces when the program has no job (`crate::assume`).
+    pub assume_setup: bool,
 }
 
 impl Machine {

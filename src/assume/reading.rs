@@ -1,0 +1,119 @@
+//! A program as [`super::assume`] reads it: its moves in program coordinates (mm, `r` the
+//! radius, `z` from program zero), each with its line and station, and its source lines.
+
+use crate::interp::{Feed, MoveKind};
+use crate::machine::Machine;
+
+/// What a move is, for reading the setup.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SegKind {
+    Rapid,
+    /// G1, G2/G3 and the passes of cycles, at feed.
+    Feed,
+}
+
+/// A straight piece of a move (arcs come as several chords), in program coordinates: `a` and
+/// `b` are `[r, z]` in mm, `r` the distance from the spindle axis, `z` from program zero.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Seg {
+    pub line: u32,
+    pub station: u32,
+    pub kind: SegKind,
+    pub a: [f64; 2],
+    pub b: [f64; 2],
+    /// The feed per revolution, when the move has one (a thread's lead is larger than any
+    /// turning feed).
+    pub per_rev: Option<f64>,
+    /// mm per program unit (1, or 25.4 under G20), for writing evidence as the program does.
+    pub scale: f64,
+    /// X words are diameters.
+    pub diameter: bool,
+}
+
+impl Seg {
+    /// The X word that would reach radius `r` (mm), as the program writes it.
+    pub fn x_word(&self, r: f64) -> f64 {
+        let x = r / self.scale;
+        if self.diameter {
+            2.0 * x
+        } else {
+            x
+        }
+    }
+
+    /// The Z word of `z` (mm from program zero), as the program writes it.
+    pub fn z_word(&self, z: f64) -> f64 {
+        z / self.scale
+    }
+}
+
+/// Chords an arc is read as.
+const ARC_CHORDS: usize = 8;
+
+/// The program read once on its machine.
+#[derive(Clone, Debug, Default)]
+pub struct Reading {
+    pub segs: Vec<Seg>,
+    /// The source, line by line (lossy UTF-8), index 0 = line 1.
+    pub lines: Vec<String>,
+}
+
+impl Reading {
+    /// Interpret `src` on `machine` (as `check` reads it: the machine's dialect, or the one the
+    /// program's signs choose) and keep its moves in program coordinates.
+    pub fn of(src: &[u8], machine: &Machine) -> Reading {
+        let (_, run) = crate::pipeline::interpret(src, machine);
+        let mut segs = Vec::new();
+        for m in &run.moves {
+            let frame = run.frame(m);
+            let to = |p: crate::geom::P2| [p.x - frame.origin.x, p.y - frame.origin.y];
+            let kind = match m.kind {
+                MoveKind::Rapid => SegKind::Rapid,
+                MoveKind::Line | MoveKind::Arc { .. } => SegKind::Feed,
+                _ => continue,
+            };
+            let per_rev = match m.feed {
+                Feed::PerRev(f) => Some(f),
+                _ => None,
+            };
+            let mut push = |a: [f64; 2], b: [f64; 2]| {
+                segs.push(Seg {
+                    line: m.line,
+                    station: m.station,
+                    kind,
+                    a,
+                    b,
+                    per_rev,
+                    scale: frame.scale,
+                    diameter: frame.diameter,
+                })
+            };
+            match m.kind {
+                MoveKind::Arc { center, sweep } => {
+                    let (s, e) = (m.start - center, m.end - center);
+                    let (r0, r1) = (s.norm(), e.norm());
+                    let a0 = s.y.atan2(s.x);
+                    let at = |t: f64| {
+                        let r = r0 + t * (r1 - r0);
+                        let a = a0 + t * sweep;
+                        to(center + crate::geom::V2::new(r * a.cos(), r * a.sin()))
+                    };
+                    let mut prev = to(m.start);
+                    for k in 1..=ARC_CHORDS {
+                        let p = if k == ARC_CHORDS { to(m.end) } else { at(k as f64 / ARC_CHORDS as f64) };
+                        push(prev, p);
+                        prev = p;
+                    }
+                }
+                _ => push(to(m.start), to(m.end)),
+            }
+        }
+        let lines = String::from_utf8_lossy(src).lines().map(str::to_string).collect();
+        Reading { segs, lines }
+    }
+
+    /// The text of 1-based `line` ("" past the end).
+    pub fn line(&self, line: u32) -> &str {
+        self.lines.get(line.saturating_sub(1) as usize).map_or("", String::as_str)
+    }
+}
