@@ -27,15 +27,22 @@
 //! it contradicts are replaced.
 
 use super::reading::{Reading, Seg, SegKind};
+use super::words::split_comment;
 use super::{set, Assumed, Assumption};
 use crate::job::{JobStock, Place};
-use crate::machine::{num, Machine};
+use crate::machine::{num, ChuckForm, Machine};
 
 /// Room past the deepest cut before the jaws, mm: a parting blade and its clearance.
 pub const PART_OFF_ROOM: f64 = 10.0;
 
+/// The largest pull-off of a boring pass toward the axis, mm.
+const PULL_OFF: f64 = 2.0;
+
 /// Material left under a tube's first boring pass, mm on the diameter.
 pub const BORE_MATERIAL: f64 = 2.0;
+
+/// A facing pass more than this far behind program Z0 faces a shoulder or parts off, mm.
+const FACE_BEHIND: f64 = 0.5;
 
 /// How far below the face a point must be to count as inside the bar, mm.
 const INSIDE: f64 = 0.05;
@@ -69,14 +76,18 @@ struct At {
 struct Evidence {
     /// The highest full facing pass: its Z and its start radius.
     face: Option<(At, f64)>,
-    /// The largest radius cut below the face.
+    /// The largest radius a turning pass cuts at below the face: the bar is wider.
     cut: Option<At>,
+    /// The largest radius a radial move reaches inside the bar: the bar is at least as wide.
+    reach: Option<At>,
     /// The smallest radius the program approaches from outside the bar.
     approach: Option<At>,
     /// The lowest Z of a feed move.
     deepest: Option<At>,
     /// The first pass below the face bores: its radius.
     tube: Option<At>,
+    /// The smallest radius a facing pass outward starts from (inside a tube's bore).
+    face_out: Option<At>,
     /// A stock comment's diameter, mm.
     comment: Option<At>,
     /// The program's units: mm per unit.
@@ -85,19 +96,31 @@ struct Evidence {
 }
 
 fn max_at(to: &mut Option<At>, v: f64, line: u32) {
-    if to.is_none_or(|a| v > a.v) {
+    if to.map_or(true, |a| v > a.v) {
         *to = Some(At { v, line });
     }
 }
 
 fn min_at(to: &mut Option<At>, v: f64, line: u32) {
-    if to.is_none_or(|a| v < a.v) {
+    if to.map_or(true, |a| v < a.v) {
         *to = Some(At { v, line });
     }
 }
 
+/// A facing pass: a feed move at constant Z across at least 2 mm of radius, inward or outward
+/// (a tube's face is faced from the bore).
 fn is_facing(s: &Seg) -> bool {
-    s.kind == SegKind::Feed && (s.b[1] - s.a[1]).abs() < 1e-3 && s.a[0] - s.b[0] >= 2.0 && s.b[0] <= 0.5
+    s.kind == SegKind::Feed && (s.b[1] - s.a[1]).abs() < 1e-3 && (s.a[0] - s.b[0]).abs() >= 2.0
+}
+
+/// Whether piece `i` is the plunge before a facing pass: an axial feed move whose station's
+/// next move faces inward from where it ends (the plunge is made outside the bar).
+fn plunge_before_facing(r: &Reading, i: usize) -> bool {
+    let s = &r.segs[i];
+    r.segs[i + 1..]
+        .iter()
+        .find(|n| n.station == s.station)
+        .is_some_and(|n| is_facing(n) && n.b[0] < n.a[0] && (n.a[0] - s.b[0]).abs() < 1e-6 && (n.a[1] - s.b[1]).abs() < 1e-6)
 }
 
 impl Evidence {
@@ -111,44 +134,78 @@ impl Evidence {
             e.scale = s.scale;
             e.diameter_words = s.diameter;
         }
-        // The face: the highest full facing pass (not a part-off far behind it).
+        // The face: the highest facing pass (not a part-off far behind it).
         for s in r.segs.iter().filter(|s| is_facing(s)) {
-            if e.face.is_none_or(|(f, _)| s.a[1] > f.v) {
-                e.face = Some((At { v: s.a[1], line: s.line }, s.a[0]));
+            if e.face.map_or(true, |(f, _)| s.a[1] > f.v) {
+                e.face = Some((At { v: s.a[1], line: s.line }, s.a[0].max(s.b[0])));
             }
+        }
+        for s in r.segs.iter().filter(|s| is_facing(s) && s.b[0] > s.a[0]) {
+            min_at(&mut e.face_out, s.a[0], s.line);
+        }
+        // A facing pass well behind program Z0 faces a shoulder or parts off: Z0 is the face.
+        if e.face.is_some_and(|(f, _)| f.v < -FACE_BEHIND) {
+            e.face = None;
         }
         let face = e.face.map_or(0.0, |(f, _)| f.v);
         let below = face - INSIDE;
         let mut first_feed = None;
+        let mut cycle_starts: Vec<At> = Vec::new();
         for (i, s) in r.segs.iter().enumerate() {
             if s.kind != SegKind::Feed {
                 continue;
             }
             min_at(&mut e.deepest, s.a[1].min(s.b[1]), s.line);
             let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
-            // The radius this piece certainly cuts at, below the face.
-            let cut = if dz < -INSIDE && dz.abs() >= dr.abs() {
+            // A roughing cycle's passes start from its start point, often in the air: its
+            // profile is what it cuts to (the part lies inside the bar), its first move where
+            // it starts from (outside the bar).
+            if s.cycle {
+                if s.profile && s.b[1] < below {
+                    max_at(&mut e.reach, s.a[0].max(s.b[0]), s.line);
+                }
+                if i == 0 || !r.segs[i - 1].cycle || r.segs[i - 1].line != s.line {
+                    cycle_starts.push(At { v: s.a[0], line: s.line });
+                }
+                continue;
+            }
+            if dz < 0.0 && plunge_before_facing(r, i) {
+                continue;
+            }
+            // The radius this piece certainly cuts at, below the face: a pass along −Z removes
+            // material there (the bar is wider); a radial move reaches it (at least as wide).
+            let (cut, reach) = if dz < -INSIDE && dz.abs() >= dr.abs() {
                 // Along −Z: the part below the face, at its larger radius.
-                (s.b[1] < below).then(|| {
+                // Its smaller radius there: an entry on a slant may start in the air.
+                let c = (s.b[1] < below).then(|| {
                     let t = ((below - s.a[1]) / dz).clamp(0.0, 1.0);
                     let r_in = s.a[0] + t * dr;
-                    r_in.max(s.b[0])
-                })
+                    r_in.min(s.b[0])
+                });
+                (c, None)
             } else if dr < 0.0 {
-                (s.b[1] < below).then_some(s.b[0])
+                (None, (s.b[1] < below).then_some(s.b[0]))
             } else {
-                (s.a[1] < below).then_some(s.a[0])
+                (None, (s.a[1] < below).then_some(s.a[0]))
             };
-            if let Some(c) = cut {
+            if cut.is_some() || reach.is_some() {
                 if first_feed.is_none() {
                     first_feed = Some(i);
                 }
+            }
+            if let Some(c) = cut {
                 max_at(&mut e.cut, c, s.line);
+            }
+            if let Some(c) = reach {
+                max_at(&mut e.reach, c, s.line);
             }
         }
         // Approach: facing passes start outside the bar; rapids before the first cut are in air.
         if let Some((f, r0)) = e.face {
             min_at(&mut e.approach, r0, f.line);
+        }
+        for c in cycle_starts {
+            min_at(&mut e.approach, c.v, c.line);
         }
         for s in &r.segs[..first_feed.unwrap_or(r.segs.len())] {
             if s.kind != SegKind::Rapid {
@@ -161,23 +218,28 @@ impl Evidence {
             }
         }
         if let Some(i) = first_feed {
-            e.tube = bores_first(r, i);
+            e.tube = bores_first(r, i, face);
         }
         e.comment = stock_comment(r);
         e
     }
 }
 
-/// When the first cutting piece `i` is a pass along −Z that pulls off toward the axis, its
-/// radius (the tool bores: the bar is a tube).
-fn bores_first(r: &Reading, i: usize) -> Option<At> {
+/// When the first cutting piece `i` is a boring pass, its radius (the bar is a tube): a pass
+/// along −Z, then a pull-off of at most [`PULL_OFF`] toward the axis, then the way out along +Z
+/// past the face, inside the pass's radius. (An OD pass may also move toward the axis after
+/// it, down a shoulder, but it goes on cutting there instead of leaving the bore.)
+fn bores_first(r: &Reading, i: usize, face: f64) -> Option<At> {
     let s = &r.segs[i];
     if s.b[1] - s.a[1] > -INSIDE || s.a[0] <= 0.5 {
         return None;
     }
-    let next = r.segs[i + 1..].iter().find(|n| n.station == s.station)?;
-    let pulls_in = next.b[0] < s.b[0] - 0.05 && (next.b[1] - next.a[1]).abs() <= (next.a[0] - next.b[0]).abs() + 1e-9;
-    (pulls_in && next.station == s.station).then_some(At {
+    let mut rest = r.segs[i + 1..].iter().filter(|n| n.station == s.station);
+    let pull = rest.next()?;
+    let out = rest.next()?;
+    let pulls_in = pull.b[0] < s.b[0] - 0.01 && s.b[0] - pull.b[0] <= PULL_OFF && (pull.b[1] - pull.a[1]).abs() <= (s.b[0] - pull.b[0]) + 1e-9;
+    let leaves = out.b[1] > face && out.b[0] <= pull.b[0] + 1e-6 && out.a[0] <= pull.b[0] + 1e-6;
+    (pulls_in && leaves).then_some(At {
         v: s.a[0].min(s.b[0]),
         line: s.line,
     })
@@ -192,8 +254,7 @@ fn stock_comment(r: &Reading) -> Option<At> {
         if !["STOCK", "BAR", "MATERIAL", "BLANK", "ROHTEIL"].iter().any(|k| c.contains(k)) {
             continue;
         }
-        let Some(after) = ["Ø", "DIAMETER", "DIA", "D=", "OD"].iter().find_map(|m| c.find(m).map(|k| &c[k + m.len()..]))
-        else {
+        let Some(after) = marker(&c) else {
             continue;
         };
         if let Some(v) = first_number(after) {
@@ -206,7 +267,7 @@ fn stock_comment(r: &Reading) -> Option<At> {
         }
         // `G0 X1.25 (START AT STOCK OD)`: the move's X word is the diameter.
         if let Some(x) = x_word(&code.to_uppercase()) {
-            let diameter = r.segs.first().is_none_or(|s| s.diameter);
+            let diameter = r.segs.first().map_or(true, |s| s.diameter);
             let d = if diameter { x } else { 2.0 * x };
             if d > 0.0 {
                 return Some(At {
@@ -219,26 +280,35 @@ fn stock_comment(r: &Reading) -> Option<At> {
     None
 }
 
-/// A line's code and its comments (`( … )` and `;` to the end).
-fn split_comment(line: &str) -> (String, String) {
-    let (mut code, mut comment) = (String::new(), String::new());
-    let mut depth = 0;
-    for (k, ch) in line.char_indices() {
-        match ch {
-            '(' => depth += 1,
-            ')' if depth > 0 => {
-                depth -= 1;
-                comment.push(' ');
-            }
-            ';' if depth == 0 => {
-                comment.push_str(&line[k + 1..]);
-                break;
-            }
-            _ if depth > 0 => comment.push(ch),
-            _ => code.push(ch),
+/// What follows the first diameter marker of an upper-case comment: `Ø` or `D=` anywhere, or
+/// the word `DIA`, `DIA.`, `DIAMETER` or `OD` (not `DIAGONAL`, `GOOD`).
+fn marker(c: &str) -> Option<&str> {
+    let mut best: Option<usize> = None;
+    let mut take = |k: usize| {
+        if best.map_or(true, |b| k < b) {
+            best = Some(k);
+        }
+    };
+    for m in ["Ø", "D="] {
+        if let Some(k) = c.find(m) {
+            take(k + m.len());
         }
     }
-    (code, comment)
+    let bytes = c.as_bytes();
+    for m in ["DIAMETER", "DIA.", "DIA", "OD", "SIZE"] {
+        let mut from = 0;
+        while let Some(k) = c[from..].find(m).map(|k| k + from) {
+            let end = k + m.len();
+            let before_ok = k == 0 || !bytes[k - 1].is_ascii_alphabetic();
+            let after_ok = end >= bytes.len() || !bytes[end].is_ascii_alphabetic();
+            if before_ok && after_ok {
+                take(end);
+                break;
+            }
+            from = end;
+        }
+    }
+    best.map(|k| &c[k..])
 }
 
 /// The first number in `s` after any spaces, `:`, `=` or `-`: `: 50.8 X 120` → 50.8.
@@ -267,29 +337,50 @@ fn sizes(scale: f64) -> Vec<f64> {
     }
 }
 
-/// The bar diameter between `lo` and `hi` (mm, either may be absent): the machine's when it
-/// fits, else the largest standard size that fits, else the smallest one above `lo`, else `lo`
-/// itself. `None` keeps the machine's.
-fn choose(lo: Option<f64>, hi: Option<f64>, machine: Option<f64>, scale: f64) -> Option<(f64, &'static str)> {
-    let fits = |d: f64| lo.is_none_or(|l| d >= l - 1e-6) && hi.is_none_or(|h| d <= h + 1e-6);
-    if let Some(m) = machine {
-        if fits(m) {
-            return None;
-        }
+/// Material a turning pass removes at least, mm on the diameter: the bar is this much wider
+/// than the largest pass.
+const PASS_MATERIAL: f64 = 0.2;
+
+/// The bar diameter at least `lo` (mm) and at most `hi` (when given): the smallest standard
+/// size that fits, else `lo` itself, and how it was chosen.
+fn choose(lo: f64, hi: Option<f64>, scale: f64) -> (f64, &'static str) {
+    let fits = |d: f64| d >= lo - 1e-6 && hi.map_or(true, |h| d <= h + 1e-6);
+    match sizes(scale).into_iter().find(|&d| fits(d)) {
+        Some(d) if (d - lo).abs() < 1e-6 => (d, "a stock size"),
+        Some(d) => (d, "rounded up to a stock size"),
+        None => (lo, "as cut"),
     }
-    let sizes = sizes(scale);
-    if let Some(h) = hi {
-        if let Some(&d) = sizes.iter().rev().find(|&&d| fits(d) && d <= h) {
-            return Some((d, "the largest stock size that fits"));
-        }
+}
+
+/// The largest standard size under `hi` (mm; the program approaches from there), else `hi`.
+fn below_size(hi: f64, scale: f64) -> (f64, &'static str) {
+    match sizes(scale).into_iter().rev().find(|&d| d < hi - 1e-6) {
+        Some(d) => (d, "the largest stock size inside it"),
+        None => (hi, "as approached"),
     }
-    if let Some(l) = lo {
-        if let Some(&d) = sizes.iter().find(|&&d| d >= l - 1e-6) {
-            return Some((d, "rounded up to a stock size"));
+}
+
+/// The highest z the chuck outline reaches inside radius `r` (the bar's back end may go no
+/// deeper), or `None` when nothing of it is inside `r`.
+fn reach_back(chuck: &crate::geom::Polygon, r: f64) -> Option<f64> {
+    let pts = chuck.points();
+    let mut top: Option<f64> = None;
+    for (k, a) in pts.iter().enumerate() {
+        let b = pts[(k + 1) % pts.len()];
+        // The part of edge a-b with x < r.
+        let (p, q) = if a.x <= b.x { (*a, b) } else { (b, *a) };
+        if p.x >= r - 1e-9 {
+            continue;
         }
-        return Some((l, "as cut"));
+        let z_at_r = if q.x > r && q.x > p.x {
+            p.y + (q.y - p.y) * (r - p.x) / (q.x - p.x)
+        } else {
+            q.y
+        };
+        let z = p.y.max(z_at_r);
+        top = Some(top.map_or(z, |t: f64| t.max(z)));
     }
-    hi.map(|h| (h, "as approached"))
+    top
 }
 
 /// Writes a diameter in the program's units: `Ø50` or `Ø1.25 in`.
@@ -325,11 +416,18 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
     let ms = machine.stock.as_ref().filter(|s| s.outline.is_none());
     // The machine's face in program Z.
     let machine_face = ms.map(|s| s.front - machine.program_zero_z);
-    if !replaceable || (e.cut.is_none() && e.comment.is_none()) {
+    let no_cut = e.cut.is_none() && e.reach.is_none();
+    if !replaceable || !r.spindle_runs || (no_cut && e.comment.is_none() && e.face.is_none()) {
         return machine_face.unwrap_or(face_seen.map_or(0.0, |f| f.v));
     }
-    let lo = e.cut.map(|c| 2.0 * c.v);
-    let hi = e.approach.map(|a| 2.0 * a.v).filter(|h| lo.is_none_or(|l| *h >= l));
+    // The bar is at least as wide as every radial move reaches and wider than every pass.
+    let (lo, lo_at) = match (e.cut, e.reach) {
+        (Some(c), Some(r)) if 2.0 * r.v >= 2.0 * c.v + PASS_MATERIAL => (2.0 * r.v, r),
+        (Some(c), _) => (2.0 * c.v + PASS_MATERIAL, c),
+        (None, Some(r)) => (2.0 * r.v, r),
+        (None, None) => (0.0, At { v: 0.0, line: 0 }),
+    };
+    let hi = e.approach.map(|a| 2.0 * a.v).filter(|h| *h >= lo);
     let mut notes = Vec::new();
     // Diameter.
     let (diameter, why_d, line_d) = if let Some(c) = e.comment {
@@ -337,25 +435,22 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
         let d = if keep { ms.map_or(c.v, |s| s.diameter) } else { c.v };
         (d, format!("the program's comment at line {} gives it", c.line), c.line)
     } else {
-        let cut = e.cut.expect("evidence");
         let bounds = match e.approach.filter(|_| hi.is_some()) {
+            Some(a) if no_cut => format!("the program approaches from {} (line {})", x_text(&e, a.v), a.line),
             Some(a) => format!(
                 "the program cuts at {} (line {}) and approaches from {} (line {})",
-                x_text(&e, cut.v),
-                cut.line,
+                x_text(&e, lo_at.v),
+                lo_at.line,
                 x_text(&e, a.v),
                 a.line
             ),
-            None => format!("the program cuts at {} (line {})", x_text(&e, cut.v), cut.line),
+            None => format!("the program cuts at {} (line {})", x_text(&e, lo_at.v), lo_at.line),
         };
-        match choose(lo, hi, ms.map(|s| s.diameter), e.scale) {
-            None => (
-                ms.map_or(0.0, |s| s.diameter),
-                format!("{bounds}: the machine file's bar fits"),
-                cut.line,
-            ),
-            Some((d, how)) => (d, format!("{bounds}; {how}"), cut.line),
-        }
+        let (d, how) = match (no_cut, hi) {
+            (true, Some(h)) => below_size(h, e.scale),
+            _ => choose(lo, hi, e.scale),
+        };
+        (d, format!("{bounds}; {how}"), lo_at.line.max(e.approach.map_or(0, |a| a.line)))
     };
     // Where the face is, in program Z: the machine's when at or ahead of the facing pass.
     let face = match (face_seen, machine_face) {
@@ -390,10 +485,29 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
         ),
     };
     let inside = ms.map_or(20.0, |s| (s.length - (s.front - jaw_face)).max(0.0));
-    let length = front - jaw_face + inside.max(10.0);
+    // A bar wider than the chuck's through bore is a blank that sits in the jaws; with a chuck
+    // drawn as an outline (whose jaws do not close on a new bar), in front of what it meets.
+    let inside = match (&machine.chuck_form, &machine.chuck) {
+        (Some(ChuckForm::Jaws(c)), _) => {
+            if c.body.bore <= 0.0 || diameter > c.body.bore + 1e-9 {
+                inside.min((jaw_face - c.body.face - 0.5).max(1.0))
+            } else {
+                inside
+            }
+        }
+        (_, Some(chuck)) => match reach_back(chuck, diameter / 2.0) {
+            Some(z) => inside.min((jaw_face - z).max(0.0)),
+            None => inside,
+        },
+        _ => inside,
+    };
+    let length = front - jaw_face + inside;
     let bore = e
         .tube
-        .map(|t| (2.0 * t.v - BORE_MATERIAL).max(0.0))
+        .map(|t| {
+            let under_pass = 2.0 * t.v - BORE_MATERIAL;
+            e.face_out.map_or(under_pass, |f| under_pass.min(2.0 * f.v)).max(0.0)
+        })
         .filter(|b| *b > 0.0 && *b < diameter);
     let same = ms.is_some_and(|s| {
         (s.diameter - diameter).abs() < 1e-9

@@ -28,6 +28,11 @@ pub struct Seg {
     pub scale: f64,
     /// X words are diameters.
     pub diameter: bool,
+    /// A roughing or finishing cycle (G70–G73) made the move: its passes start wherever the
+    /// cycle's start point is, often in the air.
+    pub cycle: bool,
+    /// The move follows a cycle's profile (the finished shape).
+    pub profile: bool,
 }
 
 impl Seg {
@@ -54,6 +59,9 @@ const ARC_CHORDS: usize = 8;
 #[derive(Clone, Debug, Default)]
 pub struct Reading {
     pub segs: Vec<Seg>,
+    /// The spindle turns during some move (an M3 or M4 took effect): without it the program
+    /// is a dry run or a test of the control, and no bar is assumed.
+    pub spindle_runs: bool,
     /// The source, line by line (lossy UTF-8), index 0 = line 1.
     pub lines: Vec<String>,
 }
@@ -63,15 +71,31 @@ impl Reading {
     /// program's signs choose) and keep its moves in program coordinates.
     pub fn of(src: &[u8], machine: &Machine) -> Reading {
         let (_, run) = crate::pipeline::interpret(src, machine);
+        let lines: Vec<String> = String::from_utf8_lossy(src).lines().map(str::to_string).collect();
+        // Index = 1-based line: the line holds a G70–G73 word.
+        let cycle_lines: Vec<bool> = std::iter::once(false)
+            .chain(lines.iter().map(|l| {
+                let (code, _) = super::words::split_comment(l);
+                super::words::numbered(&code, 'G').iter().any(|g| (70..=73).contains(g))
+            }))
+            .collect();
         let mut segs = Vec::new();
         for m in &run.moves {
             let frame = run.frame(m);
-            let to = |p: crate::geom::P2| [p.x - frame.origin.x, p.y - frame.origin.y];
+            // A tool working beyond the axis (negative X) is read as its mirror image: the bar
+            // is the same on both sides.
+            let side = if m.start.x + m.end.x < 2.0 * frame.origin.x - 1e-9 {
+                -1.0
+            } else {
+                1.0
+            };
+            let to = |p: crate::geom::P2| [side * (p.x - frame.origin.x), p.y - frame.origin.y];
             let kind = match m.kind {
                 MoveKind::Rapid => SegKind::Rapid,
                 MoveKind::Line | MoveKind::Arc { .. } => SegKind::Feed,
                 _ => continue,
             };
+            let cycle = cycle_lines.get(m.line as usize).copied().unwrap_or(false);
             let per_rev = match m.feed {
                 Feed::PerRev(f) => Some(f),
                 _ => None,
@@ -86,6 +110,8 @@ impl Reading {
                     per_rev,
                     scale: frame.scale,
                     diameter: frame.diameter,
+                    cycle,
+                    profile: m.profile_line != 0,
                 })
             };
             match m.kind {
@@ -108,8 +134,12 @@ impl Reading {
                 _ => push(to(m.start), to(m.end)),
             }
         }
-        let lines = String::from_utf8_lossy(src).lines().map(str::to_string).collect();
-        Reading { segs, lines }
+        let spindle_runs = run.states.iter().any(|s| s.spindle.is_on());
+        Reading {
+            segs,
+            spindle_runs,
+            lines,
+        }
     }
 
     /// The text of 1-based `line` ("" past the end).

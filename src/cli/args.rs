@@ -106,6 +106,10 @@ pub struct JobArgs {
     /// z of program Z0 from the jaw faces, mm.
     #[arg(long, value_name = "Z", allow_hyphen_values = true, value_parser = program_zero)]
     pub program_zero: Option<f64>,
+    /// Do not read the bar, program zero and tools from the program: the machine file's setup
+    /// and the job's only (docs/assume.md).
+    #[arg(long)]
+    pub no_assume: bool,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]

@@ -40,6 +40,8 @@ struct Job {
     rules: gate::Rules,
     /// Its latheguard.toml's `fail-on`.
     fail_on: Option<FailOn>,
+    /// Read the setup from the program under the job layers (`None`: `--no-assume`).
+    assume: Option<super::setup::AssumeBase>,
 }
 
 pub fn run(mut a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
@@ -264,6 +266,7 @@ fn plan(a: &CheckArgs, entries: Vec<Entry>) -> Result<(Defaults, Vec<Job>, Vec<P
             machine: r.machine,
             settings: cli(r.settings),
             job: r.job.layers.clone(),
+            assume: r.assume,
         });
     }
     Ok((defaults, jobs, planner.inputs))
@@ -549,10 +552,14 @@ fn check_one(job: &Job, input: &Input) -> (FileReport, bool) {
         },
     };
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        pipeline::check(&src, &job.machine, &job.settings)
+        let (machine, assumed) = match &job.assume {
+            Some(a) => a.machine_for(&src, &path, &job.machine),
+            None => (job.machine.clone(), Vec::new()),
+        };
+        (pipeline::check(&src, &machine, &job.settings), assumed)
     }));
     match run {
-        Ok(mut out) => {
+        Ok((mut out, assumed)) => {
             out.stats.elapsed_ms = if timing {
                 started.elapsed().as_secs_f64() * 1000.0
             } else {
@@ -571,6 +578,7 @@ fn check_one(job: &Job, input: &Input) -> (FileReport, bool) {
                     stock: out.stock,
                     part_stl: out.part_stl,
                     part: out.part,
+                    assumed,
                     ..FileReport::default()
                 },
                 false,
@@ -660,6 +668,9 @@ fn assemble(defaults: Defaults, jobs: &[Job], files: Vec<FileReport>) -> Report 
                 f.settings = Some(j.settings);
             }
             f.job.clone_from(&j.job);
+            if f.assumed.iter().any(|n| !n.kept) {
+                f.job.insert(0, latheguard::assume::LABEL.to_string());
+            }
             f
         })
         .collect();

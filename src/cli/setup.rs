@@ -5,6 +5,7 @@
 use super::args::{JobArgs, SetupArgs, TableFormat, UnitsArg};
 use super::config::{Finder, MachineRef, FILE_NAME};
 use super::{emit, load_machine, plain, read_text, safe_lines, Trouble, EXIT_CLEAN, MAX_MACHINE_BYTES};
+use latheguard::assume::Assumption;
 use latheguard::job::{self, EffectiveJob, Layer};
 use latheguard::machine::{self, num, Machine};
 use latheguard::pipeline::Settings;
@@ -27,6 +28,47 @@ pub struct Resolved {
     /// That configuration, read.
     pub cfg: Option<Arc<super::config::Config>>,
     pub job: Arc<EffectiveJob>,
+    /// When the setup is to be read from the program (`crate::assume`): the machine file and
+    /// the user's job layers, lowest first, to lay the assumption under. `None`: `--no-assume`,
+    /// or a machine the assumption does not read (a turn-mill machine).
+    pub assume: Option<AssumeBase>,
+    /// What `setup` read from the program (filled by `run`).
+    pub assumed: Vec<Assumption>,
+}
+
+/// What an assumption is laid under: the machine file and the user's job layers.
+#[derive(Clone)]
+pub struct AssumeBase {
+    pub base: Arc<Machine>,
+    pub layers: Vec<Arc<Layer>>,
+}
+
+impl AssumeBase {
+    /// The machine `src` (shown as `file`) is checked on, and what was assumed: `machine` (the
+    /// user's setup) when nothing was, or when the assumed setup does not fit (a note says why).
+    pub fn machine_for(&self, src: &[u8], file: &str, machine: &Arc<Machine>) -> (Arc<Machine>, Vec<Assumption>) {
+        let layers: Vec<&Layer> = self.layers.iter().map(|l| l.as_ref()).collect();
+        let (a, got) = latheguard::assume::apply(src, file, &self.base, machine, &layers);
+        match got {
+            None => (machine.clone(), a.notes),
+            Some(Ok((m, _))) => (Arc::new(m), a.notes),
+            Some(Err(e)) => {
+                let mut notes = a.notes;
+                notes.retain(|n| n.kept);
+                notes.push(Assumption {
+                    key: "setup".into(),
+                    value: "the machine file's setup".into(),
+                    reason: format!(
+                        "the setup read from the program does not fit the machine ({}): write a job",
+                        e.message
+                    ),
+                    line: 0,
+                    kept: true,
+                });
+                (machine.clone(), notes)
+            }
+        }
+    }
 }
 
 /// A machine with a job applied, and the job.
@@ -40,6 +82,8 @@ pub struct Planner {
     builtin: Arc<Machine>,
     machines: HashMap<PathBuf, Arc<Machine>>,
     cli_layers: Vec<Arc<Layer>>,
+    /// `--no-assume`.
+    no_assume: bool,
     /// (machine, layers) → the machine with the job applied.
     applied: HashMap<(usize, Vec<usize>), Applied>,
     /// Every machine, configuration and job file read (no output may overwrite them).
@@ -96,6 +140,7 @@ impl Planner {
             builtin: Arc::new(Machine::builtin()),
             machines: HashMap::new(),
             cli_layers,
+            no_assume: a.no_assume,
             applied: HashMap::new(),
             inputs,
         })
@@ -178,6 +223,10 @@ impl Planner {
                 self.inputs.push(p);
             }
         }
+        let assume = (!self.no_assume && base.kinematics.is_none()).then(|| AssumeBase {
+            base: base.clone(),
+            layers: layers.clone(),
+        });
         Ok(Resolved {
             machine,
             machine_file,
@@ -185,6 +234,8 @@ impl Planner {
             config,
             cfg: cfg_read,
             job,
+            assume,
+            assumed: Vec::new(),
         })
     }
 
@@ -244,7 +295,9 @@ pub fn run(a: SetupArgs) -> Result<u8, Trouble> {
         return Err(format!("{}: no such file", super::shown(&a.program)));
     }
     let mut planner = Planner::new(a.machine.as_deref(), a.no_config, &a.job)?;
-    let r = planner.resolve(&a.program)?;
+    let mut r = planner.resolve(&a.program)?;
+    let assumed = read_setup(&a.program, &mut r);
+    r.assumed = assumed;
     let auto = auto_dialect(&a.program, &r);
     let text = match a.format {
         TableFormat::Text => safe_lines(&text(&a.program, &r, &auto)),
@@ -259,6 +312,29 @@ pub fn run(a: SetupArgs) -> Result<u8, Trouble> {
 }
 
 const MACHINE: &str = "machine";
+
+/// The setup read from the program (docs/assume.md), laid under the job: `r` then shows the
+/// machine and job the check runs with. The notes, each value with its reason.
+fn read_setup(program: &Path, r: &mut Resolved) -> Vec<Assumption> {
+    let Some(a) = r.assume.clone() else {
+        return Vec::new();
+    };
+    let Ok(src) = super::check::read_program(program) else {
+        return Vec::new();
+    };
+    let layers: Vec<&Layer> = a.layers.iter().map(|l| l.as_ref()).collect();
+    let shown = super::shown(program);
+    let (got, applied) = latheguard::assume::apply(&src, &shown, &a.base, &r.machine, &layers);
+    match applied {
+        None => got.notes,
+        Some(Ok((m, eff))) => {
+            r.machine = Arc::new(m);
+            r.job = Arc::new(eff);
+            got.notes
+        }
+        Some(Err(_)) => a.machine_for(&src, &shown, &r.machine).1,
+    }
+}
 
 /// On a machine whose file says `dialect = "auto"`: the dialect the program's own signs choose
 /// and why, as `check` reads it (`pipeline::resolve`), or why the program could not be read.
@@ -665,6 +741,13 @@ fn text(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
         }
         let _ = writeln!(s, "{line}");
     }
+    if !r.assumed.is_empty() {
+        let _ = writeln!(s, "  read from the program (a job wins over each; --no-assume turns it off)");
+        for n in &r.assumed {
+            let what = if n.kept { "kept" } else { "assumed" };
+            let _ = writeln!(s, "    {}: {} ({what}): {}", n.key, n.value, n.reason);
+        }
+    }
     for w in &j.warnings {
         let _ = writeln!(s, "  warning: {w}");
     }
@@ -774,5 +857,6 @@ fn json(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
             "from": layer, "origin": origin,
         })).collect::<Vec<_>>(),
         "warnings": j.warnings,
+        "assumed": r.assumed,
     })
 }

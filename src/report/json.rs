@@ -26,6 +26,9 @@ struct FileDoc<'a> {
     /// The job layers that applied to this file (absent when none did).
     #[serde(skip_serializing_if = "<[String]>::is_empty")]
     job: &'a [String],
+    /// The setup read from the program (absent when nothing was read).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    setup: Option<SetupDoc<'a>>,
     /// Only with `machine.dialect = "auto"`: the dialect chosen for this file and why.
     #[serde(skip_serializing_if = "Option::is_none")]
     dialect: Option<&'static str>,
@@ -38,6 +41,13 @@ struct FileDoc<'a> {
     suppressed: Vec<SuppressedDoc<'a>>,
     stats: &'a Stats,
     stock: Vec<Vec<[f64; 2]>>,
+}
+
+/// `setup`: each value read from the program (`kept`: the machine file's, which the program
+/// agrees with).
+#[derive(Serialize)]
+struct SetupDoc<'a> {
+    assumed: &'a [crate::assume::Assumption],
 }
 
 #[derive(Serialize)]
@@ -148,6 +158,7 @@ pub fn json(r: &Report) -> String {
                 machine: f.machine.as_deref(),
                 settings: f.settings.as_ref(),
                 job: &f.job,
+                setup: (!f.assumed.is_empty()).then_some(SetupDoc { assumed: &f.assumed }),
                 dialect: f.stats.dialect.as_ref().map(|d| d.0.as_str()),
                 dialect_reason: f.stats.dialect.as_ref().map(|d| d.1.as_str()),
                 status: f.status().name(),

@@ -54,6 +54,9 @@ pub struct FileReport {
     pub settings: Option<Settings>,
     /// The job layers that applied (docs/job.md), lowest first; empty when none did.
     pub job: Vec<String>,
+    /// The setup read from the program (docs/assume.md): each value assumed, or kept from the
+    /// machine file because the program agrees with it. Empty when nothing was read.
+    pub assumed: Vec<crate::assume::Assumption>,
     /// Findings set aside by suppression comments in the program (never counted as errors).
     pub suppressed: Vec<crate::gate::Suppressed>,
     /// The file's own `fail-on` (its `latheguard.toml`'s), over [`Report::fail_on`].

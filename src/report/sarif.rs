@@ -350,6 +350,24 @@ pub fn sarif(r: &Report) -> String {
                 descriptor: Descriptor { id: "no_motion" },
             });
         }
+        if let Some(line) = crate::assume::sentence(&f.assumed) {
+            let (uri, uri_base_id) = uri(&f.path);
+            notes.push(Notification {
+                level: "note",
+                message: Message { text: line },
+                locations: vec![Location {
+                    physical_location: PhysicalLocation {
+                        artifact_location: ArtifactLocation {
+                            uri,
+                            uri_base_id,
+                            index: None,
+                        },
+                        region: None,
+                    },
+                }],
+                descriptor: Descriptor { id: "setup_assumed" },
+            });
+        }
         if f.findings.is_empty() && f.suppressed.is_empty() {
             continue;
         }

@@ -35,6 +35,9 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
                 terminal_safe(why)
             );
         }
+        if let (false, Some(line)) = (opt.quiet, crate::assume::sentence(&f.assumed)) {
+            let _ = writeln!(out, "{bold}{}:{reset} {dim}{}{reset}", terminal_safe(&f.path), terminal_safe(&line));
+        }
         if !opt.quiet && f.status() == super::Status::NoMotion {
             let _ = writeln!(
                 out,

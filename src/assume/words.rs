@@ -1,0 +1,78 @@
+//! The words of a program's source as the assumption reads them: each line's code without its
+//! comments, the comments, and the numbered words of a letter (T, M).
+
+/// A line's code and its comments (`( … )` and `;` to the end), in that order.
+pub fn split_comment(line: &str) -> (String, String) {
+    let (mut code, mut comment) = (String::new(), String::new());
+    let mut depth = 0;
+    for (k, ch) in line.char_indices() {
+        match ch {
+            '(' => depth += 1,
+            ')' if depth > 0 => {
+                depth -= 1;
+                comment.push(' ');
+            }
+            ';' if depth == 0 => {
+                comment.push_str(&line[k + 1..]);
+                break;
+            }
+            _ if depth > 0 => comment.push(ch),
+            _ => code.push(ch),
+        }
+    }
+    (code, comment)
+}
+
+/// The values of the words of `letter` in a line of code (outside comments): `T0303` → 303,
+/// `M6` → 6. Letters inside a name (`#<tool>`, `o<turn>`) and words with no digits (`T#1`) are
+/// not words. At most 9 digits.
+pub fn numbered(code: &str, letter: char) -> Vec<u32> {
+    let chars: Vec<char> = code.chars().collect();
+    let mut out = Vec::new();
+    let mut in_name = false;
+    let mut k = 0;
+    while k < chars.len() {
+        let c = chars[k];
+        if c == '<' {
+            in_name = true;
+        } else if c == '>' {
+            in_name = false;
+        } else if !in_name && c.eq_ignore_ascii_case(&letter) && (k == 0 || !chars[k - 1].is_ascii_alphabetic()) {
+            let mut j = k + 1;
+            while j < chars.len() && chars[j] == ' ' {
+                j += 1;
+            }
+            let start = j;
+            while j < chars.len() && chars[j].is_ascii_digit() {
+                j += 1;
+            }
+            let next_is_letter = j < chars.len() && chars[j].is_ascii_alphabetic() && chars[j] != 'e' && chars[j] != 'E';
+            if j > start && j - start <= 9 && !(j < chars.len() && chars[j] == '.') && !next_is_letter || j > start && next_is_letter {
+                let digits: String = chars[start..j].iter().collect();
+                if let Ok(v) = digits.parse() {
+                    out.push(v);
+                }
+            }
+            k = j.max(k + 1);
+            continue;
+        }
+        k += 1;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn t_words_outside_names_and_comments_are_read() {
+        let (code, comment) = split_comment("N30 T0303 (BORING BAR) ; more");
+        assert_eq!(numbered(&code, 'T'), vec![303]);
+        assert!(comment.contains("BORING BAR") && comment.contains("more"));
+        assert_eq!(numbered("o<turn> call [1]", 'T'), Vec::<u32>::new());
+        assert_eq!(numbered("#<tool> = 3 T#<tool> M6", 'T'), Vec::<u32>::new());
+        assert_eq!(numbered("t7 m6", 'M'), vec![6]);
+        assert_eq!(numbered("G0 X1 T 12M6", 'T'), vec![12]);
+    }
+}
