@@ -114,7 +114,13 @@ impl Evidence {
         // The face: the highest full facing pass (not a part-off far behind it).
         for s in r.segs.iter().filter(|s| is_facing(s)) {
             if e.face.is_none_or(|(f, _)| s.a[1] > f.v) {
-                e.face = Some((At { v: s.a[1], line: s.line }, s.a[0]));
+                e.face = Some((
+                    At {
+                        v: s.a[1],
+                        line: s.line,
+                    },
+                    s.a[0],
+                ));
             }
         }
         let face = e.face.map_or(0.0, |(f, _)| f.v);
@@ -189,10 +195,15 @@ fn stock_comment(r: &Reading) -> Option<At> {
     for (i, text) in r.lines.iter().enumerate() {
         let (code, comment) = split_comment(text);
         let c = comment.to_uppercase();
-        if !["STOCK", "BAR", "MATERIAL", "BLANK", "ROHTEIL"].iter().any(|k| c.contains(k)) {
+        if !["STOCK", "BAR", "MATERIAL", "BLANK", "ROHTEIL"]
+            .iter()
+            .any(|k| c.contains(k))
+        {
             continue;
         }
-        let Some(after) = ["Ø", "DIAMETER", "DIA", "D=", "OD"].iter().find_map(|m| c.find(m).map(|k| &c[k + m.len()..]))
+        let Some(after) = ["Ø", "DIAMETER", "DIA", "D=", "OD"]
+            .iter()
+            .find_map(|m| c.find(m).map(|k| &c[k + m.len()..]))
         else {
             continue;
         };
@@ -405,7 +416,11 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
         Some(b) => format!("tube {}/{}", dia_text(diameter, e.scale), dia_text(b, e.scale)),
         None => format!("bar {}", dia_text(diameter, e.scale)),
     };
-    let value = format!("{kind} × {} mm, {} mm out of the jaws", num(round4(length)), num(round4(front - jaw_face)));
+    let value = format!(
+        "{kind} × {} mm, {} mm out of the jaws",
+        num(round4(length)),
+        num(round4(front - jaw_face))
+    );
     let mut reason = format!("{why_d}; {why_face}; {why_front}");
     if let (Some(t), Some(_)) = (e.tube, bore) {
         reason.push_str(&format!(
@@ -444,7 +459,12 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
             line_d,
             "stock",
         ));
-        out.layer.program_zero_z = Some(set(front - face, file, face_seen.map_or(line_d, |f| f.line), "program_zero_z"));
+        out.layer.program_zero_z = Some(set(
+            front - face,
+            file,
+            face_seen.map_or(line_d, |f| f.line),
+            "program_zero_z",
+        ));
         notes.push(Assumption {
             key: "stock".into(),
             value,

@@ -101,4 +101,3 @@ pub fn assume(src: &[u8], file: &str, machine: &Machine) -> Assumed {
     tools::assume(&r, file, machine, face, &mut out);
     out
 }
-
