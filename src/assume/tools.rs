@@ -136,7 +136,7 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, face: f64, out: &mut A
         let t = t_name(machine, station);
         let key = format!("tools.{station}");
         let keep = match (have, &ev) {
-            (Some(h), Some(e)) => !machine.assume_setup || ToolKind::of_tool(h).is_none_or(|k| k.does(e.kind)),
+            (Some(h), Some(e)) => !machine.assume_setup || ToolKind::of_tool(h).map_or(true, |k| k.does(e.kind)),
             (Some(_), None) => true,
             (None, _) => false,
         };

@@ -136,7 +136,7 @@ pub fn make(kind: ToolKind, z: &Sizing<'_>, face: f64, station: u32, tip: P2, ma
             if found.is_none() {
                 for d in BARS {
                     if let Some(b) = catalogue(None, Some(code(d))) {
-                        let fits = r.is_none_or(|r| fits_bore(&b, r)) && (r.is_some() || d <= 16);
+                        let fits = r.map_or(true, |r| fits_bore(&b, r)) && (r.is_some() || d <= 16);
                         if fits || d == *BARS.last().expect("bars") {
                             found = Some((b, code(d)));
                             break;
@@ -187,7 +187,7 @@ pub fn make(kind: ToolKind, z: &Sizing<'_>, face: f64, station: u32, tip: P2, ma
                     let len = length_letter((deep + 30.0).max(-tip.y + 20.0));
                     let (ins, hold) = (format!("{size}IR {pitch_code}"), format!("SIR 00{d:02}{len}{size}"));
                     if let Some(b) = catalogue(Some(ins.clone()), Some(hold.clone())) {
-                        if r.is_none_or(|r| fits_bore(&b, r)) || d == 10 {
+                        if r.map_or(true, |r| fits_bore(&b, r)) || d == 10 {
                             made = Some((b, format!("{ins} in {hold}")));
                             break;
                         }

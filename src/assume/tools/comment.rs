@@ -68,7 +68,7 @@ pub fn kind_of(text: &str) -> Option<(ToolKind, bool)> {
         || pair("CUT", "OFF")
         || w.iter().enumerate().any(|(i, x)| {
             *x == "PART"
-                && w.get(i + 1).is_none_or(|n| {
+                && w.get(i + 1).map_or(true, |n| {
                     ["OFF", "TOOL", "BLADE", "INSERT"].contains(n) || n.starts_with(|c: char| c.is_ascii_digit())
                 })
         });
@@ -97,7 +97,8 @@ pub fn kind_of(text: &str) -> Option<(ToolKind, bool)> {
 
 /// A size the comment gives, mm (`scale`: mm per program unit, for a number without its unit):
 /// `Ø12`, `D=10`, `D16`, `DIA 20`, `M10` (a tap), `W3` (a groove), `10MM`, and for a drill or
-/// tap a bare number (`DRILL 10`). `None` when it gives none, or none in 0 < size ≤ 200 mm.
+/// tap a bare number (`DRILL 10`); a boring bar's only as `D16`, `Ø16` or `BAR 16` (`BORES FROM
+/// 16 MM` is the bore). `None` when it gives none, or none in 0 < size ≤ 200 mm.
 pub fn size_of(text: &str, kind: ToolKind, scale: f64) -> Option<f64> {
     let up: Vec<char> = text.to_uppercase().chars().collect();
     let mut strong = None;
@@ -150,8 +151,10 @@ pub fn size_of(text: &str, kind: ToolKind, scale: f64) -> Option<f64> {
             "M" => touches && kind == ToolKind::Tapping,
             _ => false,
         };
-        if strong_word {
+        if strong_word || (kind == ToolKind::Boring && before == "BAR") {
             strong = strong.or(Some(mm));
+        } else if kind == ToolKind::Boring {
+            // `BORES FROM 16 MM` is the bore, not the bar: a bar's size is written `D16`.
         } else if matches!(after.as_str(), "MM" | "IN" | "INCH" | "\"")
             && !["T", "N", "R", "F", "S"].contains(&before.as_str())
         {

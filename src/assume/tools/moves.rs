@@ -119,7 +119,7 @@ pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
             // The evidence is the deepest feed on the axis: where the hole ends.
             let tap = lead.is_some() || tap_code || thread_code;
             let to = if tap { &mut w.tap } else { &mut w.drill };
-            if to.is_none() || w.axis_deepest.is_none_or(|d| zlo < d) {
+            if to.is_none() || w.axis_deepest.map_or(true, |d| zlo < d) {
                 w.axis_deepest = Some(zlo);
                 let how = if tap { " as a tap does" } else { "" };
                 *to = Some(Seen {
