@@ -394,3 +394,30 @@ fn garbage_comments_and_t_words_give_no_panic() {
         let _ = job::apply(&m, &EffectiveJob::merge([&layer]));
     }
 }
+
+/// A drill at the axis to `depth`, then the T03 boring bar along the bore at X21 to Z-25.
+fn drill_then_bore(depth: &str) -> String {
+    format!(
+        "T0606\nG97 S1200 M3\nG0 X0 Z5\nG1 Z{depth} F0.08\nG0 Z5\nG28 U0 W0\nT0303\nG97 S800 M3\nG0 X21 Z2\nG1 Z-25 F0.1\nG1 U-1. W1.\nG0 Z5\nG28 U0 W0\nM30\n"
+    )
+}
+
+#[test]
+fn the_assumed_drill_never_hides_a_boring_bar_entering_a_bore_no_move_made() {
+    let m = builtin_without(6);
+    let crashes = |src: &str| {
+        let a = assumed(src, &m);
+        let applied = apply_tools(&a, &m);
+        crate::pipeline::check(src.as_bytes(), &applied, &crate::pipeline::Settings::default())
+            .findings
+            .into_iter()
+            .filter(|f| f.severity == crate::finding::Severity::Error)
+            .map(|f| (f.line, f.kind))
+            .collect::<Vec<_>>()
+    };
+    // Drilled 30 deep: the bar bores the drilled hole and meets nothing it should not.
+    assert_eq!(crashes(&drill_then_bore("-30")), []);
+    // Drilled 10 deep: past it the bar meets the core no move removed.
+    let found = crashes(&drill_then_bore("-10"));
+    assert!(found.iter().any(|(line, _)| *line == 10), "{found:?}");
+}
