@@ -98,6 +98,7 @@ fn next_of(segs: &[Seg], i: usize) -> Option<&Seg> {
 /// Read each piece of `station`'s moves below `face` (program Z, mm).
 pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
     let mut w = Work::default();
+    let mut codes: std::collections::HashMap<u32, (bool, bool)> = Default::default();
     let below = face - INSIDE;
     for (i, s) in r.segs.iter().enumerate() {
         if s.station != station || s.kind != SegKind::Feed || s.a[1].min(s.b[1]) >= below {
@@ -107,11 +108,15 @@ pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
         let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
         let zlo = s.a[1].min(s.b[1]);
         w.deepest = Some(w.deepest.map_or(zlo, |d: f64| d.min(zlo)));
-        let g = g_codes(r.line(s.line));
-        let thread_code = g
-            .iter()
-            .any(|c| matches!(c, 320 | 330 | 760 | 780) || (*c == 920 && fanuc));
-        let tap_code = g.iter().any(|c| matches!(c, 331 | 840 | 842 | 843 | 880));
+        // A line's codes are read once, however often its moves run.
+        let (thread_code, tap_code) = *codes.entry(s.line).or_insert_with(|| {
+            let g = g_codes(r.line(s.line));
+            (
+                g.iter()
+                    .any(|c| matches!(c, 320 | 330 | 760 | 780) || (*c == 920 && fanuc)),
+                g.iter().any(|c| matches!(c, 331 | 840 | 842 | 843 | 880)),
+            )
+        });
         let lead = s.per_rev.filter(|f| *f >= THREAD_LEAD);
         let on_axis = s.a[0] < 0.05 && s.b[0] < 0.05;
         let next = next_of(&r.segs, i);
