@@ -142,12 +142,14 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, face: f64, out: &mut A
         };
         if keep {
             let h = have.expect("kept tools exist");
-            let reason = match &ev {
-                Some(e) if ToolKind::of_tool(h).is_some_and(|k| k.does(e.kind)) => {
-                    format!("{}: the machine file's tool is one", e.reason)
-                }
-                Some(e) => format!("{}; the machine file's tool stays (its setup is the shop's)", e.reason),
-                None => "the program says nothing of it: the machine file's tool stays".to_string(),
+            let reason = match (&ev, ToolKind::of_tool(h)) {
+                (Some(e), Some(k)) if k.does(e.kind) => format!("{}: the machine file's tool is one", e.reason),
+                (Some(e), None) => format!(
+                    "{}; the machine file's tool stays: its name does not say what it is",
+                    e.reason
+                ),
+                (Some(e), _) => format!("{}; the machine file's tool stays: its setup is the shop's", e.reason),
+                (None, _) => "the program says nothing of it: the machine file's tool stays".to_string(),
             };
             out.notes.push(Assumption {
                 key,

@@ -181,7 +181,7 @@ pub fn make(kind: ToolKind, z: &Sizing<'_>, face: f64, station: u32, tip: P2, ma
             let pitch_code = pitch.map_or("AG60".to_string(), |p| format!("{}ISO", fmt_mm(p)));
             let mut made = None;
             if z.internal {
-                let r = w.pass_r.or(w.thread.as_ref().map(|_| 10.0));
+                let r = w.pass_r;
                 for d in [32u32, 25, 20, 16, 12, 10] {
                     let size = if d >= 16 { 16 } else { 11 };
                     let len = length_letter((deep + 30.0).max(-tip.y + 20.0));

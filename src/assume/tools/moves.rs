@@ -39,7 +39,8 @@ pub struct Work {
     pub groove: Option<Seen>,
     pub face: Option<Seen>,
     pub profile: Option<Seen>,
-    /// The smallest radius of its passes along −Z, mm (the smallest bore it works in).
+    /// The smallest radius of its passes along −Z and its thread passes, mm (the smallest bore
+    /// it works in).
     pub pass_r: Option<f64>,
     /// The lowest Z of its feed moves below the face (program Z, mm).
     pub deepest: Option<f64>,
@@ -144,6 +145,8 @@ pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
         }
         if dz.abs() > dr.abs() && dz.abs() > 1e-3 && (lead.is_some() || thread_code) {
             w.lead = w.lead.or(lead);
+            let rr = s.a[0].min(s.b[0]);
+            w.pass_r = Some(w.pass_r.map_or(rr, |p: f64| p.min(rr)));
             let inward = next.is_some_and(|n| n.b[0] < n.a[0] - 0.05);
             w.thread_internal |= inward;
             first(&mut w.thread, s.line, || {
