@@ -207,7 +207,8 @@ pub fn read(r: &Reading, scale: f64) -> BTreeMap<u32, Said> {
     for s in &r.segs {
         at_line.entry(s.line).or_insert(s.station);
     }
-    let station_from = |line: u32| at_line.range(line..).next().map(|(_, s)| *s);
+    // The station of the first move at `line` or after, before the line `until`.
+    let station_from = |line: u32, until: u32| at_line.range(line..until).next().map(|(_, s)| *s);
     let parts: Vec<(String, String)> = r.lines.iter().map(|l| split(l)).collect();
     let comment_only = |i: usize| -> Option<&str> {
         let (code, comment) = parts.get(i)?;
@@ -228,14 +229,26 @@ pub fn read(r: &Reading, scale: f64) -> BTreeMap<u32, Said> {
         })
     };
     let mut out = BTreeMap::new();
-    for (i, (code, comment)) in parts.iter().enumerate() {
+    let t_lines: Vec<usize> = (0..parts.len()).filter(|&i| t_word(&parts[i].0).is_some()).collect();
+    for (k, &i) in t_lines.iter().enumerate() {
+        let (code, comment) = &parts[i];
         let Some(digits) = t_word(code) else { continue };
-        let Some(station) = station_from(i as u32 + 1).or_else(|| station_of(&digits)) else {
+        // The moves up to the next T word run with this one's tool; none: its own number.
+        let until = t_lines.get(k + 1).map_or(u32::MAX, |&n| n as u32 + 1);
+        let Some(station) = station_from(i as u32 + 1, until).or_else(|| station_of(&digits)) else {
             continue;
         };
+        // A comment-only line next to it, unless it names another tool (`(T3 BORE)`), or
+        // stands just before the next T word (then it is that one's).
+        let next_to = |j: usize| {
+            let c = comment_only(j)?;
+            let other = t_word(c).and_then(|d| station_of(&d)).is_some_and(|n| n != station);
+            (!other).then(|| said(c, j)).flatten()
+        };
+        let t_next = parts.get(i + 2).is_some_and(|(code, _)| t_word(code).is_some());
         let found = said(comment, i)
-            .or_else(|| i.checked_sub(1).and_then(|p| comment_only(p).and_then(|c| said(c, p))))
-            .or_else(|| comment_only(i + 1).and_then(|c| said(c, i + 1)));
+            .or_else(|| i.checked_sub(1).and_then(next_to))
+            .or_else(|| if t_next { None } else { next_to(i + 1) });
         if let Some(s) = found {
             out.entry(station).or_insert(s);
         }

@@ -275,6 +275,15 @@ fn fanuc_comments_are_read_at_the_station_the_moves_run() {
 }
 
 #[test]
+fn a_comment_next_to_a_t_word_is_not_taken_from_another_tool() {
+    // `(T3 BORE)` after T0101 and `(FINISH)` before T0202 belong to the tools they stand by.
+    let src = "T0101\n(T3 BORE)\nT0303\nG0 X20 Z2\nT0101\n(FINISH)\nT0202\nG0 X50 Z2\nM30\n";
+    let said = read(&Reading::of(src.as_bytes(), &Machine::builtin()), 1.0);
+    let got: Vec<(u32, ToolKind, u32)> = said.iter().map(|(s, c)| (*s, c.kind, c.line)).collect();
+    assert_eq!(got, [(2, ToolKind::OdTurning, 6), (3, ToolKind::Boring, 2)]);
+}
+
+#[test]
 fn linuxcnc_comments_are_read_at_the_tool_the_moves_run() {
     let src =
         "G18 G21 G7\nT3 M6 (drill 10mm)\nS500 M3\nG0 X0 Z5\nG1 Z-10 F50\nG0 Z5\nT2 M6 ; boring bar\nG0 X14 Z2\nM2\n";
