@@ -126,7 +126,11 @@ impl Reading {
                     };
                     let mut prev = to(m.start);
                     for k in 1..=ARC_CHORDS {
-                        let p = if k == ARC_CHORDS { to(m.end) } else { at(k as f64 / ARC_CHORDS as f64) };
+                        let p = if k == ARC_CHORDS {
+                            to(m.end)
+                        } else {
+                            at(k as f64 / ARC_CHORDS as f64)
+                        };
                         push(prev, p);
                         prev = p;
                     }
@@ -144,6 +148,8 @@ impl Reading {
 
     /// The text of 1-based `line` ("" past the end).
     pub fn line(&self, line: u32) -> &str {
-        self.lines.get(line.saturating_sub(1) as usize).map_or("", String::as_str)
+        self.lines
+            .get(line.saturating_sub(1) as usize)
+            .map_or("", String::as_str)
     }
 }

@@ -1,0 +1,266 @@
+//! What a station does, read from its moves below the bar's face: the kind of tool it takes, the
+//! line and words of the evidence, and the sizes the tool is chosen by.
+
+use super::super::reading::{Reading, Seg, SegKind};
+use super::ToolKind;
+use crate::machine::num;
+
+/// How far below the face a point must be to count as inside the bar, mm.
+pub const INSIDE: f64 = 0.05;
+/// A radial pass to the axis within this of the face faces it; deeper, it parts off, mm.
+pub const FACE_BAND: f64 = 5.0;
+/// The smallest lead a thread is cut at, mm per revolution (above any turning feed).
+pub const THREAD_LEAD: f64 = 0.5;
+
+/// The first evidence of one kind: its line and its words.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Seen {
+    pub line: u32,
+    pub words: String,
+}
+
+/// What one station's moves show.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Work {
+    /// Index in `Reading::segs` of its first feed move below the face.
+    pub first: Option<usize>,
+    pub drill: Option<Seen>,
+    pub tap: Option<Seen>,
+    pub thread: Option<Seen>,
+    /// A thread pass pulled off toward the axis: an internal thread.
+    pub thread_internal: bool,
+    /// The lead of its thread or tap passes, mm per revolution.
+    pub lead: Option<f64>,
+    pub bore: Option<Seen>,
+    pub bores: usize,
+    pub od: Option<Seen>,
+    pub ods: usize,
+    pub part: Option<Seen>,
+    pub groove: Option<Seen>,
+    pub face: Option<Seen>,
+    pub profile: Option<Seen>,
+    /// The smallest radius of its passes along −Z and its thread passes, mm (the smallest bore
+    /// it works in).
+    pub pass_r: Option<f64>,
+    /// The lowest Z of its feed moves below the face (program Z, mm).
+    pub deepest: Option<f64>,
+    /// The lowest Z of its feed moves on the spindle axis.
+    pub axis_deepest: Option<f64>,
+    /// Plunges (radial feeds inward below the face band): their Z, start and end radius.
+    pub plunges: Vec<[f64; 3]>,
+    /// Length of its feed moves along Z below the face (not on the axis), mm.
+    pub along_z: f64,
+    /// It feeds down a slope steeper than 5° toward the axis while moving toward the chuck (a
+    /// profile that needs a tool with back clearance).
+    pub descends: bool,
+}
+
+fn x_of(s: &Seg, r: f64) -> String {
+    format!("X{}", num(s.x_word(r)))
+}
+
+fn z_of(s: &Seg, z: f64) -> String {
+    format!("Z{}", num(s.z_word(z)))
+}
+
+/// The G codes of a line's code, ×10 (`G33.1` → 331).
+fn g_codes(line: &str) -> Vec<u32> {
+    let (code, _) = super::comment::split(line);
+    let up: Vec<char> = code.to_uppercase().chars().collect();
+    let mut out = Vec::new();
+    for (i, c) in up.iter().enumerate() {
+        if *c != 'G' || (i > 0 && up[i - 1].is_alphabetic()) {
+            continue;
+        }
+        let n: String = up[i + 1..]
+            .iter()
+            .take_while(|c| c.is_ascii_digit() || **c == '.')
+            .collect();
+        if let Ok(v) = n.parse::<f64>() {
+            if v.is_finite() && (0.0..1000.0).contains(&v) {
+                out.push((v * 10.0).round() as u32);
+            }
+        }
+    }
+    out
+}
+
+fn first(to: &mut Option<Seen>, line: u32, words: impl FnOnce() -> String) {
+    if to.is_none() {
+        *to = Some(Seen { line, words: words() });
+    }
+}
+
+/// The next piece the same station moves after `segs[i]`.
+fn next_of(segs: &[Seg], i: usize) -> Option<&Seg> {
+    segs.get(i + 1).filter(|n| n.station == segs[i].station)
+}
+
+/// Read each piece of `station`'s moves below `face` (program Z, mm).
+pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
+    let mut w = Work::default();
+    let mut codes: std::collections::HashMap<u32, (bool, bool)> = Default::default();
+    let below = face - INSIDE;
+    for (i, s) in r.segs.iter().enumerate() {
+        if s.station != station || s.kind != SegKind::Feed || s.a[1].min(s.b[1]) >= below {
+            continue;
+        }
+        w.first.get_or_insert(i);
+        let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
+        let zlo = s.a[1].min(s.b[1]);
+        w.deepest = Some(w.deepest.map_or(zlo, |d: f64| d.min(zlo)));
+        // A line's codes are read once, however often its moves run.
+        let (thread_code, tap_code) = *codes.entry(s.line).or_insert_with(|| {
+            let g = g_codes(r.line(s.line));
+            (
+                g.iter()
+                    .any(|c| matches!(c, 320 | 330 | 760 | 780) || (*c == 920 && fanuc)),
+                g.iter().any(|c| matches!(c, 331 | 840 | 842 | 843 | 880)),
+            )
+        });
+        let lead = s.per_rev.filter(|f| *f >= THREAD_LEAD);
+        let on_axis = s.a[0] < 0.05 && s.b[0] < 0.05;
+        let next = next_of(&r.segs, i);
+        if on_axis && dz.abs() > 1e-6 {
+            // The evidence is the deepest feed on the axis: where the hole ends.
+            let tap = lead.is_some() || tap_code || thread_code;
+            let to = if tap { &mut w.tap } else { &mut w.drill };
+            if to.is_none() || w.axis_deepest.map_or(true, |d| zlo < d) {
+                w.axis_deepest = Some(zlo);
+                let how = if tap { " as a tap does" } else { "" };
+                *to = Some(Seen {
+                    line: s.line,
+                    words: format!(
+                        "it feeds along the spindle axis to {}{how} (line {})",
+                        z_of(s, zlo),
+                        s.line
+                    ),
+                });
+            }
+            w.lead = w.lead.or(lead.filter(|_| tap));
+            continue;
+        }
+        if dz.abs() > dr.abs() {
+            w.along_z += dz.abs();
+        }
+        if dz.abs() > dr.abs() && dz.abs() > 1e-3 && (lead.is_some() || thread_code) {
+            w.lead = w.lead.or(lead);
+            let rr = s.a[0].min(s.b[0]);
+            w.pass_r = Some(w.pass_r.map_or(rr, |p: f64| p.min(rr)));
+            let inward = next.is_some_and(|n| n.b[0] < n.a[0] - 0.05);
+            w.thread_internal |= inward;
+            first(&mut w.thread, s.line, || {
+                let how = lead.map_or(String::new(), |l| format!(" at {} mm a revolution", num(l)));
+                format!(
+                    "it threads: a pass along Z{how} at {} (line {})",
+                    x_of(s, s.a[0].min(s.b[0])),
+                    s.line
+                )
+            });
+            continue;
+        }
+        if dz < -0.5 && dz.abs() >= 2.0 * dr.abs() {
+            let rr = s.a[0].min(s.b[0]);
+            w.pass_r = Some(w.pass_r.map_or(rr, |p: f64| p.min(rr)));
+            let pull = next.map(|n| (n.b[0] - n.a[0], (n.b[1] - n.a[1]).abs()));
+            match pull {
+                Some((pr, pz)) if pr < -0.05 && pz <= pr.abs() + 1e-9 => {
+                    w.bores += 1;
+                    first(&mut w.bore, s.line, || {
+                        format!(
+                            "it bores: passes along -Z at {} (line {}) pulled off toward the axis",
+                            x_of(s, rr),
+                            s.line
+                        )
+                    });
+                }
+                Some((pr, pz)) if pr > 0.05 && pz <= pr + 1e-9 => {
+                    w.ods += 1;
+                    first(&mut w.od, s.line, || {
+                        format!(
+                            "it turns: passes along -Z at {} (line {}) pulled off outward",
+                            x_of(s, rr),
+                            s.line
+                        )
+                    });
+                }
+                _ => first(&mut w.profile, s.line, || {
+                    format!("it cuts a profile (line {})", s.line)
+                }),
+            }
+            continue;
+        }
+        if dr < -1e-3 && dr.abs() > 2.0 * dz.abs() {
+            let z = s.b[1];
+            let at_face = z >= face - FACE_BAND - 1e-9;
+            if s.b[0] <= 0.5 {
+                if at_face {
+                    first(&mut w.face, s.line, || {
+                        format!("it faces to the axis at {} (line {})", z_of(s, z), s.line)
+                    });
+                } else {
+                    w.plunges.push([z, s.a[0], s.b[0]]);
+                    first(&mut w.part, s.line, || {
+                        format!(
+                            "it plunges to the axis at {}, behind the face (line {})",
+                            z_of(s, z),
+                            s.line
+                        )
+                    });
+                }
+            } else if at_face {
+                first(&mut w.face, s.line, || {
+                    format!("it faces at {} (line {})", z_of(s, z), s.line)
+                });
+            } else if next.is_some_and(|n| n.b[0] > n.a[0] + 0.05 && (n.b[1] - n.a[1]).abs() <= 1e-3) {
+                w.plunges.push([z, s.a[0], s.b[0]]);
+                first(&mut w.groove, s.line, || {
+                    format!(
+                        "it plunges to {} at {} (line {}) and pulls straight out",
+                        x_of(s, s.b[0]),
+                        z_of(s, z),
+                        s.line
+                    )
+                });
+            } else {
+                first(&mut w.profile, s.line, || {
+                    format!("it cuts a profile (line {})", s.line)
+                });
+            }
+            continue;
+        }
+        if dz < 0.0 && dr < 0.0 && dr.abs() > 0.09 * dz.abs() {
+            w.descends = true;
+        }
+        if s.a[0].max(s.b[0]) > 0.05 {
+            first(&mut w.profile, s.line, || {
+                format!("it cuts a profile (line {})", s.line)
+            });
+        }
+    }
+    w
+}
+
+/// The kind of tool `w`'s moves ask for, whether it works inside, and the words of the evidence
+/// with its line. `None`: it cuts nothing below the face.
+pub fn kind(w: &Work) -> Option<(ToolKind, bool, &Seen)> {
+    let plunged: f64 = w.plunges.iter().map(|p| p[1] - p[2]).sum();
+    let narrow = w.groove.is_some() && w.along_z <= plunged;
+    if let Some(s) = &w.tap {
+        Some((ToolKind::Tapping, true, s))
+    } else if let Some(s) = &w.drill {
+        Some((ToolKind::Drilling, true, s))
+    } else if let Some(s) = &w.thread {
+        Some((ToolKind::Threading, w.thread_internal, s))
+    } else if let Some(s) = w.bore.as_ref().filter(|_| w.bores > w.ods) {
+        Some((ToolKind::Boring, true, s))
+    } else if let Some(s) = &w.part {
+        Some((ToolKind::Parting, false, s))
+    } else if let Some(s) = w.groove.as_ref().filter(|_| narrow) {
+        Some((ToolKind::Grooving, false, s))
+    } else if let Some(s) = w.od.as_ref().or(w.profile.as_ref()).or(w.groove.as_ref()) {
+        Some((ToolKind::OdTurning, false, s))
+    } else {
+        w.face.as_ref().map(|s| (ToolKind::Facing, false, s))
+    }
+}
