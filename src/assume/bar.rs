@@ -120,7 +120,9 @@ fn plunge_before_facing(r: &Reading, i: usize) -> bool {
     r.segs[i + 1..]
         .iter()
         .find(|n| n.station == s.station)
-        .is_some_and(|n| is_facing(n) && n.b[0] < n.a[0] && (n.a[0] - s.b[0]).abs() < 1e-6 && (n.a[1] - s.b[1]).abs() < 1e-6)
+        .is_some_and(|n| {
+            is_facing(n) && n.b[0] < n.a[0] && (n.a[0] - s.b[0]).abs() < 1e-6 && (n.a[1] - s.b[1]).abs() < 1e-6
+        })
 }
 
 impl Evidence {
@@ -137,7 +139,13 @@ impl Evidence {
         // The face: the highest facing pass (not a part-off far behind it).
         for s in r.segs.iter().filter(|s| is_facing(s)) {
             if e.face.map_or(true, |(f, _)| s.a[1] > f.v) {
-                e.face = Some((At { v: s.a[1], line: s.line }, s.a[0].max(s.b[0])));
+                e.face = Some((
+                    At {
+                        v: s.a[1],
+                        line: s.line,
+                    },
+                    s.a[0].max(s.b[0]),
+                ));
             }
         }
         for s in r.segs.iter().filter(|s| is_facing(s) && s.b[0] > s.a[0]) {
@@ -165,7 +173,10 @@ impl Evidence {
                     max_at(&mut e.reach, s.a[0].max(s.b[0]), s.line);
                 }
                 if i == 0 || !r.segs[i - 1].cycle || r.segs[i - 1].line != s.line {
-                    cycle_starts.push(At { v: s.a[0], line: s.line });
+                    cycle_starts.push(At {
+                        v: s.a[0],
+                        line: s.line,
+                    });
                 }
                 continue;
             }
@@ -237,7 +248,9 @@ fn bores_first(r: &Reading, i: usize, face: f64) -> Option<At> {
     let mut rest = r.segs[i + 1..].iter().filter(|n| n.station == s.station);
     let pull = rest.next()?;
     let out = rest.next()?;
-    let pulls_in = pull.b[0] < s.b[0] - 0.01 && s.b[0] - pull.b[0] <= PULL_OFF && (pull.b[1] - pull.a[1]).abs() <= (s.b[0] - pull.b[0]) + 1e-9;
+    let pulls_in = pull.b[0] < s.b[0] - 0.01
+        && s.b[0] - pull.b[0] <= PULL_OFF
+        && (pull.b[1] - pull.a[1]).abs() <= 2.0 * (s.b[0] - pull.b[0]) + 1e-9;
     let leaves = out.b[1] > face && out.b[0] <= pull.b[0] + 1e-6 && out.a[0] <= pull.b[0] + 1e-6;
     (pulls_in && leaves).then_some(At {
         v: s.a[0].min(s.b[0]),
@@ -251,7 +264,10 @@ fn stock_comment(r: &Reading) -> Option<At> {
     for (i, text) in r.lines.iter().enumerate() {
         let (code, comment) = split_comment(text);
         let c = comment.to_uppercase();
-        if !["STOCK", "BAR", "MATERIAL", "BLANK", "ROHTEIL"].iter().any(|k| c.contains(k)) {
+        if !["STOCK", "BAR", "MATERIAL", "BLANK", "ROHTEIL"]
+            .iter()
+            .any(|k| c.contains(k))
+        {
             continue;
         }
         let Some(after) = marker(&c) else {
@@ -450,7 +466,11 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
             (true, Some(h)) => below_size(h, e.scale),
             _ => choose(lo, hi, e.scale),
         };
-        (d, format!("{bounds}; {how}"), lo_at.line.max(e.approach.map_or(0, |a| a.line)))
+        (
+            d,
+            format!("{bounds}; {how}"),
+            lo_at.line.max(e.approach.map_or(0, |a| a.line)),
+        )
     };
     // Where the face is, in program Z: the machine's when at or ahead of the facing pass.
     let face = match (face_seen, machine_face) {
@@ -519,7 +539,11 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
         Some(b) => format!("tube {}/{}", dia_text(diameter, e.scale), dia_text(b, e.scale)),
         None => format!("bar {}", dia_text(diameter, e.scale)),
     };
-    let value = format!("{kind} × {} mm, {} mm out of the jaws", num(round4(length)), num(round4(front - jaw_face)));
+    let value = format!(
+        "{kind} × {} mm, {} mm out of the jaws",
+        num(round4(length)),
+        num(round4(front - jaw_face))
+    );
     let mut reason = format!("{why_d}; {why_face}; {why_front}");
     if let (Some(t), Some(_)) = (e.tube, bore) {
         reason.push_str(&format!(
@@ -558,7 +582,12 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
             line_d,
             "stock",
         ));
-        out.layer.program_zero_z = Some(set(front - face, file, face_seen.map_or(line_d, |f| f.line), "program_zero_z"));
+        out.layer.program_zero_z = Some(set(
+            front - face,
+            file,
+            face_seen.map_or(line_d, |f| f.line),
+            "program_zero_z",
+        ));
         notes.push(Assumption {
             key: "stock".into(),
             value,

@@ -83,7 +83,8 @@ pub fn summary(notes: &[Assumption]) -> String {
 /// The sentence the reports give a file whose setup was read from the program.
 pub fn sentence(notes: &[Assumption]) -> Option<String> {
     let s = summary(notes);
-    (!s.is_empty()).then(|| format!("setup read from the program: {s}; write a job to fix it (`latheguard setup` shows why)"))
+    (!s.is_empty())
+        .then(|| format!("setup read from the program: {s}; write a job to fix it (`latheguard setup` shows why)"))
 }
 
 /// Where an assumed value was read: the program, its line, the job key it sets.
@@ -121,7 +122,6 @@ pub fn assume(src: &[u8], file: &str, machine: &Machine) -> Assumed {
     tools::assume(&r, file, machine, face, &mut out);
     out
 }
-
 
 /// On a machine whose setup is an example and whose dialect is fixed: the program's own
 /// dialect when its signs say so (`machine::auto`). Returns the machine switched to it.
@@ -167,11 +167,17 @@ impl Assumed {
             self.layer.dialect = None;
             self.notes.retain(|n| n.key != "dialect");
         }
-        if layers.iter().any(|l| !l.tool_numbers.is_empty() || l.tool_numbers_table.is_some()) {
+        if layers
+            .iter()
+            .any(|l| !l.tool_numbers.is_empty() || l.tool_numbers_table.is_some())
+        {
             self.layer.tool_numbers.clear();
             self.notes.retain(|n| n.key != "tool_numbers");
         }
-        if layers.iter().any(|l| l.tailstock_in_use.is_some() || l.tailstock_z.is_some()) {
+        if layers
+            .iter()
+            .any(|l| l.tailstock_in_use.is_some() || l.tailstock_z.is_some())
+        {
             self.layer.tailstock_in_use = None;
             self.layer.tailstock_z = None;
             self.notes.retain(|n| n.key != "tailstock");

@@ -38,7 +38,9 @@ pub fn assume(src: &[u8], file: &str, machine: &Machine, out: &mut Assumed) -> O
             t
         } else {
             // A Fanuc-style number (T303) keeps its station digits when that station is free.
-            let wish = [t / 100, t % 100].into_iter().find(|&s| s >= 1 && s <= stations && !taken.contains(&s));
+            let wish = [t / 100, t % 100]
+                .into_iter()
+                .find(|&s| s >= 1 && s <= stations && !taken.contains(&s));
             match wish.or_else(|| (1..=stations).find(|s| !taken.contains(s))) {
                 Some(s) => s,
                 None => continue,
@@ -53,7 +55,9 @@ pub fn assume(src: &[u8], file: &str, machine: &Machine, out: &mut Assumed) -> O
     numbered_machine.tool_numbers = map.iter().map(|&(t, s, _)| (t, s)).collect();
     numbered_machine.tool_numbers.sort_unstable();
     for &(t, s, line) in &map {
-        out.layer.tool_numbers.push(set((t, s), file, line, &format!("tool_numbers.T{t}")));
+        out.layer
+            .tool_numbers
+            .push(set((t, s), file, line, &format!("tool_numbers.T{t}")));
     }
     let moved: Vec<String> = map
         .iter()

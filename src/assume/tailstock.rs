@@ -12,7 +12,15 @@ use crate::machine::{MAction, Machine};
 pub const SLENDER: f64 = 4.0;
 
 /// Words of a comment that name the tailstock.
-const WORDS: [&str; 7] = ["TAILSTOCK", "TAIL STOCK", "LIVE CENTER", "LIVE CENTRE", "QUILL", "REITSTOCK", "PINOLE"];
+const WORDS: [&str; 7] = [
+    "TAILSTOCK",
+    "TAIL STOCK",
+    "LIVE CENTER",
+    "LIVE CENTRE",
+    "QUILL",
+    "REITSTOCK",
+    "PINOLE",
+];
 
 /// Why the program needs the tailstock, if it does: the evidence and its line.
 fn called_for(r: &Reading, machine: &Machine, diameter: f64) -> Option<(String, u32)> {

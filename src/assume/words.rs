@@ -46,8 +46,11 @@ pub fn numbered(code: &str, letter: char) -> Vec<u32> {
             while j < chars.len() && chars[j].is_ascii_digit() {
                 j += 1;
             }
-            let next_is_letter = j < chars.len() && chars[j].is_ascii_alphabetic() && chars[j] != 'e' && chars[j] != 'E';
-            if j > start && j - start <= 9 && !(j < chars.len() && chars[j] == '.') && !next_is_letter || j > start && next_is_letter {
+            let next_is_letter =
+                j < chars.len() && chars[j].is_ascii_alphabetic() && chars[j] != 'e' && chars[j] != 'E';
+            if j > start && j - start <= 9 && !(j < chars.len() && chars[j] == '.') && !next_is_letter
+                || j > start && next_is_letter
+            {
                 let digits: String = chars[start..j].iter().collect();
                 if let Ok(v) = digits.parse() {
                     out.push(v);

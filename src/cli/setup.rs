@@ -223,7 +223,9 @@ impl Planner {
                 self.inputs.push(p);
             }
         }
-        let assume = (!self.no_assume && base.kinematics.is_none()).then(|| AssumeBase {
+        // Only a program with no job at all is read for its setup: a job, even of one key,
+        // says the setup is written down.
+        let assume = (!self.no_assume && layers.is_empty() && base.kinematics.is_none()).then(|| AssumeBase {
             base: base.clone(),
             layers: layers.clone(),
         });
@@ -742,7 +744,10 @@ fn text(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
         let _ = writeln!(s, "{line}");
     }
     if !r.assumed.is_empty() {
-        let _ = writeln!(s, "  read from the program (a job wins over each; --no-assume turns it off)");
+        let _ = writeln!(
+            s,
+            "  read from the program (a job wins over each; --no-assume turns it off)"
+        );
         for n in &r.assumed {
             let what = if n.kept { "kept" } else { "assumed" };
             let _ = writeln!(s, "    {}: {} ({what}): {}", n.key, n.value, n.reason);

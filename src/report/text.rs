@@ -36,7 +36,12 @@ pub fn text(r: &Report, opt: TextOptions) -> String {
             );
         }
         if let (false, Some(line)) = (opt.quiet, crate::assume::sentence(&f.assumed)) {
-            let _ = writeln!(out, "{bold}{}:{reset} {dim}{}{reset}", terminal_safe(&f.path), terminal_safe(&line));
+            let _ = writeln!(
+                out,
+                "{bold}{}:{reset} {dim}{}{reset}",
+                terminal_safe(&f.path),
+                terminal_safe(&line)
+            );
         }
         if !opt.quiet && f.status() == super::Status::NoMotion {
             let _ = writeln!(

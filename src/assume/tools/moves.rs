@@ -91,6 +91,9 @@ fn first(to: &mut Option<Seen>, line: u32, words: impl FnOnce() -> String) {
     }
 }
 
+/// The largest pull-off of a boring pass toward the axis, mm.
+const PULL_OFF: f64 = 2.0;
+
 /// The next piece the same station moves after `segs[i]`.
 fn next_of(segs: &[Seg], i: usize) -> Option<&Seg> {
     segs.get(i + 1).filter(|n| n.station == segs[i].station)
@@ -163,8 +166,17 @@ pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
             let rr = s.a[0].min(s.b[0]);
             w.pass_r = Some(w.pass_r.map_or(rr, |p: f64| p.min(rr)));
             let pull = next.map(|n| (n.b[0] - n.a[0], (n.b[1] - n.a[1]).abs()));
+            // A boring bar pulls off a little toward the axis and leaves the bore along +Z
+            // inside the pass (an OD tool may move toward the axis after a pass too, down a
+            // shoulder, but then it goes on cutting).
+            let leaves = next.is_some_and(|n| {
+                r.segs[i + 2..]
+                    .iter()
+                    .find(|o| o.station == station)
+                    .is_some_and(|o| o.b[1] > o.a[1] + 1e-3 && o.b[0] <= n.b[0] + 1e-6 && o.a[0] <= n.b[0] + 1e-6)
+            });
             match pull {
-                Some((pr, pz)) if pr < -0.05 && pz <= pr.abs() + 1e-9 => {
+                Some((pr, pz)) if pr < -0.05 && pr >= -PULL_OFF && pz <= 2.0 * pr.abs() + 1e-9 && leaves => {
                     w.bores += 1;
                     first(&mut w.bore, s.line, || {
                         format!(

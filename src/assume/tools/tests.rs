@@ -152,7 +152,9 @@ fn a_machine_tool_of_the_same_kind_is_kept() {
 #[test]
 fn the_shops_setup_stays_when_the_program_disagrees() {
     // assume = false: the machine file's T03 stays even though the comment says drill.
-    let a = assumed(&BORE.replace("BORING BAR", "DRILL 12MM"), &Machine::builtin());
+    let mut m = Machine::builtin();
+    m.assume_setup = false;
+    let a = assumed(&BORE.replace("BORING BAR", "DRILL 12MM"), &m);
     assert!(note(&a, 3).kept);
     assert!(a.layer.tools.is_empty());
 }
