@@ -1,4 +1,5 @@
-//! `check --stock-out FILE.svg` draws the final part section of one program.
+//! `check --stock-out FILE` writes the final part of one program: its drawing with its main
+//! dimensions (`.svg`), its surface (`.stl`).
 
 use std::process::Command;
 
@@ -18,6 +19,36 @@ fn stock_out_draws_the_turned_part_of_one_program() {
     // One outline, drawn on both sides of the axis; the finished 40 mm diameter is at r = 20.
     assert_eq!(svg.matches("<polygon").count(), 2);
     assert!(svg.contains("od_turning.nc"));
+    // Its dimensions: the Ø50 bar turned to Ø40 over 40 mm from the front face, 118 mm overall
+    // (from the faced front at z 78 back to the bar's end at −40 in the jaws); each label's halo
+    // is an element of its own.
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let labels: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text") && n.attribute("stroke").is_none())
+        .filter_map(|n| n.text())
+        .collect();
+    for want in ["Ø50", "Ø40", "40", "118"] {
+        assert!(labels.contains(&want), "{want} is not a label: {labels:?}");
+    }
+    assert!(!svg.contains("paint-order"));
+    // docs/checking.md shows this drawing: it is what the binary draws today
+    // (`PART_SVG_BLESS=1` redraws it, after looking at it).
+    let page = dir.join("page.svg");
+    let st = Command::new(env!("CARGO_BIN_EXE_latheguard"))
+        .current_dir(root)
+        .args(["check", "-q", "programs/od_turning.nc", "--stock-out"])
+        .arg(&page)
+        .status()
+        .unwrap();
+    assert_eq!(st.code(), Some(0));
+    let now = std::fs::read_to_string(&page).unwrap();
+    let shown = std::path::Path::new(root).join("docs/pictures/od_turning.part.svg");
+    if std::env::var_os("PART_SVG_BLESS").is_some() {
+        std::fs::write(&shown, &now).unwrap();
+    }
+    let was = std::fs::read_to_string(&shown).expect("docs/pictures/od_turning.part.svg");
+    assert!(was == now, "stale: run with PART_SVG_BLESS=1 to redraw it");
     let two = Command::new(env!("CARGO_BIN_EXE_latheguard"))
         .args([
             "check",

@@ -1,7 +1,8 @@
 //! The SVG pictures render readably in the two renderers people convert them with:
-//! `rsvg-convert` (librsvg) and `cairosvg`. A 2D finding picture and a machine drawing made now
-//! by the binary, and the three views of a 3D finding (`docs/pictures/turn-mill-views.svg`, which
-//! `report3d.rs` keeps equal to what the views draw today), each rendered to PNG by every
+//! `rsvg-convert` (librsvg) and `cairosvg`. A 2D finding picture, a machine drawing and a final
+//! part's drawing (`--stock-out part.svg`) made now by the binary, and the three views of a 3D
+//! finding (`docs/pictures/turn-mill-views.svg`, which `report3d.rs` keeps equal to what the
+//! views draw today), each rendered to PNG by every
 //! renderer: the PNG decodes, has the picture's size, is not blank, and its caption is drawn in
 //! dark ink on the white page (not white on white).
 //!
@@ -52,8 +53,8 @@ fn runs(c: &mut Command) -> bool {
     c.output().is_ok_and(|o| o.status.success())
 }
 
-/// The pictures to render: a 2D finding picture and a machine drawing written by the binary into
-/// `dir`, and the committed 3D views page.
+/// The pictures to render: a 2D finding picture, a machine drawing and a part drawing written by
+/// the binary into `dir`, and the committed 3D views page.
 fn pictures(dir: &Path) -> Vec<PathBuf> {
     let bin = env!("CARGO_BIN_EXE_latheguard");
     let findings = dir.join("findings");
@@ -80,9 +81,18 @@ fn pictures(dir: &Path) -> Vec<PathBuf> {
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let part = dir.join("part.svg");
+    let out = Command::new(bin)
+        .current_dir(root())
+        .args(["check", "--quiet", "programs/od_turning.nc", "--stock-out"])
+        .arg(&part)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     vec![
         finding.remove(0),
         drawing,
+        part,
         root().join("docs/pictures/turn-mill-views.svg"),
     ]
 }

@@ -809,3 +809,51 @@ fn a_sliver_contact_gets_a_detail_panel_with_its_scale_and_a_deep_one_does_not()
 fn doc_has_detail(svg: &str) -> bool {
     frame_of(&doc(svg), "detail").is_some()
 }
+
+/// A part standing wholly between the viewer and the contact (a turret over a drill in its hole,
+/// seen from above) is cut away in that view — drawn as a dotted outline, named under the views —
+/// and drawn as usual in the views it does not hide the contact in.
+#[test]
+fn a_part_over_the_contact_is_cut_away_in_that_view_only() {
+    let s = Snapshot3 {
+        title: "cut away".into(),
+        line: 1,
+        time_s: None,
+        parts: vec![
+            part(
+                "drill",
+                cuboid([10.0, -4.0, -4.0], [40.0, 4.0, 4.0]),
+                Iso::identity(),
+                Role3::CollidingA,
+            ),
+            part(
+                "stock",
+                cuboid([-25.0, -25.0, -40.0], [12.0, 25.0, 40.0]),
+                Iso::identity(),
+                Role3::Stock,
+            ),
+            part(
+                "turret",
+                cuboid([40.0, -30.0, -30.0], [50.0, 30.0, 30.0]),
+                Iso::identity(),
+                Role3::Moving,
+            ),
+        ],
+        contact: Some(Point3::new(12.0, 0.0, 0.0)),
+    };
+    let out = views3::svg(&s);
+    keep("cut_away.svg", out.as_bytes());
+    // From above (+X) the turret hid the drill: cut away, the drill shows.
+    assert!(part_points(&out, "yz", "turret").is_empty());
+    assert!(!part_points(&out, "yz", "drill").is_empty());
+    let doc = roxmltree::Document::parse(&out).unwrap();
+    let yz = doc
+        .descendants()
+        .find(|n| n.attribute("id") == Some("view-yz"))
+        .unwrap();
+    assert!(yz.descendants().any(|n| n.attribute("class") == Some("cut-away")));
+    assert!(out.contains("Cut away where it hid the contact (dotted outline): turret."));
+    // From the side and the end it hides nothing: drawn.
+    assert!(!part_points(&out, "xz", "turret").is_empty());
+    assert!(!part_points(&out, "xy", "turret").is_empty());
+}

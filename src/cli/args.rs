@@ -196,9 +196,10 @@ pub struct CheckArgs {
     /// check into this folder; findings of the working plane have none.
     #[arg(long, value_name = "DIR")]
     pub glb: Option<PathBuf>,
-    /// Write the final part (the stock at the end) of the one program checked: its section as SVG,
-    /// with a .stl name the part as an STL mesh (milled features included), with a .toml name the
-    /// part as a job fragment ([stock] outline) for the next operation's `[stock] from`.
+    /// Write the final part (the stock at the end) of the one program checked: its section with its
+    /// main dimensions as SVG, with a .stl name the part as an STL mesh (milled features
+    /// included), with a .toml name the part as a job fragment ([stock] outline) for the next
+    /// operation's `[stock] from`.
     #[arg(long, value_name = "FILE.svg|FILE.stl|FILE.toml")]
     pub stock_out: Option<PathBuf>,
     /// Files checked in parallel, 1 to 256, never more than the files [default: all cores].

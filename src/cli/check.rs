@@ -143,7 +143,7 @@ pub fn run(mut a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
                         .ok_or_else(|| format!("{}: the final part has no material to write (no stock)", shown(out)))?;
                     report::part::part_toml(&f.path, part).into_bytes()
                 } else {
-                    report::part::part_svg(&f.path, &f.stock).into_bytes()
+                    report::part_svg::part_svg(&f.path, &f.stock, f.part.as_ref()).into_bytes()
                 };
                 std::fs::write(out, bytes).map_err(|e| format!("{}: cannot write: {}", shown(out), plain(&e)))?;
             }

@@ -16,6 +16,8 @@ mod json;
 mod junit;
 pub mod machine_svg;
 pub mod part;
+mod part_dims;
+pub mod part_svg;
 mod sarif;
 pub mod scene3;
 mod statistics;

@@ -228,8 +228,8 @@ fn light() -> Vector3<f64> {
     Vector3::new(-0.35, 0.55, 0.76).normalize()
 }
 
-/// The depth buffer of the parts `only` accepts.
-fn rasterise(v: &View, s: &Snapshot3, only: impl Fn(Role3) -> bool) -> Raster {
+/// The depth buffer of the parts `only` accepts (by index in the snapshot and role).
+fn rasterise(v: &View, s: &Snapshot3, only: impl Fn(usize, Role3) -> bool) -> Raster {
     let w = (v.w.ceil() as usize).clamp(1, 4096);
     let h = (v.h.ceil() as usize).clamp(1, 4096);
     let mut r = Raster {
@@ -256,7 +256,7 @@ fn rasterise(v: &View, s: &Snapshot3, only: impl Fn(Role3) -> bool) -> Raster {
     let mut touched: Vec<usize> = Vec::new();
     for &pi in &order {
         let part = &s.parts[pi];
-        if !only(part.role) {
+        if !only(pi, part.role) {
             continue;
         }
         let id = pi as u32 + 1;
@@ -606,11 +606,74 @@ struct Cuts {
     dropped: usize,
     /// The parts drawn (in any view), for the legend.
     drawn: std::collections::BTreeSet<usize>,
+    /// The parts cut away in some view because they hid the contact, by name.
+    cut_away: std::collections::BTreeSet<String>,
+}
+
+/// Cells around the contact's (this many picture units each way) looked at for a part that hides it.
+const CONTACT_CELLS: i64 = 3;
+
+/// The parts that hide the contact in a view: a part neither colliding nor the stock that wins a
+/// cell around the contact's and stands wholly nearer the viewer than the contact (a turret over
+/// a drill in its hole, seen from above). The view leaves them out and draws their outline dashed, so what
+/// happens at the contact (the tool, the hole it stands in) shows.
+fn hiding(v: &View, s: &Snapshot3, r: &Raster) -> Vec<usize> {
+    let Some(c) = s.contact() else { return Vec::new() };
+    let (x, y, d) = v.project(&c);
+    let (ci, cj) = ((x - v.left).floor() as i64, (y - v.top).floor() as i64);
+    let mut out = Vec::new();
+    for j in cj - CONTACT_CELLS..=cj + CONTACT_CELLS {
+        for i in ci - CONTACT_CELLS..=ci + CONTACT_CELLS {
+            if i < 0 || j < 0 || i >= r.w as i64 || j >= r.h as i64 {
+                continue;
+            }
+            let k = j as usize * r.w + i as usize;
+            let Some(pi) = (r.part[k] as usize).checked_sub(1) else {
+                continue;
+            };
+            if r.depth[k] <= d + r.tie || out.contains(&pi) {
+                continue;
+            }
+            let Some(p) = s.parts.get(pi) else { continue };
+            if matches!(p.role, Role3::Moving | Role3::Fixed) && wholly_in_front(v, p, d) {
+                out.push(pi);
+            }
+        }
+    }
+    out.sort_unstable();
+    out
+}
+
+/// Whether all of `p` (its box) stands nearer the viewer than the depth `d`: a part the contact
+/// is neither in nor behind.
+fn wholly_in_front(v: &View, p: &super::scene3::Part3, d: f64) -> bool {
+    let Some(b) = p.bounds() else { return false };
+    (0..8).all(|c| {
+        let q = Point3::new(
+            if c & 1 == 0 { b.min.x } else { b.max.x },
+            if c & 2 == 0 { b.min.y } else { b.max.y },
+            if c & 4 == 0 { b.min.z } else { b.max.z },
+        );
+        v.kind.frame(&q).z > d
+    })
 }
 
 /// One view: frame, parts, spindle axis, contact ring, label.
 fn view(o: &mut String, v: &View, s: &Snapshot3) -> Cuts {
-    let r = rasterise(v, s, |_| true);
+    let all = rasterise(v, s, |_, _| true);
+    let away = hiding(v, s, &all);
+    let (r, away_loops) = if away.is_empty() {
+        (all, Vec::new())
+    } else {
+        let alone = rasterise(v, s, |pi, _| away.contains(&pi));
+        let loops: Vec<Vec<(f64, f64)>> = trace(alone.w, alone.h, |i, j| alone.part[j * alone.w + i])
+            .into_values()
+            .flatten()
+            .map(|l| simplify(&l, TOL))
+            .filter(|l| l.len() >= 3)
+            .collect();
+        (rasterise(v, s, |pi, _| !away.contains(&pi)), loops)
+    };
     let ol = outlines(&r);
     // The colliding parts alone, each whole: their edges hidden behind other parts are drawn
     // dashed, as hidden edges are on a drawing.
@@ -620,7 +683,7 @@ fn view(o: &mut String, v: &View, s: &Snapshot3) -> Cuts {
         let Some(pi) = s.parts.iter().position(|p| p.role == role) else {
             continue;
         };
-        let alone = rasterise(v, s, |r| r == role);
+        let alone = rasterise(v, s, |_, r| r == role);
         skipped += alone.skipped;
         let loops = trace(alone.w, alone.h, |i, j| alone.part[j * alone.w + i]);
         let loops: Vec<Vec<(f64, f64)>> = loops
@@ -703,6 +766,14 @@ fn view(o: &mut String, v: &View, s: &Snapshot3) -> Cuts {
             path_data(v, sil)
         );
     }
+    if !away_loops.is_empty() {
+        let line = s.parts.get(away[0]).map_or(INK, |p| p.role.colours().1);
+        let _ = writeln!(
+            o,
+            r#"<path class="cut-away" d="{}" fill="none" stroke="{line}" stroke-width="1" stroke-dasharray="2 3"/>"#,
+            path_data(v, &away_loops)
+        );
+    }
     for (pi, loops) in &hidden {
         let (_, line) = s.parts[*pi].role.colours();
         let _ = writeln!(
@@ -738,6 +809,11 @@ fn view(o: &mut String, v: &View, s: &Snapshot3) -> Cuts {
         );
     }
     Cuts {
+        cut_away: away
+            .iter()
+            .filter_map(|&pi| s.parts.get(pi))
+            .map(|p| p.name.clone())
+            .collect(),
         drawn: ol.parts.iter().map(|p| p.0).collect(),
         skipped,
         flat: ol.flat,
@@ -952,6 +1028,7 @@ fn draw(s: &Snapshot3, c: &Caption, depth: Option<f64>) -> String {
         cuts.flat |= k.flat;
         cuts.dropped += k.dropped;
         cuts.drawn.extend(k.drawn);
+        cuts.cut_away.extend(k.cut_away);
     }
     if let Some(d) = detail(&views, s, depth) {
         // Where the detail is, in the lathe's view.
@@ -1116,6 +1193,13 @@ fn footer(o: &mut String, v: &View, s: &Snapshot3, cuts: &Cuts, below: f64) -> f
         "Third-angle layout: the top view above the lathe's view, the end view to its right. The views show the box around the contact;".to_string(),
         "parts are cut at its faces. Dashed: edges of the colliding parts hidden behind other parts.".to_string(),
     ];
+    if !cuts.cut_away.is_empty() {
+        let names: Vec<&str> = cuts.cut_away.iter().map(String::as_str).collect();
+        notes.push(format!(
+            "Cut away where it hid the contact (dotted outline): {}.",
+            cut(&names.join(", "), 120)
+        ));
+    }
     if cuts.skipped > 0 {
         notes.push(format!(
             "{} triangle{} left out of the views (at most {} cell tests a view; the colliding parts come first).",
