@@ -3,7 +3,7 @@ O1105 (CRASH ON A DOGLEG RAPID: THE STRAIGHT LINE CLEARS THE SHOULDER, THE BENT 
 (On this machine each axis rapids at its own rate: X arrives first and drops the insert into the shoulder.)
 (With rapid = "linear" the same program is clean: see tests/cases/check/dogleg_linear.nc.)
 (Expected: rapid_into_stock at N200.)
-N10 G21 G18 G40 G97 G99
+N10 G21 G18 G40 G97 G99 (STOCK DIA 50)
 N20 G28 U0 W0
 N30 T0101
 N40 G50 S3000

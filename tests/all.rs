@@ -15,6 +15,7 @@ mod files;
 #[path = "common/mutate.rs"]
 mod mutate;
 
+mod assumed_setups;
 mod cases;
 mod ci_recipes;
 mod cli_batch;

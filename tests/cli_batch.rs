@@ -132,7 +132,7 @@ fn the_command_line_overrides_the_configuration() {
         .iter()
         .all(|f| f.get("machine").is_none()));
     // --no-config: the built-in machine everywhere.
-    let out = t.run(&["check", "--format", "json", "--no-config", "cell-b"]);
+    let out = t.run(&["check", "--format", "json", "--no-config", "--no-assume", "cell-b"]);
     let doc = json(&out);
     assert!(doc["files"].as_array().unwrap().iter().all(|f| f["status"] == "clean"));
     assert_eq!(doc["settings"]["mode"], "step");

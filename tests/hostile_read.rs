@@ -198,6 +198,7 @@ fn many_findings_on_one_long_line_decode_the_line_once_in_the_text_report() {
                 part: None,
                 machine: None,
                 settings: None,
+                assumed: Vec::new(),
                 job: Vec::new(),
                 suppressed: Vec::new(),
                 fail_on: None,

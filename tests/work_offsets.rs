@@ -95,7 +95,7 @@ fn a_machine_file_gives_work_offsets_in_setup_with_errors_and_warnings_naming_th
     let base = machine::BUILTIN_TOML;
     let with = |setup: &str| {
         base.replace(
-            "[setup]\nprogram_zero_z = 78.0      # 2 mm faced off the bar end\n",
+            "[setup]\nprogram_zero_z = 78.0      # 2 mm faced off the bar end\n# The bar, program zero and tools above and below are an example: a program with no job is read\n# for its own (docs/assume.md).\nassume = true\n",
             setup,
         )
     };

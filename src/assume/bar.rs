@@ -32,8 +32,9 @@ use super::{set, Assumed, Assumption};
 use crate::job::{JobStock, Place};
 use crate::machine::{num, ChuckForm, Machine};
 
-/// Room past the deepest cut before the jaws, mm: a parting blade and its clearance.
-pub const PART_OFF_ROOM: f64 = 10.0;
+/// Room past the deepest cut before the jaws, mm: a parting blade, and the turret behind it
+/// when it parts off at the axis (a drum's face stands some 30 mm behind the tool's tip).
+pub const PART_OFF_ROOM: f64 = 40.0;
 
 /// The largest pull-off of a boring pass toward the axis, mm.
 const PULL_OFF: f64 = 2.0;
@@ -43,6 +44,12 @@ pub const BORE_MATERIAL: f64 = 2.0;
 
 /// A facing pass more than this far behind program Z0 faces a shoulder or parts off, mm.
 const FACE_BEHIND: f64 = 0.5;
+
+/// A radius this small is the spindle axis, mm.
+const AT_AXIS: f64 = 0.5;
+
+/// Clearance a program keeps outside the bar where it approaches, mm on the diameter.
+const APPROACH_CLEARANCE: f64 = 2.0;
 
 /// How far below the face a point must be to count as inside the bar, mm.
 const INSIDE: f64 = 0.05;
@@ -126,7 +133,7 @@ fn plunge_before_facing(r: &Reading, i: usize) -> bool {
 }
 
 impl Evidence {
-    fn of(r: &Reading) -> Evidence {
+    fn of(r: &Reading, machine: &Machine) -> Evidence {
         let mut e = Evidence {
             scale: 1.0,
             diameter_words: true,
@@ -157,6 +164,8 @@ impl Evidence {
         }
         let face = e.face.map_or(0.0, |(f, _)| f.v);
         let below = face - INSIDE;
+        // A boring bar's or a drill's passes are inside the part: not the bar's outside.
+        let inside = super::tools::inside_stations(r, machine, face);
         let mut first_feed = None;
         let mut cycle_starts: Vec<At> = Vec::new();
         for (i, s) in r.segs.iter().enumerate() {
@@ -164,6 +173,12 @@ impl Evidence {
                 continue;
             }
             min_at(&mut e.deepest, s.a[1].min(s.b[1]), s.line);
+            if inside.contains(&s.station) {
+                if first_feed.is_none() && s.b[1] < below {
+                    first_feed = Some(i);
+                }
+                continue;
+            }
             let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
             // A roughing cycle's passes start from its start point, often in the air: its
             // profile is what it cuts to (the part lies inside the bar), its first move where
@@ -199,15 +214,14 @@ impl Evidence {
             } else {
                 (None, (s.a[1] < below).then_some(s.a[0]))
             };
-            if cut.is_some() || reach.is_some() {
-                if first_feed.is_none() {
-                    first_feed = Some(i);
-                }
+            if (cut.is_some() || reach.is_some()) && first_feed.is_none() {
+                first_feed = Some(i);
             }
-            if let Some(c) = cut {
+            // At the axis a move says nothing of the bar's size (a facing pass ends there).
+            if let Some(c) = cut.filter(|c| *c > AT_AXIS) {
                 max_at(&mut e.cut, c, s.line);
             }
-            if let Some(c) = reach {
+            if let Some(c) = reach.filter(|c| *c > AT_AXIS) {
                 max_at(&mut e.reach, c, s.line);
             }
         }
@@ -368,9 +382,12 @@ fn choose(lo: f64, hi: Option<f64>, scale: f64) -> (f64, &'static str) {
     }
 }
 
-/// The largest standard size under `hi` (mm; the program approaches from there), else `hi`.
+/// The largest standard size under `hi` (mm; the program approaches from there) by
+/// [`APPROACH_CLEARANCE`], else just under it, else `hi`.
 fn below_size(hi: f64, scale: f64) -> (f64, &'static str) {
-    match sizes(scale).into_iter().rev().find(|&d| d < hi - 1e-6) {
+    let sizes = sizes(scale);
+    let inside = |room: f64| sizes.iter().rev().copied().find(|&d| d < hi - room - 1e-6);
+    match inside(APPROACH_CLEARANCE).or_else(|| inside(0.0)) {
         Some(d) => (d, "the largest stock size inside it"),
         None => (hi, "as approached"),
     }
@@ -426,7 +443,7 @@ fn z_text(e: &Evidence, z: f64) -> String {
 /// Read the bar and program zero; returns the raw front face in program Z (mm) the tools are
 /// read against.
 pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> f64 {
-    let e = Evidence::of(r);
+    let e = Evidence::of(r, machine);
     let face_seen = e.face.map(|(f, _)| f);
     let replaceable = machine.stock.is_none() || machine.assume_setup;
     let ms = machine.stock.as_ref().filter(|s| s.outline.is_none());
@@ -462,8 +479,12 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
             ),
             None => format!("the program cuts at {} (line {})", x_text(&e, lo_at.v), lo_at.line),
         };
-        let (d, how) = match (no_cut, hi) {
-            (true, Some(h)) => below_size(h, e.scale),
+        let (d, how) = match (no_cut, hi, ms.map(|s| s.diameter)) {
+            (true, Some(h), _) => below_size(h, e.scale),
+            // Between both bounds, the machine file's example bar is as good a reading as any.
+            (false, Some(h), Some(m)) if m >= lo - 1e-6 && m <= h + 1e-6 => {
+                (m, "the machine file's bar fits between them")
+            }
             _ => choose(lo, hi, e.scale),
         };
         (

@@ -117,6 +117,13 @@ pub fn assume(src: &[u8], file: &str, machine: &Machine) -> Assumed {
     let numbered = numbers::assume(src, file, machine, &mut out);
     let machine = numbered.as_ref().unwrap_or(machine);
     let r = reading::Reading::of(src, machine);
+    if r.segs.is_empty() {
+        // No move reaches the machine: nothing to read, and nothing to check.
+        return Assumed {
+            layer: Layer::new(LABEL),
+            notes: Vec::new(),
+        };
+    }
     let face = bar::assume(&r, file, machine, &mut out);
     tailstock::assume(&r, file, machine, &mut out);
     tools::assume(&r, file, machine, face, &mut out);
@@ -130,7 +137,9 @@ fn dialect(src: &[u8], file: &str, machine: &Machine, out: &mut Assumed) -> Opti
         return None;
     }
     let (d, why) = crate::machine::auto::detect(src);
-    if d == machine.dialect || why.contains("no sign") || why.contains("tie") {
+    // M98/M99 are signs of Fanuc, but LinuxCNC runs them too: not enough to switch on.
+    let weak = ["no sign", "tie", "M98", "M99", "`%`"];
+    if d == machine.dialect || weak.iter().any(|w| why.contains(w)) {
         return None;
     }
     let choice = match d {
@@ -200,6 +209,9 @@ impl Assumption {
     }
 }
 
+/// The machine the assumed setup gives, and the job it was merged into; or why it does not fit.
+pub type Applied = Result<(Machine, EffectiveJob), JobError>;
+
 /// The machine `src` runs on when its setup is read from it: the assumed layer under the
 /// user's `layers` (lowest first), applied to `base`. `machine` is `base` with the user's
 /// layers applied (what the check runs without an assumption); the program is read on it.
@@ -211,7 +223,7 @@ pub fn apply(
     base: &Machine,
     machine: &Machine,
     layers: &[&Layer],
-) -> (Assumed, Option<Result<(Machine, EffectiveJob), JobError>>) {
+) -> (Assumed, Option<Applied>) {
     let a = assume(src, file, machine).under(layers);
     if a.layer.is_empty() {
         return (a, None);
@@ -220,3 +232,6 @@ pub fn apply(
     let got = job::apply(base, &eff).map(|m| (m, eff));
     (a, Some(got))
 }
+
+#[cfg(test)]
+mod tests;

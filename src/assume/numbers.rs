@@ -1,7 +1,9 @@
 //! LinuxCNC tool numbers on a turret with fewer stations (docs/assume.md, "Tool numbers"): a
 //! LinuxCNC program's `T7 M6` names tool 7 of the control's tool table, not a station. When the
 //! program names tools the turret has no station for, and neither the machine file nor a job
-//! maps them, each is read as a tool put in a station the program does not use otherwise.
+//! maps them, each is read as a tool put in a station the program does not use otherwise — on a
+//! machine whose setup is an example (`[setup] assume = true`) only: elsewhere those stations'
+//! tools are the shop's.
 
 use super::words::{numbered, split_comment};
 use super::{set, Assumed, Assumption};
@@ -11,7 +13,8 @@ use crate::machine::{Dialect, Machine};
 /// the map, for reading the program's moves station by station; `None` when nothing is mapped.
 pub fn assume(src: &[u8], file: &str, machine: &Machine, out: &mut Assumed) -> Option<Machine> {
     let (m, _) = crate::pipeline::resolve(src, machine);
-    if m.dialect != Dialect::Linuxcnc || !m.tool_numbers.is_empty() || m.kinematics.is_some() {
+    // The stations' tools are the machine file's: only an example setup lends them out.
+    if !m.assume_setup || m.dialect != Dialect::Linuxcnc || !m.tool_numbers.is_empty() || m.kinematics.is_some() {
         return None;
     }
     let stations = m.turret.stations;

@@ -110,6 +110,27 @@ fn evidence(said: Option<&comment::Said>, work: &moves::Work) -> Option<Evidence
     })
 }
 
+/// The stations whose tool works inside the part (a boring bar, a drill, a tap, an internal
+/// threading or grooving tool), by their comment or their moves: their passes say nothing of
+/// the bar's outside diameter.
+pub fn inside_stations(r: &Reading, machine: &Machine, face: f64) -> Vec<u32> {
+    let scale = r.segs.first().map_or(1.0, |s| s.scale);
+    let said = comment::read(r, scale);
+    let fanuc = machine.dialect == Dialect::Fanuc;
+    let mut stations: Vec<u32> = r.segs.iter().map(|s| s.station).collect();
+    stations.sort_unstable();
+    stations.dedup();
+    stations
+        .into_iter()
+        .filter(|&s| {
+            let work = moves::work(r, s, face, fanuc);
+            evidence(said.get(&s), &work).is_some_and(|e| {
+                e.internal || matches!(e.kind, ToolKind::Boring | ToolKind::Drilling | ToolKind::Tapping)
+            })
+        })
+        .collect()
+}
+
 /// `T03` (Fanuc) or `T3` (LinuxCNC).
 fn t_name(machine: &Machine, station: u32) -> String {
     match machine.dialect {

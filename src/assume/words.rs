@@ -46,11 +46,10 @@ pub fn numbered(code: &str, letter: char) -> Vec<u32> {
             while j < chars.len() && chars[j].is_ascii_digit() {
                 j += 1;
             }
-            let next_is_letter =
-                j < chars.len() && chars[j].is_ascii_alphabetic() && chars[j] != 'e' && chars[j] != 'E';
-            if j > start && j - start <= 9 && !(j < chars.len() && chars[j] == '.') && !next_is_letter
-                || j > start && next_is_letter
-            {
+            // A word's digits end at a letter, a space or the line's end (`G00T0202`); a
+            // decimal point makes it another word (`G71.1`).
+            let decimal = j < chars.len() && chars[j] == '.';
+            if j > start && j - start <= 9 && !decimal {
                 let digits: String = chars[start..j].iter().collect();
                 if let Ok(v) = digits.parse() {
                     out.push(v);

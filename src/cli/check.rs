@@ -668,9 +668,6 @@ fn assemble(defaults: Defaults, jobs: &[Job], files: Vec<FileReport>) -> Report 
                 f.settings = Some(j.settings);
             }
             f.job.clone_from(&j.job);
-            if f.assumed.iter().any(|n| !n.kept) {
-                f.job.insert(0, latheguard::assume::LABEL.to_string());
-            }
             f
         })
         .collect();

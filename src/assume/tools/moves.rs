@@ -91,6 +91,13 @@ fn first(to: &mut Option<Seen>, line: u32, words: impl FnOnce() -> String) {
     }
 }
 
+/// The largest lead read as a thread's, mm a revolution: more is a feed misread (a feed per
+/// minute under G95), not a thread.
+const MAX_LEAD: f64 = 12.0;
+
+/// Turning or boring passes beside threading that make a station's moves say nothing.
+const MIXED_PASSES: usize = 3;
+
 /// The largest pull-off of a boring pass toward the axis, mm.
 const PULL_OFF: f64 = 2.0;
 
@@ -121,7 +128,7 @@ pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
                 g.iter().any(|c| matches!(c, 331 | 840 | 842 | 843 | 880)),
             )
         });
-        let lead = s.per_rev.filter(|f| *f >= THREAD_LEAD);
+        let lead = s.per_rev.filter(|f| (THREAD_LEAD..=MAX_LEAD).contains(f));
         let on_axis = s.a[0] < 0.05 && s.b[0] < 0.05;
         let next = next_of(&r.segs, i);
         if on_axis && dz.abs() > 1e-6 {
@@ -176,7 +183,7 @@ pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
                     .is_some_and(|o| o.b[1] > o.a[1] + 1e-3 && o.b[0] <= n.b[0] + 1e-6 && o.a[0] <= n.b[0] + 1e-6)
             });
             match pull {
-                Some((pr, pz)) if pr < -0.05 && pr >= -PULL_OFF && pz <= 2.0 * pr.abs() + 1e-9 && leaves => {
+                Some((pr, pz)) if (-PULL_OFF..-0.05).contains(&pr) && pz <= 2.0 * pr.abs() + 1e-9 && leaves => {
                     w.bores += 1;
                     first(&mut w.bore, s.line, || {
                         format!(
@@ -258,6 +265,11 @@ pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
 pub fn kind(w: &Work) -> Option<(ToolKind, bool, &Seen)> {
     let plunged: f64 = w.plunges.iter().map(|p| p[1] - p[2]).sum();
     let narrow = w.groove.is_some() && w.along_z <= plunged;
+    // A station that threads and also makes several turning or boring passes holds more than
+    // one tool over the program (a T number used twice): its moves decide nothing.
+    if w.thread.is_some() && w.ods + w.bores >= MIXED_PASSES {
+        return None;
+    }
     if let Some(s) = &w.tap {
         Some((ToolKind::Tapping, true, s))
     } else if let Some(s) = &w.drill {

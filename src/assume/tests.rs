@@ -1,0 +1,220 @@
+//! The setup read from the program: one test per rule of docs/assume.md (the tools' rules are
+//! in `tools/tests.rs`).
+
+use super::*;
+use crate::machine::Machine;
+
+/// The built-in machine, its setup an example (as shipped).
+fn example() -> Machine {
+    let m = Machine::builtin();
+    assert!(m.assume_setup, "the built-in machine's setup is an example");
+    m
+}
+
+fn note<'a>(a: &'a Assumed, key: &str) -> &'a Assumption {
+    a.notes
+        .iter()
+        .find(|n| n.key == key)
+        .unwrap_or_else(|| panic!("no `{key}` note in {:?}", a.notes))
+}
+
+fn stock(a: &Assumed) -> &crate::job::JobStock {
+    &a.layer.stock.as_ref().expect("a stock is assumed").value
+}
+
+/// A program roughing a Ø40 profile out of a bar it never names: G71 from X62, profile up
+/// to X58 at its largest.
+const G71: &str = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X62. Z2.\nG71 U2. R0.5\nG71 P10 Q20 U0.4 W0.1 F0.25\nN10 G0 X40.\nG1 Z-30.\nX58. Z-40.\nN20 X62.\nG0 X100. Z100.\nM30\n";
+
+#[test]
+fn a_bar_is_read_from_a_g71_profile_not_from_its_passes_in_the_air() {
+    let a = assume(G71.as_bytes(), "p.nc", &example());
+    // The profile reaches X58: the bar is at least that, rounded up to a stock size (60), and
+    // no bigger than the cycle's start point X62 allows.
+    assert_eq!(stock(&a).diameter, 60.0, "{:?}", a.notes);
+    assert!(!note(&a, "stock").kept);
+    assert!(note(&a, "stock").reason.contains("X58"), "{:?}", note(&a, "stock"));
+}
+
+#[test]
+fn a_stock_comment_gives_the_diameter_as_written() {
+    let src = G71.replace("T0101\n", "T0101 (STOCK DIA 63)\n");
+    let a = assume(src.as_bytes(), "p.nc", &example());
+    assert_eq!(stock(&a).diameter, 63.0);
+    assert!(note(&a, "stock").reason.contains("comment at line 2"));
+    // A move to the stock's size named in its comment, in inches.
+    let src =
+        "G20 G18\nT0101\nG97 S800 M3\nG0 X1.55 Z0.1 (STOCK SIZE)\nG1 Z0. F0.01\nG1 X0.5\nG1 Z-0.4\nG0 X2. Z1.\nM30\n";
+    let a = assume(src.as_bytes(), "p.nc", &example());
+    assert!((stock(&a).diameter - 1.55 * 25.4).abs() < 1e-9, "{:?}", a.notes);
+}
+
+#[test]
+fn a_comment_word_that_only_contains_a_marker_is_no_size() {
+    // DIAGONAL is not DIA, GOOD is not OD: the crash program's comment gives no bar.
+    let src = "G21\nT0101\nG97 S800 M3\nG0 X48. Z3.\nX52. Z0.67 (DIAGONAL PAST THE BAR, GOOD)\nG0 X60.\nM30\n";
+    let a = assume(src.as_bytes(), "p.nc", &example());
+    assert!(a.layer.stock.is_none(), "{:?}", a.notes);
+}
+
+#[test]
+fn the_face_is_the_highest_facing_pass_and_program_zero_follows_it() {
+    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X54. Z1.5\nG1 X-1.6 F0.2\nG0 Z3.\nX54. Z0.\nG1 X-1.6\nG0 Z3.\nX46.\nG1 Z-30.\nU2. W1.\nG0 X100. Z100.\nM30\n";
+    let mut m = example();
+    m.stock = None;
+    let a = assume(src.as_bytes(), "p.nc", &m);
+    let s = stock(&a);
+    let zero = a.layer.program_zero_z.as_ref().expect("program zero").value;
+    // The raw face stands at program Z1.5, the highest pass.
+    assert!((s.front.unwrap() - zero - 1.5).abs() < 1e-9);
+    // The bar: wider than the X46 pass, no wider than the facing start X54 → Ø48.
+    assert_eq!(s.diameter, 48.0, "{:?}", a.notes);
+}
+
+#[test]
+fn a_machine_bar_that_agrees_with_the_program_stays() {
+    // programs/od_turning.nc on the built-in machine: its Ø50 bar 2 mm ahead of Z0 fits.
+    let src = std::fs::read("programs/od_turning.nc").unwrap();
+    let a = assume(&src, "p.nc", &example());
+    assert!(a.layer.stock.is_none());
+    assert!(note(&a, "stock").kept, "{:?}", a.notes);
+    assert!(a.is_empty() || a.notes.iter().filter(|n| !n.kept).all(|n| n.key != "stock"));
+}
+
+#[test]
+fn the_stick_out_leaves_room_for_the_deepest_cut_and_a_part_off() {
+    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X52. Z2.\nG1 X48. Z0. F0.2\nG1 Z-110.\nG0 X60.\nZ2.\nT0808\nG0 X54. Z-113.\nG1 X-1. F0.05\nG0 X60.\nM30\n";
+    let a = assume(src.as_bytes(), "p.nc", &example());
+    let s = stock(&a);
+    let zero = a.layer.program_zero_z.as_ref().unwrap().value;
+    // The jaws' faces are at z 0: the deepest cut (Z-113) stays 10 mm in front of them.
+    let deepest_z = zero - 113.0;
+    assert!(
+        (deepest_z - bar::PART_OFF_ROOM).abs() < 1e-6,
+        "zero {zero} front {:?}",
+        s.front
+    );
+    // The bar reaches into the chuck as the machine's did.
+    assert!(s.length > s.front.unwrap());
+}
+
+#[test]
+fn a_tube_is_read_only_when_the_first_tool_to_cut_bores() {
+    let bore_first = "G21 G18 G99\nT0303\nG97 S800 M3\nG0 X30. Z2.\nG1 Z-20. F0.15\nG1 U-1. W0.5\nG0 Z2.\nX34.\nG1 Z-20.\nU-1. W0.5\nG0 Z2.\nG0 X100. Z100.\nT0101\nG0 X62. Z2.\nG1 Z-30. F0.2\nU2. W1.\nG0 X100. Z100.\nM30\n";
+    let a = assume(bore_first.as_bytes(), "p.nc", &example());
+    let s = stock(&a);
+    // Material under the first pass at X30: bore Ø28.
+    assert_eq!(s.bore, 30.0 - bar::BORE_MATERIAL, "{:?}", a.notes);
+    // The same passes after OD turning bore into a bar no drill opened: no tube, so the
+    // boring bar entering the solid bar is still found.
+    let turn_first = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X62. Z2.\nG1 Z-30. F0.2\nU2. W1.\nG0 X100. Z100.\nT0303\nG0 X30. Z2.\nG1 Z-20. F0.15\nG1 U-1. W0.5\nG0 Z2.\nG0 X100. Z100.\nM30\n";
+    let a = assume(turn_first.as_bytes(), "p.nc", &example());
+    assert_eq!(stock(&a).bore, 0.0, "{:?}", a.notes);
+}
+
+#[test]
+fn a_program_that_never_starts_the_spindle_is_read_as_a_dry_run() {
+    let src = G71.replace(" M3", "");
+    let mut m = example();
+    m.stock = None;
+    let a = assume(src.as_bytes(), "p.nc", &m);
+    assert!(a.layer.stock.is_none(), "{:?}", a.notes);
+}
+
+#[test]
+fn the_shops_own_bar_is_never_replaced() {
+    let mut m = example();
+    m.assume_setup = false;
+    let a = assume(G71.as_bytes(), "p.nc", &m);
+    assert!(a.layer.stock.is_none() && a.layer.program_zero_z.is_none());
+    // A machine file with no bar at all is given one.
+    m.stock = None;
+    let a = assume(G71.as_bytes(), "p.nc", &m);
+    assert_eq!(stock(&a).diameter, 60.0);
+}
+
+fn small_lathe() -> Machine {
+    let text = std::fs::read_to_string("machines/linuxcnc-small-lathe.toml").unwrap();
+    let mut m = crate::machine::from_toml(&text, "small.toml").unwrap();
+    m.assume_setup = true;
+    m
+}
+
+#[test]
+fn linuxcnc_tool_numbers_past_the_turret_go_to_stations_the_program_leaves_free() {
+    let src = "G18 G21 G7\nT1 M6\nS800 M3\nG0 X30 Z2\nG1 Z-10 F100\nG0 X40\nT7 M6\nG0 X30 Z2\nG1 Z-5\nG0 X40\nT303 M6\nG0 X30 Z2\nM2\n";
+    let a = assume(src.as_bytes(), "p.ngc", &small_lathe());
+    let map: Vec<(u32, u32)> = a.layer.tool_numbers.iter().map(|s| s.value).collect();
+    // T1 stays in station 1; T7 takes the first free station; T303 its own digits' station 3.
+    assert_eq!(map, vec![(1, 1), (7, 2), (303, 3)]);
+    assert_eq!(note(&a, "tool_numbers").value, "T7 in station 2, T303 in station 3");
+    // The map is applied: no "no station" finding is left.
+    let m = small_lathe();
+    let eff = crate::job::EffectiveJob::merge([&a.layer]);
+    let applied = crate::job::apply(&m, &eff).expect("the assumed setup fits");
+    let out = crate::pipeline::check(src.as_bytes(), &applied, &crate::pipeline::Settings::default());
+    assert!(
+        out.findings.iter().all(|f| !f.message.contains("no station")),
+        "{:?}",
+        out.findings
+    );
+}
+
+#[test]
+fn the_tailstock_stays_only_when_the_program_calls_for_it() {
+    let m = small_lathe();
+    assert!(m.tailstock.is_some() && m.tailstock_advanced);
+    let short = "G18 G21 G7\nT1 M6\nS800 M3\nG0 X20 Z2\nG1 Z-10 F100\nG0 X30\nM2\n";
+    let a = assume(short.as_bytes(), "p.ngc", &m);
+    assert_eq!(a.layer.tailstock_in_use.as_ref().map(|s| s.value), Some(false));
+    let named = short.replace("S800 M3", "S800 M3 (LIVE CENTER IN)");
+    let a = assume(named.as_bytes(), "p.ngc", &m);
+    assert_ne!(a.layer.tailstock_in_use.as_ref().map(|s| s.value), Some(false));
+    assert!(note(&a, "tailstock").reason.contains("live center"), "{:?}", a.notes);
+}
+
+#[test]
+fn a_fanuc_program_on_a_linuxcnc_example_machine_is_read_as_fanuc() {
+    let src = "O0001\nN1 T0202\nN2 G97 S800 M3\nN3 G0 X30. Z2.\nN4 G1 Z-10. F0.2\nN5 G0 X40.\nM30\n";
+    let a = assume(src.as_bytes(), "p.nc", &small_lathe());
+    assert_eq!(
+        a.layer.dialect.as_ref().map(|d| d.value),
+        Some(crate::job::DialectChoice::Fanuc)
+    );
+    // A shop's own machine keeps its dialect.
+    let mut m = small_lathe();
+    m.assume_setup = false;
+    assert!(assume(src.as_bytes(), "p.nc", &m).layer.dialect.is_none());
+}
+
+#[test]
+fn a_users_layer_takes_the_keys_it_sets_and_their_partners() {
+    let a = assume(G71.as_bytes(), "p.nc", &example());
+    assert!(a.layer.stock.is_some() && a.layer.program_zero_z.is_some());
+    let mut user = Layer::new("job");
+    user.program_zero_z = Some(set(70.0, "j.toml", 1, "program_zero_z"));
+    let under = a.under(&[&user]);
+    // Program zero and the bar go together.
+    assert!(under.layer.stock.is_none() && under.layer.program_zero_z.is_none());
+    assert!(under.notes.iter().all(|n| n.key != "stock"));
+}
+
+#[test]
+fn hostile_programs_give_no_panic_and_no_absurd_bar() {
+    let bad: [&[u8]; 6] = [
+        b"",
+        b"G0 X1e30 Z1e30\nM3 S100\nG1 Z-1e30 F1\n",
+        b"M3 S100\nG1 X-0 Z-0 F1\nG1 X0 Z0\n",
+        b"(STOCK DIA 1e400)\nM3 S100\nG1 X10 Z-5 F1\n",
+        b"(STOCK DIA -5)\n(BAR OD)\nM3 S100\nG1 X10 Z-5 F1\n",
+        b"\xff\xfe(\xe2\x8c\x80 STOCK \x00 DIA \xe2)\nT99999999999 M6\n",
+    ];
+    for src in bad {
+        let a = assume(src, "p.nc", &example());
+        if let Some(s) = &a.layer.stock {
+            assert!(s.value.diameter.is_finite() && s.value.diameter > 0.0, "{:?}", a.notes);
+        }
+        // Whatever it assumed applies, or is refused with an error.
+        let _ = crate::job::apply(&example(), &crate::job::EffectiveJob::merge([&a.layer]));
+    }
+}
