@@ -36,6 +36,10 @@ use crate::machine::{num, ChuckForm, Machine};
 /// when it parts off at the axis (a drum's face stands some 30 mm behind the tool's tip).
 pub const PART_OFF_ROOM: f64 = 40.0;
 
+/// The machine file's stick-out stays when it leaves at least this much room past the deepest
+/// cut, mm (a parting blade's).
+pub const KEEP_ROOM: f64 = 10.0;
+
 /// The largest pull-off of a boring pass toward the axis, mm.
 const PULL_OFF: f64 = 2.0;
 
@@ -169,6 +173,13 @@ impl Evidence {
         let mut first_feed = None;
         let mut cycle_starts: Vec<At> = Vec::new();
         for (i, s) in r.segs.iter().enumerate() {
+            // A roughing cycle's first move starts from its start point, outside the bar.
+            if s.cycle && (i == 0 || !r.segs[i - 1].cycle || r.segs[i - 1].line != s.line) {
+                cycle_starts.push(At {
+                    v: s.a[0],
+                    line: s.line,
+                });
+            }
             if s.kind != SegKind::Feed {
                 continue;
             }
@@ -180,19 +191,10 @@ impl Evidence {
                 continue;
             }
             let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
-            // A roughing cycle's passes start from its start point, often in the air: its
-            // profile is what it cuts to (the part lies inside the bar), its first move where
-            // it starts from (outside the bar).
-            if s.cycle {
-                if s.profile && s.b[1] < below {
-                    max_at(&mut e.reach, s.a[0].max(s.b[0]), s.line);
-                }
-                if i == 0 || !r.segs[i - 1].cycle || r.segs[i - 1].line != s.line {
-                    cycle_starts.push(At {
-                        v: s.a[0],
-                        line: s.line,
-                    });
-                }
+            // A roughing cycle's passes start from its start point, often in the air: only its
+            // profile counts, as what the part reaches (it lies inside the bar), never as a pass.
+            let in_cycle = s.cycle;
+            if in_cycle && !s.profile {
                 continue;
             }
             if dz < 0.0 && plunge_before_facing(r, i) {
@@ -214,6 +216,7 @@ impl Evidence {
             } else {
                 (None, (s.a[1] < below).then_some(s.a[0]))
             };
+            let (cut, reach) = if in_cycle { (None, cut.or(reach)) } else { (cut, reach) };
             if (cut.is_some() || reach.is_some()) && first_feed.is_none() {
                 first_feed = Some(i);
             }
@@ -509,7 +512,10 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
     let deepest = e.deepest.map_or(0.0, |d| d.v);
     let need_front = jaw_face + (face - deepest.min(face)) + PART_OFF_ROOM;
     let (front, why_front) = match ms {
-        Some(s) if s.front >= need_front - 1e-9 && machine_face.is_some_and(|m| (m - face).abs() < 1e-9) => {
+        Some(s)
+            if s.front >= need_front - (PART_OFF_ROOM - KEEP_ROOM) - 1e-9
+                && machine_face.is_some_and(|m| (m - face).abs() < 1e-9) =>
+        {
             (s.front, "the machine file's stick-out leaves room".to_string())
         }
         _ => (

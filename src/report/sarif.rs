@@ -323,6 +323,26 @@ fn message(f: &Finding) -> String {
     super::text::with_facts(f.message.clone(), f, false, false)
 }
 
+/// A note about a whole file (no region): what became of it, or what was read from it.
+fn file_note(path: &str, text: String, id: &'static str) -> Notification {
+    let (uri, uri_base_id) = uri(path);
+    Notification {
+        level: "note",
+        message: Message { text },
+        locations: vec![Location {
+            physical_location: PhysicalLocation {
+                artifact_location: ArtifactLocation {
+                    uri,
+                    uri_base_id,
+                    index: None,
+                },
+                region: None,
+            },
+        }],
+        descriptor: Descriptor { id },
+    }
+}
+
 /// The whole batch as one SARIF 2.1.0 log (pretty-printed, with a trailing newline).
 pub fn sarif(r: &Report) -> String {
     let rules: Vec<Rule> = Kind::ALL.iter().map(|&k| rule(k, r.docs_url.as_deref())).collect();
@@ -331,42 +351,10 @@ pub fn sarif(r: &Report) -> String {
     let mut notes = Vec::new();
     for f in &r.files {
         if f.status() == super::Status::NoMotion {
-            let (uri, uri_base_id) = uri(&f.path);
-            notes.push(Notification {
-                level: "note",
-                message: Message {
-                    text: super::NO_MOTION_MESSAGE.into(),
-                },
-                locations: vec![Location {
-                    physical_location: PhysicalLocation {
-                        artifact_location: ArtifactLocation {
-                            uri,
-                            uri_base_id,
-                            index: None,
-                        },
-                        region: None,
-                    },
-                }],
-                descriptor: Descriptor { id: "no_motion" },
-            });
+            notes.push(file_note(&f.path, super::NO_MOTION_MESSAGE.into(), "no_motion"));
         }
         if let Some(line) = crate::assume::sentence(&f.assumed) {
-            let (uri, uri_base_id) = uri(&f.path);
-            notes.push(Notification {
-                level: "note",
-                message: Message { text: line },
-                locations: vec![Location {
-                    physical_location: PhysicalLocation {
-                        artifact_location: ArtifactLocation {
-                            uri,
-                            uri_base_id,
-                            index: None,
-                        },
-                        region: None,
-                    },
-                }],
-                descriptor: Descriptor { id: "setup_assumed" },
-            });
+            notes.push(file_note(&f.path, line, "setup_assumed"));
         }
         if f.findings.is_empty() && f.suppressed.is_empty() {
             continue;
