@@ -34,9 +34,9 @@ fn error_lines(findings: &[Finding]) -> BTreeSet<u32> {
 /// The machine `src` is checked on with its setup read from it (the machine itself when
 /// nothing is read or the reading does not fit).
 fn assumed_machine(src: &[u8], name: &str, m: &Machine) -> Machine {
-    match latheguard::assume::apply(src, name, m, m, &[]).1 {
-        Some(Ok((am, _))) => am,
-        _ => m.clone(),
+    match latheguard::assume::apply(src, name, m).machine {
+        Some((am, _)) => am,
+        None => m.clone(),
     }
 }
 

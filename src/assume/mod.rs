@@ -5,9 +5,9 @@
 //! [`assume`] interprets the program once on the machine (its moves in program coordinates,
 //! [`reading::Reading`]), reads the bar and program zero from what the program cuts and how it
 //! approaches ([`bar`]), and each station's tool from its comment and what it does ([`tools`]).
-//! The result is an ordinary job [`Layer`] (labelled [`LABEL`]) laid under every job layer a
-//! user writes, so a job always wins, key by key; and one [`Assumption`] per value, with its
-//! reason and the program line it rests on.
+//! The result is an ordinary job [`Layer`] (labelled [`LABEL`]), applied as a job is, and one
+//! [`Assumption`] per value, with its reason and the program line it rests on. Only a program
+//! with no job is read: a job, even of one key, says the setup is written down.
 //!
 //! Where the program gives no evidence, the machine file's setup stays. A machine file's
 //! `[stock]`, `[setup]` and `[[tools]]` are the shop's truth unless it says `[setup] assume =
@@ -26,7 +26,7 @@ pub mod tailstock;
 pub mod tools;
 pub mod words;
 
-use crate::job::{self, EffectiveJob, JobError, Layer, Place, Set};
+use crate::job::{self, EffectiveJob, Layer, Place, Set};
 use crate::machine::Machine;
 
 /// The label of the assumed layer (what `setup` and the reports name it by).
@@ -57,12 +57,6 @@ pub struct Assumed {
 }
 
 impl Assumed {
-    /// One line for the text report, the values assumed (not those kept): `bar Ø50 × 90 mm,
-    /// 60 mm out of the jaws, T03 boring bar`. Empty when nothing was assumed.
-    pub fn summary(&self) -> String {
-        summary(&self.notes)
-    }
-
     /// Nothing was assumed: every value is the machine file's.
     pub fn is_empty(&self) -> bool {
         self.notes.iter().all(|n| n.kept)
@@ -160,48 +154,6 @@ fn dialect(src: &[u8], file: &str, machine: &Machine, out: &mut Assumed) -> Opti
     Some(m)
 }
 
-impl Assumed {
-    /// Drop what a user's layer sets: the bar and program zero go together (a layer that sets
-    /// the stock, program zero or G54 takes both), a tool goes with its station.
-    pub fn under(mut self, layers: &[&Layer]) -> Assumed {
-        let zero_or_stock = layers
-            .iter()
-            .any(|l| l.stock.is_some() || l.program_zero_z.is_some() || l.work_offsets[0].is_some());
-        if zero_or_stock {
-            self.layer.stock = None;
-            self.layer.program_zero_z = None;
-            self.notes.retain(|n| !n.key.starts_with("stock"));
-        }
-        if layers.iter().any(|l| l.dialect.is_some()) {
-            self.layer.dialect = None;
-            self.notes.retain(|n| n.key != "dialect");
-        }
-        if layers
-            .iter()
-            .any(|l| !l.tool_numbers.is_empty() || l.tool_numbers_table.is_some())
-        {
-            self.layer.tool_numbers.clear();
-            self.notes.retain(|n| n.key != "tool_numbers");
-        }
-        if layers
-            .iter()
-            .any(|l| l.tailstock_in_use.is_some() || l.tailstock_z.is_some())
-        {
-            self.layer.tailstock_in_use = None;
-            self.layer.tailstock_z = None;
-            self.notes.retain(|n| n.key != "tailstock");
-        }
-        let stations: Vec<u32> = layers
-            .iter()
-            .flat_map(|l| l.tools.iter().map(|t| t.value.tool.station))
-            .collect();
-        self.layer.tools.retain(|t| !stations.contains(&t.value.tool.station));
-        self.notes
-            .retain(|n| n.station().map_or(true, |s| !stations.contains(&s)));
-        self
-    }
-}
-
 impl Assumption {
     /// The station of a `tools.N` note.
     pub fn station(&self) -> Option<u32> {
@@ -209,28 +161,47 @@ impl Assumption {
     }
 }
 
-/// The machine the assumed setup gives, and the job it was merged into; or why it does not fit.
-pub type Applied = Result<(Machine, EffectiveJob), JobError>;
+/// What a program with no job is checked on: the machine with the setup read from it (and the
+/// job that setup makes), or `None` when nothing was read or what was read does not fit the
+/// machine; and the notes, each value with its reason (with a last note saying why, when it did
+/// not fit).
+pub struct Applied {
+    pub machine: Option<(Machine, EffectiveJob)>,
+    pub notes: Vec<Assumption>,
+}
 
-/// The machine `src` runs on when its setup is read from it: the assumed layer under the
-/// user's `layers` (lowest first), applied to `base`. `machine` is `base` with the user's
-/// layers applied (what the check runs without an assumption); the program is read on it.
-/// `None` when nothing is assumed; `Err` when the assumed setup does not fit the machine (the
-/// notes then say so, and the check runs on `machine`).
-pub fn apply(
-    src: &[u8],
-    file: &str,
-    base: &Machine,
-    machine: &Machine,
-    layers: &[&Layer],
-) -> (Assumed, Option<Applied>) {
-    let a = assume(src, file, machine).under(layers);
+/// Read the setup of `src` (shown as `file`) on `machine`, a machine with no job applied, and
+/// apply it (`job::apply`, validated as any job is).
+pub fn apply(src: &[u8], file: &str, machine: &Machine) -> Applied {
+    let a = assume(src, file, machine);
     if a.layer.is_empty() {
-        return (a, None);
+        return Applied {
+            machine: None,
+            notes: a.notes,
+        };
     }
-    let eff = EffectiveJob::merge(std::iter::once(&a.layer).chain(layers.iter().copied()));
-    let got = job::apply(base, &eff).map(|m| (m, eff));
-    (a, Some(got))
+    let eff = EffectiveJob::merge([&a.layer]);
+    match job::apply(machine, &eff) {
+        Ok(m) => Applied {
+            machine: Some((m, eff)),
+            notes: a.notes,
+        },
+        Err(e) => {
+            let mut notes = a.notes;
+            notes.retain(|n| n.kept);
+            notes.push(Assumption {
+                key: "setup".into(),
+                value: "the machine file's setup".into(),
+                reason: format!(
+                    "the setup read from the program does not fit the machine ({}): write a job",
+                    e.message
+                ),
+                line: 0,
+                kept: true,
+            });
+            Applied { machine: None, notes }
+        }
+    }
 }
 
 #[cfg(test)]

@@ -76,7 +76,9 @@ impl Reading {
         let cycle_lines: Vec<bool> = std::iter::once(false)
             .chain(lines.iter().map(|l| {
                 let (code, _) = super::words::split_comment(l);
-                super::words::numbered(&code, 'G').iter().any(|g| (70..=73).contains(g))
+                super::words::g_codes(&code)
+                    .iter()
+                    .any(|g| [700, 710, 720, 730].contains(g))
             }))
             .collect();
         let mut segs = Vec::new();

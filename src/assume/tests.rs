@@ -188,15 +188,18 @@ fn a_fanuc_program_on_a_linuxcnc_example_machine_is_read_as_fanuc() {
 }
 
 #[test]
-fn a_users_layer_takes_the_keys_it_sets_and_their_partners() {
-    let a = assume(G71.as_bytes(), "p.nc", &example());
-    assert!(a.layer.stock.is_some() && a.layer.program_zero_z.is_some());
-    let mut user = Layer::new("job");
-    user.program_zero_z = Some(set(70.0, "j.toml", 1, "program_zero_z"));
-    let under = a.under(&[&user]);
-    // Program zero and the bar go together.
-    assert!(under.layer.stock.is_none() && under.layer.program_zero_z.is_none());
-    assert!(under.notes.iter().all(|n| n.key != "stock"));
+fn what_is_read_is_applied_as_a_job_is() {
+    let m = example();
+    let a = apply(G71.as_bytes(), "p.nc", &m);
+    let (applied, job) = a.machine.expect("the read setup fits the built-in machine");
+    assert_eq!(job.layers, vec![LABEL.to_string()]);
+    assert_eq!(applied.stock.as_ref().unwrap().diameter, 60.0);
+    // The jaws close on the new bar, as they do on a job's.
+    assert_ne!(applied.chuck, m.chuck);
+    assert!(a.notes.iter().any(|n| n.key == "stock" && !n.kept));
+    // Nothing read (a program that never moves): the machine as it is.
+    let none = apply(b"G21\nM30\n", "p.nc", &m);
+    assert!(none.machine.is_none() && none.notes.is_empty());
 }
 
 #[test]

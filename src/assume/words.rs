@@ -1,18 +1,22 @@
 //! The words of a program's source as the assumption reads them: each line's code without its
 //! comments, the comments, and the numbered words of a letter (T, M).
 
-/// A line's code and its comments (`( … )` and `;` to the end), in that order.
+/// A line's code and its comment text (`( … )` and `;` to the end; several comments joined by
+/// a space, trimmed).
 pub fn split_comment(line: &str) -> (String, String) {
     let (mut code, mut comment) = (String::new(), String::new());
-    let mut depth = 0;
+    let mut depth = 0u32;
     for (k, ch) in line.char_indices() {
         match ch {
-            '(' => depth += 1,
-            ')' if depth > 0 => {
-                depth -= 1;
-                comment.push(' ');
+            '(' => {
+                depth += 1;
+                if depth == 1 && !comment.is_empty() {
+                    comment.push(' ');
+                }
             }
+            ')' if depth > 0 => depth -= 1,
             ';' if depth == 0 => {
+                comment.push(' ');
                 comment.push_str(&line[k + 1..]);
                 break;
             }
@@ -20,7 +24,28 @@ pub fn split_comment(line: &str) -> (String, String) {
             _ => code.push(ch),
         }
     }
-    (code, comment)
+    (code, comment.trim().to_string())
+}
+
+/// The G codes of a line of code, in tenths (`G33.1` → 331, `G71` → 710), each under G100.
+pub fn g_codes(code: &str) -> Vec<u32> {
+    let up: Vec<char> = code.to_uppercase().chars().collect();
+    let mut out = Vec::new();
+    for (i, c) in up.iter().enumerate() {
+        if *c != 'G' || (i > 0 && up[i - 1].is_alphabetic()) {
+            continue;
+        }
+        let n: String = up[i + 1..]
+            .iter()
+            .take_while(|c| c.is_ascii_digit() || **c == '.')
+            .collect();
+        if let Ok(v) = n.parse::<f64>() {
+            if v.is_finite() && (0.0..1000.0).contains(&v) {
+                out.push((v * 10.0).round() as u32);
+            }
+        }
+    }
+    out
 }
 
 /// The values of the words of `letter` in a line of code (outside comments): `T0303` → 303,

@@ -40,8 +40,8 @@ struct Job {
     rules: gate::Rules,
     /// Its latheguard.toml's `fail-on`.
     fail_on: Option<FailOn>,
-    /// Read the setup from the program under the job layers (`None`: `--no-assume`).
-    assume: Option<super::setup::AssumeBase>,
+    /// The program has no job: read its setup from it (`setup::assumed_machine`).
+    assume: bool,
 }
 
 pub fn run(mut a: CheckArgs, color: ColorArg) -> Result<u8, Trouble> {
@@ -552,9 +552,11 @@ fn check_one(job: &Job, input: &Input) -> (FileReport, bool) {
         },
     };
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        let (machine, assumed) = match &job.assume {
-            Some(a) => a.machine_for(&src, &path, &job.machine),
-            None => (job.machine.clone(), Vec::new()),
+        let (machine, assumed) = if job.assume {
+            let (m, _, notes) = super::setup::assumed_machine(&src, &path, &job.machine);
+            (m, notes)
+        } else {
+            (job.machine.clone(), Vec::new())
         };
         (pipeline::check(&src, &machine, &job.settings), assumed)
     }));

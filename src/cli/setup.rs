@@ -28,46 +28,25 @@ pub struct Resolved {
     /// That configuration, read.
     pub cfg: Option<Arc<super::config::Config>>,
     pub job: Arc<EffectiveJob>,
-    /// When the setup is to be read from the program (`crate::assume`): the machine file and
-    /// the user's job layers, lowest first, to lay the assumption under. `None`: `--no-assume`,
-    /// or a machine the assumption does not read (a turn-mill machine).
-    pub assume: Option<AssumeBase>,
+    /// The program has no job and its machine is one the reading knows (`crate::assume`): its
+    /// setup is read from it (`assumed_machine`). False with `--no-assume`.
+    pub assume: bool,
     /// What `setup` read from the program (filled by `run`).
     pub assumed: Vec<Assumption>,
 }
 
-/// What an assumption is laid under: the machine file and the user's job layers.
-#[derive(Clone)]
-pub struct AssumeBase {
-    pub base: Arc<Machine>,
-    pub layers: Vec<Arc<Layer>>,
-}
-
-impl AssumeBase {
-    /// The machine `src` (shown as `file`) is checked on, and what was assumed: `machine` (the
-    /// user's setup) when nothing was, or when the assumed setup does not fit (a note says why).
-    pub fn machine_for(&self, src: &[u8], file: &str, machine: &Arc<Machine>) -> (Arc<Machine>, Vec<Assumption>) {
-        let layers: Vec<&Layer> = self.layers.iter().map(|l| l.as_ref()).collect();
-        let (a, got) = latheguard::assume::apply(src, file, &self.base, machine, &layers);
-        match got {
-            None => (machine.clone(), a.notes),
-            Some(Ok((m, _))) => (Arc::new(m), a.notes),
-            Some(Err(e)) => {
-                let mut notes = a.notes;
-                notes.retain(|n| n.kept);
-                notes.push(Assumption {
-                    key: "setup".into(),
-                    value: "the machine file's setup".into(),
-                    reason: format!(
-                        "the setup read from the program does not fit the machine ({}): write a job",
-                        e.message
-                    ),
-                    line: 0,
-                    kept: true,
-                });
-                (machine.clone(), notes)
-            }
-        }
+/// The machine a program with no job is checked on: `machine` with the setup read from `src`
+/// (shown as `file`) applied, and that job; `machine` itself and no job when nothing was read or
+/// it does not fit (a note says why). With the notes of what was read.
+pub fn assumed_machine(
+    src: &[u8],
+    file: &str,
+    machine: &Arc<Machine>,
+) -> (Arc<Machine>, Option<EffectiveJob>, Vec<Assumption>) {
+    let a = latheguard::assume::apply(src, file, machine);
+    match a.machine {
+        Some((m, job)) => (Arc::new(m), Some(job), a.notes),
+        None => (machine.clone(), None, a.notes),
     }
 }
 
@@ -225,10 +204,7 @@ impl Planner {
         }
         // Only a program with no job at all is read for its setup: a job, even of one key,
         // says the setup is written down.
-        let assume = (!self.no_assume && layers.is_empty() && base.kinematics.is_none()).then(|| AssumeBase {
-            base: base.clone(),
-            layers: layers.clone(),
-        });
+        let assume = !self.no_assume && layers.is_empty() && base.kinematics.is_none();
         Ok(Resolved {
             machine,
             machine_file,
@@ -318,24 +294,18 @@ const MACHINE: &str = "machine";
 /// The setup read from the program (docs/assume.md), laid under the job: `r` then shows the
 /// machine and job the check runs with. The notes, each value with its reason.
 fn read_setup(program: &Path, r: &mut Resolved) -> Vec<Assumption> {
-    let Some(a) = r.assume.clone() else {
+    if !r.assume {
         return Vec::new();
-    };
+    }
     let Ok(src) = super::check::read_program(program) else {
         return Vec::new();
     };
-    let layers: Vec<&Layer> = a.layers.iter().map(|l| l.as_ref()).collect();
-    let shown = super::shown(program);
-    let (got, applied) = latheguard::assume::apply(&src, &shown, &a.base, &r.machine, &layers);
-    match applied {
-        None => got.notes,
-        Some(Ok((m, eff))) => {
-            r.machine = Arc::new(m);
-            r.job = Arc::new(eff);
-            got.notes
-        }
-        Some(Err(_)) => a.machine_for(&src, &shown, &r.machine).1,
+    let (machine, job, notes) = assumed_machine(&src, &super::shown(program), &r.machine);
+    if let Some(job) = job {
+        r.machine = machine;
+        r.job = Arc::new(job);
     }
+    notes
 }
 
 /// On a machine whose file says `dialect = "auto"`: the dialect the program's own signs choose
@@ -744,10 +714,7 @@ fn text(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
         let _ = writeln!(s, "{line}");
     }
     if !r.assumed.is_empty() {
-        let _ = writeln!(
-            s,
-            "  read from the program (a job wins over each; --no-assume turns it off)"
-        );
+        let _ = writeln!(s, "  read from the program (a job, or --no-assume, turns this off)");
         for n in &r.assumed {
             let what = if n.kept { "kept" } else { "assumed" };
             let _ = writeln!(s, "    {}: {} ({what}): {}", n.key, n.value, n.reason);

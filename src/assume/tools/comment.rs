@@ -2,6 +2,7 @@
 //! line before, `N30 T0101 (OD ROUGH)`, LinuxCNC `T3 M6 (drill 10mm)`, and a tool list at the
 //! head of the program (`(T6 DRILL 20)`).
 
+use crate::assume::words::split_comment;
 use std::collections::BTreeMap;
 
 use super::super::reading::Reading;
@@ -19,31 +20,6 @@ pub struct Said {
     pub text: String,
     /// 1-based line of the comment.
     pub line: u32,
-}
-
-/// A line's code and its comment text (`( … )` and `;` to the end).
-pub fn split(line: &str) -> (String, String) {
-    let (mut code, mut comment) = (String::new(), String::new());
-    let mut depth = 0u32;
-    for (k, ch) in line.char_indices() {
-        match ch {
-            '(' => {
-                depth += 1;
-                if depth == 1 && !comment.is_empty() {
-                    comment.push(' ');
-                }
-            }
-            ')' if depth > 0 => depth -= 1,
-            ';' if depth == 0 => {
-                comment.push(' ');
-                comment.push_str(&line[k + 1..]);
-                break;
-            }
-            _ if depth > 0 => comment.push(ch),
-            _ => code.push(ch),
-        }
-    }
-    (code, comment.trim().to_string())
 }
 
 /// The words of a text, upper case, split at anything not a letter or digit (`U-DRILL` → `U`,
@@ -209,7 +185,7 @@ pub fn read(r: &Reading, scale: f64) -> BTreeMap<u32, Said> {
     }
     // The station of the first move at `line` or after, before the line `until`.
     let station_from = |line: u32, until: u32| at_line.range(line..until).next().map(|(_, s)| *s);
-    let parts: Vec<(String, String)> = r.lines.iter().map(|l| split(l)).collect();
+    let parts: Vec<(String, String)> = r.lines.iter().map(|l| split_comment(l)).collect();
     let comment_only = |i: usize| -> Option<&str> {
         let (code, comment) = parts.get(i)?;
         let code = code

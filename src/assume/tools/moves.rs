@@ -3,6 +3,7 @@
 
 use super::super::reading::{Reading, Seg, SegKind};
 use super::ToolKind;
+use crate::assume::words::{g_codes, split_comment};
 use crate::machine::num;
 
 /// How far below the face a point must be to count as inside the bar, mm.
@@ -63,28 +64,6 @@ fn z_of(s: &Seg, z: f64) -> String {
     format!("Z{}", num(s.z_word(z)))
 }
 
-/// The G codes of a line's code, ×10 (`G33.1` → 331).
-fn g_codes(line: &str) -> Vec<u32> {
-    let (code, _) = super::comment::split(line);
-    let up: Vec<char> = code.to_uppercase().chars().collect();
-    let mut out = Vec::new();
-    for (i, c) in up.iter().enumerate() {
-        if *c != 'G' || (i > 0 && up[i - 1].is_alphabetic()) {
-            continue;
-        }
-        let n: String = up[i + 1..]
-            .iter()
-            .take_while(|c| c.is_ascii_digit() || **c == '.')
-            .collect();
-        if let Ok(v) = n.parse::<f64>() {
-            if v.is_finite() && (0.0..1000.0).contains(&v) {
-                out.push((v * 10.0).round() as u32);
-            }
-        }
-    }
-    out
-}
-
 fn first(to: &mut Option<Seen>, line: u32, words: impl FnOnce() -> String) {
     if to.is_none() {
         *to = Some(Seen { line, words: words() });
@@ -121,7 +100,7 @@ pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
         w.deepest = Some(w.deepest.map_or(zlo, |d: f64| d.min(zlo)));
         // A line's codes are read once, however often its moves run.
         let (thread_code, tap_code) = *codes.entry(s.line).or_insert_with(|| {
-            let g = g_codes(r.line(s.line));
+            let g = g_codes(&split_comment(r.line(s.line)).0);
             (
                 g.iter()
                     .any(|c| matches!(c, 320 | 330 | 760 | 780) || (*c == 920 && fanuc)),
