@@ -84,24 +84,61 @@ impl CylGrid {
         if min.x <= 0.0 && max.x >= 0.0 && min.y <= 0.0 && max.y >= 0.0 {
             return vec![(0, self.nth - 1)];
         }
-        let tau = std::f64::consts::TAU;
         let corners = [(min.x, min.y), (max.x, min.y), (max.x, max.y), (min.x, max.y)];
         // The box does not hold the axis: its corners' angles lie within less than π of its
         // centre's; the arc is from the least to the greatest of them, unwrapped about it.
         let c = ((min.y + max.y) / 2.0).atan2((min.x + max.x) / 2.0);
+        let (lo, hi) = Self::spread(c, corners.iter().map(|&(x, y)| (y.atan2(x), 0.0)));
+        self.arc_nodes(c, lo, hi)
+    }
+
+    /// The node angles whose ray can meet the sweep: the arc that the quadrilateral of its axis
+    /// segment's ends, grown by the cutter's radius, spans seen from the axis (each corner's disc
+    /// seen from the axis gives its angle ± asin(radius / distance), and the extreme tangents of
+    /// a convex set grown by a disc touch the discs of its corners). Where that grown
+    /// quadrilateral comes within a hair of the axis, the box's arc ([`CylGrid::angles`]).
+    pub(crate) fn sweep_angles(&self, sw: &Sweep) -> Vec<(usize, usize)> {
+        let corners = sw.corners_xy();
+        let r = sw.reach();
+        let clear = distance_to_quad(&corners) - r;
+        if clear.is_nan() || clear <= 1e-6 * (1.0 + r) {
+            return self.angles(&sw.min, &sw.max);
+        }
+        let (cx, cy) = corners
+            .iter()
+            .fold((0.0, 0.0), |(a, b), &(x, y)| (a + x / 4.0, b + y / 4.0));
+        let c = cy.atan2(cx);
+        let (lo, hi) = Self::spread(
+            c,
+            corners
+                .iter()
+                .map(|&(x, y)| (y.atan2(x), (r / x.hypot(y)).min(1.0).asin())),
+        );
+        self.arc_nodes(c, lo, hi)
+    }
+
+    /// The least and greatest of `angle ± half` about `c` (each unwrapped to within π of it).
+    fn spread(c: f64, angles: impl Iterator<Item = (f64, f64)>) -> (f64, f64) {
+        let tau = std::f64::consts::TAU;
         let mut lo = f64::INFINITY;
         let mut hi = f64::NEG_INFINITY;
-        for (x, y) in corners {
-            let mut a = y.atan2(x) - c;
+        for (a, half) in angles {
+            let mut a = a - c;
             a -= tau * (a / tau).round();
-            lo = lo.min(a);
-            hi = hi.max(a);
+            lo = lo.min(a - half);
+            hi = hi.max(a + half);
         }
+        (lo, hi)
+    }
+
+    /// The node ranges whose angles lie in `[c + lo, c + hi]`, with a node's spacing of margin.
+    fn arc_nodes(&self, c: f64, lo: f64, hi: f64) -> Vec<(usize, usize)> {
+        let tau = std::f64::consts::TAU;
         let step = tau / self.nth as f64;
         let i0 = ((c + lo) / step - 0.5).floor() as i64;
         let i1 = ((c + hi) / step - 0.5).ceil() as i64;
         let n = self.nth as i64;
-        if i1 - i0 + 1 >= n {
+        if hi - lo >= tau || hi.is_nan() || lo.is_nan() || i1 - i0 + 1 >= n {
             return vec![(0, self.nth - 1)];
         }
         let (a, b) = (i0.rem_euclid(n) as usize, i1.rem_euclid(n) as usize);
@@ -112,11 +149,6 @@ impl CylGrid {
         }
     }
 
-    /// Apply a sweep (or with `apply` false only measure it): each node whose ray meets it at its outer end loses what the sweep holds.
-    /// Returns the volume removed (mm³) and the columns changed (first, last).
-    ///
-    /// A ray also loses the sweep's stretch when everything between the sweep and its boundary
-    /// `R` is air by the stock's other grids (`air`, sampled every `step` mm).
     pub fn cut(
         &mut self,
         sw: &Sweep,
@@ -135,7 +167,7 @@ impl CylGrid {
         let dth = std::f64::consts::TAU / self.nth as f64;
         let mut removed = 0.0;
         let mut changed: Option<(usize, usize)> = None;
-        let arcs = self.angles(&sw.min, &sw.max);
+        let arcs = self.sweep_angles(sw);
         for j in j0..=j1 {
             if self.col_max[j] <= self.inner[j] || self.col_max[j] + 1e-9 < near {
                 continue;
@@ -264,6 +296,47 @@ pub(crate) fn angle(x: f64, y: f64) -> f64 {
         a -= TAU;
     }
     a
+}
+
+/// The distance from the axis (the origin of x, y) to the quadrilateral of `corners` (0 inside).
+fn distance_to_quad(corners: &[(f64, f64); 4]) -> f64 {
+    let mut best = f64::INFINITY;
+    let mut sign = 0i32;
+    let mut convex_inside = true;
+    for k in 0..4 {
+        let (ax, ay) = corners[k];
+        let (bx, by) = corners[(k + 1) % 4];
+        let (dx, dy) = (bx - ax, by - ay);
+        let len2 = dx * dx + dy * dy;
+        let t = if len2 > 0.0 {
+            (-(ax * dx + ay * dy) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        best = best.min((ax + t * dx).hypot(ay + t * dy));
+        // The origin's side of each edge: inside when the same for all (the quadrilateral is a
+        // parallelogram, convex, possibly flat).
+        let cross = dx * (-ay) - dy * (-ax);
+        let s = if cross > 0.0 {
+            1
+        } else if cross < 0.0 {
+            -1
+        } else {
+            0
+        };
+        if s != 0 {
+            if sign == 0 {
+                sign = s;
+            } else if s != sign {
+                convex_inside = false;
+            }
+        }
+    }
+    if convex_inside {
+        0.0
+    } else {
+        best
+    }
 }
 
 #[cfg(test)]

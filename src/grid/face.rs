@@ -210,5 +210,24 @@ pub(crate) fn air_along(
         return false;
     }
     let n = n.max(1.0) as usize;
-    (0..n).all(|k| air(o + (a + (b - a) * (k as f64 + 0.5) / n as f64) * u))
+    let at = |k: usize| air(o + (a + (b - a) * (k as f64 + 0.5) / n as f64) * u);
+    // Every sample must be air, so the order does not change the answer, only how soon
+    // material is met: coarse to fine, so that a stretch of material of any width is met
+    // after about `n / width` samples, not after every sample before it.
+    let mut stride = n.next_power_of_two();
+    at(n - 1)
+        && loop {
+            let top = stride >= n;
+            if !(0..n)
+                .step_by(stride.max(1))
+                .filter(|k| top || k % (2 * stride) != 0)
+                .all(at)
+            {
+                break false;
+            }
+            if stride <= 1 {
+                break true;
+            }
+            stride /= 2;
+        }
 }

@@ -160,63 +160,150 @@ fn extreme_t(q: &Quad, lins: &[Lin], t0: f64, t1: f64) -> Option<(f64, f64)> {
     (lo <= hi).then_some((lo.max(t0), hi.min(t1)))
 }
 
+/// A ray seen across a sweep's axis: what [`ray_disc`] needs of the ray and the sweep, the
+/// same for every disc piece of one cutter (computed once per ray).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Across {
+    /// The ray's start, direction and the sweep's motion, projected across the axis.
+    pw: Vector2<f64>,
+    pu: Vector2<f64>,
+    pv: Vector2<f64>,
+    /// Their components along the axis: `h(t, s) = ha + t·ua − s·va`.
+    ha: f64,
+    ua: f64,
+    va: f64,
+}
+
+/// A basis `(e1, e2)` of the plane across the unit axis `a`.
+pub(crate) fn basis_across(a: Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    let e1 = a
+        .cross(&if a.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() })
+        .normalize();
+    (e1, a.cross(&e1))
+}
+
+impl Across {
+    /// The ray `o + t·u` against a cutter whose tip moves from `p0` by `v` along the axis `a`
+    /// with `(e1, e2)` its [`basis_across`].
+    pub(crate) fn new(
+        o: Vector3<f64>,
+        u: Vector3<f64>,
+        p0: Vector3<f64>,
+        v: Vector3<f64>,
+        a: Vector3<f64>,
+        (e1, e2): (Vector3<f64>, Vector3<f64>),
+    ) -> Across {
+        let w = o - p0;
+        let proj = |x: Vector3<f64>| Vector2::new(x.dot(&e1), x.dot(&e2));
+        Across {
+            pw: proj(w),
+            pu: proj(u),
+            pv: proj(v),
+            ha: w.dot(&a),
+            ua: u.dot(&a),
+            va: v.dot(&a),
+        }
+    }
+
+    /// An outer bound of the `t` where the ray can be inside the disc piece (radius `r`, heights
+    /// `h0..h1`) at some instant of the move, within `[t0, t1]`: from the heights and from the
+    /// radius alone, each a strip linear in `t` and `s`. `None`: certainly outside it. Closed
+    /// forms, no clipping: a cheap test of whether [`Across::disc`] can say anything new.
+    pub(crate) fn disc_bound(&self, (t0, t1): (f64, f64), r: f64, (h0, h1): (f64, f64)) -> Option<(f64, f64)> {
+        let (mut lo, mut hi) = (t0, t1);
+        // Heights: h0 ≤ ha + t·ua − s·va ≤ h1 for some s in [0, 1].
+        let h_slack = 1e-9 * (1.0 + self.ha.abs() + h0.abs() + h1.abs() + self.va.abs());
+        if self.ua.abs() > 1e-9 {
+            let mut a = f64::INFINITY;
+            let mut b = f64::NEG_INFINITY;
+            for s in [0.0, 1.0] {
+                for h in [h0 - h_slack, h1 + h_slack] {
+                    let t = (h - self.ha + s * self.va) / self.ua;
+                    a = a.min(t);
+                    b = b.max(t);
+                }
+            }
+            lo = lo.max(a);
+            hi = hi.min(b);
+        } else {
+            // Height all but fixed along the ray: only the motion moves it.
+            let reach = self.ua.abs() * t0.abs().max(t1.abs());
+            let (a, b) = (self.ha - self.va.max(0.0) - reach, self.ha - self.va.min(0.0) + reach);
+            if b < h0 - h_slack || a > h1 + h_slack {
+                return None;
+            }
+        }
+        // Radius: |pw + t·pu − s·pv| ≤ r bounds the projection on pu.
+        let pp = self.pu.norm_squared();
+        if pp > 1e-18 {
+            let n = pp.sqrt();
+            let half = r / n * (1.0 + 1e-9) + 1e-9;
+            let c0 = -self.pw.dot(&self.pu) / pp;
+            let c1 = -(self.pw - self.pv).dot(&self.pu) / pp;
+            lo = lo.max(c0.min(c1) - half);
+            hi = hi.min(c0.max(c1) + half);
+        }
+        let pad = 1e-9 * (1.0 + lo.abs().max(hi.abs()));
+        (lo <= hi + pad).then_some((lo - pad, hi + pad))
+    }
+
+    /// The `t ∈ [t0, t1]` where the ray is inside the disc piece (radius `r` about the axis, from
+    /// height `h0` to `h1` above the tip) at some instant of the move.
+    pub(crate) fn disc(&self, (t0, t1): (f64, f64), r: f64, (h0, h1): (f64, f64)) -> Option<(f64, f64)> {
+        let Across { pw, pu, pv, ha, ua, va } = *self;
+        if pu.norm_squared() < 1e-24 {
+            // The ray along the cutter's axis (a face grid under an end mill): the
+            // fractions s that put the ray inside the disc's circle, then the heights at their ends.
+            let (qq, qw, ww) = (pv.norm_squared(), pw.dot(&pv), pw.norm_squared() - r * r);
+            let (s0, s1) = if qq < 1e-24 {
+                if ww > 0.0 {
+                    return None;
+                }
+                (0.0, 1.0)
+            } else {
+                let (rt, n) = roots(qq, -qw, ww);
+                if n == 0 {
+                    return None;
+                }
+                (rt[0].max(0.0), rt[n - 1].min(1.0))
+            };
+            if s0 > s1 {
+                return None;
+            }
+            let mut lo = f64::INFINITY;
+            let mut hi = f64::NEG_INFINITY;
+            for s in [s0, s1] {
+                for h in [h0, h1] {
+                    let t = (h - ha + s * va) / ua;
+                    lo = lo.min(t);
+                    hi = hi.max(t);
+                }
+            }
+            let (lo, hi) = (lo.max(t0), hi.min(t1));
+            return (lo <= hi).then_some((lo, hi));
+        }
+        let q = Quad::new2(pw, pu, pv, r);
+        let lins = [[ua, -va, ha - h0], [-ua, va, h1 - ha]];
+        extreme_t(&q, &lins, t0, t1)
+    }
+}
+
 /// The ray `o + t·u`, `t ∈ [t0, t1]`, against a disc piece (radius `r` about the axis `a`, from
-/// height `h0` to `h1` above the tip) of a cutter whose tip moves from `p0` by `v`.
+/// height `h0` to `h1` above the tip) of a cutter whose tip moves from `p0` by `v` (one piece
+/// alone: the oracle of [`Sweep`](super::cutter::Sweep)'s skips).
+#[cfg(test)]
 #[allow(clippy::too_many_arguments)]
-pub fn ray_disc(
+pub(crate) fn ray_disc(
     o: Vector3<f64>,
     u: Vector3<f64>,
-    (t0, t1): (f64, f64),
+    t: (f64, f64),
     p0: Vector3<f64>,
     v: Vector3<f64>,
     a: Vector3<f64>,
     r: f64,
-    (h0, h1): (f64, f64),
+    h: (f64, f64),
 ) -> Option<(f64, f64)> {
-    let w = o - p0;
-    // A basis of the plane across the axis.
-    let e1 = a
-        .cross(&if a.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() })
-        .normalize();
-    let e2 = a.cross(&e1);
-    let proj = |x: Vector3<f64>| Vector2::new(x.dot(&e1), x.dot(&e2));
-    // h(t, s) = w·a + t u·a − s v·a
-    let (ha, ua, va) = (w.dot(&a), u.dot(&a), v.dot(&a));
-    let (pw, pu, pv) = (proj(w), proj(u), proj(v));
-    if pu.norm_squared() < 1e-24 {
-        // The ray along the cutter's axis (a face grid under an end mill): the
-        // fractions s that put the ray inside the disc's circle, then the heights at their ends.
-        let (qq, qw, ww) = (pv.norm_squared(), pw.dot(&pv), pw.norm_squared() - r * r);
-        let (s0, s1) = if qq < 1e-24 {
-            if ww > 0.0 {
-                return None;
-            }
-            (0.0, 1.0)
-        } else {
-            let (rt, n) = roots(qq, -qw, ww);
-            if n == 0 {
-                return None;
-            }
-            (rt[0].max(0.0), rt[n - 1].min(1.0))
-        };
-        if s0 > s1 {
-            return None;
-        }
-        let mut lo = f64::INFINITY;
-        let mut hi = f64::NEG_INFINITY;
-        for s in [s0, s1] {
-            for h in [h0, h1] {
-                let t = (h - ha + s * va) / ua;
-                lo = lo.min(t);
-                hi = hi.max(t);
-            }
-        }
-        let (lo, hi) = (lo.max(t0), hi.min(t1));
-        return (lo <= hi).then_some((lo, hi));
-    }
-    let q = Quad::new2(pw, pu, pv, r);
-    let lins = [[ua, -va, ha - h0], [-ua, va, h1 - ha]];
-    extreme_t(&q, &lins, t0, t1)
+    Across::new(o, u, p0, v, a, basis_across(a)).disc(t, r, h)
 }
 
 /// The ray against a ball of radius `r` whose centre moves from `c0` by `v` (a capsule).

@@ -369,3 +369,112 @@ fn a_block_milled_on_two_faces_loses_both_pockets() {
     let got = v0 - s.volume();
     assert!((got - want).abs() < 0.05 * want, "removed {got}, closed form {want}");
 }
+
+/// A random cutter of every kind, and a random move of it near a Ø40 bar.
+fn random_sweeps(n: usize) -> Vec<Sweep> {
+    let mut seed = 987_654_321u64;
+    let mut rnd = move || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut out = Vec::new();
+    while out.len() < n {
+        let d = 2.0 + 14.0 * rnd();
+        let l = d + 30.0 * rnd();
+        let kind = match (rnd() * 4.0) as u32 {
+            0 => CutterKind::Flat,
+            1 => CutterKind::Ball,
+            2 => CutterKind::Bull {
+                corner_radius: d / 2.0 * (0.1 + 0.8 * rnd()),
+            },
+            _ => CutterKind::Drill {
+                point_angle_deg: 90.0 + 50.0 * rnd(),
+            },
+        };
+        let c = Cutter::new(kind, d, l).unwrap();
+        let mut p = || Vector3::new(60.0 * rnd() - 30.0, 60.0 * rnd() - 30.0, 40.0 * rnd());
+        let (a, b) = (p(), p());
+        // Half of the moves short, as a C turn's chords are.
+        let b = if rnd() < 0.5 { a + (b - a) * 0.05 } else { b };
+        let axis = Vector3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5);
+        if let Some(sw) = Sweep::new(&c, axis, a, b, 0.02 + 0.1 * rnd()) {
+            out.push(sw);
+        }
+    }
+    out
+}
+
+#[test]
+fn a_ray_skipping_pieces_by_their_bounds_meets_the_sweep_where_every_piece_does() {
+    // Oracle: every piece measured exactly. The skips (a piece whose outer bound lies within
+    // the interval so far, a ray that misses the hull) may never change the answer.
+    let mut seed = 42u64;
+    let mut rnd = move || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut hits = 0;
+    for sw in random_sweeps(300) {
+        for _ in 0..200 {
+            // Rays from the axis outward (the cylindrical grid's) and along a random direction
+            // through the sweep's box (a face grid's).
+            let (o, u) = if rnd() < 0.5 {
+                let th = std::f64::consts::TAU * rnd();
+                (
+                    Vector3::new(0.0, 0.0, 40.0 * rnd()),
+                    Vector3::new(th.cos(), th.sin(), 0.0),
+                )
+            } else {
+                let m = sw.min + (sw.max - sw.min).component_mul(&Vector3::new(rnd(), rnd(), rnd()));
+                let u = Vector3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize();
+                (m - 30.0 * u, u)
+            };
+            let (t0, t1) = (0.0, 60.0 * rnd());
+            let got = sw.ray(o, u, t0, t1);
+            let want = sw.ray_every_piece(o, u, t0, t1);
+            match (got, want) {
+                (Some(g), Some(w)) => {
+                    hits += 1;
+                    assert!((g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9, "{g:?} vs {w:?}");
+                }
+                (None, None) => {}
+                _ => panic!("{got:?} vs {want:?}: ray {o:?} {u:?} on {sw:?}"),
+            }
+        }
+    }
+    assert!(hits > 5000, "the rays must meet the sweeps often: {hits}");
+}
+
+#[test]
+fn the_arc_of_nodes_a_sweep_can_reach_holds_every_node_whose_ray_meets_it() {
+    // Oracle: every node of every column under the sweep, each ray cast against it.
+    let g = CylGrid::new(0.0, 1.0, 40, 360, |_| Some((0.0, 40.0)));
+    let mut narrower = 0;
+    for sw in random_sweeps(200) {
+        let arcs = g.sweep_angles(&sw);
+        let inside = |i: usize| arcs.iter().any(|&(a, b)| (a..=b).contains(&i));
+        let Some((j0, j1)) = g.columns(sw.min.z, sw.max.z) else {
+            continue;
+        };
+        for j in j0..=j1 {
+            for i in 0..g.nth {
+                let th = g.theta(i);
+                let u = Vector3::new(th.cos(), th.sin(), 0.0);
+                if sw.ray(Vector3::new(0.0, 0.0, g.z(j)), u, 0.0, 100.0).is_some() {
+                    assert!(
+                        inside(i),
+                        "node {i} of column {j} meets the sweep outside {arcs:?}: {sw:?}"
+                    );
+                }
+            }
+        }
+        let width = |v: &[(usize, usize)]| v.iter().map(|&(a, b)| b - a + 1).sum::<usize>();
+        if width(&arcs) < width(&g.angles(&sw.min, &sw.max)) {
+            narrower += 1;
+        }
+    }
+    assert!(
+        narrower > 50,
+        "the sweep's own arc is narrower than its box's on most moves: {narrower}"
+    );
+}
