@@ -139,18 +139,56 @@ impl Scene {
         let axis_x = r_ref.x + self.turret_axis;
         let mut b = Aabb::empty();
         let pts = shape.points();
+        let Some(&last) = pts.last() else {
+            return b;
+        };
+        // A vertex in 3D across the spindle axis (x3, y3) and its z.
+        let lift = |q: P2| {
+            let p = q + tip;
+            let d = p.x - self.turret_axis;
+            (axis_x + d * c, d * s, r_ref.y + p.y)
+        };
+        // Each vertex once; the closest approach to the axis along each edge where it lies
+        // strictly inside the edge (at an end it is that end, already in the box). Distance
+        // from the spindle axis is convex along a straight 3D segment: its extremes are at the
+        // ends or at the closest point, which the polygon's chords do not go below.
+        let mut prev = lift(last);
+        for &q in pts {
+            let cur = lift(q);
+            let (xe, ye, ze) = cur;
+            b.add(P2::new((xe * xe + ye * ye).sqrt(), ze));
+            let (xa, ya, za) = prev;
+            let (dx, dy) = (xe - xa, ye - ya);
+            let len2 = dx * dx + dy * dy;
+            if len2 > 0.0 {
+                let t = -(xa * dx + ya * dy) / len2;
+                if t > 0.0 && t < 1.0 {
+                    let (x, y) = (xa + dx * t, ya + dy * t);
+                    b.add(P2::new((x * x + y * y).sqrt(), za + (ze - za) * t));
+                }
+            }
+            prev = cur;
+        }
+        b
+    }
+
+    /// [`Scene::map_box`] as first written (every edge's two ends and its clamped closest
+    /// point): the oracle of the faster one.
+    #[cfg(test)]
+    pub(crate) fn map_box_every_edge(&self, shape: &Polygon, tip: V2, r_ref: P2, angle: f64) -> Aabb {
+        let (s, c) = angle.sin_cos();
+        let axis_x = r_ref.x + self.turret_axis;
+        let mut b = Aabb::empty();
+        let pts = shape.points();
         let n = pts.len();
         for i in 0..n {
             let (a, e) = (pts[i], pts[(i + 1) % n]);
-            // Distance from the spindle axis is convex along a straight 3D segment: its extremes
-            // are at the ends or at the closest point, which the polygon's chords do not go below.
             for q in [a, e] {
                 let p = q + tip;
                 let d = p.x - self.turret_axis;
                 let (x3, y3) = (axis_x + d * c, d * s);
                 b.add(P2::new((x3 * x3 + y3 * y3).sqrt(), r_ref.y + p.y));
             }
-            // The closest approach to the axis along the edge (a lower bound for r).
             let (pa, pe) = (a + tip, e + tip);
             let (da, de) = (pa.x - self.turret_axis, pe.x - self.turret_axis);
             let (xa, ya) = (axis_x + da * c, da * s);
@@ -274,4 +312,56 @@ fn imaginary_tip(sharp: &Polygon, rounded: Polygon) -> Polygon {
         shift.y = -rb.max.y;
     }
     rounded.translated(shift)
+}
+
+#[cfg(test)]
+mod map_box_tests {
+    use super::*;
+
+    #[test]
+    fn the_box_of_a_tool_turned_out_of_the_plane_is_the_box_every_edge_gives() {
+        // Oracle: every edge's two ends and its clamped closest point, as first written; and
+        // the box holds every point of the mapped section it stands for.
+        let machine = crate::machine::Machine::builtin();
+        let scene = Scene::new(&machine, 0.01);
+        let mut seed = 7u64;
+        let mut rnd = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut checked = 0;
+        for station in 1..=machine.turret.stations {
+            let Some(t) = scene.tool(station) else { continue };
+            for shape in [&t.holder, &t.insert] {
+                for _ in 0..200 {
+                    let r_ref = P2::new(400.0 * rnd() - 100.0, 400.0 * rnd() - 200.0);
+                    let angle = std::f64::consts::TAU * (rnd() - 0.5) * if rnd() < 0.2 { 0.0 } else { 1.0 };
+                    let fast = scene.map_box(shape, t.tip, r_ref, angle);
+                    let slow = scene.map_box_every_edge(shape, t.tip, r_ref, angle);
+                    let eps = 1e-9 * (1.0 + slow.max.x.abs() + slow.max.y.abs());
+                    for (a, b) in [
+                        (fast.min.x, slow.min.x),
+                        (fast.min.y, slow.min.y),
+                        (fast.max.x, slow.max.x),
+                        (fast.max.y, slow.max.y),
+                    ] {
+                        assert!((a - b).abs() <= eps, "{fast:?} against {slow:?}");
+                    }
+                    if let Some(p) = scene.map_to_section(shape, t.tip, r_ref, angle) {
+                        for q in p.points() {
+                            assert!(
+                                q.x >= fast.min.x - eps
+                                    && q.x <= fast.max.x + eps
+                                    && q.y >= fast.min.y - eps
+                                    && q.y <= fast.max.y + eps,
+                                "{q:?} outside {fast:?}"
+                            );
+                        }
+                    }
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked >= 1000, "{checked}");
+    }
 }
