@@ -8,8 +8,8 @@
 //! included, so the triangles around the face still share their edges with it and the surface
 //! stays closed. The outline is triangulated by a constrained Delaunay triangulation (`spade`,
 //! exact predicates) in the plane: the outline's edges as constraints, the triangles inside the
-//! outline (an odd number of constraints crossed from outside) kept. The face's points are then
-//! put on its plane (they lie on it only to the bisection's tolerance).
+//! outline (an odd number of constraints crossed from outside) kept. For the STL the face's
+//! points are then put on its plane (they lie on it only to the bisection's tolerance).
 //!
 //! A face is left as it was (and counted) when the result could not be proved right: an outline
 //! that touches itself at a point, two outline points at the same place, an outline edge through
@@ -44,8 +44,10 @@ struct Face {
 }
 
 /// Merges every flat face across the axis of a closed surface (see the module's text); `tol` is
-/// how far from its plane a face's point may lie (mm).
-pub fn merge(m: &mut Surface, tol: f64) -> FlatFaces {
+/// how far from its plane a face's point may lie (mm); with `snap`, the points of a merged face
+/// are put on its plane (for the STL; the pictures keep them where the bisection found them, so
+/// that a part touching the face draws as it did).
+pub fn merge(m: &mut Surface, tol: f64, snap: bool) -> FlatFaces {
     let mut out = FlatFaces {
         triangles_before: m.triangles.len(),
         ..FlatFaces::default()
@@ -83,7 +85,9 @@ pub fn merge(m: &mut Surface, tol: f64) -> FlatFaces {
                         used.insert((a.min(b), a.max(b)));
                     }
                     for &v in t {
-                        m.vertices[v as usize][2] = z;
+                        if snap {
+                            m.vertices[v as usize][2] = z;
+                        }
                     }
                 }
                 added.extend(tris);
@@ -213,13 +217,15 @@ fn triangulate(
     if want >= f.tris.len() {
         return Err(Left::Small);
     }
-    let zs: Vec<f64> = next.keys().map(|&v| m.vertices[v as usize][2]).collect();
-    let z = zs.iter().sum::<f64>() / zs.len() as f64;
+    // In the order of the points' numbers: the same file from the same stock on every run.
+    let mut order: Vec<u32> = next.keys().copied().collect();
+    order.sort_unstable();
+    let z = order.iter().map(|&v| m.vertices[v as usize][2]).sum::<f64>() / points as f64;
 
     let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> = ConstrainedDelaunayTriangulation::new();
     let mut handle = HashMap::with_capacity(points);
     let mut vertex_of = Vec::with_capacity(points);
-    for &v in next.keys() {
+    for &v in &order {
         let p = m.vertices[v as usize];
         let h = cdt.insert(Point2::new(p[0], p[1])).map_err(|_| Left::Unsafe)?;
         if h.index() != vertex_of.len() {

@@ -38,8 +38,17 @@ fn assert_closed(m: &Surface) {
 /// area, fewer triangles after.
 fn merged(s: &Stock, cells: usize) -> (Surface, Surface, FlatFaces) {
     let (raw, h) = mesh::lattice(s, cells).expect("a surface");
+    // The pictures' merge (points left where they were) makes the same triangles.
+    let mut kept_points = raw.clone();
+    let pictures = flat_faces::merge(&mut kept_points, mesh::PLANE_TOL * h, false);
+    assert_closed(&kept_points);
     let mut m = raw.clone();
-    let got = flat_faces::merge(&mut m, mesh::PLANE_TOL * h);
+    let got = flat_faces::merge(&mut m, mesh::PLANE_TOL * h, true);
+    assert_eq!(pictures, got);
+    assert!(
+        kept_points.triangles == m.triangles,
+        "the same triangles, snapped or not"
+    );
     assert_eq!(got.triangles_before, raw.triangles.len());
     assert_closed(&raw);
     assert_closed(&m);
@@ -249,13 +258,13 @@ fn faces_that_cannot_be_merged_safely_are_left_and_counted() {
         *p = p.map(|x| x * scale);
     }
     let before = huge.triangles.clone();
-    let got = flat_faces::merge(&mut huge, mesh::PLANE_TOL * h * scale);
+    let got = flat_faces::merge(&mut huge, mesh::PLANE_TOL * h * scale, true);
     assert_eq!((got.merged, got.kept), (0, 2));
     assert!(huge.triangles == before, "the faces' triangles are kept as they were");
     // One triangle twice: not a closed surface, nothing done.
     let mut twice = raw.clone();
     twice.triangles.push(twice.triangles[0]);
-    let got = flat_faces::merge(&mut twice, mesh::PLANE_TOL * h);
+    let got = flat_faces::merge(&mut twice, mesh::PLANE_TOL * h, true);
     assert_eq!((got.merged, got.kept, got.small), (0, 0, 0));
     assert_eq!(twice.triangles.len(), raw.triangles.len() + 1);
 }

@@ -131,11 +131,12 @@ fn levels(lo: f64, hi: f64, h: f64, keep: impl Fn(f64) -> bool) -> Vec<f64> {
 pub const PLANE_TOL: f64 = 1e-3;
 
 /// The surface of the stock with about `cells` lattice cells across its width (never finer than
-/// its grids resolve), its flat faces across the axis written as one polygon each; `None` for a
-/// stock with no material box or a surface past [`MAX_TRIANGLES`] at every spacing tried.
+/// its grids resolve), its flat faces across the axis written as one polygon each (their points
+/// left where the bisection put them: the pictures' part); `None` for a stock with no material
+/// box or a surface past [`MAX_TRIANGLES`] at every spacing tried.
 pub fn surface(s: &Stock, cells: usize) -> Option<Surface> {
     let (mut m, h) = lattice(s, cells)?;
-    m.flat = flat_faces::merge(&mut m, PLANE_TOL * h);
+    m.flat = flat_faces::merge(&mut m, PLANE_TOL * h, false);
     Some(m)
 }
 
@@ -254,7 +255,10 @@ fn surface_at(s: &Stock, lo: Vector3<f64>, hi: Vector3<f64>, h: f64) -> Option<S
     Some(m)
 }
 
-/// The stock's surface as binary STL (`--stock-out`).
+/// The stock's surface as binary STL (`--stock-out`): its flat faces across the axis written as
+/// one polygon each, their points on the face's plane.
 pub(super) fn stl(s: &Stock) -> Option<Vec<u8>> {
-    surface(s, STL_CELLS_ACROSS).map(|m| m.stl())
+    let (mut m, h) = lattice(s, STL_CELLS_ACROSS)?;
+    m.flat = flat_faces::merge(&mut m, PLANE_TOL * h, true);
+    Some(m.stl())
 }
