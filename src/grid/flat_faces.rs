@@ -37,7 +37,7 @@ pub struct FlatFaces {
     pub triangles_before: usize,
 }
 
-/// A face found: its triangles, which way it faces, its plane.
+/// A face found: its triangles and which way it faces (+z: `up`).
 struct Face {
     tris: Vec<usize>,
     up: bool,
