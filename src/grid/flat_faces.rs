@@ -57,24 +57,24 @@ pub fn merge(m: &mut Surface, tol: f64, snap: bool) -> FlatFaces {
     }
     // Each directed edge → its triangle; a surface with an edge run twice the same way is not
     // closed: leave it.
-    let mut owner: HashMap<(u32, u32), usize> = HashMap::with_capacity(3 * m.triangles.len());
-    for (i, t) in m.triangles.iter().enumerate() {
-        for k in 0..3 {
-            if owner.insert((t[k], t[(k + 1) % 3]), i).is_some() {
-                return out;
-            }
-        }
-    }
-    let faces = find_faces(m, &owner, tol);
+    let Some(edges) = Edges::new(m) else { return out };
+    let (faces, face_of) = find_faces(m, &edges, tol);
     if faces.is_empty() {
         return out;
     }
-    // Every undirected edge of the surface: a new inside edge must be none of them.
-    let mut used: HashSet<(u32, u32)> = owner.keys().map(|&(a, b)| (a.min(b), a.max(b))).collect();
+    // The inside edges of the faces merged so far: a new inside edge must be none of them (nor
+    // an edge of the surface outside its own face).
+    let mut new_edges: HashSet<(u32, u32)> = HashSet::new();
     let mut gone = vec![false; m.triangles.len()];
     let mut added: Vec<[u32; 3]> = Vec::new();
-    for f in &faces {
-        match triangulate(m, f, &owner, &used) {
+    for (id, f) in faces.iter().enumerate() {
+        let here = Here {
+            edges: &edges,
+            face_of: &face_of,
+            id,
+            new_edges: &new_edges,
+        };
+        match triangulate(m, f, &here) {
             Ok((tris, z)) => {
                 for &i in &f.tris {
                     gone[i] = true;
@@ -82,7 +82,7 @@ pub fn merge(m: &mut Surface, tol: f64, snap: bool) -> FlatFaces {
                 for t in &tris {
                     for k in 0..3 {
                         let (a, b) = (t[k], t[(k + 1) % 3]);
-                        used.insert((a.min(b), a.max(b)));
+                        new_edges.insert((a.min(b), a.max(b)));
                     }
                     for &v in t {
                         if snap {
@@ -113,8 +113,77 @@ pub fn merge(m: &mut Surface, tol: f64, snap: bool) -> FlatFaces {
     out
 }
 
-/// The faces across the axis of more than one triangle.
-fn find_faces(m: &Surface, owner: &HashMap<(u32, u32), usize>, tol: f64) -> Vec<Face> {
+/// The surface's directed edges by their first point (sorted by their second), each with its
+/// triangle: an edge's triangle is found without hashing.
+struct Edges {
+    start: Vec<usize>,
+    to: Vec<(u32, usize)>,
+}
+
+impl Edges {
+    /// `None` if some edge is run twice the same way.
+    fn new(m: &Surface) -> Option<Edges> {
+        let mut start = vec![0usize; m.vertices.len() + 1];
+        for t in &m.triangles {
+            for &v in t {
+                start[v as usize + 1] += 1;
+            }
+        }
+        for v in 0..m.vertices.len() {
+            start[v + 1] += start[v];
+        }
+        let mut fill = start.clone();
+        let mut to = vec![(0u32, 0usize); start[m.vertices.len()]];
+        for (i, t) in m.triangles.iter().enumerate() {
+            for k in 0..3 {
+                let a = t[k] as usize;
+                to[fill[a]] = (t[(k + 1) % 3], i);
+                fill[a] += 1;
+            }
+        }
+        for v in 0..m.vertices.len() {
+            let out = &mut to[start[v]..start[v + 1]];
+            out.sort_unstable();
+            if out.windows(2).any(|w| w[0].0 == w[1].0) {
+                return None;
+            }
+        }
+        Some(Edges { start, to })
+    }
+
+    /// The triangle that runs the edge from `a` to `b`.
+    fn owner(&self, a: u32, b: u32) -> Option<usize> {
+        let out = &self.to[self.start[a as usize]..self.start[a as usize + 1]];
+        out.binary_search_by_key(&b, |e| e.0).ok().map(|k| out[k].1)
+    }
+}
+
+/// What a face's triangulation is checked against: the surface's edges, which face each triangle
+/// belongs to, this face's number, the inside edges of the faces merged before it.
+struct Here<'a> {
+    edges: &'a Edges,
+    face_of: &'a [usize],
+    id: usize,
+    new_edges: &'a HashSet<(u32, u32)>,
+}
+
+impl Here<'_> {
+    fn mine(&self, tri: Option<usize>) -> bool {
+        tri.is_some_and(|i| self.face_of[i] == self.id)
+    }
+
+    /// Whether a new inside edge between `a` and `b` is one no other triangle has: an edge of the
+    /// surface only if both its triangles are this face's, and none a face merged before made.
+    fn free(&self, a: u32, b: u32) -> bool {
+        let (ab, ba) = (self.edges.owner(a, b), self.edges.owner(b, a));
+        let old_ok = (ab.is_none() && ba.is_none()) || (self.mine(ab) && self.mine(ba));
+        old_ok && !self.new_edges.contains(&(a.min(b), a.max(b)))
+    }
+}
+
+/// The faces across the axis of more than one triangle, and each triangle's face (`usize::MAX`:
+/// none).
+fn find_faces(m: &Surface, edges: &Edges, tol: f64) -> (Vec<Face>, Vec<usize>) {
     let p = |v: u32| m.vertices[v as usize];
     // Per triangle: its mean z and which way it faces, if it lies in a plane across the axis.
     let flat: Vec<Option<(f64, bool)>> = m
@@ -131,6 +200,7 @@ fn find_faces(m: &Surface, owner: &HashMap<(u32, u32), usize>, tol: f64) -> Vec<
         })
         .collect();
     let mut seen = vec![false; m.triangles.len()];
+    let mut face_of = vec![usize::MAX; m.triangles.len()];
     let mut faces = Vec::new();
     for start in 0..m.triangles.len() {
         let Some((_, up)) = flat[start] else { continue };
@@ -146,7 +216,7 @@ fn find_faces(m: &Surface, owner: &HashMap<(u32, u32), usize>, tol: f64) -> Vec<
             let (zi, _) = flat[i].unwrap_or_default();
             let t = m.triangles[i];
             for e in 0..3 {
-                let Some(&j) = owner.get(&(t[(e + 1) % 3], t[e])) else {
+                let Some(j) = edges.owner(t[(e + 1) % 3], t[e]) else {
                     continue;
                 };
                 if seen[j] {
@@ -161,10 +231,13 @@ fn find_faces(m: &Surface, owner: &HashMap<(u32, u32), usize>, tol: f64) -> Vec<
             }
         }
         if tris.len() > 1 {
+            for &i in &tris {
+                face_of[i] = faces.len();
+            }
             faces.push(Face { tris, up });
         }
     }
-    faces
+    (faces, face_of)
 }
 
 fn xy(p: [f64; 3]) -> robust::Coord<f64> {
@@ -181,25 +254,15 @@ enum Left {
 
 /// The face's triangles through its outline points only, facing as the face did, and its plane's
 /// z.
-fn triangulate(
-    m: &Surface,
-    f: &Face,
-    owner: &HashMap<(u32, u32), usize>,
-    used: &HashSet<(u32, u32)>,
-) -> Result<(Vec<[u32; 3]>, f64), Left> {
-    let mine: HashSet<usize> = f.tris.iter().copied().collect();
-    // The outline (directed as the face runs it) and the edges inside the face.
+fn triangulate(m: &Surface, f: &Face, here: &Here) -> Result<(Vec<[u32; 3]>, f64), Left> {
+    // The outline, directed as the face runs it.
     let mut outline: Vec<(u32, u32)> = Vec::new();
-    let mut inner: HashSet<(u32, u32)> = HashSet::new();
     for &i in &f.tris {
         let t = m.triangles[i];
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
-            match owner.get(&(b, a)) {
-                Some(j) if mine.contains(j) => {
-                    inner.insert((a.min(b), a.max(b)));
-                }
-                _ => outline.push((a, b)),
+            if !here.mine(here.edges.owner(b, a)) {
+                outline.push((a, b));
             }
         }
     }
@@ -280,8 +343,7 @@ fn triangulate(
     let mut rim = 0;
     for &(a, b) in &dir {
         if dir.contains(&(b, a)) {
-            let key = (a.min(b), a.max(b));
-            if used.contains(&key) && !inner.contains(&key) {
+            if !here.free(a, b) {
                 return Err(Left::Unsafe);
             }
         } else {

@@ -13,6 +13,9 @@
 //! levels only where the stock changes — around a column of the cylindrical grid that differs
 //! from its neighbour, and over the box of every face grid's cuts — and at the ends; a turned
 //! stretch no tool milled is one slab of long triangles.
+//!
+//! **Flat faces across the axis are one polygon each** (`flat_faces.rs`): a bar's end, a face with
+//! a slot in it, a pocket's floor, re-triangulated through their outline points only.
 
 use nalgebra::Vector3;
 use std::collections::HashMap;
