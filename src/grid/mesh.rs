@@ -13,10 +13,14 @@
 //! levels only where the stock changes — around a column of the cylindrical grid that differs
 //! from its neighbour, and over the box of every face grid's cuts — and at the ends; a turned
 //! stretch no tool milled is one slab of long triangles.
+//!
+//! **Flat faces across the axis are one polygon each** (`flat_faces.rs`): a bar's end, a face with
+//! a slot in it, a pocket's floor, re-triangulated through their outline points only.
 
 use nalgebra::Vector3;
 use std::collections::HashMap;
 
+use super::flat_faces::{self, FlatFaces};
 use super::{Shape, Stock};
 
 /// Most triangles written: the STL reader's own cap, so the file reads back as a machine part.
@@ -30,6 +34,8 @@ pub const STL_CELLS_ACROSS: usize = 100;
 pub struct Surface {
     pub vertices: Vec<[f64; 3]>,
     pub triangles: Vec<[u32; 3]>,
+    /// What writing the flat faces across the axis as one polygon each did (`flat_faces.rs`).
+    pub flat: FlatFaces,
 }
 
 impl Surface {
@@ -123,16 +129,28 @@ fn levels(lo: f64, hi: f64, h: f64, keep: impl Fn(f64) -> bool) -> Vec<f64> {
     out
 }
 
+/// How far a point of a flat face may lie from its plane, in lattice spacings: well above the
+/// bisection's error (1/32768 of a lattice edge), far below anything the grids resolve.
+pub const PLANE_TOL: f64 = 1e-3;
+
 /// The surface of the stock with about `cells` lattice cells across its width (never finer than
-/// its grids resolve); `None` for a stock with no material box or a surface past
-/// [`MAX_TRIANGLES`] at every spacing tried.
+/// its grids resolve), its flat faces across the axis written as one polygon each (their points
+/// left where the bisection put them: the pictures' part); `None` for a stock with no material
+/// box or a surface past [`MAX_TRIANGLES`] at every spacing tried.
 pub fn surface(s: &Stock, cells: usize) -> Option<Surface> {
+    let (mut m, h) = lattice(s, cells)?;
+    m.flat = flat_faces::merge(&mut m, PLANE_TOL * h, false);
+    Some(m)
+}
+
+/// The lattice's surface as marching tetrahedra make it, and the lattice spacing.
+pub(super) fn lattice(s: &Stock, cells: usize) -> Option<(Surface, f64)> {
     let (lo, hi) = bounds(s)?;
     let width = (hi.x - lo.x).max(hi.y - lo.y);
     let mut h = (width / cells.max(2) as f64).max(s.spacing());
     for _ in 0..8 {
         if let Some(m) = surface_at(s, lo, hi, h) {
-            return Some(m);
+            return Some((m, h));
         }
         h *= 1.5;
     }
@@ -240,7 +258,10 @@ fn surface_at(s: &Stock, lo: Vector3<f64>, hi: Vector3<f64>, h: f64) -> Option<S
     Some(m)
 }
 
-/// The stock's surface as binary STL (`--stock-out`).
+/// The stock's surface as binary STL (`--stock-out`): its flat faces across the axis written as
+/// one polygon each, their points on the face's plane.
 pub(super) fn stl(s: &Stock) -> Option<Vec<u8>> {
-    surface(s, STL_CELLS_ACROSS).map(|m| m.stl())
+    let (mut m, h) = lattice(s, STL_CELLS_ACROSS)?;
+    m.flat = flat_faces::merge(&mut m, PLANE_TOL * h, true);
+    Some(m.stl())
 }

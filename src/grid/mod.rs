@@ -23,12 +23,14 @@
 mod cutter;
 mod cyl;
 mod face;
+mod flat_faces;
 mod mesh;
 mod sweep;
 
 pub use cutter::{Cutter, CutterKind, Sweep};
 pub use cyl::CylGrid;
 pub use face::FaceGrid;
+pub use flat_faces::FlatFaces;
 pub use mesh::{Surface, STL_CELLS_ACROSS};
 
 use nalgebra::Vector3;
@@ -409,5 +411,7 @@ impl Stock {
     }
 }
 
+#[cfg(test)]
+mod flat_tests;
 #[cfg(test)]
 mod tests;

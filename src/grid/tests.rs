@@ -4,15 +4,15 @@ use super::*;
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 
-fn bar(r: f64, len: f64, tol: f64) -> Stock {
+pub(super) fn bar(r: f64, len: f64, tol: f64) -> Stock {
     Stock::turned(0.0, len, r, tol, |_| Some((0.0, r))).unwrap()
 }
 
-fn flat(d: f64, l: f64) -> Cutter {
+pub(super) fn flat(d: f64, l: f64) -> Cutter {
     Cutter::new(CutterKind::Flat, d, l).unwrap()
 }
 
-fn sweep(c: &Cutter, axis: [f64; 3], a: [f64; 3], b: [f64; 3], tol: f64) -> Sweep {
+pub(super) fn sweep(c: &Cutter, axis: [f64; 3], a: [f64; 3], b: [f64; 3], tol: f64) -> Sweep {
     Sweep::new(c, Vector3::from(axis), Vector3::from(a), Vector3::from(b), tol).unwrap()
 }
 
@@ -303,20 +303,11 @@ fn the_grids_never_remove_what_no_sweep_holds() {
     assert!(air > 100, "the cuts removed something: {air}");
 }
 
-#[test]
-fn the_stl_of_a_milled_bar_is_closed_and_holds_its_volume() {
-    let mut s = bar(20.0, 60.0, 0.2);
-    s.cut(&sweep(
-        &flat(16.0, 30.0),
-        [1.0, 0.0, 0.0],
-        [15.0, -30.0, 30.0],
-        [15.0, 30.0, 30.0],
-        0.2,
-    ));
-    let stl = s.stl().unwrap();
+/// The volume a binary STL encloses (divergence theorem over its triangles), after checking that
+/// it is closed: every edge (by its `f32` points) run by as many triangles one way as the other.
+pub(super) fn closed_stl_volume(stl: &[u8]) -> f64 {
     let n = u32::from_le_bytes(stl[80..84].try_into().unwrap()) as usize;
     assert_eq!(stl.len(), 84 + 50 * n);
-    // Divergence theorem over the triangles; every edge used twice in opposite directions.
     let mut vol = 0.0;
     let mut edges = std::collections::HashMap::new();
     let key = |p: [f32; 3]| (p[0].to_bits(), p[1].to_bits(), p[2].to_bits());
@@ -338,6 +329,20 @@ fn the_stl_of_a_milled_bar_is_closed_and_holds_its_volume() {
         let back = edges.get(&(*b, *a)).copied().unwrap_or(0);
         assert_eq!(*c, back, "edge {a:?} → {b:?}");
     }
+    vol
+}
+
+#[test]
+fn the_stl_of_a_milled_bar_is_closed_and_holds_its_volume() {
+    let mut s = bar(20.0, 60.0, 0.2);
+    s.cut(&sweep(
+        &flat(16.0, 30.0),
+        [1.0, 0.0, 0.0],
+        [15.0, -30.0, 30.0],
+        [15.0, 30.0, 30.0],
+        0.2,
+    ));
+    let vol = closed_stl_volume(&s.stl().unwrap());
     // The mesh runs between the first and last column centres: about one column short.
     let want = s.volume();
     assert!((vol - want).abs() < 0.02 * want, "mesh {vol} vs grid {want}");
