@@ -2,7 +2,7 @@
 # Run latheguard's fuzz targets (fuzz/fuzz_targets) with libFuzzer through cargo-fuzz, each for a
 # number of executions, seeded from the repository's own programs, machine files and STL parts.
 #
-#   scripts/fuzz.sh [RUNS] [TARGET...]      # default: 1000000 runs of parse, machine, stl, check
+#   scripts/fuzz.sh [RUNS] [TARGET...]      # default: 1000000 runs of parse, machine, stl, check, assume
 #
 # Needs cargo-fuzz (`cargo install cargo-fuzz`). On a stable toolchain it builds with
 # RUSTC_BOOTSTRAP=1 and without a sanitizer (`-s none`): a panic, an abort, an out-of-memory
@@ -13,14 +13,14 @@ cd "$(dirname "$0")/../fuzz"
 runs="${1:-1000000}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(parse machine stl check)
+[ ${#targets[@]} -eq 0 ] && targets=(parse machine stl check assume)
 export RUSTC_BOOTSTRAP=1
 
 seed() {
   local dir="corpus/$1"
   mkdir -p "$dir"
   case "$1" in
-    parse | check)
+    parse | check | assume)
       find ../programs ../tests/cases ../tests/fixtures -name '*.nc' -o -name '*.ngc' |
         while read -r f; do cp -n "$f" "$dir/$(basename "$(dirname "$f")")-$(basename "$f")" 2>/dev/null || true; done ;;
     machine)
