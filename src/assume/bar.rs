@@ -496,13 +496,9 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
             lo_at.line.max(e.approach.map_or(0, |a| a.line)),
         )
     };
-    // Where the face is, in program Z: the machine's when at or ahead of the facing pass.
-    let face = match (face_seen, machine_face) {
-        (Some(f), Some(m)) if m >= f.v - 1e-9 && m - f.v <= 5.0 => m,
-        (Some(f), _) => f.v,
-        (None, Some(m)) if m.abs() <= 5.0 => m,
-        (None, _) => 0.0,
-    };
+    // Where the face is, in program Z: at the highest facing pass, else at program Z0. (The
+    // machine file's example face, a few mm ahead, would stand where the program rapids.)
+    let face = face_seen.map_or(0.0, |f| f.v);
     let why_face = match face_seen {
         Some(f) => format!("the program faces at {} (line {})", z_text(&e, f.v), f.line),
         None => "no facing pass: program Z0 at the face".to_string(),
@@ -512,10 +508,7 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
     let deepest = e.deepest.map_or(0.0, |d| d.v);
     let need_front = jaw_face + (face - deepest.min(face)) + PART_OFF_ROOM;
     let (front, why_front) = match ms {
-        Some(s)
-            if s.front >= need_front - (PART_OFF_ROOM - KEEP_ROOM) - 1e-9
-                && machine_face.is_some_and(|m| (m - face).abs() < 1e-9) =>
-        {
+        Some(s) if s.front >= need_front - (PART_OFF_ROOM - KEEP_ROOM) - 1e-9 => {
             (s.front, "the machine file's stick-out leaves room".to_string())
         }
         _ => (
