@@ -36,10 +36,6 @@ use crate::machine::{num, ChuckForm, Machine};
 /// when it parts off at the axis (a drum's face stands some 30 mm behind the tool's tip).
 pub const PART_OFF_ROOM: f64 = 40.0;
 
-/// The machine file's stick-out stays when it leaves at least this much room past the deepest
-/// cut, mm (a parting blade's).
-pub const KEEP_ROOM: f64 = 10.0;
-
 /// The largest pull-off of a boring pass toward the axis, mm.
 const PULL_OFF: f64 = 2.0;
 
@@ -99,6 +95,9 @@ struct Evidence {
     tube: Option<At>,
     /// The smallest radius a facing pass outward starts from (inside a tube's bore).
     face_out: Option<At>,
+    /// The smallest radius a feed along Z from the face leads into a facing pass from (the
+    /// pass starts outside the bar).
+    faced_from: Option<At>,
     /// A stock comment's diameter, mm.
     comment: Option<At>,
     /// The program's units: mm per unit.
@@ -134,6 +133,23 @@ fn plunge_before_facing(r: &Reading, i: usize) -> bool {
         .is_some_and(|n| {
             is_facing(n) && n.b[0] < n.a[0] && (n.a[0] - s.b[0]).abs() < 1e-6 && (n.a[1] - s.b[1]).abs() < 1e-6
         })
+}
+
+/// Longest entry on a slant, mm: a lead-in may start and end in the air.
+const ENTRY: f64 = 1.0;
+
+/// Whether piece `i` is an entry: a short feed toward the axis and the chuck at once, straight
+/// after a rapid of its station and followed by more cutting (a lead-in, which may start and end
+/// in the air before the pass proper cuts).
+fn is_entry(r: &Reading, i: usize) -> bool {
+    let s = &r.segs[i];
+    let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
+    let after_rapid = i > 0 && r.segs[i - 1].station == s.station && r.segs[i - 1].kind == SegKind::Rapid;
+    let leads_on = r
+        .segs
+        .get(i + 1)
+        .is_some_and(|n| n.station == s.station && n.kind == SegKind::Feed);
+    after_rapid && leads_on && dr < -1e-6 && dz < -1e-6 && dr.hypot(dz) <= ENTRY
 }
 
 impl Evidence {
@@ -172,6 +188,9 @@ impl Evidence {
         let inside = super::tools::inside_stations(r, machine, face);
         let mut first_feed = None;
         let mut cycle_starts: Vec<At> = Vec::new();
+        // What earlier turning passes left: along each, nothing outside its radius (top z,
+        // bottom z, radius).
+        let mut turned: Vec<[f64; 3]> = Vec::new();
         for (i, s) in r.segs.iter().enumerate() {
             // A roughing cycle's first move starts from its start point, outside the bar.
             if s.cycle && (i == 0 || !r.segs[i - 1].cycle || r.segs[i - 1].line != s.line) {
@@ -198,6 +217,14 @@ impl Evidence {
                 continue;
             }
             if dz < 0.0 && plunge_before_facing(r, i) {
+                // Made from the face, it leads the tool to where the facing pass starts,
+                // outside the bar.
+                if s.a[1] >= face - INSIDE {
+                    min_at(&mut e.faced_from, s.b[0], s.line);
+                }
+                continue;
+            }
+            if is_entry(r, i) {
                 continue;
             }
             // The radius this piece certainly cuts at, below the face: a pass along −Z removes
@@ -217,6 +244,21 @@ impl Evidence {
                 (None, (s.a[1] < below).then_some(s.a[0]))
             };
             let (cut, reach) = if in_cycle { (None, cut.or(reach)) } else { (cut, reach) };
+            // Outside what an earlier pass turned to, over its length, there is only air.
+            let (zlo, zhi) = (s.a[1].min(s.b[1]), s.a[1].max(s.b[1]));
+            let in_air = |c: f64, zlo: f64, zhi: f64| {
+                turned
+                    .iter()
+                    .any(|t| c > t[2] + 1e-6 && zhi <= t[0] + 1e-9 && zlo >= t[1] - 1e-9)
+            };
+            let cut = cut.filter(|c| !in_air(*c, zlo, zhi));
+            let reach = reach.filter(|c| {
+                let z = if dr < 0.0 { s.b[1] } else { s.a[1] };
+                !in_air(*c, z, z)
+            });
+            if !in_cycle && dz < -INSIDE && dz.abs() >= dr.abs() && s.b[1] < below {
+                turned.push([s.a[1].min(below), s.b[1], s.a[0].min(s.b[0])]);
+            }
             if (cut.is_some() || reach.is_some()) && first_feed.is_none() {
                 first_feed = Some(i);
             }
@@ -231,6 +273,9 @@ impl Evidence {
         // Approach: facing passes start outside the bar; rapids before the first cut are in air.
         if let Some((f, r0)) = e.face {
             min_at(&mut e.approach, r0, f.line);
+        }
+        if let Some(f) = e.faced_from {
+            min_at(&mut e.approach, f.v, f.line);
         }
         for c in cycle_starts {
             min_at(&mut e.approach, c.v, c.line);
@@ -453,7 +498,8 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
     // The machine's face in program Z.
     let machine_face = ms.map(|s| s.front - machine.program_zero_z);
     let no_cut = e.cut.is_none() && e.reach.is_none();
-    if !replaceable || !r.spindle_runs || (no_cut && e.comment.is_none() && e.face.is_none()) {
+    if !replaceable || !r.spindle_runs || (no_cut && e.comment.is_none() && e.face.is_none() && e.faced_from.is_none())
+    {
         return machine_face.unwrap_or(face_seen.map_or(0.0, |f| f.v));
     }
     // The bar is at least as wide as every radial move reaches and wider than every pass.
@@ -508,9 +554,8 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
     let deepest = e.deepest.map_or(0.0, |d| d.v);
     let need_front = jaw_face + (face - deepest.min(face)) + PART_OFF_ROOM;
     let (front, why_front) = match ms {
-        Some(s) if s.front >= need_front - (PART_OFF_ROOM - KEEP_ROOM) - 1e-9 => {
-            (s.front, "the machine file's stick-out leaves room".to_string())
-        }
+        // The machine file's stick-out stays when it leaves the whole room past the deepest cut.
+        Some(s) if s.front >= need_front - 1e-9 => (s.front, "the machine file's stick-out leaves room".to_string()),
         _ => (
             need_front,
             match e.deepest {
