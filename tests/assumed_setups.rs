@@ -42,11 +42,11 @@ fn assumed_machine(src: &[u8], name: &str, m: &Machine) -> Machine {
 }
 
 /// On a dry-run machine (no stock on purpose: the program runs in the air), the setup read from
-/// `src` but its bar: the tools, tool numbers, tailstock and dialect it reads.
+/// `src` but its bar: program zero where the part it would cut stands clear of the jaws, the
+/// tools, tool numbers, tailstock and dialect it reads.
 fn assumed_in_the_air(src: &[u8], name: &str, m: &Machine) -> Machine {
     let mut a = latheguard::assume::assume(src, name, m);
     a.layer.stock = None;
-    a.layer.program_zero_z = None;
     job::apply(m, &EffectiveJob::merge([&a.layer])).unwrap_or_else(|_| m.clone())
 }
 

@@ -207,6 +207,13 @@ impl Evidence {
                 if first_feed.is_none() && s.b[1] < below {
                     first_feed = Some(i);
                 }
+                // An internal groove's floor lies inside the bar: a plunge away from the axis,
+                // straight after a rapid, reaches no further than the bar's wall.
+                let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
+                let after_rapid = i > 0 && r.segs[i - 1].station == s.station && r.segs[i - 1].kind == SegKind::Rapid;
+                if after_rapid && dr > 1e-3 && dr > 2.0 * dz.abs() && s.a[1] < below {
+                    max_at(&mut e.reach, s.b[0], s.line);
+                }
                 continue;
             }
             let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
@@ -373,11 +380,13 @@ fn marker(c: &str) -> Option<&str> {
         }
     }
     let bytes = c.as_bytes();
-    for m in ["DIAMETER", "DIA.", "DIA", "OD", "SIZE"] {
+    // German: `Durchmesser`, `Außendurchmesser` (not `Innendurchmesser`, a tube's bore).
+    for m in ["DIAMETER", "DIA.", "DIA", "OD", "SIZE", "DURCHMESSER"] {
         let mut from = 0;
         while let Some(k) = c[from..].find(m).map(|k| k + from) {
             let end = k + m.len();
-            let before_ok = k == 0 || !bytes[k - 1].is_ascii_alphabetic();
+            let before_ok =
+                k == 0 || !bytes[k - 1].is_ascii_alphabetic() || (m == "DURCHMESSER" && c[..k].ends_with("AUSSEN"));
             let after_ok = end >= bytes.len() || !bytes[end].is_ascii_alphabetic();
             if before_ok && after_ok {
                 take(end);

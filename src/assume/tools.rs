@@ -139,44 +139,6 @@ pub fn inside_stations(r: &Reading, machine: &Machine, face: f64) -> Vec<u32> {
         .collect()
 }
 
-/// An internal tool fits the smallest bore its station passes in: the part of it that goes
-/// into the bore (its outline up to the station's deepest cut behind its tip) reaches across no
-/// further than the bore's diameter, less [`build::BORE_CLEAR`]. A tool working outside, or a
-/// station with no pass that shows its bore, fits.
-fn fits_where_it_works(t: &Tool, e: &Evidence, w: &moves::Work, face: f64) -> bool {
-    let inside = e.internal || matches!(e.kind, ToolKind::Boring);
-    let (Some(r), Some(deep)) = (w.pass_r, w.deepest) else {
-        return true;
-    };
-    if !inside || r <= 0.0 {
-        return true;
-    }
-    let reach = (face - deep).max(0.0) + 1.0;
-    across(t, reach) >= -2.0 * r + build::BORE_CLEAR
-}
-
-/// The lowest x (toward the axis, from the tip) of a tool's insert and holder up to `reach` mm
-/// behind its tip (tool y from 0 up).
-fn across(t: &Tool, reach: f64) -> f64 {
-    let mut lo = 0.0f64;
-    for poly in [&t.insert, &t.holder] {
-        let pts = poly.points();
-        for (k, a) in pts.iter().enumerate() {
-            let b = pts[(k + 1) % pts.len()];
-            // The part of edge a-b with y <= reach.
-            for (p, q) in [(*a, b), (b, *a)] {
-                if p.y <= reach {
-                    lo = lo.min(p.x);
-                    if q.y > reach && (q.y - p.y).abs() > 1e-12 {
-                        lo = lo.min(p.x + (q.x - p.x) * (reach - p.y) / (q.y - p.y));
-                    }
-                }
-            }
-        }
-    }
-    lo
-}
-
 /// `T03` (Fanuc) or `T3` (LinuxCNC).
 fn t_name(machine: &Machine, station: u32) -> String {
     match machine.dialect {
@@ -198,10 +160,7 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, face: f64, out: &mut A
         let t = t_name(machine, station);
         let key = format!("tools.{station}");
         let keep = match (have, &ev) {
-            (Some(h), Some(e)) => {
-                !machine.assume_setup
-                    || (ToolKind::of_tool(h).map_or(true, |k| k.does(e.kind)) && fits_where_it_works(h, &e, work, face))
-            }
+            (Some(h), Some(e)) => !machine.assume_setup || ToolKind::of_tool(h).map_or(true, |k| k.does(e.kind)),
             (Some(_), None) => true,
             (None, _) => false,
         };

@@ -7,7 +7,7 @@ use crate::machine::{Dialect, Machine, Tool};
 use crate::tooling::{self, fmt_mm, holder::LENGTHS, BuiltTool, CatalogueSpec, Cutter, DrillSpec};
 
 /// Clearance kept between a bar and the far wall of the smallest bore it works in, mm.
-pub const BORE_CLEAR: f64 = 0.5;
+const BORE_CLEAR: f64 = 0.5;
 /// Boring bar diameters tried, largest first, mm.
 const BARS: [u32; 8] = [40, 32, 25, 20, 16, 12, 10, 8];
 /// A drill a bit under a later boring bar's bore: this much less on the diameter, mm.

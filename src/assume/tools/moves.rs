@@ -40,6 +40,10 @@ pub struct Work {
     pub ods: usize,
     pub part: Option<Seen>,
     pub groove: Option<Seen>,
+    /// Plunges away from the axis behind the face, each straight after a rapid: an internal
+    /// groove cut from inside a bore.
+    pub groove_in: Option<Seen>,
+    pub plunges_out: usize,
     pub face: Option<Seen>,
     pub profile: Option<Seen>,
     /// The smallest radius of its passes along −Z and its thread passes, mm (the smallest bore
@@ -230,6 +234,20 @@ pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
             }
             continue;
         }
+        let after_rapid = i > 0 && r.segs[i - 1].station == station && r.segs[i - 1].kind == SegKind::Rapid;
+        if dr > 1e-3 && dr > 2.0 * dz.abs() && after_rapid && s.a[1] < face - FACE_BAND {
+            w.plunges_out += 1;
+            w.plunges.push([s.a[1], s.b[0], s.a[0]]);
+            first(&mut w.groove_in, s.line, || {
+                format!(
+                    "it plunges away from the axis from {} at {} (line {})",
+                    x_of(s, s.a[0]),
+                    z_of(s, s.a[1]),
+                    s.line
+                )
+            });
+            continue;
+        }
         if dr < -1e-3 && dr.abs() > 2.0 * dz.abs() {
             let z = s.b[1];
             let at_face = z >= face - FACE_BAND - 1e-9;
@@ -299,6 +317,8 @@ pub fn kind(w: &Work) -> Option<(ToolKind, bool, &Seen)> {
         Some((ToolKind::Threading, w.pulls_in > w.pulls_out, s))
     } else if let Some(s) = w.bore.as_ref().filter(|_| w.bores > w.ods) {
         Some((ToolKind::Boring, true, s))
+    } else if let Some(s) = w.groove_in.as_ref().filter(|_| w.plunges_out >= w.ods) {
+        Some((ToolKind::Grooving, true, s))
     } else if let Some(s) = &w.part {
         Some((ToolKind::Parting, false, s))
     } else if let Some(s) = w.groove.as_ref().filter(|_| narrow) {
