@@ -39,7 +39,8 @@ pub fn kind_of(text: &str) -> Option<(ToolKind, bool)> {
     // German setters write compounds (`Innengewinde`, `Aussendrehen`): a part of a word counts.
     let inner = |p: &str| w.iter().any(|x| x.contains(p));
     let pair = |a: &str, b: &str| w.windows(2).any(|p| p[0] == a && p[1] == b);
-    let internal = is("ID") || is("INT") || has("INTERNAL") || has("BOR") || inner("INNEN") || has("AUSDREH");
+    let internal =
+        is("ID") || is("INT") || has("INTERNAL") || has("BOR") || inner("INNEN") || has("AUSDREH") || has("BOHRSTANG");
     // German: Bohrer, Bohren, Zentrierbohrer (a drill); Bohrstange (a boring bar); Gewindebohrer
     // (a tap).
     let bohr_drill = w.iter().any(|x| {
