@@ -36,6 +36,14 @@ use crate::machine::{num, ChuckForm, Machine};
 /// when it parts off at the axis (a drum's face stands some 30 mm behind the tool's tip).
 pub const PART_OFF_ROOM: f64 = 40.0;
 
+/// The machine file's stick-out stays when it leaves at least this much room past the deepest
+/// cut, mm (a parting blade's).
+pub const KEEP_ROOM: f64 = 10.0;
+
+/// A rapid this close outside the bar's radius still meets a raw face standing in front of it
+/// (the tool's nose and insert), mm.
+const SLAB_REACH: f64 = 2.0;
+
 /// The largest pull-off of a boring pass toward the axis, mm.
 const PULL_OFF: f64 = 2.0;
 
@@ -551,9 +559,41 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
             lo_at.line.max(e.approach.map_or(0, |a| a.line)),
         )
     };
-    // Where the face is, in program Z: at the highest facing pass, else at program Z0. (The
-    // machine file's example face, a few mm ahead, would stand where the program rapids.)
-    let face = face_seen.map_or(0.0, |f| f.v);
+    // Where the face is, in program Z: at the highest facing pass, else at program Z0; the
+    // machine file's example face, up to 5 mm ahead of that, stays when the program leaves
+    // room for it: no rapid before that facing pass ends in the slab between them, within the
+    // bar (a program that rapids there has its raw face at the facing pass).
+    let seen = face_seen.map_or(0.0, |f| f.v);
+    let slab_clear = |m: f64| {
+        let first_face = r
+            .segs
+            .iter()
+            .position(|s| is_facing(s) && (s.a[1] - seen).abs() < 1e-6)
+            .unwrap_or(r.segs.len());
+        // A rapid into the slab, or to its front plane where a cycle starts (a cycle's passes
+        // begin at its start point at feed: it stands clear in front of the raw face).
+        !r.segs[..first_face].iter().enumerate().any(|(i, s)| {
+            let starts_cycle = r.segs.get(i + 1).is_some_and(|n| {
+                n.station == s.station
+                    && super::words::g_codes(&split_comment(r.line(n.line)).0)
+                        .iter()
+                        .any(|g| matches!(g, 710 | 720 | 730 | 760 | 780 | 920))
+            });
+            let top = if starts_cycle { m + 1e-9 } else { m - INSIDE };
+            // Along the rapid's path, not only where it ends.
+            s.kind == SegKind::Rapid
+                && (0..=8).any(|k| {
+                    let t = f64::from(k) / 8.0;
+                    let (pr, pz) = (s.a[0] + t * (s.b[0] - s.a[0]), s.a[1] + t * (s.b[1] - s.a[1]));
+                    pz > seen + INSIDE && pz <= top && pr < diameter / 2.0 + SLAB_REACH
+                })
+        })
+    };
+    let face = match machine_face {
+        Some(m) if m >= seen - 1e-9 && m - seen <= 5.0 && slab_clear(m) => m,
+        Some(m) if face_seen.is_none() && m < 0.0 && m >= -5.0 => m,
+        _ => seen,
+    };
     let why_face = match face_seen {
         Some(f) => format!("the program faces at {} (line {})", z_text(&e, f.v), f.line),
         None => "no facing pass: program Z0 at the face".to_string(),
@@ -563,8 +603,14 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
     let deepest = e.deepest.map_or(0.0, |d| d.v);
     let need_front = jaw_face + (face - deepest.min(face)) + PART_OFF_ROOM;
     let (front, why_front) = match ms {
-        // The machine file's stick-out stays when it leaves the whole room past the deepest cut.
-        Some(s) if s.front >= need_front - 1e-9 => (s.front, "the machine file's stick-out leaves room".to_string()),
+        // The machine file's stick-out stays when it leaves a parting blade's room past the
+        // deepest cut, with its face where the program has it.
+        Some(s)
+            if s.front >= need_front - (PART_OFF_ROOM - KEEP_ROOM) - 1e-9
+                && machine_face.is_some_and(|m| (m - face).abs() < 1e-9) =>
+        {
+            (s.front, "the machine file's stick-out leaves room".to_string())
+        }
         _ => (
             need_front,
             match e.deepest {

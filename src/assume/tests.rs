@@ -75,10 +75,10 @@ fn the_face_is_the_highest_facing_pass_and_program_zero_follows_it() {
 fn a_machine_bar_that_agrees_with_the_program_stays() {
     // programs/od_turning.nc on the built-in machine: its Ø50 bar 2 mm ahead of Z0 fits.
     let src = std::fs::read("programs/od_turning.nc").unwrap();
-    // The bar stays; its face moves to where the program faces (Z0), not 2 mm ahead of it.
     let a = assume(&src, "p.nc", &example());
-    assert_eq!(stock(&a).diameter, 50.0, "{:?}", a.notes);
-    assert!(face_z(&a).abs() < 1e-9, "{:?}", a.notes);
+    assert!(a.layer.stock.is_none());
+    assert!(note(&a, "stock").kept, "{:?}", a.notes);
+    assert!(a.is_empty() || a.notes.iter().filter(|n| !n.kept).all(|n| n.key != "stock"));
 }
 
 #[test]
@@ -229,26 +229,21 @@ fn face_z(a: &Assumed) -> f64 {
 }
 
 #[test]
-fn the_face_is_the_programs_facing_pass_or_z0_never_the_machine_files_example_face() {
-    // The built-in machine's example bar stands 2 mm ahead of Z0; this program faces at Z1 and
-    // rapids at Z1.5 between its passes: the face is at Z1, where the program faces.
-    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X54. Z1.5\nG1 Z1. F0.2\nG1 X-1.6\nG0 Z3.\nX42.\nG1 Z-30.\nX50.\nG0 Z1.5\nG0 X100. Z100.\nM30\n";
+fn the_machine_files_example_face_stays_only_where_the_program_leaves_room_for_it() {
+    // The built-in machine's example bar stands 2 mm ahead of Z0. This program rapids to Z1.5
+    // inside the bar before it faces at Z1: its raw face is at Z1.
+    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X40. Z1.5\nX54.\nG1 Z1. F0.2\nG1 X-1.6\nG0 Z3.\nX42.\nG1 Z-30.\nX50.\nG0 X100. Z100.\nM30\n";
     let a = assume(src.as_bytes(), "p.nc", &example());
     assert!((face_z(&a) - 1.0).abs() < 1e-9, "{:?}", a.notes);
-    // No facing pass: the face at program Z0.
-    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X46. Z2.\nG1 Z-30. F0.2\nX52.\nG0 Z2.\nG0 X100. Z100.\nM30\n";
+    // No facing pass, and a rapid to Z1 inside the bar: the face at program Z0.
+    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X46. Z1.\nG1 Z-30. F0.2\nX52.\nG0 Z2.\nG0 X100. Z100.\nM30\n";
     let a = assume(src.as_bytes(), "p.nc", &example());
     assert!(face_z(&a).abs() < 1e-9, "{:?}", a.notes);
-}
-
-#[test]
-fn the_machine_files_stick_out_stays_only_with_the_whole_room_past_the_deepest_cut() {
-    // The example bar is 80 mm out; a cut to Z-60 with 2 mm faced needs 102 mm.
-    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X54. Z0.\nG1 X-1.6 F0.2\nG0 Z2.\nX46.\nG1 Z-60.\nX52.\nG0 X100. Z100.\nM30\n";
+    // A thread cycle starting at Z2, the example face's plane: its insert would stand in the
+    // raw face, so the face is at Z0.
+    let src = "G21 G18 G99\nT0505\nG97 S500 M3\nG0 X25. Z2.\nG76 P010060 Q100 R0.05\nG76 X22.4 Z-20 P1300 Q400 F2.0\nG0 X100 Z100\nM30\n";
     let a = assume(src.as_bytes(), "p.nc", &example());
-    let jaw = Machine::builtin().chuck.as_ref().unwrap().aabb().max.y;
-    let out = stock(&a).front.unwrap() - jaw;
-    assert!((out - 60.0 - bar::PART_OFF_ROOM).abs() < 1e-6, "{out} {:?}", a.notes);
+    assert!(face_z(&a).abs() < 1e-9, "{:?}", a.notes);
 }
 
 #[test]

