@@ -591,7 +591,7 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
     };
     let face = match machine_face {
         Some(m) if m >= seen - 1e-9 && m - seen <= 5.0 && slab_clear(m) => m,
-        Some(m) if face_seen.is_none() && m < 0.0 && m >= -5.0 => m,
+        Some(m) if face_seen.is_none() && (-5.0..0.0).contains(&m) => m,
         _ => seen,
     };
     let why_face = match face_seen {

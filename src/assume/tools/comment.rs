@@ -279,7 +279,7 @@ fn described(c: &str) -> Option<(String, &str)> {
         }
         let rest = &c[after + 1..];
         let text = rest.split('|').next().unwrap_or(rest).trim();
-        return (!text.is_empty()).then(|| (digits, text));
+        return (!text.is_empty()).then_some((digits, text));
     }
     None
 }
