@@ -40,6 +40,10 @@ pub const PART_OFF_ROOM: f64 = 40.0;
 /// cut, mm (a parting blade's).
 pub const KEEP_ROOM: f64 = 10.0;
 
+/// A rapid this close outside the bar's radius still meets a raw face standing in front of it
+/// (the tool's nose and insert), mm.
+const SLAB_REACH: f64 = 2.0;
+
 /// The largest pull-off of a boring pass toward the axis, mm.
 const PULL_OFF: f64 = 2.0;
 
@@ -99,6 +103,9 @@ struct Evidence {
     tube: Option<At>,
     /// The smallest radius a facing pass outward starts from (inside a tube's bore).
     face_out: Option<At>,
+    /// The smallest radius a feed along Z from the face leads into a facing pass from (the
+    /// pass starts outside the bar).
+    faced_from: Option<At>,
     /// A stock comment's diameter, mm.
     comment: Option<At>,
     /// The program's units: mm per unit.
@@ -134,6 +141,23 @@ fn plunge_before_facing(r: &Reading, i: usize) -> bool {
         .is_some_and(|n| {
             is_facing(n) && n.b[0] < n.a[0] && (n.a[0] - s.b[0]).abs() < 1e-6 && (n.a[1] - s.b[1]).abs() < 1e-6
         })
+}
+
+/// Longest entry on a slant, mm: a lead-in may start and end in the air.
+const ENTRY: f64 = 1.0;
+
+/// Whether piece `i` is an entry: a short feed toward the axis and the chuck at once, straight
+/// after a rapid of its station and followed by more cutting (a lead-in, which may start and end
+/// in the air before the pass proper cuts).
+fn is_entry(r: &Reading, i: usize) -> bool {
+    let s = &r.segs[i];
+    let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
+    let after_rapid = i > 0 && r.segs[i - 1].station == s.station && r.segs[i - 1].kind == SegKind::Rapid;
+    let leads_on = r
+        .segs
+        .get(i + 1)
+        .is_some_and(|n| n.station == s.station && n.kind == SegKind::Feed);
+    after_rapid && leads_on && dr < -1e-6 && dz < -1e-6 && dr.hypot(dz) <= ENTRY
 }
 
 impl Evidence {
@@ -172,6 +196,9 @@ impl Evidence {
         let inside = super::tools::inside_stations(r, machine, face);
         let mut first_feed = None;
         let mut cycle_starts: Vec<At> = Vec::new();
+        // What earlier turning passes left: along each, nothing outside its radius (top z,
+        // bottom z, radius).
+        let mut turned: Vec<[f64; 3]> = Vec::new();
         for (i, s) in r.segs.iter().enumerate() {
             // A roughing cycle's first move starts from its start point, outside the bar.
             if s.cycle && (i == 0 || !r.segs[i - 1].cycle || r.segs[i - 1].line != s.line) {
@@ -188,6 +215,13 @@ impl Evidence {
                 if first_feed.is_none() && s.b[1] < below {
                     first_feed = Some(i);
                 }
+                // An internal groove's floor lies inside the bar: a plunge away from the axis,
+                // straight after a rapid, reaches no further than the bar's wall.
+                let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
+                let after_rapid = i > 0 && r.segs[i - 1].station == s.station && r.segs[i - 1].kind == SegKind::Rapid;
+                if after_rapid && dr > 1e-3 && dr > 2.0 * dz.abs() && s.a[1] < below {
+                    max_at(&mut e.reach, s.b[0], s.line);
+                }
                 continue;
             }
             let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
@@ -198,6 +232,14 @@ impl Evidence {
                 continue;
             }
             if dz < 0.0 && plunge_before_facing(r, i) {
+                // Made from the face, it leads the tool to where the facing pass starts,
+                // outside the bar.
+                if s.a[1] >= face - INSIDE {
+                    min_at(&mut e.faced_from, s.b[0], s.line);
+                }
+                continue;
+            }
+            if is_entry(r, i) {
                 continue;
             }
             // The radius this piece certainly cuts at, below the face: a pass along −Z removes
@@ -217,6 +259,21 @@ impl Evidence {
                 (None, (s.a[1] < below).then_some(s.a[0]))
             };
             let (cut, reach) = if in_cycle { (None, cut.or(reach)) } else { (cut, reach) };
+            // Outside what an earlier pass turned to, over its length, there is only air.
+            let (zlo, zhi) = (s.a[1].min(s.b[1]), s.a[1].max(s.b[1]));
+            let in_air = |c: f64, zlo: f64, zhi: f64| {
+                turned
+                    .iter()
+                    .any(|t| c > t[2] + 1e-6 && zhi <= t[0] + 1e-9 && zlo >= t[1] - 1e-9)
+            };
+            let cut = cut.filter(|c| !in_air(*c, zlo, zhi));
+            let reach = reach.filter(|c| {
+                let z = if dr < 0.0 { s.b[1] } else { s.a[1] };
+                !in_air(*c, z, z)
+            });
+            if !in_cycle && dz < -INSIDE && dz.abs() >= dr.abs() && s.b[1] < below {
+                turned.push([s.a[1].min(below), s.b[1], s.a[0].min(s.b[0])]);
+            }
             if (cut.is_some() || reach.is_some()) && first_feed.is_none() {
                 first_feed = Some(i);
             }
@@ -231,6 +288,9 @@ impl Evidence {
         // Approach: facing passes start outside the bar; rapids before the first cut are in air.
         if let Some((f, r0)) = e.face {
             min_at(&mut e.approach, r0, f.line);
+        }
+        if let Some(f) = e.faced_from {
+            min_at(&mut e.approach, f.v, f.line);
         }
         for c in cycle_starts {
             min_at(&mut e.approach, c.v, c.line);
@@ -328,11 +388,13 @@ fn marker(c: &str) -> Option<&str> {
         }
     }
     let bytes = c.as_bytes();
-    for m in ["DIAMETER", "DIA.", "DIA", "OD", "SIZE"] {
+    // German: `Durchmesser`, `Außendurchmesser` (not `Innendurchmesser`, a tube's bore).
+    for m in ["DIAMETER", "DIA.", "DIA", "OD", "SIZE", "DURCHMESSER"] {
         let mut from = 0;
         while let Some(k) = c[from..].find(m).map(|k| k + from) {
             let end = k + m.len();
-            let before_ok = k == 0 || !bytes[k - 1].is_ascii_alphabetic();
+            let before_ok =
+                k == 0 || !bytes[k - 1].is_ascii_alphabetic() || (m == "DURCHMESSER" && c[..k].ends_with("AUSSEN"));
             let after_ok = end >= bytes.len() || !bytes[end].is_ascii_alphabetic();
             if before_ok && after_ok {
                 take(end);
@@ -453,7 +515,8 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
     // The machine's face in program Z.
     let machine_face = ms.map(|s| s.front - machine.program_zero_z);
     let no_cut = e.cut.is_none() && e.reach.is_none();
-    if !replaceable || !r.spindle_runs || (no_cut && e.comment.is_none() && e.face.is_none()) {
+    if !replaceable || !r.spindle_runs || (no_cut && e.comment.is_none() && e.face.is_none() && e.faced_from.is_none())
+    {
         return machine_face.unwrap_or(face_seen.map_or(0.0, |f| f.v));
     }
     // The bar is at least as wide as every radial move reaches and wider than every pass.
@@ -496,12 +559,40 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
             lo_at.line.max(e.approach.map_or(0, |a| a.line)),
         )
     };
-    // Where the face is, in program Z: the machine's when at or ahead of the facing pass.
-    let face = match (face_seen, machine_face) {
-        (Some(f), Some(m)) if m >= f.v - 1e-9 && m - f.v <= 5.0 => m,
-        (Some(f), _) => f.v,
-        (None, Some(m)) if m.abs() <= 5.0 => m,
-        (None, _) => 0.0,
+    // Where the face is, in program Z: at the highest facing pass, else at program Z0; the
+    // machine file's example face, up to 5 mm ahead of that, stays when the program leaves
+    // room for it: no rapid before that facing pass ends in the slab between them, within the
+    // bar (a program that rapids there has its raw face at the facing pass).
+    let seen = face_seen.map_or(0.0, |f| f.v);
+    let slab_clear = |m: f64| {
+        let first_face = r
+            .segs
+            .iter()
+            .position(|s| is_facing(s) && (s.a[1] - seen).abs() < 1e-6)
+            .unwrap_or(r.segs.len());
+        // A rapid into the slab, or to its front plane where a cycle starts (a cycle's passes
+        // begin at its start point at feed: it stands clear in front of the raw face).
+        !r.segs[..first_face].iter().enumerate().any(|(i, s)| {
+            let starts_cycle = r.segs.get(i + 1).is_some_and(|n| {
+                n.station == s.station
+                    && super::words::g_codes(&split_comment(r.line(n.line)).0)
+                        .iter()
+                        .any(|g| matches!(g, 710 | 720 | 730 | 760 | 780 | 920))
+            });
+            let top = if starts_cycle { m + 1e-9 } else { m - INSIDE };
+            // Along the rapid's path, not only where it ends.
+            s.kind == SegKind::Rapid
+                && (0..=8).any(|k| {
+                    let t = f64::from(k) / 8.0;
+                    let (pr, pz) = (s.a[0] + t * (s.b[0] - s.a[0]), s.a[1] + t * (s.b[1] - s.a[1]));
+                    pz > seen + INSIDE && pz <= top && pr < diameter / 2.0 + SLAB_REACH
+                })
+        })
+    };
+    let face = match machine_face {
+        Some(m) if m >= seen - 1e-9 && m - seen <= 5.0 && slab_clear(m) => m,
+        Some(m) if face_seen.is_none() && (-5.0..0.0).contains(&m) => m,
+        _ => seen,
     };
     let why_face = match face_seen {
         Some(f) => format!("the program faces at {} (line {})", z_text(&e, f.v), f.line),
@@ -512,6 +603,8 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
     let deepest = e.deepest.map_or(0.0, |d| d.v);
     let need_front = jaw_face + (face - deepest.min(face)) + PART_OFF_ROOM;
     let (front, why_front) = match ms {
+        // The machine file's stick-out stays when it leaves a parting blade's room past the
+        // deepest cut, with its face where the program has it.
         Some(s)
             if s.front >= need_front - (PART_OFF_ROOM - KEEP_ROOM) - 1e-9
                 && machine_face.is_some_and(|m| (m - face).abs() < 1e-9) =>

@@ -133,7 +133,8 @@ fn dialect(src: &[u8], file: &str, machine: &Machine, out: &mut Assumed) -> Opti
     let (d, why) = crate::machine::auto::detect(src);
     // M98/M99 are signs of Fanuc, but LinuxCNC runs them too: not enough to switch on.
     let weak = ["no sign", "tie", "M98", "M99", "`%`"];
-    if d == machine.dialect || weak.iter().any(|w| why.contains(w)) {
+    let weak_why = |why: &str| weak.iter().any(|w| why.contains(w));
+    if d == machine.dialect || weak_why(&why) || speaks_linuxcnc(src, machine) {
         return None;
     }
     let choice = match d {
@@ -152,6 +153,18 @@ fn dialect(src: &[u8], file: &str, machine: &Machine, out: &mut Assumed) -> Opti
         kept: false,
     });
     Some(m)
+}
+
+/// On a LinuxCNC machine, a program that talks to the operator in LinuxCNC's own comments
+/// (`(MSG, load tool 3)`, `(DEBUG, …)`, `(PRINT, …)`) is written for it, whatever program number
+/// heads it: a Fanuc control shows no such message.
+fn speaks_linuxcnc(src: &[u8], machine: &Machine) -> bool {
+    machine.dialect == crate::machine::Dialect::Linuxcnc
+        && String::from_utf8_lossy(src).lines().any(|l| {
+            let (_, c) = words::split_comment(l);
+            let c = c.to_ascii_uppercase();
+            ["MSG,", "DEBUG,", "PRINT,"].iter().any(|k| c.starts_with(k))
+        })
 }
 
 impl Assumption {

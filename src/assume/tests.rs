@@ -221,3 +221,81 @@ fn hostile_programs_give_no_panic_and_no_absurd_bar() {
         let _ = crate::job::apply(&example(), &crate::job::EffectiveJob::merge([&a.layer]));
     }
 }
+
+/// The front face in program Z of what was assumed: the bar's front less program zero.
+fn face_z(a: &Assumed) -> f64 {
+    let zero = a.layer.program_zero_z.as_ref().expect("program zero").value;
+    stock(a).front.expect("front") - zero
+}
+
+#[test]
+fn the_machine_files_example_face_stays_only_where_the_program_leaves_room_for_it() {
+    // The built-in machine's example bar stands 2 mm ahead of Z0. This program rapids to Z1.5
+    // inside the bar before it faces at Z1: its raw face is at Z1.
+    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X40. Z1.5\nX54.\nG1 Z1. F0.2\nG1 X-1.6\nG0 Z3.\nX42.\nG1 Z-30.\nX50.\nG0 X100. Z100.\nM30\n";
+    let a = assume(src.as_bytes(), "p.nc", &example());
+    assert!((face_z(&a) - 1.0).abs() < 1e-9, "{:?}", a.notes);
+    // No facing pass, and a rapid to Z1 inside the bar: the face at program Z0.
+    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X46. Z1.\nG1 Z-30. F0.2\nX52.\nG0 Z2.\nG0 X100. Z100.\nM30\n";
+    let a = assume(src.as_bytes(), "p.nc", &example());
+    assert!(face_z(&a).abs() < 1e-9, "{:?}", a.notes);
+    // A thread cycle starting at Z2, the example face's plane: its insert would stand in the
+    // raw face, so the face is at Z0.
+    let src = "G21 G18 G99\nT0505\nG97 S500 M3\nG0 X25. Z2.\nG76 P010060 Q100 R0.05\nG76 X22.4 Z-20 P1300 Q400 F2.0\nG0 X100 Z100\nM30\n";
+    let a = assume(src.as_bytes(), "p.nc", &example());
+    assert!(face_z(&a).abs() < 1e-9, "{:?}", a.notes);
+}
+
+#[test]
+fn a_short_lead_in_on_a_slant_after_a_rapid_is_no_cut() {
+    // Stepped facing passes, each entered from X14.47 on a 0.2 mm slant: the bar is no wider
+    // than the rapids at X14.47 allow, so the slants start in the air (Ø14 bar, not Ø16).
+    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X14.47 Z2.7\nG1 X14.32 Z2.5 F0.1\nX13.8 Z2.42\nX13.7 Z2.4\nX4.\nG0 Z3.\nX14.47\nZ2.3\nG1 X14.32 Z2.1\nX13.8 Z2.02\nX13.7 Z2.\nX4.\nG0 Z3.\nG0 X100. Z100.\nM30\n";
+    let a = assume(src.as_bytes(), "p.nc", &example());
+    assert_eq!(stock(&a).diameter, 14.0, "{:?}", a.notes);
+}
+
+#[test]
+fn outside_what_an_earlier_pass_turned_there_is_only_air() {
+    // The OD is turned to X24 over 30 mm; a later lead-out arc beyond X24 over that length cuts
+    // nothing: the bar is Ø25, not sized by the arc.
+    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X24. Z2.\nG1 Z-30. F0.2\nX27.\nG0 Z2.\nX20. Z0.\nG1 Z-5.\nG2 X30. Z-10. R5.\nG0 X100. Z100.\nM30\n";
+    let a = assume(src.as_bytes(), "p.nc", &example());
+    assert_eq!(stock(&a).diameter, 25.0, "{:?}", a.notes);
+}
+
+#[test]
+fn a_feed_from_the_face_into_a_facing_pass_starts_outside_the_bar() {
+    // A tool beyond the axis rapids to at the face, feeds 2 mm along Z and faces 2 mm
+    // off: the bar is inside X25.5 (the largest stock size 2 mm inside it).
+    let src = "T0101\nG00 Z0 X-25.5\nG97 M03 S500\nG01 F50 Z-2\nG01 F50 X0\nG00 Z5\nM30\n";
+    let a = assume(src.as_bytes(), "p.nc", &example());
+    assert_eq!(stock(&a).diameter, 22.0, "{:?}", a.notes);
+}
+
+#[test]
+fn a_german_stock_comment_gives_the_diameter() {
+    let src = G71.replace("T0101\n", "(Rohteil Außendurchmesser: 63.000 mm)\nT0101\n");
+    let a = assume(src.as_bytes(), "p.nc", &example());
+    assert_eq!(stock(&a).diameter, 63.0, "{:?}", a.notes);
+    // An inner diameter is a tube's bore, not the bar.
+    let src = G71.replace("T0101\n", "(Rohteil Innendurchmesser: 20.000 mm)\nT0101\n");
+    let a = assume(src.as_bytes(), "p.nc", &example());
+    assert_eq!(stock(&a).diameter, 60.0, "{:?}", a.notes);
+}
+
+#[test]
+fn what_a_tool_cuts_inside_the_part_lies_inside_the_bar() {
+    // A tube faced from X86 out to X118, then grooved inside from X97 out to X118: the bar is
+    // no smaller than the groove's floor.
+    let src = "O0001\nG00 T0202\nG97 S450 M03\nX86.\nZ0.25\nG01 X118. F0.3\nZ0.45\nG00 X96.\nG01 Z-51.4\nX95.6\nG00 Z0.45\nZ220.\nT0505\nX97.04\nZ-45.\nG01 X118. F0.3\nG00 X97.\nZ150.\nM30\n";
+    let a = assume(src.as_bytes(), "p.nc", &example());
+    assert!(stock(&a).diameter >= 118.0 - 1e-9, "{:?}", a.notes);
+}
+
+#[test]
+fn linuxcnc_operator_messages_keep_the_linuxcnc_dialect() {
+    let src = "O0001\nN1 T0202\n(MSG, load the roughing tool)\nM0\nN2 S800 M3\nN3 G0 X30. Z2.\nN4 G1 Z-10. F0.2\nN5 G0 X40.\nM2\n";
+    let a = assume(src.as_bytes(), "p.ngc", &small_lathe());
+    assert!(a.layer.dialect.is_none(), "{:?}", a.notes);
+}

@@ -36,32 +36,51 @@ pub fn kind_of(text: &str) -> Option<(ToolKind, bool)> {
     let w = words(&up);
     let has = |p: &str| w.iter().any(|x| x.starts_with(p));
     let is = |p: &str| w.contains(&p);
+    // German setters write compounds (`Innengewinde`, `Aussendrehen`): a part of a word counts.
+    let inner = |p: &str| w.iter().any(|x| x.contains(p));
     let pair = |a: &str, b: &str| w.windows(2).any(|p| p[0] == a && p[1] == b);
-    let internal = is("ID") || is("INT") || has("INTERNAL") || has("BOR");
+    let internal =
+        is("ID") || is("INT") || has("INTERNAL") || has("BOR") || inner("INNEN") || has("AUSDREH") || has("BOHRSTANG");
+    // German: Bohrer, Bohren, Zentrierbohrer (a drill); Bohrstange (a boring bar); Gewindebohrer
+    // (a tap).
+    let bohr_drill = w.iter().any(|x| {
+        (x.starts_with("BOHR") && !x.starts_with("BOHRSTANG") && !x.starts_with("BOHRUNG"))
+            || (x.ends_with("BOHRER") && !x.contains("GEWINDE"))
+    }) || has("ZENTRIER");
     let parting = is("CUTOFF")
         || is("PARTOFF")
         || has("PARTING")
         || pair("CUT", "OFF")
+        || inner("ABSTECH")
         || w.iter().enumerate().any(|(i, x)| {
             *x == "PART"
                 && w.get(i + 1).map_or(true, |n| {
                     ["OFF", "TOOL", "BLADE", "INSERT"].contains(n) || n.starts_with(|c: char| c.is_ascii_digit())
                 })
         });
-    let turning = has("ROUGH") || has("FINISH") || has("TURN") || is("OD") || has("PROFIL") || is("CONTOUR");
-    let kind = if has("DRILL") || is("SPOT") {
+    let turning = has("ROUGH")
+        || has("FINISH")
+        || has("TURN")
+        || is("OD")
+        || has("PROFIL")
+        || is("CONTOUR")
+        || inner("AUSSENDREH")
+        || has("SCHRUPP")
+        || has("SCHLICHT")
+        || has("DREH");
+    let kind = if has("DRILL") || is("SPOT") || bohr_drill {
         ToolKind::Drilling
-    } else if is("TAP") || is("TAPS") || is("TAPPING") {
+    } else if is("TAP") || is("TAPS") || is("TAPPING") || inner("GEWINDEBOHR") {
         ToolKind::Tapping
-    } else if has("THREAD") || is("THD") || is("THRD") {
+    } else if has("THREAD") || is("THD") || is("THRD") || inner("GEWINDE") {
         ToolKind::Threading
-    } else if has("GROOV") {
+    } else if has("GROOV") || inner("EINSTECH") {
         ToolKind::Grooving
     } else if parting {
         ToolKind::Parting
-    } else if has("BOR") || is("ID") {
+    } else if has("BOR") || is("ID") || inner("INNENDREH") || has("AUSDREH") || has("BOHRSTANG") || has("AUSBOHR") {
         ToolKind::Boring
-    } else if (has("FACE") || has("FACING")) && !turning {
+    } else if (has("FACE") || has("FACING") || inner("PLANDREH")) && !turning {
         ToolKind::Facing
     } else if turning {
         ToolKind::OdTurning
@@ -231,12 +250,36 @@ pub fn read(r: &Reading, scale: f64) -> BTreeMap<u32, Said> {
     }
     for i in 0..parts.len() {
         let Some(c) = comment_only(i) else { continue };
-        let Some(digits) = t_word(c).filter(|_| c.trim_start().to_uppercase().starts_with('T')) else {
+        let listed = t_word(c)
+            .filter(|_| c.trim_start().to_uppercase().starts_with('T'))
+            .map(|d| (d, c));
+        let Some((digits, text)) = listed.or_else(|| described(c)) else {
             continue;
         };
-        if let (Some(station), Some(s)) = (station_of(&digits), said(c, i)) {
+        if let (Some(station), Some(s)) = (station_of(&digits), said(text, i)) {
             out.entry(station).or_insert(s);
         }
     }
     out
+}
+
+/// A tool named inside a longer comment, as CAM systems write a step's tool: `(Step 4: turn |
+/// T2: CCMT Aussendrehen)` → the digits `2` and `CCMT Aussendrehen` (up to the next `|`). The
+/// T stands at the comment's start or after a space, `|` or `,`, and a colon follows its number.
+fn described(c: &str) -> Option<(String, &str)> {
+    let b = c.as_bytes();
+    for (k, ch) in c.char_indices() {
+        if !(ch == 'T' || ch == 't') || (k > 0 && !matches!(b[k - 1], b' ' | b'|' | b',')) {
+            continue;
+        }
+        let digits: String = c[k + 1..].chars().take_while(|d| d.is_ascii_digit()).collect();
+        let after = k + 1 + digits.len();
+        if digits.is_empty() || b.get(after) != Some(&b':') {
+            continue;
+        }
+        let rest = &c[after + 1..];
+        let text = rest.split('|').next().unwrap_or(rest).trim();
+        return (!text.is_empty()).then_some((digits, text));
+    }
+    None
 }

@@ -28,8 +28,10 @@ pub struct Work {
     pub drill: Option<Seen>,
     pub tap: Option<Seen>,
     pub thread: Option<Seen>,
-    /// A thread pass pulled off toward the axis: an internal thread.
-    pub thread_internal: bool,
+    /// Its thread passes' pull-offs toward the axis and away from it: more toward the axis is
+    /// an internal thread.
+    pub pulls_in: usize,
+    pub pulls_out: usize,
     /// The lead of its thread or tap passes, mm per revolution.
     pub lead: Option<f64>,
     pub bore: Option<Seen>,
@@ -38,6 +40,10 @@ pub struct Work {
     pub ods: usize,
     pub part: Option<Seen>,
     pub groove: Option<Seen>,
+    /// Plunges away from the axis behind the face, each straight after a rapid: an internal
+    /// groove cut from inside a bore.
+    pub groove_in: Option<Seen>,
+    pub plunges_out: usize,
     pub face: Option<Seen>,
     pub profile: Option<Seen>,
     /// The smallest radius of its passes along −Z and its thread passes, mm (the smallest bore
@@ -85,10 +91,46 @@ fn next_of(segs: &[Seg], i: usize) -> Option<&Seg> {
     segs.get(i + 1).filter(|n| n.station == segs[i].station)
 }
 
+/// Each line's cutting mode as the program text sets it (index 0 = line 1): it threads (G32,
+/// G33, Fanuc's G92 and the modal motion after them; G76 and G78 on their own line) or taps
+/// (G33.1, G84 and its kin, until G80 or another motion code). A feed alone never makes a
+/// thread: a turning or drilling feed per revolution can be as large as a fine thread's lead
+/// (0.02 in a revolution is 0.508 mm), and a control cuts a thread only in a threading code.
+pub fn thread_modes(r: &Reading, fanuc: bool) -> Vec<(bool, bool)> {
+    let (mut threading, mut tapping) = (false, false);
+    r.lines
+        .iter()
+        .map(|l| {
+            let g = g_codes(&split_comment(l).0);
+            let mut once = false;
+            for c in &g {
+                match *c {
+                    320 | 330 => (threading, tapping) = (true, false),
+                    920 if fanuc => (threading, tapping) = (true, false),
+                    760 | 780 => once = true,
+                    331 | 840 | 842 | 843 | 880 => (threading, tapping) = (false, true),
+                    0 | 10 | 20 | 30 | 700 | 710 | 720 | 730 | 740 | 750 | 800 | 810 | 820 | 830 | 850 | 860 | 870
+                    | 890 => (threading, tapping) = (false, false),
+                    900 | 940 if fanuc => (threading, tapping) = (false, false),
+                    _ => {}
+                }
+            }
+            (threading || once, tapping)
+        })
+        .collect()
+}
+
+/// Whether piece `s` is a thread pass: along Z in a threading code.
+fn thread_pass(s: &Seg, modes: &[(bool, bool)]) -> bool {
+    let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
+    let threading = modes.get(s.line.saturating_sub(1) as usize).is_some_and(|m| m.0);
+    threading && dz.abs() > dr.abs() && dz.abs() > 1e-3
+}
+
 /// Read each piece of `station`'s moves below `face` (program Z, mm).
 pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
     let mut w = Work::default();
-    let mut codes: std::collections::HashMap<u32, (bool, bool)> = Default::default();
+    let modes = thread_modes(r, fanuc);
     let below = face - INSIDE;
     for (i, s) in r.segs.iter().enumerate() {
         if s.station != station || s.kind != SegKind::Feed || s.a[1].min(s.b[1]) >= below {
@@ -98,21 +140,18 @@ pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
         let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
         let zlo = s.a[1].min(s.b[1]);
         w.deepest = Some(w.deepest.map_or(zlo, |d: f64| d.min(zlo)));
-        // A line's codes are read once, however often its moves run.
-        let (thread_code, tap_code) = *codes.entry(s.line).or_insert_with(|| {
-            let g = g_codes(&split_comment(r.line(s.line)).0);
-            (
-                g.iter()
-                    .any(|c| matches!(c, 320 | 330 | 760 | 780) || (*c == 920 && fanuc)),
-                g.iter().any(|c| matches!(c, 331 | 840 | 842 | 843 | 880)),
-            )
-        });
-        let lead = s.per_rev.filter(|f| (THREAD_LEAD..=MAX_LEAD).contains(f));
+        let (thread_code, tap_code) = modes
+            .get(s.line.saturating_sub(1) as usize)
+            .copied()
+            .unwrap_or_default();
+        let lead = s
+            .per_rev
+            .filter(|f| (THREAD_LEAD..=MAX_LEAD).contains(f) && (thread_code || tap_code));
         let on_axis = s.a[0] < 0.05 && s.b[0] < 0.05;
         let next = next_of(&r.segs, i);
         if on_axis && dz.abs() > 1e-6 {
             // The evidence is the deepest feed on the axis: where the hole ends.
-            let tap = lead.is_some() || tap_code || thread_code;
+            let tap = tap_code || thread_code;
             let to = if tap { &mut w.tap } else { &mut w.drill };
             if to.is_none() || w.axis_deepest.map_or(true, |d| zlo < d) {
                 w.axis_deepest = Some(zlo);
@@ -132,12 +171,19 @@ pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
         if dz.abs() > dr.abs() {
             w.along_z += dz.abs();
         }
-        if dz.abs() > dr.abs() && dz.abs() > 1e-3 && (lead.is_some() || thread_code) {
+        if thread_pass(s, &modes) {
             w.lead = w.lead.or(lead);
             let rr = s.a[0].min(s.b[0]);
             w.pass_r = Some(w.pass_r.map_or(rr, |p: f64| p.min(rr)));
-            let inward = next.is_some_and(|n| n.b[0] < n.a[0] - 0.05);
-            w.thread_internal |= inward;
+            // The pull-off: the next piece, unless it threads on (a thread along a taper or
+            // round a corner goes on cutting).
+            if let Some(n) = next.filter(|n| !thread_pass(n, &modes)) {
+                if n.b[0] < n.a[0] - 0.05 {
+                    w.pulls_in += 1;
+                } else if n.b[0] > n.a[0] + 0.05 {
+                    w.pulls_out += 1;
+                }
+            }
             first(&mut w.thread, s.line, || {
                 let how = lead.map_or(String::new(), |l| format!(" at {} mm a revolution", num(l)));
                 format!(
@@ -186,6 +232,20 @@ pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
                     format!("it cuts a profile (line {})", s.line)
                 }),
             }
+            continue;
+        }
+        let after_rapid = i > 0 && r.segs[i - 1].station == station && r.segs[i - 1].kind == SegKind::Rapid;
+        if dr > 1e-3 && dr > 2.0 * dz.abs() && after_rapid && s.a[1] < face - FACE_BAND {
+            w.plunges_out += 1;
+            w.plunges.push([s.a[1], s.b[0], s.a[0]]);
+            first(&mut w.groove_in, s.line, || {
+                format!(
+                    "it plunges away from the axis from {} at {} (line {})",
+                    x_of(s, s.a[0]),
+                    z_of(s, s.a[1]),
+                    s.line
+                )
+            });
             continue;
         }
         if dr < -1e-3 && dr.abs() > 2.0 * dz.abs() {
@@ -254,9 +314,11 @@ pub fn kind(w: &Work) -> Option<(ToolKind, bool, &Seen)> {
     } else if let Some(s) = &w.drill {
         Some((ToolKind::Drilling, true, s))
     } else if let Some(s) = &w.thread {
-        Some((ToolKind::Threading, w.thread_internal, s))
+        Some((ToolKind::Threading, w.pulls_in > w.pulls_out, s))
     } else if let Some(s) = w.bore.as_ref().filter(|_| w.bores > w.ods) {
         Some((ToolKind::Boring, true, s))
+    } else if let Some(s) = w.groove_in.as_ref().filter(|_| w.plunges_out >= w.ods) {
+        Some((ToolKind::Grooving, true, s))
     } else if let Some(s) = &w.part {
         Some((ToolKind::Parting, false, s))
     } else if let Some(s) = w.groove.as_ref().filter(|_| narrow) {

@@ -432,3 +432,62 @@ fn the_assumed_drill_never_hides_a_boring_bar_entering_a_bore_no_move_made() {
     let found = crashes(&drill_then_bore("-10"));
     assert!(found.iter().any(|(line, _)| *line == 10), "{found:?}");
 }
+
+#[test]
+fn a_feed_alone_never_makes_a_thread_or_a_tap() {
+    // An inch program roughing at 0.02 in a revolution (0.508 mm) in a G71 cycle and drilling at
+    // 0.025 in a revolution: turning and drilling, not threading and tapping.
+    let turn = "G20 G99\nT0505\nG97 S800 M3\nG0 X2. Z0.1\nG71 U0.025 R0.01\nG71 P10 Q20 U0.01 W0 F0.02\nN10 G0 X1.\nG1 Z-2.\nN20 X2.\nG0 X4. Z4.\nM30\n";
+    let n = filled(turn, 5);
+    assert!(n.value.starts_with("T05 OD turning tool"), "{n:?}");
+    let drill = "G20 G99\nT0606\nG97 S800 M3\nG0 X0 Z0.1\nG1 Z-1. F0.025\nG0 Z0.1\nG0 X4. Z4.\nM30\n";
+    let n = filled(drill, 6);
+    assert!(n.value.starts_with("T06 drill"), "{n:?}");
+}
+
+#[test]
+fn a_thread_is_internal_only_when_most_pull_offs_go_toward_the_axis() {
+    // A G76 whose first passes lie outside its start point (the cycle's X is the root) pulls off
+    // toward the axis three times and away from it more often: an external thread.
+    let src = "G20 G99\nT0505 (THREADING TOOL)\nG97 S800 M3\nG0 X0.25 Z0.1\nG76 X0.2 Z-0.25 K0.044 D0.01 F0.05\nG0 X3. Z3.\nM30\n";
+    let n = filled(src, 5);
+    assert!(n.value.starts_with("T05 threading tool 16ER"), "{n:?}");
+    // Passes pulled off toward the axis each time: internal.
+    let int = "G21 G99\nT0505\nG97 S500 M3\nG0 X18 Z5\nG32 Z-20 F1.5\nG0 X16\nZ5\nX18.4\nG32 Z-20\nG0 X16\nZ5\nG0 X100 Z100\nM30\n";
+    let n = filled(int, 5);
+    assert!(n.value.contains("IR"), "{n:?}");
+}
+
+#[test]
+fn german_words_and_step_comments_name_tools() {
+    for (text, kind, internal) in [
+        ("CCMT Aussendrehen", ToolKind::OdTurning, false),
+        ("VCMT Innendrehen", ToolKind::Boring, true),
+        ("Abspanen ausdrehen", ToolKind::Boring, true),
+        ("Außengewinde MMT11er AG60", ToolKind::Threading, false),
+        ("Innengewinde MMT11ir AG60", ToolKind::Threading, true),
+        ("Einstechen Innen", ToolKind::Grooving, true),
+        ("Abstechen 3 mm", ToolKind::Parting, false),
+        ("Spiralbohrer 8", ToolKind::Drilling, false),
+        ("Gewindebohrer M8", ToolKind::Tapping, false),
+        ("Bohrstange D16", ToolKind::Boring, true),
+    ] {
+        assert_eq!(kind_of(text), Some((kind, internal)), "{text}");
+    }
+    // A CAM step's comment names the station's tool after `T2:`.
+    let src =
+        "T2 M6\nG0 X60 Z90\n(Step 4: abspanen | T2: CCMT Aussendrehen)\nS800 M3\nG0 X30 Z2\nG1 Z-10 F0.2\nG0 X40\nM2\n";
+    let r = Reading::of(src.as_bytes(), &linuxcnc());
+    let said = read(&r, 1.0);
+    assert_eq!(said.get(&2).map(|s| s.kind), Some(ToolKind::OdTurning), "{said:?}");
+}
+
+#[test]
+fn an_internal_groove_is_read_from_plunges_away_from_the_axis() {
+    let src = "O0001\nG00 T0505\nG97 S450 M03\nX97.04\nZ-45.\nG01 X118. F0.3\nG00 X97.\nZ-42.\nG01 X118.\nG00 X97.\nZ150.\nM30\n";
+    let n = filled(src, 5);
+    assert!(
+        n.value.starts_with("T05 grooving tool") && n.value.ends_with("INT"),
+        "{n:?}"
+    );
+}
