@@ -570,9 +570,23 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
             .iter()
             .position(|s| is_facing(s) && (s.a[1] - seen).abs() < 1e-6)
             .unwrap_or(r.segs.len());
+        // The facing passes at that level clear the slab only down to the smallest radius
+        // they reach: a rapid after them into what is left of it shows the program, too,
+        // takes its face to be there.
+        let faced_to = r
+            .segs
+            .iter()
+            .filter(|s| is_facing(s) && (s.a[1] - seen).abs() < 1e-6)
+            .map(|s| s.a[0].min(s.b[0]))
+            .fold(f64::INFINITY, f64::min);
         // A rapid into the slab, or to its front plane where a cycle starts (a cycle's passes
         // begin at its start point at feed: it stands clear in front of the raw face).
-        !r.segs[..first_face].iter().enumerate().any(|(i, s)| {
+        !r.segs.iter().enumerate().any(|(i, s)| {
+            let below = if i < first_face {
+                diameter / 2.0 + SLAB_REACH
+            } else {
+                faced_to - 1e-6
+            };
             let starts_cycle = r.segs.get(i + 1).is_some_and(|n| {
                 n.station == s.station
                     && super::words::g_codes(&split_comment(r.line(n.line)).0)
@@ -585,7 +599,7 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
                 && (0..=8).any(|k| {
                     let t = f64::from(k) / 8.0;
                     let (pr, pz) = (s.a[0] + t * (s.b[0] - s.a[0]), s.a[1] + t * (s.b[1] - s.a[1]));
-                    pz > seen + INSIDE && pz <= top && pr < diameter / 2.0 + SLAB_REACH
+                    pz > seen + INSIDE && pz <= top && pr < below
                 })
         })
     };

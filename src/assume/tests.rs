@@ -247,6 +247,25 @@ fn the_machine_files_example_face_stays_only_where_the_program_leaves_room_for_i
 }
 
 #[test]
+fn a_rapid_into_the_middle_a_facing_pass_left_shows_the_face_is_at_the_facing_pass() {
+    // The program faces at Z0 only down to X12 and later rapids to X10 at Z1 for a chamfer: it
+    // takes its raw face to be at Z0, so the example face 2 mm ahead does not stay.
+    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X54. Z0.\nG1 X12. F0.2\nG0 Z2.\nX44.\nG1 Z-30.\nX52.\nG0 Z1.\nX10.\nG1 Z0. F0.1\nX14. Z-2.\nG0 X100. Z100.\nM30\n";
+    let m = example();
+    let face = |a: &Assumed| {
+        let zero = a.layer.program_zero_z.as_ref().map_or(m.program_zero_z, |z| z.value);
+        let front = a.layer.stock.as_ref().and_then(|s| s.value.front);
+        front.unwrap_or(m.stock.as_ref().map_or(0.0, |s| s.front)) - zero
+    };
+    let a = assume(src.as_bytes(), "p.nc", &m);
+    assert!(face(&a).abs() < 1e-9, "{:?}", a.notes);
+    // The same without the chamfer's rapid: nothing says the example face is not there.
+    let src = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X54. Z0.\nG1 X12. F0.2\nG0 Z2.\nX44.\nG1 Z-30.\nX52.\nG0 X100. Z100.\nM30\n";
+    let a = assume(src.as_bytes(), "p.nc", &m);
+    assert!((face(&a) - 2.0).abs() < 1e-9, "{:?}", a.notes);
+}
+
+#[test]
 fn a_short_lead_in_on_a_slant_after_a_rapid_is_no_cut() {
     // Stepped facing passes, each entered from X14.47 on a 0.2 mm slant: the bar is no wider
     // than the rapids at X14.47 allow, so the slants start in the air (Ø14 bar, not Ø16).

@@ -193,8 +193,9 @@ pub fn station_of(digits: &str) -> Option<u32> {
 }
 
 /// What the comments say, by station: the comment on a T word's line, else on a comment-only
-/// line just before or after it, each at the station the program's moves run at that line or
-/// the next move (the segments are authoritative); then a comment-only line that starts with
+/// line just before or after it, else the first CAM step heading (a comment-only line starting
+/// `STEP`) that names a tool before the next T word, each at the station the program's moves run
+/// at that line or the next move (the segments are authoritative); then a comment-only line that starts with
 /// `T<n>` (a tool list) for a station no T word's comment named.
 pub fn read(r: &Reading, scale: f64) -> BTreeMap<u32, Said> {
     // Each line's first station, for "the station at this line or the next move".
@@ -244,7 +245,18 @@ pub fn read(r: &Reading, scale: f64) -> BTreeMap<u32, Said> {
         let found = said(comment, i)
             .or_else(|| i.checked_sub(1).and_then(next_to))
             .or_else(|| if t_next { None } else { next_to(i + 1) });
-        if let Some(s) = found {
+        // Else a CAM step heading (`(STEP: 5. Abspanen Ausdrehen …)`) while the tool is in use.
+        let step = || {
+            (i + 1..(until as usize - 1).min(parts.len())).find_map(|j| {
+                let c = comment_only(j)?;
+                c.trim_start()
+                    .to_uppercase()
+                    .starts_with("STEP")
+                    .then(|| said(c, j))
+                    .flatten()
+            })
+        };
+        if let Some(s) = found.or_else(step) {
             out.entry(station).or_insert(s);
         }
     }

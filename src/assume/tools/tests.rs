@@ -483,6 +483,22 @@ fn german_words_and_step_comments_name_tools() {
 }
 
 #[test]
+fn a_cam_step_heading_names_the_tool_no_other_comment_names() {
+    // `(Werkzeug T05)` says nothing of the tool; the step heading after the tool change does.
+    let src = "(Werkzeug T05)\nT5 M6\nG0 X52 Z6\n(Step 3: abspanen)\nS800 M3\nG0 X20 Z1\n(STEP: 5. Abspanen Ausdrehen, 2, 0.0 5)\nG1 Z-10 F0.2\nG0 X18\nG0 Z6\n(Werkzeug T09)\nT9 M6\n(STEP: 6. Planen)\nG0 X60 Z1\nG1 X-1 F0.1\nG0 Z6\nM2\n";
+    let r = Reading::of(src.as_bytes(), &linuxcnc());
+    let said = read(&r, 1.0);
+    let boring: Vec<_> = said.values().filter(|s| s.kind == ToolKind::Boring).collect();
+    assert!(
+        boring.len() == 1 && boring[0].line == 7 && boring[0].internal,
+        "{said:?}"
+    );
+    // Without the heading's tool word, nothing names T5's tool.
+    let r = Reading::of(src.replace("Ausdrehen", "").as_bytes(), &linuxcnc());
+    assert!(read(&r, 1.0).values().all(|s| s.kind != ToolKind::Boring));
+}
+
+#[test]
 fn an_internal_groove_is_read_from_plunges_away_from_the_axis() {
     let src = "O0001\nG00 T0505\nG97 S450 M03\nX97.04\nZ-45.\nG01 X118. F0.3\nG00 X97.\nZ-42.\nG01 X118.\nG00 X97.\nZ150.\nM30\n";
     let n = filled(src, 5);
