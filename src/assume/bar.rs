@@ -143,6 +143,11 @@ fn plunge_before_facing(r: &Reading, i: usize) -> bool {
         })
 }
 
+/// Whether piece `i` comes straight after a rapid of its station.
+fn after_rapid(r: &Reading, i: usize) -> bool {
+    i > 0 && r.segs[i - 1].station == r.segs[i].station && r.segs[i - 1].kind == SegKind::Rapid
+}
+
 /// Longest entry on a slant, mm: a lead-in may start and end in the air.
 const ENTRY: f64 = 1.0;
 
@@ -152,12 +157,11 @@ const ENTRY: f64 = 1.0;
 fn is_entry(r: &Reading, i: usize) -> bool {
     let s = &r.segs[i];
     let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
-    let after_rapid = i > 0 && r.segs[i - 1].station == s.station && r.segs[i - 1].kind == SegKind::Rapid;
     let leads_on = r
         .segs
         .get(i + 1)
         .is_some_and(|n| n.station == s.station && n.kind == SegKind::Feed);
-    after_rapid && leads_on && dr < -1e-6 && dz < -1e-6 && dr.hypot(dz) <= ENTRY
+    after_rapid(r, i) && leads_on && dr < -1e-6 && dz < -1e-6 && dr.hypot(dz) <= ENTRY
 }
 
 impl Evidence {
@@ -218,8 +222,7 @@ impl Evidence {
                 // An internal groove's floor lies inside the bar: a plunge away from the axis,
                 // straight after a rapid, reaches no further than the bar's wall.
                 let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
-                let after_rapid = i > 0 && r.segs[i - 1].station == s.station && r.segs[i - 1].kind == SegKind::Rapid;
-                if after_rapid && dr > 1e-3 && dr > 2.0 * dz.abs() && s.a[1] < below {
+                if after_rapid(r, i) && dr > 1e-3 && dr > 2.0 * dz.abs() && s.a[1] < below {
                     max_at(&mut e.reach, s.b[0], s.line);
                 }
                 continue;
@@ -582,6 +585,9 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
         // A rapid into the slab, or to its front plane where a cycle starts (a cycle's passes
         // begin at its start point at feed: it stands clear in front of the raw face).
         !r.segs.iter().enumerate().any(|(i, s)| {
+            if s.kind != SegKind::Rapid {
+                return false;
+            }
             let below = if i < first_face {
                 diameter / 2.0 + SLAB_REACH
             } else {
@@ -595,12 +601,11 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
             });
             let top = if starts_cycle { m + 1e-9 } else { m - INSIDE };
             // Along the rapid's path, not only where it ends.
-            s.kind == SegKind::Rapid
-                && (0..=8).any(|k| {
-                    let t = f64::from(k) / 8.0;
-                    let (pr, pz) = (s.a[0] + t * (s.b[0] - s.a[0]), s.a[1] + t * (s.b[1] - s.a[1]));
-                    pz > seen + INSIDE && pz <= top && pr < below
-                })
+            (0..=8).any(|k| {
+                let t = f64::from(k) / 8.0;
+                let (pr, pz) = (s.a[0] + t * (s.b[0] - s.a[0]), s.a[1] + t * (s.b[1] - s.a[1]));
+                pz > seen + INSIDE && pz <= top && pr < below
+            })
         })
     };
     let face = match machine_face {

@@ -111,27 +111,30 @@ fn evidence(said: Option<&comment::Said>, work: &moves::Work) -> Option<Evidence
     })
 }
 
-/// What the comments say of each station, whether T words are Fanuc's, and the stations the
-/// program's moves run at, in order.
-fn stations_read(r: &Reading, machine: &Machine) -> (BTreeMap<u32, comment::Said>, bool, Vec<u32>) {
+/// What the comments say of each station, each line's threading and tapping modes
+/// ([`moves::thread_modes`], read once for every station), and the stations the program's moves
+/// run at, in order.
+type StationsRead = (BTreeMap<u32, comment::Said>, Vec<(bool, bool)>, Vec<u32>);
+
+fn stations_read(r: &Reading, machine: &Machine) -> StationsRead {
     let scale = r.segs.first().map_or(1.0, |s| s.scale);
     let said = comment::read(r, scale);
-    let fanuc = machine.dialect == Dialect::Fanuc;
+    let modes = moves::thread_modes(r, machine.dialect == Dialect::Fanuc);
     let mut stations: Vec<u32> = r.segs.iter().map(|s| s.station).collect();
     stations.sort_unstable();
     stations.dedup();
-    (said, fanuc, stations)
+    (said, modes, stations)
 }
 
 /// The stations whose tool works inside the part (a boring bar, a drill, a tap, an internal
 /// threading or grooving tool), by their comment or their moves: their passes say nothing of
 /// the bar's outside diameter.
 pub fn inside_stations(r: &Reading, machine: &Machine, face: f64) -> Vec<u32> {
-    let (said, fanuc, stations) = stations_read(r, machine);
+    let (said, modes, stations) = stations_read(r, machine);
     stations
         .into_iter()
         .filter(|&s| {
-            let work = moves::work(r, s, face, fanuc);
+            let work = moves::work(r, s, face, &modes);
             evidence(said.get(&s), &work).is_some_and(|e| {
                 e.internal || matches!(e.kind, ToolKind::Boring | ToolKind::Drilling | ToolKind::Tapping)
             })
@@ -150,9 +153,9 @@ fn t_name(machine: &Machine, station: u32) -> String {
 /// Read the tool of each station the program uses; `face` is the bar's raw front face in
 /// program Z (mm). Adds the assumed tools to `out.layer.tools` and a note for each station.
 pub fn assume(r: &Reading, file: &str, machine: &Machine, face: f64, out: &mut Assumed) {
-    let (said, fanuc, mut stations) = stations_read(r, machine);
+    let (said, modes, mut stations) = stations_read(r, machine);
     stations.retain(|s| (1..=machine.turret.stations).contains(s));
-    let works: Vec<(u32, moves::Work)> = stations.iter().map(|&s| (s, moves::work(r, s, face, fanuc))).collect();
+    let works: Vec<(u32, moves::Work)> = stations.iter().map(|&s| (s, moves::work(r, s, face, &modes))).collect();
     for (station, work) in &works {
         let station = *station;
         let ev = evidence(said.get(&station), work);

@@ -176,9 +176,6 @@ pub struct Sweep {
     /// from the tip to `length` up the axis.
     radius: f64,
     length: f64,
-    /// A cylinder about the axis holding every piece (radius, lowest and highest height), when
-    /// there are enough pieces for a ray that misses it to be worth one more test.
-    hull: Option<(f64, f64, f64)>,
     /// The box holding the swept solid.
     pub min: Vector3<f64>,
     pub max: Vector3<f64>,
@@ -208,17 +205,8 @@ impl Sweep {
             }
         }
         let pieces = Self::widest_first(cutter.pieces(tol));
-        let hull = (pieces.len() > 2).then(|| {
-            pieces
-                .iter()
-                .fold((0.0f64, f64::INFINITY, f64::NEG_INFINITY), |(r, lo, hi), p| match *p {
-                    Piece::Disc { r: pr, h0, h1 } => (r.max(pr), lo.min(h0), hi.max(h1)),
-                    Piece::Ball { r: pr, h } => (r.max(pr), lo.min(h - pr), hi.max(h + pr)),
-                })
-        });
         Some(Sweep {
             pieces,
-            hull,
             radius: r,
             length: l,
             p0,
@@ -276,10 +264,12 @@ impl Sweep {
         let mut lo = f64::INFINITY;
         let mut hi = f64::NEG_INFINITY;
         let across = Across::new(o, u, self.p0, self.v, self.axis, self.across);
-        // Every piece lies inside the hull: a ray that misses it misses them all.
-        if let Some((r, h0, h1)) = self.hull {
-            across.disc_bound((t0, t1), r, (h0, h1))?;
-            across.disc((t0, t1), r, (h0, h1))?;
+        // A stacked end (more pieces than a shank and an end) lies inside the cutter's
+        // cylinder: a ray that misses it misses every piece.
+        if self.pieces.len() > 2 {
+            let whole = (0.0, self.length);
+            across.disc_bound((t0, t1), self.radius, whole)?;
+            across.disc((t0, t1), self.radius, whole)?;
         }
         for p in &self.pieces {
             let iv = match *p {

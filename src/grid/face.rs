@@ -220,7 +220,7 @@ pub(crate) fn air_along(
             let top = stride >= n;
             if !(0..n)
                 .step_by(stride.max(1))
-                .filter(|k| top || k % (2 * stride) != 0)
+                .filter(|&k| (top || k % (2 * stride) != 0) && k != n - 1)
                 .all(at)
             {
                 break false;

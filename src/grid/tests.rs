@@ -483,3 +483,36 @@ fn the_arc_of_nodes_a_sweep_can_reach_holds_every_node_whose_ray_meets_it() {
         "the sweep's own arc is narrower than its box's on most moves: {narrower}"
     );
 }
+
+#[test]
+fn air_along_a_ray_asks_each_sample_once_and_answers_as_every_sample_in_order_does() {
+    // Oracle: every sample from the near end on. The coarse-to-fine order may only change how
+    // soon material is met.
+    use std::cell::RefCell;
+    for n in [1usize, 2, 3, 7, 8, 9, 100, 257] {
+        for pattern in 0..40u64 {
+            // Material on a stretch of samples (none for pattern 0).
+            let (from, len) = (
+                (pattern * 7919) as usize % n,
+                (pattern as usize % 5) * (pattern as usize % 3),
+            );
+            let solid = |k: usize| pattern != 0 && k >= from && k < from + len;
+            let asked = RefCell::new(Vec::new());
+            let air = |p: Vector3<f64>| {
+                let k = (p.x - 0.5).round() as usize;
+                asked.borrow_mut().push(k);
+                !solid(k)
+            };
+            let got = face::air_along(Vector3::zeros(), Vector3::x(), 0.0, n as f64, 1.0, &air);
+            assert_eq!(got, (0..n).all(|k| !solid(k)), "n {n}, pattern {pattern}");
+            let mut seen = asked.into_inner();
+            let len = seen.len();
+            seen.sort_unstable();
+            seen.dedup();
+            assert_eq!(seen.len(), len, "n {n}: a sample asked twice");
+            if got {
+                assert_eq!(len, n, "n {n}: every sample asked when all are air");
+            }
+        }
+    }
+}

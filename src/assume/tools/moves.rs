@@ -127,10 +127,10 @@ fn thread_pass(s: &Seg, modes: &[(bool, bool)]) -> bool {
     threading && dz.abs() > dr.abs() && dz.abs() > 1e-3
 }
 
-/// Read each piece of `station`'s moves below `face` (program Z, mm).
-pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
+/// Read each piece of `station`'s moves below `face` (program Z, mm); `modes` is the program's
+/// [`thread_modes`].
+pub fn work(r: &Reading, station: u32, face: f64, modes: &[(bool, bool)]) -> Work {
     let mut w = Work::default();
-    let modes = thread_modes(r, fanuc);
     let below = face - INSIDE;
     for (i, s) in r.segs.iter().enumerate() {
         if s.station != station || s.kind != SegKind::Feed || s.a[1].min(s.b[1]) >= below {
@@ -171,13 +171,13 @@ pub fn work(r: &Reading, station: u32, face: f64, fanuc: bool) -> Work {
         if dz.abs() > dr.abs() {
             w.along_z += dz.abs();
         }
-        if thread_pass(s, &modes) {
+        if thread_pass(s, modes) {
             w.lead = w.lead.or(lead);
             let rr = s.a[0].min(s.b[0]);
             w.pass_r = Some(w.pass_r.map_or(rr, |p: f64| p.min(rr)));
             // The pull-off: the next piece, unless it threads on (a thread along a taper or
             // round a corner goes on cutting).
-            if let Some(n) = next.filter(|n| !thread_pass(n, &modes)) {
+            if let Some(n) = next.filter(|n| !thread_pass(n, modes)) {
                 if n.b[0] < n.a[0] - 0.05 {
                     w.pulls_in += 1;
                 } else if n.b[0] > n.a[0] + 0.05 {
