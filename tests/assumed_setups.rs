@@ -78,7 +78,7 @@ fn assumed_setups_hide_no_crash_program() {
 
 /// What the corpus comparison measured when it was last looked at: programs whose error lines
 /// with the setup read from them equal those with their job (of 69).
-const AGREE_AT_LEAST: usize = 62;
+const AGREE_AT_LEAST: usize = 63;
 
 /// Programs the machine file alone gets right and the reading does not, each with what it reads
 /// wrong (docs/assume.md, "Measured on the corpus").
