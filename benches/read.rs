@@ -175,12 +175,17 @@ fn main() {
 /// after the cycle block, so every unit reuses N10–N60.
 const CYCLE_UNIT: &str = "G0 X52 Z3\nG71 U2 R0.5\nG71 P10 Q60 U0.4 W0.1 F0.25\nN10 G0 X20\nN20 G1 Z-10\nN30 X30 Z-15\nN40 Z-30\nN50 G2 X40 Z-35 R5\nN60 G1 X52\nG70 P10 Q60\nG0 X40 Z5\nG76 P010060 Q100 R0.05\nG76 X37.4 Z-25 P1300 Q400 F2\nG0 X60 Z5\n";
 
+/// The other roughing and grooving cycles, one each: G72 (two-block) facing over a three-block
+/// profile, G73 (two-block) pattern repeating over a three-block profile, and G75 (two-block)
+/// grooving with pecks and shifts. With [`CYCLE_UNIT`], every Fanuc cycle of the five kinds.
+const CYCLE_UNIT_2: &str = "G0 X52 Z3\nG72 W2 R0.5\nG72 P70 Q90 U0.4 W0.1 F0.25\nN70 G0 Z-8\nN80 G1 X30\nN90 X20 Z2\nG0 X60 Z5\nG73 U5 W1 R4\nG73 P100 Q120 U0.4 W0.1 F0.25\nN100 G0 X20 Z2\nN110 G1 Z-20\nN120 X52 Z-30\nG0 X54 Z-12\nG75 R0.5\nG75 X30 Z-20 P2000 Q2500 F0.1\nG0 X60 Z5\n";
+
 /// Canned cycles (issue 11): a generated program of G71/G70/G76 blocks with their profiles,
 /// read, interpreted and expanded into moves.
 /// One row of the cycles table: lines and moves per second, median (best).
 fn cycle_row(name: &str, lines: usize, t: Times, moves: usize, note: &str) {
     println!(
-        "{name:<10} {lines:>9} {:>7.2} ({:>6.2}) {:>11.0} ({:>8.0}) {moves:>8}   {:.1} M moves/s; {note}",
+        "{name:<18} {lines:>9} {:>7.2} ({:>6.2}) {:>11.0} ({:>8.0}) {moves:>8}   {:.1} M moves/s; {note}",
         t.median * 1e3,
         t.best * 1e3,
         lines as f64 / t.median,
@@ -190,9 +195,17 @@ fn cycle_row(name: &str, lines: usize, t: Times, moves: usize, note: &str) {
 }
 
 fn cycles(lines: usize, fanuc: &Machine) {
+    cycles_of("cycles", CYCLE_UNIT, lines, fanuc);
+    let both = format!("{CYCLE_UNIT}{CYCLE_UNIT_2}");
+    cycles_of("all five", &both, lines, fanuc);
+}
+
+/// The rows of a generated program of `unit` repeated to about `lines` lines: read, interpreted
+/// and expanded into a move list, and the same streamed.
+fn cycles_of(name: &str, unit: &str, lines: usize, fanuc: &Machine) {
     let mut text = String::from("G21 G18 G99 G97 S800 M3\nT0101\n");
-    let units = lines.saturating_sub(3) / CYCLE_UNIT.lines().count();
-    text.push_str(&CYCLE_UNIT.repeat(units.max(1)));
+    let units = lines.saturating_sub(3) / unit.lines().count();
+    text.push_str(&unit.repeat(units.max(1)));
     text.push_str("M30\n");
     let src = text.into_bytes();
     let n = src.iter().filter(|&&b| b == b'\n').count();
@@ -204,7 +217,7 @@ fn cycles(lines: usize, fanuc: &Machine) {
         moves = r.moves.len();
         unsupported = r.findings.len();
     });
-    cycle_row("cycles", n, all, moves, &format!("{unsupported} findings"));
+    cycle_row(name, n, all, moves, &format!("{unsupported} findings"));
     // The same, with the moves handed to a sink as they are made (what `moves --format canon`
     // does): no move list grows, so no fresh pages are touched for it.
     let mut streamed = 0;
@@ -215,5 +228,5 @@ fn cycles(lines: usize, fanuc: &Machine) {
         streamed = count + r.moves.len();
     });
     assert_eq!(streamed, moves, "streaming hands over every move");
-    cycle_row("cycles-st", n, st, streamed, "streamed");
+    cycle_row(&format!("{name}, streamed"), n, st, streamed, "streamed");
 }

@@ -643,6 +643,32 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
             },
         ),
     };
+    // A bar no jaws of this chuck can close on is not a bar: the blank is held some other way,
+    // and only program zero is read (the face, with room past the deepest cut).
+    if let Some(limit) = grip_limit(machine).filter(|&g| diameter >= g - 1e-9) {
+        no_bar(
+            file,
+            line_d,
+            why_d.trim_end_matches("; as cut"),
+            diameter,
+            limit,
+            &e,
+            out,
+        );
+        let line = face_seen.map_or(line_d, |f| f.line);
+        let kept = (machine.program_zero_z - (front - face)).abs() < 1e-9;
+        if !kept {
+            out.layer.program_zero_z = Some(set(front - face, file, line, "program_zero_z"));
+        }
+        out.notes.push(Assumption {
+            key: "program_zero_z".into(),
+            value: format!("program Z0 {} mm out of the jaws", num(round4(front - face - jaw_face))),
+            reason: format!("{why_face}; {why_front}"),
+            line,
+            kept,
+        });
+        return face;
+    }
     let inside = ms.map_or(20.0, |s| (s.length - (s.front - jaw_face)).max(0.0));
     // A bar wider than the chuck's through bore is a blank that sits in the jaws; with a chuck
     // drawn as an outline (whose jaws do not close on a new bar), in front of what it meets.
@@ -737,4 +763,60 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
     }
     out.notes.extend(notes);
     face
+}
+
+/// The smallest bar diameter this machine's chuck cannot grip from outside: its body's diameter
+/// for jaws set on a body (the jaws of a wider bar stand off it, and the job check refuses
+/// them), the widest point of a chuck drawn as an outline; `None` for jaws that open inside a
+/// bore and for a machine with no chuck.
+fn grip_limit(machine: &Machine) -> Option<f64> {
+    match (&machine.chuck_form, &machine.chuck) {
+        (Some(ChuckForm::Jaws(c)), _) => {
+            (c.jaws.grip == crate::machine::jaws::Grip::Outside).then_some(c.body.diameter)
+        }
+        (Some(ChuckForm::Barrier), _) | (_, None) => None,
+        (_, Some(chuck)) => Some(2.0 * chuck.aabb().max.x),
+    }
+}
+
+/// No stock, for a program whose cuts say the blank is wider than the chuck can grip (a casting,
+/// a forging, the part of an earlier operation held on a fixture or in its bore): no bar of any
+/// size is this setup, so none is assumed, and the note says that rapids into the blank are not
+/// checked until a job gives its outline.
+fn no_bar(file: &str, line: u32, why_d: &str, diameter: f64, limit: f64, e: &Evidence, out: &mut Assumed) {
+    let at = Place {
+        file: file.to_string(),
+        line,
+        col: 1,
+        key: "stock.none".to_string(),
+    };
+    out.layer.stock = Some(set(
+        JobStock {
+            diameter: 0.0,
+            length: 0.0,
+            front: None,
+            bore: 0.0,
+            outline: None,
+            none: true,
+            diameter_at: at.clone(),
+            length_at: at,
+        },
+        file,
+        line,
+        "stock",
+    ));
+    out.notes.push(Assumption {
+        key: "stock".into(),
+        value: "no stock (the blank is not a bar)".into(),
+        reason: format!(
+            "a bar {} ({why_d}) is wider than this chuck can grip (its jaws close on bars under \
+             {}): the blank is held some other way (a casting, a forging, an earlier \
+             operation's part), so no stock is assumed and rapids into it are not found; give \
+             its outline in a job ([stock] outline)",
+            dia_text(diameter, e.scale),
+            dia_text(limit, e.scale)
+        ),
+        line,
+        kept: false,
+    });
 }

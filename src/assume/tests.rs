@@ -215,7 +215,12 @@ fn hostile_programs_give_no_panic_and_no_absurd_bar() {
     for src in bad {
         let a = assume(src, "p.nc", &example());
         if let Some(s) = &a.layer.stock {
-            assert!(s.value.diameter.is_finite() && s.value.diameter > 0.0, "{:?}", a.notes);
+            // A bar of a finite size, or none (a blank no chuck holds).
+            assert!(
+                s.value.none || s.value.diameter.is_finite() && s.value.diameter > 0.0,
+                "{:?}",
+                a.notes
+            );
         }
         // Whatever it assumed applies, or is refused with an error.
         let _ = crate::job::apply(&example(), &crate::job::EffectiveJob::merge([&a.layer]));
@@ -317,4 +322,33 @@ fn linuxcnc_operator_messages_keep_the_linuxcnc_dialect() {
     let src = "O0001\nN1 T0202\n(MSG, load the roughing tool)\nM0\nN2 S800 M3\nN3 G0 X30. Z2.\nN4 G1 Z-10. F0.2\nN5 G0 X40.\nM2\n";
     let a = assume(src.as_bytes(), "p.ngc", &small_lathe());
     assert!(a.layer.dialect.is_none(), "{:?}", a.notes);
+}
+
+/// A flange turned at X300: no jaws of the built-in chuck close on a Ø300 bar, so the blank is
+/// held some other way. No stock is assumed (the note says why and that its material goes
+/// unchecked), and program zero is still read from the face and the deepest cut (Z-90, past the
+/// machine file's stick-out).
+#[test]
+fn a_blank_wider_than_the_chuck_can_grip_is_no_bar() {
+    let src = "G21 G18 G99\nT0101\nG97 S300 M3\nG0 X304. Z2.\nG1 Z0. F0.2\nX200.\nG0 Z2.\nX300.\nG1 Z-90.\nG0 X320. Z100.\nM30\n";
+    let m = example();
+    let a = assume(src.as_bytes(), "p.nc", &m);
+    let s = stock(&a);
+    assert!(s.none, "{:?}", a.notes);
+    let n = note(&a, "stock");
+    assert!(!n.kept);
+    assert!(n.reason.contains("wider than this chuck can grip"), "{n:?}");
+    assert!(n.reason.contains("not found"), "{n:?}");
+    assert!(note(&a, "program_zero_z").reason.contains("Z-90"), "{:?}", a.notes);
+    assert!(a.layer.program_zero_z.is_some());
+    let applied = apply(src.as_bytes(), "p.nc", &m);
+    let (read, _) = applied.machine.expect("the setup fits the machine");
+    assert!(read.stock.is_none());
+    // The same program at X100 is a bar in the jaws.
+    let small = src
+        .replace("X304.", "X104.")
+        .replace("X300.", "X100.")
+        .replace("X200.", "X60.");
+    let a = assume(small.as_bytes(), "p.nc", &m);
+    assert!(!stock(&a).none, "{:?}", a.notes);
 }

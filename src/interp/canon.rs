@@ -240,6 +240,41 @@ mod tests {
         }
     }
 
+    /// Every number below 200,000, every power of ten and its neighbours, and the largest,
+    /// against the standard library's formatting, plain and padded.
+    #[test]
+    fn integers_are_the_standard_decimals() {
+        let mut values: Vec<u64> = (0..200_000).collect();
+        for k in 0..20 {
+            let p = 10u64.pow(k);
+            values.extend([p - 1, p, p + 1]);
+        }
+        values.push(u64::MAX);
+        let mut s = Vec::new();
+        for a in values {
+            s.clear();
+            super::push_uint(&mut s, a, 1, b'0');
+            assert_eq!(std::str::from_utf8(&s).unwrap(), a.to_string());
+            s.clear();
+            super::push_uint(&mut s, a, 6, b'0');
+            assert_eq!(std::str::from_utf8(&s).unwrap(), format!("{a:06}"));
+        }
+    }
+
+    /// Four decimals as `{:.4}` prints them, for values whose fifth decimal is far from a tie.
+    #[test]
+    fn four_decimals_are_the_standard_formatting_away_from_ties() {
+        let mut s = Vec::new();
+        for k in -300_000i64..300_000 {
+            let v = k as f64 * 0.00731 + 0.000_012;
+            s.clear();
+            super::f4(&mut s, v);
+            let want = format!("{v:.4}");
+            let want = if want == "-0.0000" { "0.0000".to_string() } else { want };
+            assert_eq!(std::str::from_utf8(&s).unwrap(), want, "{v}");
+        }
+    }
+
     #[test]
     fn integers_pad_as_printf_does() {
         for (a, width, fill, want) in [
