@@ -198,3 +198,33 @@ fn the_streamed_check_is_the_whole_runs_byte_for_byte_with_chunks_of_one_move() 
         "{snapshots} snapshots, {three} 3D checks"
     );
 }
+
+/// The check that stops at its work budget, and the moves timed at the fallback feed (a feed
+/// per revolution with no spindle speed), streamed one move at a time: where it stops, the moves
+/// timed after it and the lines reported are the whole run's.
+#[test]
+fn a_streamed_check_stops_at_the_same_move_of_its_work_budget_and_reports_the_same_stalls() {
+    let src = "G21 G18 G99\nT0101\nG97 S0 M3\nG0 X60 Z2\nG1 X40 F0.2\nG97 S800\n\
+               #1 = 0\nWHILE [#1 LT 40] DO1\n#1 = #1 + 1\nG0 X60 Z2\nG1 X40 Z-5 F0.2\nG1 Z-20\nG0 X60\nEND1\n\
+               G97 S0\nG1 Z-25\nG0 X100 Z100\nM30\n";
+    let machine = Machine::builtin();
+    let full = pipeline::check_whole(src.as_bytes(), &machine, &Settings::default());
+    let tests = full.stats.pair_tests;
+    assert!(tests > 1000, "{tests}");
+    for mode in [Mode::Step, Mode::Exact] {
+        for budget in [0, 10, tests / 3, tests / 2] {
+            let s = Settings {
+                mode,
+                work_budget: budget,
+                snapshots: true,
+                ..Settings::default()
+            };
+            let whole = pipeline::check_whole(src.as_bytes(), &machine, &s);
+            let streamed = pipeline::check_streamed(src.as_bytes(), &machine, &s, 1);
+            assert_eq!(difference(&whole, &streamed), None, "{mode:?}, budget {budget}");
+            let said = |needle: &str| whole.findings.iter().filter(|f| f.message.contains(needle)).count();
+            assert_eq!(said("no spindle speed"), 2, "{mode:?}, budget {budget}");
+            assert_eq!(said("work budget"), 1, "{mode:?}, budget {budget}");
+        }
+    }
+}
