@@ -5,7 +5,8 @@
 //! 2. A program of 1e8 samples at dt = 1 ms far from any obstacle, in both modes (what the
 //!    motion envelopes skip).
 //! 3. Per-block cost with stock removal for generated programs of 10k, 100k and 1M blocks of
-//!    repeated passes, and the ratio of the largest to the smallest.
+//!    repeated passes, and the ratio of the largest to the smallest; the peak memory of the
+//!    binary's `check` of the largest (GNU time).
 //!
 //! 4. Long contacts: a generated 10k-line program whose T01 holder stays buried in the bar for
 //!    every move (a crash that goes on), step mode against exact mode: step mode measures a
@@ -161,4 +162,43 @@ fn section_3(quick: bool, m: &Machine, step: &Settings) {
             out.stats.effects
         );
     }
+    // Peak memory of the binary's check of the largest program (the moves stream to the checker:
+    // what is left is the source and the read program, ARCHITECTURE.md "Memory for long programs").
+    let n = *sizes.last().unwrap();
+    let src = gen::generate(n, true, 7);
+    let path = std::env::temp_dir().join(format!("latheguard-bench-check-{}.nc", std::process::id()));
+    std::fs::write(&path, &src).unwrap();
+    let exe = env!("CARGO_BIN_EXE_latheguard");
+    let p = path.to_str().unwrap();
+    let check = peak_kib(exe, &["check", "--no-assume", "--format", "json", p]);
+    let read = peak_kib(exe, &["moves", "--format", "canon", p]);
+    let _ = std::fs::remove_file(&path);
+    let mib = |k: u64| k as f64 / 1024.0;
+    let file = src.len() as f64 / (1 << 20) as f64;
+    match (check, read) {
+        (Some(c), Some(r)) => println!(
+            "   peak memory (max RSS), {n} lines ({file:.1} MiB): check {:.1} MiB ({:.1}x the file); \
+             moves --format canon (reading alone) {:.1} MiB",
+            mib(c),
+            mib(c) / file,
+            mib(r)
+        ),
+        _ => println!("   peak memory: not measured (needs GNU time at /usr/bin/time)"),
+    }
+}
+
+/// Peak resident memory of one run of a command, KiB, as GNU time measures it (`None` without
+/// `/usr/bin/time`).
+fn peak_kib(cmd: &str, args: &[&str]) -> Option<u64> {
+    let out = std::process::Command::new("/usr/bin/time")
+        .arg("-f")
+        .arg("%M")
+        .arg(cmd)
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .output()
+        .ok()?;
+    let err = String::from_utf8_lossy(&out.stderr);
+    err.lines().rev().find_map(|l| l.trim().parse().ok())
 }

@@ -224,7 +224,7 @@ fn cycles_of(name: &str, unit: &str, lines: usize, fanuc: &Machine) {
     let st = times(15, || {
         let p = pipeline::read(&src, fanuc);
         let mut count = 0usize;
-        let r = interp::interpret_streaming(&p, &src, fanuc, |m, _| count += m.len());
+        let r = interp::interpret_streaming(&p, &src, fanuc, |c| count += c.moves.len());
         streamed = count + r.moves.len();
     });
     assert_eq!(streamed, moves, "streaming hands over every move");

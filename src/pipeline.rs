@@ -251,21 +251,67 @@ pub fn read_findings(prog: &mut gcode::Program, run: &mut Interpretation) -> Vec
     report_order(findings, left_out)
 }
 
-/// Check one program on a machine.
+/// Check one program on a machine. The checker takes the moves as the interpreter makes them
+/// (`check::Stream`), so a long program's moves are never all in memory; the outcome is
+/// [`check_whole`]'s, byte for byte (`tests/streamed.rs`).
 pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
+    check_streamed(src, machine, settings, interp::STREAM_CHUNK)
+}
+
+/// [`check`] with the moves handed to the checker `chunk` at a time (at least 1; the tests hold
+/// a chunk of one move to the whole run).
+pub fn check_streamed(src: &[u8], machine: &Machine, settings: &Settings, chunk: usize) -> Outcome {
+    let (machine, dialect) = resolve(src, machine);
+    let machine = machine.as_ref();
+    let mut prog = read(src, machine);
+    let three = if crate::check::takes_3d_depends_on_run(machine) {
+        // A turn-mill machine whose tailstock starts advanced: whether the 3D path runs depends on
+        // the whole run, so a first pass of the interpreter learns it (its moves are dropped as
+        // they come).
+        let mut any_extra = false;
+        let run = interp::interpret_streaming(&prog, src, machine, |c| any_extra |= !c.extra.is_empty());
+        let withdrawn = run.states.iter().any(|s| !s.tailstock_advanced);
+        crate::check::takes_3d(machine, any_extra, withdrawn)
+    } else {
+        crate::check::takes_3d(machine, false, false)
+    };
+    let chunk = chunk.max(1);
+    let mut stream = crate::check::Stream::new(machine, settings, three, MAX_FINDINGS);
+    let mut run = interp::interpret_streaming_by(&prog, src, machine, chunk, |c| {
+        // The interpreter hands a block's moves over together: cut them to `chunk` here too.
+        let mut first = 0;
+        while first < c.moves.len() {
+            let end = (first + chunk).min(c.moves.len());
+            let index = |k: usize| c.first + k;
+            let extra = &c.extra[c.extra.partition_point(|e| (e.index as usize) < index(first))..];
+            let extra = &extra[..extra.partition_point(|e| (e.index as usize) < index(end))];
+            stream.feed(interp::Chunk {
+                first: index(first),
+                moves: &c.moves[first..end],
+                states: c.states,
+                extra,
+            });
+            first = end;
+        }
+    });
+    let (findings, left_out) = take_findings(&mut prog, &mut run);
+    drop(prog);
+    let blocks = run.blocks_executed;
+    outcome(findings, left_out, stream.finish(), blocks, dialect, machine, settings)
+}
+
+/// [`check`] the way it ran before the checker streamed: the whole run interpreted, then
+/// checked (`check::check`). The oracle of the streamed check's tests; `accuracy` and the
+/// tests that need the moves too read the run this way.
+pub fn check_whole(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
     let (machine, dialect) = resolve(src, machine);
     let machine = machine.as_ref();
     let (mut prog, mut run) = interpret(src, machine);
-    let (mut findings, left_out) = take_findings(&mut prog, &mut run);
+    let (findings, left_out) = take_findings(&mut prog, &mut run);
     // The checker needs only the moves: the program's blocks and words go before it runs.
     drop(prog);
-    let result = crate::check::check(&run, machine, settings);
-    findings.extend(result.findings);
-    let findings = report_order(findings, left_out);
-    let mut stats = result.stats;
-    stats.dialect = dialect;
-    stats.blocks = run.blocks_executed;
-    stats.moves = run
+    let mut result = crate::check::check(&run, machine, settings);
+    result.stats.moves = run
         .moves
         .iter()
         .filter(|m| {
@@ -275,6 +321,33 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
             )
         })
         .count() as u64;
+    outcome(
+        findings,
+        left_out,
+        result,
+        run.blocks_executed,
+        dialect,
+        machine,
+        settings,
+    )
+}
+
+/// The outcome of a check: the reader's and interpreter's findings (`findings`, `left_out`)
+/// with the checker's in report order, the statistics, and the final stock and part.
+fn outcome(
+    mut findings: Vec<Finding>,
+    left_out: LeftOut,
+    result: crate::check::CheckResult,
+    blocks: u64,
+    dialect: Option<(Dialect, String)>,
+    machine: &Machine,
+    settings: &Settings,
+) -> Outcome {
+    findings.extend(result.findings);
+    let findings = report_order(findings, left_out);
+    let mut stats = result.stats;
+    stats.dialect = dialect;
+    stats.blocks = blocks;
     let stock = match (&result.stock, &machine.stock) {
         (Some(s), _) => s.outlines(settings.tolerance_mm),
         (None, Some(s)) => vec![s.section()],

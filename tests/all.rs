@@ -62,6 +62,7 @@ mod scrape;
 mod shifted;
 mod stock_instant_props;
 mod stock_props;
+mod streamed;
 mod turn_mill;
 mod turn_mill_bhead;
 mod work_offsets;

@@ -81,7 +81,7 @@ fn options(src: &[u8]) -> (Machine, Settings, Vec<Mode>) {
     (machine, s, modes)
 }
 
-fn turn_mill_kinematics() -> latheguard::kin::Kinematics {
+pub(crate) fn turn_mill_kinematics() -> latheguard::kin::Kinematics {
     use latheguard::kin::{Axis, AxisKind, Kinematics};
     use nalgebra::{Point3, Vector3};
     let axis = |name: &str, letter: char, linear: bool, dir: Vector3<f64>, rapid: f64| Axis {

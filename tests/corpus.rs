@@ -24,18 +24,18 @@ const SLOW: Duration = Duration::from_secs(10);
 use crate::corpus_job;
 use crate::files;
 
-fn shared(name: &str) -> PathBuf {
+pub(crate) fn shared(name: &str) -> PathBuf {
     files::shared().join(name)
 }
 
-fn linuxcnc() -> Machine {
+pub(crate) fn linuxcnc() -> Machine {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("machines/linuxcnc-small-lathe.toml");
     machine::from_toml(&std::fs::read_to_string(&path).unwrap(), "linuxcnc-small-lathe.toml").unwrap()
 }
 
 /// The machine a corpus program is meant for: LinuxCNC for `.ngc` and generic G-code, the
 /// built-in Fanuc lathe for `.nc` files.
-fn machine_for(p: &Path, fanuc: &Machine, lcnc: &Machine) -> Machine {
+pub(crate) fn machine_for(p: &Path, fanuc: &Machine, lcnc: &Machine) -> Machine {
     let name = p.to_string_lossy().to_lowercase();
     if name.ends_with(".nc") {
         fanuc.clone()
@@ -46,7 +46,7 @@ fn machine_for(p: &Path, fanuc: &Machine, lcnc: &Machine) -> Machine {
 
 /// `corpus-extra/SOURCES.md` names each file's dialect: LinuxCNC and GRBL programs run on the
 /// LinuxCNC machine, the rest (Fanuc-style lathes and their relatives) on the built-in one.
-fn extra_dialects(dir: &Path) -> BTreeMap<String, bool> {
+pub(crate) fn extra_dialects(dir: &Path) -> BTreeMap<String, bool> {
     let text = std::fs::read_to_string(dir.join("SOURCES.md")).unwrap_or_default();
     let mut linuxcnc = BTreeMap::new();
     for line in text.lines() {
@@ -182,16 +182,16 @@ fn every_corpus_extra_program_is_read_interpreted_and_checked() {
     );
 }
 
-fn root() -> PathBuf {
+pub(crate) fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// A program to check in both modes, with the machine and settings it is written for.
-struct Target {
-    name: String,
-    src: Vec<u8>,
-    machine: Machine,
-    settings: Settings,
+pub(crate) struct Target {
+    pub(crate) name: String,
+    pub(crate) src: Vec<u8>,
+    pub(crate) machine: Machine,
+    pub(crate) settings: Settings,
 }
 
 /// The programs of `programs/` and `tests/cases/` with the machine and the settings their
@@ -199,7 +199,7 @@ struct Target {
 /// and dt are the test's).
 /// Left out: folders with their own `latheguard.toml` (the turn-mill examples, compared in both
 /// modes by `tests/turn_mill.rs`) and cases with a hand-made kinematic tree (`kin=`).
-fn case_targets(dir: &Path, out: &mut Vec<Target>) {
+pub(crate) fn case_targets(dir: &Path, out: &mut Vec<Target>) {
     let Ok(rd) = std::fs::read_dir(dir) else {
         return;
     };
@@ -248,7 +248,7 @@ fn case_targets(dir: &Path, out: &mut Vec<Target>) {
 
 /// The corpus programs of `tests/corpus-jobs/index.toml` with their machine and job, as
 /// `tests/corpus_setups.rs` checks them; none without `../shared`.
-fn corpus_job_targets(out: &mut Vec<Target>) {
+pub(crate) fn corpus_job_targets(out: &mut Vec<Target>) {
     if !files::shared().join("corpus").is_dir() {
         println!(
             "step against exact: corpus programs skipped: no corpus at {}",

@@ -17,6 +17,7 @@
 pub mod episodes;
 mod exact;
 mod scrape;
+mod stream;
 #[cfg(test)]
 mod tests;
 mod three;
@@ -24,13 +25,14 @@ mod turn_round;
 
 use crate::finding::{Finding, Kind, Severity};
 use crate::geom::{self, Aabb, Polygon, P2, V2};
-use crate::interp::{Interpretation, Move, MoveKind};
+use crate::interp::{ExtraMove, Interpretation, Move, MoveKind, MoveState, ProgFrame, Spindle};
 use crate::machine::Machine;
 use crate::motion::{self, Timed};
 use crate::pipeline::{Mode, Settings, Stats};
 use crate::scene::{DexelStock, Revolved, Scene, Snapshot, StockHit, Swept, Travel, View, NO_SWEEP};
 
 use episodes::{Contact, Episodes};
+pub use stream::{takes_3d, takes_3d_depends_on_run, Stream};
 
 /// A moving part.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -91,8 +93,12 @@ pub struct CheckResult {
     pub part_stl: Option<Vec<u8>>,
 }
 
+/// The checker reads a program one move at a time (`stream.rs`): of the run it sees only the
+/// move being checked, its state and extra-axis entry (`now`), and the two moves behind it that
+/// a rule looks back at (`behind`).
 struct Checker<'a> {
-    run: &'a Interpretation,
+    now: Now,
+    behind: Behind,
     machine: &'a Machine,
     scene: Scene,
     settings: Settings,
@@ -137,10 +143,29 @@ struct Checker<'a> {
     turned: bool,
 }
 
+/// The move being checked, with what it refers to.
+struct Now {
+    m: Move,
+    state: MoveState,
+    extra: Option<ExtraMove>,
+}
+
+/// The moves behind the one being checked that the checker looks back at.
+#[derive(Default)]
+struct Behind {
+    /// The move just before it (a snapshot draws its path).
+    prev: Option<Move>,
+    /// The last move before it that is no dwell, and its index (the feed a rapid follows,
+    /// `scrape.rs`).
+    motion: Option<(usize, Move)>,
+}
+
 /// A feed move whose cut is under way (see [`DexelStock::begin_move`]).
 #[derive(Default)]
 struct Cutting {
     index: usize,
+    /// Its station (the insert that cuts).
+    station: u32,
     /// Its programmed path as chords: (path fraction, point) at each vertex.
     path: Vec<(f64, P2)>,
     /// The chords (index of their first vertex) whose sweep can reach the raw stock.
@@ -159,7 +184,9 @@ impl Cutting {
     }
 }
 
-/// Check a program's moves on a machine.
+/// Check a program's moves on a machine, the whole run at once (the streamed check,
+/// [`Stream`], fed every move in one chunk: what `pipeline::check` gets from the interpreter
+/// chunk by chunk).
 pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> CheckResult {
     check_capped(run, machine, settings, crate::finding::MAX_FINDINGS)
 }
@@ -167,8 +194,57 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
 /// [`check`] for a report that keeps the first `cap` findings of a file in line order: a contact
 /// certainly left out is counted but measured only as far as the findings shown depend on it
 /// (`exact::Measure::Coarse`).
-/// A checker of `run` on `machine`, before its first move.
-fn checker<'a>(run: &'a Interpretation, machine: &'a Machine, settings: &Settings) -> Checker<'a> {
+fn check_capped(run: &Interpretation, machine: &Machine, settings: &Settings, cap: usize) -> CheckResult {
+    let three = takes_3d(
+        machine,
+        !run.extra.is_empty(),
+        run.states.iter().any(|s| !s.tailstock_advanced),
+    );
+    let mut s = Stream::new(machine, settings, three, cap);
+    s.feed(crate::interp::Chunk {
+        first: 0,
+        moves: &run.moves,
+        states: &run.states,
+        extra: &run.extra,
+    });
+    s.finish()
+}
+
+/// What the checker takes a move to be in before its first move (never read: `Now` is set
+/// before each move is checked).
+const NO_MOVE: Now = Now {
+    m: Move {
+        kind: MoveKind::Dwell { seconds: 0.0 },
+        line: 0,
+        n: None,
+        profile_line: 0,
+        start: P2::new(0.0, 0.0),
+        end: P2::new(0.0, 0.0),
+        tip: V2::new(0.0, 0.0),
+        station: 0,
+        feed: crate::interp::Feed::Rapid,
+        state: 0,
+    },
+    state: MoveState {
+        spindle: Spindle {
+            dir: crate::interp::SpindleDir::Off,
+            speed: crate::interp::SpindleSpeed::Rpm(0.0),
+        },
+        frame: ProgFrame {
+            origin: P2::new(0.0, 0.0),
+            scale: 1.0,
+            diameter: false,
+        },
+        tailstock_advanced: false,
+        tool_unknown: false,
+        sub_chuck_closed: false,
+    },
+    extra: None,
+};
+
+/// A checker on `machine`, before its first move; with the 3D path when `three` (see
+/// [`takes_3d`]) and the machine has a kinematic tree.
+fn checker<'a>(machine: &'a Machine, settings: &Settings, three: bool) -> Checker<'a> {
     let scene = Scene::new(machine, settings.tolerance_mm);
     let turret = (scene.gang, scene.turret_axis, scene.stations);
     let stock_box = machine.stock.as_ref().map(|s| Aabb {
@@ -176,7 +252,8 @@ fn checker<'a>(run: &'a Interpretation, machine: &'a Machine, settings: &Setting
         max: P2::new(s.diameter / 2.0, s.front),
     });
     Checker {
-        run,
+        now: NO_MOVE,
+        behind: Behind::default(),
         machine,
         scene,
         settings: *settings,
@@ -196,107 +273,16 @@ fn checker<'a>(run: &'a Interpretation, machine: &'a Machine, settings: &Setting
         last_cut: None,
         long_moves: false,
         tailstock_in: machine.tailstock_advanced,
-        three: machine
-            .kinematics
-            .as_ref()
-            // A tree of axes alone (no component has a geometry) describes no part to check:
-            // its moves stay with the 2D checker.
-            // Nor does a program with no extra-axis word while the 2D tailstock outline (on a
-            // turn-mill, the parked sub-spindle) is in the scene throughout.
-            .filter(|k| {
-                let tailstock_out = !machine.tailstock_advanced || run.states.iter().any(|s| !s.tailstock_advanced);
-                (!run.extra.is_empty() || tailstock_out) && k.components.iter().any(|c| c.geometry.is_some())
-            })
-            .map(|k| {
-                let mut t = three::Three::new(k.clone(), settings.tolerance_mm);
-                t.set_turret(turret.0, turret.1, turret.2);
-                t
-            }),
+        three: machine.kinematics.as_ref().filter(|_| three).map(|k| {
+            let mut t = three::Three::new(k.clone(), settings.tolerance_mm);
+            t.set_turret(turret.0, turret.1, turret.2);
+            t
+        }),
         plunge3: None,
         mill: None,
         gap3: None,
         rigid3: std::collections::BTreeSet::new(),
         turned: false,
-    }
-}
-
-fn check_capped(run: &Interpretation, machine: &Machine, settings: &Settings, cap: usize) -> CheckResult {
-    let moves = &run.moves[..];
-    let mut timer = motion::Timer::new(run, machine);
-    let mut c = checker(run, machine, settings);
-    c.episodes.cap = cap;
-    if !machine.operations.is_empty() {
-        c.episodes.operation = 1;
-    }
-    c.static_pairs();
-    for item in timer.by_ref() {
-        if c.stats.pair_tests > settings.work_budget {
-            let m = &moves[item.index];
-            c.budget.push((
-                m.line,
-                format!(
-                    "latheguard stopped checking here: the program used up its work budget of {} pair tests; \
-                     this line and the ones after it are unchecked",
-                    settings.work_budget
-                ),
-            ));
-            break;
-        }
-        c.one_move(&item);
-    }
-    let (machine_time_s, feed_without_speed) = timer.finish();
-    c.episodes.close_all();
-    let mut findings = std::mem::take(&mut c.episodes.findings);
-    episodes::mark_grazes(&mut findings, settings.min_depth(machine));
-    episodes::mark_follow_ons(&mut findings);
-    c.budget.dedup();
-    for (line, message) in std::mem::take(&mut c.budget) {
-        findings.push(Finding::program(line, 0, message));
-    }
-    for &i in &feed_without_speed {
-        let m = &moves[i];
-        findings.push(
-            Finding::program(
-                m.line,
-                0,
-                "feed per revolution with no spindle speed: the move would never finish (timed at 100 mm/min)",
-            )
-            .with_n(m.n),
-        );
-    }
-    let part_stl = if settings.part_mesh { c.part_stl() } else { None };
-    let mut stats = c.stats;
-    stats.machine_time_s = machine_time_s;
-    if c.three.as_ref().is_some_and(|t| t.ran) {
-        stats.effects.push("kinematic_3d".into());
-    }
-    if c.cut_any {
-        stats.effects.push("stock_removal".into());
-    }
-    if c.turned {
-        stats.effects.push("turn_round".into());
-    }
-    if let Some(m) = &c.mill {
-        stats.effects.push("grid_stock".into());
-        stats.grid_rays = m.stock.rays();
-    }
-    if c.indexed {
-        stats.effects.push("turret_index".into());
-    }
-    if c.others_tested {
-        stats.effects.push("other_stations".into());
-    }
-    if c.long_moves {
-        stats.effects.push("long_moves_exact".into());
-    }
-    if settings.clearance_mm > 0.0 {
-        stats.effects.push("near_miss".into());
-    }
-    CheckResult {
-        findings,
-        stats,
-        stock: c.stock,
-        part_stl,
     }
 }
 
@@ -344,12 +330,12 @@ impl Checker<'_> {
         self.stock.as_mut()
     }
 
-    /// The tailstock against the raw stock and the chuck, once, at program start.
-    fn static_pairs(&mut self) {
+    /// The tailstock against the raw stock and the chuck, once, at program start (`line`: the
+    /// program's first move's, else 1).
+    fn static_pairs(&mut self, line: u32) {
         let Some(ts) = self.obstacle(Obstacle::Tailstock).cloned() else {
             return;
         };
-        let line = self.run.moves.first().map_or(1, |m| m.line);
         if let Some(ch) = self.scene.chuck.clone() {
             if let Some(d) = geom::overlap(&ts.outline, &ch.outline) {
                 self.setup_overlap(line, "chuck", d);
@@ -506,15 +492,20 @@ impl Checker<'_> {
         }
     }
 
-    fn one_move(&mut self, item: &Timed) {
-        let m = &self.run.moves[item.index];
+    /// Check move `m` (`item`: its timing), with the state it refers to and its extra-axis
+    /// entry.
+    fn one_move(&mut self, m: &Move, state: &MoveState, e: Option<&ExtraMove>, item: &Timed) {
+        self.now = Now {
+            m: *m,
+            state: *state,
+            extra: e.copied(),
+        };
         self.current_line = m.line;
         if let MoveKind::Operation { op } = m.kind {
             // Whatever tool the turret holds, the operator turns the part round.
             self.turn_round(m, item, op as usize);
             return;
         }
-        let state = &self.run.states[m.state as usize];
         if state.tool_unknown {
             // The station holds no tool the machine file describes: the turret's place is unknown
             // (the interpreter reported it at the T word).
@@ -523,9 +514,8 @@ impl Checker<'_> {
         self.tailstock_in = state.tailstock_advanced;
         self.overtravel(m, item);
         if self.three.is_some() {
-            let e = self.run.extra_of(item.index);
             self.transfer_before(m, e, item);
-            let turns = self.run.spindle(m).is_on() && !e.is_some_and(|e| e.c_mode);
+            let turns = state.spindle.is_on() && !e.is_some_and(|e| e.c_mode);
             let motion = matches!(m.kind, MoveKind::Rapid | MoveKind::Line | MoveKind::Arc { .. });
             let Some(t) = self.three.as_mut() else { return };
             let mut route = t.route(m, e, turns, self.tailstock_in);
@@ -581,7 +571,7 @@ impl Checker<'_> {
             _ => self.motion(m, item),
         }
         if self.three.is_some() {
-            self.transfer_after(m, self.run.extra_of(item.index), item);
+            self.transfer_after(m, e, item);
         }
     }
 
@@ -594,10 +584,20 @@ impl Checker<'_> {
         (k1 - k0).max(0.0) as u64 + 1
     }
 
-    /// A live tool turns during move `index` (`ExtraMove::live_rpm`): its cutter cutting with the
-    /// main spindle stopped is then no `spindle_stopped`.
-    fn live_tool_turns(&self, index: usize) -> bool {
-        self.run.extra_of(index).is_some_and(|e| e.live_rpm > 0.0)
+    /// A live tool turns during the move being checked (`ExtraMove::live_rpm`): its cutter
+    /// cutting with the main spindle stopped is then no `spindle_stopped`.
+    fn live_tool_turns(&self) -> bool {
+        self.now.extra.is_some_and(|e| e.live_rpm > 0.0)
+    }
+
+    /// The spindle during the move being checked.
+    fn spindle(&self) -> &Spindle {
+        &self.now.state.spindle
+    }
+
+    /// How to turn the points of the move being checked back into program coordinates.
+    fn frame(&self) -> &ProgFrame {
+        &self.now.state.frame
     }
 
     fn motion(&mut self, m: &Move, item: &Timed) {
@@ -607,7 +607,7 @@ impl Checker<'_> {
         let feed = !rapid;
         let insert_rule = if rapid {
             Some(Kind::RapidIntoStock)
-        } else if !self.run.spindle(m).is_on() && !self.live_tool_turns(item.index) {
+        } else if !self.spindle().is_on() && !self.live_tool_turns() {
             Some(Kind::SpindleStopped)
         } else {
             None
@@ -662,6 +662,7 @@ impl Checker<'_> {
             self.last_cut = Some(item.index);
             let mut c = self.spare.take().unwrap_or_default();
             c.index = item.index;
+            c.station = m.station;
             c.f = f64::NAN;
             self.chords(m, &mut c);
             self.cutting = Some(c);
@@ -1034,8 +1035,7 @@ impl Checker<'_> {
         let Some((poly, in_plane)) = self.pose(p, ra, active as f64) else {
             return false;
         };
-        let run = self.run;
-        let m = &run.moves[item.index];
+        let m = &self.now.m;
         let corners: Vec<V2> = match motion::polyline_between(m, item, ta - item.t0, tb - item.t0) {
             Some(None) => vec![V2::zeros(), rb - ra],
             Some(Some(c)) => vec![V2::zeros(), c - ra, rb - ra],
@@ -1136,7 +1136,7 @@ impl Checker<'_> {
                 format!("the {a}{other} hits the {b}")
             }
         };
-        let (x, z) = self.run.frame(m).to_program(r + m.tip);
+        let (x, z) = self.frame().to_program(r + m.tip);
         let snapshot = None;
         Contact {
             kind,
@@ -1206,8 +1206,7 @@ impl Checker<'_> {
             }
         }
         let mut path = Vec::new();
-        if item.index > 0 {
-            let prev = &self.run.moves[item.index - 1];
+        if let Some(prev) = &self.behind.prev {
             path.extend((0..=24).map(|k| prev.point_at(k as f64 / 24.0)));
         }
         path.extend((0..=48).map(|k| m.point_at(k as f64 / 48.0)));
@@ -1237,7 +1236,7 @@ impl Checker<'_> {
             others,
             path,
             machine_path,
-            frame: Some(*self.run.frame(m)),
+            frame: Some(*self.frame()),
             travel: None,
             at: r + m.tip,
             part_a: pts(part),
@@ -1302,7 +1301,7 @@ impl Checker<'_> {
     /// [`Self::cut`] removes, so the stock "at the end of the move" is the stock after it.
     fn swept_until(&self, c: &Cutting, f: f64, out: &mut Swept) {
         out.clear();
-        let Some(tool) = self.scene.tool(self.run.moves[c.index].station) else {
+        let Some(tool) = self.scene.tool(c.station) else {
             return;
         };
         let insert = tool.insert.points();
@@ -1469,7 +1468,7 @@ impl Checker<'_> {
         } else {
             "Z"
         };
-        let (x, z) = self.run.frame(m).to_program(r + m.tip);
+        let (x, z) = self.frame().to_program(r + m.tip);
         let mut c = Contact {
             kind: Kind::Overtravel,
             objects: ["turret".into(), format!("{axis} travel")],

@@ -85,11 +85,9 @@ impl Checker<'_> {
     /// wedge))` when the active insert's contact with the stock in rapid `m` is a scrape.
     fn scrape_walk(&mut self, m: &Move, item: &Timed, active: u32) -> Option<(f64, u32, f64)> {
         // 1. The feed this rapid follows, which made the last cut.
-        let index = item.index;
-        let feed_index = (0..index)
-            .rev()
-            .find(|&j| !matches!(self.run.moves[j].kind, MoveKind::Dwell { .. }))?;
-        let feed = &self.run.moves[feed_index];
+        let (feed_index, feed) = self.behind.motion?;
+        debug_assert!(feed_index < item.index);
+        let feed = &feed;
         if !matches!(feed.kind, MoveKind::Line | MoveKind::Arc { .. })
             || feed.station != m.station
             || self.last_cut != Some(feed_index)

@@ -195,9 +195,8 @@ proptest::proptest! {
         margin in 0.0f64..5.0,
     ) {
         let machine = Machine::builtin();
-        let (_, interp) = pipeline::interpret(b"G0 X100 Z100\n", &machine);
         let settings = Settings::default();
-        let mut c = checker(&interp, &machine, &settings);
+        let mut c = checker(&machine, &settings, false);
         c.ensure_stock();
         let rb = crate::geom::Aabb { min: P2::new(x0, z0), max: P2::new(x0 + dx, z0 + dz) };
         if c.out_of_reach(&rb, margin) {
@@ -216,8 +215,7 @@ proptest::proptest! {
 #[test]
 fn a_move_beside_the_chuck_is_in_reach_and_one_far_past_the_travel_is_not() {
     let machine = Machine::builtin();
-    let (_, interp) = pipeline::interpret(b"G0 X100 Z100\n", &machine);
-    let c = checker(&interp, &machine, &Settings::default());
+    let c = checker(&machine, &Settings::default(), false);
     let near = crate::geom::Aabb {
         min: P2::new(20.0, 5.0),
         max: P2::new(30.0, 10.0),

@@ -465,7 +465,7 @@ impl Checker<'_> {
             follows.len() - 1
         };
         let rapid = m.kind == MoveKind::Rapid;
-        let spindle_turns = self.run.spindle(m).is_on() && !e.is_some_and(|e| e.c_mode);
+        let spindle_turns = self.spindle().is_on() && !e.is_some_and(|e| e.c_mode);
         let live = e.is_some_and(|e| e.live_rpm > 0.0);
         let cutter_rule = if rapid {
             Some(Kind::RapidIntoStock)
@@ -891,7 +891,7 @@ impl Checker<'_> {
         let tip = nalgebra::Vector2::new(m.tip.x, m.tip.y);
         let xi = three.ax_x.map_or(0.0, |i| vals[i]);
         let zi = three.ax_z.map_or(0.0, |i| vals[i]);
-        let (x, z) = self.run.frame(m).to_program(crate::geom::P2::new(xi, zi) + tip);
+        let (x, z) = self.frame().to_program(crate::geom::P2::new(xi, zi) + tip);
         let snapshot3 = self
             .settings
             .snapshots
@@ -1113,7 +1113,7 @@ impl Checker<'_> {
             let name = &k.axes[a].name;
             let letter = k.axes[a].letter;
             let t = item.t0 + u * item.duration;
-            let (x, z) = self.run.frame(m).to_program(m.end);
+            let (x, z) = self.frame().to_program(m.end);
             let message = format!("axis {name} ({letter}) goes {over:.3} past its travel [{lo}, {hi}]");
             self.episodes.contact(
                 key,

@@ -39,11 +39,7 @@ impl Checker<'_> {
         }
         // Advanced as the operation begins: the program's state there (an operation's
         // `tailstock.in_use` set it in the interpreter).
-        self.tailstock_in = self
-            .run
-            .states
-            .get(m.state as usize)
-            .is_some_and(|s| s.tailstock_advanced);
+        self.tailstock_in = self.now.state.tailstock_advanced;
         let Some(stock) = self.ensure_stock() else {
             return;
         };

@@ -23,20 +23,13 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     let mut prog = pipeline::read(&src, machine);
     let mut written: std::io::Result<()> = Ok(());
     let mut run = match a.format {
-        MovesFormat::Canon if machine.kinematics.is_some() => {
-            // A turn-mill machine: the extra axes' side table is whole only at the end.
-            let run = interp::interpret(&prog, &src, machine);
-            let mut sink = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
-            written = canon::write(&run, &mut sink).and_then(|_| std::io::Write::flush(&mut sink));
-            run
-        }
         MovesFormat::Canon => {
             // Streamed: the moves go out as the interpreter makes them, so neither the canonical
             // text nor the moves of a long program are ever whole in memory.
             let mut sink = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
-            let run = interp::interpret_streaming(&prog, &src, machine, |moves, states| {
+            let run = interp::interpret_streaming(&prog, &src, machine, |c| {
                 if written.is_ok() {
-                    written = canon::write_moves(moves, states, &mut sink);
+                    written = canon::write_chunk(c, &mut sink);
                 }
             });
             if written.is_ok() {

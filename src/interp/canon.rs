@@ -20,18 +20,31 @@ use std::io::Write;
 /// Each line is built in a small buffer and written whole, so a long run streams without a copy
 /// of the whole output in memory.
 pub fn write<W: Write>(run: &Interpretation, sink: &mut W) -> std::io::Result<()> {
-    if run.extra.is_empty() {
-        return write_moves(&run.moves, &run.states, sink);
+    let whole = super::Chunk {
+        first: 0,
+        moves: &run.moves,
+        states: &run.states,
+        extra: &run.extra,
+    };
+    write_chunk(whole, sink)
+}
+
+/// [`write`] for the moves of a chunk of a streaming run ([`super::interpret_streaming`]), with
+/// their extra axes.
+pub fn write_chunk<W: Write>(c: super::Chunk<'_>, sink: &mut W) -> std::io::Result<()> {
+    if c.extra.is_empty() {
+        return write_moves(c.moves, c.states, sink);
     }
     let mut line = Vec::with_capacity(160);
-    let mut next = run.extra.iter().peekable();
-    for (i, m) in run.moves.iter().enumerate() {
+    let mut next = c.extra.iter().peekable();
+    for (i, m) in c.moves.iter().enumerate() {
+        let i = c.first + i;
         while next.peek().is_some_and(|e| (e.index as usize) < i) {
             next.next();
         }
         let e = next.peek().filter(|e| e.index as usize == i).copied();
         line.clear();
-        one_move_extra(&run.states[m.state as usize].frame, m, e, &mut line);
+        one_move_extra(&c.states[m.state as usize].frame, m, e, &mut line);
         sink.write_all(&line)?;
     }
     Ok(())

@@ -200,10 +200,10 @@ impl Labels {
 }
 
 /// A consumer of moves as they are made, with the states they refer to.
-pub(super) type MoveSink<'a> = Box<dyn FnMut(&[Move], &[super::MoveState]) + 'a>;
+pub(super) type MoveSink<'a> = Box<dyn FnMut(super::Chunk<'_>) + 'a>;
 
 /// Moves collected before a streaming run hands them over.
-pub(super) const STREAM_CHUNK: usize = 4096;
+pub const STREAM_CHUNK: usize = 4096;
 
 /// The interpreter's whole state during one run.
 pub(crate) struct Run<'a> {
@@ -232,8 +232,12 @@ pub(crate) struct Run<'a> {
     pub shift: V2,
     pub moves: Vec<Move>,
     /// Where moves go as they are made, when the caller streams them ([`super::interpret_streaming`]):
-    /// `moves` is handed over and emptied between top-level blocks once it holds [`STREAM_CHUNK`].
+    /// `moves` is handed over and emptied between top-level blocks once it holds `chunk`.
     pub(super) sink: Option<MoveSink<'a>>,
+    /// With a sink: hand `moves` over once it holds this many (between top-level blocks).
+    pub(super) chunk: usize,
+    /// Moves handed to the sink so far (the index of `moves[0]` in the whole run).
+    pub(super) handed: u64,
     pub states: Vec<super::MoveState>,
     pub findings: Vec<Finding>,
     pub executed: u64,
@@ -338,8 +342,10 @@ impl<'a> Run<'a> {
             base_origin: machine.work_zero(0).unwrap_or(P2::new(0.0, machine.program_zero_z)),
             coord_system: 0,
             shift: V2::zeros(),
-            moves: Vec::with_capacity(prog.blocks.len().min(1 << 22)),
+            moves: Vec::new(),
             sink: None,
+            chunk: STREAM_CHUNK,
+            handed: 0,
             states: Vec::new(),
             findings,
             executed: 0,
@@ -370,15 +376,33 @@ impl<'a> Run<'a> {
         }
     }
 
-    /// Give the moves made so far to the sink, if there is one.
+    /// Give the moves made so far to the sink, if there is one, with their extra-axis entries
+    /// (which leave the run with them: a streamed run keeps neither list whole).
     pub(super) fn hand_over(&mut self) {
-        if let Some(sink) = self.sink.as_mut() {
-            sink(&self.moves, &self.states);
-            if let Some(tm) = self.tm.as_deref_mut() {
-                tm.handed += self.moves.len() as u64;
-            }
-            self.moves.clear();
+        let Some(sink) = self.sink.as_mut() else {
+            return;
+        };
+        let first = self.handed;
+        let end = first + self.moves.len() as u64;
+        // Between top-level blocks the entries of these moves are final (a cycle takes back only
+        // moves of its own block); entries past `end` are of moves taken back, dropped later.
+        let extra = match self.tm.as_deref() {
+            Some(tm) => &tm.list[..tm.list.partition_point(|e| u64::from(e.index) < end)],
+            None => &[][..],
+        };
+        let handed_extra = extra.len();
+        sink(super::Chunk {
+            first: first as usize,
+            moves: &self.moves,
+            states: &self.states,
+            extra,
+        });
+        if let Some(tm) = self.tm.as_deref_mut() {
+            tm.list.drain(..handed_extra);
+            tm.handed = end;
         }
+        self.handed = end;
+        self.moves.clear();
     }
 
     pub fn finish(mut self) -> Interpretation {
@@ -472,7 +496,7 @@ impl<'a> Run<'a> {
         let n = self.prog.blocks.len();
         while self.pc < n && !self.stopped {
             // Between top-level blocks no cycle holds a mark into the moves: they may go.
-            if self.moves.len() >= STREAM_CHUNK {
+            if self.moves.len() >= self.chunk {
                 self.hand_over();
             }
             let i = self.pc;

@@ -432,22 +432,52 @@ pub fn interpret(prog: &Program, src: &[u8], machine: &Machine) -> Interpretatio
 
 pub fn interpret_with(prog: &Program, src: &[u8], machine: &Machine, limits: Limits) -> Interpretation {
     let mut run = flow::Run::new(prog, src, machine, limits);
+    run.moves = Vec::with_capacity(prog.blocks.len().min(1 << 22));
     run.run();
     run.finish()
 }
 
-/// Interpret a program handing its moves to `sink` as they are made (in order, in chunks, each
-/// with the states its moves refer to), so a long program's moves are never all in memory. The
-/// [`Interpretation`] returned has every field but `moves`, which is empty. The moves handed
-/// over are exactly those [`interpret`] returns.
+pub use flow::STREAM_CHUNK;
+
+/// Moves handed over by [`interpret_streaming`]: the next run of the program's moves.
+#[derive(Clone, Copy, Debug)]
+pub struct Chunk<'a> {
+    /// The index of `moves[0]` in the whole run (the chunks follow each other without a gap).
+    pub first: usize,
+    pub moves: &'a [Move],
+    /// The states made so far: every move's [`Move::state`] indexes this list.
+    pub states: &'a [MoveState],
+    /// The extra-axis entries of these moves ([`ExtraMove`], index order, indices of the whole
+    /// run, each in `first..first + moves.len()`).
+    pub extra: &'a [ExtraMove],
+}
+
+/// Interpret a program handing its moves to `sink` as they are made (in order, in chunks of
+/// about [`STREAM_CHUNK`], each with the states its moves refer to and their extra-axis
+/// entries), so a long program's moves are never all in memory. The [`Interpretation`] returned
+/// has every field but `moves` and `extra`, which are empty. The moves and entries handed over
+/// are exactly those [`interpret`] returns.
 pub fn interpret_streaming<'a>(
     prog: &'a Program,
     src: &'a [u8],
     machine: &'a Machine,
-    sink: impl FnMut(&[Move], &[MoveState]) + 'a,
+    sink: impl FnMut(Chunk<'_>) + 'a,
+) -> Interpretation {
+    interpret_streaming_by(prog, src, machine, STREAM_CHUNK, sink)
+}
+
+/// [`interpret_streaming`] handing the moves over once `chunk` of them are made (at least 1;
+/// the moves of one top-level block, a canned cycle's passes, always go over together).
+pub fn interpret_streaming_by<'a>(
+    prog: &'a Program,
+    src: &'a [u8],
+    machine: &'a Machine,
+    chunk: usize,
+    sink: impl FnMut(Chunk<'_>) + 'a,
 ) -> Interpretation {
     let mut run = flow::Run::new(prog, src, machine, Limits::for_program(prog));
-    run.moves = Vec::with_capacity(2 * flow::STREAM_CHUNK);
+    run.chunk = chunk.max(1);
+    run.moves = Vec::with_capacity(2 * run.chunk.min(STREAM_CHUNK));
     run.sink = Some(Box::new(sink));
     run.run();
     run.finish()

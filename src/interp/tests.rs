@@ -121,9 +121,10 @@ fn streamed_moves_equal_the_moves_of_a_whole_run() {
     );
     let mut streamed = Vec::new();
     let mut chunks = 0;
-    let rest = super::interpret_streaming(&prog, src.as_bytes(), &machine, |moves, states| {
+    let rest = super::interpret_streaming(&prog, src.as_bytes(), &machine, |c| {
+        assert_eq!(c.first, streamed.len());
         chunks += 1;
-        streamed.extend(moves.iter().map(|m| (*m, states[m.state as usize])));
+        streamed.extend(c.moves.iter().map(|m| (*m, c.states[m.state as usize])));
     });
     assert!(chunks > 3);
     assert!(rest.moves.is_empty());
@@ -293,8 +294,30 @@ fn extra_entries_name_their_moves_in_whole_and_streamed_runs() {
     let m = turn_mill(Machine::builtin());
     let prog = gcode::parse(src.as_bytes());
     let whole = super::interpret(&prog, src.as_bytes(), &m);
-    let rest = super::interpret_streaming(&prog, src.as_bytes(), &m, |_, _| {});
-    assert_eq!(whole.extra, rest.extra);
+    // Streamed, each chunk hands over its moves' entries (none stays behind in the run), and
+    // the canonical text written chunk by chunk is the whole run's: in chunks of the default
+    // size, and of one block each.
+    let mut canon_whole = Vec::new();
+    super::canon::write(&whole, &mut canon_whole).unwrap();
+    for chunk in [super::STREAM_CHUNK, 1] {
+        let mut extra = Vec::new();
+        let mut canon_streamed = Vec::new();
+        let mut next = 0;
+        let rest = super::interpret_streaming_by(&prog, src.as_bytes(), &m, chunk, |c| {
+            assert_eq!(c.first, next);
+            next += c.moves.len();
+            assert!(c
+                .extra
+                .iter()
+                .all(|e| (c.first..c.first + c.moves.len()).contains(&(e.index as usize))));
+            extra.extend_from_slice(c.extra);
+            super::canon::write_chunk(c, &mut canon_streamed).unwrap();
+        });
+        assert!(rest.extra.is_empty());
+        assert_eq!(next, whole.moves.len());
+        assert_eq!(whole.extra, extra, "chunk {chunk}");
+        assert_eq!(canon_whole, canon_streamed, "chunk {chunk}");
+    }
     assert!(whole.moves.len() > 2 * super::flow::STREAM_CHUNK);
     // Every move after M154 is in C-axis mode: one entry each, index order.
     assert_eq!(whole.extra.len(), whole.moves.len());

@@ -82,53 +82,32 @@ pub fn timeline(run: &Interpretation, machine: &Machine) -> Timeline {
     }
 }
 
-/// The moves of a program timed back to back, one at a time: the checker needs only the move
-/// in hand, so a long program is never held as a second list beside its moves.
-pub struct Timer<'a> {
-    run: &'a Interpretation,
+/// Moves timed back to back as they come, one at a time: the checker needs only the move in
+/// hand, so a long program is never held as a second list beside its moves, and a streamed one
+/// ([`crate::interp::interpret_streaming`]) is timed as its chunks arrive.
+pub struct Clock<'a> {
     machine: &'a Machine,
     next: usize,
     t: f64,
     stalled: Vec<usize>,
     stalled_lines: std::collections::HashSet<u32>,
-    /// The next entry of `run.extra` not passed yet.
-    next_extra: usize,
 }
 
-impl<'a> Timer<'a> {
-    pub fn new(run: &'a Interpretation, machine: &'a Machine) -> Self {
-        Timer {
-            run,
+impl<'a> Clock<'a> {
+    pub fn new(machine: &'a Machine) -> Self {
+        Clock {
             machine,
             next: 0,
             t: 0.0,
             stalled: Vec::new(),
             stalled_lines: std::collections::HashSet::new(),
-            next_extra: 0,
         }
     }
 
-    /// Time the moves not taken yet, then return the total machine time and the moves whose
-    /// per-revolution feed had no usable spindle speed (see [`Timeline::feed_without_speed`]).
-    pub fn finish(mut self) -> (f64, Vec<usize>) {
-        for _ in self.by_ref() {}
-        (self.t, self.stalled)
-    }
-}
-
-impl Iterator for Timer<'_> {
-    type Item = Timed;
-
-    fn next(&mut self) -> Option<Timed> {
+    /// Time the next move of the program: `m` with the spindle in force and its extra-axis entry.
+    pub fn time(&mut self, m: &Move, spindle: &Spindle, e: Option<&ExtraMove>) -> Timed {
         let i = self.next;
-        let m = self.run.moves.get(i)?;
         self.next += 1;
-        let spindle = self.run.spindle(m);
-        let extra = &self.run.extra;
-        while self.next_extra < extra.len() && (extra[self.next_extra].index as usize) < i {
-            self.next_extra += 1;
-        }
-        let e = extra.get(self.next_extra).filter(|e| e.index as usize == i);
         let (stalled, stalled_lines) = (&mut self.stalled, &mut self.stalled_lines);
         let mut on_stall = || {
             if stalled_lines.insert(m.line) {
@@ -151,11 +130,63 @@ impl Iterator for Timer<'_> {
             path,
         };
         self.t += duration;
-        Some(item)
+        item
+    }
+
+    /// The moves timed so far whose per-revolution feed had no usable spindle speed (see
+    /// [`Timeline::feed_without_speed`]).
+    pub fn stalled(&self) -> &[usize] {
+        &self.stalled
+    }
+
+    /// The machine time of the moves timed, and the moves of [`Clock::stalled`].
+    pub fn finish(self) -> (f64, Vec<usize>) {
+        (self.t, self.stalled)
+    }
+}
+
+/// The moves of an interpreted program timed back to back, one at a time (a [`Clock`] over
+/// [`Interpretation::moves`]).
+pub struct Timer<'a> {
+    run: &'a Interpretation,
+    clock: Clock<'a>,
+    /// The next entry of `run.extra` not passed yet.
+    next_extra: usize,
+}
+
+impl<'a> Timer<'a> {
+    pub fn new(run: &'a Interpretation, machine: &'a Machine) -> Self {
+        Timer {
+            run,
+            clock: Clock::new(machine),
+            next_extra: 0,
+        }
+    }
+
+    /// Time the moves not taken yet, then return the total machine time and the moves whose
+    /// per-revolution feed had no usable spindle speed (see [`Timeline::feed_without_speed`]).
+    pub fn finish(mut self) -> (f64, Vec<usize>) {
+        for _ in self.by_ref() {}
+        self.clock.finish()
+    }
+}
+
+impl Iterator for Timer<'_> {
+    type Item = Timed;
+
+    fn next(&mut self) -> Option<Timed> {
+        let i = self.clock.next;
+        let m = self.run.moves.get(i)?;
+        let extra = &self.run.extra;
+        while self.next_extra < extra.len() && (extra[self.next_extra].index as usize) < i {
+            self.next_extra += 1;
+        }
+        let e = extra.get(self.next_extra).filter(|e| e.index as usize == i);
+        Some(self.clock.time(m, self.run.spindle(m), e))
     }
 
     fn size_hint(&self) -> (usize, Option<usize>) {
-        let left = self.run.moves.len() - self.next;
+        let left = self.run.moves.len() - self.clock.next;
         (left, Some(left))
     }
 }

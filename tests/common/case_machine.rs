@@ -22,8 +22,12 @@ pub fn case_machine(root: &Path, name: &str) -> Machine {
 /// `latheguard check` reads the file beside a program), when there is one: parsed, merged as the
 /// one job layer and applied by the library, the files it names read relative to it.
 pub fn with_case_job(machine: Machine, program: &Path) -> Machine {
-    let job = program.with_extension("job.toml");
-    let Ok(text) = std::fs::read_to_string(&job) else {
+    with_job(machine, &program.with_extension("job.toml"))
+}
+
+/// `machine` with the job file `job` applied, when there is one (as [`with_case_job`]).
+pub fn with_job(machine: Machine, job: &Path) -> Machine {
+    let Ok(text) = std::fs::read_to_string(job) else {
         return machine;
     };
     let shown = job.display().to_string();

@@ -63,7 +63,7 @@ impl Checker<'_> {
     }
 
     fn transfer_before_with(&mut self, three: &mut Three, m: &Move, e: Option<&ExtraMove>, item: &Timed) {
-        let closed = self.run.states[m.state as usize].sub_chuck_closed;
+        let closed = self.now.state.sub_chuck_closed;
         let Some(&chuck) = three.sub_chucks.first() else { return };
         if closed && !three.transfer.closed {
             let holds = self.bar_in_jaws(three, chuck, m, e, item);
@@ -95,7 +95,7 @@ impl Checker<'_> {
         three.transfer.torn = true;
         let name = three.kin.components[chuck].name.clone();
         let words = self.words3(&three.kin, chuck);
-        let (x, z) = self.run.frame(m).to_program(m.start);
+        let (x, z) = self.frame().to_program(m.start);
         self.episodes.contact(
             TEAR_KEY,
             Contact {

@@ -1,0 +1,197 @@
+//! The checker fed one chunk of moves at a time, as the interpreter makes them
+//! (`interp::interpret_streaming`; ARCHITECTURE.md, "Memory for long programs"): a long program's
+//! moves are never all in memory. [`super::check`] feeds a whole run's moves as one chunk.
+//!
+//! What a move's check reads of the run, and where the stream keeps it:
+//! - the move itself, the state it refers to and its extra-axis entry: from the chunk in hand
+//!   (chunks carry every state made so far and their moves' entries);
+//! - the move just before it (a snapshot's path) and the last move before it that is no dwell
+//!   (the feed a rapid scrape follows, `scrape.rs`): copies carried from move to move
+//!   (`Behind`), whatever chunk they came in;
+//! - its start time: the [`motion::Clock`], which times the moves in order;
+//! - two facts of the whole run, which decide before the first move whether the 3D path runs:
+//!   [`takes_3d`], whose caller learns them in a first pass of the interpreter when the machine
+//!   does not decide alone ([`takes_3d_depends_on_run`]).
+//!
+//! Nothing else of the run is read, and no rule looks ahead: so the findings, statistics and
+//! stock are the same whatever the chunks (`tests/streamed.rs` holds them byte for byte to the
+//! whole run's, with chunks of one move).
+
+use super::{checker, episodes, CheckResult, Checker};
+use crate::finding::Finding;
+use crate::interp::{Chunk, MoveKind};
+use crate::machine::Machine;
+use crate::motion;
+use crate::pipeline::Settings;
+
+/// Whether a program's check takes the 3D path (`three.rs`), from two facts of its whole run:
+/// some move has an extra-axis entry (`any_extra`), some move has the tailstock withdrawn
+/// (`tailstock_withdrawn`). It does on a machine with a kinematic tree that describes a part
+/// (some component has a geometry) when either holds or the tailstock starts withdrawn; a tree
+/// of axes alone, or a program with no extra-axis word while the 2D tailstock outline (on a
+/// turn-mill, the parked sub-spindle) is in the scene throughout, stays with the 2D checker.
+pub fn takes_3d(machine: &Machine, any_extra: bool, tailstock_withdrawn: bool) -> bool {
+    machine.kinematics.as_ref().is_some_and(|k| {
+        let tailstock_out = !machine.tailstock_advanced || tailstock_withdrawn;
+        (any_extra || tailstock_out) && k.components.iter().any(|c| c.geometry.is_some())
+    })
+}
+
+/// Whether [`takes_3d`] needs the run's facts on this machine (else any facts give its answer).
+pub fn takes_3d_depends_on_run(machine: &Machine) -> bool {
+    takes_3d(machine, true, true) != takes_3d(machine, false, false)
+}
+
+/// The checker of one program, fed its moves in order ([`Stream::feed`]), then finished.
+pub struct Stream<'a> {
+    c: Checker<'a>,
+    clock: motion::Clock<'a>,
+    /// The index of the next move fed.
+    next: usize,
+    /// The tailstock's setup was checked (before the first move).
+    started: bool,
+    /// The work budget ran out: the moves after are timed, not checked.
+    stopped: bool,
+    /// Moves that reach the machine ([`crate::pipeline::Stats::moves`]).
+    motions: u64,
+    /// The line and N number of each move the clock timed at the fallback feed.
+    stalls: Vec<(u32, Option<u64>)>,
+}
+
+impl<'a> Stream<'a> {
+    /// A check on `machine` that keeps the first `cap` findings in line order (see
+    /// `check_capped`); with the 3D path when `three` ([`takes_3d`]).
+    pub fn new(machine: &'a Machine, settings: &Settings, three: bool, cap: usize) -> Stream<'a> {
+        let mut c = checker(machine, settings, three);
+        c.episodes.cap = cap;
+        if !machine.operations.is_empty() {
+            c.episodes.operation = 1;
+        }
+        Stream {
+            c,
+            clock: motion::Clock::new(machine),
+            next: 0,
+            started: false,
+            stopped: false,
+            motions: 0,
+            stalls: Vec::new(),
+        }
+    }
+
+    /// Check the next moves of the program (`chunk.first` is the index of the next move).
+    pub fn feed(&mut self, chunk: Chunk<'_>) {
+        debug_assert_eq!(chunk.first, self.next);
+        let mut extra = chunk.extra.iter().peekable();
+        for m in chunk.moves {
+            let i = self.next;
+            self.next += 1;
+            while extra.peek().is_some_and(|e| (e.index as usize) < i) {
+                extra.next();
+            }
+            let e = extra.peek().copied().filter(|e| e.index as usize == i);
+            let state = &chunk.states[m.state as usize];
+            if !matches!(m.kind, MoveKind::Dwell { .. } | MoveKind::Operation { .. }) {
+                self.motions += 1;
+            }
+            let stalled = self.clock.stalled().len();
+            let item = self.clock.time(m, &state.spindle, e);
+            if self.clock.stalled().len() > stalled {
+                self.stalls.push((m.line, m.n));
+            }
+            if !self.started {
+                self.started = true;
+                self.c.static_pairs(m.line);
+            }
+            if !self.stopped {
+                let budget = self.c.settings.work_budget;
+                if self.c.stats.pair_tests > budget {
+                    self.c.budget.push((
+                        m.line,
+                        format!(
+                            "latheguard stopped checking here: the program used up its work budget of {budget} pair tests; \
+                             this line and the ones after it are unchecked"
+                        ),
+                    ));
+                    self.stopped = true;
+                } else {
+                    self.c.one_move(m, state, e, &item);
+                }
+            }
+            let b = &mut self.c.behind;
+            b.prev = Some(*m);
+            if !matches!(m.kind, MoveKind::Dwell { .. }) {
+                b.motion = Some((i, *m));
+            }
+        }
+    }
+
+    /// The findings, statistics and stock of the program fed.
+    pub fn finish(self) -> CheckResult {
+        let Stream {
+            mut c,
+            clock,
+            started,
+            motions,
+            stalls,
+            ..
+        } = self;
+        if !started {
+            c.static_pairs(1);
+        }
+        let settings = c.settings;
+        let (machine_time_s, _) = clock.finish();
+        c.episodes.close_all();
+        let mut findings = std::mem::take(&mut c.episodes.findings);
+        episodes::mark_grazes(&mut findings, settings.min_depth(c.machine));
+        episodes::mark_follow_ons(&mut findings);
+        c.budget.dedup();
+        for (line, message) in std::mem::take(&mut c.budget) {
+            findings.push(Finding::program(line, 0, message));
+        }
+        for (line, n) in stalls {
+            findings.push(
+                Finding::program(
+                    line,
+                    0,
+                    "feed per revolution with no spindle speed: the move would never finish (timed at 100 mm/min)",
+                )
+                .with_n(n),
+            );
+        }
+        let part_stl = if settings.part_mesh { c.part_stl() } else { None };
+        let mut stats = std::mem::take(&mut c.stats);
+        stats.machine_time_s = machine_time_s;
+        stats.moves = motions;
+        if c.three.as_ref().is_some_and(|t| t.ran) {
+            stats.effects.push("kinematic_3d".into());
+        }
+        if c.cut_any {
+            stats.effects.push("stock_removal".into());
+        }
+        if c.turned {
+            stats.effects.push("turn_round".into());
+        }
+        if let Some(m) = &c.mill {
+            stats.effects.push("grid_stock".into());
+            stats.grid_rays = m.stock.rays();
+        }
+        if c.indexed {
+            stats.effects.push("turret_index".into());
+        }
+        if c.others_tested {
+            stats.effects.push("other_stations".into());
+        }
+        if c.long_moves {
+            stats.effects.push("long_moves_exact".into());
+        }
+        if settings.clearance_mm > 0.0 {
+            stats.effects.push("near_miss".into());
+        }
+        CheckResult {
+            findings,
+            stats,
+            stock: c.stock,
+            part_stl,
+        }
+    }
+}
