@@ -202,7 +202,7 @@ impl Evidence {
         let mut cycle_starts: Vec<At> = Vec::new();
         // What earlier turning passes left: along each, nothing outside its radius (top z,
         // bottom z, radius).
-        let mut turned: Vec<[f64; 3]> = Vec::new();
+        let mut turned = Turned::default();
         for (i, s) in r.segs.iter().enumerate() {
             // A roughing cycle's first move starts from its start point, outside the bar.
             if s.cycle && (i == 0 || !r.segs[i - 1].cycle || r.segs[i - 1].line != s.line) {
@@ -264,11 +264,7 @@ impl Evidence {
             let (cut, reach) = if in_cycle { (None, cut.or(reach)) } else { (cut, reach) };
             // Outside what an earlier pass turned to, over its length, there is only air.
             let (zlo, zhi) = (s.a[1].min(s.b[1]), s.a[1].max(s.b[1]));
-            let in_air = |c: f64, zlo: f64, zhi: f64| {
-                turned
-                    .iter()
-                    .any(|t| c > t[2] + 1e-6 && zhi <= t[0] + 1e-9 && zlo >= t[1] - 1e-9)
-            };
+            let in_air = |c: f64, zlo: f64, zhi: f64| turned.air(c, zlo, zhi);
             let cut = cut.filter(|c| !in_air(*c, zlo, zhi));
             let reach = reach.filter(|c| {
                 let z = if dr < 0.0 { s.b[1] } else { s.a[1] };
@@ -313,6 +309,45 @@ impl Evidence {
         }
         e.comment = stock_comment(r);
         e
+    }
+}
+
+/// What earlier turning passes left, each as (top z, bottom z, radius): along a pass, nothing
+/// outside its radius. Only passes no other one covers are kept (one that spans at least the
+/// same z at no larger radius answers every question the other would), so a program that turns
+/// the same shoulders over and over keeps a handful; past [`Turned::MOST`] of them the oldest
+/// goes, so the reading stays linear in the program's length.
+#[derive(Default)]
+struct Turned {
+    passes: std::collections::VecDeque<[f64; 3]>,
+}
+
+impl Turned {
+    /// Passes kept at most.
+    const MOST: usize = 256;
+
+    /// Whether `a` covers `b`: every point `b` says is air, `a` says is air too.
+    fn covers(a: &[f64; 3], b: &[f64; 3]) -> bool {
+        a[0] >= b[0] && a[1] <= b[1] && a[2] <= b[2]
+    }
+
+    fn push(&mut self, t: [f64; 3]) {
+        if self.passes.iter().any(|p| Self::covers(p, &t)) {
+            return;
+        }
+        self.passes.retain(|p| !Self::covers(&t, p));
+        if self.passes.len() == Self::MOST {
+            self.passes.pop_front();
+        }
+        self.passes.push_back(t);
+    }
+
+    /// Whether radius `c` from `zlo` to `zhi` lies outside what some earlier pass turned, over
+    /// its length.
+    fn air(&self, c: f64, zlo: f64, zhi: f64) -> bool {
+        self.passes
+            .iter()
+            .any(|t| c > t[2] + 1e-6 && zhi <= t[0] + 1e-9 && zlo >= t[1] - 1e-9)
     }
 }
 
@@ -819,4 +854,48 @@ fn no_bar(file: &str, line: u32, why_d: &str, diameter: f64, limit: f64, e: &Evi
         line,
         kept: false,
     });
+}
+
+#[cfg(test)]
+mod turned_tests {
+    use super::Turned;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Keeping only the passes no other one covers answers every question as the whole list
+        /// of passes does (below the cap).
+        #[test]
+        fn the_passes_kept_say_air_where_every_pass_does(
+            passes in prop::collection::vec((-60i32..10, 1i32..40, 0i32..30), 0..120),
+            queries in prop::collection::vec((0i32..35, -70i32..12, 0i32..20), 1..60),
+        ) {
+            let mut kept = Turned::default();
+            let mut all: Vec<[f64; 3]> = Vec::new();
+            for (bottom, len, r) in passes {
+                // Whole and half millimetres, so that equal ends and radii occur.
+                let t = [f64::from(bottom + len) / 2.0, f64::from(bottom) / 2.0, f64::from(r) / 2.0];
+                kept.push(t);
+                all.push(t);
+            }
+            prop_assert!(kept.passes.len() <= Turned::MOST);
+            for (c, zlo, len) in queries {
+                let (c, zlo) = (f64::from(c) / 2.0 + 0.25, f64::from(zlo) / 2.0);
+                let zhi = zlo + f64::from(len) / 2.0;
+                let every = all.iter().any(|t| c > t[2] + 1e-6 && zhi <= t[0] + 1e-9 && zlo >= t[1] - 1e-9);
+                prop_assert_eq!(kept.air(c, zlo, zhi), every);
+            }
+        }
+    }
+
+    /// However many passes a program turns, at most `Turned::MOST` are kept.
+    #[test]
+    fn a_program_of_many_different_passes_keeps_a_bounded_number() {
+        let mut kept = Turned::default();
+        for k in 0..100_000 {
+            // Each pass longer and wider than the last: none covers another.
+            let k = f64::from(k);
+            kept.push([0.0, -1.0 - k, 1.0 + k]);
+        }
+        assert_eq!(kept.passes.len(), Turned::MOST);
+    }
 }

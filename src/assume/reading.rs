@@ -63,15 +63,58 @@ pub struct Reading {
     /// is a dry run or a test of the control, and no bar is assumed.
     pub spindle_runs: bool,
     /// The source, line by line (lossy UTF-8), index 0 = line 1.
-    pub lines: Vec<String>,
+    pub lines: Lines,
+}
+
+/// A program's source as lines: one string and where each line starts (a line is not an
+/// allocation of its own: a long program's reading stays a few bytes a line).
+#[derive(Clone, Debug, Default)]
+pub struct Lines {
+    text: String,
+    /// Byte ranges of the lines in `text`, without their line ends.
+    spans: Vec<(u32, u32)>,
+}
+
+impl Lines {
+    /// The lines of `src` as [`str::lines`] cuts them (lossy UTF-8). A source past 4 GiB keeps
+    /// its first 4 GiB (the programs read are far smaller).
+    pub fn of(src: &[u8]) -> Lines {
+        let text = String::from_utf8_lossy(src).into_owned();
+        let mut spans = Vec::new();
+        let base = text.as_ptr() as usize;
+        for l in text.lines() {
+            let start = l.as_ptr() as usize - base;
+            let (Ok(a), Ok(b)) = (u32::try_from(start), u32::try_from(start + l.len())) else {
+                break;
+            };
+            spans.push((a, b));
+        }
+        Lines { text, spans }
+    }
+
+    /// Line `i` (0-based).
+    pub fn get(&self, i: usize) -> Option<&str> {
+        self.spans.get(i).map(|&(a, b)| &self.text[a as usize..b as usize])
+    }
+
+    pub fn len(&self) -> usize {
+        self.spans.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.spans.is_empty()
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = &str> + '_ {
+        self.spans.iter().map(|&(a, b)| &self.text[a as usize..b as usize])
+    }
 }
 
 impl Reading {
     /// Interpret `src` on `machine` (as `check` reads it: the machine's dialect, or the one the
     /// program's signs choose) and keep its moves in program coordinates.
     pub fn of(src: &[u8], machine: &Machine) -> Reading {
-        let (_, run) = crate::pipeline::interpret(src, machine);
-        let lines: Vec<String> = String::from_utf8_lossy(src).lines().map(str::to_string).collect();
+        let lines = Lines::of(src);
         // Index = 1-based line: the line holds a G70–G73 word.
         let cycle_lines: Vec<bool> = std::iter::once(false)
             .chain(lines.iter().map(|l| {
@@ -82,64 +125,16 @@ impl Reading {
             }))
             .collect();
         let mut segs = Vec::new();
-        for m in &run.moves {
-            let frame = run.frame(m);
-            // A tool working beyond the axis (negative X) is read as its mirror image: the bar
-            // is the same on both sides.
-            let side = if m.start.x + m.end.x < 2.0 * frame.origin.x - 1e-9 {
-                -1.0
-            } else {
-                1.0
-            };
-            let to = |p: crate::geom::P2| [side * (p.x - frame.origin.x), p.y - frame.origin.y];
-            let kind = match m.kind {
-                MoveKind::Rapid => SegKind::Rapid,
-                MoveKind::Line | MoveKind::Arc { .. } => SegKind::Feed,
-                _ => continue,
-            };
-            let cycle = cycle_lines.get(m.line as usize).copied().unwrap_or(false);
-            let per_rev = match m.feed {
-                Feed::PerRev(f) => Some(f),
-                _ => None,
-            };
-            let mut push = |a: [f64; 2], b: [f64; 2]| {
-                segs.push(Seg {
-                    line: m.line,
-                    station: m.station,
-                    kind,
-                    a,
-                    b,
-                    per_rev,
-                    scale: frame.scale,
-                    diameter: frame.diameter,
-                    cycle,
-                    profile: m.profile_line != 0,
-                })
-            };
-            match m.kind {
-                MoveKind::Arc { center, sweep } => {
-                    let (s, e) = (m.start - center, m.end - center);
-                    let (r0, r1) = (s.norm(), e.norm());
-                    let a0 = s.y.atan2(s.x);
-                    let at = |t: f64| {
-                        let r = r0 + t * (r1 - r0);
-                        let a = a0 + t * sweep;
-                        to(center + crate::geom::V2::new(r * a.cos(), r * a.sin()))
-                    };
-                    let mut prev = to(m.start);
-                    for k in 1..=ARC_CHORDS {
-                        let p = if k == ARC_CHORDS {
-                            to(m.end)
-                        } else {
-                            at(k as f64 / ARC_CHORDS as f64)
-                        };
-                        push(prev, p);
-                        prev = p;
-                    }
-                }
-                _ => push(to(m.start), to(m.end)),
+        // The moves are read as the interpreter makes them, and dropped: only the segments stay.
+        let (machine, _) = crate::pipeline::resolve(src, machine);
+        let machine = machine.as_ref();
+        let prog = crate::pipeline::read(src, machine);
+        let run = crate::interp::interpret_streaming(&prog, src, machine, |c| {
+            for m in c.moves {
+                read_move(m, &c.states[m.state as usize].frame, &cycle_lines, &mut segs);
             }
-        }
+        });
+        drop(prog);
         let spindle_runs = run.states.iter().any(|s| s.spindle.is_on());
         Reading {
             segs,
@@ -150,8 +145,66 @@ impl Reading {
 
     /// The text of 1-based `line` ("" past the end).
     pub fn line(&self, line: u32) -> &str {
-        self.lines
-            .get(line.saturating_sub(1) as usize)
-            .map_or("", String::as_str)
+        self.lines.get(line.saturating_sub(1) as usize).unwrap_or("")
+    }
+}
+
+/// The segments of one move `m` in `frame`, appended to `segs`; `cycle_lines[line]` says whether
+/// the 1-based line holds a G70–G73 word.
+fn read_move(m: &crate::interp::Move, frame: &crate::interp::ProgFrame, cycle_lines: &[bool], segs: &mut Vec<Seg>) {
+    // A tool working beyond the axis (negative X) is read as its mirror image: the bar
+    // is the same on both sides.
+    let side = if m.start.x + m.end.x < 2.0 * frame.origin.x - 1e-9 {
+        -1.0
+    } else {
+        1.0
+    };
+    let to = |p: crate::geom::P2| [side * (p.x - frame.origin.x), p.y - frame.origin.y];
+    let kind = match m.kind {
+        MoveKind::Rapid => SegKind::Rapid,
+        MoveKind::Line | MoveKind::Arc { .. } => SegKind::Feed,
+        _ => return,
+    };
+    let cycle = cycle_lines.get(m.line as usize).copied().unwrap_or(false);
+    let per_rev = match m.feed {
+        Feed::PerRev(f) => Some(f),
+        _ => None,
+    };
+    let mut push = |a: [f64; 2], b: [f64; 2]| {
+        segs.push(Seg {
+            line: m.line,
+            station: m.station,
+            kind,
+            a,
+            b,
+            per_rev,
+            scale: frame.scale,
+            diameter: frame.diameter,
+            cycle,
+            profile: m.profile_line != 0,
+        })
+    };
+    match m.kind {
+        MoveKind::Arc { center, sweep } => {
+            let (s, e) = (m.start - center, m.end - center);
+            let (r0, r1) = (s.norm(), e.norm());
+            let a0 = s.y.atan2(s.x);
+            let at = |t: f64| {
+                let r = r0 + t * (r1 - r0);
+                let a = a0 + t * sweep;
+                to(center + crate::geom::V2::new(r * a.cos(), r * a.sin()))
+            };
+            let mut prev = to(m.start);
+            for k in 1..=ARC_CHORDS {
+                let p = if k == ARC_CHORDS {
+                    to(m.end)
+                } else {
+                    at(k as f64 / ARC_CHORDS as f64)
+                };
+                push(prev, p);
+                prev = p;
+            }
+        }
+        _ => push(to(m.start), to(m.end)),
     }
 }
