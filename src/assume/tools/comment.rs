@@ -205,7 +205,7 @@ pub fn read(r: &Reading, scale: f64) -> BTreeMap<u32, Said> {
     }
     // The station of the first move at `line` or after, before the line `until`.
     let station_from = |line: u32, until: u32| at_line.range(line..until).next().map(|(_, s)| *s);
-    let parts: Vec<(String, String)> = r.lines.iter().map(|l| split_comment(l)).collect();
+    let parts: Vec<(String, String)> = r.lines.iter().map(split_comment).collect();
     let comment_only = |i: usize| -> Option<&str> {
         let (code, comment) = parts.get(i)?;
         let code = code
