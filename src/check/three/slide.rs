@@ -55,7 +55,7 @@ impl Slide {
         u: f64,
         step: f64,
     ) -> Option<f64> {
-        if !(self.base > 0.0) || step >= self.reach || u < self.hold || u >= 1.0 {
+        if !collide3::positive(self.base) || step >= self.reach || u < self.hold || u >= 1.0 {
             return None;
         }
         let end = (u + self.reach).min(1.0);
@@ -123,7 +123,7 @@ impl Follow<'_> {
             Timing::Varying { .. } => return None,
             Timing::Dogleg { tx, tz, .. } => {
                 let d = self.item.duration;
-                if !(d > 0.0) {
+                if !collide3::positive(d) {
                     return None;
                 }
                 let mut bends = [tx / d, tz / d];
