@@ -91,6 +91,28 @@ fn a_live_drill_fed_past_the_bar_hits_the_jaws() {
     );
 }
 
+/// The live holder slides along the bar's radius at a gap of 0 while its drill feeds 100 mm
+/// along z: the stretches are proven clear (`check/three/slide.rs`) instead of stepped by the
+/// tolerance (about 9,400 probes of that pair alone, 14,549 pair tests in all, before), and
+/// the far pairs step by their posed boxes' gap. Work, not time: the pair tests.
+#[test]
+fn the_live_holder_sliding_along_the_bar_costs_few_pair_tests() {
+    let m = turn_mill();
+    let src = std::fs::read(root().join("programs/turn-mill/crash_live_drill_into_jaws.nc")).unwrap();
+    for mode in [Mode::Step, Mode::Exact] {
+        let settings = Settings {
+            mode,
+            ..Settings::default()
+        };
+        let out = pipeline::check(&src, &m, &settings);
+        assert!(
+            out.stats.pair_tests < 6_000,
+            "{mode:?}: {} pair tests",
+            out.stats.pair_tests
+        );
+    }
+}
+
 #[test]
 fn a_y_move_beside_the_advanced_sub_spindle_hits_its_chuck() {
     both_modes(

@@ -33,6 +33,7 @@
 mod index;
 pub(super) mod mill;
 mod near;
+mod slide;
 pub(super) mod transfer;
 
 use std::sync::Arc;
@@ -56,6 +57,9 @@ const KEY_BASE: u64 = 1 << 48;
 const STOCK: usize = usize::MAX;
 /// Samples after first contact at which the depth of a 3D contact is measured.
 const DEPTH_SAMPLES: u32 = 16;
+/// The shortest stretch a part sliding along the stock is proven clear over (`slide.rs`), in
+/// the advancement's shortest steps.
+const SLIDE_STEPS: f64 = 16.0;
 
 /// The path that checks a move ([`Three::route`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -576,7 +580,7 @@ impl Checker<'_> {
         for (&(a, b, kind, fi), &key) in pairs.iter().zip(&keys) {
             let follow = &follows[fi];
             let res = if b == STOCK {
-                self.stock_advance(three, follow, a)
+                self.stock_advance(three, follow, Some(follow), a)
             } else {
                 let start = known.iter().find(|(p, _)| *p == (a, b)).map_or(0.0, |g| g.1);
                 let (adv, end, n) = pair_advance(three, follow, a, b, self.settings.tolerance_mm, start);
@@ -755,7 +759,14 @@ impl Checker<'_> {
     }
 
     /// Conservative advancement of a component against the stock (see `collide3::motion`).
-    fn stock_advance(&mut self, three: &Three, f: &dyn collide3::Path, a: CompId) -> (Advance, u64) {
+    /// `follow`: the move's follower, when `f` is one (the proofs of `slide.rs` read its path).
+    fn stock_advance(
+        &mut self,
+        three: &Three,
+        f: &dyn collide3::Path,
+        follow: Option<&Follow>,
+        a: CompId,
+    ) -> (Advance, u64) {
         let k = &three.kin;
         let Some(sa) = three.shapes[a].as_ref() else {
             return (Advance::Clear, 0);
@@ -789,6 +800,7 @@ impl Checker<'_> {
         let hit_at = |poser: &Poser, stock: &mut _| mill::stock_hit(mill, stock, &three.posed(a, sa, poser), true);
         // The gap is sought within a few mm: its cost grows with the columns the window spans.
         let window = rate.min(5.0) + 1.0;
+        let mut slide = slide::Slide::new(SLIDE_STEPS * min_step / rate);
         loop {
             probes += 1;
             if probes > MAX_PROBES {
@@ -845,7 +857,15 @@ impl Checker<'_> {
                 return (Advance::Unchecked { u }, probes);
             }
             prev = u;
-            let next = (u + gap.max(min_step) / rate).min(1.0);
+            let step = gap.max(min_step) / rate;
+            // Sliding along the dexel stock: a stretch proven clear in one query (`slide.rs`).
+            if let (None, Some(f)) = (mill, follow) {
+                if let Some(end) = slide.skip(three, f, a, sa, stock, u, step) {
+                    u = end;
+                    continue;
+                }
+            }
+            let next = (u + step).min(1.0);
             u = if next > u { next } else { (u + f64::EPSILON).min(1.0) };
         }
     }

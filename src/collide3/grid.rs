@@ -301,6 +301,19 @@ pub fn grid_clear(shape: &Shape3, pose: &Iso, part: &Iso, stock: &Stock, margin:
     options.is_empty() || options.iter().any(|&r| q.count(r, 0) == 0)
 }
 
+/// Whether the dexel stock alone proves that [`grid_overlap`] with this `dexel` and a touch depth
+/// `touch` finds nothing for the solid `shape` (posed at `pose`; the grid may query a primitive
+/// inside it): `stock_overlap` finds no overlap at all (depth 0) on any column's plane, and
+/// `touch` exceeds a column's width. A grid contact is a point `p` of the solid deeper than
+/// `touch` that the dexel column holding `p.z` holds (its radius within one of the column's
+/// radial intervals, which have positive width); the column's plane is within half a column of
+/// `p`, so the solid's section by that plane holds a disc of positive radius about the point
+/// over `p`, whose radii reach into the interval: the overlap test measures a positive depth
+/// there (a triangle's section inside the interval, or the ring inside the solid).
+pub fn dexel_clears_grid(shape: &Shape3, pose: &Iso, dexel: &mut DexelStock, touch: f64) -> bool {
+    touch > dexel.column_width() && super::stock_overlap(shape, pose, dexel, crate::scene::View::Now, 0.0).is_none()
+}
+
 /// Does the shape (posed at `pose`, machine frame) overlap the stock by more than `eps`? The
 /// stock's frame is `part` (machine frame of the part: the main spindle's pose).
 ///
@@ -566,6 +579,35 @@ mod tests {
             }
         }
         assert!(hits > 10 && hits < 150, "{hits}");
+    }
+
+    /// Against the grid query itself: wherever the dexel stock proves the part clear, the grid
+    /// query (with the dexel stock, at a touch depth) finds nothing; and poses into the bar are
+    /// found by both (the proof is not vacuous).
+    #[test]
+    fn the_dexel_stock_clears_only_what_the_grid_query_finds_clear() {
+        let s = milled_bar();
+        let mut dexel = DexelStock::new(40.0, 0.0, 60.0, 60.0, 0.05);
+        let b = cube(1.5);
+        let touch = 2.0 * s.spacing();
+        let mut seed = 7u64;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut cleared, mut hits) = (0, 0);
+        for _ in 0..400 {
+            let c = Vector3::new(14.0 + 10.0 * rnd(), 6.0 * rnd() - 3.0, -3.0 + 66.0 * rnd());
+            let pose = at(c.x, c.y, c.z);
+            let clear = dexel_clears_grid(&b, &pose, &mut dexel, touch);
+            let got = grid_overlap(&b, &pose, &Iso::identity(), &s, touch, Some(&dexel), false);
+            if clear {
+                cleared += 1;
+                assert!(got.is_none(), "the dexel stock cleared {c:?}, the grid found {got:?}");
+            }
+            hits += usize::from(got.is_some());
+        }
+        assert!(cleared > 50 && hits > 50, "cleared {cleared}, hits {hits}");
     }
 
     /// A cylinder as parry's primitive (cast in closed form) and as its mesh give the same

@@ -23,12 +23,12 @@ mod tess;
 #[cfg(test)]
 mod tests;
 
-pub use grid::{grid_clear, grid_overlap};
+pub use grid::{dexel_clears_grid, grid_clear, grid_overlap};
 pub use motion::{
     bound_from, first_contact, first_contact_from, geometry_sphere, motion_bound, pair_bound, Advance, LinearPath,
     Path, MAX_PROBES, MIN_STEP_MM,
 };
-pub use stock::{stock_gap, stock_overlap};
+pub use stock::{stock_gap, stock_hull_depth, stock_overlap};
 pub use tess::uv_sphere;
 
 use nalgebra::Point3;
@@ -374,6 +374,12 @@ fn component_reps(v: &[Vector], t: &[[u32; 3]]) -> Vec<Vector> {
 /// and one solid wholly inside the other both count; touching (depth ≤ `eps`) does not. The
 /// one entry point: dispatches by the pair's kinds.
 pub fn overlap(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> Option<Hit> {
+    overlap_touch(a, pa, b, pb, eps).0
+}
+
+/// [`overlap`], and whether the shapes' parts were found touching or crossing at any depth
+/// (then [`distance`] is 0: the advancement needs no distance query).
+pub fn overlap_touch(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> (Option<Hit>, bool) {
     let (pa, pb) = (to_pose(pa), to_pose(pb));
     match (a, b) {
         (Shape3::Mesh(_), Shape3::Mesh(_)) => mesh_mesh(a, &pa, b, &pb, eps),
@@ -388,7 +394,7 @@ pub fn overlap(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> Option<H
 /// enough it keeps the one its traversal meets best, which need not be the same pair the other
 /// way round): the pair is taken in one order, by the poses' positions, so that a query and its
 /// mirror give the same depth.
-fn mesh_mesh(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64) -> Option<Hit> {
+fn mesh_mesh(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64) -> (Option<Hit>, bool) {
     let key = |p: &Pose| [p.translation.x, p.translation.y, p.translation.z];
     let (ka, kb) = (key(pa), key(pb));
     let later = ka
@@ -400,33 +406,41 @@ fn mesh_mesh(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64) -> Option<H
     if later {
         return mesh_mesh(b, pb, a, pa, eps);
     }
-    crossing(a, pa, b, pb, eps)
+    let (hit, touch) = crossing(a, pa, b, pb, eps);
+    let hit = hit
         .or_else(|| contained(a, pa, b, pb, eps))
-        .or_else(|| contained(b, pb, a, pa, eps))
+        .or_else(|| contained(b, pb, a, pa, eps));
+    (hit, touch)
 }
 
 /// A mesh and a convex primitive: crossing (triangles against the primitive), then containment.
-fn mesh_convex(m: &Shape3, pm: &Pose, c: &Shape3, pc: &Pose, eps: f64) -> Option<Hit> {
-    crossing(m, pm, c, pc, eps)
+fn mesh_convex(m: &Shape3, pm: &Pose, c: &Shape3, pc: &Pose, eps: f64) -> (Option<Hit>, bool) {
+    let (hit, touch) = crossing(m, pm, c, pc, eps);
+    let hit = hit
         .or_else(|| contained(m, pm, c, pc, eps))
-        .or_else(|| contained(c, pc, m, pm, eps))
+        .or_else(|| contained(c, pc, m, pm, eps));
+    (hit, touch)
 }
 
 /// Two convex primitives: GJK/EPA sees the solids, containment included.
-fn convex_convex(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64) -> Option<Hit> {
+fn convex_convex(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64) -> (Option<Hit>, bool) {
     crossing(a, pa, b, pb, eps)
 }
 
-/// parry's deepest contact between the two shapes' parts, when deeper than `eps`.
-fn crossing(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64) -> Option<Hit> {
+/// parry's deepest contact between the two shapes' parts, when deeper than `eps`; and whether
+/// parry found the parts touching or crossing at all (a contact at distance ≤ 0).
+fn crossing(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64) -> (Option<Hit>, bool) {
     let (sa, qa) = a.parts(pa);
     let (sb, qb) = b.parts(pb);
-    let c = query::contact(&qa, sa, &qb, sb, 0.0).ok().flatten()?;
+    let Some(c) = query::contact(&qa, sa, &qb, sb, 0.0).ok().flatten() else {
+        return (None, false);
+    };
     let depth = -c.dist;
-    (depth > eps).then(|| Hit {
+    let hit = (depth > eps).then(|| Hit {
         depth,
         point: to_point((c.point1 + c.point2) * 0.5),
-    })
+    });
+    (hit, c.dist <= 0.0)
 }
 
 /// Is `inner` wholly inside `outer` (one test point per connected part), deeper than `eps`?

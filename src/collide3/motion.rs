@@ -33,7 +33,7 @@
 
 use nalgebra::{Point3, Vector3};
 
-use super::{box_gap, distance, overlap, Hit, Shape3, Sphere};
+use super::{box_gap, distance, overlap_touch, Hit, Shape3, Sphere};
 use crate::kin::{AxisKind, CompId, Geometry, Kinematics, Poser};
 
 /// Most probes (overlap or distance tests) on one pair along one move.
@@ -42,6 +42,9 @@ pub const MAX_PROBES: u64 = 100_000;
 pub const MIN_STEP_MM: f64 = 1e-6;
 /// Bisection of a contact boundary stops at this width in the path parameter.
 const BISECT_U: f64 = 1e-9;
+/// The shortest step (a share of the move's path parameter) the posed boxes' gap is taken for
+/// instead of a distance query.
+const BOX_STRIDE: f64 = 1.0 / 512.0;
 
 /// A move of the machine: axis values for each `u ∈ [0, 1]`, and a bound of how far each moves.
 pub trait Path {
@@ -290,12 +293,30 @@ fn advance(
     let spheres = (a.1.sphere(), b.1.sphere());
     let mut probes: u64 = 0;
     let min_step = min_step.max(MIN_STEP_MM);
-    let mut probe = |u: f64, dist: bool, poser: &mut Poser| {
+    // The first probe's floor from the pair's bound over the whole move.
+    path.at(0.0, &mut vals);
+    poser.pose(k, &vals);
+    path.deltas(0.0, 1.0, &mut delta);
+    let mut floor = pair_bound(k, &poser, (a.0, &spheres.0), (b.0, &spheres.1), &delta) * BOX_STRIDE;
+    if floor.is_nan() {
+        floor = f64::INFINITY;
+    }
+    // A probe at `u`: the overlap (`None` when apart), and with `dist` a lower bound of the
+    // gap. The posed boxes' gap (`box_gap`) is that bound at no query's cost when it is at least
+    // `floor` (a step worth taking); else parry's distance — 0 without a query when the overlap
+    // test found the parts touching or crossing.
+    let mut probe = |u: f64, dist: bool, floor: f64, poser: &mut Poser| {
         path.at(u, &mut vals);
         poser.pose(k, &vals);
         let (pa, pb) = (*poser.world(a.0), *poser.world(b.0));
-        let hit = overlap(a.1, &pa, b.1, &pb, eps);
-        let d = if dist && hit.is_none() {
+        if dist {
+            let g = box_gap(a.1, &pa, b.1, &pb);
+            if g > 0.0 && g >= floor {
+                return (None, g);
+            }
+        }
+        let (hit, touch) = overlap_touch(a.1, &pa, b.1, &pb, eps);
+        let d = if dist && hit.is_none() && !touch {
             distance(a.1, &pa, b.1, &pb)
         } else {
             0.0
@@ -309,7 +330,8 @@ fn advance(
         if probes > MAX_PROBES {
             return (Advance::Unchecked { u }, probes);
         }
-        let (hit, d) = probe(u, true, &mut poser);
+        // The move's end measures the gap the next move may carry.
+        let (hit, d) = probe(u, true, if u >= 1.0 { f64::INFINITY } else { floor }, &mut poser);
         if let Some(h) = hit {
             if u == 0.0 {
                 return (Advance::Contact { u, hit: h }, probes);
@@ -325,7 +347,7 @@ fn advance(
                 if mid <= lo || mid >= hi {
                     break;
                 }
-                match probe(mid, false, &mut poser).0 {
+                match probe(mid, false, f64::INFINITY, &mut poser).0 {
                     Some(h) => (hi, best) = (mid, h),
                     None => lo = mid,
                 }
@@ -349,5 +371,8 @@ fn advance(
         prev = u;
         let next = (u + step).min(1.0);
         u = if next > u { next } else { (u + f64::EPSILON).min(1.0) };
+        // The boxes' gap serves the next probe when it steps at least a share of the move (or
+        // to its end): a box gap far below the distance would make many short steps.
+        floor = rate * (1.0 - u).min(BOX_STRIDE);
     }
 }

@@ -342,3 +342,79 @@ pub fn stock_gap(shape: &Shape3, pose: &Iso, stock: &mut DexelStock, view: View,
     }
     best.max(0.0)
 }
+
+/// An upper bound of the depth [`stock_overlap`] reports (whatever its `eps`) for the solid posed
+/// anywhere in the convex hull of its poses `poses`: of every pose `P(u)` whose points (surface
+/// and interior) lie in the convex hull `H` of the surface's vertices posed at `poses` — every
+/// pose of a translation along the polyline through them. 0 when `poses` is empty.
+///
+/// The proof. Every depth the overlap test reports on a column's plane `z = c` is
+/// `min(ρ − lo, hi − ρ)` for a material ring `[lo, hi]` and a radius `ρ` of a point of the solid
+/// on that plane (a triangle's section point, or the ring's point inside the solid, whose depth is
+/// at most the ring's half width, its middle's tent). Those points lie in `H`, so `ρ` lies in
+/// `[a, b]`: `a` the distance from the axis to the (x, y) projection of `H` (the 2D convex hull
+/// of the projected vertices), `b` the largest radius of a vertex; and the plane meets the solid
+/// only within `H`'s z range. The bound is the largest tent over `[a, b] ∩ [lo, hi]` of every
+/// ring of every column in that range (padded as the overlap test pads, and `a`, `b` widened by
+/// a few rounding units).
+pub fn stock_hull_depth(shape: &Shape3, poses: &[Iso], stock: &mut DexelStock, view: View) -> f64 {
+    let (v, _) = shape.surface();
+    let mut pts: Vec<crate::geom::P2> = Vec::with_capacity(v.len() * poses.len());
+    let (mut zmin, mut zmax, mut b) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+    for pose in poses {
+        let p = to_pose(pose);
+        for &q in v {
+            let w = p * q;
+            zmin = zmin.min(w.z);
+            zmax = zmax.max(w.z);
+            b = b.max(w.x.hypot(w.y));
+            pts.push(crate::geom::P2::new(w.x, w.y));
+        }
+    }
+    if pts.is_empty() {
+        return 0.0;
+    }
+    if !(zmin.is_finite() && zmax.is_finite() && b.is_finite()) {
+        return f64::INFINITY;
+    }
+    let a = hull_axis_dist(&pts);
+    let slack = |r: f64| 1e-9 * (1.0 + r);
+    let (a, b) = ((a - slack(a)).max(0.0), b + slack(b));
+    let pad = |z: f64| 1e-9 * (1.0 + z.abs());
+    let Some((j0, j1)) = stock.columns_within(zmin - pad(zmin), zmax + pad(zmax)) else {
+        return 0.0;
+    };
+    let mut best = 0.0f64;
+    for j in j0..=j1 {
+        for &(lo, hi) in stock.column_material(j, view) {
+            let (x0, x1) = (a.max(lo), b.min(hi));
+            if x1 < x0 {
+                continue;
+            }
+            let rho = ((lo + hi) / 2.0).clamp(x0, x1);
+            best = best.max((rho - lo).min(hi - rho));
+        }
+    }
+    best
+}
+
+/// The distance from the origin to the convex hull of the points (0 inside it).
+fn hull_axis_dist(pts: &[crate::geom::P2]) -> f64 {
+    let h = crate::tooling::outline::hull(pts);
+    let q: Vec<(f64, f64)> = h.iter().map(|p| (p.x, p.y)).collect();
+    match q.len() {
+        0 => f64::INFINITY,
+        1 => q[0].0.hypot(q[0].1),
+        2 => seg_dist(q[0], q[1]),
+        n => {
+            let side = |a: (f64, f64), b: (f64, f64)| a.0 * b.1 - a.1 * b.0;
+            let s: Vec<f64> = (0..n).map(|i| side(q[i], q[(i + 1) % n])).collect();
+            if s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0) {
+                return 0.0;
+            }
+            (0..n)
+                .map(|i| seg_dist(q[i], q[(i + 1) % n]))
+                .fold(f64::INFINITY, f64::min)
+        }
+    }
+}

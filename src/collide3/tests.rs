@@ -541,3 +541,80 @@ fn first_contact_finds_a_thin_plate_in_one_fast_move() {
         Advance::Contact { .. }
     ));
 }
+
+/// A stepped tube: bore 8 (radius 4) from z −30 to 0, outer radius 15 up to z −10 and 10 beyond
+/// (a shoulder at z −10), a groove at z −20 .. −18 down to radius 12.
+fn stepped_stock() -> DexelStock {
+    let h = 0.5;
+    let cols = (0..60)
+        .map(|j| {
+            let z = -30.0 + (j as f64 + 0.5) * h;
+            let outer = if z > -10.0 {
+                10.0
+            } else if (-20.0..-18.0).contains(&z) {
+                12.0
+            } else {
+                15.0
+            };
+            vec![(4.0, outer)]
+        })
+        .collect();
+    DexelStock::from_columns(-30.0, h, cols)
+}
+
+/// A part sliding along the bar at its radius (a flat face on it) is proven clear; the same
+/// part 0.1 mm into it is not.
+#[test]
+fn the_hull_of_a_box_sliding_along_the_bar_is_clear_and_into_it_is_not() {
+    let mut stock = DexelStock::new(50.0, 0.0, 120.0, 80.0, 0.01);
+    let b = box_mesh(25.0, 25.0, 30.0);
+    // The box's near face at x = 25, the bar's radius; it slides 100 mm along z.
+    let poses = [at(50.0, 0.0, 110.0), at(50.0, 0.0, 10.0)];
+    assert!(stock_hull_depth(&b, &poses, &mut stock, View::Now) <= 0.5 * crate::geom::TOUCH_EPS);
+    let into = [at(49.9, 0.0, 110.0), at(49.9, 0.0, 10.0)];
+    let d = stock_hull_depth(&b, &into, &mut stock, View::Now);
+    assert!((d - 0.1).abs() < 1e-6, "{d}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    /// The hull bound against the slow, plain oracle: every pose of the part translated along
+    /// the polyline through the given poses (sampled densely) has an overlap depth, as the
+    /// advancement's probes measure it, no deeper than the bound.
+    #[test]
+    fn the_hull_depth_bounds_every_pose_along_the_polyline(
+        kind in 0usize..3,
+        x in -30.0f64..30.0, y in -30.0f64..30.0, z in -45.0f64..15.0,
+        ax in -3.0f64..3.0, ay in -3.0f64..3.0,
+        wx in -20.0f64..20.0, wy in -20.0f64..20.0, wz in -30.0f64..30.0,
+        bend in proptest::option::of((-10.0f64..10.0, -10.0f64..10.0, -10.0f64..10.0)),
+    ) {
+        let mut stock = stepped_stock();
+        let part = match kind {
+            0 => box_mesh(3.0, 1.5, 5.0),
+            1 => shape(&Geometry::Cylinder { radius: 2.5, z0: 0.0, z1: 12.0 }),
+            _ => shape(&sphere_mesh(4.0, 8)),
+        };
+        let p0 = rot(x, y, z, ax, ay, 0.0);
+        let shift = |p: &Iso, v: Vector3<f64>| Iso::from_parts(Translation3::from(p.translation.vector + v), p.rotation);
+        let w = Vector3::new(wx, wy, wz);
+        let mut corners = vec![p0];
+        if let Some((bx, by, bz)) = bend {
+            corners.push(shift(&p0, w / 2.0 + Vector3::new(bx, by, bz)));
+        }
+        corners.push(shift(&p0, w));
+        let bound = stock_hull_depth(&part, &corners, &mut stock, View::Now);
+        let mut deepest = 0.0f64;
+        for pair in corners.windows(2) {
+            let (a, b) = (pair[0].translation.vector, pair[1].translation.vector);
+            for k in 0..=64 {
+                let s = k as f64 / 64.0;
+                let pose = shift(&p0, a + (b - a) * s - p0.translation.vector);
+                let d = stock_overlap(&part, &pose, &mut stock, View::Now, 0.0).map_or(0.0, |h| h.depth);
+                deepest = deepest.max(d);
+            }
+        }
+        prop_assert!(deepest <= bound + 1e-9, "a pose {} deep, bound {}", deepest, bound);
+    }
+}

@@ -216,7 +216,7 @@ impl super::Checker<'_> {
             }
             for (a, b) in pairs {
                 let res = if b == STOCK {
-                    self.stock_advance(three, &path, a)
+                    self.stock_advance(three, &path, None, a)
                 } else {
                     let (sa, sb) = (three.shapes[a].as_ref().unwrap(), three.shapes[b].as_ref().unwrap());
                     let (adv, _, probes) =

@@ -128,6 +128,11 @@ pub(super) fn stock_hit(mill: Option<&Mill>, dexel: &mut DexelStock, c: &Posed<'
     if grid_clear(c.sg, c.pose, &c.part, &m.stock, 0.0) {
         return None;
     }
+    // The dexel stock holds all the material: a part that reaches into none of it on any
+    // column's plane has no grid contact either (`collide3::dexel_clears_grid`).
+    if crate::collide3::dexel_clears_grid(c.sa, c.pose, dexel, m.touch()) {
+        return None;
+    }
     grid_overlap(c.sg, c.pose, &c.part, &m.stock, m.touch(), Some(dexel), any)
 }
 
