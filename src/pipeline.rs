@@ -39,6 +39,11 @@ pub struct Settings {
     /// unchecked (a `program` finding), so one file can never hold up a batch.
     #[serde(skip)]
     pub work_budget: u64,
+    /// Most blocks the interpreter executes before it stops with a `program` finding, instead of
+    /// [`interp::Limits::for_program`]'s (2 million, or 4 times the program's length): the fuzz
+    /// targets bound each input tighter, as they bound its pair tests.
+    #[serde(skip)]
+    pub max_blocks: Option<u64>,
     /// Record a [`crate::scene::Snapshot`] of the scene at each finding's first contact.
     #[serde(skip)]
     pub snapshots: bool,
@@ -61,6 +66,7 @@ impl Default for Settings {
             clearance_mm: 0.0,
             min_depth_mm: None,
             work_budget: DEFAULT_WORK_BUDGET,
+            max_blocks: None,
             snapshots: false,
             part_mesh: false,
             prove_stretches: true,
@@ -71,6 +77,15 @@ impl Default for Settings {
 impl Settings {
     /// The graze threshold in effect on `machine`: these settings' own, else the machine
     /// file's `machine.min_depth`, else [`DEFAULT_MIN_DEPTH_MM`].
+    /// The interpreter's limits for `prog` under these settings (`max_blocks`).
+    pub fn limits(&self, prog: &gcode::Program) -> interp::Limits {
+        let mut limits = interp::Limits::for_program(prog);
+        if let Some(b) = self.max_blocks {
+            limits.max_blocks = b;
+        }
+        limits
+    }
+
     pub fn min_depth(&self, machine: &Machine) -> f64 {
         self.min_depth_mm.or(machine.min_depth).unwrap_or(DEFAULT_MIN_DEPTH_MM)
     }
@@ -264,12 +279,15 @@ pub fn check_streamed(src: &[u8], machine: &Machine, settings: &Settings, chunk:
     let (machine, dialect) = resolve(src, machine);
     let machine = machine.as_ref();
     let mut prog = read(src, machine);
+    let limits = settings.limits(&prog);
     let three = if crate::check::takes_3d_depends_on_run(machine) {
         // A turn-mill machine whose tailstock starts advanced: whether the 3D path runs depends on
         // the whole run, so a first pass of the interpreter learns it (its moves are dropped as
         // they come).
         let mut any_extra = false;
-        let run = interp::interpret_streaming(&prog, src, machine, |c| any_extra |= !c.extra.is_empty());
+        let run = interp::interpret_streaming_limited(&prog, src, machine, interp::STREAM_CHUNK, limits, |c| {
+            any_extra |= !c.extra.is_empty()
+        });
         let withdrawn = run.states.iter().any(|s| !s.tailstock_advanced);
         crate::check::takes_3d(machine, any_extra, withdrawn)
     } else {
@@ -277,7 +295,7 @@ pub fn check_streamed(src: &[u8], machine: &Machine, settings: &Settings, chunk:
     };
     let chunk = chunk.max(1);
     let mut stream = crate::check::Stream::new(machine, settings, three, MAX_FINDINGS);
-    let mut run = interp::interpret_streaming_by(&prog, src, machine, chunk, |c| {
+    let mut run = interp::interpret_streaming_limited(&prog, src, machine, chunk, limits, |c| {
         // The interpreter hands a block's moves over together: cut them to `chunk` here too.
         let mut first = 0;
         while first < c.moves.len() {
@@ -306,7 +324,9 @@ pub fn check_streamed(src: &[u8], machine: &Machine, settings: &Settings, chunk:
 pub fn check_whole(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
     let (machine, dialect) = resolve(src, machine);
     let machine = machine.as_ref();
-    let (mut prog, mut run) = interpret(src, machine);
+    let mut prog = read(src, machine);
+    let limits = settings.limits(&prog);
+    let mut run = interp::interpret_with(&prog, src, machine, limits);
     let (findings, left_out) = take_findings(&mut prog, &mut run);
     // The checker needs only the moves: the program's blocks and words go before it runs.
     drop(prog);

@@ -458,3 +458,37 @@ fn a_macro_loop_that_marches_off_the_machine_costs_little_per_move() {
     );
     assert_eq!(out.stats.pair_tests, 0, "{:?}", out.stats);
 }
+
+#[test]
+fn a_macro_loop_whose_condition_never_changes_stops_at_the_block_budget_it_is_given() {
+    // Found by the `check` fuzz target: a WHILE on #2, which never changes, while the loop
+    // calls a subroutine whose moves march on with #1. No state repeats, so the loop runs to the
+    // block budget (2 million blocks, 1.2 s for the release binary); the fuzz targets give it a
+    // tighter one (`Settings::max_blocks`), as they give the pair tests, and the run stops there
+    // with the same finding.
+    let stopped = |out: &pipeline::Outcome, blocks: u64| {
+        let said = format!("stopped after executing {blocks} blocks");
+        out.findings
+            .iter()
+            .any(|f| f.kind == Kind::Program && f.message.contains(&said))
+    };
+    let name = "macro_while_whose_condition_never_changes.nc";
+    let out = hostile(name);
+    assert!(stopped(&out, 2_000_000), "{:?}", out.findings);
+    assert!(out.stats.blocks <= 2_000_100, "{:?}", out.stats);
+    let bounded = hostile_with(
+        name,
+        Settings {
+            max_blocks: Some(200_000),
+            ..Settings::default()
+        },
+    );
+    assert!(stopped(&bounded, 200_000), "{:?}", bounded.findings);
+    assert!(bounded.stats.blocks <= 200_100, "{:?}", bounded.stats);
+    assert!(
+        bounded.stats.moves * 8 < out.stats.moves,
+        "{:?} {:?}",
+        bounded.stats,
+        out.stats
+    );
+}

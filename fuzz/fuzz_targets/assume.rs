@@ -1,8 +1,9 @@
 //! A first run's path on arbitrary bytes: a program with no job on the built-in machine (whose
 //! setup is an example, `[setup] assume = true`) has its setup read from the program
 //! (`assume::apply`), and the program is then checked on the machine so read, with the check
-//! fuzz target's bounds (a work budget of 20,000 pair tests, a 0.05 mm tolerance, a 5 ms
-//! timestep). What a fuzzer finds here is a panic or an endless stage in the reading, or a
+//! fuzz target's bounds (a work budget of 20,000 pair tests, 200,000 blocks, a 0.05 mm
+//! tolerance, a 5 ms timestep; the reading itself runs the program to the real 2M-block budget).
+//! What a fuzzer finds here is a panic or an endless stage in the reading, or a
 //! machine it builds that the checker cannot take.
 #![no_main]
 
@@ -26,6 +27,7 @@ fuzz_target!(|data: &[u8]| {
         dt_ms: 5.0,
         tolerance_mm: 0.05,
         work_budget: 20_000,
+        max_blocks: Some(200_000),
         ..Settings::default()
     };
     let out = pipeline::check(data, machine, &settings);

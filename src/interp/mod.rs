@@ -475,7 +475,19 @@ pub fn interpret_streaming_by<'a>(
     chunk: usize,
     sink: impl FnMut(Chunk<'_>) + 'a,
 ) -> Interpretation {
-    let mut run = flow::Run::new(prog, src, machine, Limits::for_program(prog));
+    interpret_streaming_limited(prog, src, machine, chunk, Limits::for_program(prog), sink)
+}
+
+/// [`interpret_streaming_by`] within `limits`.
+pub fn interpret_streaming_limited<'a>(
+    prog: &'a Program,
+    src: &'a [u8],
+    machine: &'a Machine,
+    chunk: usize,
+    limits: Limits,
+    sink: impl FnMut(Chunk<'_>) + 'a,
+) -> Interpretation {
+    let mut run = flow::Run::new(prog, src, machine, limits);
     run.chunk = chunk.max(1);
     run.moves = Vec::with_capacity(2 * run.chunk.min(STREAM_CHUNK));
     run.sink = Some(Box::new(sink));
