@@ -84,15 +84,23 @@ const AGREE_AT_LEAST: usize = 63;
 /// wrong (docs/assume.md, "Measured on the corpus").
 const KNOWN_LOSSES: [(&str, &str); 0] = [];
 
-#[test]
-fn corpus_verdicts_with_the_setup_read_from_the_program_against_their_jobs() {
+/// The corpora's folder and `tests/corpus-jobs/index.toml`; `None` (printed as skipped) without
+/// the corpora.
+fn corpus_and_index() -> Option<(PathBuf, toml::Table)> {
     let shared = files::shared();
     if !shared.join("corpus").is_dir() {
         println!("assumed_setups: skipped: no corpus at {}", shared.display());
-        return;
+        return None;
     }
-    let index: toml::Table =
-        toml::from_str(&std::fs::read_to_string(root().join("tests/corpus-jobs/index.toml")).unwrap()).unwrap();
+    let index = std::fs::read_to_string(root().join("tests/corpus-jobs/index.toml")).unwrap();
+    Some((shared, toml::from_str(&index).unwrap()))
+}
+
+#[test]
+fn corpus_verdicts_with_the_setup_read_from_the_program_against_their_jobs() {
+    let Some((shared, index)) = corpus_and_index() else {
+        return;
+    };
     let programs = index["program"].as_array().unwrap();
     let (mut agree, mut total, mut regressions) = (0, 0, Vec::new());
     // Programs whose verdict (clean, or with errors) is the job's.
@@ -166,13 +174,9 @@ fn corpus_verdicts_with_the_setup_read_from_the_program_against_their_jobs() {
 /// adds errors in all, or when either total moves from the figures written there.
 #[test]
 fn corpus_programs_without_a_job_before_and_after_the_reading() {
-    let shared = files::shared();
-    if !shared.join("corpus").is_dir() {
-        println!("assumed_setups: skipped: no corpus at {}", shared.display());
+    let Some((shared, index)) = corpus_and_index() else {
         return;
-    }
-    let index: toml::Table =
-        toml::from_str(&std::fs::read_to_string(root().join("tests/corpus-jobs/index.toml")).unwrap()).unwrap();
+    };
     let listed: BTreeSet<String> = index["program"]
         .as_array()
         .unwrap()

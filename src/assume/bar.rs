@@ -825,21 +825,7 @@ fn no_bar(file: &str, line: u32, why_d: &str, diameter: f64, limit: f64, e: &Evi
         col: 1,
         key: "stock.none".to_string(),
     };
-    out.layer.stock = Some(set(
-        JobStock {
-            diameter: 0.0,
-            length: 0.0,
-            front: None,
-            bore: 0.0,
-            outline: None,
-            none: true,
-            diameter_at: at.clone(),
-            length_at: at,
-        },
-        file,
-        line,
-        "stock",
-    ));
+    out.layer.stock = Some(set(JobStock::none_at(at), file, line, "stock"));
     out.notes.push(Assumption {
         key: "stock".into(),
         value: "no stock (the blank is not a bar)".into(),

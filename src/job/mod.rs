@@ -127,6 +127,22 @@ pub struct JobStock {
     pub length_at: Place,
 }
 
+impl JobStock {
+    /// `none = true`, written at `at`: no stock in the scene.
+    pub fn none_at(at: Place) -> JobStock {
+        JobStock {
+            diameter: 0.0,
+            length: 0.0,
+            front: None,
+            bore: 0.0,
+            outline: None,
+            none: true,
+            diameter_at: at.clone(),
+            length_at: at,
+        }
+    }
+}
+
 /// A job's `[chuck.jaws]`: each key it gives, over the machine file's jaws (key by key, also
 /// from layer to layer). The machine's chuck must be given by its `body` and `jaws`.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -760,16 +760,7 @@ fn stock(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str) -> Result<JobStock, JobE
             ));
         }
         let at = place(cx, n.span(), &k("none"));
-        return Ok(JobStock {
-            diameter: 0.0,
-            length: 0.0,
-            front: None,
-            bore: 0.0,
-            outline: None,
-            none: true,
-            diameter_at: at.clone(),
-            length_at: at,
-        });
+        return Ok(JobStock::none_at(at));
     }
     if let Some(o) = &r.outline {
         if let Some((name, at)) = given
