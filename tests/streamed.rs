@@ -11,21 +11,11 @@
 use crate::case_machine::{case_machine, with_case_job, with_job};
 use crate::corpus::{case_targets, corpus_job_targets, extra_dialects, linuxcnc, machine_for, root, shared, Target};
 use crate::files;
-use latheguard::machine::{self, Machine};
+use crate::turn_mill::turn_mill;
+use latheguard::machine::Machine;
 use latheguard::pipeline::{self, Mode, Outcome, Settings};
 use std::path::Path;
 use std::time::Instant;
-
-/// The shipped turn-mill machine with its STL files read beside it.
-fn turn_mill() -> Machine {
-    let path = root().join("machines/turn-mill.toml");
-    let dir = path.parent().unwrap().to_path_buf();
-    let text = std::fs::read_to_string(&path).unwrap();
-    machine::from_toml_with(&text, "machines/turn-mill.toml", &move |name: &str| {
-        std::fs::read(dir.join(name)).map_err(|e| e.to_string())
-    })
-    .unwrap()
-}
 
 /// The programs `corpus.rs`'s targets leave out: the turn-mill folders (the shipped turn-mill
 /// machine, the folder's job, the job beside each program) and the cases with a hand-made tree.

@@ -12,7 +12,7 @@ fn root() -> PathBuf {
 }
 
 /// The turn-mill machine with its STL files read beside it.
-fn turn_mill() -> Machine {
+pub(crate) fn turn_mill() -> Machine {
     let path = root().join("machines/turn-mill.toml");
     let dir = path.parent().unwrap().to_path_buf();
     let text = std::fs::read_to_string(&path).unwrap();
