@@ -17,6 +17,7 @@ pub mod job;
 pub mod kin;
 pub mod machine;
 pub mod motion;
+pub mod paths;
 pub mod pipeline;
 pub mod report;
 pub mod scene;

@@ -270,6 +270,11 @@ pub fn read_findings(prog: &mut gcode::Program, run: &mut Interpretation) -> Vec
 /// (`check::Stream`), so a long program's moves are never all in memory; the outcome is
 /// [`check_whole`]'s, byte for byte (`tests/streamed.rs`).
 pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
+    if crate::paths::is_multi_path(src, machine) {
+        // Several paths: each checked alone on its carrier, then the carriers against each
+        // other (docs/paths.md).
+        return crate::paths::check(src, machine, settings);
+    }
     check_streamed(src, machine, settings, interp::STREAM_CHUNK)
 }
 
@@ -324,20 +329,39 @@ pub fn check_streamed(src: &[u8], machine: &Machine, settings: &Settings, chunk:
 pub fn check_whole(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
     let (machine, dialect) = resolve(src, machine);
     let machine = machine.as_ref();
+    let (findings, left_out, run) = interpret_whole(src, machine, settings);
+    check_run(findings, left_out, &run, dialect, machine, settings)
+}
+
+/// The first half of [`check_whole`]: `src` read and interpreted whole on `machine` (already
+/// [`resolve`]d), with the reader's and the interpreter's findings taken out of the run.
+pub fn interpret_whole(src: &[u8], machine: &Machine, settings: &Settings) -> (Vec<Finding>, LeftOut, Interpretation) {
     let mut prog = read(src, machine);
     let limits = settings.limits(&prog);
     let mut run = interp::interpret_with(&prog, src, machine, limits);
     let (findings, left_out) = take_findings(&mut prog, &mut run);
-    // The checker needs only the moves: the program's blocks and words go before it runs.
-    drop(prog);
-    let mut result = crate::check::check(&run, machine, settings);
+    (findings, left_out, run)
+}
+
+/// The second half of [`check_whole`]: the moves of `run` checked on `machine`, with the
+/// reader's and interpreter's `findings`. The multi-path check (`crate::paths`) runs it on a run
+/// whose spindle states it has set from another path.
+pub fn check_run(
+    findings: Vec<Finding>,
+    left_out: LeftOut,
+    run: &Interpretation,
+    dialect: Option<(Dialect, String)>,
+    machine: &Machine,
+    settings: &Settings,
+) -> Outcome {
+    let mut result = crate::check::check(run, machine, settings);
     result.stats.moves = run
         .moves
         .iter()
         .filter(|m| {
             !matches!(
                 m.kind,
-                interp::MoveKind::Dwell { .. } | interp::MoveKind::Operation { .. }
+                interp::MoveKind::Dwell { .. } | interp::MoveKind::Operation { .. } | interp::MoveKind::Wait { .. }
             )
         })
         .count() as u64;

@@ -52,6 +52,7 @@ mod machine_schema;
 mod milling_tools;
 mod mutation;
 mod operations;
+mod paths;
 mod pictures;
 mod polar;
 mod render_png;

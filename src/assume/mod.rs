@@ -106,6 +106,11 @@ pub fn assume(src: &[u8], file: &str, machine: &Machine) -> Assumed {
         layer: Layer::new(LABEL),
         notes: Vec::new(),
     };
+    if crate::paths::is_multi_path(src, machine) {
+        // Several paths drive several carriers: a tool read from one path's lines is not the
+        // station of another's turret, and the bar is the machine file's (docs/paths.md).
+        return out;
+    }
     let switched = dialect(src, file, machine, &mut out);
     let machine = switched.as_ref().unwrap_or(machine);
     let numbered = numbers::assume(src, file, machine, &mut out);

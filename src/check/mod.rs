@@ -568,6 +568,9 @@ impl Checker<'_> {
                 // Nothing moves: contacts in progress stay as they are.
                 self.stats.steps += self.samples_in(item.t0, item.t1());
             }
+            // A multi-path wait: this path stands while another moves (`crate::paths` checks
+            // the carriers against each other over the paths' common time).
+            MoveKind::Wait { .. } => {}
             _ => self.motion(m, item),
         }
         if self.three.is_some() {

@@ -90,7 +90,10 @@ impl<'a> Stream<'a> {
             }
             let e = extra.peek().copied().filter(|e| e.index as usize == i);
             let state = &chunk.states[m.state as usize];
-            if !matches!(m.kind, MoveKind::Dwell { .. } | MoveKind::Operation { .. }) {
+            if !matches!(
+                m.kind,
+                MoveKind::Dwell { .. } | MoveKind::Operation { .. } | MoveKind::Wait { .. }
+            ) {
                 self.motions += 1;
             }
             let stalled = self.clock.stalled().len();

@@ -88,6 +88,10 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
                             "operation",
                             json!({"operation": op + 2, "job_key": format!("operations[{op}]")}),
                         ),
+                        MoveKind::Wait { code, paths } => (
+                            "wait",
+                            json!({"mcode": code, "paths": (1..=8u8).filter(|p| paths & (1 << (p - 1)) != 0).collect::<Vec<_>>()}),
+                        ),
                     };
                     let feed = match m.feed {
                         Feed::Rapid => json!(null),

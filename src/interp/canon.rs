@@ -165,6 +165,19 @@ fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<
             push_uint(out, u64::from(op), 1, b'0');
             out.extend_from_slice(b"])\")\n");
         }
+        MoveKind::Wait { code, paths } => {
+            // Not an rs274 call: a multi-path control's wait, as a comment.
+            out.extend_from_slice(b"COMMENT(\"latheguard: waits at M");
+            push_uint(out, u64::from(code), 1, b'0');
+            out.extend_from_slice(b" for paths");
+            for p in 1..=8u8 {
+                if paths & (1 << (p - 1)) != 0 {
+                    out.push(b' ');
+                    push_uint(out, u64::from(p), 1, b'0');
+                }
+            }
+            out.extend_from_slice(b"\")\n");
+        }
     }
 }
 

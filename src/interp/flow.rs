@@ -564,6 +564,7 @@ impl<'a> Run<'a> {
                     super::MoveKind::Dwell { .. }
                         | super::MoveKind::ToolChange { .. }
                         | super::MoveKind::Operation { .. }
+                        | super::MoveKind::Wait { .. }
                 )
             });
             if moved {

@@ -64,6 +64,10 @@ impl Run<'_> {
                 // LinuxCNC's M61 (set the tool number) is the tool step's (`convert/tool.rs`).
                 continue;
             }
+            if self.machine.paths.is_wait(code) {
+                self.wait_code(b, code, at, w);
+                continue;
+            }
             let Some(action) = self.machine.mcodes.action(code) else {
                 self.unsupported(
                     b,
@@ -135,4 +139,53 @@ impl Run<'_> {
         }
         ends
     }
+}
+
+impl Run<'_> {
+    /// A waiting M code of a multi-path control (`[sync]`): a [`MoveKind::Wait`] mark where the
+    /// path stands. `P` lists the paths that meet by their digits (`M100 P12`: paths 1 and 2);
+    /// without it, every path of the machine.
+    ///
+    /// [`MoveKind::Wait`]: super::MoveKind::Wait
+    fn wait_code(&mut self, b: &Block, code: u16, at: u32, w: &mut Letters) {
+        let count = self.machine.paths.count() as u32;
+        let all = ((1u32 << count) - 1) as u8;
+        let paths = match w.take(b'P') {
+            None => all,
+            Some(p) => match path_digits(p, count) {
+                Some(mask) => mask,
+                None => {
+                    self.error(
+                        b,
+                        Some(at),
+                        format!(
+                            "M{code} P{p}: P lists the paths that wait by their digits, each 1 to {count} (P12: paths 1 and 2)"
+                        ),
+                    );
+                    return;
+                }
+            },
+        };
+        let here = self.programmed();
+        self.push_move(b, super::MoveKind::Wait { code, paths }, here, here, super::Feed::Rapid);
+    }
+}
+
+/// The paths a wait's `P` names, as a mask (bit `p - 1` for path `p`): each decimal digit one
+/// path from 1 to `count`; `None` when `p` is not such a number.
+fn path_digits(p: f64, count: u32) -> Option<u8> {
+    if !((1.0..1e9).contains(&p) && p.fract() == 0.0) {
+        return None;
+    }
+    let mut n = p as u64;
+    let mut mask = 0u8;
+    while n > 0 {
+        let d = (n % 10) as u32;
+        if d == 0 || d > count {
+            return None;
+        }
+        mask |= 1 << (d - 1);
+        n /= 10;
+    }
+    Some(mask)
 }

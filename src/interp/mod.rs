@@ -147,6 +147,10 @@ pub enum MoveKind {
     /// A job's operation after the first begins (`Machine::operations[op]`): the operator has
     /// turned the part round or re-clamped it; nothing moves, the checker replaces the stock.
     Operation { op: u32 },
+    /// A waiting M code of a multi-path control (`[sync]`, docs/paths.md): this path stands
+    /// here until every path of `paths` (bit `p - 1` for path `p`) has reached the same code.
+    /// Nothing moves; the multi-path check (`crate::paths`) times the wait.
+    Wait { code: u16, paths: u8 },
 }
 
 /// One motion of the machine.
@@ -213,7 +217,10 @@ impl Move {
                 let arc = r * sweep.abs();
                 (arc * arc + (r1 - r0) * (r1 - r0)).sqrt()
             }
-            MoveKind::Dwell { .. } | MoveKind::ToolChange { .. } | MoveKind::Operation { .. } => 0.0,
+            MoveKind::Dwell { .. }
+            | MoveKind::ToolChange { .. }
+            | MoveKind::Operation { .. }
+            | MoveKind::Wait { .. } => 0.0,
             _ => (self.end - self.start).norm(),
         }
     }

@@ -327,6 +327,13 @@ struct RawDoc {
     /// LinuxCNC tool numbers → turret stations: `T12 = 3` (docs/machine.md, "Tool numbers").
     #[schemars(with = "Option<std::collections::BTreeMap<String, u32>>")]
     tool_numbers: Option<std::collections::BTreeMap<Spanned<String>, Spanned<i64>>>,
+    /// The tool carriers of paths 2, 3, … of a multi-path control, each with its own axes,
+    /// turret and tools (docs/paths.md).
+    #[schemars(with = "Option<Vec<super::paths::RawPath>>")]
+    paths: Option<Spanned<Vec<Spanned<super::paths::RawPath>>>>,
+    /// How the paths of a multi-path control wait for each other (docs/paths.md).
+    #[schemars(with = "Option<super::paths::RawSync>")]
+    sync: Option<Spanned<super::paths::RawSync>>,
 }
 
 /// The codes of one action in `[mcodes]`: one number or an array.
@@ -516,7 +523,7 @@ enum RawDecimalPoint {
 
 #[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
-struct RawAxes {
+pub(super) struct RawAxes {
     x: RawAxis,
     z: RawAxis,
     #[schemars(with = "Option<[f64; 2]>")]
@@ -762,7 +769,7 @@ pub(crate) fn work_offset_doubt(m_z: &super::Axis, machine_zero: P2, o: super::W
 
 #[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
-struct RawTurret {
+pub(super) struct RawTurret {
     #[serde(rename = "type")]
     kind: Option<RawTurretKind>,
     /// How many stations the turret has: 1 to 64.
@@ -776,12 +783,12 @@ struct RawTurret {
     #[schemars(with = "f64")]
     index_time: Num,
     #[schemars(with = "Vec<[f64; 2]>")]
-    outline: Outline,
+    pub(super) outline: Outline,
 }
 
 #[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, expecting = "a table")]
-struct RawTool {
+pub(super) struct RawTool {
     #[schemars(with = "u32")]
     station: Spanned<u32>,
     #[schemars(with = "String")]
@@ -836,6 +843,9 @@ pub(crate) struct Cx<'a> {
     warnings: std::cell::RefCell<Vec<String>>,
     /// Problems found so far by checks that let validation go on.
     errors: std::cell::RefCell<Vec<MachineError>>,
+    /// Put before every key an error names: `paths[0].` while a path's carrier is read with the
+    /// same functions as the machine's own `[axes]`, `[turret]` and `[[tools]]`.
+    prefix: std::cell::RefCell<String>,
 }
 
 impl<'a> Cx<'a> {
@@ -846,7 +856,16 @@ impl<'a> Cx<'a> {
             lines: LineIndex::new(text.as_bytes()),
             warnings: std::cell::RefCell::new(Vec::new()),
             errors: std::cell::RefCell::new(Vec::new()),
+            prefix: std::cell::RefCell::new(String::new()),
         }
+    }
+
+    /// Run `f` with every key its errors name prefixed by `prefix`.
+    pub(crate) fn prefixed<T>(&self, prefix: &str, f: impl FnOnce() -> T) -> T {
+        let old = self.prefix.replace(prefix.to_string());
+        let out = f();
+        self.prefix.replace(old);
+        out
     }
 
     /// The warnings kept so far, as `file:line:col: key: message`.
@@ -858,7 +877,7 @@ impl<'a> Cx<'a> {
 impl Cx<'_> {
     pub(crate) fn err(&self, at: Range<usize>, key: impl Into<String>, message: impl Into<String>) -> MachineError {
         let offset = at.start.min(self.text.len()).min(u32::MAX as usize) as u32;
-        let key = key.into();
+        let key = format!("{}{}", self.prefix.borrow(), key.into());
         MachineError {
             file: self.file.to_string(),
             line: self.lines.line_of(offset),
@@ -1131,6 +1150,8 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         gcodes,
         kinematics,
         tool_numbers,
+        paths,
+        sync,
     } = raw;
 
     // Bound the work before doing any of it.
@@ -1151,6 +1172,15 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
     } else {
         None
     };
+    // The codes `[mcodes]` gives (the waiting M codes of `[sync]` may not take them).
+    let given: Vec<i64> = mcodes
+        .iter()
+        .flat_map(|t| t.values())
+        .flat_map(|c| match c.get_ref() {
+            RawCodes::One(c) => vec![*c],
+            RawCodes::Many(v) => v.clone(),
+        })
+        .collect();
     let mcodes = cx.keep(mcode_table(cx, header.dialect, mcodes.as_ref()));
     let raw_stock = stock;
     let stock = stock_of(cx, raw_stock.as_ref());
@@ -1258,6 +1288,7 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
         warnings: Vec::new(),
         kinematics: None,
         assume_setup: setup.as_ref().and_then(|s| s.assume).unwrap_or(false),
+        paths: super::paths::Paths::default(),
     };
     let auto_dialect = match (auto, mcodes_linuxcnc) {
         (true, Some(lc)) => Some(Box::new(super::AutoDialect {
@@ -1294,15 +1325,18 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
             cx, k, &machine, resolve,
         )?)),
     };
+    let machine = Machine { kinematics, ..machine };
+    // [[paths]]: read once the machine they share is valid.
+    let paths = super::paths::paths_of(cx, paths, sync, &machine, &given)?;
     Ok(Machine {
         warnings: cx.warnings.take(),
-        kinematics,
+        paths,
         ..machine
     })
 }
 
 /// `[[tools]]` present, not empty and at most [`MAX_TOOLS`]: checked before any other work.
-fn tools_given(
+pub(super) fn tools_given(
     cx: &Cx<'_>,
     tools: Option<Spanned<Vec<Spanned<RawTool>>>>,
 ) -> Result<Vec<Spanned<RawTool>>, MachineError> {
@@ -1525,17 +1559,17 @@ fn header_of(cx: &Cx<'_>, hdr: &RawHeader) -> Header {
 }
 
 /// `[axes]` read; each value None where refused (or where what it is checked against is).
-struct AxesOf {
-    x: Option<Axis>,
-    z: Option<Axis>,
-    home: Option<P2>,
-    machine_zero: Option<P2>,
-    reference_points: Option<Vec<P2>>,
+pub(super) struct AxesOf {
+    pub(super) x: Option<Axis>,
+    pub(super) z: Option<Axis>,
+    pub(super) home: Option<P2>,
+    pub(super) machine_zero: Option<P2>,
+    pub(super) reference_points: Option<Vec<P2>>,
 }
 
 /// `[axes]`: the two axes, home inside their limits (default: both maxima), machine zero
 /// (default: home) and the reference points.
-fn axes_of(cx: &Cx<'_>, axes: &RawAxes) -> AxesOf {
+pub(super) fn axes_of(cx: &Cx<'_>, axes: &RawAxes) -> AxesOf {
     let x = cx.keep(cx.axis("axes.x", &axes.x));
     let z = cx.keep(cx.axis("axes.z", &axes.z));
     let home = match (&axes.home, x, z) {
@@ -1704,7 +1738,7 @@ fn setup_of(
 
 /// `[turret]`: its station count (None where refused; the tools are checked against it) and
 /// the turret, None when any of its values is refused.
-fn turret_of(cx: &Cx<'_>, turret: &RawTurret) -> (Option<u32>, Option<Turret>) {
+pub(super) fn turret_of(cx: &Cx<'_>, turret: &RawTurret) -> (Option<u32>, Option<Turret>) {
     let stations = *turret.stations.get_ref();
     let stations = if (1..=i64::from(MAX_STATIONS)).contains(&stations) {
         Some(stations as u32)
@@ -1826,7 +1860,12 @@ fn spindle_of(cx: &Cx<'_>, spindle: &RawSpindle) -> (Option<f64>, Option<Option<
 
 /// `[[tools]]`: each entry validated (its station against `stations`, when that is valid), the
 /// valid ones by station.
-fn tools_of(cx: &Cx<'_>, tools: &[Spanned<RawTool>], stations: Option<u32>, machine_zero: Option<P2>) -> Vec<Tool> {
+pub(super) fn tools_of(
+    cx: &Cx<'_>,
+    tools: &[Spanned<RawTool>],
+    stations: Option<u32>,
+    machine_zero: Option<P2>,
+) -> Vec<Tool> {
     let mut owner: Vec<Option<usize>> = vec![None; stations.unwrap_or(0) as usize + 1];
     let mut out = Vec::with_capacity(tools.len());
     for (i, t) in tools.iter().enumerate() {
@@ -2405,7 +2444,7 @@ pub(crate) fn home_clashes(machine: &Machine) -> Vec<HomeClash> {
     out
 }
 
-fn clear_at_home(cx: &Cx<'_>, machine: &Machine, turret_outline: &Outline, raw_tools: &[Spanned<RawTool>]) {
+pub(super) fn clear_at_home(cx: &Cx<'_>, machine: &Machine, turret_outline: &Outline, raw_tools: &[Spanned<RawTool>]) {
     for c in home_clashes(machine) {
         match c.tool {
             None => cx.push(cx.err(turret_outline.span(), "turret.outline", c.message)),

@@ -8,6 +8,7 @@ mod barrier;
 mod gcodes;
 mod load;
 mod mcodes;
+pub mod paths;
 #[cfg(test)]
 mod tests;
 pub(crate) mod tool_entry;
@@ -465,6 +466,9 @@ pub struct Machine {
     /// `[setup] assume = true`: the stock, program zero and tools are an example setup that a
     /// program's own evidence replaces when the program has no job (`crate::assume`).
     pub assume_setup: bool,
+    /// The carriers of paths 2, 3, … and the waiting M codes of a multi-path control
+    /// (`[[paths]]`, `[sync]`; docs/paths.md). Empty on a one-path lathe.
+    pub paths: paths::Paths,
 }
 
 impl Machine {
@@ -762,6 +766,24 @@ impl Machine {
                 let _ = write!(line, " tip {}", tool.tip_direction);
             }
             let _ = writeln!(s, "{}", line.trim_end());
+        }
+        for c in &self.paths.carriers {
+            let _ = writeln!(
+                s,
+                "  path {}      {}{}: {} stations, {} tools; x {} .. {}, z {} .. {}",
+                c.path,
+                c.name,
+                if c.opposite { " (across the spindle axis)" } else { "" },
+                c.turret.stations,
+                c.tools.len(),
+                num(c.x.min),
+                num(c.x.max),
+                num(c.z.min),
+                num(c.z.max)
+            );
+        }
+        if let Some((a, b)) = self.paths.wait_mcodes {
+            let _ = writeln!(s, "  waits       M{a} .. M{b} (the paths wait for each other)");
         }
         if let Some(k) = &self.kinematics {
             let axes: Vec<String> = k.axes.iter().map(|a| format!("{} {}", a.letter, a.name)).collect();

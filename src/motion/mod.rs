@@ -251,7 +251,7 @@ fn time_move(m: &Move, spindle: &Spindle, machine: &Machine, stalled: &mut dyn F
     match m.kind {
         MoveKind::Dwell { seconds } => (seconds, Path::Still(from)),
         // The operator's turn-round: the machine stands; its time is the operator's, not counted.
-        MoveKind::Operation { .. } => (0.0, Path::Still(from)),
+        MoveKind::Operation { .. } | MoveKind::Wait { .. } => (0.0, Path::Still(from)),
         MoveKind::ToolChange { from: a, to: b } => {
             // A drum turns station by station; a gang slide changes tools in one step.
             let steps = match machine.turret.kind {

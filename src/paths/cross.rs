@@ -1,0 +1,362 @@
+//! The carriers of a multi-path machine against each other, in the working plane, over the
+//! machine's one time.
+//!
+//! Each path's carrier is posed at its turret reference point (as the path's own check times
+//! it, shifted by its waits: `sync.rs`) with its parts: the turret outline and every station's
+//! holder and insert. A drum's other stations are turned out of the working plane; they are
+//! drawn **projected** onto it (a point `d` from the turret axis at angle `a` lands `d·cos a`
+//! from it), and while a drum indexes, every station at every angle is inside the box
+//! `axis ± reach` (`reach` the farthest tool point from the turret axis). Two bodies that meet in
+//! space meet in their projections, so this never misses a contact between carriers; it may
+//! report two that pass each other at different heights (`y`) — docs/paths.md says where that
+//! matters. A carrier across the spindle axis from path 1's turret (`opposite`) has its x
+//! mirrored.
+//!
+//! The search is conservative advancement: at each probe the least distance between the two
+//! carriers' parts, and a step no longer than that distance (at least the tolerance) at the sum
+//! of the two reference points' greatest speeds, never past a move's start or end on either
+//! path; a path standing still (a wait, a dwell, its program ended) moves nothing.
+
+use std::collections::HashMap;
+
+use crate::finding::{Finding, Kind, Severity};
+use crate::geom::{query, Polygon, P2, TOUCH_EPS};
+use crate::interp::{Interpretation, MoveKind};
+use crate::machine::Machine;
+use crate::motion::{self, Timeline};
+
+use super::sync::Schedule;
+
+/// Probes the search spends on one program before it gives up with a finding.
+pub const MAX_PROBES: u64 = 2_000_000;
+
+/// One path, as the cross check sees it.
+pub struct Carriage<'a> {
+    pub path: u32,
+    /// What reports call its carrier ("upper turret").
+    pub name: String,
+    /// The lathe the path runs on ([`Machine::for_path`]).
+    pub machine: &'a Machine,
+    pub run: &'a Interpretation,
+    pub timeline: &'a Timeline,
+    pub schedule: &'a Schedule,
+    /// Across the spindle axis from path 1's turret: x mirrored.
+    pub opposite: bool,
+}
+
+/// A part of a carrier, relative to its reference point, in its own frame.
+#[derive(Clone, Debug)]
+struct Part {
+    /// "turret", "T03 insert", "T03 holder", "the turret's stations indexing".
+    label: String,
+    poly: Polygon,
+}
+
+/// The pose of a carriage at an instant.
+#[derive(Clone, Copy, Debug)]
+struct Pose {
+    /// The turret reference point.
+    r: P2,
+    /// The active station, or the index envelope while indexing (`None`).
+    station: Option<u32>,
+    /// Upper bound of the reference point's speed until `until` (mm/s).
+    speed: f64,
+    /// The next instant at which the speed bound or the parts change.
+    until: f64,
+    line: u32,
+    n: Option<u64>,
+    /// The programmed point in program coordinates (X as the program writes it).
+    prog: Option<(f64, f64)>,
+}
+
+impl Carriage<'_> {
+    /// The machine-time interval of move `k`.
+    fn span_of(&self, k: usize) -> (f64, f64) {
+        let it = &self.timeline.items[k];
+        let g = self.schedule.global(it.index, it.t0);
+        (g, g + it.duration)
+    }
+
+    /// Where the carriage stands at machine time `t`.
+    fn pose(&self, t: f64, starts: &[f64]) -> Pose {
+        let items = &self.timeline.items;
+        let moves = &self.run.moves;
+        // The last move that has started.
+        let k = starts.partition_point(|&s| s <= t);
+        if k == 0 {
+            // Before its first move: at home with its start station.
+            let until = starts.first().copied().unwrap_or(f64::INFINITY);
+            let m0 = moves.first();
+            return Pose {
+                r: m0.map_or(self.machine.home, |m| m.ref_start()),
+                station: Some(m0.map_or(self.machine.turret.start_station, |m| {
+                    if let MoveKind::ToolChange { from, .. } = m.kind {
+                        from
+                    } else {
+                        m.station
+                    }
+                })),
+                speed: 0.0,
+                until,
+                line: m0.map_or(1, |m| m.line),
+                n: None,
+                prog: m0.map(|m| self.run.frame(m).to_program(m.start)),
+            };
+        }
+        let i = k - 1;
+        let it = &items[i];
+        let m = &moves[it.index];
+        let (g0, g1) = self.span_of(i);
+        let next = starts.get(k).copied().unwrap_or(f64::INFINITY);
+        if t < g1 {
+            let indexing = matches!(m.kind, MoveKind::ToolChange { .. }) && it.duration > 0.0;
+            let r = motion::reference_at(m, it, t - g0);
+            Pose {
+                r,
+                prog: Some(self.run.frame(m).to_program(r + m.tip)),
+                station: if indexing { None } else { Some(m.station) },
+                speed: motion::max_speed(m, it).min(1e12),
+                until: g1,
+                line: m.line,
+                n: m.n,
+            }
+        } else {
+            // Standing at the move's end: a wait, or after the program's end.
+            Pose {
+                r: m.ref_end(),
+                prog: Some(self.run.frame(m).to_program(m.end)),
+                station: Some(m.station),
+                speed: 0.0,
+                until: next,
+                line: m.line,
+                n: m.n,
+            }
+        }
+    }
+
+    /// The carrier's parts with `station` active (or indexing: `None`), relative to the
+    /// reference point, in the working plane with this carrier's x sign.
+    fn parts(&self, station: Option<u32>) -> Vec<Part> {
+        let t = &self.machine.turret;
+        let mut out = vec![Part {
+            label: "turret".to_string(),
+            poly: t.outline.clone(),
+        }];
+        let drum = t.kind == crate::machine::TurretKind::Drum;
+        match station {
+            Some(active) => {
+                for tool in &self.machine.tools {
+                    let angle = if drum {
+                        (tool.station as f64 - active as f64) * std::f64::consts::TAU / t.stations.max(1) as f64
+                    } else {
+                        0.0
+                    };
+                    // Projected onto the working plane; never flatter than 1e-3 of its width, so a
+                    // station at 90° is a sliver around its line, not a line.
+                    let c = angle.cos();
+                    let c = if c.abs() < 1e-3 { 1e-3f64.copysign(c) } else { c };
+                    for (what, shape) in [("insert", &tool.insert), ("holder", &tool.holder)] {
+                        let pts: Vec<P2> = shape
+                            .points()
+                            .iter()
+                            .map(|q| {
+                                let p = q + tool.tip.coords;
+                                P2::new(t.axis + (p.x - t.axis) * c, p.y)
+                            })
+                            .collect();
+                        if let Ok(poly) = Polygon::new(&pts) {
+                            out.push(Part {
+                                label: format!("T{:02} {what}", tool.station),
+                                poly,
+                            });
+                        }
+                    }
+                }
+            }
+            None => {
+                // Every station at every angle: the box around the turret axis.
+                let (mut reach, mut zlo, mut zhi) = (0.0f64, f64::INFINITY, f64::NEG_INFINITY);
+                for tool in &self.machine.tools {
+                    for q in tool.insert.points().iter().chain(tool.holder.points()) {
+                        let p = q + tool.tip.coords;
+                        reach = reach.max((p.x - t.axis).abs());
+                        zlo = zlo.min(p.y);
+                        zhi = zhi.max(p.y);
+                    }
+                }
+                if zlo < zhi {
+                    let b = [
+                        P2::new(t.axis - reach, zlo),
+                        P2::new(t.axis + reach, zlo),
+                        P2::new(t.axis + reach, zhi),
+                        P2::new(t.axis - reach, zhi),
+                    ];
+                    if let Ok(poly) = Polygon::new(&b) {
+                        out.push(Part {
+                            label: "tools indexing".to_string(),
+                            poly,
+                        });
+                    }
+                }
+            }
+        }
+        if self.opposite {
+            for p in &mut out {
+                p.poly = p.poly.mirrored_x();
+            }
+        }
+        out
+    }
+}
+
+/// The parts of a carriage posed at `r` (its x sign applied).
+fn posed(parts: &[Part], r: P2, opposite: bool) -> Vec<(usize, Polygon)> {
+    let v = if opposite { P2::new(-r.x, r.y) } else { r };
+    parts
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (i, p.poly.translated(v.coords)))
+        .collect()
+}
+
+/// The carriers' contacts: for each pair of paths, each time their parts come to overlap, one
+/// `collision` finding at each path's line. `stop`: nothing past this machine time (a
+/// deadlock). Returns the findings and the probes spent.
+pub fn check(carriages: &[Carriage], tolerance: f64, stop: Option<f64>) -> (Vec<Finding>, u64) {
+    let mut findings = Vec::new();
+    let mut probes = 0u64;
+    let starts: Vec<Vec<f64>> = carriages
+        .iter()
+        .map(|c| (0..c.timeline.items.len()).map(|k| c.span_of(k).0).collect())
+        .collect();
+    let end = carriages
+        .iter()
+        .map(|c| (0..c.timeline.items.len()).map(|k| c.span_of(k).1).fold(0.0, f64::max))
+        .fold(0.0, f64::max)
+        .min(stop.unwrap_or(f64::INFINITY));
+    let tol = tolerance.max(1e-4);
+    let mut cache: Vec<HashMap<Option<u32>, Vec<Part>>> = carriages.iter().map(|_| HashMap::new()).collect();
+    for a in 0..carriages.len() {
+        for b in a + 1..carriages.len() {
+            let (ca, cb) = (&carriages[a], &carriages[b]);
+            let mut t = 0.0f64;
+            let mut in_contact = false;
+            loop {
+                probes += 1;
+                if probes > MAX_PROBES {
+                    findings.push(Finding::at(
+                        Kind::Unsupported,
+                        Severity::Warning,
+                        1,
+                        0,
+                        format!(
+                            "the check of the {} against the {} stopped after {MAX_PROBES} probes at {t:.3} s: the rest is unchecked",
+                            ca.name, cb.name
+                        ),
+                    ));
+                    return (findings, probes);
+                }
+                let pa = ca.pose(t, &starts[a]);
+                let pb = cb.pose(t, &starts[b]);
+                let parts_a = cache[a]
+                    .entry(pa.station)
+                    .or_insert_with(|| ca.parts(pa.station))
+                    .clone();
+                let parts_b = cache[b]
+                    .entry(pb.station)
+                    .or_insert_with(|| cb.parts(pb.station))
+                    .clone();
+                let qa = posed(&parts_a, pa.r, ca.opposite);
+                let qb = posed(&parts_b, pb.r, cb.opposite);
+                let mut gap = f64::INFINITY;
+                let mut hit: Option<(usize, usize, f64)> = None;
+                for (i, x) in &qa {
+                    for (j, y) in &qb {
+                        // Boxes apart by more than the gap so far cannot lower it.
+                        if box_gap(x, y) > gap {
+                            continue;
+                        }
+                        let d = query::distance(x, y);
+                        if d <= 0.0 {
+                            let depth = query::penetration_depth(x, y);
+                            if depth > TOUCH_EPS && hit.map_or(true, |h| depth > h.2) {
+                                hit = Some((*i, *j, depth));
+                            }
+                        }
+                        gap = gap.min(d);
+                    }
+                }
+                match hit {
+                    Some((i, j, depth)) if !in_contact => {
+                        in_contact = true;
+                        let (la, lb) = (&parts_a[i].label, &parts_b[j].label);
+                        for (me, other, pm, po, lm, lo) in [(ca, cb, pa, pb, la, lb), (cb, ca, pb, pa, lb, la)] {
+                            let mut f = Finding::at(
+                                Kind::Collision,
+                                Severity::Error,
+                                pm.line,
+                                0,
+                                format!(
+                                    "the {lm} on the {} hits the {lo} on the {} (path {} at line {})",
+                                    me.name, other.name, other.path, po.line
+                                ),
+                            )
+                            .with_n(pm.n);
+                            f.objects = vec![format!("path{}:{}", me.path, lm), format!("path{}:{}", other.path, lo)];
+                            f.time_s = Some(t);
+                            f.end_time_s = Some(t);
+                            f.depth_mm = Some(depth);
+                            f.x = pm.prog.map(|p| p.0);
+                            f.z = pm.prog.map(|p| p.1);
+                            findings.push(f);
+                        }
+                    }
+                    Some((_, _, depth)) => {
+                        // The same contact goes on: its two findings keep the deepest overlap
+                        // and the last instant and line.
+                        let k = findings.len();
+                        for (f, p) in findings[k - 2..].iter_mut().zip([pa, pb]) {
+                            f.depth_mm = Some(f.depth_mm.unwrap_or(0.0).max(depth));
+                            f.end_time_s = Some(t);
+                            f.end_line = f.end_line.max(p.line);
+                        }
+                    }
+                    None => in_contact = false,
+                }
+                if t >= end {
+                    break;
+                }
+                let speed = pa.speed + pb.speed;
+                let until = pa.until.min(pb.until).min(end);
+                let step = if speed > 0.0 {
+                    gap.max(tol) / speed
+                } else {
+                    f64::INFINITY
+                };
+                let next = (t + step).min(until);
+                // Always go forward: past an instant that equals `t` (two moves starting together).
+                t = if next > t {
+                    next
+                } else {
+                    next_after(t, &starts[a], &starts[b], end)
+                };
+            }
+        }
+    }
+    (findings, probes)
+}
+
+/// The first move start on either path after `t` (or `end`).
+fn next_after(t: f64, a: &[f64], b: &[f64], end: f64) -> f64 {
+    let na = a.get(a.partition_point(|&s| s <= t)).copied().unwrap_or(f64::INFINITY);
+    let nb = b.get(b.partition_point(|&s| s <= t)).copied().unwrap_or(f64::INFINITY);
+    na.min(nb).min(end).max(t + 1e-9)
+}
+
+/// The distance between the boxes of two polygons (0 when they meet): a lower bound of theirs.
+fn box_gap(a: &Polygon, b: &Polygon) -> f64 {
+    let (p, q) = (a.aabb(), b.aabb());
+    let dx = (q.min.x - p.max.x).max(p.min.x - q.max.x).max(0.0);
+    let dy = (q.min.y - p.max.y).max(p.min.y - q.max.y).max(0.0);
+    dx.hypot(dy)
+}

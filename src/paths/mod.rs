@@ -1,0 +1,231 @@
+//! Multi-path programs (docs/paths.md): one file whose `$1`, `$2`, … lines start each path's
+//! lines, run on a machine whose `[[paths]]` give each path after the first its own tool
+//! carrier.
+//!
+//! How a program is checked ([`check`]):
+//!
+//! 1. `split.rs` cuts the file into one copy per path, every other path's lines blanked (lines,
+//!    columns and offsets stay the file's).
+//! 2. Each path is checked alone on the lathe it runs on ([`Machine::for_path`]: its carrier's
+//!    axes, turret and tools): its tools against the chuck, the tailstock and the stock, its
+//!    travel, its own program's findings — exactly the one-path check.
+//! 3. `sync.rs` times the paths in the machine's one clock from their waiting M codes; paths
+//!    that can never meet are a `program` finding at each wait left standing.
+//! 4. `cross.rs` checks the carriers against each other over that common time.
+//!
+//! Each path's check has the stock to itself: it does not see what another path cut, so it
+//! judges its moves against at least as much material as the part has — never fewer findings,
+//! possibly one where another path has already cut the material away (docs/paths.md).
+
+pub mod cross;
+mod spindle;
+pub mod split;
+pub mod sync;
+
+use crate::finding::{Finding, Kind, Severity};
+use crate::interp::MoveKind;
+use crate::machine::Machine;
+use crate::pipeline::{self, Outcome, Settings};
+
+/// Whether a program on `machine` goes through the multi-path check: the machine has several
+/// paths, or the file starts paths with `$` lines.
+pub fn is_multi_path(src: &[u8], machine: &Machine) -> bool {
+    !machine.paths.carriers.is_empty() || split::split(src).is_some()
+}
+
+/// Check a program on a machine with several paths, or a program written for several paths.
+pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
+    let split = split::split(src);
+    let count = machine.paths.count() as u32;
+    let mut extra: Vec<Finding> = Vec::new();
+    // Each path's source: its copy of the file, or the whole file for path 1 of a file without
+    // markers; a path without lines runs nothing (its carrier stands at home).
+    let mut sources: Vec<(u32, Vec<u8>)> = Vec::new();
+    match &split {
+        None => sources.push((1, src.to_vec())),
+        Some(s) => {
+            for m in &s.markers {
+                if m.path > count {
+                    extra.push(Finding::at(
+                        Kind::Unsupported,
+                        Severity::Error,
+                        m.line,
+                        1,
+                        format!(
+                            "${} starts path {}, but this machine has {} (`[[paths]]` in the machine file, docs/paths.md): the path's lines are not checked",
+                            m.path, m.path, count
+                        ),
+                    ));
+                }
+            }
+            for (p, text) in &s.paths {
+                if *p <= count {
+                    sources.push((*p, text.clone()));
+                }
+            }
+        }
+    }
+    // Dedupe the unsupported findings of a path started more than once.
+    extra.dedup_by(|a, b| a.message == b.message);
+    for p in 1..=count {
+        if !sources.iter().any(|s| s.0 == p) {
+            sources.push((p, Vec::new()));
+        }
+    }
+    sources.sort_by_key(|s| s.0);
+
+    let mut lanes: Vec<Lane> = Vec::new();
+    for (p, text) in &sources {
+        let Some(view) = machine.for_path(*p) else { continue };
+        let (resolved, dialect) = pipeline::resolve(text, &view);
+        let m = resolved.into_owned();
+        let (findings, left_out, run) = pipeline::interpret_whole(text, &m, settings);
+        let timeline = crate::motion::timeline(&run, &m);
+        lanes.push(Lane {
+            path: *p,
+            machine: m,
+            findings,
+            left_out,
+            dialect,
+            run,
+            timeline,
+        });
+    }
+
+    // The waits, in each path's own time; a path that leaves the spindle to another takes its
+    // spindle, which changes its own time (feeds per revolution): timed again, twice at most.
+    let mut timed = schedule_of(&lanes, count);
+    if let Some(sharing) = spindle::plan(&lanes, machine) {
+        for _ in 0..2 {
+            sharing.apply(&mut lanes, &timed.0);
+            for l in lanes.iter_mut() {
+                l.timeline = crate::motion::timeline(&l.run, &l.machine);
+            }
+            timed = schedule_of(&lanes, count);
+        }
+    }
+    let (schedules, dead, stop) = timed;
+    for d in &dead {
+        extra.push(Finding::program(d.line, 1, d.message.clone()));
+    }
+
+    let names: Vec<String> = lanes
+        .iter()
+        .map(|l| {
+            if l.path == 1 {
+                "turret of path 1".to_string()
+            } else {
+                machine
+                    .paths
+                    .carriers
+                    .iter()
+                    .find(|c| c.path == l.path)
+                    .map_or_else(|| format!("path {} carrier", l.path), |c| c.name.clone())
+            }
+        })
+        .collect();
+    let carriages: Vec<cross::Carriage> = lanes
+        .iter()
+        .zip(&schedules)
+        .zip(&names)
+        .map(|((l, s), name)| cross::Carriage {
+            path: l.path,
+            name: name.clone(),
+            machine: &l.machine,
+            run: &l.run,
+            timeline: &l.timeline,
+            schedule: s,
+            opposite: machine.paths.carriers.iter().any(|c| c.path == l.path && c.opposite),
+        })
+        .collect();
+    let (cross_findings, probes) = cross::check(&carriages, settings.tolerance_mm, stop);
+    drop(carriages);
+
+    // One outcome: every path's findings at their lines, their times in the machine's clock.
+    let mut out = Outcome::default();
+    let mut seen = std::collections::HashSet::new();
+    let mut machine_time = 0.0f64;
+    for (l, s) in lanes.into_iter().zip(&schedules) {
+        let o = pipeline::check_run(l.findings, l.left_out, &l.run, l.dialect, &l.machine, settings);
+        for mut f in o.findings {
+            if let Some(t) = f.time_s.as_mut() {
+                *t = s.global_of_local(*t);
+            }
+            if let Some(t) = f.end_time_s.as_mut() {
+                *t = s.global_of_local(*t);
+            }
+            // The lines before the first `$` are read by every path: report their findings once.
+            if f.time_s.is_none() && !seen.insert((f.line, f.col, f.kind, f.message.clone())) {
+                continue;
+            }
+            out.findings.push(f);
+        }
+        let st = &o.stats;
+        out.stats.blocks += st.blocks;
+        out.stats.moves += st.moves;
+        out.stats.steps += st.steps;
+        out.stats.pair_tests += st.pair_tests;
+        out.stats.pair_tests_skipped += st.pair_tests_skipped;
+        out.stats.grid_rays += st.grid_rays;
+        out.stats.refined += st.refined;
+        out.stats.elapsed_ms += st.elapsed_ms;
+        for e in &st.effects {
+            if !out.stats.effects.contains(e) {
+                out.stats.effects.push(e.clone());
+            }
+        }
+        if out.stats.dialect.is_none() {
+            out.stats.dialect = st.dialect.clone();
+        }
+        machine_time = machine_time.max(s.global_of_local(st.machine_time_s));
+        if l.path == 1 {
+            out.stock = o.stock;
+        }
+    }
+    out.stats.machine_time_s = machine_time;
+    out.stats.pair_tests += probes;
+    out.stats.effects.push("paths".to_string());
+    out.findings.extend(extra);
+    out.findings.extend(cross_findings);
+    crate::finding::sort_findings(&mut out.findings);
+    out
+}
+
+/// One path of the program: its lathe, its run and its own time.
+struct Lane {
+    path: u32,
+    machine: Machine,
+    findings: Vec<Finding>,
+    left_out: crate::finding::LeftOut,
+    dialect: Option<(crate::machine::Dialect, String)>,
+    run: crate::interp::Interpretation,
+    timeline: crate::motion::Timeline,
+}
+
+/// The lanes' waits timed in the machine's clock (`sync::schedule`).
+fn schedule_of(lanes: &[Lane], count: u32) -> (Vec<sync::Schedule>, Vec<sync::Deadlock>, Option<f64>) {
+    let sync_lanes: Vec<sync::Lane> = lanes
+        .iter()
+        .map(|l| sync::Lane {
+            path: l.path,
+            waits: l
+                .timeline
+                .items
+                .iter()
+                .filter_map(|it| match l.run.moves[it.index].kind {
+                    MoveKind::Wait { code, paths } => Some(sync::WaitAt {
+                        index: it.index,
+                        t: it.t0,
+                        code,
+                        mask: paths & (((1u32 << count) - 1) as u8),
+                        line: l.run.moves[it.index].line,
+                    }),
+                    _ => None,
+                })
+                .collect(),
+            end: l.timeline.total,
+            last_line: l.run.moves.last().map_or(1, |m| m.line),
+        })
+        .collect();
+    sync::schedule(&sync_lanes)
+}
