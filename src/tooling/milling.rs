@@ -129,6 +129,8 @@ impl MillTool {
             MillKind::Flat => K::Flat,
             MillKind::Ball => K::Ball,
             MillKind::Bull { corner_radius } => K::Bull { corner_radius },
+            // A drill ground flat (180°) cuts as a flat end.
+            MillKind::Drill { point_angle } if point_angle >= 180.0 => K::Flat,
             MillKind::Drill { point_angle } => K::Drill {
                 point_angle_deg: point_angle,
             },
