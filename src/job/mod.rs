@@ -782,9 +782,10 @@ fn block_grip(m: &Machine, b: machine::Block) -> Result<(), String> {
     let Some(c) = m.chuck_jaws() else { return Ok(()) };
     let across = 2.0 * b.inscribed();
     if c.jaws.grip != jaws::Grip::Outside {
-        return Err(format!(
+        return Err(
             "a block is gripped outside, on its flats: the jaws grip inside (chuck.jaws.grip = \"inside\"); give grip = \"outside\""
-        ));
+                .to_string(),
+        );
     }
     if (c.jaws.grip_diameter - across).abs() > 0.01 {
         let how = if c.jaws.grip_diameter > across {

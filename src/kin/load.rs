@@ -855,24 +855,25 @@ fn geometry(
         };
         use crate::grid::CutterKind as K;
         let ek = format!("{key}.cylinder.end");
-        let end =
-            match e.get_ref() {
-                RawEnd::Named(n) if n == "flat" => return Ok(Geometry::Cylinder { radius, z0, z1 }),
-                RawEnd::Named(n) if n == "ball" => K::Ball,
-                RawEnd::Named(n) => return Err(cx.err(
+        let end = match e.get_ref() {
+            RawEnd::Named(n) if n == "flat" => return Ok(Geometry::Cylinder { radius, z0, z1 }),
+            RawEnd::Named(n) if n == "ball" => K::Ball,
+            RawEnd::Named(n) => {
+                return Err(cx.err(
                     e.span(),
                     &ek,
                     format!(
                         "{n:?}: an end is \"flat\", \"ball\", {{ corner_radius = r }} or {{ point_angle = degrees }}"
                     ),
-                )),
-                RawEnd::Corner(b) => K::Bull {
-                    corner_radius: b.corner_radius,
-                },
-                RawEnd::Point(p) => K::Drill {
-                    point_angle_deg: p.point_angle,
-                },
-            };
+                ))
+            }
+            RawEnd::Corner(b) => K::Bull {
+                corner_radius: b.corner_radius,
+            },
+            RawEnd::Point(p) => K::Drill {
+                point_angle_deg: p.point_angle,
+            },
+        };
         // The cutter's own checks (a corner radius within the radius, a point angle in
         // (0°, 180°), a ball's flutes at least its radius), said against the key.
         let sub = match end {
