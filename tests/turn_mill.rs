@@ -1004,6 +1004,17 @@ fn a_square_bar_is_milled_passed_over_and_crashed_into_at_its_corner() {
     }
     let fx = example("block_face_milled_at_c0.nc", None);
     assert!(fx.iter().any(|e| e == "grid_stock"), "{fx:?}");
+    // `setup` says what the stock is: the block, and its envelope.
+    let setup = std::process::Command::new(env!("CARGO_BIN_EXE_latheguard"))
+        .current_dir(root().join(MILL))
+        .args(["setup", "block_face_milled_at_c0.nc"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&setup.stdout);
+    assert!(
+        text.contains("stock         block 40 × 40 (x × y at C0) × 120 mm, z -40 .. 80; its revolved envelope Ø56.569"),
+        "{text}"
+    );
     example("block_rapid_over_flat_side.nc", None);
     example(
         "crash_block_rapid_into_corner.nc",

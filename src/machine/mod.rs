@@ -751,6 +751,21 @@ impl Machine {
         let _ = writeln!(s, "  M codes     {}", codes.join(", "));
         let stock = match &self.stock {
             None => "none".to_string(),
+            Some(Stock {
+                block: Some(b),
+                diameter,
+                length,
+                front,
+                ..
+            }) => format!(
+                "block {} × {} × {} mm, z {} .. {} (envelope Ø{})",
+                num(b.width),
+                num(b.height),
+                num(*length),
+                num(front - length),
+                num(*front),
+                num(*diameter)
+            ),
             Some(st) if st.outline.is_some() => format!(
                 "revolved outline, Ø{} max × {} mm, z {} .. {}",
                 num(st.diameter),
