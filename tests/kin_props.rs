@@ -424,3 +424,48 @@ fn lathe_tree_pairs_tools_and_turret_with_chuck() {
         .all(|c| c.parent.map_or(true, |p| p < k.components.len())));
     let _ = Arc::new(k);
 }
+
+/// A cutter's end on a kinematic cylinder (`end = …`): the shapes load, and the grid cutter's
+/// checks are said against the key (docs/machine.md, "[kinematics]").
+#[test]
+fn a_cutter_end_loads_and_its_bad_sizes_name_the_key() {
+    let t11 = "geometry = { cylinder = { radius = 5, z0 = 0, z1 = 30 } }";
+    let with = |end: &str| {
+        variant(
+            t11,
+            &format!("geometry = {{ cylinder = {{ radius = 5, z0 = 0, z1 = 30, end = {end} }} }}"),
+        )
+    };
+    for good in [
+        "\"flat\"",
+        "\"ball\"",
+        "{ corner_radius = 1.5 }",
+        "{ corner_radius = 5 }",
+        "{ point_angle = 118 }",
+    ] {
+        assert_eq!(with(good), "ok", "{good}");
+    }
+    let cases = [
+        ("{ corner_radius = 6 }", ".geometry.cylinder.end.corner_radius: corner radius 6 mm: must be above 0 and at most the radius 5"),
+        ("{ corner_radius = 0 }", ".geometry.cylinder.end.corner_radius: corner radius 0 mm"),
+        ("{ point_angle = 180 }", ".geometry.cylinder.end.point_angle: point angle 180°: must be between 0° and 180°"),
+        ("{ point_angle = -5 }", ".geometry.cylinder.end.point_angle: point angle -5°"),
+        ("\"round\"", ".geometry.cylinder.end: \"round\": an end is \"flat\", \"ball\", { corner_radius = r } or { point_angle = degrees }"),
+    ];
+    for (end, want) in cases {
+        let got = with(end);
+        assert!(got.contains(want), "{end}:\n got  {got}\n want {want}");
+    }
+    // A ball needs flutes at least its radius: z1 − z0 = 4 < 5.
+    let got = variant(
+        t11,
+        "geometry = { cylinder = { radius = 5, z0 = 0, z1 = 4, end = \"ball\" } }",
+    );
+    assert!(
+        got.contains(".geometry.cylinder.end: flute length 4 mm: a ball end needs at least its radius (the flutes are z1 − z0 = 4)"),
+        "{got}"
+    );
+    // A table that is neither end.
+    let got = with("{ radius = 2 }");
+    assert!(got.contains(".geometry.cylinder.end"), "{got}");
+}

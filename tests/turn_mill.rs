@@ -822,3 +822,239 @@ fn a_finding_picture_draws_the_hole_the_drill_is_still_in() {
         .count();
     assert!(inside > 20, "{inside} vertices of the hole's wall");
 }
+
+// Cutter ends and block stocks (issue 30 §4): the examples with the jobs beside them, on the
+// command line, in both modes.
+
+/// A program's errors checked by the command line in `dir` (reading the job beside it) as
+/// (line, kind, objects, depth), and the run's effects.
+/// An error as (line, kind, objects, depth).
+type CliError = (u64, String, Vec<String>, f64);
+
+fn cli_errors(dir: &Path, args: &[&str], mode: &str) -> (Vec<CliError>, Vec<String>) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_latheguard"))
+        .current_dir(dir)
+        .args(["check", "--format", "json", "--mode", mode])
+        .args(args)
+        .output()
+        .unwrap();
+    let doc: serde_json::Value =
+        serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stderr)));
+    let f = &doc["files"][0];
+    let errs = f["findings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|x| x["severity"] == "error")
+        .map(|x| {
+            (
+                x["line"].as_u64().unwrap(),
+                x["kind"].as_str().unwrap().to_string(),
+                x["objects"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|o| o.as_str().unwrap().to_string())
+                    .collect(),
+                x["depth_mm"].as_f64().unwrap_or(0.0),
+            )
+        })
+        .collect();
+    let effects = f["stats"]["effects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e.as_str().unwrap().to_string())
+        .collect();
+    (errs, effects)
+}
+
+/// The one error of an example (in both modes): its line, kind, objects, and a depth within
+/// `tol` of the hand-worked `depth`; an empty `want` for a clean example.
+fn example(name: &str, want: Option<(u64, &str, [&str; 2], f64, f64)>) -> Vec<String> {
+    let mut effects = Vec::new();
+    for mode in ["step", "exact"] {
+        let (errs, fx) = cli_errors(&root().join(MILL), &[name], mode);
+        effects = fx;
+        match want {
+            None => assert!(errs.is_empty(), "{name} ({mode}): {errs:?}"),
+            Some((line, kind, objects, depth, tol)) => {
+                assert_eq!(errs.len(), 1, "{name} ({mode}): {errs:?}");
+                let (l, k, o, d) = &errs[0];
+                assert_eq!(
+                    (*l, k.as_str(), o.clone()),
+                    (line, kind, objects.map(String::from).to_vec()),
+                    "{name} ({mode})"
+                );
+                assert!((d - depth).abs() <= tol, "{name} ({mode}): depth {d}, worked {depth}");
+            }
+        }
+    }
+    effects
+}
+
+/// A copy of an example in a fresh folder with `job` beside it (`None`: no job), for variants.
+fn example_variant(name: &str, job: Option<&str>, tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("lg-ends-{}-{tag}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(root().join(MILL).join(name), dir.join(name)).unwrap();
+    let stem = name.trim_end_matches(".nc");
+    let _ = std::fs::remove_file(dir.join(format!("{stem}.job.toml")));
+    if let Some(j) = job {
+        std::fs::write(dir.join(format!("{stem}.job.toml")), j).unwrap();
+    }
+    std::fs::write(
+        dir.join("latheguard.toml"),
+        format!("machine = {:?}\n", root().join("machines/turn-mill.toml")),
+    )
+    .unwrap();
+    dir
+}
+
+/// The ball end mill passes 1 mm outside the front edge (hand-worked in the program); the
+/// machine's own T11, a flat end of the same size, meets the bar 1 mm deep at the same line.
+#[test]
+fn a_ball_end_mill_beside_the_front_edge_is_clean_where_a_flat_end_is_a_crash() {
+    let fx = example("ball_past_the_front_edge.nc", None);
+    assert!(fx.iter().any(|e| e == "kinematic_3d"), "{fx:?}");
+    let dir = example_variant("ball_past_the_front_edge.nc", Some("program_zero_z = 80.0\n"), "flat");
+    let (errs, _) = cli_errors(&dir, &["ball_past_the_front_edge.nc"], "step");
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    assert_eq!((errs[0].0, errs[0].1.as_str()), (16, "rapid_into_stock"));
+    assert_eq!(errs[0].2, vec!["t11_mill".to_string(), "stock".to_string()]);
+    assert!((errs[0].3 - 1.0).abs() < 0.05, "{errs:?}");
+}
+
+/// The same ball from the machine file's key (`cylinder = { …, end = "ball" }` on T11's
+/// cutter), with no job's tool: clean too.
+#[test]
+fn a_ball_end_from_the_machine_files_key_is_the_same_ball() {
+    let path = root().join("machines/turn-mill.toml");
+    let dir = path.parent().unwrap().to_path_buf();
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace(
+            "geometry = { cylinder = { radius = 5, z0 = 0, z1 = 30 } }",
+            "geometry = { cylinder = { radius = 5, z0 = 0, z1 = 30, end = \"ball\" } }",
+        )
+        .replace("program_zero_z = 78.0", "program_zero_z = 80.0");
+    let m = machine::from_toml_with(&text, "tm.toml", &move |name: &str| {
+        std::fs::read(dir.join(name)).map_err(|e| e.to_string())
+    })
+    .unwrap();
+    let rel = format!("{MILL}ball_past_the_front_edge.nc");
+    both_modes_on(&rel, &m, &[]);
+    // The same machine without the end: the flat's crash.
+    let flat = machine::from_toml_with(&text.replace(", end = \"ball\"", ""), "tm.toml", &move |name: &str| {
+        std::fs::read(root().join("machines").join(name)).map_err(|e| e.to_string())
+    })
+    .unwrap();
+    both_modes_on(&rel, &flat, &[(16, Kind::RapidIntoStock, ["t11_mill", "stock"])]);
+}
+
+/// A drill's 118° point leaves a cone that a flat end mill lowered to Z-8 stands 0.627 mm in
+/// (hand-worked in the program); drilled by a flat-bottomed drill (180°) the same move is clean.
+#[test]
+fn a_flat_end_mill_lowered_into_a_drills_cone_is_a_rapid_into_the_stock() {
+    let fx = example(
+        "crash_flat_mill_into_drill_point.nc",
+        Some((23, "rapid_into_stock", ["t11_mill", "stock"], 0.627, 0.06)),
+    );
+    assert!(fx.iter().any(|e| e == "grid_stock"), "{fx:?}");
+    let job = std::fs::read_to_string(root().join(MILL).join("crash_flat_mill_into_drill_point.job.toml"))
+        .unwrap()
+        .replace("type = \"drill\",", "type = \"drill\", point_angle = 180,");
+    let dir = example_variant("crash_flat_mill_into_drill_point.nc", Some(&job), "drill180");
+    let (errs, _) = cli_errors(&dir, &["crash_flat_mill_into_drill_point.nc"], "step");
+    assert!(errs.is_empty(), "{errs:?}");
+}
+
+/// A bull nose's 2 mm corners leave a fillet that a flat end mill lowered to the floor stands
+/// 2 − √2 = 0.586 mm in; milled by a flat end of the same size the same move is clean.
+#[test]
+fn a_flat_end_mill_lowered_onto_a_bull_noses_fillet_is_a_rapid_into_the_stock() {
+    example(
+        "crash_flat_mill_into_bull_corner.nc",
+        Some((22, "rapid_into_stock", ["t11_mill", "stock"], 2.0 - 2f64.sqrt(), 0.06)),
+    );
+    let job = std::fs::read_to_string(root().join(MILL).join("crash_flat_mill_into_bull_corner.job.toml"))
+        .unwrap()
+        .replace("type = \"bull\"", "type = \"flat\"")
+        .replace("corner_radius = 2, ", "");
+    let dir = example_variant("crash_flat_mill_into_bull_corner.nc", Some(&job), "flat");
+    let (errs, _) = cli_errors(&dir, &["crash_flat_mill_into_bull_corner.nc"], "step");
+    assert!(errs.is_empty(), "{errs:?}");
+}
+
+const SQUARE_BAR: &str = "[stock]\nblock = { width = 40, height = 40 }\nlength = 120.0\nstick_out = 80.0\n";
+
+/// The 40 mm square bar: its top flat milled at C0 is clean and runs the milled stock from the
+/// first move; a rapid 1 mm over a flat side is clean where a round bar of the block's corners'
+/// diameter (its revolved envelope, Ø56.569) is a rapid 7.284 mm into the stock; turned to C45,
+/// the same rapid 2 mm further out meets a corner 1.284 mm deep.
+#[test]
+fn a_square_bar_is_milled_passed_over_and_crashed_into_at_its_corner() {
+    for name in [
+        "block_face_milled_at_c0.nc",
+        "block_rapid_over_flat_side.nc",
+        "crash_block_rapid_into_corner.nc",
+    ] {
+        let job = std::fs::read_to_string(root().join(MILL).join(name.replace(".nc", ".job.toml"))).unwrap();
+        assert!(job.ends_with(SQUARE_BAR), "{name}");
+    }
+    let fx = example("block_face_milled_at_c0.nc", None);
+    assert!(fx.iter().any(|e| e == "grid_stock"), "{fx:?}");
+    // `setup` says what the stock is: the block, and its envelope.
+    let setup = std::process::Command::new(env!("CARGO_BIN_EXE_latheguard"))
+        .current_dir(root().join(MILL))
+        .args(["setup", "block_face_milled_at_c0.nc"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&setup.stdout);
+    assert!(
+        text.contains("stock         block 40 × 40 (x × y at C0) × 120 mm, z -40 .. 80; its revolved envelope Ø56.569"),
+        "{text}"
+    );
+    example("block_rapid_over_flat_side.nc", None);
+    example(
+        "crash_block_rapid_into_corner.nc",
+        Some((
+            16,
+            "rapid_into_stock",
+            ["t10_mill", "stock"],
+            20.0 * 2f64.sqrt() - 27.0,
+            0.05,
+        )),
+    );
+    // (Shorter: Ø56.569 does not pass the chuck's Ø50 bore.)
+    let round = "[stock]\ndiameter = 56.569\nlength = 85.0\nstick_out = 80.0\n";
+    let dir = example_variant("block_rapid_over_flat_side.nc", Some(round), "round");
+    let (errs, _) = cli_errors(&dir, &["block_rapid_over_flat_side.nc"], "step");
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    assert_eq!((errs[0].0, errs[0].1.as_str()), (17, "rapid_into_stock"));
+    assert!((errs[0].3 - 7.284).abs() < 0.05, "{errs:?}");
+}
+
+/// A block on a lathe without a kinematic tree: its revolved envelope is all that is checked,
+/// and the run says so (`block_envelope`).
+#[test]
+fn a_block_on_a_two_axis_lathe_is_checked_as_its_envelope_and_says_so() {
+    let dir = std::env::temp_dir().join(format!("lg-block2d-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("p.job.toml"),
+        "[stock]\nblock = { width = 30, height = 30 }\nlength = 80.0\nstick_out = 50.0\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("p.nc"),
+        "G21 G18 G40 G97 G99\nT0101\nS800 M3\nG0 X60. Z2.\nG1 Z-10. F0.2\nG0 X40. Z-40.\nM30\n",
+    )
+    .unwrap();
+    let machine = root().join("machines/generic-slant-bed.toml");
+    let m = machine.to_str().unwrap();
+    let (errs, fx) = cli_errors(&dir, &["--machine", m, "p.nc"], "step");
+    assert!(fx.iter().any(|e| e == "block_envelope"), "{fx:?}");
+    // The rapid at X40 (radius 20) runs through the envelope (R 21.213) after turning only to Z-10.
+    assert!(errs.iter().any(|e| e.0 == 6 && e.1 == "rapid_into_stock"), "{errs:?}");
+}

@@ -774,6 +774,7 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
                 front: Some(front),
                 bore: bore.unwrap_or(0.0),
                 outline: None,
+                block: None,
                 none: false,
                 diameter_at: at("stock.diameter"),
                 length_at: at("stock.length"),

@@ -251,7 +251,7 @@ fn checker<'a>(machine: &'a Machine, settings: &Settings, three: bool) -> Checke
         min: P2::new(-s.diameter / 2.0, s.front - s.length),
         max: P2::new(s.diameter / 2.0, s.front),
     });
-    Checker {
+    let mut c = Checker {
         now: NO_MOVE,
         behind: Behind::default(),
         machine,
@@ -283,7 +283,17 @@ fn checker<'a>(machine: &'a Machine, settings: &Settings, three: bool) -> Checke
         gap3: None,
         rigid3: std::collections::BTreeSet::new(),
         turned: false,
+    };
+    // A block is milled from the start: its grids are the block, its dexel stock the envelope.
+    if let Some(s) = machine
+        .stock
+        .as_ref()
+        .filter(|s| s.block.is_some() && c.three.is_some())
+    {
+        c.ensure_stock();
+        c.mill = three::mill::Mill::block(s, settings.tolerance_mm);
     }
+    c
 }
 
 impl Checker<'_> {

@@ -178,6 +178,10 @@ impl<'a> Stream<'a> {
             stats.effects.push("grid_stock".into());
             stats.grid_rays = m.stock.rays();
         }
+        if c.machine.stock.as_ref().is_some_and(|s| s.block.is_some()) && c.mill.is_none() {
+            // A block checked without the 3D path: its revolved envelope alone.
+            stats.effects.push("block_envelope".into());
+        }
         if c.indexed {
             stats.effects.push("turret_index".into());
         }

@@ -326,6 +326,17 @@ fn from<T>(s: &Option<job::Set<T>>) -> &str {
 fn stock_text(m: &Machine) -> String {
     match &m.stock {
         None => "none".into(),
+        Some(s @ machine::Stock { block: Some(b), .. }) => {
+            format!(
+                "block {} × {} (x × y at C0) × {} mm, z {} .. {}; its revolved envelope Ø{} (the corners) in front of the jaws",
+                num(b.width),
+                num(b.height),
+                num(s.length),
+                num(s.front - s.length),
+                num(s.front),
+                num(s.diameter)
+            )
+        }
         Some(s) if s.outline.is_some() => format!(
             "revolved outline, Ø{} max, z {} .. {} ({} points)",
             num(s.diameter),

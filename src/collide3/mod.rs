@@ -102,6 +102,7 @@ impl Shape3 {
         match g {
             Geometry::Mesh(m) => Shape3::from_mesh(m),
             Geometry::Revolved(outline) => Shape3::from_mesh(&shape::revolved(outline, tol).ok()?),
+            Geometry::Cutter { .. } => Shape3::from_mesh(&shape::mesh_of(g, tol).ok()?),
             Geometry::Extruded { outline, half_width } => {
                 let hw = *half_width;
                 if crate::geom::convex::is_convex(outline) {

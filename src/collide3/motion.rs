@@ -119,6 +119,11 @@ pub fn geometry_sphere(g: &Geometry) -> (Point3<f64>, f64) {
             let r = radius.abs();
             boxed(Point3::new(-r, -r, z0.min(*z1)), Point3::new(r, r, z0.max(*z1)))
         }
+        Geometry::Cutter { radius, z0, z1, .. } => {
+            // Its outline stays within the cylinder of its radius and flutes, then revolved.
+            let r = radius.abs() * revolve_scale();
+            boxed(Point3::new(-r, -r, z0.min(*z1)), Point3::new(r, r, z0.max(*z1)))
+        }
     }
 }
 

@@ -516,3 +516,102 @@ fn air_along_a_ray_asks_each_sample_once_and_answers_as_every_sample_in_order_do
         }
     }
 }
+
+/// The floor an end of each shape leaves when plunged along its axis into a block's top face
+/// (z = 0), read at radius `rho` from the plunge's axis: where the material begins below the
+/// face, by bisection on [`Stock::contains`] down the line (x = rho, y = 0).
+fn floor_depth(s: &Stock, rho: f64) -> f64 {
+    let (mut air, mut mat) = (0.0f64, 12.0f64);
+    assert!(s.contains(Vector3::new(rho, 0.0, -mat)));
+    for _ in 0..40 {
+        let mid = (air + mat) / 2.0;
+        if s.contains(Vector3::new(rho, 0.0, -mid)) {
+            mat = mid;
+        } else {
+            air = mid;
+        }
+    }
+    (air + mat) / 2.0
+}
+
+/// A 20 × 20 × 20 block under the top face at z = 0, 0.05 mm nodes, cut by `cutter` plunged from
+/// 5 mm above to `depth` below the face at the origin (its axis +z).
+fn plunged(cutter: Cutter, depth: f64) -> Stock {
+    let mut s = Stock::block(
+        Vector3::new(-10.0, -10.0, -20.0),
+        Vector3::new(10.0, 10.0, 0.0),
+        400,
+        0.01,
+    )
+    .unwrap();
+    let sw = sweep(&cutter, [0.0, 0.0, 1.0], [0.0, 0.0, 5.0], [0.0, 0.0, -depth], 0.01);
+    assert!(s.cut(&sw) > 0.0);
+    s
+}
+
+/// Hand-worked: a Ø10 ball plunged 2 mm has its centre 3 mm above the floor's lowest point, so
+/// the dimple's depth at radius ρ is 2 − 5 + √(25 − ρ²): 2 at the centre, 1 at ρ = 3, 0 at ρ = 4
+/// (its rim on the face); a flat end of the same size would leave 2 everywhere out to ρ = 5.
+#[test]
+fn a_ball_end_plunged_2_mm_leaves_a_spherical_dimple() {
+    let s = plunged(Cutter::new(CutterKind::Ball, 10.0, 20.0).unwrap(), 2.0);
+    for (rho, want) in [
+        (0.0, 2.0),
+        (2.0, 2.0 - 5.0 + 21.0f64.sqrt()),
+        (3.0, 1.0),
+        (3.5, 2.0 - 5.0 + 12.75f64.sqrt()),
+    ] {
+        let d = floor_depth(&s, rho);
+        assert!((d - want).abs() < 0.06, "ρ {rho}: depth {d}, worked {want}");
+    }
+    // Past the rim the face is uncut.
+    assert!(floor_depth(&s, 4.3) < 0.01);
+    // The cap's volume, πh²(3r − h)/3 = 52π/3 = 54.45 mm³ (face grids along z see it once).
+    let top = &s.faces.iter().find(|f| f.n.z < -0.5).unwrap();
+    let v = top.removed();
+    assert!((v - 52.0 * PI / 3.0).abs() < 0.04 * v, "{v}");
+}
+
+/// Hand-worked: a Ø10 drill with a 90° point plunged 3 mm leaves a cone: depth 3 − ρ (ρ < 3);
+/// with 118° the cone is flatter: 3 − ρ / tan 59°, out to ρ = 3 tan 59° = 4.99.
+#[test]
+fn a_drill_point_plunged_leaves_a_cone() {
+    let s = plunged(
+        Cutter::new(CutterKind::Drill { point_angle_deg: 90.0 }, 10.0, 20.0).unwrap(),
+        3.0,
+    );
+    for (rho, want) in [(0.0, 3.0), (1.0, 2.0), (2.5, 0.5)] {
+        let d = floor_depth(&s, rho);
+        assert!((d - want).abs() < 0.06, "90°, ρ {rho}: depth {d}, worked {want}");
+    }
+    assert!(floor_depth(&s, 3.3) < 0.01);
+    let k = 59.0f64.to_radians().tan();
+    let s = plunged(
+        Cutter::new(CutterKind::Drill { point_angle_deg: 118.0 }, 10.0, 20.0).unwrap(),
+        3.0,
+    );
+    for rho in [0.0, 1.0, 2.0, 4.0] {
+        let (d, want) = (floor_depth(&s, rho), 3.0 - rho / k);
+        assert!((d - want).abs() < 0.06, "118°, ρ {rho}: depth {d}, worked {want}");
+    }
+}
+
+/// Hand-worked: a Ø10 bull nose with 2 mm corners plunged 1 mm leaves a floor 1 deep out to
+/// ρ = 3, then the corner: depth 1 − 2 + √(4 − (ρ − 3)²), 0.732 at ρ = 4, 0 at ρ = 3 + √3.
+#[test]
+fn a_bull_nose_plunged_leaves_a_flat_floor_and_its_corner() {
+    let s = plunged(
+        Cutter::new(CutterKind::Bull { corner_radius: 2.0 }, 10.0, 20.0).unwrap(),
+        1.0,
+    );
+    for (rho, want) in [
+        (0.0, 1.0),
+        (2.9, 1.0),
+        (4.0, 3.0f64.sqrt() - 1.0),
+        (4.5, 1.75f64.sqrt() - 1.0),
+    ] {
+        let d = floor_depth(&s, rho);
+        assert!((d - want).abs() < 0.06, "ρ {rho}: depth {d}, worked {want}");
+    }
+    assert!(floor_depth(&s, 3.0 + 3.0f64.sqrt() + 0.2) < 0.01);
+}

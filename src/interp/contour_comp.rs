@@ -74,11 +74,11 @@ fn cutter_radius(machine: &crate::machine::Machine, station: u32) -> f64 {
         k.components
             .iter()
             .find_map(|c| match (&c.geometry, c.role, c.station) {
-                (Some(crate::kin::Geometry::Cylinder { radius, .. }), crate::kin::Role::Cutter, Some(s))
-                    if s == station =>
-                {
-                    Some(*radius)
-                }
+                (
+                    Some(crate::kin::Geometry::Cylinder { radius, .. } | crate::kin::Geometry::Cutter { radius, .. }),
+                    crate::kin::Role::Cutter,
+                    Some(s),
+                ) if s == station => Some(*radius),
                 _ => None,
             })
     });

@@ -120,6 +120,9 @@ pub struct JobStock {
     pub bore: f64,
     /// A revolved outline in the half plane x ≥ 0 (a casting, a forging, a second operation).
     pub outline: Option<Polygon>,
+    /// `block = { width, height }`: a prismatic block (`length`, `front` as the bar's;
+    /// `diameter` is then its corners' diameter).
+    pub block: Option<machine::Block>,
     /// `none = true`: no stock in the scene (a dry run in the air).
     pub none: bool,
     /// Where `diameter` and `length` were written (errors of a stock that does not fit).
@@ -136,6 +139,7 @@ impl JobStock {
             front: None,
             bore: 0.0,
             outline: None,
+            block: None,
             none: true,
             diameter_at: at.clone(),
             length_at: at,
@@ -542,6 +546,14 @@ pub fn apply(machine: &Machine, job: &EffectiveJob) -> Result<Machine, JobError>
         let front = st.front.or(machine.stock.as_ref().map(|s| s.front));
         match (front, &st.outline) {
             _ if st.none => m.stock = None,
+            (Some(front), _) if st.block.is_some() => {
+                if let Some(b) = st.block {
+                    if let Err(e) = block_grip(&m, b) {
+                        errors.push(st.diameter_at.err(e));
+                    }
+                    m.stock = Some(Stock::block(b, st.length, front, m.chuck.as_ref()));
+                }
+            }
             (_, Some(o)) => m.stock = Some(Stock::from_outline(o.clone())),
             (Some(front), None) => m.stock = Some(Stock::bar(st.diameter, st.length, front, st.bore)),
             (None, None) => errors.push(s.at.err(
@@ -752,11 +764,42 @@ pub fn grip_from_stock<'j>(machine: &Machine, job: &'j EffectiveJob) -> Option<(
         return None;
     }
     let grip = job.jaws.grip.as_ref().map_or(base.jaws.grip, |g| g.value);
+    if let Some(b) = s.value.block {
+        // The jaws close on the block's nearer flats.
+        return (grip == jaws::Grip::Outside).then_some((2.0 * b.inscribed(), s));
+    }
     match grip {
         jaws::Grip::Outside => Some((s.value.diameter, s)),
         jaws::Grip::Inside if s.value.bore > 0.0 => Some((s.value.bore, s)),
         jaws::Grip::Inside => None,
     }
+}
+
+/// Whether the jaws `m` sets up can grip block `b`: they grip outside, on its nearer flats
+/// (their grip diameter the block's narrower size, within 0.01 mm). A chuck given as an outline
+/// is checked by its overlap with the block's envelope alone (`machine::stock_clash`).
+fn block_grip(m: &Machine, b: machine::Block) -> Result<(), String> {
+    let Some(c) = m.chuck_jaws() else { return Ok(()) };
+    let across = 2.0 * b.inscribed();
+    if c.jaws.grip != jaws::Grip::Outside {
+        return Err(
+            "a block is gripped outside, on its flats: the jaws grip inside (chuck.jaws.grip = \"inside\"); give grip = \"outside\""
+                .to_string(),
+        );
+    }
+    if (c.jaws.grip_diameter - across).abs() > 0.01 {
+        let how = if c.jaws.grip_diameter > across {
+            "stand off its flats: they do not hold it"
+        } else {
+            "would close inside it"
+        };
+        return Err(format!(
+            "the jaws grip Ø{} but the block is {} mm across its nearer flats: they {how} (leave chuck.jaws.grip_diameter out to close them on the block)",
+            machine::num(c.jaws.grip_diameter),
+            machine::num(across)
+        ));
+    }
+    Ok(())
 }
 
 /// The chuck a job's jaws give on `machine`: the machine file's body with the job's
@@ -1050,6 +1093,7 @@ pub fn flags_layer(
                 front,
                 bore,
                 outline: None,
+                block: None,
                 none: false,
                 diameter_at: Place::command_line("--stock"),
                 length_at: Place::command_line("--stock"),

@@ -146,6 +146,22 @@ struct RawStock {
     /// smallest z at -grip); instead of `front`.
     #[schemars(with = "Option<f64>")]
     grip: Option<Num>,
+    /// A prismatic block held in the jaws (a square bar), milled on its faces by live tools:
+    /// its section `{ width, height }` (along x and y at C0, centred on the spindle axis), with
+    /// `length` and `stick_out` (or `front`) as a bar's.
+    #[schemars(with = "Option<RawBlock>")]
+    block: Option<Spanned<RawBlock>>,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, expecting = "a table { width, height }")]
+struct RawBlock {
+    /// Across the spindle axis along x at C0 (mm).
+    #[schemars(with = "f64")]
+    width: Num,
+    /// Across the spindle axis along y at C0 (mm).
+    #[schemars(with = "f64")]
+    height: Num,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -751,7 +767,8 @@ fn stock(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str) -> Result<JobStock, JobE
             .cloned()
             .or(r.outline.as_ref().map(|o| ("outline", o.span())))
             .or(r.reverse.as_ref().map(|o| ("reverse", o.span())))
-            .or(r.grip.as_ref().map(|o| ("grip", o.span())));
+            .or(r.grip.as_ref().map(|o| ("grip", o.span())))
+            .or(r.block.as_ref().map(|o| ("block", o.span())));
         if let Some((name, at)) = other {
             return Err(cx.err(
                 at,
@@ -761,6 +778,33 @@ fn stock(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str) -> Result<JobStock, JobE
         }
         let at = place(cx, n.span(), &k("none"));
         return Ok(JobStock::none_at(at));
+    }
+    if let Some(b) = &r.block {
+        let other = given
+            .iter()
+            .find(|(n, _)| matches!(*n, "diameter" | "bore"))
+            .cloned()
+            .or(r.outline.as_ref().map(|o| ("outline", o.span())))
+            .or(r.reverse.as_ref().map(|o| ("reverse", o.span())))
+            .or(r.grip.as_ref().map(|o| ("grip", o.span())));
+        if let Some((name, at)) = other {
+            return Err(cx.err(
+                at,
+                k(name),
+                "a block takes its section from `block = { width, height }`: give no diameter, bore, outline, reverse or grip with it",
+            ));
+        }
+        let bk = |n: &str| format!("{key}.block.{n}");
+        let width = cx.length(&bk("width"), &b.get_ref().width)?;
+        let height = cx.length(&bk("height"), &b.get_ref().height)?;
+        let bar = bar_sizes(cx, s, key, None)?;
+        let block = machine::Block { width, height };
+        return Ok(JobStock {
+            diameter: 2.0 * block.circumscribed(),
+            block: Some(block),
+            diameter_at: place(cx, b.span(), &k("block")),
+            ..bar
+        });
     }
     if let Some(o) = &r.outline {
         if let Some((name, at)) = given
@@ -797,6 +841,18 @@ fn stock(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str) -> Result<JobStock, JobE
             .ok_or_else(|| cx.err(s.span(), k(n), format!("missing required key `{n}`")))
     };
     let diameter = need(&r.diameter, "diameter")?;
+    bar_sizes(cx, s, key, Some(&diameter))
+}
+
+/// A bar's sizes (`diameter` when given: a block has none), `length`, `stick_out` or
+/// `front`, `bore`.
+fn bar_sizes(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str, diameter: Option<&Num>) -> Result<JobStock, JobError> {
+    let r = s.get_ref();
+    let k = |n: &str| format!("{key}.{n}");
+    let need = |v: &Option<Num>, n: &str| -> Result<Num, JobError> {
+        v.clone()
+            .ok_or_else(|| cx.err(s.span(), k(n), format!("missing required key `{n}`")))
+    };
     let length = need(&r.length, "length")?;
     let (front, front_key) = match (&r.stick_out, &r.front) {
         (Some(a), None) => (a.clone(), "stick_out"),
@@ -812,7 +868,10 @@ fn stock(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str) -> Result<JobStock, JobE
             return Err(cx.err(s.span(), k("stick_out"), "missing required key `stick_out`"));
         }
     };
-    let d = cx.length(&k("diameter"), &diameter)?;
+    let d = match diameter {
+        Some(v) => cx.length(&k("diameter"), v)?,
+        None => 0.0,
+    };
     let len = cx.length(&k("length"), &length)?;
     let f = cx.coord(&k(front_key), &front)?;
     let bore = match &r.bore {
@@ -838,8 +897,9 @@ fn stock(cx: &Cx<'_>, s: &Spanned<RawStock>, key: &str) -> Result<JobStock, JobE
         front: Some(f),
         bore,
         outline: None,
+        block: None,
         none: false,
-        diameter_at: place(cx, diameter.span(), &k("diameter")),
+        diameter_at: place(cx, diameter.map_or(s.span(), |d| d.span()), &k("diameter")),
         length_at: place(cx, length.span(), &k("length")),
     })
 }
@@ -914,6 +974,7 @@ fn placed_part(cx: &Cx<'_>, r: &RawStock, poly: Polygon, key: &str, at: Place) -
         front: Some(st.front),
         bore: 0.0,
         outline: st.outline,
+        block: None,
         none: false,
         diameter_at: at.clone(),
         length_at: at,
@@ -938,6 +999,7 @@ fn stock_from(
         ("bore", r.bore.as_ref().map(|v| v.span())),
         ("outline", r.outline.as_ref().map(|v| v.span())),
         ("none", r.none.as_ref().map(|v| v.span())),
+        ("block", r.block.as_ref().map(|v| v.span())),
     ];
     if let Some((name, Some(at))) = other.into_iter().find(|(_, v)| v.is_some()) {
         return Err(cx.err(

@@ -660,3 +660,90 @@ fn tool_numbers_errors_name_file_line_column_and_key() {
         "part.job.toml:3:14: tool_numbers.from_table: T4: station 12 does not exist (lathe.tbl puts T4 in pocket 12): the turret of Generic 2-axis slant-bed lathe has stations 1 to 8"
     );
 }
+
+/// A block (`[stock] block = { width, height }`): its corners' diameter is the stock's, the
+/// jaws close on its nearer flats, and the 2D model is its revolved envelope — the corners'
+/// radius in front of the jaw faces (z 0 on the built-in machine), the flats' behind.
+#[test]
+fn a_block_stock_applies_as_its_envelope_with_the_jaws_closed_on_its_flats() {
+    let text = "[stock]\nblock = { width = 40, height = 30 }\nlength = 100\nstick_out = 60\n";
+    let l = layer(text, "j").unwrap();
+    let s = &l.stock.as_ref().unwrap().value;
+    assert_eq!(
+        s.block,
+        Some(machine::Block {
+            width: 40.0,
+            height: 30.0
+        })
+    );
+    // hypot(40, 30) = 50.
+    assert_eq!((s.diameter, s.length, s.front), (50.0, 100.0, Some(60.0)));
+    let out = apply(&Machine::builtin(), &EffectiveJob::merge([&l])).unwrap();
+    let st = out.stock.as_ref().unwrap();
+    assert_eq!(st.block, s.block);
+    let pts: Vec<(f64, f64)> = st
+        .outline
+        .as_ref()
+        .unwrap()
+        .points()
+        .iter()
+        .map(|p| (p.x, p.y))
+        .collect();
+    let mut want = vec![
+        (0.0, -40.0),
+        (15.0, -40.0),
+        (15.0, 0.0),
+        (25.0, 0.0),
+        (25.0, 60.0),
+        (0.0, 60.0),
+    ];
+    want.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    let mut got = pts.clone();
+    got.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    assert_eq!(got, want, "{pts:?}");
+    assert_eq!(out.chuck_jaws().unwrap().jaws.grip_diameter, 30.0);
+    assert_eq!(out.program_zero_z, 60.0);
+}
+
+#[test]
+fn a_block_stock_is_refused_with_a_bar_size_a_bad_size_or_jaws_that_do_not_hold_it() {
+    let base = "length = 100\nstick_out = 60\n";
+    for (extra, want) in [
+        (
+            "block = { width = 40, height = 30 }\ndiameter = 50\n",
+            "part.job.toml:3:12: stock.diameter: a block takes its section from `block = { width, height }`",
+        ),
+        (
+            "block = { width = 40, height = 30 }\nbore = 10\n",
+            "part.job.toml:3:8: stock.bore: a block takes its section",
+        ),
+        (
+            "block = { width = 0, height = 30 }\n",
+            "part.job.toml:2:19: stock.block.width: must be greater than 0",
+        ),
+        (
+            "block = { width = 40, height = -3 }\n",
+            "stock.block.height: must be greater than 0",
+        ),
+        ("block = { width = 40 }\n", "stock.block"),
+        ("block = { width = 40, height = 30, depth = 2 }\n", "unknown"),
+    ] {
+        let e = err(&format!("[stock]\n{extra}{base}"));
+        assert!(e.contains(want), "{extra}: {e}");
+    }
+    let e = err("[stock]\nblock = { width = 40, height = 30 }\nnone = true\n");
+    assert!(e.contains("stock.block: `none = true` means no stock"), "{e}");
+    // Jaws set to another diameter stand off the block's flats (or would close inside it).
+    for (grip, how) in [(40.0, "stand off its flats"), (20.0, "")] {
+        let l = layer(
+            &format!("[stock]\nblock = {{ width = 40, height = 30 }}\n{base}\n[chuck.jaws]\ngrip_diameter = {grip}\n"),
+            "j",
+        )
+        .unwrap();
+        let e = apply(&Machine::builtin(), &EffectiveJob::merge([&l]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("stock.block: "), "{grip}: {e}");
+        assert!(e.contains(how), "{grip}: {e}");
+    }
+}

@@ -130,7 +130,7 @@ struct RawBox {
 }
 
 #[derive(Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields, expecting = "a table { radius, z0, z1 }")]
+#[serde(deny_unknown_fields, expecting = "a table { radius, z0, z1, end }")]
 struct RawCylinder {
     #[schemars(with = "f64")]
     radius: Num,
@@ -138,6 +138,36 @@ struct RawCylinder {
     z0: Num,
     #[schemars(with = "f64")]
     z1: Num,
+    /// A milling cutter's end at `z0` (its point): "flat" (the default), "ball",
+    /// `{ corner_radius = r }` (a bull nose) or `{ point_angle = deg }` (a drill's cone).
+    #[schemars(with = "Option<RawEnd>")]
+    end: Option<Spanned<RawEnd>>,
+}
+
+/// A cutter's end (`cylinder.end`).
+#[derive(Deserialize, JsonSchema)]
+#[serde(
+    untagged,
+    expecting = "\"flat\", \"ball\", { corner_radius = r } or { point_angle = degrees }"
+)]
+enum RawEnd {
+    Named(String),
+    Corner(RawCorner),
+    Point(RawPoint),
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+struct RawCorner {
+    /// A bull nose's corner radius (mm): above 0, at most the cylinder's radius.
+    corner_radius: f64,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+struct RawPoint {
+    /// A drill's included point angle (degrees): between 0 and 180.
+    point_angle: f64,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -820,7 +850,46 @@ fn geometry(
                 format!("z0 = {} must be less than z1 = {}", show(z0), show(z1)),
             ));
         }
-        return Ok(Geometry::Cylinder { radius, z0, z1 });
+        let Some(e) = &c.end else {
+            return Ok(Geometry::Cylinder { radius, z0, z1 });
+        };
+        use crate::grid::CutterKind as K;
+        let ek = format!("{key}.cylinder.end");
+        let end = match e.get_ref() {
+            RawEnd::Named(n) if n == "flat" => return Ok(Geometry::Cylinder { radius, z0, z1 }),
+            RawEnd::Named(n) if n == "ball" => K::Ball,
+            RawEnd::Named(n) => {
+                return Err(cx.err(
+                    e.span(),
+                    &ek,
+                    format!(
+                        "{n:?}: an end is \"flat\", \"ball\", {{ corner_radius = r }} or {{ point_angle = degrees }}"
+                    ),
+                ))
+            }
+            RawEnd::Corner(b) => K::Bull {
+                corner_radius: b.corner_radius,
+            },
+            RawEnd::Point(p) => K::Drill {
+                point_angle_deg: p.point_angle,
+            },
+        };
+        // The cutter's own checks (a corner radius within the radius, a point angle in
+        // (0°, 180°), a ball's flutes at least its radius), said against the key.
+        let sub = match end {
+            K::Bull { .. } => ".corner_radius",
+            K::Drill { .. } => ".point_angle",
+            _ => "",
+        };
+        crate::grid::Cutter::new(end, 2.0 * radius, z1 - z0).map_err(|why| {
+            let why = if why.starts_with("flute length") {
+                format!("{why} (the flutes are z1 − z0 = {})", show(z1 - z0))
+            } else {
+                why
+            };
+            cx.err(e.span(), format!("{ek}{sub}"), why)
+        })?;
+        return Ok(Geometry::Cutter { end, radius, z0, z1 });
     }
     Err(cx.err(g.span(), key, "no geometry"))
 }

@@ -74,6 +74,17 @@ pub enum Geometry {
     Cuboid { min: Point3<f64>, max: Point3<f64> },
     /// A cylinder about the component's z axis from `z0` to `z1`.
     Cylinder { radius: f64, z0: f64, z1: f64 },
+    /// A milling cutter about the component's z axis: its point at `z0`, its flutes up to `z1`
+    /// (`z0 < z1`), of this radius, with this end (a ball, a bull nose's corners, a drill's
+    /// cone; `cylinder = { …, end = … }` in a machine file, or a job's `mill`). Its mesh is the
+    /// true profile circumscribed ([`shape::cutter_outline`] revolved); the milled stock cuts with
+    /// the true shape (`grid::Cutter`).
+    Cutter {
+        end: crate::grid::CutterKind,
+        radius: f64,
+        z0: f64,
+        z1: f64,
+    },
 }
 
 /// A triangle mesh: counter-clockwise triangles seen from outside.

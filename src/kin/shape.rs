@@ -54,7 +54,59 @@ pub fn mesh_of(g: &Geometry, tol: f64) -> Result<Mesh, String> {
         Geometry::Extruded { outline, half_width } => extruded(outline, *half_width),
         Geometry::Cuboid { min, max } => Ok(cuboid(*min, *max)),
         Geometry::Cylinder { radius, z0, z1 } => cylinder(*radius, *z0, *z1, tol),
+        Geometry::Cutter { end, radius, z0, z1 } => revolved(&cutter_outline(*end, *radius, *z0, *z1, tol), tol),
     }
+}
+
+/// A cutter's half outline in (r, z) from its point at `z0` up to `z1`, closed along the axis,
+/// holding the true profile: a ball's or a bull nose's corner arc as the polygon of its tangents
+/// (from the arc's lowest point, the tangents' crossings at `rc / cos(Δ/2)` from its centre, `Δ`
+/// the step, to its outermost point: it stands at most `tol` outside the arc, never below `z0`
+/// nor beyond the radius; two to 64 steps a quarter), a drill's cone as it is (its point clipped
+/// at `z1` when the flutes are shorter). Revolved ([`revolved`]), the mesh holds the cutter.
+pub fn cutter_outline(end: crate::grid::CutterKind, radius: f64, z0: f64, z1: f64, tol: f64) -> Vec<P2> {
+    use crate::grid::CutterKind as K;
+    let (r, len) = (radius, z1 - z0);
+    let mut out = Vec::new();
+    let arc = |rc: f64, out: &mut Vec<P2>| {
+        // The corner's centre at (r − rc, z0 + rc), from straight down (−90°) to straight out.
+        let tol = if tol.is_finite() && tol > 0.0 { tol } else { 1e-3 };
+        let mut n = 2usize;
+        while n < 64 && rc * (1.0 / (std::f64::consts::FRAC_PI_4 / n as f64).cos() - 1.0) > tol {
+            n += 1;
+        }
+        let step = std::f64::consts::FRAC_PI_2 / n as f64;
+        let big = rc / (step / 2.0).cos();
+        let (cx, cz) = (r - rc, z0 + rc);
+        out.push(P2::new(0.0, z0));
+        if cx > 0.0 {
+            out.push(P2::new(cx, z0));
+        }
+        for k in 0..n {
+            let a = -std::f64::consts::FRAC_PI_2 + step * (k as f64 + 0.5);
+            out.push(P2::new((cx + big * a.cos()).min(r), (cz + big * a.sin()).max(z0)));
+        }
+        out.push(P2::new(r, cz));
+    };
+    match end {
+        K::Ball => arc(r.min(len), &mut out),
+        K::Bull { corner_radius } => arc(corner_radius.min(r).min(len), &mut out),
+        K::Drill { point_angle_deg } => {
+            let k = (point_angle_deg.to_radians() / 2.0).tan();
+            let tip = if k > 0.0 { (r / k).min(len) } else { len };
+            out.push(P2::new(0.0, z0));
+            out.push(P2::new((tip * k).min(r), z0 + tip));
+        }
+        K::Flat | K::Tap { .. } => {
+            out.push(P2::new(0.0, z0));
+            out.push(P2::new(r, z0));
+        }
+    }
+    if out.last().is_some_and(|p| p.y < z1) {
+        out.push(P2::new(r, z1));
+    }
+    out.push(P2::new(0.0, z1));
+    out
 }
 
 /// A simple outline as a counter-clockwise polygon, with the checks a mesh needs.
@@ -326,5 +378,74 @@ mod tests {
         assert!(extruded(&[P2::new(0.0, 0.0), P2::new(1.0, 0.0), P2::new(0.0, 1.0)], 0.0).is_err());
         assert!(extruded(&[P2::new(0.0, 0.0), P2::new(1.0, 0.0), P2::new(0.0, 1.0)], f64::NAN).is_err());
         assert_eq!(segments_for(100.0, 0.0), MAX_SEGMENTS);
+    }
+
+    /// A cutter's mesh holds its true shape: closed, every point of the true profile (sampled
+    /// up its height and round the axis) inside it, and no more than the tolerance proud of it
+    /// (its volume against the true solid's).
+    #[test]
+    fn cutter_meshes_hold_their_true_shape_within_the_tolerance() {
+        use crate::grid::{Cutter, CutterKind as K};
+        let tol = 0.01;
+        for end in [
+            K::Ball,
+            K::Bull { corner_radius: 2.0 },
+            K::Drill { point_angle_deg: 118.0 },
+            K::Drill { point_angle_deg: 60.0 },
+        ] {
+            let m = mesh_of(
+                &Geometry::Cutter {
+                    end,
+                    radius: 5.0,
+                    z0: 1.0,
+                    z1: 21.0,
+                },
+                tol,
+            )
+            .unwrap();
+            closed(&m);
+            let c = Cutter::new(end, 10.0, 20.0).unwrap();
+            // The true volume by slices, and each slice's circle against the mesh's section.
+            let n = 4000;
+            let mut v_true = 0.0;
+            for k in 0..n {
+                let h = 20.0 * (k as f64 + 0.5) / n as f64;
+                v_true += std::f64::consts::PI * c.radius_at(h).powi(2) * 20.0 / n as f64;
+            }
+            let v = m.volume();
+            assert!(v >= v_true - 1e-6, "{end:?}: mesh {v} < true {v_true}");
+            assert!(v <= v_true * 1.01, "{end:?}: mesh {v} against true {v_true}");
+            // Inside by the parity of a ray's crossings (a skew direction: no edge hit).
+            let inside = |p: nalgebra::Point3<f64>| {
+                let d = nalgebra::Vector3::new(1.0, 0.3137, 0.1713);
+                let mut n = 0;
+                for t in &m.triangles {
+                    let [a, b, c] = t.map(|i| m.vertices[i as usize]);
+                    let (e1, e2) = (b - a, c - a);
+                    let q = d.cross(&e2);
+                    let det = e1.dot(&q);
+                    if det.abs() < 1e-15 {
+                        continue;
+                    }
+                    let sv = p - a;
+                    let u = sv.dot(&q) / det;
+                    let r = sv.cross(&e1);
+                    let v = d.dot(&r) / det;
+                    if u >= 0.0 && v >= 0.0 && u + v <= 1.0 && e2.dot(&r) / det > 0.0 {
+                        n += 1;
+                    }
+                }
+                n % 2 == 1
+            };
+            for k in 0..=40 {
+                let h = 20.0 * k as f64 / 40.0;
+                let r = c.radius_at(h) * 0.999;
+                for j in 0..12 {
+                    let a = std::f64::consts::TAU * j as f64 / 12.0;
+                    let p = nalgebra::Point3::new(r * a.cos(), r * a.sin(), 1.0 + h.clamp(1e-3, 20.0 - 1e-3));
+                    assert!(inside(p), "{end:?}: h {h}, r {r}");
+                }
+            }
+        }
     }
 }

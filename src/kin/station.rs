@@ -16,7 +16,7 @@ use nalgebra::{Translation3, UnitQuaternion, Vector3};
 
 use super::{CompId, Component, Geometry, Iso, Kinematics, Role};
 use crate::geom::P2;
-use crate::tooling::milling::{Live, MillKind, MillTool};
+use crate::tooling::milling::{Live, MillTool};
 
 /// The names the new parts take (`t{station}_…`).
 const PARTS: [&str; 4] = ["live", "cutter", "shank", "holder"];
@@ -114,17 +114,20 @@ pub fn fit(k: &Kinematics, station: u32, tip: P2, m: &MillTool) -> Option<Kinema
         Role::Holder,
     ));
     let (fl, so) = (m.flute_length, m.stick_out);
-    let cutter = match m.kind {
-        MillKind::Flat | MillKind::Tap { .. } => Geometry::Cylinder {
+    // The true end (its mesh circumscribes it); a flat end, a tap and a flat-bottomed drill are
+    // cylinders.
+    let cutter = match m.grid_kind() {
+        crate::grid::CutterKind::Flat | crate::grid::CutterKind::Tap { .. } => Geometry::Cylinder {
             radius: m.diameter / 2.0,
             z0: 0.0,
             z1: fl,
         },
-        _ => {
-            let mut o: Vec<P2> = m.profile().iter().map(|&(a, w)| P2::new(w, a)).collect();
-            o.push(P2::new(0.0, fl));
-            Geometry::Revolved(o)
-        }
+        end => Geometry::Cutter {
+            end,
+            radius: m.diameter / 2.0,
+            z0: 0.0,
+            z1: fl,
+        },
     };
     let id = Iso::identity();
     let mut new = vec![(comps.len(), Role::Cutter)];

@@ -196,6 +196,48 @@ pub struct Stock {
     /// plane x ≥ 0: the material is this outline, and `diameter`, `length`, `front` (with `bore`
     /// 0) are its bounding bar. None: a bar or tube.
     pub outline: Option<Polygon>,
+    /// A prismatic block (a square bar in the jaws, milled on its faces: a job's `[stock]
+    /// block`): `outline` is then its revolved envelope (docs/job.md, "A block").
+    pub block: Option<Block>,
+}
+
+/// A block's section across the spindle axis, centred on it: `width` along x and `height`
+/// along y with the spindle at C0 (the part's frame); its length and front are the stock's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Block {
+    pub width: f64,
+    pub height: f64,
+}
+
+impl Block {
+    /// The radius of its corners: what it sweeps turning.
+    pub fn circumscribed(&self) -> f64 {
+        self.width.hypot(self.height) / 2.0
+    }
+
+    /// The radius of its nearer flats: where jaws closing on it grip.
+    pub fn inscribed(&self) -> f64 {
+        self.width.min(self.height) / 2.0
+    }
+}
+
+/// The largest z of `chuck`'s material nearer the axis than `r` (its edges clipped at `r`):
+/// where a part reaching out to `r` meets the chuck's front. None: nothing of it lies within `r`.
+pub fn chuck_front_within(chuck: &Polygon, r: f64) -> Option<f64> {
+    let pts = chuck.points();
+    let n = pts.len();
+    let mut best: Option<f64> = None;
+    let mut take = |z: f64| best = Some(best.map_or(z, |b: f64| b.max(z)));
+    for i in 0..n {
+        let (p, q) = (pts[i], pts[(i + 1) % n]);
+        if p.x < r {
+            take(p.y);
+        }
+        if (p.x < r) != (q.x < r) && (q.x - p.x).abs() > 0.0 {
+            take(p.y + (q.y - p.y) * (r - p.x) / (q.x - p.x));
+        }
+    }
+    best
 }
 
 impl Stock {
@@ -207,6 +249,43 @@ impl Stock {
             front,
             bore,
             outline: None,
+            block: None,
+        }
+    }
+
+    /// A block of `length` with its front face at `front`, held in `chuck`: its 2D model (the
+    /// dexel stock's) is its revolved envelope — the corners' radius in front of where the chuck
+    /// reaches within that radius (what the block sweeps turning), the nearer flats' radius
+    /// behind it (where the jaws grip it) — and the block itself is kept for the milled stock.
+    pub fn block(block: Block, length: f64, front: f64, chuck: Option<&Polygon>) -> Stock {
+        let (rc, ri) = (block.circumscribed(), block.inscribed());
+        let back = front - length;
+        let grip = chuck
+            .and_then(|c| chuck_front_within(c, rc))
+            .map_or(back, |z| z.clamp(back, front));
+        let p = |x: f64, z: f64| crate::geom::P2::new(x, z);
+        let pts = if grip <= back {
+            vec![p(0.0, back), p(rc, back), p(rc, front), p(0.0, front)]
+        } else if grip >= front {
+            vec![p(0.0, back), p(ri, back), p(ri, front), p(0.0, front)]
+        } else {
+            vec![
+                p(0.0, back),
+                p(ri, back),
+                p(ri, grip),
+                p(rc, grip),
+                p(rc, front),
+                p(0.0, front),
+            ]
+        };
+        let outline = Polygon::new(&pts).ok();
+        Stock {
+            diameter: 2.0 * rc,
+            length,
+            front,
+            bore: 0.0,
+            outline,
+            block: Some(block),
         }
     }
 
@@ -219,6 +298,7 @@ impl Stock {
             front: b.max.y,
             bore: 0.0,
             outline: Some(outline),
+            block: None,
         }
     }
 
@@ -675,6 +755,21 @@ impl Machine {
         let _ = writeln!(s, "  M codes     {}", codes.join(", "));
         let stock = match &self.stock {
             None => "none".to_string(),
+            Some(Stock {
+                block: Some(b),
+                diameter,
+                length,
+                front,
+                ..
+            }) => format!(
+                "block {} × {} × {} mm, z {} .. {} (envelope Ø{})",
+                num(b.width),
+                num(b.height),
+                num(*length),
+                num(front - length),
+                num(*front),
+                num(*diameter)
+            ),
             Some(st) if st.outline.is_some() => format!(
                 "revolved outline, Ø{} max × {} mm, z {} .. {}",
                 num(st.diameter),

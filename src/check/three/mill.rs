@@ -27,7 +27,7 @@ use super::Three;
 use crate::check::Checker;
 use crate::collide3::{grid_clear, grid_overlap, stock_overlap, Hit, Shape3};
 use crate::geom::TOUCH_EPS;
-use crate::grid::{Cutter, CutterKind, Stock, Sweep};
+use crate::grid::{Cutter, CutterKind, CylGrid, Stock, Sweep};
 use crate::interp::{ExtraMove, Move};
 use crate::kin::{CompId, Geometry, Iso, Poser};
 use crate::motion::Timed;
@@ -57,6 +57,17 @@ impl Mill {
     /// hand-over): the part as both models hold it.
     fn turned_down(&self, d: &DexelStock) -> Stock {
         let mut s = self.stock.clone();
+        if s.cyl.is_none() {
+            // A block: the turning is the dexel stock's, each column's radii whatever the angle
+            // (eight rays a column hold it).
+            let (z0, z1) = d.extent();
+            let nz = d.columns().max(1);
+            s.cyl = Some(CylGrid::new(z0, (z1 - z0) / nz as f64, nz, 8, |z| {
+                let m = d.material_at(z);
+                Some((m.first()?.0, m.last()?.1))
+            }));
+            return s;
+        }
         if let Some(c) = s.cyl.as_mut() {
             for j in 0..c.nz {
                 let z = c.z(j);
@@ -83,6 +94,23 @@ impl Mill {
             vertices: surf.vertices.iter().map(|p| nalgebra::Point3::from(*p)).collect(),
             triangles: surf.triangles,
         })
+    }
+
+    /// The milled stock of a block (a job's `[stock] block`): the block itself in the part's
+    /// frame (`width` along x, `height` along y at C0, centred on the spindle axis), built before
+    /// the first move: no hand-over. Its six faces are `n × n` nodes, `n` the longest side over
+    /// the spacing, at most what keeps the faces within half of `grid::MAX_NODES` (the rest for
+    /// side grids). `None` for a stock that is no block.
+    pub fn block(s: &crate::machine::Stock, tol: f64) -> Option<Mill> {
+        let b = s.block?;
+        let min = Vector3::new(-b.width / 2.0, -b.height / 2.0, s.front - s.length);
+        let max = Vector3::new(b.width / 2.0, b.height / 2.0, s.front);
+        let spacing = tol.max(MIN_SPACING_MM);
+        let cap = ((crate::grid::MAX_NODES / 12) as f64).sqrt().floor() as usize;
+        let longest = b.width.max(b.height).max(s.length);
+        let n = ((longest / spacing).ceil() as usize).clamp(2, cap);
+        let stock = Stock::block(min, max, n, spacing).ok()?;
+        Some(Mill { stock })
     }
 
     /// The grid stock of the dexel stock as it is now.
@@ -215,19 +243,22 @@ impl Checker<'_> {
 
     /// The milled stock's cutter of a cutter component, with the z range of its frame it spans
     /// (its point at the low end): a job's milling tool (`mill = { … }`, built by
-    /// `kin::station` with its point at z = 0 and its flutes along +z), else a cylinder taken as
-    /// a flat end mill. `None`: the component mills nothing (it keeps a plunge line).
+    /// `kin::station` with its point at z = 0 and its flutes along +z), else a cutter geometry
+    /// (`cylinder = { …, end = … }`: a ball, bull-nose or drill-point end) or a cylinder taken
+    /// as a flat end mill, its point at `z0`. `None`: the component mills nothing (it keeps a plunge line).
     pub(super) fn grid_cutter(&self, three: &Three, cutter: CompId) -> Option<(Cutter, f64, f64)> {
         let c = &three.kin.components[cutter];
         if let Some(mt) = c.station.and_then(|s| self.machine.tool(s)).and_then(|t| t.mill) {
             let tool = Cutter::new(mt.grid_kind(), mt.diameter, mt.flute_length).ok()?;
             return Some((tool, 0.0, mt.flute_length));
         }
-        let Some(Geometry::Cylinder { radius, z0, z1 }) = c.geometry.as_ref() else {
-            return None;
+        let (kind, radius, z0, z1) = match c.geometry.as_ref()? {
+            Geometry::Cylinder { radius, z0, z1 } => (CutterKind::Flat, *radius, *z0, *z1),
+            Geometry::Cutter { end, radius, z0, z1 } => (*end, *radius, *z0, *z1),
+            _ => return None,
         };
-        let tool = Cutter::new(CutterKind::Flat, 2.0 * radius, (z1 - z0).abs()).ok()?;
-        Some((tool, *z0, *z1))
+        let tool = Cutter::new(kind, 2.0 * radius, (z1 - z0).abs()).ok()?;
+        Some((tool, z0, z1))
     }
 
     /// Sweep the grid with `cutter`'s move; false when the cutter is not a cylinder (the caller
