@@ -179,7 +179,12 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
         }
         machine_time = machine_time.max(s.global_of_local(st.machine_time_s));
         if l.path == 1 {
+            // The final part is path 1's: it holds at least the material the part has (what
+            // other paths cut is not taken off it), so a later operation that starts from it is
+            // checked against no less than the real part.
             out.stock = o.stock;
+            out.part = o.part;
+            out.part_stl = o.part_stl;
         }
     }
     out.stats.machine_time_s = machine_time;
