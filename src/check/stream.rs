@@ -19,7 +19,7 @@
 
 use super::{checker, episodes, CheckResult, Checker};
 use crate::finding::Finding;
-use crate::interp::{Chunk, MoveKind};
+use crate::interp::{Chunk, ExtraMove, Move, MoveKind, MoveState};
 use crate::machine::Machine;
 use crate::motion;
 use crate::pipeline::Settings;
@@ -56,6 +56,11 @@ pub struct Stream<'a> {
     motions: u64,
     /// The line and N number of each move the clock timed at the fallback feed.
     stalls: Vec<(u32, Option<u64>)>,
+    /// The end of the latest move fed by [`Stream::feed_timed`], s.
+    now: f64,
+    /// The crashes [`Stream::take_final`] handed out that a later contact may still follow on
+    /// from.
+    released: Vec<Finding>,
 }
 
 impl<'a> Stream<'a> {
@@ -75,6 +80,8 @@ impl<'a> Stream<'a> {
             stopped: false,
             motions: 0,
             stalls: Vec::new(),
+            now: 0.0,
+            released: Vec::new(),
         }
     }
 
@@ -90,38 +97,115 @@ impl<'a> Stream<'a> {
             }
             let e = extra.peek().copied().filter(|e| e.index as usize == i);
             let state = &chunk.states[m.state as usize];
-            if !matches!(m.kind, MoveKind::Dwell { .. } | MoveKind::Operation { .. }) {
-                self.motions += 1;
-            }
             let stalled = self.clock.stalled().len();
             let item = self.clock.time(m, &state.spindle, e);
             if self.clock.stalled().len() > stalled {
                 self.stalls.push((m.line, m.n));
             }
-            if !self.started {
-                self.started = true;
-                self.c.static_pairs(m.line);
+            self.step(i, m, state, e, &item);
+        }
+    }
+
+    /// The index the next move fed gets (an extra-axis entry's `index`).
+    pub fn next_index(&self) -> usize {
+        self.next
+    }
+
+    /// Check one move whose timing the caller knows (`latheguard follow`: the interval between
+    /// two samples of a live machine, `crate::follow`): it starts at `t0` and lasts `duration`
+    /// seconds, the turret reference point straight from its start to its end at constant speed
+    /// (standing still for a turret index). `m` is the next move of the run; its `state` field
+    /// is not read (the state is `state`), and `e`'s index must be the move's.
+    pub fn feed_timed(&mut self, m: &Move, state: &MoveState, e: Option<&ExtraMove>, t0: f64, duration: f64) {
+        let i = self.next;
+        self.next += 1;
+        let path = match m.kind {
+            MoveKind::Rapid | MoveKind::Line => motion::Path::Line {
+                from: m.ref_start(),
+                to: m.ref_end(),
+            },
+            _ => motion::Path::Still(m.ref_start()),
+        };
+        let item = motion::Timed {
+            index: i,
+            t0,
+            duration: if duration.is_finite() && duration >= 0.0 {
+                duration
+            } else {
+                0.0
+            },
+            path,
+        };
+        self.now = self.now.max(item.t1());
+        self.step(i, m, state, e, &item);
+    }
+
+    /// The findings of the moves fed so far that are final: their contact ended, and no contact
+    /// still going on began before them (so none can still turn out to be the crash they follow
+    /// on from). Grazes and follow-ons are marked as [`Stream::finish`] marks them; a finding
+    /// taken here is not in the result of `finish`. For a stream with no end (`follow`).
+    pub fn take_final(&mut self) -> Vec<Finding> {
+        let open_from = self.c.episodes.earliest_open();
+        let eps = &mut self.c.episodes;
+        eps.forget_lines();
+        if eps.findings.is_empty() {
+            return Vec::new();
+        }
+        let (ready, held): (Vec<Finding>, Vec<Finding>) = std::mem::take(&mut eps.findings)
+            .into_iter()
+            .partition(|f| f.time_s.map_or(true, |t| t <= open_from + 1e-9));
+        eps.findings = held;
+        if ready.is_empty() {
+            return ready;
+        }
+        let mut ready = ready;
+        episodes::mark_grazes(&mut ready, self.c.settings.min_depth(self.c.machine));
+        // Follow-ons against the crashes already handed out whose contact may still be the
+        // parent of a later one.
+        let n = self.released.len();
+        let mut all = std::mem::take(&mut self.released);
+        all.append(&mut ready);
+        episodes::mark_follow_ons(&mut all);
+        let ready = all.split_off(n);
+        let horizon = open_from.min(self.now) - 1e-6;
+        all.extend(ready.iter().cloned());
+        all.retain(|f| f.end_time_s.is_some_and(|e| e >= horizon));
+        for f in &mut all {
+            f.snapshot = None;
+            f.snapshot3 = None;
+        }
+        self.released = all;
+        ready
+    }
+
+    /// Check move `i` of the run, timed.
+    fn step(&mut self, i: usize, m: &Move, state: &MoveState, e: Option<&ExtraMove>, item: &motion::Timed) {
+        if !matches!(m.kind, MoveKind::Dwell { .. } | MoveKind::Operation { .. }) {
+            self.motions += 1;
+        }
+        if !self.started {
+            self.started = true;
+            self.c.static_pairs(m.line);
+        }
+        if !self.stopped {
+            let budget = self.c.settings.work_budget;
+            if self.c.stats.pair_tests > budget {
+                self.c.budget.push((
+                    m.line,
+                    format!(
+                        "latheguard stopped checking here: the program used up its work budget of {budget} pair tests; \
+                         this line and the ones after it are unchecked"
+                    ),
+                ));
+                self.stopped = true;
+            } else {
+                self.c.one_move(m, state, e, item);
             }
-            if !self.stopped {
-                let budget = self.c.settings.work_budget;
-                if self.c.stats.pair_tests > budget {
-                    self.c.budget.push((
-                        m.line,
-                        format!(
-                            "latheguard stopped checking here: the program used up its work budget of {budget} pair tests; \
-                             this line and the ones after it are unchecked"
-                        ),
-                    ));
-                    self.stopped = true;
-                } else {
-                    self.c.one_move(m, state, e, &item);
-                }
-            }
-            let b = &mut self.c.behind;
-            b.prev = Some(*m);
-            if !matches!(m.kind, MoveKind::Dwell { .. }) {
-                b.motion = Some((i, *m));
-            }
+        }
+        let b = &mut self.c.behind;
+        b.prev = Some(*m);
+        if !matches!(m.kind, MoveKind::Dwell { .. }) {
+            b.motion = Some((i, *m));
         }
     }
 
