@@ -58,6 +58,10 @@ pub struct Stream<'a> {
     stalls: Vec<(u32, Option<u64>)>,
     /// The end of the latest move fed by [`Stream::feed_timed`], s.
     now: f64,
+    /// The lengths of the last two moves fed by [`Stream::feed_timed`], s.
+    spans: [f64; 2],
+    /// Findings whose contact may go on in the next move (`take_final`).
+    pending: Vec<Finding>,
     /// The crashes [`Stream::take_final`] handed out that a later contact may still follow on
     /// from.
     released: Vec<Finding>,
@@ -81,6 +85,8 @@ impl<'a> Stream<'a> {
             motions: 0,
             stalls: Vec::new(),
             now: 0.0,
+            spans: [0.0; 2],
+            pending: Vec::new(),
             released: Vec::new(),
         }
     }
@@ -137,6 +143,7 @@ impl<'a> Stream<'a> {
             path,
         };
         self.now = self.now.max(item.t1());
+        self.spans = [self.spans[1], item.duration];
         self.step(i, m, state, e, &item);
     }
 
@@ -148,13 +155,45 @@ impl<'a> Stream<'a> {
         let open_from = self.c.episodes.earliest_open();
         let eps = &mut self.c.episodes;
         eps.forget_lines();
-        if eps.findings.is_empty() {
-            return Vec::new();
+        let mut new = std::mem::take(&mut eps.findings);
+        new.sort_by(|a, b| a.time_s.unwrap_or(0.0).total_cmp(&b.time_s.unwrap_or(0.0)));
+        // A contact that goes on from one move into the next at the same line is one finding, as
+        // it is when that line is one move (the 3D path ends its episodes with each move, and
+        // its last contact may lie a probe before the move's end): a contact of the same parts
+        // under the same rule that begins within a move's length of one's end continues it.
+        let gap = self.spans[0].max(self.spans[1]) + 1e-6;
+        for f in new {
+            let joins = |p: &Finding| {
+                p.kind == f.kind
+                    && p.objects == f.objects
+                    && p.line == f.line
+                    && p.operation == f.operation
+                    && matches!((p.end_time_s, f.time_s), (Some(e), Some(t)) if t >= e - 1e-6 && t - e <= gap)
+            };
+            match self.pending.iter_mut().find(|p| joins(p)) {
+                Some(p) => {
+                    p.end_time_s = match (p.end_time_s, f.end_time_s) {
+                        (Some(a), Some(b)) => Some(a.max(b)),
+                        (a, b) => a.or(b),
+                    };
+                    p.end_line = p.end_line.max(f.end_line);
+                    p.depth_mm = match (p.depth_mm, f.depth_mm) {
+                        (Some(a), Some(b)) => Some(a.max(b)),
+                        (a, b) => a.or(b),
+                    };
+                }
+                None => self.pending.push(f),
+            }
         }
-        let (ready, held): (Vec<Finding>, Vec<Finding>) = std::mem::take(&mut eps.findings)
-            .into_iter()
-            .partition(|f| f.time_s.map_or(true, |t| t <= open_from + 1e-9));
-        eps.findings = held;
+        // Final: its contact ended before the end of the last move fed (else the next move may
+        // go on with it), and no contact still open began before it.
+        let now = self.now;
+        let hold_from = now - gap;
+        let (ready, held): (Vec<Finding>, Vec<Finding>) =
+            std::mem::take(&mut self.pending).into_iter().partition(|f| {
+                f.time_s.map_or(true, |t| t <= open_from + 1e-9) && f.end_time_s.map_or(true, |e| e < hold_from)
+            });
+        self.pending = held;
         if ready.is_empty() {
             return ready;
         }
@@ -167,7 +206,7 @@ impl<'a> Stream<'a> {
         all.append(&mut ready);
         episodes::mark_follow_ons(&mut all);
         let ready = all.split_off(n);
-        let horizon = open_from.min(self.now) - 1e-6;
+        let horizon = open_from.min(now) - 1.0;
         all.extend(ready.iter().cloned());
         all.retain(|f| f.end_time_s.is_some_and(|e| e >= horizon));
         for f in &mut all {
@@ -176,6 +215,16 @@ impl<'a> Stream<'a> {
         }
         self.released = all;
         ready
+    }
+
+    /// The end of a stream with no end fixed in advance: every contact still open ends here, and
+    /// every finding not taken yet is final ([`Stream::take_final`]).
+    pub fn take_rest(&mut self) -> Vec<Finding> {
+        self.c.episodes.close_all();
+        self.now = f64::INFINITY;
+        let mut out = self.take_final();
+        out.sort_by(|a, b| a.time_s.unwrap_or(0.0).total_cmp(&b.time_s.unwrap_or(0.0)));
+        out
     }
 
     /// Check move `i` of the run, timed.

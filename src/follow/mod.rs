@@ -232,11 +232,9 @@ impl<'m> Follower<'m> {
 
     /// The end of the stream: the findings still open, and the statistics of the check.
     pub fn finish(mut self) -> (Vec<Finding>, crate::pipeline::Stats) {
-        let mut out = self.stream.take_final();
+        let mut out = self.stream.take_rest();
         let result = self.stream.finish();
-        let mut rest = result.findings;
-        crate::finding::sort_findings(&mut rest);
-        out.extend(rest);
+        out.extend(result.findings);
         (out, result.stats)
     }
 
