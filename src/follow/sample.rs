@@ -236,12 +236,12 @@ fn set(s: &mut Sample, f: Field, v: &Value<'_>, stations: u32) -> Result<(), Str
             s.motion = match v.word() {
                 Some("rapid" | "G0" | "g0") => Some(Motion::Rapid),
                 Some("feed" | "G1" | "g1") => Some(Motion::Feed),
-                _ => match v.number() {
-                    // LinuxCNC's motion.motion-type: 1 traverse; 2 feed, 3 arc, 5 probing;
-                    // 0 (no motion), 4 (tool change) and 6 (rotary index) say nothing new.
-                    Some(x) if x == 1.0 => Some(Motion::Rapid),
-                    Some(x) if x == 2.0 || x == 3.0 || x == 5.0 => Some(Motion::Feed),
-                    Some(x) if x == 0.0 || x == 4.0 || x == 6.0 => s.motion,
+                // LinuxCNC's motion.motion-type: 1 traverse; 2 feed, 3 arc, 5 probing; 0 (no
+                // motion), 4 (tool change) and 6 (rotary index) say nothing new.
+                _ => match v.number().filter(|x| x.fract() == 0.0).map(|x| x as i64) {
+                    Some(1) => Some(Motion::Rapid),
+                    Some(2 | 3 | 5) => Some(Motion::Feed),
+                    Some(0 | 4 | 6) => s.motion,
                     _ => return Err(bad("a motion (rapid, feed, or LinuxCNC's motion-type 0 to 6)")),
                 },
             }
