@@ -98,7 +98,7 @@ fn bad_json_samples_name_their_column_and_rejected_samples_alone_exit_2() {
         (6, Some(12), "tool: tool `9`: the turret has stations 1 to 8"),
         (
             7,
-            Some(13),
+            Some(12),
             "spindle: `\"fast\"` is not a spindle state (cw, ccw, off, or a signed speed)",
         ),
     ];
