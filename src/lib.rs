@@ -8,6 +8,7 @@ pub mod assume;
 pub mod check;
 pub mod collide3;
 pub mod finding;
+pub mod follow;
 pub mod gate;
 pub mod gcode;
 pub mod geom;

@@ -40,6 +40,7 @@ mod depth_cases;
 mod docs_examples;
 mod exact_props;
 mod fidelity;
+mod follow;
 mod follow_on_props;
 mod gap_props;
 mod hostile_check;

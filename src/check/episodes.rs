@@ -175,6 +175,19 @@ impl Episodes {
         }
     }
 
+    /// When the earliest contact still going on began (infinity when none is open).
+    pub fn earliest_open(&self) -> f64 {
+        self.open.values().map(|o| o.first.time).fold(f64::INFINITY, f64::min)
+    }
+
+    /// Forget the lines of the findings emitted so far, which only a capped report reads
+    /// ([`Self::left_out`]): a stream with no end and no cap (`follow`) keeps no list that grows.
+    pub fn forget_lines(&mut self) {
+        if self.cap == usize::MAX {
+            self.lowest.clear();
+        }
+    }
+
     pub fn is_open(&self, key: u64) -> bool {
         self.open.contains_key(&key)
     }

@@ -19,7 +19,7 @@
 
 use super::{checker, episodes, CheckResult, Checker};
 use crate::finding::Finding;
-use crate::interp::{Chunk, MoveKind};
+use crate::interp::{Chunk, ExtraMove, Move, MoveKind, MoveState};
 use crate::machine::Machine;
 use crate::motion;
 use crate::pipeline::Settings;
@@ -56,6 +56,15 @@ pub struct Stream<'a> {
     motions: u64,
     /// The line and N number of each move the clock timed at the fallback feed.
     stalls: Vec<(u32, Option<u64>)>,
+    /// The end of the latest move fed by [`Stream::feed_timed`], s.
+    now: f64,
+    /// The lengths of the last two moves fed by [`Stream::feed_timed`], s.
+    spans: [f64; 2],
+    /// Findings whose contact may go on in the next move (`take_final`).
+    pending: Vec<Finding>,
+    /// The crashes [`Stream::take_final`] handed out that a later contact may still follow on
+    /// from.
+    released: Vec<Finding>,
 }
 
 impl<'a> Stream<'a> {
@@ -75,6 +84,10 @@ impl<'a> Stream<'a> {
             stopped: false,
             motions: 0,
             stalls: Vec::new(),
+            now: 0.0,
+            spans: [0.0; 2],
+            pending: Vec::new(),
+            released: Vec::new(),
         }
     }
 
@@ -90,41 +103,161 @@ impl<'a> Stream<'a> {
             }
             let e = extra.peek().copied().filter(|e| e.index as usize == i);
             let state = &chunk.states[m.state as usize];
-            if !matches!(
-                m.kind,
-                MoveKind::Dwell { .. } | MoveKind::Operation { .. } | MoveKind::Wait { .. }
-            ) {
-                self.motions += 1;
-            }
             let stalled = self.clock.stalled().len();
             let item = self.clock.time(m, &state.spindle, e);
             if self.clock.stalled().len() > stalled {
                 self.stalls.push((m.line, m.n));
             }
-            if !self.started {
-                self.started = true;
-                self.c.static_pairs(m.line);
-            }
-            if !self.stopped {
-                let budget = self.c.settings.work_budget;
-                if self.c.stats.pair_tests > budget {
-                    self.c.budget.push((
-                        m.line,
-                        format!(
-                            "latheguard stopped checking here: the program used up its work budget of {budget} pair tests; \
-                             this line and the ones after it are unchecked"
-                        ),
-                    ));
-                    self.stopped = true;
-                } else {
-                    self.c.one_move(m, state, e, &item);
+            self.step(i, m, state, e, &item);
+        }
+    }
+
+    /// The index the next move fed gets (an extra-axis entry's `index`).
+    pub fn next_index(&self) -> usize {
+        self.next
+    }
+
+    /// Check one move whose timing the caller knows (`latheguard follow`: the interval between
+    /// two samples of a live machine, `crate::follow`): it starts at `t0` and lasts `duration`
+    /// seconds, the turret reference point straight from its start to its end at constant speed
+    /// (standing still for a turret index). `m` is the next move of the run; its `state` field
+    /// is not read (the state is `state`), and `e`'s index must be the move's.
+    pub fn feed_timed(&mut self, m: &Move, state: &MoveState, e: Option<&ExtraMove>, t0: f64, duration: f64) {
+        let i = self.next;
+        self.next += 1;
+        let path = match m.kind {
+            MoveKind::Rapid | MoveKind::Line => motion::Path::Line {
+                from: m.ref_start(),
+                to: m.ref_end(),
+            },
+            _ => motion::Path::Still(m.ref_start()),
+        };
+        let item = motion::Timed {
+            index: i,
+            t0,
+            duration: if duration.is_finite() && duration >= 0.0 {
+                duration
+            } else {
+                0.0
+            },
+            path,
+        };
+        self.now = self.now.max(item.t1());
+        self.spans = [self.spans[1], item.duration];
+        self.step(i, m, state, e, &item);
+    }
+
+    /// The findings of the moves fed so far that are final: their contact ended, and no contact
+    /// still going on began before them (so none can still turn out to be the crash they follow
+    /// on from). Grazes and follow-ons are marked as [`Stream::finish`] marks them; a finding
+    /// taken here is not in the result of `finish`. For a stream with no end (`follow`).
+    pub fn take_final(&mut self) -> Vec<Finding> {
+        let open_from = self.c.episodes.earliest_open();
+        let eps = &mut self.c.episodes;
+        eps.forget_lines();
+        let mut new = std::mem::take(&mut eps.findings);
+        new.sort_by(|a, b| a.time_s.unwrap_or(0.0).total_cmp(&b.time_s.unwrap_or(0.0)));
+        // A contact that goes on from one move into the next at the same line is one finding, as
+        // it is when that line is one move (the 3D path ends its episodes with each move, and
+        // its last contact may lie a probe before the move's end): a contact of the same parts
+        // under the same rule that begins within a move's length of one's end continues it.
+        let gap = self.spans[0].max(self.spans[1]) + 1e-6;
+        for f in new {
+            let joins = |p: &Finding| {
+                p.kind == f.kind
+                    && p.objects == f.objects
+                    && p.line == f.line
+                    && p.operation == f.operation
+                    && matches!((p.end_time_s, f.time_s), (Some(e), Some(t)) if t >= e - 1e-6 && t - e <= gap)
+            };
+            match self.pending.iter_mut().find(|p| joins(p)) {
+                Some(p) => {
+                    p.end_time_s = match (p.end_time_s, f.end_time_s) {
+                        (Some(a), Some(b)) => Some(a.max(b)),
+                        (a, b) => a.or(b),
+                    };
+                    p.end_line = p.end_line.max(f.end_line);
+                    p.depth_mm = match (p.depth_mm, f.depth_mm) {
+                        (Some(a), Some(b)) => Some(a.max(b)),
+                        (a, b) => a.or(b),
+                    };
                 }
+                None => self.pending.push(f),
             }
-            let b = &mut self.c.behind;
-            b.prev = Some(*m);
-            if !matches!(m.kind, MoveKind::Dwell { .. }) {
-                b.motion = Some((i, *m));
+        }
+        // Final: its contact ended before the end of the last move fed (else the next move may
+        // go on with it), and no contact still open began before it.
+        let now = self.now;
+        let hold_from = now - gap;
+        let (ready, held): (Vec<Finding>, Vec<Finding>) =
+            std::mem::take(&mut self.pending).into_iter().partition(|f| {
+                f.time_s.map_or(true, |t| t <= open_from + 1e-9) && f.end_time_s.map_or(true, |e| e < hold_from)
+            });
+        self.pending = held;
+        if ready.is_empty() {
+            return ready;
+        }
+        let mut ready = ready;
+        episodes::mark_grazes(&mut ready, self.c.settings.min_depth(self.c.machine));
+        // Follow-ons against the crashes already handed out whose contact may still be the
+        // parent of a later one.
+        let n = self.released.len();
+        let mut all = std::mem::take(&mut self.released);
+        all.append(&mut ready);
+        episodes::mark_follow_ons(&mut all);
+        let ready = all.split_off(n);
+        let horizon = open_from.min(now) - 1.0;
+        all.extend(ready.iter().cloned());
+        all.retain(|f| f.end_time_s.is_some_and(|e| e >= horizon));
+        for f in &mut all {
+            f.snapshot = None;
+            f.snapshot3 = None;
+        }
+        self.released = all;
+        ready
+    }
+
+    /// The end of a stream with no end fixed in advance: every contact still open ends here, and
+    /// every finding not taken yet is final ([`Stream::take_final`]).
+    pub fn take_rest(&mut self) -> Vec<Finding> {
+        self.c.episodes.close_all();
+        self.now = f64::INFINITY;
+        let mut out = self.take_final();
+        out.sort_by(|a, b| a.time_s.unwrap_or(0.0).total_cmp(&b.time_s.unwrap_or(0.0)));
+        out
+    }
+
+    /// Check move `i` of the run, timed.
+    fn step(&mut self, i: usize, m: &Move, state: &MoveState, e: Option<&ExtraMove>, item: &motion::Timed) {
+        if !matches!(
+            m.kind,
+            MoveKind::Dwell { .. } | MoveKind::Operation { .. } | MoveKind::Wait { .. }
+        ) {
+            self.motions += 1;
+        }
+        if !self.started {
+            self.started = true;
+            self.c.static_pairs(m.line);
+        }
+        if !self.stopped {
+            let budget = self.c.settings.work_budget;
+            if self.c.stats.pair_tests > budget {
+                self.c.budget.push((
+                    m.line,
+                    format!(
+                        "latheguard stopped checking here: the program used up its work budget of {budget} pair tests; \
+                         this line and the ones after it are unchecked"
+                    ),
+                ));
+                self.stopped = true;
+            } else {
+                self.c.one_move(m, state, e, item);
             }
+        }
+        let b = &mut self.c.behind;
+        b.prev = Some(*m);
+        if !matches!(m.kind, MoveKind::Dwell { .. }) {
+            b.motion = Some((i, *m));
         }
     }
 

@@ -39,6 +39,8 @@ pub enum Command {
     Check(Box<CheckArgs>),
     /// Print the interpreted motion, one move a line.
     Moves(MovesArgs),
+    /// Check a machine's live axis positions as they come, one sample a line (docs/follow.md).
+    Follow(Box<FollowArgs>),
     /// Validate and describe a machine file.
     Machine(MachineArgs),
     /// Tools from their catalogue names (ISO inserts, holders, boring bars), LinuxCNC tool tables.
@@ -245,11 +247,74 @@ pub struct MovesArgs {
     /// Machine description (default: the built-in machine; latheguard.toml is not read here).
     #[arg(short, long, value_name = "FILE")]
     pub machine: Option<PathBuf>,
-    /// Output: rs274-style canonical calls, or a JSON array of the moves.
+    /// Output: rs274-style canonical calls, a JSON array of the moves, or the samples a
+    /// control would report every --dt (JSON lines, the input of `latheguard follow`).
     #[arg(long, value_enum, default_value_t = MovesFormat::Canon)]
     pub format: MovesFormat,
+    /// With --format samples: ms of machine time between samples (besides one at every move's
+    /// end), 0.001 to 1000.
+    #[arg(long, value_name = "MS", default_value_t = 1.0, value_parser = dt)]
+    pub dt: f64,
     #[command(flatten)]
     pub job: JobArgs,
+}
+
+#[derive(Args, Debug)]
+pub struct FollowArgs {
+    /// Where the samples come from: a file, `-` (standard input, the default), `tcp:HOST:PORT`
+    /// (connect and read), or `unix:PATH` (a Unix socket).
+    pub source: Option<String>,
+    /// Machine description (default: the built-in machine).
+    #[arg(short, long, value_name = "FILE")]
+    pub machine: Option<PathBuf>,
+    /// A job file (stock, jaws, tailstock, tools) over the machine file.
+    #[arg(long, value_name = "FILE")]
+    pub job: Option<PathBuf>,
+    /// Check with the setup `check` gives this program (its latheguard.toml's machine and
+    /// settings, the job beside it); the program itself is not read.
+    #[arg(long, value_name = "FILE")]
+    pub program: Option<PathBuf>,
+    /// How the samples are written: JSON lines, CSV with a header, or auto (JSON when the first
+    /// sample starts with `{`).
+    #[arg(long, value_enum, default_value_t = SamplesFormat::Auto)]
+    pub samples: SamplesFormat,
+    /// Seconds between samples that give no time `t` (a fixed-rate feed such as halsampler's).
+    #[arg(long, value_name = "S", value_parser = period)]
+    pub period: Option<f64>,
+    /// Findings as text lines, or one JSON object a line.
+    #[arg(long, value_enum, default_value_t = FollowFormat::Text)]
+    pub format: FollowFormat,
+    /// Warn of parts closer than this without touching, 0 to 10 mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.0, value_parser = clearance)]
+    pub clearance: f64,
+    /// Contacts shallower than this are grazes (warnings), 0 to 1 mm [default: the machine's
+    /// min_depth, else 0.1].
+    #[arg(long, value_name = "MM", value_parser = min_depth)]
+    pub min_depth: Option<f64>,
+    /// Exact mode's tolerance and the stock's resolution, mm.
+    #[arg(long, value_name = "MM", value_parser = tolerance)]
+    pub tolerance: Option<f64>,
+    /// At the end, the samples taken and the processing time per sample (median, 99th
+    /// percentile, maximum) on standard error (with --format json, also a last `summary` record).
+    #[arg(long)]
+    pub stats: bool,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
+pub enum SamplesFormat {
+    Auto,
+    Json,
+    Csv,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
+pub enum FollowFormat {
+    Text,
+    Json,
+}
+
+fn period(s: &str) -> Result<f64, String> {
+    in_range(s, (1e-6, 3600.0))
 }
 
 #[derive(Args, Debug)]
@@ -430,6 +495,7 @@ pub enum ColorArg {
 pub enum MovesFormat {
     Canon,
     Json,
+    Samples,
 }
 
 /// `--shard I/N`: the I-th (1-based) of N parts.

@@ -7,6 +7,7 @@ mod accuracy;
 mod args;
 mod check;
 mod config;
+mod follow;
 mod moves;
 mod setup;
 mod shell;
@@ -60,6 +61,7 @@ fn run(cli: Cli) -> Result<u8, Trouble> {
     match cli.command {
         Command::Check(a) => check::run(*a, cli.color),
         Command::Moves(a) => moves::run(a),
+        Command::Follow(a) => follow::run(*a),
         Command::Accuracy(a) => accuracy::run(a),
         Command::Setup(a) => setup::run(*a),
 

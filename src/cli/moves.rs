@@ -7,11 +7,14 @@ use latheguard::interp::{self, canon, Feed, MoveKind};
 use latheguard::pipeline;
 use latheguard::report::terminal_safe;
 use serde_json::json;
+use std::io::Write;
 
 pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     // The machine of -m (or the built-in one) with the program's job: the file beside it,
-    // --job and the one-off flags (latheguard.toml is read by check and setup only).
-    let machine = super::setup::Planner::new(a.machine.as_deref(), true, &a.job)?
+    // --job and the one-off flags. latheguard.toml is read only for the samples, which
+    // `latheguard follow --program` checks on the machine `check` uses.
+    let samples = matches!(a.format, MovesFormat::Samples);
+    let machine = super::setup::Planner::new(a.machine.as_deref(), !samples, &a.job)?
         .resolve(&a.program)?
         .machine;
     let src = read_capped(&a.program, MAX_PROGRAM_BYTES)
@@ -38,11 +41,24 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
             run
         }
         MovesFormat::Json => interp::interpret(&prog, &src, machine),
+        MovesFormat::Samples => {
+            let run = interp::interpret(&prog, &src, machine);
+            let mut sink = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
+            latheguard::follow::replay::samples(&run, machine, a.dt / 1000.0, |s| {
+                if written.is_ok() {
+                    let line = latheguard::follow::replay::to_json(s);
+                    written = writeln!(sink, "{line}");
+                }
+            });
+            if written.is_ok() {
+                written = std::io::Write::flush(&mut sink);
+            }
+            run
+        }
     };
     let findings = pipeline::read_findings(&mut prog, &mut run);
     drop(prog);
     {
-        use std::io::Write;
         let name = shown(&a.program);
         let mut err = std::io::stderr().lock();
         for f in &findings {
@@ -58,7 +74,7 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
         }
     }
     let out = match a.format {
-        MovesFormat::Canon => {
+        MovesFormat::Canon | MovesFormat::Samples => {
             match written {
                 // A closed pipe (`latheguard moves … | head`) is not a failure.
                 Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {

@@ -119,6 +119,12 @@ impl<'a> From<&'a Finding> for FindingDoc<'a> {
     }
 }
 
+/// One finding as one line of JSON, the fields of the JSON report's findings (`latheguard
+/// follow`'s JSON lines).
+pub fn finding_json(f: &Finding) -> String {
+    serde_json::to_string(&FindingDoc::from(f)).unwrap_or_default()
+}
+
 /// The crash a follow-on contact comes from, its time rounded as every JSON number is (the
 /// JSON report's `follow_on`, and the SARIF result's `properties.follow_on`).
 #[derive(Serialize)]

@@ -30,11 +30,11 @@ use crate::pipeline::{Settings, Stats};
 
 pub use github::github;
 pub use gitlab::gitlab;
-pub use json::json;
+pub use json::{finding_json, json};
 pub use junit::{junit, JunitOptions};
 pub use sarif::sarif;
 pub use statistics::{statistics, statistics_json};
-pub use text::{summary_line, terminal_safe, text, TextOptions};
+pub use text::{finding_text, summary_line, terminal_safe, text, TextOptions};
 
 /// One checked file.
 #[derive(Clone, Debug, Default)]
