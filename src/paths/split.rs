@@ -52,6 +52,14 @@ fn marker_of(line: &[u8]) -> Option<(u32, usize)> {
 
 /// The paths of `src`; `None` when it has no marker (a one-path program).
 pub fn split(src: &[u8]) -> Option<Split> {
+    // Most programs have no marker: find that out without allocating (a long program is never
+    // held twice for nothing).
+    if !src
+        .split(|&c| c == b'\n' || c == b'\r')
+        .any(|line| marker_of(line).is_some())
+    {
+        return None;
+    }
     // Lines: [start, end) without the line break.
     let mut lines: Vec<(usize, usize)> = Vec::new();
     let mut s = 0;
