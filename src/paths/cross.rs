@@ -24,6 +24,7 @@ use crate::geom::{query, Polygon, P2, TOUCH_EPS};
 use crate::interp::{Interpretation, MoveKind};
 use crate::machine::Machine;
 use crate::motion::{self, Timeline};
+use crate::scene::Scene;
 
 use super::sync::Schedule;
 
@@ -135,38 +136,34 @@ impl Carriage<'_> {
     }
 
     /// The carrier's parts with `station` active (or indexing: `None`), relative to the
-    /// reference point, in the working plane with this carrier's x sign.
-    fn parts(&self, station: Option<u32>) -> Vec<Part> {
-        let t = &self.machine.turret;
+    /// reference point, in the working plane with this carrier's x sign. `scene`: the parts as
+    /// the path's own check poses them (its turret, its tools with their rounded noses, each
+    /// station's angle on the drum).
+    fn parts(&self, scene: &Scene, station: Option<u32>) -> Vec<Part> {
+        let axis = scene.turret_axis;
         let mut out = vec![Part {
             label: "turret".to_string(),
-            poly: t.outline.clone(),
+            poly: scene.turret.clone(),
         }];
-        let drum = t.kind == crate::machine::TurretKind::Drum;
         match station {
             Some(active) => {
-                for tool in &self.machine.tools {
-                    let angle = if drum {
-                        (tool.station as f64 - active as f64) * std::f64::consts::TAU / t.stations.max(1) as f64
-                    } else {
-                        0.0
-                    };
+                for tool in &scene.tools {
                     // Projected onto the working plane; never flatter than 1e-3 of its width, so a
                     // station at 90° is a sliver around its line, not a line.
-                    let c = angle.cos();
+                    let c = scene.station_angle(tool.station, f64::from(active)).cos();
                     let c = if c.abs() < 1e-3 { 1e-3f64.copysign(c) } else { c };
                     for (what, shape) in [("insert", &tool.insert), ("holder", &tool.holder)] {
                         let pts: Vec<P2> = shape
                             .points()
                             .iter()
                             .map(|q| {
-                                let p = q + tool.tip.coords;
-                                P2::new(t.axis + (p.x - t.axis) * c, p.y)
+                                let p = q + tool.tip;
+                                P2::new(axis + (p.x - axis) * c, p.y)
                             })
                             .collect();
                         if let Ok(poly) = Polygon::new(&pts) {
                             out.push(Part {
-                                label: format!("T{:02} {what}", tool.station),
+                                label: format!("{} {what}", tool.label),
                                 poly,
                             });
                         }
@@ -176,20 +173,20 @@ impl Carriage<'_> {
             None => {
                 // Every station at every angle: the box around the turret axis.
                 let (mut reach, mut zlo, mut zhi) = (0.0f64, f64::INFINITY, f64::NEG_INFINITY);
-                for tool in &self.machine.tools {
+                for tool in &scene.tools {
                     for q in tool.insert.points().iter().chain(tool.holder.points()) {
-                        let p = q + tool.tip.coords;
-                        reach = reach.max((p.x - t.axis).abs());
+                        let p = q + tool.tip;
+                        reach = reach.max((p.x - axis).abs());
                         zlo = zlo.min(p.y);
                         zhi = zhi.max(p.y);
                     }
                 }
                 if zlo < zhi {
                     let b = [
-                        P2::new(t.axis - reach, zlo),
-                        P2::new(t.axis + reach, zlo),
-                        P2::new(t.axis + reach, zhi),
-                        P2::new(t.axis - reach, zhi),
+                        P2::new(axis - reach, zlo),
+                        P2::new(axis + reach, zlo),
+                        P2::new(axis + reach, zhi),
+                        P2::new(axis - reach, zhi),
                     ];
                     if let Ok(poly) = Polygon::new(&b) {
                         out.push(Part {
@@ -235,6 +232,7 @@ pub fn check(carriages: &[Carriage], tolerance: f64, stop: Option<f64>) -> (Vec<
         .fold(0.0, f64::max)
         .min(stop.unwrap_or(f64::INFINITY));
     let tol = tolerance.max(1e-4);
+    let scenes: Vec<Scene> = carriages.iter().map(|c| Scene::new(c.machine, tolerance)).collect();
     let mut cache: Vec<HashMap<Option<u32>, Vec<Part>>> = carriages.iter().map(|_| HashMap::new()).collect();
     for a in 0..carriages.len() {
         for b in a + 1..carriages.len() {
@@ -258,16 +256,15 @@ pub fn check(carriages: &[Carriage], tolerance: f64, stop: Option<f64>) -> (Vec<
                 }
                 let pa = ca.pose(t, &starts[a]);
                 let pb = cb.pose(t, &starts[b]);
-                let parts_a = cache[a]
-                    .entry(pa.station)
-                    .or_insert_with(|| ca.parts(pa.station))
-                    .clone();
-                let parts_b = cache[b]
-                    .entry(pb.station)
-                    .or_insert_with(|| cb.parts(pb.station))
-                    .clone();
-                let qa = posed(&parts_a, pa.r, ca.opposite);
-                let qb = posed(&parts_b, pb.r, cb.opposite);
+                for (k, c, p) in [(a, ca, &pa), (b, cb, &pb)] {
+                    if !cache[k].contains_key(&p.station) {
+                        let parts = c.parts(&scenes[k], p.station);
+                        cache[k].insert(p.station, parts);
+                    }
+                }
+                let (parts_a, parts_b) = (&cache[a][&pa.station], &cache[b][&pb.station]);
+                let qa = posed(parts_a, pa.r, ca.opposite);
+                let qb = posed(parts_b, pb.r, cb.opposite);
                 let mut gap = f64::INFINITY;
                 let mut hit: Option<(usize, usize, f64)> = None;
                 for (i, x) in &qa {

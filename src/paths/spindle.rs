@@ -78,11 +78,11 @@ impl Sharing {
                     m.state = own[k];
                     continue;
                 };
-                let key = (own[k], donor_at.min(spindles.len() - 1));
+                let own_state = own[k];
                 let next = states.len() as u32;
-                let id = *made.entry((key.0, ids[key.1])).or_insert_with(|| {
-                    let mut s = own_states[key.0 as usize];
-                    s.spindle = spindles[key.1];
+                let id = *made.entry((own_state, ids[donor_at])).or_insert_with(|| {
+                    let mut s = own_states[own_state as usize];
+                    s.spindle = spindles[donor_at];
                     states.push(s);
                     next
                 });

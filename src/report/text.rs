@@ -185,13 +185,13 @@ fn plural(n: usize) -> &'static str {
     }
 }
 
-/// The message with the motion facts a machinist looks for.
 /// One finding as the text report's first line writes it after the path and line:
 /// `error[kind]: message (depth …, at … s, …)`, safe for a terminal (`latheguard follow`).
 pub fn finding_text(x: &Finding) -> String {
     format!("{}[{}]: {}", x.severity.name(), x.kind, terminal_safe(&describe(x)))
 }
 
+/// The message with the motion facts a machinist looks for.
 fn describe(x: &Finding) -> String {
     with_facts(x.message.clone(), x, true, true)
 }
