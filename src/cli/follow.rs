@@ -3,7 +3,7 @@
 //! line, writes and flushes each finding, and measures the time each sample takes.
 
 use super::args::{FollowArgs, FollowFormat, JobArgs, SamplesFormat};
-use super::{plain, shown, Trouble, EXIT_CLEAN, EXIT_FINDINGS, EXIT_TROUBLE};
+use super::{plain, shown, Trouble, EXIT_CLEAN, EXIT_FINDINGS};
 use latheguard::finding::{Finding, Severity};
 use latheguard::follow::{sample, Follower, Latency, SampleError};
 use latheguard::report::{finding_json, finding_text, terminal_safe};
@@ -116,10 +116,10 @@ pub fn run(a: FollowArgs) -> Result<u8, Trouble> {
         super::say(&line);
     }
     out.flush()?;
-    Ok(if out.errors > 0 {
+    // A rejected sample is an `error[sample]` of the input, as a program line that cannot be
+    // read is a finding of its file: status 1, not a failure of the run.
+    Ok(if out.errors > 0 || out.rejected > 0 {
         EXIT_FINDINGS
-    } else if out.rejected > 0 {
-        EXIT_TROUBLE
     } else {
         EXIT_CLEAN
     })
