@@ -54,6 +54,7 @@ mod milling_tools;
 mod mutation;
 mod operations;
 mod paths;
+mod paths3d;
 mod pictures;
 mod polar;
 mod render_png;

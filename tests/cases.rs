@@ -104,6 +104,7 @@ pub(crate) fn turn_mill_kinematics() -> latheguard::kin::Kinematics {
             (f64::NEG_INFINITY, f64::INFINITY)
         },
         rapid,
+        path: 1,
     };
     Kinematics {
         axes: vec![

@@ -71,8 +71,8 @@ proptest! {
         let (m1, m2) = (mount(m1.0, m1.1), mount(m2.0, m2.1));
         let k = Kinematics {
             axes: vec![
-                Axis { name: "l".into(), letter: 'Z', kind: AxisKind::Linear { dir: d1 }, zero: 0.0, travel: (-1e3, 1e3), rapid: 1e4 },
-                Axis { name: "r".into(), letter: 'C', kind: AxisKind::Rotary { origin: Point3::from(Vector3::from(o)), dir: d2 }, zero: 0.0, travel: (f64::NEG_INFINITY, f64::INFINITY), rapid: 1e4 },
+                Axis { name: "l".into(), letter: 'Z', kind: AxisKind::Linear { dir: d1 }, zero: 0.0, travel: (-1e3, 1e3), rapid: 1e4, path: 1 },
+                Axis { name: "r".into(), letter: 'C', kind: AxisKind::Rotary { origin: Point3::from(Vector3::from(o)), dir: d2 }, zero: 0.0, travel: (f64::NEG_INFINITY, f64::INFINITY), rapid: 1e4, path: 1 },
             ],
             components: vec![comp("a", None, m1, Some(0)), comp("b", Some(0), m2, Some(1))],
             never_touch: vec![],
@@ -94,7 +94,7 @@ proptest! {
     fn rotary_axis_keeps_its_own_line_fixed(o in v3(), d in unit(), deg in -1000.0..1000.0f64, t in -500.0..500.0f64, m in (v3(), angles())) {
         let m = mount(m.0, m.1);
         let k = Kinematics {
-            axes: vec![Axis { name: "c".into(), letter: 'C', kind: AxisKind::Rotary { origin: Point3::from(Vector3::from(o)), dir: d }, zero: 0.0, travel: (f64::NEG_INFINITY, f64::INFINITY), rapid: 1e4 }],
+            axes: vec![Axis { name: "c".into(), letter: 'C', kind: AxisKind::Rotary { origin: Point3::from(Vector3::from(o)), dir: d }, zero: 0.0, travel: (f64::NEG_INFINITY, f64::INFINITY), rapid: 1e4, path: 1 }],
             components: vec![comp("s", None, m, Some(0))],
             never_touch: vec![],
         };

@@ -36,6 +36,12 @@ pub fn run(a: FollowArgs) -> Result<u8, Trouble> {
         settings.tolerance_mm = t;
     }
     let input = open(a.source.as_deref().unwrap_or("-"))?;
+    // A machine with several paths is followed on path 1's carrier (docs/follow.md): its own
+    // lathe and the parts of the tree its axes carry, the other carriers left out.
+    let machine = match machine.for_path(1) {
+        Some(std::borrow::Cow::Owned(m)) => std::sync::Arc::new(m),
+        _ => machine,
+    };
     let mut follower = Follower::new(&machine, &settings);
     let format = match a.samples {
         SamplesFormat::Auto => sample::Format::Auto,

@@ -22,6 +22,11 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     // A machine whose file says `dialect = "auto"` reads the program in the dialect its own
     // signs show, as `check` does.
     let (machine, _) = pipeline::resolve(&src, &machine);
+    // A machine with several paths: path 1's lathe (docs/paths.md, `moves` reads one path).
+    let machine = match machine.for_path(1) {
+        Some(std::borrow::Cow::Owned(m)) => std::borrow::Cow::Owned(m),
+        _ => machine,
+    };
     let machine = machine.as_ref();
     let mut prog = pipeline::read(&src, machine);
     let mut written: std::io::Result<()> = Ok(());

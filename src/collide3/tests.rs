@@ -361,6 +361,7 @@ fn machine(tool: Geometry, plate: Geometry) -> Kinematics {
             zero: 0.0,
             travel: (-1e3, 1e3),
             rapid: 1e4,
+            path: 1,
         },
         Axis {
             name: "x".into(),
@@ -369,6 +370,7 @@ fn machine(tool: Geometry, plate: Geometry) -> Kinematics {
             zero: 0.0,
             travel: (-1e3, 1e3),
             rapid: 1e4,
+            path: 1,
         },
         Axis {
             name: "b".into(),
@@ -380,6 +382,7 @@ fn machine(tool: Geometry, plate: Geometry) -> Kinematics {
             zero: 0.0,
             travel: (f64::NEG_INFINITY, f64::INFINITY),
             rapid: 1e4,
+            path: 1,
         },
         Axis {
             name: "c".into(),
@@ -391,6 +394,7 @@ fn machine(tool: Geometry, plate: Geometry) -> Kinematics {
             zero: 0.0,
             travel: (f64::NEG_INFINITY, f64::INFINITY),
             rapid: 1e4,
+            path: 1,
         },
     ];
     let comp = |name: &str, parent, mount, axis, geometry| Component {

@@ -222,6 +222,7 @@ pub(crate) fn turn_mill_kinematics() -> crate::kin::Kinematics {
         zero: 0.0,
         travel: (f64::NEG_INFINITY, f64::INFINITY),
         rapid,
+        path: 1,
     };
     Kinematics {
         axes: vec![

@@ -56,6 +56,7 @@ impl Kinematics {
             zero,
             travel: (a.min, a.max),
             rapid: a.rapid,
+            path: 1,
         };
         let axes = vec![
             linear("x", 'X', Vector3::x(), &m.x, m.home.x),

@@ -101,6 +101,10 @@ struct RawKinAxis {
     travel: Option<Spanned<Vec<f64>>>,
     #[schemars(with = "f64")]
     rapid: Num,
+    /// The program path whose lines drive the axis (1 to the machine's number of paths;
+    /// default 1): its letter is that path's, and its X and Z agree with that path's 2D axes.
+    #[schemars(with = "Option<u32>")]
+    path: Option<Spanned<u32>>,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -297,7 +301,7 @@ pub(crate) fn kinematics(
     // Axes.
     let mut out_axes: Vec<Axis> = Vec::new();
     let mut axis_ids: HashMap<String, usize> = HashMap::new();
-    let mut letters: HashMap<char, usize> = HashMap::new();
+    let mut letters: HashMap<(u32, char), usize> = HashMap::new();
     for (i, a) in axes.iter().enumerate() {
         match axis(cx, i, a.get_ref(), machine) {
             Ok(ax) => {
@@ -310,31 +314,34 @@ pub(crate) fn kinematics(
                     ));
                     continue;
                 }
-                if let Some(j) = letters.get(&ax.letter) {
+                if let Some(j) = letters.get(&(ax.path, ax.letter)) {
                     errors.push(cx.err(
                         r.letter.span(),
                         format!("kinematics.axes[{i}].letter"),
                         format!(
-                            "letter {} already drives kinematics.axes[{j}] ({:?}): a letter drives one axis",
+                            "letter {} already drives kinematics.axes[{j}] ({:?}): a letter drives one axis of a path",
                             ax.letter, out_axes[*j].name
                         ),
                     ));
                     continue;
                 }
-                letters.insert(ax.letter, out_axes.len());
+                letters.insert((ax.path, ax.letter), out_axes.len());
                 axis_ids.insert(ax.name.clone(), out_axes.len());
                 out_axes.push(ax);
             }
             Err(e) => errors.push(e),
         }
     }
-    for l in ['X', 'Z'] {
-        if !letters.contains_key(&l) && errors.is_empty() {
-            errors.push(cx.err(
-                raw.axes.span(),
-                "kinematics.axes",
-                format!("no axis has letter {l}: a kinematic machine has the X and Z axes of the 2D [axes]"),
-            ));
+    for p in 1..=machine.paths.count() as u32 {
+        for l in ['X', 'Z'] {
+            if !letters.contains_key(&(p, l)) && errors.is_empty() {
+                let what = if p == 1 {
+                    format!("no axis has letter {l}: a kinematic machine has the X and Z axes of the 2D [axes]")
+                } else {
+                    format!("no axis of path {p} has letter {l}: each path's carrier has the X and Z axes of its [[paths]] table (path = {p})")
+                };
+                errors.push(cx.err(raw.axes.span(), "kinematics.axes", what));
+            }
         }
     }
 
@@ -472,6 +479,8 @@ pub(crate) fn kinematics(
         };
         let station = match &r.station {
             None => Some(None),
+            // The station's own turret is known once the tree is (`stations_on_their_paths`).
+            Some(s) if machine.paths.count() > 1 && *s.get_ref() >= 1 => Some(Some(*s.get_ref())),
             Some(s) if (1..=machine.turret.stations).contains(s.get_ref()) => Some(Some(*s.get_ref())),
             Some(s) => {
                 errors.push(cx.err(
@@ -537,10 +546,63 @@ pub(crate) fn kinematics(
         components,
         never_touch: Vec::new(),
     };
+    stations_on_their_paths(cx, comps, &new_id, &k, machine)?;
     if let Some(nt) = &raw.never_touch {
         k.never_touch = never_touch(cx, nt, &k)?;
     }
     Ok(k)
+}
+
+/// On a machine with several paths, each tool's `station` is one of the turret of the path whose
+/// axes carry it; a tool carried by two paths' axes at once has no turret.
+fn stations_on_their_paths(
+    cx: &Cx<'_>,
+    comps: &[Spanned<RawComponent>],
+    new_id: &[usize],
+    k: &Kinematics,
+    machine: &Machine,
+) -> Result<(), MachineError> {
+    if machine.paths.count() < 2 {
+        return Ok(());
+    }
+    let masks = k.path_masks();
+    for (i, raw) in comps.iter().enumerate() {
+        let Some(s) = &raw.get_ref().station else { continue };
+        let mask = masks[new_id[i]];
+        let key = format!("kinematics.components[{i}].station");
+        let path = match mask.count_ones() {
+            0 => 1,
+            1 => mask.trailing_zeros(),
+            _ => {
+                return Err(cx.err(
+                    s.span(),
+                    key,
+                    "a tool moved by the axes of two paths is on no one carrier: hang it below one path's axes",
+                ))
+            }
+        };
+        let stations = if path == 1 {
+            machine.turret.stations
+        } else {
+            machine
+                .paths
+                .carriers
+                .iter()
+                .find(|c| c.path == path)
+                .map_or(0, |c| c.turret.stations)
+        };
+        if !(1..=stations).contains(s.get_ref()) {
+            return Err(cx.err(
+                s.span(),
+                key,
+                format!(
+                    "station {} does not exist: the turret of path {path}, whose axes carry this tool, has stations 1 to {stations}",
+                    s.get_ref()
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn axis(cx: &Cx<'_>, i: usize, a: &RawKinAxis, machine: &Machine) -> Result<Axis, MachineError> {
@@ -619,10 +681,36 @@ fn axis(cx: &Cx<'_>, i: usize, a: &RawKinAxis, machine: &Machine) -> Result<Axis
             }
         },
     };
-    // The 2D axes this one must agree with.
+    let paths = machine.paths.count() as u32;
+    let path = match &a.path {
+        None => 1,
+        Some(p) if (1..=paths).contains(p.get_ref()) => *p.get_ref(),
+        Some(p) => {
+            return Err(cx.err(
+                p.span(),
+                key("path"),
+                if paths == 1 {
+                    format!(
+                        "path {} does not exist: this machine has one path (no [[paths]])",
+                        p.get_ref()
+                    )
+                } else {
+                    format!(
+                        "path {} does not exist: this machine has paths 1 to {paths}",
+                        p.get_ref()
+                    )
+                },
+            ))
+        }
+    };
+    // The 2D axes this one must agree with: its path's.
+    let (ax_x, ax_z, home, section) = match machine.paths.carriers.iter().find(|c| c.path == path) {
+        Some(c) => (&c.x, &c.z, c.home, format!("paths[{}].axes", path - 2)),
+        None => (&machine.x, &machine.z, machine.home, "axes".to_string()),
+    };
     let twod = match letter {
-        'X' => Some((&machine.x, machine.home.x, Vector3::x())),
-        'Z' => Some((&machine.z, machine.home.y, Vector3::z())),
+        'X' => Some((ax_x, home.x, Vector3::x())),
+        'Z' => Some((ax_z, home.y, Vector3::z())),
         _ => None,
     };
     if matches!(letter, 'X' | 'Z' | 'Y') && !linear {
@@ -654,7 +742,7 @@ fn axis(cx: &Cx<'_>, i: usize, a: &RawKinAxis, machine: &Machine) -> Result<Axis
                 at,
                 key("travel"),
                 format!(
-                    "travel [{}, {}] differs from axes.{l} ({} .. {}): the two must be the same",
+                    "travel [{}, {}] differs from {section}.{l} ({} .. {}): the two must be the same",
                     show(travel.0),
                     show(travel.1),
                     show(ax.min),
@@ -666,7 +754,11 @@ fn axis(cx: &Cx<'_>, i: usize, a: &RawKinAxis, machine: &Machine) -> Result<Axis
             return Err(cx.err(
                 a.rapid.span(),
                 key("rapid"),
-                format!("rapid {} differs from axes.{l}.rapid = {}", show(rapid), show(ax.rapid)),
+                format!(
+                    "rapid {} differs from {section}.{l}.rapid = {}",
+                    show(rapid),
+                    show(ax.rapid)
+                ),
             ));
         }
         if zero != home {
@@ -674,7 +766,11 @@ fn axis(cx: &Cx<'_>, i: usize, a: &RawKinAxis, machine: &Machine) -> Result<Axis
             return Err(cx.err(
                 at,
                 key("zero"),
-                format!("zero {} differs from home {l} = {} (axes.home)", show(zero), show(home)),
+                format!(
+                    "zero {} differs from home {l} = {} ({section}.home)",
+                    show(zero),
+                    show(home)
+                ),
             ));
         }
     }
@@ -703,6 +799,7 @@ fn axis(cx: &Cx<'_>, i: usize, a: &RawKinAxis, machine: &Machine) -> Result<Axis
         zero,
         travel,
         rapid,
+        path,
     })
 }
 

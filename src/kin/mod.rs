@@ -58,6 +58,9 @@ pub struct Axis {
     pub travel: (f64, f64),
     /// Rapid rate: mm/min or degrees/min.
     pub rapid: f64,
+    /// The program path whose lines drive it (1 on a one-path machine; `[[paths]]`,
+    /// docs/paths.md): its letter is that path's.
+    pub path: u32,
 }
 
 /// A component's geometry in its own frame.
@@ -196,6 +199,100 @@ impl Kinematics {
     /// The component named `name`.
     pub fn component(&self, name: &str) -> Option<CompId> {
         self.components.iter().position(|c| c.name == name)
+    }
+
+    /// Per component, the paths whose axes carry it, as a bit mask (bit `p` for path `p`): its
+    /// own axis's and every ancestor's, except a **spindle's** turning (a rotary axis about the
+    /// spindle axis, the machine frame's z line, where the tree's start pose has it: C or A).
+    /// A spindle turns its chuck about itself, which the 2D sections treat as revolved: the
+    /// chuck belongs to no carrier and every path sees it (at its start angle when another path
+    /// drives it). 0 for a part fixed to the machine frame.
+    pub fn path_masks(&self) -> Vec<u32> {
+        let poser = Poser::new(self);
+        let mut out: Vec<u32> = Vec::with_capacity(self.components.len());
+        for (i, c) in self.components.iter().enumerate() {
+            let mut mask = c.parent.filter(|&p| p < i).map_or(0, |p| out[p]);
+            if let Some(a) = c.axis.and_then(|a| self.axes.get(a)) {
+                let spindle = match &a.kind {
+                    AxisKind::Rotary { origin, dir } => {
+                        let frame = c.parent.map_or(Iso::identity(), |p| *poser.world(p)) * c.mount;
+                        let (o, d) = (frame * origin, frame.rotation * dir.into_inner());
+                        o.x.abs() < 1e-9 && o.y.abs() < 1e-9 && d.x.abs() < 1e-9 && d.y.abs() < 1e-9
+                    }
+                    AxisKind::Linear { .. } => false,
+                };
+                if !spindle {
+                    mask |= 1 << a.path.min(31);
+                }
+            }
+            out.push(mask);
+        }
+        out
+    }
+
+    /// Whether the axes of more than one path drive this tree (a machine with two tool carriers
+    /// in 3D, docs/paths.md).
+    pub fn is_multi_path(&self) -> bool {
+        self.axes.iter().any(|a| a.path != 1)
+    }
+
+    /// The never-touch pairs whose two parts are moved by the axes of more than one path
+    /// together: no path's own check sees them (`for_path` leaves one of the two out); the
+    /// carriers' check over the machine's one clock does (`paths::cross3`).
+    pub fn cross_pairs(&self) -> Vec<(CompId, CompId)> {
+        let masks = self.path_masks();
+        self.never_touch
+            .iter()
+            .copied()
+            .filter(|&(a, b)| (masks[a] | masks[b]).count_ones() > 1)
+            .collect()
+    }
+
+    /// The tree path `p`'s own check runs on: the parts that only path `p`'s axes carry (or none,
+    /// [`Kinematics::path_masks`]),
+    /// the other paths' letters taken off their axes (their values stay at their start), and the
+    /// never-touch pairs among the parts kept. Every pair this leaves out is moved by two paths'
+    /// axes: [`Kinematics::cross_pairs`]. On a one-path tree, path 1's view is the tree.
+    pub fn for_path(&self, p: u32) -> Kinematics {
+        let own = 1u32 << p.min(31);
+        let keep: Vec<bool> = self.path_masks().iter().map(|m| m & !own == 0).collect();
+        let mut new_id = vec![usize::MAX; self.components.len()];
+        let mut components = Vec::new();
+        for (i, c) in self.components.iter().enumerate() {
+            if !keep[i] {
+                continue;
+            }
+            // A kept part's parent is kept: it is moved by no more paths than its child.
+            let mut c = c.clone();
+            c.parent = c.parent.map(|q| new_id[q]).filter(|&q| q != usize::MAX);
+            new_id[i] = components.len();
+            components.push(c);
+        }
+        let axes = self
+            .axes
+            .iter()
+            .map(|a| {
+                let mut a = a.clone();
+                if a.path != p {
+                    a.letter = '\0';
+                }
+                a
+            })
+            .collect();
+        let never_touch = self
+            .never_touch
+            .iter()
+            .filter(|&&(a, b)| keep[a] && keep[b])
+            .map(|&(a, b)| {
+                let (x, y) = (new_id[a], new_id[b]);
+                (x.min(y), x.max(y))
+            })
+            .collect();
+        Kinematics {
+            axes,
+            components,
+            never_touch,
+        }
     }
 
     /// `c` and every component below it.

@@ -1318,19 +1318,19 @@ fn validate(cx: &Cx<'_>, raw: RawDoc, resolve: crate::kin::load::Resolve<'_>) ->
     if let Some(e) = cx.kept() {
         return Err(e);
     }
-    // [kinematics]: read once the 2D sections it refers to are valid.
+    // [[paths]]: read once the machine they share is valid.
+    let paths = super::paths::paths_of(cx, paths, sync, &machine, &given)?;
+    let machine = Machine { paths, ..machine };
+    // [kinematics]: read once the 2D sections it refers to (every path's) are valid.
     let kinematics = match &kinematics {
         None => None,
         Some(k) => Some(std::sync::Arc::new(crate::kin::load::kinematics(
             cx, k, &machine, resolve,
         )?)),
     };
-    let machine = Machine { kinematics, ..machine };
-    // [[paths]]: read once the machine they share is valid.
-    let paths = super::paths::paths_of(cx, paths, sync, &machine, &given)?;
     Ok(Machine {
         warnings: cx.warnings.take(),
-        paths,
+        kinematics,
         ..machine
     })
 }

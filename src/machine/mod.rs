@@ -881,7 +881,14 @@ impl Machine {
             let _ = writeln!(s, "  waits       M{a} .. M{b} (the paths wait for each other)");
         }
         if let Some(k) = &self.kinematics {
-            let axes: Vec<String> = k.axes.iter().map(|a| format!("{} {}", a.letter, a.name)).collect();
+            let axes: Vec<String> = k
+                .axes
+                .iter()
+                .map(|a| match a.path {
+                    1 => format!("{} {}", a.letter, a.name),
+                    p => format!("{} {} (path {p})", a.letter, a.name),
+                })
+                .collect();
             let meshes = k
                 .components
                 .iter()

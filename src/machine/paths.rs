@@ -52,6 +52,10 @@ pub(super) struct RawSync {
     /// The waiting M codes, `[first, last]` (default `[100, 999]`).
     #[schemars(with = "Option<[u32; 2]>")]
     wait_mcodes: Option<Spanned<Vec<i64>>>,
+    /// What reports call path 1's carrier, the machine's own `[turret]` (default "turret of
+    /// path 1"; "milling head").
+    #[schemars(with = "Option<String>")]
+    first: Option<Spanned<String>>,
 }
 
 /// The tool carrier of one path after the first: what replaces the machine's axes, turret and
@@ -81,6 +85,8 @@ pub struct Paths {
     /// How many paths the whole machine has (kept by [`Machine::for_path`], whose lathe has no
     /// further carriers: a wait without `P` still names them all).
     pub total: u32,
+    /// What reports call path 1's carrier (`[sync] first`).
+    pub first: String,
 }
 
 impl Paths {
@@ -103,13 +109,20 @@ impl Machine {
         if self.paths.carriers.is_empty() {
             return (path == 1).then_some(Cow::Borrowed(self));
         }
-        let mut m = self.clone();
-        // The lathe of one path: its waits stay waiting M codes, it has no further carriers.
-        m.paths.carriers.clear();
-        if path == 1 {
-            return Some(Cow::Owned(m));
+        let c = self.paths.carriers.iter().find(|c| c.path == path);
+        if path != 1 && c.is_none() {
+            return None;
         }
-        let c = self.paths.carriers.iter().find(|c| c.path == path)?;
+        let mut m = self.clone();
+        // The lathe of one path: its waits stay waiting M codes, it has no further carriers;
+        // its kinematic tree has the parts its own axes move (`Kinematics::for_path`).
+        m.paths.carriers.clear();
+        if let Some(k) = &self.kinematics {
+            m.kinematics = Some(std::sync::Arc::new(k.for_path(path)));
+        }
+        let Some(c) = c else {
+            return Some(Cow::Owned(m));
+        };
         m.x = c.x;
         m.z = c.z;
         m.home = c.home;
@@ -160,13 +173,6 @@ pub(super) fn paths_of(
                 "{} paths: a machine file may describe at most {MAX_PATHS}",
                 raw.len() + 1
             ),
-        ));
-    }
-    if base.kinematics.is_some() {
-        return Err(cx.err(
-            span,
-            "paths",
-            "[[paths]] with [kinematics] is not supported yet: the carriers of a multi-path machine are checked in the working plane (docs/paths.md)",
         ));
     }
     let wait_mcodes = match sync.as_ref().and_then(|s| s.get_ref().wait_mcodes.as_ref()) {
@@ -248,9 +254,21 @@ pub(super) fn paths_of(
         }
         carriers.push(carrier);
     }
+    let first = match sync.as_ref().and_then(|s| s.get_ref().first.as_ref()) {
+        None => "turret of path 1".to_string(),
+        Some(n) if n.get_ref().trim().is_empty() => {
+            return Err(cx.err(
+                n.span(),
+                "sync.first",
+                "first is blank: say what path 1's carrier is (\"milling head\")",
+            ))
+        }
+        Some(n) => n.get_ref().trim().to_string(),
+    };
     Ok(Paths {
         total: 1 + carriers.len() as u32,
         carriers,
         wait_mcodes: Some(wait_mcodes),
+        first,
     })
 }

@@ -18,6 +18,7 @@
 //! possibly one where another path has already cut the material away (docs/paths.md).
 
 pub mod cross;
+pub mod cross3;
 mod spindle;
 pub mod split;
 pub mod sync;
@@ -33,8 +34,20 @@ pub fn is_multi_path(src: &[u8], machine: &Machine) -> bool {
     !machine.paths.carriers.is_empty() || split::split(src).is_some()
 }
 
-/// Check a program on a machine with several paths, or a program written for several paths.
-pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
+/// A program's paths, each interpreted on its lathe and timed in the machine's clock.
+struct Prepared {
+    lanes: Vec<Lane>,
+    schedules: Vec<sync::Schedule>,
+    /// Findings of the program as a whole: paths the machine lacks, waits that never meet.
+    extra: Vec<Finding>,
+    /// The machine time past which nothing runs (a deadlock).
+    stop: Option<f64>,
+    /// What reports call each lane's carrier.
+    names: Vec<String>,
+}
+
+/// Read, interpret and time every path of a program.
+fn prepare(src: &[u8], machine: &Machine, settings: &Settings) -> Prepared {
     let split = split::split(src);
     let count = machine.paths.count() as u32;
     let mut extra: Vec<Finding> = Vec::new();
@@ -113,7 +126,7 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
         .iter()
         .map(|l| {
             if l.path == 1 {
-                "turret of path 1".to_string()
+                machine.paths.first.clone()
             } else {
                 machine
                     .paths
@@ -124,22 +137,80 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
             }
         })
         .collect();
-    let carriages: Vec<cross::Carriage> = lanes
+    Prepared {
+        lanes,
+        schedules,
+        extra,
+        stop,
+        names,
+    }
+}
+
+/// Run `f` on the carriers of a program on a machine whose kinematic tree several paths drive,
+/// as the 3D check between carriers poses them (`cross3::Carriers`): for the tests' oracle.
+/// `None` on another machine.
+pub fn with_carriers3<R>(
+    src: &[u8],
+    machine: &Machine,
+    settings: &Settings,
+    f: impl FnOnce(&cross3::Carriers) -> R,
+) -> Option<R> {
+    let kin = machine.kinematics.as_deref().filter(|k| k.is_multi_path())?;
+    let p = prepare(src, machine, settings);
+    let lanes3 = lanes3(&p);
+    let carriers = cross3::Carriers::new(kin, &lanes3, settings.tolerance_mm);
+    Some(f(&carriers))
+}
+
+/// The lanes as the 3D check between carriers reads them.
+fn lanes3(p: &Prepared) -> Vec<cross3::Lane3<'_>> {
+    p.lanes
         .iter()
-        .zip(&schedules)
-        .zip(&names)
-        .map(|((l, s), name)| cross::Carriage {
+        .zip(&p.schedules)
+        .zip(&p.names)
+        .map(|((l, s), name)| cross3::Lane3 {
             path: l.path,
             name: name.clone(),
             machine: &l.machine,
             run: &l.run,
             timeline: &l.timeline,
             schedule: s,
-            opposite: machine.paths.carriers.iter().any(|c| c.path == l.path && c.opposite),
         })
-        .collect();
-    let (cross_findings, probes) = cross::check(&carriages, settings.tolerance_mm, stop);
-    drop(carriages);
+        .collect()
+}
+
+/// Check a program on a machine with several paths, or a program written for several paths.
+pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
+    let p = prepare(src, machine, settings);
+    // The carriers against each other: in 3D on a tree whose axes several paths drive, else in
+    // the working plane.
+    let (cross_findings, probes) = match machine.kinematics.as_deref().filter(|k| k.is_multi_path()) {
+        Some(kin) => cross3::check(kin, &lanes3(&p), settings.tolerance_mm, p.stop),
+        None => {
+            let carriages: Vec<cross::Carriage> = p
+                .lanes
+                .iter()
+                .zip(&p.schedules)
+                .zip(&p.names)
+                .map(|((l, s), name)| cross::Carriage {
+                    path: l.path,
+                    name: name.clone(),
+                    machine: &l.machine,
+                    run: &l.run,
+                    timeline: &l.timeline,
+                    schedule: s,
+                    opposite: machine.paths.carriers.iter().any(|c| c.path == l.path && c.opposite),
+                })
+                .collect();
+            cross::check(&carriages, settings.tolerance_mm, p.stop)
+        }
+    };
+    let Prepared {
+        lanes,
+        schedules,
+        extra,
+        ..
+    } = p;
 
     // One outcome: every path's findings at their lines, their times in the machine's clock.
     let mut out = Outcome::default();

@@ -127,6 +127,7 @@ impl Three {
             zero: 0.0,
             travel: (f64::NEG_INFINITY, f64::INFINITY),
             rapid: 0.0,
+            path: 1,
         });
         k.components[carrier].axis = Some(axis);
         self.kin = Arc::new(k);

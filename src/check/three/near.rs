@@ -163,6 +163,7 @@ mod tests {
                 zero: 0.0,
                 travel: (f64::NEG_INFINITY, f64::INFINITY),
                 rapid: 1000.0,
+                path: 1,
             }],
             components: vec![
                 Component {

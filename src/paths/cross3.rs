@@ -1,0 +1,774 @@
+//! The carriers of a multi-path turn-mill against each other in 3D, over the machine's one time:
+//! a milling head on its X/Y/Z slides and B swivel and a lower turret on its own slides, or two
+//! turrets, each path's axes driving its part of the kinematic tree.
+//!
+//! **Which pairs.** A `never_touch` pair whose two parts are carried by the axes of two paths
+//! together ([`Kinematics::cross_pairs`]: the head against the lower turret, the head against a
+//! sub-spindle that path 2's slide moves) is checked here and nowhere else: each path's own check
+//! runs on the parts its own axes carry ([`Kinematics::for_path`]). The stock is each path's
+//! (`paths/mod.rs`).
+//!
+//! **The poses.** The machine's time is cut at every start and end of a move of any path; within
+//! one piece every path is in one move, or standing. Each path's axes take the values its own
+//! check gives them at that instant (X and Z the turret reference point as `motion` times it,
+//! dogleg rapids too, the extra axes linearly over the move, a G17/G19 arc along
+//! `interp::position3`), shifted by the path's waits (`sync.rs`). The tools of a carrier that a
+//! program axis swivels (a B head) are posed only for the active tool (the others sit in the
+//! magazine, out of the working space); a drum turret's every station stands at its angle
+//! `(s − active)·360°/n` about the turret axis, turning while it indexes, each station on an
+//! index joint of its own added to this check's copy of the tree (the machine file's tree is not
+//! changed) — as `check/three/index.rs` turns one drum.
+//!
+//! **The search.** Each pair is followed along each piece by conservative advancement with the
+//! proven motion bound of `collide3::motion` (the pair's relative motion over a step at most the
+//! bound of its axes' travel), so no contact is stepped over by more than the `--tolerance`: the
+//! same guarantee as every other 3D check. An overlap deeper than the tolerance is a
+//! `collision`, reported once per contact at the line of each of the two paths (a path standing
+//! still, at the line it stands at), each naming the other's, its depth the deepest of a few
+//! instants while it lasts.
+
+use std::collections::HashMap;
+
+use nalgebra::{Point3, Unit, Vector3};
+
+use crate::collide3::{self, Advance, Path, Shape3};
+use crate::finding::{Finding, Kind, Severity};
+use crate::interp::{position3, Interpretation, MoveKind, EXTRA_LETTERS};
+use crate::kin::{Axis, AxisId, AxisKind, CompId, Kinematics, Poser};
+use crate::machine::Machine;
+use crate::motion::{self, Timeline};
+
+use super::sync::Schedule;
+
+/// Probes the search spends on one program before it gives up with a finding.
+pub const MAX_PROBES: u64 = 2_000_000;
+/// Instants after first contact at which a contact's depth is measured.
+const DEPTH_SAMPLES: u32 = 16;
+
+/// One path, as this check sees it.
+pub struct Lane3<'a> {
+    pub path: u32,
+    /// What reports call its carrier ("milling head", "lower turret").
+    pub name: String,
+    /// The lathe the path runs on (`Machine::for_path`): its turret and tools.
+    pub machine: &'a Machine,
+    pub run: &'a Interpretation,
+    pub timeline: &'a Timeline,
+    pub schedule: &'a Schedule,
+}
+
+/// How a lane's stations stand in this check's tree.
+#[derive(Clone, Debug, PartialEq)]
+enum Stations {
+    /// No tool of the tree is this path's, or a gang slide: every part where the file poses it.
+    InPlace,
+    /// A carrier a program axis moves (a B head): only the active tool is there.
+    ActiveOnly,
+    /// A drum: each station's top parts on an index joint, the drum itself on one.
+    Drum {
+        body: AxisId,
+        station_axes: Vec<(u32, AxisId)>,
+        step_deg: f64,
+    },
+}
+
+/// A lane's axes in the tree and its timing in machine time.
+struct Track<'a> {
+    lane: &'a Lane3<'a>,
+    ax_x: Option<AxisId>,
+    ax_z: Option<AxisId>,
+    ax_extra: [Option<AxisId>; 4],
+    stations: Stations,
+    /// The machine-time start and end of each timed move.
+    spans: Vec<(f64, f64)>,
+    starts: Vec<f64>,
+}
+
+/// Where a lane is at an instant.
+#[derive(Clone, Copy, Debug)]
+struct At {
+    /// The timed move under way or last finished; `None` before the first.
+    item: Option<usize>,
+    /// Under way (not standing after it).
+    moving: bool,
+    /// Fraction of the move done.
+    u: f64,
+}
+
+impl Track<'_> {
+    fn at(&self, t: f64) -> At {
+        let k = self.starts.partition_point(|&s| s <= t);
+        if k == 0 {
+            return At {
+                item: None,
+                moving: false,
+                u: 0.0,
+            };
+        }
+        let i = k - 1;
+        let (g0, g1) = self.spans[i];
+        if t < g1 && g1 > g0 {
+            At {
+                item: Some(i),
+                moving: true,
+                u: ((t - g0) / (g1 - g0)).clamp(0.0, 1.0),
+            }
+        } else {
+            At {
+                item: Some(i),
+                moving: false,
+                u: 1.0,
+            }
+        }
+    }
+
+    /// The source line and block number the lane is at.
+    fn line(&self, at: At) -> (u32, Option<u64>) {
+        let moves = &self.lane.run.moves;
+        match at.item {
+            Some(i) => {
+                let m = &moves[self.lane.timeline.items[i].index];
+                (m.line, m.n)
+            }
+            None => moves.first().map_or((1, None), |m| (m.line, m.n)),
+        }
+    }
+
+    /// The active station, fractional while a drum indexes; and the two stations of a tool change.
+    fn station(&self, at: At) -> (f64, Option<(u32, u32)>) {
+        let moves = &self.lane.run.moves;
+        let n = self.lane.machine.turret.stations;
+        match at.item {
+            None => {
+                let s = moves
+                    .first()
+                    .map_or(self.lane.machine.turret.start_station, |m| match m.kind {
+                        MoveKind::ToolChange { from, .. } => from,
+                        _ => m.station,
+                    });
+                (s as f64, None)
+            }
+            Some(i) => {
+                let m = &moves[self.lane.timeline.items[i].index];
+                match m.kind {
+                    MoveKind::ToolChange { from, to } if at.moving => {
+                        let dir = motion::index_direction(from, to, n) as f64;
+                        (from as f64 + dir * at.u, Some((from, to)))
+                    }
+                    _ => (m.station as f64, None),
+                }
+            }
+        }
+    }
+
+    /// Write this lane's axis values at `at` into `out`.
+    fn values(&self, at: At, out: &mut [f64]) {
+        let run = self.lane.run;
+        if let Some(i) = at.item {
+            let it = &self.lane.timeline.items[i];
+            let m = &run.moves[it.index];
+            let e = run.extra_of(it.index);
+            let (x, y, z, ex) = match e.filter(|e| e.arc.is_some()) {
+                Some(e) => {
+                    let (p, ex) = position3(m, Some(e), at.u);
+                    (p[0] - m.tip.x, p[1], p[2] - m.tip.y, ex)
+                }
+                None => {
+                    let r = motion::reference_at(m, it, at.u * it.duration);
+                    let mut ex = [0.0; 4];
+                    for (k, v) in ex.iter_mut().enumerate() {
+                        *v = match e {
+                            Some(e) => e.start[k] + (e.end[k] - e.start[k]) * at.u,
+                            None => self.ax_extra[k].map_or(0.0, |a| out[a]),
+                        };
+                    }
+                    (r.x, ex[0], r.y, ex)
+                }
+            };
+            if let Some(a) = self.ax_x {
+                out[a] = x;
+            }
+            if let Some(a) = self.ax_z {
+                out[a] = z;
+            }
+            for (k, a) in self.ax_extra.iter().enumerate() {
+                if let Some(a) = *a {
+                    out[a] = if k == 0 { y } else { ex[k] };
+                }
+            }
+        } else if let Some(m) = run.moves.first() {
+            let r = m.ref_start();
+            if let Some(a) = self.ax_x {
+                out[a] = r.x;
+            }
+            if let Some(a) = self.ax_z {
+                out[a] = r.y;
+            }
+        }
+        if let Stations::Drum {
+            body,
+            station_axes,
+            step_deg,
+        } = &self.stations
+        {
+            let (active, change) = self.station(at);
+            for &(s, a) in station_axes {
+                out[a] = (s as f64 - active) * step_deg;
+            }
+            out[*body] = change.map_or(0.0, |(from, _)| (from as f64 - active) * step_deg);
+        }
+    }
+
+    /// Per axis of this lane, a bound of its speed (per second) at `at`.
+    fn rates(&self, at: At, out: &mut [f64]) {
+        let Some(i) = at.item.filter(|_| at.moving) else { return };
+        let run = self.lane.run;
+        let it = &self.lane.timeline.items[i];
+        let m = &run.moves[it.index];
+        if it.duration <= 0.0 {
+            return;
+        }
+        let e = run.extra_of(it.index);
+        let v = motion::max_speed(m, it);
+        let v = if v.is_finite() { v } else { f64::MAX };
+        let arc = e.and_then(|e| e.arc.map(|_| crate::interp::length3(m, e) / it.duration));
+        let lin = arc.map_or(v, |l| l.max(v));
+        for a in [self.ax_x, self.ax_z].into_iter().flatten() {
+            out[a] = lin;
+        }
+        if let Some(e) = e {
+            for (k, a) in self.ax_extra.iter().enumerate() {
+                if let Some(a) = *a {
+                    out[a] = if k == 0 && arc.is_some() {
+                        lin
+                    } else {
+                        (e.end[k] - e.start[k]).abs() / it.duration
+                    };
+                }
+            }
+        }
+        if let (
+            Stations::Drum {
+                body,
+                station_axes,
+                step_deg,
+            },
+            MoveKind::ToolChange { from, to },
+        ) = (&self.stations, m.kind)
+        {
+            let dir = motion::index_direction(from, to, self.lane.machine.turret.stations) as f64;
+            let w = dir.abs() * step_deg / it.duration;
+            out[*body] = w;
+            for &(_, a) in station_axes {
+                out[a] = w;
+            }
+        }
+    }
+
+    /// Whether a part of this lane's station `s` is in the working space at `at`.
+    fn present(&self, s: u32, at: At) -> bool {
+        if self.stations != Stations::ActiveOnly {
+            return true;
+        }
+        let (active, change) = self.station(at);
+        change.map_or(active.round() as u32 == s, |(a, b)| s == a || s == b)
+    }
+}
+
+/// The axis values of every lane over one piece of machine time.
+struct Piece<'a> {
+    tracks: &'a [Track<'a>],
+    start: &'a [f64],
+    t0: f64,
+    t1: f64,
+}
+
+impl Path for Piece<'_> {
+    fn at(&self, u: f64, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend_from_slice(self.start);
+        // Within the piece no lane changes moves: each is placed by its state at the piece's
+        // middle, at the instant `t`.
+        let t = self.t0 + (self.t1 - self.t0) * u;
+        let mid = (self.t0 + self.t1) / 2.0;
+        for tr in self.tracks {
+            let mut at = tr.at(mid);
+            if at.moving {
+                let (g0, g1) = tr.spans[at.item.unwrap_or(0)];
+                at.u = ((t - g0) / (g1 - g0)).clamp(0.0, 1.0);
+            }
+            tr.values(at, out);
+        }
+    }
+
+    fn deltas(&self, u0: f64, u1: f64, out: &mut Vec<f64>) {
+        out.clear();
+        out.resize(self.start.len(), 0.0);
+        let mid = (self.t0 + self.t1) / 2.0;
+        for tr in self.tracks {
+            tr.rates(tr.at(mid), out);
+        }
+        let dt = (u1 - u0) * (self.t1 - self.t0);
+        for v in out.iter_mut() {
+            *v *= dt;
+        }
+    }
+}
+
+/// The nearest common ancestor of `comps`.
+fn common_ancestor(k: &Kinematics, comps: &[CompId]) -> Option<CompId> {
+    let first = *comps.first()?;
+    let mut chain = Vec::new();
+    let mut p = Some(first);
+    while let Some(x) = p {
+        chain.push(x);
+        p = k.components[x].parent;
+    }
+    chain
+        .into_iter()
+        .find(|&a| comps.iter().all(|&c| c == a || k.is_ancestor(a, c)))
+}
+
+/// Give lane `path`'s drum its index joints in `k` (see the module docs); how its stations stand.
+fn stations_of(k: &mut Kinematics, masks: &[u32], path: u32, machine: &Machine) -> Stations {
+    let own = 1u32 << path.min(31);
+    let tools: Vec<CompId> = (0..k.components.len())
+        .filter(|&c| k.components[c].station.is_some())
+        .filter(|&c| masks[c] == own || (masks[c] == 0 && path == 1))
+        .collect();
+    if tools.is_empty() || machine.turret.kind == crate::machine::TurretKind::Gang {
+        return Stations::InPlace;
+    }
+    let Some(carrier) = common_ancestor(k, &tools) else {
+        return Stations::ActiveOnly;
+    };
+    // A program axis on the carrier or between it and a tool: not a drum this check can turn.
+    let axis_between = tools.iter().any(|&c| {
+        let mut p = Some(c);
+        while let Some(x) = p {
+            if k.components[x].axis.is_some() {
+                return true;
+            }
+            if x == carrier {
+                break;
+            }
+            p = k.components[x].parent;
+        }
+        false
+    });
+    if axis_between {
+        return Stations::ActiveOnly;
+    }
+    let poser = Poser::new(k);
+    let frame_of = |k: &Kinematics, c: CompId| {
+        k.components[c]
+            .parent
+            .map_or(crate::kin::Iso::identity(), |p| *poser.world(p))
+            * k.components[c].mount
+    };
+    // The turret axis: parallel to z through `[turret] axis` along +x from the carrier's parent's
+    // origin (where the reference point is), as `check/three/index.rs` has it.
+    let parent_frame = k.components[carrier]
+        .parent
+        .map_or(crate::kin::Iso::identity(), |p| *poser.world(p));
+    let origin_w = parent_frame * Point3::new(machine.turret.axis, 0.0, 0.0);
+    let dir_w = parent_frame.rotation * Vector3::z();
+    let add = |k: &mut Kinematics, c: CompId, name: String| -> AxisId {
+        let inv = frame_of(k, c).inverse();
+        let a = k.axes.len();
+        k.axes.push(Axis {
+            name,
+            letter: '\0',
+            kind: AxisKind::Rotary {
+                origin: inv * origin_w,
+                dir: Unit::new_normalize(inv.rotation * dir_w),
+            },
+            zero: 0.0,
+            travel: (f64::NEG_INFINITY, f64::INFINITY),
+            rapid: 0.0,
+            path,
+        });
+        k.components[c].axis = Some(a);
+        a
+    };
+    let body = add(k, carrier, format!("path{path}_index"));
+    let mut station_axes = Vec::new();
+    for &c in &tools {
+        let s = k.components[c].station.unwrap_or(0);
+        let top = k.components[c]
+            .parent
+            .map_or(true, |p| k.components[p].station != Some(s));
+        if top {
+            let a = add(k, c, format!("path{path}_station{s}"));
+            station_axes.push((s, a));
+        }
+    }
+    Stations::Drum {
+        body,
+        station_axes,
+        step_deg: 360.0 / machine.turret.stations.max(1) as f64,
+    }
+}
+
+/// An open contact: the findings it gave (indices into the output).
+struct Open {
+    findings: Vec<usize>,
+}
+
+/// The carriers' contacts over the machine's time (see the module docs). `kin` is the whole
+/// machine's tree; `stop`: nothing past this machine time (a deadlock). Returns the findings and
+/// the probes spent.
+/// The whole machine as this check poses it: the tree with the drums' index joints, each
+/// path's axes over the machine's time, the pairs between carriers. Public for the tests' oracle
+/// (`tests/paths.rs` samples it densely where [`check`] advances).
+pub struct Carriers<'a> {
+    k: Kinematics,
+    masks: Vec<u32>,
+    tracks: Vec<Track<'a>>,
+    start: Vec<f64>,
+    pairs: Vec<(CompId, CompId)>,
+    shapes: Vec<Option<Shape3>>,
+}
+
+impl<'a> Carriers<'a> {
+    /// `kin` is the whole machine's tree, `lanes` its paths as timed.
+    pub fn new(kin: &Kinematics, lanes: &'a [Lane3<'a>], tolerance: f64) -> Carriers<'a> {
+        let masks = kin.path_masks();
+        let mut k = kin.clone();
+        let tracks: Vec<Track> = lanes
+            .iter()
+            .map(|l| {
+                let letter = |c: char| kin.axes.iter().position(|a| a.path == l.path && a.letter == c);
+                let mut ax_extra = [None; 4];
+                for (i, c) in EXTRA_LETTERS.iter().enumerate() {
+                    ax_extra[i] = letter(*c);
+                }
+                let spans: Vec<(f64, f64)> = l
+                    .timeline
+                    .items
+                    .iter()
+                    .map(|it| {
+                        let g = l.schedule.global(it.index, it.t0);
+                        (g, g + it.duration)
+                    })
+                    .collect();
+                Track {
+                    lane: l,
+                    ax_x: letter('X'),
+                    ax_z: letter('Z'),
+                    ax_extra,
+                    stations: stations_of(&mut k, &masks, l.path, l.machine),
+                    starts: spans.iter().map(|s| s.0).collect(),
+                    spans,
+                }
+            })
+            .collect();
+        let shapes: Vec<Option<Shape3>> = k
+            .components
+            .iter()
+            .map(|c| c.geometry.as_ref().and_then(|g| Shape3::meshed(g, tolerance)))
+            .collect();
+        let pairs = kin
+            .cross_pairs()
+            .into_iter()
+            .filter(|&(a, b)| shapes[a].is_some() && shapes[b].is_some())
+            .collect();
+        Carriers {
+            start: k.start_values(),
+            k,
+            masks,
+            tracks,
+            pairs,
+            shapes,
+        }
+    }
+
+    /// The tree with the drums' index joints (the machine file's components, same indices).
+    pub fn tree(&self) -> &Kinematics {
+        &self.k
+    }
+
+    /// The never-touch pairs between parts two paths' axes carry.
+    pub fn pairs(&self) -> &[(CompId, CompId)] {
+        &self.pairs
+    }
+
+    /// A component's collision shape.
+    pub fn shape(&self, c: CompId) -> Option<&Shape3> {
+        self.shapes.get(c).and_then(Option::as_ref)
+    }
+
+    /// The last instant any path moves.
+    pub fn end(&self) -> f64 {
+        self.tracks
+            .iter()
+            .flat_map(|t| t.spans.iter().map(|s| s.1))
+            .fold(0.0, f64::max)
+    }
+
+    /// Every axis value of [`Carriers::tree`] at machine time `t`.
+    pub fn values_at(&self, t: f64, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend_from_slice(&self.start);
+        for tr in &self.tracks {
+            tr.values(tr.at(t), out);
+        }
+    }
+
+    /// Whether component `c` is in the working space at `t` (a head's tool only while it is the
+    /// active one).
+    pub fn present(&self, c: CompId, t: f64) -> bool {
+        let Some(s) = self.k.components[c].station else {
+            return true;
+        };
+        let Some(p) = self.owner(c) else { return true };
+        self.tracks
+            .iter()
+            .find(|tr| tr.lane.path == p)
+            .map_or(true, |tr| tr.present(s, tr.at(t)))
+    }
+
+    /// The path whose axes carry `c` (the lowest, for a part two carry).
+    fn owner(&self, c: CompId) -> Option<u32> {
+        let m = self.masks[c];
+        (m != 0).then(|| m.trailing_zeros())
+    }
+}
+
+/// The carriers' contacts over the machine's time (see the module docs). `kin` is the whole
+/// machine's tree; `stop`: nothing past this machine time (a deadlock). Returns the findings and
+/// the probes spent.
+pub fn check(kin: &Kinematics, lanes: &[Lane3], tolerance: f64, stop: Option<f64>) -> (Vec<Finding>, u64) {
+    let tol = tolerance.max(1e-4);
+    let cx = Carriers::new(kin, lanes, tolerance);
+    let Carriers {
+        k,
+        masks,
+        tracks,
+        start,
+        pairs,
+        shapes,
+    } = &cx;
+    let mut findings = Vec::new();
+    // Per finding: its line and the other paths' lines it names (how a crash is told apart).
+    let mut keys: Vec<(u32, String)> = Vec::new();
+    let mut probes = 0u64;
+    if pairs.is_empty() {
+        return (findings, probes);
+    }
+    let end = cx.end().min(stop.unwrap_or(f64::INFINITY));
+    let mut cuts: Vec<f64> = tracks
+        .iter()
+        .flat_map(|t| t.spans.iter().flat_map(|s| [s.0, s.1]))
+        .chain([0.0, end])
+        .filter(|t| t.is_finite() && *t <= end)
+        .collect();
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup_by(|a, b| (*a - *b).abs() <= 1e-12);
+    let mut open: HashMap<(CompId, CompId), Open> = HashMap::new();
+    let pieces: Vec<(f64, f64)> = if cuts.len() < 2 {
+        vec![(0.0, 0.0)]
+    } else {
+        cuts.windows(2).map(|w| (w[0], w[1])).collect()
+    };
+    for (t0, t1) in pieces {
+        let mid = (t0 + t1) / 2.0;
+        let piece = Piece { tracks, start, t0, t1 };
+        for &(a, b) in pairs {
+            // A tool in the magazine of a head is not in the working space.
+            if !cx.present(a, mid) || !cx.present(b, mid) {
+                open.remove(&(a, b));
+                continue;
+            }
+            let (sa, sb) = (shapes[a].as_ref().unwrap(), shapes[b].as_ref().unwrap());
+            let (adv, _, spent) = collide3::first_contact_from(k, (a, sa), (b, sb), &piece, 2.0 * tol, tol, 0.0);
+            probes += spent;
+            match adv {
+                Advance::Clear => {
+                    open.remove(&(a, b));
+                }
+                Advance::Unchecked { u } => {
+                    keys.push((0, String::new()));
+                    findings.push(Finding::at(
+                        Kind::Unsupported,
+                        Severity::Warning,
+                        1,
+                        0,
+                        format!(
+                            "the 3D check of the carriers against each other stopped after {} probes at {:.3} s: the rest of that move is unchecked",
+                            collide3::MAX_PROBES,
+                            t0 + u * (t1 - t0)
+                        ),
+                    ));
+                }
+                Advance::Contact { u, hit } => {
+                    // The deepest of a few instants from first contact to the piece's end, and
+                    // whether it lasts into the next piece.
+                    let mut depth = hit.depth;
+                    let mut lasts = false;
+                    let t = t0 + u * (t1 - t0);
+                    // The last instant seen in contact.
+                    let mut last_in = t;
+                    let mut poser = Poser::new(k);
+                    let mut vals = Vec::new();
+                    for i in 1..=DEPTH_SAMPLES {
+                        let v = u + (1.0 - u) * i as f64 / DEPTH_SAMPLES as f64;
+                        piece.at(v, &mut vals);
+                        poser.pose(k, &vals);
+                        let h = collide3::overlap(sa, poser.world(a), sb, poser.world(b), 2.0 * tol);
+                        probes += 1;
+                        if let Some(h) = &h {
+                            depth = depth.max(h.depth);
+                            last_in = t0 + v * (t1 - t0);
+                        }
+                        if i == DEPTH_SAMPLES {
+                            lasts = h.is_some();
+                        }
+                    }
+                    if u <= 1e-9 && open.contains_key(&(a, b)) {
+                        // The same contact goes on from the piece before.
+                        for &f in &open[&(a, b)].findings {
+                            let fd: &mut Finding = &mut findings[f];
+                            fd.depth_mm = Some(fd.depth_mm.unwrap_or(0.0).max(depth));
+                            fd.end_time_s = Some(fd.end_time_s.unwrap_or(last_in).max(last_in));
+                            let tr = tracks.iter().find(|tr| Some(tr.lane.path) == fd_path(fd));
+                            if let Some(tr) = tr {
+                                fd.end_line = fd.end_line.max(tr.line(tr.at(mid)).0);
+                            }
+                        }
+                    } else {
+                        // Another pair of the same two carriers meeting at the same lines (the
+                        // holder after the insert) is the same crash: its findings take the
+                        // deeper depth, not a finding of their own.
+                        let mut made = report(k, tracks, masks, (a, b), t, depth);
+                        for f in &mut made {
+                            f.end_time_s = Some(last_in);
+                        }
+                        let mut at = Vec::new();
+                        for f in made {
+                            let key = (f.line, f.message[f.message.rfind('(').unwrap_or(0)..].to_string());
+                            match keys.iter().position(|k| *k == key) {
+                                Some(i) => {
+                                    let g = &mut findings[i];
+                                    let most = |a: Option<f64>, b: Option<f64>| match (a, b) {
+                                        (Some(a), Some(b)) => Some(a.max(b)),
+                                        (a, b) => a.or(b),
+                                    };
+                                    let (deepest, last) =
+                                        (most(g.depth_mm, f.depth_mm), most(g.end_time_s, f.end_time_s));
+                                    let end_line = g.end_line.max(f.end_line);
+                                    // The contact that came first tells the crash.
+                                    if f.time_s < g.time_s {
+                                        *g = f;
+                                    }
+                                    g.depth_mm = deepest;
+                                    g.end_time_s = last;
+                                    g.end_line = end_line;
+                                    at.push(i);
+                                }
+                                None => {
+                                    at.push(findings.len());
+                                    findings.push(f);
+                                    keys.push(key);
+                                }
+                            }
+                        }
+                        open.insert((a, b), Open { findings: at });
+                    }
+                    if !lasts {
+                        open.remove(&(a, b));
+                    }
+                }
+            }
+            if probes > MAX_PROBES {
+                findings.push(Finding::at(
+                    Kind::Unsupported,
+                    Severity::Warning,
+                    1,
+                    0,
+                    format!(
+                        "the 3D check of the carriers against each other stopped after {MAX_PROBES} probes at {t0:.3} s: the rest is unchecked"
+                    ),
+                ));
+                return (findings, probes);
+            }
+        }
+    }
+    (findings, probes)
+}
+
+/// The path a finding of this module is at (its first object's `path<p>:` prefix).
+fn fd_path(f: &Finding) -> Option<u32> {
+    f.objects.first()?.strip_prefix("path")?.split(':').next()?.parse().ok()
+}
+
+/// The findings of a contact that begins at `t`: one at the line of each path whose axes carry
+/// one of the two parts, naming the other path's line.
+fn report(
+    k: &Kinematics,
+    tracks: &[Track],
+    masks: &[u32],
+    (a, b): (CompId, CompId),
+    t: f64,
+    depth: f64,
+) -> Vec<Finding> {
+    let paths = masks[a] | masks[b];
+    let in_pair: Vec<&Track> = tracks
+        .iter()
+        .filter(|t| paths & (1 << t.lane.path.min(31)) != 0)
+        .collect();
+    let owner = |c: CompId| (masks[c] != 0).then(|| masks[c].trailing_zeros());
+    let words = |c: CompId| {
+        let comp = &k.components[c];
+        let lane = owner(c).and_then(|p| tracks.iter().find(|t| t.lane.path == p));
+        let cutter = comp
+            .station
+            .zip(lane)
+            .and_then(|(s, l)| l.lane.machine.tools.iter().find(|t| t.station == s))
+            .map(|t| t.cutter);
+        let w = crate::kin::words::words(comp, cutter);
+        match (comp.station, lane) {
+            (Some(_), Some(l)) => format!("{} on the {}", w, l.lane.name),
+            _ => w,
+        }
+    };
+    let mut out = Vec::new();
+    for tr in in_pair.iter().copied() {
+        let p = tr.lane.path;
+        // This path's part first.
+        let (mine, other) = if owner(a) == Some(p) { (a, b) } else { (b, a) };
+        let at = tr.at(t);
+        let (line, n) = tr.line(at);
+        let others: Vec<String> = in_pair
+            .iter()
+            .filter(|o| o.lane.path != p)
+            .map(|o| format!("path {} at line {}", o.lane.path, o.line(o.at(t)).0))
+            .collect();
+        let mut f = Finding::at(
+            Kind::Collision,
+            Severity::Error,
+            line,
+            0,
+            format!("the {} hits the {} ({})", words(mine), words(other), others.join(", ")),
+        )
+        .with_n(n);
+        let path_of = |c: CompId| owner(c).unwrap_or(p);
+        f.objects = vec![
+            format!("path{}:{}", p, k.components[mine].name),
+            format!("path{}:{}", path_of(other), k.components[other].name),
+        ];
+        f.time_s = Some(t);
+        f.end_time_s = Some(t);
+        f.depth_mm = Some(depth);
+        if let Some(i) = at.item {
+            let m = &tr.lane.run.moves[tr.lane.timeline.items[i].index];
+            let it = &tr.lane.timeline.items[i];
+            let r = motion::reference_at(m, it, at.u * it.duration);
+            let q = tr.lane.run.frame(m).to_program(r + m.tip);
+            f.x = Some(q.0);
+            f.z = Some(q.1);
+        }
+        out.push(f);
+    }
+    out
+}
