@@ -298,3 +298,25 @@ fn a_path_without_spindle_words_turns_with_the_spindle_path_1_commands() {
         "{errs:?}"
     );
 }
+
+/// Under G96 the shared spindle turns at the speed the commanding path's surface speed gives at
+/// the commanding path's own tool, not at the other path's: path 1 holds 200 m/min with its tool
+/// at radius 50 (636.6 rpm) while path 2 feeds 10 mm in the air at 0.1 mm/rev with its tool at
+/// radius 10 — 9.42 s at 636.6 rpm, where its own radius would give 3183 rpm and 1.88 s.
+#[test]
+fn a_path_under_another_paths_g96_turns_at_the_speed_of_the_commanding_tool() {
+    let m = twin();
+    let src = "$1\nG21 G18 G99\nG96 S200 M3\nT0101\nG0 X100. Z5.\nG4 X2.\nM30\n$2\nG21 G18 G99\nG4 X1.\nT0101\nG0 X20. Z30.\nG1 Z20. F0.1\nM30\n";
+    let out = pipeline::check(src.as_bytes(), &m, &Settings::default());
+    assert!(
+        out.findings.iter().all(|f| f.severity != Severity::Error),
+        "{:?}",
+        out.findings
+    );
+    // Path 2: 1 s of dwell, its rapid (x 230 mm at 333.3 mm/s, z 480 mm at 400 mm/s: 1.2 s),
+    // then the feed at 636.6 rpm: 10 / (0.1 · 636.6 / 60) = 9.42 s.
+    let rpm = 200_000.0 / (2.0 * std::f64::consts::PI * 50.0);
+    let want = 1.0 + 480.0 / 400.0 + 10.0 / (0.1 * rpm / 60.0);
+    let t = out.stats.machine_time_s;
+    assert!((t - want).abs() < 0.05, "machine time {t:.3} s, worked {want:.3} s");
+}

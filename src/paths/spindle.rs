@@ -7,7 +7,8 @@
 //! feeds per revolution timed at the fallback feed). Here each move of such a path — an **heir**
 //! — takes the spindle of the **donor** (the lowest-numbered path whose lines command it) as it
 //! stands in the machine's clock when the move starts; the heir's own frame, tailstock and tool
-//! states stay its own.
+//! states stay its own. A donor's constant surface speed (G96) reaches the heir as the speed it
+//! gives at the donor's tool then, not at the heir's.
 
 use super::sync::Schedule;
 use super::Lane;
@@ -60,6 +61,13 @@ impl Sharing {
             .iter()
             .map(|it| d.run.states[d.run.moves[it.index].state as usize].spindle)
             .collect();
+        // Where the donor's tool is during each move (its G96 speed at the heir's move starts).
+        let donor_moves: Vec<(crate::interp::Move, crate::motion::Timed)> = d
+            .timeline
+            .items
+            .iter()
+            .map(|it| (d.run.moves[it.index].clone(), it.clone()))
+            .collect();
         // A key per run of equal spindles: states are made once per run, not per move.
         let mut ids = vec![0usize; spindles.len()];
         for k in 1..spindles.len() {
@@ -69,7 +77,7 @@ impl Sharing {
             let hs = &schedules[*h];
             let lane = &mut lanes[*h];
             let mut states: Vec<MoveState> = own_states.clone();
-            let mut made: std::collections::HashMap<(u32, usize), u32> = std::collections::HashMap::new();
+            let mut made: std::collections::HashMap<(u32, usize, u64), u32> = std::collections::HashMap::new();
             for (k, m) in lane.run.moves.iter_mut().enumerate() {
                 let t0 = lane.timeline.items.get(k).map_or(0.0, |it| hs.global(it.index, it.t0));
                 // The donor's last move started by then (none: the spindle as the machine starts).
@@ -80,9 +88,23 @@ impl Sharing {
                 };
                 let own_state = own[k];
                 let next = states.len() as u32;
-                let id = *made.entry((own_state, ids[donor_at])).or_insert_with(|| {
+                // Under G96 the spindle turns at the speed the donor's surface speed gives at the
+                // donor's tool, where it is when the heir's move starts (not at the heir's own
+                // radius): that speed, as G97, for the whole of the heir's move.
+                let mut spindle = spindles[donor_at];
+                let mut key = (own_state, ids[donor_at], 0u64);
+                if let crate::interp::SpindleSpeed::Css { .. } = spindle.speed {
+                    let (dm, it) = &donor_moves[donor_at];
+                    let r = crate::motion::reference_at(dm, it, t0 - starts[donor_at]) + dm.tip;
+                    let rpm = spindle.rpm_at(r.x);
+                    if rpm.is_finite() {
+                        spindle.speed = crate::interp::SpindleSpeed::Rpm(rpm);
+                        key.2 = rpm.to_bits();
+                    }
+                }
+                let id = *made.entry(key).or_insert_with(|| {
                     let mut s = own_states[own_state as usize];
-                    s.spindle = spindles[donor_at];
+                    s.spindle = spindle;
                     states.push(s);
                     next
                 });
