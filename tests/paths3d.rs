@@ -287,3 +287,39 @@ fn the_3d_carriers_search_finds_every_overlap_dense_sampling_finds() {
         "{contacts} of {CASES} cases in contact"
     );
 }
+
+#[test]
+fn a_contact_between_the_carriers_has_its_3d_picture_with_both_parts_marked() {
+    use latheguard::report::scene3::Role3;
+    let m = head_machine();
+    let settings = Settings {
+        snapshots: true,
+        ..Settings::default()
+    };
+    let out = pipeline::check(program("crash_facing_meets_centre_drill.nc").as_bytes(), &m, &settings);
+    let errs: Vec<_> = out.findings.iter().filter(|f| f.severity == Severity::Error).collect();
+    assert_eq!(errs.len(), 2);
+    for f in errs {
+        let s = f.snapshot3.as_ref().expect("a picture");
+        assert_eq!((s.line, s.title.as_str()), (f.line, f.message.as_str()));
+        let a = s.part(Role3::CollidingA).unwrap();
+        let b = s.part(Role3::CollidingB).unwrap();
+        let mut names = [a.name.as_str(), b.name.as_str()];
+        names.sort();
+        assert_eq!(names, ["T01 insert", "T02 drill"]);
+        // The contact is where the insert's tip meets the drill's flutes: 5 mm from the axis,
+        // at the face (z 78).
+        let c = s.contact.unwrap();
+        assert!((c.x - 5.0).abs() < 0.2 && (c.z - 78.0).abs() < 0.2, "{c:?}");
+        // The head's housing and the lower turret are drawn too; the head's other tool is in
+        // its magazine.
+        assert!(s.parts.iter().any(|p| p.name == "milling head"));
+        let t02: Vec<&str> = s
+            .parts
+            .iter()
+            .map(|p| p.name.as_str())
+            .filter(|n| n.starts_with("T02"))
+            .collect();
+        assert_eq!(t02, ["T02 holder", "T02 drill"]);
+    }
+}

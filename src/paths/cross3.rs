@@ -37,6 +37,7 @@ use crate::interp::{position3, Interpretation, MoveKind, EXTRA_LETTERS};
 use crate::kin::{Axis, AxisId, AxisKind, CompId, Kinematics, Poser};
 use crate::machine::Machine;
 use crate::motion::{self, Timeline};
+use crate::report::scene3::{Part3, Role3, Snapshot3};
 
 use super::sync::Schedule;
 
@@ -528,6 +529,63 @@ impl<'a> Carriers<'a> {
             .map_or(true, |tr| tr.present(s, tr.at(t)))
     }
 
+    /// The machine posed at `t` for a finding's picture: every part in the working space, the
+    /// pair `(a, b)` marked, the parts away from their start poses drawn as moving.
+    pub fn picture(&self, (a, b): (CompId, CompId), t: f64, point: Point3<f64>, tolerance: f64) -> Snapshot3 {
+        let k = &self.k;
+        let mut vals = Vec::new();
+        self.values_at(t, &mut vals);
+        let mut poser = Poser::new(k);
+        poser.pose(k, &vals);
+        let mut parts = Vec::new();
+        // A part moved when its own axis or an ancestor's is away from its start value.
+        let mut moved = vec![false; k.components.len()];
+        for (i, c) in k.components.iter().enumerate() {
+            let own = c.axis.is_some_and(|x| vals.get(x) != self.start.get(x));
+            moved[i] = own || c.parent.is_some_and(|p| p < i && moved[p]);
+            if !self.present(i, t) {
+                continue;
+            }
+            let Some(mesh) = c
+                .geometry
+                .as_ref()
+                .and_then(|g| crate::kin::shape::mesh_of(g, tolerance.max(0.05)).ok())
+            else {
+                continue;
+            };
+            let role = if i == a {
+                Role3::CollidingA
+            } else if i == b {
+                Role3::CollidingB
+            } else if moved[i] {
+                Role3::Moving
+            } else {
+                Role3::Fixed
+            };
+            let cutter = c
+                .station
+                .zip(self.owner(i))
+                .and_then(|(s, p)| {
+                    let tr = self.tracks.iter().find(|tr| tr.lane.path == p)?;
+                    tr.lane.machine.tools.iter().find(|tool| tool.station == s)
+                })
+                .map(|tool| tool.cutter);
+            parts.push(Part3 {
+                name: crate::kin::words::words(c, cutter),
+                mesh: std::sync::Arc::new(mesh),
+                pose: *poser.world(i),
+                role,
+            });
+        }
+        Snapshot3 {
+            title: String::new(),
+            line: 0,
+            time_s: Some(t),
+            parts,
+            contact: Some(point),
+        }
+    }
+
     /// The path whose axes carry `c` (the lowest, for a part two carry).
     fn owner(&self, c: CompId) -> Option<u32> {
         let m = self.masks[c];
@@ -538,7 +596,13 @@ impl<'a> Carriers<'a> {
 /// The carriers' contacts over the machine's time (see the module docs). `kin` is the whole
 /// machine's tree; `stop`: nothing past this machine time (a deadlock). Returns the findings and
 /// the probes spent.
-pub fn check(kin: &Kinematics, lanes: &[Lane3], tolerance: f64, stop: Option<f64>) -> (Vec<Finding>, u64) {
+pub fn check(
+    kin: &Kinematics,
+    lanes: &[Lane3],
+    tolerance: f64,
+    stop: Option<f64>,
+    snapshots: bool,
+) -> (Vec<Finding>, u64) {
     let tol = tolerance.max(1e-4);
     let cx = Carriers::new(kin, lanes, tolerance);
     let Carriers {
@@ -641,8 +705,15 @@ pub fn check(kin: &Kinematics, lanes: &[Lane3], tolerance: f64, stop: Option<f64
                         // holder after the insert) is the same crash: its findings take the
                         // deeper depth, not a finding of their own.
                         let mut made = report(k, tracks, masks, (a, b), t, depth);
+                        let picture = snapshots.then(|| cx.picture((a, b), t, hit.point, tolerance));
                         for f in &mut made {
                             f.end_time_s = Some(last_in);
+                            if let Some(p) = &picture {
+                                let mut p = p.clone();
+                                p.title = f.message.clone();
+                                p.line = f.line;
+                                f.snapshot3 = Some(Box::new(p));
+                            }
                         }
                         let mut at = Vec::new();
                         for f in made {

@@ -185,7 +185,7 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
     // The carriers against each other: in 3D on a tree whose axes several paths drive, else in
     // the working plane.
     let (cross_findings, probes) = match machine.kinematics.as_deref().filter(|k| k.is_multi_path()) {
-        Some(kin) => cross3::check(kin, &lanes3(&p), settings.tolerance_mm, p.stop),
+        Some(kin) => cross3::check(kin, &lanes3(&p), settings.tolerance_mm, p.stop, settings.snapshots),
         None => {
             let carriages: Vec<cross::Carriage> = p
                 .lanes

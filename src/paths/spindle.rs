@@ -66,7 +66,7 @@ impl Sharing {
             .timeline
             .items
             .iter()
-            .map(|it| (d.run.moves[it.index].clone(), it.clone()))
+            .map(|it| (d.run.moves[it.index], it.clone()))
             .collect();
         // A key per run of equal spindles: states are made once per run, not per move.
         let mut ids = vec![0usize; spindles.len()];
