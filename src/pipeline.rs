@@ -354,7 +354,42 @@ pub fn check_run(
     machine: &Machine,
     settings: &Settings,
 ) -> Outcome {
-    let mut result = crate::check::check(run, machine, settings);
+    let result = crate::check::check(run, machine, settings);
+    finish_run(findings, left_out, run, result, dialect, machine, settings)
+}
+
+/// [`check_run`] of one path of a multi-path program whose stock the paths share
+/// (`check::check_sharing`): `foreign` what the other paths cut, each before the move it
+/// precedes; with `record`, the outcome and this path's own cuts.
+#[allow(clippy::too_many_arguments)]
+pub fn check_run_sharing(
+    findings: Vec<Finding>,
+    left_out: LeftOut,
+    run: &Interpretation,
+    dialect: Option<(Dialect, String)>,
+    machine: &Machine,
+    settings: &Settings,
+    foreign: Vec<crate::check::Cut>,
+    record: bool,
+) -> (Outcome, Vec<crate::check::Cut>) {
+    let mut result = crate::check::check_sharing(run, machine, settings, foreign, record);
+    let cuts = std::mem::take(&mut result.cuts);
+    (
+        finish_run(findings, left_out, run, result, dialect, machine, settings),
+        cuts,
+    )
+}
+
+/// The outcome of a checked run.
+fn finish_run(
+    findings: Vec<Finding>,
+    left_out: LeftOut,
+    run: &Interpretation,
+    mut result: crate::check::CheckResult,
+    dialect: Option<(Dialect, String)>,
+    machine: &Machine,
+    settings: &Settings,
+) -> Outcome {
     result.stats.moves = run
         .moves
         .iter()

@@ -320,3 +320,37 @@ fn a_path_under_another_paths_g96_turns_at_the_speed_of_the_commanding_tool() {
     let t = out.stats.machine_time_s;
     assert!((t - want).abs() < 0.05, "machine time {t:.3} s, worked {want:.3} s");
 }
+
+/// The paths share the stock: what path 1 turned away before path 2's rapid is not there for
+/// it (no `rapid_into_stock` through material gone), while a rapid made before the cut has
+/// ended still meets the material — and the final part holds both paths' cuts.
+#[test]
+fn a_path_meets_the_stock_another_path_has_already_cut_as_it_is_then() {
+    let m = twin();
+    let shared = "$1\nG21 G18 G99\nG97 S1000 M3\nT0101\nG0 X40. Z2.\nG1 Z-30. F0.3\nG0 X60.\nG0 X200. Z150.\nM100\nM30\n$2\nG21 G18 G99\nM100\nT0101\nG0 X60. Z-10.\nG0 X44.\nG0 X200. Z150.\nM30\n";
+    for mode in [Mode::Step, Mode::Exact] {
+        // Path 1 turns Ø40 for Z2 to Z-30 (ending at 7.7 s) and waits at M100; path 2 waits
+        // there too, then rapids to Ø44 at Z-10: inside the Ø50 bar, outside what is left.
+        assert_eq!(errors(shared, &m, mode), vec![], "{mode:?}");
+        // Without the waits the rapid comes at 1.3 s, before the cut: into the bar.
+        let early = shared.replace("M100\n", "(NO WAIT)\n");
+        let errs = errors(&early, &m, mode);
+        assert_eq!(errs.len(), 1, "{mode:?}: {errs:?}");
+        assert_eq!((errs[0].0, errs[0].1), (16, Kind::RapidIntoStock), "{mode:?}");
+    }
+    // The final part is Ø40 from Z2 to Z-30 whichever path cut it: here path 2 turns it after
+    // path 1 has done nothing, and the part drawn is path 1's stock with path 2's cut.
+    let by_path_2 = "$1\nG21 G18 G99\nG97 S1000 M3\nG4 X1.\nM30\n$2\nG21 G18 G99\nT0101\nG0 X40. Z2.\nG1 Z-30. F0.3\nG0 X60.\nG0 X200. Z150.\nM30\n";
+    let out = pipeline::check(by_path_2.as_bytes(), &m, &Settings::default());
+    let r_min_at = |z: f64| {
+        out.stock
+            .iter()
+            .flat_map(|o| o.windows(2))
+            .filter(|w| (w[0][1] - z) * (w[1][1] - z) <= 0.0 && (w[0][1] - w[1][1]).abs() > 1e-9)
+            .map(|w| w[0][0] + (w[1][0] - w[0][0]) * (z - w[0][1]) / (w[1][1] - w[0][1]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    // z -10 in program coordinates is z 68 in the machine frame (program zero at 78).
+    let r = r_min_at(68.0);
+    assert!((r - 20.0).abs() < 0.05, "the part's radius at Z-10 is {r}");
+}

@@ -91,7 +91,14 @@ pub struct CheckResult {
     pub stock: Option<DexelStock>,
     /// With `Settings::part_mesh`: the final part as binary STL.
     pub part_stl: Option<Vec<u8>>,
+    /// With [`Stream::share_cuts`]'s `record`: each cutting move's index and the polygons its
+    /// insert swept (what it took off the stock), for the other paths of a multi-path program.
+    pub cuts: Vec<Cut>,
 }
+
+/// What one feed move took off the stock: the move's index and the polygons the insert swept
+/// (the working plane, folded about the axis as the stock is).
+pub type Cut = (usize, Vec<Vec<crate::geom::P2>>);
 
 /// The checker reads a program one move at a time (`stream.rs`): of the run it sees only the
 /// move being checked, its state and extra-axis entry (`now`), and the two moves behind it that
@@ -108,6 +115,9 @@ struct Checker<'a> {
     episodes: Episodes,
     stats: Stats,
     cut_any: bool,
+    /// Record each cut in `cuts` (`Stream::share_cuts`).
+    record_cuts: bool,
+    cuts: Vec<Cut>,
     indexed: bool,
     others_tested: bool,
     /// The feed move whose cut is under way, if any: stock queries see the stock as it is at the
@@ -191,6 +201,32 @@ pub fn check(run: &Interpretation, machine: &Machine, settings: &Settings) -> Ch
     check_capped(run, machine, settings, crate::finding::MAX_FINDINGS)
 }
 
+/// [`check`] of one path of a multi-path program whose stock the paths share
+/// ([`Stream::share_cuts`]): `foreign` the other paths' cuts, each before the move it precedes;
+/// with `record`, this path's own cuts in [`CheckResult::cuts`].
+pub fn check_sharing(
+    run: &Interpretation,
+    machine: &Machine,
+    settings: &Settings,
+    foreign: Vec<Cut>,
+    record: bool,
+) -> CheckResult {
+    let three = takes_3d(
+        machine,
+        !run.extra.is_empty(),
+        run.states.iter().any(|s| !s.tailstock_advanced),
+    );
+    let mut s = Stream::new(machine, settings, three, crate::finding::MAX_FINDINGS);
+    s.share_cuts(foreign, record);
+    s.feed(crate::interp::Chunk {
+        first: 0,
+        moves: &run.moves,
+        states: &run.states,
+        extra: &run.extra,
+    });
+    s.finish()
+}
+
 /// [`check`] for a report that keeps the first `cap` findings of a file in line order: a contact
 /// certainly left out is counted but measured only as far as the findings shown depend on it
 /// (`exact::Measure::Coarse`).
@@ -262,6 +298,8 @@ fn checker<'a>(machine: &'a Machine, settings: &Settings, three: bool) -> Checke
         episodes: Episodes::default(),
         stats: Stats::default(),
         cut_any: false,
+        record_cuts: false,
+        cuts: Vec::new(),
         indexed: false,
         others_tested: false,
         cutting: None,
@@ -1269,6 +1307,23 @@ impl Checker<'_> {
         };
         let mut any = false;
         for p in swept.polygons() {
+            any |= stock.cut(p);
+        }
+        self.cut_any |= any;
+        if self.record_cuts {
+            let index = self.cutting.as_ref().map_or(0, |c| c.index);
+            self.cuts.push((index, swept.polygons().map(<[_]>::to_vec).collect()));
+        }
+    }
+
+    /// Take off the stock what another path cut (`Stream::share_cuts`), between two moves.
+    fn cut_foreign(&mut self, polygons: &[Vec<crate::geom::P2>]) {
+        let Some(stock) = self.ensure_stock() else {
+            return;
+        };
+        stock.end_move();
+        let mut any = false;
+        for p in polygons {
             any |= stock.cut(p);
         }
         self.cut_any |= any;

@@ -65,6 +65,8 @@ pub struct Stream<'a> {
     /// The crashes [`Stream::take_final`] handed out that a later contact may still follow on
     /// from.
     released: Vec<Finding>,
+    /// What other paths cut, each before the move of this index (`share_cuts`), in order.
+    foreign: std::collections::VecDeque<super::Cut>,
 }
 
 impl<'a> Stream<'a> {
@@ -88,6 +90,7 @@ impl<'a> Stream<'a> {
             spans: [0.0; 2],
             pending: Vec::new(),
             released: Vec::new(),
+            foreign: Default::default(),
         }
     }
 
@@ -102,6 +105,11 @@ impl<'a> Stream<'a> {
                 extra.next();
             }
             let e = extra.peek().copied().filter(|e| e.index as usize == i);
+            while self.foreign.front().is_some_and(|f| f.0 <= i) {
+                if let Some((_, polygons)) = self.foreign.pop_front() {
+                    self.c.cut_foreign(&polygons);
+                }
+            }
             let state = &chunk.states[m.state as usize];
             let stalled = self.clock.stalled().len();
             let item = self.clock.time(m, &state.spindle, e);
@@ -110,6 +118,16 @@ impl<'a> Stream<'a> {
             }
             self.step(i, m, state, e, &item);
         }
+    }
+
+    /// Share the stock with the other paths of a multi-path program (`paths`): take off it what
+    /// they cut, each cut `(i, polygons)` just before move `i` (every path's cut that has ended by
+    /// then, in the machine's clock; `usize::MAX`: at the end, for the final part), and with
+    /// `record`, keep this path's own cuts in [`CheckResult::cuts`].
+    pub fn share_cuts(&mut self, mut foreign: Vec<super::Cut>, record: bool) {
+        foreign.sort_by_key(|f| f.0);
+        self.foreign = foreign.into();
+        self.c.record_cuts = record;
     }
 
     /// The index the next move fed gets (an extra-axis entry's `index`).
@@ -269,10 +287,15 @@ impl<'a> Stream<'a> {
             started,
             motions,
             stalls,
+            foreign: mut self_foreign,
             ..
         } = self;
         if !started {
             c.static_pairs(1);
+        }
+        // Other paths' cuts after this path's last move: the final part has them too.
+        for (_, polygons) in std::mem::take(&mut self_foreign) {
+            c.cut_foreign(&polygons);
         }
         let settings = c.settings;
         let (machine_time_s, _) = clock.finish();
@@ -332,6 +355,7 @@ impl<'a> Stream<'a> {
             stats,
             stock: c.stock,
             part_stl,
+            cuts: c.cuts,
         }
     }
 }

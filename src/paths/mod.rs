@@ -13,9 +13,9 @@
 //!    that can never meet are a `program` finding at each wait left standing.
 //! 4. `cross.rs` checks the carriers against each other over that common time.
 //!
-//! Each path's check has the stock to itself: it does not see what another path cut, so it
-//! judges its moves against at least as much material as the part has — never fewer findings,
-//! possibly one where another path has already cut the material away (docs/paths.md).
+//! The paths share the stock (`shared_stock`): a path's move meets the stock less every other
+//! path's cut that has ended by the move's start — at least the material there is at any
+//! instant of it (docs/paths.md).
 
 pub mod cross;
 pub mod cross3;
@@ -216,8 +216,8 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
     let mut out = Outcome::default();
     let mut seen = std::collections::HashSet::new();
     let mut machine_time = 0.0f64;
-    for (l, s) in lanes.into_iter().zip(&schedules) {
-        let o = pipeline::check_run(l.findings, l.left_out, &l.run, l.dialect, &l.machine, settings);
+    let outcomes = shared_stock(&lanes, &schedules, settings);
+    for ((l, s), o) in lanes.into_iter().zip(&schedules).zip(outcomes) {
         for mut f in o.findings {
             if let Some(t) = f.time_s.as_mut() {
                 *t = s.global_of_local(*t);
@@ -250,9 +250,8 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
         }
         machine_time = machine_time.max(s.global_of_local(st.machine_time_s));
         if l.path == 1 {
-            // The final part is path 1's: it holds at least the material the part has (what
-            // other paths cut is not taken off it), so a later operation that starts from it is
-            // checked against no less than the real part.
+            // The final part is path 1's stock, which has every other path's cuts too
+            // (`shared_stock` takes off the ones after its last move at its end).
             out.stock = o.stock;
             out.part = o.part;
             out.part_stl = o.part_stl;
@@ -266,6 +265,80 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
     crate::finding::sort_findings(&mut out.findings);
     out
 }
+
+/// Each lane checked on the stock the paths share: first each alone, its cuts recorded; then
+/// each lane that another path cut before one of its moves again, with those cuts taken off its
+/// stock before that move (every cut that has ended by the move's start in the machine's clock;
+/// a cut still under way is not, so the stock a move meets holds at least the material there is).
+/// A cut after the lane's last move is taken off its final part. The cuts of a lane do not
+/// depend on what another took off before them (a cut is the insert's sweep), so one round is
+/// exact.
+fn shared_stock(lanes: &[Lane], schedules: &[sync::Schedule], settings: &Settings) -> Vec<Outcome> {
+    let (alone, cuts): (Vec<Outcome>, Vec<Vec<crate::check::Cut>>) = lanes
+        .iter()
+        .map(|l| {
+            pipeline::check_run_sharing(
+                l.findings.clone(),
+                l.left_out,
+                &l.run,
+                l.dialect.clone(),
+                &l.machine,
+                settings,
+                Vec::new(),
+                lanes.len() > 1,
+            )
+        })
+        .unzip();
+    // Each lane's cuts with the machine time they end at.
+    let ended: Vec<Vec<(f64, &Polygons)>> = lanes
+        .iter()
+        .zip(schedules)
+        .zip(&cuts)
+        .map(|((l, s), cuts)| {
+            cuts.iter()
+                .filter_map(|(k, polys)| {
+                    let j = l.timeline.items.partition_point(|it| it.index < *k);
+                    let it = l.timeline.items.get(j).filter(|it| it.index == *k)?;
+                    Some((s.global(it.index, it.t0) + it.duration, polys))
+                })
+                .collect()
+        })
+        .collect();
+    let mut out = Vec::with_capacity(lanes.len());
+    for (p, ((l, s), o)) in lanes.iter().zip(schedules).zip(alone).enumerate() {
+        let starts: Vec<f64> = l.timeline.items.iter().map(|it| s.global(it.index, it.t0)).collect();
+        let foreign: Vec<crate::check::Cut> = ended
+            .iter()
+            .enumerate()
+            .filter(|(q, _)| *q != p)
+            .flat_map(|(_, cuts)| cuts.iter())
+            .map(|(end, polys)| {
+                let j = starts.partition_point(|&t| t < *end);
+                let before = l.timeline.items.get(j).map_or(usize::MAX, |it| it.index);
+                (before, (*polys).clone())
+            })
+            .collect();
+        if foreign.is_empty() {
+            out.push(o);
+            continue;
+        }
+        let (o, _) = pipeline::check_run_sharing(
+            l.findings.clone(),
+            l.left_out,
+            &l.run,
+            l.dialect.clone(),
+            &l.machine,
+            settings,
+            foreign,
+            false,
+        );
+        out.push(o);
+    }
+    out
+}
+
+/// The polygons one cut swept (`check::Cut`).
+type Polygons = Vec<Vec<crate::geom::P2>>;
 
 /// One path of the program: its lathe, its run and its own time.
 struct Lane {
