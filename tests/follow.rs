@@ -241,3 +241,63 @@ fn replaying_every_turn_mill_example_gives_the_errors_check_gives() {
         }
     }
 }
+
+/// The samples of `tests/fixtures/follow/crash.jsonl` served on a socket the test listens on:
+/// `follow` connects, reads them as it would standard input and reports the same crash.
+fn follow_from_socket(source: &str, serve: impl FnOnce(&[u8]) + Send + 'static) -> (i32, Vec<String>) {
+    let samples = std::fs::read(root().join("tests/fixtures/follow/crash.jsonl")).unwrap();
+    let server = std::thread::spawn(move || serve(&samples));
+    let out = bin()
+        .args(["follow", "--format", "json", source])
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    server.join().unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    (out.status.code().unwrap(), text.lines().map(str::to_string).collect())
+}
+
+#[test]
+fn samples_read_from_a_tcp_socket_give_the_crash_standard_input_gives() {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = listener.local_addr().unwrap().port();
+    let (code, out) = follow_from_socket(&format!("tcp:127.0.0.1:{port}"), move |samples| {
+        let (mut conn, _) = listener.accept().unwrap();
+        conn.write_all(samples).unwrap();
+    });
+    assert_eq!(code, 1, "{out:?}");
+    let docs = json_lines(&out);
+    assert_eq!(docs.len(), 1, "{out:?}");
+    assert_eq!(
+        (docs[0]["kind"].as_str(), docs[0]["line"].as_u64()),
+        (Some("rapid_into_stock"), Some(4))
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn samples_read_from_a_unix_socket_give_the_crash_standard_input_gives() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("samples.sock");
+    let listener = std::os::unix::net::UnixListener::bind(&path).unwrap();
+    let (code, out) = follow_from_socket(&format!("unix:{}", path.display()), move |samples| {
+        let (mut conn, _) = listener.accept().unwrap();
+        conn.write_all(samples).unwrap();
+    });
+    assert_eq!(code, 1, "{out:?}");
+    let docs = json_lines(&out);
+    assert_eq!(docs.len(), 1, "{out:?}");
+    assert_eq!(
+        (docs[0]["kind"].as_str(), docs[0]["line"].as_u64()),
+        (Some("rapid_into_stock"), Some(4))
+    );
+    // A socket nobody listens on is a clear error, exit 2.
+    let gone = dir.path().join("nobody.sock");
+    let out = bin()
+        .args(["follow", &format!("unix:{}", gone.display())])
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("nobody.sock"));
+}
