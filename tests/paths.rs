@@ -354,3 +354,45 @@ fn a_path_meets_the_stock_another_path_has_already_cut_as_it_is_then() {
     let r = r_min_at(68.0);
     assert!((r - 20.0).abs() < 0.05, "the part's radius at Z-10 is {r}");
 }
+
+/// `latheguard moves --path N` prints one path of a multi-path program, on its carrier, at its
+/// lines of the file; a path the file or the machine lacks is exit 2 with the reason.
+#[test]
+fn moves_prints_the_path_it_is_asked_for_at_its_lines_of_the_file() {
+    let run = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_latheguard"))
+            .current_dir(root())
+            .arg("moves")
+            .args(args)
+            .output()
+            .unwrap();
+        (
+            out.status.code().unwrap(),
+            String::from_utf8(out.stdout).unwrap(),
+            String::from_utf8(out.stderr).unwrap(),
+        )
+    };
+    let file = "programs/twin-turret/centre_drill_handover.nc";
+    let (code, out, err) = run(&["-m", "machines/twin-turret.toml", "--path", "2", file]);
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<u32> = out
+        .lines()
+        .filter_map(|l| l.split_whitespace().next()?.parse().ok())
+        .collect();
+    // Path 2's lines are 13 to 25 of the file; its roughing feed (line 17) runs along X52 (a
+    // radius of 26 in the canonical calls), its centre drill (line 23) on the axis.
+    assert!(lines.iter().all(|l| (13..=25).contains(l)), "{out}");
+    assert!(out.contains("   17 STRAIGHT_FEED(26.0000, 0.0000, -30.0000"), "{out}");
+    assert!(out.contains("   23 STRAIGHT_FEED(0.0000, 0.0000, -2.0000"), "{out}");
+    // Path 1 by default: its U-drill's feed at line 8, nothing of path 2's.
+    let (code, out, _) = run(&["-m", "machines/twin-turret.toml", file]);
+    assert_eq!(code, 0);
+    assert!(out.contains("    8 STRAIGHT_FEED(0.0000, 0.0000, -25.0000"), "{out}");
+    assert!(!out.contains("   17 "), "{out}");
+    let (code, _, err) = run(&["-m", "machines/twin-turret.toml", "--path", "3", file]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no $3 lines"), "{err}");
+    let (code, _, err) = run(&["--path", "2", "programs/grooving.nc"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("the machine has 1 path"), "{err}");
+}

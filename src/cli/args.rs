@@ -255,6 +255,10 @@ pub struct MovesArgs {
     /// end), 0.001 to 1000.
     #[arg(long, value_name = "MS", default_value_t = 1.0, value_parser = dt)]
     pub dt: f64,
+    /// The path whose moves to print, on a multi-path machine or of a file with `$1`/`$2` lines:
+    /// its lines, on its carrier (1 to 9; default 1).
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=9))]
+    pub path: u32,
     #[command(flatten)]
     pub job: JobArgs,
 }

@@ -19,14 +19,37 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
         .machine;
     let src = read_capped(&a.program, MAX_PROGRAM_BYTES)
         .map_err(|why| format!("{}: cannot read: {why}", shown(&a.program)))?;
+    // One path of a multi-path program (docs/paths.md): its lines (the others blanked, so line
+    // numbers stay the file's) on its carrier's lathe; a file without `$` lines is all one path's.
+    let src = match latheguard::paths::split::split(&src) {
+        None => src,
+        Some(s) => match s.paths.into_iter().find(|(p, _)| *p == a.path) {
+            Some((_, text)) => text,
+            None => {
+                return Err(format!(
+                    "{}: has no ${} lines: no path {} to print",
+                    shown(&a.program),
+                    a.path,
+                    a.path
+                ))
+            }
+        },
+    };
+    let machine = match machine.for_path(a.path) {
+        Some(std::borrow::Cow::Owned(m)) => std::sync::Arc::new(m),
+        Some(std::borrow::Cow::Borrowed(_)) => machine,
+        None => {
+            return Err(format!(
+                "--path {}: the machine has {} path{} (`[[paths]]`, docs/paths.md)",
+                a.path,
+                machine.paths.count(),
+                if machine.paths.count() == 1 { "" } else { "s" }
+            ))
+        }
+    };
     // A machine whose file says `dialect = "auto"` reads the program in the dialect its own
     // signs show, as `check` does.
     let (machine, _) = pipeline::resolve(&src, &machine);
-    // A machine with several paths: path 1's lathe (docs/paths.md, `moves` reads one path).
-    let machine = match machine.for_path(1) {
-        Some(std::borrow::Cow::Owned(m)) => std::borrow::Cow::Owned(m),
-        _ => machine,
-    };
     let machine = machine.as_ref();
     let mut prog = pipeline::read(&src, machine);
     let mut written: std::io::Result<()> = Ok(());
