@@ -323,3 +323,26 @@ fn a_contact_between_the_carriers_has_its_3d_picture_with_both_parts_marked() {
         assert_eq!(t02, ["T02 holder", "T02 drill"]);
     }
 }
+
+/// A job's milling tool goes to path 1's station of its number: the lower turret's station of
+/// the same number keeps its own tool.
+#[test]
+fn a_job_milling_tool_replaces_path_1s_station_not_the_other_carriers() {
+    let m = head_machine();
+    let job = "[[tools]]\nstation = 2\nname = \"Radial live drill D8\"\ntip = [-130.0, 0.0]\nlive = \"radial\"\nmill = { type = \"drill\", diameter = 8, flute_length = 40, stick_out = 50, holder = { diameter = 35, length = 25 } }\n";
+    let mut no_files = |_: &str, _: &str| -> Result<(String, String), String> { Err("no files".to_string()) };
+    let layer = latheguard::job::parse(job, "j.toml", "", "job", &mut no_files).unwrap();
+    let jm = latheguard::job::apply(&m, &latheguard::job::EffectiveJob::merge([&layer])).unwrap();
+    let k = jm.kinematics.as_deref().unwrap();
+    // The head's end mill is gone (its station's cutter replaced); the lower turret's T02 drill
+    // and the head's holder stay.
+    assert!(k.component("t2_mill").is_none());
+    assert!(k.component("l2_drill").is_some());
+    assert!(k.component("t2_holder").is_some());
+    let masks = k.path_masks();
+    let new: Vec<_> = (0..k.components.len())
+        .filter(|&c| k.components[c].station == Some(2) && masks[c] == 1 << 1)
+        .map(|c| k.components[c].name.clone())
+        .collect();
+    assert!(new.iter().any(|n| n != "t2_holder"), "{new:?}");
+}

@@ -26,6 +26,10 @@ const PARTS: [&str; 4] = ["live", "cutter", "shank", "holder"];
 /// station to hang it from (no component carries a station).
 pub fn fit(k: &Kinematics, station: u32, tip: P2, m: &MillTool) -> Option<Kinematics> {
     let n = k.components.len();
+    // A job's tools are path 1's (docs/paths.md): on a tree several paths drive, another
+    // carrier's station of the same number is not this one.
+    let masks = k.path_masks();
+    let ours = |c: CompId| masks[c] & !(1 << 1) == 0;
     let top_of = |mut c: CompId| {
         while let Some(p) = k.components[c].parent {
             if k.components[p].station != k.components[c].station {
@@ -36,15 +40,16 @@ pub fn fit(k: &Kinematics, station: u32, tip: P2, m: &MillTool) -> Option<Kinema
         c
     };
     let first = (0..n)
-        .find(|&c| k.components[c].station == Some(station))
-        .or_else(|| (0..n).find(|&c| k.components[c].station.is_some()))?;
+        .find(|&c| k.components[c].station == Some(station) && ours(c))
+        .or_else(|| (0..n).find(|&c| k.components[c].station.is_some() && ours(c)))?;
     let anchor = top_of(first);
     let parent = k.components[anchor].parent?;
     // The station's cutters and everything under them leave.
     let mut gone = vec![false; n];
     for c in 0..n {
         let comp = &k.components[c];
-        gone[c] = (comp.station == Some(station) && comp.role == Role::Cutter) || comp.parent.is_some_and(|p| gone[p]);
+        gone[c] = (comp.station == Some(station) && comp.role == Role::Cutter && ours(c))
+            || comp.parent.is_some_and(|p| gone[p]);
     }
     // Partners by role: of this station's parts, else of every station's.
     let partners = |role: Role, own: bool| -> Vec<CompId> {
@@ -52,7 +57,7 @@ pub fn fit(k: &Kinematics, station: u32, tip: P2, m: &MillTool) -> Option<Kinema
         for &(a, b) in &k.never_touch {
             for (x, y) in [(a, b), (b, a)] {
                 let c = &k.components[x];
-                let fits = c.role == role && c.station.is_some() && (!own || c.station == Some(station));
+                let fits = c.role == role && c.station.is_some() && ours(x) && (!own || c.station == Some(station));
                 if fits && !gone[y] && k.components[y].station.is_none() && !out.contains(&y) {
                     out.push(y);
                 }
