@@ -257,6 +257,17 @@ fn follow_from_socket(source: &str, serve: impl FnOnce(&[u8]) + Send + 'static) 
     (out.status.code().unwrap(), text.lines().map(str::to_string).collect())
 }
 
+/// `follow`'s answer to `crash.jsonl`: the one rapid into the bar at line 4, exit 1.
+fn assert_the_crash_of_crash_jsonl(code: i32, out: &[String]) {
+    assert_eq!(code, 1, "{out:?}");
+    let docs = json_lines(out);
+    assert_eq!(docs.len(), 1, "{out:?}");
+    assert_eq!(
+        (docs[0]["kind"].as_str(), docs[0]["line"].as_u64()),
+        (Some("rapid_into_stock"), Some(4))
+    );
+}
+
 #[test]
 fn samples_read_from_a_tcp_socket_give_the_crash_standard_input_gives() {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
@@ -265,13 +276,7 @@ fn samples_read_from_a_tcp_socket_give_the_crash_standard_input_gives() {
         let (mut conn, _) = listener.accept().unwrap();
         conn.write_all(samples).unwrap();
     });
-    assert_eq!(code, 1, "{out:?}");
-    let docs = json_lines(&out);
-    assert_eq!(docs.len(), 1, "{out:?}");
-    assert_eq!(
-        (docs[0]["kind"].as_str(), docs[0]["line"].as_u64()),
-        (Some("rapid_into_stock"), Some(4))
-    );
+    assert_the_crash_of_crash_jsonl(code, &out);
 }
 
 #[cfg(unix)]
@@ -284,13 +289,7 @@ fn samples_read_from_a_unix_socket_give_the_crash_standard_input_gives() {
         let (mut conn, _) = listener.accept().unwrap();
         conn.write_all(samples).unwrap();
     });
-    assert_eq!(code, 1, "{out:?}");
-    let docs = json_lines(&out);
-    assert_eq!(docs.len(), 1, "{out:?}");
-    assert_eq!(
-        (docs[0]["kind"].as_str(), docs[0]["line"].as_u64()),
-        (Some("rapid_into_stock"), Some(4))
-    );
+    assert_the_crash_of_crash_jsonl(code, &out);
     // A socket nobody listens on is a clear error, exit 2.
     let gone = dir.path().join("nobody.sock");
     let out = bin()

@@ -211,32 +211,39 @@ pub fn check_sharing(
     foreign: Vec<Cut>,
     record: bool,
 ) -> CheckResult {
-    let three = takes_3d(
+    run_stream(
+        run,
         machine,
-        !run.extra.is_empty(),
-        run.states.iter().any(|s| !s.tailstock_advanced),
-    );
-    let mut s = Stream::new(machine, settings, three, crate::finding::MAX_FINDINGS);
-    s.share_cuts(foreign, record);
-    s.feed(crate::interp::Chunk {
-        first: 0,
-        moves: &run.moves,
-        states: &run.states,
-        extra: &run.extra,
-    });
-    s.finish()
+        settings,
+        crate::finding::MAX_FINDINGS,
+        Some((foreign, record)),
+    )
 }
 
 /// [`check`] for a report that keeps the first `cap` findings of a file in line order: a contact
 /// certainly left out is counted but measured only as far as the findings shown depend on it
 /// (`exact::Measure::Coarse`).
 fn check_capped(run: &Interpretation, machine: &Machine, settings: &Settings, cap: usize) -> CheckResult {
+    run_stream(run, machine, settings, cap, None)
+}
+
+/// A whole run through one [`Stream`], sharing the stock as [`check_sharing`] says when `share`.
+fn run_stream(
+    run: &Interpretation,
+    machine: &Machine,
+    settings: &Settings,
+    cap: usize,
+    share: Option<(Vec<Cut>, bool)>,
+) -> CheckResult {
     let three = takes_3d(
         machine,
         !run.extra.is_empty(),
         run.states.iter().any(|s| !s.tailstock_advanced),
     );
     let mut s = Stream::new(machine, settings, three, cap);
+    if let Some((foreign, record)) = share {
+        s.share_cuts(foreign, record);
+    }
     s.feed(crate::interp::Chunk {
         first: 0,
         moves: &run.moves,

@@ -46,7 +46,7 @@ use crate::collide3::{self, Hit, Shape3};
 use crate::collide3::{bound_from, Advance, Path as _, MAX_PROBES};
 use crate::finding::Kind;
 use crate::geom::TOUCH_EPS;
-use crate::interp::{position3, ExtraMove, Move, MoveKind};
+use crate::interp::{ExtraMove, Move, MoveKind};
 use crate::kin::{AxisId, CompId, Geometry, Kinematics, Poser, Role};
 use crate::motion::{self, Timed};
 use crate::report::scene3::{Part3, Role3, Snapshot3};
@@ -257,67 +257,23 @@ impl Three {
     fn values(&self, m: &Move, e: Option<&ExtraMove>, item: &Timed, u: f64, out: &mut Vec<f64>) {
         out.clear();
         out.extend_from_slice(&self.start);
-        let (x, y, z, ex) = match e.filter(|e| e.arc.is_some()) {
-            Some(e) => {
-                let (p, ex) = position3(m, Some(e), u);
-                (p[0] - m.tip.x, p[1], p[2] - m.tip.y, ex)
-            }
-            None => {
-                let r = motion::reference_at(m, item, u * item.duration);
-                let mut ex = [0.0; 4];
-                if let Some(e) = e {
-                    for (k, v) in ex.iter_mut().enumerate() {
-                        *v = e.start[k] + (e.end[k] - e.start[k]) * u;
-                    }
-                } else {
-                    for (k, v) in ex.iter_mut().enumerate() {
-                        *v = self.ax_extra[k].map_or(0.0, |a| self.start[a]);
-                    }
-                }
-                let y = ex[0];
-                (r.x, y, r.y, ex)
-            }
-        };
-        if let Some(a) = self.ax_x {
-            out[a] = x;
-        }
-        if let Some(a) = self.ax_z {
-            out[a] = z;
-        }
-        for (k, a) in self.ax_extra.iter().enumerate() {
-            if let Some(a) = *a {
-                out[a] = if k == 0 { y } else { ex[k] };
-            }
-        }
+        self.tree_axes().values(m, e, item, u, out);
     }
 
     /// Per axis, a bound of how fast its value changes per unit of the time fraction `u`.
     fn rates(&self, m: &Move, e: Option<&ExtraMove>, item: &Timed) -> Vec<f64> {
         let mut r = vec![0.0; self.start.len()];
-        // The reference point's speed bounds each of its coordinates' (dogleg rapids included).
-        let v = if item.duration > 0.0 {
-            motion::max_speed(m, item) * item.duration
-        } else {
-            0.0
-        };
-        let v = if v.is_finite() { v } else { f64::MAX };
-        let arc = e.and_then(|e| e.arc.map(|_| crate::interp::length3(m, e)));
-        let lin = arc.map_or(v, |l| l.max(v));
-        for a in [self.ax_x, self.ax_z].into_iter().flatten() {
-            r[a] = lin;
-        }
-        if let Some(e) = e {
-            for (k, a) in self.ax_extra.iter().enumerate() {
-                if let Some(a) = *a {
-                    r[a] = if k == 0 && arc.is_some() {
-                        lin
-                    } else {
-                        (e.end[k] - e.start[k]).abs()
-                    };
-                }
-            }
-        }
+        self.tree_axes().rates(m, e, item, &mut r);
         r
+    }
+
+    /// The program's axes on the tree.
+    fn tree_axes(&self) -> motion::TreeAxes {
+        motion::TreeAxes {
+            x: self.ax_x,
+            z: self.ax_z,
+            extra: self.ax_extra,
+        }
     }
 
     /// The components that take part in this move: every tool of every station (the others
@@ -1013,15 +969,7 @@ impl Checker<'_> {
             let Some(mesh) = three.mesh(i, self.settings.tolerance_mm) else {
                 continue;
             };
-            let role = if i == a {
-                Role3::CollidingA
-            } else if i == b {
-                Role3::CollidingB
-            } else if moved[i] {
-                Role3::Moving
-            } else {
-                Role3::Fixed
-            };
+            let role = Role3::of(i, (a, b), moved[i]);
             parts.push(Part3 {
                 name: self.words3(k, i),
                 mesh,

@@ -455,3 +455,83 @@ pub fn fraction_at(item: &Timed, dt: f64) -> f64 {
         _ => 1.0,
     }
 }
+
+/// One path's axes on a kinematic tree (`kin`): the axis X, Z and each extra letter
+/// (`interp::EXTRA_LETTERS`: Y, C, B, A) drive, by index. The one place a move's axis values and
+/// their rates are read for the tree (the 3D path, `check/three.rs`; the carriers between paths,
+/// `paths/cross3.rs`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TreeAxes {
+    pub x: Option<usize>,
+    pub z: Option<usize>,
+    pub extra: [Option<usize>; 4],
+}
+
+impl TreeAxes {
+    /// Write the axis values at time fraction `u` of move `m` into `out`: X and Z the turret
+    /// reference point as [`reference_at`] times it (dogleg rapids too), the extra axes linearly
+    /// over the move, a G17/G19 arc along `interp::position3`. Without an extra-axis entry the
+    /// extra axes keep the values `out` holds (their start values, as the caller fills it).
+    pub fn values(&self, m: &Move, e: Option<&crate::interp::ExtraMove>, item: &Timed, u: f64, out: &mut [f64]) {
+        let (x, y, z, ex) = match e.filter(|e| e.arc.is_some()) {
+            Some(e) => {
+                let (p, ex) = crate::interp::position3(m, Some(e), u);
+                (p[0] - m.tip.x, p[1], p[2] - m.tip.y, ex)
+            }
+            None => {
+                let r = reference_at(m, item, u * item.duration);
+                let mut ex = [0.0; 4];
+                for (k, v) in ex.iter_mut().enumerate() {
+                    *v = match e {
+                        Some(e) => e.start[k] + (e.end[k] - e.start[k]) * u,
+                        None => self.extra[k].and_then(|a| out.get(a).copied()).unwrap_or(0.0),
+                    };
+                }
+                (r.x, ex[0], r.y, ex)
+            }
+        };
+        let mut set = |a: Option<usize>, v: f64| {
+            if let Some(slot) = a.and_then(|a| out.get_mut(a)) {
+                *slot = v;
+            }
+        };
+        set(self.x, x);
+        set(self.z, z);
+        for (k, a) in self.extra.iter().enumerate() {
+            set(*a, if k == 0 { y } else { ex[k] });
+        }
+    }
+
+    /// Write, per axis, a bound of how far its value travels over the whole move (its rate per
+    /// unit of the time fraction `u`): the reference point's greatest speed bounds each of its
+    /// coordinates' (dogleg rapids included), an arc's length its axes'.
+    pub fn rates(&self, m: &Move, e: Option<&crate::interp::ExtraMove>, item: &Timed, out: &mut [f64]) {
+        let v = if item.duration > 0.0 {
+            max_speed(m, item) * item.duration
+        } else {
+            0.0
+        };
+        let v = if v.is_finite() { v } else { f64::MAX };
+        let arc = e.and_then(|e| e.arc.map(|_| crate::interp::length3(m, e)));
+        let lin = arc.map_or(v, |l| l.max(v));
+        let mut set = |a: Option<usize>, v: f64| {
+            if let Some(slot) = a.and_then(|a| out.get_mut(a)) {
+                *slot = v;
+            }
+        };
+        set(self.x, lin);
+        set(self.z, lin);
+        if let Some(e) = e {
+            for (k, a) in self.extra.iter().enumerate() {
+                set(
+                    *a,
+                    if k == 0 && arc.is_some() {
+                        lin
+                    } else {
+                        (e.end[k] - e.start[k]).abs()
+                    },
+                );
+            }
+        }
+    }
+}

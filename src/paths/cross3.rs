@@ -33,30 +33,20 @@ use nalgebra::{Point3, Unit, Vector3};
 
 use crate::collide3::{self, Advance, Path, Shape3};
 use crate::finding::{Finding, Kind, Severity};
-use crate::interp::{position3, Interpretation, MoveKind, EXTRA_LETTERS};
+use crate::interp::{MoveKind, EXTRA_LETTERS};
 use crate::kin::{Axis, AxisId, AxisKind, CompId, Kinematics, Poser};
 use crate::machine::Machine;
-use crate::motion::{self, Timeline};
+use crate::motion;
 use crate::report::scene3::{Part3, Role3, Snapshot3};
-
-use super::sync::Schedule;
 
 /// Probes the search spends on one program before it gives up with a finding.
 pub const MAX_PROBES: u64 = 2_000_000;
 /// Instants after first contact at which a contact's depth is measured.
 const DEPTH_SAMPLES: u32 = 16;
 
-/// One path, as this check sees it.
-pub struct Lane3<'a> {
-    pub path: u32,
-    /// What reports call its carrier ("milling head", "lower turret").
-    pub name: String,
-    /// The lathe the path runs on (`Machine::for_path`): its turret and tools.
-    pub machine: &'a Machine,
-    pub run: &'a Interpretation,
-    pub timeline: &'a Timeline,
-    pub schedule: &'a Schedule,
-}
+/// One path, as this check sees it: the carriage of the working-plane check (its side is the
+/// tree's business here).
+pub use super::cross::Carriage as Lane3;
 
 /// How a lane's stations stand in this check's tree.
 #[derive(Clone, Debug, PartialEq)]
@@ -76,9 +66,7 @@ enum Stations {
 /// A lane's axes in the tree and its timing in machine time.
 struct Track<'a> {
     lane: &'a Lane3<'a>,
-    ax_x: Option<AxisId>,
-    ax_z: Option<AxisId>,
-    ax_extra: [Option<AxisId>; 4],
+    axes: motion::TreeAxes,
     stations: Stations,
     /// The machine-time start and end of each timed move.
     spans: Vec<(f64, f64)>,
@@ -167,43 +155,14 @@ impl Track<'_> {
         let run = self.lane.run;
         if let Some(i) = at.item {
             let it = &self.lane.timeline.items[i];
-            let m = &run.moves[it.index];
-            let e = run.extra_of(it.index);
-            let (x, y, z, ex) = match e.filter(|e| e.arc.is_some()) {
-                Some(e) => {
-                    let (p, ex) = position3(m, Some(e), at.u);
-                    (p[0] - m.tip.x, p[1], p[2] - m.tip.y, ex)
-                }
-                None => {
-                    let r = motion::reference_at(m, it, at.u * it.duration);
-                    let mut ex = [0.0; 4];
-                    for (k, v) in ex.iter_mut().enumerate() {
-                        *v = match e {
-                            Some(e) => e.start[k] + (e.end[k] - e.start[k]) * at.u,
-                            None => self.ax_extra[k].map_or(0.0, |a| out[a]),
-                        };
-                    }
-                    (r.x, ex[0], r.y, ex)
-                }
-            };
-            if let Some(a) = self.ax_x {
-                out[a] = x;
-            }
-            if let Some(a) = self.ax_z {
-                out[a] = z;
-            }
-            for (k, a) in self.ax_extra.iter().enumerate() {
-                if let Some(a) = *a {
-                    out[a] = if k == 0 { y } else { ex[k] };
-                }
-            }
+            self.axes
+                .values(&run.moves[it.index], run.extra_of(it.index), it, at.u, out);
         } else if let Some(m) = run.moves.first() {
             let r = m.ref_start();
-            if let Some(a) = self.ax_x {
-                out[a] = r.x;
-            }
-            if let Some(a) = self.ax_z {
-                out[a] = r.y;
+            for (a, v) in [(self.axes.x, r.x), (self.axes.z, r.y)] {
+                if let Some(a) = a {
+                    out[a] = v;
+                }
             }
         }
         if let Stations::Drum {
@@ -229,23 +188,12 @@ impl Track<'_> {
         if it.duration <= 0.0 {
             return;
         }
-        let e = run.extra_of(it.index);
-        let v = motion::max_speed(m, it);
-        let v = if v.is_finite() { v } else { f64::MAX };
-        let arc = e.and_then(|e| e.arc.map(|_| crate::interp::length3(m, e) / it.duration));
-        let lin = arc.map_or(v, |l| l.max(v));
-        for a in [self.ax_x, self.ax_z].into_iter().flatten() {
-            out[a] = lin;
-        }
-        if let Some(e) = e {
-            for (k, a) in self.ax_extra.iter().enumerate() {
-                if let Some(a) = *a {
-                    out[a] = if k == 0 && arc.is_some() {
-                        lin
-                    } else {
-                        (e.end[k] - e.start[k]).abs() / it.duration
-                    };
-                }
+        // The tree's rates over the whole move, per second.
+        let mut whole = vec![0.0; out.len()];
+        self.axes.rates(m, run.extra_of(it.index), it, &mut whole);
+        for (o, w) in out.iter_mut().zip(whole) {
+            if w != 0.0 {
+                *o = w / it.duration;
             }
         }
         if let (
@@ -455,9 +403,11 @@ impl<'a> Carriers<'a> {
                     .collect();
                 Track {
                     lane: l,
-                    ax_x: letter('X'),
-                    ax_z: letter('Z'),
-                    ax_extra,
+                    axes: motion::TreeAxes {
+                        x: letter('X'),
+                        z: letter('Z'),
+                        extra: ax_extra,
+                    },
                     stations: stations_of(&mut k, &masks, l.path, l.machine),
                     starts: spans.iter().map(|s| s.0).collect(),
                     spans,
@@ -553,15 +503,7 @@ impl<'a> Carriers<'a> {
             else {
                 continue;
             };
-            let role = if i == a {
-                Role3::CollidingA
-            } else if i == b {
-                Role3::CollidingB
-            } else if moved[i] {
-                Role3::Moving
-            } else {
-                Role3::Fixed
-            };
+            let role = Role3::of(i, (a, b), moved[i]);
             let cutter = c
                 .station
                 .zip(self.owner(i))

@@ -157,24 +157,25 @@ pub fn with_carriers3<R>(
 ) -> Option<R> {
     let kin = machine.kinematics.as_deref().filter(|k| k.is_multi_path())?;
     let p = prepare(src, machine, settings);
-    let lanes3 = lanes3(&p);
-    let carriers = cross3::Carriers::new(kin, &lanes3, settings.tolerance_mm);
+    let lanes = carriages(&p, machine);
+    let carriers = cross3::Carriers::new(kin, &lanes, settings.tolerance_mm);
     Some(f(&carriers))
 }
 
-/// The lanes as the 3D check between carriers reads them.
-fn lanes3(p: &Prepared) -> Vec<cross3::Lane3<'_>> {
+/// Each lane as the checks between carriers read it.
+fn carriages<'a>(p: &'a Prepared, machine: &Machine) -> Vec<cross::Carriage<'a>> {
     p.lanes
         .iter()
         .zip(&p.schedules)
         .zip(&p.names)
-        .map(|((l, s), name)| cross3::Lane3 {
+        .map(|((l, s), name)| cross::Carriage {
             path: l.path,
             name: name.clone(),
             machine: &l.machine,
             run: &l.run,
             timeline: &l.timeline,
             schedule: s,
+            opposite: machine.paths.carriers.iter().any(|c| c.path == l.path && c.opposite),
         })
         .collect()
 }
@@ -184,27 +185,12 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
     let p = prepare(src, machine, settings);
     // The carriers against each other: in 3D on a tree whose axes several paths drive, else in
     // the working plane.
+    let lanes = carriages(&p, machine);
     let (cross_findings, probes) = match machine.kinematics.as_deref().filter(|k| k.is_multi_path()) {
-        Some(kin) => cross3::check(kin, &lanes3(&p), settings.tolerance_mm, p.stop, settings.snapshots),
-        None => {
-            let carriages: Vec<cross::Carriage> = p
-                .lanes
-                .iter()
-                .zip(&p.schedules)
-                .zip(&p.names)
-                .map(|((l, s), name)| cross::Carriage {
-                    path: l.path,
-                    name: name.clone(),
-                    machine: &l.machine,
-                    run: &l.run,
-                    timeline: &l.timeline,
-                    schedule: s,
-                    opposite: machine.paths.carriers.iter().any(|c| c.path == l.path && c.opposite),
-                })
-                .collect();
-            cross::check(&carriages, settings.tolerance_mm, p.stop)
-        }
+        Some(kin) => cross3::check(kin, &lanes, settings.tolerance_mm, p.stop, settings.snapshots),
+        None => cross::check(&lanes, settings.tolerance_mm, p.stop),
     };
+    drop(lanes);
     let Prepared {
         lanes,
         schedules,
@@ -274,21 +260,20 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
 /// depend on what another took off before them (a cut is the insert's sweep), so one round is
 /// exact.
 fn shared_stock(lanes: &[Lane], schedules: &[sync::Schedule], settings: &Settings) -> Vec<Outcome> {
-    let (alone, cuts): (Vec<Outcome>, Vec<Vec<crate::check::Cut>>) = lanes
-        .iter()
-        .map(|l| {
-            pipeline::check_run_sharing(
-                l.findings.clone(),
-                l.left_out,
-                &l.run,
-                l.dialect.clone(),
-                &l.machine,
-                settings,
-                Vec::new(),
-                lanes.len() > 1,
-            )
-        })
-        .unzip();
+    let run = |l: &Lane, foreign: Vec<crate::check::Cut>, record: bool| {
+        pipeline::check_run_sharing(
+            l.findings.clone(),
+            l.left_out,
+            &l.run,
+            l.dialect.clone(),
+            &l.machine,
+            settings,
+            foreign,
+            record,
+        )
+    };
+    let (alone, cuts): (Vec<Outcome>, Vec<Vec<crate::check::Cut>>) =
+        lanes.iter().map(|l| run(l, Vec::new(), lanes.len() > 1)).unzip();
     // Each lane's cuts with the machine time they end at.
     let ended: Vec<Vec<(f64, &Polygons)>> = lanes
         .iter()
@@ -322,17 +307,7 @@ fn shared_stock(lanes: &[Lane], schedules: &[sync::Schedule], settings: &Setting
             out.push(o);
             continue;
         }
-        let (o, _) = pipeline::check_run_sharing(
-            l.findings.clone(),
-            l.left_out,
-            &l.run,
-            l.dialect.clone(),
-            &l.machine,
-            settings,
-            foreign,
-            false,
-        );
-        out.push(o);
+        out.push(run(l, foreign, false).0);
     }
     out
 }

@@ -36,6 +36,20 @@ pub enum Role3 {
 }
 
 impl Role3 {
+    /// The role of part `i` of a picture of the contact between parts `a` and `b`; `moved`: it
+    /// moves with an axis.
+    pub fn of(i: usize, (a, b): (usize, usize), moved: bool) -> Role3 {
+        if i == a {
+            Role3::CollidingA
+        } else if i == b {
+            Role3::CollidingB
+        } else if moved {
+            Role3::Moving
+        } else {
+            Role3::Fixed
+        }
+    }
+
     /// The word the legend and the glTF material use.
     pub fn name(self) -> &'static str {
         match self {
