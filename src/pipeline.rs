@@ -344,8 +344,7 @@ pub fn interpret_whole(src: &[u8], machine: &Machine, settings: &Settings) -> (V
 }
 
 /// The second half of [`check_whole`]: the moves of `run` checked on `machine`, with the
-/// reader's and interpreter's `findings`. The multi-path check (`crate::paths`) runs it on a run
-/// whose spindle states it has set from another path.
+/// reader's and interpreter's `findings`.
 pub fn check_run(
     findings: Vec<Finding>,
     left_out: LeftOut,
@@ -354,13 +353,13 @@ pub fn check_run(
     machine: &Machine,
     settings: &Settings,
 ) -> Outcome {
-    let result = crate::check::check(run, machine, settings);
-    finish_run(findings, left_out, run, result, dialect, machine, settings)
+    check_run_sharing(findings, left_out, run, dialect, machine, settings, Vec::new(), false).0
 }
 
 /// [`check_run`] of one path of a multi-path program whose stock the paths share
 /// (`check::check_sharing`): `foreign` what the other paths cut, each before the move it
-/// precedes; with `record`, the outcome and this path's own cuts.
+/// precedes; with `record`, this path's own cuts beside the outcome. The multi-path check
+/// (`crate::paths`) runs it on a run whose spindle states it may have set from another path.
 #[allow(clippy::too_many_arguments)]
 pub fn check_run_sharing(
     findings: Vec<Finding>,
@@ -374,22 +373,6 @@ pub fn check_run_sharing(
 ) -> (Outcome, Vec<crate::check::Cut>) {
     let mut result = crate::check::check_sharing(run, machine, settings, foreign, record);
     let cuts = std::mem::take(&mut result.cuts);
-    (
-        finish_run(findings, left_out, run, result, dialect, machine, settings),
-        cuts,
-    )
-}
-
-/// The outcome of a checked run.
-fn finish_run(
-    findings: Vec<Finding>,
-    left_out: LeftOut,
-    run: &Interpretation,
-    mut result: crate::check::CheckResult,
-    dialect: Option<(Dialect, String)>,
-    machine: &Machine,
-    settings: &Settings,
-) -> Outcome {
     result.stats.moves = run
         .moves
         .iter()
@@ -400,7 +383,7 @@ fn finish_run(
             )
         })
         .count() as u64;
-    outcome(
+    let out = outcome(
         findings,
         left_out,
         result,
@@ -408,7 +391,8 @@ fn finish_run(
         dialect,
         machine,
         settings,
-    )
+    );
+    (out, cuts)
 }
 
 /// The outcome of a check: the reader's and interpreter's findings (`findings`, `left_out`)

@@ -360,17 +360,9 @@ fn a_path_meets_the_stock_another_path_has_already_cut_as_it_is_then() {
 #[test]
 fn moves_prints_the_path_it_is_asked_for_at_its_lines_of_the_file() {
     let run = |args: &[&str]| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_latheguard"))
-            .current_dir(root())
-            .arg("moves")
-            .args(args)
-            .output()
-            .unwrap();
-        (
-            out.status.code().unwrap(),
-            String::from_utf8(out.stdout).unwrap(),
-            String::from_utf8(out.stderr).unwrap(),
-        )
+        let out = crate::common::latheguard(&root(), &[&["moves"], args].concat());
+        let code = out.status.code().unwrap();
+        (code, crate::common::stdout(&out), crate::common::stderr(&out))
     };
     let file = "programs/twin-turret/centre_drill_handover.nc";
     let (code, out, err) = run(&["-m", "machines/twin-turret.toml", "--path", "2", file]);

@@ -361,8 +361,13 @@ fn stations_of(k: &mut Kinematics, masks: &[u32], path: u32, machine: &Machine) 
 
 /// An open contact: the findings it gave (indices into the output).
 struct Open {
-    findings: Vec<usize>,
+    /// Each finding's index and the path whose line it is at.
+    findings: Vec<(usize, u32)>,
 }
+
+/// What tells one crash between carriers from another: the path a finding is at and the line
+/// of every path of the pair when the contact began.
+type CrashKey = (u32, Vec<u32>);
 
 /// The carriers' contacts over the machine's time (see the module docs). `kin` is the whole
 /// machine's tree; `stop`: nothing past this machine time (a deadlock). Returns the findings and
@@ -557,7 +562,7 @@ pub fn check(
     } = &cx;
     let mut findings = Vec::new();
     // Per finding: its line and the other paths' lines it names (how a crash is told apart).
-    let mut keys: Vec<(u32, String)> = Vec::new();
+    let mut keys: Vec<Option<CrashKey>> = Vec::new();
     let mut probes = 0u64;
     if pairs.is_empty() {
         return (findings, probes);
@@ -594,7 +599,7 @@ pub fn check(
                     open.remove(&(a, b));
                 }
                 Advance::Unchecked { u } => {
-                    keys.push((0, String::new()));
+                    keys.push(None);
                     findings.push(Finding::at(
                         Kind::Unsupported,
                         Severity::Warning,
@@ -633,12 +638,11 @@ pub fn check(
                     }
                     if u <= 1e-9 && open.contains_key(&(a, b)) {
                         // The same contact goes on from the piece before.
-                        for &f in &open[&(a, b)].findings {
+                        for &(f, path) in &open[&(a, b)].findings {
                             let fd: &mut Finding = &mut findings[f];
                             fd.depth_mm = Some(fd.depth_mm.unwrap_or(0.0).max(depth));
                             fd.end_time_s = Some(fd.end_time_s.unwrap_or(last_in).max(last_in));
-                            let tr = tracks.iter().find(|tr| Some(tr.lane.path) == fd_path(fd));
-                            if let Some(tr) = tr {
+                            if let Some(tr) = tracks.iter().find(|tr| tr.lane.path == path) {
                                 fd.end_line = fd.end_line.max(tr.line(tr.at(mid)).0);
                             }
                         }
@@ -648,7 +652,7 @@ pub fn check(
                         // deeper depth, not a finding of their own.
                         let mut made = report(k, tracks, masks, (a, b), t, depth);
                         let picture = snapshots.then(|| cx.picture((a, b), t, hit.point, tolerance));
-                        for f in &mut made {
+                        for (f, _) in &mut made {
                             f.end_time_s = Some(last_in);
                             if let Some(p) = &picture {
                                 let mut p = p.clone();
@@ -658,9 +662,9 @@ pub fn check(
                             }
                         }
                         let mut at = Vec::new();
-                        for f in made {
-                            let key = (f.line, f.message[f.message.rfind('(').unwrap_or(0)..].to_string());
-                            match keys.iter().position(|k| *k == key) {
+                        for (f, key) in made {
+                            let path = key.0;
+                            match keys.iter().position(|k| k.as_ref() == Some(&key)) {
                                 Some(i) => {
                                     let g = &mut findings[i];
                                     let most = |a: Option<f64>, b: Option<f64>| match (a, b) {
@@ -677,12 +681,12 @@ pub fn check(
                                     g.depth_mm = deepest;
                                     g.end_time_s = last;
                                     g.end_line = end_line;
-                                    at.push(i);
+                                    at.push((i, path));
                                 }
                                 None => {
-                                    at.push(findings.len());
+                                    at.push((findings.len(), path));
                                     findings.push(f);
-                                    keys.push(key);
+                                    keys.push(Some(key));
                                 }
                             }
                         }
@@ -710,13 +714,8 @@ pub fn check(
     (findings, probes)
 }
 
-/// The path a finding of this module is at (its first object's `path<p>:` prefix).
-fn fd_path(f: &Finding) -> Option<u32> {
-    f.objects.first()?.strip_prefix("path")?.split(':').next()?.parse().ok()
-}
-
 /// The findings of a contact that begins at `t`: one at the line of each path whose axes carry
-/// one of the two parts, naming the other path's line.
+/// one of the two parts, naming the other path's line; each with its [`CrashKey`].
 fn report(
     k: &Kinematics,
     tracks: &[Track],
@@ -724,7 +723,7 @@ fn report(
     (a, b): (CompId, CompId),
     t: f64,
     depth: f64,
-) -> Vec<Finding> {
+) -> Vec<(Finding, CrashKey)> {
     let paths = masks[a] | masks[b];
     let in_pair: Vec<&Track> = tracks
         .iter()
@@ -745,6 +744,7 @@ fn report(
             _ => w,
         }
     };
+    let lines: Vec<u32> = in_pair.iter().map(|tr| tr.line(tr.at(t)).0).collect();
     let mut out = Vec::new();
     for tr in in_pair.iter().copied() {
         let p = tr.lane.path;
@@ -781,7 +781,7 @@ fn report(
             f.x = Some(q.0);
             f.z = Some(q.1);
         }
-        out.push(f);
+        out.push((f, (p, lines.clone())));
     }
     out
 }

@@ -12,7 +12,7 @@
 
 use super::sync::Schedule;
 use super::Lane;
-use crate::interp::MoveState;
+use crate::interp::{MoveState, Spindle, SpindleSpeed};
 use crate::machine::Machine;
 
 /// Which lanes take their spindle from which.
@@ -51,66 +51,77 @@ pub(super) fn plan(lanes: &[Lane], machine: &Machine) -> Option<Sharing> {
 impl Sharing {
     /// Give each heir's moves the donor's spindle at their start, by the current `schedules`.
     pub(super) fn apply(&self, lanes: &mut [Lane], schedules: &[Schedule]) {
-        let d = &lanes[self.donor];
-        let ds = &schedules[self.donor];
-        // The donor's moves' starts in the machine's clock, and their spindles.
-        let starts: Vec<f64> = d.timeline.items.iter().map(|it| ds.global(it.index, it.t0)).collect();
-        let spindles: Vec<crate::interp::Spindle> = d
-            .timeline
-            .items
-            .iter()
-            .map(|it| d.run.states[d.run.moves[it.index].state as usize].spindle)
-            .collect();
-        // Where the donor's tool is during each move (its G96 speed at the heir's move starts).
-        let donor_moves: Vec<(crate::interp::Move, crate::motion::Timed)> = d
-            .timeline
-            .items
-            .iter()
-            .map(|it| (d.run.moves[it.index], it.clone()))
-            .collect();
-        // A key per run of equal spindles: states are made once per run, not per move.
-        let mut ids = vec![0usize; spindles.len()];
-        for k in 1..spindles.len() {
-            ids[k] = if spindles[k] == spindles[k - 1] { ids[k - 1] } else { k };
-        }
         for (h, own, own_states) in &self.heirs {
-            let hs = &schedules[*h];
+            // Each heir move's spindle, read from the donor before the heir's moves change.
+            let spindles = self.donor_spindles(&lanes[self.donor], &schedules[self.donor], &lanes[*h], &schedules[*h]);
             let lane = &mut lanes[*h];
             let mut states: Vec<MoveState> = own_states.clone();
-            let mut made: std::collections::HashMap<(u32, usize, u64), u32> = std::collections::HashMap::new();
+            let mut made: std::collections::HashMap<(u32, SpindleKey), u32> = std::collections::HashMap::new();
             for (k, m) in lane.run.moves.iter_mut().enumerate() {
-                let t0 = lane.timeline.items.get(k).map_or(0.0, |it| hs.global(it.index, it.t0));
-                // The donor's last move started by then (none: the spindle as the machine starts).
-                let j = starts.partition_point(|&s| s <= t0);
-                let Some(donor_at) = j.checked_sub(1) else {
-                    m.state = own[k];
+                let own_state = own[k];
+                let Some((spindle, key)) = spindles[k] else {
+                    m.state = own_state;
                     continue;
                 };
-                let own_state = own[k];
                 let next = states.len() as u32;
-                // Under G96 the spindle turns at the speed the donor's surface speed gives at the
-                // donor's tool, where it is when the heir's move starts (not at the heir's own
-                // radius): that speed, as G97, for the whole of the heir's move.
-                let mut spindle = spindles[donor_at];
-                let mut key = (own_state, ids[donor_at], 0u64);
-                if let crate::interp::SpindleSpeed::Css { .. } = spindle.speed {
-                    let (dm, it) = &donor_moves[donor_at];
-                    let r = crate::motion::reference_at(dm, it, t0 - starts[donor_at]) + dm.tip;
-                    let rpm = spindle.rpm_at(r.x);
-                    if rpm.is_finite() {
-                        spindle.speed = crate::interp::SpindleSpeed::Rpm(rpm);
-                        key.2 = rpm.to_bits();
-                    }
-                }
-                let id = *made.entry(key).or_insert_with(|| {
+                m.state = *made.entry((own_state, key)).or_insert_with(|| {
                     let mut s = own_states[own_state as usize];
                     s.spindle = spindle;
                     states.push(s);
                     next
                 });
-                m.state = id;
             }
             lane.run.states = states;
         }
     }
+
+    /// For each move of `heir`, the donor's spindle when it starts (none before the donor's
+    /// first move: the spindle as the machine starts) with a key of equal spindles. Under G96
+    /// the spindle turns at the speed the donor's surface speed gives at the donor's tool, where
+    /// it is when the heir's move starts (not at the heir's own radius): that speed, as G97, for
+    /// the whole of the heir's move.
+    fn donor_spindles(
+        &self,
+        d: &Lane,
+        ds: &Schedule,
+        heir: &Lane,
+        hs: &Schedule,
+    ) -> Vec<Option<(Spindle, SpindleKey)>> {
+        let items = &d.timeline.items;
+        // The donor's moves' starts in the machine's clock.
+        let starts: Vec<f64> = items.iter().map(|it| ds.global(it.index, it.t0)).collect();
+        let spindle_of = |k: usize| d.run.states[d.run.moves[items[k].index].state as usize].spindle;
+        // A key per run of equal spindles: states are made once per run, not per move.
+        let mut ids = vec![0usize; items.len()];
+        for k in 1..items.len() {
+            ids[k] = if spindle_of(k) == spindle_of(k - 1) {
+                ids[k - 1]
+            } else {
+                k
+            };
+        }
+        (0..heir.run.moves.len())
+            .map(|k| {
+                let t0 = heir.timeline.items.get(k).map_or(0.0, |it| hs.global(it.index, it.t0));
+                let j = starts.partition_point(|&s| s <= t0).checked_sub(1)?;
+                let mut spindle = spindle_of(j);
+                let mut key = (ids[j], 0u64);
+                if let SpindleSpeed::Css { .. } = spindle.speed {
+                    let it = &items[j];
+                    let dm = &d.run.moves[it.index];
+                    let r = crate::motion::reference_at(dm, it, t0 - starts[j]) + dm.tip;
+                    let rpm = spindle.rpm_at(r.x);
+                    if rpm.is_finite() {
+                        spindle.speed = SpindleSpeed::Rpm(rpm);
+                        key.1 = rpm.to_bits();
+                    }
+                }
+                Some((spindle, key))
+            })
+            .collect()
+    }
 }
+
+/// Which of the donor's spindles a state takes: its run of equal spindles, and under G96 the
+/// speed it gives (its bits).
+type SpindleKey = (usize, u64);
