@@ -421,11 +421,30 @@ pub fn grid_overlap(
                     keep_run(&mut best, o, u, (a, b), (c0, c1));
                     continue;
                 }
-                // Runs of material by the other grids, sampled at the stock's tolerance.
+                // Runs of material by the other grids, sampled at the stock's tolerance: only
+                // within the cylindrical grid's reach when it is sampled (outside it no sample
+                // is material, so the runs are every sample's).
                 let n = (((b - a) / step).ceil() as usize).clamp(1, 4096);
                 let dt = (b - a) / n as f64;
+                let (mut k, n) = match (sample_cyl, stock.cyl.as_ref()) {
+                    (true, Some(c)) => match c.may_hold(o, u, a, b) {
+                        None => continue,
+                        Some((lo, hi)) => {
+                            let first = ((lo - a) / dt - 0.5).floor() - 1.0;
+                            let last = ((hi - a) / dt - 0.5).ceil() + 2.0;
+                            let clamp = |x: f64, or: usize| {
+                                if x.is_finite() {
+                                    x.clamp(0.0, n as f64) as usize
+                                } else {
+                                    or
+                                }
+                            };
+                            (clamp(first, 0), clamp(last, n))
+                        }
+                    },
+                    _ => (0, n),
+                };
                 let mat = |k: usize| material(o + (a + (k as f64 + 0.5) * dt) * u);
-                let mut k = 0;
                 while k < n {
                     if !mat(k) {
                         k += 1;

@@ -24,6 +24,9 @@ pub struct CylGrid {
     pub(crate) inner: Vec<f64>,
     /// The largest `R` per column (for quick rejects and the revolved envelope).
     pub(crate) col_max: Vec<f64>,
+    /// At least every column's `col_max` (cuts only lower them, so the first value stays a
+    /// bound): the radius outside which no point is material ([`CylGrid::may_hold`]).
+    pub(crate) r_bound: f64,
     /// Rays cast by cuts so far (`Stock::rays`).
     pub(crate) rays: u64,
 }
@@ -43,6 +46,7 @@ impl CylGrid {
             col_max[j] = ro;
             r[j * nth..(j + 1) * nth].fill(ro);
         }
+        let r_bound = col_max.iter().copied().fold(0.0, f64::max);
         CylGrid {
             z0,
             dz,
@@ -51,6 +55,7 @@ impl CylGrid {
             r,
             inner,
             col_max,
+            r_bound,
             rays: 0,
         }
     }
@@ -193,7 +198,8 @@ impl CylGrid {
                         continue;
                     }
                     // The sweep short of the boundary: only through air.
-                    if t_out + 1e-9 < rr && !super::face::air_along(o, u, t_out, rr, step, air) {
+                    if t_out + 1e-9 < rr && !super::face::air_along(o, u, t_out, rr, step, air, &super::face::anywhere)
+                    {
                         continue;
                     }
                     let nr = t_in.max(ri);
@@ -227,6 +233,64 @@ impl CylGrid {
             }
             self.col_max[j] = self.col_max[j].min(r.max(ri));
         }
+    }
+
+    /// The part `[lo, hi]` of `[a, b]` outside which no point `o + t·u` of the ray is material by
+    /// this grid ([`CylGrid::contains`] is false there), or `None` when no point of `[a, b]` can
+    /// be: the ray clipped to the grid's columns and to the cylinder of radius at most every
+    /// column's largest `R` (of the columns the clipped ray spans, or all of them). A superset
+    /// with a margin far above rounding, so a sampler that skips the points outside it answers
+    /// as one that asks every point.
+    pub(crate) fn may_hold(&self, o: Vector3<f64>, u: Vector3<f64>, a: f64, b: f64) -> Option<(f64, f64)> {
+        const MARGIN: f64 = 1e-7;
+        if a.is_nan() || b.is_nan() || a > b {
+            return None;
+        }
+        let (z_lo, z_hi) = (self.z0, self.z0 + self.dz * self.nz as f64);
+        let (mut lo, mut hi) = (a, b);
+        if u.z.abs() < 1e-12 {
+            if o.z < z_lo - MARGIN || o.z > z_hi + MARGIN {
+                return None;
+            }
+        } else {
+            let (t0, t1) = ((z_lo - o.z) / u.z, (z_hi - o.z) / u.z);
+            lo = lo.max(t0.min(t1) - MARGIN);
+            hi = hi.min(t0.max(t1) + MARGIN);
+        }
+        if lo.is_nan() || hi.is_nan() || lo > hi {
+            return None;
+        }
+        // The largest radius of the columns the clipped ray spans (a few: a ray across the axis)
+        // or the bound of all of them (a ray along it).
+        let col = |t: f64| ((o.z + t * u.z - self.z0) / self.dz).floor();
+        let (c0, c1) = (col(lo).min(col(hi)) - 1.0, col(lo).max(col(hi)) + 1.0);
+        let r = if c1 - c0 <= 64.0 && c0.is_finite() && c1.is_finite() {
+            let (j0, j1) = (
+                c0.max(0.0) as usize,
+                (c1.max(0.0) as usize).min(self.nz.saturating_sub(1)),
+            );
+            self.col_max
+                .get(j0..=j1)
+                .map_or(self.r_bound, |s| s.iter().copied().fold(0.0, f64::max))
+        } else {
+            self.r_bound
+        };
+        let r = r * (1.0 + 1e-12) + MARGIN;
+        // |(o + t·u)_xy|² ≤ r²: a t² + b t + c ≤ 0.
+        let qa = u.x * u.x + u.y * u.y;
+        let qb = 2.0 * (o.x * u.x + o.y * u.y);
+        let qc = o.x * o.x + o.y * o.y - r * r;
+        if qa < 1e-24 {
+            return (qc <= 0.0).then_some((lo, hi));
+        }
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc.is_nan() || disc < 0.0 {
+            return None;
+        }
+        let sq = disc.sqrt();
+        let (t0, t1) = ((-qb - sq) / (2.0 * qa), (-qb + sq) / (2.0 * qa));
+        let (lo, hi) = (lo.max(t0 - MARGIN), hi.min(t1 + MARGIN));
+        (lo <= hi).then_some((lo, hi))
     }
 
     /// Whether the point is material by this grid (the node of its cell in θ and z).

@@ -110,8 +110,16 @@ impl FaceGrid {
 
     /// Apply a sweep (or with `apply` false only measure it); returns the volume removed (mm³). A node's ray loses the stretch the
     /// sweep holds when the sweep holds its boundary `d`, or when everything between `d` and the
-    /// sweep is air by the stock's other grids (`air`, sampled every `step` mm).
-    pub fn cut(&mut self, sw: &Sweep, air: &dyn Fn(Vector3<f64>) -> bool, step: f64, apply: bool) -> f64 {
+    /// sweep is air by the stock's other grids (`air`, sampled every `step` mm, asked only where
+    /// `span` says material may be).
+    pub fn cut(
+        &mut self,
+        sw: &Sweep,
+        air: &dyn Fn(Vector3<f64>) -> bool,
+        span: Span<'_>,
+        step: f64,
+        apply: bool,
+    ) -> f64 {
         // The sweep's box in face coordinates.
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
@@ -153,7 +161,7 @@ impl FaceGrid {
                 if t_out <= d {
                     continue;
                 }
-                if t_in > d + 1e-9 && !air_along(o, self.n, d, t_in, step, air) {
+                if t_in > d + 1e-9 && !air_along(o, self.n, d, t_in, step, air, span) {
                     continue;
                 }
                 let nd = t_out.min(self.thickness);
@@ -195,8 +203,18 @@ impl FaceGrid {
     }
 }
 
+/// Where along a ray material may be: the part of `[a, b]` of the ray `o + t·u` outside which
+/// every point is air (`None`: all of it is), a superset ([`crate::grid::CylGrid::may_hold`]).
+pub(crate) type Span<'a> = &'a dyn Fn(Vector3<f64>, Vector3<f64>, f64, f64) -> Option<(f64, f64)>;
+
+/// The whole of `[a, b]`: no part of a ray proven air.
+pub(crate) fn anywhere(_: Vector3<f64>, _: Vector3<f64>, a: f64, b: f64) -> Option<(f64, f64)> {
+    Some((a, b))
+}
+
 /// Whether the ray `o + t·u` is air by `air` over `[a, b)`, sampled every `step` (at most 4096
-/// samples: past them, not air).
+/// samples: past them, not air). Only the samples within `span`'s part of the ray are asked: the
+/// others are air by it, so the answer is every sample's.
 pub(crate) fn air_along(
     o: Vector3<f64>,
     u: Vector3<f64>,
@@ -204,23 +222,47 @@ pub(crate) fn air_along(
     b: f64,
     step: f64,
     air: &dyn Fn(Vector3<f64>) -> bool,
+    span: Span<'_>,
 ) -> bool {
     let n = ((b - a) / step.max(1e-6)).ceil();
     if !(n.is_finite() && n <= 4096.0) {
         return false;
     }
     let n = n.max(1.0) as usize;
-    let at = |k: usize| air(o + (a + (b - a) * (k as f64 + 0.5) / n as f64) * u);
+    let Some((lo, hi)) = span(o, u, a, b) else {
+        return true;
+    };
+    // Sample k sits at a + (b − a)(k + ½)/n: those within [lo, hi], a sample of margin each side.
+    let per = n as f64 / (b - a).max(f64::MIN_POSITIVE);
+    let first = ((lo - a) * per - 0.5).floor() - 1.0;
+    let last = ((hi - a) * per - 0.5).ceil() + 1.0;
+    let (first, last) = (
+        if first.is_finite() {
+            first.clamp(0.0, n as f64 - 1.0) as usize
+        } else {
+            0
+        },
+        if last.is_finite() {
+            last.clamp(0.0, n as f64 - 1.0) as usize
+        } else {
+            n - 1
+        },
+    );
+    if first > last {
+        return true;
+    }
+    let m = last - first + 1;
+    let at = |k: usize| air(o + (a + (b - a) * ((first + k) as f64 + 0.5) / n as f64) * u);
     // Every sample must be air, so the order does not change the answer, only how soon
     // material is met: coarse to fine, so that a stretch of material of any width is met
-    // after about `n / width` samples, not after every sample before it.
-    let mut stride = n.next_power_of_two();
-    at(n - 1)
+    // after about `m / width` samples, not after every sample before it.
+    let mut stride = m.next_power_of_two();
+    at(m - 1)
         && loop {
-            let top = stride >= n;
-            if !(0..n)
+            let top = stride >= m;
+            if !(0..m)
                 .step_by(stride.max(1))
-                .filter(|&k| (top || k % (2 * stride) != 0) && k != n - 1)
+                .filter(|&k| (top || k % (2 * stride) != 0) && k != m - 1)
                 .all(at)
             {
                 break false;

@@ -208,7 +208,12 @@ impl Stock {
         }
         for k in 0..self.faces.len() {
             let mut f = std::mem::replace(&mut self.faces[k], FaceGrid::empty());
-            v += f.cut(sw, &|p| !self.contains_except(p, Some(k)), step, apply);
+            // Outside the cylindrical grid's reach every other grid's point is air.
+            let span = |o: Vector3<f64>, u: Vector3<f64>, a: f64, b: f64| match &self.cyl {
+                Some(c) => c.may_hold(o, u, a, b),
+                None => Some((a, b)),
+            };
+            v += f.cut(sw, &|p| !self.contains_except(p, Some(k)), &span, step, apply);
             self.faces[k] = f;
         }
         v

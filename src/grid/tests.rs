@@ -503,8 +503,30 @@ fn air_along_a_ray_asks_each_sample_once_and_answers_as_every_sample_in_order_do
                 asked.borrow_mut().push(k);
                 !solid(k)
             };
-            let got = face::air_along(Vector3::zeros(), Vector3::x(), 0.0, n as f64, 1.0, &air);
+            let got = face::air_along(
+                Vector3::zeros(),
+                Vector3::x(),
+                0.0,
+                n as f64,
+                1.0,
+                &air,
+                &face::anywhere,
+            );
             assert_eq!(got, (0..n).all(|k| !solid(k)), "n {n}, pattern {pattern}");
+            // Told where material may be (the stretch, or nowhere), it answers the same.
+            let near = |_: Vector3<f64>, _: Vector3<f64>, _: f64, _: f64| {
+                (len > 0 && pattern != 0).then_some((from as f64, (from + len) as f64))
+            };
+            let told = face::air_along(
+                Vector3::zeros(),
+                Vector3::x(),
+                0.0,
+                n as f64,
+                1.0,
+                &|p| !solid((p.x - 0.5).round() as usize),
+                &near,
+            );
+            assert_eq!(told, got, "n {n}, pattern {pattern}: with a span");
             let mut seen = asked.into_inner();
             let len = seen.len();
             seen.sort_unstable();
@@ -614,4 +636,68 @@ fn a_bull_nose_plunged_leaves_a_flat_floor_and_its_corner() {
         assert!((d - want).abs() < 0.06, "ρ {rho}: depth {d}, worked {want}");
     }
     assert!(floor_depth(&s, 3.0 + 3.0f64.sqrt() + 0.2) < 0.01);
+}
+
+/// `CylGrid::may_hold` is what lets the air checks and the stock query skip samples: a sample it
+/// leaves out must be air by the grid. Oracle: every point of many rays, asked one by one, on a
+/// stepped, bored and milled grid (rays across, along and through the axis, grazing and missing).
+#[test]
+fn the_cylindrical_grids_reach_leaves_out_no_material_point() {
+    let mut s = Stock::turned(-10.0, 70.0, 20.0, 0.1, |z| {
+        Some((if z > 40.0 { 6.0 } else { 0.0 }, if z < 20.0 { 20.0 } else { 12.0 }))
+    })
+    .unwrap();
+    // A flat and a cross hole lower some nodes' R below their column's.
+    s.cut(&sweep(
+        &flat(10.0, 30.0),
+        [1.0, 0.0, 0.0],
+        [15.0, -30.0, 5.0],
+        [15.0, 30.0, 5.0],
+        0.1,
+    ));
+    s.cut(&sweep(
+        &flat(6.0, 30.0),
+        [0.0, 1.0, 0.0],
+        [0.0, 30.0, 30.0],
+        [0.0, 4.0, 30.0],
+        0.1,
+    ));
+    let c = s.cyl.as_ref().unwrap();
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut checked, mut inside, mut skipped) = (0usize, 0usize, 0usize);
+    for k in 0..3000 {
+        let o = Vector3::new(60.0 * next() - 30.0, 60.0 * next() - 30.0, 100.0 * next() - 20.0);
+        let u = match k % 4 {
+            0 => Vector3::new(next() - 0.5, next() - 0.5, 0.0),
+            1 => Vector3::new(0.0, 0.0, 1.0),
+            2 => Vector3::new(-o.x, -o.y, 0.0),
+            _ => Vector3::new(next() - 0.5, next() - 0.5, next() - 0.5),
+        };
+        let Some(u) = u.try_normalize(1e-9) else { continue };
+        let (a, b) = (-10.0 * next(), 80.0 * next());
+        let span = c.may_hold(o, u, a, b);
+        for i in 0..=400 {
+            let t = (a + (b - a) * i as f64 / 400.0).clamp(a, b);
+            let p = o + t * u;
+            checked += 1;
+            if c.contains(p) {
+                inside += 1;
+                let (lo, hi) = span.unwrap_or_else(|| panic!("ray {k}: material at t {t}, span None"));
+                assert!(t >= lo && t <= hi, "ray {k}: material at t {t} outside [{lo}, {hi}]");
+            } else if span.map_or(true, |(lo, hi)| t < lo || t > hi) {
+                skipped += 1;
+            }
+        }
+    }
+    // The rays meet material and the span leaves most of the air out.
+    assert!(
+        inside > 10_000 && skipped > checked / 3,
+        "{inside} {skipped} of {checked}"
+    );
 }
