@@ -469,3 +469,39 @@ fn a_cutter_end_loads_and_its_bad_sizes_name_the_key() {
     let got = with("{ radius = 2 }");
     assert!(got.contains(".geometry.cylinder.end"), "{got}");
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// A poser focused on a few components (the checker's probes ask about a pair and the part's
+    /// frame) poses them, and every ancestor, exactly as the full poser does, along any run of
+    /// axis values, and re-poses no other component.
+    #[test]
+    fn a_focused_poser_poses_its_parts_as_the_full_poser(
+        runs in proptest::collection::vec(proptest::collection::vec(-300.0..300.0f64, 8), 1..6),
+        picks in proptest::collection::vec(any::<prop::sample::Index>(), 1..3),
+    ) {
+        let m = load("machines/turn-mill.toml").unwrap();
+        let k = m.kinematics.as_ref().unwrap();
+        let parts: Vec<usize> = picks.iter().map(|i| i.index(k.components.len())).collect();
+        let mut chain = vec![false; k.components.len()];
+        for &c in &parts {
+            let mut p = Some(c);
+            while let Some(q) = p {
+                chain[q] = true;
+                p = k.components[q].parent;
+            }
+        }
+        let mut full = Poser::new(k);
+        let mut focused = Poser::focused(k, &parts);
+        for values in &runs {
+            let values: Vec<f64> = (0..k.axes.len()).map(|a| values.get(a).copied().unwrap_or(0.0)).collect();
+            full.pose(k, &values);
+            let n = focused.pose(k, &values);
+            prop_assert!(n <= chain.iter().filter(|&&c| c).count());
+            for c in (0..k.components.len()).filter(|&c| chain[c]) {
+                prop_assert_eq!(full.world(c).to_homogeneous(), focused.world(c).to_homogeneous(), "component {}", c);
+            }
+        }
+    }
+}

@@ -702,7 +702,12 @@ impl Checker<'_> {
         let k = &three.kin;
         let mut vals = Vec::new();
         f.at(u, &mut vals);
-        let mut poser = Poser::new(k);
+        // The pair and the part's frame only.
+        let parts: Vec<CompId> = [Some(a), (b != STOCK).then_some(b), three.main_spindle]
+            .into_iter()
+            .flatten()
+            .collect();
+        let mut poser = Poser::focused(k, &parts);
         poser.pose(k, &vals);
         let sa = three.shapes[a].as_ref()?;
         if b == STOCK {
@@ -742,7 +747,11 @@ impl Checker<'_> {
         // Against the milled stock, contacts up to its touch depth are touches: a step of that
         // much can step over nothing that counts.
         let min_step = mill.map_or(min_step, |m| min_step.max(m.touch()));
-        let mut poser = Poser::new(k);
+        // Only the component and the part's frame are asked for.
+        let mut poser = Poser::focused(
+            k,
+            &[Some(a), three.main_spindle].into_iter().flatten().collect::<Vec<_>>(),
+        );
         let mut vals = Vec::new();
         f.at(0.0, &mut vals);
         poser.pose(k, &vals);

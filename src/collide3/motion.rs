@@ -138,7 +138,7 @@ pub fn motion_bound(k: &Kinematics, comp: CompId, v0: &[f64], v1: &[f64]) -> f64
         return 0.0;
     };
     let (center, radius) = geometry_sphere(g);
-    let mut poser = Poser::new(k);
+    let mut poser = Poser::focused(k, &[comp]);
     poser.pose(k, v0);
     let value = |v: &[f64], a: usize| v.get(a).copied().unwrap_or(0.0);
     let delta: Vec<f64> = (0..k.axes.len()).map(|a| (value(v1, a) - value(v0, a)).abs()).collect();
@@ -265,7 +265,7 @@ pub fn first_contact_from(
     min_step: f64,
     start_gap: f64,
 ) -> (Advance, f64, u64) {
-    let mut poser = Poser::new(k);
+    let mut poser = Poser::focused(k, &[a.0, b.0]);
     let mut vals = Vec::with_capacity(k.axes.len());
     let mut delta = Vec::with_capacity(k.axes.len());
     path.at(0.0, &mut vals);
@@ -292,7 +292,7 @@ fn advance(
     min_step: f64,
     end_gap: &mut f64,
 ) -> (Advance, u64) {
-    let mut poser = Poser::new(k);
+    let mut poser = Poser::focused(k, &[a.0, b.0]);
     let mut vals = Vec::with_capacity(k.axes.len());
     let mut delta = Vec::with_capacity(k.axes.len());
     let spheres = (a.1.sphere(), b.1.sphere());

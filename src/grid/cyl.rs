@@ -18,8 +18,14 @@ pub struct CylGrid {
     pub(crate) dz: f64,
     pub(crate) nz: usize,
     pub(crate) nth: usize,
-    /// `R` per node, θ fastest.
-    pub(crate) r: Vec<f64>,
+    /// `R` per node, θ fastest, of the columns a cut has reached (`ready`); the others' nodes
+    /// all hold their column's `uniform` value and are never written (a zeroed allocation: a
+    /// grid of millions of nodes costs only the pages its cuts reach).
+    r: Vec<f64>,
+    /// Whether column `j`'s nodes are in `r`.
+    ready: Vec<bool>,
+    /// The `R` of every node of a column not `ready`.
+    uniform: Vec<f64>,
     /// The bore per z column.
     pub(crate) inner: Vec<f64>,
     /// The largest `R` per column (for quick rejects and the revolved envelope).
@@ -35,7 +41,7 @@ impl CylGrid {
     /// A grid of `nth × nz` nodes over `z0 .. z0 + nz·dz`, each column's material from the
     /// revolved profile `profile(z) → (r_in, r_out)` at the column's centre (`None`: empty).
     pub fn new(z0: f64, dz: f64, nz: usize, nth: usize, profile: impl Fn(f64) -> Option<(f64, f64)>) -> CylGrid {
-        let mut r = vec![0.0; nth * nz];
+        let r = vec![0.0; nth * nz];
         let mut inner = vec![0.0; nz];
         let mut col_max = vec![0.0; nz];
         for j in 0..nz {
@@ -44,8 +50,8 @@ impl CylGrid {
             let ro = ro.max(ri);
             inner[j] = ri;
             col_max[j] = ro;
-            r[j * nth..(j + 1) * nth].fill(ro);
         }
+        let uniform = col_max.clone();
         let r_bound = col_max.iter().copied().fold(0.0, f64::max);
         CylGrid {
             z0,
@@ -53,6 +59,8 @@ impl CylGrid {
             nz,
             nth,
             r,
+            ready: vec![false; nz],
+            uniform,
             inner,
             col_max,
             r_bound,
@@ -70,7 +78,30 @@ impl CylGrid {
 
     /// `R` at node `(i, j)`.
     pub fn radius(&self, i: usize, j: usize) -> f64 {
-        self.r[j * self.nth + i]
+        if self.ready[j] {
+            self.r[j * self.nth + i]
+        } else {
+            self.uniform[j]
+        }
+    }
+
+    /// Column `j`'s `R` per node (θ fastest).
+    pub(crate) fn column(&self, j: usize) -> std::borrow::Cow<'_, [f64]> {
+        if self.ready[j] {
+            std::borrow::Cow::Borrowed(&self.r[j * self.nth..(j + 1) * self.nth])
+        } else {
+            std::borrow::Cow::Owned(vec![self.uniform[j]; self.nth])
+        }
+    }
+
+    /// Column `j`'s nodes, written out so that they can change one by one.
+    fn column_mut(&mut self, j: usize) -> &mut [f64] {
+        let nodes = &mut self.r[j * self.nth..(j + 1) * self.nth];
+        if !self.ready[j] {
+            nodes.fill(self.uniform[j]);
+            self.ready[j] = true;
+        }
+        nodes
     }
 
     /// The columns whose centre lies in `[lo, hi]`.
@@ -182,8 +213,7 @@ impl CylGrid {
             let mut col_changed = false;
             for &(a, b) in &arcs {
                 for i in a..=b {
-                    let k = j * self.nth + i;
-                    let rr = self.r[k];
+                    let rr = self.radius(i, j);
                     if rr <= ri {
                         continue;
                     }
@@ -206,17 +236,14 @@ impl CylGrid {
                     if nr < rr - 1e-9 {
                         removed += (rr * rr - nr * nr) / 2.0 * dth * self.dz;
                         if apply {
-                            self.r[k] = nr;
+                            self.column_mut(j)[i] = nr;
                             col_changed = true;
                         }
                     }
                 }
             }
             if col_changed {
-                self.col_max[j] = self.r[j * self.nth..(j + 1) * self.nth]
-                    .iter()
-                    .copied()
-                    .fold(ri, f64::max);
+                self.col_max[j] = self.column(j).iter().copied().fold(ri, f64::max);
                 changed = Some(changed.map_or((j, j), |(a, b)| (a.min(j), b.max(j))));
             }
         }
@@ -228,8 +255,12 @@ impl CylGrid {
         let Some((j0, j1)) = self.columns(lo, hi) else { return };
         for j in j0..=j1 {
             let ri = self.inner[j];
-            for x in &mut self.r[j * self.nth..(j + 1) * self.nth] {
-                *x = x.min(r.max(ri));
+            if self.ready[j] {
+                for x in &mut self.r[j * self.nth..(j + 1) * self.nth] {
+                    *x = x.min(r.max(ri));
+                }
+            } else {
+                self.uniform[j] = self.uniform[j].min(r.max(ri));
             }
             self.col_max[j] = self.col_max[j].min(r.max(ri));
         }
@@ -306,7 +337,7 @@ impl CylGrid {
             return false;
         }
         let i = ((angle(p.x, p.y) / std::f64::consts::TAU * self.nth as f64).floor() as usize).min(self.nth - 1);
-        let r = self.r[j * self.nth + i];
+        let r = self.radius(i, j);
         rho2 <= r * r
     }
 
@@ -316,7 +347,7 @@ impl CylGrid {
         let mut v = 0.0;
         for j in 0..self.nz {
             let ri = self.inner[j];
-            for &r in &self.r[j * self.nth..(j + 1) * self.nth] {
+            for &r in self.column(j).iter() {
                 v += (r * r - ri * ri).max(0.0) / 2.0;
             }
         }
@@ -329,8 +360,15 @@ impl CylGrid {
         self.col_max[j]
     }
 
+    /// Nodes, written out or not.
+    pub fn nodes(&self) -> usize {
+        self.r.len()
+    }
+
+    /// The memory of its nodes and columns (a column's nodes count once a cut writes them out).
     pub fn bytes(&self) -> usize {
-        (self.r.len() + self.inner.len() + self.col_max.len()) * std::mem::size_of::<f64>()
+        let written = self.ready.iter().filter(|&&w| w).count() * self.nth;
+        (written + 3 * self.inner.len()) * std::mem::size_of::<f64>() + self.ready.len()
     }
 }
 

@@ -70,6 +70,29 @@ impl FaceGrid {
         }
     }
 
+    /// A face whose material starts at the face on every ray ([`FaceGrid::new`] with a start of
+    /// 0 everywhere). Its depths are a zeroed allocation: the pages of nodes no cut reaches are
+    /// never touched (a side grid of millions of nodes costs nothing until a drill reaches it).
+    pub fn flat(
+        origin: Vector3<f64>,
+        eu: Vector3<f64>,
+        ev: Vector3<f64>,
+        (du, dv): (f64, f64),
+        (nu, nv): (usize, usize),
+        thickness: f64,
+    ) -> FaceGrid {
+        FaceGrid {
+            d: vec![0.0; nu * nv],
+            ..FaceGrid::new(origin, eu, ev, (du, dv), (0, 0), thickness, |_, _| None)
+        }
+        .with_size(nu, nv)
+    }
+
+    fn with_size(mut self, nu: usize, nv: usize) -> FaceGrid {
+        (self.nu, self.nv) = (nu, nv);
+        self
+    }
+
     /// A grid of no nodes (a placeholder while a grid is being cut).
     pub(crate) fn empty() -> FaceGrid {
         FaceGrid {

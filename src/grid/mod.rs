@@ -158,14 +158,13 @@ impl Stock {
                     origin[k] = max[k];
                 }
                 let (lu, lv) = (size.dot(&eu), size.dot(&ev));
-                faces.push(FaceGrid::new(
+                faces.push(FaceGrid::flat(
                     origin,
                     eu,
                     ev,
                     (lu / n as f64, lv / n as f64),
                     (n, n),
                     size[k],
-                    |_, _| Some(0.0),
                 ));
             }
         }
@@ -270,7 +269,7 @@ impl Stock {
         }
         let (lu, lv) = (b[0] - a[0], b[1] - a[1]);
         let used: usize =
-            self.cyl.as_ref().map_or(0, |c| c.r.len()) + self.faces.iter().map(|f| f.d.len()).sum::<usize>();
+            self.cyl.as_ref().map_or(0, |c| c.nodes()) + self.faces.iter().map(|f| f.d.len()).sum::<usize>();
         let budget = MAX_NODES.saturating_sub(used);
         if budget < 4 {
             return;
@@ -282,14 +281,13 @@ impl Stock {
             return;
         }
         let origin = a[0] * eu + a[1] * ev + a[2] * n;
-        self.faces.push(FaceGrid::new(
+        self.faces.push(FaceGrid::flat(
             origin,
             eu,
             ev,
             (lu / nu as f64, lv / nv as f64),
             (nu, nv),
             b[2] - a[2],
-            |_, _| Some(0.0),
         ));
     }
 

@@ -701,3 +701,28 @@ fn the_cylindrical_grids_reach_leaves_out_no_material_point() {
         "{inside} {skipped} of {checked}"
     );
 }
+
+/// The cylindrical grid writes out a column's nodes only when a cut changes one of them: a bar
+/// whose flat spans a few columns holds those columns' nodes, and every node reads as before
+/// (the uniform radius elsewhere, turned down by a turning pass without writing it out).
+#[test]
+fn the_cylindrical_grid_writes_out_only_the_columns_a_cut_reaches() {
+    let mut s = bar(20.0, 60.0, 0.1);
+    let c = s.cyl.as_ref().unwrap();
+    let (nth, nz) = (c.nth, c.nz);
+    let empty = c.bytes();
+    assert!(empty < nz * 64, "{empty} bytes before any cut");
+    s.cut(&sweep(&flat(8.0, 30.0), [1.0, 0.0, 0.0], [15.0, -30.0, 30.0], [15.0, 30.0, 30.0], 0.1));
+    let c = s.cyl.as_mut().unwrap();
+    let written = (c.bytes() - empty) / 8;
+    assert!(written >= nth && written % nth == 0 && written / nth < nz / 4, "{written} nodes of {nth} × {nz}");
+    let (j_far, j_flat) = (nz / 8, nz / 2);
+    assert!((0..nth).all(|i| c.radius(i, j_far) == 20.0));
+    let low = |c: &CylGrid| (0..nth).map(|i| c.radius(i, j_flat)).fold(f64::INFINITY, f64::min);
+    assert!(low(c) < 15.1, "{}", low(c));
+    // A turning pass lowers a column that was never written out, and one that was.
+    c.turn(0.0, 60.0, 18.0);
+    assert!((0..nth).all(|i| c.radius(i, j_far) == 18.0));
+    assert!((0..nth).all(|i| c.radius(i, j_flat) <= 18.0));
+    assert!(low(c) < 15.1, "{}", low(c));
+}

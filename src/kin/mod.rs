@@ -334,6 +334,8 @@ pub struct Poser {
     world: Vec<Iso>,
     /// How many components were re-posed by the last [`Poser::pose`] (for stats and tests).
     pub last_reposed: usize,
+    /// The components kept posed ([`Poser::focused`]): these and their ancestors; `None`: all.
+    only: Option<Vec<bool>>,
 }
 
 impl Poser {
@@ -344,6 +346,29 @@ impl Poser {
             values: values.clone(),
             world: vec![Iso::identity(); k.components.len()],
             last_reposed: 0,
+            only: None,
+        };
+        p.repose(k, &vec![true; k.axes.len()], true);
+        p
+    }
+
+    /// A poser that keeps only `parts` and their ancestors posed (a query about a few parts of a
+    /// large tree: a check's probes move the turret, whose every tool a full pose would place).
+    /// [`Poser::world`] of any other component is not kept up to date.
+    pub fn focused(k: &Kinematics, parts: &[CompId]) -> Poser {
+        let mut only = vec![false; k.components.len()];
+        for &c in parts {
+            let mut p = Some(c);
+            while let Some(q) = p.filter(|&q| q < only.len() && !only[q]) {
+                only[q] = true;
+                p = k.components[q].parent;
+            }
+        }
+        let mut p = Poser {
+            values: k.start_values(),
+            world: vec![Iso::identity(); k.components.len()],
+            last_reposed: 0,
+            only: Some(only),
         };
         p.repose(k, &vec![true; k.axes.len()], true);
         p
@@ -355,6 +380,7 @@ impl Poser {
 
     /// A component's world pose.
     pub fn world(&self, c: CompId) -> &Iso {
+        debug_assert!(self.only.as_ref().map_or(true, |o| o[c]), "component {c} is not posed");
         &self.world[c]
     }
 
@@ -374,6 +400,9 @@ impl Poser {
         let mut dirty = vec![false; k.components.len()];
         let mut n = 0;
         for (i, c) in k.components.iter().enumerate() {
+            if self.only.as_ref().is_some_and(|o| !o[i]) {
+                continue;
+            }
             let own = c.axis.is_some_and(|a| changed[a]);
             let inherited = c.parent.is_some_and(|p| dirty[p]);
             if !(own || inherited || all) {
