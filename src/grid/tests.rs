@@ -712,10 +712,19 @@ fn the_cylindrical_grid_writes_out_only_the_columns_a_cut_reaches() {
     let (nth, nz) = (c.nth, c.nz);
     let empty = c.bytes();
     assert!(empty < nz * 64, "{empty} bytes before any cut");
-    s.cut(&sweep(&flat(8.0, 30.0), [1.0, 0.0, 0.0], [15.0, -30.0, 30.0], [15.0, 30.0, 30.0], 0.1));
+    s.cut(&sweep(
+        &flat(8.0, 30.0),
+        [1.0, 0.0, 0.0],
+        [15.0, -30.0, 30.0],
+        [15.0, 30.0, 30.0],
+        0.1,
+    ));
     let c = s.cyl.as_mut().unwrap();
     let written = (c.bytes() - empty) / 8;
-    assert!(written >= nth && written % nth == 0 && written / nth < nz / 4, "{written} nodes of {nth} × {nz}");
+    assert!(
+        written >= nth && written % nth == 0 && written / nth < nz / 4,
+        "{written} nodes of {nth} × {nz}"
+    );
     let (j_far, j_flat) = (nz / 8, nz / 2);
     assert!((0..nth).all(|i| c.radius(i, j_far) == 20.0));
     let low = |c: &CylGrid| (0..nth).map(|i| c.radius(i, j_flat)).fold(f64::INFINITY, f64::min);
