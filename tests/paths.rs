@@ -388,3 +388,74 @@ fn moves_prints_the_path_it_is_asked_for_at_its_lines_of_the_file() {
     assert_eq!(code, 2);
     assert!(err.contains("the machine has 1 path"), "{err}");
 }
+
+/// A contact between two carriers has a picture at each path's finding, drawn from that path:
+/// its turret and active tool where they are at first contact, the part that hit and the other
+/// carrier's part it met (touching or overlapping there), the other carrier's parts as
+/// outlines, the move under way drawn as the machine moves it (the lower turret's dogleg
+/// rapid), and the legend names the other carrier's outlines.
+#[test]
+fn a_contact_between_carriers_has_a_picture_from_each_path() {
+    let out = pipeline::check(
+        program("crash_drills_meet_at_centre.nc").as_bytes(),
+        &twin(),
+        &Settings::default(),
+    );
+    let hits: Vec<_> = out.findings.iter().filter(|f| f.kind == Kind::Collision).collect();
+    assert_eq!(hits.len(), 2);
+    for f in &hits {
+        let s = f
+            .snapshot
+            .as_ref()
+            .unwrap_or_else(|| panic!("no picture at line {}", f.line));
+        let poly = |p: &[latheguard::geom::P2]| latheguard::geom::Polygon::new(p).unwrap();
+        let (a, b) = (poly(&s.part_a), poly(&s.part_b[0]));
+        assert_eq!(
+            latheguard::geom::query::distance(&a, &b),
+            0.0,
+            "line {}: the parts meet",
+            f.line
+        );
+        // The hitting part is this path's holder, drawn as its active tool's holder.
+        assert_eq!(s.part_a, s.holder, "line {}", f.line);
+        assert!(!s.turret.is_empty() && !s.insert.is_empty());
+        assert!(
+            s.others.iter().any(|(l, _)| l.starts_with(if f.line == 8 {
+                "lower turret"
+            } else {
+                "turret of path 1"
+            })),
+            "{:?}",
+            s.others.iter().map(|o| &o.0).collect::<Vec<_>>()
+        );
+        assert!(s.path.len() > 2);
+    }
+    // The lower turret (line 22) is across the axis from path 1's: its picture has it at x < 0,
+    // and its rapid to X0 Z5 bends where Z arrives.
+    let lower = hits.iter().find(|f| f.line == 22).unwrap().snapshot.as_ref().unwrap();
+    assert!(lower.holder.iter().all(|p| p.x < 0.0));
+    assert_eq!(lower.machine_path.len(), 3);
+    let upper = hits.iter().find(|f| f.line == 8).unwrap().snapshot.as_ref().unwrap();
+    assert!(upper.insert.iter().any(|p| p.x.abs() < 1e-6 || p.x > 0.0));
+    // The pictures `--svg` writes say what the dashed outlines are.
+    let dir = tempfile::tempdir().unwrap();
+    let out = crate::common::latheguard(
+        &root(),
+        &[
+            "check",
+            "-q",
+            "--svg",
+            dir.path().to_str().unwrap(),
+            "programs/twin-turret/crash_drills_meet_at_centre.nc",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", crate::common::stderr(&out));
+    let svgs: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| std::fs::read_to_string(e.unwrap().path()).unwrap())
+        .collect();
+    assert_eq!(svgs.len(), 2);
+    assert!(svgs
+        .iter()
+        .all(|s| s.contains("other carrier, other stations (working plane)")));
+}

@@ -287,7 +287,25 @@ pub fn check(carriages: &[Carriage], tolerance: f64, stop: Option<f64>) -> (Vec<
                     Some((i, j, depth)) if !in_contact => {
                         in_contact = true;
                         let (la, lb) = (&parts_a[i].label, &parts_b[j].label);
-                        for (me, other, pm, po, lm, lo) in [(ca, cb, pa, pb, la, lb), (cb, ca, pb, pa, lb, la)] {
+                        let side_a = Side {
+                            scene: &scenes[a],
+                            parts: parts_a,
+                            posed: &qa,
+                            hit: i,
+                            starts: &starts[a],
+                        };
+                        let side_b = Side {
+                            scene: &scenes[b],
+                            parts: parts_b,
+                            posed: &qb,
+                            hit: j,
+                            starts: &starts[b],
+                        };
+                        let sides = [
+                            (ca, cb, pa, pb, la, lb, &side_a, &side_b),
+                            (cb, ca, pb, pa, lb, la, &side_b, &side_a),
+                        ];
+                        for (me, other, pm, po, lm, lo, sm, so) in sides {
                             let mut f = Finding::at(
                                 Kind::Collision,
                                 Severity::Error,
@@ -305,6 +323,7 @@ pub fn check(carriages: &[Carriage], tolerance: f64, stop: Option<f64>) -> (Vec<
                             f.depth_mm = Some(depth);
                             f.x = pm.prog.map(|p| p.0);
                             f.z = pm.prog.map(|p| p.1);
+                            f.snapshot = Some(Box::new(picture(t, (me, &pm, sm), (other, so))));
                             findings.push(f);
                         }
                     }
@@ -341,6 +360,83 @@ pub fn check(carriages: &[Carriage], tolerance: f64, stop: Option<f64>) -> (Vec<
         }
     }
     (findings, probes)
+}
+
+/// One carrier at a contact: its scene, its parts, the parts posed, and the one that hit.
+struct Side<'s> {
+    scene: &'s Scene,
+    parts: &'s [Part],
+    posed: &'s [(usize, Polygon)],
+    hit: usize,
+    /// The machine time each of its moves starts at.
+    starts: &'s [f64],
+}
+
+/// The picture of a contact between two carriers, drawn from `me`'s path: its turret and active
+/// tool where they are, its other stations and the other carrier's parts as outlines labelled
+/// with their path, the two parts that meet filled, and the chuck. The stock is not drawn: each
+/// path's own check holds it, not this one.
+fn picture(t: f64, (me, pm, sm): (&Carriage, &Pose, &Side), (other, so): (&Carriage, &Side)) -> crate::scene::Snapshot {
+    let pts = |p: &Polygon| p.points().to_vec();
+    let sign = if me.opposite { -1.0 } else { 1.0 };
+    // The programmed path of the move under way (or the last one), as the path's own pictures
+    // draw it.
+    let mirror = |p: P2| P2::new(sign * p.x, p.y);
+    let k = sm.starts.partition_point(|&s| s <= t);
+    let current = k
+        .checked_sub(1)
+        .and_then(|i| me.timeline.items.get(i))
+        .and_then(|it| Some((it, me.run.moves.get(it.index)?)));
+    let path: Vec<P2> = current
+        .map(|(_, m)| (0..=48).map(|q| mirror(m.point_at(f64::from(q) / 48.0))).collect())
+        .unwrap_or_default();
+    // A dogleg rapid bends where its first axis arrives: drawn as the machine moves it.
+    let machine_path = match current {
+        Some((it, m)) => match &it.path {
+            motion::Path::Dogleg { from, to, tx, tz }
+                if (tx - tz).abs() > 1e-12 && (to.x - from.x).abs() > 1e-9 && (to.y - from.y).abs() > 1e-9 =>
+            {
+                let corner = motion::reference_at(m, it, tx.min(*tz));
+                vec![mirror(from + m.tip), mirror(corner + m.tip), mirror(to + m.tip)]
+            }
+            _ => Vec::new(),
+        },
+        None => Vec::new(),
+    };
+    let tool = pm.station.and_then(|s| sm.scene.tool(s));
+    let label_of = |what: &str| tool.map(|t| format!("{} {what}", t.label));
+    let find = |what: &str| {
+        let l = label_of(what)?;
+        sm.parts.iter().position(|p| p.label == l).map(|k| pts(&sm.posed[k].1))
+    };
+    let mut others = Vec::new();
+    for (k, (_, poly)) in sm.posed.iter().enumerate() {
+        let l = &sm.parts[k].label;
+        if k == 0 || label_of("insert").as_ref() == Some(l) || label_of("holder").as_ref() == Some(l) {
+            continue;
+        }
+        others.push((l.clone(), pts(poly)));
+    }
+    for (k, (_, poly)) in so.posed.iter().enumerate() {
+        others.push((format!("{}: {}", other.name, so.parts[k].label), pts(poly)));
+    }
+    let at = match tool {
+        Some(t) => P2::new(sign * (pm.r.x + t.tip.x), pm.r.y + t.tip.y),
+        None => P2::new(sign * pm.r.x, pm.r.y),
+    };
+    crate::scene::Snapshot {
+        chuck: sm.scene.chuck.as_ref().map(|c| pts(&c.outline)),
+        turret: pts(&sm.posed[0].1),
+        insert: find("insert").unwrap_or_default(),
+        holder: find("holder").unwrap_or_default(),
+        others,
+        at,
+        part_a: pts(&sm.posed[sm.hit].1),
+        part_b: vec![pts(&so.posed[so.hit].1)],
+        path,
+        machine_path,
+        ..Default::default()
+    }
 }
 
 /// The first move start on either path after `t` (or `end`).

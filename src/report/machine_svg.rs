@@ -158,6 +158,7 @@ pub fn machine_drawing(m: &Machine, title: &str) -> String {
         below = end_view(&mut o, m, below + 16.0);
     }
     let legend = Legend {
+        carriers: false,
         overlap: false,
         swept: false,
         follow_on: false,

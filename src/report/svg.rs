@@ -668,6 +668,8 @@ fn picture(file: &FileReport, f: &Finding, s: &Snapshot, block: &str) -> String 
         overlap: has_overlap,
         swept: swept.is_some() && has_overlap,
         follow_on: f.follow_on.is_some(),
+        // Both objects a path's part (`path1:T03 holder`): two carriers met.
+        carriers: f.objects.len() == 2 && f.objects.iter().all(|o| o.starts_with("path") && o.contains(':')),
         machine: None,
     };
     let bottom = footer(&mut o, &v, s, &legend, below);
@@ -1263,6 +1265,9 @@ pub(super) struct Legend {
     pub overlap: bool,
     pub swept: bool,
     pub follow_on: bool,
+    /// A contact between two paths' carriers: the dashed outlines are the other carrier's parts
+    /// and this one's other stations, in the working plane.
+    pub carriers: bool,
     /// A machine drawing (`latheguard machine --svg`) rather than a finding's picture: the stock
     /// as set up, the other stations named for the turret type, no path.
     pub machine: Option<MachineLegend>,
@@ -1328,10 +1333,11 @@ pub(super) fn footer(o: &mut String, v: &View, s: &Snapshot, legend: &Legend, be
     items.push(("insert", INSERT_FILL, INSERT_LINE, ""));
     if !s.others.is_empty() {
         items.push((
-            legend
-                .machine
-                .as_ref()
-                .map_or("other stations, radial section", |m| m.others),
+            match (&legend.machine, legend.carriers) {
+                (Some(m), _) => m.others,
+                (None, true) => "other carrier, other stations (working plane)",
+                (None, false) => "other stations, radial section",
+            },
             "none",
             OTHER_LINE,
             r#" stroke-dasharray="4 2""#,
