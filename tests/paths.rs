@@ -459,3 +459,40 @@ fn a_contact_between_carriers_has_a_picture_from_each_path() {
         .iter()
         .all(|s| s.contains("other carrier, other stations (working plane)")));
 }
+
+/// `setup` of a program on a multi-path machine lists each path's carrier with its own tools
+/// (text and JSON): the lower turret's centre drill is T02 of path 2, not path 1's T02.
+#[test]
+fn setup_lists_the_tools_of_each_paths_carrier() {
+    let prog = "programs/twin-turret/crash_drills_meet_at_centre.nc";
+    let out = crate::common::latheguard(&root(), &["setup", prog]);
+    assert_eq!(out.status.code(), Some(0), "{}", crate::common::stderr(&out));
+    let text = crate::common::stdout(&out);
+    let (one, two) = text.split_once("  tools of path 2 (lower turret)\n").expect(&text);
+    assert!(
+        one.contains("  tools of path 1 (turret of path 1)\n    T01 OD rough"),
+        "{text}"
+    );
+    assert!(
+        one.contains("T02 Face and chamfer") && !one.contains("Centre drill"),
+        "{text}"
+    );
+    assert!(
+        two.starts_with("    T01 OD rough") && two.contains("T02 Centre drill D10  tip [-40, -110]  [machine]"),
+        "{text}"
+    );
+    let j = crate::common::json(&crate::common::latheguard(
+        &root(),
+        &["setup", "--format", "json", prog],
+    ));
+    assert_eq!(j["tools"].as_array().unwrap().len(), 4);
+    assert_eq!(j["paths"][0]["path"], 2);
+    assert_eq!(j["paths"][0]["carrier"], "lower turret");
+    assert_eq!(j["paths"][0]["tools"][1]["name"], "Centre drill D10");
+    // A one-path machine has no other paths.
+    let j = crate::common::json(&crate::common::latheguard(
+        &root(),
+        &["setup", "--format", "json", "programs/facing.nc"],
+    ));
+    assert_eq!(j["paths"], serde_json::json!([]));
+}

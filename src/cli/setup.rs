@@ -702,27 +702,21 @@ fn text(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
             row.layer
         );
     }
-    let _ = writeln!(s, "  tools");
+    let carriers = &r.machine.paths.carriers;
+    if carriers.is_empty() {
+        let _ = writeln!(s, "  tools");
+    } else {
+        // A multi-path machine: each path's carrier has its own tools (a job's go to path 1's).
+        let _ = writeln!(s, "  tools of path 1 ({})", r.machine.paths.first);
+    }
     for (t, layer, origin) in tool_rows(r) {
-        let mut line = format!(
-            "    T{:02} {}  tip [{}, {}]",
-            t.station,
-            t.name,
-            num(t.tip.x),
-            num(t.tip.y)
-        );
-        if t.nose_radius > 0.0 {
-            let _ = write!(line, "  nose r{}", num(t.nose_radius));
+        let _ = writeln!(s, "{}", tool_line(t, &layer, &origin));
+    }
+    for c in carriers {
+        let _ = writeln!(s, "  tools of path {} ({})", c.path, c.name);
+        for t in &c.tools {
+            let _ = writeln!(s, "{}", tool_line(t, MACHINE, ""));
         }
-        if t.tip_direction != 0 {
-            let _ = write!(line, "  tip direction {}", t.tip_direction);
-        }
-        if origin.is_empty() {
-            let _ = write!(line, "  [{layer}]");
-        } else {
-            let _ = write!(line, "  [{layer}: {origin}]");
-        }
-        let _ = writeln!(s, "{line}");
     }
     if !r.assumed.is_empty() {
         let _ = writeln!(s, "  read from the program (a job, or --no-assume, turns this off)");
@@ -735,6 +729,40 @@ fn text(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
         let _ = writeln!(s, "  warning: {w}");
     }
     s
+}
+
+/// A tool's line in the text form: station, name, tip, nose, and where it came from.
+fn tool_line(t: &latheguard::machine::Tool, layer: &str, origin: &str) -> String {
+    let mut line = format!(
+        "    T{:02} {}  tip [{}, {}]",
+        t.station,
+        t.name,
+        num(t.tip.x),
+        num(t.tip.y)
+    );
+    if t.nose_radius > 0.0 {
+        let _ = write!(line, "  nose r{}", num(t.nose_radius));
+    }
+    if t.tip_direction != 0 {
+        let _ = write!(line, "  tip direction {}", t.tip_direction);
+    }
+    if origin.is_empty() {
+        let _ = write!(line, "  [{layer}]");
+    } else {
+        let _ = write!(line, "  [{layer}: {origin}]");
+    }
+    line
+}
+
+/// A tool in the JSON form.
+fn tool_json(t: &latheguard::machine::Tool, layer: &str, origin: &str) -> serde_json::Value {
+    json!({
+        "station": t.station, "name": t.name, "tip": [t.tip.x, t.tip.y],
+        "nose_radius": t.nose_radius, "tip_direction": t.tip_direction,
+        "insert": t.insert.points().iter().map(|q| [q.x, q.y]).collect::<Vec<_>>(),
+        "holder": t.holder.points().iter().map(|q| [q.x, q.y]).collect::<Vec<_>>(),
+        "from": layer, "origin": origin,
+    })
 }
 
 fn json(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, String), String>>) -> serde_json::Value {
@@ -832,12 +860,11 @@ fn json(program: &Path, r: &Resolved, auto: &Option<Result<(machine::Dialect, St
                 "from": row.layer,
             })
         }).collect::<Vec<_>>(),
-        "tools": tool_rows(r).iter().map(|(t, layer, origin)| json!({
-            "station": t.station, "name": t.name, "tip": [t.tip.x, t.tip.y],
-            "nose_radius": t.nose_radius, "tip_direction": t.tip_direction,
-            "insert": t.insert.points().iter().map(|q| [q.x, q.y]).collect::<Vec<_>>(),
-            "holder": t.holder.points().iter().map(|q| [q.x, q.y]).collect::<Vec<_>>(),
-            "from": layer, "origin": origin,
+        "tools": tool_rows(r).iter().map(|(t, layer, origin)| tool_json(t, layer, origin)).collect::<Vec<_>>(),
+        // The other paths' carriers and their tools (a multi-path machine; empty otherwise).
+        "paths": r.machine.paths.carriers.iter().map(|c| json!({
+            "path": c.path, "carrier": c.name,
+            "tools": c.tools.iter().map(|t| tool_json(t, MACHINE, "")).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
         "warnings": j.warnings,
         "assumed": r.assumed,
