@@ -1058,3 +1058,23 @@ fn a_block_on_a_two_axis_lathe_is_checked_as_its_envelope_and_says_so() {
     // The rapid at X40 (radius 20) runs through the envelope (R 21.213) after turning only to Z-10.
     assert!(errs.iter().any(|e| e.0 == 6 && e.1 == "rapid_into_stock"), "{errs:?}");
 }
+
+/// A clamped sub-spindle that moves by less than the check's tolerance pulls on nothing (a servo
+/// holding its place, or live positions' rounding: a replay's sample at -665.9999999999991 after
+/// one at -666 was reported as a torn bar); a millimetre is a pull.
+#[test]
+fn a_clamped_sub_spindle_nudged_within_the_tolerance_does_not_tear_the_bar() {
+    let text = pick_text("crash_sub_retracts_before_part_off.nc");
+    let line = line_of(&text, "G0 B0.");
+    for (nudge, torn) in [("-635.99999999999", false), ("-635.999", false), ("-635.", true)] {
+        let nudged = text.replace("G0 B0. (SUB-SPINDLE BACK WITH THE PART)", &format!("G1 B{nudge} F100."));
+        for mode in [Mode::Step, Mode::Exact] {
+            let out = pick_findings(&nudged, mode);
+            let tears = out
+                .findings
+                .iter()
+                .any(|f| f.line == line && f.message.contains("moves while clamped"));
+            assert_eq!(tears, torn, "B{nudge} {mode:?}: {:?}", out.findings);
+        }
+    }
+}

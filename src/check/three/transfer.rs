@@ -89,7 +89,9 @@ impl Checker<'_> {
             .filter(|&(_, a)| matches!(three.kin.axes[a].kind, AxisKind::Linear { .. }))
             .map(|(k, _)| (e.end[k] - e.start[k]).abs())
             .fold(0.0f64, f64::max);
-        if pulled <= 0.0 {
+        // A move shorter than the check's tolerance is no pull: a servo holding its place, or
+        // live positions' rounding (a replay's -665.9999999999991 after -666), moves it by less.
+        if pulled <= self.settings.tolerance_mm.max(crate::geom::TOUCH_EPS) {
             return;
         }
         three.transfer.torn = true;
