@@ -59,7 +59,7 @@ pub(crate) fn scan(
     }
     let min_step = min_step.max(collide3::MIN_STEP_MM);
     let spheres = (a.1.sphere(), b.1.sphere());
-    let mut poser = Poser::new(k);
+    let mut poser = Poser::focused(k, &[a.0, b.0]);
     let mut vals = Vec::with_capacity(k.axes.len());
     let mut delta = Vec::with_capacity(k.axes.len());
     let mut open: Option<NearSpan> = None;

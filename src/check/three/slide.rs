@@ -89,7 +89,7 @@ fn proven(three: &Three, f: &Follow, a: CompId, sa: &Shape3, stock: &mut DexelSt
     let Some(corners) = f.corners(u0, u1) else {
         return false;
     };
-    let mut poser = Poser::new(k);
+    let mut poser = Poser::focused(k, &[a]);
     let mut vals = Vec::new();
     let poses: Vec<_> = corners
         .iter()
