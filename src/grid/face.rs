@@ -45,29 +45,14 @@ impl FaceGrid {
         thickness: f64,
         start: impl Fn(f64, f64) -> Option<f64>,
     ) -> FaceGrid {
-        let mut d = vec![thickness; nu * nv];
+        let mut g = FaceGrid::flat(origin, eu, ev, (du, dv), (nu, nv), thickness);
         for j in 0..nv {
             for i in 0..nu {
                 let (u, v) = ((i as f64 + 0.5) * du, (j as f64 + 0.5) * dv);
-                if let Some(s) = start(u, v) {
-                    d[j * nu + i] = s.clamp(0.0, thickness);
-                }
+                g.d[j * nu + i] = start(u, v).map_or(thickness, |s| s.clamp(0.0, thickness));
             }
         }
-        FaceGrid {
-            origin,
-            eu,
-            ev,
-            n: eu.cross(&ev),
-            du,
-            dv,
-            nu,
-            nv,
-            thickness,
-            d,
-            touched: None,
-            rays: 0,
-        }
+        g
     }
 
     /// A face whose material starts at the face on every ray ([`FaceGrid::new`] with a start of
@@ -82,15 +67,19 @@ impl FaceGrid {
         thickness: f64,
     ) -> FaceGrid {
         FaceGrid {
+            origin,
+            eu,
+            ev,
+            n: eu.cross(&ev),
+            du,
+            dv,
+            nu,
+            nv,
+            thickness,
             d: vec![0.0; nu * nv],
-            ..FaceGrid::new(origin, eu, ev, (du, dv), (0, 0), thickness, |_, _| None)
+            touched: None,
+            rays: 0,
         }
-        .with_size(nu, nv)
-    }
-
-    fn with_size(mut self, nu: usize, nv: usize) -> FaceGrid {
-        (self.nu, self.nv) = (nu, nv);
-        self
     }
 
     /// A grid of no nodes (a placeholder while a grid is being cut).
