@@ -1078,3 +1078,50 @@ fn a_clamped_sub_spindle_nudged_within_the_tolerance_does_not_tear_the_bar() {
         }
     }
 }
+
+/// Milling is shared between the paths of a multi-path program as turning is: what one path's
+/// live drill took off the milled stock is gone for the other's check. `cross_drill.nc` records
+/// its two radial holes as milled cuts; the same program with its first plunge a rapid
+/// (`G0 X30.` down the hole) drives the drill into the bar on its own, and goes down the hole
+/// the first program drilled when that program's cuts are taken off before it starts.
+#[test]
+fn another_paths_milling_is_gone_for_this_paths_check() {
+    use latheguard::check::{check_sharing, Removed};
+    let m = turn_mill();
+    let s = Settings::default();
+    let drill = std::fs::read_to_string(root().join("programs/turn-mill/cross_drill.nc")).unwrap();
+    let (_, run) = pipeline::interpret(drill.as_bytes(), &m);
+    let done = check_sharing(&run, &m, &s, Vec::new(), true);
+    let milled = done.cuts.iter().filter(|c| matches!(c.1, Removed::Milled(_))).count();
+    let turned = done.cuts.iter().filter(|c| matches!(c.1, Removed::Turned(_))).count();
+    assert!(milled >= 2 && turned >= 1, "{milled} milled, {turned} turned");
+    let rapid = drill.replacen("G1 X30. F100.", "G0 X30.", 1);
+    assert_ne!(rapid, drill);
+    let (_, run) = pipeline::interpret(rapid.as_bytes(), &m);
+    let plunge = 22;
+    let at_plunge = |r: &latheguard::check::CheckResult| {
+        r.findings
+            .iter()
+            .filter(|f| f.line == plunge && f.severity == Severity::Error)
+            .map(|f| f.kind)
+            .collect::<Vec<_>>()
+    };
+    let alone = check_sharing(&run, &m, &s, Vec::new(), false);
+    assert!(
+        !at_plunge(&alone).is_empty(),
+        "the rapid plunge into the bar: {:?}",
+        alone.findings
+    );
+    let foreign = done.cuts.iter().map(|(_, r)| (0, r.clone())).collect();
+    let shared = check_sharing(&run, &m, &s, foreign, false);
+    assert_eq!(at_plunge(&shared), vec![], "{:?}", shared.findings);
+    // Only milled cuts shared, on a program that never mills: the milled stock is still built.
+    let foreign = done
+        .cuts
+        .iter()
+        .filter(|c| matches!(c.1, Removed::Milled(_)))
+        .map(|(_, r)| (0, r.clone()))
+        .collect();
+    let shared = check_sharing(&run, &m, &s, foreign, false);
+    assert_eq!(at_plunge(&shared), vec![], "{:?}", shared.findings);
+}

@@ -96,9 +96,18 @@ pub struct CheckResult {
     pub cuts: Vec<Cut>,
 }
 
-/// What one feed move took off the stock: the move's index and the polygons the insert swept
-/// (the working plane, folded about the axis as the stock is).
-pub type Cut = (usize, Vec<Vec<crate::geom::P2>>);
+/// What one feed move took off the stock: the move's index and what it removed.
+pub type Cut = (usize, Removed);
+
+/// What a move removed, for the other paths of a multi-path program.
+#[derive(Clone, Debug)]
+pub enum Removed {
+    /// The polygons the insert swept (the working plane, folded about the axis as the dexel stock
+    /// is).
+    Turned(Vec<Vec<crate::geom::P2>>),
+    /// The sweeps a milling cutter made through the milled stock (the part's frame).
+    Milled(Vec<crate::grid::Sweep>),
+}
 
 /// The checker reads a program one move at a time (`stream.rs`): of the run it sees only the
 /// move being checked, its state and extra-axis entry (`now`), and the two moves behind it that
@@ -118,6 +127,8 @@ struct Checker<'a> {
     /// Record each cut in `cuts` (`Stream::share_cuts`).
     record_cuts: bool,
     cuts: Vec<Cut>,
+    /// The index in the run of the move being checked (a milled cut's, for `cuts`).
+    move_index: usize,
     indexed: bool,
     others_tested: bool,
     /// The feed move whose cut is under way, if any: stock queries see the stock as it is at the
@@ -235,9 +246,14 @@ fn run_stream(
     cap: usize,
     share: Option<(Vec<Cut>, bool)>,
 ) -> CheckResult {
+    // Another path's milling is taken off the milled stock, which only the 3D path has: a path
+    // that shares it is checked on that path.
+    let milled = share
+        .as_ref()
+        .is_some_and(|(f, _)| f.iter().any(|c| matches!(c.1, Removed::Milled(_))));
     let three = takes_3d(
         machine,
-        !run.extra.is_empty(),
+        !run.extra.is_empty() || milled,
         run.states.iter().any(|s| !s.tailstock_advanced),
     );
     let mut s = Stream::new(machine, settings, three, cap);
@@ -307,6 +323,7 @@ fn checker<'a>(machine: &'a Machine, settings: &Settings, three: bool) -> Checke
         cut_any: false,
         record_cuts: false,
         cuts: Vec::new(),
+        move_index: 0,
         indexed: false,
         others_tested: false,
         cutting: None,
@@ -1319,12 +1336,23 @@ impl Checker<'_> {
         self.cut_any |= any;
         if self.record_cuts {
             let index = self.cutting.as_ref().map_or(0, |c| c.index);
-            self.cuts.push((index, swept.polygons().map(<[_]>::to_vec).collect()));
+            self.cuts
+                .push((index, Removed::Turned(swept.polygons().map(<[_]>::to_vec).collect())));
         }
     }
 
-    /// Take off the stock what another path cut (`Stream::share_cuts`), between two moves.
-    fn cut_foreign(&mut self, polygons: &[Vec<crate::geom::P2>]) {
+    /// Take off the stock what another path cut (`Stream::share_cuts`), between two moves: what
+    /// it turned off the dexel stock, what it milled off the milled stock (built from the dexel
+    /// stock first if this path has not milled yet; a path checked in the working plane only has
+    /// none, and the pipeline checks a path that shares milled cuts on its 3D path).
+    fn cut_foreign(&mut self, removed: &Removed) {
+        let polygons = match removed {
+            Removed::Turned(p) => p,
+            Removed::Milled(sweeps) => {
+                self.mill_foreign(sweeps);
+                return;
+            }
+        };
         let Some(stock) = self.ensure_stock() else {
             return;
         };

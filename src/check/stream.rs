@@ -106,8 +106,8 @@ impl<'a> Stream<'a> {
             }
             let e = extra.peek().copied().filter(|e| e.index as usize == i);
             while self.foreign.front().is_some_and(|f| f.0 <= i) {
-                if let Some((_, polygons)) = self.foreign.pop_front() {
-                    self.c.cut_foreign(&polygons);
+                if let Some((_, removed)) = self.foreign.pop_front() {
+                    self.c.cut_foreign(&removed);
                 }
             }
             let state = &chunk.states[m.state as usize];
@@ -269,6 +269,7 @@ impl<'a> Stream<'a> {
                 ));
                 self.stopped = true;
             } else {
+                self.c.move_index = i;
                 self.c.one_move(m, state, e, item);
             }
         }
@@ -294,8 +295,8 @@ impl<'a> Stream<'a> {
             c.static_pairs(1);
         }
         // Other paths' cuts after this path's last move: the final part has them too.
-        for (_, polygons) in std::mem::take(&mut self_foreign) {
-            c.cut_foreign(&polygons);
+        for (_, removed) in std::mem::take(&mut self_foreign) {
+            c.cut_foreign(&removed);
         }
         let settings = c.settings;
         let (machine_time_s, _) = clock.finish();

@@ -275,16 +275,16 @@ fn shared_stock(lanes: &[Lane], schedules: &[sync::Schedule], settings: &Setting
     let (alone, cuts): (Vec<Outcome>, Vec<Vec<crate::check::Cut>>) =
         lanes.iter().map(|l| run(l, Vec::new(), lanes.len() > 1)).unzip();
     // Each lane's cuts with the machine time they end at.
-    let ended: Vec<Vec<(f64, &Polygons)>> = lanes
+    let ended: Vec<Vec<(f64, &crate::check::Removed)>> = lanes
         .iter()
         .zip(schedules)
         .zip(&cuts)
         .map(|((l, s), cuts)| {
             cuts.iter()
-                .filter_map(|(k, polys)| {
+                .filter_map(|(k, removed)| {
                     let j = l.timeline.items.partition_point(|it| it.index < *k);
                     let it = l.timeline.items.get(j).filter(|it| it.index == *k)?;
-                    Some((s.global(it.index, it.t0) + it.duration, polys))
+                    Some((s.global(it.index, it.t0) + it.duration, removed))
                 })
                 .collect()
         })
@@ -297,10 +297,10 @@ fn shared_stock(lanes: &[Lane], schedules: &[sync::Schedule], settings: &Setting
             .enumerate()
             .filter(|(q, _)| *q != p)
             .flat_map(|(_, cuts)| cuts.iter())
-            .map(|(end, polys)| {
+            .map(|(end, removed)| {
                 let j = starts.partition_point(|&t| t < *end);
                 let before = l.timeline.items.get(j).map_or(usize::MAX, |it| it.index);
-                (before, (*polys).clone())
+                (before, (*removed).clone())
             })
             .collect();
         if foreign.is_empty() {
@@ -311,9 +311,6 @@ fn shared_stock(lanes: &[Lane], schedules: &[sync::Schedule], settings: &Setting
     }
     out
 }
-
-/// The polygons one cut swept (`check::Cut`).
-type Polygons = Vec<Vec<crate::geom::P2>>;
 
 /// One path of the program: its lathe, its run and its own time.
 struct Lane {

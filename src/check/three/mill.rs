@@ -305,7 +305,13 @@ impl Checker<'_> {
         } else {
             ((c_turns / step_deg).ceil() as usize).clamp(1, 720)
         };
-        let mut poser = Poser::new(&three.kin);
+        let mut poser = Poser::focused(
+            &three.kin,
+            &[Some(cutter), three.main_spindle]
+                .into_iter()
+                .flatten()
+                .collect::<Vec<_>>(),
+        );
         let mut vals = Vec::new();
         let mut at = |u: f64| {
             three.values(m, e, item, u, &mut vals);
@@ -317,13 +323,39 @@ impl Checker<'_> {
         };
         let Some(mill) = self.mill.as_mut() else { return false };
         let (mut tip, mut axis) = at(0.0);
+        let mut made = Vec::new();
         for k in 1..=n {
             let (t1, a1) = at(u_end * k as f64 / n as f64);
             if let Some(sw) = Sweep::new(&tool, axis, tip, t1, tol.max(MIN_SPACING_MM)) {
                 mill.stock.cut(&sw);
+                if self.record_cuts {
+                    made.push(sw);
+                }
             }
             (tip, axis) = (t1, a1);
         }
+        if !made.is_empty() {
+            self.cuts.push((self.move_index, crate::check::Removed::Milled(made)));
+        }
         true
+    }
+
+    /// Another path's milling (`Stream::share_cuts`): its sweeps taken off the milled stock,
+    /// which is built from the dexel stock as it is now when this path has not milled yet.
+    pub(in crate::check) fn mill_foreign(&mut self, sweeps: &[Sweep]) {
+        if self.three.is_none() {
+            return;
+        }
+        if self.mill.is_none() {
+            let tol = self.settings.tolerance_mm;
+            let Some(d) = self.ensure_stock() else { return };
+            let Some(mill) = Mill::from_dexel(d, tol) else { return };
+            self.mill = Some(mill);
+        }
+        if let Some(mill) = self.mill.as_mut() {
+            for sw in sweeps {
+                mill.stock.cut(sw);
+            }
+        }
     }
 }
