@@ -5,8 +5,8 @@
 //! **Which pairs.** A `never_touch` pair whose two parts are carried by the axes of two paths
 //! together ([`Kinematics::cross_pairs`]: the head against the lower turret, the head against a
 //! sub-spindle that path 2's slide moves) is checked here and nowhere else: each path's own check
-//! runs on the parts its own axes carry ([`Kinematics::for_path`]). The stock is each path's
-//! (`paths/mod.rs`).
+//! runs on the parts its own axes carry ([`Kinematics::for_path`]). The stock is not this
+//! check's: each path's own check meets the stock the paths share (`paths/mod.rs`).
 //!
 //! **The poses.** The machine's time is cut at every start and end of a move of any path; within
 //! one piece every path is in one move, or standing. Each path's axes take the values its own
