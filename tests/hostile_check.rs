@@ -492,3 +492,52 @@ fn a_macro_loop_whose_condition_never_changes_stops_at_the_block_budget_it_is_gi
         out.stats
     );
 }
+
+/// A circle of many turns (LinuxCNC's `P`) sweeps in its first turn all it ever sweeps: the
+/// insert's chords stop there, and past them a look at the stock during the move is the stock
+/// after the cut (a fuzz input of `P40` arcs took 1.3 s, and 1,000 turns 19 s, almost all of it
+/// going through every turn's chords at each look). Its later turns leave the same part and the
+/// same findings as two turns, in both modes.
+#[test]
+fn a_circle_of_many_turns_sweeps_what_its_first_turn_sweeps() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let src = std::fs::read_to_string(root.join("tests/fixtures/hostile/arc_forty_turns_through_the_bar.nc")).unwrap();
+    let m = Machine::builtin();
+    for mode in [Mode::Step, Mode::Exact] {
+        let s = Settings {
+            mode,
+            ..Settings::default()
+        };
+        let run = |turns: &str| pipeline::check(src.replace("P40", turns).as_bytes(), &m, &s);
+        let (two, forty, thousand) = (run("P2"), run("P40"), run("P1000"));
+        let key = |o: &pipeline::Outcome| {
+            o.findings
+                .iter()
+                .map(|f| (f.line, f.kind, f.objects.clone()))
+                .collect::<Vec<_>>()
+        };
+        // The same part to rounding (a turn's chords start at other fractions of the move).
+        let same = |a: &pipeline::Outcome, b: &pipeline::Outcome| {
+            a.stock.len() == b.stock.len()
+                && a.stock.iter().zip(&b.stock).all(|(p, q)| {
+                    p.len() == q.len()
+                        && p.iter()
+                            .zip(q)
+                            .all(|(x, y)| (x[0] - y[0]).abs() < 1e-9 && (x[1] - y[1]).abs() < 1e-9)
+                })
+        };
+        for (name, turns, o) in [("P40", 40, &forty), ("P1000", 1000, &thousand)] {
+            assert_eq!(key(o), key(&two), "{mode:?} {name}");
+            assert!(same(o, &two), "{mode:?} {name}: {:?} against {:?}", o.stock, two.stock);
+            // The holder passes the part again each turn: its tests grow with the turns, no faster.
+            assert!(
+                o.stats.pair_tests <= turns * two.stats.pair_tests,
+                "{mode:?} {name}: {:?} against {:?}",
+                o.stats,
+                two.stats
+            );
+        }
+        // The circle cuts the bar: half of it (P1) leaves more.
+        assert!(!same(&run("P1"), &two), "{mode:?}");
+    }
+}

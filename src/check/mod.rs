@@ -201,7 +201,17 @@ impl Cutting {
     /// The stock as a query sees it during this move: cut up to the instant, or as it was before
     /// the move (`pre_move`: the insert's own spindle-stopped test).
     fn view(&self, pre_move: bool) -> View<'_> {
-        View::Instant(if pre_move { &NO_SWEEP } else { &self.swept })
+        if pre_move {
+            return View::Instant(&NO_SWEEP);
+        }
+        // Past the path's last vertex the region swept so far is the whole cut's (the same
+        // polygons `Checker::cut` took off, with the same arithmetic): the stock as it is now,
+        // without going through the polygons column by column at every query (a circle of many
+        // turns is past it after its first, `Checker::chords`).
+        if self.path.last().is_some_and(|&(u, _)| self.f >= u) {
+            return View::Now;
+        }
+        View::Instant(&self.swept)
     }
 }
 
@@ -1372,14 +1382,22 @@ impl Checker<'_> {
         let tol = self.settings.tolerance_mm;
         c.path.push((0.0, m.start));
         if let MoveKind::Arc { center, sweep } = m.kind {
-            let r = (m.start - center).norm().max((m.end - center).norm()).max(tol);
+            let (r0, r1) = ((m.start - center).norm(), (m.end - center).norm());
+            let r = r0.max(r1).max(tol);
             let step = 2.0 * (1.0 - (tol / r).min(1.0)).acos().max(1e-4);
-            let n = ((sweep.abs() / step).ceil() as usize).clamp(1, 100_000);
+            // A circle of more than one turn (LinuxCNC's `P` turns) sweeps in its first turn all
+            // the region it ever sweeps: its later turns pass the same points again. Its chords
+            // stop there (at that fraction of the move: from then on the region swept so far is
+            // the whole of it). A spiral's later turns are at other radii: all of them.
+            let turns = sweep.abs() / std::f64::consts::TAU;
+            let circle = (r0 - r1).abs() <= 1e-9 * r;
+            let u_end = if turns > 1.0 && circle { 1.0 / turns } else { 1.0 };
+            let n = ((sweep.abs() * u_end / step).ceil() as usize).clamp(1, 100_000);
             for j in 1..n {
-                let u = j as f64 / n as f64;
+                let u = u_end * j as f64 / n as f64;
                 c.path.push((u, m.point_at(u)));
             }
-            c.path.push((1.0, m.point_at(1.0)));
+            c.path.push((u_end, m.point_at(u_end)));
         } else {
             c.path.push((1.0, m.end));
         }
