@@ -94,6 +94,14 @@ impl CylGrid {
         }
     }
 
+    /// Whether columns `a` and `b` hold the same `R` at every node.
+    pub(crate) fn same_nodes(&self, a: usize, b: usize) -> bool {
+        match (self.ready[a], self.ready[b]) {
+            (false, false) => self.uniform[a] == self.uniform[b],
+            _ => self.column(a).iter().zip(self.column(b).iter()).all(|(x, y)| x == y),
+        }
+    }
+
     /// Column `j`'s nodes, written out so that they can change one by one.
     fn column_mut(&mut self, j: usize) -> &mut [f64] {
         let nodes = &mut self.r[j * self.nth..(j + 1) * self.nth];

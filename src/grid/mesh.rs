@@ -94,10 +94,7 @@ fn busy(s: &Stock, h: f64) -> Vec<(f64, f64)> {
     let mut out = Vec::new();
     if let Some(c) = &s.cyl {
         for j in 1..c.nz {
-            let (a, b) = (c.column(j - 1), c.column(j));
-            let same = c.inner[j - 1] == c.inner[j]
-                && c.col_max[j - 1] == c.col_max[j]
-                && a.iter().zip(b.iter()).all(|(x, y)| x == y);
+            let same = c.inner[j - 1] == c.inner[j] && c.col_max[j - 1] == c.col_max[j] && c.same_nodes(j - 1, j);
             if !same {
                 let z = c.z0 + c.dz * j as f64;
                 out.push((z - h, z + h));
