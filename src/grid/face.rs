@@ -33,31 +33,24 @@ pub struct FaceGrid {
 }
 
 impl FaceGrid {
-    /// A face over `origin + [0, nu·du]·e_u + [0, nv·dv]·e_v` (unit, orthogonal), material from
-    /// depth `start(u, v)` (`None`: no material on that ray) to `thickness` along `n = e_u × e_v`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        origin: Vector3<f64>,
-        eu: Vector3<f64>,
-        ev: Vector3<f64>,
-        (du, dv): (f64, f64),
-        (nu, nv): (usize, usize),
-        thickness: f64,
-        start: impl Fn(f64, f64) -> Option<f64>,
-    ) -> FaceGrid {
-        let mut g = FaceGrid::flat(origin, eu, ev, (du, dv), (nu, nv), thickness);
+    /// This face with its material from depth `start(u, v)` (`None`: no material on that ray) to
+    /// its thickness, `(u, v)` a node's place on the face.
+    pub fn with_start(mut self, start: impl Fn(f64, f64) -> Option<f64>) -> FaceGrid {
+        let (nu, nv, t) = (self.nu, self.nv, self.thickness);
         for j in 0..nv {
             for i in 0..nu {
-                let (u, v) = ((i as f64 + 0.5) * du, (j as f64 + 0.5) * dv);
-                g.d[j * nu + i] = start(u, v).map_or(thickness, |s| s.clamp(0.0, thickness));
+                let (u, v) = ((i as f64 + 0.5) * self.du, (j as f64 + 0.5) * self.dv);
+                self.d[j * nu + i] = start(u, v).map_or(t, |s| s.clamp(0.0, t));
             }
         }
-        g
+        self
     }
 
-    /// A face whose material starts at the face on every ray ([`FaceGrid::new`] with a start of
-    /// 0 everywhere). Its depths are a zeroed allocation: the pages of nodes no cut reaches are
-    /// never touched (a side grid of millions of nodes costs nothing until a drill reaches it).
+    /// A face over `origin + [0, nu·du]·e_u + [0, nv·dv]·e_v` (unit, orthogonal) whose material
+    /// starts at the face on every ray and goes `thickness` deep along `n = e_u × e_v` (another
+    /// start: [`FaceGrid::with_start`]). Its depths are a zeroed allocation: the pages of nodes no
+    /// cut reaches are never touched (a side grid of millions of nodes costs nothing until a
+    /// drill reaches it).
     pub fn flat(
         origin: Vector3<f64>,
         eu: Vector3<f64>,

@@ -113,7 +113,7 @@ impl Stock {
         let cols: Vec<Option<(f64, f64)>> = (0..nz).map(|j| profile(z0 + (j as f64 + 0.5) * dzc)).collect();
         // Beyond every column's outer radius no ray meets material: no search.
         let r_top = cols.iter().flatten().map(|c| c.1).fold(0.0, f64::max);
-        let face = FaceGrid::new(origin, Vector3::x(), -Vector3::y(), (df, df), (nf, nf), len, |u, v| {
+        let face = FaceGrid::flat(origin, Vector3::x(), -Vector3::y(), (df, df), (nf, nf), len).with_start(|u, v| {
             // e_v = −y so that e_u × e_v = −z (inward from the front face).
             let (x, y) = (-r_max + u, r_max - v);
             let rho = x.hypot(y);
