@@ -405,6 +405,12 @@ pub fn grid_overlap(
             if s1 <= s0 {
                 continue;
             }
+            // No point of the stretch lies deeper in the shape than half its length (its ends are
+            // on the surface): when that cannot beat the best so far (or `eps`), no run in it is
+            // measured (`keep_run`'s bound is at most that), so its samples are not taken.
+            if (c1 - c0) / 2.0 <= best.map_or(eps, |h| h.depth.max(eps)) {
+                continue;
+            }
             pieces.clear();
             // Along a radial ray the dexel stock's material is its column's radial intervals.
             match (best_rays, dexel) {
