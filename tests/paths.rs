@@ -6,15 +6,11 @@
 use latheguard::finding::{Kind, Severity};
 use latheguard::machine::{self, Machine};
 use latheguard::pipeline::{self, Mode, Settings};
-use std::path::PathBuf;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use crate::common::root;
 
 fn twin() -> Machine {
-    let text = std::fs::read_to_string(root().join("machines/twin-turret.toml")).unwrap();
-    machine::from_toml(&text, "machines/twin-turret.toml").unwrap()
+    crate::common::repo_machine("machines/twin-turret.toml")
 }
 
 fn program(name: &str) -> String {

@@ -9,15 +9,11 @@ use latheguard::finding::{Kind, Severity};
 use latheguard::kin::Poser;
 use latheguard::machine::{self, Machine};
 use latheguard::pipeline::{self, Mode, Settings};
-use std::path::PathBuf;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use crate::common::root;
 
 fn head_machine() -> Machine {
-    let text = std::fs::read_to_string(root().join("machines/mill-turn-head.toml")).unwrap();
-    machine::from_toml(&text, "machines/mill-turn-head.toml").unwrap()
+    crate::common::repo_machine("machines/mill-turn-head.toml")
 }
 
 fn program(name: &str) -> String {

@@ -13,13 +13,7 @@ fn root() -> PathBuf {
 
 /// The turn-mill machine with its STL files read beside it.
 pub(crate) fn turn_mill() -> Machine {
-    let path = root().join("machines/turn-mill.toml");
-    let dir = path.parent().unwrap().to_path_buf();
-    let text = std::fs::read_to_string(&path).unwrap();
-    machine::from_toml_with(&text, "machines/turn-mill.toml", &move |name: &str| {
-        std::fs::read(dir.join(name)).map_err(|e| e.to_string())
-    })
-    .unwrap()
+    crate::common::repo_machine("machines/turn-mill.toml")
 }
 
 /// The errors of a program as (line, kind, objects), in one mode.

@@ -33,6 +33,7 @@ use crate::scene::{DexelStock, Revolved, Scene, Snapshot, StockHit, Swept, Trave
 
 use episodes::{Contact, Episodes};
 pub use stream::{takes_3d, takes_3d_depends_on_run, Stream};
+pub(crate) use three::DEPTH_SAMPLES as DEPTH_SAMPLES_3D;
 
 /// A moving part.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -1301,16 +1302,7 @@ impl Checker<'_> {
             None => Vec::new(),
         };
         // A dogleg rapid bends where its first axis arrives: draw it as the machine moves.
-        let machine_path = match &item.path {
-            // (Only where both axes move: otherwise the machine follows the programmed line.)
-            motion::Path::Dogleg { from, to, tx, tz }
-                if (tx - tz).abs() > 1e-12 && (to.x - from.x).abs() > 1e-9 && (to.y - from.y).abs() > 1e-9 =>
-            {
-                let corner = motion::reference_at(m, item, tx.min(*tz));
-                vec![from + m.tip, corner + m.tip, to + m.tip]
-            }
-            _ => Vec::new(),
-        };
+        let machine_path = motion::machine_path(m, item);
         Snapshot {
             chuck: self.scene.chuck.as_ref().map(|c| pts(&c.outline)),
             tailstock: self.obstacle(Obstacle::Tailstock).map(|c| pts(&c.outline)), // drawn while advanced

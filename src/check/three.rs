@@ -55,8 +55,9 @@ use crate::report::scene3::{Part3, Role3, Snapshot3};
 const KEY_BASE: u64 = 1 << 48;
 /// The stock as the second member of a pair.
 const STOCK: usize = usize::MAX;
-/// Samples after first contact at which the depth of a 3D contact is measured.
-const DEPTH_SAMPLES: u32 = 16;
+/// Samples after first contact at which the depth of a 3D contact is measured (also by the
+/// carriers' 3D check, `paths/cross3.rs`).
+pub(crate) const DEPTH_SAMPLES: u32 = 16;
 /// The shortest stretch a part sliding along the stock is proven clear over (`slide.rs`), in
 /// the advancement's shortest steps.
 const SLIDE_STEPS: f64 = 16.0;
@@ -703,11 +704,8 @@ impl Checker<'_> {
         let mut vals = Vec::new();
         f.at(u, &mut vals);
         // The pair and the part's frame only.
-        let parts: Vec<CompId> = [Some(a), (b != STOCK).then_some(b), three.main_spindle]
-            .into_iter()
-            .flatten()
-            .collect();
-        let mut poser = Poser::focused(k, &parts);
+        let pair = [a, b];
+        let mut poser = three.poser_with_part(if b == STOCK { &pair[..1] } else { &pair });
         poser.pose(k, &vals);
         let sa = three.shapes[a].as_ref()?;
         if b == STOCK {
@@ -748,10 +746,7 @@ impl Checker<'_> {
         // much can step over nothing that counts.
         let min_step = mill.map_or(min_step, |m| min_step.max(m.touch()));
         // Only the component and the part's frame are asked for.
-        let mut poser = Poser::focused(
-            k,
-            &[Some(a), three.main_spindle].into_iter().flatten().collect::<Vec<_>>(),
-        );
+        let mut poser = three.poser_with_part(&[a]);
         let mut vals = Vec::new();
         f.at(0.0, &mut vals);
         poser.pose(k, &vals);

@@ -436,16 +436,8 @@ pub fn grid_overlap(
                     (true, Some(c)) => match c.may_hold(o, u, a, b) {
                         None => continue,
                         Some((lo, hi)) => {
-                            let first = ((lo - a) / dt - 0.5).floor() - 1.0;
-                            let last = ((hi - a) / dt - 0.5).ceil() + 2.0;
-                            let clamp = |x: f64, or: usize| {
-                                if x.is_finite() {
-                                    x.clamp(0.0, n as f64) as usize
-                                } else {
-                                    or
-                                }
-                            };
-                            (clamp(first, 0), clamp(last, n))
+                            let r = crate::grid::samples_within(a, b, n, lo, hi);
+                            (r.start, r.end)
                         }
                     },
                     _ => (0, n),

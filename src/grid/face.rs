@@ -208,6 +208,23 @@ impl FaceGrid {
     }
 }
 
+/// Of `n` samples at the middles of `n` equal steps over `[a, b]` (sample k at
+/// `a + (b − a)(k + ½)/n`), those whose points lie within `[lo, hi]`, with a sample of margin on
+/// each side (rounding never leaves one out).
+pub(crate) fn samples_within(a: f64, b: f64, n: usize, lo: f64, hi: f64) -> std::ops::Range<usize> {
+    let per = n as f64 / (b - a).max(f64::MIN_POSITIVE);
+    let first = ((lo - a) * per - 0.5).floor() - 1.0;
+    let end = ((hi - a) * per - 0.5).ceil() + 2.0;
+    let clamp = |x: f64, or: usize| {
+        if x.is_finite() {
+            x.clamp(0.0, n as f64) as usize
+        } else {
+            or
+        }
+    };
+    clamp(first, 0)..clamp(end, n)
+}
+
 /// Where along a ray material may be: the part of `[a, b]` of the ray `o + t·u` outside which
 /// every point is air (`None`: all of it is), a superset ([`crate::grid::CylGrid::may_hold`]).
 pub(crate) type Span<'a> = &'a dyn Fn(Vector3<f64>, Vector3<f64>, f64, f64) -> Option<(f64, f64)>;
@@ -237,26 +254,11 @@ pub(crate) fn air_along(
     let Some((lo, hi)) = span(o, u, a, b) else {
         return true;
     };
-    // Sample k sits at a + (b − a)(k + ½)/n: those within [lo, hi], a sample of margin each side.
-    let per = n as f64 / (b - a).max(f64::MIN_POSITIVE);
-    let first = ((lo - a) * per - 0.5).floor() - 1.0;
-    let last = ((hi - a) * per - 0.5).ceil() + 1.0;
-    let (first, last) = (
-        if first.is_finite() {
-            first.clamp(0.0, n as f64 - 1.0) as usize
-        } else {
-            0
-        },
-        if last.is_finite() {
-            last.clamp(0.0, n as f64 - 1.0) as usize
-        } else {
-            n - 1
-        },
-    );
-    if first > last {
+    let within = samples_within(a, b, n, lo, hi);
+    if within.is_empty() {
         return true;
     }
-    let m = last - first + 1;
+    let (first, m) = (within.start, within.len());
     let at = |k: usize| air(o + (a + (b - a) * ((first + k) as f64 + 0.5) / n as f64) * u);
     // Every sample must be air, so the order does not change the answer, only how soon
     // material is met: coarse to fine, so that a stretch of material of any width is met

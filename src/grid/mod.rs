@@ -29,6 +29,7 @@ mod sweep;
 
 pub use cutter::{Cutter, CutterKind, Sweep};
 pub use cyl::CylGrid;
+pub(crate) use face::samples_within;
 pub use face::FaceGrid;
 pub use flat_faces::FlatFaces;
 pub use mesh::{Surface, STL_CELLS_ACROSS};

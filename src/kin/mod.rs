@@ -336,6 +336,10 @@ pub struct Poser {
     pub last_reposed: usize,
     /// The components kept posed ([`Poser::focused`]): these and their ancestors; `None`: all.
     only: Option<Vec<bool>>,
+    /// Per axis, whether the last [`Poser::pose`] changed it; per component, whether it was
+    /// re-posed (kept between calls: posing is a checker's inner loop).
+    changed: Vec<bool>,
+    dirty: Vec<bool>,
 }
 
 impl Poser {
@@ -347,8 +351,10 @@ impl Poser {
             world: vec![Iso::identity(); k.components.len()],
             last_reposed: 0,
             only: None,
+            changed: Vec::new(),
+            dirty: Vec::new(),
         };
-        p.repose(k, &vec![true; k.axes.len()], true);
+        p.repose(k, true);
         p
     }
 
@@ -369,8 +375,10 @@ impl Poser {
             world: vec![Iso::identity(); k.components.len()],
             last_reposed: 0,
             only: Some(only),
+            changed: Vec::new(),
+            dirty: Vec::new(),
         };
-        p.repose(k, &vec![true; k.axes.len()], true);
+        p.repose(k, true);
         p
     }
 
@@ -387,25 +395,29 @@ impl Poser {
     /// Poses the tree at `values` (one per axis), re-posing only the components whose axis or an
     /// ancestor's axis changed. Returns how many were re-posed.
     pub fn pose(&mut self, k: &Kinematics, values: &[f64]) -> usize {
-        let changed: Vec<bool> = (0..k.axes.len())
-            .map(|a| values.get(a).copied().unwrap_or(0.0) != self.values[a])
-            .collect();
+        self.changed.clear();
         for (a, v) in self.values.iter_mut().enumerate() {
-            *v = values.get(a).copied().unwrap_or(0.0);
+            let new = values.get(a).copied().unwrap_or(0.0);
+            self.changed.push(new != *v);
+            *v = new;
         }
-        self.repose(k, &changed, false)
+        self.repose(k, false)
     }
 
-    fn repose(&mut self, k: &Kinematics, changed: &[bool], all: bool) -> usize {
-        let mut dirty = vec![false; k.components.len()];
+    /// Re-pose the components whose axis or an ancestor's changed (`self.changed`), or all.
+    fn repose(&mut self, k: &Kinematics, all: bool) -> usize {
+        let mut dirty = std::mem::take(&mut self.dirty);
+        dirty.clear();
+        dirty.resize(k.components.len(), false);
+        let changed = &self.changed;
         let mut n = 0;
         for (i, c) in k.components.iter().enumerate() {
             if self.only.as_ref().is_some_and(|o| !o[i]) {
                 continue;
             }
-            let own = c.axis.is_some_and(|a| changed[a]);
+            let own = || c.axis.is_some_and(|a| changed.get(a).copied().unwrap_or(true));
             let inherited = c.parent.is_some_and(|p| dirty[p]);
-            if !(own || inherited || all) {
+            if !(all || inherited || own()) {
                 continue;
             }
             dirty[i] = true;
@@ -413,6 +425,7 @@ impl Poser {
             let parent = c.parent.map_or(Iso::identity(), |p| self.world[p]);
             self.world[i] = parent * c.mount * k.joint(c, &self.values);
         }
+        self.dirty = dirty;
         self.last_reposed = n;
         n
     }

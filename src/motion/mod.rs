@@ -347,6 +347,21 @@ pub fn index_direction(a: u32, b: u32, stations: u32) -> i64 {
     }
 }
 
+/// The programmed point's path as the machine drives a dogleg rapid, where that differs from the
+/// programmed line: start, the bend where the first axis arrives, end. Empty for every other move
+/// (and a dogleg where only one axis moves: the machine follows the line). For pictures.
+pub fn machine_path(m: &Move, item: &Timed) -> Vec<P2> {
+    match &item.path {
+        Path::Dogleg { from, to, tx, tz }
+            if (tx - tz).abs() > 1e-12 && (to.x - from.x).abs() > 1e-9 && (to.y - from.y).abs() > 1e-9 =>
+        {
+            let corner = reference_at(m, item, tx.min(*tz));
+            vec![from + m.tip, corner + m.tip, to + m.tip]
+        }
+        _ => Vec::new(),
+    }
+}
+
 /// Where the turret reference point is `dt` seconds into a move (clamped to the move).
 pub fn reference_at(m: &Move, item: &Timed, dt: f64) -> P2 {
     let d = item.duration;

@@ -391,18 +391,9 @@ fn picture(t: f64, (me, pm, sm): (&Carriage, &Pose, &Side), (other, so): (&Carri
         .map(|(_, m)| (0..=48).map(|q| mirror(m.point_at(f64::from(q) / 48.0))).collect())
         .unwrap_or_default();
     // A dogleg rapid bends where its first axis arrives: drawn as the machine moves it.
-    let machine_path = match current {
-        Some((it, m)) => match &it.path {
-            motion::Path::Dogleg { from, to, tx, tz }
-                if (tx - tz).abs() > 1e-12 && (to.x - from.x).abs() > 1e-9 && (to.y - from.y).abs() > 1e-9 =>
-            {
-                let corner = motion::reference_at(m, it, tx.min(*tz));
-                vec![mirror(from + m.tip), mirror(corner + m.tip), mirror(to + m.tip)]
-            }
-            _ => Vec::new(),
-        },
-        None => Vec::new(),
-    };
+    let machine_path = current.map_or_else(Vec::new, |(it, m)| {
+        motion::machine_path(m, it).into_iter().map(mirror).collect()
+    });
     let tool = pm.station.and_then(|s| sm.scene.tool(s));
     let label_of = |what: &str| tool.map(|t| format!("{} {what}", t.label));
     let find = |what: &str| {

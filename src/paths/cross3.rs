@@ -39,10 +39,11 @@ use crate::machine::Machine;
 use crate::motion;
 use crate::report::scene3::{Part3, Role3, Snapshot3};
 
-/// Probes the search spends on one program before it gives up with a finding.
-pub const MAX_PROBES: u64 = 2_000_000;
-/// Instants after first contact at which a contact's depth is measured.
-const DEPTH_SAMPLES: u32 = 16;
+/// Probes the search spends on one program before it gives up with a finding (the working-plane
+/// search's budget).
+pub use super::cross::MAX_PROBES;
+/// Instants after first contact at which a contact's depth is measured (as the 3D check's).
+use crate::check::DEPTH_SAMPLES_3D as DEPTH_SAMPLES;
 
 /// One path, as this check sees it: the carriage of the working-plane check (its side is the
 /// tree's business here).

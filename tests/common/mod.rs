@@ -4,6 +4,22 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// The repository's root (the crate's manifest folder).
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A machine file of the repository (`machines/twin-turret.toml`), with its STL parts beside it.
+pub fn repo_machine(rel: &str) -> latheguard::machine::Machine {
+    let path = root().join(rel);
+    let dir = path.parent().unwrap().to_path_buf();
+    let text = std::fs::read_to_string(&path).unwrap();
+    latheguard::machine::from_toml_with(&text, rel, &move |name: &str| {
+        std::fs::read(dir.join(name)).map_err(|e| e.to_string())
+    })
+    .unwrap()
+}
+
 pub fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures")
 }

@@ -190,6 +190,14 @@ impl Three {
         self.grid_shapes.get(a).and_then(Option::as_ref).unwrap_or(sa)
     }
 
+    /// A poser that keeps `parts`, their ancestors and the part's frame posed
+    /// ([`Poser::focused`]): what a probe of a few parts against each other or the stock reads.
+    pub(super) fn poser_with_part(&self, parts: &[CompId]) -> Poser {
+        let mut all = parts.to_vec();
+        all.extend(self.main_spindle);
+        Poser::focused(&self.kin, &all)
+    }
+
     /// The part's frame: the pose of the component the C axis turns (identity without one).
     pub(super) fn part_pose(&self, poser: &Poser) -> Iso {
         self.main_spindle.map_or(Iso::identity(), |c| *poser.world(c))
@@ -275,12 +283,8 @@ impl Checker<'_> {
             return false;
         };
         let tol = self.settings.tolerance_mm;
-        if self.mill.is_none() {
-            let Some(d) = self.ensure_stock() else { return false };
-            let Some(mill) = Mill::from_dexel(d, tol) else {
-                return false;
-            };
-            self.mill = Some(mill);
+        if !self.ensure_mill() {
+            return false;
         }
         let mut c_turns = e.map_or(0.0, |e| (e.end[1] - e.start[1]).abs());
         // C alone turning past a whole turn sweeps in its first turn all it ever sweeps.
@@ -305,13 +309,7 @@ impl Checker<'_> {
         } else {
             ((c_turns / step_deg).ceil() as usize).clamp(1, 720)
         };
-        let mut poser = Poser::focused(
-            &three.kin,
-            &[Some(cutter), three.main_spindle]
-                .into_iter()
-                .flatten()
-                .collect::<Vec<_>>(),
-        );
+        let mut poser = three.poser_with_part(&[cutter]);
         let mut vals = Vec::new();
         let mut at = |u: f64| {
             three.values(m, e, item, u, &mut vals);
@@ -340,17 +338,22 @@ impl Checker<'_> {
         true
     }
 
+    /// The milled stock, built from the dexel stock as it is now the first time something mills:
+    /// whether there is one.
+    fn ensure_mill(&mut self) -> bool {
+        if self.mill.is_none() {
+            let tol = self.settings.tolerance_mm;
+            let Some(d) = self.ensure_stock() else { return false };
+            self.mill = Mill::from_dexel(d, tol);
+        }
+        self.mill.is_some()
+    }
+
     /// Another path's milling (`Stream::share_cuts`): its sweeps taken off the milled stock,
     /// which is built from the dexel stock as it is now when this path has not milled yet.
     pub(in crate::check) fn mill_foreign(&mut self, sweeps: &[Sweep]) {
-        if self.three.is_none() {
+        if self.three.is_none() || !self.ensure_mill() {
             return;
-        }
-        if self.mill.is_none() {
-            let tol = self.settings.tolerance_mm;
-            let Some(d) = self.ensure_stock() else { return };
-            let Some(mill) = Mill::from_dexel(d, tol) else { return };
-            self.mill = Some(mill);
         }
         if let Some(mill) = self.mill.as_mut() {
             for sw in sweeps {
