@@ -208,7 +208,7 @@ pub fn resolve<'m>(src: &[u8], machine: &'m Machine) -> (Cow<'m, Machine>, Optio
 }
 
 /// Read and interpret a program: the syntax, program and unsupported findings, and the moves.
-pub fn interpret(src: &[u8], machine: &Machine) -> (gcode::Program, Interpretation) {
+pub fn interpret<'s>(src: &'s [u8], machine: &Machine) -> (gcode::Program<'s>, Interpretation) {
     let (machine, _) = resolve(src, machine);
     let machine = machine.as_ref();
     let prog = read(src, machine);
@@ -217,7 +217,7 @@ pub fn interpret(src: &[u8], machine: &Machine) -> (gcode::Program, Interpretati
 }
 
 /// Read a program as the machine's dialect reads it (Fanuc: with macro B statements).
-pub fn read(src: &[u8], machine: &Machine) -> gcode::Program {
+pub fn read<'s>(src: &'s [u8], machine: &Machine) -> gcode::Program<'s> {
     if machine.dialect == crate::machine::Dialect::Fanuc {
         gcode::parse_fanuc(src)
     } else {
@@ -281,9 +281,22 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
 /// [`check`] with the moves handed to the checker `chunk` at a time (at least 1; the tests hold
 /// a chunk of one move to the whole run).
 pub fn check_streamed(src: &[u8], machine: &Machine, settings: &Settings, chunk: usize) -> Outcome {
+    check_streamed_windowed(src, machine, settings, chunk, gcode::WINDOW_BLOCKS)
+}
+
+/// [`check_streamed`] with the program's blocks held `per_window` at a time (`gcode::Program`;
+/// the tests hold a window of one block to the whole run).
+#[doc(hidden)]
+pub fn check_streamed_windowed(
+    src: &[u8],
+    machine: &Machine,
+    settings: &Settings,
+    chunk: usize,
+    per_window: usize,
+) -> Outcome {
     let (machine, dialect) = resolve(src, machine);
     let machine = machine.as_ref();
-    let mut prog = read(src, machine);
+    let mut prog = gcode::parse_windowed(src, machine.dialect == crate::machine::Dialect::Fanuc, per_window);
     let limits = settings.limits(&prog);
     let three = if crate::check::takes_3d_depends_on_run(machine) {
         // A turn-mill machine whose tailstock starts advanced: whether the 3D path runs depends on

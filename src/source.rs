@@ -31,6 +31,16 @@ pub fn lines(src: &[u8]) -> Lines<'_> {
     }
 }
 
+/// The physical lines of `src` from the line that starts at byte `start` on, as [`lines`] gives
+/// them.
+pub(crate) fn lines_from(src: &[u8], start: usize) -> Lines<'_> {
+    Lines {
+        src,
+        next: start,
+        done: start > src.len() || (start == src.len() && start != 0),
+    }
+}
+
 /// The iterator of [`lines`].
 pub struct Lines<'a> {
     src: &'a [u8],

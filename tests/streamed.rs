@@ -6,7 +6,9 @@
 //! corpora (with the job `tests/corpus-jobs/index.toml` gives, else the setup `latheguard check`
 //! assumes from the program), in both modes, with the moves handed over one at a time: every
 //! move starts a chunk, so whatever the checker carries from one move to the next crosses a
-//! chunk's edge everywhere (ARCHITECTURE.md, "Memory for long programs").
+//! chunk's edge everywhere, and the program's blocks held one a window, so that every jump of
+//! the program's flow (subroutines, loops, `GOTO`, a cycle's profile) reads its window again
+//! (ARCHITECTURE.md, "Memory for long programs").
 
 use crate::case_machine::{case_machine, with_case_job, with_job};
 use crate::corpus::{case_targets, corpus_job_targets, extra_dialects, linuxcnc, machine_for, root, shared, Target};
@@ -133,7 +135,7 @@ fn difference(whole: &Outcome, streamed: &Outcome) -> Option<String> {
 }
 
 #[test]
-fn the_streamed_check_is_the_whole_runs_byte_for_byte_with_chunks_of_one_move() {
+fn the_streamed_check_is_the_whole_runs_byte_for_byte_with_chunks_of_one_move_and_windows_of_one_block() {
     let mut targets = Vec::new();
     case_targets(&root().join("programs"), &mut targets);
     case_targets(&root().join("tests/cases"), &mut targets);
@@ -162,7 +164,9 @@ fn the_streamed_check_is_the_whole_runs_byte_for_byte_with_chunks_of_one_move() 
                 ..x.settings
             };
             let whole = pipeline::check_whole(&x.src, &x.machine, &s);
-            let streamed = pipeline::check_streamed(&x.src, &x.machine, &s, 1);
+            // One move a chunk, and the program's blocks held one a window: every jump of the
+            // program's flow reads its window again.
+            let streamed = pipeline::check_streamed_windowed(&x.src, &x.machine, &s, 1, 1);
             if let Some(why) = difference(&whole, &streamed) {
                 failures.push(format!("{} ({mode:?}): {why}", x.name));
             }

@@ -126,7 +126,7 @@ pub(super) fn plain_number(src: &[u8], start: usize) -> Option<(f64, bool, usize
 
 impl Reader<'_> {
     fn push(&mut self, e: Expr) -> ExprId {
-        let id = self.prog.exprs.len() as ExprId;
+        let id = self.expr_base + self.prog.exprs.len() as ExprId;
         self.prog.exprs.push(e);
         id
     }

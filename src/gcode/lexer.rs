@@ -8,10 +8,13 @@
 //! is skipped. Values and expressions are read in `expr.rs`.
 
 use super::expr::{digit_run, plain_number, skip_blanks};
-use super::{Block, Comment, NameId, OName, OOp, OWord, Program, Rare, Value, Word};
+use super::window::{Mark, Store, Window, CACHED_WINDOWS, WINDOW_BLOCKS};
+use super::{Assign, Block, Comment, Expr, NameId, OName, OOp, OWord, Program, Rare, Value, Word};
 use crate::finding::{push_capped, Finding};
-use crate::source::{count_lf, lines, LineIndex, Span};
+use crate::source::{count_lf, lines, lines_from, LineIndex, Span};
+use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
+use std::rc::Rc;
 
 /// How deep brackets, function calls and parameter indirections (`##1`) may nest in one value.
 /// Deeper nesting is a syntax error (the reader never recurses further).
@@ -20,22 +23,30 @@ pub const MAX_NESTING: u32 = 64;
 const BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// Read a whole program. Never fails; problems become `syntax` findings in [`Program::errors`].
-pub fn parse(src: &[u8]) -> Program {
-    parse_with(src, true, false)
+pub fn parse(src: &[u8]) -> Program<'_> {
+    parse_with(src, true, false, WINDOW_BLOCKS)
 }
 
 /// Read a whole program of the Fanuc dialect: as [`parse`], and also the Fanuc macro B
 /// statements (`GOTO`, `IF`, `WHILE … DO`, `END`), the functions `BIN`, `BCD`, `POW[a,b]`,
 /// `ATAN[a,b]`, and the Fanuc operator priorities (see the module docs of [`crate::gcode`]).
-pub fn parse_fanuc(src: &[u8]) -> Program {
-    parse_with(src, true, true)
+pub fn parse_fanuc(src: &[u8]) -> Program<'_> {
+    parse_with(src, true, true, WINDOW_BLOCKS)
+}
+
+/// [`parse`] (or, with `macro_b`, [`parse_fanuc`]) holding `per_window` blocks a window (at
+/// least 1): the tests read programs a block a window, so that every jump reads windows again.
+#[doc(hidden)]
+pub fn parse_windowed(src: &[u8], macro_b: bool, per_window: usize) -> Program<'_> {
+    parse_with(src, true, macro_b, per_window)
 }
 
 /// [`parse`] or [`parse_fanuc`], with or without the fast path for plain lines (tests compare
-/// the two).
-pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool) -> Program {
+/// the two), `per_window` blocks a window.
+pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_window: usize) -> Program<'_> {
+    let per_window = per_window.max(1);
     // One pass over the lines reads each as it is found; the line starts it records are the
-    // program's `LineIndex`. (Files with lone CRs grow the vectors instead.)
+    // program's `LineIndex`. (Files with lone CRs grow the vector instead.)
     let terminators = count_lf(src);
     let mut starts: Vec<u32> = Vec::with_capacity(terminators + 1);
     let mut reader = Reader::new(src);
@@ -43,28 +54,114 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool) -> P
     reader.macro_b = macro_b;
     // Most lines are blocks of a few words: reserving once saves the copies of growing (the
     // memory a reservation does not use is never touched, and is given back below).
-    reader.prog.blocks.reserve(terminators + 1);
-    // Words of real programs lie three or more bytes apart; the reserved pages a program does not
-    // use are never touched.
-    reader.prog.words.reserve((src.len() / 3).min(1 << 24));
+    reader.prog.blocks.reserve((terminators + 1).min(per_window));
+    // Words of real programs lie three or more bytes apart.
+    reader.prog.words.reserve((src.len() / 3).min(8 * per_window));
+    let mut marks = vec![Mark {
+        first_block: 0,
+        line: 1,
+        expr_base: 0,
+        rare: false,
+    }];
+    let mut kept: Vec<Rc<Window>> = Vec::new();
+    let mut len = 0;
     for (line, (line_start, end)) in (1u32..).zip(lines(src)) {
         starts.push(line_start as u32);
-        let start = if line == 1 && src.starts_with(BOM) {
-            BOM.len().min(end)
-        } else {
-            line_start
-        };
-        reader.read_line(line, start, end);
+        reader.read_line(line, line_start, end);
+        if reader.prog.blocks.len() == per_window {
+            // The window is full: keep it while the cache has room, and start the next.
+            reader.mark_rare(&mut marks);
+            len += per_window;
+            if kept.len() < CACHED_WINDOWS {
+                kept.push(Rc::new(reader.take_window(len - per_window)));
+            } else {
+                reader.prog.blocks.clear();
+                reader.prog.words.clear();
+                reader.prog.assigns.clear();
+            }
+            marks.push(Mark {
+                first_block: len,
+                line: line + 1,
+                expr_base: reader.prog.exprs.len() as u32,
+                rare: false,
+            });
+        }
     }
-    let mut prog = reader.prog;
-    prog.lines = LineIndex::from_starts(starts, src.len());
-    if prog.blocks.capacity() > 2 * prog.blocks.len() {
-        prog.blocks.shrink_to_fit();
+    if reader.prog.blocks.is_empty() && marks.len() > 1 {
+        // The last window ended on the last block.
+        marks.pop();
+    } else {
+        reader.mark_rare(&mut marks);
+        len += reader.prog.blocks.len();
+        let last = Rc::new(reader.take_window(marks.last().map_or(0, |m| m.first_block)));
+        if kept.len() < CACHED_WINDOWS {
+            kept.push(last);
+        }
     }
-    if prog.words.capacity() > 2 * prog.words.len() {
-        prog.words.shrink_to_fit();
+    // Most recently used first: the interpreter starts at the top.
+    let Arenas {
+        exprs,
+        names,
+        comments,
+        errors,
+        errors_left_out,
+        ..
+    } = reader.prog;
+    Program {
+        src,
+        exprs,
+        names,
+        errors,
+        errors_left_out,
+        comments,
+        lines: LineIndex::from_starts(starts, src.len()),
+        store: Store {
+            len,
+            marks,
+            macro_b,
+            plain_lines_fast,
+            interned: RefCell::new(reader.interned),
+            cache: RefCell::new(kept),
+            rereads: Cell::new(0),
+        },
     }
-    prog
+}
+
+/// A window of `prog` read again from the source: `count` blocks from where `mark` starts, with
+/// the whole program's name table (see `window.rs`).
+pub(super) fn reread(prog: &Program, mark: Mark, count: usize, interned: &mut HashMap<String, NameId>) -> Window {
+    let src = prog.src;
+    let mut reader = Reader::new(src);
+    reader.plain_lines_fast = prog.store.plain_lines_fast;
+    reader.macro_b = prog.store.macro_b;
+    reader.expr_base = mark.expr_base;
+    reader.rereading = true;
+    std::mem::swap(&mut reader.interned, interned);
+    reader.prog.blocks.reserve(count);
+    let first = prog.lines.line_span(src, mark.line).start;
+    for (line, (line_start, end)) in (mark.line..).zip(lines_from(src, first as usize)) {
+        reader.read_line(line, line_start, end);
+        if reader.prog.blocks.len() == count {
+            break;
+        }
+    }
+    std::mem::swap(&mut reader.interned, interned);
+    debug_assert_eq!(reader.prog.blocks.len(), count);
+    reader.take_window(mark.first_block)
+}
+
+/// What the reader builds: the current window's blocks, words and assignments, and what it keeps
+/// for the whole program.
+#[derive(Default)]
+pub(super) struct Arenas {
+    pub blocks: Vec<Block>,
+    pub words: Vec<Word>,
+    pub assigns: Vec<Assign>,
+    pub exprs: Vec<Expr>,
+    pub names: Vec<String>,
+    pub errors: Vec<Finding>,
+    pub errors_left_out: crate::finding::LeftOut,
+    pub comments: Vec<Comment>,
 }
 
 /// A syntax error: where (byte offset in the source) and what.
@@ -90,7 +187,11 @@ struct Partial {
 
 pub(super) struct Reader<'a> {
     pub src: &'a [u8],
-    pub prog: Program,
+    pub prog: Arenas,
+    /// The id of `prog.exprs[0]` (a window read again numbers its expressions as at first).
+    pub expr_base: u32,
+    /// Reading a window again: every name is in the table already.
+    rereading: bool,
     /// Reused buffer for names and long numbers.
     pub scratch: Vec<u8>,
     interned: HashMap<String, NameId>,
@@ -112,7 +213,9 @@ impl<'a> Reader<'a> {
     fn new(src: &'a [u8]) -> Reader<'a> {
         Reader {
             src,
-            prog: Program::default(),
+            prog: Arenas::default(),
+            expr_base: 0,
+            rereading: false,
             scratch: Vec::new(),
             interned: HashMap::new(),
             pos: 0,
@@ -123,6 +226,34 @@ impl<'a> Reader<'a> {
             plain_lines_fast: true,
             macro_b: false,
         }
+    }
+
+    /// Whether the window read since the last one was taken holds a [`Block::rare`] part, in its
+    /// mark (the last of `marks`).
+    fn mark_rare(&self, marks: &mut [Mark]) {
+        if let Some(m) = marks.last_mut() {
+            m.rare = self.prog.blocks.iter().any(|b| b.rare.is_some());
+        }
+    }
+
+    /// The window read since the last one was taken, its first block the program's `first`.
+    fn take_window(&mut self, first: usize) -> Window {
+        let mut w = Window {
+            first,
+            blocks: std::mem::take(&mut self.prog.blocks),
+            words: std::mem::take(&mut self.prog.words),
+            assigns: std::mem::take(&mut self.prog.assigns),
+        };
+        if w.blocks.capacity() > 2 * w.blocks.len() {
+            w.blocks.shrink_to_fit();
+        }
+        if w.words.capacity() > 2 * w.words.len() {
+            w.words.shrink_to_fit();
+        }
+        // The next window grows as large as this one.
+        self.prog.blocks.reserve(w.blocks.len());
+        self.prog.words.reserve(w.words.len());
+        w
     }
 
     /// The next byte that is not a space or a tab, moving the cursor onto it; `None` at the end of
@@ -206,6 +337,7 @@ impl<'a> Reader<'a> {
         if let Some(&id) = self.interned.get(name) {
             return id;
         }
+        debug_assert!(!self.rereading, "a window read again met a new name");
         let id = self.prog.names.len() as NameId;
         self.prog.names.push(name.to_owned());
         self.interned.insert(name.to_owned(), id);
@@ -287,6 +419,12 @@ impl<'a> Reader<'a> {
     }
 
     fn read_line(&mut self, line: u32, start: usize, end: usize) {
+        // A byte-order mark at the start of the file is no part of line 1.
+        let start = if line == 1 && self.src.starts_with(BOM) {
+            BOM.len().min(end)
+        } else {
+            start
+        };
         if self.plain_lines_fast && self.read_plain_line(line, start, end) {
             return;
         }

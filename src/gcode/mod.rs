@@ -4,8 +4,10 @@
 //! every problem, each with line and column. Values are not evaluated here: a word's value is a
 //! number or an expression (`[…]`, `#1`, `#<name>`, `ABS[…]`) that the interpreter evaluates.
 //!
-//! Storage is flat for speed: words, expressions and assignments live in arenas in [`Program`]
-//! and blocks hold index ranges into them.
+//! Storage is flat for speed: words, expressions and assignments live in arenas and blocks hold
+//! index ranges into them. A long program's blocks, words and assignments are held a window of
+//! blocks at a time and read again from the source when needed (`window.rs`): take a block with
+//! [`Program::block`], which gives a [`BlockRef`] with its words and assignments.
 //!
 //! # What the reader accepts
 //!
@@ -62,24 +64,26 @@ mod expr;
 mod lexer;
 #[cfg(test)]
 mod tests;
+mod window;
 
 use crate::finding::Finding;
 use crate::source::{LineIndex, Span};
 use std::ops::Range;
 
-pub use lexer::{parse, parse_fanuc, MAX_NESTING};
+pub use lexer::{parse, parse_fanuc, parse_windowed, MAX_NESTING};
+pub use window::{BlockRef, Window, WINDOW_BLOCKS};
 
 /// Index of an expression in [`Program::exprs`].
 pub type ExprId = u32;
 /// Index of a name in [`Program::names`].
 pub type NameId = u32;
 
-/// A whole program as read.
-#[derive(Clone, Debug, Default)]
-pub struct Program {
-    pub blocks: Vec<Block>,
-    pub words: Vec<Word>,
-    pub assigns: Vec<Assign>,
+/// A whole program as read: its blocks (a window of them at a time, see `window.rs`: take them
+/// with [`Program::block`] and [`Program::blocks`]), and what the reader found in all of it.
+#[derive(Debug)]
+pub struct Program<'s> {
+    /// The source the blocks are read from (again, for a window that left the cache).
+    pub(crate) src: &'s [u8],
     pub exprs: Vec<Expr>,
     /// Interned parameter and subroutine names, lower case, spaces removed.
     pub names: Vec<String>,
@@ -92,18 +96,10 @@ pub struct Program {
     /// kept.
     pub comments: Vec<Comment>,
     pub lines: LineIndex,
+    store: window::Store,
 }
 
-impl Program {
-    pub fn words_of(&self, block: &Block) -> &[Word] {
-        &self.words[block.words.start as usize..block.words.end as usize]
-    }
-
-    pub fn assigns_of(&self, block: &Block) -> &[Assign] {
-        let r = block.assigns();
-        &self.assigns[r.start as usize..r.end as usize]
-    }
-
+impl Program<'_> {
     pub fn expr(&self, id: ExprId) -> &Expr {
         &self.exprs[id as usize]
     }
@@ -178,7 +174,7 @@ impl Block {
         self.has_n.then_some(self.n)
     }
 
-    /// The block's parameter assignments, as a range of [`Program::assigns`].
+    /// The block's parameter assignments, as a range of its window's (see [`BlockRef::assigns`]).
     pub fn assigns(&self) -> Range<u32> {
         self.rare.as_ref().map_or(0..0, |r| r.assigns.clone())
     }

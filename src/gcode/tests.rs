@@ -3,8 +3,42 @@
 use super::*;
 use proptest::prelude::*;
 
-fn p(src: &str) -> Program {
+fn p(src: &str) -> Program<'_> {
     parse(src.as_bytes())
+}
+
+/// Everything read of a program, for comparing two readings: each block with its words and
+/// assignments (not the ranges that locate them in their window), the expressions, the names,
+/// the findings, the comments.
+fn show(p: &Program) -> String {
+    let blocks: Vec<String> = p.blocks().map(|b| show_block(&b)).collect();
+    format!(
+        "{blocks:#?} {:?} {:?} {:?} {:?}",
+        p.exprs, p.names, p.errors, p.comments
+    )
+}
+
+/// A block as [`show`] shows it.
+fn show_block(b: &BlockRef) -> String {
+    format!(
+        "{} {:?} {:?} {} {} {} {:?} {:?} {:?} {:?} {:?}",
+        b.line,
+        b.span,
+        b.n(),
+        b.bad,
+        b.percent,
+        b.block_delete,
+        b.oword(),
+        b.message(),
+        b.macro_stmt(),
+        b.words(),
+        b.assigns()
+    )
+}
+
+/// Every word of the program, in order.
+fn all_words(prog: &Program) -> Vec<Word> {
+    prog.blocks().flat_map(|b| b.words().to_vec()).collect()
 }
 
 /// An expression as an S-expression, for comparing trees.
@@ -52,12 +86,13 @@ fn px(prog: &Program, param: Param) -> String {
 fn words(src: &str) -> Vec<String> {
     let prog = p(src);
     assert!(prog.errors.is_empty(), "{src:?}: {:?}", prog.errors);
-    assert_eq!(prog.blocks.len(), 1, "{src:?}");
-    word_strings(&prog, &prog.blocks[0])
+    assert_eq!(prog.len(), 1, "{src:?}");
+    word_strings(&prog, &prog.block(0))
 }
 
-fn word_strings(prog: &Program, block: &Block) -> Vec<String> {
-    prog.words_of(block)
+fn word_strings(prog: &Program, block: &BlockRef) -> Vec<String> {
+    block
+        .words()
         .iter()
         .map(|w| match w.value() {
             Value::Num(x) => format!("{}{x}", w.letter as char),
@@ -85,7 +120,7 @@ fn error(src: &[u8]) -> (u32, u32, String) {
 fn assigned(src: &str) -> String {
     let prog = p(src);
     assert!(prog.errors.is_empty(), "{src:?}: {:?}", prog.errors);
-    sx(&prog, prog.assigns[0].value)
+    sx(&prog, prog.block(0).assigns()[0].value)
 }
 
 fn text(src: &str, span: Span) -> &str {
@@ -111,13 +146,13 @@ fn letters_are_case_insensitive() {
 fn word_span_runs_from_letter_to_end_of_value() {
     let src = "G1  X 1 0.5  Z-3 ";
     let prog = p(src);
-    let w = prog.words_of(&prog.blocks[0]);
+    let w = prog.block(0).words().to_vec();
     assert_eq!(text(src, w[0].span()), "G1");
     assert_eq!(text(src, w[1].span()), "X 1 0.5");
     assert_eq!(text(src, w[2].span()), "Z-3");
     let src = "X[1 + 2] y#<a b> ";
     let prog = p(src);
-    let w = prog.words_of(&prog.blocks[0]);
+    let w = prog.block(0).words().to_vec();
     assert_eq!(text(src, w[0].span()), "X[1 + 2]");
     assert_eq!(text(src, w[1].span()), "y#<a b>");
 }
@@ -125,7 +160,7 @@ fn word_span_runs_from_letter_to_end_of_value() {
 #[test]
 fn decimal_point_is_recorded() {
     let prog = p("X60 Z60. F.5 G1.5 S[1.5]");
-    let w = prog.words_of(&prog.blocks[0]);
+    let w = prog.block(0).words().to_vec();
     let points: Vec<bool> = w.iter().map(|w| w.has_point).collect();
     assert_eq!(points, [false, true, true, true, false]);
 }
@@ -140,7 +175,7 @@ fn numbers_are_exact() {
     assert_eq!(words("X0.1 Z-.3 F123456.789"), ["X0.1", "Z-0.3", "F123456.789"]);
     // Beyond the fast path: more digits than an f64 mantissa.
     let prog = p("X0.12345678901234567890123456789 Z12345678901234567890");
-    let w = prog.words_of(&prog.blocks[0]);
+    let w = prog.block(0).words().to_vec();
     let want: f64 = "0.12345678901234567890123456789".parse().unwrap();
     assert_eq!(w[0].value(), Value::Num(want));
     assert_eq!(w[1].value(), Value::Num(12345678901234567890.0));
@@ -223,7 +258,7 @@ fn stray_characters_are_errors() {
 fn comments_are_skipped_and_kept() {
     let src = "G1 (first) X2 (second)";
     let prog = p(src);
-    assert_eq!(word_strings(&prog, &prog.blocks[0]), ["G1", "X2"]);
+    assert_eq!(word_strings(&prog, &prog.block(0)), ["G1", "X2"]);
     let texts: Vec<&str> = prog.comments.iter().map(|c| text(src, c.text)).collect();
     assert_eq!(texts, ["first", "second"]);
     assert_eq!(prog.comments[0].line, 1);
@@ -247,10 +282,10 @@ fn unclosed_comment_is_an_error_at_its_paren() {
     assert_eq!((prog.errors[0].line, prog.errors[0].col), (1, 7));
     assert!(prog.errors[0].message.contains("unclosed comment"));
     // What was read is kept; the next line is read normally.
-    assert!(prog.blocks[0].bad);
-    assert_eq!(word_strings(&prog, &prog.blocks[0]), ["G1", "X1"]);
-    assert!(!prog.blocks[1].bad);
-    assert_eq!(word_strings(&prog, &prog.blocks[1]), ["G0", "X2"]);
+    assert!(prog.block(0).bad);
+    assert_eq!(word_strings(&prog, &prog.block(0)), ["G1", "X1"]);
+    assert!(!prog.block(1).bad);
+    assert_eq!(word_strings(&prog, &prog.block(1)), ["G0", "X2"]);
 }
 
 #[test]
@@ -265,8 +300,8 @@ fn semicolon_hides_the_rest_of_the_line() {
 fn comment_only_lines_produce_no_block() {
     let prog = p("(header)\n   \n; note\n\t(a) (b) ;c\nG1\n");
     assert!(prog.errors.is_empty());
-    assert_eq!(prog.blocks.len(), 1);
-    assert_eq!(prog.blocks[0].line, 5);
+    assert_eq!(prog.len(), 1);
+    assert_eq!(prog.block(0).line, 5);
 }
 
 #[test]
@@ -275,8 +310,7 @@ fn msg_print_debug_comments_give_the_message_text() {
     let prog = p(src);
     assert!(prog.errors.is_empty());
     let msgs: Vec<(u32, Option<&str>)> = prog
-        .blocks
-        .iter()
+        .blocks()
         .map(|b| (b.line, b.message().map(|m| text(src, m))))
         .collect();
     assert_eq!(
@@ -301,7 +335,7 @@ fn bytes_above_ascii_are_allowed_only_in_comments() {
         src.push(b);
         let prog = parse(&src);
         assert!(prog.errors.is_empty(), "byte {b:#x} in a comment");
-        assert_eq!(word_strings(&prog, &prog.blocks[0]), ["G1", "X1"]);
+        assert_eq!(word_strings(&prog, &prog.block(0)), ["G1", "X1"]);
 
         let mut src = b"G1 X1 ".to_vec();
         src.push(b);
@@ -326,9 +360,9 @@ fn columns_count_characters_not_bytes() {
 fn utf8_bom_is_skipped() {
     let src = "\u{FEFF}G1 X1\nX.";
     let prog = p(src);
-    assert_eq!(word_strings(&prog, &prog.blocks[0]), ["G1", "X1"]);
-    assert_eq!(prog.blocks[0].span, Span::new(3, 8));
-    assert_eq!(prog.words[0].span(), Span::new(3, 5));
+    assert_eq!(word_strings(&prog, &prog.block(0)), ["G1", "X1"]);
+    assert_eq!(prog.block(0).span, Span::new(3, 8));
+    assert_eq!(prog.block(0).words()[0].span(), Span::new(3, 5));
     let (line, col, _) = error("\u{FEFF}G1 X.".as_bytes());
     assert_eq!((line, col), (1, 5));
     // A BOM anywhere else is a byte outside a comment.
@@ -341,9 +375,9 @@ fn crlf_and_lone_cr_end_lines() {
     let src = "G1 X1\r\nG2 X2\rG3 X3\n\rG4 (c)\r\n";
     let prog = p(src);
     assert!(prog.errors.is_empty());
-    let lines: Vec<u32> = prog.blocks.iter().map(|b| b.line).collect();
+    let lines: Vec<u32> = prog.blocks().map(|b| b.line).collect();
     assert_eq!(lines, [1, 2, 3, 5]);
-    let spans: Vec<&str> = prog.blocks.iter().map(|b| text(src, b.span)).collect();
+    let spans: Vec<&str> = prog.blocks().map(|b| text(src, b.span)).collect();
     assert_eq!(spans, ["G1 X1", "G2 X2", "G3 X3", "G4 (c)"]);
     assert_eq!(prog.lines.line_count(), 5);
     let (line, col, _) = error(b"G1\r\rG1\r\nX.\r");
@@ -362,7 +396,10 @@ fn a_one_megabyte_line_reads_fast() {
     assert!(t.elapsed().as_secs_f64() < 5.0, "{:?}", t.elapsed());
     assert_eq!(prog.errors.len(), 1);
     assert_eq!(prog.errors[0].col as usize, src.len());
-    assert_eq!(prog.words.len(), (src.len() - 2) / 12 * 3);
+    assert_eq!(
+        prog.blocks().map(|b| b.words().len()).sum::<usize>(),
+        (src.len() - 2) / 12 * 3
+    );
     // One number a megabyte long (no point): not finite.
     let src = format!("X{}", "1".repeat(1 << 20));
     assert!(error(src.as_bytes()).2.contains("too large"));
@@ -383,10 +420,11 @@ fn a_block_is_40_bytes() {
 fn percent_line_and_percent_with_program_number() {
     let prog = p("%\n%O1200(TOKARKA)\n % \n");
     assert!(prog.errors.is_empty());
-    assert_eq!(prog.blocks.len(), 3);
-    assert!(prog.blocks.iter().all(|b| b.percent));
-    assert_eq!(prog.blocks[0].oword(), None);
-    let o = prog.blocks[1].oword().unwrap();
+    assert_eq!(prog.len(), 3);
+    assert!(prog.blocks().all(|b| b.percent));
+    assert_eq!(prog.block(0).oword(), None);
+    let b1 = prog.block(1);
+    let o = b1.oword().unwrap();
     assert_eq!((o.name, &o.op), (OName::Number(1200), &OOp::ProgramNumber));
     let (_, col, msg) = error(b"G1 %");
     assert_eq!(col, 4);
@@ -397,9 +435,9 @@ fn percent_line_and_percent_with_program_number() {
 fn slash_first_is_block_delete() {
     let prog = p("/G1 X1\n / N10 G0\n");
     assert!(prog.errors.is_empty());
-    assert!(prog.blocks[0].block_delete && prog.blocks[1].block_delete);
-    assert_eq!(prog.blocks[1].n(), Some(10));
-    assert!(!p("G1").blocks[0].block_delete);
+    assert!(prog.block(0).block_delete && prog.block(1).block_delete);
+    assert_eq!(prog.block(1).n(), Some(10));
+    assert!(!p("G1").block(0).block_delete);
     let (_, col, msg) = error(b"G1 /X1");
     assert_eq!(col, 4);
     assert!(msg.contains("block delete"), "{msg}");
@@ -409,10 +447,10 @@ fn slash_first_is_block_delete() {
 fn n_number_at_block_start() {
     let prog = p("N10 G1\nN 2 0X1\nn0005\nN01G50S0600");
     assert!(prog.errors.is_empty());
-    let ns: Vec<Option<u64>> = prog.blocks.iter().map(|b| b.n()).collect();
+    let ns: Vec<Option<u64>> = prog.blocks().map(|b| b.n()).collect();
     assert_eq!(ns, [Some(10), Some(20), Some(5), Some(1)]);
-    assert_eq!(word_strings(&prog, &prog.blocks[3]), ["G50", "S600"]);
-    assert_eq!(p(&format!("N{}", u64::MAX)).blocks[0].n(), Some(u64::MAX));
+    assert_eq!(word_strings(&prog, &prog.block(3)), ["G50", "S600"]);
+    assert_eq!(p(&format!("N{}", u64::MAX)).block(0).n(), Some(u64::MAX));
 }
 
 #[test]
@@ -442,10 +480,10 @@ fn findings_carry_the_block_n_number() {
 
 // ---- O-words ----
 
-fn oword(src: &str) -> (Program, OWord) {
+fn oword(src: &str) -> (Program<'_>, OWord) {
     let prog = p(src);
     assert!(prog.errors.is_empty(), "{src:?}: {:?}", prog.errors);
-    let o = prog.blocks[0].oword().cloned().expect("an o-word");
+    let o = prog.block(0).oword().cloned().expect("an o-word");
     (prog, o)
 }
 
@@ -673,13 +711,13 @@ fn nesting_at_the_cap_through_every_precedence_level_fits_the_stack() {
     let unit = "[1 or 1 eq 1 + 1 * 1 ** ";
     let src = format!("X{}1{}", unit.repeat(levels), "]".repeat(levels));
     // Unoptimised, this takes between 256 KiB and 512 KiB of stack; threads get 2 MiB by default.
-    let prog = std::thread::Builder::new()
+    let errors = std::thread::Builder::new()
         .stack_size(1 << 20)
-        .spawn(move || p(&src))
+        .spawn(move || p(&src).errors)
         .unwrap()
         .join()
         .unwrap();
-    assert!(prog.errors.is_empty(), "{:?}", prog.errors);
+    assert!(errors.is_empty(), "{errors:?}");
 }
 
 // ---- parameters and assignments ----
@@ -699,15 +737,15 @@ fn assignments_anywhere_in_the_line() {
     let src = "#1=2 G1 X#1 #<Z Start>=[#1+1] #[3]=-4 ##5=#6";
     let prog = p(src);
     assert!(prog.errors.is_empty(), "{:?}", prog.errors);
-    let b = &prog.blocks[0];
+    let b = &prog.block(0);
     assert_eq!(word_strings(&prog, b), ["G1", "X=#1"]);
-    let a: Vec<String> = prog
-        .assigns_of(b)
+    let a: Vec<String> = b
+        .assigns()
         .iter()
         .map(|a| format!("{}={}", px(&prog, a.target), sx(&prog, a.value)))
         .collect();
     assert_eq!(a, ["#1=2", "#<zstart>=(+ #1 1)", "#[3]=-4", "#[#5]=#6"]);
-    let spans: Vec<&str> = prog.assigns_of(b).iter().map(|a| text(src, a.span)).collect();
+    let spans: Vec<&str> = b.assigns().iter().map(|a| text(src, a.span)).collect();
     assert_eq!(spans, ["#1=2", "#<Z Start>=[#1+1]", "#[3]=-4", "##5=#6"]);
     // Fanuc macro variables with a trailing comment.
     assert_eq!(assigned("#501=350.(FLANGE DIA.)"), "350");
@@ -742,23 +780,23 @@ fn one_error_per_line_and_the_rest_of_the_line_is_skipped() {
     let prog = p("G1 X1 Y. Z3 X..\nG0 X2\nX--1 Y.");
     let found: Vec<(u32, u32)> = prog.errors.iter().map(|e| (e.line, e.col)).collect();
     assert_eq!(found, [(1, 8), (3, 3)]);
-    assert_eq!(word_strings(&prog, &prog.blocks[0]), ["G1", "X1"]);
-    assert!(prog.blocks[0].bad && !prog.blocks[1].bad && prog.blocks[2].bad);
-    assert!(word_strings(&prog, &prog.blocks[2]).is_empty());
+    assert_eq!(word_strings(&prog, &prog.block(0)), ["G1", "X1"]);
+    assert!(prog.block(0).bad && !prog.block(1).bad && prog.block(2).bad);
+    assert!(word_strings(&prog, &prog.block(2)).is_empty());
 }
 
 #[test]
 fn block_span_and_line_are_physical() {
     let src = "\n\nG1 X1 (c)\n\n  G0\n";
     let prog = p(src);
-    let got: Vec<(u32, &str)> = prog.blocks.iter().map(|b| (b.line, text(src, b.span))).collect();
+    let got: Vec<(u32, &str)> = prog.blocks().map(|b| (b.line, text(src, b.span))).collect();
     assert_eq!(got, [(3, "G1 X1 (c)"), (5, "  G0")]);
 }
 
 #[test]
 fn empty_input_reads_to_nothing() {
     let prog = parse(b"");
-    assert!(prog.blocks.is_empty() && prog.errors.is_empty());
+    assert!(prog.is_empty() && prog.errors.is_empty());
 }
 
 #[test]
@@ -777,7 +815,7 @@ fn corpus_like_linuxcnc_program_reads_cleanly() {
         %\n";
     let prog = p(src);
     assert!(prog.errors.is_empty(), "{:?}", prog.errors);
-    assert_eq!(prog.blocks.len(), 12);
+    assert_eq!(prog.len(), 12);
 }
 
 // ---- properties ----
@@ -785,6 +823,98 @@ fn corpus_like_linuxcnc_program_reads_cleanly() {
 fn check_invariants(src: &[u8]) {
     check_invariants_of(src, parse(src));
     check_invariants_of(src, super::parse_fanuc(src));
+    for per_window in [1, 2, 5] {
+        assert_windows_read_as_whole(src, per_window);
+    }
+}
+
+/// Read in windows of `per_window` blocks, the program is the whole reading: walked in order,
+/// and block by block in an order that jumps back and forth across windows (each jump past the
+/// cache reads a window again), both dialects.
+fn assert_windows_read_as_whole(src: &[u8], per_window: usize) {
+    for macro_b in [false, true] {
+        let whole = lexer::parse_with(src, true, macro_b, usize::MAX);
+        let windowed = lexer::parse_with(src, true, macro_b, per_window);
+        assert_eq!(whole.len(), windowed.len());
+        assert_eq!(show(&whole), show(&windowed), "{per_window} blocks a window");
+        let n = windowed.len();
+        // Last, first, second last, second, …: every access to a window not held reads it again.
+        let order = (0..n).map(|k| if k % 2 == 0 { n - 1 - k / 2 } else { k / 2 });
+        for i in order {
+            let (a, b) = (whole.block(i), windowed.block(i));
+            assert_eq!(b.index(), i);
+            assert_eq!(show_block(&a), show_block(&b));
+        }
+        for line in 0..=whole.lines.line_count() as u32 + 1 {
+            let at = |p: &Program| p.block_at_line(line).map(|b| b.index());
+            assert_eq!(at(&whole), at(&windowed), "line {line}");
+        }
+        let rare = |p: &Program| p.rare_blocks().map(|b| b.index()).collect::<Vec<_>>();
+        assert_eq!(rare(&whole), rare(&windowed));
+        assert_eq!(
+            rare(&whole),
+            whole
+                .blocks()
+                .filter(|b| b.rare.is_some())
+                .map(|b| b.index())
+                .collect::<Vec<_>>()
+        );
+    }
+}
+
+#[test]
+fn a_program_read_in_windows_is_the_program_read_whole() {
+    // Every program and fixture of the repository, one block a window and a few.
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut n = 0;
+    let mut stack = vec![
+        root.join("programs"),
+        root.join("tests/cases"),
+        root.join("tests/fixtures"),
+    ];
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let path = e.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if matches!(path.extension().and_then(|e| e.to_str()), Some("nc" | "ngc")) {
+                let src = std::fs::read(&path).unwrap();
+                if src.len() > 200_000 {
+                    continue;
+                }
+                for per_window in [1, 3, 64] {
+                    assert_windows_read_as_whole(&src, per_window);
+                }
+                n += 1;
+            }
+        }
+    }
+    assert!(n > 250, "{n} programs");
+}
+
+#[test]
+fn a_window_read_again_is_counted_and_a_small_program_is_read_once() {
+    let src = "G0 X1\n#1=2\nG1 X#1 Z[#1+1]\no<a> sub\no<a> endsub\n".repeat(3000);
+    let whole = parse(src.as_bytes());
+    assert_eq!(whole.len(), 15_000);
+    // Four windows of 4096 blocks: all held since the first reading.
+    for i in (0..whole.len()).rev() {
+        whole.block(i);
+    }
+    whole.blocks().count();
+    assert_eq!(whole.windows_reread(), 0);
+    // One block a window: the cache holds 8 of 15,000.
+    let w = lexer::parse_with(src.as_bytes(), true, false, 1);
+    assert_eq!(w.windows_reread(), 0);
+    w.block(0);
+    assert_eq!(w.windows_reread(), 0);
+    w.block(14_999);
+    assert_eq!(w.windows_reread(), 1);
+    w.block(14_999);
+    assert_eq!(w.windows_reread(), 1);
+    // The walk over the rare blocks reads only the windows that hold one.
+    assert_eq!(w.rare_blocks().count(), 9000);
+    assert!(w.windows_reread() <= 1 + 9000);
 }
 
 fn check_invariants_of(src: &[u8], prog: Program) {
@@ -794,11 +924,11 @@ fn check_invariants_of(src: &[u8], prog: Program) {
         assert!(e.col >= 1);
     }
     let mut last = 0;
-    for b in &prog.blocks {
+    for b in prog.blocks() {
         assert!(b.line > last && b.line <= lines);
         last = b.line;
         assert!(b.span.start <= b.span.end && b.span.end as usize <= src.len());
-        for w in prog.words_of(b) {
+        for w in b.words() {
             assert!(w.letter.is_ascii_uppercase());
             assert!(b.span.start <= w.span().start && w.span().start < w.span().end);
             assert!(w.span().end <= b.span.end);
@@ -806,13 +936,13 @@ fn check_invariants_of(src: &[u8], prog: Program) {
                 assert!(x.is_finite());
             }
         }
-        for a in prog.assigns_of(b) {
+        for a in b.assigns() {
             assert!(b.span.start <= a.span.start && a.span.end <= b.span.end);
             assert!((a.value as usize) < prog.exprs.len());
         }
     }
     // One finding per line at most, and each names a line with a bad block.
-    let bad: Vec<u32> = prog.blocks.iter().filter(|b| b.bad).map(|b| b.line).collect();
+    let bad: Vec<u32> = prog.blocks().filter(|b| b.bad).map(|b| b.line).collect();
     let err: Vec<u32> = prog.errors.iter().map(|e| e.line).collect();
     assert_eq!(bad, err);
     // Expressions only point backwards (the arena is a DAG built bottom-up).
@@ -864,8 +994,8 @@ proptest! {
         let a = p(&plain);
         let b = p(&spaced);
         prop_assert!(a.errors.is_empty() && b.errors.is_empty());
-        let wa: Vec<(u8, Value, bool)> = a.words.iter().map(|w| (w.letter, w.value(), w.has_point)).collect();
-        let wb: Vec<(u8, Value, bool)> = b.words.iter().map(|w| (w.letter, w.value(), w.has_point)).collect();
+        let wa: Vec<(u8, Value, bool)> = all_words(&a).iter().map(|w| (w.letter, w.value(), w.has_point)).collect();
+        let wb: Vec<(u8, Value, bool)> = all_words(&b).iter().map(|w| (w.letter, w.value(), w.has_point)).collect();
         prop_assert_eq!(&wa, &wb);
         for (w, (l, i, f, point)) in wa.iter().zip(&ws) {
             prop_assert_eq!(w.0, l.as_bytes()[0]);
@@ -883,10 +1013,9 @@ proptest! {
         crlf in any::<bool>(),
     ) {
         let src = lines.join(if crlf { "\r\n" } else { "\n" });
-        let show = |p: &Program| format!("{:?}", (&p.blocks, &p.words, &p.assigns, &p.exprs, &p.errors, &p.comments));
         for macro_b in [false, true] {
-            let fast = lexer::parse_with(src.as_bytes(), true, macro_b);
-            let general = lexer::parse_with(src.as_bytes(), false, macro_b);
+            let fast = lexer::parse_with(src.as_bytes(), true, macro_b, WINDOW_BLOCKS);
+            let general = lexer::parse_with(src.as_bytes(), false, macro_b, WINDOW_BLOCKS);
             prop_assert_eq!(show(&fast), show(&general));
         }
     }
@@ -899,9 +1028,8 @@ proptest! {
         ),
     ) {
         let src = lines.join("\n");
-        let show = |p: &Program| format!("{:?}", (&p.blocks, &p.words, &p.assigns, &p.exprs, &p.errors, &p.comments));
-        let fast = lexer::parse_with(src.as_bytes(), true, true);
-        let general = lexer::parse_with(src.as_bytes(), false, true);
+        let fast = lexer::parse_with(src.as_bytes(), true, true, WINDOW_BLOCKS);
+        let general = lexer::parse_with(src.as_bytes(), false, true, WINDOW_BLOCKS);
         prop_assert_eq!(show(&fast), show(&general));
     }
 
@@ -923,16 +1051,16 @@ fn macro_b_statements_are_read_only_by_the_fanuc_reader() {
     assert_eq!(lcnc.errors.len(), 8, "{:?}", lcnc.errors);
     let f = parse_fanuc(src);
     assert!(f.errors.is_empty(), "{:?}", f.errors);
-    let ops: Vec<MacroOp> = f.blocks.iter().filter_map(|b| b.macro_stmt().map(|m| m.op)).collect();
+    let ops: Vec<MacroOp> = f.blocks().filter_map(|b| b.macro_stmt().map(|m| m.op)).collect();
     assert!(matches!(ops[0], MacroOp::IfGoto(..)));
     assert!(matches!(ops[1], MacroOp::IfThen(_)));
     assert!(matches!(ops[2], MacroOp::Do(Some(_), 1)));
     assert!(matches!(ops[3], MacroOp::Do(None, 2)));
     assert_eq!(&ops[4..6], &[MacroOp::End(2), MacroOp::End(1)]);
     assert!(matches!(ops[6], MacroOp::Goto(_)));
-    assert_eq!(f.blocks[0].n(), Some(5));
-    assert_eq!(f.assigns_of(&f.blocks[1]).len(), 1);
-    assert_eq!(f.assigns_of(&f.blocks[7]).len(), 1);
+    assert_eq!(f.block(0).n(), Some(5));
+    assert_eq!(f.block(1).assigns().len(), 1);
+    assert_eq!(f.block(7).assigns().len(), 1);
 }
 
 #[test]
@@ -964,7 +1092,7 @@ fn fanuc_priorities_put_and_with_times_and_or_with_plus() {
     // 2 + 12 AND 10 is 2 + (12 AND 10) on Fanuc; rs274ngc reads [2 + 12] AND 10.
     let f = super::parse_fanuc(b"#1 = [2 + 12 AND 10]");
     let l = parse(b"#1 = [2 + 12 AND 10]");
-    let top = |p: &Program| p.exprs[p.assigns[0].value as usize];
+    let top = |p: &Program| p.exprs[p.block(0).assigns()[0].value as usize];
     assert!(matches!(top(&f), Expr::Binary(BinOp::Add, ..)));
     assert!(matches!(top(&l), Expr::Binary(BinOp::And, ..)));
 }

@@ -9,7 +9,7 @@ use super::state::Motion;
 use super::words::{gb, Words};
 use super::{Feed, Move, MoveKind, MoveState, ProgFrame, SpindleDir, MAX_COORD};
 use crate::finding::{Finding, Kind, Severity};
-use crate::gcode::Block;
+use crate::gcode::{Block, BlockRef};
 use crate::geom::P2;
 
 /// The motion codes of a plain block (see [`Run::plain_block`]).
@@ -170,7 +170,7 @@ impl Run<'_> {
     }
 
     /// Execute one block that is not an o-word.
-    pub(crate) fn execute(&mut self, b: &Block) {
+    pub(crate) fn execute(&mut self, b: &BlockRef) {
         let ops = self.ops_pending();
         if ops {
             self.operation_before(b);
@@ -199,7 +199,7 @@ impl Run<'_> {
 
     /// The words of the block: read, assigned, then executed in the order of execution
     /// ([`Run::execute_in_order`]), unless the block is a plain one.
-    fn execute_words(&mut self, b: &Block, w: &mut Words) {
+    fn execute_words(&mut self, b: &BlockRef, w: &mut Words) {
         if !self.read_words(b, w) {
             return;
         }
@@ -210,12 +210,7 @@ impl Run<'_> {
             return;
         }
         let plain_codes = w.ng == 0 || (w.ng == 1 && w.any_g(PLAIN_MOTION_CODES));
-        if self.plain_blocks_fast
-            && plain_codes
-            && w.nm == 0
-            && w.has & !PLAIN_LETTERS == 0
-            && self.prog.assigns_of(b).is_empty()
-        {
+        if self.plain_blocks_fast && plain_codes && w.nm == 0 && w.has & !PLAIN_LETTERS == 0 && b.assigns().is_empty() {
             self.plain_block(b, w);
             return;
         }
@@ -224,8 +219,8 @@ impl Run<'_> {
 
     /// Parameter assignments: evaluate every right side first, then assign. `false` when one
     /// could not be evaluated or assigned (reported): the block is not run.
-    fn assign_parameters(&mut self, b: &Block) -> bool {
-        let assigns = self.prog.assigns_of(b);
+    fn assign_parameters(&mut self, b: &BlockRef) -> bool {
+        let assigns = b.assigns();
         if assigns.is_empty() {
             return true;
         }

@@ -25,7 +25,7 @@
 use super::comp::{Comp, Side, Style};
 use super::flow::Run;
 use super::{Feed, Move, MoveKind};
-use crate::gcode::Block;
+use crate::gcode::{Block, BlockRef};
 use crate::geom::{P2, V2};
 
 /// Which contour mode's plane the stage works in.
@@ -293,7 +293,7 @@ impl Run<'_> {
                 MoveKind::Arc { center, sweep } => Some((from_stage(center), -sweep)),
                 _ => None,
             };
-            let Some(b) = self.block_at_line(m.line) else { continue };
+            let Some(b) = &self.block_at_line(m.line) else { continue };
             let extra = self.tm.as_deref().map_or([0.0; 4], |t| t.pos);
             let here = self.programmed();
             let (ps, pe) = (from_stage(m.start), from_stage(m.end));
@@ -311,9 +311,7 @@ impl Run<'_> {
 
 impl<'a> Run<'a> {
     /// The block at a physical line (the blocks are in line order).
-    fn block_at_line(&self, line: u32) -> Option<&'a Block> {
-        let blocks: &'a [Block] = &self.prog.blocks;
-        let i = blocks.partition_point(|b| b.line < line);
-        blocks.get(i).filter(|b| b.line == line)
+    fn block_at_line(&self, line: u32) -> Option<BlockRef> {
+        self.prog.block_at_line(line)
     }
 }

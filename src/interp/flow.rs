@@ -4,7 +4,7 @@
 use super::state::{Frame, Modal, Params};
 use super::{Interpretation, Limits, Move, SpindleDir};
 use crate::finding::{push_capped, Finding, Kind, LeftOut, Severity};
-use crate::gcode::{Block, OName, OOp, Program};
+use crate::gcode::{Block, BlockRef, OName, OOp, Program};
 use crate::geom::{P2, V2};
 use crate::machine::{Dialect, Machine};
 use std::collections::{HashMap, HashSet};
@@ -83,7 +83,8 @@ impl Labels {
             OName::Number(k) => format!("o{k}"),
             OName::Named(id) => format!("o<{}>", prog.name(id)),
         };
-        for (i, b) in prog.blocks.iter().enumerate() {
+        for b in prog.rare_blocks() {
+            let i = b.index();
             let Some(o) = b.oword() else { continue };
             if b.bad {
                 continue;
@@ -184,7 +185,7 @@ impl Labels {
             }
         }
         for (name, kind, i, _) in stack.items {
-            let b = &prog.blocks[i];
+            let b = prog.block(i);
             let what = match kind {
                 Open::Sub => "sub without endsub",
                 Open::While => "while without endwhile",
@@ -207,7 +208,7 @@ pub const STREAM_CHUNK: usize = 4096;
 
 /// The interpreter's whole state during one run.
 pub(crate) struct Run<'a> {
-    pub prog: &'a Program,
+    pub prog: &'a Program<'a>,
     pub src: &'a [u8],
     pub machine: &'a Machine,
     pub limits: Limits,
@@ -428,8 +429,8 @@ impl<'a> Run<'a> {
         }
     }
 
-    pub(crate) fn block(&self, i: usize) -> &'a Block {
-        &self.prog.blocks[i]
+    pub(crate) fn block(&self, i: usize) -> BlockRef {
+        self.prog.block(i)
     }
 
     pub(crate) fn error(&mut self, b: &Block, col_offset: Option<u32>, msg: String) {
@@ -493,14 +494,14 @@ impl<'a> Run<'a> {
     }
 
     pub fn run(&mut self) {
-        let n = self.prog.blocks.len();
+        let n = self.prog.len();
         while self.pc < n && !self.stopped {
             // Between top-level blocks no cycle holds a mark into the moves: they may go.
             if self.moves.len() >= self.chunk {
                 self.hand_over();
             }
             let i = self.pc;
-            let b = self.block(i);
+            let b = &self.block(i);
             if !self.count_executed(b) {
                 break;
             }
@@ -530,7 +531,7 @@ impl<'a> Run<'a> {
                 continue;
             }
             if self.macro_b.is_some() {
-                self.execute_fanuc(i, b);
+                self.execute_fanuc(b);
             } else {
                 self.execute(b);
             }
@@ -539,14 +540,18 @@ impl<'a> Run<'a> {
 
     /// A Fanuc block: G65–G67 macro calls, the block, then a `G66` call after a move, and the
     /// D, H, M, T, N bookkeeping of the modal variables.
-    fn execute_fanuc(&mut self, i: usize, b: &Block) {
+    fn execute_fanuc(&mut self, b: &BlockRef) {
         let Some(m) = self.macro_b.as_deref() else {
             self.execute(b);
             return;
         };
         // A failed evaluation nobody reported must not mark a later finding.
         m.unsupported.set(false);
-        let (call, modal_call, note) = (m.is_call_block(i), m.modal_call_active(), m.notes_words());
+        let (call, modal_call, note) = (
+            super::macro_b::State::is_call_block(b),
+            m.modal_call_active(),
+            m.notes_words(),
+        );
         if call && self.macro_call_block(b) {
             // Its words are arguments, not the modal D, H, M, T of #4107 … #4120.
             return;
@@ -572,7 +577,7 @@ impl<'a> Run<'a> {
             }
         }
         if let Some(m) = self.macro_b.as_deref_mut() {
-            m.note(self.prog, b);
+            m.note(b);
         }
     }
 
@@ -763,7 +768,7 @@ impl<'a> Run<'a> {
                         self.stopped = true;
                         return;
                     };
-                    let nb = self.block(next);
+                    let nb = &self.block(next);
                     match nb.oword().map(|o| &o.op) {
                         Some(OOp::ElseIf(c2)) => {
                             // Each branch tested is a block executed: a long chain in a loop
@@ -798,9 +803,9 @@ impl<'a> Run<'a> {
                 match (is_break, start_op) {
                     (true, Some(OOp::Repeat(_))) => {
                         self.repeat_counts_mut().remove(&start);
-                        self.pc = end.map_or(self.prog.blocks.len(), |e| e + 1);
+                        self.pc = end.map_or(self.prog.len(), |e| e + 1);
                     }
-                    (true, _) => self.pc = end.map_or(self.prog.blocks.len(), |e| e + 1),
+                    (true, _) => self.pc = end.map_or(self.prog.len(), |e| e + 1),
                     (false, Some(OOp::Do)) => self.pc = end.unwrap_or(start),
                     (false, _) => self.pc = start,
                 }
@@ -891,10 +896,10 @@ impl<'a> Run<'a> {
         if self.frames.len() == depth {
             return None;
         }
-        let n = self.prog.blocks.len();
+        let n = self.prog.len();
         while self.frames.len() > depth && !self.stopped && self.pc < n {
             let i = self.pc;
-            let blk = self.block(i);
+            let blk = &self.block(i);
             if !self.count_executed(blk) {
                 break;
             }

@@ -11,7 +11,7 @@
 use super::eval::bool_f;
 use super::flow::Run;
 use crate::finding::{push_capped, Finding, Kind, LeftOut, Severity};
-use crate::gcode::{BinOp, Block, Expr, ExprId, Func, MacroOp, OName, OOp, Param, Program, Value};
+use crate::gcode::{BinOp, Block, BlockRef, Expr, ExprId, Func, MacroOp, OName, OOp, Param, Program, Value};
 use std::cell::Cell;
 use std::collections::HashMap;
 
@@ -48,8 +48,6 @@ pub(crate) struct State {
     last_n: MVal,
     /// #3901, #3902.
     parts: [f64; 2],
-    /// Blocks with a G65, G66 or G67 word (plain numbers), ascending.
-    call_blocks: Vec<usize>,
     /// Some expression reads #4107 … #4120 or a computed variable number: only then are the
     /// D, H, M, T words and N numbers noted as blocks run.
     reads_last_words: bool,
@@ -101,7 +99,6 @@ impl State {
             last: [None; 4],
             last_n: None,
             parts: [0.0; 2],
-            call_blocks: Vec::new(),
             reads_last_words: prog.exprs.iter().any(|e| {
                 matches!(
                     e,
@@ -110,17 +107,6 @@ impl State {
             }),
             unsupported: Cell::new(false),
         };
-        let is_call = |w: &crate::gcode::Word| {
-            w.letter == b'G' && matches!(w.value(), Value::Num(x) if x == 65.0 || x == 66.0 || x == 67.0)
-        };
-        // One flat pass over the words; the blocks only when some word is a call.
-        if prog.words.iter().any(is_call) {
-            for (i, b) in prog.blocks.iter().enumerate() {
-                if !b.bad && prog.words_of(b).iter().any(is_call) {
-                    s.call_blocks.push(i);
-                }
-            }
-        }
         // Open DOs of the current program: (m, block).
         let mut open: Vec<(u8, usize)> = Vec::new();
         let mut err = |b: &Block, msg: String| {
@@ -128,13 +114,15 @@ impl State {
         };
         let close_all = |open: &mut Vec<(u8, usize)>, err: &mut dyn FnMut(&Block, String)| {
             for (m, k) in open.drain(..) {
-                err(&prog.blocks[k], format!("DO{m} without END{m} in its program"));
+                err(&prog.block(k), format!("DO{m} without END{m} in its program"));
             }
         };
-        for (i, b) in prog.blocks.iter().enumerate() {
-            if b.rare.is_none() || b.bad {
+        for b in prog.rare_blocks() {
+            let i = b.index();
+            if b.bad {
                 continue;
             }
+
             if let Some(o) = b.oword() {
                 if let (OOp::ProgramNumber, OName::Number(n)) = (&o.op, o.name) {
                     close_all(&mut open, &mut err);
@@ -151,14 +139,14 @@ impl State {
                 MacroOp::Do(_, m) => {
                     if let Some(&(_, k)) = open.iter().find(|(o, _)| *o == m) {
                         err(
-                            b,
+                            &b,
                             format!(
                                 "DO{m} inside the range of DO{m} of line {}: nested loops need different numbers",
-                                prog.blocks[k].line
+                                prog.block(k).line
                             ),
                         );
                     } else if open.len() >= MAX_LOOP_NESTING {
-                        err(b, format!("DO{m}: loops nest at most {MAX_LOOP_NESTING} deep"));
+                        err(&b, format!("DO{m}: loops nest at most {MAX_LOOP_NESTING} deep"));
                     } else {
                         open.push((m, i));
                         continue;
@@ -176,14 +164,14 @@ impl State {
                         open.remove(p);
                         let (inner, k) = open[open.len() - 1];
                         err(
-                            b,
+                            &b,
                             format!(
                                 "END{m} closes DO{m} while DO{inner} of line {} is still open: loop ranges overlap",
-                                prog.blocks[k].line
+                                prog.block(k).line
                             ),
                         );
                     }
-                    None => err(b, format!("END{m} without a DO{m} before it in its program")),
+                    None => err(&b, format!("END{m} without a DO{m} before it in its program")),
                 },
                 _ => {}
             }
@@ -203,8 +191,10 @@ impl State {
     }
 
     /// Block `i` has a G65, G66 or G67 word.
-    pub fn is_call_block(&self, i: usize) -> bool {
-        !self.call_blocks.is_empty() && self.call_blocks.binary_search(&i).is_ok()
+    pub fn is_call_block(b: &BlockRef) -> bool {
+        b.words()
+            .iter()
+            .any(|w| w.letter == b'G' && matches!(w.value(), Value::Num(x) if x == 65.0 || x == 66.0 || x == 67.0))
     }
 
     /// Whether [`State::note`] has anything to do.
@@ -214,14 +204,14 @@ impl State {
 
     /// Note the D, H, M, T words and the N number of a block just executed (plain numbers;
     /// not M98, M99).
-    pub fn note(&mut self, prog: &Program, b: &Block) {
+    pub fn note(&mut self, b: &BlockRef) {
         if !self.reads_last_words {
             return;
         }
         if let Some(n) = b.n() {
             self.last_n = Some(n as f64);
         }
-        for w in prog.words_of(b) {
+        for w in b.words() {
             let k = match w.letter {
                 b'D' => 0,
                 b'H' => 1,
@@ -559,7 +549,7 @@ impl Run<'_> {
     }
 
     /// Execute a macro statement at block `i` (the program counter is already `i + 1`).
-    pub(crate) fn macro_statement(&mut self, i: usize, b: &Block, op: MacroOp) {
+    pub(crate) fn macro_statement(&mut self, i: usize, b: &BlockRef, op: MacroOp) {
         if self.macro_b.is_none() {
             self.error(b, None, "Fanuc macro B statements need the Fanuc dialect".into());
             return;
@@ -646,7 +636,8 @@ impl Run<'_> {
         if s.seq.is_none() {
             let mut map: HashMap<(usize, u64), Vec<usize>> = HashMap::new();
             let mut seg_k = 0;
-            for (k, blk) in prog.blocks.iter().enumerate() {
+            for blk in prog.blocks() {
+                let k = blk.index();
                 while seg_k + 1 < s.seg_starts.len() && s.seg_starts[seg_k + 1] <= k {
                     seg_k += 1;
                 }
@@ -662,8 +653,8 @@ impl Run<'_> {
     }
 
     /// A block with G65, G66 or G67 (plain-number G words): handled here; false for other blocks.
-    pub(crate) fn macro_call_block(&mut self, b: &Block) -> bool {
-        let words = self.prog.words_of(b);
+    pub(crate) fn macro_call_block(&mut self, b: &BlockRef) -> bool {
+        let words = b.words();
         let code = words.iter().find_map(|w| match (w.letter, w.value()) {
             (b'G', Value::Num(x)) if x == 65.0 || x == 66.0 || x == 67.0 => Some((x as u8, w.at)),
             _ => None,

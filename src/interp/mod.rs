@@ -426,7 +426,7 @@ impl Limits {
     /// Enough for any real program: 2 million blocks, or 4 times the program's length.
     pub fn for_program(prog: &Program) -> Limits {
         Limits {
-            max_blocks: (prog.blocks.len() as u64 * 4).max(2_000_000),
+            max_blocks: (prog.len() as u64 * 4).max(2_000_000),
             max_call_depth: 64,
         }
     }
@@ -439,7 +439,7 @@ pub fn interpret(prog: &Program, src: &[u8], machine: &Machine) -> Interpretatio
 
 pub fn interpret_with(prog: &Program, src: &[u8], machine: &Machine, limits: Limits) -> Interpretation {
     let mut run = flow::Run::new(prog, src, machine, limits);
-    run.moves = Vec::with_capacity(prog.blocks.len().min(1 << 22));
+    run.moves = Vec::with_capacity(prog.len().min(1 << 22));
     run.run();
     run.finish()
 }

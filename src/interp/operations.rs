@@ -13,7 +13,7 @@
 use super::flow::Run;
 use super::{Feed, MoveKind};
 use crate::finding::{Finding, Kind, Severity};
-use crate::gcode::Block;
+use crate::gcode::{Block, BlockRef};
 use crate::geom::P2;
 use crate::machine::{OpStart, OpTailstock};
 
@@ -31,7 +31,7 @@ pub(crate) struct Ops {
 impl Run<'_> {
     /// Before a block's words: the next operation, if it starts at this block's line.
     #[cold]
-    pub(super) fn operation_before(&mut self, b: &Block) {
+    pub(super) fn operation_before(&mut self, b: &BlockRef) {
         let start = self.machine.operations.get(self.ops.next).map(|o| o.start);
         let starts = match start {
             Some(OpStart::Line(l)) => l == b.line,
@@ -47,9 +47,9 @@ impl Run<'_> {
     /// the block's words will read it (an expression evaluated, a builder's number through the
     /// machine's `[gcodes]`). A word that cannot be read selects nothing (its error comes with
     /// the words).
-    fn selects_work_offset(&self, b: &Block, n: u8) -> bool {
+    fn selects_work_offset(&self, b: &BlockRef, n: u8) -> bool {
         let want = 540 + 10 * u16::from(n);
-        self.prog.words_of(b).iter().filter(|w| w.letter == b'G').any(|w| {
+        b.words().iter().filter(|w| w.letter == b'G').any(|w| {
             let Ok(Some(v)) = self.word_value(w.value()) else {
                 return false;
             };

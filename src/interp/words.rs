@@ -6,7 +6,7 @@
 
 use super::flow::Run;
 use super::letters::{bit, Letters};
-use crate::gcode::Block;
+use crate::gcode::{Block, BlockRef};
 use crate::machine::{DecimalPoint, Dialect};
 
 /// Most G or M codes one block may hold.
@@ -147,11 +147,11 @@ impl Words {
 
 impl Run<'_> {
     /// Read the words of a block. `None` when a value could not be evaluated (already reported).
-    pub(crate) fn read_words(&mut self, b: &Block, w: &mut Words) -> bool {
+    pub(crate) fn read_words(&mut self, b: &BlockRef, w: &mut Words) -> bool {
         let fanuc = self.machine.dialect == Dialect::Fanuc;
         let increment = fanuc && self.machine.decimal_point == DecimalPoint::Increment;
         let mut ok = true;
-        for word in self.prog.words_of(b) {
+        for word in b.words() {
             let v = match self.word_value(word.value()) {
                 Ok(Some(v)) => v,
                 Ok(None) => continue, // Fanuc: a vacant value leaves the word out

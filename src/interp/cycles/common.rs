@@ -3,7 +3,7 @@
 
 use super::super::flow::Run;
 use super::super::{Feed, Move, MoveKind};
-use crate::gcode::Block;
+use crate::gcode::{Block, BlockRef};
 use crate::geom::{P2, V2};
 
 /// Most blocks one profile (P to Q) may span. Fanuc controls allow far fewer; the cap keeps a
@@ -132,10 +132,8 @@ fn n_blocks<'r>(run: &'r mut Run<'_>, n: u64) -> &'r [(u64, usize)] {
     let index = run.cycles.n_index.get_or_insert_with(|| {
         let mut v: Vec<(u64, usize)> = run
             .prog
-            .blocks
-            .iter()
-            .enumerate()
-            .filter_map(|(i, b)| b.n().map(|k| (k, i)))
+            .blocks()
+            .filter_map(|b| b.n().map(|k| (k, b.index())))
             .collect();
         v.sort_unstable();
         v
@@ -195,11 +193,11 @@ pub(crate) fn follow(run: &mut Run<'_>, b: &Block, s: &Seg, feed: Feed) {
 }
 
 /// A block of the profile that a cycle cannot run: a call, a return, an o-word, a program end.
-fn forbidden_in_profile(run: &Run<'_>, pb: &Block) -> Option<&'static str> {
+fn forbidden_in_profile(pb: &BlockRef) -> Option<&'static str> {
     if pb.oword().is_some() {
         return Some("an o-word");
     }
-    for w in run.prog.words_of(pb) {
+    for w in pb.words() {
         if let crate::gcode::Value::Num(v) = w.value() {
             if w.letter == b'M' && matches!(v as i64, 2 | 30 | 98 | 99) && v.fract() == 0.0 {
                 return Some("M2, M30, M98 or M99");
@@ -287,8 +285,8 @@ pub(crate) fn trace(
         return None;
     }
     for i in pi..=qi {
-        let pb = run.block(i);
-        if let Some(what) = forbidden_in_profile(run, pb) {
+        let pb = &run.block(i);
+        if let Some(what) = forbidden_in_profile(pb) {
             let line = pb.line;
             run.error(
                 b,
@@ -299,7 +297,7 @@ pub(crate) fn trace(
         }
     }
     let p_block = run.block(pi);
-    let names = |l: &[u8]| run.prog.words_of(p_block).iter().any(|w| l.contains(&w.letter));
+    let names = |l: &[u8]| p_block.words().iter().any(|w| l.contains(&w.letter));
     let p_names_both = names(b"XU") && names(b"ZW");
     let p_line = p_block.line;
 
@@ -308,7 +306,7 @@ pub(crate) fn trace(
     // The profile's G41/G42/G40 stay out of the compensation stage (see `ProfileComp`).
     let outer = run.cycles.profile_comp.replace(Vec::new());
     for i in pi..=qi {
-        let pb = run.block(i);
+        let pb = &run.block(i);
         if pb.bad {
             continue;
         }
