@@ -123,6 +123,10 @@ pub struct Stats {
     /// that their move was measured as exact mode measures it (`check::sample`).
     #[serde(skip)]
     pub refined: u64,
+    /// Points of moves sampled for over-travel (`check::Checker::overtravel`): moves that reach
+    /// past a travel limit are scanned; the bounded-work tests read it.
+    #[serde(skip)]
+    pub travel_samples: u64,
     pub effects: Vec<String>,
     pub elapsed_ms: f64,
     /// With `machine.dialect = "auto"`: the dialect chosen for this program and why (the

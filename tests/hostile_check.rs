@@ -541,3 +541,29 @@ fn a_circle_of_many_turns_sweeps_what_its_first_turn_sweeps() {
         assert!(!same(&run("P1"), &two), "{mode:?}");
     }
 }
+
+#[test]
+fn moves_that_stay_past_a_travel_limit_without_going_further_take_no_samples() {
+    // 100,000 rapids at X700 (radius 350, past the X travel of 300), back and forth in Z: none
+    // goes further past the limit than it starts, which the move's box proves, so none is
+    // sampled (each took 256 samples before, the whole of a fuzz input's time). The move that
+    // crosses the limit is found and sampled as before, in both modes.
+    for mode in [Mode::Step, Mode::Exact] {
+        let out = hostile_with(
+            "loop_stays_past_the_x_travel.nc",
+            Settings {
+                mode,
+                ..Settings::default()
+            },
+        );
+        assert_eq!(out.stats.moves, 100_002, "{mode:?}: {:?}", out.stats);
+        let over: Vec<_> = out
+            .findings
+            .iter()
+            .filter(|f| f.kind == Kind::Overtravel)
+            .map(|f| f.line)
+            .collect();
+        assert_eq!(over, [5], "{mode:?}: {:?}", out.findings);
+        assert!(out.stats.travel_samples <= 2 * 256, "{mode:?}: {:?}", out.stats);
+    }
+}

@@ -1540,6 +1540,13 @@ impl Checker<'_> {
         }
         let at = |u: f64| motion::reference_at(m, item, u * item.duration);
         let base = past(at(0.0));
+        // Every point of the move lies in its box: when no corner of the box is further past a
+        // limit than the start, no sample below can be (a move that stays past a limit without
+        // going further, as a loop marching off the machine makes thousands of, costs nothing).
+        let worst = past(rb.min).into_iter().zip(past(rb.max)).map(|(a, b)| a.max(b));
+        if worst.zip(base).all(|(w, b)| w - b <= 1e-9) {
+            return;
+        }
         // How far beyond its start the move goes past a limit, and which limit.
         let beyond = |p: P2| -> (f64, usize) {
             let e = past(p);
@@ -1555,6 +1562,7 @@ impl Checker<'_> {
         let mut first = None;
         let mut depth: f64 = 0.0;
         for j in 1..=n {
+            self.stats.travel_samples += 1;
             let u = j as f64 / n as f64;
             let (e, i) = beyond(at(u));
             if e > 1e-9 {

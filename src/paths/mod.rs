@@ -225,6 +225,7 @@ pub fn check(src: &[u8], machine: &Machine, settings: &Settings) -> Outcome {
         out.stats.pair_tests_skipped += st.pair_tests_skipped;
         out.stats.grid_rays += st.grid_rays;
         out.stats.refined += st.refined;
+        out.stats.travel_samples += st.travel_samples;
         out.stats.elapsed_ms += st.elapsed_ms;
         for e in &st.effects {
             if !out.stats.effects.contains(e) {
