@@ -912,6 +912,20 @@ fn a_window_read_again_is_counted_and_a_small_program_is_read_once() {
     assert_eq!(w.windows_reread(), 1);
     w.block(14_999);
     assert_eq!(w.windows_reread(), 1);
+    // A flow that jumps round the windows, more of them than the cache holds, over and over:
+    // past twice the number of windows read again, every window stays.
+    let round = lexer::parse_with(src.as_bytes(), true, false, 100);
+    let windows = 150;
+    for _ in 0..50 {
+        for k in 0..windows {
+            round.block(k * 100);
+        }
+    }
+    let reread = round.windows_reread();
+    assert!(
+        (2 * windows as u64..=3 * windows as u64 + 16).contains(&reread),
+        "{reread}"
+    );
     // The walk over the rare blocks reads only the windows that hold one.
     assert_eq!(w.rare_blocks().count(), 9000);
     assert!(w.windows_reread() <= 1 + 9000);

@@ -15,7 +15,9 @@
 //! findings, comments and expressions are the first reading's and are dropped (the unit tests
 //! hold every window of a program read one block at a time equal to a whole reading).
 //!
-//! A program of at most `CACHED_WINDOWS` windows (32k blocks) is read once and kept whole.
+//! A program of at most `CACHED_WINDOWS` windows (32k blocks) is read once and kept whole. A
+//! flow that jumps among more windows than that, again and again, reads each window again at
+//! most a few times: past twice the number of windows, every window read is kept.
 
 use super::{lexer, Assign, Block, NameId, Program, Word};
 use std::cell::{Cell, RefCell};
@@ -147,7 +149,14 @@ impl Program<'_> {
             None => {
                 let w = Rc::new(self.read_window(self.window_of(i)));
                 cache.insert(0, w.clone());
-                cache.truncate(CACHED_WINDOWS);
+                // A flow that keeps jumping among more windows than the cache holds would read
+                // a window for every block it runs: once the windows read again outnumber the
+                // program's windows twice over, every window read stays (the program whole, as
+                // it was before windows), so the reading never costs more than a few readings
+                // of the program.
+                if self.store.rereads.get() <= 2 * self.store.marks.len() as u64 + 16 {
+                    cache.truncate(CACHED_WINDOWS);
+                }
                 w
             }
         };
