@@ -10,7 +10,9 @@
 //!
 //! 4. Long contacts: a generated 10k-line program whose T01 holder stays buried in the bar for
 //!    every move (a crash that goes on), step mode against exact mode: step mode measures a
-//!    contact it finds as exact mode does, so the ratio should stay near 1 (issue 10: at most 2).
+//!    contact it finds as exact mode does, so the ratio should stay near 1 (issue 10: at most 2);
+//!    and the same moves turning clear of everything, for the cost of a block in contact against
+//!    a clean one.
 //!
 //! `-- --stock-only` runs section 3 alone; `-- --contact-only` section 4 alone. Figures are medians of several runs; compare ratios
 //! within one run (shared, noisy machines).
@@ -73,7 +75,13 @@ fn main() {
 /// T01 feeds back and forth along the bar at X20 (its holder 5 mm into the 50 mm bar above the
 /// insert's cut), one move a line.
 fn buried_program(lines: usize) -> Vec<u8> {
-    let mut s = String::from("%\nG21 G18 G40 G97 G99\nT0101\nG97 S1000 M3\nG0 X60. Z5.\nG1 X20. F0.2\n");
+    moves_at(lines, "X20.")
+}
+
+/// `lines` feeds of 25 mm along Z at diameter `x` (`X20.`: the T01 holder buried in the 50 mm
+/// bar; `X46.`: the insert turning the bar clear of everything), one after another.
+fn moves_at(lines: usize, x: &str) -> Vec<u8> {
+    let mut s = format!("%\nG21 G18 G40 G97 G99\nT0101\nG97 S1000 M3\nG0 X60. Z5.\nG1 {x} F0.2\n");
     for k in 0..lines {
         let z = if k % 2 == 0 { -30.0 } else { -5.0 };
         s += &format!("G1 Z{z:.1}\n");
@@ -96,6 +104,16 @@ fn section_4(quick: bool, m: &Machine, step: &Settings, exact: &Settings) {
         te,
         oute.findings.len(),
         ts / te
+    );
+    // The same moves turning the bar with nothing in contact: what a block costs when no part
+    // is inside another (issue 29's measure of a contact's cost per block).
+    let clean = moves_at(lines, "X46.");
+    let (tc, outc) = median_run(3, &clean, m, step);
+    assert!(outc.findings.is_empty(), "{:?}", outc.findings);
+    println!(
+        "   the same moves turning clear of everything, step dt=1ms: {:.3} s; a block in contact costs {:.0}x a clean block",
+        tc,
+        ts / tc
     );
 }
 
