@@ -192,16 +192,31 @@ fn f4(out: &mut Vec<u8>, v: f64) {
     }
     let n = scaled as i64;
     let a = n.unsigned_abs();
-    let mut buf = [0u8; 24];
-    let mut i = put_uint(&mut buf, 24, a % 10_000, 4, b'0');
-    i -= 1;
-    buf[i] = b'.';
-    i = put_uint(&mut buf, i, a / 10_000, 1, b'0');
-    if n < 0 {
-        i -= 1;
-        buf[i] = b'-';
+    let (int, frac) = (a / 10_000, (a % 10_000) as u32);
+    // At most 22 bytes: a sign, 16 digits, the point and 4 decimals. A fixed-size append is a few
+    // stores (a copy of the few bytes written would be a call to `memcpy` per number), and the
+    // tail is cut off after.
+    let start = out.len();
+    out.extend_from_slice(&[0u8; 24]);
+    let buf = &mut out[start..];
+    let mut i = usize::from(n < 0);
+    buf[0] = b'-';
+    let mut digits = 1;
+    while digits < 20 && int >= 10u64.pow(digits as u32) {
+        digits += 1;
     }
-    out.extend_from_slice(&buf[i..]);
+    let mut x = int;
+    for k in (i..i + digits).rev() {
+        buf[k] = b'0' + (x % 10) as u8;
+        x /= 10;
+    }
+    i += digits;
+    buf[i] = b'.';
+    buf[i + 1] = b'0' + (frac / 1000) as u8;
+    buf[i + 2] = b'0' + (frac / 100 % 10) as u8;
+    buf[i + 3] = b'0' + (frac / 10 % 10) as u8;
+    buf[i + 4] = b'0' + (frac % 10) as u8;
+    out.truncate(start + i + 5);
 }
 
 /// Append `a` in decimal, filled on the left with `fill` to `width` characters.
@@ -272,6 +287,24 @@ mod tests {
             super::push_uint(&mut s, a, 6, b'0');
             assert_eq!(std::str::from_utf8(&s).unwrap(), format!("{a:06}"));
         }
+    }
+
+    /// Every count of integer digits, both signs, appended after other text: as `{:.4}` prints.
+    #[test]
+    fn four_decimals_of_every_width_follow_what_came_before() {
+        let mut s = b"X".to_vec();
+        let mut want = String::from("X");
+        for k in 0..12 {
+            let p = 10f64.powi(k);
+            for v in [p - 0.00031, p, p + 0.12342, 9.87653 * p] {
+                for v in [v, -v] {
+                    super::f4(&mut s, v);
+                    s.push(b' ');
+                    want.push_str(&format!("{v:.4} "));
+                }
+            }
+        }
+        assert_eq!(std::str::from_utf8(&s).unwrap(), want);
     }
 
     /// Four decimals as `{:.4}` prints them, for values whose fifth decimal is far from a tie.

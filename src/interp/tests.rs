@@ -595,3 +595,35 @@ fn fanuc_g32_without_f_cuts_at_the_modal_f_and_its_f_stays_the_feed() {
         i.findings
     );
 }
+
+#[test]
+fn a_cycle_finds_its_profile_next_to_it_and_thousands_of_blocks_away_alike() {
+    // G71 P10 Q60 finds N10 and N60 by searching near the cycle first and asking the index of
+    // every numbered block only past `NEAR` blocks: a profile 10 blocks and 6,000 blocks after
+    // the cycle gives the same roughing passes. (N10-N60 also stand earlier, before the cycle:
+    // the first after it counts, near or far.)
+    let profile = "N10 G0 X20\nN20 G1 Z-10\nN30 X30 Z-15\nN40 Z-30\nN50 G2 X40 Z-35 R5\nN60 G1 X52\n";
+    let program = |gap: usize| {
+        format!(
+            "G21 G18 G99 G97 S800 M3\nT0101\n{p0}G0 X52 Z3\nG71 U2 R0.5\nG71 P10 Q60 U0.4 W0.1 F0.25\n\
+             G0 X100 Z100\nM30\n{gap}{profile}",
+            p0 = profile.replace("X20", "X24").replace("X52", "X60"),
+            gap = "G0 X100 Z100\n".repeat(gap)
+        )
+    };
+    let m = Machine::builtin();
+    let moves = |src: &str| {
+        let prog = gcode::parse(src.as_bytes());
+        let run = super::interpret(&prog, src.as_bytes(), &m);
+        let cycle: Vec<_> = run
+            .moves
+            .iter()
+            .filter(|mv| mv.line == 11)
+            .map(|mv| (mv.start, mv.end))
+            .collect();
+        (cycle, run.findings.len())
+    };
+    let (near, far) = (moves(&program(10)), moves(&program(6000)));
+    assert!(near.0.len() > 10, "{near:?}");
+    assert_eq!(near, far);
+}

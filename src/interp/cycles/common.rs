@@ -98,6 +98,8 @@ pub(crate) struct Memory {
     /// (N number, block index) of every numbered block, sorted (built on first use): the
     /// blocks holding one N number are a run of it, in program order.
     n_index: Option<Vec<(u64, usize)>>,
+    /// Searches for an N number near their block that found none (see `find_n`).
+    near_misses: u32,
     /// G76 first-block words (Fanuc parameters 5142, 5130, 5143, 5140, 5141).
     pub g76: super::thread::G76Params,
     /// G74/G75 first block: the return amount e (mm; Fanuc parameter 5139).
@@ -122,9 +124,34 @@ pub(crate) struct Memory {
 
 /// The block with N number `n`: the first one after block `from`, else the first in the file.
 pub(crate) fn find_n(run: &mut Run<'_>, n: u64, from: usize) -> Option<usize> {
+    let near = from + 1..(from + 1 + NEAR).min(run.prog.len());
+    if let Some(i) = near_n(run, n, near) {
+        return Some(i);
+    }
     let list = n_blocks(run, n);
     let k = list.partition_point(|&(_, i)| i <= from);
     list.get(k).or(list.first()).map(|&(_, i)| i)
+}
+
+/// How far [`find_n`] and [`find_n_before`] look from their block before they ask the index of
+/// every numbered block: a profile is next to its cycle, so a long program's cycles find theirs
+/// without the index (about 16 bytes a numbered block: `Cycles::n_index`).
+const NEAR: usize = 4096;
+
+/// Searches that looked [`NEAR`] blocks and found nothing, after which the index is asked first.
+const NEAR_MISSES: u32 = 16;
+
+/// The first block of `range` numbered `n`, while near searches pay (see [`NEAR_MISSES`]): what
+/// the index would give from the same blocks, since none before it in `range` has that number.
+fn near_n(run: &mut Run<'_>, n: u64, mut range: impl Iterator<Item = usize>) -> Option<usize> {
+    if run.cycles.n_index.is_some() || run.cycles.near_misses >= NEAR_MISSES {
+        return None;
+    }
+    let found = range.find(|&i| run.block(i).n() == Some(n));
+    if found.is_none() {
+        run.cycles.near_misses += 1;
+    }
+    found
 }
 
 /// The blocks numbered `n`, ascending, as (n, block index).
@@ -147,6 +174,9 @@ fn n_blocks<'r>(run: &'r mut Run<'_>, n: u64) -> &'r [(u64, usize)] {
 /// last one before block `from`, else the first after it. (A program that repeats its N numbers
 /// from one operation to the next, as posts do, finishes the profile it just roughed.)
 pub(crate) fn find_n_before(run: &mut Run<'_>, n: u64, from: usize) -> Option<usize> {
+    if let Some(i) = near_n(run, n, (from.saturating_sub(NEAR)..from).rev()) {
+        return Some(i);
+    }
     let list = n_blocks(run, n);
     let k = list.partition_point(|&(_, i)| i < from);
     if k > 0 {
