@@ -288,6 +288,16 @@ impl Sweep {
             && numbers(self) == numbers(other)
     }
 
+    /// For a sweep of one disc piece (a flat end mill, a tap) moved square to its axis and a ray
+    /// along that axis: the `t` at which the ray leaves the sweep whenever [`Sweep::ray`] (to
+    /// `t1`) says it meets it ([`Across::exit_along_axis`]); `None` for any other sweep or ray.
+    pub(crate) fn exit_along_axis(&self, o: Vector3<f64>, u: Vector3<f64>, t1: f64) -> Option<f64> {
+        let [Piece::Disc { h0, h1, .. }] = self.pieces.as_slice() else {
+            return None;
+        };
+        Across::new(o, u, self.p0, self.v, self.axis, self.across).exit_along_axis((*h0, *h1), t1)
+    }
+
     /// Whether the cutter is one disc piece (a flat end mill, a tap): the sweeps whose rays
     /// [`Sweep::ray_memo`] can answer from its memo.
     pub(crate) fn one_disc(&self) -> bool {

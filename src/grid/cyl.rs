@@ -44,6 +44,9 @@ pub struct CylGrid {
     /// ([`Sweep::ray_memo`]: the columns under a flat end mill fed square to its axis ask the
     /// same question at every height); emptied at each cut's start.
     memo: Vec<RayMemo>,
+    /// `(cos θ_i, sin θ_i)` of the first node angles (at most `MEMO_ANGLES`), computed once as
+    /// each ray of a cut computes them.
+    dirs: Vec<(f64, f64)>,
 }
 
 impl CylGrid {
@@ -75,6 +78,7 @@ impl CylGrid {
             r_bound,
             rays: 0,
             memo: Vec::new(),
+            dirs: Vec::new(),
         }
     }
 
@@ -240,10 +244,19 @@ impl CylGrid {
         let mut removed = 0.0;
         let mut changed: Option<(usize, usize)> = None;
         let arcs = self.sweep_angles(sw);
+        // The node angles' directions, kept for all cuts (the oracle computes them every time).
+        if memo && self.dirs.is_empty() {
+            self.dirs = (0..self.nth.min(MEMO_ANGLES))
+                .map(|i| {
+                    let th = self.theta(i);
+                    (th.cos(), th.sin())
+                })
+                .collect();
+        }
         // The memo of this cut: its angles' entries emptied (the others are never read).
         let mut memos = std::mem::take(&mut self.memo);
-        let memo = memo && sw.one_disc();
-        if memo {
+        let keep = memo && sw.one_disc();
+        if keep {
             memos.resize(self.nth.min(MEMO_ANGLES), None);
             for &(a, b) in &arcs {
                 for m in memos.iter_mut().take(b + 1).skip(a) {
@@ -264,10 +277,16 @@ impl CylGrid {
                     if rr <= ri {
                         continue;
                     }
-                    let th = self.theta(i);
-                    let u = Vector3::new(th.cos(), th.sin(), 0.0);
+                    let (c, s) = match self.dirs.get(i).filter(|_| memo) {
+                        Some(&cs) => cs,
+                        None => {
+                            let th = self.theta(i);
+                            (th.cos(), th.sin())
+                        }
+                    };
+                    let u = Vector3::new(c, s, 0.0);
                     let o = Vector3::new(0.0, 0.0, z);
-                    let (answer, cast) = match memos.get_mut(i).filter(|_| memo) {
+                    let (answer, cast) = match memos.get_mut(i).filter(|_| keep) {
                         Some(m) => sw.ray_memo(o, u, ri, rr.min(reach), m),
                         None => (sw.ray(o, u, ri, rr.min(reach)), true),
                     };

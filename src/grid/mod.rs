@@ -194,8 +194,9 @@ impl Stock {
         self.run(sw, true, true)
     }
 
-    /// [`Stock::cut`] with every ray of the cylindrical grid cast, none answered from the memo
-    /// of its column's neighbour ([`CylGrid::cut`]): the memo's oracle.
+    /// [`Stock::cut`] with every ray cast: none of the cylindrical grid's answered from the memo
+    /// of its column's neighbour ([`CylGrid::cut`]), none of a face grid's left by its known exit
+    /// ([`FaceGrid::cut`]): their oracle.
     #[cfg(test)]
     pub(crate) fn cut_casting_every_ray(&mut self, sw: &Sweep) -> f64 {
         self.ensure_side_grid(sw);
@@ -247,7 +248,7 @@ impl Stock {
                 Some(c) => c.may_hold(o, u, a, b),
                 None => Some((a, b)),
             };
-            v += f.cut(sw, &|p| !self.contains_except(p, Some(k)), &span, step, apply);
+            v += f.cut_nodes(sw, &|p| !self.contains_except(p, Some(k)), &span, step, apply, memo);
             self.faces[k] = f;
         }
         v
