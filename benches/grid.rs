@@ -9,10 +9,20 @@
 //!    1.5 (a move visits the nodes under its own sweep only).
 //! 3. The cost of one move against the grid's density: the same Ø14 pass on 128² … 1024².
 //!
+//! 4. Polar interpolation through the spindle axis (issue 29): the G12.1 face pocket of
+//!    `tests/fixtures/polar/face_pocket_through_axis.nc` (three passes across the face of the
+//!    Ø50 bar, the middle one through the axis, a Ø10 flat end mill) checked on the turn-mill
+//!    machine, the best of three runs, against the G12.1 hex of `tests/fixtures/polar/hex_g12_1.nc`
+//!    (its cutter keeps off the axis) in the same run, with the rays each check's cuts cast
+//!    (`stats.grid_rays`). Alone: `-- polar`.
+//!
 //! `-- quick` runs a tenth of every count (for a rough look; the README's figures are full runs).
 
 use latheguard::grid::{Cutter, CutterKind, Stock, Sweep};
+use latheguard::machine::{self, Machine};
+use latheguard::pipeline::{self, Settings};
 use nalgebra::Vector3;
+use std::path::PathBuf;
 use std::time::Instant;
 
 fn flat(d: f64) -> Cutter {
@@ -84,9 +94,50 @@ fn time_moves(stock: &mut Stock, sweeps: &[Sweep]) -> f64 {
     t.elapsed().as_secs_f64() / sweeps.len().max(1) as f64
 }
 
+/// The shipped turn-mill machine, its STL parts read from `machines/`.
+fn turn_mill() -> Machine {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("machines");
+    let text = std::fs::read_to_string(dir.join("turn-mill.toml")).expect("machine file");
+    machine::from_toml_with(&text, "machines/turn-mill.toml", &|name: &str| {
+        std::fs::read(dir.join(name)).map_err(|e| e.to_string())
+    })
+    .expect("turn-mill machine")
+}
+
+/// 4: the pocket through the axis against the hex beside it, each the best of `rounds` checks.
+fn polar(rounds: usize) {
+    println!("4. G12.1 on the turn-mill machine: a face pocket through the spindle axis, a hex beside it");
+    let m = turn_mill();
+    let settings = Settings::default();
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let check = |name: &str| {
+        let src = std::fs::read(root.join("tests/fixtures/polar").join(name)).expect("program");
+        let mut best = f64::INFINITY;
+        let mut rays = 0;
+        for _ in 0..rounds {
+            let t = Instant::now();
+            let out = pipeline::check(&src, &m, &settings);
+            best = best.min(t.elapsed().as_secs_f64());
+            rays = out.stats.grid_rays;
+        }
+        (best, rays)
+    };
+    let (hex, hex_rays) = check("hex_g12_1.nc");
+    let (pocket, pocket_rays) = check("face_pocket_through_axis.nc");
+    println!("   hex_g12_1.nc: {hex:.3} s, {hex_rays} rays cast");
+    println!(
+        "   face_pocket_through_axis.nc: {pocket:.3} s, {pocket_rays} rays cast: {:.2}× the hex",
+        pocket / hex
+    );
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "quick");
     let scale = if quick { 10 } else { 1 };
+    if std::env::args().any(|a| a == "polar") {
+        polar(if quick { 1 } else { 3 });
+        return;
+    }
     let top = Vector3::new(50.0, 50.0, 200.0);
     println!("1. The seed's block, 300 × 300 × 200, three faces milled");
     for n in [256usize, 512] {
@@ -154,4 +205,5 @@ fn main() {
         let b = *base.get_or_insert(per);
         println!("   {n}²: {:.1} µs per move ({:.2}× the 128² cost)", per * 1e6, per / b);
     }
+    polar(if quick { 1 } else { 3 });
 }

@@ -162,6 +162,9 @@ impl Cutter {
     }
 }
 
+/// One ray's answer kept for the rays that share its key ([`Sweep::ray_memo`]).
+pub(crate) type RayMemo = Option<([u64; 8], Option<(f64, f64)>)>;
+
 /// A cutter moved along a straight line with its axis fixed: the tip from `p0` to `p1`, the
 /// axis `axis` (unit, from the tip toward the shank).
 #[derive(Clone, Debug)]
@@ -261,9 +264,78 @@ impl Sweep {
 
     /// The interval of `t ∈ [t0, t1]` where the ray `o + t·u` is inside the swept solid.
     pub fn ray(&self, o: Vector3<f64>, u: Vector3<f64>, t0: f64, t1: f64) -> Option<(f64, f64)> {
+        let across = Across::new(o, u, self.p0, self.v, self.axis, self.across);
+        self.ray_across(&across, o, u, t0, t1)
+    }
+
+    /// Whether `other` is this sweep, every number bit for bit (a cut is a function of the stock
+    /// and these numbers).
+    pub fn same_bits(&self, other: &Sweep) -> bool {
+        let piece = |p: &Piece| match *p {
+            Piece::Disc { r, h0, h1 } => [0.0, r, h0, h1].map(f64::to_bits),
+            Piece::Ball { r, h } => [1.0, r, h, 0.0].map(f64::to_bits),
+        };
+        let v3 = |v: &Vector3<f64>| [v.x, v.y, v.z].map(f64::to_bits);
+        let numbers = |s: &Sweep| {
+            [s.p0, s.v, s.axis, s.across.0, s.across.1, s.min, s.max]
+                .iter()
+                .flat_map(v3)
+                .chain([s.radius, s.length].map(f64::to_bits))
+                .collect::<Vec<u64>>()
+        };
+        self.pieces.len() == other.pieces.len()
+            && self.pieces.iter().zip(&other.pieces).all(|(a, b)| piece(a) == piece(b))
+            && numbers(self) == numbers(other)
+    }
+
+    /// For a sweep of one disc piece (a flat end mill, a tap) moved square to its axis and a ray
+    /// along that axis: the `t` at which the ray leaves the sweep whenever [`Sweep::ray`] (to
+    /// `t1`) says it meets it ([`Across::exit_along_axis`]); `None` for any other sweep or ray.
+    pub(crate) fn exit_along_axis(&self, o: Vector3<f64>, u: Vector3<f64>, t1: f64) -> Option<f64> {
+        let [Piece::Disc { h0, h1, .. }] = self.pieces.as_slice() else {
+            return None;
+        };
+        Across::new(o, u, self.p0, self.v, self.axis, self.across).exit_along_axis((*h0, *h1), t1)
+    }
+
+    /// Whether the cutter is one disc piece (a flat end mill, a tap): the sweeps whose rays
+    /// [`Sweep::ray_memo`] can answer from its memo.
+    pub(crate) fn one_disc(&self) -> bool {
+        matches!(self.pieces.as_slice(), [Piece::Disc { .. }])
+    }
+
+    /// [`Sweep::ray`], the answer taken from `memo` when it holds the answer of a ray with the
+    /// same [`Across::level_key`] (a sweep of one disc piece: a flat end mill, a tap), bit for
+    /// bit what casting it gives; a ray cast with a key is kept in `memo`. Also whether the ray
+    /// was cast.
+    pub(crate) fn ray_memo(
+        &self,
+        o: Vector3<f64>,
+        u: Vector3<f64>,
+        t0: f64,
+        t1: f64,
+        memo: &mut RayMemo,
+    ) -> (Option<(f64, f64)>, bool) {
+        let across = Across::new(o, u, self.p0, self.v, self.axis, self.across);
+        let key = match self.pieces.as_slice() {
+            [Piece::Disc { h0, h1, .. }] => across.level_key((*h0, *h1), (t0, t1)),
+            _ => None,
+        };
+        if let (Some(k), Some((mk, answer))) = (key, memo.as_ref()) {
+            if k == *mk {
+                return (*answer, false);
+            }
+        }
+        let answer = self.ray_across(&across, o, u, t0, t1);
+        if let Some(k) = key {
+            *memo = Some((k, answer));
+        }
+        (answer, true)
+    }
+
+    fn ray_across(&self, across: &Across, o: Vector3<f64>, u: Vector3<f64>, t0: f64, t1: f64) -> Option<(f64, f64)> {
         let mut lo = f64::INFINITY;
         let mut hi = f64::NEG_INFINITY;
-        let across = Across::new(o, u, self.p0, self.v, self.axis, self.across);
         // A stacked end (more pieces than a shank and an end) lies inside the cutter's
         // cylinder: a ray that misses it misses every piece.
         if self.pieces.len() > 2 {

@@ -9,7 +9,11 @@
 
 use nalgebra::Vector3;
 
-use super::cutter::Sweep;
+use super::cutter::{RayMemo, Sweep};
+
+/// Most node angles whose rays' answers one cut keeps ([`CylGrid::cut`]): the angles past them
+/// are cast in every column (the memo's memory stays a few MB whatever the grid).
+const MEMO_ANGLES: usize = 1 << 15;
 
 /// The cylindrical grid.
 #[derive(Clone, Debug)]
@@ -33,8 +37,16 @@ pub struct CylGrid {
     /// At least every column's `col_max` (cuts only lower them, so the first value stays a
     /// bound): the radius outside which no point is material ([`CylGrid::may_hold`]).
     pub(crate) r_bound: f64,
-    /// Rays cast by cuts so far (`Stock::rays`).
+    /// Rays cast by cuts so far (`Stock::rays`): a ray whose answer a cut took from its memo
+    /// is not cast.
     pub(crate) rays: u64,
+    /// Per node angle, the answer of the last ray cast at it in the cut under way
+    /// ([`Sweep::ray_memo`]: the columns under a flat end mill fed square to its axis ask the
+    /// same question at every height); emptied at each cut's start.
+    memo: Vec<RayMemo>,
+    /// `(cos θ_i, sin θ_i)` of the first node angles (at most `MEMO_ANGLES`), computed once as
+    /// each ray of a cut computes them.
+    dirs: Vec<(f64, f64)>,
 }
 
 impl CylGrid {
@@ -65,6 +77,8 @@ impl CylGrid {
             col_max,
             r_bound,
             rays: 0,
+            memo: Vec::new(),
+            dirs: Vec::new(),
         }
     }
 
@@ -193,12 +207,30 @@ impl CylGrid {
         }
     }
 
+    /// Apply a sweep (or with `apply` false only measure it): the volume removed and the
+    /// columns changed. Column by column, the node angles under the sweep ([`CylGrid::sweep_angles`]).
+    /// A ray whose question was asked at the same angle in an earlier column of this cut with
+    /// the same answer's key ([`Sweep::ray_memo`]) takes that answer instead of being cast: bit
+    /// for bit the same, so the same nodes change (tested against casting every ray).
     pub fn cut(
         &mut self,
         sw: &Sweep,
         air: &dyn Fn(Vector3<f64>) -> bool,
         step: f64,
         apply: bool,
+    ) -> (f64, Option<(usize, usize)>) {
+        self.cut_nodes(sw, air, step, apply, true)
+    }
+
+    /// [`CylGrid::cut`], with or without the memo of the rays' answers (without: every ray cast,
+    /// the oracle of the memo).
+    pub(crate) fn cut_nodes(
+        &mut self,
+        sw: &Sweep,
+        air: &dyn Fn(Vector3<f64>) -> bool,
+        step: f64,
+        apply: bool,
+        memo: bool,
     ) -> (f64, Option<(usize, usize)>) {
         let Some((j0, j1)) = self.columns(sw.min.z, sw.max.z) else {
             return (0.0, None);
@@ -212,6 +244,26 @@ impl CylGrid {
         let mut removed = 0.0;
         let mut changed: Option<(usize, usize)> = None;
         let arcs = self.sweep_angles(sw);
+        // The node angles' directions, kept for all cuts (the oracle computes them every time).
+        if memo && self.dirs.is_empty() {
+            self.dirs = (0..self.nth.min(MEMO_ANGLES))
+                .map(|i| {
+                    let th = self.theta(i);
+                    (th.cos(), th.sin())
+                })
+                .collect();
+        }
+        // The memo of this cut: its angles' entries emptied (the others are never read).
+        let mut memos = std::mem::take(&mut self.memo);
+        let keep = memo && sw.one_disc();
+        if keep {
+            memos.resize(self.nth.min(MEMO_ANGLES), None);
+            for &(a, b) in &arcs {
+                for m in memos.iter_mut().take(b + 1).skip(a) {
+                    *m = None;
+                }
+            }
+        }
         for j in j0..=j1 {
             if self.col_max[j] <= self.inner[j] || self.col_max[j] + 1e-9 < near {
                 continue;
@@ -225,11 +277,21 @@ impl CylGrid {
                     if rr <= ri {
                         continue;
                     }
-                    let th = self.theta(i);
-                    let u = Vector3::new(th.cos(), th.sin(), 0.0);
+                    let (c, s) = match self.dirs.get(i).filter(|_| memo) {
+                        Some(&cs) => cs,
+                        None => {
+                            let th = self.theta(i);
+                            (th.cos(), th.sin())
+                        }
+                    };
+                    let u = Vector3::new(c, s, 0.0);
                     let o = Vector3::new(0.0, 0.0, z);
-                    self.rays += 1;
-                    let Some((t_in, t_out)) = sw.ray(o, u, ri, rr.min(reach)) else {
+                    let (answer, cast) = match memos.get_mut(i).filter(|_| keep) {
+                        Some(m) => sw.ray_memo(o, u, ri, rr.min(reach), m),
+                        None => (sw.ray(o, u, ri, rr.min(reach)), true),
+                    };
+                    self.rays += u64::from(cast);
+                    let Some((t_in, t_out)) = answer else {
                         continue;
                     };
                     if t_in >= rr {
@@ -255,6 +317,7 @@ impl CylGrid {
                 changed = Some(changed.map_or((j, j), |(a, b)| (a.min(j), b.max(j))));
             }
         }
+        self.memo = memos;
         (removed, changed)
     }
 

@@ -117,6 +117,11 @@ impl FaceGrid {
     /// sweep holds when the sweep holds its boundary `d`, or when everything between `d` and the
     /// sweep is air by the stock's other grids (`air`, sampled every `step` mm, asked only where
     /// `span` says material may be).
+    ///
+    /// A node whose material begins at or past where its ray would leave the sweep is left
+    /// without casting the ray when that exit is known beforehand ([`Sweep::exit_along_axis`]:
+    /// a flat end mill fed across its axis, the rays along it): cast, its answer would leave the
+    /// node as it is, met or not (tested against casting every ray).
     pub fn cut(
         &mut self,
         sw: &Sweep,
@@ -124,6 +129,20 @@ impl FaceGrid {
         span: Span<'_>,
         step: f64,
         apply: bool,
+    ) -> f64 {
+        self.cut_nodes(sw, air, span, step, apply, true)
+    }
+
+    /// [`FaceGrid::cut`], with or without the nodes left by their known exit (without: every
+    /// ray cast, the oracle).
+    pub(crate) fn cut_nodes(
+        &mut self,
+        sw: &Sweep,
+        air: &dyn Fn(Vector3<f64>) -> bool,
+        span: Span<'_>,
+        step: f64,
+        apply: bool,
+        known_exits: bool,
     ) -> f64 {
         // The sweep's box in face coordinates.
         let mut lo = [f64::INFINITY; 3];
@@ -159,6 +178,9 @@ impl FaceGrid {
                     continue;
                 }
                 let o = self.node(i, j);
+                if known_exits && sw.exit_along_axis(o, self.n, self.thickness).is_some_and(|t| t <= d) {
+                    continue;
+                }
                 self.rays += 1;
                 let Some((t_in, t_out)) = sw.ray(o, self.n, lo[2].max(0.0), self.thickness) else {
                     continue;

@@ -51,6 +51,13 @@ impl std::fmt::Display for GridError {
     }
 }
 
+/// A run of cuts with nothing else changing the stock between them ([`Stock::cut_in_run`]): the
+/// last sweep when it changed nothing.
+#[derive(Debug, Default)]
+pub struct CutRun {
+    idle: Option<Sweep>,
+}
+
 /// What the stock's shape is, for its volume and mesh.
 #[derive(Clone, Debug)]
 enum Shape {
@@ -184,13 +191,39 @@ impl Stock {
     /// from where it enters.
     pub fn cut(&mut self, sw: &Sweep) -> f64 {
         self.ensure_side_grid(sw);
-        self.run(sw, true)
+        self.run(sw, true, true)
+    }
+
+    /// [`Stock::cut`] with every ray cast: none of the cylindrical grid's answered from the memo
+    /// of its column's neighbour ([`CylGrid::cut`]), none of a face grid's left by its known exit
+    /// ([`FaceGrid::cut`]): their oracle.
+    #[cfg(test)]
+    pub(crate) fn cut_casting_every_ray(&mut self, sw: &Sweep) -> f64 {
+        self.ensure_side_grid(sw);
+        self.run(sw, true, false)
+    }
+
+    /// [`Stock::cut`] for one of a run of cuts that nothing else changes the stock between (the
+    /// chords of one move): a sweep bit for bit the run's last one ([`Sweep::same_bits`]) when
+    /// that one changed nothing (removed nothing, added no side grid) is not applied. The stock
+    /// is then as it was when that same sweep left it unchanged, and a cut is a function of the
+    /// stock and the sweep: it would change nothing again (a C turn at the spindle axis, the
+    /// cutter's tip on it, repeats one sweep for every chord of the turn). Returns what the cut
+    /// removed, 0 for one left out (what it would have returned).
+    pub fn cut_in_run(&mut self, sw: &Sweep, run: &mut CutRun) -> f64 {
+        if run.idle.as_ref().is_some_and(|last| last.same_bits(sw)) {
+            return 0.0;
+        }
+        let grids = self.faces.len();
+        let removed = self.cut(sw);
+        run.idle = (removed == 0.0 && self.faces.len() == grids).then(|| sw.clone());
+        removed
     }
 
     /// What the sweep would remove (mm³), without applying it.
     pub fn would_remove(&mut self, sw: &Sweep) -> f64 {
         self.ensure_side_grid(sw);
-        self.run(sw, false)
+        self.run(sw, false, true)
     }
 
     /// The rays the cuts (and measures) of this stock have cast into its grids: the work of its
@@ -199,11 +232,13 @@ impl Stock {
         self.cyl.as_ref().map_or(0, |c| c.rays) + self.faces.iter().map(|f| f.rays).sum::<u64>()
     }
 
-    fn run(&mut self, sw: &Sweep, apply: bool) -> f64 {
+    fn run(&mut self, sw: &Sweep, apply: bool, memo: bool) -> f64 {
         let step = self.air_step();
         let mut v = 0.0;
         if let Some(mut c) = self.cyl.take() {
-            v += c.cut(sw, &|p| !self.contains_except(p, None), step, apply).0;
+            v += c
+                .cut_nodes(sw, &|p| !self.contains_except(p, None), step, apply, memo)
+                .0;
             self.cyl = Some(c);
         }
         for k in 0..self.faces.len() {
@@ -213,7 +248,7 @@ impl Stock {
                 Some(c) => c.may_hold(o, u, a, b),
                 None => Some((a, b)),
             };
-            v += f.cut(sw, &|p| !self.contains_except(p, Some(k)), &span, step, apply);
+            v += f.cut_nodes(sw, &|p| !self.contains_except(p, Some(k)), &span, step, apply, memo);
             self.faces[k] = f;
         }
         v

@@ -205,6 +205,45 @@ impl Across {
         }
     }
 
+    /// What [`Across::disc_bound`] and [`Across::disc`] answer for this ray and a disc piece of
+    /// heights `h0..h1` depends on, as bits, when the ray's height along the axis does not
+    /// matter: the ray square to the axis (`ua` 0) and the motion too (`va` 0), not along it,
+    /// and its height `ha` within the piece's (`ha − h0 ≥ 0`, `h1 − ha ≥ 0`, as `disc` computes
+    /// them). Then `ha` enters only through those two signs: the height strip of `disc_bound`
+    /// holds `ha` whatever it is, and the height constraints of `disc` are constants at least 0,
+    /// which clip nothing from the `(t, s)` box and pass every candidate's test. So two rays of
+    /// one sweep with the same key (a column of the cylindrical grid under a flat end mill fed
+    /// across its axis, one height after another) get bit for bit the same interval. `None`:
+    /// the answer may depend on the height.
+    pub(crate) fn level_key(&self, (h0, h1): (f64, f64), (t0, t1): (f64, f64)) -> Option<[u64; 8]> {
+        let level = self.ua == 0.0
+            && self.va == 0.0
+            && self.pu.norm_squared() >= 1e-24
+            && self.ha - h0 >= 0.0
+            && h1 - self.ha >= 0.0
+            && t0.is_finite()
+            && t1.is_finite();
+        level.then(|| [self.pw.x, self.pw.y, self.pu.x, self.pu.y, self.pv.x, self.pv.y, t0, t1].map(f64::to_bits))
+    }
+
+    /// For a ray along the axis (`pu` 0, [`Across::disc`]'s first branch) of a sweep moved
+    /// square to it (`va` 0): the `t` at which `disc` says the ray leaves the disc piece
+    /// (heights `h0..h1`, the ray's range ending at `t1`) whenever it says the ray meets it.
+    /// There every candidate is `(h − ha + s·va) / ua` with `s·va` a zero, whatever the
+    /// fractions `s` the radius allows: the exit is the greatest over `h0`, `h1`, clipped to `t1`,
+    /// the same number for every ray at this height (a face grid under a flat end mill fed
+    /// across its axis: a node whose material already begins past the exit is left as it is,
+    /// met or not). `None`: not such a ray.
+    pub(crate) fn exit_along_axis(&self, (h0, h1): (f64, f64), t1: f64) -> Option<f64> {
+        if !(self.pu.norm_squared() < 1e-24 && self.va == 0.0) {
+            return None;
+        }
+        let hi = [h0, h1]
+            .iter()
+            .fold(f64::NEG_INFINITY, |hi, &h| hi.max((h - self.ha) / self.ua));
+        Some(hi.min(t1))
+    }
+
     /// An outer bound of the `t` where the ray can be inside the disc piece (radius `r`, heights
     /// `h0..h1`) at some instant of the move, within `[t0, t1]`: from the heights and from the
     /// radius alone, each a strip linear in `t` and `s`. `None`: certainly outside it. Closed

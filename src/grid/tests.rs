@@ -735,3 +735,190 @@ fn the_cylindrical_grid_writes_out_only_the_columns_a_cut_reaches() {
     assert!((0..nth).all(|i| c.radius(i, j_flat) <= 18.0));
     assert!(low(c) < 15.1, "{}", low(c));
 }
+
+/// Every node of every grid, as bits.
+fn node_bits(s: &Stock) -> Vec<u64> {
+    let mut out = Vec::new();
+    if let Some(c) = &s.cyl {
+        for j in 0..c.nz {
+            out.extend(c.column(j).iter().map(|r| r.to_bits()));
+            out.push(c.col_max[j].to_bits());
+        }
+    }
+    for f in &s.faces {
+        out.extend(f.d.iter().map(|d| d.to_bits()));
+    }
+    out
+}
+
+/// Moves of a face pocket near and through the spindle axis (axis along ±z, fed square to it
+/// as polar interpolation's chords are, short and long, some through the axis, some standing
+/// still on it), with a few others (tilted, plunging, radial; ball and drill ends).
+fn sweeps_at_the_axis(n: usize, seed: u64) -> Vec<Sweep> {
+    let mut seed = seed;
+    let mut rnd = move || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut out = Vec::new();
+    while out.len() < n {
+        let d = 2.0 + 10.0 * rnd();
+        let kind = match (rnd() * 8.0) as u32 {
+            0 => CutterKind::Ball,
+            1 => CutterKind::Drill { point_angle_deg: 118.0 },
+            2 => CutterKind::Tap { pitch: 0.5 },
+            _ => CutterKind::Flat,
+        };
+        let c = Cutter::new(kind, d, d + 20.0 * rnd()).unwrap();
+        let z = 20.0 - 8.0 * rnd();
+        let near = |(rho, th): (f64, f64)| {
+            let th = std::f64::consts::TAU * th;
+            Vector3::new(8.0 * rho * th.cos(), 8.0 * rho * th.sin(), z)
+        };
+        let a = near((rnd(), rnd()));
+        let other = near((rnd(), rnd()));
+        let b = match (rnd() * 7.0) as u32 {
+            // Standing on the axis (a C turn there), or still anywhere.
+            0 => Vector3::new(0.0, 0.0, z),
+            1 => a,
+            // Through the axis.
+            2 => Vector3::new(-a.x, -a.y, z),
+            // A short chord.
+            3 => a + (other - a) * 0.05,
+            // Plunging, or ramping across the face, down or up.
+            4 => a - Vector3::new(0.0, 0.0, 3.0 * rnd()),
+            5 => other + Vector3::new(0.0, 0.0, 6.0 * rnd() - 3.0),
+            _ => other,
+        };
+        let a = if rnd() < 0.1 { Vector3::new(0.0, 0.0, z) } else { a };
+        let axis = match (rnd() * 10.0) as u32 {
+            0 => Vector3::new(0.0, 0.0, -1.0),
+            1 => Vector3::new(0.1 * rnd(), 0.1 * rnd(), 1.0),
+            2 => Vector3::new(1.0, 0.0, 0.0),
+            _ => Vector3::z(),
+        };
+        let (a, b) = if axis.z < 0.0 {
+            // From below: the tip under the part's back.
+            (a - Vector3::new(0.0, 0.0, 17.0), b - Vector3::new(0.0, 0.0, 17.0))
+        } else {
+            (a, b)
+        };
+        if let Some(sw) = Sweep::new(&c, axis, a, b, 0.05) {
+            out.push(sw);
+        }
+        // Now and then a pass of a pocket: chords of one line at one depth, each a little past
+        // the one before (polar interpolation's), toward the axis and through it.
+        if rnd() < 0.3 {
+            let mill = flat(4.0 + 8.0 * rnd(), 20.0);
+            let (from, to) = (near((rnd(), rnd())), near((rnd(), rnd())));
+            let to = Vector3::new(-from.x, -from.y, from.z) + (to - from) * 0.1;
+            let chords = 10 + (rnd() * 20.0) as usize;
+            for k in 0..chords {
+                let at = |f: f64| from + (to - from) * f;
+                let (f0, f1) = (k as f64 / chords as f64, (k + 1) as f64 / chords as f64);
+                out.extend(Sweep::new(&mill, Vector3::z(), at(f0), at(f1), 0.05));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn the_memo_and_the_known_exits_cut_the_nodes_every_ray_cast_cuts() {
+    // Oracle: the same cuts with every ray cast. Nodes, volumes removed and changed columns bit
+    // for bit; the cylindrical grid's memo answers many of its rays (those under a flat end mill
+    // fed across its axis), and the face grid leaves most of its nodes the pocket's earlier
+    // moves already cut to their exit.
+    for (seed, bore) in [(7u64, 0.0), (8, 0.0), (9, 2.5)] {
+        let stock = || Stock::turned(0.0, 20.0, 10.0, 0.2, |_| Some((bore, 10.0))).unwrap();
+        let (mut fast, mut slow) = (stock(), stock());
+        for (k, sw) in sweeps_at_the_axis(60, seed).iter().enumerate() {
+            let (a, b) = (fast.cut(sw), slow.cut_casting_every_ray(sw));
+            assert_eq!(
+                a.to_bits(),
+                b.to_bits(),
+                "seed {seed}, cut {k}: removed {a} against {b}"
+            );
+            assert!(node_bits(&fast) == node_bits(&slow), "seed {seed}, cut {k}: {sw:?}");
+        }
+        let cyl = |s: &Stock| s.cyl.as_ref().unwrap().rays;
+        let (f, s) = (cyl(&fast), cyl(&slow));
+        assert!(
+            f * 5 < s * 4,
+            "seed {seed}: {f} rays of the cylindrical grid cast against {s}"
+        );
+        let face = |s: &Stock| s.faces.iter().map(|f| f.rays).sum::<u64>();
+        let (f, s) = (face(&fast), face(&slow));
+        assert!(f < s, "seed {seed}: {f} rays of the face grid cast against {s}");
+    }
+}
+
+#[test]
+fn a_sweep_repeated_in_a_run_is_cut_once_it_changes_nothing() {
+    // A C turn with the tip on the spindle axis: the same sweep for every chord. Oracle: every
+    // chord cut; the same stock, bit for bit, after each chord, with far fewer rays.
+    let c = flat(10.0, 30.0);
+    let (mut run_cut, mut each) = (bar(25.0, 20.0, 0.2), bar(25.0, 20.0, 0.2));
+    let mut run = CutRun::default();
+    let mut chords = Vec::new();
+    // A pass up to the axis, the turn on it (36 identical sweeps), a pass away from it.
+    for k in 0..5 {
+        let x = 12.0 - 3.0 * k as f64;
+        chords.push(sweep(&c, [0.0, 0.0, 1.0], [x, 0.0, 17.0], [x - 3.0, 0.0, 17.0], 0.05));
+    }
+    chords.extend((0..36).map(|_| sweep(&c, [0.0, 0.0, 1.0], [0.0, 0.0, 17.0], [0.0, 0.0, 17.0], 0.05)));
+    chords.push(sweep(&c, [0.0, 0.0, 1.0], [0.0, 0.0, 17.0], [0.0, -12.0, 17.0], 0.05));
+    chords.extend((0..3).map(|_| sweep(&c, [0.0, 0.0, 1.0], [0.0, -12.0, 17.0], [0.0, -12.0, 17.0], 0.05)));
+    for (k, sw) in chords.iter().enumerate() {
+        let (a, b) = (run_cut.cut_in_run(sw, &mut run), each.cut(sw));
+        assert_eq!(a.to_bits(), b.to_bits(), "chord {k}");
+        assert!(node_bits(&run_cut) == node_bits(&each), "chord {k}");
+    }
+    assert!(
+        run_cut.rays() * 2 < each.rays(),
+        "{} rays against {}",
+        run_cut.rays(),
+        each.rays()
+    );
+    // Only a sweep that changed nothing is left out when it comes again: one that cut is cut
+    // again (it may cut more where its first cut opened the way), then no more.
+    let sw = sweep(&c, [0.0, 0.0, 1.0], [20.0, 0.0, 17.0], [20.0, 0.0, 17.0], 0.05);
+    let mut run = CutRun::default();
+    assert!(run_cut.cut_in_run(&sw, &mut run) > 0.0);
+    let mut rays = run_cut.rays();
+    let mut again = 0;
+    while run_cut.cut_in_run(&sw, &mut run) > 0.0 {
+        again += 1;
+        assert!(again < 5, "a cut repeated comes to rest");
+        rays = run_cut.rays();
+    }
+    assert!(run_cut.rays() > rays, "cut again after a cut that changed something");
+    let rays = run_cut.rays();
+    assert_eq!(run_cut.cut_in_run(&sw, &mut run), 0.0);
+    assert_eq!(run_cut.rays(), rays, "left out after one that changed nothing");
+}
+
+#[test]
+fn a_rays_answer_from_the_memo_is_the_answer_cast() {
+    // Oracle: `Sweep::ray`. Rays at one angle, one height after another, share a memo (as a cut's
+    // columns do), with bores and ends from a few values: every answer the memo gives is the
+    // cast one, bit for bit, on sweeps level or not (ramps, plunges, tilted axes, balls).
+    let mut memo_hits = 0;
+    for (k, sw) in sweeps_at_the_axis(400, 11).iter().enumerate() {
+        for a in 0..24 {
+            let th = std::f64::consts::TAU * (a as f64 + 0.37) / 24.0;
+            let u = Vector3::new(th.cos(), th.sin(), 0.0);
+            let mut memo = None;
+            for h in 0..60 {
+                let o = Vector3::new(0.0, 0.0, sw.min.z - 1.0 + h as f64 * 0.5);
+                let (t0, t1) = ([0.0, 2.5][h % 2 * (k % 2)], [10.0, 7.5, 12.0][(h / 7 + k) % 3]);
+                let want = sw.ray(o, u, t0, t1);
+                let (got, cast) = sw.ray_memo(o, u, t0, t1, &mut memo);
+                memo_hits += usize::from(!cast);
+                let bits = |x: Option<(f64, f64)>| x.map(|(a, b)| (a.to_bits(), b.to_bits()));
+                assert_eq!(bits(got), bits(want), "sweep {k}, angle {a}, height {h}: {sw:?}");
+            }
+        }
+    }
+    assert!(memo_hits > 100_000, "the memo answers: {memo_hits}");
+}

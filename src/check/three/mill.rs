@@ -27,7 +27,7 @@ use super::Three;
 use crate::check::Checker;
 use crate::collide3::{grid_clear, grid_overlap, stock_overlap, Hit, Shape3};
 use crate::geom::TOUCH_EPS;
-use crate::grid::{Cutter, CutterKind, CylGrid, Stock, Sweep};
+use crate::grid::{CutRun, Cutter, CutterKind, CylGrid, Stock, Sweep};
 use crate::interp::{ExtraMove, Move};
 use crate::kin::{CompId, Geometry, Iso, Poser};
 use crate::motion::Timed;
@@ -322,10 +322,11 @@ impl Checker<'_> {
         let Some(mill) = self.mill.as_mut() else { return false };
         let (mut tip, mut axis) = at(0.0);
         let mut made = Vec::new();
+        let mut run = CutRun::default();
         for k in 1..=n {
             let (t1, a1) = at(u_end * k as f64 / n as f64);
             if let Some(sw) = Sweep::new(&tool, axis, tip, t1, tol.max(MIN_SPACING_MM)) {
-                mill.stock.cut(&sw);
+                mill.stock.cut_in_run(&sw, &mut run);
                 if self.record_cuts {
                     made.push(sw);
                 }
@@ -356,8 +357,9 @@ impl Checker<'_> {
             return;
         }
         if let Some(mill) = self.mill.as_mut() {
+            let mut run = CutRun::default();
             for sw in sweeps {
-                mill.stock.cut(sw);
+                mill.stock.cut_in_run(sw, &mut run);
             }
         }
     }
