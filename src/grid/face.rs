@@ -113,10 +113,10 @@ impl FaceGrid {
         Some((a as usize, (b as usize).min(n - 1)))
     }
 
-    /// Apply a sweep (or with `apply` false only measure it); returns the volume removed (mm³). A node's ray loses the stretch the
-    /// sweep holds when the sweep holds its boundary `d`, or when everything between `d` and the
-    /// sweep is air by the stock's other grids (`air`, sampled every `step` mm, asked only where
-    /// `span` says material may be).
+    /// Apply a sweep (or with `apply` false only measure it); returns the volume removed (mm³).
+    /// A node's ray loses the stretch the sweep holds when the sweep holds its boundary `d`, or
+    /// when everything between `d` and the sweep is air by the stock's other grids (`air`,
+    /// sampled every `step` mm, asked only where `span` says material may be).
     ///
     /// A node whose material begins at or past where its ray would leave the sweep is left
     /// without casting the ray when that exit is known beforehand ([`Sweep::exit_along_axis`]:
