@@ -208,10 +208,11 @@ impl CylGrid {
     }
 
     /// Apply a sweep (or with `apply` false only measure it): the volume removed and the
-    /// columns changed. Column by column, the node angles under the sweep ([`CylGrid::sweep_angles`]).
-    /// A ray whose question was asked at the same angle in an earlier column of this cut with
-    /// the same answer's key ([`Sweep::ray_memo`]) takes that answer instead of being cast: bit
-    /// for bit the same, so the same nodes change (tested against casting every ray).
+    /// columns changed. Column by column, the node angles under the sweep
+    /// (`CylGrid::sweep_angles`). A ray whose question was asked at the same angle in an earlier
+    /// column of this cut with the same answer's key (`Sweep::ray_memo`) takes that answer
+    /// instead of being cast: bit for bit the same, so the same nodes change (tested against
+    /// casting every ray).
     pub fn cut(
         &mut self,
         sw: &Sweep,

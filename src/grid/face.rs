@@ -119,7 +119,7 @@ impl FaceGrid {
     /// sampled every `step` mm, asked only where `span` says material may be).
     ///
     /// A node whose material begins at or past where its ray would leave the sweep is left
-    /// without casting the ray when that exit is known beforehand ([`Sweep::exit_along_axis`]:
+    /// without casting the ray when that exit is known beforehand (`Sweep::exit_along_axis`:
     /// a flat end mill fed across its axis, the rays along it): cast, its answer would leave the
     /// node as it is, met or not (tested against casting every ray).
     pub fn cut(
