@@ -56,7 +56,10 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
     // memory a reservation does not use is never touched, and is given back below).
     reader.prog.blocks.reserve((terminators + 1).min(per_window));
     // Words of real programs lie three or more bytes apart.
-    reader.prog.words.reserve((src.len() / 3).min(8 * per_window));
+    reader
+        .prog
+        .words
+        .reserve((src.len() / 3).min(per_window.saturating_mul(8)));
     let mut marks = vec![Mark {
         first_block: 0,
         line: 1,
@@ -123,6 +126,7 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
             interned: RefCell::new(reader.interned),
             cache: RefCell::new(kept),
             rereads: Cell::new(0),
+            jumps: Cell::new(0),
         },
     }
 }

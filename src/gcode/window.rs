@@ -75,6 +75,9 @@ pub(super) struct Store {
     pub cache: RefCell<Vec<Rc<Window>>>,
     /// Windows read again since the first reading.
     pub rereads: Cell<u64>,
+    /// Of those, the ones [`Program::block`] read (a flow's jumps; not the whole-program walks,
+    /// which read each window once each).
+    pub jumps: Cell<u64>,
 }
 
 /// A block of a program, with its words and assignments: it keeps its window alive, so it
@@ -148,13 +151,14 @@ impl Program<'_> {
             }
             None => {
                 let w = Rc::new(self.read_window(self.window_of(i)));
+                self.store.jumps.set(self.store.jumps.get() + 1);
                 cache.insert(0, w.clone());
                 // A flow that keeps jumping among more windows than the cache holds would read
                 // a window for every block it runs: once the windows read again outnumber the
                 // program's windows twice over, every window read stays (the program whole, as
                 // it was before windows), so the reading never costs more than a few readings
                 // of the program.
-                if self.store.rereads.get() <= 2 * self.store.marks.len() as u64 + 16 {
+                if self.store.jumps.get() <= 2 * self.store.marks.len() as u64 + 16 {
                     cache.truncate(CACHED_WINDOWS);
                 }
                 w
