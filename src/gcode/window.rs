@@ -154,10 +154,10 @@ impl Program<'_> {
                 self.store.jumps.set(self.store.jumps.get() + 1);
                 cache.insert(0, w.clone());
                 // A flow that keeps jumping among more windows than the cache holds would read
-                // a window for every block it runs: once the windows read again outnumber the
-                // program's windows twice over, every window read stays (the program whole, as
-                // it was before windows), so the reading never costs more than a few readings
-                // of the program.
+                // a window for every block it runs: once the windows read again for its blocks
+                // outnumber the program's windows twice over, every window read stays (the
+                // program whole, as it was before windows), so the reading never costs more
+                // than a few readings of the program.
                 if self.store.jumps.get() <= 2 * self.store.marks.len() as u64 + 16 {
                     cache.truncate(CACHED_WINDOWS);
                 }
