@@ -27,6 +27,7 @@
 //! it contradicts are replaced.
 
 use super::reading::{Reading, Seg, SegKind};
+use super::segs::Step;
 use super::words::split_comment;
 use super::{set, Assumed, Assumption};
 use crate::job::{JobStock, Place};
@@ -131,37 +132,34 @@ fn is_facing(s: &Seg) -> bool {
     s.kind == SegKind::Feed && (s.b[1] - s.a[1]).abs() < 1e-3 && (s.a[0] - s.b[0]).abs() >= 2.0
 }
 
-/// Whether piece `i` is the plunge before a facing pass: an axial feed move whose station's
+/// Whether piece `st` is the plunge before a facing pass: an axial feed move whose station's
 /// next move faces inward from where it ends (the plunge is made outside the bar).
-fn plunge_before_facing(r: &Reading, i: usize) -> bool {
-    let s = &r.segs[i];
-    r.segs[i + 1..]
-        .iter()
-        .find(|n| n.station == s.station)
-        .is_some_and(|n| {
-            is_facing(n) && n.b[0] < n.a[0] && (n.a[0] - s.b[0]).abs() < 1e-6 && (n.a[1] - s.b[1]).abs() < 1e-6
-        })
+fn plunge_before_facing(st: &Step) -> bool {
+    let s = &st.seg;
+    st.find_after(|n| n.station == s.station).is_some_and(|n| {
+        is_facing(&n) && n.b[0] < n.a[0] && (n.a[0] - s.b[0]).abs() < 1e-6 && (n.a[1] - s.b[1]).abs() < 1e-6
+    })
 }
 
-/// Whether piece `i` comes straight after a rapid of its station.
-fn after_rapid(r: &Reading, i: usize) -> bool {
-    i > 0 && r.segs[i - 1].station == r.segs[i].station && r.segs[i - 1].kind == SegKind::Rapid
+/// Whether piece `st` comes straight after a rapid of its station.
+fn after_rapid(st: &Step) -> bool {
+    st.prev
+        .is_some_and(|p| p.station == st.seg.station && p.kind == SegKind::Rapid)
 }
 
 /// Longest entry on a slant, mm: a lead-in may start and end in the air.
 const ENTRY: f64 = 1.0;
 
-/// Whether piece `i` is an entry: a short feed toward the axis and the chuck at once, straight
+/// Whether piece `st` is an entry: a short feed toward the axis and the chuck at once, straight
 /// after a rapid of its station and followed by more cutting (a lead-in, which may start and end
 /// in the air before the pass proper cuts).
-fn is_entry(r: &Reading, i: usize) -> bool {
-    let s = &r.segs[i];
+fn is_entry(st: &Step) -> bool {
+    let s = &st.seg;
     let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
-    let leads_on = r
-        .segs
-        .get(i + 1)
+    let leads_on = st
+        .next
         .is_some_and(|n| n.station == s.station && n.kind == SegKind::Feed);
-    after_rapid(r, i) && leads_on && dr < -1e-6 && dz < -1e-6 && dr.hypot(dz) <= ENTRY
+    after_rapid(st) && leads_on && dr < -1e-6 && dz < -1e-6 && dr.hypot(dz) <= ENTRY
 }
 
 impl Evidence {
@@ -176,7 +174,7 @@ impl Evidence {
             e.diameter_words = s.diameter;
         }
         // The face: the highest facing pass (not a part-off far behind it).
-        for s in r.segs.iter().filter(|s| is_facing(s)) {
+        for s in r.segs.iter().filter(is_facing) {
             if e.face.map_or(true, |(f, _)| s.a[1] > f.v) {
                 e.face = Some((
                     At {
@@ -203,9 +201,19 @@ impl Evidence {
         // What earlier turning passes left: along each, nothing outside its radius (top z,
         // bottom z, radius).
         let mut turned = Turned::default();
-        for (i, s) in r.segs.iter().enumerate() {
+        // The rapids before the first cut: in the air.
+        let mut approach: Option<At> = None;
+        for st in r.segs.walk() {
+            let (i, s) = (st.index, &st.seg);
+            if first_feed.is_none() && s.kind == SegKind::Rapid {
+                for p in [s.a, s.b] {
+                    if p[1] < below && p[0] > 0.5 {
+                        min_at(&mut approach, p[0], s.line);
+                    }
+                }
+            }
             // A roughing cycle's first move starts from its start point, outside the bar.
-            if s.cycle && (i == 0 || !r.segs[i - 1].cycle || r.segs[i - 1].line != s.line) {
+            if s.cycle && st.prev.map_or(true, |p| !p.cycle || p.line != s.line) {
                 cycle_starts.push(At {
                     v: s.a[0],
                     line: s.line,
@@ -222,7 +230,7 @@ impl Evidence {
                 // An internal groove's floor lies inside the bar: a plunge away from the axis,
                 // straight after a rapid, reaches no further than the bar's wall.
                 let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
-                if after_rapid(r, i) && dr > 1e-3 && dr > 2.0 * dz.abs() && s.a[1] < below {
+                if after_rapid(&st) && dr > 1e-3 && dr > 2.0 * dz.abs() && s.a[1] < below {
                     max_at(&mut e.reach, s.b[0], s.line);
                 }
                 continue;
@@ -234,7 +242,7 @@ impl Evidence {
             if in_cycle && !s.profile {
                 continue;
             }
-            if dz < 0.0 && plunge_before_facing(r, i) {
+            if dz < 0.0 && plunge_before_facing(&st) {
                 // Made from the face, it leads the tool to where the facing pass starts,
                 // outside the bar.
                 if s.a[1] >= face - INSIDE {
@@ -242,7 +250,7 @@ impl Evidence {
                 }
                 continue;
             }
-            if is_entry(r, i) {
+            if is_entry(&st) {
                 continue;
             }
             // The radius this piece certainly cuts at, below the face: a pass along −Z removes
@@ -294,15 +302,8 @@ impl Evidence {
         for c in cycle_starts {
             min_at(&mut e.approach, c.v, c.line);
         }
-        for s in &r.segs[..first_feed.unwrap_or(r.segs.len())] {
-            if s.kind != SegKind::Rapid {
-                continue;
-            }
-            for p in [s.a, s.b] {
-                if p[1] < below && p[0] > 0.5 {
-                    min_at(&mut e.approach, p[0], s.line);
-                }
-            }
+        if let Some(a) = approach {
+            min_at(&mut e.approach, a.v, a.line);
         }
         if let Some(i) = first_feed {
             e.tube = bores_first(r, i, face);
@@ -356,11 +357,12 @@ impl Turned {
 /// past the face, inside the pass's radius. (An OD pass may also move toward the axis after
 /// it, down a shoulder, but it goes on cutting there instead of leaving the bore.)
 fn bores_first(r: &Reading, i: usize, face: f64) -> Option<At> {
-    let s = &r.segs[i];
+    let mut rest = r.segs.iter_from(i);
+    let s = rest.next()?;
     if s.b[1] - s.a[1] > -INSIDE || s.a[0] <= 0.5 {
         return None;
     }
-    let mut rest = r.segs[i + 1..].iter().filter(|n| n.station == s.station);
+    let mut rest = rest.filter(|n| n.station == s.station);
     let pull = rest.next()?;
     let out = rest.next()?;
     let pulls_in = pull.b[0] < s.b[0] - 0.01
@@ -377,7 +379,7 @@ fn bores_first(r: &Reading, i: usize, face: f64) -> Option<At> {
 fn stock_comment(r: &Reading) -> Option<At> {
     let scale = r.segs.first().map_or(1.0, |s| s.scale);
     for (i, text) in r.lines.iter().enumerate() {
-        let (code, comment) = split_comment(text);
+        let (code, comment) = split_comment(&text);
         let c = comment.to_uppercase();
         if !["STOCK", "BAR", "MATERIAL", "BLANK", "ROHTEIL"]
             .iter()
@@ -606,7 +608,7 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
         let first_face = r
             .segs
             .iter()
-            .position(|s| is_facing(s) && (s.a[1] - seen).abs() < 1e-6)
+            .position(|s| is_facing(&s) && (s.a[1] - seen).abs() < 1e-6)
             .unwrap_or(r.segs.len());
         // The facing passes at that level clear the slab only down to the smallest radius
         // they reach: a rapid after them into what is left of it shows the program, too,
@@ -619,7 +621,8 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
             .fold(f64::INFINITY, f64::min);
         // A rapid into the slab, or to its front plane where a cycle starts (a cycle's passes
         // begin at its start point at feed: it stands clear in front of the raw face).
-        !r.segs.iter().enumerate().any(|(i, s)| {
+        !r.segs.walk().any(|st| {
+            let (i, s) = (st.index, &st.seg);
             if s.kind != SegKind::Rapid {
                 return false;
             }
@@ -628,9 +631,9 @@ pub fn assume(r: &Reading, file: &str, machine: &Machine, out: &mut Assumed) -> 
             } else {
                 faced_to - 1e-6
             };
-            let starts_cycle = r.segs.get(i + 1).is_some_and(|n| {
+            let starts_cycle = st.next.is_some_and(|n| {
                 n.station == s.station
-                    && super::words::g_codes(&split_comment(r.line(n.line)).0)
+                    && super::words::g_codes(&super::words::code_of(&r.line(n.line)))
                         .iter()
                         .any(|g| matches!(g, 710 | 720 | 730 | 760 | 780 | 920))
             });

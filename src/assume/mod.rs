@@ -22,6 +22,7 @@
 pub mod bar;
 pub mod numbers;
 pub mod reading;
+pub mod segs;
 pub mod tailstock;
 pub mod tools;
 pub mod words;

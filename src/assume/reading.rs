@@ -3,6 +3,9 @@
 
 use crate::interp::{Feed, MoveKind};
 use crate::machine::Machine;
+use std::borrow::Cow;
+
+pub use super::segs::Segs;
 
 /// What a move is, for reading the setup.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,74 +60,87 @@ const ARC_CHORDS: usize = 8;
 
 /// The program read once on its machine.
 #[derive(Clone, Debug, Default)]
-pub struct Reading {
-    pub segs: Vec<Seg>,
+pub struct Reading<'s> {
+    /// Its segments in order, packed ([`Segs`]).
+    pub segs: Segs,
     /// The spindle turns during some move (an M3 or M4 took effect): without it the program
     /// is a dry run or a test of the control, and no bar is assumed.
     pub spindle_runs: bool,
     /// The source, line by line (lossy UTF-8), index 0 = line 1.
-    pub lines: Lines,
+    pub lines: Lines<'s>,
 }
 
-/// A program's source as lines: one string and where each line starts (a line is not an
-/// allocation of its own: a long program's reading stays a few bytes a line).
+/// A program's source as lines: the source itself and where each line starts (4 bytes a line;
+/// a line is made text, lossy UTF-8, when it is asked for).
 #[derive(Clone, Debug, Default)]
-pub struct Lines {
-    text: String,
-    /// Byte ranges of the lines in `text`, without their line ends.
-    spans: Vec<(u32, u32)>,
+pub struct Lines<'s> {
+    src: &'s [u8],
+    /// Where each line starts in `src`; a line ends at the next one's `\n` (its `\r` before
+    /// that left out) or at the end of the source.
+    starts: Vec<u32>,
 }
 
-impl Lines {
-    /// The lines of `src` as [`str::lines`] cuts them (lossy UTF-8). A source past 4 GiB keeps
-    /// its first 4 GiB (the programs read are far smaller).
-    pub fn of(src: &[u8]) -> Lines {
-        let text = String::from_utf8_lossy(src).into_owned();
-        let mut spans = Vec::new();
-        let base = text.as_ptr() as usize;
-        for l in text.lines() {
-            let start = l.as_ptr() as usize - base;
-            let (Ok(a), Ok(b)) = (u32::try_from(start), u32::try_from(start + l.len())) else {
-                break;
+impl<'s> Lines<'s> {
+    /// The lines of `src` as [`str::lines`] cuts its lossy UTF-8 text. A source past 4 GiB
+    /// keeps its first 4 GiB of lines (the programs read are far smaller).
+    pub fn of(src: &'s [u8]) -> Lines<'s> {
+        let mut starts = Vec::new();
+        let mut at = 0usize;
+        while at < src.len() {
+            let Ok(a) = u32::try_from(at) else { break };
+            starts.push(a);
+            at = match src[at..].iter().position(|&b| b == b'\n') {
+                Some(k) => at + k + 1,
+                None => src.len(),
             };
-            spans.push((a, b));
         }
-        Lines { text, spans }
+        Lines { src, starts }
     }
 
     /// Line `i` (0-based).
-    pub fn get(&self, i: usize) -> Option<&str> {
-        self.spans.get(i).map(|&(a, b)| &self.text[a as usize..b as usize])
+    pub fn get(&self, i: usize) -> Option<Cow<'s, str>> {
+        let a = *self.starts.get(i)? as usize;
+        let mut b = match self.starts.get(i + 1) {
+            Some(&n) => n as usize - 1,
+            None => self.src.len(),
+        };
+        if self.src[a..b].ends_with(b"\n") {
+            b -= 1;
+        }
+        if self.src[a..b].ends_with(b"\r") && self.src.get(b) == Some(&b'\n') {
+            b -= 1;
+        }
+        Some(String::from_utf8_lossy(&self.src[a..b]))
     }
 
     pub fn len(&self) -> usize {
-        self.spans.len()
+        self.starts.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.spans.is_empty()
+        self.starts.is_empty()
     }
 
-    pub fn iter(&self) -> impl Iterator<Item = &str> + '_ {
-        self.spans.iter().map(|&(a, b)| &self.text[a as usize..b as usize])
+    pub fn iter(&self) -> impl Iterator<Item = Cow<'s, str>> + '_ {
+        (0..self.len()).filter_map(|i| self.get(i))
     }
 }
 
-impl Reading {
+impl<'s> Reading<'s> {
     /// Interpret `src` on `machine` (as `check` reads it: the machine's dialect, or the one the
     /// program's signs choose) and keep its moves in program coordinates.
-    pub fn of(src: &[u8], machine: &Machine) -> Reading {
+    pub fn of(src: &'s [u8], machine: &Machine) -> Reading<'s> {
         let lines = Lines::of(src);
         // Index = 1-based line: the line holds a G70–G73 word.
         let cycle_lines: Vec<bool> = std::iter::once(false)
             .chain(lines.iter().map(|l| {
-                let (code, _) = super::words::split_comment(l);
+                let code = super::words::code_of(&l);
                 super::words::g_codes(&code)
                     .iter()
                     .any(|g| [700, 710, 720, 730].contains(g))
             }))
             .collect();
-        let mut segs = Vec::new();
+        let mut segs = Segs::new();
         // The moves are read as the interpreter makes them, and dropped: only the segments stay.
         let (machine, _) = crate::pipeline::resolve(src, machine);
         let machine = machine.as_ref();
@@ -144,14 +160,16 @@ impl Reading {
     }
 
     /// The text of 1-based `line` ("" past the end).
-    pub fn line(&self, line: u32) -> &str {
-        self.lines.get(line.saturating_sub(1) as usize).unwrap_or("")
+    pub fn line(&self, line: u32) -> Cow<'s, str> {
+        self.lines
+            .get(line.saturating_sub(1) as usize)
+            .unwrap_or(Cow::Borrowed(""))
     }
 }
 
 /// The segments of one move `m` in `frame`, appended to `segs`; `cycle_lines[line]` says whether
 /// the 1-based line holds a G70–G73 word.
-fn read_move(m: &crate::interp::Move, frame: &crate::interp::ProgFrame, cycle_lines: &[bool], segs: &mut Vec<Seg>) {
+fn read_move(m: &crate::interp::Move, frame: &crate::interp::ProgFrame, cycle_lines: &[bool], segs: &mut Segs) {
     // A tool working beyond the axis (negative X) is read as its mirror image: the bar
     // is the same on both sides.
     let side = if m.start.x + m.end.x < 2.0 * frame.origin.x - 1e-9 {

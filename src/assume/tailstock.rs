@@ -25,7 +25,7 @@ const WORDS: [&str; 7] = [
 /// Why the program needs the tailstock, if it does: the evidence and its line.
 fn called_for(r: &Reading, machine: &Machine, diameter: f64) -> Option<(String, u32)> {
     for (i, line) in r.lines.iter().enumerate() {
-        let (code, comment) = split_comment(line);
+        let (code, comment) = split_comment(&line);
         let n = i as u32 + 1;
         for m in numbered(&code, 'M') {
             let action = u16::try_from(m).ok().and_then(|c| machine.mcodes.action(c));

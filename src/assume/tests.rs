@@ -352,3 +352,23 @@ fn a_blank_wider_than_the_chuck_can_grip_is_no_bar() {
     let a = assume(small.as_bytes(), "p.nc", &m);
     assert!(!stock(&a).none, "{:?}", a.notes);
 }
+
+/// The reading's lines are those `str::lines` cuts from the lossy text (line ends `\n` and
+/// `\r\n`, a lone `\r` kept, bytes that are not UTF-8 replaced, a last line with no end).
+#[test]
+fn the_readings_lines_are_the_lossy_texts_lines() {
+    use proptest::prelude::*;
+    let bytes = prop::collection::vec(
+        prop::sample::select(vec![b'\n', b'\r', b'G', b'1', b' ', 0xff, 0xc3, 0xa9, 0xe2]),
+        0..40,
+    );
+    proptest!(|(src in bytes)| {
+        let text = String::from_utf8_lossy(&src);
+        let want: Vec<&str> = text.lines().collect();
+        let lines = reading::Lines::of(&src);
+        let got: Vec<String> = lines.iter().map(|l| l.into_owned()).collect();
+        prop_assert_eq!(&got, &want);
+        prop_assert_eq!(lines.len(), want.len());
+        prop_assert!(lines.get(want.len()).is_none());
+    });
+}

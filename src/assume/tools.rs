@@ -120,9 +120,13 @@ fn stations_read(r: &Reading, machine: &Machine) -> StationsRead {
     let scale = r.segs.first().map_or(1.0, |s| s.scale);
     let said = comment::read(r, scale);
     let modes = moves::thread_modes(r, machine.dialect == Dialect::Fanuc);
-    let mut stations: Vec<u32> = r.segs.iter().map(|s| s.station).collect();
-    stations.sort_unstable();
-    stations.dedup();
+    let stations: Vec<u32> = r
+        .segs
+        .iter()
+        .map(|s| s.station)
+        .collect::<std::collections::BTreeSet<u32>>()
+        .into_iter()
+        .collect();
     (said, modes, stations)
 }
 
@@ -131,14 +135,14 @@ fn stations_read(r: &Reading, machine: &Machine) -> StationsRead {
 /// the bar's outside diameter.
 pub fn inside_stations(r: &Reading, machine: &Machine, face: f64) -> Vec<u32> {
     let (said, modes, stations) = stations_read(r, machine);
-    stations
+    moves::works(r, &stations, face, &modes)
         .into_iter()
-        .filter(|&s| {
-            let work = moves::work(r, s, face, &modes);
-            evidence(said.get(&s), &work).is_some_and(|e| {
+        .filter(|(s, work)| {
+            evidence(said.get(s), work).is_some_and(|e| {
                 e.internal || matches!(e.kind, ToolKind::Boring | ToolKind::Drilling | ToolKind::Tapping)
             })
         })
+        .map(|(s, _)| s)
         .collect()
 }
 
@@ -155,7 +159,7 @@ fn t_name(machine: &Machine, station: u32) -> String {
 pub fn assume(r: &Reading, file: &str, machine: &Machine, face: f64, out: &mut Assumed) {
     let (said, modes, mut stations) = stations_read(r, machine);
     stations.retain(|s| (1..=machine.turret.stations).contains(s));
-    let works: Vec<(u32, moves::Work)> = stations.iter().map(|&s| (s, moves::work(r, s, face, &modes))).collect();
+    let works = moves::works(r, &stations, face, &modes);
     for (station, work) in &works {
         let station = *station;
         let ev = evidence(said.get(&station), work);

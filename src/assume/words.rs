@@ -4,6 +4,14 @@
 /// A line's code and its comment text (`( … )` and `;` to the end; several comments joined by
 /// a space, trimmed).
 pub fn split_comment(line: &str) -> (String, String) {
+    if !line.contains(['(', ';']) {
+        return (line.to_string(), String::new());
+    }
+    split_comment_of_chars(line)
+}
+
+/// [`split_comment`] of any line, char by char.
+fn split_comment_of_chars(line: &str) -> (String, String) {
     let (mut code, mut comment) = (String::new(), String::new());
     let mut depth = 0u32;
     for (k, ch) in line.char_indices() {
@@ -27,10 +35,45 @@ pub fn split_comment(line: &str) -> (String, String) {
     (code, comment.trim().to_string())
 }
 
+/// A line's code without its comments (as [`split_comment`] gives it; the line itself when it
+/// has none, most lines of a long program).
+pub fn code_of(line: &str) -> std::borrow::Cow<'_, str> {
+    if line.contains(['(', ';']) {
+        std::borrow::Cow::Owned(split_comment(line).0)
+    } else {
+        std::borrow::Cow::Borrowed(line)
+    }
+}
+
 /// The G codes of a line of code, in tenths (`G33.1` → 331, `G71` → 710), each under G100.
 pub fn g_codes(code: &str) -> Vec<u32> {
-    let up: Vec<char> = code.to_uppercase().chars().collect();
     let mut out = Vec::new();
+    if code.is_ascii() {
+        // The same reading on bytes (an ASCII line's upper case is its bytes' upper case).
+        let b = code.as_bytes();
+        for (i, c) in b.iter().enumerate() {
+            if !c.eq_ignore_ascii_case(&b'G') || (i > 0 && b[i - 1].is_ascii_alphabetic()) {
+                continue;
+            }
+            let len = b[i + 1..]
+                .iter()
+                .take_while(|c| c.is_ascii_digit() || **c == b'.')
+                .count();
+            if let Ok(v) = code[i + 1..i + 1 + len].parse::<f64>() {
+                if v.is_finite() && (0.0..1000.0).contains(&v) {
+                    out.push((v * 10.0).round() as u32);
+                }
+            }
+        }
+        return out;
+    }
+    g_codes_of_chars(code)
+}
+
+/// [`g_codes`] of any text, read char by char in upper case.
+fn g_codes_of_chars(code: &str) -> Vec<u32> {
+    let mut out = Vec::new();
+    let up: Vec<char> = code.to_uppercase().chars().collect();
     for (i, c) in up.iter().enumerate() {
         if *c != 'G' || (i > 0 && up[i - 1].is_alphabetic()) {
             continue;
@@ -91,6 +134,17 @@ pub fn numbered(code: &str, letter: char) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The shortcuts for what most lines are (ASCII, no comment) read as the general way.
+        #[test]
+        fn shortcuts_read_lines_as_the_general_way(line in "[GgXZ0-9. ;()Nß]{0,16}") {
+            prop_assert_eq!(split_comment(&line), split_comment_of_chars(&line));
+            prop_assert_eq!(code_of(&line).into_owned(), split_comment_of_chars(&line).0);
+            prop_assert_eq!(g_codes(&line), g_codes_of_chars(&line));
+        }
+    }
 
     #[test]
     fn t_words_outside_names_and_comments_are_read() {

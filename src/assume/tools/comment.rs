@@ -2,7 +2,7 @@
 //! line before, `N30 T0101 (OD ROUGH)`, LinuxCNC `T3 M6 (drill 10mm)`, and a tool list at the
 //! head of the program (`(T6 DRILL 20)`).
 
-use crate::assume::words::split_comment;
+use crate::assume::words::{code_of, split_comment};
 use std::collections::BTreeMap;
 
 use super::super::reading::Reading;
@@ -198,22 +198,10 @@ pub fn station_of(digits: &str) -> Option<u32> {
 /// at that line or the next move (the segments are authoritative); then a comment-only line that starts with
 /// `T<n>` (a tool list) for a station no T word's comment named.
 pub fn read(r: &Reading, scale: f64) -> BTreeMap<u32, Said> {
-    // Each line's first station, for "the station at this line or the next move".
-    let mut at_line: BTreeMap<u32, u32> = BTreeMap::new();
-    for s in &r.segs {
-        at_line.entry(s.line).or_insert(s.station);
-    }
-    // The station of the first move at `line` or after, before the line `until`.
-    let station_from = |line: u32, until: u32| at_line.range(line..until).next().map(|(_, s)| *s);
-    let parts: Vec<(String, String)> = r.lines.iter().map(split_comment).collect();
-    let comment_only = |i: usize| -> Option<&str> {
-        let (code, comment) = parts.get(i)?;
-        let code = code
-            .trim()
-            .trim_start_matches(['N', 'n'])
-            .trim_start_matches(|c: char| c.is_ascii_digit());
-        (code.trim().is_empty() && !comment.is_empty()).then_some(comment.as_str())
-    };
+    // Each line is split into code and comment when it is looked at (a long program's lines
+    // are not all held split).
+    let part = |i: usize| r.lines.get(i).map(|l| split_comment(&l));
+    let comment_only = |i: usize| part(i).and_then(|(code, comment)| only_comment(&code, comment));
     let said = |text: &str, i: usize| -> Option<Said> {
         let (kind, internal) = kind_of(text)?;
         Some(Said {
@@ -225,34 +213,53 @@ pub fn read(r: &Reading, scale: f64) -> BTreeMap<u32, Said> {
         })
     };
     let mut out = BTreeMap::new();
-    let t_lines: Vec<usize> = (0..parts.len()).filter(|&i| t_word(&parts[i].0).is_some()).collect();
+    let t_lines: Vec<usize> = r
+        .lines
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| t_word(&code_of(l)).is_some())
+        .map(|(i, _)| i)
+        .collect();
+    // The moves up to the next T word run with each one's tool: the station of the first move
+    // at a line from the T word's on, before the next T word's (by line; of the moves at that
+    // line, the first run), found in one walk of the segments.
+    let starts: Vec<u32> = t_lines.iter().map(|&i| i as u32 + 1).collect();
+    let mut first: Vec<Option<(u32, u32)>> = vec![None; starts.len()];
+    for s in r.segs.iter() {
+        let Some(k) = starts.partition_point(|&a| a <= s.line).checked_sub(1) else {
+            continue;
+        };
+        if first[k].map_or(true, |(line, _)| s.line < line) {
+            first[k] = Some((s.line, s.station));
+        }
+    }
     for (k, &i) in t_lines.iter().enumerate() {
-        let (code, comment) = &parts[i];
-        let Some(digits) = t_word(code) else { continue };
-        // The moves up to the next T word run with this one's tool; none: its own number.
+        let Some((code, comment)) = part(i) else { continue };
+        let Some(digits) = t_word(&code) else { continue };
         let until = t_lines.get(k + 1).map_or(u32::MAX, |&n| n as u32 + 1);
-        let Some(station) = station_from(i as u32 + 1, until).or_else(|| station_of(&digits)) else {
+        // None: its own number.
+        let Some(station) = first[k].map(|(_, s)| s).or_else(|| station_of(&digits)) else {
             continue;
         };
         // A comment-only line next to it, unless it names another tool (`(T3 BORE)`), or
         // stands just before the next T word (then it is that one's).
         let next_to = |j: usize| {
             let c = comment_only(j)?;
-            let other = t_word(c).and_then(|d| station_of(&d)).is_some_and(|n| n != station);
-            (!other).then(|| said(c, j)).flatten()
+            let other = t_word(&c).and_then(|d| station_of(&d)).is_some_and(|n| n != station);
+            (!other).then(|| said(&c, j)).flatten()
         };
-        let t_next = parts.get(i + 2).is_some_and(|(code, _)| t_word(code).is_some());
-        let found = said(comment, i)
+        let t_next = part(i + 2).is_some_and(|(code, _)| t_word(&code).is_some());
+        let found = said(&comment, i)
             .or_else(|| i.checked_sub(1).and_then(next_to))
             .or_else(|| if t_next { None } else { next_to(i + 1) });
         // Else a CAM step heading (`(STEP: 5. Abspanen Ausdrehen …)`) while the tool is in use.
         let step = || {
-            (i + 1..(until as usize - 1).min(parts.len())).find_map(|j| {
+            (i + 1..(until as usize - 1).min(r.lines.len())).find_map(|j| {
                 let c = comment_only(j)?;
                 c.trim_start()
                     .to_uppercase()
                     .starts_with("STEP")
-                    .then(|| said(c, j))
+                    .then(|| said(&c, j))
                     .flatten()
             })
         };
@@ -260,12 +267,15 @@ pub fn read(r: &Reading, scale: f64) -> BTreeMap<u32, Said> {
             out.entry(station).or_insert(s);
         }
     }
-    for i in 0..parts.len() {
-        let Some(c) = comment_only(i) else { continue };
-        let listed = t_word(c)
+    for (i, l) in r.lines.iter().enumerate() {
+        let (code, comment) = split_comment(&l);
+        let Some(c) = only_comment(&code, comment) else {
+            continue;
+        };
+        let listed = t_word(&c)
             .filter(|_| c.trim_start().to_uppercase().starts_with('T'))
-            .map(|d| (d, c));
-        let Some((digits, text)) = listed.or_else(|| described(c)) else {
+            .map(|d| (d, c.as_str()));
+        let Some((digits, text)) = listed.or_else(|| described(&c)) else {
             continue;
         };
         if let (Some(station), Some(s)) = (station_of(&digits), said(text, i)) {
@@ -273,6 +283,15 @@ pub fn read(r: &Reading, scale: f64) -> BTreeMap<u32, Said> {
         }
     }
     out
+}
+
+/// The comment of a line that holds nothing else (an N number aside).
+fn only_comment(code: &str, comment: String) -> Option<String> {
+    let code = code
+        .trim()
+        .trim_start_matches(['N', 'n'])
+        .trim_start_matches(|c: char| c.is_ascii_digit());
+    (code.trim().is_empty() && !comment.is_empty()).then_some(comment)
 }
 
 /// A tool named inside a longer comment, as CAM systems write a step's tool: `(Step 4: turn |

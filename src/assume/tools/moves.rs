@@ -2,8 +2,9 @@
 //! line and words of the evidence, and the sizes the tool is chosen by.
 
 use super::super::reading::{Reading, Seg, SegKind};
+use super::super::segs::Step;
 use super::ToolKind;
-use crate::assume::words::{g_codes, split_comment};
+use crate::assume::words::{code_of, g_codes};
 use crate::machine::num;
 
 /// How far below the face a point must be to count as inside the bar, mm.
@@ -86,9 +87,9 @@ const MIXED_PASSES: usize = 3;
 /// The largest pull-off of a boring pass toward the axis, mm.
 const PULL_OFF: f64 = 2.0;
 
-/// The next piece the same station moves after `segs[i]`.
-fn next_of(segs: &[Seg], i: usize) -> Option<&Seg> {
-    segs.get(i + 1).filter(|n| n.station == segs[i].station)
+/// The next piece the same station moves after `st`'s, straight after it.
+fn next_of(st: &Step) -> Option<Seg> {
+    st.next.filter(|n| n.station == st.seg.station)
 }
 
 /// Each line's cutting mode as the program text sets it (index 0 = line 1): it threads (G32,
@@ -101,7 +102,7 @@ pub fn thread_modes(r: &Reading, fanuc: bool) -> Vec<(bool, bool)> {
     r.lines
         .iter()
         .map(|l| {
-            let g = g_codes(&split_comment(l).0);
+            let g = g_codes(&code_of(&l));
             let mut once = false;
             for c in &g {
                 match *c {
@@ -127,176 +128,192 @@ fn thread_pass(s: &Seg, modes: &[(bool, bool)]) -> bool {
     threading && dz.abs() > dr.abs() && dz.abs() > 1e-3
 }
 
-/// Read each piece of `station`'s moves below `face` (program Z, mm); `modes` is the program's
-/// [`thread_modes`].
-pub fn work(r: &Reading, station: u32, face: f64, modes: &[(bool, bool)]) -> Work {
-    let mut w = Work::default();
+/// Read each piece of each of `stations`' moves below `face` (program Z, mm), in one walk of the
+/// segments; `modes` is the program's [`thread_modes`].
+pub fn works(r: &Reading, stations: &[u32], face: f64, modes: &[(bool, bool)]) -> Vec<(u32, Work)> {
+    let mut out: Vec<(u32, Work)> = stations.iter().map(|&s| (s, Work::default())).collect();
+    let mut sorted: Vec<(u32, usize)> = stations.iter().enumerate().map(|(k, &s)| (s, k)).collect();
+    sorted.sort_unstable();
+    for st in r.segs.walk() {
+        let Ok(k) = sorted.binary_search_by_key(&st.seg.station, |&(s, _)| s) else {
+            continue;
+        };
+        take(&mut out[sorted[k].1].1, &st, face, modes);
+    }
+    out
+}
+
+/// Read piece `st` of its station's moves into `w`.
+fn take(w: &mut Work, st: &Step, face: f64, modes: &[(bool, bool)]) {
+    let station = st.seg.station;
     let below = face - INSIDE;
-    for (i, s) in r.segs.iter().enumerate() {
-        if s.station != station || s.kind != SegKind::Feed || s.a[1].min(s.b[1]) >= below {
-            continue;
-        }
-        w.first.get_or_insert(i);
-        let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
-        let zlo = s.a[1].min(s.b[1]);
-        w.deepest = Some(w.deepest.map_or(zlo, |d: f64| d.min(zlo)));
-        let (thread_code, tap_code) = modes
-            .get(s.line.saturating_sub(1) as usize)
-            .copied()
-            .unwrap_or_default();
-        let lead = s
-            .per_rev
-            .filter(|f| (THREAD_LEAD..=MAX_LEAD).contains(f) && (thread_code || tap_code));
-        let on_axis = s.a[0] < 0.05 && s.b[0] < 0.05;
-        let next = next_of(&r.segs, i);
-        if on_axis && dz.abs() > 1e-6 {
-            // The evidence is the deepest feed on the axis: where the hole ends.
-            let tap = tap_code || thread_code;
-            let to = if tap { &mut w.tap } else { &mut w.drill };
-            if to.is_none() || w.axis_deepest.map_or(true, |d| zlo < d) {
-                w.axis_deepest = Some(zlo);
-                let how = if tap { " as a tap does" } else { "" };
-                *to = Some(Seen {
-                    line: s.line,
-                    words: format!(
-                        "it feeds along the spindle axis to {}{how} (line {})",
-                        z_of(s, zlo),
-                        s.line
-                    ),
-                });
-            }
-            w.lead = w.lead.or(lead.filter(|_| tap));
-            continue;
-        }
-        if dz.abs() > dr.abs() {
-            w.along_z += dz.abs();
-        }
-        if thread_pass(s, modes) {
-            w.lead = w.lead.or(lead);
-            let rr = s.a[0].min(s.b[0]);
-            w.pass_r = Some(w.pass_r.map_or(rr, |p: f64| p.min(rr)));
-            // The pull-off: the next piece, unless it threads on (a thread along a taper or
-            // round a corner goes on cutting).
-            if let Some(n) = next.filter(|n| !thread_pass(n, modes)) {
-                if n.b[0] < n.a[0] - 0.05 {
-                    w.pulls_in += 1;
-                } else if n.b[0] > n.a[0] + 0.05 {
-                    w.pulls_out += 1;
-                }
-            }
-            first(&mut w.thread, s.line, || {
-                let how = lead.map_or(String::new(), |l| format!(" at {} mm a revolution", num(l)));
-                format!(
-                    "it threads: a pass along Z{how} at {} (line {})",
-                    x_of(s, s.a[0].min(s.b[0])),
+    let (i, s) = (st.index, &st.seg);
+    if s.kind != SegKind::Feed || s.a[1].min(s.b[1]) >= below {
+        return;
+    }
+    w.first.get_or_insert(i);
+    let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
+    let zlo = s.a[1].min(s.b[1]);
+    w.deepest = Some(w.deepest.map_or(zlo, |d: f64| d.min(zlo)));
+    let (thread_code, tap_code) = modes
+        .get(s.line.saturating_sub(1) as usize)
+        .copied()
+        .unwrap_or_default();
+    let lead = s
+        .per_rev
+        .filter(|f| (THREAD_LEAD..=MAX_LEAD).contains(f) && (thread_code || tap_code));
+    let on_axis = s.a[0] < 0.05 && s.b[0] < 0.05;
+    let next = next_of(st);
+    if on_axis && dz.abs() > 1e-6 {
+        // The evidence is the deepest feed on the axis: where the hole ends.
+        let tap = tap_code || thread_code;
+        let to = if tap { &mut w.tap } else { &mut w.drill };
+        if to.is_none() || w.axis_deepest.map_or(true, |d| zlo < d) {
+            w.axis_deepest = Some(zlo);
+            let how = if tap { " as a tap does" } else { "" };
+            *to = Some(Seen {
+                line: s.line,
+                words: format!(
+                    "it feeds along the spindle axis to {}{how} (line {})",
+                    z_of(s, zlo),
                     s.line
-                )
+                ),
             });
-            continue;
         }
-        if dz < -0.5 && dz.abs() >= 2.0 * dr.abs() {
-            let rr = s.a[0].min(s.b[0]);
-            w.pass_r = Some(w.pass_r.map_or(rr, |p: f64| p.min(rr)));
-            let pull = next.map(|n| (n.b[0] - n.a[0], (n.b[1] - n.a[1]).abs()));
-            // A boring bar pulls off a little toward the axis and leaves the bore along +Z
-            // inside the pass (an OD tool may move toward the axis after a pass too, down a
-            // shoulder, but then it goes on cutting).
-            let leaves = next.is_some_and(|n| {
-                r.segs[i + 2..]
-                    .iter()
+        w.lead = w.lead.or(lead.filter(|_| tap));
+        return;
+    }
+    if dz.abs() > dr.abs() {
+        w.along_z += dz.abs();
+    }
+    if thread_pass(s, modes) {
+        w.lead = w.lead.or(lead);
+        let rr = s.a[0].min(s.b[0]);
+        w.pass_r = Some(w.pass_r.map_or(rr, |p: f64| p.min(rr)));
+        // The pull-off: the next piece, unless it threads on (a thread along a taper or
+        // round a corner goes on cutting).
+        if let Some(n) = next.filter(|n| !thread_pass(n, modes)) {
+            if n.b[0] < n.a[0] - 0.05 {
+                w.pulls_in += 1;
+            } else if n.b[0] > n.a[0] + 0.05 {
+                w.pulls_out += 1;
+            }
+        }
+        first(&mut w.thread, s.line, || {
+            let how = lead.map_or(String::new(), |l| format!(" at {} mm a revolution", num(l)));
+            format!(
+                "it threads: a pass along Z{how} at {} (line {})",
+                x_of(s, s.a[0].min(s.b[0])),
+                s.line
+            )
+        });
+        return;
+    }
+    if dz < -0.5 && dz.abs() >= 2.0 * dr.abs() {
+        let rr = s.a[0].min(s.b[0]);
+        w.pass_r = Some(w.pass_r.map_or(rr, |p: f64| p.min(rr)));
+        let pull = next.map(|n| (n.b[0] - n.a[0], (n.b[1] - n.a[1]).abs()));
+        // A boring bar pulls off a little toward the axis and leaves the bore along +Z
+        // inside the pass (an OD tool may move toward the axis after a pass too, down a
+        // shoulder, but then it goes on cutting).
+        let leaves = || {
+            next.is_some_and(|n| {
+                st.rest()
+                    .skip(1)
                     .find(|o| o.station == station)
                     .is_some_and(|o| o.b[1] > o.a[1] + 1e-3 && o.b[0] <= n.b[0] + 1e-6 && o.a[0] <= n.b[0] + 1e-6)
-            });
-            match pull {
-                Some((pr, pz)) if (-PULL_OFF..-0.05).contains(&pr) && pz <= 2.0 * pr.abs() + 1e-9 && leaves => {
-                    w.bores += 1;
-                    first(&mut w.bore, s.line, || {
-                        format!(
-                            "it bores: passes along -Z at {} (line {}) pulled off toward the axis",
-                            x_of(s, rr),
-                            s.line
-                        )
-                    });
-                }
-                Some((pr, pz)) if pr > 0.05 && pz <= pr + 1e-9 => {
-                    w.ods += 1;
-                    first(&mut w.od, s.line, || {
-                        format!(
-                            "it turns: passes along -Z at {} (line {}) pulled off outward",
-                            x_of(s, rr),
-                            s.line
-                        )
-                    });
-                }
-                _ => first(&mut w.profile, s.line, || {
-                    format!("it cuts a profile (line {})", s.line)
-                }),
-            }
-            continue;
-        }
-        let after_rapid = i > 0 && r.segs[i - 1].station == station && r.segs[i - 1].kind == SegKind::Rapid;
-        if dr > 1e-3 && dr > 2.0 * dz.abs() && after_rapid && s.a[1] < face - FACE_BAND {
-            w.plunges_out += 1;
-            w.plunges.push([s.a[1], s.b[0], s.a[0]]);
-            first(&mut w.groove_in, s.line, || {
-                format!(
-                    "it plunges away from the axis from {} at {} (line {})",
-                    x_of(s, s.a[0]),
-                    z_of(s, s.a[1]),
-                    s.line
-                )
-            });
-            continue;
-        }
-        if dr < -1e-3 && dr.abs() > 2.0 * dz.abs() {
-            let z = s.b[1];
-            let at_face = z >= face - FACE_BAND - 1e-9;
-            if s.b[0] <= 0.5 {
-                if at_face {
-                    first(&mut w.face, s.line, || {
-                        format!("it faces to the axis at {} (line {})", z_of(s, z), s.line)
-                    });
-                } else {
-                    w.plunges.push([z, s.a[0], s.b[0]]);
-                    first(&mut w.part, s.line, || {
-                        format!(
-                            "it plunges to the axis at {}, behind the face (line {})",
-                            z_of(s, z),
-                            s.line
-                        )
-                    });
-                }
-            } else if at_face {
-                first(&mut w.face, s.line, || {
-                    format!("it faces at {} (line {})", z_of(s, z), s.line)
-                });
-            } else if next.is_some_and(|n| n.b[0] > n.a[0] + 0.05 && (n.b[1] - n.a[1]).abs() <= 1e-3) {
-                w.plunges.push([z, s.a[0], s.b[0]]);
-                first(&mut w.groove, s.line, || {
+            })
+        };
+        match pull {
+            Some((pr, pz)) if (-PULL_OFF..-0.05).contains(&pr) && pz <= 2.0 * pr.abs() + 1e-9 && leaves() => {
+                w.bores += 1;
+                first(&mut w.bore, s.line, || {
                     format!(
-                        "it plunges to {} at {} (line {}) and pulls straight out",
-                        x_of(s, s.b[0]),
+                        "it bores: passes along -Z at {} (line {}) pulled off toward the axis",
+                        x_of(s, rr),
+                        s.line
+                    )
+                });
+            }
+            Some((pr, pz)) if pr > 0.05 && pz <= pr + 1e-9 => {
+                w.ods += 1;
+                first(&mut w.od, s.line, || {
+                    format!(
+                        "it turns: passes along -Z at {} (line {}) pulled off outward",
+                        x_of(s, rr),
+                        s.line
+                    )
+                });
+            }
+            _ => first(&mut w.profile, s.line, || {
+                format!("it cuts a profile (line {})", s.line)
+            }),
+        }
+        return;
+    }
+    let after_rapid = st
+        .prev
+        .is_some_and(|p| p.station == station && p.kind == SegKind::Rapid);
+    if dr > 1e-3 && dr > 2.0 * dz.abs() && after_rapid && s.a[1] < face - FACE_BAND {
+        w.plunges_out += 1;
+        w.plunges.push([s.a[1], s.b[0], s.a[0]]);
+        first(&mut w.groove_in, s.line, || {
+            format!(
+                "it plunges away from the axis from {} at {} (line {})",
+                x_of(s, s.a[0]),
+                z_of(s, s.a[1]),
+                s.line
+            )
+        });
+        return;
+    }
+    if dr < -1e-3 && dr.abs() > 2.0 * dz.abs() {
+        let z = s.b[1];
+        let at_face = z >= face - FACE_BAND - 1e-9;
+        if s.b[0] <= 0.5 {
+            if at_face {
+                first(&mut w.face, s.line, || {
+                    format!("it faces to the axis at {} (line {})", z_of(s, z), s.line)
+                });
+            } else {
+                w.plunges.push([z, s.a[0], s.b[0]]);
+                first(&mut w.part, s.line, || {
+                    format!(
+                        "it plunges to the axis at {}, behind the face (line {})",
                         z_of(s, z),
                         s.line
                     )
                 });
-            } else {
-                first(&mut w.profile, s.line, || {
-                    format!("it cuts a profile (line {})", s.line)
-                });
             }
-            continue;
-        }
-        if dz < 0.0 && dr < 0.0 && dr.abs() > 0.09 * dz.abs() {
-            w.descends = true;
-        }
-        if s.a[0].max(s.b[0]) > 0.05 {
+        } else if at_face {
+            first(&mut w.face, s.line, || {
+                format!("it faces at {} (line {})", z_of(s, z), s.line)
+            });
+        } else if next.is_some_and(|n| n.b[0] > n.a[0] + 0.05 && (n.b[1] - n.a[1]).abs() <= 1e-3) {
+            w.plunges.push([z, s.a[0], s.b[0]]);
+            first(&mut w.groove, s.line, || {
+                format!(
+                    "it plunges to {} at {} (line {}) and pulls straight out",
+                    x_of(s, s.b[0]),
+                    z_of(s, z),
+                    s.line
+                )
+            });
+        } else {
             first(&mut w.profile, s.line, || {
                 format!("it cuts a profile (line {})", s.line)
             });
         }
+        return;
     }
-    w
+    if dz < 0.0 && dr < 0.0 && dr.abs() > 0.09 * dz.abs() {
+        w.descends = true;
+    }
+    if s.a[0].max(s.b[0]) > 0.05 {
+        first(&mut w.profile, s.line, || {
+            format!("it cuts a profile (line {})", s.line)
+        });
+    }
 }
 
 /// The kind of tool `w`'s moves ask for, whether it works inside, and the words of the evidence

@@ -494,7 +494,8 @@ fn a_cam_step_heading_names_the_tool_no_other_comment_names() {
         "{said:?}"
     );
     // Without the heading's tool word, nothing names T5's tool.
-    let r = Reading::of(src.replace("Ausdrehen", "").as_bytes(), &linuxcnc());
+    let src = src.replace("Ausdrehen", "");
+    let r = Reading::of(src.as_bytes(), &linuxcnc());
     assert!(read(&r, 1.0).values().all(|s| s.kind != ToolKind::Boring));
 }
 
