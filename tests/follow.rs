@@ -284,3 +284,23 @@ fn samples_read_from_a_unix_socket_give_the_crash_standard_input_gives() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("nobody.sock"));
 }
+
+/// A stream on a machine with several paths is never clean: `follow` checks path 1's carrier
+/// only, and says so once, before the first sample, as an `unsupported` error (a green run would
+/// hide a crash of the lower turret). A one-path machine gets no such finding.
+#[test]
+fn following_a_two_path_machine_says_the_other_carrier_is_not_checked() {
+    let samples = "{\"t\": 0, \"X\": 100, \"Z\": 100}\n{\"t\": 0.01, \"X\": 100, \"Z\": 99}\n";
+    for m in ["machines/twin-turret.toml", "machines/mill-turn-head.toml"] {
+        let (code, out) = follow(&["-m", m, "--format", "json"], samples);
+        assert_eq!(code, 1, "{m}: {out:?}");
+        let docs = json_lines(&out);
+        assert_eq!(docs.len(), 1, "{m}: {out:?}");
+        assert_eq!(docs[0]["kind"], "unsupported", "{m}");
+        assert_eq!(docs[0]["severity"], "error", "{m}");
+        let msg = docs[0]["message"].as_str().unwrap();
+        assert!(msg.contains("path 2 (lower turret) is not checked"), "{m}: {msg}");
+    }
+    let (code, out) = follow(&["-m", "machines/turn-mill.toml"], samples);
+    assert_eq!((code, out.len()), (0, 0), "{out:?}");
+}

@@ -32,6 +32,38 @@ pub fn machine_axes(machine: &Machine) -> [bool; 6] {
     has
 }
 
+/// On a machine with several paths, what `follow` leaves unchecked, said once before the first
+/// sample: it follows path 1's carrier only (its samples are path 1's axes), so the other
+/// carriers — their tools against the chuck and the stock, and their contacts with path 1's —
+/// are not checked, and a stream with no finding would not mean they cannot crash. An
+/// `unsupported` error (a run on such a machine never ends clean), at no line.
+pub fn unfollowed(machine: &Machine) -> Option<Finding> {
+    let n = machine.paths.count();
+    if n < 2 {
+        return None;
+    }
+    let others: Vec<String> = machine
+        .paths
+        .carriers
+        .iter()
+        .map(|c| format!("path {} ({})", c.path, c.name))
+        .collect();
+    let others = if others.is_empty() {
+        format!("the other {} paths", n - 1)
+    } else {
+        others.join(", ")
+    };
+    Some(Finding::at(
+        crate::finding::Kind::Unsupported,
+        crate::finding::Severity::Error,
+        0,
+        0,
+        format!(
+            "this machine has {n} paths and follow checks path 1's carrier only (the samples are its axes): {others} is not checked, nor its contacts with path 1's"
+        ),
+    ))
+}
+
 /// The machine's state after a sample: every field a sample may leave out, as the last sample
 /// that gave it left it.
 #[derive(Clone, Copy, Debug, PartialEq)]
