@@ -185,14 +185,22 @@ fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<
 /// `0.0000`, never `-0.0000`), without the standard library's formatting machinery, which would
 /// cost more than the rest of the canonical output together.
 fn f4(out: &mut Vec<u8>, v: f64) {
-    let scaled = (v * 1e4).round();
-    if !scaled.is_finite() || scaled.abs() >= 9e15 {
+    let r = v * 1e4;
+    // Rounded half away from zero, as `f64::round` does (without its call): `r` less its
+    // integer part is exact, so comparing it with one half decides as `round` would.
+    let n = if r.abs() < 9e15 {
+        let t = r as i64;
+        let f = r - t as f64;
+        t + i64::from(f >= 0.5) - i64::from(f <= -0.5)
+    } else {
+        i64::MAX
+    };
+    if n.unsigned_abs() >= 9_000_000_000_000_000 {
         let _ = write!(out, "{v:.4}");
         return;
     }
-    let n = scaled as i64;
     let a = n.unsigned_abs();
-    let (int, frac) = (a / 10_000, (a % 10_000) as u32);
+    let (int, frac) = (a / 10_000, (a % 10_000) as usize);
     // At most 22 bytes: a sign, 16 digits, the point and 4 decimals. A fixed-size append is a few
     // stores (a copy of the few bytes written would be a call to `memcpy` per number), and the
     // tail is cut off after.
@@ -201,23 +209,45 @@ fn f4(out: &mut Vec<u8>, v: f64) {
     let buf = &mut out[start..];
     let mut i = usize::from(n < 0);
     buf[0] = b'-';
-    let mut digits = 1;
-    while digits < 20 && int >= 10u64.pow(digits as u32) {
-        digits += 1;
-    }
+    let digits = match int {
+        0..=9 => 1,
+        10..=99 => 2,
+        100..=999 => 3,
+        1000..=9999 => 4,
+        _ => {
+            let mut d = 5;
+            while d < 20 && int >= 10u64.pow(d as u32) {
+                d += 1;
+            }
+            d
+        }
+    };
+    // The integer's digits two at a time from its last, then the four decimals.
     let mut x = int;
-    for k in (i..i + digits).rev() {
-        buf[k] = b'0' + (x % 10) as u8;
-        x /= 10;
+    let mut k = i + digits;
+    while x >= 10 {
+        let pair = (x % 100) as usize * 2;
+        buf[k - 2..k].copy_from_slice(&PAIRS[pair..pair + 2]);
+        k -= 2;
+        x /= 100;
+    }
+    if k > i {
+        buf[k - 1] = b'0' + x as u8;
     }
     i += digits;
     buf[i] = b'.';
-    buf[i + 1] = b'0' + (frac / 1000) as u8;
-    buf[i + 2] = b'0' + (frac / 100 % 10) as u8;
-    buf[i + 3] = b'0' + (frac / 10 % 10) as u8;
-    buf[i + 4] = b'0' + (frac % 10) as u8;
+    let (hi, lo) = (frac / 100 * 2, frac % 100 * 2);
+    buf[i + 1..i + 3].copy_from_slice(&PAIRS[hi..hi + 2]);
+    buf[i + 3..i + 5].copy_from_slice(&PAIRS[lo..lo + 2]);
     out.truncate(start + i + 5);
 }
+
+/// "00" to "99", for writing numbers two digits at a time.
+const PAIRS: &[u8; 200] = b"0001020304050607080910111213141516171819\
+2021222324252627282930313233343536373839\
+4041424344454647484950515253545556575859\
+6061626364656667686970717273747576777879\
+8081828384858687888990919293949596979899";
 
 /// Append `a` in decimal, filled on the left with `fill` to `width` characters.
 fn push_uint(out: &mut Vec<u8>, a: u64, width: usize, fill: u8) {
@@ -252,6 +282,40 @@ fn radius_coords(f: &ProgFrame, p: crate::geom::P2) -> (f64, f64) {
 
 #[cfg(test)]
 mod tests {
+    use proptest::prelude::*;
+
+    /// The plain way: round, then `{}` of the integer and four decimals (what `f4` did before
+    /// it wrote its digits two at a time).
+    fn f4_plain(v: f64) -> String {
+        let scaled = (v * 1e4).round();
+        if !scaled.is_finite() || scaled.abs() >= 9e15 {
+            return format!("{v:.4}");
+        }
+        let n = scaled as i64;
+        let a = n.unsigned_abs();
+        let sign = if n < 0 { "-" } else { "" };
+        format!("{sign}{}.{:04}", a / 10_000, a % 10_000)
+    }
+
+    proptest! {
+        /// Four decimals as the plain way writes them: any value, values near a half of the last
+        /// decimal, near every width, and past the integer range.
+        #[test]
+        fn four_decimals_are_the_plain_ways(
+            v in prop_oneof![
+                any::<f64>(),
+                (-1e6f64..1e6),
+                (-100_000_000i64..100_000_000).prop_map(|k| (k as f64 + 0.5) * 1e-4),
+                (0u32..19, -1.0f64..1.0).prop_map(|(k, f)| 10f64.powi(k as i32) * (1.0 + f * 1e-12)),
+                Just(9e11), Just(-9e11), Just(8.99999999999999e11), Just(f64::NAN), Just(-0.0),
+            ]
+        ) {
+            let mut s = b"X".to_vec();
+            super::f4(&mut s, v);
+            prop_assert_eq!(String::from_utf8(s).unwrap(), format!("X{}", f4_plain(v)));
+        }
+    }
+
     #[test]
     fn four_decimals_match_printf_style() {
         for (v, want) in [
