@@ -159,6 +159,12 @@ impl<'s> Reading<'s> {
         }
     }
 
+    /// Bytes the reading holds beside the source: its packed segments and its line starts (the
+    /// memory a long program's setup reading costs; the source is the caller's).
+    pub fn held_bytes(&self) -> usize {
+        self.segs.packed_bytes() + self.lines.starts.capacity() * std::mem::size_of::<u32>()
+    }
+
     /// The text of 1-based `line` ("" past the end).
     pub fn line(&self, line: u32) -> Cow<'s, str> {
         self.lines

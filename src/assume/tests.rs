@@ -372,3 +372,21 @@ fn the_readings_lines_are_the_lossy_texts_lines() {
         prop_assert!(lines.get(want.len()).is_none());
     });
 }
+
+/// Issue 26's ten million short lines took 2 GB for their setup reading (72 bytes a segment and
+/// a copy of the text): the reading now holds a few bytes a line beside the source, so its
+/// memory stays a small multiple of the file's size.
+#[test]
+fn a_long_programs_setup_reading_holds_a_few_bytes_a_line() {
+    let mut src = String::from("G21 G18 G99 F0.2\nT0101\nM3 S500\n");
+    for _ in 0..25_000 {
+        src += "G0 X52.010 Z2.0\nG1 X51 Z1\n";
+    }
+    src += "M30\n";
+    let m = example();
+    let r = reading::Reading::of(src.as_bytes(), &m);
+    assert!(r.segs.len() >= 50_000, "{} segments", r.segs.len());
+    let per_line = r.held_bytes() as f64 / r.lines.len() as f64;
+    // 13 bytes a line of source: the reading adds less than that.
+    assert!(per_line < 13.0, "{per_line:.1} bytes a line");
+}
