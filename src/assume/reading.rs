@@ -100,17 +100,13 @@ impl<'s> Lines<'s> {
     /// Line `i` (0-based).
     pub fn get(&self, i: usize) -> Option<Cow<'s, str>> {
         let a = *self.starts.get(i)? as usize;
-        let mut b = match self.starts.get(i + 1) {
-            Some(&n) => n as usize - 1,
-            None => self.src.len(),
-        };
-        if self.src[a..b].ends_with(b"\n") {
-            b -= 1;
+        let end = self.starts.get(i + 1).map_or(self.src.len(), |&n| n as usize);
+        let mut line = &self.src[a..end];
+        // `\n` or `\r\n` ends a line; a `\r` alone stays in it.
+        if let Some(l) = line.strip_suffix(b"\n") {
+            line = l.strip_suffix(b"\r").unwrap_or(l);
         }
-        if self.src[a..b].ends_with(b"\r") && self.src.get(b) == Some(&b'\n') {
-            b -= 1;
-        }
-        Some(String::from_utf8_lossy(&self.src[a..b]))
+        Some(String::from_utf8_lossy(line))
     }
 
     pub fn len(&self) -> usize {

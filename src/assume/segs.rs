@@ -74,8 +74,8 @@ struct Context {
 /// A segment's feed per revolution and scale, by their bits.
 type Mode = (Option<u64>, u64);
 
-fn mode_of(s: &Seg) -> Mode {
-    (opt_bits(s.per_rev), s.scale.to_bits())
+fn mode_of(per_rev: Option<f64>, scale: f64) -> Mode {
+    (opt_bits(per_rev), scale.to_bits())
 }
 
 /// The most recent distinct values of one kind, newest first.
@@ -158,7 +158,7 @@ impl Segs {
         if p.is_some_and(|p| p.station == s.station) {
             h0 |= SAME_STATION;
         }
-        let mode = mode_of(&s);
+        let mode = mode_of(s.per_rev, s.scale);
         let tm = ctx.modes.find(mode).map_or(NEW_MODE, |i| i as u8);
         if p.is_some_and(|p| p.line == s.line) {
             h0 |= SAME_LINE;
@@ -283,10 +283,6 @@ fn bits2(p: [f64; 2]) -> [u64; 2] {
     [p[0].to_bits(), p[1].to_bits()]
 }
 
-fn mode_of_parts(per_rev: Option<f64>, scale: f64) -> Mode {
-    (opt_bits(per_rev), scale.to_bits())
-}
-
 fn opt_bits(f: Option<f64>) -> Option<u64> {
     f.map(f64::to_bits)
 }
@@ -395,7 +391,7 @@ impl Iterator for Iter<'_> {
             let (f, scale) = self.ctx.modes.vals[tm as usize];
             (f.map(f64::from_bits), f64::from_bits(scale))
         };
-        self.ctx.modes.touch(mode_of_parts(per_rev, scale));
+        self.ctx.modes.touch(mode_of(per_rev, scale));
         let mut a = joined.map_or([0.0; 2], |p| p.b);
         if joined.is_none() {
             for (k, t) in [(0, h2 & 7), (1, (h2 >> 3) & 7)] {

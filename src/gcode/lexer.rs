@@ -101,7 +101,6 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
             kept.push(last);
         }
     }
-    // Most recently used first: the interpreter starts at the top.
     let Arenas {
         exprs,
         names,
@@ -124,6 +123,7 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
             macro_b,
             plain_lines_fast,
             interned: RefCell::new(reader.interned),
+            // Most recently used first: the first window, where the interpreter starts.
             cache: RefCell::new(kept),
             rereads: Cell::new(0),
             jumps: Cell::new(0),

@@ -122,7 +122,6 @@ impl State {
             if b.bad {
                 continue;
             }
-
             if let Some(o) = b.oword() {
                 if let (OOp::ProgramNumber, OName::Number(n)) = (&o.op, o.name) {
                     close_all(&mut open, &mut err);

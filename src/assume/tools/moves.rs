@@ -128,17 +128,15 @@ fn thread_pass(s: &Seg, modes: &[(bool, bool)]) -> bool {
     threading && dz.abs() > dr.abs() && dz.abs() > 1e-3
 }
 
-/// Read each piece of each of `stations`' moves below `face` (program Z, mm), in one walk of the
-/// segments; `modes` is the program's [`thread_modes`].
+/// Read each piece of each of `stations`' moves (in increasing order) below `face` (program Z,
+/// mm), in one walk of the segments; `modes` is the program's [`thread_modes`].
 pub fn works(r: &Reading, stations: &[u32], face: f64, modes: &[(bool, bool)]) -> Vec<(u32, Work)> {
+    debug_assert!(stations.windows(2).all(|w| w[0] < w[1]), "{stations:?}");
     let mut out: Vec<(u32, Work)> = stations.iter().map(|&s| (s, Work::default())).collect();
-    let mut sorted: Vec<(u32, usize)> = stations.iter().enumerate().map(|(k, &s)| (s, k)).collect();
-    sorted.sort_unstable();
     for st in r.segs.walk() {
-        let Ok(k) = sorted.binary_search_by_key(&st.seg.station, |&(s, _)| s) else {
-            continue;
-        };
-        take(&mut out[sorted[k].1].1, &st, face, modes);
+        if let Ok(k) = stations.binary_search(&st.seg.station) {
+            take(&mut out[k].1, &st, face, modes);
+        }
     }
     out
 }
