@@ -54,7 +54,8 @@ fn main() {
         ("radial live drilling", 10_000, 13_000),
     ] {
         let to = to.min(lines.len()).min(from.saturating_add(n));
-        let mut f = Follower::new(&m, &settings);
+        let lathes = latheguard::follow::lathes(&m);
+        let mut f = Follower::new(&m, &lathes, &settings);
         let mut reader = f.reader(Format::Json);
         // The stream starts where the machine stands at its first sample (no move to get there).
         let mut lat = Latency::default();

@@ -1,6 +1,6 @@
 //! `latheguard follow` (issue 30 §3, docs/follow.md): a stream of samples with a crash in the
-//! middle, malformed and out-of-order samples, the reader's formats, and the replay of every
-//! turn-mill example against `check`.
+//! middle, malformed and out-of-order samples, the reader's formats, two carriers against each
+//! other, and the replay of every turn-mill and two-path example against `check`.
 
 use latheguard::follow::{sample, Format, Latency, Reader};
 use std::io::Write;
@@ -114,11 +114,12 @@ fn halsampler_columns_separated_by_spaces_read_with_a_period() {
     let s = r.read(2, "-12.5 -300.25 7 -800.0 1 42").unwrap().unwrap();
     assert_eq!(r.format(), Format::Csv);
     assert_eq!(s.t, None);
-    assert_eq!(s.axes[0], Some(-12.5));
-    assert_eq!(s.axes[1], Some(-300.25));
+    let c = s.carrier(1).unwrap();
+    assert_eq!(c.axes[0], Some(-12.5));
+    assert_eq!(c.axes[1], Some(-300.25));
     assert_eq!(s.spindle, Some(sample::SpindleDir::Ccw));
-    assert_eq!(s.motion, Some(sample::Motion::Rapid));
-    assert_eq!(s.line, Some(42));
+    assert_eq!(c.motion, Some(sample::Motion::Rapid));
+    assert_eq!(c.line, Some(42));
     let e = r.read(3, "1 2 3").unwrap_err();
     assert_eq!((e.line, e.col), (3, 0));
     assert_eq!(e.message, "3 values where the header names 6 columns");
@@ -186,13 +187,17 @@ fn errors_of(findings: &[serde_json::Value]) -> Vec<(u64, String, String, f64)> 
 }
 
 /// The replay (docs/follow.md, "Replay"): the samples `moves --format samples` makes of each
-/// turn-mill example, followed with the setup `check` uses for it, give `check`'s errors: the
+/// turn-mill and two-path example, followed with the setup `check` uses for it, give `check`'s errors: the
 /// same lines, kinds and parts, each first contact within one sample step of `check`'s.
 #[test]
-fn replaying_every_turn_mill_example_gives_the_errors_check_gives() {
+fn replaying_every_turn_mill_and_two_path_example_gives_the_errors_check_gives() {
     let mut files = Vec::new();
-    programs(&root().join("programs/turn-mill"), &mut files);
-    assert!(files.len() >= 15, "{files:?}");
+    // The one-turret turn-mill, and the two-path machines: the twin-turret lathe (its carriers
+    // against each other in the working plane) and the milling head with a lower turret (in 3D).
+    for dir in ["programs/turn-mill", "programs/twin-turret", "programs/mill-turn-head"] {
+        programs(&root().join(dir), &mut files);
+    }
+    assert!(files.len() >= 20, "{files:?}");
     let step = REPLAY_DT_MS.parse::<f64>().unwrap() / 1000.0;
     for p in files {
         let rel = p.strip_prefix(root()).unwrap().to_str().unwrap().to_string();
@@ -285,22 +290,74 @@ fn samples_read_from_a_unix_socket_give_the_crash_standard_input_gives() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("nobody.sock"));
 }
 
-/// A stream on a machine with several paths is never clean: `follow` checks path 1's carrier
-/// only, and says so once, before the first sample, as an `unsupported` error (a green run would
-/// hide a crash of the lower turret). A one-path machine gets no such finding.
-#[test]
-fn following_a_two_path_machine_says_the_other_carrier_is_not_checked() {
-    let samples = "{\"t\": 0, \"X\": 100, \"Z\": 100}\n{\"t\": 0.01, \"X\": 100, \"Z\": 99}\n";
-    for m in ["machines/twin-turret.toml", "machines/mill-turn-head.toml"] {
-        let (code, out) = follow(&["-m", m, "--format", "json"], samples);
-        assert_eq!(code, 1, "{m}: {out:?}");
-        let docs = json_lines(&out);
-        assert_eq!(docs.len(), 1, "{m}: {out:?}");
-        assert_eq!(docs[0]["kind"], "unsupported", "{m}");
-        assert_eq!(docs[0]["severity"], "error", "{m}");
-        let msg = docs[0]["message"].as_str().unwrap();
-        assert!(msg.contains("path 2 (lower turret) is not checked"), "{m}: {msg}");
+/// Two carriers at the same Z, their tips 5 mm from the spindle axis on either side (the
+/// twin-turret machine: machine zero at home, X 300 Z 600; T01's tip -60, -12 from the
+/// reference point, so a tip at radius `r`, z 100 is X `r - 240`, Z -488 on either carrier).
+/// Path 1 feeds its tip to radius -1 (line 10, 0 to 0.1 s); then path 2 feeds its tip to -1
+/// (line 20, 0.1 to 0.2 s), `ahead` while path 1 is still there, else after path 1 has gone
+/// back to radius 5 (line 11, 0.1 to 0.2 s; path 2 from 0.2 to 0.3 s).
+fn two_turret_stream(ahead: bool) -> String {
+    let head = "{\"t\": 0, \"X\": -235, \"Z\": -488, \"X2\": -235, \"Z2\": -488, \"motion\": \"feed\", \"motion2\": \"feed\", \"line\": 9, \"line2\": 19}\n{\"t\": 0.1, \"X\": -241, \"line\": 10}\n";
+    if ahead {
+        format!("{head}{{\"t\": 0.2, \"X2\": -241, \"line2\": 20}}\n{{\"t\": 0.3, \"X\": -235, \"line\": 11}}\n")
+    } else {
+        format!("{head}{{\"t\": 0.2, \"X\": -235, \"line\": 11}}\n{{\"t\": 0.3, \"X2\": -241, \"line2\": 20}}\n")
     }
-    let (code, out) = follow(&["-m", "machines/turn-mill.toml"], samples);
+}
+
+/// `follow` checks every carrier of a two-path machine, and the carriers against each other:
+/// the lower turret driven into the upper one's insert while the upper stands past the axis is a
+/// `collision` at each path's line, from when the tips meet (path 2's tip at radius 1, two
+/// thirds of its move: 0.1667 s); the same move once path 1 has gone back is clean.
+#[test]
+fn a_crash_between_two_carriers_that_exists_only_when_path_2_runs_ahead() {
+    let (code, out) = follow(
+        &["-m", "machines/twin-turret.toml", "--format", "json"],
+        &two_turret_stream(true),
+    );
+    assert_eq!(code, 1, "{out:?}");
+    let docs = json_lines(&out);
+    assert_eq!(docs.len(), 2, "{out:?}");
+    let mut lines: Vec<u64> = docs.iter().map(|d| d["line"].as_u64().unwrap()).collect();
+    lines.sort_unstable();
+    assert_eq!(lines, [10, 20], "{out:?}");
+    for d in &docs {
+        assert_eq!(d["kind"], "collision", "{d}");
+        let objects = d["objects"].to_string();
+        assert!(
+            objects.contains("path1:T01 insert") && objects.contains("path2:T01 insert"),
+            "{d}"
+        );
+        let t = d["time_s"].as_f64().unwrap();
+        assert!((t - 0.1 - 0.1 * 2.0 / 3.0).abs() < 1e-3, "{d}");
+        let depth = d["depth_mm"].as_f64().unwrap();
+        // The tips pass each other by 2 mm at most.
+        assert!(depth > 0.5 && depth <= 2.0 + 1e-6, "{d}");
+    }
+    let (code, out) = follow(&["-m", "machines/twin-turret.toml"], &two_turret_stream(false));
     assert_eq!((code, out.len()), (0, 0), "{out:?}");
+}
+
+/// A key of a path the machine lacks, an axis or a station the carrier lacks: errors at their
+/// column, and the stream goes on.
+#[test]
+fn keys_of_a_path_or_an_axis_the_machine_lacks_are_sample_errors() {
+    let input = "{\"t\": 0, \"X3\": 1}\n{\"t\": 0.1, \"Y2\": 1}\n{\"t\": 0.2, \"tool2\": 9}\n{\"t\": 0.3, \"X2\": 1}\n";
+    let (code, out) = follow(&["-m", "machines/twin-turret.toml"], input);
+    assert_eq!(code, 1, "{out:?}");
+    assert_eq!(
+        out,
+        [
+            "<stdin>:1:10: error[sample]: `X3` is path 3's, but the machine has 2 paths",
+            "<stdin>:2:12: error[sample]: path 2's carrier has no Y axis (`Y2`)",
+            "<stdin>:3:12: error[sample]: tool2: tool `9`: the turret has stations 1 to 4",
+        ],
+        "{out:?}"
+    );
+    let (code, out) = follow(&["-m", "machines/turn-mill.toml"], "{\"t\": 0, \"X2\": 1}\n");
+    assert_eq!(code, 1, "{out:?}");
+    assert_eq!(
+        out,
+        ["<stdin>:1:10: error[sample]: `X2` is path 2's, but the machine has 1 path"]
+    );
 }

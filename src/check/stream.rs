@@ -130,6 +130,22 @@ impl<'a> Stream<'a> {
         self.c.record_cuts = record;
     }
 
+    /// Keep this path's own cuts from now on, for [`Stream::take_cuts`] (`latheguard follow` on
+    /// a machine with several paths: each carrier's cuts are taken off the others' stock).
+    pub fn record_cuts(&mut self) {
+        self.c.record_cuts = true;
+    }
+
+    /// The cuts recorded since the last call ([`Stream::record_cuts`]).
+    pub fn take_cuts(&mut self) -> Vec<super::Cut> {
+        std::mem::take(&mut self.c.cuts)
+    }
+
+    /// Take off the stock now, before the next move, what another path cut.
+    pub fn cut_now(&mut self, removed: &super::Removed) {
+        self.c.cut_foreign(removed);
+    }
+
     /// The index the next move fed gets (an extra-axis entry's `index`).
     pub fn next_index(&self) -> usize {
         self.next

@@ -36,14 +36,10 @@ pub fn run(a: FollowArgs) -> Result<u8, Trouble> {
         settings.tolerance_mm = t;
     }
     let input = open(a.source.as_deref().unwrap_or("-"))?;
-    let unfollowed = latheguard::follow::unfollowed(&machine);
-    // A machine with several paths is followed on path 1's carrier (docs/follow.md): its own
-    // lathe and the parts of the tree its axes carry, the other carriers left out.
-    let machine = match machine.for_path(1) {
-        Some(std::borrow::Cow::Owned(m)) => std::sync::Arc::new(m),
-        _ => machine,
-    };
-    let mut follower = Follower::new(&machine, &settings);
+    // Each path's carrier on its own lathe (one on a one-path machine), and on a machine with
+    // several paths the carriers against each other (docs/follow.md).
+    let lathes = latheguard::follow::lathes(&machine);
+    let mut follower = Follower::new(&machine, &lathes, &settings);
     let format = match a.samples {
         SamplesFormat::Auto => sample::Format::Auto,
         SamplesFormat::Json => sample::Format::Json,
@@ -63,10 +59,6 @@ pub fn run(a: FollowArgs) -> Result<u8, Trouble> {
         rejected: 0,
         closed: false,
     };
-    // Said before the first sample: what this stream cannot check.
-    if let Some(f) = &unfollowed {
-        out.finding(f)?;
-    }
     let mut latency = Latency::default();
     let mut input = BufReader::with_capacity(1 << 16, input);
     let mut buf = Vec::with_capacity(256);

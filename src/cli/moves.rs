@@ -14,11 +14,14 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     // --job and the one-off flags. latheguard.toml is read only for the samples, which
     // `latheguard follow --program` checks on the machine `check` uses.
     let samples = matches!(a.format, MovesFormat::Samples);
-    let machine = super::setup::Planner::new(a.machine.as_deref(), !samples, &a.job)?
-        .resolve(&a.program)?
-        .machine;
+    let resolved = super::setup::Planner::new(a.machine.as_deref(), !samples, &a.job)?.resolve(&a.program)?;
+    let machine = resolved.machine;
     let src = read_capped(&a.program, MAX_PROGRAM_BYTES)
         .map_err(|why| format!("{}: cannot read: {why}", shown(&a.program)))?;
+    if samples && latheguard::paths::is_multi_path(&src, &machine) {
+        // Every path at once, in the machine's clock: what `follow` of the whole machine reads.
+        return samples_of_paths(&src, &machine, &resolved.settings, a.dt / 1000.0);
+    }
     // One path of a multi-path program (docs/paths.md): its lines (the others blanked, so line
     // numbers stay the file's) on its carrier's lathe; a file without `$` lines is all one path's.
     let src = match latheguard::paths::split::split(&src) {
@@ -160,4 +163,31 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     } else {
         EXIT_CLEAN
     })
+}
+
+/// The samples of every path of a multi-path program (docs/follow.md, "Replay"), each sample
+/// with every carrier's keys; the program's own findings are `check`'s to report.
+fn samples_of_paths(
+    src: &[u8],
+    machine: &latheguard::machine::Machine,
+    settings: &pipeline::Settings,
+    dt: f64,
+) -> Result<u8, Trouble> {
+    let (paths, stop) = latheguard::paths::timed(src, machine, settings);
+    let mut sink = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
+    let mut written: std::io::Result<()> = Ok(());
+    latheguard::follow::replay::samples_of_paths(&paths, dt, stop, |s| {
+        if written.is_ok() {
+            written = writeln!(sink, "{}", latheguard::follow::replay::to_json(s));
+        }
+    });
+    if written.is_ok() {
+        written = sink.flush();
+    }
+    match written {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(format!("cannot write to standard output: {}", super::plain(&e)))
+        }
+        _ => Ok(EXIT_CLEAN),
+    }
 }

@@ -16,10 +16,13 @@ pub mod sample;
 use crate::check::{takes_3d, Stream};
 use crate::finding::Finding;
 use crate::geom::{P2, V2};
-use crate::interp::{self, ExtraMove, Feed, Move, MoveKind, MoveState, Plane, ProgFrame, Spindle, SpindleSpeed};
+use crate::interp::{
+    self, ExtraMove, Feed, Interpretation, Move, MoveKind, MoveState, Plane, ProgFrame, Spindle, SpindleSpeed,
+};
 use crate::machine::Machine;
+use crate::paths::{cross, cross3, sync::Schedule};
 use crate::pipeline::Settings;
-pub use sample::{Format, Motion, Reader, Sample, SampleError, SpindleDir, AXES};
+pub use sample::{Carrier, Format, Layout, Motion, Reader, Sample, SampleError, SpindleDir, AXES};
 
 /// Which of the [`AXES`] a machine has: X and Z always, the others by its kinematic tree.
 pub fn machine_axes(machine: &Machine) -> [bool; 6] {
@@ -32,40 +35,20 @@ pub fn machine_axes(machine: &Machine) -> [bool; 6] {
     has
 }
 
-/// On a machine with several paths, what `follow` leaves unchecked, said once before the first
-/// sample: it follows path 1's carrier only (its samples are path 1's axes), so the other
-/// carriers — their tools against the chuck and the stock, and their contacts with path 1's —
-/// are not checked, and a stream with no finding would not mean they cannot crash. An
-/// `unsupported` error (a run on such a machine never ends clean), at no line.
-pub fn unfollowed(machine: &Machine) -> Option<Finding> {
-    let n = machine.paths.count();
-    if n < 2 {
-        return None;
-    }
-    let others: Vec<String> = machine
-        .paths
-        .carriers
-        .iter()
-        .map(|c| format!("path {} ({})", c.path, c.name))
-        .collect();
-    let others = if others.is_empty() {
-        format!("the other {} paths", n - 1)
-    } else {
-        others.join(", ")
-    };
-    Some(Finding::at(
-        crate::finding::Kind::Unsupported,
-        crate::finding::Severity::Error,
-        0,
-        0,
-        format!(
-            "this machine has {n} paths and follow checks path 1's carrier only (the samples are its axes): {others} is not checked, nor its contacts with path 1's"
-        ),
-    ))
+/// The lathe each path's carrier runs on ([`Machine::for_path`]), path 1 first: what
+/// [`Follower::new`] follows. One lathe, the machine itself, on a machine with one path.
+pub fn lathes(machine: &Machine) -> Vec<Machine> {
+    (1..=machine.paths.count() as u32)
+        .filter_map(|p| machine.for_path(p).map(std::borrow::Cow::into_owned))
+        .collect()
 }
 
-/// The machine's state after a sample: every field a sample may leave out, as the last sample
-/// that gave it left it.
+/// Most probes the check of the carriers against each other spends on one sample interval;
+/// past them an `unsupported` warning says the rest of the interval is unchecked.
+pub const MAX_CROSS_PROBES: u64 = 200_000;
+
+/// The machine's state after a sample, as one path's carrier sees it: every field a sample may
+/// leave out, as the last sample that gave it left it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Now {
     t: f64,
@@ -84,56 +67,131 @@ struct Now {
 /// What one sample did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Step {
-    /// Moves handed to the checker (0: nothing moved; 2: a turret index and a motion).
+    /// Moves handed to the checker (0: nothing moved; 2 per carrier: a turret index and a motion).
     pub moves: u32,
 }
 
-/// The checker of one machine's live samples.
-pub struct Follower<'m> {
+/// A move of one carrier in the interval since the sample before, with its machine times: the
+/// carriers' check reads the interval's moves of every carrier.
+struct Timed {
+    m: Move,
+    e: Option<ExtraMove>,
+    t0: f64,
+    duration: f64,
+}
+
+/// One path's carrier: its lathe, its check and its state.
+struct Lane<'m> {
+    path: u32,
     machine: &'m Machine,
     stream: Stream<'m>,
     now: Option<Now>,
-    /// When the machine last moved (a turret index ends at the sample that shows the new tool and
+    /// When the carrier last moved (a turret index ends at the sample that shows the new tool and
     /// began at most one index time earlier, but not before this).
     moved_at: f64,
     has: [bool; 6],
+    /// Its moves since the sample before, the interval covered from its start (standing moves
+    /// where it stood).
+    window: Vec<Timed>,
+}
+
+/// The checker of one machine's live samples: each path's carrier on its lathe, and on a machine
+/// with several paths the carriers against each other.
+pub struct Follower<'m> {
+    lanes: Vec<Lane<'m>>,
+    /// The carriers against each other (several paths): in the working plane, or in 3D on a
+    /// tree whose axes several paths drive.
+    cross: Option<Cross>,
+    /// What reports call each lane's carrier, and whether it stands across the spindle axis.
+    names: Vec<(String, bool)>,
     samples: u64,
     moves: u64,
 }
 
+enum Cross {
+    Plane(cross::Search),
+    Tree(cross3::Search),
+}
+
 impl<'m> Follower<'m> {
-    /// A follower on `machine` (a job already applied). The work budget of `settings` does not
-    /// apply: a stream has no end, and each sample's work is bounded by its move's caps.
-    pub fn new(machine: &'m Machine, settings: &Settings) -> Follower<'m> {
+    /// A follower on `machine` (a job already applied) whose paths run on `lathes`
+    /// ([`lathes`] of the machine). The work budget of `settings` does not apply: a stream has no
+    /// end, and each sample's work is bounded by its moves' caps.
+    pub fn new(machine: &'m Machine, lathes: &'m [Machine], settings: &Settings) -> Follower<'m> {
         let settings = Settings {
             work_budget: u64::MAX,
             snapshots: false,
             part_mesh: false,
             ..*settings
         };
-        // Whether the 3D path runs cannot wait for the whole run: on a machine with a tree it
-        // always does (moves that stay in the working plane take its 2D route all the same).
-        let three = takes_3d(machine, true, true);
+        let several = lathes.len() > 1;
+        let lanes: Vec<Lane> = lathes
+            .iter()
+            .zip(1u32..)
+            .map(|(m, path)| {
+                // Whether the 3D path runs cannot wait for the whole run: on a machine with a
+                // tree it always does (moves that stay in the working plane take its 2D route
+                // all the same).
+                let three = takes_3d(m, true, true);
+                let mut stream = Stream::new(m, &settings, three, usize::MAX);
+                if several {
+                    // The stock is shared: each carrier's cuts come off the others' stock.
+                    stream.record_cuts();
+                }
+                Lane {
+                    path,
+                    machine: m,
+                    stream,
+                    now: None,
+                    moved_at: 0.0,
+                    has: machine_axes(m),
+                    window: Vec::new(),
+                }
+            })
+            .collect();
+        let names = lanes
+            .iter()
+            .map(|l| match machine.paths.carriers.iter().find(|c| c.path == l.path) {
+                Some(c) => (c.name.clone(), c.opposite),
+                None if l.path == 1 => (machine.paths.first.clone(), false),
+                None => (format!("path {} carrier", l.path), false),
+            })
+            .collect();
+        let cross = several.then(|| {
+            let paths: Vec<(u32, &Machine)> = lanes.iter().map(|l| (l.path, l.machine)).collect();
+            match machine.kinematics.as_deref().filter(|k| k.is_multi_path()) {
+                Some(kin) => Cross::Tree(cross3::Search::new(kin, &paths, settings.tolerance_mm, false)),
+                None => {
+                    let machines: Vec<&Machine> = paths.iter().map(|p| p.1).collect();
+                    Cross::Plane(cross::Search::new(&machines, settings.tolerance_mm, false))
+                }
+            }
+        });
         Follower {
-            machine,
-            stream: Stream::new(machine, &settings, three, usize::MAX),
-            now: None,
-            moved_at: 0.0,
-            has: machine_axes(machine),
+            lanes,
+            cross,
+            names,
             samples: 0,
             moves: 0,
         }
     }
 
-    /// A reader of samples for this machine: axes it lacks and stations its turret lacks are
-    /// errors at their column.
+    /// What this machine's samples may name: each path's axes and stations.
+    pub fn layout(&self) -> Layout {
+        Layout {
+            paths: self.lanes.iter().map(|l| (l.has, l.machine.turret.stations)).collect(),
+        }
+    }
+
+    /// A reader of samples for this machine: paths, axes and stations it lacks are errors at
+    /// their column.
     pub fn reader(&self, format: Format) -> Reader {
-        Reader::new(format).for_machine(self.has, self.machine.turret.stations)
+        Reader::new(format).for_machine(self.layout())
     }
 
     /// The time of the last sample taken, s.
     pub fn time(&self) -> Option<f64> {
-        self.now.map(|n| n.t)
+        self.lanes.first().and_then(|l| l.now).map(|n| n.t)
     }
 
     /// Samples taken and moves checked so far.
@@ -141,57 +199,191 @@ impl<'m> Follower<'m> {
         (self.samples, self.moves)
     }
 
-    /// Take the sample read at line `at` of the source: check the move from the sample before to
-    /// it. A sample out of order (its time not after the last one's) is an error and changes
-    /// nothing; `period` times a sample that has none.
+    /// Take the sample read at line `at` of the source: check each carrier's move from the
+    /// sample before to it, and the carriers against each other over the interval. A sample out
+    /// of order (its time not after the last one's) is an error and changes nothing; `period`
+    /// times a sample that has none.
     pub fn push(&mut self, at: u64, s: &Sample, period: Option<f64>) -> Result<Step, SampleError> {
         let err = |message: String| SampleError {
             line: at,
             col: 0,
             message,
         };
-        let t = match (s.t, self.now, period) {
+        let last = self.time();
+        let t = match (s.t, last, period) {
             (Some(t), _, _) => t,
-            (None, Some(n), Some(p)) => n.t + p,
+            (None, Some(n), Some(p)) => n + p,
             (None, None, Some(_)) => 0.0,
             (None, _, None) => return Err(err("the sample has no time `t`".into())),
         };
-        if let Some(n) = self.now {
-            if t <= n.t {
+        if let Some(n) = last {
+            if t <= n {
                 return Err(err(format!(
-                    "time {t} s is not after the last sample's {} s: the sample is out of order and is skipped",
-                    n.t
+                    "time {t} s is not after the last sample's {n} s: the sample is out of order and is skipped"
                 )));
             }
         }
-        for (k, v) in s.axes.iter().enumerate() {
-            if v.is_some() && !self.has[k] {
-                return Err(err(format!("the machine has no {} axis", AXES[k])));
-            }
+        if s.carriers.len() > self.lanes.len() {
+            let n = self.lanes.len();
+            return Err(err(format!(
+                "the sample names path {}, but the machine has {n} path{}",
+                s.carriers.len(),
+                if n == 1 { "" } else { "s" }
+            )));
         }
-        if let Some(tool) = s.tool {
-            if tool == 0 || tool > self.machine.turret.stations {
-                return Err(err(format!(
-                    "tool {tool}: the turret has stations 1 to {}",
-                    self.machine.turret.stations
-                )));
-            }
+        for (lane, c) in self.lanes.iter().zip(&s.carriers) {
+            lane.validate(c).map_err(err)?;
         }
         self.samples += 1;
+        let mut step = Step::default();
+        let none = Carrier::default();
+        for (i, lane) in self.lanes.iter_mut().enumerate() {
+            step.moves += lane.take(t, s, s.carriers.get(i).unwrap_or(&none));
+        }
+        self.moves += u64::from(step.moves);
+        if self.lanes.len() > 1 {
+            self.share_cuts();
+            if let Some(from) = last {
+                self.cross_check(from, t);
+            }
+        }
+        Ok(step)
+    }
+
+    /// Each carrier's cuts of the interval taken off the other carriers' stock, before their next
+    /// moves (a cut that has ended by a move's start, as `check` shares them).
+    fn share_cuts(&mut self) {
+        for i in 0..self.lanes.len() {
+            let cuts = self.lanes[i].stream.take_cuts();
+            for (_, removed) in &cuts {
+                for (j, other) in self.lanes.iter_mut().enumerate() {
+                    if j != i {
+                        other.stream.cut_now(removed);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The carriers against each other over the interval `from`..`to`: each carrier's moves of
+    /// the interval as a run of its own in the machine's clock.
+    fn cross_check(&mut self, from: f64, to: f64) {
+        let Some(cross) = self.cross.as_mut() else { return };
+        let runs: Vec<(Interpretation, crate::motion::Timeline)> =
+            self.lanes.iter_mut().map(|l| l.window_run(from, to)).collect();
+        let schedule = Schedule::default();
+        let carriages: Vec<cross::Carriage> = self
+            .lanes
+            .iter()
+            .zip(&runs)
+            .zip(&self.names)
+            .map(|((l, (run, timeline)), (name, opposite))| cross::Carriage {
+                path: l.path,
+                name: name.clone(),
+                machine: l.machine,
+                run,
+                timeline,
+                schedule: &schedule,
+                opposite: *opposite,
+            })
+            .collect();
+        match cross {
+            Cross::Plane(s) => s.run(&carriages, from, to, MAX_CROSS_PROBES),
+            Cross::Tree(s) => s.run(&carriages, from, to, MAX_CROSS_PROBES),
+        }
+    }
+
+    /// The findings that are final so far ([`Stream::take_final`]): write them now.
+    pub fn findings(&mut self) -> Vec<Finding> {
+        let mut out: Vec<Finding> = self.lanes.iter_mut().flat_map(|l| l.stream.take_final()).collect();
+        match &mut self.cross {
+            Some(Cross::Plane(s)) => out.extend(s.take_final()),
+            Some(Cross::Tree(s)) => out.extend(s.take_final()),
+            None => {}
+        }
+        out
+    }
+
+    /// The end of the stream: the findings still open, and the statistics of the check (every
+    /// carrier's, summed).
+    pub fn finish(self) -> (Vec<Finding>, crate::pipeline::Stats) {
+        let mut out = Vec::new();
+        let mut stats = crate::pipeline::Stats::default();
+        for mut l in self.lanes {
+            out.extend(l.stream.take_rest());
+            let result = l.stream.finish();
+            out.extend(result.findings);
+            let st = result.stats;
+            stats.moves += st.moves;
+            stats.steps += st.steps;
+            stats.pair_tests += st.pair_tests;
+            stats.pair_tests_skipped += st.pair_tests_skipped;
+            stats.grid_rays += st.grid_rays;
+            stats.refined += st.refined;
+            stats.travel_samples += st.travel_samples;
+            stats.machine_time_s = stats.machine_time_s.max(st.machine_time_s);
+            for e in st.effects {
+                if !stats.effects.contains(&e) {
+                    stats.effects.push(e);
+                }
+            }
+        }
+        let cross = match self.cross {
+            Some(Cross::Plane(s)) => Some(s.finish()),
+            Some(Cross::Tree(s)) => Some(s.finish()),
+            None => None,
+        };
+        if let Some((findings, probes)) = cross {
+            out.extend(findings);
+            stats.pair_tests += probes;
+            stats.effects.push("paths".to_string());
+        }
+        (out, stats)
+    }
+}
+
+impl<'m> Lane<'m> {
+    /// Whether carrier sample `c` names only axes and stations this carrier has.
+    fn validate(&self, c: &Carrier) -> Result<(), String> {
+        let of = if self.path == 1 {
+            String::new()
+        } else {
+            format!(" of path {}", self.path)
+        };
+        for (k, v) in c.axes.iter().enumerate() {
+            if v.is_some() && !self.has[k] {
+                return Err(format!("the carrier{of} has no {} axis", AXES[k]));
+            }
+        }
+        if let Some(tool) = c.tool {
+            if tool == 0 || tool > self.machine.turret.stations {
+                return Err(format!(
+                    "tool {tool}: the turret{of} has stations 1 to {}",
+                    self.machine.turret.stations
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Take the sample at time `t` (its shared fields `s`, this carrier's `c`): check the move
+    /// from the sample before. Returns the moves handed to the checker.
+    fn take(&mut self, t: f64, s: &Sample, c: &Carrier) -> u32 {
+        self.window.clear();
         let prev = self.now.unwrap_or_else(|| self.start());
         let mut next = Now {
             t,
             axes: prev.axes,
-            tool: s.tool.unwrap_or(prev.tool),
+            tool: c.tool.unwrap_or(prev.tool),
             spindle: s.spindle.unwrap_or(prev.spindle),
-            motion: s.motion.unwrap_or(prev.motion),
-            line: s.line.unwrap_or(prev.line),
+            motion: c.motion.unwrap_or(prev.motion),
+            line: c.line.unwrap_or(prev.line),
             c_axis: s.c_axis.unwrap_or(prev.c_axis),
-            live_rpm: s.live_rpm.unwrap_or(prev.live_rpm),
+            live_rpm: c.live_rpm.unwrap_or(prev.live_rpm),
             tailstock: s.tailstock.unwrap_or(prev.tailstock),
             sub_chuck: s.sub_chuck.unwrap_or(prev.sub_chuck),
         };
-        for (k, v) in s.axes.iter().enumerate() {
+        for (k, v) in c.axes.iter().enumerate() {
             if let Some(v) = v {
                 next.axes[k] = *v;
             }
@@ -203,13 +395,13 @@ impl<'m> Follower<'m> {
         let Some(prev) = self.now.replace(next) else {
             // The first sample: where the machine stands, nothing moved yet.
             self.moved_at = t;
-            return Ok(Step::default());
+            return 0;
         };
-        let mut step = Step::default();
+        let mut moves = 0;
         let moved = next.axes != prev.axes;
         if next.tool != prev.tool {
             // The index ended at this sample and took the turret's index time, within the
-            // interval since the machine last moved.
+            // interval since the carrier last moved.
             let probe = Move {
                 kind: MoveKind::ToolChange {
                     from: prev.tool,
@@ -222,6 +414,9 @@ impl<'m> Follower<'m> {
                 .duration;
             let end = if moved { 0.5 * (prev.t + t) } else { t };
             let t0 = (end - index).max(self.moved_at).min(end);
+            if t0 > prev.t {
+                self.stand(&prev, &next, prev.t, t0);
+            }
             let at = Now {
                 tool: next.tool,
                 ..prev
@@ -231,8 +426,8 @@ impl<'m> Follower<'m> {
                 ..self.motion(&at, &at, &next)
             };
             let e = self.extra(&at, &at, &next);
-            self.stream.feed_timed(&m, &self.state(&next), e.as_ref(), t0, end - t0);
-            step.moves += 1;
+            self.feed(m, e, &next, t0, end - t0);
+            moves += 1;
             if moved {
                 let from = Now {
                     tool: next.tool,
@@ -240,34 +435,89 @@ impl<'m> Follower<'m> {
                 };
                 let m = self.motion(&from, &next, &next);
                 let e = self.extra(&from, &next, &next);
-                self.stream.feed_timed(&m, &self.state(&next), e.as_ref(), end, t - end);
-                step.moves += 1;
+                self.feed(m, e, &next, end, t - end);
+                moves += 1;
+            } else if end < t {
+                self.stand(&next, &next, end, t);
             }
         } else if moved {
             let m = self.motion(&prev, &next, &next);
             let e = self.extra(&prev, &next, &next);
-            self.stream
-                .feed_timed(&m, &self.state(&next), e.as_ref(), prev.t, t - prev.t);
-            step.moves += 1;
+            self.feed(m, e, &next, prev.t, t - prev.t);
+            moves += 1;
+        } else {
+            self.stand(&prev, &next, prev.t, t);
         }
-        if step.moves > 0 {
+        if moves > 0 {
             self.moved_at = t;
-            self.moves += u64::from(step.moves);
         }
-        Ok(step)
+        moves
     }
 
-    /// The findings that are final so far ([`Stream::take_final`]): write them now.
-    pub fn findings(&mut self) -> Vec<Finding> {
-        self.stream.take_final()
+    /// Check move `m` from `t0` for `duration` s, and keep it for the carriers' check.
+    fn feed(&mut self, m: Move, e: Option<ExtraMove>, next: &Now, t0: f64, duration: f64) {
+        self.stream.feed_timed(&m, &self.state(next), e.as_ref(), t0, duration);
+        self.window.push(Timed { m, e, t0, duration });
     }
 
-    /// The end of the stream: the findings still open, and the statistics of the check.
-    pub fn finish(mut self) -> (Vec<Finding>, crate::pipeline::Stats) {
-        let mut out = self.stream.take_rest();
-        let result = self.stream.finish();
-        out.extend(result.findings);
-        (out, result.stats)
+    /// The carrier stood where `a` has it from `t0` to `t1`: nothing to check on its lathe, but
+    /// the carriers' check needs where it stood.
+    fn stand(&mut self, a: &Now, s: &Now, t0: f64, t1: f64) {
+        let m = Move {
+            kind: MoveKind::Line,
+            ..self.motion(a, a, s)
+        };
+        let e = self.extra(a, a, s);
+        self.window.push(Timed {
+            m,
+            e,
+            t0,
+            duration: t1 - t0,
+        });
+    }
+
+    /// The interval's moves as a run of their own, timed in the machine's clock.
+    fn window_run(&mut self, from: f64, to: f64) -> (Interpretation, crate::motion::Timeline) {
+        let mut run = Interpretation::default();
+        let mut items = Vec::with_capacity(self.window.len());
+        if let Some(n) = self.now {
+            run.states.push(self.state(&n));
+        }
+        if self.window.is_empty() {
+            // The first sample: standing where it is.
+            if let Some(n) = self.now {
+                self.stand(&n, &n, from, to);
+            }
+        }
+        for (index, w) in self.window.drain(..).enumerate() {
+            let path = match w.m.kind {
+                MoveKind::Rapid | MoveKind::Line => crate::motion::Path::Line {
+                    from: w.m.ref_start(),
+                    to: w.m.ref_end(),
+                },
+                _ => crate::motion::Path::Still(w.m.ref_start()),
+            };
+            items.push(crate::motion::Timed {
+                index,
+                t0: w.t0,
+                duration: w.duration.max(0.0),
+                path,
+            });
+            if let Some(mut e) = w.e {
+                e.index = index as u32;
+                run.extra.push(e);
+            }
+            run.moves.push(Move { state: 0, ..w.m });
+        }
+        let total = items.last().map_or(0.0, |it: &crate::motion::Timed| it.t1());
+        (
+            run,
+            crate::motion::Timeline {
+                items,
+                total,
+                feed_without_speed: Vec::new(),
+            },
+        )
     }
 
     /// The machine before its first sample: at home, the start station, every extra axis at its

@@ -33,28 +33,55 @@ pub enum SpindleDir {
     Ccw,
 }
 
+/// Most paths a sample may name: a key's path is one digit, as a `$` line's (docs/paths.md).
+pub const MAX_PATHS: usize = 9;
+
+/// One path's tool carrier in a sample: path 1's keys are `X`, `tool`, …; path `p`'s the same
+/// with `p` after them (`X2`, `tool2`), docs/follow.md.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Carrier {
+    /// Values of the [`AXES`], in that order.
+    pub axes: [Option<f64>; 6],
+    /// The turret station facing the spindle.
+    pub tool: Option<u32>,
+    pub motion: Option<Motion>,
+    /// The program line the control reports (LinuxCNC `motion.program-line`).
+    pub line: Option<u32>,
+    /// The live tool's speed, rev/min (0: stopped).
+    pub live_rpm: Option<f64>,
+}
+
 /// One sample as read: every field but the time may be absent, and then keeps its value from
 /// the sample before (docs/follow.md).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Sample {
     /// Seconds; `None` only when the reader was given a period ([`Reader::with_period`]).
     pub t: Option<f64>,
-    /// Values of the [`AXES`], in that order.
-    pub axes: [Option<f64>; 6],
-    /// The turret station facing the spindle.
-    pub tool: Option<u32>,
+    /// Each path's carrier, path 1 first, as far as the highest path the sample names.
+    pub carriers: Vec<Carrier>,
     pub spindle: Option<SpindleDir>,
-    pub motion: Option<Motion>,
-    /// The program line the control reports (LinuxCNC `motion.program-line`).
-    pub line: Option<u32>,
     /// The main spindle is a positioned C axis.
     pub c_axis: Option<bool>,
-    /// The live tool's speed, rev/min (0: stopped).
-    pub live_rpm: Option<f64>,
     /// The tailstock is advanced.
     pub tailstock: Option<bool>,
     /// The sub-spindle's chuck is clamped.
     pub sub_chuck: Option<bool>,
+}
+
+impl Sample {
+    /// Path `path`'s carrier (from 1), if the sample names any key of it.
+    pub fn carrier(&self, path: usize) -> Option<&Carrier> {
+        self.carriers.get(path.wrapping_sub(1))
+    }
+
+    /// Path `path`'s carrier, made when the sample had none of its keys yet.
+    pub fn carrier_mut(&mut self, path: usize) -> &mut Carrier {
+        let i = path.clamp(1, MAX_PATHS) - 1;
+        if self.carriers.len() <= i {
+            self.carriers.resize(i + 1, Carrier::default());
+        }
+        &mut self.carriers[i]
+    }
 }
 
 /// A line that is no sample, with where.
@@ -89,56 +116,109 @@ pub enum Format {
     Auto,
 }
 
-/// Which field a key or column names.
+/// Which field a key or column names; a carrier's fields with their path (from 1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Field {
     T,
-    Axis(usize),
-    Tool,
+    Axis(usize, usize),
+    Tool(usize),
     Spindle,
-    Motion,
-    Line,
+    Motion(usize),
+    Line(usize),
     CAxis,
-    LiveRpm,
+    LiveRpm(usize),
     Tailstock,
     SubChuck,
     /// A column the sample does not read (CSV: `-` or a name starting with `_`).
     Skip,
 }
 
-const KEYS: &str = "t, X, Z, Y, C, B, A, tool, spindle, motion, line, c_axis, live_rpm, tailstock, sub_chuck";
+const KEYS: &str = "t, X, Z, Y, C, B, A, tool, spindle, motion, line, c_axis, live_rpm, tailstock, sub_chuck (a carrier's keys with its path after them for path 2 on: X2, tool2)";
 
-fn field(name: &str, has: &[bool; 6]) -> Result<Field, String> {
-    Ok(match name {
-        "t" => Field::T,
-        "tool" => Field::Tool,
-        "spindle" => Field::Spindle,
-        "motion" => Field::Motion,
-        "line" => Field::Line,
-        "c_axis" => Field::CAxis,
-        "live_rpm" => Field::LiveRpm,
-        "tailstock" => Field::Tailstock,
-        "sub_chuck" => Field::SubChuck,
-        "-" => Field::Skip,
-        n if n.starts_with('_') => Field::Skip,
-        n => {
-            let mut c = n.chars();
-            match (c.next(), c.next()) {
-                (Some(a), None) if a.is_ascii_alphabetic() => match AXES.iter().position(|&x| x == a) {
-                    Some(k) if has[k] => Field::Axis(k),
-                    Some(_) => return Err(format!("the machine has no {n} axis")),
-                    None if AXES.contains(&a.to_ascii_uppercase()) => {
-                        return Err(format!(
-                            "unknown axis `{n}`: axes are upper case ({})",
-                            a.to_ascii_uppercase()
-                        ))
-                    }
-                    None => return Err(format!("unknown axis `{n}`: the axes are X, Z, Y, C, B and A")),
-                },
-                _ => return Err(format!("unknown key `{}`: the keys are {KEYS}", shorten(n))),
-            }
+/// What a sample may name on one machine: per path (path 1 first), the [`AXES`] its carrier
+/// has and its turret's stations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layout {
+    pub paths: Vec<([bool; 6], u32)>,
+}
+
+impl Default for Layout {
+    /// Any axis, any station, every path.
+    fn default() -> Layout {
+        Layout {
+            paths: vec![([true; 6], u32::MAX); MAX_PATHS],
         }
-    })
+    }
+}
+
+impl Layout {
+    fn stations(&self, path: usize) -> u32 {
+        self.paths.get(path - 1).map_or(0, |p| p.1)
+    }
+}
+
+/// A key a carrier's path may follow: `tool`, `motion`, `line`, `live_rpm` and the axes.
+fn is_carrier_key(base: &str) -> bool {
+    matches!(base, "tool" | "motion" | "line" | "live_rpm")
+        || (base.len() == 1 && base.chars().all(|c| AXES.contains(&c)))
+}
+
+fn field(name: &str, layout: &Layout) -> Result<Field, String> {
+    match name {
+        "t" => return Ok(Field::T),
+        "spindle" => return Ok(Field::Spindle),
+        "c_axis" => return Ok(Field::CAxis),
+        "tailstock" => return Ok(Field::Tailstock),
+        "sub_chuck" => return Ok(Field::SubChuck),
+        "-" => return Ok(Field::Skip),
+        n if n.starts_with('_') => return Ok(Field::Skip),
+        _ => {}
+    }
+    // A carrier's key, with its path's digit after it (none: path 1).
+    let (base, path) = match name.as_bytes().last() {
+        Some(d @ b'1'..=b'9') if is_carrier_key(&name[..name.len() - 1]) => {
+            (&name[..name.len() - 1], usize::from(d - b'0'))
+        }
+        _ => (name, 1),
+    };
+    let carrier = |f: Field| -> Result<Field, String> {
+        if path > layout.paths.len() {
+            let n = layout.paths.len();
+            return Err(format!(
+                "`{name}` is path {path}'s, but the machine has {n} path{}",
+                if n == 1 { "" } else { "s" }
+            ));
+        }
+        Ok(f)
+    };
+    match base {
+        "tool" => return carrier(Field::Tool(path)),
+        "motion" => return carrier(Field::Motion(path)),
+        "line" => return carrier(Field::Line(path)),
+        "live_rpm" => return carrier(Field::LiveRpm(path)),
+        _ => {}
+    }
+    let mut c = base.chars();
+    match (c.next(), c.next()) {
+        (Some(a), None) if a.is_ascii_alphabetic() => match AXES.iter().position(|&x| x == a) {
+            Some(k) => {
+                let f = carrier(Field::Axis(path, k))?;
+                if layout.paths[path - 1].0[k] {
+                    Ok(f)
+                } else if path == 1 {
+                    Err(format!("the machine has no {name} axis"))
+                } else {
+                    Err(format!("path {path}'s carrier has no {a} axis (`{name}`)"))
+                }
+            }
+            None if AXES.contains(&a.to_ascii_uppercase()) => Err(format!(
+                "unknown axis `{name}`: axes are upper case ({})",
+                a.to_ascii_uppercase()
+            )),
+            None => Err(format!("unknown axis `{name}`: the axes are X, Z, Y, C, B and A")),
+        },
+        _ => Err(format!("unknown key `{}`: the keys are {KEYS}", shorten(name))),
+    }
 }
 
 fn shorten(s: &str) -> String {
@@ -195,7 +275,7 @@ impl Value<'_> {
 /// Largest axis value accepted, mm or degrees ([`crate::interp::MAX_COORD`]).
 const MAX_VALUE: f64 = crate::interp::MAX_COORD;
 
-fn set(s: &mut Sample, f: Field, v: &Value<'_>, stations: u32) -> Result<(), String> {
+fn set(s: &mut Sample, f: Field, v: &Value<'_>, layout: &Layout) -> Result<(), String> {
     let bad = |what: &str| format!("`{}` is not {what}", v.show());
     match f {
         Field::T => {
@@ -205,19 +285,20 @@ fn set(s: &mut Sample, f: Field, v: &Value<'_>, stations: u32) -> Result<(), Str
             }
             s.t = Some(t);
         }
-        Field::Axis(k) => {
+        Field::Axis(p, k) => {
             let x = v.number().ok_or_else(|| bad("a number"))?;
             if x.abs() > MAX_VALUE {
                 return Err(format!("{} {x} is out of range (±1e12)", AXES[k]));
             }
-            s.axes[k] = Some(x);
+            s.carrier_mut(p).axes[k] = Some(x);
         }
-        Field::Tool => {
+        Field::Tool(p) => {
             let x = v.number().ok_or_else(|| bad("a station number"))?;
+            let stations = layout.stations(p);
             if x.fract() != 0.0 || !(1.0..=f64::from(stations)).contains(&x) {
                 return Err(format!("tool `{}`: the turret has stations 1 to {stations}", v.show()));
             }
-            s.tool = Some(x as u32);
+            s.carrier_mut(p).tool = Some(x as u32);
         }
         Field::Spindle => {
             s.spindle = Some(match v.word() {
@@ -232,8 +313,9 @@ fn set(s: &mut Sample, f: Field, v: &Value<'_>, stations: u32) -> Result<(), Str
                 },
             })
         }
-        Field::Motion => {
-            s.motion = match v.word() {
+        Field::Motion(p) => {
+            let last = s.carrier(p).and_then(|c| c.motion);
+            s.carrier_mut(p).motion = match v.word() {
                 Some("rapid" | "G0" | "g0") => Some(Motion::Rapid),
                 Some("feed" | "G1" | "g1") => Some(Motion::Feed),
                 // LinuxCNC's motion.motion-type: 1 traverse; 2 feed, 3 arc, 5 probing; 0 (no
@@ -241,23 +323,23 @@ fn set(s: &mut Sample, f: Field, v: &Value<'_>, stations: u32) -> Result<(), Str
                 _ => match v.number().filter(|x| x.fract() == 0.0).map(|x| x as i64) {
                     Some(1) => Some(Motion::Rapid),
                     Some(2 | 3 | 5) => Some(Motion::Feed),
-                    Some(0 | 4 | 6) => s.motion,
+                    Some(0 | 4 | 6) => last,
                     _ => return Err(bad("a motion (rapid, feed, or LinuxCNC's motion-type 0 to 6)")),
                 },
             }
         }
-        Field::Line => {
+        Field::Line(p) => {
             let x = v.number().ok_or_else(|| bad("a line number"))?;
             if x.fract() != 0.0 || !(0.0..=4e9).contains(&x) {
                 return Err(bad("a line number"));
             }
             // LinuxCNC reports 0 (or -1) before the program runs: no line.
-            s.line = (x >= 1.0).then_some(x as u32);
+            s.carrier_mut(p).line = (x >= 1.0).then_some(x as u32);
         }
         Field::CAxis => s.c_axis = Some(v.boolean().ok_or_else(|| bad("true or false"))?),
-        Field::LiveRpm => {
+        Field::LiveRpm(p) => {
             let x = v.number().ok_or_else(|| bad("a speed in rev/min"))?;
-            s.live_rpm = Some(x.abs().min(1e9));
+            s.carrier_mut(p).live_rpm = Some(x.abs().min(1e9));
         }
         Field::Tailstock => s.tailstock = Some(v.boolean().ok_or_else(|| bad("in or out (true or false)"))?),
         Field::SubChuck => s.sub_chuck = Some(v.boolean().ok_or_else(|| bad("closed or open (true or false)"))?),
@@ -273,10 +355,8 @@ pub struct Reader {
     /// CSV: the header's fields, and whether columns are separated by commas.
     columns: Option<(Vec<Field>, bool)>,
     period: Option<f64>,
-    /// The axes of [`AXES`] the machine has.
-    has: [bool; 6],
-    /// The turret's stations.
-    stations: u32,
+    /// What the machine's samples may name.
+    layout: Layout,
 }
 
 impl Reader {
@@ -285,16 +365,14 @@ impl Reader {
             format,
             columns: None,
             period: None,
-            has: [true; 6],
-            stations: u32::MAX,
+            layout: Layout::default(),
         }
     }
 
-    /// Samples of a machine with only the axes `has` ([`AXES`] order) and `stations` turret
-    /// stations: another axis or station is an error at its column.
-    pub fn for_machine(mut self, has: [bool; 6], stations: u32) -> Reader {
-        self.has = has;
-        self.stations = stations;
+    /// Samples of a machine with the paths, axes and stations of `layout`: another path, axis
+    /// or station is an error at its column.
+    pub fn for_machine(mut self, layout: Layout) -> Reader {
+        self.layout = layout;
         self
     }
 
@@ -334,13 +412,13 @@ impl Reader {
             };
         }
         let sample = match self.format {
-            Format::Json => json_sample(text, &self.has, self.stations).map_err(|(c, m)| err(c, m))?,
+            Format::Json => json_sample(text, &self.layout).map_err(|(c, m)| err(c, m))?,
             _ => match &self.columns {
                 None => {
-                    self.columns = Some(header(text, &self.has).map_err(|(c, m)| err(c, m))?);
+                    self.columns = Some(header(text, &self.layout).map_err(|(c, m)| err(c, m))?);
                     return Ok(None);
                 }
-                Some((cols, comma)) => csv_sample(text, cols, *comma, self.stations).map_err(|(c, m)| err(c, m))?,
+                Some((cols, comma)) => csv_sample(text, cols, *comma, &self.layout).map_err(|(c, m)| err(c, m))?,
             },
         };
         if sample.t.is_none() && self.period.is_none() {
@@ -360,7 +438,7 @@ fn column(text: &str, at: usize) -> usize {
     text.get(..at).map_or(0, |s| s.chars().count()) + 1
 }
 
-fn json_sample(text: &str, has: &[bool; 6], stations: u32) -> Result<Sample, (usize, String)> {
+fn json_sample(text: &str, layout: &Layout) -> Result<Sample, (usize, String)> {
     let value: serde_json::Value = serde_json::from_str(text).map_err(|e| {
         let msg = e.to_string();
         // serde_json's message ends with " at line L column C": the column is ours.
@@ -374,11 +452,11 @@ fn json_sample(text: &str, has: &[bool; 6], stations: u32) -> Result<Sample, (us
     for (k, v) in &map {
         // The key's place on the line, for the column (its first appearance as a JSON string).
         let at = text.find(&format!("\"{k}\"")).map_or(0, |b| column(text, b));
-        let f = field(k, has).map_err(|m| (at, m))?;
+        let f = field(k, layout).map_err(|m| (at, m))?;
         if v.is_null() {
             continue;
         }
-        set(&mut s, f, &Value::Json(v), stations).map_err(|m| (at, format!("{k}: {m}")))?;
+        set(&mut s, f, &Value::Json(v), layout).map_err(|m| (at, format!("{k}: {m}")))?;
     }
     Ok(s)
 }
@@ -413,12 +491,12 @@ fn split(text: &str, comma: bool) -> Vec<(usize, &str)> {
     out
 }
 
-fn header(text: &str, has: &[bool; 6]) -> Result<(Vec<Field>, bool), (usize, String)> {
+fn header(text: &str, layout: &Layout) -> Result<(Vec<Field>, bool), (usize, String)> {
     let comma = text.contains(',');
     let mut fields = Vec::new();
     for (at, name) in split(text, comma) {
         let lead = name.len() - name.trim_start().len();
-        let f = field(name.trim(), has).map_err(|m| (column(text, at + lead), format!("in the CSV header: {m}")))?;
+        let f = field(name.trim(), layout).map_err(|m| (column(text, at + lead), format!("in the CSV header: {m}")))?;
         if f != Field::Skip && fields.contains(&f) {
             return Err((column(text, at + lead), format!("`{}` is named twice", name.trim())));
         }
@@ -430,7 +508,7 @@ fn header(text: &str, has: &[bool; 6]) -> Result<(Vec<Field>, bool), (usize, Str
     Ok((fields, comma))
 }
 
-fn csv_sample(text: &str, cols: &[Field], comma: bool, stations: u32) -> Result<Sample, (usize, String)> {
+fn csv_sample(text: &str, cols: &[Field], comma: bool, layout: &Layout) -> Result<Sample, (usize, String)> {
     let cells = split(text, comma);
     if cells.len() != cols.len() {
         return Err((
@@ -444,7 +522,7 @@ fn csv_sample(text: &str, cols: &[Field], comma: bool, stations: u32) -> Result<
             continue;
         }
         let lead = cell.len() - cell.trim_start().len();
-        set(&mut s, f, &Value::Text(cell), stations).map_err(|m| (column(text, at + lead), m))?;
+        set(&mut s, f, &Value::Text(cell), layout).map_err(|m| (column(text, at + lead), m))?;
     }
     Ok(s)
 }

@@ -220,146 +220,207 @@ fn posed(parts: &[Part], r: P2, opposite: bool) -> Vec<(usize, Polygon)> {
 /// `collision` finding at each path's line. `stop`: nothing past this machine time (a
 /// deadlock). Returns the findings and the probes spent.
 pub fn check(carriages: &[Carriage], tolerance: f64, stop: Option<f64>) -> (Vec<Finding>, u64) {
-    let mut findings = Vec::new();
-    let mut probes = 0u64;
-    let starts: Vec<Vec<f64>> = carriages
-        .iter()
-        .map(|c| (0..c.timeline.items.len()).map(|k| c.span_of(k).0).collect())
-        .collect();
     let end = carriages
         .iter()
         .map(|c| (0..c.timeline.items.len()).map(|k| c.span_of(k).1).fold(0.0, f64::max))
         .fold(0.0, f64::max)
         .min(stop.unwrap_or(f64::INFINITY));
-    let tol = tolerance.max(1e-4);
-    let scenes: Vec<Scene> = carriages.iter().map(|c| Scene::new(c.machine, tolerance)).collect();
-    let mut cache: Vec<HashMap<Option<u32>, Vec<Part>>> = carriages.iter().map(|_| HashMap::new()).collect();
-    for a in 0..carriages.len() {
-        for b in a + 1..carriages.len() {
-            let (ca, cb) = (&carriages[a], &carriages[b]);
-            let mut t = 0.0f64;
-            let mut in_contact = false;
-            loop {
-                probes += 1;
-                if probes > MAX_PROBES {
-                    findings.push(Finding::at(
-                        Kind::Unsupported,
-                        Severity::Warning,
-                        1,
-                        0,
-                        format!(
-                            "the check of the {} against the {} stopped after {MAX_PROBES} probes at {t:.3} s: the rest is unchecked",
-                            ca.name, cb.name
-                        ),
-                    ));
-                    return (findings, probes);
-                }
-                let pa = ca.pose(t, &starts[a]);
-                let pb = cb.pose(t, &starts[b]);
-                for (k, c, p) in [(a, ca, &pa), (b, cb, &pb)] {
-                    if !cache[k].contains_key(&p.station) {
-                        let parts = c.parts(&scenes[k], p.station);
-                        cache[k].insert(p.station, parts);
+    let machines: Vec<&Machine> = carriages.iter().map(|c| c.machine).collect();
+    let mut search = Search::new(&machines, tolerance, true);
+    search.run(carriages, 0.0, end, MAX_PROBES);
+    search.finish()
+}
+
+/// The search of [`check`], resumable: [`Search::run`] follows every pair of carriers over one
+/// span of machine time and keeps the contacts still open for the next span, so a stream of
+/// short spans (`latheguard follow`, each sample interval one span) finds what one run over
+/// their union finds.
+pub struct Search {
+    /// Each carriage's parts as its own check poses them.
+    scenes: Vec<Scene>,
+    /// Each carriage's parts by active station (`None`: indexing).
+    cache: Vec<HashMap<Option<u32>, Vec<Part>>>,
+    /// Per pair of carriages `(a, b)`, `a < b`, in contact: its two findings' indices.
+    open: HashMap<(usize, usize), [usize; 2]>,
+    findings: Vec<Finding>,
+    probes: u64,
+    tol: f64,
+    snapshots: bool,
+}
+
+impl Search {
+    /// A search of the carriers of `machines` (each path's lathe, in the order of the carriages
+    /// of every [`Search::run`]); `snapshots`: a picture for each contact.
+    pub fn new(machines: &[&Machine], tolerance: f64, snapshots: bool) -> Search {
+        Search {
+            scenes: machines.iter().map(|m| Scene::new(m, tolerance)).collect(),
+            cache: machines.iter().map(|_| HashMap::new()).collect(),
+            open: HashMap::new(),
+            findings: Vec::new(),
+            probes: 0,
+            tol: tolerance.max(1e-4),
+            snapshots,
+        }
+    }
+
+    /// Follow every pair of carriers from machine time `from` to `end`, spending at most
+    /// `budget` probes (past them an `unsupported` warning says the rest of the span is
+    /// unchecked, and the run ends).
+    pub fn run(&mut self, carriages: &[Carriage], from: f64, end: f64, budget: u64) {
+        let starts: Vec<Vec<f64>> = carriages
+            .iter()
+            .map(|c| (0..c.timeline.items.len()).map(|k| c.span_of(k).0).collect())
+            .collect();
+        let tol = self.tol;
+        let mut spent = 0u64;
+        for a in 0..carriages.len() {
+            for b in a + 1..carriages.len() {
+                let (ca, cb) = (&carriages[a], &carriages[b]);
+                let mut t = from;
+                loop {
+                    spent += 1;
+                    self.probes += 1;
+                    if spent > budget {
+                        self.findings.push(Finding::at(
+                            Kind::Unsupported,
+                            Severity::Warning,
+                            1,
+                            0,
+                            format!(
+                                "the check of the {} against the {} stopped after {budget} probes at {t:.3} s: the rest is unchecked",
+                                ca.name, cb.name
+                            ),
+                        ));
+                        return;
                     }
-                }
-                let (parts_a, parts_b) = (&cache[a][&pa.station], &cache[b][&pb.station]);
-                let qa = posed(parts_a, pa.r, ca.opposite);
-                let qb = posed(parts_b, pb.r, cb.opposite);
-                let mut gap = f64::INFINITY;
-                let mut hit: Option<(usize, usize, f64)> = None;
-                for (i, x) in &qa {
-                    for (j, y) in &qb {
-                        // Boxes apart by more than the gap so far cannot lower it.
-                        if box_gap(x, y) > gap {
-                            continue;
+                    let pa = ca.pose(t, &starts[a]);
+                    let pb = cb.pose(t, &starts[b]);
+                    for (k, c, p) in [(a, ca, &pa), (b, cb, &pb)] {
+                        if !self.cache[k].contains_key(&p.station) {
+                            let parts = c.parts(&self.scenes[k], p.station);
+                            self.cache[k].insert(p.station, parts);
                         }
-                        let d = query::distance(x, y);
-                        if d <= 0.0 {
-                            let depth = query::penetration_depth(x, y);
-                            if depth > TOUCH_EPS && hit.map_or(true, |h| depth > h.2) {
-                                hit = Some((*i, *j, depth));
+                    }
+                    let (parts_a, parts_b) = (&self.cache[a][&pa.station], &self.cache[b][&pb.station]);
+                    let qa = posed(parts_a, pa.r, ca.opposite);
+                    let qb = posed(parts_b, pb.r, cb.opposite);
+                    let mut gap = f64::INFINITY;
+                    let mut hit: Option<(usize, usize, f64)> = None;
+                    for (i, x) in &qa {
+                        for (j, y) in &qb {
+                            // Boxes apart by more than the gap so far cannot lower it.
+                            if box_gap(x, y) > gap {
+                                continue;
+                            }
+                            let d = query::distance(x, y);
+                            if d <= 0.0 {
+                                let depth = query::penetration_depth(x, y);
+                                if depth > TOUCH_EPS && hit.map_or(true, |h| depth > h.2) {
+                                    hit = Some((*i, *j, depth));
+                                }
+                            }
+                            gap = gap.min(d);
+                        }
+                    }
+                    match (hit, self.open.get(&(a, b))) {
+                        (Some((i, j, depth)), None) => {
+                            let (la, lb) = (&parts_a[i].label, &parts_b[j].label);
+                            let side_a = Side {
+                                scene: &self.scenes[a],
+                                parts: parts_a,
+                                posed: &qa,
+                                hit: i,
+                                starts: &starts[a],
+                            };
+                            let side_b = Side {
+                                scene: &self.scenes[b],
+                                parts: parts_b,
+                                posed: &qb,
+                                hit: j,
+                                starts: &starts[b],
+                            };
+                            let sides = [
+                                (ca, cb, pa, pb, la, lb, &side_a, &side_b),
+                                (cb, ca, pb, pa, lb, la, &side_b, &side_a),
+                            ];
+                            let first = self.findings.len();
+                            for (me, other, pm, po, lm, lo, sm, so) in sides {
+                                let mut f = Finding::at(
+                                    Kind::Collision,
+                                    Severity::Error,
+                                    pm.line,
+                                    0,
+                                    format!(
+                                        "the {lm} on the {} hits the {lo} on the {} (path {} at line {})",
+                                        me.name, other.name, other.path, po.line
+                                    ),
+                                )
+                                .with_n(pm.n);
+                                f.objects =
+                                    vec![format!("path{}:{}", me.path, lm), format!("path{}:{}", other.path, lo)];
+                                f.time_s = Some(t);
+                                f.end_time_s = Some(t);
+                                f.depth_mm = Some(depth);
+                                f.x = pm.prog.map(|p| p.0);
+                                f.z = pm.prog.map(|p| p.1);
+                                if self.snapshots {
+                                    f.snapshot = Some(Box::new(picture(t, (me, &pm, sm), (other, so))));
+                                }
+                                self.findings.push(f);
+                            }
+                            self.open.insert((a, b), [first, first + 1]);
+                        }
+                        (Some((_, _, depth)), Some(&at)) => {
+                            // The same contact goes on: its two findings keep the deepest overlap
+                            // and the last instant and line.
+                            for (k, p) in at.into_iter().zip([pa, pb]) {
+                                let f = &mut self.findings[k];
+                                f.depth_mm = Some(f.depth_mm.unwrap_or(0.0).max(depth));
+                                f.end_time_s = Some(t);
+                                f.end_line = f.end_line.max(p.line);
                             }
                         }
-                        gap = gap.min(d);
-                    }
-                }
-                match hit {
-                    Some((i, j, depth)) if !in_contact => {
-                        in_contact = true;
-                        let (la, lb) = (&parts_a[i].label, &parts_b[j].label);
-                        let side_a = Side {
-                            scene: &scenes[a],
-                            parts: parts_a,
-                            posed: &qa,
-                            hit: i,
-                            starts: &starts[a],
-                        };
-                        let side_b = Side {
-                            scene: &scenes[b],
-                            parts: parts_b,
-                            posed: &qb,
-                            hit: j,
-                            starts: &starts[b],
-                        };
-                        let sides = [
-                            (ca, cb, pa, pb, la, lb, &side_a, &side_b),
-                            (cb, ca, pb, pa, lb, la, &side_b, &side_a),
-                        ];
-                        for (me, other, pm, po, lm, lo, sm, so) in sides {
-                            let mut f = Finding::at(
-                                Kind::Collision,
-                                Severity::Error,
-                                pm.line,
-                                0,
-                                format!(
-                                    "the {lm} on the {} hits the {lo} on the {} (path {} at line {})",
-                                    me.name, other.name, other.path, po.line
-                                ),
-                            )
-                            .with_n(pm.n);
-                            f.objects = vec![format!("path{}:{}", me.path, lm), format!("path{}:{}", other.path, lo)];
-                            f.time_s = Some(t);
-                            f.end_time_s = Some(t);
-                            f.depth_mm = Some(depth);
-                            f.x = pm.prog.map(|p| p.0);
-                            f.z = pm.prog.map(|p| p.1);
-                            f.snapshot = Some(Box::new(picture(t, (me, &pm, sm), (other, so))));
-                            findings.push(f);
+                        (None, _) => {
+                            self.open.remove(&(a, b));
                         }
                     }
-                    Some((_, _, depth)) => {
-                        // The same contact goes on: its two findings keep the deepest overlap
-                        // and the last instant and line.
-                        let k = findings.len();
-                        for (f, p) in findings[k - 2..].iter_mut().zip([pa, pb]) {
-                            f.depth_mm = Some(f.depth_mm.unwrap_or(0.0).max(depth));
-                            f.end_time_s = Some(t);
-                            f.end_line = f.end_line.max(p.line);
-                        }
+                    if t >= end {
+                        break;
                     }
-                    None => in_contact = false,
+                    let speed = pa.speed + pb.speed;
+                    let until = pa.until.min(pb.until).min(end);
+                    let step = if speed > 0.0 {
+                        gap.max(tol) / speed
+                    } else {
+                        f64::INFINITY
+                    };
+                    let next = (t + step).min(until);
+                    // Always go forward: past an instant that equals `t` (two moves starting
+                    // together).
+                    t = if next > t {
+                        next
+                    } else {
+                        next_after(t, &starts[a], &starts[b], end)
+                    };
                 }
-                if t >= end {
-                    break;
-                }
-                let speed = pa.speed + pb.speed;
-                let until = pa.until.min(pb.until).min(end);
-                let step = if speed > 0.0 {
-                    gap.max(tol) / speed
-                } else {
-                    f64::INFINITY
-                };
-                let next = (t + step).min(until);
-                // Always go forward: past an instant that equals `t` (two moves starting together).
-                t = if next > t {
-                    next
-                } else {
-                    next_after(t, &starts[a], &starts[b], end)
-                };
             }
         }
     }
-    (findings, probes)
+
+    /// The findings whose contact has ended, when no contact is open (none can still grow):
+    /// for a stream with no end. Taken here, they are not in [`Search::finish`]'s.
+    pub fn take_final(&mut self) -> Vec<Finding> {
+        if self.open.is_empty() {
+            std::mem::take(&mut self.findings)
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// Every finding not taken yet, and the probes spent.
+    pub fn finish(self) -> (Vec<Finding>, u64) {
+        (self.findings, self.probes)
+    }
 }
 
 /// One carrier at a contact: its scene, its parts, the parts posed, and the one that hit.

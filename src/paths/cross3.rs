@@ -370,54 +370,40 @@ struct Open {
 /// of every path of the pair when the contact began.
 type CrashKey = (u32, Vec<u32>);
 
-/// The carriers' contacts over the machine's time (see the module docs). `kin` is the whole
-/// machine's tree; `stop`: nothing past this machine time (a deadlock). Returns the findings and
-/// the probes spent.
-/// The whole machine as this check poses it: the tree with the drums' index joints, each
-/// path's axes over the machine's time, the pairs between carriers. Public for the tests' oracle
-/// (`tests/paths.rs` samples it densely where [`check`] advances).
-pub struct Carriers<'a> {
+/// What of the whole machine this check poses that does not change with the program: the tree
+/// with the drums' index joints, which parts each path's axes carry, the pairs between carriers
+/// and their shapes, and each path's axes and stations in the tree. Built once per machine (a
+/// stream of samples checks many short spans against the same rig).
+pub struct Rig {
     k: Kinematics,
     masks: Vec<u32>,
-    tracks: Vec<Track<'a>>,
     start: Vec<f64>,
     pairs: Vec<(CompId, CompId)>,
     shapes: Vec<Option<Shape3>>,
+    /// Per path (in the order given): its number, its axes in the tree, its stations.
+    lanes: Vec<(u32, motion::TreeAxes, Stations)>,
 }
 
-impl<'a> Carriers<'a> {
-    /// `kin` is the whole machine's tree, `lanes` its paths as timed.
-    pub fn new(kin: &Kinematics, lanes: &'a [Lane3<'a>], tolerance: f64) -> Carriers<'a> {
+impl Rig {
+    /// `kin` is the whole machine's tree, `paths` each path's number and lathe
+    /// ([`Machine::for_path`]).
+    pub fn new(kin: &Kinematics, paths: &[(u32, &Machine)], tolerance: f64) -> Rig {
         let masks = kin.path_masks();
         let mut k = kin.clone();
-        let tracks: Vec<Track> = lanes
+        let lanes = paths
             .iter()
-            .map(|l| {
-                let letter = |c: char| kin.axes.iter().position(|a| a.path == l.path && a.letter == c);
-                let mut ax_extra = [None; 4];
+            .map(|&(path, machine)| {
+                let letter = |c: char| kin.axes.iter().position(|a| a.path == path && a.letter == c);
+                let mut extra = [None; 4];
                 for (i, c) in EXTRA_LETTERS.iter().enumerate() {
-                    ax_extra[i] = letter(*c);
+                    extra[i] = letter(*c);
                 }
-                let spans: Vec<(f64, f64)> = l
-                    .timeline
-                    .items
-                    .iter()
-                    .map(|it| {
-                        let g = l.schedule.global(it.index, it.t0);
-                        (g, g + it.duration)
-                    })
-                    .collect();
-                Track {
-                    lane: l,
-                    axes: motion::TreeAxes {
-                        x: letter('X'),
-                        z: letter('Z'),
-                        extra: ax_extra,
-                    },
-                    stations: stations_of(&mut k, &masks, l.path, l.machine),
-                    starts: spans.iter().map(|s| s.0).collect(),
-                    spans,
-                }
+                let axes = motion::TreeAxes {
+                    x: letter('X'),
+                    z: letter('Z'),
+                    extra,
+                };
+                (path, axes, stations_of(&mut k, &masks, path, machine))
             })
             .collect();
         let shapes: Vec<Option<Shape3>> = k
@@ -430,29 +416,78 @@ impl<'a> Carriers<'a> {
             .into_iter()
             .filter(|&(a, b)| shapes[a].is_some() && shapes[b].is_some())
             .collect();
-        Carriers {
+        Rig {
             start: k.start_values(),
             k,
             masks,
-            tracks,
             pairs,
             shapes,
+            lanes,
         }
+    }
+}
+
+/// The whole machine as this check poses it over a program's time: the [`Rig`] and each path's
+/// moves in the machine's clock. Public for the tests' oracle (`tests/paths.rs` samples it
+/// densely where [`check`] advances).
+pub struct Carriers<'a> {
+    rig: Rig,
+    tracks: Vec<Track<'a>>,
+}
+
+impl<'a> Carriers<'a> {
+    /// `kin` is the whole machine's tree, `lanes` its paths as timed.
+    pub fn new(kin: &Kinematics, lanes: &'a [Lane3<'a>], tolerance: f64) -> Carriers<'a> {
+        let paths: Vec<(u32, &Machine)> = lanes.iter().map(|l| (l.path, l.machine)).collect();
+        Carriers::with_rig(Rig::new(kin, &paths, tolerance), lanes)
+    }
+
+    /// `lanes` (the rig's paths, in its order) posed on `rig`.
+    pub fn with_rig(rig: Rig, lanes: &'a [Lane3<'a>]) -> Carriers<'a> {
+        let tracks = lanes
+            .iter()
+            .zip(&rig.lanes)
+            .map(|(l, (path, axes, stations))| {
+                debug_assert_eq!(l.path, *path);
+                let spans: Vec<(f64, f64)> = l
+                    .timeline
+                    .items
+                    .iter()
+                    .map(|it| {
+                        let g = l.schedule.global(it.index, it.t0);
+                        (g, g + it.duration)
+                    })
+                    .collect();
+                Track {
+                    lane: l,
+                    axes: *axes,
+                    stations: stations.clone(),
+                    starts: spans.iter().map(|s| s.0).collect(),
+                    spans,
+                }
+            })
+            .collect();
+        Carriers { rig, tracks }
+    }
+
+    /// The rig back, for the next span's lanes.
+    pub fn into_rig(self) -> Rig {
+        self.rig
     }
 
     /// The tree with the drums' index joints (the machine file's components, same indices).
     pub fn tree(&self) -> &Kinematics {
-        &self.k
+        &self.rig.k
     }
 
     /// The never-touch pairs between parts two paths' axes carry.
     pub fn pairs(&self) -> &[(CompId, CompId)] {
-        &self.pairs
+        &self.rig.pairs
     }
 
     /// A component's collision shape.
     pub fn shape(&self, c: CompId) -> Option<&Shape3> {
-        self.shapes.get(c).and_then(Option::as_ref)
+        self.rig.shapes.get(c).and_then(Option::as_ref)
     }
 
     /// The last instant any path moves.
@@ -466,7 +501,7 @@ impl<'a> Carriers<'a> {
     /// Every axis value of [`Carriers::tree`] at machine time `t`.
     pub fn values_at(&self, t: f64, out: &mut Vec<f64>) {
         out.clear();
-        out.extend_from_slice(&self.start);
+        out.extend_from_slice(&self.rig.start);
         for tr in &self.tracks {
             tr.values(tr.at(t), out);
         }
@@ -475,7 +510,7 @@ impl<'a> Carriers<'a> {
     /// Whether component `c` is in the working space at `t` (a head's tool only while it is the
     /// active one).
     pub fn present(&self, c: CompId, t: f64) -> bool {
-        let Some(s) = self.k.components[c].station else {
+        let Some(s) = self.rig.k.components[c].station else {
             return true;
         };
         let Some(p) = self.owner(c) else { return true };
@@ -488,7 +523,7 @@ impl<'a> Carriers<'a> {
     /// The machine posed at `t` for a finding's picture: every part in the working space, the
     /// pair `(a, b)` marked, the parts away from their start poses drawn as moving.
     pub fn picture(&self, (a, b): (CompId, CompId), t: f64, point: Point3<f64>, tolerance: f64) -> Snapshot3 {
-        let k = &self.k;
+        let k = &self.rig.k;
         let mut vals = Vec::new();
         self.values_at(t, &mut vals);
         let mut poser = Poser::new(k);
@@ -497,7 +532,7 @@ impl<'a> Carriers<'a> {
         // A part moved when its own axis or an ancestor's is away from its start value.
         let mut moved = vec![false; k.components.len()];
         for (i, c) in k.components.iter().enumerate() {
-            let own = c.axis.is_some_and(|x| vals.get(x) != self.start.get(x));
+            let own = c.axis.is_some_and(|x| vals.get(x) != self.rig.start.get(x));
             moved[i] = own || c.parent.is_some_and(|p| p < i && moved[p]);
             if !self.present(i, t) {
                 continue;
@@ -536,7 +571,7 @@ impl<'a> Carriers<'a> {
 
     /// The path whose axes carry `c` (the lowest, for a part two carry).
     fn owner(&self, c: CompId) -> Option<u32> {
-        let m = self.masks[c];
+        let m = self.rig.masks[c];
         (m != 0).then(|| m.trailing_zeros())
     }
 }
@@ -551,57 +586,135 @@ pub fn check(
     stop: Option<f64>,
     snapshots: bool,
 ) -> (Vec<Finding>, u64) {
-    let tol = tolerance.max(1e-4);
-    let cx = Carriers::new(kin, lanes, tolerance);
-    let Carriers {
-        k,
-        masks,
-        tracks,
-        start,
-        pairs,
-        shapes,
-    } = &cx;
-    let mut findings = Vec::new();
-    // Per finding: its line and the other paths' lines it names (how a crash is told apart).
-    let mut keys: Vec<Option<CrashKey>> = Vec::new();
-    let mut probes = 0u64;
-    if pairs.is_empty() {
-        return (findings, probes);
-    }
-    let end = cx.end().min(stop.unwrap_or(f64::INFINITY));
-    let mut cuts: Vec<f64> = tracks
+    let paths: Vec<(u32, &Machine)> = lanes.iter().map(|l| (l.path, l.machine)).collect();
+    let mut search = Search::new(kin, &paths, tolerance, snapshots);
+    let end = lanes
         .iter()
-        .flat_map(|t| t.spans.iter().flat_map(|s| [s.0, s.1]))
-        .chain([0.0, end])
-        .filter(|t| t.is_finite() && *t <= end)
-        .collect();
-    cuts.sort_by(f64::total_cmp);
-    cuts.dedup_by(|a, b| (*a - *b).abs() <= 1e-12);
-    let mut open: HashMap<(CompId, CompId), Open> = HashMap::new();
-    let pieces: Vec<(f64, f64)> = if cuts.len() < 2 {
-        vec![(0.0, 0.0)]
-    } else {
-        cuts.windows(2).map(|w| (w[0], w[1])).collect()
-    };
-    for (t0, t1) in pieces {
-        let mid = (t0 + t1) / 2.0;
-        let piece = Piece { tracks, start, t0, t1 };
-        for &(a, b) in pairs {
-            // A tool in the magazine of a head is not in the working space.
-            if !cx.present(a, mid) || !cx.present(b, mid) {
-                open.remove(&(a, b));
-                continue;
-            }
-            let (sa, sb) = (shapes[a].as_ref().unwrap(), shapes[b].as_ref().unwrap());
-            let (adv, _, spent) = collide3::first_contact_from(k, (a, sa), (b, sb), &piece, 2.0 * tol, tol, 0.0);
-            probes += spent;
-            match adv {
-                Advance::Clear => {
+        .flat_map(|l| {
+            l.timeline
+                .items
+                .iter()
+                .map(|it| l.schedule.global(it.index, it.t0) + it.duration)
+        })
+        .fold(0.0, f64::max)
+        .min(stop.unwrap_or(f64::INFINITY));
+    search.run(lanes, 0.0, end, MAX_PROBES);
+    search.finish()
+}
+
+/// The search of [`check`], resumable: [`Search::run`] follows every pair over one span of
+/// machine time and keeps the contacts still open for the next, so a stream of short spans
+/// (`latheguard follow`: each sample interval one span, its moves the lanes) finds what one run
+/// over their union finds.
+pub struct Search {
+    /// `None` only while a run holds it.
+    rig: Option<Rig>,
+    open: HashMap<(CompId, CompId), Open>,
+    /// Per finding: its line and the other paths' lines it names (how a crash is told apart).
+    keys: Vec<Option<CrashKey>>,
+    findings: Vec<Finding>,
+    probes: u64,
+    tolerance: f64,
+    snapshots: bool,
+}
+
+impl Search {
+    /// A search of the carriers of `paths` (each path's number and lathe, in the order the
+    /// lanes of every run come in) on the whole machine's tree `kin`.
+    pub fn new(kin: &Kinematics, paths: &[(u32, &Machine)], tolerance: f64, snapshots: bool) -> Search {
+        Search {
+            rig: Some(Rig::new(kin, paths, tolerance)),
+            open: HashMap::new(),
+            keys: Vec::new(),
+            findings: Vec::new(),
+            probes: 0,
+            tolerance,
+            snapshots,
+        }
+    }
+
+    /// Follow every pair from machine time `from` to `end`, spending at most `budget` probes
+    /// (past them an `unsupported` warning says the rest is unchecked, and the run ends).
+    pub fn run(&mut self, lanes: &[Lane3], from: f64, end: f64, budget: u64) {
+        let Some(rig) = self.rig.take() else { return };
+        let cx = Carriers::with_rig(rig, lanes);
+        self.pieces(&cx, from, end, budget);
+        self.rig = Some(cx.into_rig());
+    }
+
+    /// The findings taken so far, when no contact is open (none can still grow or be joined):
+    /// for a stream with no end. Taken here, they are not in [`Search::finish`]'s.
+    pub fn take_final(&mut self) -> Vec<Finding> {
+        if self.open.is_empty() {
+            self.keys.clear();
+            std::mem::take(&mut self.findings)
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// Every finding not taken yet, and the probes spent.
+    pub fn finish(self) -> (Vec<Finding>, u64) {
+        (self.findings, self.probes)
+    }
+
+    fn pieces(&mut self, cx: &Carriers, from: f64, end: f64, budget: u64) {
+        let tol = self.tolerance.max(1e-4);
+        let tolerance = self.tolerance;
+        let snapshots = self.snapshots;
+        let Rig {
+            k,
+            masks,
+            start,
+            pairs,
+            shapes,
+            ..
+        } = &cx.rig;
+        let tracks = &cx.tracks;
+        let Search {
+            open,
+            keys,
+            findings,
+            probes,
+            ..
+        } = self;
+        let mut spent = 0u64;
+        if pairs.is_empty() {
+            return;
+        }
+        let mut cuts: Vec<f64> = tracks
+            .iter()
+            .flat_map(|t| t.spans.iter().flat_map(|s| [s.0, s.1]))
+            .chain([from, end])
+            .filter(|t| t.is_finite() && *t >= from && *t <= end)
+            .collect();
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup_by(|a, b| (*a - *b).abs() <= 1e-12);
+        let pieces: Vec<(f64, f64)> = if cuts.len() < 2 {
+            vec![(from, from)]
+        } else {
+            cuts.windows(2).map(|w| (w[0], w[1])).collect()
+        };
+        for (t0, t1) in pieces {
+            let mid = (t0 + t1) / 2.0;
+            let piece = Piece { tracks, start, t0, t1 };
+            for &(a, b) in pairs {
+                // A tool in the magazine of a head is not in the working space.
+                if !cx.present(a, mid) || !cx.present(b, mid) {
                     open.remove(&(a, b));
+                    continue;
                 }
-                Advance::Unchecked { u } => {
-                    keys.push(None);
-                    findings.push(Finding::at(
+                let (sa, sb) = (shapes[a].as_ref().unwrap(), shapes[b].as_ref().unwrap());
+                let (adv, _, used) = collide3::first_contact_from(k, (a, sa), (b, sb), &piece, 2.0 * tol, tol, 0.0);
+                *probes += used;
+                spent += used;
+                match adv {
+                    Advance::Clear => {
+                        open.remove(&(a, b));
+                    }
+                    Advance::Unchecked { u } => {
+                        keys.push(None);
+                        findings.push(Finding::at(
                         Kind::Unsupported,
                         Severity::Warning,
                         1,
@@ -612,107 +725,108 @@ pub fn check(
                             t0 + u * (t1 - t0)
                         ),
                     ));
-                }
-                Advance::Contact { u, hit } => {
-                    // The deepest of a few instants from first contact to the piece's end, and
-                    // whether it lasts into the next piece.
-                    let mut depth = hit.depth;
-                    let mut lasts = false;
-                    let t = t0 + u * (t1 - t0);
-                    // The last instant seen in contact.
-                    let mut last_in = t;
-                    let mut poser = Poser::new(k);
-                    let mut vals = Vec::new();
-                    for i in 1..=DEPTH_SAMPLES {
-                        let v = u + (1.0 - u) * i as f64 / DEPTH_SAMPLES as f64;
-                        piece.at(v, &mut vals);
-                        poser.pose(k, &vals);
-                        let h = collide3::overlap(sa, poser.world(a), sb, poser.world(b), 2.0 * tol);
-                        probes += 1;
-                        if let Some(h) = &h {
-                            depth = depth.max(h.depth);
-                            last_in = t0 + v * (t1 - t0);
-                        }
-                        if i == DEPTH_SAMPLES {
-                            lasts = h.is_some();
-                        }
                     }
-                    if u <= 1e-9 && open.contains_key(&(a, b)) {
-                        // The same contact goes on from the piece before.
-                        for &(f, path) in &open[&(a, b)].findings {
-                            let fd: &mut Finding = &mut findings[f];
-                            fd.depth_mm = Some(fd.depth_mm.unwrap_or(0.0).max(depth));
-                            fd.end_time_s = Some(fd.end_time_s.unwrap_or(last_in).max(last_in));
-                            if let Some(tr) = tracks.iter().find(|tr| tr.lane.path == path) {
-                                fd.end_line = fd.end_line.max(tr.line(tr.at(mid)).0);
+                    Advance::Contact { u, hit } => {
+                        // The deepest of a few instants from first contact to the piece's end, and
+                        // whether it lasts into the next piece.
+                        let mut depth = hit.depth;
+                        let mut lasts = false;
+                        let t = t0 + u * (t1 - t0);
+                        // The last instant seen in contact.
+                        let mut last_in = t;
+                        let mut poser = Poser::new(k);
+                        let mut vals = Vec::new();
+                        for i in 1..=DEPTH_SAMPLES {
+                            let v = u + (1.0 - u) * i as f64 / DEPTH_SAMPLES as f64;
+                            piece.at(v, &mut vals);
+                            poser.pose(k, &vals);
+                            let h = collide3::overlap(sa, poser.world(a), sb, poser.world(b), 2.0 * tol);
+                            *probes += 1;
+                            spent += 1;
+                            if let Some(h) = &h {
+                                depth = depth.max(h.depth);
+                                last_in = t0 + v * (t1 - t0);
+                            }
+                            if i == DEPTH_SAMPLES {
+                                lasts = h.is_some();
                             }
                         }
-                    } else {
-                        // Another pair of the same two carriers meeting at the same lines (the
-                        // holder after the insert) is the same crash: its findings take the
-                        // deeper depth, not a finding of their own.
-                        let mut made = report(k, tracks, masks, (a, b), t, depth);
-                        let picture = snapshots.then(|| cx.picture((a, b), t, hit.point, tolerance));
-                        for (f, _) in &mut made {
-                            f.end_time_s = Some(last_in);
-                            if let Some(p) = &picture {
-                                let mut p = p.clone();
-                                p.title = f.message.clone();
-                                p.line = f.line;
-                                f.snapshot3 = Some(Box::new(p));
+                        if u <= 1e-9 && open.contains_key(&(a, b)) {
+                            // The same contact goes on from the piece before.
+                            for &(f, path) in &open[&(a, b)].findings {
+                                let fd: &mut Finding = &mut findings[f];
+                                fd.depth_mm = Some(fd.depth_mm.unwrap_or(0.0).max(depth));
+                                fd.end_time_s = Some(fd.end_time_s.unwrap_or(last_in).max(last_in));
+                                if let Some(tr) = tracks.iter().find(|tr| tr.lane.path == path) {
+                                    fd.end_line = fd.end_line.max(tr.line(tr.at(mid)).0);
+                                }
                             }
-                        }
-                        let mut at = Vec::new();
-                        for (f, key) in made {
-                            let path = key.0;
-                            match keys.iter().position(|k| k.as_ref() == Some(&key)) {
-                                Some(i) => {
-                                    let g = &mut findings[i];
-                                    let most = |a: Option<f64>, b: Option<f64>| match (a, b) {
-                                        (Some(a), Some(b)) => Some(a.max(b)),
-                                        (a, b) => a.or(b),
-                                    };
-                                    let (deepest, last) =
-                                        (most(g.depth_mm, f.depth_mm), most(g.end_time_s, f.end_time_s));
-                                    let end_line = g.end_line.max(f.end_line);
-                                    // The contact that came first tells the crash.
-                                    if f.time_s < g.time_s {
-                                        *g = f;
+                        } else {
+                            // Another pair of the same two carriers meeting at the same lines (the
+                            // holder after the insert) is the same crash: its findings take the
+                            // deeper depth, not a finding of their own.
+                            let mut made = report(k, tracks, masks, (a, b), t, depth);
+                            let picture = snapshots.then(|| cx.picture((a, b), t, hit.point, tolerance));
+                            for (f, _) in &mut made {
+                                f.end_time_s = Some(last_in);
+                                if let Some(p) = &picture {
+                                    let mut p = p.clone();
+                                    p.title = f.message.clone();
+                                    p.line = f.line;
+                                    f.snapshot3 = Some(Box::new(p));
+                                }
+                            }
+                            let mut at = Vec::new();
+                            for (f, key) in made {
+                                let path = key.0;
+                                match keys.iter().position(|k| k.as_ref() == Some(&key)) {
+                                    Some(i) => {
+                                        let g = &mut findings[i];
+                                        let most = |a: Option<f64>, b: Option<f64>| match (a, b) {
+                                            (Some(a), Some(b)) => Some(a.max(b)),
+                                            (a, b) => a.or(b),
+                                        };
+                                        let (deepest, last) =
+                                            (most(g.depth_mm, f.depth_mm), most(g.end_time_s, f.end_time_s));
+                                        let end_line = g.end_line.max(f.end_line);
+                                        // The contact that came first tells the crash.
+                                        if f.time_s < g.time_s {
+                                            *g = f;
+                                        }
+                                        g.depth_mm = deepest;
+                                        g.end_time_s = last;
+                                        g.end_line = end_line;
+                                        at.push((i, path));
                                     }
-                                    g.depth_mm = deepest;
-                                    g.end_time_s = last;
-                                    g.end_line = end_line;
-                                    at.push((i, path));
-                                }
-                                None => {
-                                    at.push((findings.len(), path));
-                                    findings.push(f);
-                                    keys.push(Some(key));
+                                    None => {
+                                        at.push((findings.len(), path));
+                                        findings.push(f);
+                                        keys.push(Some(key));
+                                    }
                                 }
                             }
+                            open.insert((a, b), Open { findings: at });
                         }
-                        open.insert((a, b), Open { findings: at });
-                    }
-                    if !lasts {
-                        open.remove(&(a, b));
+                        if !lasts {
+                            open.remove(&(a, b));
+                        }
                     }
                 }
-            }
-            if probes > MAX_PROBES {
-                findings.push(Finding::at(
+                if spent > budget {
+                    findings.push(Finding::at(
                     Kind::Unsupported,
                     Severity::Warning,
                     1,
                     0,
                     format!(
-                        "the 3D check of the carriers against each other stopped after {MAX_PROBES} probes at {t0:.3} s: the rest is unchecked"
+                        "the 3D check of the carriers against each other stopped after {budget} probes at {t0:.3} s: the rest is unchecked"
                     ),
                 ));
-                return (findings, probes);
+                    return;
+                }
             }
         }
     }
-    (findings, probes)
 }
 
 /// The findings of a contact that begins at `t`: one at the line of each path whose axes carry

@@ -146,6 +146,42 @@ fn prepare(src: &[u8], machine: &Machine, settings: &Settings) -> Prepared {
     }
 }
 
+/// One path of a program as `check` times it: its number, its lathe, its run, and its moves
+/// timed in the machine's clock (its own times shifted by its waits).
+pub struct TimedPath {
+    pub path: u32,
+    pub machine: Machine,
+    pub run: crate::interp::Interpretation,
+    pub items: Vec<crate::motion::Timed>,
+}
+
+/// Every path of a program as `check` times it (the replay's samples,
+/// `latheguard moves --format samples`), path 1 first, and the machine time past which nothing
+/// runs (a deadlock).
+pub fn timed(src: &[u8], machine: &Machine, settings: &Settings) -> (Vec<TimedPath>, Option<f64>) {
+    let p = prepare(src, machine, settings);
+    let paths = p
+        .lanes
+        .into_iter()
+        .zip(&p.schedules)
+        .map(|(l, s)| TimedPath {
+            path: l.path,
+            items: l
+                .timeline
+                .items
+                .iter()
+                .map(|it| crate::motion::Timed {
+                    t0: s.global(it.index, it.t0),
+                    ..it.clone()
+                })
+                .collect(),
+            machine: l.machine,
+            run: l.run,
+        })
+        .collect();
+    (paths, p.stop)
+}
+
 /// Run `f` on the carriers of a program on a machine whose kinematic tree several paths drive,
 /// as the 3D check between carriers poses them (`cross3::Carriers`): for the tests' oracle.
 /// `None` on another machine.
