@@ -7,7 +7,10 @@
 //! taken), timed one by one: median, 99th percentile and maximum per sample against the budget of
 //! 1 ms. Baseline in the same run: `check` of the whole program, and the ratio of a stream's
 //! total time per machine second to the check's (shared machines are noisy: compare within one
-//! run). `-- --quick` follows the first 1,000 samples of each stream.
+//! run). Then each two-path example of `programs/twin-turret/` and `programs/mill-turn-head/`
+//! named below, sampled at 1 ms (`replay::samples_of_paths`) and followed whole: every carrier
+//! and the carriers against each other. `-- --quick` follows the first 1,000 samples of each
+//! stream.
 
 use latheguard::follow::{replay, Follower, Format, Latency};
 use latheguard::machine::{self, Machine};
@@ -19,14 +22,36 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn turn_mill() -> Machine {
-    let path = root().join("machines/turn-mill.toml");
+fn load(name: &str) -> Machine {
+    let path = root().join(name);
     let dir = path.parent().unwrap().to_path_buf();
     let text = std::fs::read_to_string(&path).unwrap();
-    machine::from_toml_with(&text, "machines/turn-mill.toml", &move |name: &str| {
+    machine::from_toml_with(&text, name, &move |name: &str| {
         std::fs::read(dir.join(name)).map_err(|e| e.to_string())
     })
     .unwrap()
+}
+
+fn turn_mill() -> Machine {
+    load("machines/turn-mill.toml")
+}
+
+/// Follow `lines` on `m`, each sample timed: the latency summary and the total time, s.
+fn follow(m: &Machine, settings: &Settings, lines: &[String]) -> (latheguard::follow::LatencySummary, f64) {
+    let lathes = latheguard::follow::lathes(m);
+    let mut f = Follower::new(m, &lathes, settings);
+    let mut reader = f.reader(Format::Json);
+    let mut lat = Latency::default();
+    let t = Instant::now();
+    for (k, line) in lines.iter().enumerate() {
+        let t0 = Instant::now();
+        if let Ok(Some(s)) = reader.read(k as u64 + 1, line) {
+            let _ = f.push(k as u64 + 1, &s, None);
+        }
+        let _ = f.findings();
+        lat.add(t0.elapsed().as_nanos() as u64);
+    }
+    (lat.summary(), t.elapsed().as_secs_f64())
 }
 
 fn main() {
@@ -79,6 +104,37 @@ fn main() {
             s.max_us,
             per_ms,
             per_ms / (check_s * 1e6 / (machine_s * 1000.0))
+        );
+    }
+
+    // Two-path machines: every carrier, and the carriers against each other (in the working
+    // plane on the twin-turret lathe, in 3D on the milling head with a lower turret), the whole
+    // program at 1 kHz.
+    for (machine, program) in [
+        ("machines/twin-turret.toml", "programs/twin-turret/centre_drill_handover.nc"),
+        ("machines/mill-turn-head.toml", "programs/mill-turn-head/face_then_centre_drill.nc"),
+    ] {
+        let m = load(machine);
+        let src = std::fs::read(root().join(program)).unwrap();
+        let t = Instant::now();
+        let out = pipeline::check(&src, &m, &settings);
+        let check_s = t.elapsed().as_secs_f64();
+        let machine_s = out.stats.machine_time_s;
+        let (paths, stop) = latheguard::paths::timed(&src, &m, &settings);
+        let mut lines = Vec::new();
+        replay::samples_of_paths(&paths, 0.001, stop, |s| lines.push(replay::to_json(s)));
+        lines.truncate(if quick { 1000 } else { usize::MAX });
+        let (s, total) = follow(&m, &settings, &lines);
+        let per_ms = total * 1e6 / s.samples.max(1) as f64;
+        println!(
+            "follow, {program} (two paths): {} samples at 1 kHz: median {:.1} µs, p99 {:.1} µs, max {:.1} µs per sample (budget 1000 µs); {:.1} µs per machine ms, {:.1}× check's ({:.3} s for {machine_s:.3} s)",
+            s.samples,
+            s.median_us,
+            s.p99_us,
+            s.max_us,
+            per_ms,
+            per_ms / (check_s * 1e6 / (machine_s * 1000.0)),
+            check_s
         );
     }
 }
