@@ -111,8 +111,14 @@ fn main() {
     // plane on the twin-turret lathe, in 3D on the milling head with a lower turret), the whole
     // program at 1 kHz.
     for (machine, program) in [
-        ("machines/twin-turret.toml", "programs/twin-turret/centre_drill_handover.nc"),
-        ("machines/mill-turn-head.toml", "programs/mill-turn-head/face_then_centre_drill.nc"),
+        (
+            "machines/twin-turret.toml",
+            "programs/twin-turret/centre_drill_handover.nc",
+        ),
+        (
+            "machines/mill-turn-head.toml",
+            "programs/mill-turn-head/face_then_centre_drill.nc",
+        ),
     ] {
         let m = load(machine);
         let src = std::fs::read(root().join(program)).unwrap();

@@ -361,3 +361,30 @@ fn keys_of_a_path_or_an_axis_the_machine_lacks_are_sample_errors() {
         ["<stdin>:1:10: error[sample]: `X2` is path 2's, but the machine has 1 path"]
     );
 }
+
+/// A sample that jumps 847 m (found by the fuzzer: one sample took 0.66 s, the carriers' search
+/// stepping through the contact at the tolerance): each sample interval's search of the
+/// carriers against each other stops at its budget with a warning, so a sample's work stays a
+/// move's, and the contact it did find is still written.
+#[test]
+fn a_sample_jumping_far_through_the_other_carrier_stops_at_the_interval_budget() {
+    let input = "{\"t\": 0, \"X\": 0, \"Z\": -100}\n{\"t\": 0.01, \"X\": -847000}\n";
+    let (code, out) = follow(
+        &["-m", "machines/twin-turret.toml", "--format", "json", "--stats"],
+        input,
+    );
+    assert_eq!(code, 1, "{out:?}");
+    let docs = json_lines(&out);
+    assert!(docs.iter().any(|d| d["kind"] == "collision"), "{out:?}");
+    let budget = latheguard::follow::MAX_CROSS_PROBES;
+    assert!(
+        docs.iter().any(|d| d["kind"] == "unsupported"
+            && d["message"]
+                .as_str()
+                .unwrap()
+                .contains(&format!("stopped after {budget} probes"))),
+        "{out:?}"
+    );
+    let tests = docs.last().unwrap()["summary"]["pair_tests"].as_u64().unwrap();
+    assert!(tests <= budget + 1_000, "{tests} pair tests");
+}

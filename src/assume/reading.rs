@@ -70,55 +70,90 @@ pub struct Reading<'s> {
     pub lines: Lines<'s>,
 }
 
-/// A program's source as lines: the source itself and where each line starts (4 bytes a line;
-/// a line is made text, lossy UTF-8, when it is asked for).
+/// A program's source as lines: the source itself and where every [`LINE_MARK`]th line starts
+/// (4 bytes per 64 lines; a line is found from the mark before it and made text, lossy UTF-8,
+/// when it is asked for).
 #[derive(Clone, Debug, Default)]
 pub struct Lines<'s> {
     src: &'s [u8],
-    /// Where each line starts in `src`; a line ends at the next one's `\n` (its `\r` before
-    /// that left out) or at the end of the source.
-    starts: Vec<u32>,
+    /// Where lines `0, LINE_MARK, 2·LINE_MARK, …` start in `src`; a line ends at the next `\n`
+    /// (its `\r` before that left out) or at the end of the source.
+    marks: Vec<u32>,
+    len: usize,
 }
+
+/// Every how many lines [`Lines`] keeps where one starts.
+const LINE_MARK: usize = 64;
 
 impl<'s> Lines<'s> {
     /// The lines of `src` as [`str::lines`] cuts its lossy UTF-8 text. A source past 4 GiB
     /// keeps its first 4 GiB of lines (the programs read are far smaller).
     pub fn of(src: &'s [u8]) -> Lines<'s> {
-        let mut starts = Vec::new();
+        let mut marks = Vec::new();
+        let mut len = 0usize;
         let mut at = 0usize;
         while at < src.len() {
             let Ok(a) = u32::try_from(at) else { break };
-            starts.push(a);
-            at = match src[at..].iter().position(|&b| b == b'\n') {
-                Some(k) => at + k + 1,
-                None => src.len(),
-            };
+            if len % LINE_MARK == 0 {
+                marks.push(a);
+            }
+            len += 1;
+            at = next_line(src, at);
         }
-        Lines { src, starts }
+        Lines { src, marks, len }
     }
 
     /// Line `i` (0-based).
     pub fn get(&self, i: usize) -> Option<Cow<'s, str>> {
-        let a = *self.starts.get(i)? as usize;
-        let end = self.starts.get(i + 1).map_or(self.src.len(), |&n| n as usize);
-        let mut line = &self.src[a..end];
+        if i >= self.len {
+            return None;
+        }
+        let mut at = *self.marks.get(i / LINE_MARK)? as usize;
+        for _ in 0..i % LINE_MARK {
+            at = next_line(self.src, at);
+        }
+        Some(self.text(at))
+    }
+
+    /// The line starting at byte `at`.
+    fn text(&self, at: usize) -> Cow<'s, str> {
+        let mut line = &self.src[at..next_line(self.src, at)];
         // `\n` or `\r\n` ends a line; a `\r` alone stays in it.
         if let Some(l) = line.strip_suffix(b"\n") {
             line = l.strip_suffix(b"\r").unwrap_or(l);
         }
-        Some(String::from_utf8_lossy(line))
+        String::from_utf8_lossy(line)
     }
 
     pub fn len(&self) -> usize {
-        self.starts.len()
+        self.len
     }
 
     pub fn is_empty(&self) -> bool {
-        self.starts.is_empty()
+        self.len == 0
     }
 
+    /// Every line in order (read on from each one's end, not found from a mark).
     pub fn iter(&self) -> impl Iterator<Item = Cow<'s, str>> + '_ {
-        (0..self.len()).filter_map(|i| self.get(i))
+        let mut at = 0usize;
+        (0..self.len).map(move |_| {
+            let line = self.text(at);
+            at = next_line(self.src, at);
+            line
+        })
+    }
+
+    /// Bytes held beside the source.
+    fn held_bytes(&self) -> usize {
+        self.marks.capacity() * std::mem::size_of::<u32>()
+    }
+}
+
+/// Where the line after the one starting at `at` starts (the end of the source after the last).
+fn next_line(src: &[u8], at: usize) -> usize {
+    match src[at..].iter().position(|&b| b == b'\n') {
+        Some(k) => at + k + 1,
+        None => src.len(),
     }
 }
 
@@ -158,7 +193,7 @@ impl<'s> Reading<'s> {
     /// Bytes the reading holds beside the source: its packed segments and its line starts (the
     /// memory a long program's setup reading costs; the source is the caller's).
     pub fn held_bytes(&self) -> usize {
-        self.segs.packed_bytes() + self.lines.starts.capacity() * std::mem::size_of::<u32>()
+        self.segs.packed_bytes() + self.lines.held_bytes()
     }
 
     /// The text of 1-based `line` ("" past the end).

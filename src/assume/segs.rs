@@ -54,12 +54,49 @@ const NEW_MODE: u8 = 3;
 /// The segments, packed.
 #[derive(Clone, Debug, Default)]
 pub struct Segs {
-    bytes: Vec<u8>,
+    bytes: Pages,
     /// Byte offset of every [`CHECKPOINT`]th segment.
     marks: Vec<usize>,
     len: usize,
     /// What the next segment is written against.
     last: Context,
+}
+
+/// Bytes in pages of [`PAGE`]: a store that grows by a page, never by copying what it holds, so
+/// what a long program's reading holds is its bytes and at most one page more (a `Vec` doubling
+/// holds up to twice its bytes, and three times while it copies).
+#[derive(Clone, Debug, Default)]
+struct Pages {
+    pages: Vec<Box<[u8]>>,
+    len: usize,
+}
+
+/// Bytes a page.
+const PAGE: usize = 1 << 18;
+
+impl Pages {
+    fn len(&self) -> usize {
+        self.len
+    }
+
+    fn push(&mut self, b: u8) {
+        let (page, at) = (self.len / PAGE, self.len % PAGE);
+        if page == self.pages.len() {
+            self.pages.push(vec![0u8; PAGE].into_boxed_slice());
+        }
+        self.pages[page][at] = b;
+        self.len += 1;
+    }
+
+    fn extend_from_slice(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.push(b);
+        }
+    }
+
+    fn get(&self, at: usize) -> u8 {
+        self.pages[at / PAGE][at % PAGE]
+    }
 }
 
 /// What a segment is written against: the segment before it and the recent values of each
@@ -295,7 +332,7 @@ fn unzigzag(v: u64) -> i64 {
     (v >> 1) as i64 ^ -((v & 1) as i64)
 }
 
-fn varint(out: &mut Vec<u8>, mut v: u64) {
+fn varint(out: &mut Pages, mut v: u64) {
     while v >= 0x80 {
         out.push(v as u8 | 0x80);
         v >>= 7;
@@ -314,15 +351,16 @@ pub struct Iter<'a> {
 
 impl Iter<'_> {
     fn byte(&mut self) -> u8 {
-        let b = self.segs.bytes[self.at];
+        let b = self.segs.bytes.get(self.at);
         self.at += 1;
         b
     }
 
     fn f64(&mut self) -> f64 {
         let mut b = [0u8; 8];
-        b.copy_from_slice(&self.segs.bytes[self.at..self.at + 8]);
-        self.at += 8;
+        for x in &mut b {
+            *x = self.byte();
+        }
         f64::from_le_bytes(b)
     }
 

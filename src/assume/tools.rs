@@ -120,13 +120,13 @@ fn stations_read(r: &Reading, machine: &Machine) -> StationsRead {
     let scale = r.segs.first().map_or(1.0, |s| s.scale);
     let said = comment::read(r, scale);
     let modes = moves::thread_modes(r, machine.dialect == Dialect::Fanuc);
-    let stations: Vec<u32> = r
-        .segs
-        .iter()
-        .map(|s| s.station)
-        .collect::<std::collections::BTreeSet<u32>>()
-        .into_iter()
-        .collect();
+    // Inserted one by one: a set collected from the iterator would hold every segment's station
+    // first (4 bytes a segment of a long program).
+    let mut set = std::collections::BTreeSet::new();
+    for s in r.segs.iter() {
+        set.insert(s.station);
+    }
+    let stations: Vec<u32> = set.into_iter().collect();
     (said, modes, stations)
 }
 

@@ -287,7 +287,7 @@ impl Search {
                             1,
                             0,
                             format!(
-                                "the check of the {} against the {} stopped after {budget} probes at {t:.3} s: the rest is unchecked",
+                                "the check of the {} against the {} stopped after {budget} probes at {t:.3} s: the rest, to {end:.3} s, is unchecked",
                                 ca.name, cb.name
                             ),
                         ));

@@ -819,7 +819,7 @@ impl Search {
                     1,
                     0,
                     format!(
-                        "the 3D check of the carriers against each other stopped after {budget} probes at {t0:.3} s: the rest is unchecked"
+                        "the 3D check of the carriers against each other stopped after {budget} probes at {t0:.3} s: the rest, to {end:.3} s, is unchecked"
                     ),
                 ));
                     return;
