@@ -45,7 +45,7 @@ pub fn lathes(machine: &Machine) -> Vec<Machine> {
 
 /// Most probes the check of the carriers against each other spends on one sample interval;
 /// past them an `unsupported` warning says the rest of the interval is unchecked.
-pub const MAX_CROSS_PROBES: u64 = 20_000;
+pub const MAX_CROSS_PROBES: u64 = 5_000;
 
 /// The machine's state after a sample, as one path's carrier sees it: every field a sample may
 /// leave out, as the last sample that gave it left it.
