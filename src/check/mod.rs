@@ -529,8 +529,16 @@ impl Checker<'_> {
                 let t = self.scene.tool(station)?;
                 let shape = if holder { &t.holder } else { &t.insert };
                 let angle = self.scene.station_angle(station, active as f64);
-                let lo = self.scene.map_box(shape, t.tip, P2::new(rb.min.x, rb.min.y), angle);
-                let hi = self.scene.map_box(shape, t.tip, P2::new(rb.max.x, rb.max.y), angle);
+                let [lo, hi] = if rb.min.x == rb.max.x {
+                    // A move along z (most of turning): one pass for both ends.
+                    self.scene
+                        .map_boxes(shape, t.tip, rb.min.x, [rb.min.y, rb.max.y], angle)
+                } else {
+                    [
+                        self.scene.map_box(shape, t.tip, P2::new(rb.min.x, rb.min.y), angle),
+                        self.scene.map_box(shape, t.tip, P2::new(rb.max.x, rb.max.y), angle),
+                    ]
+                };
                 Some(lo.union(&hi))
             }
         }

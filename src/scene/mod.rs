@@ -135,18 +135,25 @@ impl Scene {
     /// The box of [`Self::map_to_section`]'s result, without building the polygon: the mapped
     /// vertices and edge points, as the polygon has them.
     pub fn map_box(&self, shape: &Polygon, tip: V2, r_ref: P2, angle: f64) -> Aabb {
+        let [b, _] = self.map_boxes(shape, tip, r_ref.x, [r_ref.y, r_ref.y], angle);
+        b
+    }
+
+    /// [`Self::map_box`] at two reference points with the same `x` and the `z` values `zs`, in
+    /// one pass: the radii are the same at both (each box is what `map_box` gives, bit for bit).
+    pub fn map_boxes(&self, shape: &Polygon, tip: V2, x: f64, zs: [f64; 2], angle: f64) -> [Aabb; 2] {
         let (s, c) = angle.sin_cos();
-        let axis_x = r_ref.x + self.turret_axis;
-        let mut b = Aabb::empty();
+        let axis_x = x + self.turret_axis;
+        let mut b = [Aabb::empty(), Aabb::empty()];
         let pts = shape.points();
         let Some(&last) = pts.last() else {
             return b;
         };
-        // A vertex in 3D across the spindle axis (x3, y3) and its z.
+        // A vertex in 3D across the spindle axis (x3, y3) and its z at each reference point.
         let lift = |q: P2| {
             let p = q + tip;
             let d = p.x - self.turret_axis;
-            (axis_x + d * c, d * s, r_ref.y + p.y)
+            (axis_x + d * c, d * s, [zs[0] + p.y, zs[1] + p.y])
         };
         // Each vertex once; the closest approach to the axis along each edge where it lies
         // strictly inside the edge (at an end it is that end, already in the box). Distance
@@ -156,7 +163,10 @@ impl Scene {
         for &q in pts {
             let cur = lift(q);
             let (xe, ye, ze) = cur;
-            b.add(P2::new((xe * xe + ye * ye).sqrt(), ze));
+            let r = (xe * xe + ye * ye).sqrt();
+            for k in 0..2 {
+                b[k].add(P2::new(r, ze[k]));
+            }
             let (xa, ya, za) = prev;
             let (dx, dy) = (xe - xa, ye - ya);
             let len2 = dx * dx + dy * dy;
@@ -164,7 +174,10 @@ impl Scene {
                 let t = -(xa * dx + ya * dy) / len2;
                 if t > 0.0 && t < 1.0 {
                     let (x, y) = (xa + dx * t, ya + dy * t);
-                    b.add(P2::new((x * x + y * y).sqrt(), za + (ze - za) * t));
+                    let r = (x * x + y * y).sqrt();
+                    for k in 0..2 {
+                        b[k].add(P2::new(r, za[k] + (ze[k] - za[k]) * t));
+                    }
                 }
             }
             prev = cur;
@@ -317,6 +330,35 @@ fn imaginary_tip(sharp: &Polygon, rounded: Polygon) -> Polygon {
 #[cfg(test)]
 mod map_box_tests {
     use super::*;
+
+    #[test]
+    fn the_boxes_at_two_z_in_one_pass_are_the_boxes_of_two_calls_bit_for_bit() {
+        // What `Checker::envelope` takes for a move along z: each box of `map_boxes` is the one
+        // `map_box` gives at its reference point, to the bit (the pruning it feeds is the same).
+        let machine = crate::machine::Machine::builtin();
+        let scene = Scene::new(&machine, 0.01);
+        let mut seed = 11u64;
+        let mut rnd = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let bits = |b: &Aabb| [b.min.x, b.min.y, b.max.x, b.max.y].map(f64::to_bits);
+        for station in 1..=machine.turret.stations {
+            let Some(t) = scene.tool(station) else { continue };
+            for shape in [&t.holder, &t.insert] {
+                for _ in 0..200 {
+                    let x = 400.0 * rnd() - 100.0;
+                    let zs = [400.0 * rnd() - 200.0, 400.0 * rnd() - 200.0];
+                    let angle = std::f64::consts::TAU * (rnd() - 0.5);
+                    let both = scene.map_boxes(shape, t.tip, x, zs, angle);
+                    for k in 0..2 {
+                        let one = scene.map_box(shape, t.tip, P2::new(x, zs[k]), angle);
+                        assert_eq!(bits(&both[k]), bits(&one), "station {station}, z {}", zs[k]);
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn the_box_of_a_tool_turned_out_of_the_plane_is_the_box_every_edge_gives() {

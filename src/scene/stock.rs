@@ -714,7 +714,7 @@ impl DexelStock {
                 if box_bound(mn, mx, z0, z1) >= best {
                     continue;
                 }
-                best = best.min(poly_box_distance(pts, mn, mx, z0, z1, best));
+                best = best.min(poly_box_distance(pts, &bb, mn, mx, z0, z1, best));
             } else {
                 for col in k0..=k1 {
                     let c = self.center(col);
@@ -732,7 +732,7 @@ impl DexelStock {
                     };
                     for &(lo, hi) in material {
                         if box_bound(lo, hi, c, c) < best {
-                            best = best.min(poly_box_distance(pts, lo, hi, c, c, best));
+                            best = best.min(poly_box_distance(pts, &bb, lo, hi, c, c, best));
                         }
                     }
                     if best <= 0.0 {
@@ -1052,14 +1052,22 @@ fn remove_swept(mat: &mut Vec<(f64, f64)>, sw: &Swept, near: &[usize], c: f64) {
     }
 }
 
-/// The distance from a polygon (working plane, `x` signed) to the box `[r0, r1] x [z0, z1]` of
-/// the radial half plane (`0 <= r0 <= r1`, `z0 <= z1`; a radial segment when `z0 == z1`) and its
-/// mirror image `[-r1, -r0]`: 0 when they meet. Exact but for rounding, or `cap` or more when
-/// the distance is at least `cap` (edges that far are not measured); NaN counts as 0.
-fn poly_box_distance(pts: &[P2], r0: f64, r1: f64, z0: f64, z1: f64, cap: f64) -> f64 {
+/// The distance from a polygon (working plane, `x` signed; `bb` its box) to the box
+/// `[r0, r1] x [z0, z1]` of the radial half plane (`0 <= r0 <= r1`, `z0 <= z1`; a radial segment
+/// when `z0 == z1`) and its mirror image `[-r1, -r0]`: 0 when they meet. Exact but for rounding,
+/// or `cap` or more when the distance is at least `cap` (edges that far are not measured; a side
+/// whose box is that far from the polygon's box is not looked at); NaN counts as 0.
+fn poly_box_distance(pts: &[P2], bb: &Aabb, r0: f64, r1: f64, z0: f64, z1: f64, cap: f64) -> f64 {
     let mut best = cap;
+    let dz = (z0 - bb.max.y).max(bb.min.y - z1).max(0.0);
     for (x0, x1) in [(r0, r1), (-r1, -r0)] {
-        best = best.min(poly_rect_distance(pts, x0, x1, z0, z1, best));
+        // The boxes' distance bounds the polygon's (a part on one side of the axis is far from
+        // the mirror image on the other).
+        let dx = (x0 - bb.max.x).max(bb.min.x - x1).max(0.0);
+        if dx.hypot(dz) >= best {
+            continue;
+        }
+        best = best.min(poly_rect_distance(pts, bb, x0, x1, z0, z1, best));
         if best <= 0.0 {
             return 0.0;
         }
@@ -1071,9 +1079,9 @@ fn poly_box_distance(pts: &[P2], r0: f64, r1: f64, z0: f64, z1: f64, cap: f64) -
     }
 }
 
-/// The distance from a polygon to the axis-aligned box `[x0, x1] x [z0, z1]`: 0 when they meet;
-/// `cap` or more when it is at least `cap`.
-fn poly_rect_distance(pts: &[P2], x0: f64, x1: f64, z0: f64, z1: f64, cap: f64) -> f64 {
+/// The distance from a polygon (`bb` its box) to the axis-aligned box `[x0, x1] x [z0, z1]`: 0
+/// when they meet; `cap` or more when it is at least `cap`.
+fn poly_rect_distance(pts: &[P2], bb: &Aabb, x0: f64, x1: f64, z0: f64, z1: f64, cap: f64) -> f64 {
     let n = pts.len();
     let mut best = cap;
     for i in 0..n {
@@ -1090,8 +1098,11 @@ fn poly_rect_distance(pts: &[P2], x0: f64, x1: f64, z0: f64, z1: f64, cap: f64) 
         }
         best = best.min(d);
     }
-    // No edge meets the box: either the box lies inside the polygon or they are apart.
-    if inside(pts, P2::new(x0, z0)) {
+    // No edge meets the box: either the box lies inside the polygon or they are apart. A corner
+    // outside the polygon's box is outside the polygon.
+    let corner = P2::new(x0, z0);
+    let in_box = (bb.min.x..=bb.max.x).contains(&corner.x) && (bb.min.y..=bb.max.y).contains(&corner.y);
+    if in_box && inside(pts, corner) {
         return 0.0;
     }
     best
@@ -1503,6 +1514,48 @@ mod tests {
             }
         }
         first.map(|f| (best, f, last))
+    }
+
+    /// The distance from a polygon to a radial box and its mirror image the plain way: every
+    /// edge against both boxes, then a corner inside the polygon.
+    fn poly_box_distance_plain(pts: &[P2], r0: f64, r1: f64, z0: f64, z1: f64) -> f64 {
+        let mut best = f64::INFINITY;
+        for (x0, x1) in [(r0, r1), (-r1, -r0)] {
+            let n = pts.len();
+            for i in 0..n {
+                best = best.min(segment_rect_distance(pts[i], pts[(i + 1) % n], x0, x1, z0, z1));
+            }
+            if inside(pts, p2(x0, z0)) {
+                best = 0.0;
+            }
+        }
+        best.max(0.0)
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(500))]
+
+        /// The distance that skips a side whose box is at least the bound away, and the corner
+        /// test outside the polygon's box, is the plain distance (or at least the bound when that
+        /// is at least the bound).
+        #[test]
+        fn the_pruned_distance_to_a_radial_box_is_the_plain_one(
+            part in proptest::collection::vec((-60.0f64..60.0, -60.0f64..60.0), 3..10),
+            (r0, dr) in (0.0f64..50.0, 0.0f64..20.0),
+            (z0, dz) in (-60.0f64..60.0, 0.0f64..20.0),
+            cap in 0.1f64..200.0,
+        ) {
+            let hull = crate::tooling::outline::hull(&part.into_iter().map(|(x, z)| p2(x, z)).collect::<Vec<_>>());
+            proptest::prop_assume!(hull.len() >= 3);
+            let bb = Aabb::of_points(&hull);
+            let got = poly_box_distance(&hull, &bb, r0, r0 + dr, z0, z0 + dz, cap);
+            let want = poly_box_distance_plain(&hull, r0, r0 + dr, z0, z0 + dz);
+            if want < cap {
+                proptest::prop_assert!((got - want).abs() <= 1e-9, "{} against {}", got, want);
+            } else {
+                proptest::prop_assert!(got >= cap - 1e-9, "{} against {} (cap {})", got, want, cap);
+            }
+        }
     }
 
     proptest::proptest! {
