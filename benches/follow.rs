@@ -126,9 +126,9 @@ fn main() {
         let out = pipeline::check(&src, &m, &settings);
         let check_s = t.elapsed().as_secs_f64();
         let machine_s = out.stats.machine_time_s;
-        let (paths, stop) = latheguard::paths::timed(&src, &m, &settings);
+        let timed = latheguard::paths::timed(&src, &m, &settings);
         let mut lines = Vec::new();
-        replay::samples_of_paths(&paths, 0.001, stop, |s| lines.push(replay::to_json(s)));
+        replay::samples_of_paths(&timed.paths, 0.001, timed.stop, |s| lines.push(replay::to_json(s)));
         lines.truncate(if quick { 1000 } else { usize::MAX });
         let (s, total) = follow(&m, &settings, &lines);
         let per_ms = total * 1e6 / s.samples.max(1) as f64;

@@ -388,3 +388,49 @@ fn a_sample_jumping_far_through_the_other_carrier_stops_at_the_interval_budget()
     let tests = docs.last().unwrap()["summary"]["pair_tests"].as_u64().unwrap();
     assert!(tests <= budget + 1_000, "{tests} pair tests");
 }
+
+/// The replay of a two-path program whose waits never meet: its samples stop where the machine
+/// stops, and the waits left standing are errors on standard error (exit 1), as a one-path
+/// program's findings are.
+#[test]
+fn the_replay_of_two_paths_that_never_meet_writes_their_waits_as_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("dead.nc");
+    std::fs::write(
+        &p,
+        "%\nO1\n$1\nG21 G18 G99\nT0101\nG0 X60 Z5\nM100\nG0 X50 Z5\nM30\n$2\nG21 G18 G99\nG0 X60 Z5\nM101\nG0 X50 Z5\nM30\n%\n",
+    )
+    .unwrap();
+    let out = bin()
+        .args([
+            "moves",
+            "--format",
+            "samples",
+            "--dt",
+            "100",
+            "-m",
+            "machines/twin-turret.toml",
+        ])
+        .arg(&p)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(":7: error[program]: path 1 waits at M100 for ever"),
+        "{err}"
+    );
+    assert!(
+        err.contains(":13: error[program]: path 2 waits at M101 for ever"),
+        "{err}"
+    );
+    // Every sample names both carriers, and none comes after the machine stopped.
+    let samples = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<serde_json::Value> = samples.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    assert!(lines.len() >= 2, "{samples}");
+    assert!(
+        lines.iter().all(|s| s.get("X").is_some() && s.get("X2").is_some()),
+        "{samples}"
+    );
+    assert!(!samples.contains("\"line\":8"), "{samples}");
+}

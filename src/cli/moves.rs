@@ -20,7 +20,7 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
         .map_err(|why| format!("{}: cannot read: {why}", shown(&a.program)))?;
     if samples && latheguard::paths::is_multi_path(&src, &machine) {
         // Every path at once, in the machine's clock: what `follow` of the whole machine reads.
-        return samples_of_paths(&src, &machine, &resolved.settings, a.dt / 1000.0);
+        return samples_of_paths(&shown(&a.program), &src, &machine, &resolved.settings, a.dt / 1000.0);
     }
     // One path of a multi-path program (docs/paths.md): its lines (the others blanked, so line
     // numbers stay the file's) on its carrier's lathe; a file without `$` lines is all one path's.
@@ -166,17 +166,19 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
 }
 
 /// The samples of every path of a multi-path program (docs/follow.md, "Replay"), each sample
-/// with every carrier's keys; the program's own findings are `check`'s to report.
+/// with every carrier's keys; the program's findings of reading and interpreting on standard
+/// error, as for one path (exit 1 with an error among them).
 fn samples_of_paths(
+    name: &str,
     src: &[u8],
     machine: &latheguard::machine::Machine,
     settings: &pipeline::Settings,
     dt: f64,
 ) -> Result<u8, Trouble> {
-    let (paths, stop) = latheguard::paths::timed(src, machine, settings);
+    let timed = latheguard::paths::timed(src, machine, settings);
     let mut sink = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
     let mut written: std::io::Result<()> = Ok(());
-    latheguard::follow::replay::samples_of_paths(&paths, dt, stop, |s| {
+    latheguard::follow::replay::samples_of_paths(&timed.paths, dt, timed.stop, |s| {
         if written.is_ok() {
             written = writeln!(sink, "{}", latheguard::follow::replay::to_json(s));
         }
@@ -184,10 +186,25 @@ fn samples_of_paths(
     if written.is_ok() {
         written = sink.flush();
     }
+    {
+        let mut err = std::io::stderr().lock();
+        for f in &timed.findings {
+            // Standard error that cannot be written is ignored (nowhere left to say it).
+            let _ = writeln!(
+                err,
+                "{name}:{}: {}[{}]: {}",
+                f.line,
+                f.severity.name(),
+                f.kind,
+                terminal_safe(&f.message)
+            );
+        }
+    }
     match written {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
             Err(format!("cannot write to standard output: {}", super::plain(&e)))
         }
+        _ if timed.findings.iter().any(|f| f.severity == Severity::Error) => Ok(EXIT_FINDINGS),
         _ => Ok(EXIT_CLEAN),
     }
 }

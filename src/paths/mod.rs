@@ -155,11 +155,28 @@ pub struct TimedPath {
     pub items: Vec<crate::motion::Timed>,
 }
 
+/// A program's paths as [`timed`] gives them.
+pub struct Timed {
+    /// Path 1 first.
+    pub paths: Vec<TimedPath>,
+    /// The machine time past which nothing runs (a deadlock).
+    pub stop: Option<f64>,
+    /// The program's findings of reading and interpreting (every path's, a line before the first
+    /// `$` once; waits that never meet; paths the machine lacks), in line order.
+    pub findings: Vec<Finding>,
+}
+
 /// Every path of a program as `check` times it (the replay's samples,
-/// `latheguard moves --format samples`), path 1 first, and the machine time past which nothing
-/// runs (a deadlock).
-pub fn timed(src: &[u8], machine: &Machine, settings: &Settings) -> (Vec<TimedPath>, Option<f64>) {
-    let p = prepare(src, machine, settings);
+/// `latheguard moves --format samples`).
+pub fn timed(src: &[u8], machine: &Machine, settings: &Settings) -> Timed {
+    let mut p = prepare(src, machine, settings);
+    let mut findings = std::mem::take(&mut p.extra);
+    for l in &mut p.lanes {
+        findings.append(&mut l.findings);
+        findings.append(&mut l.run.findings);
+    }
+    crate::finding::sort_findings(&mut findings);
+    findings.dedup_by(|a, b| (a.line, a.col, a.kind, &a.message) == (b.line, b.col, b.kind, &b.message));
     let paths = p
         .lanes
         .into_iter()
@@ -179,7 +196,11 @@ pub fn timed(src: &[u8], machine: &Machine, settings: &Settings) -> (Vec<TimedPa
             run: l.run,
         })
         .collect();
-    (paths, p.stop)
+    Timed {
+        paths,
+        stop: p.stop,
+        findings,
+    }
 }
 
 /// Run `f` on the carriers of a program on a machine whose kinematic tree several paths drive,
