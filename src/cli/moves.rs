@@ -89,21 +89,7 @@ pub fn run(a: MovesArgs) -> Result<u8, Trouble> {
     };
     let findings = pipeline::read_findings(&mut prog, &mut run);
     drop(prog);
-    {
-        let name = shown(&a.program);
-        let mut err = std::io::stderr().lock();
-        for f in &findings {
-            // Standard error that cannot be written is ignored (nowhere left to say it).
-            let _ = writeln!(
-                err,
-                "{name}:{}: {}[{}]: {}",
-                f.line,
-                f.severity.name(),
-                f.kind,
-                terminal_safe(&f.message)
-            );
-        }
-    }
+    say_findings(&shown(&a.program), &findings);
     let out = match a.format {
         MovesFormat::Canon | MovesFormat::Samples => {
             match written {
@@ -186,25 +172,28 @@ fn samples_of_paths(
     if written.is_ok() {
         written = sink.flush();
     }
-    {
-        let mut err = std::io::stderr().lock();
-        for f in &timed.findings {
-            // Standard error that cannot be written is ignored (nowhere left to say it).
-            let _ = writeln!(
-                err,
-                "{name}:{}: {}[{}]: {}",
-                f.line,
-                f.severity.name(),
-                f.kind,
-                terminal_safe(&f.message)
-            );
-        }
-    }
+    say_findings(name, &timed.findings);
     match written {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
             Err(format!("cannot write to standard output: {}", super::plain(&e)))
         }
         _ if timed.findings.iter().any(|f| f.severity == Severity::Error) => Ok(EXIT_FINDINGS),
         _ => Ok(EXIT_CLEAN),
+    }
+}
+
+/// A program's findings of reading and interpreting on standard error, one a line (what cannot
+/// be written there is ignored: nowhere is left to say it).
+fn say_findings(name: &str, findings: &[latheguard::finding::Finding]) {
+    let mut err = std::io::stderr().lock();
+    for f in findings {
+        let _ = writeln!(
+            err,
+            "{name}:{}: {}[{}]: {}",
+            f.line,
+            f.severity.name(),
+            f.kind,
+            terminal_safe(&f.message)
+        );
     }
 }
