@@ -28,10 +28,10 @@ seed() {
         while read -r f; do cp -n "$f" "$dir/$(basename "$(dirname "$f")")-$(basename "$f")" 2>/dev/null || true; done ;;
     follow)
       # Sample streams: the documented fixtures, after the target's two flag bytes (with and
-      # without a period; the built-in lathe and the twin-turret one).
+      # without a period; the built-in lathe, the twin-turret one, the milling head's).
       find ../tests/fixtures/follow ../tests/fixtures/docs -name '*.jsonl' -o -name '*.csv' |
         while read -r f; do
-          for flags in '\x00\x00' '\x01\x00' '\x00\x01'; do
+          for flags in '\x00\x00' '\x01\x00' '\x00\x01' '\x00\x02'; do
             printf "$flags" | cat - "$f" > "$dir/$(basename "$f")-$(printf "$flags" | od -An -tx1 | tr -d ' ')"
           done
         done ;;

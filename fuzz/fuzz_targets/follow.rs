@@ -1,7 +1,7 @@
 //! Live samples: any bytes, read as sample lines (JSON or CSV by the first line, a period when
-//! the first byte is odd) and followed on the built-in lathe or the two-path twin-turret lathe
-//! (by the second byte), never panic the reader or the follower, and every line's work is a
-//! move's.
+//! the first byte is odd) and followed on the built-in lathe, the two-path twin-turret lathe or
+//! the two-path milling head with a lower turret in 3D (by the second byte), never panic the
+//! reader or the follower, and every line's work is a move's.
 #![no_main]
 
 use latheguard::follow::{lathes, Follower, Format};
@@ -13,12 +13,14 @@ use std::sync::OnceLock;
 /// Most lines read of one input: a stream's cost is per line, and this bounds an input's.
 const MAX_LINES: usize = 256;
 
-fn machines() -> &'static [Machine; 2] {
-    static M: OnceLock<[Machine; 2]> = OnceLock::new();
+fn machines() -> &'static [Machine; 3] {
+    static M: OnceLock<[Machine; 3]> = OnceLock::new();
     M.get_or_init(|| {
         let twin = machine::from_toml(include_str!("../../machines/twin-turret.toml"), "twin-turret.toml")
             .expect("the shipped twin-turret machine loads");
-        [Machine::builtin(), twin]
+        let head = machine::from_toml(include_str!("../../machines/mill-turn-head.toml"), "mill-turn-head.toml")
+            .expect("the shipped mill-turn-head machine loads");
+        [Machine::builtin(), twin, head]
     })
 }
 
@@ -27,7 +29,7 @@ fuzz_target!(|data: &[u8]| {
         [a, b, rest @ ..] => ((*a, *b), rest),
         _ => return,
     };
-    let m = &machines()[usize::from(flags.1 & 1)];
+    let m = &machines()[usize::from(flags.1 % 3)];
     let lathes = lathes(m);
     let settings = Settings {
         tolerance_mm: 0.05,
