@@ -434,3 +434,39 @@ fn the_replay_of_two_paths_that_never_meet_writes_their_waits_as_errors() {
     );
     assert!(!samples.contains("\"line\":8"), "{samples}");
 }
+
+/// A turret index is learnt at the sample that shows the new tool, after it has turned: the
+/// check between carriers looks back over it. Path 1 stands at radius 0, Z 220 with T01 and
+/// indexes to T03 (two stations, 1 s), learnt at 1.2 s: its swing (every station at every angle,
+/// x from -60 to 340 and z from 110 to 241 in the working plane) began at 0.2 s, when path 2's
+/// T01 insert stood inside it (radius 40 to 54 across the axis, z 140 to 154) and left by
+/// 0.22 s. No sample interval holds both the swing and path 2 there, so only the look back
+/// finds the crash (without it the stream was clean).
+#[test]
+fn a_turret_index_learnt_late_is_checked_against_where_the_other_carrier_was_while_it_turned() {
+    let input = [
+        r#"{"t": 0, "X": -300, "Z": -380, "tool": 1, "line": 9, "X2": -200, "Z2": -448, "tool2": 1, "line2": 19, "motion": "rapid", "motion2": "rapid"}"#,
+        r#"{"t": 0.2}"#,
+        r#"{"t": 0.4, "X2": 0, "line2": 20}"#,
+        r#"{"t": 1.2, "tool": 3, "line": 10}"#,
+    ]
+    .join("\n");
+    let (code, out) = follow(&["-m", "machines/twin-turret.toml", "--format", "json"], &input);
+    assert_eq!(code, 1, "{out:?}");
+    let docs = json_lines(&out);
+    assert_eq!(docs.len(), 2, "{out:?}");
+    let mut lines: Vec<u64> = docs.iter().map(|d| d["line"].as_u64().unwrap()).collect();
+    lines.sort_unstable();
+    // Path 2 stood at its line 19 when the swing began.
+    assert_eq!(lines, [10, 19], "{out:?}");
+    for d in &docs {
+        assert_eq!(d["kind"], "collision", "{d}");
+        let objects = d["objects"].to_string();
+        assert!(
+            objects.contains("path1:tools indexing") && objects.contains("path2:T01 insert"),
+            "{d}"
+        );
+        let t = d["time_s"].as_f64().unwrap();
+        assert!((t - 0.2).abs() < 1e-3, "{d}");
+    }
+}

@@ -73,6 +73,7 @@ pub struct Step {
 
 /// A move of one carrier in the interval since the sample before, with its machine times: the
 /// carriers' check reads the interval's moves of every carrier.
+#[derive(Clone)]
 struct Timed {
     m: Move,
     e: Option<ExtraMove>,
@@ -93,6 +94,9 @@ struct Lane<'m> {
     /// Its moves since the sample before, the interval covered from its start (standing moves
     /// where it stood).
     window: Vec<Timed>,
+    /// Its moves of the last [`Follower::horizon`] seconds, for the look back over a turret
+    /// index (several paths only).
+    history: std::collections::VecDeque<Timed>,
 }
 
 /// The checker of one machine's live samples: each path's carrier on its lathe, and on a machine
@@ -104,6 +108,16 @@ pub struct Follower<'m> {
     cross: Option<Cross>,
     /// What reports call each lane's carrier, and whether it stands across the spindle axis.
     names: Vec<(String, bool)>,
+    /// The search of the look back over a turret index (its own state: a stretch already
+    /// searched, searched again with the swing).
+    lookback: Option<Cross>,
+    /// How far back a turret index may have begun: the longest index of the machine's turrets.
+    horizon: f64,
+    /// The contacts between carriers found by the look back, to write with the next findings.
+    late: Vec<Finding>,
+    /// The line and parts of each contact between carriers written in the last `horizon`
+    /// seconds, with its time (a look back reports none of them again).
+    reported: std::collections::VecDeque<(f64, u32, Vec<String>)>,
     samples: u64,
     moves: u64,
 }
@@ -146,6 +160,7 @@ impl<'m> Follower<'m> {
                     moved_at: 0.0,
                     has: machine_axes(m),
                     window: Vec::new(),
+                    history: Default::default(),
                 }
             })
             .collect();
@@ -157,7 +172,7 @@ impl<'m> Follower<'m> {
                 None => (format!("path {} carrier", l.path), false),
             })
             .collect();
-        let cross = several.then(|| {
+        let search = || {
             let paths: Vec<(u32, &Machine)> = lanes.iter().map(|l| (l.path, l.machine)).collect();
             match machine.kinematics.as_deref().filter(|k| k.is_multi_path()) {
                 Some(kin) => Cross::Tree(cross3::Search::new(kin, &paths, settings.tolerance_mm, false)),
@@ -166,11 +181,32 @@ impl<'m> Follower<'m> {
                     Cross::Plane(cross::Search::new(&machines, settings.tolerance_mm, false))
                 }
             }
-        });
+        };
+        let (cross, lookback) = if several {
+            (Some(search()), Some(search()))
+        } else {
+            (None, None)
+        };
+        // The longest index: half the stations of a drum, station by station; a gang slide's one
+        // step.
+        let horizon = lathes
+            .iter()
+            .map(|m| {
+                let steps = match m.turret.kind {
+                    crate::machine::TurretKind::Drum => m.turret.stations / 2,
+                    crate::machine::TurretKind::Gang => 1,
+                };
+                f64::from(steps.max(1)) * m.turret.index_time
+            })
+            .fold(0.0, f64::max);
         Follower {
             lanes,
             cross,
             names,
+            lookback,
+            horizon,
+            late: Vec::new(),
+            reported: Default::default(),
             samples: 0,
             moves: 0,
         }
@@ -266,41 +302,88 @@ impl<'m> Follower<'m> {
     }
 
     /// The carriers against each other over the interval `from`..`to`: each carrier's moves of
-    /// the interval as a run of its own in the machine's clock.
+    /// the interval as a run of its own in the machine's clock. A turret index learnt at this
+    /// sample began before `from`: the stretch since it began is searched again first, with the
+    /// swing, against where the other carriers were ([`Self::look_back`]).
     fn cross_check(&mut self, from: f64, to: f64) {
-        let Some(cross) = self.cross.as_mut() else { return };
-        let runs: Vec<(Interpretation, crate::motion::Timeline)> =
-            self.lanes.iter_mut().map(|l| l.window_run(from, to)).collect();
-        let schedule = Schedule::default();
-        let carriages: Vec<cross::Carriage> = self
+        if self.cross.is_none() {
+            return;
+        }
+        for l in &mut self.lanes {
+            l.remember(to, self.horizon);
+        }
+        let start = self
             .lanes
             .iter()
-            .zip(&runs)
-            .zip(&self.names)
-            .map(|((l, (run, timeline)), (name, opposite))| cross::Carriage {
-                path: l.path,
-                name: name.clone(),
-                machine: l.machine,
-                run,
-                timeline,
-                schedule: &schedule,
-                opposite: *opposite,
-            })
-            .collect();
-        match cross {
-            Cross::Plane(s) => s.run(&carriages, from, to, MAX_CROSS_PROBES),
-            Cross::Tree(s) => s.run(&carriages, from, to, MAX_CROSS_PROBES),
+            .filter_map(|l| l.window.first())
+            .map(|w| w.t0)
+            .fold(from, f64::min);
+        if start < from {
+            self.look_back(start, from);
+        }
+        let runs: Vec<(Interpretation, crate::motion::Timeline)> =
+            self.lanes.iter_mut().map(|l| l.window_run(from, to)).collect();
+        let carriages = carriages(&self.lanes, &runs, &self.names);
+        match self.cross.as_mut() {
+            Some(Cross::Plane(s)) => s.run(&carriages, from, to, MAX_CROSS_PROBES),
+            Some(Cross::Tree(s)) => s.run(&carriages, from, to, MAX_CROSS_PROBES),
+            None => {}
+        }
+    }
+
+    /// Search the carriers against each other again from `start` (where a turret index learnt at
+    /// this sample began) to `from`: every carrier as its moves of that stretch had it (the
+    /// indexing one swinging), a contact kept unless the same two parts at the same lines were
+    /// already reported or are being followed.
+    fn look_back(&mut self, start: f64, from: f64) {
+        let runs: Vec<(Interpretation, crate::motion::Timeline)> =
+            self.lanes.iter().map(|l| l.history_run(start, from)).collect();
+        let carriages = carriages(&self.lanes, &runs, &self.names);
+        let found = match self.lookback.as_mut() {
+            Some(Cross::Plane(s)) => {
+                s.run(&carriages, start, from, MAX_CROSS_PROBES);
+                s.take_all()
+            }
+            Some(Cross::Tree(s)) => {
+                s.run(&carriages, start, from, MAX_CROSS_PROBES);
+                s.take_all()
+            }
+            None => Vec::new(),
+        };
+        let held: Vec<(u32, Vec<String>)> = match self.cross.as_ref() {
+            Some(Cross::Plane(s)) => s.held().map(|(l, o)| (l, o.to_vec())).collect(),
+            Some(Cross::Tree(s)) => s.held().map(|(l, o)| (l, o.to_vec())).collect(),
+            None => Vec::new(),
+        };
+        for f in found {
+            let known = held.iter().any(|(l, o)| *l == f.line && *o == f.objects)
+                || self.reported.iter().any(|(_, l, o)| *l == f.line && *o == f.objects);
+            if !known {
+                self.reported.push_back((from, f.line, f.objects.clone()));
+                self.late.push(f);
+            }
         }
     }
 
     /// The findings that are final so far ([`Stream::take_final`]): write them now.
     pub fn findings(&mut self) -> Vec<Finding> {
         let mut out: Vec<Finding> = self.lanes.iter_mut().flat_map(|l| l.stream.take_final()).collect();
-        match &mut self.cross {
-            Some(Cross::Plane(s)) => out.extend(s.take_final()),
-            Some(Cross::Tree(s)) => out.extend(s.take_final()),
-            None => {}
+        let cross = match &mut self.cross {
+            Some(Cross::Plane(s)) => s.take_final(),
+            Some(Cross::Tree(s)) => s.take_final(),
+            None => Vec::new(),
+        };
+        if let Some(now) = self.time() {
+            // What a look back must not report again.
+            for f in &cross {
+                self.reported.push_back((now, f.line, f.objects.clone()));
+            }
+            while self.reported.front().is_some_and(|r| r.0 < now - self.horizon) {
+                self.reported.pop_front();
+            }
         }
+        out.extend(cross);
+        out.append(&mut self.late);
         out
     }
 
@@ -328,6 +411,7 @@ impl<'m> Follower<'m> {
                 }
             }
         }
+        out.extend(self.late);
         let cross = match self.cross {
             Some(Cross::Plane(s)) => Some(s.finish()),
             Some(Cross::Tree(s)) => Some(s.finish()),
@@ -340,6 +424,30 @@ impl<'m> Follower<'m> {
         }
         (out, stats)
     }
+}
+
+/// Each lane with its run (of an interval, or of a look back) as the carriers' check reads it.
+fn carriages<'a>(
+    lanes: &'a [Lane],
+    runs: &'a [(Interpretation, crate::motion::Timeline)],
+    names: &'a [(String, bool)],
+) -> Vec<cross::Carriage<'a>> {
+    static SCHEDULE: std::sync::OnceLock<Schedule> = std::sync::OnceLock::new();
+    let schedule = SCHEDULE.get_or_init(Schedule::default);
+    lanes
+        .iter()
+        .zip(runs)
+        .zip(names)
+        .map(|((l, (run, timeline)), (name, opposite))| cross::Carriage {
+            path: l.path,
+            name: name.clone(),
+            machine: l.machine,
+            run,
+            timeline,
+            schedule,
+            opposite: *opposite,
+        })
+        .collect()
 }
 
 impl<'m> Lane<'m> {
@@ -478,18 +586,45 @@ impl<'m> Lane<'m> {
 
     /// The interval's moves as a run of their own, timed in the machine's clock.
     fn window_run(&mut self, from: f64, to: f64) -> (Interpretation, crate::motion::Timeline) {
-        let mut run = Interpretation::default();
-        let mut items = Vec::with_capacity(self.window.len());
-        if let Some(n) = self.now {
-            run.states.push(self.state(&n));
-        }
         if self.window.is_empty() {
             // The first sample: standing where it is.
             if let Some(n) = self.now {
                 self.stand(&n, &n, from, to);
             }
         }
-        for (index, w) in self.window.drain(..).enumerate() {
+        let items = std::mem::take(&mut self.window);
+        self.run_of(items.iter())
+    }
+
+    /// Keep the interval's moves for a look back: they take the place of the moves kept from
+    /// their first one's start on (a turret index learnt now began before the sample before, and
+    /// the carrier was indexing, not standing, since), and what ended more than `horizon` seconds
+    /// before `now` is let go.
+    fn remember(&mut self, now: f64, horizon: f64) {
+        if let Some(w0) = self.window.first().map(|w| w.t0) {
+            while self.history.back().is_some_and(|h| h.t0 >= w0) {
+                self.history.pop_back();
+            }
+        }
+        self.history.extend(self.window.iter().cloned());
+        while self.history.front().is_some_and(|h| h.t0 + h.duration < now - horizon) {
+            self.history.pop_front();
+        }
+    }
+
+    /// The moves kept that overlap `start`..`end`, as a run of their own.
+    fn history_run(&self, start: f64, end: f64) -> (Interpretation, crate::motion::Timeline) {
+        self.run_of(self.history.iter().filter(|h| h.t0 < end && h.t0 + h.duration > start))
+    }
+
+    /// Timed moves (in order) as a run of their own, timed in the machine's clock.
+    fn run_of<'a>(&self, timed: impl Iterator<Item = &'a Timed>) -> (Interpretation, crate::motion::Timeline) {
+        let mut run = Interpretation::default();
+        let mut items = Vec::new();
+        if let Some(n) = self.now {
+            run.states.push(self.state(&n));
+        }
+        for (index, w) in timed.enumerate() {
             let path = match w.m.kind {
                 MoveKind::Rapid | MoveKind::Line => crate::motion::Path::Line {
                     from: w.m.ref_start(),

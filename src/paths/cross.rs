@@ -417,6 +417,18 @@ impl Search {
         }
     }
 
+    /// Every finding not taken yet, open or not, and no contact open any more: for a search run
+    /// again over another stretch (`follow`'s look back over a turret index).
+    pub fn take_all(&mut self) -> Vec<Finding> {
+        self.open.clear();
+        std::mem::take(&mut self.findings)
+    }
+
+    /// The line and parts of each finding not taken yet.
+    pub fn held(&self) -> impl Iterator<Item = (u32, &[String])> {
+        self.findings.iter().map(|f| (f.line, f.objects.as_slice()))
+    }
+
     /// Every finding not taken yet, and the probes spent.
     pub fn finish(self) -> (Vec<Finding>, u64) {
         (self.findings, self.probes)
