@@ -426,6 +426,43 @@ impl<'m> Follower<'m> {
     }
 }
 
+/// Whether `w` goes on from `h` as one move: straight on at the same speed (the point where they
+/// meet within 1e-9 mm of where one move from `h`'s start to `w`'s end puts it then, every extra
+/// axis too), right after it, with the same kind, station, line and modes. Kept moves that go
+/// on so are kept as one (a replay's samples of one move are one move again): what a look back
+/// searches is then as many pieces as moves, not samples.
+fn continues(h: &Timed, w: &Timed) -> bool {
+    let same = h.m.kind == w.m.kind
+        && matches!(h.m.kind, MoveKind::Line | MoveKind::Rapid)
+        && h.m.station == w.m.station
+        && h.m.line == w.m.line
+        && h.m.tip == w.m.tip
+        && h.m.end == w.m.start
+        // Right after it: its start where `h` ends, but for the rounding of sums of times.
+        && (h.t0 + h.duration - w.t0).abs() <= 1e-9;
+    if !same || h.duration <= 0.0 || w.duration <= 0.0 {
+        return false;
+    }
+    let f = h.duration / (h.duration + w.duration);
+    let on = |a: f64, b: f64, c: f64| (a + (c - a) * f - b).abs() <= 1e-9;
+    let point = on(h.m.start.x, h.m.end.x, w.m.end.x) && on(h.m.start.y, h.m.end.y, w.m.end.y);
+    let extra = match (&h.e, &w.e) {
+        (None, None) => true,
+        (Some(a), Some(b)) => {
+            a.arc.is_none()
+                && b.arc.is_none()
+                && a.c_mode == b.c_mode
+                && a.live_rpm == b.live_rpm
+                && a.plane == b.plane
+                && a.origin == b.origin
+                && a.end == b.start
+                && (0..4).all(|k| on(a.start[k], a.end[k], b.end[k]))
+        }
+        _ => false,
+    };
+    point && extra
+}
+
 /// Each lane with its run (of an interval, or of a look back) as the carriers' check reads it.
 fn carriages<'a>(
     lanes: &'a [Lane],
@@ -606,7 +643,18 @@ impl<'m> Lane<'m> {
                 self.history.pop_back();
             }
         }
-        self.history.extend(self.window.iter().cloned());
+        for w in &self.window {
+            match self.history.back_mut() {
+                Some(h) if continues(h, w) => {
+                    h.m.end = w.m.end;
+                    h.duration = w.t0 + w.duration - h.t0;
+                    if let (Some(he), Some(we)) = (h.e.as_mut(), w.e.as_ref()) {
+                        he.end = we.end;
+                    }
+                }
+                _ => self.history.push_back(w.clone()),
+            }
+        }
         while self.history.front().is_some_and(|h| h.t0 + h.duration < now - horizon) {
             self.history.pop_front();
         }
@@ -834,5 +882,48 @@ impl Latency {
                 self.total_ns as f64 / self.count as f64 / 1000.0
             },
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn timed(from: (f64, f64), to: (f64, f64), t0: f64, duration: f64, line: u32) -> Timed {
+        Timed {
+            m: Move {
+                kind: MoveKind::Line,
+                line,
+                n: None,
+                profile_line: 0,
+                start: P2::new(from.0, from.1),
+                end: P2::new(to.0, to.1),
+                tip: V2::new(-60.0, -12.0),
+                station: 1,
+                feed: Feed::PerMinute(100.0),
+                state: 0,
+            },
+            e: None,
+            t0,
+            duration,
+        }
+    }
+
+    /// The samples of one straight move at one speed are kept as one move (so a look back
+    /// searches moves, not samples); a bend, a change of speed, a gap in time or another line
+    /// keeps them apart.
+    #[test]
+    fn samples_of_one_straight_move_are_kept_as_one() {
+        let a = timed((0.0, 0.0), (1.0, 2.0), 0.0, 0.1, 5);
+        assert!(continues(&a, &timed((1.0, 2.0), (2.0, 4.0), 0.1, 0.1, 5)));
+        assert!(continues(&a, &timed((1.0, 2.0), (1.5, 3.0), 0.1, 0.05, 5)));
+        // A bend, another speed, a gap, another line.
+        assert!(!continues(&a, &timed((1.0, 2.0), (2.0, 4.5), 0.1, 0.1, 5)));
+        assert!(!continues(&a, &timed((1.0, 2.0), (2.0, 4.0), 0.1, 0.2, 5)));
+        assert!(!continues(&a, &timed((1.0, 2.0), (2.0, 4.0), 0.11, 0.1, 5)));
+        assert!(!continues(&a, &timed((1.0, 2.0), (2.0, 4.0), 0.1, 0.1, 6)));
+        // Standing is one move too.
+        let s = timed((1.0, 2.0), (1.0, 2.0), 0.0, 0.1, 5);
+        assert!(continues(&s, &timed((1.0, 2.0), (1.0, 2.0), 0.1, 0.3, 5)));
     }
 }
