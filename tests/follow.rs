@@ -307,6 +307,30 @@ fn two_turret_stream(ahead: bool) -> String {
 
 /// `follow` checks every carrier of a two-path machine, and the carriers against each other:
 /// the lower turret driven into the upper one's insert while the upper stands past the axis is a
+/// A stream's output that is one crash between two carriers: exit 1, a `collision` at each of
+/// `lines`, each naming both `parts`, from `t` (within 1 ms). Returns the two findings.
+fn one_crash_between_carriers(
+    code: i32,
+    out: &[String],
+    lines: [u64; 2],
+    parts: [&str; 2],
+    t: f64,
+) -> Vec<serde_json::Value> {
+    assert_eq!(code, 1, "{out:?}");
+    let docs = json_lines(out);
+    assert_eq!(docs.len(), 2, "{out:?}");
+    let mut at: Vec<u64> = docs.iter().map(|d| d["line"].as_u64().unwrap()).collect();
+    at.sort_unstable();
+    assert_eq!(at, lines, "{out:?}");
+    for d in &docs {
+        assert_eq!(d["kind"], "collision", "{d}");
+        let objects = d["objects"].to_string();
+        assert!(parts.iter().all(|p| objects.contains(p)), "{d}");
+        assert!((d["time_s"].as_f64().unwrap() - t).abs() < 1e-3, "{d}");
+    }
+    docs
+}
+
 /// `collision` at each path's line, from when the tips meet (path 2's tip at radius 1, two
 /// thirds of its move: 0.1667 s); the same move once path 1 has gone back is clean.
 #[test]
@@ -315,21 +339,14 @@ fn a_crash_between_two_carriers_that_exists_only_when_path_2_runs_ahead() {
         &["-m", "machines/twin-turret.toml", "--format", "json"],
         &two_turret_stream(true),
     );
-    assert_eq!(code, 1, "{out:?}");
-    let docs = json_lines(&out);
-    assert_eq!(docs.len(), 2, "{out:?}");
-    let mut lines: Vec<u64> = docs.iter().map(|d| d["line"].as_u64().unwrap()).collect();
-    lines.sort_unstable();
-    assert_eq!(lines, [10, 20], "{out:?}");
+    let docs = one_crash_between_carriers(
+        code,
+        &out,
+        [10, 20],
+        ["path1:T01 insert", "path2:T01 insert"],
+        0.1 + 0.1 * 2.0 / 3.0,
+    );
     for d in &docs {
-        assert_eq!(d["kind"], "collision", "{d}");
-        let objects = d["objects"].to_string();
-        assert!(
-            objects.contains("path1:T01 insert") && objects.contains("path2:T01 insert"),
-            "{d}"
-        );
-        let t = d["time_s"].as_f64().unwrap();
-        assert!((t - 0.1 - 0.1 * 2.0 / 3.0).abs() < 1e-3, "{d}");
         let depth = d["depth_mm"].as_f64().unwrap();
         // The tips pass each other by 2 mm at most.
         assert!(depth > 0.5 && depth <= 2.0 + 1e-6, "{d}");
@@ -452,21 +469,6 @@ fn a_turret_index_learnt_late_is_checked_against_where_the_other_carrier_was_whi
     ]
     .join("\n");
     let (code, out) = follow(&["-m", "machines/twin-turret.toml", "--format", "json"], &input);
-    assert_eq!(code, 1, "{out:?}");
-    let docs = json_lines(&out);
-    assert_eq!(docs.len(), 2, "{out:?}");
-    let mut lines: Vec<u64> = docs.iter().map(|d| d["line"].as_u64().unwrap()).collect();
-    lines.sort_unstable();
     // Path 2 stood at its line 19 when the swing began.
-    assert_eq!(lines, [10, 19], "{out:?}");
-    for d in &docs {
-        assert_eq!(d["kind"], "collision", "{d}");
-        let objects = d["objects"].to_string();
-        assert!(
-            objects.contains("path1:tools indexing") && objects.contains("path2:T01 insert"),
-            "{d}"
-        );
-        let t = d["time_s"].as_f64().unwrap();
-        assert!((t - 0.2).abs() < 1e-3, "{d}");
-    }
+    one_crash_between_carriers(code, &out, [10, 19], ["path1:tools indexing", "path2:T01 insert"], 0.2);
 }
