@@ -122,9 +122,48 @@ pub struct Follower<'m> {
     moves: u64,
 }
 
+/// The search between carriers a machine takes.
 enum Cross {
     Plane(cross::Search),
     Tree(cross3::Search),
+}
+
+impl Cross {
+    fn run(&mut self, carriages: &[cross::Carriage], from: f64, to: f64) {
+        match self {
+            Cross::Plane(s) => s.run(carriages, from, to, MAX_CROSS_PROBES),
+            Cross::Tree(s) => s.run(carriages, from, to, MAX_CROSS_PROBES),
+        }
+    }
+
+    fn take_final(&mut self) -> Vec<Finding> {
+        match self {
+            Cross::Plane(s) => s.take_final(),
+            Cross::Tree(s) => s.take_final(),
+        }
+    }
+
+    fn take_all(&mut self) -> Vec<Finding> {
+        match self {
+            Cross::Plane(s) => s.take_all(),
+            Cross::Tree(s) => s.take_all(),
+        }
+    }
+
+    /// The line and parts of each finding held.
+    fn held(&self) -> Vec<(u32, Vec<String>)> {
+        match self {
+            Cross::Plane(s) => s.held().map(|(l, o)| (l, o.to_vec())).collect(),
+            Cross::Tree(s) => s.held().map(|(l, o)| (l, o.to_vec())).collect(),
+        }
+    }
+
+    fn finish(self) -> (Vec<Finding>, u64) {
+        match self {
+            Cross::Plane(s) => s.finish(),
+            Cross::Tree(s) => s.finish(),
+        }
+    }
 }
 
 impl<'m> Follower<'m> {
@@ -324,10 +363,8 @@ impl<'m> Follower<'m> {
         let runs: Vec<(Interpretation, crate::motion::Timeline)> =
             self.lanes.iter_mut().map(|l| l.window_run(from, to)).collect();
         let carriages = carriages(&self.lanes, &runs, &self.names);
-        match self.cross.as_mut() {
-            Some(Cross::Plane(s)) => s.run(&carriages, from, to, MAX_CROSS_PROBES),
-            Some(Cross::Tree(s)) => s.run(&carriages, from, to, MAX_CROSS_PROBES),
-            None => {}
+        if let Some(c) = self.cross.as_mut() {
+            c.run(&carriages, from, to);
         }
     }
 
@@ -340,21 +377,13 @@ impl<'m> Follower<'m> {
             self.lanes.iter().map(|l| l.history_run(start, from)).collect();
         let carriages = carriages(&self.lanes, &runs, &self.names);
         let found = match self.lookback.as_mut() {
-            Some(Cross::Plane(s)) => {
-                s.run(&carriages, start, from, MAX_CROSS_PROBES);
-                s.take_all()
-            }
-            Some(Cross::Tree(s)) => {
-                s.run(&carriages, start, from, MAX_CROSS_PROBES);
-                s.take_all()
+            Some(c) => {
+                c.run(&carriages, start, from);
+                c.take_all()
             }
             None => Vec::new(),
         };
-        let held: Vec<(u32, Vec<String>)> = match self.cross.as_ref() {
-            Some(Cross::Plane(s)) => s.held().map(|(l, o)| (l, o.to_vec())).collect(),
-            Some(Cross::Tree(s)) => s.held().map(|(l, o)| (l, o.to_vec())).collect(),
-            None => Vec::new(),
-        };
+        let held = self.cross.as_ref().map_or_else(Vec::new, Cross::held);
         for f in found {
             let known = held.iter().any(|(l, o)| *l == f.line && *o == f.objects)
                 || self.reported.iter().any(|(_, l, o)| *l == f.line && *o == f.objects);
@@ -368,11 +397,7 @@ impl<'m> Follower<'m> {
     /// The findings that are final so far ([`Stream::take_final`]): write them now.
     pub fn findings(&mut self) -> Vec<Finding> {
         let mut out: Vec<Finding> = self.lanes.iter_mut().flat_map(|l| l.stream.take_final()).collect();
-        let cross = match &mut self.cross {
-            Some(Cross::Plane(s)) => s.take_final(),
-            Some(Cross::Tree(s)) => s.take_final(),
-            None => Vec::new(),
-        };
+        let cross = self.cross.as_mut().map_or_else(Vec::new, Cross::take_final);
         if let Some(now) = self.time() {
             // What a look back must not report again.
             for f in &cross {
@@ -412,11 +437,7 @@ impl<'m> Follower<'m> {
             }
         }
         out.extend(self.late);
-        let cross = match self.cross {
-            Some(Cross::Plane(s)) => Some(s.finish()),
-            Some(Cross::Tree(s)) => Some(s.finish()),
-            None => None,
-        };
+        let cross = self.cross.map(Cross::finish);
         if let Some((findings, probes)) = cross {
             out.extend(findings);
             stats.pair_tests += probes;
