@@ -9,8 +9,9 @@
 //! Error: the radius is exact (f64); along z the model is exact at the column centres and the
 //! boundary of a cut may sit up to `h/2` off — `h` is the `--tolerance`. The cost of a cut or a
 //! query is proportional to the number of columns the part spans, independent of how many cuts
-//! came before (no growth with program length). Blocks of columns keep their radial extremes so
-//! that parts far from the material are rejected without visiting columns.
+//! came before (no growth with program length). Blocks of columns keep their reach (the radial
+//! extremes of their material and the widest radial gap no column has material in) so that
+//! parts far from the material, or inside a gap of it, are rejected without visiting columns.
 //!
 //! Rotating parts see the material through the radial section: a point `(x, z)` of a part is in
 //! the stock when `(|x|, z)` is, so parts in the working plane are folded about the axis.
@@ -33,13 +34,14 @@ pub struct DexelStock {
     z0: f64,
     h: f64,
     cols: Vec<Column>,
-    /// Per block: largest `hi` and smallest `lo` of its columns' material.
-    blk_max: Vec<f64>,
-    blk_min: Vec<f64>,
+    /// Per block: where its columns' material lies radially (see [`Reach`]).
+    blk: Vec<Reach>,
     /// Total radial length of material, for tests and monotonicity checks.
     removed_columns: usize,
     /// Scratch buffer of edge crossings.
     scratch: Vec<(u32, f64)>,
+    /// Scratch buffer of a block's intervals (its reach).
+    spans: Vec<(f64, f64)>,
     sorted: Vec<(u32, f64)>,
     counts: Vec<u32>,
     /// The material the current move's cut removed, so that parts can meet the stock as it is
@@ -62,10 +64,55 @@ struct Journal {
     col_slot: Vec<u32>,
     saved: Vec<Vec<(f64, f64)>>,
     used: usize,
-    /// Per block: the generation its extremes were saved in, and the extremes before the move.
+    /// Per block: the generation its reach was saved in, and the reach before the move.
     blk_gen: Vec<u32>,
-    pre_min: Vec<f64>,
-    pre_max: Vec<f64>,
+    pre: Vec<Reach>,
+}
+
+/// Where the material of a block's columns lies radially: within `[min, gap.0]` and
+/// `[gap.1, max]`, and nowhere inside the open interval `gap` (the widest radial interval that
+/// no column of the block has material in; `(max, max)` when there is none). A block without
+/// material has `min > max`.
+///
+/// The gap is what a part buried in a ring of material meets: a holder dragged through the bar
+/// above its insert's cut leaves material below and above the insert's path, and the insert's
+/// next pass, or a part inside the gap, is then told apart from the material without visiting
+/// the block's columns.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Reach {
+    min: f64,
+    gap: (f64, f64),
+    max: f64,
+}
+
+impl Reach {
+    const EMPTY: Reach = Reach {
+        min: f64::INFINITY,
+        gap: (f64::NEG_INFINITY, f64::NEG_INFINITY),
+        max: f64::NEG_INFINITY,
+    };
+
+    /// An upper bound of how much a part whose radial range (within the block's slab of `z`)
+    /// is `[rlo, rhi]` overlaps the material of any one column of the block: every column's
+    /// intervals lie in one of the two boxes, every radial span of the part at a column centre
+    /// within `[rlo, rhi]` (≤ 0: no overlap at all).
+    fn overlap_bound(&self, rlo: f64, rhi: f64) -> f64 {
+        let below = rhi.min(self.gap.0) - rlo.max(self.min);
+        let above = rhi.min(self.max) - rlo.max(self.gap.1);
+        below.max(above)
+    }
+
+    /// The boxes `[r0, r1]` that hold the block's material (one when there is no gap).
+    #[cfg(test)]
+    fn boxes(&self) -> impl Iterator<Item = (f64, f64)> {
+        let two = self.gap.0 < self.gap.1;
+        let first = if two {
+            (self.min, self.gap.0)
+        } else {
+            (self.min, self.max)
+        };
+        std::iter::once(first).chain(two.then_some((self.gap.1, self.max)))
+    }
 }
 
 /// The region the insert has swept so far in the current move: polygons in the working plane
@@ -142,10 +189,10 @@ impl DexelStock {
             z0,
             h,
             cols,
-            blk_max: vec![0.0; nb],
-            blk_min: vec![0.0; nb],
+            blk: vec![Reach::EMPTY; nb],
             removed_columns: 0,
             scratch: Vec::new(),
+            spans: Vec::new(),
             sorted: Vec::new(),
             counts: Vec::new(),
             journal: Journal::default(),
@@ -188,7 +235,7 @@ impl DexelStock {
             s.scratch = scratch;
         }
         s.removed_columns = s.cols.iter().filter(|c| c.iv.is_empty()).count();
-        for b in 0..s.blk_max.len() {
+        for b in 0..s.blk.len() {
             s.refresh_block(b);
         }
         s
@@ -241,7 +288,7 @@ impl DexelStock {
         }
         for s in [&mut *self, &mut piece] {
             s.removed_columns = s.cols.iter().filter(|c| c.iv.is_empty()).count();
-            for b in 0..s.blk_max.len() {
+            for b in 0..s.blk.len() {
                 s.refresh_block(b);
             }
         }
@@ -293,22 +340,26 @@ impl DexelStock {
         (a <= b).then_some((a, b))
     }
 
-    /// Blocks (from the one holding column `j0`) whose material the part's radial range within
-    /// the block's slab of z comes nearer than `eps` (with `pre`, the material before the move).
+    /// Whether the part's radial range within block `b`'s slab of z can overlap the block's
+    /// material by more than `eps` (with `pre`, the material before the move).
+    ///
+    /// Exact as a filter: the crossings of an edge at the column centres lie within the values
+    /// the same arithmetic gives at the slab's ends (IEEE rounding is monotone), so a block
+    /// turned away here holds no column that a scan would find overlapped by more than `eps`.
     fn block_candidate(&self, pts: &[P2], b: usize, eps: f64, pre: bool) -> bool {
         let za = self.z0 + (b * BLOCK) as f64 * self.h;
         let zb = self.z0 + ((b + 1) * BLOCK) as f64 * self.h;
-        let (mn, mx) = self.extremes(b, pre);
-        slab_radial_range(pts, za, zb).is_some_and(|(rlo, rhi)| rlo < mx - eps && rhi > mn + eps)
+        let reach = self.reach(b, pre);
+        slab_radial_range(pts, za, zb).is_some_and(|(rlo, rhi)| reach.overlap_bound(rlo, rhi) > eps)
     }
 
-    /// A block's smallest and largest radius of material; with `pre`, before the current move.
-    fn extremes(&self, b: usize, pre: bool) -> (f64, f64) {
+    /// Where a block's material lies; with `pre`, before the current move.
+    fn reach(&self, b: usize, pre: bool) -> Reach {
         let j = &self.journal;
         if pre && j.active && j.blk_gen[b] == j.gen {
-            (j.pre_min[b], j.pre_max[b])
+            j.pre[b]
         } else {
-            (self.blk_min[b], self.blk_max[b])
+            self.blk[b]
         }
     }
 
@@ -321,9 +372,8 @@ impl DexelStock {
         if j.col_gen.len() != self.cols.len() {
             j.col_gen = vec![0; self.cols.len()];
             j.col_slot = vec![0; self.cols.len()];
-            j.blk_gen = vec![0; self.blk_max.len()];
-            j.pre_min = vec![0.0; self.blk_max.len()];
-            j.pre_max = vec![0.0; self.blk_max.len()];
+            j.blk_gen = vec![0; self.blk.len()];
+            j.pre = vec![Reach::EMPTY; self.blk.len()];
             j.gen = 0;
         }
         if j.gen == u32::MAX {
@@ -372,23 +422,45 @@ impl DexelStock {
         let b = col / BLOCK;
         if j.blk_gen[b] != j.gen {
             j.blk_gen[b] = j.gen;
-            j.pre_min[b] = self.blk_min[b];
-            j.pre_max[b] = self.blk_max[b];
+            j.pre[b] = self.blk[b];
         }
     }
 
+    /// Recompute block `b`'s reach from its columns.
     fn refresh_block(&mut self, b: usize) {
         let (lo, hi) = (b * BLOCK, ((b + 1) * BLOCK).min(self.cols.len()));
         let mut mx = f64::NEG_INFINITY;
         let mut mn = f64::INFINITY;
+        // While every column holds one interval and all of them share a point, their union is
+        // one interval: no gap, and no sort.
+        let (mut top_lo, mut low_hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        let mut single = true;
         for c in &self.cols[lo..hi] {
             if let (Some(f), Some(l)) = (c.iv.first(), c.iv.last()) {
                 mn = mn.min(f.0);
                 mx = mx.max(l.1);
+                single &= c.iv.len() == 1;
+                top_lo = top_lo.max(f.0);
+                low_hi = low_hi.min(f.1);
             }
         }
-        self.blk_max[b] = mx;
-        self.blk_min[b] = mn;
+        let mut gap = (mx, mx);
+        if mn <= mx && !(single && top_lo <= low_hi) {
+            let spans = &mut self.spans;
+            spans.clear();
+            for c in &self.cols[lo..hi] {
+                spans.extend_from_slice(&c.iv);
+            }
+            spans.sort_unstable_by(|p, q| p.0.total_cmp(&q.0));
+            let mut reached = spans[0].1;
+            for &(a, z) in &spans[1..] {
+                if a > reached && a - reached > gap.1 - gap.0 {
+                    gap = (reached, a);
+                }
+                reached = reached.max(z);
+            }
+        }
+        self.blk[b] = Reach { min: mn, gap, max: mx };
     }
 
     /// The polygon's crossings with the centre planes of columns `j0..=j1`, grouped by column:
@@ -473,11 +545,8 @@ impl DexelStock {
             _ => None,
         };
         let pre = swept.is_some();
-        // Quick reject by blocks: the part's radial range within each block's slab of z.
-        if !(j0 / BLOCK..=j1 / BLOCK).any(|b| {
-            let (mn, mx) = self.extremes(b, pre);
-            rlo < mx - eps && rhi > mn + eps
-        }) {
+        // Quick reject by blocks: the part's radial range against each block's reach.
+        if !(j0 / BLOCK..=j1 / BLOCK).any(|b| self.reach(b, pre).overlap_bound(rlo, rhi) > eps) {
             return None;
         }
         // The swept polygons that can change what the part meets: those within its box.
@@ -559,9 +628,8 @@ impl DexelStock {
     fn block_bound(&self, pts: &[P2], b: usize, pre: bool) -> Option<f64> {
         let za = self.z0 + (b * BLOCK) as f64 * self.h;
         let zb = self.z0 + ((b + 1) * BLOCK) as f64 * self.h;
-        let (mn, mx) = self.extremes(b, pre);
         let (rlo, rhi) = slab_radial_range(pts, za, zb)?;
-        Some(rhi.min(mx) - rlo.max(mn))
+        Some(self.reach(b, pre).overlap_bound(rlo, rhi))
     }
 
     /// The part's overlap with the columns of block `b` (within `j0..=j1`) deeper than `eps`:
@@ -637,7 +705,7 @@ impl DexelStock {
                         s.cols[col].iv = m;
                     }
                 }
-                for b in 0..s.blk_max.len() {
+                for b in 0..s.blk.len() {
                     s.refresh_block(b);
                 }
             }
@@ -706,7 +774,7 @@ impl DexelStock {
             if !journaled {
                 // Unchanged by the move: the block's material now is its material at every
                 // instant of the move, inside the box of its extremes and column centres.
-                let (mn, mx) = (self.blk_min[b], self.blk_max[b]);
+                let (mn, mx) = (self.blk[b].min, self.blk[b].max);
                 if mn > mx {
                     continue; // no material in this block
                 }
@@ -757,7 +825,7 @@ impl DexelStock {
         let Some((j0, j1)) = self.column_range(bb.min.y, bb.max.y) else {
             return false;
         };
-        if !(j0 / BLOCK..=j1 / BLOCK).any(|b| rlo < self.blk_max[b] && rhi > self.blk_min[b]) {
+        if !(j0 / BLOCK..=j1 / BLOCK).any(|b| self.blk[b].overlap_bound(rlo, rhi) > 0.0) {
             return false;
         }
         let mut changed_any = false;
@@ -1466,8 +1534,7 @@ mod tests {
         for j in 0..a.columns() {
             assert_eq!(a.cols[j], b.cols[j], "column {j}");
         }
-        assert_eq!(a.blk_max, b.blk_max);
-        assert_eq!(a.blk_min, b.blk_min);
+        assert_eq!(a.blk, b.blk);
     }
 
     #[test]
@@ -1563,17 +1630,15 @@ mod tests {
 
         /// The scan that skips the blocks between the first and last in contact whose bound
         /// cannot raise the depth reports what a scan of every column does: the same columns and
-        /// the same depth, on a turned, grooved and bored bar and parts of any shape.
+        /// the same depth, on a turned, grooved and bored bar (rings of material over grooves
+        /// among them) and parts of any shape.
         #[test]
         fn the_overlap_skipping_blocks_equals_a_scan_of_every_column(
-            cuts in proptest::collection::vec((0.0f64..30.0, -100.0f64..0.0, 0.5f64..20.0, 0.5f64..30.0), 0..8),
+            cuts in proptest::collection::vec((0.0f64..30.0, -100.0f64..0.0, 0.05f64..20.0, 0.5f64..30.0, -3.0f64..3.0), 0..10),
             part in proptest::collection::vec((-40.0f64..40.0, -110.0f64..10.0), 3..10),
             first_only in proptest::bool::ANY,
         ) {
-            let mut s = DexelStock::new(50.0, 8.0, 100.0, 0.0, 0.05);
-            for (x, z, w, d) in cuts {
-                s.cut(&rect(x, z, x + d, z + w));
-            }
+            let mut s = cut_tube(&cuts);
             let pts: Vec<P2> = part.into_iter().map(|(x, z)| p2(x, z)).collect();
             let hull = crate::tooling::outline::hull(&pts);
             proptest::prop_assume!(hull.len() >= 3);
@@ -1592,6 +1657,77 @@ mod tests {
                     proptest::prop_assert_eq!(g.depth, best.min(axial));
                 }
             }
+        }
+    }
+
+    /// Random cuts into a tube: rectangles and tool-like quadrilaterals at any radius, so that
+    /// columns hold one, two or more intervals and rings of material stand over grooves.
+    fn cut_tube(cuts: &[(f64, f64, f64, f64, f64)]) -> DexelStock {
+        let mut s = DexelStock::new(50.0, 8.0, 100.0, 0.0, 0.05);
+        for &(x, z, w, d, lean) in cuts {
+            let q = vec![p2(x, z), p2(x + d, z + lean), p2(x + d, z + w + lean), p2(x, z + w)];
+            s.cut(&q);
+        }
+        s
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(200))]
+
+        /// Every column's material lies in its block's reach, no column has material inside the
+        /// block's gap, and the gap is the widest such interval (the union of the block's
+        /// intervals, merged, has none wider).
+        #[test]
+        fn a_blocks_reach_holds_its_columns_and_its_gap_none_of_them(
+            cuts in proptest::collection::vec((0.0f64..30.0, -100.0f64..0.0, 0.05f64..20.0, 0.5f64..30.0, -3.0f64..3.0), 0..10),
+        ) {
+            let s = cut_tube(&cuts);
+            for (b, r) in s.blk.iter().enumerate() {
+                let cols = &s.cols[b * BLOCK..((b + 1) * BLOCK).min(s.cols.len())];
+                let mut all: Vec<(f64, f64)> = cols.iter().flat_map(|c| c.iv.iter().copied()).collect();
+                if all.is_empty() {
+                    proptest::prop_assert!(r.min > r.max);
+                    continue;
+                }
+                for &(lo, hi) in &all {
+                    let inside = r.boxes().any(|(a, z)| a <= lo && hi <= z);
+                    proptest::prop_assert!(inside, "block {}: ({}, {}) outside {:?}", b, lo, hi, r);
+                    proptest::prop_assert!(hi <= r.gap.0 || lo >= r.gap.1, "block {}: ({}, {}) in the gap {:?}", b, lo, hi, r);
+                }
+                all.sort_by(|p, q| p.0.total_cmp(&q.0));
+                let mut widest: f64 = 0.0;
+                let mut reached = all[0].1;
+                for &(lo, hi) in &all[1..] {
+                    widest = widest.max(lo - reached);
+                    reached = reached.max(hi);
+                }
+                proptest::prop_assert_eq!(widest, (r.gap.1 - r.gap.0).max(0.0));
+            }
+        }
+
+        /// A cut that passes over the blocks its reach proves untouched removes what a cut of
+        /// every column does.
+        #[test]
+        fn a_cut_skipping_blocks_by_their_reach_removes_what_a_cut_of_every_column_does(
+            cuts in proptest::collection::vec((0.0f64..30.0, -100.0f64..0.0, 0.05f64..20.0, 0.5f64..30.0, -3.0f64..3.0), 0..10),
+            tool in proptest::collection::vec((-30.0f64..30.0, -110.0f64..10.0), 3..8),
+        ) {
+            let mut fast = cut_tube(&cuts);
+            let mut plain = fast.clone();
+            let pts: Vec<P2> = tool.into_iter().map(|(x, z)| p2(x, z)).collect();
+            let hull = crate::tooling::outline::hull(&pts);
+            proptest::prop_assume!(hull.len() >= 3);
+            let changed = fast.cut(&hull);
+            let n = plain.cols.len();
+            let changed_plain = plain.cut_columns(&hull, 0, n - 1);
+            for b in 0..plain.blk.len() {
+                plain.refresh_block(b);
+            }
+            proptest::prop_assert_eq!(changed, changed_plain);
+            for j in 0..n {
+                proptest::prop_assert_eq!(&fast.cols[j], &plain.cols[j], "column {}", j);
+            }
+            proptest::prop_assert_eq!(&fast.blk, &plain.blk);
         }
     }
 
