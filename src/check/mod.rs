@@ -1427,7 +1427,7 @@ impl Checker<'_> {
         };
         let insert = tool.insert.points();
         let f = if f.is_nan() { 1.0 } else { f.clamp(0.0, 1.0) };
-        let posed = |p: P2| -> Vec<P2> { insert.iter().map(|q| p + q.coords).collect() };
+        let posed = |p: P2| insert.iter().map(move |q| p + q.coords);
         out.push(posed(c.path[0].1));
         for &j in &c.kept {
             let (u0, a) = c.path[j];
@@ -1445,11 +1445,10 @@ impl Checker<'_> {
                 a + (b - a) * ((f - u0) / (u1 - u0))
             };
             let d: V2 = end - a;
-            let at = posed(a);
-            let n = at.len();
+            let n = insert.len();
             for i in 0..n {
-                let (p, q) = (at[i], at[(i + 1) % n]);
-                out.push(vec![p, q, q + d, p + d]);
+                let (p, q) = (a + insert[i].coords, a + insert[(i + 1) % n].coords);
+                out.push([p, q, q + d, p + d]);
             }
             out.push(posed(end));
         }

@@ -117,28 +117,46 @@ impl Reach {
 
 /// The region the insert has swept so far in the current move: polygons in the working plane
 /// (signed x), each with its box. The stock "at an instant" of a cutting move is the material
-/// before the move less these polygons.
+/// before the move less these polygons. It is rebuilt at every instant a query asks about, so
+/// clearing it keeps the polygons' buffers for the next build.
 #[derive(Clone, Debug, Default)]
 pub struct Swept {
-    polys: Vec<(Aabb, Vec<P2>)>,
+    /// The polygons, the first `len` of them live (the rest are spare buffers).
+    pool: Vec<(Aabb, Vec<P2>)>,
+    len: usize,
 }
 
 impl Swept {
     pub fn clear(&mut self) {
-        self.polys.clear();
+        self.len = 0;
     }
 
-    pub fn push(&mut self, pts: Vec<P2>) {
-        self.polys.push((Aabb::of_points(&pts), pts));
+    pub fn push(&mut self, pts: impl IntoIterator<Item = P2>) {
+        if self.len == self.pool.len() {
+            self.pool.push((Aabb::empty(), Vec::new()));
+        }
+        let (bb, poly) = &mut self.pool[self.len];
+        poly.clear();
+        poly.extend(pts);
+        *bb = Aabb::of_points(poly.iter());
+        self.len += 1;
+    }
+
+    /// The live polygons with their boxes.
+    fn live(&self) -> &[(Aabb, Vec<P2>)] {
+        &self.pool[..self.len]
     }
 
     pub fn polygons(&self) -> impl Iterator<Item = &[P2]> {
-        self.polys.iter().map(|(_, p)| &p[..])
+        self.live().iter().map(|(_, p)| &p[..])
     }
 }
 
 /// No swept region: `View::Instant(&NO_SWEEP)` is the stock as it was before the move.
-pub static NO_SWEEP: Swept = Swept { polys: Vec::new() };
+pub static NO_SWEEP: Swept = Swept {
+    pool: Vec::new(),
+    len: 0,
+};
 
 /// Which state of the stock a query sees.
 #[derive(Clone, Copy, Debug)]
@@ -553,7 +571,7 @@ impl DexelStock {
         let mut near = std::mem::take(&mut self.near);
         near.clear();
         if let Some(sw) = swept {
-            for (i, (pb, _)) in sw.polys.iter().enumerate() {
+            for (i, (pb, _)) in sw.live().iter().enumerate() {
                 let (plo, phi) = radial_range(pb.min.x, pb.max.x);
                 if pb.max.y >= bb.min.y && pb.min.y <= bb.max.y && phi > rlo && plo < rhi {
                     near.push(i);
@@ -697,7 +715,7 @@ impl DexelStock {
         s.journal = Journal::default();
         if let View::Instant(sw) = view {
             if self.journal.active {
-                let all: Vec<usize> = (0..sw.polys.len()).collect();
+                let all: Vec<usize> = (0..sw.live().len()).collect();
                 for col in 0..self.cols.len() {
                     if let Some(before) = self.saved(col) {
                         let mut m = before.to_vec();
@@ -755,7 +773,7 @@ impl DexelStock {
         let mut near = std::mem::take(&mut self.near);
         near.clear();
         if let Some(sw) = swept {
-            for (i, (pb, _)) in sw.polys.iter().enumerate() {
+            for (i, (pb, _)) in sw.live().iter().enumerate() {
                 let (plo, phi) = radial_range(pb.min.x, pb.max.x);
                 if pb.max.y > bb.min.y - window
                     && pb.min.y < bb.max.y + window
@@ -830,9 +848,24 @@ impl DexelStock {
         }
         let mut changed_any = false;
         for b in j0 / BLOCK..=j1 / BLOCK {
-            if self.block_candidate(pts, b, 0.0, false) {
-                changed_any |= self.cut_columns(pts, (b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
+            let za = self.z0 + (b * BLOCK) as f64 * self.h;
+            let zb = self.z0 + ((b + 1) * BLOCK) as f64 * self.h;
+            let Some((rlo, rhi)) = slab_radial_range(pts, za, zb) else {
+                continue;
+            };
+            if self.blk[b].overlap_bound(rlo, rhi) <= 0.0 {
+                continue;
             }
+            // Only a column whose material the part's radial range over the slab overlaps can
+            // lose any (the same exact filter as the block's): the crossings are computed from
+            // the first such column to the last.
+            let meets = |c: &Column| c.iv.iter().any(|&(lo, hi)| rhi.min(hi) - rlo.max(lo) > 0.0);
+            let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
+            let Some(first) = (k0..=k1).find(|&j| meets(&self.cols[j])) else {
+                continue;
+            };
+            let last = (first..=k1).rev().find(|&j| meets(&self.cols[j])).unwrap_or(first);
+            changed_any |= self.cut_columns(pts, first, last);
         }
         changed_any
     }
@@ -912,8 +945,8 @@ impl DexelStock {
                 let c = self.center(j);
                 let mut near = std::mem::take(&mut self.near);
                 near.clear();
-                near.extend((0..sw.polys.len()).filter(|&i| {
-                    let bb = &sw.polys[i].0;
+                near.extend((0..sw.live().len()).filter(|&i| {
+                    let bb = &sw.live()[i].0;
                     c >= bb.min.y && c < bb.max.y
                 }));
                 let mut mat = std::mem::take(&mut self.mat);
@@ -1078,7 +1111,7 @@ impl DexelStock {
 fn remove_swept(mat: &mut Vec<(f64, f64)>, sw: &Swept, near: &[usize], c: f64) {
     let mut xs: [f64; 16] = [0.0; 16];
     for &i in near {
-        let (bb, pts) = &sw.polys[i];
+        let (bb, pts) = &sw.live()[i];
         if c < bb.min.y || c >= bb.max.y || mat.is_empty() {
             continue;
         }
