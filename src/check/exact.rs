@@ -489,6 +489,11 @@ impl Checker<'_> {
         let mut peak = Peak::default();
         // How far ahead (mm) the next proof of a stretch in contact reaches.
         let mut ahead = CONTACT_AHEAD * step;
+        // Proofs of a stretch in contact that failed in a row, and how many probes in contact
+        // are still to pass before the next attempt: 1, 3, 7, … after one, two, three failures
+        // (a contact whose depth is its axial extent fails each proof, as the stretch's hull
+        // overstates that extent; an attempt costs two stock queries).
+        let (mut failed, mut wait) = (0u32, 0u32);
         loop {
             *probes += 1;
             if *probes > MAX_PROBES {
@@ -559,6 +564,10 @@ impl Checker<'_> {
             // far the next time.
             let proof = match (res, &open) {
                 _ if !self.settings.prove_stretches => None,
+                (Ok(_), Some(_)) if wait > 0 => {
+                    wait -= 1;
+                    None
+                }
                 (Ok(_), Some(iv)) => Some(Proof::Contact {
                     cap: iv.depth.max(peak.depth) + 0.5 * step,
                 }),
@@ -571,11 +580,16 @@ impl Checker<'_> {
                 if self.stretch_proven(p, o, piece, active, (u, to), proof) {
                     *probes += 1;
                     ahead *= 2.0;
+                    failed = 0;
                     prev_u = u;
                     u = to;
                     continue;
                 }
                 ahead = (0.25 * ahead).max(CONTACT_AHEAD * step);
+                if let Proof::Contact { .. } = proof {
+                    failed = (failed + 1).min(6);
+                    wait = (1 << failed) - 1;
+                }
             }
             let advance = match res {
                 Ok(_) if advance > step => {
