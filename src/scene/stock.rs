@@ -365,10 +365,17 @@ impl DexelStock {
     /// the same arithmetic gives at the slab's ends (IEEE rounding is monotone), so a block
     /// turned away here holds no column that a scan would find overlapped by more than `eps`.
     fn block_candidate(&self, pts: &[P2], b: usize, eps: f64, pre: bool) -> bool {
+        let reach = self.reach(b, pre);
+        self.slab_range(pts, b)
+            .is_some_and(|(rlo, rhi)| reach.overlap_bound(rlo, rhi) > eps)
+    }
+
+    /// The part's radial range (folded) within block `b`'s slab of z; `None` when the part does
+    /// not reach the slab.
+    fn slab_range(&self, pts: &[P2], b: usize) -> Option<(f64, f64)> {
         let za = self.z0 + (b * BLOCK) as f64 * self.h;
         let zb = self.z0 + ((b + 1) * BLOCK) as f64 * self.h;
-        let reach = self.reach(b, pre);
-        slab_radial_range(pts, za, zb).is_some_and(|(rlo, rhi)| reach.overlap_bound(rlo, rhi) > eps)
+        slab_radial_range(pts, za, zb)
     }
 
     /// Where a block's material lies; with `pre`, before the current move.
@@ -644,9 +651,7 @@ impl DexelStock {
     /// the current move with `pre`, which holds the material at every instant of it). `None`
     /// when the part does not reach the slab.
     fn block_bound(&self, pts: &[P2], b: usize, pre: bool) -> Option<f64> {
-        let za = self.z0 + (b * BLOCK) as f64 * self.h;
-        let zb = self.z0 + ((b + 1) * BLOCK) as f64 * self.h;
-        let (rlo, rhi) = slab_radial_range(pts, za, zb)?;
+        let (rlo, rhi) = self.slab_range(pts, b)?;
         Some(self.reach(b, pre).overlap_bound(rlo, rhi))
     }
 
@@ -848,9 +853,7 @@ impl DexelStock {
         }
         let mut changed_any = false;
         for b in j0 / BLOCK..=j1 / BLOCK {
-            let za = self.z0 + (b * BLOCK) as f64 * self.h;
-            let zb = self.z0 + ((b + 1) * BLOCK) as f64 * self.h;
-            let Some((rlo, rhi)) = slab_radial_range(pts, za, zb) else {
+            let Some((rlo, rhi)) = self.slab_range(pts, b) else {
                 continue;
             };
             if self.blk[b].overlap_bound(rlo, rhi) <= 0.0 {
