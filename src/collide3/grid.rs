@@ -148,6 +148,37 @@ fn extent(min: &Vector3<f64>, max: &Vector3<f64>, o: &Vector3<f64>, e: &Vector3<
     (c.dot(e) - r, c.dot(e) + r)
 }
 
+/// An upper bound of the depth in the box `[min, max]` (the distance to its boundary) of the
+/// points `o + t·u`, `t ∈ [lo, hi]`, grown by far more than rounding. The depth along the
+/// segment is the least of six linear functions of `t` (the distances to the faces), concave:
+/// its largest value is at an end or where a rising one meets a falling one. A point of a solid
+/// inside the box lies no deeper in the solid than in the box (a ball inside the solid is inside
+/// the box).
+fn box_depth_bound(min: &Vector3<f64>, max: &Vector3<f64>, o: Vector3<f64>, u: Vector3<f64>, lo: f64, hi: f64) -> f64 {
+    // Each face's distance as `c + s·t`.
+    let mut lines = [(0.0, 0.0); 6];
+    let mut scale = 1.0f64;
+    for k in 0..3 {
+        lines[2 * k] = (o[k] - min[k], u[k]);
+        lines[2 * k + 1] = (max[k] - o[k], -u[k]);
+        scale = scale.max(min[k].abs()).max(max[k].abs());
+    }
+    let at = |t: f64| lines.iter().fold(f64::INFINITY, |m, &(c, s)| m.min(c + s * t));
+    let mut best = at(lo).max(at(hi));
+    for &(c1, s1) in &lines {
+        for &(c2, s2) in &lines {
+            if s1 > 0.0 && s2 < 0.0 {
+                let t = (c2 - c1) / (s1 - s2);
+                if t > lo && t < hi {
+                    best = best.max(at(t));
+                }
+            }
+        }
+    }
+    // The crossings' own rounding is far below this margin.
+    best + 1e-9 * (scale + lo.abs() + hi.abs())
+}
+
 /// A stock query: the box of the posed component in the part's frame and what it needs.
 struct Query<'a> {
     stock: &'a Stock,
@@ -156,23 +187,50 @@ struct Query<'a> {
     max: Vector3<f64>,
 }
 
+/// The node rays of one grid that may meet a query's box, numbered in the order of the walk
+/// (`Query::each`) so that one can be asked for by its number (`Query::ray`).
+enum Walk {
+    None,
+    /// Columns `j0..=j1`, and in each the angles `dirs` (index, direction); `reach`: the box's
+    /// nearest approach to the axis.
+    Cyl {
+        j0: usize,
+        j1: usize,
+        reach: f64,
+        dirs: Vec<(usize, Vector3<f64>)>,
+    },
+    /// Face grid `k`'s nodes `i0..=i1` by `j0..=j1` (i fastest); `n1`: the box's reach along its
+    /// normal.
+    Face {
+        k: usize,
+        i0: usize,
+        i1: usize,
+        j0: usize,
+        j1: usize,
+        n1: f64,
+    },
+}
+
+/// A node ray: the point `o`, the direction `u`, the stretch `[t0, t1]` of its material in the
+/// box.
+type NodeRay = (Vector3<f64>, Vector3<f64>, f64, f64);
+
 impl Query<'_> {
-    /// Calls `f(o, u, t0, t1)` for each node ray of `rays` whose material meets the box (its
-    /// stretch `[t0, t1]` inside both), stopping when `f` returns false.
-    fn each(&self, rays: Rays, mut f: impl FnMut(Vector3<f64>, Vector3<f64>, f64, f64) -> bool) {
+    fn walk(&self, rays: Rays) -> Walk {
         let (min, max) = (&self.min, &self.max);
         match rays {
             Rays::Cyl => {
-                let Some(c) = self.stock.cyl.as_ref() else { return };
+                let Some(c) = self.stock.cyl.as_ref() else {
+                    return Walk::None;
+                };
                 let Some((j0, j1)) = c.columns(min.z, max.z) else {
-                    return;
+                    return Walk::None;
                 };
                 // The box's nearest reach to the axis: a column whose outermost radius stays
                 // inside it holds nothing in the box.
                 let dx = (min.x.max(0.0) + (-max.x).max(0.0)).max(0.0);
                 let dy = (min.y.max(0.0) + (-max.y).max(0.0)).max(0.0);
-                let reach = dx.hypot(dy);
-                let dirs: Vec<(usize, Vector3<f64>)> = c
+                let dirs = c
                     .angles(min, max)
                     .into_iter()
                     .flat_map(|(a, b)| a..=b)
@@ -181,24 +239,11 @@ impl Query<'_> {
                         (i, Vector3::new(co, s, 0.0))
                     })
                     .collect();
-                for j in j0..=j1 {
-                    let z = c.z(j);
-                    let ri = c.inner[j];
-                    if c.col_max[j] <= reach || self.dexel.is_some_and(|d| d.material_at(z).is_empty()) {
-                        continue;
-                    }
-                    let o = Vector3::new(0.0, 0.0, z);
-                    for &(i, u) in &dirs {
-                        let r = c.radius(i, j);
-                        if r <= ri.max(reach) {
-                            continue;
-                        }
-                        if let Some((t0, t1)) = slab(o, u, min, max, ri, r) {
-                            if !f(o, u, t0, t1) {
-                                return;
-                            }
-                        }
-                    }
+                Walk::Cyl {
+                    j0,
+                    j1,
+                    reach: dx.hypot(dy),
+                    dirs,
                 }
             }
             Rays::Face(k) => {
@@ -210,22 +255,91 @@ impl Query<'_> {
                     crate::grid::FaceGrid::range(u0, u1, g.du, g.nu),
                     crate::grid::FaceGrid::range(v0, v1, g.dv, g.nv),
                 ) else {
-                    return;
+                    return Walk::None;
                 };
                 if n1 <= 0.0 || n0 >= g.thickness {
-                    return;
+                    return Walk::None;
                 }
-                for j in j0..=j1 {
-                    for i in i0..=i1 {
-                        let d = g.depth(i, j);
-                        // The box's reach along the normal (all of it, for any node): a cheap
-                        // rejection before the ray's own slab.
-                        if d >= g.thickness || d >= n1 {
-                            continue;
+                Walk::Face { k, i0, i1, j0, j1, n1 }
+            }
+        }
+    }
+
+    /// Whether column `j` of the cylindrical grid may hold material in the box.
+    fn column_live(&self, j: usize, reach: f64) -> bool {
+        let Some(c) = self.stock.cyl.as_ref() else { return false };
+        !(c.col_max[j] <= reach || self.dexel.is_some_and(|d| d.material_at(c.z(j)).is_empty()))
+    }
+
+    /// The cylindrical grid's ray of column `j` at angle `i` (direction `u`), when its material
+    /// meets the box.
+    fn cyl_ray(&self, j: usize, (i, u): (usize, Vector3<f64>), reach: f64) -> Option<NodeRay> {
+        let c = self.stock.cyl.as_ref()?;
+        let r = c.radius(i, j);
+        if r <= c.inner[j].max(reach) {
+            return None;
+        }
+        let o = Vector3::new(0.0, 0.0, c.z(j));
+        slab(o, u, &self.min, &self.max, c.inner[j], r).map(|(t0, t1)| (o, u, t0, t1))
+    }
+
+    /// Face grid `k`'s ray of node `(i, j)`, when its material meets the box.
+    fn face_ray(&self, k: usize, i: usize, j: usize, n1: f64) -> Option<NodeRay> {
+        let g = &self.stock.faces[k];
+        let d = g.depth(i, j);
+        // The box's reach along the normal (all of it, for any node): a cheap rejection before
+        // the ray's own slab.
+        if d >= g.thickness || d >= n1 {
+            return None;
+        }
+        let o = g.node(i, j);
+        slab(o, g.n, &self.min, &self.max, d, g.thickness).map(|(t0, t1)| (o, g.n, t0, t1))
+    }
+
+    /// The walk's ray number `id` ([`Walk`]), when its material meets the box.
+    fn ray(&self, w: &Walk, id: usize) -> Option<NodeRay> {
+        match w {
+            Walk::None => None,
+            Walk::Cyl { j0, reach, dirs, .. } => {
+                let j = j0 + id / dirs.len();
+                if !self.column_live(j, *reach) {
+                    return None;
+                }
+                self.cyl_ray(j, dirs[id % dirs.len()], *reach)
+            }
+            Walk::Face { k, i0, i1, j0, n1, .. } => {
+                let w = i1 - i0 + 1;
+                self.face_ray(*k, i0 + id % w, j0 + id / w, *n1)
+            }
+        }
+    }
+
+    /// Calls `f(id, ray)` for each node ray of the walk whose material meets the box, in the
+    /// order of their numbers, stopping when `f` returns false.
+    fn each(&self, w: &Walk, mut f: impl FnMut(usize, NodeRay) -> bool) {
+        match w {
+            Walk::None => {}
+            Walk::Cyl { j0, j1, reach, dirs } => {
+                for j in *j0..=*j1 {
+                    if !self.column_live(j, *reach) {
+                        continue;
+                    }
+                    let base = (j - j0) * dirs.len();
+                    for (d, &dir) in dirs.iter().enumerate() {
+                        if let Some(r) = self.cyl_ray(j, dir, *reach) {
+                            if !f(base + d, r) {
+                                return;
+                            }
                         }
-                        let o = g.node(i, j);
-                        if let Some((t0, t1)) = slab(o, g.n, min, max, d, g.thickness) {
-                            if !f(o, g.n, t0, t1) {
+                    }
+                }
+            }
+            Walk::Face { k, i0, i1, j0, j1, n1 } => {
+                let w = i1 - i0 + 1;
+                for j in *j0..=*j1 {
+                    for i in *i0..=*i1 {
+                        if let Some(r) = self.face_ray(*k, i, j, *n1) {
+                            if !f((j - j0) * w + (i - i0), r) {
                                 return;
                             }
                         }
@@ -238,7 +352,7 @@ impl Query<'_> {
     /// How many rays of `rays` meet the box's material, counting no further than `cap`.
     fn count(&self, rays: Rays, cap: usize) -> usize {
         let mut n = 0;
-        self.each(rays, |_, _, _, _| {
+        self.each(&self.walk(rays), |_, _| {
             n += 1;
             n <= cap
         });
@@ -334,6 +448,22 @@ pub fn grid_overlap(
     dexel: Option<&DexelStock>,
     any: bool,
 ) -> Option<Hit> {
+    overlap_by(shape, pose, part, stock, eps, dexel, any, true)
+}
+
+/// [`grid_overlap`]; with `prune` false, the slow answer it must equal: every ray in the walk's
+/// order, every run of material measured (the tests' oracle).
+#[allow(clippy::too_many_arguments)]
+fn overlap_by(
+    shape: &Shape3,
+    pose: &Iso,
+    part: &Iso,
+    stock: &Stock,
+    eps: f64,
+    dexel: Option<&DexelStock>,
+    any: bool,
+    prune: bool,
+) -> Option<Hit> {
     // The shape in the part's frame.
     let local = part.inverse() * pose;
     let (min, max) = part_box(shape, &local, 0.0);
@@ -366,34 +496,38 @@ pub fn grid_overlap(
     let needs_samples = sample_cyl || !others.is_empty() || (dexel.is_some() && best_rays != Rays::Cyl);
     let ppose = to_pose(&local);
     let step = stock.tolerance.max(1e-3);
-    let mut best: Option<Hit> = None;
     // A run `[a, b]` of material inside the shape's stretch `[c0, c1]` of the ray: no point of it
     // lies deeper in the shape than its distance along the ray to the stretch's ends (they are on
     // the surface), so a run that cannot beat the best so far (or `eps`) is not measured. Its
     // deepest point is at one of its ends (where the material ends inside the shape) or, on a run
     // through the shape, near its middle.
     let keep_run =
-        |best: &mut Option<Hit>, o: Vector3<f64>, u: Vector3<f64>, (a, b): (f64, f64), (c0, c1): (f64, f64)| {
+        |best: &mut Deepest, ray: usize, o: Vector3<f64>, u: Vector3<f64>, (a, b): (f64, f64), (c0, c1): (f64, f64)| {
             let m = ((c0 + c1) / 2.0).clamp(a, b);
-            let bound = (m - c0).min(c1 - m);
-            let floor = best.map_or(eps, |h| h.depth.max(eps));
-            if bound <= floor {
+            if best.beats((m - c0).min(c1 - m), ray) {
                 return;
             }
             for t in [a, (a + b) / 2.0, b] {
                 let p0 = o + t * u;
                 let depth = shape.depth_of(&ppose, Vector::new(p0.x, p0.y, p0.z));
-                if depth > eps && best.map_or(true, |h| depth > h.depth) {
-                    *best = Some(Hit {
-                        depth,
-                        point: part * nalgebra::Point3::from(p0),
-                    });
-                }
+                best.offer(depth, part * nalgebra::Point3::from(p0), ray);
             }
         };
+    let mut best = Deepest {
+        eps,
+        prune,
+        hit: None,
+        ray: 0,
+    };
     let mut spans = Vec::new();
     let mut pieces: Vec<(f64, f64)> = Vec::new();
-    q.each(best_rays, |o, u, t0, t1| {
+    // One node ray (the `ray`-th of the walk).
+    let mut visit = |best: &mut Deepest, ray: usize, o: Vector3<f64>, u: Vector3<f64>, t0: f64, t1: f64| {
+        // No point of the ray's material in the box can lie deeper than the box allows: when
+        // that cannot beat the best so far (or `eps`), the ray is not cast.
+        if best.beats(box_depth_bound(&min, &max, o, u, t0, t1), ray) {
+            return true;
+        }
         // Cast from outside the component's box (its faces may be the component's own: a start
         // on the boundary would leave the parity to chance), then keep the node's material.
         let Some((b0, b1)) = slab(o, u, &min, &max, f64::NEG_INFINITY, f64::INFINITY) else {
@@ -408,7 +542,7 @@ pub fn grid_overlap(
             // No point of the stretch lies deeper in the shape than half its length (its ends are
             // on the surface): when that cannot beat the best so far (or `eps`), no run in it is
             // measured (`keep_run`'s bound is at most that), so its samples are not taken.
-            if (c1 - c0) / 2.0 <= best.map_or(eps, |h| h.depth.max(eps)) {
+            if best.beats((c1 - c0) / 2.0, ray) {
                 continue;
             }
             pieces.clear();
@@ -423,8 +557,15 @@ pub fn grid_overlap(
                 _ => pieces.push((s0, s1)),
             }
             for &(a, b) in &pieces {
+                // No run of the piece can beat the best so far (or `eps`): the box's depth and the
+                // distance along the ray to the stretch's ends bound every point of it.
+                let m = ((c0 + c1) / 2.0).clamp(a, b);
+                let along = (m - c0).min(c1 - m);
+                if best.beats(along.min(box_depth_bound(&min, &max, o, u, a, b)), ray) {
+                    continue;
+                }
                 if !needs_samples {
-                    keep_run(&mut best, o, u, (a, b), (c0, c1));
+                    keep_run(best, ray, o, u, (a, b), (c0, c1));
                     continue;
                 }
                 // Runs of material by the other grids, sampled at the stock's tolerance: only
@@ -452,14 +593,97 @@ pub fn grid_overlap(
                     while k < n && mat(k) {
                         k += 1;
                     }
-                    keep_run(&mut best, o, u, (a + first as f64 * dt, a + k as f64 * dt), (c0, c1));
+                    keep_run(best, ray, o, u, (a + first as f64 * dt, a + k as f64 * dt), (c0, c1));
                 }
             }
         }
         // Asked only whether: the first contact deeper than `eps` answers it.
-        !(any && best.is_some())
+        !(any && best.hit.is_some())
+    };
+    let walk = q.walk(best_rays);
+    if any || !prune {
+        // Asked only whether: the walk in its order, to the first contact.
+        q.each(&walk, |id, (o, u, t0, t1)| visit(&mut best, id, o, u, t0, t1));
+        return best.hit;
+    }
+    // Asked how deep: the rays by how deep the box lets their material lie, deepest first, until
+    // no ray left can beat the best (`Deepest` answers as the walk in its order would).
+    let mut order = std::collections::BinaryHeap::new();
+    q.each(&walk, |id, (o, u, t0, t1)| {
+        let bound = box_depth_bound(&min, &max, o, u, t0, t1);
+        if bound > eps {
+            order.push(Ranked(bound, id));
+        }
+        true
     });
-    best
+    while let Some(Ranked(bound, id)) = order.pop() {
+        if best.hit.is_some_and(|h| bound < h.depth) {
+            break;
+        }
+        if let Some((o, u, t0, t1)) = q.ray(&walk, id) {
+            visit(&mut best, id, o, u, t0, t1);
+        }
+    }
+    best.hit
+}
+
+/// A ray's number ranked by a bound of its depth (the deeper first).
+struct Ranked(f64, usize);
+
+impl PartialEq for Ranked {
+    fn eq(&self, o: &Self) -> bool {
+        self.cmp(o) == std::cmp::Ordering::Equal
+    }
+}
+
+impl Eq for Ranked {}
+
+impl PartialOrd for Ranked {
+    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+
+impl Ord for Ranked {
+    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&o.0).then(o.1.cmp(&self.1))
+    }
+}
+
+/// The deepest point found so far, and the walk's order among equally deep ones: of two points
+/// as deep, the one of the earlier ray (`ray`, its index in the walk), and on one ray the first
+/// offered (a ray's points come in its order). Visiting rays out of order then answers as the
+/// walk in order would.
+struct Deepest {
+    eps: f64,
+    /// Whether the bounds may skip (else every point is measured: the oracle).
+    prune: bool,
+    hit: Option<Hit>,
+    ray: usize,
+}
+
+impl Deepest {
+    /// Whether no point of ray `ray` lying at most `bound` deep can replace the best (or lie
+    /// deeper than `eps`).
+    fn beats(&self, bound: f64, ray: usize) -> bool {
+        if !self.prune {
+            return false;
+        }
+        bound <= self.eps
+            || self
+                .hit
+                .is_some_and(|h| bound < h.depth || (bound == h.depth && ray >= self.ray))
+    }
+
+    fn offer(&mut self, depth: f64, point: nalgebra::Point3<f64>, ray: usize) {
+        let better = match self.hit {
+            None => true,
+            Some(h) => depth > h.depth || (depth == h.depth && ray < self.ray),
+        };
+        if depth > self.eps && better {
+            (self.hit, self.ray) = (Some(Hit { depth, point }), ray);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -625,6 +849,84 @@ mod tests {
             hits += usize::from(got.is_some());
         }
         assert!(cleared > 50 && hits > 50, "cleared {cleared}, hits {hits}");
+    }
+
+    /// The deepest search (rays by their box's bound, deepest first; rays, stretches, pieces and
+    /// runs skipped when they cannot beat the best) answers bit for bit as measuring every run
+    /// of every ray in the walk's order: on a bar with a flat, a radial hole at 45° (a side grid
+    /// whose rays lie oblique to the part's axes) and a face pocket, against a mesh and a
+    /// primitive at random poses; and a query for any contact finds one exactly when it does.
+    #[test]
+    fn the_deepest_search_answers_as_measuring_every_run_in_order() {
+        let mut s = milled_bar();
+        let drill = Cutter::new(CutterKind::Flat, 10.0, 40.0).unwrap();
+        let d = Vector3::new(1.0, 1.0, 0.0).normalize();
+        s.cut(
+            &Sweep::new(
+                &drill,
+                -d,
+                30.0 * d + Vector3::new(0.0, 0.0, 12.0),
+                12.0 * d + Vector3::new(0.0, 0.0, 12.0),
+                0.1,
+            )
+            .unwrap(),
+        );
+        let mill = Cutter::new(CutterKind::Flat, 12.0, 30.0).unwrap();
+        s.cut(
+            &Sweep::new(
+                &mill,
+                Vector3::z(),
+                Vector3::new(-8.0, -6.0, 57.0),
+                Vector3::new(4.0, -6.0, 57.0),
+                0.1,
+            )
+            .unwrap(),
+        );
+        let prim = Shape3::from_geometry(
+            &Geometry::Cylinder {
+                radius: 6.0,
+                z0: 0.0,
+                z1: 30.0,
+            },
+            0.1,
+        )
+        .unwrap();
+        let shapes = [cube(4.0), prim];
+        let mut seed = 11u64;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut hits, mut cases) = (0, 0);
+        for i in 0..40 {
+            let c = Vector3::new(30.0 * rnd() - 10.0, 30.0 * rnd() - 15.0, 70.0 * rnd() - 5.0);
+            let axis = nalgebra::Unit::new_normalize(Vector3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5));
+            // Every third pose square to the grid: many points equally deep (the order among
+            // them decides the point).
+            let turn = if i % 3 == 0 { 0.0 } else { 6.0 * rnd() };
+            let pose = Iso::from_parts(
+                Translation3::from(c),
+                nalgebra::UnitQuaternion::from_axis_angle(&axis, turn),
+            );
+            let part = Iso::from_parts(
+                Translation3::identity(),
+                nalgebra::UnitQuaternion::from_axis_angle(&Vector3::z_axis(), turn * rnd()),
+            );
+            for (k, shape) in shapes.iter().enumerate() {
+                for eps in [1e-6, 0.3] {
+                    let dexel = (k == 1).then(|| DexelStock::new(40.0, 0.0, 60.0, 60.0, 0.05));
+                    let fast = grid_overlap(shape, &pose, &part, &s, eps, dexel.as_ref(), false);
+                    let slow = overlap_by(shape, &pose, &part, &s, eps, dexel.as_ref(), false, false);
+                    let bits = |h: Option<Hit>| h.map(|h| (h.depth.to_bits(), h.point.coords.map(f64::to_bits)));
+                    assert_eq!(bits(fast), bits(slow), "at {c:?}: {fast:?} against {slow:?}");
+                    let any = grid_overlap(shape, &pose, &part, &s, eps, dexel.as_ref(), true);
+                    assert_eq!(any.is_some(), slow.is_some(), "at {c:?}");
+                    hits += usize::from(slow.is_some());
+                    cases += 1;
+                }
+            }
+        }
+        assert!(hits > cases / 5 && hits < cases, "{hits} of {cases}");
     }
 
     /// A cylinder as parry's primitive (cast in closed form) and as its mesh give the same
