@@ -1236,5 +1236,9 @@ fn pair_advance(three: &Three, f: &Follow, a: CompId, b: CompId, tol: f64, start
     // up to the tolerance proud of their true surfaces (circumscribed), so two touching parts may
     // overlap that much as meshes alone (a drill sliding along a jaw's radius). Steps as the 2D
     // check's advancement: never longer than the proven gap, at least the tolerance.
-    collide3::first_contact_from(k, (a, sa), (b, sb), f, 2.0 * tol, tol, start_gap)
+    // Where the pair slides past each other at a small gap, stretches are proven clear by the
+    // hull of one part's poses relative to the other (`slide::pair_proven`).
+    collide3::first_contact_proving(k, (a, sa), (b, sb), f, 2.0 * tol, tol, start_gap, &mut |u0, u1| {
+        slide::pair_proven(three, f, (a, sa), (b, sb), u0, u1)
+    })
 }

@@ -25,8 +25,8 @@ mod tests;
 
 pub use grid::{dexel_clears_grid, grid_clear, grid_overlap};
 pub use motion::{
-    bound_from, first_contact, first_contact_from, geometry_sphere, motion_bound, pair_bound, Advance, LinearPath,
-    Path, MAX_PROBES, MIN_STEP_MM,
+    bound_from, first_contact, first_contact_from, first_contact_proving, geometry_sphere, motion_bound, pair_bound,
+    Advance, LinearPath, Path, Stretches, MAX_PROBES, MIN_STEP_MM,
 };
 pub use stock::{stock_gap, stock_hull_depth, stock_overlap};
 pub use tess::uv_sphere;
@@ -194,6 +194,32 @@ impl Shape3 {
             .flat_map(|p| [Vector::new(p.x, -hw, p.y), Vector::new(p.x, hw, p.y)])
             .collect();
         if pts.iter().any(|p| !p.is_finite()) {
+            return None;
+        }
+        let shape = ConvexPolyhedron::from_convex_hull(&pts)?;
+        let inner = pts.iter().fold(Vector::ZERO, |a, &p| a + p) / pts.len() as f64;
+        let surf = shape.to_trimesh();
+        Some(Shape3::Convex(Convex {
+            shape: Box::new(shape),
+            local: Pose::IDENTITY,
+            inner,
+            surf,
+        }))
+    }
+
+    /// The convex hull of the shape posed at each of `poses` (world frame), as a convex shape:
+    /// it holds every pose of the shape that a translation between those poses reaches (a point
+    /// `x + Σ λᵢ tᵢ` is `Σ λᵢ (x + tᵢ)`). `None` when the hull is degenerate.
+    pub fn hull_of(&self, poses: &[Iso]) -> Option<Shape3> {
+        let (v, _) = self.surface();
+        let pts: Vec<Vector> = poses
+            .iter()
+            .flat_map(|p| {
+                let p = to_pose(p);
+                v.iter().map(move |&q| p * q)
+            })
+            .collect();
+        if pts.is_empty() || pts.iter().any(|p| !p.is_finite()) {
             return None;
         }
         let shape = ConvexPolyhedron::from_convex_hull(&pts)?;
@@ -504,6 +530,38 @@ pub fn closest_point(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, within: f64) ->
     let (sb, qb) = b.parts(&pb);
     let c = query::contact(&qa, sa, &qb, sb, within.max(0.0)).ok().flatten()?;
     Some(to_point((c.point1 + c.point2) * 0.5))
+}
+
+/// Whether the two solids stay more than `margin` apart while each translates linearly from its
+/// pose at `t = 0` to its pose at `t = 1` (`a` from `pa0` to `pa1`, `b` from `pb0` to `pb1`; each
+/// pair of poses with the same rotation): parry's shape cast of the boundaries finds no impact
+/// within `margin`, and neither solid holds a point of each connected part of the other at the
+/// start (boundaries that never meet keep what holds what). False when parry has no answer.
+pub fn swept_clear(a: &Shape3, (pa0, pa1): (&Iso, &Iso), b: &Shape3, (pb0, pb1): (&Iso, &Iso), margin: f64) -> bool {
+    let (qa0, qb0) = (to_pose(pa0), to_pose(pb0));
+    let (sa, qa) = a.parts(&qa0);
+    let (sb, qb) = b.parts(&qb0);
+    let vel = |p0: &Iso, p1: &Iso| {
+        let d = p1.translation.vector - p0.translation.vector;
+        Vector::new(d.x, d.y, d.z)
+    };
+    let (va, vb) = (vel(pa0, pa1), vel(pb0, pb1));
+    if !(va.is_finite() && vb.is_finite()) {
+        return false;
+    }
+    let options = query::ShapeCastOptions {
+        max_time_of_impact: 1.0,
+        target_distance: margin,
+        // Parts that overlap at the start are an impact even while they move apart.
+        stop_at_penetration: true,
+        compute_impact_geometry_on_penetration: false,
+    };
+    match query::cast_shapes(&qa, va, sa, &qb, vb, sb, options) {
+        Ok(None) => {}
+        _ => return false,
+    }
+    let inside = |x: &Shape3, px: &Pose, y: &Shape3, py: &Pose| x.reps().iter().any(|&r| y.contains(py, *px * r));
+    !inside(a, &qa0, b, &qb0) && !inside(b, &qb0, a, &qa0)
 }
 
 /// Distance between the two solids (0 when they overlap, containment included), mm: parry's

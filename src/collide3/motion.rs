@@ -265,6 +265,24 @@ pub fn first_contact_from(
     min_step: f64,
     start_gap: f64,
 ) -> (Advance, f64, u64) {
+    first_contact_proving(k, a, b, path, eps, min_step, start_gap, &mut |_, _| false)
+}
+
+/// [`first_contact_from`] with a proof of stretches: `prove(u0, u1)` true says that no pose of
+/// the pair over `[u0, u1]` overlaps at all; the advancement then goes on from `u1` instead of
+/// stepping through it ([`Stretches`]: tried where the steps are short). A proof never hides a
+/// contact: it changes only where the probes fall.
+#[allow(clippy::too_many_arguments)]
+pub fn first_contact_proving(
+    k: &Kinematics,
+    a: (CompId, &Shape3),
+    b: (CompId, &Shape3),
+    path: &dyn Path,
+    eps: f64,
+    min_step: f64,
+    start_gap: f64,
+    prove: &mut dyn FnMut(f64, f64) -> bool,
+) -> (Advance, f64, u64) {
     let mut poser = Poser::focused(k, &[a.0, b.0]);
     let mut vals = Vec::with_capacity(k.axes.len());
     let mut delta = Vec::with_capacity(k.axes.len());
@@ -279,10 +297,69 @@ pub fn first_contact_from(
         }
     }
     let mut end_gap = 0.0;
-    let (adv, probes) = advance(k, a, b, path, eps, min_step, &mut end_gap);
+    let (adv, probes) = advance(k, a, b, path, eps, min_step, &mut end_gap, prove);
     (adv, end_gap, probes)
 }
 
+/// Stretches of an advancement proven clear in one query each: tried where a step is shorter
+/// than the next stretch (or, with `steps`, whatever the step: the stretch then covers at least
+/// that many steps); a proven stretch doubles the next one, a failed one quarters it, and none
+/// is tried again until the probes have covered that much.
+pub struct Stretches {
+    /// The next stretch's length in `u`; never below `base`.
+    reach: f64,
+    base: f64,
+    steps: f64,
+    /// No proof is tried before this `u` (after a failed one).
+    hold: f64,
+}
+
+impl Stretches {
+    /// `base`: the shortest stretch worth a proof (in `u`), a few of the advancement's shortest
+    /// steps.
+    pub fn new(base: f64) -> Stretches {
+        Stretches {
+            reach: base,
+            base,
+            steps: 0.0,
+            hold: 0.0,
+        }
+    }
+
+    /// Stretches tried at every step, each at least `steps` steps long.
+    pub fn every_step(base: f64, steps: f64) -> Stretches {
+        Stretches {
+            steps,
+            ..Stretches::new(base)
+        }
+    }
+
+    /// Where the advancement may go on from `u` instead of stepping by `step`: the end of a
+    /// stretch `prove` proves clear, or `None` (step as before).
+    pub fn skip(&mut self, u: f64, step: f64, prove: impl FnOnce(f64, f64) -> bool) -> Option<f64> {
+        if self.steps > 0.0 {
+            self.reach = self.reach.max(self.steps * step);
+        }
+        if !super::positive(self.base) || step >= self.reach || u < self.hold || u >= 1.0 {
+            return None;
+        }
+        let end = (u + self.reach).min(1.0);
+        if prove(u, end) {
+            self.reach *= 2.0;
+            return Some(end);
+        }
+        self.hold = u + self.reach;
+        self.reach = (self.reach / 4.0).max(self.base);
+        None
+    }
+}
+
+/// The shortest stretch an advancement proves clear (`Stretches`), in its shortest steps, and
+/// in the steps it would take there.
+const PROOF_STEPS: f64 = 16.0;
+const PROOF_STRIDE: f64 = 8.0;
+
+#[allow(clippy::too_many_arguments)]
 fn advance(
     k: &Kinematics,
     a: (CompId, &Shape3),
@@ -291,6 +368,7 @@ fn advance(
     eps: f64,
     min_step: f64,
     end_gap: &mut f64,
+    prove: &mut dyn FnMut(f64, f64) -> bool,
 ) -> (Advance, u64) {
     let mut poser = Poser::focused(k, &[a.0, b.0]);
     let mut vals = Vec::with_capacity(k.axes.len());
@@ -330,6 +408,7 @@ fn advance(
     };
     let mut u = 0.0f64;
     let mut prev = 0.0f64;
+    let mut stretches: Option<Stretches> = None;
     loop {
         probes += 1;
         if probes > MAX_PROBES {
@@ -374,7 +453,14 @@ fn advance(
         }
         let step = d.max(min_step) / rate;
         prev = u;
-        let next = (u + step).min(1.0);
+        let st = stretches.get_or_insert_with(|| Stretches::every_step(PROOF_STEPS * min_step / rate, PROOF_STRIDE));
+        let next = match st.skip(u, step, |u0, u1| {
+            probes += 1;
+            prove(u0, u1)
+        }) {
+            Some(end) => end,
+            None => (u + step).min(1.0),
+        };
         u = if next > u { next } else { (u + f64::EPSILON).min(1.0) };
         // The boxes' gap serves the next probe when it steps at least a share of the move (or
         // to its end): a box gap far below the distance would make many short steps.

@@ -622,3 +622,117 @@ proptest! {
         prop_assert!(deepest <= bound + 1e-9, "a pose {} deep, bound {}", deepest, bound);
     }
 }
+
+/// The advancement with stretches proven by the shape cast of the pair's translations
+/// (`first_contact_proving` with `swept_clear`) answers as the plain one: clear where it is
+/// clear, the first contact where it finds one (both bisect to 1e-9), and the proofs are taken
+/// (not vacuous). A box tool translating past and into a plate and a cylinder primitive.
+#[test]
+fn stretches_proven_by_the_swept_pair_change_no_answer() {
+    let tools = [
+        boxg(2.0, 4.0, 20.0),
+        Geometry::Cylinder {
+            radius: 3.0,
+            z0: 0.0,
+            z1: 30.0,
+        },
+    ];
+    let mut seed = 5u64;
+    let mut rnd = || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut proofs, mut contacts, mut clear) = (0, 0, 0);
+    for i in 0..160 {
+        let k = machine(tools[i % 2].clone(), boxg(60.0, 1.0, 60.0));
+        let ta = Shape3::from_geometry(k.components[3].geometry.as_ref().unwrap(), 0.01).unwrap();
+        let tb = Shape3::from_geometry(k.components[5].geometry.as_ref().unwrap(), 0.01).unwrap();
+        // C fixed at a random angle; z and x translate.
+        let c = 360.0 * rnd();
+        let path = LinearPath {
+            v0: vec![-80.0 + 60.0 * rnd(), 150.0 * rnd() - 75.0, 0.0, c],
+            v1: vec![-80.0 + 60.0 * rnd(), 150.0 * rnd() - 75.0, 0.0, c],
+        };
+        let tol = 0.01;
+        let plain = first_contact_from(&k, (3, &ta), (5, &tb), &path, 2.0 * tol, tol, 0.0).0;
+        let mut poser = Poser::new(&k);
+        let mut vals = Vec::new();
+        let mut pose = |u: f64| {
+            path.at(u, &mut vals);
+            poser.pose(&k, &vals);
+            (*poser.world(3), *poser.world(5))
+        };
+        let mut prove = |u0: f64, u1: f64| {
+            let ((a0, b0), (a1, b1)) = (pose(u0), pose(u1));
+            let ok = swept_clear(&ta, (&a0, &a1), &tb, (&b0, &b1), 1e-8);
+            proofs += usize::from(ok);
+            ok
+        };
+        let proving = first_contact_proving(&k, (3, &ta), (5, &tb), &path, 2.0 * tol, tol, 0.0, &mut prove).0;
+        match (plain, proving) {
+            (Advance::Clear, Advance::Clear) => clear += 1,
+            (Advance::Contact { u: a, .. }, Advance::Contact { u: b, .. }) => {
+                assert!((a - b).abs() <= 2e-9, "case {i}: first contact at {a} and {b}");
+                contacts += 1;
+            }
+            other => panic!("case {i}: {other:?}"),
+        }
+    }
+    assert!(
+        proofs > 20 && contacts > 10 && clear > 10,
+        "proofs {proofs}, contacts {contacts}, clear {clear}"
+    );
+}
+
+/// `swept_clear` against sampling: where it says a translating pair stays apart, no sampled pose
+/// of the path overlaps (a pair that overlaps at the start and moves apart included); and a path
+/// through the plate is never called clear. Primitives and meshes (a shape cast of surfaces, a
+/// small cube that may start inside the plate: containment).
+#[test]
+fn a_swept_pair_called_clear_overlaps_at_no_sampled_pose() {
+    let tools = [boxg(2.0, 4.0, 20.0), boxg(0.3, 0.3, 0.3)];
+    let mut seed = 17u64;
+    let mut rnd = || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut yes, mut no) = (0, 0);
+    for i in 0..300 {
+        let k = machine(tools[i % 2].clone(), boxg(60.0, 1.0, 60.0));
+        let shape = |c: usize| {
+            let g = k.components[c].geometry.as_ref().unwrap();
+            if i % 3 == 0 {
+                Shape3::from_geometry(g, 0.01).unwrap()
+            } else {
+                Shape3::meshed(g, 0.01).unwrap()
+            }
+        };
+        let (ta, tb) = (shape(3), shape(5));
+        // Every fifth case with the plate square to the tool's plane (a small cube inside it).
+        let c = if i % 5 == 0 { 0.0 } else { 360.0 * rnd() };
+        let path = LinearPath {
+            v0: vec![-80.0 + 60.0 * rnd(), 150.0 * rnd() - 75.0, 0.0, c],
+            v1: vec![-80.0 + 60.0 * rnd(), 150.0 * rnd() - 75.0, 0.0, c],
+        };
+        let mut poser = Poser::new(&k);
+        let mut vals = Vec::new();
+        let mut pose = |u: f64| {
+            path.at(u, &mut vals);
+            poser.pose(&k, &vals);
+            (*poser.world(3), *poser.world(5))
+        };
+        let ((a0, b0), (a1, b1)) = (pose(0.0), pose(1.0));
+        let clear = swept_clear(&ta, (&a0, &a1), &tb, (&b0, &b1), 1e-8);
+        let hit = (0..=400).any(|i| {
+            let (a, b) = pose(i as f64 / 400.0);
+            overlap(&ta, &a, &tb, &b, 0.0).is_some()
+        });
+        assert!(!(clear && hit), "case {i}: called clear, overlaps: {path:?}");
+        if clear {
+            yes += 1;
+        } else {
+            no += 1;
+        }
+    }
+    assert!(yes > 30 && no > 30, "clear {yes}, not {no}");
+}

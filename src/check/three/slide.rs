@@ -21,24 +21,14 @@ use crate::kin::{AxisKind, CompId, Poser};
 use crate::motion::Path as Timing;
 use crate::scene::{DexelStock, View};
 
-/// Stretches proven and failed along one pair's advancement, and the next one's length.
-pub(super) struct Slide {
-    /// The next stretch's length in `u`; never below `base`.
-    reach: f64,
-    base: f64,
-    /// No proof is tried before this `u` (after a failed one).
-    hold: f64,
-}
+/// Stretches proven and failed along one part's advancement against the stock.
+pub(super) struct Slide(collide3::Stretches);
 
 impl Slide {
     /// `base`: the shortest stretch worth a proof (in `u`), a few of the advancement's shortest
     /// steps.
     pub fn new(base: f64) -> Slide {
-        Slide {
-            reach: base,
-            base,
-            hold: 0.0,
-        }
+        Slide(collide3::Stretches::new(base))
     }
 
     /// Where the advancement may go on from `u` instead of stepping by `step`: the end of a
@@ -55,25 +45,14 @@ impl Slide {
         u: f64,
         step: f64,
     ) -> Option<f64> {
-        if !collide3::positive(self.base) || step >= self.reach || u < self.hold || u >= 1.0 {
-            return None;
-        }
-        let end = (u + self.reach).min(1.0);
-        if proven(three, f, a, sa, stock, u, end) {
-            self.reach *= 2.0;
-            return Some(end);
-        }
-        self.hold = u + self.reach;
-        self.reach = (self.reach / 4.0).max(self.base);
-        None
+        self.0.skip(u, step, |u0, u1| proven(three, f, a, sa, stock, u0, u1))
     }
 }
 
-/// Whether no pose of component `a` over `[u0, u1]` overlaps the stock (as it is now) by more
-/// than `TOUCH_EPS` (see the module docs).
-fn proven(three: &Three, f: &Follow, a: CompId, sa: &Shape3, stock: &mut DexelStock, u0: f64, u1: f64) -> bool {
+/// Whether component `a`'s pose only translates over the move (no rotary joint above it turns,
+/// the turret's index aside: a tool of another station stands at its angle).
+fn translates_only(three: &Three, f: &Follow, a: CompId) -> bool {
     let k = &three.kin;
-    // A rotary joint that turns over the move carries the part along an arc: no proof.
     let mut at = Some(a);
     while let Some(i) = at {
         let Some(c) = k.components.get(i) else { return false };
@@ -85,6 +64,51 @@ fn proven(three: &Three, f: &Follow, a: CompId, sa: &Shape3, stock: &mut DexelSt
             }
         }
         at = c.parent;
+    }
+    true
+}
+
+/// Whether no pose of the pair `a`, `b` over `[u0, u1]` overlaps at all: both only translate,
+/// each going linearly between the polyline's corners ([`Follow::corners`]), and over each
+/// piece between two corners the two solids stay apart (`collide3::swept_clear`, a shape cast
+/// of the pieces' translations, with a margin of a hundredth of the touching tolerance).
+pub(super) fn pair_proven(
+    three: &Three,
+    f: &Follow,
+    (a, sa): (CompId, &Shape3),
+    (b, sb): (CompId, &Shape3),
+    u0: f64,
+    u1: f64,
+) -> bool {
+    if !translates_only(three, f, a) || !translates_only(three, f, b) {
+        return false;
+    }
+    let Some(corners) = f.corners(u0, u1) else {
+        return false;
+    };
+    let k = &three.kin;
+    let mut poser = Poser::focused(k, &[a, b]);
+    let mut vals = Vec::new();
+    let poses: Vec<_> = corners
+        .iter()
+        .map(|&u| {
+            collide3::Path::at(f, u, &mut vals);
+            poser.pose(k, &vals);
+            (*poser.world(a), *poser.world(b))
+        })
+        .collect();
+    poses
+        .windows(2)
+        .all(|w| collide3::swept_clear(sa, (&w[0].0, &w[1].0), sb, (&w[0].1, &w[1].1), 0.01 * TOUCH_EPS))
+}
+
+/// Whether no pose of component `a` over `[u0, u1]` overlaps the stock (as it is now) by more
+/// than `TOUCH_EPS` (see the module docs).
+fn proven(three: &Three, f: &Follow, a: CompId, sa: &Shape3, stock: &mut DexelStock, u0: f64, u1: f64) -> bool {
+    let k = &three.kin;
+    // A rotary joint that turns over the move carries the part along an arc: no proof.
+    if !translates_only(three, f, a) {
+        return false;
     }
     let Some(corners) = f.corners(u0, u1) else {
         return false;
