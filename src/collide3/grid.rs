@@ -23,6 +23,10 @@ use crate::scene::DexelStock;
 /// Most boundary crossings followed along one ray.
 const MAX_CROSSINGS: usize = 64;
 
+/// Most rays a depth search ranks by their bound (16 bytes each); a longer walk goes in its own
+/// order (the same answer, more rays cast).
+const MAX_RANKED: usize = 1 << 20;
+
 /// The stretches of the ray `o + t·u`, `t ∈ [t0, t1]`, inside the shape (posed at `pose`); both
 /// ends of the ray lie outside the shape.
 fn inside_stretches(
@@ -448,11 +452,12 @@ pub fn grid_overlap(
     dexel: Option<&DexelStock>,
     any: bool,
 ) -> Option<Hit> {
-    overlap_by(shape, pose, part, stock, eps, dexel, any, true)
+    overlap_by(shape, pose, part, stock, eps, dexel, any, Some(MAX_RANKED))
 }
 
-/// [`grid_overlap`]; with `prune` false, the slow answer it must equal: every ray in the walk's
-/// order, every run of material measured (the tests' oracle).
+/// [`grid_overlap`], ranking at most `rank` rays by their bound (more: the walk in its order,
+/// the bounds still skipping); with `rank` `None`, the slow answer it must equal: every ray in
+/// the walk's order, every run of material measured (the tests' oracle).
 #[allow(clippy::too_many_arguments)]
 fn overlap_by(
     shape: &Shape3,
@@ -462,8 +467,9 @@ fn overlap_by(
     eps: f64,
     dexel: Option<&DexelStock>,
     any: bool,
-    prune: bool,
+    rank: Option<usize>,
 ) -> Option<Hit> {
+    let prune = rank.is_some();
     // The shape in the part's frame.
     let local = part.inverse() * pose;
     let (min, max) = part_box(shape, &local, 0.0);
@@ -601,21 +607,23 @@ fn overlap_by(
         !(any && best.hit.is_some())
     };
     let walk = q.walk(best_rays);
-    if any || !prune {
-        // Asked only whether: the walk in its order, to the first contact.
+    if any || rank.map_or(true, |r| best_n > r) {
+        // Asked only whether: the walk in its order, to the first contact. (And so the oracle,
+        // and a walk too long to rank in bounded memory, the bounds still skipping.)
         q.each(&walk, |id, (o, u, t0, t1)| visit(&mut best, id, o, u, t0, t1));
         return best.hit;
     }
     // Asked how deep: the rays by how deep the box lets their material lie, deepest first, until
     // no ray left can beat the best (`Deepest` answers as the walk in its order would).
-    let mut order = std::collections::BinaryHeap::new();
+    let mut ranked = Vec::with_capacity(best_n);
     q.each(&walk, |id, (o, u, t0, t1)| {
         let bound = box_depth_bound(&min, &max, o, u, t0, t1);
         if bound > eps {
-            order.push(Ranked(bound, id));
+            ranked.push(Ranked(bound, id));
         }
         true
     });
+    let mut order = std::collections::BinaryHeap::from(ranked);
     while let Some(Ranked(bound, id)) = order.pop() {
         if best.hit.is_some_and(|h| bound < h.depth) {
             break;
@@ -855,7 +863,9 @@ mod tests {
     /// runs skipped when they cannot beat the best) answers bit for bit as measuring every run
     /// of every ray in the walk's order: on a bar with a flat, a radial hole at 45° (a side grid
     /// whose rays lie oblique to the part's axes) and a face pocket, against a mesh and a
-    /// primitive at random poses; and a query for any contact finds one exactly when it does.
+    /// primitive at random poses; and so does the same search on a walk too long to rank (in
+    /// its order, the bounds skipping); and a query for any contact finds one exactly when it
+    /// does.
     #[test]
     fn the_deepest_search_answers_as_measuring_every_run_in_order() {
         let mut s = milled_bar();
@@ -916,9 +926,12 @@ mod tests {
                 for eps in [1e-6, 0.3] {
                     let dexel = (k == 1).then(|| DexelStock::new(40.0, 0.0, 60.0, 60.0, 0.05));
                     let fast = grid_overlap(shape, &pose, &part, &s, eps, dexel.as_ref(), false);
-                    let slow = overlap_by(shape, &pose, &part, &s, eps, dexel.as_ref(), false, false);
+                    let slow = overlap_by(shape, &pose, &part, &s, eps, dexel.as_ref(), false, None);
+                    // A walk too long to rank: in its order, the bounds skipping.
+                    let long = overlap_by(shape, &pose, &part, &s, eps, dexel.as_ref(), false, Some(0));
                     let bits = |h: Option<Hit>| h.map(|h| (h.depth.to_bits(), h.point.coords.map(f64::to_bits)));
                     assert_eq!(bits(fast), bits(slow), "at {c:?}: {fast:?} against {slow:?}");
+                    assert_eq!(bits(long), bits(slow), "at {c:?}: {long:?} against {slow:?}");
                     let any = grid_overlap(shape, &pose, &part, &s, eps, dexel.as_ref(), true);
                     assert_eq!(any.is_some(), slow.is_some(), "at {c:?}");
                     hits += usize::from(slow.is_some());
