@@ -818,8 +818,10 @@ impl Checker<'_> {
             }
             prev = u;
             let step = gap.max(min_step) / rate;
-            // Sliding along the dexel stock: a stretch proven clear in one query (`slide.rs`).
-            if let (None, Some(f)) = (mill, follow) {
+            // Sliding along the dexel stock: a stretch proven clear in one query (`slide.rs`). The
+            // dexel stock holds all the material: a stretch clear of it is clear of the milled
+            // stock too.
+            if let Some(f) = follow {
                 if let Some(end) = slide.skip(three, f, a, sa, stock, u, step) {
                     u = end;
                     continue;

@@ -7,7 +7,9 @@
 //! only translates along a polyline of axis values over it ([`Follow::corners`]), every pose in
 //! between lies in the convex hull of the poses at the polyline's corners, and
 //! `collide3::stock_hull_depth` bounds the depth any of those poses can have in the stock as the
-//! advancement's probes measure it (the same view, which does not change along the search). A
+//! advancement's probes measure it (the same view, which does not change along the search); with
+//! a milled stock too, whose material the dexel stock holds (`mill.rs`: material is what both
+//! hold), so a stretch clear of the dexel stock is clear of it. A
 //! bound of at most half of `TOUCH_EPS` proves that no probe in the stretch could find a contact:
 //! the stretch is skipped. So a proof never hides a contact; it changes only where the probes
 //! fall. A proven stretch doubles the next one; a failed one quarters it, and no proof is tried
