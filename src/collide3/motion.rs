@@ -265,7 +265,7 @@ pub fn first_contact_from(
     min_step: f64,
     start_gap: f64,
 ) -> (Advance, f64, u64) {
-    first_contact_proving(k, a, b, path, eps, min_step, start_gap, &mut |_, _| false)
+    advance_from(k, a, b, path, eps, min_step, start_gap, None)
 }
 
 /// [`first_contact_from`] with a proof of stretches: `prove(u0, u1)` true says that no pose of
@@ -282,6 +282,21 @@ pub fn first_contact_proving(
     min_step: f64,
     start_gap: f64,
     prove: &mut dyn FnMut(f64, f64) -> bool,
+) -> (Advance, f64, u64) {
+    advance_from(k, a, b, path, eps, min_step, start_gap, Some(prove))
+}
+
+/// The broad phase, then the advancement, with stretch proofs when `prove` is given.
+#[allow(clippy::too_many_arguments)]
+fn advance_from(
+    k: &Kinematics,
+    a: (CompId, &Shape3),
+    b: (CompId, &Shape3),
+    path: &dyn Path,
+    eps: f64,
+    min_step: f64,
+    start_gap: f64,
+    prove: Option<&mut dyn FnMut(f64, f64) -> bool>,
 ) -> (Advance, f64, u64) {
     let mut poser = Poser::focused(k, &[a.0, b.0]);
     let mut vals = Vec::with_capacity(k.axes.len());
@@ -368,7 +383,7 @@ fn advance(
     eps: f64,
     min_step: f64,
     end_gap: &mut f64,
-    prove: &mut dyn FnMut(f64, f64) -> bool,
+    mut prove: Option<&mut dyn FnMut(f64, f64) -> bool>,
 ) -> (Advance, u64) {
     let mut poser = Poser::focused(k, &[a.0, b.0]);
     let mut vals = Vec::with_capacity(k.axes.len());
@@ -453,14 +468,15 @@ fn advance(
         }
         let step = d.max(min_step) / rate;
         prev = u;
-        let st = stretches.get_or_insert_with(|| Stretches::every_step(PROOF_STEPS * min_step / rate, PROOF_STRIDE));
-        let next = match st.skip(u, step, |u0, u1| {
-            probes += 1;
-            prove(u0, u1)
-        }) {
-            Some(end) => end,
-            None => (u + step).min(1.0),
-        };
+        let proven = prove.as_mut().and_then(|prove| {
+            let st =
+                stretches.get_or_insert_with(|| Stretches::every_step(PROOF_STEPS * min_step / rate, PROOF_STRIDE));
+            st.skip(u, step, |u0, u1| {
+                probes += 1;
+                prove(u0, u1)
+            })
+        });
+        let next = proven.unwrap_or_else(|| (u + step).min(1.0));
         u = if next > u { next } else { (u + f64::EPSILON).min(1.0) };
         // The boxes' gap serves the next probe when it steps at least a share of the move (or
         // to its end): a box gap far below the distance would make many short steps.
