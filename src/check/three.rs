@@ -1240,7 +1240,6 @@ fn pair_advance(three: &Three, f: &Follow, a: CompId, b: CompId, tol: f64, start
     // check's advancement: never longer than the proven gap, at least the tolerance.
     // Where the pair slides past each other at a small gap, stretches are proven clear by the
     // hull of one part's poses relative to the other (`slide::pair_proven`).
-    collide3::first_contact_proving(k, (a, sa), (b, sb), f, 2.0 * tol, tol, start_gap, &mut |u0, u1| {
-        slide::pair_proven(three, f, (a, sa), (b, sb), u0, u1)
-    })
+    let mut prove = |u0, u1| slide::pair_proven(three, f, (a, sa), (b, sb), u0, u1);
+    collide3::first_contact_proving(k, (a, sa), (b, sb), f, 2.0 * tol, tol, start_gap, Some(&mut prove))
 }

@@ -207,32 +207,6 @@ impl Shape3 {
         }))
     }
 
-    /// The convex hull of the shape posed at each of `poses` (world frame), as a convex shape:
-    /// it holds every pose of the shape that a translation between those poses reaches (a point
-    /// `x + Σ λᵢ tᵢ` is `Σ λᵢ (x + tᵢ)`). `None` when the hull is degenerate.
-    pub fn hull_of(&self, poses: &[Iso]) -> Option<Shape3> {
-        let (v, _) = self.surface();
-        let pts: Vec<Vector> = poses
-            .iter()
-            .flat_map(|p| {
-                let p = to_pose(p);
-                v.iter().map(move |&q| p * q)
-            })
-            .collect();
-        if pts.is_empty() || pts.iter().any(|p| !p.is_finite()) {
-            return None;
-        }
-        let shape = ConvexPolyhedron::from_convex_hull(&pts)?;
-        let inner = pts.iter().fold(Vector::ZERO, |a, &p| a + p) / pts.len() as f64;
-        let surf = shape.to_trimesh();
-        Some(Shape3::Convex(Convex {
-            shape: Box::new(shape),
-            local: Pose::IDENTITY,
-            inner,
-            surf,
-        }))
-    }
-
     /// Whether the shape is one of parry's convex primitives (not a mesh).
     pub fn is_convex(&self) -> bool {
         matches!(self, Shape3::Convex(_))

@@ -265,30 +265,15 @@ pub fn first_contact_from(
     min_step: f64,
     start_gap: f64,
 ) -> (Advance, f64, u64) {
-    advance_from(k, a, b, path, eps, min_step, start_gap, None)
+    first_contact_proving(k, a, b, path, eps, min_step, start_gap, None)
 }
 
-/// [`first_contact_from`] with a proof of stretches: `prove(u0, u1)` true says that no pose of
-/// the pair over `[u0, u1]` overlaps at all; the advancement then goes on from `u1` instead of
+/// [`first_contact_from`] with a proof of stretches, when given: `prove(u0, u1)` true says that
+/// no pose of the pair over `[u0, u1]` overlaps at all; the advancement then goes on from `u1` instead of
 /// stepping through it ([`Stretches`]: tried where the steps are short). A proof never hides a
 /// contact: it changes only where the probes fall.
 #[allow(clippy::too_many_arguments)]
 pub fn first_contact_proving(
-    k: &Kinematics,
-    a: (CompId, &Shape3),
-    b: (CompId, &Shape3),
-    path: &dyn Path,
-    eps: f64,
-    min_step: f64,
-    start_gap: f64,
-    prove: &mut dyn FnMut(f64, f64) -> bool,
-) -> (Advance, f64, u64) {
-    advance_from(k, a, b, path, eps, min_step, start_gap, Some(prove))
-}
-
-/// The broad phase, then the advancement, with stretch proofs when `prove` is given.
-#[allow(clippy::too_many_arguments)]
-fn advance_from(
     k: &Kinematics,
     a: (CompId, &Shape3),
     b: (CompId, &Shape3),

@@ -668,7 +668,7 @@ fn stretches_proven_by_the_swept_pair_change_no_answer() {
             proofs += usize::from(ok);
             ok
         };
-        let proving = first_contact_proving(&k, (3, &ta), (5, &tb), &path, 2.0 * tol, tol, 0.0, &mut prove).0;
+        let proving = first_contact_proving(&k, (3, &ta), (5, &tb), &path, 2.0 * tol, tol, 0.0, Some(&mut prove)).0;
         match (plain, proving) {
             (Advance::Clear, Advance::Clear) => clear += 1,
             (Advance::Contact { u: a, .. }, Advance::Contact { u: b, .. }) => {

@@ -19,7 +19,7 @@ use super::{Follow, Three};
 use crate::collide3::{self, Shape3};
 use crate::geom::TOUCH_EPS;
 use crate::interp::MoveKind;
-use crate::kin::{AxisKind, CompId, Poser};
+use crate::kin::{AxisKind, CompId, Iso, Poser};
 use crate::motion::Path as Timing;
 use crate::scene::{DexelStock, View};
 
@@ -70,10 +70,34 @@ fn translates_only(three: &Three, f: &Follow, a: CompId) -> bool {
     true
 }
 
+/// The poses (world frame) of each of `parts` at the corners of the polyline the move follows
+/// over `[u0, u1]` ([`Follow::corners`]), one list per corner, when every part only translates
+/// there (between two corners each then goes linearly); `None` otherwise (no proof).
+fn corner_poses(three: &Three, f: &Follow, parts: &[CompId], u0: f64, u1: f64) -> Option<Vec<Vec<Iso>>> {
+    // A rotary joint that turns over the move carries a part along an arc.
+    if !parts.iter().all(|&c| translates_only(three, f, c)) {
+        return None;
+    }
+    let corners = f.corners(u0, u1)?;
+    let k = &three.kin;
+    let mut poser = Poser::focused(k, parts);
+    let mut vals = Vec::new();
+    Some(
+        corners
+            .iter()
+            .map(|&u| {
+                collide3::Path::at(f, u, &mut vals);
+                poser.pose(k, &vals);
+                parts.iter().map(|&c| *poser.world(c)).collect()
+            })
+            .collect(),
+    )
+}
+
 /// Whether no pose of the pair `a`, `b` over `[u0, u1]` overlaps at all: both only translate,
-/// each going linearly between the polyline's corners ([`Follow::corners`]), and over each
-/// piece between two corners the two solids stay apart (`collide3::swept_clear`, a shape cast
-/// of the pieces' translations, with a margin of a hundredth of the touching tolerance).
+/// each going linearly between the polyline's corners, and over each piece between two corners
+/// the two solids stay apart (`collide3::swept_clear`, a shape cast of the pieces'
+/// translations, with a margin of a hundredth of the touching tolerance).
 pub(super) fn pair_proven(
     three: &Three,
     f: &Follow,
@@ -82,49 +106,21 @@ pub(super) fn pair_proven(
     u0: f64,
     u1: f64,
 ) -> bool {
-    if !translates_only(three, f, a) || !translates_only(three, f, b) {
-        return false;
-    }
-    let Some(corners) = f.corners(u0, u1) else {
+    let Some(poses) = corner_poses(three, f, &[a, b], u0, u1) else {
         return false;
     };
-    let k = &three.kin;
-    let mut poser = Poser::focused(k, &[a, b]);
-    let mut vals = Vec::new();
-    let poses: Vec<_> = corners
-        .iter()
-        .map(|&u| {
-            collide3::Path::at(f, u, &mut vals);
-            poser.pose(k, &vals);
-            (*poser.world(a), *poser.world(b))
-        })
-        .collect();
     poses
         .windows(2)
-        .all(|w| collide3::swept_clear(sa, (&w[0].0, &w[1].0), sb, (&w[0].1, &w[1].1), 0.01 * TOUCH_EPS))
+        .all(|w| collide3::swept_clear(sa, (&w[0][0], &w[1][0]), sb, (&w[0][1], &w[1][1]), 0.01 * TOUCH_EPS))
 }
 
 /// Whether no pose of component `a` over `[u0, u1]` overlaps the stock (as it is now) by more
 /// than `TOUCH_EPS` (see the module docs).
 fn proven(three: &Three, f: &Follow, a: CompId, sa: &Shape3, stock: &mut DexelStock, u0: f64, u1: f64) -> bool {
-    let k = &three.kin;
-    // A rotary joint that turns over the move carries the part along an arc: no proof.
-    if !translates_only(three, f, a) {
-        return false;
-    }
-    let Some(corners) = f.corners(u0, u1) else {
+    let Some(poses) = corner_poses(three, f, &[a], u0, u1) else {
         return false;
     };
-    let mut poser = Poser::focused(k, &[a]);
-    let mut vals = Vec::new();
-    let poses: Vec<_> = corners
-        .iter()
-        .map(|&u| {
-            collide3::Path::at(f, u, &mut vals);
-            poser.pose(k, &vals);
-            *poser.world(a)
-        })
-        .collect();
+    let poses: Vec<Iso> = poses.into_iter().map(|p| p[0]).collect();
     collide3::stock_hull_depth(sa, &poses, stock, View::Now) <= 0.5 * TOUCH_EPS
 }
 
