@@ -360,7 +360,8 @@ impl Checker<'_> {
 
     /// Exact sweeps of a rigid part against a polygon obstacle (both halves of its section).
     fn swept(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, out: &mut Vec<Interval>) {
-        let Some((a, _)) = self.pose(p, piece.at(0.0), active as f64) else {
+        // A rigid part is posed whole (only another station's tool may fold).
+        let Some((Section::Whole(a), _)) = self.pose(p, piece.at(0.0), active as f64) else {
             return;
         };
         let Some(rev) = self.obstacle(o) else { return };
@@ -406,7 +407,7 @@ impl Checker<'_> {
     }
 
     /// The part posed at path fraction `u` of a piece, the stock's instant set to it.
-    fn posed_at(&mut self, p: Part, piece: &Piece, u: f64, active: u32) -> Option<(Polygon, bool)> {
+    fn posed_at(&mut self, p: Part, piece: &Piece, u: f64, active: u32) -> Option<(Section, bool)> {
         self.instant = u;
         let posed = self.pose(p, piece.at(u), active as f64)?;
         if matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_)) {
@@ -641,7 +642,7 @@ impl Checker<'_> {
         let Shape::Line { .. } = piece.shape else {
             return false;
         };
-        let Some((pose_a, _)) = self.pose(p, piece.at(a), active as f64) else {
+        let Some((Section::Whole(pose_a), _)) = self.pose(p, piece.at(a), active as f64) else {
             return false;
         };
         let d = piece.at(b) - piece.at(a);
@@ -707,7 +708,12 @@ impl Checker<'_> {
         let Some((pose, in_plane)) = self.pose(p, piece.at(u), active as f64) else {
             return step;
         };
-        let pieces = geom::convex::convex_pieces(pose.points());
+        // The convex pieces of every piece of the section (a folded one has several).
+        let pieces: Vec<Vec<P2>> = pose
+            .pieces()
+            .iter()
+            .flat_map(|q| geom::convex::convex_pieces(q.points()))
+            .collect();
         let mut s = want;
         while s > step {
             let to = (u + s / len).min(b);
@@ -726,7 +732,9 @@ impl Checker<'_> {
             self.instant = to;
             let held = pieces.iter().any(|k| {
                 let r = region(k);
-                r.len() >= 3 && Polygon::new(&r).is_ok_and(|poly| self.test_with(&poly, in_plane, o, true).0.is_some())
+                r.len() >= 3
+                    && Polygon::new(&r)
+                        .is_ok_and(|poly| self.test_with(&Section::Whole(poly), in_plane, o, true).0.is_some())
             });
             if held {
                 return s;

@@ -29,7 +29,7 @@ use crate::interp::{ExtraMove, Interpretation, Move, MoveKind, MoveState, ProgFr
 use crate::machine::Machine;
 use crate::motion::{self, Timed};
 use crate::pipeline::{Mode, Settings, Stats};
-use crate::scene::{DexelStock, Revolved, Scene, Snapshot, StockHit, Swept, Travel, View, NO_SWEEP};
+use crate::scene::{DexelStock, Revolved, Scene, Section, Snapshot, StockHit, Swept, Travel, View, NO_SWEEP};
 
 use episodes::{Contact, Episodes};
 pub use stream::{takes_3d, takes_3d_depends_on_run, Stream};
@@ -484,13 +484,14 @@ impl Checker<'_> {
 
     /// The part's polygon when the reference point is at `r`, and whether it lies in the working
     /// plane (else it is already in the radial section).
-    fn pose(&self, part: Part, r: P2, active: f64) -> Option<(Polygon, bool)> {
+    fn pose(&self, part: Part, r: P2, active: f64) -> Option<(Section, bool)> {
+        let whole = |p: Polygon| Some((Section::Whole(p), true));
         match part {
-            Part::Turret => Some((self.scene.turret.translated(r.coords), true)),
+            Part::Turret => whole(self.scene.turret.translated(r.coords)),
             Part::Holder | Part::Insert => {
                 let t = self.scene.tool(active.round() as u32)?;
                 let shape = if part == Part::Holder { &t.holder } else { &t.insert };
-                Some((shape.translated(r.coords + t.tip), true))
+                whole(shape.translated(r.coords + t.tip))
             }
             Part::OtherHolder(s) | Part::OtherInsert(s) => {
                 let t = self.scene.tool(s)?;
@@ -545,14 +546,35 @@ impl Checker<'_> {
     }
 
     /// Overlap depth (> TOUCH_EPS) or gap (< clearance) of a posed part with an obstacle.
-    fn test(&mut self, poly: &Polygon, in_plane: bool, obs: Obstacle) -> (Option<f64>, Option<f64>) {
-        self.test_with(poly, in_plane, obs, false)
+    fn test(&mut self, part: &Section, in_plane: bool, obs: Obstacle) -> (Option<f64>, Option<f64>) {
+        self.test_with(part, in_plane, obs, false)
+    }
+
+    /// [`Self::test_one`] of each piece of a posed part: the deepest overlap, else the nearest
+    /// gap (the pieces together are the part).
+    fn test_with(&mut self, part: &Section, in_plane: bool, obs: Obstacle, quick: bool) -> (Option<f64>, Option<f64>) {
+        let (mut depth, mut gap): (Option<f64>, Option<f64>) = (None, None);
+        for poly in part.pieces() {
+            let (d, g) = self.test_one(poly, in_plane, obs, quick);
+            depth = match (depth, d) {
+                (Some(a), Some(b)) => Some(a.max(b)),
+                (a, b) => a.or(b),
+            };
+            gap = match (gap, g) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
+        }
+        if depth.is_some() {
+            gap = None;
+        }
+        (depth, gap)
     }
 
     /// With `quick`, a stock test stops at the first column that proves an overlap (used inside
     /// an open episode, where only its continuation is in question; its depth is then a lower
     /// bound, and the full depth is computed every [`FULL_DEPTH_EVERY`] samples).
-    fn test_with(&mut self, poly: &Polygon, in_plane: bool, obs: Obstacle, quick: bool) -> (Option<f64>, Option<f64>) {
+    fn test_one(&mut self, poly: &Polygon, in_plane: bool, obs: Obstacle, quick: bool) -> (Option<f64>, Option<f64>) {
         self.stats.pair_tests += 1;
         let clearance = self.settings.clearance_mm;
         match obs {
@@ -869,7 +891,7 @@ impl Checker<'_> {
         let mut k = (item.t0 / dt - 1e-9).ceil().max(0.0) as u64;
         let t1 = item.t1();
         let clearance = self.settings.clearance_mm;
-        let mut posed: Vec<(Part, Option<(Polygon, bool)>)> = Vec::new();
+        let mut posed: Vec<(Part, Option<(Section, bool)>)> = Vec::new();
         // How far the reference point can travel between two instants of the move: exactly, along
         // a line or a dogleg's legs; at most vmax·Δt on an arc.
         let vmax = motion::max_speed(m, item);
@@ -1126,7 +1148,7 @@ impl Checker<'_> {
         if matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_)) {
             return false;
         }
-        let Some((poly, in_plane)) = self.pose(p, ra, active as f64) else {
+        let Some((Section::Whole(poly), in_plane)) = self.pose(p, ra, active as f64) else {
             return false;
         };
         let m = &self.now.m;
@@ -1182,7 +1204,14 @@ impl Checker<'_> {
     /// of the cutting move under way, or before it for the insert's own spindle-stopped test):
     /// it holds for every later instant of the move too, since the stock only loses material
     /// (ARCHITECTURE.md, "The stock at the instant").
-    fn gap_lower_bound(&mut self, poly: &Polygon, in_plane: bool, o: Obstacle) -> f64 {
+    fn gap_lower_bound(&mut self, part: &Section, in_plane: bool, o: Obstacle) -> f64 {
+        part.pieces()
+            .iter()
+            .map(|poly| self.gap_lower_bound_one(poly, in_plane, o))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    fn gap_lower_bound_one(&mut self, poly: &Polygon, in_plane: bool, o: Obstacle) -> f64 {
         match o {
             Obstacle::Stock => {
                 self.refresh_swept();
@@ -1251,6 +1280,28 @@ impl Checker<'_> {
     }
 
     /// The scene when the reference point is at `r` (for pictures of findings).
+    /// The piece of a posed part a picture shows as the part in contact: the whole part, or of a
+    /// folded one (`Section::Folded`) the piece deepest in a revolved obstacle, else the one
+    /// nearest the spindle axis (where the stock and the bore are).
+    fn shown_piece<'a>(&self, part: &'a Section, obstacle: Option<Obstacle>) -> &'a Polygon {
+        let pieces = part.pieces();
+        let rev = obstacle
+            .filter(|&o| o != Obstacle::Stock)
+            .and_then(|o| self.obstacle(o));
+        let key = |p: &Polygon| match rev {
+            Some(rev) => geom::overlap(p, &rev.outline).unwrap_or(-geom::distance(p, &rev.outline)),
+            None => -p.aabb().min.x,
+        };
+        pieces
+            .iter()
+            .map(|p| (key(p), p))
+            .fold(None, |best: Option<(f64, &Polygon)>, (k, p)| match best {
+                Some((bk, _)) if bk >= k => best,
+                _ => Some((k, p)),
+            })
+            .map_or(&pieces[0], |(_, p)| p)
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn snapshot(
         &self,
@@ -1258,7 +1309,7 @@ impl Checker<'_> {
         item: &Timed,
         r: P2,
         active: u32,
-        part: &Polygon,
+        part: &Section,
         obstacle: Option<Obstacle>,
         in_plane: bool,
     ) -> Snapshot {
@@ -1294,8 +1345,10 @@ impl Checker<'_> {
             }
             let angle = self.scene.station_angle(t.station, active as f64);
             for (what, shape) in [("holder", &t.holder), ("insert", &t.insert)] {
-                if let Some(p) = self.scene.map_to_section(shape, t.tip, r, angle) {
-                    others.push((format!("{} {what}", t.label), pts(&p)));
+                if let Some(sec) = self.scene.map_to_section(shape, t.tip, r, angle) {
+                    for p in sec.pieces() {
+                        others.push((format!("{} {what}", t.label), pts(p)));
+                    }
                 }
             }
         }
@@ -1324,7 +1377,7 @@ impl Checker<'_> {
             frame: Some(*self.frame()),
             travel: None,
             at: r + m.tip,
-            part_a: pts(part),
+            part_a: pts(self.shown_piece(part, obstacle)),
             part_b,
             mirrored: in_plane,
         }
@@ -1613,7 +1666,7 @@ impl Checker<'_> {
             snapshot3: None,
         };
         if self.settings.snapshots {
-            let turret = self.scene.turret.translated(r.coords);
+            let turret = Section::Whole(self.scene.turret.translated(r.coords));
             let mut s = self.snapshot(m, item, r, m.station, &turret, None, true);
             s.travel = Some(travel_facts(axis, &ax, at));
             c.snapshot = Some(Box::new(s));

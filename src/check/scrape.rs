@@ -27,7 +27,7 @@ use crate::finding::{Kind, Severity};
 use crate::geom::{self, Polygon, P2, V2};
 use crate::interp::{Move, MoveKind};
 use crate::motion::{self, Timed};
-use crate::scene::StockHit;
+use crate::scene::{Section, StockHit};
 
 /// The largest edge lean whose wedge counts as a scrape, degrees (a 107.5° holder leans 17.5°).
 pub const LEAN_DEG: f64 = 20.0;
@@ -136,7 +136,9 @@ impl Checker<'_> {
             if s > WALK_MM {
                 return None;
             }
-            let (poly, _) = self.pose(Part::Insert, r, active as f64)?;
+            let (Section::Whole(poly), _) = self.pose(Part::Insert, r, active as f64)? else {
+                return None;
+            };
             let Some(hit) = self.overlap_now(&poly, V2::zeros(), false) else {
                 if began {
                     return Some((item.t0 + t, feed.line, thickest));
@@ -150,7 +152,9 @@ impl Checker<'_> {
             if d.dot(&normal) <= 0.0 || !self.stock.as_ref()?.last_move_changed(hit.cols.0, hit.cols.1) {
                 return None;
             }
-            let (holder, _) = self.pose(Part::Holder, r, active as f64)?;
+            let (Section::Whole(holder), _) = self.pose(Part::Holder, r, active as f64)? else {
+                return None;
+            };
             if self.overlap_now(&holder, V2::zeros(), true).is_some() {
                 return None;
             }

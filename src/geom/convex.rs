@@ -137,6 +137,14 @@ pub fn clip_convex(subject: &[P2], clip: &[P2]) -> Vec<P2> {
     out
 }
 
+/// The part of a convex ring where the affine function `side` is not negative (one step of
+/// Sutherland–Hodgman): a convex ring, under 3 points when that part has no area.
+pub fn keep_where(ring: &[P2], side: impl Fn(P2) -> f64) -> Vec<P2> {
+    let mut out = Vec::with_capacity(ring.len() + 1);
+    keep_side(ring, &mut out, side);
+    out
+}
+
 /// One step of Sutherland–Hodgman: the part of the ring `input` where `side` is not negative
 /// (`side` affine), into `out` (cleared first).
 fn keep_side(input: &[P2], out: &mut Vec<P2>, side: impl Fn(P2) -> f64) {

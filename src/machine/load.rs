@@ -2392,7 +2392,7 @@ pub(crate) struct HomeClash {
 /// machine files and jobs (which change the chuck, the tailstock and the tools).
 pub(crate) fn home_clashes(machine: &Machine) -> Vec<HomeClash> {
     use crate::geom::overlap;
-    use crate::scene::Scene;
+    use crate::scene::{Scene, Section};
     let mut out = Vec::new();
     if machine.chuck.is_none() && machine.tailstock.is_none() {
         return out;
@@ -2424,13 +2424,18 @@ pub(crate) fn home_clashes(machine: &Machine) -> Vec<HomeClash> {
         let Some(t) = scene.tool(station) else { continue };
         for (part, shape) in [("holder", &t.holder), ("insert", &t.insert)] {
             let (posed, in_plane) = if station == start {
-                (Some(shape.translated(home.coords + t.tip)), true)
+                (Some(Section::Whole(shape.translated(home.coords + t.tip))), true)
             } else {
                 let angle = scene.station_angle(station, start as f64);
                 (scene.map_to_section(shape, t.tip, home, angle), false)
             };
             let Some(posed) = posed else { continue };
-            if let Some((what, d)) = hit(&posed, in_plane) {
+            // The deepest piece of a folded section (scene/section.rs).
+            let found = posed.pieces().iter().filter_map(|p| hit(p, in_plane));
+            if let Some((what, d)) = found.fold(None, |a: Option<(&str, f64)>, b| match a {
+                Some(a) if a.1 >= b.1 => Some(a),
+                _ => Some(b),
+            }) {
                 out.push(HomeClash {
                     tool: Some((station, part)),
                     obstacle: what,

@@ -69,8 +69,10 @@ pub fn machine_drawing(m: &Machine, title: &str) -> String {
         } else {
             let angle = scene_parts.station_angle(t.station, start as f64);
             for shape in [&t.holder, &t.insert] {
-                if let Some(p) = scene_parts.map_to_section(shape, t.tip.coords, home, angle) {
-                    s.others.push((format!("T{:02}", t.station), p.points().to_vec()));
+                if let Some(sec) = scene_parts.map_to_section(shape, t.tip.coords, home, angle) {
+                    for p in sec.pieces() {
+                        s.others.push((format!("T{:02}", t.station), p.points().to_vec()));
+                    }
                 }
             }
         }

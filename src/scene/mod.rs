@@ -7,6 +7,7 @@
 //! turret rotated about its axis, out of the working plane; they are mapped into the radial
 //! section `(r, z)` (docs/checking.md), which is exact for collisions with revolved parts.
 
+pub mod section;
 pub mod snapshot;
 pub mod stock;
 pub mod turn_round;
@@ -15,6 +16,7 @@ use crate::geom::{Aabb, Polygon, P2, V2};
 use crate::machine::Machine;
 use std::f64::consts::TAU;
 
+pub use section::Section;
 pub use snapshot::{Snapshot, Travel};
 pub use stock::{DexelStock, StockHit, Swept, View, NO_SWEEP};
 pub use turn_round::{Stand, StockTransform};
@@ -216,36 +218,6 @@ impl Scene {
         }
         b
     }
-
-    /// A tool shape (relative to its programmed point) in the radial section `(r, z)` when the
-    /// turret reference point is at `r_ref` and the tool is turned `angle` out of the working
-    /// plane about the turret axis. At angle 0 this is the folded in-plane shape.
-    pub fn map_to_section(&self, shape: &Polygon, tip: V2, r_ref: P2, angle: f64) -> Option<Polygon> {
-        let (s, c) = angle.sin_cos();
-        let axis_x = r_ref.x + self.turret_axis;
-        let pts = shape.points();
-        let n = pts.len();
-        let mut out = Vec::with_capacity(n * 4);
-        let map = |q: P2| {
-            let p = q + tip; // relative to the reference point
-            let d = p.x - self.turret_axis; // from the turret axis, in the station's plane
-            let x3 = axis_x + d * c;
-            let y3 = d * s;
-            P2::new((x3 * x3 + y3 * y3).sqrt(), r_ref.y + p.y)
-        };
-        for i in 0..n {
-            let (a, b) = (pts[i], pts[(i + 1) % n]);
-            // Straight edges map to curves: split so chords stay within the tolerance.
-            let len = (b - a).norm();
-            let ra = map(a).x.max(1.0);
-            let step = (8.0 * ra * self.tolerance).sqrt().max(0.05);
-            let k = ((len / step).ceil() as usize).clamp(1, 64);
-            for j in 0..k {
-                out.push(map(a + (b - a) * (j as f64 / k as f64)));
-            }
-        }
-        Polygon::new(&out).ok()
-    }
 }
 
 /// Round the insert's tip corner (the vertex at the programmed point, or the one nearest to it)
@@ -389,7 +361,11 @@ mod map_box_tests {
                     ] {
                         assert!((a - b).abs() <= eps, "{fast:?} against {slow:?}");
                     }
-                    if let Some(p) = scene.map_to_section(shape, t.tip, r_ref, angle) {
+                    for p in scene
+                        .map_to_section(shape, t.tip, r_ref, angle)
+                        .iter()
+                        .flat_map(|s| s.pieces())
+                    {
                         for q in p.points() {
                             assert!(
                                 q.x >= fast.min.x - eps

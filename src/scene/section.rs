@@ -1,0 +1,244 @@
+//! Another station's tool in the radial section `(r, z)`.
+//!
+//! A drum turret holds its other stations' tools turned by their station's angle about the
+//! turret axis (parallel to the spindle axis). A point of a tool lies in its station's plane,
+//! `d` from the turret axis (negative toward the spindle) and at `z`; the turret axis stands
+//! `a` from the spindle axis (the reference point's `x` plus `turret_axis`). In 3D the point is
+//! at `(a + d cos θ, d sin θ, z)`, so its distance from the spindle axis is
+//!
+//! ```text
+//! r(d) = sqrt((d − d*)² + h²),   d* = −a cos θ,   h = a |sin θ|
+//! ```
+//!
+//! — `h` is how far the station's plane passes from the spindle axis and `d*` the foot of that
+//! perpendicular. Along `d`, `r` falls to `h` at `d*` and rises again: the map `(d, z) → (r, z)`
+//! folds the station's plane along the line `d = d*`. A tool wholly on one side of that line
+//! maps one to one, and its section is the image of its outline (straight edges become curves,
+//! cut into chords within the tolerance). A tool across the line folds over itself: the image
+//! of its outline is no simple polygon, and its part nearest the spindle axis — the line,
+//! at `r = h` — lies inside the outline's image, not on it. So the tool is cut along the line
+//! into convex pieces (its convex pieces, each clipped to either side), each of which maps one
+//! to one; the section is their images together ([`Section::Folded`]).
+
+use super::Scene;
+use crate::geom::{convex, Polygon, P2, V2};
+
+/// A part in the radial section: one simple polygon, or (another station's tool across the
+/// fold of its station's plane) the sections of its pieces, whose union is the part's section.
+/// A contact with the part is a contact with one of them; its depth is the deepest piece's and
+/// its gap the nearest piece's.
+#[derive(Clone, Debug)]
+pub enum Section {
+    Whole(Polygon),
+    Folded(Vec<Polygon>),
+}
+
+impl Section {
+    /// The polygons whose union is the section (one for a whole one).
+    pub fn pieces(&self) -> &[Polygon] {
+        match self {
+            Section::Whole(p) => std::slice::from_ref(p),
+            Section::Folded(v) => v,
+        }
+    }
+
+    /// The section as one polygon, when it is one.
+    pub fn whole(&self) -> Option<&Polygon> {
+        match self {
+            Section::Whole(p) => Some(p),
+            Section::Folded(_) => None,
+        }
+    }
+}
+
+impl Scene {
+    /// A tool shape (relative to its programmed point) in the radial section `(r, z)` when the
+    /// turret reference point is at `r_ref` and the tool is turned `angle` out of the working
+    /// plane about the turret axis (module docs). At angle 0 this is the folded in-plane shape.
+    /// `None` when no piece of it maps to a polygon (a degenerate shape).
+    pub fn map_to_section(&self, shape: &Polygon, tip: V2, r_ref: P2, angle: f64) -> Option<Section> {
+        let (s, c) = angle.sin_cos();
+        let axis_x = r_ref.x + self.turret_axis;
+        // The fold line `d = d*` in the shape's own coordinates (`d = q.x + tip.x − turret_axis`).
+        let fold = -axis_x * c + self.turret_axis - tip.x;
+        let bb = shape.aabb();
+        if !(bb.min.x < fold && fold < bb.max.x) {
+            return self.map_ring(shape.points(), tip, r_ref, (s, c)).map(Section::Whole);
+        }
+        let mut out = Vec::new();
+        for piece in convex::convex_pieces(shape.points()) {
+            for side in [1.0, -1.0] {
+                let half = convex::keep_where(&piece, |p: P2| side * (p.x - fold));
+                if half.len() >= 3 {
+                    out.extend(self.map_ring(&half, tip, r_ref, (s, c)));
+                }
+            }
+        }
+        (!out.is_empty()).then_some(Section::Folded(out))
+    }
+
+    /// The image of a ring that does not cross the fold (module docs), its edges cut into chords
+    /// within the tolerance.
+    fn map_ring(&self, pts: &[P2], tip: V2, r_ref: P2, (s, c): (f64, f64)) -> Option<Polygon> {
+        let axis_x = r_ref.x + self.turret_axis;
+        let n = pts.len();
+        let mut out = Vec::with_capacity(n * 4);
+        let map = |q: P2| {
+            let p = q + tip; // relative to the reference point
+            let d = p.x - self.turret_axis; // from the turret axis, in the station's plane
+            let x3 = axis_x + d * c;
+            let y3 = d * s;
+            P2::new((x3 * x3 + y3 * y3).sqrt(), r_ref.y + p.y)
+        };
+        for i in 0..n {
+            let (a, b) = (pts[i], pts[(i + 1) % n]);
+            // Straight edges map to curves: split so chords stay within the tolerance. Along an
+            // edge `r'' = α² h² / r³ ≤ 1 / r` (`α` the edge's slope in `d`), so chords of
+            // `sqrt(8 r tol)` at the edge's least radius (an end: no edge crosses the fold) are
+            // within `tol` of the curve.
+            let len = (b - a).norm();
+            let r_least = map(a).x.min(map(b).x).max(1.0);
+            let step = (8.0 * r_least * self.tolerance).sqrt().max(0.05);
+            let k = ((len / step).ceil() as usize).clamp(1, 64);
+            for j in 0..k {
+                out.push(map(a + (b - a) * (j as f64 / k as f64)));
+            }
+        }
+        Polygon::new(&out).ok()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::query::{locate, point_segment_distance, Location};
+    use crate::geom::Aabb;
+
+    /// The distance from `p` to a polygon's boundary, 0 inside.
+    fn outside_by(p: P2, poly: &Polygon) -> f64 {
+        if locate(p, poly) != Location::Outside {
+            return 0.0;
+        }
+        poly.edges()
+            .map(|(a, b)| point_segment_distance(p, a, b))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Every tool of every machine of `machines/` (the built-in one's holders are L and T
+    /// shapes), turned to stations' angles and near them, with the turret reference point from
+    /// the spindle axis to 300 mm out: the section holds the image of every point of the tool
+    /// (within the chords' tolerance), and every point of the section is the image of a point of
+    /// the tool (the same). The oracle maps points one by one in 3D: a point of the section at
+    /// radius `r` and `z` is the image of the station's plane's points at `d* ± sqrt(r² − h²)`.
+    #[test]
+    fn a_tool_across_the_fold_of_its_station_plane_has_the_section_its_points_map_to() {
+        let mut seed = 7u64;
+        let mut rnd = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let tol = 0.01;
+        let (mut folded, mut poses) = (0, 0);
+        let mut files: Vec<_> = std::fs::read_dir("machines")
+            .unwrap()
+            .map(|f| f.unwrap().path())
+            .collect();
+        files.sort();
+        for path in files.iter().filter(|p| p.extension().is_some_and(|e| e == "toml")) {
+            let text = std::fs::read_to_string(path).unwrap();
+            let Ok(machine) = crate::machine::from_toml(&text, path.to_str().unwrap()) else {
+                continue; // a machine whose tree needs its STL files: no drum of 2D tools
+            };
+            let scene = Scene::new(&machine, tol);
+            let n = scene.stations.max(1) as f64;
+            for t in &scene.tools {
+                for shape in [&t.holder, &t.insert] {
+                    for _ in 0..60 {
+                        let r_ref = P2::new(300.0 * rnd(), 200.0 * rnd() - 100.0);
+                        let k = (rnd() * n).floor();
+                        let angle = std::f64::consts::TAU * k / n + 0.2 * (rnd() - 0.5);
+                        let Some(sec) = scene.map_to_section(shape, t.tip, r_ref, angle) else {
+                            panic!("{path:?} T{}: no section at {r_ref:?}, {angle}", t.station);
+                        };
+                        poses += 1;
+                        folded += usize::from(sec.whole().is_none());
+                        let (s, c) = angle.sin_cos();
+                        let a = r_ref.x + scene.turret_axis;
+                        let d_star = -a * c;
+                        let h = a * s.abs();
+                        let d_of = |q: P2| q.x + t.tip.x - scene.turret_axis;
+                        let image = |q: P2| {
+                            let d = d_of(q);
+                            P2::new(((d - d_star).powi(2) + h * h).sqrt(), r_ref.y + q.y + t.tip.y)
+                        };
+                        let bb = shape.aabb();
+                        let mut sample = || {
+                            P2::new(
+                                bb.min.x + (bb.max.x - bb.min.x) * rnd(),
+                                bb.min.y + (bb.max.y - bb.min.y) * rnd(),
+                            )
+                        };
+                        // Coverage: the image of every point of the tool.
+                        for _ in 0..300 {
+                            let q = sample();
+                            if locate(q, shape) == Location::Outside {
+                                continue;
+                            }
+                            let m = image(q);
+                            let off = sec
+                                .pieces()
+                                .iter()
+                                .map(|p| outside_by(m, p))
+                                .fold(f64::INFINITY, f64::min);
+                            assert!(off <= 2.0 * tol, "{path:?} T{}: {q:?} maps {off} mm outside", t.station);
+                        }
+                        // No excess: each point of the section lies within the chords' tolerance of
+                        // the image of a point of the tool. Along a line `z` of the tool, its
+                        // cross-section's intervals in `d` map to intervals in `r` (down to `h`
+                        // where one spans `d*`); a point is near the image when it is near such an
+                        // interval on a line within the tolerance of its own `z`.
+                        let ranges = |z: f64| -> Vec<(f64, f64)> {
+                            let y = z - r_ref.y - t.tip.y;
+                            let mut xs: Vec<f64> = shape
+                                .edges()
+                                .filter(|(a, b)| (a.y > y) != (b.y > y))
+                                .map(|(a, b)| a.x + (b.x - a.x) * (y - a.y) / (b.y - a.y))
+                                .collect();
+                            xs.sort_by(f64::total_cmp);
+                            xs.chunks(2)
+                                .filter(|w| w.len() == 2)
+                                .map(|w| {
+                                    let (d0, d1) = (d_of(P2::new(w[0], y)), d_of(P2::new(w[1], y)));
+                                    let r = |d: f64| ((d - d_star).powi(2) + h * h).sqrt();
+                                    let lo = if d0 <= d_star && d_star <= d1 {
+                                        h
+                                    } else {
+                                        r(d0).min(r(d1))
+                                    };
+                                    (lo, r(d0).max(r(d1)))
+                                })
+                                .collect()
+                        };
+                        let pb = sec.pieces().iter().fold(Aabb::empty(), |b, p| b.union(p.aabb()));
+                        for _ in 0..300 {
+                            let m = P2::new(
+                                pb.min.x + (pb.max.x - pb.min.x) * rnd(),
+                                pb.min.y + (pb.max.y - pb.min.y) * rnd(),
+                            );
+                            if sec.pieces().iter().all(|p| locate(m, p) == Location::Outside) {
+                                continue;
+                            }
+                            let near = (-4..=4).any(|k| {
+                                ranges(m.y + 0.5 * tol * k as f64)
+                                    .iter()
+                                    .any(|&(lo, hi)| m.x >= lo - 2.0 * tol && m.x <= hi + 2.0 * tol)
+                            });
+                            assert!(near, "{path:?} T{}: {m:?} maps from no point of the tool", t.station);
+                        }
+                    }
+                }
+            }
+        }
+        assert!(poses > 3000 && folded > 100, "{poses} poses, {folded} folded");
+    }
+}
