@@ -1205,10 +1205,18 @@ impl Checker<'_> {
     /// it holds for every later instant of the move too, since the stock only loses material
     /// (ARCHITECTURE.md, "The stock at the instant").
     fn gap_lower_bound(&mut self, part: &Section, in_plane: bool, o: Obstacle) -> f64 {
-        part.pieces()
-            .iter()
-            .map(|poly| self.gap_lower_bound_one(poly, in_plane, o))
-            .fold(f64::INFINITY, f64::min)
+        // The least of the pieces' bounds; a NaN (no bound) stays one, as a whole part's does.
+        let mut least = f64::INFINITY;
+        for poly in part.pieces() {
+            let g = self.gap_lower_bound_one(poly, in_plane, o);
+            if g.is_nan() || g < least {
+                least = g;
+            }
+            if least.is_nan() {
+                break;
+            }
+        }
+        least
     }
 
     fn gap_lower_bound_one(&mut self, poly: &Polygon, in_plane: bool, o: Obstacle) -> f64 {
