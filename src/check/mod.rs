@@ -1561,13 +1561,28 @@ impl Checker<'_> {
                     let u = j as f64 / k as f64;
                     let active = from as f64 + dir as f64 * u;
                     let angle = self.scene.station_angle(station, active);
-                    let Some(poly) = self.scene.map_to_section(&shape, tip, r, angle) else {
-                        continue;
-                    };
+                    // The section's box first (no polygon built): an obstacle whose box it does
+                    // not meet cannot overlap the section, so that pair is clear at this angle
+                    // without a test, and a sample clear of every near obstacle maps nothing.
+                    let bx = self.scene.map_box(&shape, tip, r, angle);
+                    let mut meets = [false; OBSTACLES.len()];
+                    for (i, &o) in near.iter().enumerate() {
+                        meets[i] = self.obstacle_box(o).is_some_and(|b| bx.meets(&b, 1e-6));
+                    }
+                    let mut poly = None;
+                    if meets.iter().any(|&m| m) {
+                        poly = self.scene.map_to_section(&shape, tip, r, angle);
+                        if poly.is_none() {
+                            continue;
+                        }
+                    }
                     self.others_tested = true;
-                    for &o in &near {
-                        let (depth, _) = self.test(&poly, false, o);
+                    for (i, &o) in near.iter().enumerate() {
                         let kk = key(part, from, o, Kind::Collision);
+                        let depth = match &poly {
+                            Some(poly) if meets[i] => self.test(poly, false, o).0,
+                            _ => None,
+                        };
                         match depth {
                             Some(d) => {
                                 let time = item.t0 + item.duration * u;
@@ -1576,8 +1591,10 @@ impl Checker<'_> {
                                     "indexing T{from:02} → T{to:02} swings the {} into the {}",
                                     c.objects[0], c.objects[1]
                                 );
-                                if self.settings.snapshots && !self.episodes.is_open(kk) {
-                                    let s = self.snapshot(m, item, r, from, &poly, Some(o), false);
+                                if let (true, false, Some(poly)) =
+                                    (self.settings.snapshots, self.episodes.is_open(kk), &poly)
+                                {
+                                    let s = self.snapshot(m, item, r, from, poly, Some(o), false);
                                     c.snapshot = Some(Box::new(s));
                                 }
                                 self.episodes.contact(kk, c);

@@ -830,7 +830,7 @@ impl DexelStock {
             }
         }
         if nearest_first {
-            order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         }
         for &(bound, b) in &order {
             if bound >= best {
