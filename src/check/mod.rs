@@ -516,7 +516,7 @@ impl Checker<'_> {
                 Some(minkowski(&shape.aabb().translate(t.tip), rb))
             }
             Part::OtherHolder(_) | Part::OtherInsert(_) => {
-                // r grows with the reference point's x: the boxes at the two x extremes bound it.
+                // The box of the sections at every reference point in `rb` (`Scene::section_box`).
                 let (station, holder) = match part {
                     Part::OtherHolder(s) => (s, true),
                     _ => (
@@ -528,19 +528,9 @@ impl Checker<'_> {
                     ),
                 };
                 let t = self.scene.tool(station)?;
-                let shape = if holder { &t.holder } else { &t.insert };
+                let extent = if holder { &t.holder_extent } else { &t.insert_extent };
                 let angle = self.scene.station_angle(station, active as f64);
-                let [lo, hi] = if rb.min.x == rb.max.x {
-                    // A move along z (most of turning): one pass for both ends.
-                    self.scene
-                        .map_boxes(shape, t.tip, rb.min.x, [rb.min.y, rb.max.y], angle)
-                } else {
-                    [
-                        self.scene.map_box(shape, t.tip, P2::new(rb.min.x, rb.min.y), angle),
-                        self.scene.map_box(shape, t.tip, P2::new(rb.max.x, rb.max.y), angle),
-                    ]
-                };
-                Some(lo.union(&hi))
+                Some(self.scene.section_box(extent, rb, angle))
             }
         }
     }
@@ -1530,10 +1520,10 @@ impl Checker<'_> {
         for (station, tip) in tools {
             let t = self.scene.tool(station).unwrap();
             let shapes = [
-                (Part::OtherHolder(station), t.holder.clone()),
-                (Part::OtherInsert(station), t.insert.clone()),
+                (Part::OtherHolder(station), t.holder.clone(), t.holder_extent),
+                (Part::OtherInsert(station), t.insert.clone(), t.insert_extent),
             ];
-            for (part, shape) in shapes {
+            for (part, shape, extent) in shapes {
                 // Farthest point from the turret axis sets the angular step.
                 let rho = shape
                     .points()
@@ -1564,7 +1554,7 @@ impl Checker<'_> {
                     // The section's box first (no polygon built): an obstacle whose box it does
                     // not meet cannot overlap the section, so that pair is clear at this angle
                     // without a test, and a sample clear of every near obstacle maps nothing.
-                    let bx = self.scene.map_box(&shape, tip, r, angle);
+                    let bx = self.scene.section_box(&extent, &Aabb { min: r, max: r }, angle);
                     let mut meets = [false; OBSTACLES.len()];
                     for (i, &o) in near.iter().enumerate() {
                         meets[i] = self.obstacle_box(o).is_some_and(|b| bx.meets(&b, 1e-6));

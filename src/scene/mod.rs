@@ -12,7 +12,9 @@ pub mod snapshot;
 pub mod stock;
 pub mod turn_round;
 
-use crate::geom::{Aabb, Polygon, P2, V2};
+#[cfg(test)]
+use crate::geom::P2;
+use crate::geom::{Aabb, Polygon, V2};
 use crate::machine::Machine;
 use std::f64::consts::TAU;
 
@@ -52,6 +54,9 @@ pub struct ToolShape {
     pub tip: V2,
     pub insert: Polygon,
     pub holder: Polygon,
+    /// What the boxes of their sections in another station need (`Scene::section_box`).
+    pub insert_extent: section::Extent,
+    pub holder_extent: section::Extent,
 }
 
 /// Everything the checker poses, built once per machine and tolerance.
@@ -83,10 +88,12 @@ impl Scene {
                 tip: t.tip.coords,
                 insert: round_tip(&t.insert, t.nose_radius, tolerance),
                 holder: t.holder.clone(),
+                insert_extent: section::Extent::default(),
+                holder_extent: section::Extent::default(),
             })
             .collect();
         let reach = Scene::reach_of(&machine.turret.outline, machine.turret.axis, &tools);
-        Scene {
+        let mut scene = Scene {
             reach,
             chuck: machine.chuck.clone().map(|p| Revolved::new("chuck", p)),
             tailstock: machine.tailstock.clone().map(|p| Revolved::new("tailstock", p)),
@@ -96,7 +103,16 @@ impl Scene {
             gang: machine.turret.kind == crate::machine::TurretKind::Gang,
             tools,
             tolerance,
+        };
+        let extents: Vec<_> = scene
+            .tools
+            .iter()
+            .map(|t| (scene.extent_of(&t.insert, t.tip), scene.extent_of(&t.holder, t.tip)))
+            .collect();
+        for (t, (i, h)) in scene.tools.iter_mut().zip(extents) {
+            (t.insert_extent, t.holder_extent) = (i, h);
         }
+        scene
     }
 
     /// The reach of the posed parts from the reference point `r`, in `x` and `z`: the turret's
@@ -134,61 +150,8 @@ impl Scene {
         (station as f64 - active) * TAU / self.stations.max(1) as f64
     }
 
-    /// The box of [`Self::map_to_section`]'s result, without building the polygon: the mapped
-    /// vertices and edge points, as the polygon has them.
-    pub fn map_box(&self, shape: &Polygon, tip: V2, r_ref: P2, angle: f64) -> Aabb {
-        let [b, _] = self.map_boxes(shape, tip, r_ref.x, [r_ref.y, r_ref.y], angle);
-        b
-    }
-
-    /// [`Self::map_box`] at two reference points with the same `x` and the `z` values `zs`, in
-    /// one pass: the radii are the same at both (each box is what `map_box` gives, bit for bit).
-    pub fn map_boxes(&self, shape: &Polygon, tip: V2, x: f64, zs: [f64; 2], angle: f64) -> [Aabb; 2] {
-        let (s, c) = angle.sin_cos();
-        let axis_x = x + self.turret_axis;
-        let mut b = [Aabb::empty(), Aabb::empty()];
-        let pts = shape.points();
-        let Some(&last) = pts.last() else {
-            return b;
-        };
-        // A vertex in 3D across the spindle axis (x3, y3) and its z at each reference point.
-        let lift = |q: P2| {
-            let p = q + tip;
-            let d = p.x - self.turret_axis;
-            (axis_x + d * c, d * s, [zs[0] + p.y, zs[1] + p.y])
-        };
-        // Each vertex once; the closest approach to the axis along each edge where it lies
-        // strictly inside the edge (at an end it is that end, already in the box). Distance
-        // from the spindle axis is convex along a straight 3D segment: its extremes are at the
-        // ends or at the closest point, which the polygon's chords do not go below.
-        let mut prev = lift(last);
-        for &q in pts {
-            let cur = lift(q);
-            let (xe, ye, ze) = cur;
-            let r = (xe * xe + ye * ye).sqrt();
-            for k in 0..2 {
-                b[k].add(P2::new(r, ze[k]));
-            }
-            let (xa, ya, za) = prev;
-            let (dx, dy) = (xe - xa, ye - ya);
-            let len2 = dx * dx + dy * dy;
-            if len2 > 0.0 {
-                let t = -(xa * dx + ya * dy) / len2;
-                if t > 0.0 && t < 1.0 {
-                    let (x, y) = (xa + dx * t, ya + dy * t);
-                    let r = (x * x + y * y).sqrt();
-                    for k in 0..2 {
-                        b[k].add(P2::new(r, za[k] + (ze[k] - za[k]) * t));
-                    }
-                }
-            }
-            prev = cur;
-        }
-        b
-    }
-
-    /// [`Scene::map_box`] as first written (every edge's two ends and its clamped closest
-    /// point): the oracle of the faster one.
+    /// The box of a shape's section at one reference point from every edge's two ends and its
+    /// clamped closest approach to the spindle axis: the oracle of [`Scene::section_box`].
     #[cfg(test)]
     pub(crate) fn map_box_every_edge(&self, shape: &Polygon, tip: V2, r_ref: P2, angle: f64) -> Aabb {
         let (s, c) = angle.sin_cos();
@@ -300,42 +263,17 @@ fn imaginary_tip(sharp: &Polygon, rounded: Polygon) -> Polygon {
 }
 
 #[cfg(test)]
-mod map_box_tests {
+mod section_box_tests {
     use super::*;
 
+    /// Random poses of every tool of the built-in machine (and its rounded inserts), turned to
+    /// any angle: at one reference point the closed-form box is the box of every edge (within
+    /// rounding) and holds every point of the section; over a reference box it holds the boxes at
+    /// 24 reference points inside it, among them where a point of the tool passes over the
+    /// spindle axis (its radius lower than at either end), which the boxes at the two ends of
+    /// the move did not hold.
     #[test]
-    fn the_boxes_at_two_z_in_one_pass_are_the_boxes_of_two_calls_bit_for_bit() {
-        // What `Checker::envelope` takes for a move along z: each box of `map_boxes` is the one
-        // `map_box` gives at its reference point, to the bit (the pruning it feeds is the same).
-        let machine = crate::machine::Machine::builtin();
-        let scene = Scene::new(&machine, 0.01);
-        let mut seed = 11u64;
-        let mut rnd = move || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
-        let bits = |b: &Aabb| [b.min.x, b.min.y, b.max.x, b.max.y].map(f64::to_bits);
-        for station in 1..=machine.turret.stations {
-            let Some(t) = scene.tool(station) else { continue };
-            for shape in [&t.holder, &t.insert] {
-                for _ in 0..200 {
-                    let x = 400.0 * rnd() - 100.0;
-                    let zs = [400.0 * rnd() - 200.0, 400.0 * rnd() - 200.0];
-                    let angle = std::f64::consts::TAU * (rnd() - 0.5);
-                    let both = scene.map_boxes(shape, t.tip, x, zs, angle);
-                    for k in 0..2 {
-                        let one = scene.map_box(shape, t.tip, P2::new(x, zs[k]), angle);
-                        assert_eq!(bits(&both[k]), bits(&one), "station {station}, z {}", zs[k]);
-                    }
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn the_box_of_a_tool_turned_out_of_the_plane_is_the_box_every_edge_gives() {
-        // Oracle: every edge's two ends and its clamped closest point, as first written; and
-        // the box holds every point of the mapped section it stands for.
+    fn the_section_box_is_every_edges_box_and_holds_the_section_over_a_move() {
         let machine = crate::machine::Machine::builtin();
         let scene = Scene::new(&machine, 0.01);
         let mut seed = 7u64;
@@ -343,23 +281,22 @@ mod map_box_tests {
             seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
-        let mut checked = 0;
-        for station in 1..=machine.turret.stations {
-            let Some(t) = scene.tool(station) else { continue };
-            for shape in [&t.holder, &t.insert] {
-                for _ in 0..200 {
-                    let r_ref = P2::new(400.0 * rnd() - 100.0, 400.0 * rnd() - 200.0);
+        let (mut checked, mut dips) = (0, 0);
+        for t in &scene.tools {
+            for (shape, extent) in [(&t.holder, &t.holder_extent), (&t.insert, &t.insert_extent)] {
+                for _ in 0..300 {
                     let angle = std::f64::consts::TAU * (rnd() - 0.5) * if rnd() < 0.2 { 0.0 } else { 1.0 };
-                    let fast = scene.map_box(shape, t.tip, r_ref, angle);
+                    let r_ref = P2::new(500.0 * rnd() - 250.0, 400.0 * rnd() - 200.0);
+                    let one = scene.section_box(extent, &Aabb { min: r_ref, max: r_ref }, angle);
                     let slow = scene.map_box_every_edge(shape, t.tip, r_ref, angle);
                     let eps = 1e-9 * (1.0 + slow.max.x.abs() + slow.max.y.abs());
                     for (a, b) in [
-                        (fast.min.x, slow.min.x),
-                        (fast.min.y, slow.min.y),
-                        (fast.max.x, slow.max.x),
-                        (fast.max.y, slow.max.y),
+                        (one.min.x, slow.min.x),
+                        (one.min.y, slow.min.y),
+                        (one.max.x, slow.max.x),
+                        (one.max.y, slow.max.y),
                     ] {
-                        assert!((a - b).abs() <= eps, "{fast:?} against {slow:?}");
+                        assert!((a - b).abs() <= eps, "{one:?} against {slow:?}");
                     }
                     for p in scene
                         .map_to_section(shape, t.tip, r_ref, angle)
@@ -368,18 +305,42 @@ mod map_box_tests {
                     {
                         for q in p.points() {
                             assert!(
-                                q.x >= fast.min.x - eps
-                                    && q.x <= fast.max.x + eps
-                                    && q.y >= fast.min.y - eps
-                                    && q.y <= fast.max.y + eps,
-                                "{q:?} outside {fast:?}"
+                                q.x >= one.min.x - eps
+                                    && q.x <= one.max.x + eps
+                                    && q.y >= one.min.y - eps
+                                    && q.y <= one.max.y + eps,
+                                "{q:?} outside {one:?}"
                             );
                         }
+                    }
+                    // A move: a reference box, sometimes one that carries a point of the tool
+                    // over the spindle axis.
+                    let other = P2::new(500.0 * rnd() - 250.0, 400.0 * rnd() - 200.0);
+                    let rb = Aabb::of_points(&[r_ref, other]);
+                    let over = scene.section_box(extent, &rb, angle);
+                    let ends = scene
+                        .map_box_every_edge(shape, t.tip, rb.min, angle)
+                        .union(&scene.map_box_every_edge(shape, t.tip, rb.max, angle));
+                    for k in 0..24 {
+                        let f = k as f64 / 23.0;
+                        let at = P2::new(
+                            rb.min.x + (rb.max.x - rb.min.x) * f,
+                            rb.min.y + (rb.max.y - rb.min.y) * rnd(),
+                        );
+                        let b = scene.map_box_every_edge(shape, t.tip, at, angle);
+                        assert!(
+                            b.min.x >= over.min.x - eps
+                                && b.max.x <= over.max.x + eps
+                                && b.min.y >= over.min.y - eps
+                                && b.max.y <= over.max.y + eps,
+                            "{b:?} at {at:?} outside {over:?}"
+                        );
+                        dips += usize::from(b.min.x < ends.min.x - 1e-6);
                     }
                     checked += 1;
                 }
             }
         }
-        assert!(checked >= 1000, "{checked}");
+        assert!(checked >= 1000 && dips > 0, "{checked} poses, {dips} dips");
     }
 }

@@ -21,7 +21,7 @@
 //! to one; the section is their images together ([`Section::Folded`]).
 
 use super::Scene;
-use crate::geom::{convex, Polygon, P2, V2};
+use crate::geom::{convex, Aabb, Polygon, P2, V2};
 
 /// A part in the radial section: one simple polygon, or (another station's tool across the
 /// fold of its station's plane) the sections of its pieces, whose union is the part's section.
@@ -51,6 +51,15 @@ impl Section {
     }
 }
 
+/// What the box of a shape's section needs of the shape: the range of `d` (its points' distance
+/// from the turret axis in the station's plane) and of `z` (from the reference point) over its
+/// points, the tip included.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Extent {
+    pub d: (f64, f64),
+    pub z: (f64, f64),
+}
+
 impl Scene {
     /// A tool shape (relative to its programmed point) in the radial section `(r, z)` when the
     /// turret reference point is at `r_ref` and the tool is turned `angle` out of the working
@@ -75,6 +84,54 @@ impl Scene {
             }
         }
         (!out.is_empty()).then_some(Section::Folded(out))
+    }
+
+    /// The extent of a shape whose programmed point is `tip` from the reference point.
+    pub fn extent_of(&self, shape: &Polygon, tip: V2) -> Extent {
+        let mut e = Extent {
+            d: (f64::INFINITY, f64::NEG_INFINITY),
+            z: (f64::INFINITY, f64::NEG_INFINITY),
+        };
+        for q in shape.points() {
+            let (d, z) = (q.x + tip.x - self.turret_axis, q.y + tip.y);
+            e.d = (e.d.0.min(d), e.d.1.max(d));
+            e.z = (e.z.0.min(z), e.z.1.max(z));
+        }
+        e
+    }
+
+    /// A box holding the section of a shape (its extent `e`) turned `angle` out of the working
+    /// plane, for every reference point in `rb`; at one reference point, the section's box.
+    /// A point's radius `r = sqrt((x + turret_axis + d cos θ)² + (d sin θ)²)` depends on the
+    /// reference point's `x` and the point's `d` only, and is convex in them together (the norm
+    /// of an affine map): over the shape's `d` range its largest is at an end and its least at
+    /// `d*` clamped into the range; over an `x` range the largest is at a corner, and the least at
+    /// an end of the range unless `x + turret_axis + d cos θ` passes 0 between them for some `d`,
+    /// where `r` falls to `|d sin θ|`, no less than `|sin θ|` times the least `|d|`.
+    pub fn section_box(&self, e: &Extent, rb: &Aabb, angle: f64) -> Aabb {
+        let (s, c) = angle.sin_cos();
+        let t = self.turret_axis;
+        let r = |x: f64, d: f64| {
+            let (u, v) = (x + t + d * c, d * s);
+            (u * u + v * v).sqrt()
+        };
+        let ((x0, x1), (d0, d1)) = ((rb.min.x, rb.max.x), e.d);
+        let hi = r(x0, d0).max(r(x0, d1)).max(r(x1, d0)).max(r(x1, d1));
+        let least_at = |x: f64| r(x, (-(x + t) * c).clamp(d0.min(d1), d1.max(d0)));
+        let mut lo = least_at(x0).min(least_at(x1));
+        let (dc0, dc1) = ((d0 * c).min(d1 * c), (d0 * c).max(d1 * c));
+        if x1 > x0 && x0 + t + dc0 < 0.0 && x1 + t + dc1 > 0.0 {
+            let least_d = if d0 <= 0.0 && d1 >= 0.0 {
+                0.0
+            } else {
+                d0.abs().min(d1.abs())
+            };
+            lo = lo.min(s.abs() * least_d);
+        }
+        Aabb {
+            min: P2::new(lo, rb.min.y + e.z.0),
+            max: P2::new(hi, rb.max.y + e.z.1),
+        }
     }
 
     /// The image of a ring that does not cross the fold (module docs), its edges cut into chords
