@@ -132,6 +132,8 @@ struct Checker<'a> {
     move_index: usize,
     indexed: bool,
     others_tested: bool,
+    /// The buffers of the last whole cut's swept region, reused by the next (`Checker::cut`).
+    cut_buf: Swept,
     /// The feed move whose cut is under way, if any: stock queries see the stock as it is at the
     /// path fraction `instant` of that move.
     cutting: Option<Cutting>,
@@ -337,6 +339,7 @@ fn checker<'a>(machine: &'a Machine, settings: &Settings, three: bool) -> Checke
         move_index: 0,
         indexed: false,
         others_tested: false,
+        cut_buf: Swept::default(),
         cutting: None,
         spare: None,
         instant: 1.0,
@@ -529,8 +532,8 @@ impl Checker<'_> {
                 };
                 let t = self.scene.tool(station)?;
                 let extent = if holder { &t.holder_extent } else { &t.insert_extent };
-                let angle = self.scene.station_angle(station, active as f64);
-                Some(self.scene.section_box(extent, rb, angle))
+                let turned = self.scene.station_sin_cos(station, active);
+                Some(self.scene.section_box_turned(extent, rb, turned))
             }
         }
     }
@@ -1384,10 +1387,11 @@ impl Checker<'_> {
     /// Remove what the insert sweeps in a feed move (its chords are in `self.cutting`).
     fn cut(&mut self) {
         let Some(c) = self.cutting.take() else { return };
-        let mut swept = Swept::default();
+        let mut swept = std::mem::take(&mut self.cut_buf);
         self.swept_until(&c, 1.0, &mut swept);
         self.cutting = Some(c);
         let Some(stock) = self.ensure_stock() else {
+            self.cut_buf = swept;
             return;
         };
         let mut any = false;
@@ -1400,6 +1404,7 @@ impl Checker<'_> {
             self.cuts
                 .push((index, Removed::Turned(swept.polygons().map(<[_]>::to_vec).collect())));
         }
+        self.cut_buf = swept;
     }
 
     /// Take off the stock what another path cut (`Stream::share_cuts`), between two moves: what

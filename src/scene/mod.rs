@@ -75,6 +75,10 @@ pub struct Scene {
     /// How far any point of the turret or of any tool, in any station, posed in the section,
     /// can lie from the turret reference point: `(x, z)` ([`Scene::reach_of`]).
     pub reach: (f64, f64),
+    /// The sine and cosine of the angle of a station `k` stations from the active one, for `k`
+    /// from `-trig_reach` to `trig_reach` ([`Scene::station_sin_cos`]).
+    trig: Vec<(f64, f64)>,
+    trig_reach: i64,
 }
 
 impl Scene {
@@ -93,8 +97,17 @@ impl Scene {
             })
             .collect();
         let reach = Scene::reach_of(&machine.turret.outline, machine.turret.axis, &tools);
+        let trig_reach = machine
+            .tools
+            .iter()
+            .map(|t| i64::from(t.station))
+            .chain([i64::from(machine.turret.stations)])
+            .max()
+            .unwrap_or(0);
         let mut scene = Scene {
             reach,
+            trig: Vec::new(),
+            trig_reach,
             chuck: machine.chuck.clone().map(|p| Revolved::new("chuck", p)),
             tailstock: machine.tailstock.clone().map(|p| Revolved::new("tailstock", p)),
             turret: machine.turret.outline.clone(),
@@ -112,6 +125,9 @@ impl Scene {
         for (t, (i, h)) in scene.tools.iter_mut().zip(extents) {
             (t.insert_extent, t.holder_extent) = (i, h);
         }
+        scene.trig = (-trig_reach..=trig_reach)
+            .map(|k| scene.station_angle_between(k).sin_cos())
+            .collect();
         scene
     }
 
@@ -148,6 +164,25 @@ impl Scene {
             return 0.0;
         }
         (station as f64 - active) * TAU / self.stations.max(1) as f64
+    }
+
+    /// The angle of a station `k` stations from the active one (as [`Self::station_angle`]
+    /// computes it: the difference of two whole numbers is exact).
+    fn station_angle_between(&self, k: i64) -> f64 {
+        if self.gang {
+            return 0.0;
+        }
+        k as f64 * TAU / self.stations.max(1) as f64
+    }
+
+    /// The sine and cosine of [`Self::station_angle`] with a station active, from a table built
+    /// once (bit for bit `station_angle(station, active as f64).sin_cos()`).
+    pub fn station_sin_cos(&self, station: u32, active: u32) -> (f64, f64) {
+        let k = i64::from(station) - i64::from(active);
+        match usize::try_from(k + self.trig_reach).ok().and_then(|i| self.trig.get(i)) {
+            Some(&sc) => sc,
+            None => self.station_angle(station, active as f64).sin_cos(),
+        }
     }
 
     /// The box of a shape's section at one reference point from every edge's two ends and its
@@ -265,6 +300,27 @@ fn imaginary_tip(sharp: &Polygon, rounded: Polygon) -> Polygon {
 #[cfg(test)]
 mod section_box_tests {
     use super::*;
+
+    #[test]
+    fn the_stations_sines_and_cosines_from_the_table_are_the_angles_bit_for_bit() {
+        for name in ["generic-slant-bed", "haas-style-inch", "gang-tool", "twin-turret"] {
+            let path = format!("machines/{name}.toml");
+            let text = std::fs::read_to_string(&path).unwrap();
+            let machine = crate::machine::from_toml(&text, &path).unwrap();
+            let scene = Scene::new(&machine, 0.01);
+            for station in 0..=machine.turret.stations + 3 {
+                for active in 0..=machine.turret.stations + 3 {
+                    let (s, c) = scene.station_angle(station, active as f64).sin_cos();
+                    let (ts, tc) = scene.station_sin_cos(station, active);
+                    assert_eq!(
+                        (s.to_bits(), c.to_bits()),
+                        (ts.to_bits(), tc.to_bits()),
+                        "{name} {station} {active}"
+                    );
+                }
+            }
+        }
+    }
 
     /// Random poses of every tool of the built-in machine (and its rounded inserts), turned to
     /// any angle: at one reference point the closed-form box is the box of every edge (within

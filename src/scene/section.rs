@@ -109,7 +109,11 @@ impl Scene {
     /// an end of the range unless `x + turret_axis + d cos θ` passes 0 between them for some `d`,
     /// where `r` falls to `|d sin θ|`, no less than `|sin θ|` times the least `|d|`.
     pub fn section_box(&self, e: &Extent, rb: &Aabb, angle: f64) -> Aabb {
-        let (s, c) = angle.sin_cos();
+        self.section_box_turned(e, rb, angle.sin_cos())
+    }
+
+    /// [`Self::section_box`] with the angle's sine and cosine (`Scene::station_sin_cos`).
+    pub fn section_box_turned(&self, e: &Extent, rb: &Aabb, (s, c): (f64, f64)) -> Aabb {
         let t = self.turret_axis;
         let r = |x: f64, d: f64| {
             let (u, v) = (x + t + d * c, d * s);
