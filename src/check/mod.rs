@@ -1282,16 +1282,19 @@ impl Checker<'_> {
 
     /// The scene when the reference point is at `r` (for pictures of findings).
     /// The piece of a posed part a picture shows as the part in contact: the whole part, or of a
-    /// folded one (`Section::Folded`) the piece deepest in a revolved obstacle, else the one
-    /// nearest the spindle axis (where the stock and the bore are).
-    fn shown_piece<'a>(&self, part: &'a Section, obstacle: Option<Obstacle>) -> &'a Polygon {
+    /// folded one (`Section::Folded`) the piece deepest in what it meets (`meets`: the obstacle's
+    /// outlines as the picture draws them, the stock at that instant included), else the nearest.
+    fn shown_piece<'a>(part: &'a Section, meets: &[Vec<P2>]) -> &'a Polygon {
         let pieces = part.pieces();
-        let rev = obstacle
-            .filter(|&o| o != Obstacle::Stock)
-            .and_then(|o| self.obstacle(o));
-        let key = |p: &Polygon| match rev {
-            Some(rev) => geom::overlap(p, &rev.outline).unwrap_or(-geom::distance(p, &rev.outline)),
-            None => -p.aabb().min.x,
+        if pieces.len() == 1 {
+            return &pieces[0];
+        }
+        let outlines: Vec<Polygon> = meets.iter().filter_map(|o| Polygon::new(o).ok()).collect();
+        let key = |p: &Polygon| {
+            outlines
+                .iter()
+                .map(|o| geom::overlap(p, o).unwrap_or_else(|| -geom::distance(p, o)))
+                .fold(f64::NEG_INFINITY, f64::max)
         };
         pieces
             .iter()
@@ -1378,7 +1381,7 @@ impl Checker<'_> {
             frame: Some(*self.frame()),
             travel: None,
             at: r + m.tip,
-            part_a: pts(self.shown_piece(part, obstacle)),
+            part_a: pts(Self::shown_piece(part, &part_b)),
             part_b,
             mirrored: in_plane,
         }
