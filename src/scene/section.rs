@@ -21,12 +21,16 @@
 //! to one; the section is their images together ([`Section::Folded`]).
 
 use super::Scene;
+
+/// How many times a convex piece whose chords cross is halved before its hull stands for it.
+const SPLITS: u32 = 12;
 use crate::geom::{convex, Aabb, Polygon, P2, V2};
 
 /// A part in the radial section: one simple polygon, or (another station's tool across the
 /// fold of its station's plane) the sections of its pieces, whose union is the part's section.
 /// A contact with the part is a contact with one of them; its depth is the deepest piece's and
-/// its gap the nearest piece's.
+/// its gap the nearest piece's. (A tool whose outline's image has chords that cross, a thin
+/// feature's, is in pieces too: its convex pieces, halved where their own chords cross.)
 #[derive(Clone, Debug)]
 pub enum Section {
     Whole(Polygon),
@@ -71,19 +75,55 @@ impl Scene {
         // The fold line `d = d*` in the shape's own coordinates (`d = q.x + tip.x − turret_axis`).
         let fold = -axis_x * c + self.turret_axis - tip.x;
         let bb = shape.aabb();
-        if !(bb.min.x < fold && fold < bb.max.x) {
-            return self.map_ring(shape.points(), tip, r_ref, (s, c)).map(Section::Whole);
+        let across = bb.min.x < fold && fold < bb.max.x;
+        if !across {
+            if let Some(p) = self.map_ring(shape.points(), tip, r_ref, (s, c)) {
+                return Some(Section::Whole(p));
+            }
+            // The chords of a thin feature crossed: the shape in convex pieces, as below.
         }
         let mut out = Vec::new();
         for piece in convex::convex_pieces(shape.points()) {
+            if !across {
+                self.map_convex(&piece, tip, r_ref, (s, c), SPLITS, &mut out);
+                continue;
+            }
             for side in [1.0, -1.0] {
                 let half = convex::keep_where(&piece, |p: P2| side * (p.x - fold));
                 if half.len() >= 3 {
-                    out.extend(self.map_ring(&half, tip, r_ref, (s, c)));
+                    self.map_convex(&half, tip, r_ref, (s, c), SPLITS, &mut out);
                 }
             }
         }
         (!out.is_empty()).then_some(Section::Folded(out))
+    }
+
+    /// The image of a convex ring that does not cross the fold, into `out`: its chords' ring, or,
+    /// where the chords of a thin piece cross (no simple ring), the images of its halves (cut
+    /// across its longer side), `splits` times at most, and then the hull of its mapped points.
+    fn map_convex(&self, ring: &[P2], tip: V2, r_ref: P2, sc: (f64, f64), splits: u32, out: &mut Vec<Polygon>) {
+        let pts = self.map_points(ring, tip, r_ref, sc);
+        if let Ok(p) = Polygon::new(&pts) {
+            out.push(p);
+            return;
+        }
+        let bb = Aabb::of_points(ring);
+        if splits == 0 {
+            out.extend(Polygon::new(&crate::tooling::outline::hull(&pts)).ok());
+            return;
+        }
+        let wide = bb.max.x - bb.min.x >= bb.max.y - bb.min.y;
+        let mid = if wide {
+            0.5 * (bb.min.x + bb.max.x)
+        } else {
+            0.5 * (bb.min.y + bb.max.y)
+        };
+        for side in [1.0, -1.0] {
+            let half = convex::keep_where(ring, |p: P2| side * (if wide { p.x } else { p.y } - mid));
+            if half.len() >= 3 {
+                self.map_convex(&half, tip, r_ref, sc, splits - 1, out);
+            }
+        }
     }
 
     /// The extent of a shape whose programmed point is `tip` from the reference point.
@@ -140,7 +180,12 @@ impl Scene {
 
     /// The image of a ring that does not cross the fold (module docs), its edges cut into chords
     /// within the tolerance.
-    fn map_ring(&self, pts: &[P2], tip: V2, r_ref: P2, (s, c): (f64, f64)) -> Option<Polygon> {
+    fn map_ring(&self, pts: &[P2], tip: V2, r_ref: P2, sc: (f64, f64)) -> Option<Polygon> {
+        Polygon::new(&self.map_points(pts, tip, r_ref, sc)).ok()
+    }
+
+    /// The points of [`Self::map_ring`]'s ring: each edge's image cut into chords.
+    fn map_points(&self, pts: &[P2], tip: V2, r_ref: P2, (s, c): (f64, f64)) -> Vec<P2> {
         let axis_x = r_ref.x + self.turret_axis;
         let n = pts.len();
         let mut out = Vec::with_capacity(n * 4);
@@ -165,7 +210,7 @@ impl Scene {
                 out.push(map(a + (b - a) * (j as f64 / k as f64)));
             }
         }
-        Polygon::new(&out).ok()
+        out
     }
 }
 
@@ -301,5 +346,70 @@ mod tests {
             }
         }
         assert!(poses > 3000 && folded > 100, "{poses} poses, {folded} folded");
+    }
+
+    /// A sliver 0.05 mm thin and 30 mm long, turned out of the plane: the chords of its two long
+    /// edges' images cross, so its outline maps to no simple polygon (the pose was dropped: a
+    /// part that counted as clear). Its halves map: the section holds the image of every point of
+    /// it, and no point of the section lies farther than the tolerance from that image.
+    #[test]
+    fn a_sliver_whose_chords_cross_is_mapped_in_pieces() {
+        let machine = crate::machine::Machine::builtin();
+        let scene = Scene::new(&machine, 0.01);
+        let p = |x: f64, y: f64| P2::new(x, y);
+        let shape = Polygon::new(&[
+            p(-140.43297707660415, 47.06920774048412),
+            p(-118.60255458328484, 26.17032048113946),
+            p(-96.85982074102675, 5.3591218728560435),
+        ])
+        .unwrap();
+        let (r_ref, angle, tip) = (p(38.06559579063545, 0.0), 1.6118609454853663f64, V2::zeros());
+        let sc = angle.sin_cos();
+        assert!(
+            scene.map_ring(shape.points(), tip, r_ref, sc).is_none(),
+            "the case no longer fails whole"
+        );
+        let sec = scene.map_to_section(&shape, tip, r_ref, angle).expect("a section");
+        let a = r_ref.x + scene.turret_axis;
+        let (d_star, h) = (-a * sc.1, a * sc.0.abs());
+        let image = |q: P2| {
+            let d = q.x + tip.x - scene.turret_axis;
+            p(((d - d_star).powi(2) + h * h).sqrt(), r_ref.y + q.y + tip.y)
+        };
+        let pts = shape.points();
+        let mut seed = 5u64;
+        let mut rnd = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut images = Vec::new();
+        for _ in 0..2000 {
+            let (u, v) = (rnd(), rnd());
+            let (u, v) = if u + v > 1.0 { (1.0 - u, 1.0 - v) } else { (u, v) };
+            let q = pts[0] + (pts[1] - pts[0]) * u + (pts[2] - pts[0]) * v;
+            let m = image(q);
+            let off = sec
+                .pieces()
+                .iter()
+                .map(|pc| outside_by(m, pc))
+                .fold(f64::INFINITY, f64::min);
+            assert!(off <= 0.02, "{q:?} maps {off} mm outside the section");
+            images.push(m);
+        }
+        // No excess: every vertex of every piece (the pieces' extreme points) maps back to a
+        // point within the tolerance of the sliver (it lies far from the fold here: the inverse
+        // map is well conditioned).
+        for pc in sec.pieces() {
+            for &v in pc.points() {
+                let u = (v.x * v.x - h * h).max(0.0).sqrt();
+                let z = v.y - r_ref.y - tip.y;
+                let near = [d_star + u, d_star - u]
+                    .map(|d| outside_by(p(d + scene.turret_axis - tip.x, z), &shape))
+                    .into_iter()
+                    .fold(f64::INFINITY, f64::min);
+                assert!(near <= 0.02, "{v:?} maps back {near} mm from the sliver");
+            }
+        }
+        assert!(!images.is_empty());
     }
 }
