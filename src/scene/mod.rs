@@ -86,14 +86,18 @@ impl Scene {
         let tools: Vec<ToolShape> = machine
             .tools
             .iter()
-            .map(|t| ToolShape {
-                station: t.station,
-                label: format!("T{:02}", t.station),
-                tip: t.tip.coords,
-                insert: round_tip(&t.insert, t.nose_radius, tolerance),
-                holder: t.holder.clone(),
-                insert_extent: section::Extent::default(),
-                holder_extent: section::Extent::default(),
+            .map(|t| {
+                let insert = round_tip(&t.insert, t.nose_radius, tolerance);
+                let axis = machine.turret.axis;
+                ToolShape {
+                    station: t.station,
+                    label: format!("T{:02}", t.station),
+                    tip: t.tip.coords,
+                    insert_extent: section::Extent::of(&insert, t.tip.coords, axis),
+                    holder_extent: section::Extent::of(&t.holder, t.tip.coords, axis),
+                    insert,
+                    holder: t.holder.clone(),
+                }
             })
             .collect();
         let reach = Scene::reach_of(&machine.turret.outline, machine.turret.axis, &tools);
@@ -117,16 +121,8 @@ impl Scene {
             tools,
             tolerance,
         };
-        let extents: Vec<_> = scene
-            .tools
-            .iter()
-            .map(|t| (scene.extent_of(&t.insert, t.tip), scene.extent_of(&t.holder, t.tip)))
-            .collect();
-        for (t, (i, h)) in scene.tools.iter_mut().zip(extents) {
-            (t.insert_extent, t.holder_extent) = (i, h);
-        }
         scene.trig = (-trig_reach..=trig_reach)
-            .map(|k| scene.station_angle_between(k).sin_cos())
+            .map(|k| scene.angle_of_stations(k as f64).sin_cos())
             .collect();
         scene
     }
@@ -160,19 +156,17 @@ impl Scene {
     /// Angle of a station on the turret when `active` faces the spindle. On a gang slide every
     /// station is in the working plane: 0.
     pub fn station_angle(&self, station: u32, active: f64) -> f64 {
-        if self.gang {
-            return 0.0;
-        }
-        (station as f64 - active) * TAU / self.stations.max(1) as f64
+        self.angle_of_stations(station as f64 - active)
     }
 
-    /// The angle of a station `k` stations from the active one (as [`Self::station_angle`]
-    /// computes it: the difference of two whole numbers is exact).
-    fn station_angle_between(&self, k: i64) -> f64 {
+    /// The angle of a station `k` stations from the active one (`k` may be a fraction during an
+    /// index; a difference of two whole numbers is exact, so the table of
+    /// [`Self::station_sin_cos`] holds `station_angle`'s values).
+    fn angle_of_stations(&self, k: f64) -> f64 {
         if self.gang {
             return 0.0;
         }
-        k as f64 * TAU / self.stations.max(1) as f64
+        k * TAU / self.stations.max(1) as f64
     }
 
     /// The sine and cosine of [`Self::station_angle`] with a station active, from a table built

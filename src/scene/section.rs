@@ -58,10 +58,27 @@ impl Section {
 /// What the box of a shape's section needs of the shape: the range of `d` (its points' distance
 /// from the turret axis in the station's plane) and of `z` (from the reference point) over its
 /// points, the tip included.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub struct Extent {
     pub d: (f64, f64),
     pub z: (f64, f64),
+}
+
+impl Extent {
+    /// The extent of a shape whose programmed point is `tip` from the reference point, on a
+    /// turret whose axis stands `turret_axis` from it.
+    pub fn of(shape: &Polygon, tip: V2, turret_axis: f64) -> Extent {
+        let mut e = Extent {
+            d: (f64::INFINITY, f64::NEG_INFINITY),
+            z: (f64::INFINITY, f64::NEG_INFINITY),
+        };
+        for q in shape.points() {
+            let (d, z) = (q.x + tip.x - turret_axis, q.y + tip.y);
+            e.d = (e.d.0.min(d), e.d.1.max(d));
+            e.z = (e.z.0.min(z), e.z.1.max(z));
+        }
+        e
+    }
 }
 
 impl Scene {
@@ -124,20 +141,6 @@ impl Scene {
                 self.map_convex(&half, tip, r_ref, sc, splits - 1, out);
             }
         }
-    }
-
-    /// The extent of a shape whose programmed point is `tip` from the reference point.
-    pub fn extent_of(&self, shape: &Polygon, tip: V2) -> Extent {
-        let mut e = Extent {
-            d: (f64::INFINITY, f64::NEG_INFINITY),
-            z: (f64::INFINITY, f64::NEG_INFINITY),
-        };
-        for q in shape.points() {
-            let (d, z) = (q.x + tip.x - self.turret_axis, q.y + tip.y);
-            e.d = (e.d.0.min(d), e.d.1.max(d));
-            e.z = (e.z.0.min(z), e.z.1.max(z));
-        }
-        e
     }
 
     /// A box holding the section of a shape (its extent `e`) turned `angle` out of the working
