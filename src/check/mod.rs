@@ -24,6 +24,7 @@ mod three;
 mod turn_round;
 
 use crate::finding::{Finding, Kind, Severity};
+use crate::geom::convex::sweep_convex;
 use crate::geom::{self, Aabb, Polygon, P2, V2};
 use crate::interp::{ExtraMove, Interpretation, Move, MoveKind, MoveState, ProgFrame, Spindle};
 use crate::machine::Machine;
@@ -1504,6 +1505,12 @@ impl Checker<'_> {
                 a + (b - a) * ((f - u0) / (u1 - u0))
             };
             let d: V2 = end - a;
+            // A convex insert sweeps one convex polygon along the chord: its two poses joined
+            // at the points that lead and trail across the chord. Otherwise (or should the
+            // edges' sides not split in two runs), each edge's quad and the end pose.
+            if tool.insert_convex && out.push_with(|poly| sweep_convex(insert, a, d, poly)) {
+                continue;
+            }
             let n = insert.len();
             for i in 0..n {
                 let (p, q) = (a + insert[i].coords, a + insert[(i + 1) % n].coords);

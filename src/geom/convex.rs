@@ -11,7 +11,7 @@
 //! than `s` between two poses, every pose holds the piece eroded by `s` ([`erode_convex`]: the
 //! points at least `s` inside it).
 
-use super::{orient, P2};
+use super::{orient, P2, V2};
 
 /// Triangles of a counter-clockwise simple polygon, by ear clipping (indices into `pts`).
 pub fn triangulate(pts: &[P2]) -> Vec<[u32; 3]> {
@@ -66,6 +66,51 @@ pub fn is_convex(p: &[P2]) -> bool {
         }
     }
     n >= 3
+}
+
+/// The region a convex counter-clockwise polygon `ring` sweeps when it moves from `a + ring`
+/// to `a + d + ring` in a straight line, written into `out` (counter-clockwise): the edges that
+/// face against `d` (outward normal · `d` ≤ 0) at `a`, those that face along it at `a + d`, and
+/// at the two vertices where the sides change, the segment along `d` between the poses. This is
+/// the union of the two poses and of every edge's quad `p, q, q + d, p + d` (the same vertices,
+/// the same arithmetic). Returns false, with `out` left as it was, when the sides do not split
+/// in at most two runs (the ring is not convex, or rounding made an edge nearly parallel to `d`
+/// change sides twice): the caller then sweeps edge by edge.
+pub fn sweep_convex(ring: &[P2], a: P2, d: V2, out: &mut Vec<P2>) -> bool {
+    let n = ring.len();
+    if n < 3 {
+        return false;
+    }
+    let front = |i: usize| {
+        let (p, q) = (ring[i], ring[(i + 1) % n]);
+        // Outward normal of a counter-clockwise edge e: (e.z, -e.x).
+        (q.y - p.y) * d.x - (q.x - p.x) * d.y > 0.0
+    };
+    let changes = (0..n).filter(|&i| front(i) != front((i + 1) % n)).count();
+    if changes > 2 {
+        return false;
+    }
+    let start = out.len();
+    let mut before = front(n - 1);
+    for (i, q) in ring.iter().enumerate() {
+        let after = front(i);
+        let at_a = a + q.coords;
+        match (before, after) {
+            (false, false) => out.push(at_a),
+            (true, true) => out.push(at_a + d),
+            (false, true) => {
+                out.push(at_a);
+                out.push(at_a + d);
+            }
+            (true, false) => {
+                out.push(at_a + d);
+                out.push(at_a);
+            }
+        }
+        before = after;
+    }
+    debug_assert!(out.len() - start <= n + 2);
+    true
 }
 
 /// Convex pieces whose union is a counter-clockwise simple polygon: the polygon itself when it
@@ -266,6 +311,87 @@ mod tests {
             }
             // Not vacuous: a piece eroded by nothing is itself.
             proptest::prop_assert!((area(&erode_convex(&k, 0.0)) - area(&k)).abs() < 1e-9 * (1.0 + area(&k)));
+        }
+    }
+
+    /// Crossing-number membership, and the distance to the outline (for the tests' margins).
+    fn inside_by(p: &[P2], c: P2) -> (bool, f64) {
+        let n = p.len();
+        let (mut odd, mut near) = (false, f64::INFINITY);
+        for i in 0..n {
+            let (a, b) = (p[i], p[(i + 1) % n]);
+            if (a.y > c.y) != (b.y > c.y) && c.x < a.x + (b.x - a.x) * ((c.y - a.y) / (b.y - a.y)) {
+                odd = !odd;
+            }
+            near = near.min(crate::geom::point_segment_distance(c, a, b));
+        }
+        (odd, near)
+    }
+
+    #[test]
+    fn a_square_swept_along_x_is_a_rectangle_of_six_vertices() {
+        let sq = [p2(0.0, 0.0), p2(1.0, 0.0), p2(1.0, 1.0), p2(0.0, 1.0)];
+        let mut out = Vec::new();
+        assert!(sweep_convex(&sq, p2(0.0, 0.0), V2::new(1.0, 0.0), &mut out));
+        assert_eq!(
+            out,
+            [
+                p2(0.0, 0.0),
+                p2(1.0, 0.0),
+                p2(2.0, 0.0),
+                p2(2.0, 1.0),
+                p2(1.0, 1.0),
+                p2(0.0, 1.0)
+            ]
+        );
+        assert!((area(&out) - 2.0).abs() < 1e-12);
+    }
+
+    proptest::proptest! {
+        /// The sweep of a convex piece along a segment covers exactly the union of its two poses
+        /// and of its edges' quads (what a cut removed before, edge by edge): a point away from
+        /// every outline lies in one exactly when it lies in the other.
+        #[test]
+        fn a_convex_sweep_is_the_union_of_the_poses_and_the_edges_quads(
+            pts in proptest::collection::vec((-20.0f64..20.0, -20.0f64..20.0), 3..12),
+            a in (-50.0f64..50.0, -50.0f64..50.0),
+            d in (-15.0f64..15.0, -15.0f64..15.0),
+            probes in proptest::collection::vec((-80.0f64..80.0, -80.0f64..80.0), 200),
+        ) {
+            let pts: Vec<P2> = pts.into_iter().map(|(x, z)| p2(x, z)).collect();
+            let k = crate::tooling::outline::hull(&pts);
+            proptest::prop_assume!(k.len() >= 3 && area(&k) > 1e-6);
+            let (a, d) = (p2(a.0, a.1), V2::new(d.0, d.1));
+            let mut sw = Vec::new();
+            proptest::prop_assert!(sweep_convex(&k, a, d, &mut sw));
+            proptest::prop_assert!(sw.len() <= k.len() + 2);
+            let n = k.len();
+            let mut parts: Vec<Vec<P2>> = vec![
+                k.iter().map(|q| a + q.coords).collect(),
+                k.iter().map(|q| a + q.coords + d).collect(),
+            ];
+            for i in 0..n {
+                let (p, q) = (a + k[i].coords, a + k[(i + 1) % n].coords);
+                parts.push(vec![p, q, q + d, p + d]);
+            }
+            for (x, z) in probes {
+                let c = p2(x, z);
+                let (in_sweep, m) = inside_by(&sw, c);
+                let mut in_union = false;
+                let mut margin = m;
+                for part in &parts {
+                    let (i, m) = inside_by(part, c);
+                    in_union |= i;
+                    margin = margin.min(m);
+                }
+                if margin > 1e-7 {
+                    proptest::prop_assert_eq!(in_sweep, in_union, "{:?}", c);
+                }
+            }
+            // Not vacuous: the sweep's area is the pose's and the band's.
+            let cross = k.iter().map(|p| p.x * d.y - p.y * d.x);
+            let width = cross.clone().fold(f64::NEG_INFINITY, f64::max) - cross.fold(f64::INFINITY, f64::min);
+            proptest::prop_assert!((area(&sw) - area(&k) - width).abs() < 1e-6 * (1.0 + area(&sw)), "{} {}", area(&sw), width);
         }
     }
 

@@ -53,6 +53,9 @@ pub struct ToolShape {
     pub label: String,
     pub tip: V2,
     pub insert: Polygon,
+    /// Whether the insert is convex: its sweep along a chord is then one convex polygon
+    /// ([`crate::geom::convex::sweep_convex`]).
+    pub insert_convex: bool,
     pub holder: Polygon,
     /// What the boxes of their sections in another station need (`Scene::section_box`).
     pub insert_extent: section::Extent,
@@ -94,6 +97,7 @@ impl Scene {
                     label: format!("T{:02}", t.station),
                     tip: t.tip.coords,
                     insert_extent: section::Extent::of(&insert, t.tip.coords, axis),
+                    insert_convex: crate::geom::convex::is_convex(insert.points()),
                     holder_extent: section::Extent::of(&t.holder, t.tip.coords, axis),
                     insert,
                     holder: t.holder.clone(),

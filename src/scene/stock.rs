@@ -144,6 +144,22 @@ impl Swept {
         self.len += 1;
     }
 
+    /// Add a polygon that `fill` writes into a cleared buffer, when it returns true (a false
+    /// adds nothing). Returns what `fill` returned.
+    pub fn push_with(&mut self, fill: impl FnOnce(&mut Vec<P2>) -> bool) -> bool {
+        if self.len == self.pool.len() {
+            self.pool.push((Aabb::empty(), Vec::new()));
+        }
+        let (bb, poly) = &mut self.pool[self.len];
+        poly.clear();
+        if !fill(poly) {
+            return false;
+        }
+        *bb = Aabb::of_points(poly.iter());
+        self.len += 1;
+        true
+    }
+
     /// The live polygons with their boxes.
     fn live(&self) -> &[(Aabb, Vec<P2>)] {
         &self.pool[..self.len]
@@ -1806,6 +1822,49 @@ mod tests {
                 proptest::prop_assert_eq!(&fast.cols[j], &plain.cols[j], "column {}", j);
             }
             proptest::prop_assert_eq!(&fast.blk, &plain.blk);
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(200))]
+
+        /// A convex insert's sweep along a chord cut as one polygon
+        /// ([`crate::geom::convex::sweep_convex`]) leaves the material that cutting its two poses
+        /// and each edge's quad leaves (the checker's cut before), to rounding.
+        #[test]
+        fn a_convex_sweep_cut_at_once_removes_what_its_poses_and_quads_remove(
+            cuts in proptest::collection::vec((0.0f64..30.0, -100.0f64..0.0, 0.05f64..20.0, 0.5f64..30.0, -3.0f64..3.0), 0..6),
+            tool in proptest::collection::vec((-6.0f64..6.0, -6.0f64..6.0), 3..8),
+            a in (-30.0f64..30.0, -100.0f64..0.0),
+            d in (-20.0f64..20.0, -20.0f64..20.0),
+        ) {
+            let mut once = cut_tube(&cuts);
+            let mut parts = once.clone();
+            let pts: Vec<P2> = tool.into_iter().map(|(x, z)| p2(x, z)).collect();
+            let k = crate::tooling::outline::hull(&pts);
+            proptest::prop_assume!(k.len() >= 3);
+            let (a, d) = (p2(a.0, a.1), crate::geom::V2::new(d.0, d.1));
+            let mut sw = Vec::new();
+            proptest::prop_assert!(crate::geom::convex::sweep_convex(&k, a, d, &mut sw));
+            once.cut(&sw);
+            let n = k.len();
+            parts.cut(&k.iter().map(|q| a + q.coords).collect::<Vec<_>>());
+            for i in 0..n {
+                let (p, q) = (a + k[i].coords, a + k[(i + 1) % n].coords);
+                parts.cut(&[p, q, q + d, p + d]);
+            }
+            parts.cut(&k.iter().map(|q| a + q.coords + d).collect::<Vec<_>>());
+            let held = |c: &Column| c.iv.iter().map(|(lo, hi)| hi - lo).sum::<f64>();
+            let within = |x: &Column, y: &Column| {
+                x.iv.iter().filter(|(lo, hi)| hi - lo > 1e-9).all(|&(lo, hi)| {
+                    y.iv.iter().any(|&(l, h)| l <= lo + 1e-9 && hi <= h + 1e-9)
+                })
+            };
+            for j in 0..once.cols.len() {
+                let (x, y) = (&once.cols[j], &parts.cols[j]);
+                proptest::prop_assert!((held(x) - held(y)).abs() < 1e-9, "column {}: {:?} vs {:?}", j, x, y);
+                proptest::prop_assert!(within(x, y) && within(y, x), "column {}: {:?} vs {:?}", j, x, y);
+            }
         }
     }
 
