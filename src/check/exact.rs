@@ -495,6 +495,15 @@ impl Checker<'_> {
         // (a contact whose depth is its axial extent fails each proof, as the stretch's hull
         // overstates that extent; an attempt costs two stock queries).
         let (mut failed, mut wait) = (0u32, 0u32);
+        // Most pieces pass the material at a distance, or slide along it: the hull of their
+        // poses proves the whole of them clear before any probe. Whether the rest of the piece
+        // was tried as one clear stretch since the last contact ended (a failed try costs one
+        // stock query, so it is tried once from the start and once after each contact).
+        let mut tried_rest = self.settings.prove_stretches && len > 0.0 && b > a;
+        if tried_rest && self.stretch_proven(p, o, piece, active, (a, b), Proof::Clear) {
+            *probes += 1;
+            return true;
+        }
         loop {
             *probes += 1;
             if *probes > MAX_PROBES {
@@ -531,6 +540,7 @@ impl Checker<'_> {
                 }
                 Err(_) => {
                     if let Some(mut iv) = open.take() {
+                        tried_rest = false;
                         peak.probe(prev_u, u, 0.0);
                         let u1 = match measure {
                             // Ends (before this clear probe) well before the move does: no
@@ -563,6 +573,17 @@ impl Checker<'_> {
             // or in contact throughout and no deeper than the contact already is (within half
             // the tolerance), holds nothing a probe could add: step over it, and try twice as
             // far the next time.
+            if matches!((res, &open), (Err(_), None))
+                && !tried_rest
+                && self.settings.prove_stretches
+                && (b - u) * len > 2.0 * advance
+            {
+                tried_rest = true;
+                if self.stretch_proven(p, o, piece, active, (u, b), Proof::Clear) {
+                    *probes += 1;
+                    break;
+                }
+            }
             let proof = match (res, &open) {
                 _ if !self.settings.prove_stretches => None,
                 (Ok(_), Some(_)) if wait > 0 => {
