@@ -39,9 +39,15 @@ struct Verdict {
 }
 
 impl Oracle {
+    /// T01's shapes as the checker poses them (`Scene`: the nose rounded, the insert set by its
+    /// imaginary tip). The oracle checks the stock at the instant, not the tool's model: with the
+    /// machine file's sharp outlines the insert stands 0.18 mm off the checker's, and a holder
+    /// corner it covers in one model pokes past its rake face in the other (the regression case
+    /// saved beside this file, a 0.04 mm graze at the bar's front corner).
     fn builtin() -> Oracle {
         let m = Machine::builtin();
-        let t = m.tools.iter().find(|t| t.station == 1).unwrap();
+        let scene = latheguard::scene::Scene::new(&m, 0.01);
+        let t = scene.tool(1).unwrap();
         let pts = |v: &[latheguard::geom::P2]| v.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>();
         Oracle {
             insert: pts(t.insert.points()),
