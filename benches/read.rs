@@ -1,6 +1,8 @@
 //! Benchmark: reading and interpreting a generated 100k-line lathe program, as lines per second,
 //! against `wc -l` on the same file, and `latheguard moves --format canon` against LinuxCNC's
-//! `rs274 -g` (when `scripts/rs274-ref.sh` can provide it) on the same program in the same run.
+//! `rs274 -g` (when `scripts/rs274-ref.sh` can provide it) on the same program in the same run,
+//! and `latheguard check --mode exact` of the program's Fanuc twin (stock removal on the built-in
+//! machine) against the same rs274 figure.
 //!
 //! `cargo bench --bench read` (add `-- --lines N` for another size, `-- --cycles` for the
 //! cycles row alone). Figures are medians of
@@ -152,6 +154,27 @@ fn main() {
             o * 1e3
         ),
         _ => println!("latheguard moves failed on the generated program"),
+    }
+    // The exact check with stock removal of the Fanuc program on the built-in machine, against
+    // rs274 merely interpreting its LinuxCNC twin (issue 29's first figure).
+    let fanuc_path = dir.join("p-fanuc.ngc");
+    let check_args = [
+        "check",
+        "-q",
+        "--no-assume",
+        "--mode",
+        "exact",
+        fanuc_path.to_str().unwrap(),
+    ];
+    match (time_cmd(5, exe, &check_args), rs274) {
+        (Some(c), Some(r)) => println!(
+            "check --mode exact (Fanuc twin, stock removal): {:.1} ms; rs274 -g: {:.1} ms; rs274 / latheguard = {:.2}x",
+            c * 1e3,
+            r * 1e3,
+            r / c
+        ),
+        (Some(c), None) => println!("check --mode exact (Fanuc twin, stock removal): {:.1} ms", c * 1e3),
+        _ => println!("latheguard check failed or found a crash in the generated program"),
     }
     let ours = peak_kib(exe, &["moves", "--format", "canon", "-m", &machine_file, p]);
     let rs274 = peak_kib(&format!("{root}/scripts/rs274-ref.sh"), &["-g", p]);
