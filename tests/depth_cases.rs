@@ -101,38 +101,41 @@ fn a_grooving_insert_clipping_the_bar_end_in_a_rapid_is_deepest_mid_move_in_ever
 #[test]
 fn a_bar_front_leading_down_a_taper_is_deepest_mid_move_against_the_stock_at_the_instant() {
     // The ring at the bore step (see the case's comments): r 10 up to the 27 mm pass's bottom edge.
-    // T03's 0.4 mm nose is set as an imaginary tip, which moves the insert by (+0.0393, -0.0393)
-    // from its sharp outline; its bottom edge rises 1 in 12 toward -x, so the 27 mm pass (tip r
-    // 13.5 at step z0 = Z-6) leaves the ring's top at
+    // T03's 0.4 mm nose is set as an imaginary tip, which moves the tool (insert and bar) by
+    // (+0.0393, -0.0393) from its sharp outlines; the insert's bottom edge rises 1 in 12 toward
+    // -x, so the 27 mm pass (tip r 13.5 at step z0 = Z-6) leaves the ring's top at
     //   z0 + ((13.5 - 10) + 0.0393) / 12 - 0.0393 = z0 + 0.2556   at r 10.
-    // The taper: tip r = 18 - 0.5u, z = z0 - u. The bar front is 2 mm above the tip, from tip - 15
-    // to tip - 4 in r. At that height the insert's -x edge (from (-6, 0.5) to (-6.5, 6.5), moved
-    // as above) is at tip - 5.9607 - (2 - 0.4607) / 12 = tip - 6.0890, and since the tip only
-    // falls, that is also the lowest the cut has reached there so far. So the material the bar
-    // front meets is r 10 .. tip - 6.089, from the bar front up to the ring's top:
-    //   radial = 18 - 0.5u - 6.089 - 10 = 1.9110 - 0.5u   (the bar front's column is the widest)
-    //   axial  = (z0 + 0.2556) - (z0 - u + 2) = u - 1.7444
-    // Contact from u = 1.7444 (X34.256 Z-7.744, as reported); equal at 1.5u = 3.6554, u = 2.4369:
-    // depth 0.6925 mm. Afterwards the insert, lower down the taper, cuts the ring away.
+    // The taper: tip r = 18 - 0.5u, z = z0 - u. The bar front is 2 - 0.0393 = 1.9607 mm above the
+    // tip, from tip - 14.9607 to tip - 3.9607 in r. At that height the insert's -x edge (from
+    // (-6, 0.5) to (-6.5, 6.5), moved as above) is at tip - 5.9607 - (1.9607 - 0.4607) / 12 =
+    // tip - 6.0857, and since the tip only falls, that is also the lowest the cut has reached
+    // there so far. So the material the bar front meets is r 10 .. tip - 6.0857, from the bar
+    // front up to the ring's top:
+    //   radial = 18 - 0.5u - 6.0857 - 10 = 1.9143 - 0.5u   (the bar front's column is the widest)
+    //   axial  = (z0 + 0.2556) - (z0 - u + 1.9607) = u - 1.7051
+    // Contact from u = 1.7051 (X34.295 Z-7.705); equal at 1.5u = 3.6194, u = 2.4129: depth
+    // 0.7078 mm. Afterwards the insert, lower down the taper, cuts the ring away.
     assert_depth(
         "bar_front_leads_down_a_taper",
         30,
         "collision",
         ["T03 holder", "stock"],
-        0.6925,
+        0.7078,
     );
 }
 
 #[test]
 fn a_boring_bar_facing_deeper_than_its_bar_front_is_as_deep_as_the_stock_at_the_instant() {
-    // The bar front, 2 mm above the tip (z 79), is 1 mm inside the bar end (z 80) from the moment
-    // its low corner reaches r 25; the insert, 8.9 mm behind it in r, cuts that band only later.
-    // Radial overlap tip - 6.09 - (tip - 15) = 8.9, axial 1: depth 1 mm.
+    // The bar front, 2 mm above the sharp tip, is 1.9607 mm above the programmed point once the
+    // 0.4 mm nose sets the tool (insert and bar move by (+0.0393, -0.0393)): z 78.9607, 1.0393 mm
+    // inside the bar end (z 80) from the moment its low corner reaches r 25; the insert, 8.9 mm
+    // behind it in r, cuts that band only later. Radial overlap tip - 6.09 - (tip - 15) = 8.9
+    // (both moved alike), axial 1.0393: depth 1.0393 mm.
     assert_depth(
         "boring_bar_faces_deeper_than_its_bar_front",
         15,
         "collision",
         ["T03 holder", "stock"],
-        1.0,
+        1.0393,
     );
 }

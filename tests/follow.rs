@@ -39,8 +39,9 @@ fn json_lines(lines: &[String]) -> Vec<serde_json::Value> {
 
 #[test]
 fn a_rapid_into_the_bar_in_the_middle_of_a_stream_is_one_error_at_its_line_and_sample_time() {
-    // T01 rapids from home to 5 mm off the bar, then (line 4, t 0.06 to 0.08 s) 10 mm in x and
-    // 15 mm in z toward the chuck: its tip enters the bar (radius 25, face at z 80) 5 mm deep.
+    // T01 rapids from home to 5 mm off the bar, then (line 4, t 0.06 to 0.08 s) 9 mm in x and
+    // 15 mm in z toward the chuck: its tip enters the bar (radius 25, face at z 80) 4 mm deep
+    // (its holder's low corner, 4.82 mm above the tip, stays 0.82 mm clear of the bar).
     let (code, out) = follow(&["--format", "json", "tests/fixtures/follow/crash.jsonl"], "");
     assert_eq!(code, 1, "{out:?}");
     let docs = json_lines(&out);
@@ -54,7 +55,7 @@ fn a_rapid_into_the_bar_in_the_middle_of_a_stream_is_one_error_at_its_line_and_s
     // The tip crosses the face z 80 two thirds of the way through the sample interval 0.06–0.07.
     assert!((0.06..=0.07).contains(&t), "{t}");
     assert!((t - 0.0666667).abs() < 2e-3, "{t}");
-    assert!((f["depth_mm"].as_f64().unwrap() - 5.0).abs() < 0.05, "{f}");
+    assert!((f["depth_mm"].as_f64().unwrap() - 4.0).abs() < 0.05, "{f}");
 }
 
 #[test]
@@ -68,7 +69,7 @@ fn malformed_and_out_of_order_samples_are_errors_at_their_line_and_column_and_th
             "tests/fixtures/follow/bad.csv:4:10: error[sample]: `abc` is not a number",
             "tests/fixtures/follow/bad.csv:6: error[sample]: time 0.01 s is not after the last sample's 0.02 s: the sample is out of order and is skipped",
             "tests/fixtures/follow/bad.csv:7: error[sample]: the sample has no time `t` (or give --period)",
-            "tests/fixtures/follow/bad.csv: line 4: error[rapid_into_stock]: rapid move drives the T01 insert into the stock (depth 5.000 mm, at 0.065 s, X-275 Z-522.5, until line 5)",
+            "tests/fixtures/follow/bad.csv: line 4: error[rapid_into_stock]: rapid move drives the T01 insert into the stock (depth 4.000 mm, at 0.067 s, X-275 Z-523.334, until line 5)",
         ]
     );
 }
