@@ -921,6 +921,7 @@ impl Checker<'_> {
         // Per pair: how many samples ahead the next hull of a sliding part reaches.
         let mut ahead: Vec<u64> = vec![2; cands.len()];
         let k_end = (t1 / dt - 1e-9).ceil().max(0.0) as u64;
+        self.prove_whole_move(m, item, cands, active, insert_rule, &mut resume);
         let mut last = false;
         while !last {
             let at_start = start_pass;
@@ -950,7 +951,8 @@ impl Checker<'_> {
             self.instant = instant;
             posed.clear();
             for (ci, &(p, o)) in cands.iter().enumerate() {
-                if followed[ci] || (at_start && !forward_only[ci]) {
+                // Measured exactly, or proven clear for the whole move: nothing to sample.
+                if followed[ci] || resume[ci] == u64::MAX || (at_start && !forward_only[ci]) {
                     continue;
                 }
                 if !at_start {
@@ -1110,6 +1112,45 @@ impl Checker<'_> {
                 start_pass = false;
             } else {
                 k += 1;
+            }
+        }
+    }
+
+    /// Before sampling a straight move (or a dogleg): each pair against the stock whose part's
+    /// hull over the whole move overlaps nothing ([`Self::stretch_clear`], the stock at the
+    /// move's start) is clear at every sample, so it is closed as every clear sample would close
+    /// it (its contact and near-miss episodes end) and left out of the sampling (`resume` past
+    /// the last sample). The findings are the sampler's: only the pair tests differ.
+    fn prove_whole_move(
+        &mut self,
+        m: &Move,
+        item: &Timed,
+        cands: &[(Part, Obstacle)],
+        active: u32,
+        insert_rule: Option<Kind>,
+        resume: &mut [u64],
+    ) {
+        if !self.settings.prove_stretches {
+            return;
+        }
+        let (t0, t1) = (item.t0, item.t1());
+        let Some(bend) = motion::polyline_between(m, item, 0.0, t1 - t0) else {
+            return; // an arc: its hull would be a square around the whole move
+        };
+        let (r0, r1) = (
+            motion::reference_at(m, item, 0.0),
+            motion::reference_at(m, item, t1 - t0),
+        );
+        let way = bend.map_or((r1 - r0).norm(), |c| (c - r0).norm() + (r1 - c).norm());
+        for (ci, &(p, o)) in cands.iter().enumerate() {
+            let Some(kind) = rule(p, o, insert_rule) else { continue };
+            if o != Obstacle::Stock || matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_)) {
+                continue;
+            }
+            if self.stretch_clear(p, o, active, (t0, r0), (t1, r1), way, item) {
+                self.episodes.clear(key(p, active, o, kind));
+                self.episodes.clear(key(p, active, o, Kind::NearMiss));
+                resume[ci] = u64::MAX;
             }
         }
     }

@@ -779,7 +779,7 @@ impl DexelStock {
 
     /// [`Self::gap_bound_view`] visiting the blocks in the order of `z`, every one whose bound is
     /// below the distance found so far: the walk before the blocks were taken nearest first, the
-    /// tests' oracle (the answers are equal to the bit).
+    /// tests' oracle (the answers are equal to rounding).
     #[doc(hidden)]
     pub fn gap_bound_view_in_order(&mut self, pts: &[P2], window: f64, view: View) -> f64 {
         self.gap_bound_walk(pts, window, view, false)
@@ -825,7 +825,9 @@ impl DexelStock {
         // The blocks in the window, nearest first by a bound of their distance (a block the move
         // changed by its z alone), so that the nearest material found early lets the bound
         // pass over the rest. The least of the distances does not depend on the order in
-        // which they are taken: the answer is the in-order walk's, bit for bit.
+        // which they are taken: the answer is the in-order walk's, to rounding (an edge whose
+        // distance rounds a unit below its box's bound may be measured in one order and passed
+        // over in the other).
         let mut order = std::mem::take(&mut self.order);
         order.clear();
         for b in j0 / BLOCK..=j1 / BLOCK {
