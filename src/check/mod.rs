@@ -913,15 +913,17 @@ impl Checker<'_> {
         let mut start_pass = forward_only.iter().any(|&f| f);
         // Per pair: the first sample that can need a test. With a bound on the speed it is known
         // from the proven gap; when every pair is provably clear, jump straight to the earliest.
+        // `u64::MAX`: nothing to sample (its contacts in this move were measured exactly, see
+        // `follow_exact`, or the whole move is proven clear).
         let mut resume: Vec<u64> = vec![0; cands.len()];
-        // Per pair: its contacts in this move were measured exactly (see `follow_exact`), and
-        // whether that was tried.
-        let mut followed: Vec<bool> = vec![false; cands.len()];
+        // Per pair: whether its contacts were handed to `follow_exact`.
         let mut tried: Vec<bool> = vec![false; cands.len()];
         // Per pair: how many samples ahead the next hull of a sliding part reaches.
         let mut ahead: Vec<u64> = vec![2; cands.len()];
         let k_end = (t1 / dt - 1e-9).ceil().max(0.0) as u64;
-        self.prove_whole_move(m, item, cands, active, insert_rule, &mut resume);
+        let r_end = motion::reference_at(m, item, t1 - item.t0);
+        let whole = (r_start, r_end, travel(item.t0, r_start, t1, r_end));
+        self.prove_whole_move(m, item, cands, (active, insert_rule), whole, &mut resume);
         let mut last = false;
         while !last {
             let at_start = start_pass;
@@ -952,7 +954,7 @@ impl Checker<'_> {
             posed.clear();
             for (ci, &(p, o)) in cands.iter().enumerate() {
                 // Measured exactly, or proven clear for the whole move: nothing to sample.
-                if followed[ci] || resume[ci] == u64::MAX || (at_start && !forward_only[ci]) {
+                if resume[ci] == u64::MAX || (at_start && !forward_only[ci]) {
                     continue;
                 }
                 if !at_start {
@@ -1014,7 +1016,6 @@ impl Checker<'_> {
                             let found = self.follow_exact(m, item, p, o, active, insert_rule);
                             self.instant = instant;
                             if found {
-                                followed[ci] = true;
                                 resume[ci] = u64::MAX;
                                 continue;
                             }
@@ -1034,7 +1035,6 @@ impl Checker<'_> {
                             self.instant = instant;
                             found
                         } {
-                            followed[ci] = true;
                             resume[ci] = u64::MAX;
                             continue;
                         }
@@ -1121,27 +1121,22 @@ impl Checker<'_> {
     /// move's start) is clear at every sample, so it is closed as every clear sample would close
     /// it (its contact and near-miss episodes end) and left out of the sampling (`resume` past
     /// the last sample). The findings are the sampler's: only the pair tests differ.
+    /// `(r0, r1, way)`: the reference point at the move's start and end and the way between
+    /// (the sampler's `travel`).
     fn prove_whole_move(
         &mut self,
         m: &Move,
         item: &Timed,
         cands: &[(Part, Obstacle)],
-        active: u32,
-        insert_rule: Option<Kind>,
+        (active, insert_rule): (u32, Option<Kind>),
+        (r0, r1, way): (P2, P2, f64),
         resume: &mut [u64],
     ) {
-        if !self.settings.prove_stretches {
+        let (t0, t1) = (item.t0, item.t1());
+        // On an arc the hull would be a square around the whole move.
+        if !self.settings.prove_stretches || motion::polyline_between(m, item, 0.0, t1 - t0).is_none() {
             return;
         }
-        let (t0, t1) = (item.t0, item.t1());
-        let Some(bend) = motion::polyline_between(m, item, 0.0, t1 - t0) else {
-            return; // an arc: its hull would be a square around the whole move
-        };
-        let (r0, r1) = (
-            motion::reference_at(m, item, 0.0),
-            motion::reference_at(m, item, t1 - t0),
-        );
-        let way = bend.map_or((r1 - r0).norm(), |c| (c - r0).norm() + (r1 - c).norm());
         for (ci, &(p, o)) in cands.iter().enumerate() {
             let Some(kind) = rule(p, o, insert_rule) else { continue };
             if o != Obstacle::Stock || matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_)) {

@@ -223,9 +223,9 @@ impl Scene {
 /// rounded insert in its place and the shift that placed it, which the holder takes too: insert
 /// and holder are one rigid tool, set on the machine by where its nose touches.
 fn round_tip(insert: &Polygon, radius: f64, tol: f64) -> (Polygon, V2) {
-    let sharp = (insert.clone(), V2::zeros());
+    let sharp = || (insert.clone(), V2::zeros());
     if radius <= 0.0 {
-        return sharp;
+        return sharp();
     }
     let pts = insert.points();
     let n = pts.len();
@@ -240,12 +240,12 @@ fn round_tip(insert: &Polygon, radius: f64, tol: f64) -> (Polygon, V2) {
     let cos = u.dot(&v).clamp(-1.0, 1.0);
     let half = cos.acos() / 2.0;
     if !(half > 1e-6 && half < std::f64::consts::FRAC_PI_2 - 1e-6) {
-        return sharp;
+        return sharp();
     }
     // Tangent points at distance radius / tan(half) along both edges.
     let d = radius / half.tan();
     if d >= (prev - cur).norm() * 0.5 || d >= (next - cur).norm() * 0.5 {
-        return sharp;
+        return sharp();
     }
     let bis = (u + v).normalize();
     let center = cur + bis * (radius / half.sin());
