@@ -1,6 +1,7 @@
 //! Benchmark: reading and interpreting a generated 100k-line lathe program, as lines per second,
 //! against `wc -l` on the same file, and `latheguard moves --format canon` against LinuxCNC's
-//! `rs274 -g` (when `scripts/rs274-ref.sh` can provide it) on the same program in the same run,
+//! `rs274 -g` (when `scripts/rs274-ref.sh` can provide it) on the same program in the same run and
+//! on a LinuxCNC G71/G70 program,
 //! and `latheguard check --mode exact` of the program's Fanuc twin (stock removal on the built-in
 //! machine) against the same rs274 figure.
 //!
@@ -155,6 +156,25 @@ fn main() {
         ),
         _ => println!("latheguard moves failed on the generated program"),
     }
+    // The same on LinuxCNC G71/G70: roughing and finishing cycles over one o-word profile.
+    let g7x_path = dir.join("p-lcnc-g7x.ngc");
+    std::fs::write(&g7x_path, lcnc_g7x_program(G7X_UNITS)).unwrap();
+    let g7x = g7x_path.to_str().unwrap();
+    let ours = time_cmd(5, exe, &["moves", "--format", "canon", "-m", &machine_file, g7x]);
+    let rs = time_cmd(3, &format!("{root}/scripts/rs274-ref.sh"), &["-g", g7x]);
+    match (ours, rs) {
+        (Some(o), Some(r)) => println!(
+            "moves --format canon, LinuxCNC G71/G70 ({G7X_UNITS} of each): {:.1} ms; rs274 -g: {:.1} ms; rs274 / latheguard = {:.1}x",
+            o * 1e3,
+            r * 1e3,
+            r / o
+        ),
+        (Some(o), None) => println!(
+            "moves --format canon, LinuxCNC G71/G70: {:.1} ms; rs274 not available",
+            o * 1e3
+        ),
+        _ => println!("latheguard moves failed on the G71/G70 program"),
+    }
     // The exact check with stock removal of the Fanuc program on the built-in machine, against
     // rs274 merely interpreting its LinuxCNC twin (issue 29's first figure).
     let fanuc_path = dir.join("p-fanuc.ngc");
@@ -191,6 +211,24 @@ fn main() {
         _ => println!("peak memory: not measured (needs GNU time at /usr/bin/time)"),
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Cycles of each kind in the LinuxCNC G71/G70 program.
+const G7X_UNITS: usize = 5_000;
+
+/// A LinuxCNC program of `units` G71 roughing and G70 finishing cycles over one o-word profile
+/// (straight moves whose A words round their corners), each from the same start point: about 74
+/// moves a unit, as rs274 makes them.
+fn lcnc_g7x_program(units: usize) -> String {
+    let mut s = String::from(
+        "G18 G7 G21 G90 G95\nT1 M6\nS800 M3\nF0.2\no100 sub\n  G1 X10 Z1.5\n  G1 Z-10 A1\n  G1 X16\n  \
+         G1 Z-20 A1.5\n  G1 X21 A0.8\n  G1 X23 Z-26\n  G1 X24 A0.5\no100 endsub\n",
+    );
+    for _ in 0..units {
+        s += "G0 X30 Z3\nG71 Q100 X30 Z3 D0.5 I1 R0.3\nG70 Q100 X30 Z3 D0.5 E0 P1\nG0 X40 Z20\n";
+    }
+    s += "M2\n";
+    s
 }
 
 /// One unit of a cycle-heavy Fanuc program: G71 (two-block) roughing over a six-block profile

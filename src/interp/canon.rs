@@ -17,8 +17,8 @@ use std::io::Write;
 
 /// One line per move: `STRAIGHT_TRAVERSE`, `STRAIGHT_FEED`, `ARC_FEED`, `DWELL`, `CHANGE_TOOL`
 /// (and `COMMENT` where a job's operation starts).
-/// Each line is built in a small buffer and written whole, so a long run streams without a copy
-/// of the whole output in memory.
+/// The lines are gathered [`OUT_BYTES`] at a time and written on, so a long run streams without a
+/// copy of the whole output in memory.
 pub fn write<W: Write>(run: &Interpretation, sink: &mut W) -> std::io::Result<()> {
     let whole = super::Chunk {
         first: 0,
@@ -35,7 +35,7 @@ pub fn write_chunk<W: Write>(c: super::Chunk<'_>, sink: &mut W) -> std::io::Resu
     if c.extra.is_empty() {
         return write_moves(c.moves, c.states, sink);
     }
-    let mut line = Vec::with_capacity(160);
+    let mut out = Vec::with_capacity(OUT_BYTES + 512);
     let mut next = c.extra.iter().peekable();
     for (i, m) in c.moves.iter().enumerate() {
         let i = c.first + i;
@@ -43,23 +43,31 @@ pub fn write_chunk<W: Write>(c: super::Chunk<'_>, sink: &mut W) -> std::io::Resu
             next.next();
         }
         let e = next.peek().filter(|e| e.index as usize == i).copied();
-        line.clear();
-        one_move_extra(&c.states[m.state as usize].frame, m, e, &mut line);
-        sink.write_all(&line)?;
+        one_move_extra(&c.states[m.state as usize].frame, m, e, &mut out);
+        if out.len() >= OUT_BYTES {
+            sink.write_all(&out)?;
+            out.clear();
+        }
     }
-    Ok(())
+    sink.write_all(&out)
 }
+
+/// How many bytes of lines are gathered before they are written on (one write of many lines
+/// costs less than a write a line, and the buffer stays small).
+const OUT_BYTES: usize = 1 << 15;
 
 /// [`write`] for a run of moves and the states they refer to (a chunk of a streaming run,
 /// [`super::interpret_streaming`]).
 pub fn write_moves<W: Write>(moves: &[Move], states: &[MoveState], sink: &mut W) -> std::io::Result<()> {
-    let mut line = Vec::with_capacity(128);
+    let mut out = Vec::with_capacity(OUT_BYTES + 512);
     for m in moves {
-        line.clear();
-        one_move(&states[m.state as usize].frame, m, &mut line);
-        sink.write_all(&line)?;
+        one_move(&states[m.state as usize].frame, m, &mut out);
+        if out.len() >= OUT_BYTES {
+            sink.write_all(&out)?;
+            out.clear();
+        }
     }
-    Ok(())
+    sink.write_all(&out)
 }
 
 fn one_move(f: &ProgFrame, m: &Move, out: &mut Vec<u8>) {
@@ -133,6 +141,14 @@ fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<
             } else {
                 b"STRAIGHT_FEED("
             });
+            if e.is_none() {
+                // No extra axis: Y, A, B and C are zero, written as `f4` writes zero.
+                f4(out, x);
+                out.extend_from_slice(b", 0.0000, ");
+                f4(out, z);
+                out.extend_from_slice(b", 0.0000, 0.0000, 0.0000)\n");
+                return;
+            }
             for v in [x, y, z, a, b] {
                 f4(out, v);
                 out.extend_from_slice(b", ");
@@ -186,6 +202,11 @@ fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<
 /// cost more than the rest of the canonical output together.
 fn f4(out: &mut Vec<u8>, v: f64) {
     let r = v * 1e4;
+    // Most coordinates of a lathe program's moves are Y, A, B and C at zero.
+    if r.abs() < 0.5 {
+        out.extend_from_slice(b"0.0000");
+        return;
+    }
     // Rounded half away from zero, as `f64::round` does (without its call): `r` less its
     // integer part is exact, so comparing it with one half decides as `round` would.
     let n = if r.abs() < 9e15 {
@@ -260,13 +281,20 @@ fn push_uint(out: &mut Vec<u8>, a: u64, width: usize, fill: u8) {
 /// to `width` characters (at most `end`); returns where it starts.
 fn put_uint(buf: &mut [u8], end: usize, mut a: u64, width: usize, fill: u8) -> usize {
     let mut i = end;
-    loop {
+    // Two digits at a time while at least three are left, then the last one or two.
+    while a >= 100 {
+        let pair = (a % 100) as usize * 2;
+        buf[i - 2..i].copy_from_slice(&PAIRS[pair..pair + 2]);
+        i -= 2;
+        a /= 100;
+    }
+    if a >= 10 {
+        let pair = a as usize * 2;
+        buf[i - 2..i].copy_from_slice(&PAIRS[pair..pair + 2]);
+        i -= 2;
+    } else {
         i -= 1;
-        buf[i] = b'0' + (a % 10) as u8;
-        a /= 10;
-        if a == 0 {
-            break;
-        }
+        buf[i] = b'0' + a as u8;
     }
     while end - i < width.min(end) {
         i -= 1;

@@ -103,17 +103,6 @@ impl El {
             -(if d < 1e-12 { TAU } else { d })
         }
     }
-    /// The point at fraction t.
-    fn at(&self, t: f64) -> V2 {
-        match self.arc {
-            None => self.a + (self.b - self.a) * t,
-            Some((c, _)) => {
-                let r = (self.a - c).norm();
-                let a0 = (self.a.y - c.y).atan2(self.a.x - c.x) + self.sweep() * t;
-                c + V2::new(r * a0.cos(), r * a0.sin())
-            }
-        }
-    }
     /// This piece offset by d to its left.
     fn offset(&self, d: f64) -> Option<El> {
         match self.arc {
@@ -148,10 +137,28 @@ impl El {
             Some((c, _)) => (self.a - c).norm() * self.sweep().abs(),
         }
     }
-    /// Points along the piece (ends included), for monotonicity tests.
-    fn samples(&self) -> Vec<V2> {
+    /// Points along the piece at equal fractions of it (ends included), for monotonicity tests:
+    /// a line's two ends, an arc's 33 points at its start angle plus fractions of its sweep.
+    fn samples(&self) -> impl Iterator<Item = V2> + '_ {
         let n = if self.arc.is_some() { 32 } else { 1 };
-        (0..=n).map(|k| self.at(k as f64 / n as f64)).collect()
+        let arc = self.arc.map(|(c, _)| {
+            (
+                c,
+                (self.a - c).norm(),
+                (self.a.y - c.y).atan2(self.a.x - c.x),
+                self.sweep(),
+            )
+        });
+        (0..=n).map(move |k| {
+            let t = k as f64 / n as f64;
+            match arc {
+                None => self.a + (self.b - self.a) * t,
+                Some((c, r, a0, sweep)) => {
+                    let a = a0 + sweep * t;
+                    c + V2::new(r * a.cos(), r * a.sin())
+                }
+            }
+        })
     }
 }
 
