@@ -146,6 +146,12 @@ impl Episodes {
         true
     }
 
+    /// The deepest depth of pair `key`'s open contact so far (`None`: no open contact, or a near
+    /// miss).
+    pub fn max_depth(&self, key: u64) -> Option<f64> {
+        self.open.get(&key).and_then(|o| o.max_depth)
+    }
+
     /// The contact of pair `key` lasts at least until `time`.
     pub fn lasts_until(&mut self, key: u64, time: f64) {
         if let Some(o) = self.open.get_mut(&key) {

@@ -572,7 +572,7 @@ impl Checker<'_> {
                     for j in 1..=DEPTH_SAMPLES {
                         let uu = u + (1.0 - u) * j as f64 / DEPTH_SAMPLES as f64;
                         self.stats.pair_tests += 1;
-                        match self.probe3(three, follow, a, b, uu) {
+                        match self.probe3_sample(three, follow, (a, b), uu, key) {
                             Some(h) => {
                                 self.episodes
                                     .extend(key, m.line, item.t0 + uu * item.duration, h.depth, false);
@@ -700,6 +700,33 @@ impl Checker<'_> {
 
     /// Overlap of pair (a, b) at fraction `u` (b may be the stock).
     fn probe3(&mut self, three: &Three, f: &dyn collide3::Path, a: CompId, b: usize, u: f64) -> Option<Hit> {
+        self.probe3_beyond(three, f, a, b, u, None)
+    }
+
+    /// [`Checker::probe3`] for a later sample of contact `key`: the stock (with a milled grid) is
+    /// asked how deep only beyond the contact's deepest so far (`mill::Ask::DeepestBeyond`), as
+    /// a depth no deeper leaves the contact's deepest as it is.
+    fn probe3_sample(
+        &mut self,
+        three: &Three,
+        f: &dyn collide3::Path,
+        (a, b): (CompId, usize),
+        u: f64,
+        key: u64,
+    ) -> Option<Hit> {
+        let floor = self.episodes.max_depth(key);
+        self.probe3_beyond(three, f, a, b, u, floor)
+    }
+
+    fn probe3_beyond(
+        &mut self,
+        three: &Three,
+        f: &dyn collide3::Path,
+        a: CompId,
+        b: usize,
+        u: f64,
+        floor: Option<f64>,
+    ) -> Option<Hit> {
         let k = &three.kin;
         let mut vals = Vec::new();
         f.at(u, &mut vals);
@@ -711,7 +738,8 @@ impl Checker<'_> {
         if b == STOCK {
             self.ensure_stock()?;
             let stock = self.stock.as_mut()?;
-            mill::stock_hit(self.mill.as_ref(), stock, &three.posed(a, sa, &poser), false)
+            let ask = floor.map_or(mill::Ask::Deepest, mill::Ask::DeepestBeyond);
+            mill::stock_hit(self.mill.as_ref(), stock, &three.posed(a, sa, &poser), ask)
         } else {
             collide3::overlap(sa, poser.world(a), three.shapes[b].as_ref()?, poser.world(b), TOUCH_EPS)
         }
@@ -757,7 +785,8 @@ impl Checker<'_> {
         let rate = bound_from(k, &poser, a, &sa.sphere(), &rates);
         let (mut u, mut prev, mut probes) = (0.0f64, 0.0f64, 0u64);
         // A contact deeper than a touch of the component, posed as `poser` says, with the stock.
-        let hit_at = |poser: &Poser, stock: &mut _| mill::stock_hit(mill, stock, &three.posed(a, sa, poser), true);
+        let hit_at =
+            |poser: &Poser, stock: &mut _| mill::stock_hit(mill, stock, &three.posed(a, sa, poser), mill::Ask::Any);
         // The gap is sought within a few mm: its cost grows with the columns the window spans.
         let window = rate.min(5.0) + 1.0;
         let mut slide = slide::Slide::new(SLIDE_STEPS * min_step / rate);

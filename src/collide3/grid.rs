@@ -455,6 +455,32 @@ pub fn grid_overlap(
     overlap_by(shape, pose, part, stock, eps, dexel, any, Some(MAX_RANKED))
 }
 
+/// [`grid_overlap`] asked how deep only beyond `floor` (the deepest depth already known, say, of
+/// a contact whose samples are being taken): the same hit as [`grid_overlap`] when that lies
+/// deeper than `floor`; else whether there is contact at all, as a hit no deeper than `floor`
+/// (the first the walk finds), or `None`.
+///
+/// Why the first answer is [`grid_overlap`]'s: its search skips only rays, stretches and runs
+/// whose bound cannot beat the best so far or `eps`; raising `eps` to `floor` skips besides only
+/// those that hold no point deeper than `floor`, so the points deeper than `floor` it measures
+/// are the same, and so is the deepest of them (ties to the same ray).
+#[allow(clippy::too_many_arguments)]
+pub fn grid_overlap_beyond(
+    shape: &Shape3,
+    pose: &Iso,
+    part: &Iso,
+    stock: &Stock,
+    eps: f64,
+    dexel: Option<&DexelStock>,
+    floor: f64,
+) -> Option<Hit> {
+    if floor <= eps {
+        return grid_overlap(shape, pose, part, stock, eps, dexel, false);
+    }
+    overlap_by(shape, pose, part, stock, floor, dexel, false, Some(MAX_RANKED))
+        .or_else(|| grid_overlap(shape, pose, part, stock, eps, dexel, true))
+}
+
 /// [`grid_overlap`], ranking at most `rank` rays by their bound (more: the walk in its order,
 /// the bounds still skipping); with `rank` `None`, the slow answer it must equal: every ray in
 /// the walk's order, every run of material measured (the tests' oracle).
@@ -864,8 +890,9 @@ mod tests {
     /// of every ray in the walk's order: on a bar with a flat, a radial hole at 45° (a side grid
     /// whose rays lie oblique to the part's axes) and a face pocket, against a mesh and a
     /// primitive at random poses; and so does the same search on a walk too long to rank (in
-    /// its order, the bounds skipping); and a query for any contact finds one exactly when it
-    /// does.
+    /// its order, the bounds skipping); a query for any contact finds one exactly when it does;
+    /// and a query beyond a floor gives the same hit where it lies deeper than the floor, else
+    /// one no deeper exactly when there is contact.
     #[test]
     fn the_deepest_search_answers_as_measuring_every_run_in_order() {
         let mut s = milled_bar();
@@ -934,6 +961,21 @@ mod tests {
                     assert_eq!(bits(long), bits(slow), "at {c:?}: {long:?} against {slow:?}");
                     let any = grid_overlap(shape, &pose, &part, &s, eps, dexel.as_ref(), true);
                     assert_eq!(any.is_some(), slow.is_some(), "at {c:?}");
+                    // Asked only beyond a floor: the same hit where it lies deeper, else whether
+                    // there is one (floors below, at and above the deepest depth).
+                    let deepest = slow.map_or(0.0, |h| h.depth);
+                    for floor in [0.0, 0.5 * deepest, deepest, deepest + 1e-9, 2.0 * deepest + 0.5] {
+                        let beyond = grid_overlap_beyond(shape, &pose, &part, &s, eps, dexel.as_ref(), floor);
+                        if slow.is_some_and(|h| h.depth > floor) {
+                            assert_eq!(bits(beyond), bits(slow), "at {c:?} beyond {floor}");
+                        } else {
+                            assert_eq!(beyond.is_some(), slow.is_some(), "at {c:?} beyond {floor}");
+                            assert!(
+                                beyond.map_or(true, |h| h.depth <= floor.max(eps)),
+                                "at {c:?} beyond {floor}"
+                            );
+                        }
+                    }
                     hits += usize::from(slow.is_some());
                     cases += 1;
                 }

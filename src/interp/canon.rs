@@ -53,8 +53,9 @@ pub fn write_chunk<W: Write>(c: super::Chunk<'_>, sink: &mut W) -> std::io::Resu
 }
 
 /// How many bytes of lines are gathered before they are written on (one write of many lines
-/// costs less than a write a line, and the buffer stays small).
-const OUT_BYTES: usize = 1 << 15;
+/// costs less than a write a line, and the buffer stays small). As large as the `BufWriter`
+/// `moves` writes through, which then hands such a write on without copying it.
+const OUT_BYTES: usize = 1 << 16;
 
 /// [`write`] for a run of moves and the states they refer to (a chunk of a streaming run,
 /// [`super::interpret_streaming`]).

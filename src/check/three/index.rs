@@ -262,7 +262,7 @@ impl super::Checker<'_> {
                         for j in 1..=super::DEPTH_SAMPLES {
                             let uu = u + (1.0 - u) * j as f64 / super::DEPTH_SAMPLES as f64;
                             self.stats.pair_tests += 1;
-                            if let Some(h) = self.probe3(three, &path, a, b, uu) {
+                            if let Some(h) = self.probe3_sample(three, &path, (a, b), uu, key) {
                                 self.episodes
                                     .extend(key, m.line, item.t0 + uu * item.duration, h.depth, false);
                             }

@@ -25,7 +25,7 @@ use nalgebra::Vector3;
 
 use super::Three;
 use crate::check::Checker;
-use crate::collide3::{grid_clear, grid_overlap, stock_overlap, Hit, Shape3};
+use crate::collide3::{grid_clear, grid_overlap, grid_overlap_beyond, stock_overlap, Hit, Shape3};
 use crate::geom::TOUCH_EPS;
 use crate::grid::{CutRun, Cutter, CutterKind, CylGrid, Stock, Sweep};
 use crate::interp::{ExtraMove, Move};
@@ -147,9 +147,9 @@ pub(super) struct Posed<'s> {
 
 /// A component against the stock. With a milled grid: its quick proof of a clear box first (the
 /// cheap answer inside a hole the cutter made), then the grid, its material cut down to the
-/// dexel stock's (which turning after the hand-over cuts). Without: the dexel stock. `any`:
-/// whether there is a contact, not how deep it goes (the advancement's probes).
-pub(super) fn stock_hit(mill: Option<&Mill>, dexel: &mut DexelStock, c: &Posed<'_>, any: bool) -> Option<Hit> {
+/// dexel stock's (which turning after the hand-over cuts). Without: the dexel stock (always how
+/// deep). `ask`: what the grid is asked.
+pub(super) fn stock_hit(mill: Option<&Mill>, dexel: &mut DexelStock, c: &Posed<'_>, ask: Ask) -> Option<Hit> {
     let Some(m) = mill else {
         return stock_overlap(c.sa, c.pose, dexel, View::Now, TOUCH_EPS);
     };
@@ -161,7 +161,25 @@ pub(super) fn stock_hit(mill: Option<&Mill>, dexel: &mut DexelStock, c: &Posed<'
     if crate::collide3::dexel_clears_grid(c.sa, c.pose, dexel, m.touch()) {
         return None;
     }
-    grid_overlap(c.sg, c.pose, &c.part, &m.stock, m.touch(), Some(dexel), any)
+    let (sg, pose, part, grid, eps) = (c.sg, c.pose, &c.part, &m.stock, m.touch());
+    match ask {
+        Ask::Any => grid_overlap(sg, pose, part, grid, eps, Some(dexel), true),
+        Ask::Deepest => grid_overlap(sg, pose, part, grid, eps, Some(dexel), false),
+        Ask::DeepestBeyond(floor) => grid_overlap_beyond(sg, pose, part, grid, eps, Some(dexel), floor),
+    }
+}
+
+/// What [`stock_hit`] asks of the milled stock.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Ask {
+    /// Whether there is a contact, not how deep it goes (the advancement's probes).
+    Any,
+    /// How deep the contact goes: its deepest point.
+    Deepest,
+    /// How deep, only where deeper than this many mm (a contact's later samples, whose depths
+    /// only raise the deepest so far): the deepest point when it lies deeper, else any contact
+    /// (a hit no deeper), else none (`collide3::grid_overlap_beyond`).
+    DeepestBeyond(f64),
 }
 
 /// A lower bound of the distance from a component to the stock, looking no further than
