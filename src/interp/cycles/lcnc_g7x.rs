@@ -90,8 +90,8 @@ impl Piece {
         }
     }
     /// The re of each point where the piece meets im = x.
-    fn level(&self, x: f64) -> Vec<f64> {
-        let mut out = Vec::new();
+    fn level(&self, x: f64) -> Levels {
+        let mut out = Levels::default();
         match self.arc {
             None => {
                 if self.s.im.min(self.e.im) > x + TOL || self.s.im.max(self.e.im) < x - TOL {
@@ -119,6 +119,28 @@ impl Piece {
             }
         }
         out
+    }
+}
+
+/// The points where a piece meets a level: at most two (a line's ends when it lies on the level,
+/// or an arc's two crossings), held in place rather than allocated, read as a slice.
+#[derive(Clone, Copy, Debug, Default)]
+struct Levels {
+    v: [f64; 2],
+    n: usize,
+}
+
+impl Levels {
+    fn push(&mut self, re: f64) {
+        self.v[self.n] = re;
+        self.n += 1;
+    }
+}
+
+impl std::ops::Deref for Levels {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        &self.v[..self.n]
     }
 }
 
