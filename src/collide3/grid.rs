@@ -318,6 +318,72 @@ impl Query<'_> {
         }
     }
 
+    /// [`Query::each`], leaving out the rays that cannot meet `inner` (a box inside the query's):
+    /// the same rays, numbers and order but for those. Without `inner`, every ray.
+    fn each_within(
+        &self,
+        w: &Walk,
+        inner: Option<&(Vector3<f64>, Vector3<f64>)>,
+        mut f: impl FnMut(usize, NodeRay) -> bool,
+    ) {
+        let Some((lo, hi)) = inner else {
+            return self.each(w, f);
+        };
+        match w {
+            Walk::None => {}
+            Walk::Cyl { j0, j1, reach, dirs } => {
+                let Some(c) = self.stock.cyl.as_ref() else { return };
+                // The columns whose height lies in the inner box, and the angles whose ray can
+                // meet it (`CylGrid::angles`, with a node's spacing of margin).
+                let Some((ja, jb)) = c.columns(lo.z, hi.z) else { return };
+                let arcs = c.angles(lo, hi);
+                let keep: Vec<bool> = dirs
+                    .iter()
+                    .map(|&(i, _)| arcs.iter().any(|&(a, b)| (a..=b).contains(&i)))
+                    .collect();
+                for j in ja.max(*j0)..=jb.min(*j1) {
+                    if !self.column_live(j, *reach) {
+                        continue;
+                    }
+                    let base = (j - j0) * dirs.len();
+                    for (d, &dir) in dirs.iter().enumerate() {
+                        if !keep[d] {
+                            continue;
+                        }
+                        if let Some(r) = self.cyl_ray(j, dir, *reach) {
+                            if !f(base + d, r) {
+                                return;
+                            }
+                        }
+                    }
+                }
+            }
+            Walk::Face { k, i0, i1, j0, j1, n1 } => {
+                // The nodes whose ray (along the face's normal) lies within the inner box's
+                // extent across the face.
+                let g = &self.stock.faces[*k];
+                let (u0, u1) = extent(lo, hi, &g.origin, &g.eu);
+                let (v0, v1) = extent(lo, hi, &g.origin, &g.ev);
+                let (Some((ia, ib)), Some((ja, jb))) = (
+                    crate::grid::FaceGrid::range(u0, u1, g.du, g.nu),
+                    crate::grid::FaceGrid::range(v0, v1, g.dv, g.nv),
+                ) else {
+                    return;
+                };
+                let w = i1 - i0 + 1;
+                for j in ja.max(*j0)..=jb.min(*j1) {
+                    for i in ia.max(*i0)..=ib.min(*i1) {
+                        if let Some(r) = self.face_ray(*k, i, j, *n1) {
+                            if !f((j - j0) * w + (i - i0), r) {
+                                return;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// Calls `f(id, ray)` for each node ray of the walk whose material meets the box, in the
     /// order of their numbers, stopping when `f` returns false.
     fn each(&self, w: &Walk, mut f: impl FnMut(usize, NodeRay) -> bool) {
@@ -633,16 +699,25 @@ fn overlap_by(
         !(any && best.hit.is_some())
     };
     let walk = q.walk(best_rays);
+    // A point deeper than `eps` in the shape lies deeper than `eps` in its box, so inside the box
+    // shrunk by `eps` on every side: a ray that misses that inner box (shrunk a little less, far
+    // more than rounding) has no point the search could keep, and is not enumerated. The rays
+    // left keep their numbers and order, so the answer is the same.
+    let inner = if prune { inner_box(&min, &max, eps) } else { None };
+    if inner.is_some_and(|(a, b)| (0..3).any(|i| a[i] > b[i])) {
+        return None;
+    }
+    let inner = inner.as_ref();
     if any || rank.map_or(true, |r| best_n > r) {
         // Asked only whether: the walk in its order, to the first contact. (And so the oracle,
         // and a walk too long to rank in bounded memory, the bounds still skipping.)
-        q.each(&walk, |id, (o, u, t0, t1)| visit(&mut best, id, o, u, t0, t1));
+        q.each_within(&walk, inner, |id, (o, u, t0, t1)| visit(&mut best, id, o, u, t0, t1));
         return best.hit;
     }
     // Asked how deep: the rays by how deep the box lets their material lie, deepest first, until
     // no ray left can beat the best (`Deepest` answers as the walk in its order would).
     let mut ranked = Vec::with_capacity(best_n);
-    q.each(&walk, |id, (o, u, t0, t1)| {
+    q.each_within(&walk, inner, |id, (o, u, t0, t1)| {
         let bound = box_depth_bound(&min, &max, o, u, t0, t1);
         if bound > eps {
             ranked.push(Ranked(bound, id));
@@ -659,6 +734,15 @@ fn overlap_by(
         }
     }
     best.hit
+}
+
+/// The box `[min, max]` shrunk on every side by `depth` less a margin far larger than rounding
+/// (1e-6 mm and a millionth of the box's reach): every point deeper than `depth` in the box lies
+/// inside it. `None` when that shrinks nothing. It may be empty (a corner past its opposite).
+fn inner_box(min: &Vector3<f64>, max: &Vector3<f64>, depth: f64) -> Option<(Vector3<f64>, Vector3<f64>)> {
+    let reach = min.abs().max().max(max.abs().max());
+    let s = depth - 1e-6 - 1e-6 * reach;
+    (s > 0.0).then(|| (min.add_scalar(s), max.add_scalar(-s)))
 }
 
 /// A ray's number ranked by a bound of its depth (the deeper first).
