@@ -141,40 +141,12 @@ fn main() {
     let p = path.to_str().unwrap();
     let exe = env!("CARGO_BIN_EXE_latheguard");
     let machine_file = format!("{root}/machines/linuxcnc-small-lathe.toml");
-    let ours = time_cmd(5, exe, &["moves", "--format", "canon", "-m", &machine_file, p]);
-    let rs274 = time_cmd(3, &format!("{root}/scripts/rs274-ref.sh"), &["-g", p]);
-    match (ours, rs274) {
-        (Some(o), Some(r)) => println!(
-            "moves --format canon: {:.1} ms; rs274 -g: {:.1} ms; rs274 / latheguard = {:.1}x",
-            o * 1e3,
-            r * 1e3,
-            r / o
-        ),
-        (Some(o), None) => println!(
-            "moves --format canon: {:.1} ms; rs274 not available (scripts/rs274-ref.sh failed)",
-            o * 1e3
-        ),
-        _ => println!("latheguard moves failed on the generated program"),
-    }
+    let rs274 = canon_row("", root, &machine_file, p);
     // The same on LinuxCNC G71/G70: roughing and finishing cycles over one o-word profile.
     let g7x_path = dir.join("p-lcnc-g7x.ngc");
     std::fs::write(&g7x_path, lcnc_g7x_program(G7X_UNITS)).unwrap();
-    let g7x = g7x_path.to_str().unwrap();
-    let ours = time_cmd(5, exe, &["moves", "--format", "canon", "-m", &machine_file, g7x]);
-    let rs = time_cmd(3, &format!("{root}/scripts/rs274-ref.sh"), &["-g", g7x]);
-    match (ours, rs) {
-        (Some(o), Some(r)) => println!(
-            "moves --format canon, LinuxCNC G71/G70 ({G7X_UNITS} of each): {:.1} ms; rs274 -g: {:.1} ms; rs274 / latheguard = {:.1}x",
-            o * 1e3,
-            r * 1e3,
-            r / o
-        ),
-        (Some(o), None) => println!(
-            "moves --format canon, LinuxCNC G71/G70: {:.1} ms; rs274 not available",
-            o * 1e3
-        ),
-        _ => println!("latheguard moves failed on the G71/G70 program"),
-    }
+    let label = format!(", LinuxCNC G71/G70 ({G7X_UNITS} of each)");
+    canon_row(&label, root, &machine_file, g7x_path.to_str().unwrap());
     // The exact check with stock removal of the Fanuc program on the built-in machine, against
     // rs274 merely interpreting its LinuxCNC twin (issue 29's first figure).
     let fanuc_path = dir.join("p-fanuc.ngc");
@@ -211,6 +183,29 @@ fn main() {
         _ => println!("peak memory: not measured (needs GNU time at /usr/bin/time)"),
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// One row: `moves --format canon` of `program` on `machine_file` against `rs274 -g` through
+/// `scripts/rs274-ref.sh`, whole processes; `label` follows the row's name. Returns rs274's time
+/// (seconds), when it ran.
+fn canon_row(label: &str, root: &str, machine_file: &str, program: &str) -> Option<f64> {
+    let exe = env!("CARGO_BIN_EXE_latheguard");
+    let ours = time_cmd(5, exe, &["moves", "--format", "canon", "-m", machine_file, program]);
+    let rs274 = time_cmd(3, &format!("{root}/scripts/rs274-ref.sh"), &["-g", program]);
+    match (ours, rs274) {
+        (Some(o), Some(r)) => println!(
+            "moves --format canon{label}: {:.1} ms; rs274 -g: {:.1} ms; rs274 / latheguard = {:.1}x",
+            o * 1e3,
+            r * 1e3,
+            r / o
+        ),
+        (Some(o), None) => println!(
+            "moves --format canon{label}: {:.1} ms; rs274 not available (scripts/rs274-ref.sh failed)",
+            o * 1e3
+        ),
+        _ => println!("latheguard moves failed on {program}"),
+    }
+    rs274
 }
 
 /// Cycles of each kind in the LinuxCNC G71/G70 program.

@@ -693,14 +693,9 @@ impl Checker<'_> {
     /// The cutter of a plunge that is out of the part at the end of the move has left its hole.
     fn end_plunge(&mut self, three: &Three, f: &dyn collide3::Path) {
         let Some(p) = self.plunge3 else { return };
-        if self.probe3(three, f, p.cutter, STOCK, 1.0).is_none() {
+        if self.probe3(three, f, p.cutter, STOCK, 1.0, None).is_none() {
             self.plunge3 = None;
         }
-    }
-
-    /// Overlap of pair (a, b) at fraction `u` (b may be the stock).
-    fn probe3(&mut self, three: &Three, f: &dyn collide3::Path, a: CompId, b: usize, u: f64) -> Option<Hit> {
-        self.probe3_beyond(three, f, a, b, u, None)
     }
 
     /// [`Checker::probe3`] for a later sample of contact `key`: the stock (with a milled grid) is
@@ -715,10 +710,12 @@ impl Checker<'_> {
         key: u64,
     ) -> Option<Hit> {
         let floor = self.episodes.max_depth(key);
-        self.probe3_beyond(three, f, a, b, u, floor)
+        self.probe3(three, f, a, b, u, floor)
     }
 
-    fn probe3_beyond(
+    /// Overlap of pair (a, b) at fraction `u` (b may be the stock); with `floor`, the stock is
+    /// asked how deep only beyond it (`mill::Ask::DeepestBeyond`).
+    fn probe3(
         &mut self,
         three: &Three,
         f: &dyn collide3::Path,

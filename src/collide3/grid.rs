@@ -318,6 +318,12 @@ impl Query<'_> {
         }
     }
 
+    /// Calls `f(id, ray)` for each node ray of the walk whose material meets the box, in the
+    /// order of their numbers, stopping when `f` returns false.
+    fn each(&self, w: &Walk, f: impl FnMut(usize, NodeRay) -> bool) {
+        self.each_within(w, None, f);
+    }
+
     /// [`Query::each`], leaving out the rays that cannot meet `inner` (a box inside the query's):
     /// the same rays, numbers and order but for those. Without `inner`, every ray.
     fn each_within(
@@ -326,28 +332,31 @@ impl Query<'_> {
         inner: Option<&(Vector3<f64>, Vector3<f64>)>,
         mut f: impl FnMut(usize, NodeRay) -> bool,
     ) {
-        let Some((lo, hi)) = inner else {
-            return self.each(w, f);
-        };
         match w {
             Walk::None => {}
             Walk::Cyl { j0, j1, reach, dirs } => {
-                let Some(c) = self.stock.cyl.as_ref() else { return };
-                // The columns whose height lies in the inner box, and the angles whose ray can
-                // meet it (`CylGrid::angles`, with a node's spacing of margin).
-                let Some((ja, jb)) = c.columns(lo.z, hi.z) else { return };
-                let arcs = c.angles(lo, hi);
-                let keep: Vec<bool> = dirs
-                    .iter()
-                    .map(|&(i, _)| arcs.iter().any(|&(a, b)| (a..=b).contains(&i)))
-                    .collect();
-                for j in ja.max(*j0)..=jb.min(*j1) {
+                // Within `inner`: the columns whose height lies in it, and the angles whose ray
+                // can meet it (`CylGrid::angles`, with a node's spacing of margin).
+                let (ja, jb, keep) = match (inner, self.stock.cyl.as_ref()) {
+                    (None, _) => (*j0, *j1, None),
+                    (Some((lo, hi)), Some(c)) => {
+                        let Some((ja, jb)) = c.columns(lo.z, hi.z) else { return };
+                        let arcs = c.angles(lo, hi);
+                        let keep: Vec<bool> = dirs
+                            .iter()
+                            .map(|&(i, _)| arcs.iter().any(|&(a, b)| (a..=b).contains(&i)))
+                            .collect();
+                        (ja.max(*j0), jb.min(*j1), Some(keep))
+                    }
+                    (Some(_), None) => return,
+                };
+                for j in ja..=jb {
                     if !self.column_live(j, *reach) {
                         continue;
                     }
                     let base = (j - j0) * dirs.len();
                     for (d, &dir) in dirs.iter().enumerate() {
-                        if !keep[d] {
+                        if keep.as_ref().is_some_and(|k| !k[d]) {
                             continue;
                         }
                         if let Some(r) = self.cyl_ray(j, dir, *reach) {
@@ -359,55 +368,26 @@ impl Query<'_> {
                 }
             }
             Walk::Face { k, i0, i1, j0, j1, n1 } => {
-                // The nodes whose ray (along the face's normal) lies within the inner box's
+                // Within `inner`: the nodes whose ray (along the face's normal) lies within its
                 // extent across the face.
-                let g = &self.stock.faces[*k];
-                let (u0, u1) = extent(lo, hi, &g.origin, &g.eu);
-                let (v0, v1) = extent(lo, hi, &g.origin, &g.ev);
-                let (Some((ia, ib)), Some((ja, jb))) = (
-                    crate::grid::FaceGrid::range(u0, u1, g.du, g.nu),
-                    crate::grid::FaceGrid::range(v0, v1, g.dv, g.nv),
-                ) else {
-                    return;
+                let (ia, ib, ja, jb) = match inner {
+                    None => (*i0, *i1, *j0, *j1),
+                    Some((lo, hi)) => {
+                        let g = &self.stock.faces[*k];
+                        let (u0, u1) = extent(lo, hi, &g.origin, &g.eu);
+                        let (v0, v1) = extent(lo, hi, &g.origin, &g.ev);
+                        let (Some((ia, ib)), Some((ja, jb))) = (
+                            crate::grid::FaceGrid::range(u0, u1, g.du, g.nu),
+                            crate::grid::FaceGrid::range(v0, v1, g.dv, g.nv),
+                        ) else {
+                            return;
+                        };
+                        (ia.max(*i0), ib.min(*i1), ja.max(*j0), jb.min(*j1))
+                    }
                 };
                 let w = i1 - i0 + 1;
-                for j in ja.max(*j0)..=jb.min(*j1) {
-                    for i in ia.max(*i0)..=ib.min(*i1) {
-                        if let Some(r) = self.face_ray(*k, i, j, *n1) {
-                            if !f((j - j0) * w + (i - i0), r) {
-                                return;
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
-
-    /// Calls `f(id, ray)` for each node ray of the walk whose material meets the box, in the
-    /// order of their numbers, stopping when `f` returns false.
-    fn each(&self, w: &Walk, mut f: impl FnMut(usize, NodeRay) -> bool) {
-        match w {
-            Walk::None => {}
-            Walk::Cyl { j0, j1, reach, dirs } => {
-                for j in *j0..=*j1 {
-                    if !self.column_live(j, *reach) {
-                        continue;
-                    }
-                    let base = (j - j0) * dirs.len();
-                    for (d, &dir) in dirs.iter().enumerate() {
-                        if let Some(r) = self.cyl_ray(j, dir, *reach) {
-                            if !f(base + d, r) {
-                                return;
-                            }
-                        }
-                    }
-                }
-            }
-            Walk::Face { k, i0, i1, j0, j1, n1 } => {
-                let w = i1 - i0 + 1;
-                for j in *j0..=*j1 {
-                    for i in *i0..=*i1 {
+                for j in ja..=jb {
+                    for i in ia..=ib {
                         if let Some(r) = self.face_ray(*k, i, j, *n1) {
                             if !f((j - j0) * w + (i - i0), r) {
                                 return;
@@ -565,6 +545,14 @@ fn overlap_by(
     // The shape in the part's frame.
     let local = part.inverse() * pose;
     let (min, max) = part_box(shape, &local, 0.0);
+    // A point deeper than `eps` in the shape lies deeper than `eps` in its box, so inside the box
+    // shrunk by `eps` on every side: a ray that misses that inner box (shrunk a little less, far
+    // more than rounding) has no point the search could keep, and is not enumerated (the rays
+    // left keep their numbers and order, so the answer is the same); with no inner box, none has.
+    let inner = if prune { inner_box(&min, &max, eps) } else { None };
+    if inner.is_some_and(|(a, b)| (0..3).any(|i| a[i] > b[i])) {
+        return None;
+    }
     let q = Query { stock, dexel, min, max };
     let (touched, options) = walks(stock, &min, &max);
     let mut best_rays = *options.first()?;
@@ -699,14 +687,6 @@ fn overlap_by(
         !(any && best.hit.is_some())
     };
     let walk = q.walk(best_rays);
-    // A point deeper than `eps` in the shape lies deeper than `eps` in its box, so inside the box
-    // shrunk by `eps` on every side: a ray that misses that inner box (shrunk a little less, far
-    // more than rounding) has no point the search could keep, and is not enumerated. The rays
-    // left keep their numbers and order, so the answer is the same.
-    let inner = if prune { inner_box(&min, &max, eps) } else { None };
-    if inner.is_some_and(|(a, b)| (0..3).any(|i| a[i] > b[i])) {
-        return None;
-    }
     let inner = inner.as_ref();
     if any || rank.map_or(true, |r| best_n > r) {
         // Asked only whether: the walk in its order, to the first contact. (And so the oracle,
