@@ -34,6 +34,9 @@ pub struct CylGrid {
     pub(crate) inner: Vec<f64>,
     /// The largest `R` per column (for quick rejects and the revolved envelope).
     pub(crate) col_max: Vec<f64>,
+    /// The smallest `R` per column: a point of the column between its bore and this radius is
+    /// material at every angle ([`CylGrid::surely_holds`]).
+    col_min: Vec<f64>,
     /// At least every column's `col_max` (cuts only lower them, so the first value stays a
     /// bound): the radius outside which no point is material ([`CylGrid::may_hold`]).
     pub(crate) r_bound: f64,
@@ -64,6 +67,7 @@ impl CylGrid {
             col_max[j] = ro;
         }
         let uniform = col_max.clone();
+        let col_min = col_max.clone();
         let r_bound = col_max.iter().copied().fold(0.0, f64::max);
         CylGrid {
             z0,
@@ -75,6 +79,7 @@ impl CylGrid {
             uniform,
             inner,
             col_max,
+            col_min,
             r_bound,
             rays: 0,
             memo: Vec::new(),
@@ -314,7 +319,11 @@ impl CylGrid {
                 }
             }
             if col_changed {
-                self.col_max[j] = self.column(j).iter().copied().fold(ri, f64::max);
+                let nodes = self.column(j);
+                let (hi, lo) = nodes
+                    .iter()
+                    .fold((ri, f64::INFINITY), |(hi, lo), &r| (hi.max(r), lo.min(r)));
+                (self.col_max[j], self.col_min[j]) = (hi, lo);
                 changed = Some(changed.map_or((j, j), |(a, b)| (a.min(j), b.max(j))));
             }
         }
@@ -335,6 +344,7 @@ impl CylGrid {
                 self.uniform[j] = self.uniform[j].min(r.max(ri));
             }
             self.col_max[j] = self.col_max[j].min(r.max(ri));
+            self.col_min[j] = self.col_min[j].min(r.max(ri));
         }
     }
 
@@ -394,6 +404,69 @@ impl CylGrid {
         let (t0, t1) = ((-qb - sq) / (2.0 * qa), (-qb + sq) / (2.0 * qa));
         let (lo, hi) = (lo.max(t0 - MARGIN), hi.min(t1 + MARGIN));
         (lo <= hi).then_some((lo, hi))
+    }
+
+    /// A part `[lo, hi]` of `[a, b]` on which every point `o + t·u` is material by this grid
+    /// ([`CylGrid::contains`] is true there, the points' rounding included), or `None`: where
+    /// the ray stays within the columns it spans, no nearer the axis than their largest bore and
+    /// no farther than their smallest `R`, every node of those columns holds it. The distance
+    /// from the axis is convex along a line, so the stretch within a radius is one interval
+    /// whose ends bound it; both ends are checked with a margin far above rounding (1e-7 mm).
+    pub(crate) fn surely_holds(&self, o: Vector3<f64>, u: Vector3<f64>, a: f64, b: f64) -> Option<(f64, f64)> {
+        const MARGIN: f64 = 1e-7;
+        /// Most columns one answer looks at (a longer span: `None`, the caller samples).
+        const MAX_COLUMNS: f64 = 256.0;
+        if a.is_nan() || b.is_nan() || a > b {
+            return None;
+        }
+        let (za, zb) = (o.z + a * u.z, o.z + b * u.z);
+        let (j0, j1) = (
+            ((za.min(zb) - MARGIN - self.z0) / self.dz).floor(),
+            ((za.max(zb) + MARGIN - self.z0) / self.dz).floor(),
+        );
+        if !(j0 >= 0.0 && j1 < self.nz as f64 && j1 - j0 <= MAX_COLUMNS) {
+            return None;
+        }
+        let cols = j0 as usize..=j1 as usize;
+        let r_min = self.col_min[cols.clone()].iter().copied().fold(f64::INFINITY, f64::min);
+        let bore = self.inner[cols].iter().copied().fold(0.0, f64::max);
+        let r = r_min * (1.0 - 1e-12) - MARGIN;
+        if r.is_nan() || r <= bore + MARGIN {
+            return None;
+        }
+        // |(o + t·u)_xy|² ≤ r²: qa t² + qb t + qc ≤ 0.
+        let qa = u.x * u.x + u.y * u.y;
+        let qb = 2.0 * (o.x * u.x + o.y * u.y);
+        let rho = |t: f64| (o.x + t * u.x).hypot(o.y + t * u.y);
+        let (lo, hi) = if qa < 1e-24 {
+            (a, b)
+        } else {
+            let qc = o.x * o.x + o.y * o.y - r * r;
+            let disc = qb * qb - 4.0 * qa * qc;
+            if disc.is_nan() || disc < 0.0 {
+                return None;
+            }
+            let sq = disc.sqrt();
+            (a.max((-qb - sq) / (2.0 * qa)), b.min((-qb + sq) / (2.0 * qa)))
+        };
+        // The ends within the radius less half the margin (the farthest points of the stretch)...
+        let outer = r_min * (1.0 - 1e-12) - MARGIN / 2.0;
+        if !(lo <= hi && rho(lo) <= outer && rho(hi) <= outer) {
+            return None;
+        }
+        // ...and its nearest point to the axis beyond the bore.
+        if bore > 0.0 {
+            let t = if qa < 1e-24 {
+                lo
+            } else {
+                (-qb / (2.0 * qa)).clamp(lo, hi)
+            };
+            let near = rho(t);
+            if near.is_nan() || near < bore + MARGIN / 2.0 {
+                return None;
+            }
+        }
+        Some((lo, hi))
     }
 
     /// Whether the point is material by this grid (the node of its cell in θ and z).

@@ -641,8 +641,9 @@ fn a_bull_nose_plunged_leaves_a_flat_floor_and_its_corner() {
 /// `CylGrid::may_hold` is what lets the air checks and the stock query skip samples: a sample it
 /// leaves out must be air by the grid. Oracle: every point of many rays, asked one by one, on a
 /// stepped, bored and milled grid (rays across, along and through the axis, grazing and missing).
-#[test]
-fn the_cylindrical_grids_reach_leaves_out_no_material_point() {
+/// A stepped and bored Ø40 bar with a flat and a cross hole, which lower some nodes' R below
+/// their column's.
+fn stepped_bored_milled() -> Stock {
     let mut s = Stock::turned(-10.0, 70.0, 20.0, 0.1, |z| {
         Some((if z > 40.0 { 6.0 } else { 0.0 }, if z < 20.0 { 20.0 } else { 12.0 }))
     })
@@ -662,6 +663,12 @@ fn the_cylindrical_grids_reach_leaves_out_no_material_point() {
         [0.0, 4.0, 30.0],
         0.1,
     ));
+    s
+}
+
+#[test]
+fn the_cylindrical_grids_reach_leaves_out_no_material_point() {
+    let s = stepped_bored_milled();
     let c = s.cyl.as_ref().unwrap();
     let mut seed = 0x9e37_79b9_7f4a_7c15u64;
     let mut next = || {
@@ -700,6 +707,54 @@ fn the_cylindrical_grids_reach_leaves_out_no_material_point() {
         inside > 10_000 && skipped > checked / 3,
         "{inside} {skipped} of {checked}"
     );
+}
+
+/// `CylGrid::surely_holds` is what lets the stock query take samples as material without asking
+/// the grid: every point it answers for must be material by the grid. Oracle: every point of
+/// many rays asked one by one, on the stepped, bored and milled grid turned down in part
+/// (rays across, along and through the axis); and it answers for most of the material.
+#[test]
+fn the_cylindrical_grid_surely_holds_only_material() {
+    let mut s = stepped_bored_milled();
+    s.cyl.as_mut().unwrap().turn(50.0, 60.0, 9.0);
+    let c = s.cyl.as_ref().unwrap();
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut inside, mut sure) = (0usize, 0usize);
+    for k in 0..3000 {
+        let o = Vector3::new(60.0 * next() - 30.0, 60.0 * next() - 30.0, 100.0 * next() - 20.0);
+        let u = match k % 4 {
+            0 => Vector3::new(next() - 0.5, next() - 0.5, 0.0),
+            1 => Vector3::new(0.0, 0.0, 1.0),
+            2 => Vector3::new(-o.x, -o.y, 0.0),
+            _ => Vector3::new(next() - 0.5, next() - 0.5, 0.05 * (next() - 0.5)),
+        };
+        let Some(u) = u.try_normalize(1e-9) else { continue };
+        let (a, b) = (-10.0 * next(), 80.0 * next());
+        let span = c.surely_holds(o, u, a, b);
+        if let Some((lo, hi)) = span {
+            assert!(
+                a <= lo && lo <= hi && hi <= b,
+                "ray {k}: [{lo}, {hi}] outside [{a}, {b}]"
+            );
+        }
+        for i in 0..=400 {
+            let t = (a + (b - a) * i as f64 / 400.0).clamp(a, b);
+            let p = o + t * u;
+            let held = c.contains(p);
+            inside += usize::from(held);
+            if span.is_some_and(|(lo, hi)| t >= lo && t <= hi) {
+                assert!(held, "ray {k}: t {t} answered for, not material");
+                sure += 1;
+            }
+        }
+    }
+    assert!(sure > inside / 3, "{sure} of {inside}");
 }
 
 /// The cylindrical grid writes out a column's nodes only when a cut changes one of them: a bar

@@ -296,6 +296,21 @@ impl DexelStock {
         self.cols[j as usize].iv.iter().any(|&(lo, hi)| r >= lo && r <= hi)
     }
 
+    /// Whether every point at a radius in `[r_lo, r_hi]` and a height in `[z_lo, z_hi]` is
+    /// material now ([`DexelStock::holds`] is true at each): each column those heights fall in
+    /// holds one interval spanning the radii. `false` as well when more than 256 columns would
+    /// be looked at (the caller asks point by point).
+    pub fn holds_all(&self, r_lo: f64, r_hi: f64, z_lo: f64, z_hi: f64) -> bool {
+        // The same column index as `holds`, monotone in the height.
+        let (j0, j1) = (((z_lo - self.z0) / self.h).floor(), ((z_hi - self.z0) / self.h).floor());
+        if !(j0 >= 0.0 && j1 < self.cols.len() as f64 && j1 - j0 <= 256.0) {
+            return false;
+        }
+        self.cols[j0 as usize..=j1 as usize]
+            .iter()
+            .all(|c| c.iv.iter().any(|&(lo, hi)| lo <= r_lo && r_hi <= hi))
+    }
+
     /// How many columns hold no material (a part-off empties the columns of its groove).
     pub fn empty_columns(&self) -> usize {
         self.removed_columns
@@ -1470,6 +1485,42 @@ mod tests {
         assert!((pa + sa + 20.0 * 2.5 - before).abs() < 0.5, "{pa} + {sa} vs {before}");
         assert!(s.material_at(-10.0).is_empty() && !piece.material_at(-10.0).is_empty());
         assert!(piece.material_at(-50.0).is_empty() && !s.material_at(-50.0).is_empty());
+    }
+
+    /// `holds_all` lets the milled stock's query take a stretch of samples as material without
+    /// asking the dexel stock point by point: every point of a box of radii and heights it
+    /// answers for must be material by `holds`. Oracle: points of many boxes, on a bored bar
+    /// with an outer and an inner groove (columns of two radial intervals); and it answers for
+    /// many boxes.
+    #[test]
+    fn the_dexel_stock_holds_all_of_a_box_only_when_it_holds_each_point() {
+        let mut s = DexelStock::new(40.0, 10.0, 100.0, 0.0, 0.1);
+        s.cut(&rect(15.0, -30.0, 25.0, -20.0));
+        s.cut(&rect(4.0, -60.0, 8.0, -50.0));
+        let mut seed = 11u64;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut held = 0;
+        for k in 0..4000 {
+            let (r0, z0) = (22.0 * rnd(), -105.0 * rnd() + 2.0);
+            let (r1, z1) = (r0 + 8.0 * rnd() * rnd(), z0 + 20.0 * rnd() * rnd());
+            if !s.holds_all(r0, r1, z0, z1) {
+                continue;
+            }
+            held += 1;
+            for i in 0..=20 {
+                for j in 0..=20 {
+                    let (r, z) = (r0 + (r1 - r0) * i as f64 / 20.0, z0 + (z1 - z0) * j as f64 / 20.0);
+                    assert!(
+                        s.holds(r, z),
+                        "box {k}: r {r0}..{r1}, z {z0}..{z1} held, not at ({r}, {z})"
+                    );
+                }
+            }
+        }
+        assert!(held > 400, "{held}");
     }
 
     #[test]
