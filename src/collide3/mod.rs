@@ -17,6 +17,7 @@
 //! when the solids overlap by any amount (crossing or containment).
 
 mod grid;
+mod memo;
 mod motion;
 mod stock;
 mod tess;
@@ -67,6 +68,8 @@ pub struct Hit {
 
 /// A convex part and its placement in the component's frame.
 pub struct Convex {
+    /// Unique for the life of the process (`memo`).
+    id: u64,
     shape: Box<dyn Shape>,
     local: Pose,
     /// A point strictly inside, component frame.
@@ -77,6 +80,8 @@ pub struct Convex {
 
 /// A closed triangle mesh with its BVH and pseudo-normals (point containment).
 pub struct MeshShape {
+    /// Unique for the life of the process (`memo`).
+    id: u64,
     mesh: TriMesh,
     /// One vertex per connected component (containment tests).
     reps: Vec<Vector>,
@@ -125,6 +130,7 @@ impl Shape3 {
                 let (v, t) = cub.to_trimesh();
                 let surf = (v.into_iter().map(|p| p + c).collect(), t);
                 Some(Shape3::Convex(Convex {
+                    id: memo::next_id(),
                     shape: Box::new(cub),
                     local: Pose::from_translation(c),
                     inner: c,
@@ -143,6 +149,7 @@ impl Shape3 {
                 let m = shape::cylinder(*radius, lo, hi, tol).ok()?;
                 let surf = (m.vertices.iter().map(to_vec).collect(), m.triangles);
                 Some(Shape3::Convex(Convex {
+                    id: memo::next_id(),
                     shape: Box::new(Cylinder::new(hh, *radius)),
                     local: Pose::from_parts(c, rot),
                     inner: c,
@@ -182,7 +189,11 @@ impl Shape3 {
             return None;
         }
         let reps = component_reps(mesh.vertices(), mesh.indices());
-        Some(Shape3::Mesh(Box::new(MeshShape { mesh, reps })))
+        Some(Shape3::Mesh(Box::new(MeshShape {
+            id: memo::next_id(),
+            mesh,
+            reps,
+        })))
     }
 
     fn hull(outline: &[P2], hw: f64) -> Option<Shape3> {
@@ -200,11 +211,20 @@ impl Shape3 {
         let inner = pts.iter().fold(Vector::ZERO, |a, &p| a + p) / pts.len() as f64;
         let surf = shape.to_trimesh();
         Some(Shape3::Convex(Convex {
+            id: memo::next_id(),
             shape: Box::new(shape),
             local: Pose::IDENTITY,
             inner,
             surf,
         }))
+    }
+
+    /// The shape's id: unique for the life of the process (`memo`).
+    fn id(&self) -> u64 {
+        match self {
+            Shape3::Mesh(m) => m.id,
+            Shape3::Convex(c) => c.id,
+        }
     }
 
     /// Whether the shape is one of parry's convex primitives (not a mesh).
@@ -381,6 +401,18 @@ pub fn overlap(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> Option<H
 /// [`overlap`], and whether the shapes' parts were found touching or crossing at any depth
 /// (then [`distance`] is 0: the advancement needs no distance query).
 pub fn overlap_touch(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> (Option<Hit>, bool) {
+    let key = memo::Key::new(memo::Query::OverlapTouch, (a.id(), pa), (b.id(), pb), eps);
+    match memo::answer(key, || {
+        let (hit, touch) = overlap_touch_computed(a, pa, b, pb, eps);
+        memo::Answer::OverlapTouch(hit, touch)
+    }) {
+        memo::Answer::OverlapTouch(hit, touch) => (hit, touch),
+        memo::Answer::Distance(_) => unreachable!("an overlap question keyed as a distance"),
+    }
+}
+
+/// [`overlap_touch`] computed (not taken from the answers held, `memo`).
+fn overlap_touch_computed(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> (Option<Hit>, bool) {
     let (pa, pb) = (to_pose(pa), to_pose(pb));
     match (a, b) {
         (Shape3::Mesh(_), Shape3::Mesh(_)) => mesh_mesh(a, &pa, b, &pb, eps),
@@ -541,6 +573,15 @@ pub fn swept_clear(a: &Shape3, (pa0, pa1): (&Iso, &Iso), b: &Shape3, (pb0, pb1):
 /// Distance between the two solids (0 when they overlap, containment included), mm: parry's
 /// closest distance between their boundaries. A lower bound for skips to within GJK's accuracy.
 pub fn distance(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso) -> f64 {
+    let key = memo::Key::new(memo::Query::Distance, (a.id(), pa), (b.id(), pb), 0.0);
+    match memo::answer(key, || memo::Answer::Distance(distance_computed(a, pa, b, pb))) {
+        memo::Answer::Distance(d) => d,
+        memo::Answer::OverlapTouch(..) => unreachable!("a distance question keyed as an overlap"),
+    }
+}
+
+/// [`distance`] computed (not taken from the answers held, `memo`).
+fn distance_computed(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso) -> f64 {
     let (pa, pb) = (to_pose(pa), to_pose(pb));
     let (sa, qa) = a.parts(&pa);
     let (sb, qb) = b.parts(&pb);

@@ -736,3 +736,49 @@ fn a_swept_pair_called_clear_overlaps_at_no_sampled_pose() {
     }
     assert!(yes > 30 && no > 30, "clear {yes}, not {no}");
 }
+
+/// The answers held (`memo`) are the answers computed: a question asked again, or a question
+/// that differs from one held only in a shape (of the same size class, at the same poses), a
+/// pose's last bit or the depth threshold, gets what computing it gives, bit for bit.
+#[test]
+fn a_held_answer_is_the_answer_computed_for_the_same_question_only() {
+    let bits = |r: (Option<Hit>, bool)| {
+        let c = |h: Hit| [h.depth, h.point.x, h.point.y, h.point.z].map(f64::to_bits);
+        (r.0.map(c), r.1)
+    };
+    let (small, big, other) = (
+        box_mesh(1.0, 1.0, 1.0),
+        box_mesh(2.0, 2.0, 2.0),
+        box_mesh(1.0, 1.0, 1.0),
+    );
+    let prim = shape(&boxg(1.5, 1.0, 1.0));
+    let pa = rot(0.3, 0.2, 0.1, 0.2, 0.1, 0.3);
+    let pb = at(1.5, 0.0, 0.0);
+    let nudged = Iso::from_parts(
+        Translation3::new(f64::from_bits(1.5f64.to_bits() + 1), 0.0, 0.0),
+        UnitQuaternion::identity(),
+    );
+    let far = at(9.0, 0.0, 0.0);
+    let mut answers = Vec::new();
+    for _ in 0..2 {
+        for a in [&small, &big, &prim] {
+            for b in [&other, &prim] {
+                for p in [&pb, &nudged, &far] {
+                    for eps in [1e-6, 0.2, 5.0] {
+                        let held = overlap_touch(a, &pa, b, p, eps);
+                        assert_eq!(bits(held), bits(overlap_touch_computed(a, &pa, b, p, eps)));
+                        answers.push(bits(held));
+                    }
+                    let d = distance(a, &pa, b, p);
+                    assert_eq!(d.to_bits(), distance_computed(a, &pa, b, p).to_bits());
+                }
+            }
+        }
+    }
+    // The questions differ in their answers (a key that left out a shape, a pose or the
+    // threshold would give one of them another's).
+    let mut distinct = answers.clone();
+    distinct.sort();
+    distinct.dedup();
+    assert!(distinct.len() >= 10, "{} of {}", distinct.len(), answers.len());
+}
