@@ -124,6 +124,41 @@ pub(super) fn plain_number(src: &[u8], start: usize) -> Option<(f64, bool, usize
     Some((x, point, i))
 }
 
+/// The digits of a plain number at `i` of a line `s` (as [`plain_number`] reads them, but for the
+/// look past blanks, which the caller does): where they end, the value (its mantissa exact, one
+/// division), and whether it has a point; `None` for no digits or more than 15.
+#[inline(always)]
+pub(super) fn plain_value(s: &[u8], mut i: usize) -> Option<(usize, f64, bool)> {
+    let len = s.len();
+    let first = i;
+    let mut mant = 0u64;
+    while i < len && s[i].is_ascii_digit() {
+        mant = mant.wrapping_mul(10).wrapping_add((s[i] - b'0') as u64);
+        i += 1;
+    }
+    let point = i < len && s[i] == b'.';
+    let mut frac = 0;
+    if point {
+        i += 1;
+        let frac_start = i;
+        while i < len && s[i].is_ascii_digit() {
+            mant = mant.wrapping_mul(10).wrapping_add((s[i] - b'0') as u64);
+            i += 1;
+        }
+        frac = i - frac_start;
+    }
+    let digits = i - first - point as usize;
+    if !(1..=15).contains(&digits) {
+        return None;
+    }
+    let x = if frac == 0 {
+        mant as f64
+    } else {
+        mant as f64 / POW10[frac]
+    };
+    Some((i, x, point))
+}
+
 impl Reader<'_> {
     fn push(&mut self, e: Expr) -> ExprId {
         let id = self.expr_base + self.prog.exprs.len() as ExprId;

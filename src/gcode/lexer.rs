@@ -7,7 +7,8 @@
 //! the [`Program`]. The first problem on a line becomes one `syntax` finding; the rest of the line
 //! is skipped. Values and expressions are read in `expr.rs`.
 
-use super::expr::{digit_run, plain_number, skip_blanks};
+use super::expr::plain_value;
+use super::shape;
 use super::window::{Mark, Store, Window, CACHED_WINDOWS, WINDOW_BLOCKS};
 use super::{Assign, Block, Comment, Expr, NameId, OName, OOp, OWord, Program, Rare, Value, Word};
 use crate::finding::{push_capped, Finding};
@@ -68,10 +69,17 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
     }];
     let mut kept: Vec<Rc<Window>> = Vec::new();
     let mut len = 0;
+    // Blocks of the current window counted, not read: once the cache is full the windows read
+    // are dropped, so a plain line there is only counted (`shape.rs`: it adds nothing else).
+    let mut skimmed = 0;
     for (line, (line_start, end)) in (1u32..).zip(lines(src)) {
         starts.push(line_start as u32);
-        reader.read_line(line, line_start, end);
-        if reader.prog.blocks.len() == per_window {
+        let skim = plain_lines_fast && kept.len() == CACHED_WINDOWS;
+        match skim.then(|| shape::plain_shape(&src[line_start..end])).flatten() {
+            Some(block) => skimmed += block as usize,
+            None => reader.read_line(line, line_start, end),
+        }
+        if reader.prog.blocks.len() + skimmed == per_window {
             // The window is full: keep it while the cache has room, and start the next.
             reader.mark_rare(&mut marks);
             len += per_window;
@@ -81,6 +89,7 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
                 reader.prog.blocks.clear();
                 reader.prog.words.clear();
                 reader.prog.assigns.clear();
+                skimmed = 0;
             }
             marks.push(Mark {
                 first_block: len,
@@ -90,12 +99,12 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
             });
         }
     }
-    if reader.prog.blocks.is_empty() && marks.len() > 1 {
+    if reader.prog.blocks.len() + skimmed == 0 && marks.len() > 1 {
         // The last window ended on the last block.
         marks.pop();
     } else {
         reader.mark_rare(&mut marks);
-        len += reader.prog.blocks.len();
+        len += reader.prog.blocks.len() + skimmed;
         let last = Rc::new(reader.take_window(marks.last().map_or(0, |m| m.first_block)));
         if kept.len() < CACHED_WINDOWS {
             kept.push(last);
@@ -128,6 +137,18 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
             rereads: Cell::new(0),
             jumps: Cell::new(0),
         },
+    }
+}
+
+/// What the fast reader makes of `line` alone: `None` when it declines it, else whether it made a
+/// block (the tests of `shape.rs` hold [`shape::plain_shape`] to it).
+#[cfg(test)]
+pub(super) fn fast_reading(line: &[u8]) -> Option<bool> {
+    let mut reader = Reader::new(line);
+    if reader.read_plain_line(1, 0, line.len()) {
+        Some(!reader.prog.blocks.is_empty())
+    } else {
+        None
     }
 }
 
@@ -359,50 +380,77 @@ impl<'a> Reader<'a> {
     /// The usual line, read fast: an optional N number, then words whose values are plain numbers
     /// (an optional `-` and what [`plain_number`] reads), blanks between, nothing else. Returns
     /// false, having stored nothing, for any other line: the general reader then reads it and gives
-    /// the same result this would have given.
-    fn read_plain_line(&mut self, line: u32, start: usize, end: usize) -> bool {
-        let src = &self.src[..end];
-        let words0 = self.prog.words.len();
-        let mut i = skip_blanks(src, start);
+    /// the same result this would have given. (`shape.rs` decides the same lines without reading
+    /// them; a test holds the two to each other.)
+    ///
+    /// The line is walked as a slice of its own, each test of a byte guarded by its length, so
+    /// the walk checks no bounds beyond those guards.
+    pub(super) fn read_plain_line(&mut self, line: u32, start: usize, end: usize) -> bool {
+        let s = &self.src[start..end];
+        let len = s.len();
+        let blank = |b: u8| b == b' ' || b == b'\t';
+        let continues_number = |b: u8| b.is_ascii_digit() || b == b'.';
+        let mut i = 0;
+        while i < len && blank(s[i]) {
+            i += 1;
+        }
         let mut n = None;
-        if matches!(src.get(i), Some(b'N' | b'n')) {
-            let first = i + 1;
-            let (j, v) = digit_run(src, first, 0);
-            let after = skip_blanks(src, j);
-            // At most 18 digits always fit; anything that may continue the number goes the long way.
-            if j == first || j - first > 18 || matches!(src.get(after), Some(b'0'..=b'9' | b'.')) {
+        if i < len && s[i] & !0x20 == b'N' {
+            i += 1;
+            let first = i;
+            let mut v = 0u64;
+            while i < len && s[i].is_ascii_digit() {
+                v = v * 10 + (s[i] - b'0') as u64;
+                i += 1;
+                // At most 18 digits always fit; a longer number goes the long way.
+                if i - first > 18 {
+                    return false;
+                }
+            }
+            if i == first {
+                return false;
+            }
+            while i < len && blank(s[i]) {
+                i += 1;
+            }
+            // Anything that may continue the number goes the long way.
+            if i < len && continues_number(s[i]) {
                 return false;
             }
             n = Some(v);
-            i = after;
         }
-        let plain = 'words: {
-            while i < end {
-                let c = src[i];
-                if !c.is_ascii_alphabetic() || matches!(c, b'N' | b'n' | b'O' | b'o') {
-                    break 'words false;
-                }
-                let negative = src.get(i + 1) == Some(&b'-');
-                let v = i + 1 + negative as usize;
-                if !matches!(src.get(v), Some(b'0'..=b'9' | b'.')) {
-                    break 'words false;
-                }
-                let Some((x, has_point, value_end)) = plain_number(src, v) else {
-                    break 'words false;
-                };
-                self.prog.words.push(Word::new(
-                    c.to_ascii_uppercase(),
-                    Value::Num(if negative { -x } else { x }),
-                    has_point,
-                    Span::new(i, value_end),
-                ));
-                i = skip_blanks(src, value_end);
+        let words0 = self.prog.words.len();
+        while i < len {
+            let at = i;
+            let letter = s[i] & !0x20;
+            if !letter.is_ascii_uppercase() || letter == b'N' || letter == b'O' {
+                self.prog.words.truncate(words0);
+                return false;
             }
-            true
-        };
-        if !plain {
-            self.prog.words.truncate(words0);
-            return false;
+            i += 1;
+            let negative = i < len && s[i] == b'-';
+            i += negative as usize;
+            let (value_end, x, has_point) = match plain_value(s, i) {
+                Some(v) => v,
+                None => {
+                    self.prog.words.truncate(words0);
+                    return false;
+                }
+            };
+            i = value_end;
+            while i < len && blank(s[i]) {
+                i += 1;
+            }
+            if i < len && continues_number(s[i]) {
+                self.prog.words.truncate(words0);
+                return false;
+            }
+            self.prog.words.push(Word::new(
+                letter,
+                Value::Num(if negative { -x } else { x }),
+                has_point,
+                Span::new(start + at, start + value_end),
+            ));
         }
         let words = words0 as u32..self.prog.words.len() as u32;
         if words.is_empty() && n.is_none() {

@@ -62,6 +62,7 @@
 
 mod expr;
 mod lexer;
+mod shape;
 #[cfg(test)]
 mod tests;
 mod window;

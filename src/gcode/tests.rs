@@ -1116,3 +1116,14 @@ fn fanuc_priorities_put_and_with_times_and_or_with_plus() {
     assert!(matches!(top(&f), Expr::Binary(BinOp::Add, ..)));
     assert!(matches!(top(&l), Expr::Binary(BinOp::And, ..)));
 }
+#[test]
+fn lines_past_the_cache_are_counted_as_the_reader_reads_them() {
+    // Past the windows the first reading keeps, a plain line is counted without being read
+    // (`shape.rs`): blank lines, blanks only, an N alone, bad lines and lines the general reader
+    // reads must leave the windows where a reading of every line puts them.
+    let tail = "\n \t\nN5\nG1 X1 Z-2.5\n(note)\nX--1\nG1 X1 0.5\n#1=2\nG1 X#1\nn7 g0 x.5\n\nO12\nG1 X.\n  \n";
+    let src = format!("{}{}", "G0 X1\n".repeat(10), tail.repeat(4));
+    for per_window in [1, 2, 3] {
+        assert_windows_read_as_whole(src.as_bytes(), per_window);
+    }
+}
