@@ -36,6 +36,7 @@ pub fn write_chunk<W: Write>(c: super::Chunk<'_>, sink: &mut W) -> std::io::Resu
         return write_moves(c.moves, c.states, sink);
     }
     let mut out = Vec::with_capacity(OUT_BYTES + 512);
+    let mut d = Decimals::new();
     let mut next = c.extra.iter().peekable();
     for (i, m) in c.moves.iter().enumerate() {
         let i = c.first + i;
@@ -43,7 +44,7 @@ pub fn write_chunk<W: Write>(c: super::Chunk<'_>, sink: &mut W) -> std::io::Resu
             next.next();
         }
         let e = next.peek().filter(|e| e.index as usize == i).copied();
-        one_move_extra(&c.states[m.state as usize].frame, m, e, &mut out);
+        one_move_extra(&c.states[m.state as usize].frame, m, e, &mut d, &mut out);
         if out.len() >= OUT_BYTES {
             sink.write_all(&out)?;
             out.clear();
@@ -61,18 +62,15 @@ const OUT_BYTES: usize = 1 << 16;
 /// [`super::interpret_streaming`]).
 pub fn write_moves<W: Write>(moves: &[Move], states: &[MoveState], sink: &mut W) -> std::io::Result<()> {
     let mut out = Vec::with_capacity(OUT_BYTES + 512);
+    let mut d = Decimals::new();
     for m in moves {
-        one_move(&states[m.state as usize].frame, m, &mut out);
+        one_move_extra(&states[m.state as usize].frame, m, None, &mut d, &mut out);
         if out.len() >= OUT_BYTES {
             sink.write_all(&out)?;
             out.clear();
         }
     }
     sink.write_all(&out)
-}
-
-fn one_move(f: &ProgFrame, m: &Move, out: &mut Vec<u8>) {
-    one_move_extra(f, m, None, out)
 }
 
 /// Y, A, B, C of a move's end in program units (0 without an entry).
@@ -90,9 +88,9 @@ fn extra_coords(f: &ProgFrame, e: Option<&ExtraMove>) -> [f64; 4] {
 
 /// The arguments of an `ARC_FEED` after its opening parenthesis, as rs274 prints them: the end
 /// and centre in the plane, the signed turns, the third axis and A, B, C.
-fn arc_args(out: &mut Vec<u8>, plane: [f64; 4], rotation: i64, rest: [f64; 4]) {
+fn arc_args(out: &mut Vec<u8>, d: &mut Decimals, plane: [f64; 4], rotation: i64, rest: [f64; 4]) {
     for v in plane {
-        f4(out, v);
+        d.put(out, v);
         out.extend_from_slice(b", ");
     }
     if rotation < 0 {
@@ -101,12 +99,12 @@ fn arc_args(out: &mut Vec<u8>, plane: [f64; 4], rotation: i64, rest: [f64; 4]) {
     push_uint(out, rotation.unsigned_abs(), 1, b'0');
     for v in rest {
         out.extend_from_slice(b", ");
-        f4(out, v);
+        d.put(out, v);
     }
     out.extend_from_slice(b")\n");
 }
 
-fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<u8>) {
+fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, d: &mut Decimals, out: &mut Vec<u8>) {
     let [y, a, b, c] = extra_coords(f, e);
     if let Some(arc) = e.and_then(|e| e.arc) {
         let (x, z) = radius_coords(f, m.end);
@@ -126,6 +124,7 @@ fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<
         let turns = (arc.sweep.abs() / TAU - 1e-9).ceil().max(1.0) as i64;
         arc_args(
             out,
+            d,
             [e0, e1, c0, c1],
             if arc.sweep < 0.0 { -turns } else { turns },
             [third, a, b, c],
@@ -144,17 +143,17 @@ fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<
             });
             if e.is_none() {
                 // No extra axis: Y, A, B and C are zero, written as `f4` writes zero.
-                f4(out, x);
+                d.put(out, x);
                 out.extend_from_slice(b", 0.0000, ");
-                f4(out, z);
+                d.put(out, z);
                 out.extend_from_slice(b", 0.0000, 0.0000, 0.0000)\n");
                 return;
             }
             for v in [x, y, z, a, b] {
-                f4(out, v);
+                d.put(out, v);
                 out.extend_from_slice(b", ");
             }
-            f4(out, c);
+            d.put(out, c);
             out.extend_from_slice(b")\n");
         }
         MoveKind::Arc { center, sweep } => {
@@ -162,7 +161,7 @@ fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<
             let turns = (sweep.abs() / TAU - 1e-9).ceil().max(1.0) as i64;
             let rotation = if sweep > 0.0 { -turns } else { turns };
             out.extend_from_slice(b"ARC_FEED(");
-            arc_args(out, [z, x, cz, cx], rotation, [y, a, b, c]);
+            arc_args(out, d, [z, x, cz, cx], rotation, [y, a, b, c]);
         }
         MoveKind::Dwell { seconds } => {
             out.extend_from_slice(b"DWELL(");
@@ -194,6 +193,51 @@ fn one_move_extra(f: &ProgFrame, m: &Move, e: Option<&ExtraMove>, out: &mut Vec<
                 }
             }
             out.extend_from_slice(b"\")\n");
+        }
+    }
+}
+
+/// The text of the values written lately, by their bits: a lathe program's coordinates repeat
+/// (the retract plane, the bar's radius, a pass's level, the X a feed along Z keeps), and a
+/// value found here is copied instead of written again. A slot holds the last value whose bits
+/// hash to it, so what it gives is what [`f4`] wrote for the same bits.
+struct Decimals {
+    bits: [u64; DECIMAL_SLOTS],
+    /// The text in the first `len` bytes (0: the slot is empty).
+    text: [[u8; 24]; DECIMAL_SLOTS],
+    len: [u8; DECIMAL_SLOTS],
+}
+
+const DECIMAL_SLOTS: usize = 256;
+
+impl Decimals {
+    fn new() -> Decimals {
+        Decimals {
+            bits: [0; DECIMAL_SLOTS],
+            text: [[0; 24]; DECIMAL_SLOTS],
+            len: [0; DECIMAL_SLOTS],
+        }
+    }
+
+    /// Append `v` as [`f4`] does.
+    #[inline]
+    fn put(&mut self, out: &mut Vec<u8>, v: f64) {
+        let bits = v.to_bits();
+        let k = (bits.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 56) as usize;
+        let start = out.len();
+        let len = self.len[k] as usize;
+        if len != 0 && self.bits[k] == bits {
+            // A fixed-size append and a cut, as in `f4` (no `memcpy` call for a few bytes).
+            out.extend_from_slice(&self.text[k]);
+            out.truncate(start + len);
+            return;
+        }
+        f4(out, v);
+        let written = &out[start..];
+        if written.len() <= 24 {
+            self.text[k][..written.len()].copy_from_slice(written);
+            self.len[k] = written.len() as u8;
+            self.bits[k] = bits;
         }
     }
 }
@@ -342,6 +386,31 @@ mod tests {
             let mut s = b"X".to_vec();
             super::f4(&mut s, v);
             prop_assert_eq!(String::from_utf8(s).unwrap(), format!("X{}", f4_plain(v)));
+        }
+
+        /// The values written lately give the text `f4` writes, whatever came before: values
+        /// repeated, values one bit apart, and more values than the table has slots, so that
+        /// slots are taken over.
+        #[test]
+        fn a_value_written_again_is_written_as_f4_writes_it(
+            picks in proptest::collection::vec((0usize..600, 0u8..3), 1..3000),
+        ) {
+            let base: Vec<f64> = (0..600).map(|k| (k as f64 - 300.0) * 0.37 + 1e-3 * k as f64).collect();
+            let mut d = super::Decimals::new();
+            let mut cached = Vec::new();
+            let mut plain = Vec::new();
+            for (k, nudge) in picks {
+                let v = match nudge {
+                    0 => base[k],
+                    1 => f64::from_bits(base[k].to_bits() + 1),
+                    _ => -base[k],
+                };
+                d.put(&mut cached, v);
+                super::f4(&mut plain, v);
+                cached.push(b' ');
+                plain.push(b' ');
+            }
+            prop_assert_eq!(String::from_utf8(cached).unwrap(), String::from_utf8(plain).unwrap());
         }
     }
 
