@@ -84,7 +84,7 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
             reader.mark_rare(&mut marks);
             len += per_window;
             if kept.len() < CACHED_WINDOWS {
-                kept.push(Rc::new(reader.take_window(len - per_window)));
+                kept.push(Rc::new(reader.take_window(len - per_window, true)));
             } else {
                 reader.prog.blocks.clear();
                 reader.prog.words.clear();
@@ -105,7 +105,7 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
     } else {
         reader.mark_rare(&mut marks);
         len += reader.prog.blocks.len() + skimmed;
-        let last = Rc::new(reader.take_window(marks.last().map_or(0, |m| m.first_block)));
+        let last = Rc::new(reader.take_window(marks.last().map_or(0, |m| m.first_block), false));
         if kept.len() < CACHED_WINDOWS {
             kept.push(last);
         }
@@ -154,9 +154,28 @@ pub(super) fn fast_reading(line: &[u8]) -> Option<bool> {
 
 /// A window of `prog` read again from the source: `count` blocks from where `mark` starts, with
 /// the whole program's name table (see `window.rs`).
-pub(super) fn reread(prog: &Program, mark: Mark, count: usize, interned: &mut HashMap<String, NameId>) -> Window {
+pub(super) fn reread(
+    prog: &Program,
+    mark: Mark,
+    count: usize,
+    interned: &mut HashMap<String, NameId>,
+    spare: Option<Window>,
+) -> Window {
     let src = prog.src;
     let mut reader = Reader::new(src);
+    if let Some(w) = spare {
+        // Cleared, the buffers of a window no longer held: what they held is gone.
+        let Window {
+            mut blocks,
+            mut words,
+            mut assigns,
+            ..
+        } = w;
+        blocks.clear();
+        words.clear();
+        assigns.clear();
+        (reader.prog.blocks, reader.prog.words, reader.prog.assigns) = (blocks, words, assigns);
+    }
     reader.plain_lines_fast = prog.store.plain_lines_fast;
     reader.macro_b = prog.store.macro_b;
     reader.expr_base = mark.expr_base;
@@ -172,7 +191,7 @@ pub(super) fn reread(prog: &Program, mark: Mark, count: usize, interned: &mut Ha
     }
     std::mem::swap(&mut reader.interned, interned);
     debug_assert_eq!(reader.prog.blocks.len(), count);
-    reader.take_window(mark.first_block)
+    reader.take_window(mark.first_block, false)
 }
 
 /// What the reader builds: the current window's blocks, words and assignments, and what it keeps
@@ -261,8 +280,9 @@ impl<'a> Reader<'a> {
         }
     }
 
-    /// The window read since the last one was taken, its first block the program's `first`.
-    fn take_window(&mut self, first: usize) -> Window {
+    /// The window read since the last one was taken, its first block the program's `first`;
+    /// `more`: another window is read after it.
+    fn take_window(&mut self, first: usize, more: bool) -> Window {
         let mut w = Window {
             first,
             blocks: std::mem::take(&mut self.prog.blocks),
@@ -275,9 +295,11 @@ impl<'a> Reader<'a> {
         if w.words.capacity() > 2 * w.words.len() {
             w.words.shrink_to_fit();
         }
-        // The next window grows as large as this one.
-        self.prog.blocks.reserve(w.blocks.len());
-        self.prog.words.reserve(w.words.len());
+        if more {
+            // The next window grows as large as this one.
+            self.prog.blocks.reserve(w.blocks.len());
+            self.prog.words.reserve(w.words.len());
+        }
         w
     }
 

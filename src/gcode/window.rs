@@ -150,15 +150,24 @@ impl Program<'_> {
                 cache[0].clone()
             }
             None => {
-                let w = Rc::new(self.read_window(self.window_of(i)));
                 self.store.jumps.set(self.store.jumps.get() + 1);
-                cache.insert(0, w.clone());
                 // A flow that keeps jumping among more windows than the cache holds would read
                 // a window for every block it runs: once the windows read again for its blocks
                 // outnumber the program's windows twice over, every window read stays (the
                 // program whole, as it was before windows), so the reading never costs more
                 // than a few readings of the program.
-                if self.store.jumps.get() <= 2 * self.store.marks.len() as u64 + 16 {
+                let evict = self.store.jumps.get() <= 2 * self.store.marks.len() as u64 + 16;
+                // The window that leaves the cache lends its buffers to the one read, when no
+                // block of it is still in use: memory already touched instead of fresh pages.
+                let spare = if evict && cache.len() >= CACHED_WINDOWS {
+                    cache.truncate(CACHED_WINDOWS);
+                    cache.pop().and_then(|w| Rc::try_unwrap(w).ok())
+                } else {
+                    None
+                };
+                let w = Rc::new(self.read_window(self.window_of(i), spare));
+                cache.insert(0, w.clone());
+                if evict {
                     cache.truncate(CACHED_WINDOWS);
                 }
                 w
@@ -186,7 +195,7 @@ impl Program<'_> {
     fn window_blocks(&self, k: usize) -> impl Iterator<Item = BlockRef> {
         let first = self.store.marks[k].first_block;
         let held = self.store.cache.borrow().iter().find(|w| w.first == first).cloned();
-        let win = held.unwrap_or_else(|| Rc::new(self.read_window(k)));
+        let win = held.unwrap_or_else(|| Rc::new(self.read_window(k, None)));
         (0..win.blocks.len()).map(move |j| BlockRef { win: win.clone(), k: j })
     }
 
@@ -219,11 +228,12 @@ impl Program<'_> {
     }
 
     /// Window `k` read again from the source.
-    fn read_window(&self, k: usize) -> Window {
+    /// Window `k` read again, into the buffers of `spare` when given.
+    fn read_window(&self, k: usize, spare: Option<Window>) -> Window {
         self.store.rereads.set(self.store.rereads.get() + 1);
         let m = self.store.marks[k];
         let end = self.store.marks.get(k + 1).map_or(self.store.len, |n| n.first_block);
         let mut interned = self.store.interned.borrow_mut();
-        lexer::reread(self, m, end - m.first_block, &mut interned)
+        lexer::reread(self, m, end - m.first_block, &mut interned, spare)
     }
 }
