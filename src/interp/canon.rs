@@ -445,9 +445,11 @@ mod tests {
             s.clear();
             super::push_uint(&mut s, a, 1, b'0');
             assert_eq!(std::str::from_utf8(&s).unwrap(), a.to_string());
+            // After other text, which stays as it was.
             s.clear();
+            s.extend_from_slice(b"N=");
             super::push_uint(&mut s, a, 6, b'0');
-            assert_eq!(std::str::from_utf8(&s).unwrap(), format!("{a:06}"));
+            assert_eq!(std::str::from_utf8(&s).unwrap(), format!("N={a:06}"));
         }
     }
 
