@@ -58,7 +58,8 @@ pub struct Planner {
     finder: Finder,
     no_config: bool,
     cli_machine: Option<(Arc<Machine>, String)>,
-    builtin: Arc<Machine>,
+    /// The built-in machine, read when a program first needs it (a run with `-m` never does).
+    builtin: std::sync::OnceLock<Arc<Machine>>,
     machines: HashMap<PathBuf, Arc<Machine>>,
     cli_layers: Vec<Arc<Layer>>,
     /// `--no-assume`.
@@ -116,7 +117,7 @@ impl Planner {
             finder,
             no_config,
             cli_machine,
-            builtin: Arc::new(Machine::builtin()),
+            builtin: std::sync::OnceLock::new(),
             machines: HashMap::new(),
             cli_layers,
             no_assume: a.no_assume,
@@ -136,7 +137,11 @@ impl Planner {
     pub fn default_machine(&self) -> Arc<Machine> {
         self.cli_machine
             .as_ref()
-            .map_or_else(|| self.builtin.clone(), |m| m.0.clone())
+            .map_or_else(|| self.builtin(), |m| m.0.clone())
+    }
+
+    fn builtin(&self) -> Arc<Machine> {
+        self.builtin.get_or_init(|| Arc::new(Machine::builtin())).clone()
     }
 
     /// The machine, settings and job of one program (`-`: standard input, which has no file
@@ -191,7 +196,7 @@ impl Planner {
                 let shown = self.finder.shown(&r.path);
                 (self.machine_for(&r)?, shown)
             }
-            (None, None) => (self.builtin.clone(), format!("built-in: {}", machine::BUILTIN_NAME)),
+            (None, None) => (self.builtin(), format!("built-in: {}", machine::BUILTIN_NAME)),
         };
         let (machine, job) = self.apply(&base, &layers, program)?;
         // The files the job read besides its own (tool libraries, tool tables, part files), as
