@@ -98,56 +98,31 @@ pub(super) fn skip_blanks(src: &[u8], mut i: usize) -> usize {
 
 /// The usual number at `start`, read fast: at most 15 digits and one point, no blanks inside, and
 /// then a byte that cannot continue it (blanks may: `X1 0.5` is `X10.5`, so they are looked past).
-/// Its mantissa is exact, so one division rounds correctly. Returns the value, whether it has a
-/// point, and where it ends; `None` when the general reader must decide.
+/// Returns the value, whether it has a point, and where it ends; `None` when the general reader
+/// must decide.
 #[inline(always)]
 pub(super) fn plain_number(src: &[u8], start: usize) -> Option<(f64, bool, usize)> {
-    let (mut i, mut mant) = digit_run(src, start, 0);
-    let mut digits = i - start;
-    let mut frac = 0;
-    let point = src.get(i) == Some(&b'.');
-    if point {
-        let frac_start = i + 1;
-        (i, mant) = digit_run(src, frac_start, mant);
-        frac = i - frac_start;
-        digits += frac;
-    }
-    let after = skip_blanks(src, i);
-    if !(1..=15).contains(&digits) || matches!(src.get(after), Some(b'0'..=b'9' | b'.')) {
+    let (end, x, point) = plain_value(src, start)?;
+    if matches!(src.get(skip_blanks(src, end)), Some(b'0'..=b'9' | b'.')) {
         return None;
     }
-    let x = if frac == 0 {
-        mant as f64
-    } else {
-        mant as f64 / POW10[frac]
-    };
-    Some((x, point, i))
+    Some((x, point, end))
 }
 
-/// The digits of a plain number at `i` of a line `s` (as [`plain_number`] reads them, but for the
-/// look past blanks, which the caller does): where they end, the value (its mantissa exact, one
-/// division), and whether it has a point; `None` for no digits or more than 15.
+/// The digits of a plain number at `i` of `s`, without the look past blanks of
+/// [`plain_number`]: where they end, the value (its mantissa exact, so one division rounds
+/// correctly), and whether it has a point; `None` for no digits or more than 15.
 #[inline(always)]
-pub(super) fn plain_value(s: &[u8], mut i: usize) -> Option<(usize, f64, bool)> {
-    let len = s.len();
-    let first = i;
-    let mut mant = 0u64;
-    while i < len && s[i].is_ascii_digit() {
-        mant = mant.wrapping_mul(10).wrapping_add((s[i] - b'0') as u64);
-        i += 1;
-    }
-    let point = i < len && s[i] == b'.';
+pub(super) fn plain_value(s: &[u8], start: usize) -> Option<(usize, f64, bool)> {
+    let (mut i, mut mant) = digit_run(s, start, 0);
+    let point = s.get(i) == Some(&b'.');
     let mut frac = 0;
     if point {
-        i += 1;
-        let frac_start = i;
-        while i < len && s[i].is_ascii_digit() {
-            mant = mant.wrapping_mul(10).wrapping_add((s[i] - b'0') as u64);
-            i += 1;
-        }
+        let frac_start = i + 1;
+        (i, mant) = digit_run(s, frac_start, mant);
         frac = i - frac_start;
     }
-    let digits = i - first - point as usize;
+    let digits = i - start - point as usize;
     if !(1..=15).contains(&digits) {
         return None;
     }

@@ -7,7 +7,7 @@
 //! the [`Program`]. The first problem on a line becomes one `syntax` finding; the rest of the line
 //! is skipped. Values and expressions are read in `expr.rs`.
 
-use super::expr::plain_value;
+use super::expr::{digit_run, plain_value, skip_blanks};
 use super::shape;
 use super::window::{Mark, Store, Window, CACHED_WINDOWS, WINDOW_BLOCKS};
 use super::{Assign, Block, Comment, Expr, NameId, OName, OOp, OWord, Program, Rare, Value, Word};
@@ -405,38 +405,19 @@ impl<'a> Reader<'a> {
     /// the same result this would have given. (`shape.rs` decides the same lines without reading
     /// them; a test holds the two to each other.)
     ///
-    /// The line is walked as a slice of its own, each test of a byte guarded by its length, so
-    /// the walk checks no bounds beyond those guards.
+    /// The line is walked as a slice of its own, so every look ahead stops at its end.
     pub(super) fn read_plain_line(&mut self, line: u32, start: usize, end: usize) -> bool {
         let s = &self.src[start..end];
         let len = s.len();
-        let blank = |b: u8| b == b' ' || b == b'\t';
-        let continues_number = |b: u8| b.is_ascii_digit() || b == b'.';
-        let mut i = 0;
-        while i < len && blank(s[i]) {
-            i += 1;
-        }
+        let continues_number = |i: usize| matches!(s.get(i), Some(b'0'..=b'9' | b'.'));
+        let mut i = skip_blanks(s, 0);
         let mut n = None;
         if i < len && s[i] & !0x20 == b'N' {
-            i += 1;
-            let first = i;
-            let mut v = 0u64;
-            while i < len && s[i].is_ascii_digit() {
-                v = v * 10 + (s[i] - b'0') as u64;
-                i += 1;
-                // At most 18 digits always fit; a longer number goes the long way.
-                if i - first > 18 {
-                    return false;
-                }
-            }
-            if i == first {
-                return false;
-            }
-            while i < len && blank(s[i]) {
-                i += 1;
-            }
-            // Anything that may continue the number goes the long way.
-            if i < len && continues_number(s[i]) {
+            let first = i + 1;
+            let (j, v) = digit_run(s, first, 0);
+            i = skip_blanks(s, j);
+            // At most 18 digits always fit; anything that may continue the number goes the long way.
+            if j == first || j - first > 18 || continues_number(i) {
                 return false;
             }
             n = Some(v);
@@ -449,21 +430,13 @@ impl<'a> Reader<'a> {
                 self.prog.words.truncate(words0);
                 return false;
             }
-            i += 1;
-            let negative = i < len && s[i] == b'-';
-            i += negative as usize;
-            let (value_end, x, has_point) = match plain_value(s, i) {
-                Some(v) => v,
-                None => {
-                    self.prog.words.truncate(words0);
-                    return false;
-                }
+            let negative = s.get(i + 1) == Some(&b'-');
+            let Some((value_end, x, has_point)) = plain_value(s, i + 1 + negative as usize) else {
+                self.prog.words.truncate(words0);
+                return false;
             };
-            i = value_end;
-            while i < len && blank(s[i]) {
-                i += 1;
-            }
-            if i < len && continues_number(s[i]) {
+            i = skip_blanks(s, value_end);
+            if continues_number(i) {
                 self.prog.words.truncate(words0);
                 return false;
             }

@@ -159,17 +159,16 @@ impl Program<'_> {
                 let evict = self.store.jumps.get() <= 2 * self.store.marks.len() as u64 + 16;
                 // The window that leaves the cache lends its buffers to the one read, when no
                 // block of it is still in use: memory already touched instead of fresh pages.
+                // (While windows are evicted the cache never holds more than it may: it grows
+                // past that only once they no longer are, and `jumps` never goes down.)
+                debug_assert!(!evict || cache.len() <= CACHED_WINDOWS);
                 let spare = if evict && cache.len() >= CACHED_WINDOWS {
-                    cache.truncate(CACHED_WINDOWS);
                     cache.pop().and_then(|w| Rc::try_unwrap(w).ok())
                 } else {
                     None
                 };
                 let w = Rc::new(self.read_window(self.window_of(i), spare));
                 cache.insert(0, w.clone());
-                if evict {
-                    cache.truncate(CACHED_WINDOWS);
-                }
                 w
             }
         };
