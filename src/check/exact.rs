@@ -681,9 +681,7 @@ impl Checker<'_> {
                 return false;
             }
         }
-        let mut pts: Vec<P2> = pose_a.points().to_vec();
-        pts.extend(pose_a.points().iter().map(|q| q + d));
-        let hull = crate::tooling::outline::hull(&pts);
+        let hull = stretch_hull(&pose_a, d);
         self.instant = a;
         match proof {
             Proof::Clear => self.stock_overlap(&hull, 0.5 * geom::TOUCH_EPS, true).is_none(),
@@ -694,6 +692,36 @@ impl Checker<'_> {
                 deepest <= cap
             }
         }
+    }
+
+    /// A bound of the depth of every pose of the part against the stock along a stretch
+    /// `[a, b]` of a straight piece (the turret, holder and insert only): the depth of the hull
+    /// of its poses at `a` and `b` against the stock as it is at `a` (see
+    /// [`Self::stretch_proven`]). `None` where no such bound is known.
+    fn stretch_depth_bound(
+        &mut self,
+        p: Part,
+        o: Obstacle,
+        piece: &Piece,
+        active: u32,
+        (a, b): (f64, f64),
+    ) -> Option<f64> {
+        if o != Obstacle::Stock || !matches!(p, Part::Turret | Part::Holder | Part::Insert) || b <= a {
+            return None;
+        }
+        let Shape::Line { .. } = piece.shape else {
+            return None;
+        };
+        let Some((Section::Whole(pose_a), _)) = self.pose(p, piece.at(a), active as f64) else {
+            return None;
+        };
+        let hull = stretch_hull(&pose_a, piece.at(b) - piece.at(a));
+        self.stats.pair_tests += 1;
+        self.instant = a;
+        Some(
+            self.stock_overlap(&hull, geom::TOUCH_EPS, false)
+                .map_or(0.0, |h| h.depth),
+        )
     }
 
     /// How far (mm along the piece, at most `want`, at least the tolerance) a part in contact at
@@ -821,6 +849,14 @@ impl Checker<'_> {
         if b <= a || len <= 0.0 {
             return best;
         }
+        // The deepest probe is the peak when nothing between its neighbours can be deeper: the
+        // search could only find what the bound allows, and keeps the deeper of the two.
+        if self
+            .stretch_depth_bound(p, o, piece, active, (a, b))
+            .is_some_and(|bound| bound <= best)
+        {
+            return best;
+        }
         let width = 0.5 * self.settings.tolerance_mm / len;
         let (_, found) = crate::geom::golden_section_max(a, b, width, PEAK_STEPS, |u| {
             self.probe(p, o, piece, u, active).unwrap_or(0.0)
@@ -912,6 +948,13 @@ impl Checker<'_> {
         );
         self.budget.push((line, message));
     }
+}
+
+/// The convex hull of a pose and of the pose moved by `d`: it holds every pose between.
+fn stretch_hull(pose: &Polygon, d: V2) -> Vec<P2> {
+    let mut pts: Vec<P2> = pose.points().to_vec();
+    pts.extend(pose.points().iter().map(|q| q + d));
+    crate::tooling::outline::hull(&pts)
 }
 
 /// The audit of strides in contact, for tests: off unless a test turns it on for its thread.

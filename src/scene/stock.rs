@@ -117,6 +117,127 @@ impl Reach {
     }
 }
 
+/// A polygon monotone in z: from its lowest vertex, the vertices rise (or stay level) to its
+/// highest one and fall (or stay level) back, so that every plane `z = c` strictly between its
+/// lowest and highest z crosses exactly two of its edges, one of each chain.
+struct MonotoneChains {
+    /// Index of a lowest vertex.
+    low: usize,
+    zmin: f64,
+    zmax: f64,
+}
+
+impl MonotoneChains {
+    /// The chains of `pts` for columns of width `h`, or `None` (the general crossings take it)
+    /// when it is not monotone in z, has fewer than three vertices or a coordinate that is not
+    /// finite, or lies so far along z that a column's width is below the rounding of its z
+    /// (there `z - h` may equal `z`, and the general way's ranges of columns by edge could
+    /// differ from the polygon's).
+    fn of(pts: &[P2], h: f64) -> Option<MonotoneChains> {
+        let n = pts.len();
+        if n < 3
+            || pts
+                .iter()
+                .any(|p| !p.x.is_finite() || !(p.y.abs() < h * (1u64 << 50) as f64))
+        {
+            return None;
+        }
+        let low = (0..n).min_by(|&a, &b| pts[a].y.total_cmp(&pts[b].y))?;
+        let (zmin, mut zmax) = (pts[low].y, pts[low].y);
+        // Rising from the lowest vertex, then falling back to it: at most one turn.
+        let mut falling = false;
+        for s in 0..n {
+            let (a, b) = (pts[(low + s) % n].y, pts[(low + s + 1) % n].y);
+            if b > a {
+                if falling {
+                    return None;
+                }
+                zmax = b;
+            } else if b < a {
+                falling = true;
+            }
+        }
+        Some(MonotoneChains { low, zmin, zmax })
+    }
+}
+
+/// A chain walk lost its way (a chain ran out of edges), which the chains of a monotone polygon
+/// never do: the caller takes the general crossings instead.
+struct Lost;
+
+/// A walk up the column centres along both chains of a monotone polygon.
+struct ChainWalk<'a> {
+    pts: &'a [P2],
+    zmin: f64,
+    zmax: f64,
+    /// Each chain's current edge: its index (the edge from `pts[i]` to `pts[i + 1]`), and its
+    /// lower and upper end by z.
+    up: (usize, (P2, P2)),
+    down: (usize, (P2, P2)),
+    /// Edges the chains may still pass (each passes each edge at most once).
+    budget: usize,
+}
+
+impl<'a> ChainWalk<'a> {
+    fn new(pts: &'a [P2], chains: &MonotoneChains) -> ChainWalk<'a> {
+        let n = pts.len();
+        // The rising chain runs forward from the lowest vertex, the falling one backward.
+        let (up, down) = (chains.low, (chains.low + n - 1) % n);
+        ChainWalk {
+            pts,
+            zmin: chains.zmin,
+            zmax: chains.zmax,
+            up: (up, Self::edge(pts, up)),
+            down: (down, Self::edge(pts, down)),
+            budget: 2 * n,
+        }
+    }
+
+    /// Edge `i`, its lower end first (as the general crossings orient it).
+    fn edge(pts: &[P2], i: usize) -> (P2, P2) {
+        let (a, b) = (pts[i], pts[(i + 1) % pts.len()]);
+        if a.y < b.y {
+            (a, b)
+        } else {
+            (b, a)
+        }
+    }
+
+    /// The polygon's two crossings with the plane `z = c` in the order the general crossings
+    /// give them (`None` outside the polygon's half-open z range). `c` never decreases from
+    /// one call to the next.
+    #[inline]
+    fn span(&mut self, c: f64) -> Result<Option<(f64, f64)>, Lost> {
+        if c < self.zmin || c >= self.zmax {
+            return Ok(None);
+        }
+        let n = self.pts.len();
+        // Step each chain to the edge whose half-open z range holds c (horizontal edges hold
+        // none and are passed over).
+        while !(self.up.1 .0.y <= c && c < self.up.1 .1.y) {
+            self.budget = self.budget.checked_sub(1).ok_or(Lost)?;
+            self.up.0 = if self.up.0 + 1 == n { 0 } else { self.up.0 + 1 };
+            self.up.1 = Self::edge(self.pts, self.up.0);
+        }
+        while !(self.down.1 .0.y <= c && c < self.down.1 .1.y) {
+            self.budget = self.budget.checked_sub(1).ok_or(Lost)?;
+            self.down.0 = if self.down.0 == 0 { n - 1 } else { self.down.0 - 1 };
+            self.down.1 = Self::edge(self.pts, self.down.0);
+        }
+        let at = |(lo, hi): (P2, P2)| lo.x + (hi.x - lo.x) * ((c - lo.y) / (hi.y - lo.y));
+        // The general way pushes the edge of lower index first, then orders by x.
+        let (mut first, mut second) = if self.up.0 < self.down.0 {
+            (at(self.up.1), at(self.down.1))
+        } else {
+            (at(self.down.1), at(self.up.1))
+        };
+        if first > second {
+            std::mem::swap(&mut first, &mut second);
+        }
+        Ok(Some((first, second)))
+    }
+}
+
 /// The region the insert has swept so far in the current move: polygons in the working plane
 /// (signed x), each with its box. The stock "at an instant" of a cutting move is the material
 /// before the move less these polygons. It is rebuilt at every instant a query asks about, so
@@ -525,6 +646,42 @@ impl DexelStock {
     /// The polygon's crossings with the centre planes of columns `j0..=j1`, grouped by column:
     /// fills `scratch` with (column, x) sorted by column then x.
     fn crossings(&mut self, pts: &[P2], j0: usize, j1: usize) -> Option<(usize, usize)> {
+        match MonotoneChains::of(pts, self.h) {
+            Some(chains) if self.chain_crossings(pts, &chains, j0, j1) => Some((j0, j1)),
+            _ => self.crossings_general(pts, j0, j1),
+        }
+    }
+
+    /// [`Self::crossings`] of a polygon monotone in z (every convex one): each column centre
+    /// within its z range crosses one edge of either chain, found by walking both chains up the
+    /// columns instead of edge by edge and sorting. Bit for bit what the general way gives: the
+    /// same edges, the same arithmetic, a column's two crossings in the same order. Returns
+    /// false (having found nothing) should a chain run out of edges, which a monotone polygon's
+    /// never do.
+    fn chain_crossings(&mut self, pts: &[P2], chains: &MonotoneChains, j0: usize, j1: usize) -> bool {
+        self.scratch.clear();
+        let Some((k0, k1)) = self.column_range(chains.zmin - self.h, chains.zmax + self.h) else {
+            return true;
+        };
+        let mut walk = ChainWalk::new(pts, chains);
+        for k in k0.max(j0)..=k1.min(j1) {
+            match walk.span(self.center(k)) {
+                Ok(Some((first, second))) => {
+                    self.scratch.push((k as u32, first));
+                    self.scratch.push((k as u32, second));
+                }
+                Ok(None) => {}
+                Err(Lost) => {
+                    self.scratch.clear();
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// [`Self::crossings`] of any polygon: edge by edge, then grouped by column.
+    fn crossings_general(&mut self, pts: &[P2], j0: usize, j1: usize) -> Option<(usize, usize)> {
         self.scratch.clear();
         let n = pts.len();
         for i in 0..n {
@@ -621,7 +778,10 @@ impl DexelStock {
         }
         let mut mat = std::mem::take(&mut self.mat);
         let (b0, b1) = (j0 / BLOCK, j1 / BLOCK);
-        let mut scan = |s: &mut Self, b: usize| s.block_overlap(pts, b, (j0, j1), eps, pre, swept, &near, &mut mat);
+        let chains = MonotoneChains::of(pts, self.h);
+        let mut scan = |s: &mut Self, b: usize| {
+            s.block_overlap(pts, b, (j0, j1), eps, pre, chains.as_ref(), swept, &near, &mut mat)
+        };
         // The first block in contact from either end gives the first and last columns in
         // contact (the axial extent); the blocks between can only raise the greatest radial
         // overlap, and are scanned only while their bound (the part's radial range in the block
@@ -648,7 +808,12 @@ impl DexelStock {
                 }
                 let cap = (self.center(*last) - self.center(*first) + self.h).min(bb.max.y - bb.min.y);
                 if *best < cap && hi_block > lo_block + 1 {
+                    // A block whose bound over the part's whole radial range cannot beat the
+                    // depth found cannot over the range within its slab either (the bound
+                    // only grows with the range): its slab is not looked at.
+                    let floor = best.max(eps);
                     let mut between: Vec<(f64, usize)> = (lo_block + 1..hi_block)
+                        .filter(|&b| self.reach(b, pre).overlap_bound(rlo, rhi) > floor)
                         .filter_map(|b| self.block_bound(pts, b, pre).map(|ub| (ub, b)))
                         .filter(|&(ub, _)| ub > eps)
                         .collect();
@@ -699,6 +864,7 @@ impl DexelStock {
         (j0, j1): (usize, usize),
         eps: f64,
         pre: bool,
+        chains: Option<&MonotoneChains>,
         swept: Option<&Swept>,
         near: &[usize],
         mat: &mut Vec<(f64, f64)>,
@@ -707,6 +873,11 @@ impl DexelStock {
             return None;
         }
         let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
+        if let Some(chains) = chains {
+            if let Ok(found) = self.block_overlap_walking(pts, chains, (k0, k1), eps, swept, near, mat) {
+                return found;
+            }
+        }
         self.crossings(pts, k0, k1)?;
         let scratch = std::mem::take(&mut self.scratch);
         let mut best: f64 = 0.0;
@@ -746,6 +917,52 @@ impl DexelStock {
         }
         self.scratch = scratch;
         first.map(|f| (best, f, last))
+    }
+
+    /// [`Self::block_overlap`] of a monotone polygon over columns `k0..=k1`: the span at each
+    /// column's centre from a walk along its chains, the same spans the crossings give.
+    #[allow(clippy::too_many_arguments)]
+    fn block_overlap_walking(
+        &self,
+        pts: &[P2],
+        chains: &MonotoneChains,
+        (k0, k1): (usize, usize),
+        eps: f64,
+        swept: Option<&Swept>,
+        near: &[usize],
+        mat: &mut Vec<(f64, f64)>,
+    ) -> Result<Option<(f64, usize, usize)>, Lost> {
+        let mut walk = ChainWalk::new(pts, chains);
+        let mut best: f64 = 0.0;
+        let mut first: Option<usize> = None;
+        let mut last = 0usize;
+        for col in k0..=k1 {
+            let Some((x0, x1)) = walk.span(self.center(col))? else {
+                continue;
+            };
+            let material: &[(f64, f64)] = match (swept, self.saved(col)) {
+                (Some(sw), Some(before)) => {
+                    mat.clear();
+                    mat.extend_from_slice(before);
+                    remove_swept(mat, sw, near, self.center(col));
+                    mat
+                }
+                _ => &self.cols[col].iv,
+            };
+            let (r0, r1) = radial_range(x0, x1);
+            let mut o_col: f64 = 0.0;
+            for &(lo, hi) in material {
+                o_col = o_col.max(r1.min(hi) - r0.max(lo));
+            }
+            if o_col > eps {
+                best = best.max(o_col);
+                if first.is_none() {
+                    first = Some(col);
+                }
+                last = col;
+            }
+        }
+        Ok(first.map(|f| (best, f, last)))
     }
 
     /// A copy of the stock as `view` sees it (for pictures).
@@ -927,6 +1144,8 @@ impl DexelStock {
             return false;
         }
         let mut changed_any = false;
+        let chains = MonotoneChains::of(pts, self.h);
+        let mut walk = chains.as_ref().map(|c| ChainWalk::new(pts, c));
         for b in j0 / BLOCK..=j1 / BLOCK {
             let Some((rlo, rhi)) = self.slab_range(pts, b) else {
                 continue;
@@ -939,6 +1158,14 @@ impl DexelStock {
             // the first such column to the last.
             let meets = |c: &Column| c.iv.iter().any(|&(lo, hi)| rhi.min(hi) - rlo.max(lo) > 0.0);
             let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
+            if let Some(w) = walk.as_mut() {
+                if self.cut_walking(w, (rlo, rhi), (k0, k1), &mut changed_any).is_ok() {
+                    continue;
+                }
+                // Lost: the general way takes this block again (what was cut stays cut) and
+                // the rest.
+                walk = None;
+            }
             let Some(first) = (k0..=k1).find(|&j| meets(&self.cols[j])) else {
                 continue;
             };
@@ -946,6 +1173,53 @@ impl DexelStock {
             changed_any |= self.cut_columns(pts, first, last);
         }
         changed_any
+    }
+
+    /// [`Self::cut_columns`] of a monotone polygon over columns `k0..=k1` of one block (the
+    /// part's radial range over its slab `rlo..rhi`): each column whose material that range
+    /// meets loses the polygon's span at its centre, the walk's crossings there. The same
+    /// columns lose the same spans as the general way.
+    fn cut_walking(
+        &mut self,
+        walk: &mut ChainWalk,
+        (rlo, rhi): (f64, f64),
+        (k0, k1): (usize, usize),
+        changed_any: &mut bool,
+    ) -> Result<(), Lost> {
+        let mut changed = false;
+        let mut result = Ok(());
+        for col in k0..=k1 {
+            if !self.cols[col]
+                .iv
+                .iter()
+                .any(|&(lo, hi)| rhi.min(hi) - rlo.max(lo) > 0.0)
+            {
+                continue;
+            }
+            let (x0, x1) = match walk.span(self.center(col)) {
+                Ok(Some(span)) => span,
+                Ok(None) => continue,
+                Err(lost) => {
+                    result = Err(lost);
+                    break;
+                }
+            };
+            let (r0, r1) = radial_range(x0, x1);
+            if self.journal.active && self.cols[col].iv.iter().any(|&(lo, hi)| r0 < hi && r1 > lo) {
+                self.save(col);
+            }
+            if subtract(&mut self.cols[col].iv, r0, r1) {
+                changed = true;
+                if self.cols[col].iv.is_empty() {
+                    self.removed_columns += 1;
+                }
+            }
+        }
+        if changed {
+            *changed_any = true;
+            self.refresh_block(k0 / BLOCK);
+        }
+        result
     }
 
     /// Subtract the polygon from columns `j0..=j1`.
@@ -1744,6 +2018,54 @@ mod tests {
             }
         }
         best.max(0.0)
+    }
+
+    /// A polygon from generated points: the convex hull, a polygon monotone in z (the points
+    /// sorted by z, each sent to the left or the right chain), or the points as they come (most
+    /// of them neither). Coordinates on a grid of `grid` mm when `grid > 0`, so that vertices
+    /// share z with each other and with column centres, and edges lie level.
+    fn test_polygon(raw: &[(f64, f64, bool)], kind: u8, grid: f64) -> Vec<P2> {
+        let snap = |v: f64| if grid > 0.0 { (v / grid).round() * grid } else { v };
+        let pts: Vec<P2> = raw.iter().map(|&(x, z, _)| p2(snap(x), snap(z))).collect();
+        match kind % 3 {
+            0 => crate::tooling::outline::hull(&pts),
+            1 => {
+                let mut by_z: Vec<(P2, bool)> = pts.iter().zip(raw).map(|(&p, r)| (p, r.2)).collect();
+                by_z.sort_by(|a, b| a.0.y.total_cmp(&b.0.y));
+                let mut poly: Vec<P2> = by_z.iter().filter(|q| q.1).map(|q| q.0).collect();
+                poly.extend(by_z.iter().rev().filter(|q| !q.1).map(|q| q.0));
+                poly
+            }
+            _ => pts,
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
+
+        /// The crossings walked along the two chains of a polygon monotone in z are bit for bit
+        /// the crossings found edge by edge (the oracle): the same columns, the same values in
+        /// the same order; and any polygon, monotone or not, gets what the general way gives.
+        #[test]
+        fn the_crossings_of_a_monotone_polygon_are_those_found_edge_by_edge(
+            raw in proptest::collection::vec((-30.0f64..30.0, -20.0f64..20.0, proptest::bool::ANY), 3..12),
+            kind in 0u8..3,
+            grid in proptest::sample::select(vec![0.0, 0.5, 0.05, 0.005]),
+            h in proptest::sample::select(vec![0.01, 0.05, 0.1, 1.0]),
+            (a, b) in (0usize..5000, 0usize..5000),
+        ) {
+            let mut s = DexelStock::new(50.0, 0.0, 40.0, 20.0, h);
+            let last = s.cols.len() - 1;
+            let (j0, j1) = (a.min(b).min(last), a.max(b).min(last));
+            let poly = test_polygon(&raw, kind, grid);
+            proptest::prop_assume!(poly.len() >= 3);
+            let fast = s.crossings(&poly, j0, j1).map(|r| (r, s.scratch.clone()));
+            let slow = s.crossings_general(&poly, j0, j1).map(|r| (r, s.scratch.clone()));
+            let bits = |v: &Option<((usize, usize), Vec<(u32, f64)>)>| {
+                v.as_ref().map(|(r, x)| (*r, x.iter().map(|&(k, x)| (k, x.to_bits())).collect::<Vec<_>>()))
+            };
+            proptest::prop_assert_eq!(bits(&fast), bits(&slow));
+        }
     }
 
     proptest::proptest! {
