@@ -1435,7 +1435,7 @@ impl Checker<'_> {
             return;
         };
         let mut any = false;
-        for p in swept.polygons() {
+        for p in swept.to_cut() {
             any |= stock.cut(p);
         }
         self.cut_any |= any;
@@ -1545,6 +1545,10 @@ impl Checker<'_> {
             // at the points that lead and trail across the chord. Otherwise (or should the
             // edges' sides not split in two runs), each edge's quad and the end pose.
             if tool.insert_convex && out.push_with(|poly| sweep_convex(insert, a, d, poly)) {
+                // The first chord's sweep holds the pose it starts from, pushed first.
+                if j == 0 {
+                    out.cover_first();
+                }
                 continue;
             }
             let n = insert.len();

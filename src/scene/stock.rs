@@ -247,11 +247,26 @@ pub struct Swept {
     /// The polygons, the first `len` of them live (the rest are spare buffers).
     pool: Vec<(Aabb, Vec<P2>)>,
     len: usize,
+    /// Whether the first polygon lies inside the second (see [`Self::first_covered`]).
+    first_covered: bool,
 }
 
 impl Swept {
     pub fn clear(&mut self) {
         self.len = 0;
+        self.first_covered = false;
+    }
+
+    /// Say that the first polygon (the insert's pose where the move begins) lies inside the
+    /// second, a sweep that starts from the same pose (its vertices there the pose's own):
+    /// cutting the second removes all the first would. Holds until the next [`Self::clear`].
+    pub fn cover_first(&mut self) {
+        self.first_covered = self.len >= 2;
+    }
+
+    /// The polygons a cut needs: all of them but a first one a later one covers.
+    pub fn to_cut(&self) -> impl Iterator<Item = &[P2]> {
+        self.polygons().skip(usize::from(self.first_covered))
     }
 
     pub fn push(&mut self, pts: impl IntoIterator<Item = P2>) {
@@ -295,6 +310,7 @@ impl Swept {
 pub static NO_SWEEP: Swept = Swept {
     pool: Vec::new(),
     len: 0,
+    first_covered: false,
 };
 
 /// Which state of the stock a query sees.
@@ -1135,6 +1151,12 @@ impl DexelStock {
     /// Remove the material inside a polygon (working plane, folded about the axis).
     /// Returns whether anything was removed.
     pub fn cut(&mut self, pts: &[P2]) -> bool {
+        self.cut_by(pts, true)
+    }
+
+    /// [`Self::cut`], walking the chains of a monotone polygon when `walk` (else the crossings
+    /// edge by edge, as the tests compare).
+    fn cut_by(&mut self, pts: &[P2], walk: bool) -> bool {
         let bb = Aabb::of_points(pts);
         let (rlo, rhi) = radial_range(bb.min.x, bb.max.x);
         let Some((j0, j1)) = self.column_range(bb.min.y, bb.max.y) else {
@@ -1144,7 +1166,7 @@ impl DexelStock {
             return false;
         }
         let mut changed_any = false;
-        let chains = MonotoneChains::of(pts, self.h);
+        let chains = MonotoneChains::of(pts, self.h).filter(|_| walk);
         let mut walk = chains.as_ref().map(|c| ChainWalk::new(pts, c));
         for b in j0 / BLOCK..=j1 / BLOCK {
             let Some((rlo, rhi)) = self.slab_range(pts, b) else {
@@ -1159,7 +1181,7 @@ impl DexelStock {
             let meets = |c: &Column| c.iv.iter().any(|&(lo, hi)| rhi.min(hi) - rlo.max(lo) > 0.0);
             let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
             if let Some(w) = walk.as_mut() {
-                if self.cut_walking(w, (rlo, rhi), (k0, k1), &mut changed_any).is_ok() {
+                if self.cut_walking(w, (k0, k1), &mut changed_any).is_ok() {
                     continue;
                 }
                 // Lost: the general way takes this block again (what was cut stays cut) and
@@ -1175,27 +1197,18 @@ impl DexelStock {
         changed_any
     }
 
-    /// [`Self::cut_columns`] of a monotone polygon over columns `k0..=k1` of one block (the
-    /// part's radial range over its slab `rlo..rhi`): each column whose material that range
-    /// meets loses the polygon's span at its centre, the walk's crossings there. The same
+    /// [`Self::cut_columns`] of a monotone polygon over columns `k0..=k1` of one block: each
+    /// column loses the polygon's span at its centre, the walk's crossings there. The same
     /// columns lose the same spans as the general way.
     fn cut_walking(
         &mut self,
         walk: &mut ChainWalk,
-        (rlo, rhi): (f64, f64),
         (k0, k1): (usize, usize),
         changed_any: &mut bool,
     ) -> Result<(), Lost> {
         let mut changed = false;
         let mut result = Ok(());
         for col in k0..=k1 {
-            if !self.cols[col]
-                .iv
-                .iter()
-                .any(|&(lo, hi)| rhi.min(hi) - rlo.max(lo) > 0.0)
-            {
-                continue;
-            }
             let (x0, x1) = match walk.span(self.center(col)) {
                 Ok(Some(span)) => span,
                 Ok(None) => continue,
@@ -1204,8 +1217,13 @@ impl DexelStock {
                     break;
                 }
             };
+            // A column whose material the span does not reach keeps it (as `subtract` finds;
+            // the general way's filter by the slab's radial range holds the span).
             let (r0, r1) = radial_range(x0, x1);
-            if self.journal.active && self.cols[col].iv.iter().any(|&(lo, hi)| r0 < hi && r1 > lo) {
+            if !self.cols[col].iv.iter().any(|&(lo, hi)| r0 < hi && r1 > lo) {
+                continue;
+            }
+            if self.journal.active {
                 self.save(col);
             }
             if subtract(&mut self.cols[col].iv, r0, r1) {
@@ -2138,6 +2156,74 @@ mod tests {
             s.cut(&q);
         }
         s
+    }
+
+    /// Columns and blocks bit for bit.
+    fn same_stock(a: &DexelStock, b: &DexelStock) -> bool {
+        let bits = |s: &DexelStock| {
+            s.cols
+                .iter()
+                .map(|c| {
+                    c.iv.iter()
+                        .map(|&(lo, hi)| (lo.to_bits(), hi.to_bits()))
+                        .collect::<Vec<_>>()
+                })
+                .collect::<Vec<_>>()
+        };
+        bits(a) == bits(b) && a.blk == b.blk && a.removed_columns == b.removed_columns
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(500))]
+
+        /// Cutting by a walk along a monotone polygon's chains (no filter of the columns by the
+        /// slab's radial range) leaves the stock bit for bit as the crossings edge by edge and
+        /// that filter do, polygon after polygon, monotone or not.
+        #[test]
+        fn cutting_by_the_walk_leaves_what_the_general_cut_leaves(
+            polys in proptest::collection::vec(
+                (proptest::collection::vec((-30.0f64..30.0, -20.0f64..20.0, proptest::bool::ANY), 3..10), 0u8..3),
+                1..8,
+            ),
+            grid in proptest::sample::select(vec![0.0, 0.5, 0.05]),
+        ) {
+            let mut walked = DexelStock::new(40.0, 6.0, 40.0, 20.0, 0.05);
+            let mut general = walked.clone();
+            for (raw, kind) in &polys {
+                let poly = test_polygon(raw, *kind, grid);
+                if poly.len() < 3 {
+                    continue;
+                }
+                let a = walked.cut_by(&poly, true);
+                let b = general.cut_by(&poly, false);
+                proptest::prop_assert_eq!(a, b);
+                proptest::prop_assert!(same_stock(&walked, &general));
+            }
+        }
+
+        /// A convex insert's sweep along a chord holds its pose where the chord starts, so the
+        /// cut of a move may leave that pose out (`Swept::cover_first`): the stock is bit for bit
+        /// the same with it as without it.
+        #[test]
+        fn a_convex_sweep_holds_the_pose_it_starts_from(
+            raw in proptest::collection::vec((-8.0f64..8.0, -8.0f64..8.0, proptest::bool::ANY), 3..10),
+            (ax, az) in (-30.0f64..30.0, -15.0f64..15.0),
+            (dx, dz) in (-20.0f64..20.0, -20.0f64..20.0),
+            grid in proptest::sample::select(vec![0.0, 0.05]),
+        ) {
+            let insert = test_polygon(&raw, 0, grid);
+            proptest::prop_assume!(insert.len() >= 3);
+            let a = p2(ax, az);
+            let mut sweep = Vec::new();
+            proptest::prop_assume!(crate::geom::convex::sweep_convex(&insert, a, crate::geom::V2::new(dx, dz), &mut sweep));
+            let pose: Vec<P2> = insert.iter().map(|q| a + q.coords).collect();
+            let mut both = DexelStock::new(40.0, 6.0, 40.0, 20.0, 0.05);
+            let mut sweep_only = both.clone();
+            both.cut(&pose);
+            both.cut(&sweep);
+            sweep_only.cut(&sweep);
+            proptest::prop_assert!(same_stock(&both, &sweep_only));
+        }
     }
 
     proptest::proptest! {
