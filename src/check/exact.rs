@@ -670,28 +670,26 @@ impl Checker<'_> {
         // One query for a clear stretch; two for one in contact (counted whether or not the
         // first one already fails).
         self.stats.pair_tests += if let Proof::Contact { .. } = proof { 2 } else { 1 };
-        if let Proof::Contact { .. } = proof {
-            self.instant = b;
-            let inside = geom::convex::convex_pieces(pose_a.points()).iter().any(|k| {
-                let moved: Vec<P2> = k.iter().map(|q| q + d).collect();
-                let common = geom::convex::clip_convex(k, &moved);
-                common.len() >= 3 && self.stock_overlap(&common, geom::TOUCH_EPS, true).is_some()
-            });
-            if !inside {
-                return false;
-            }
-        }
         let hull = stretch_hull(&pose_a, d);
         self.instant = a;
-        match proof {
-            Proof::Clear => self.stock_overlap(&hull, 0.5 * geom::TOUCH_EPS, true).is_none(),
-            Proof::Contact { cap } => {
-                let deepest = self
-                    .stock_overlap(&hull, geom::TOUCH_EPS, false)
-                    .map_or(0.0, |h| h.depth);
-                deepest <= cap
-            }
+        let cap = match proof {
+            Proof::Clear => return self.stock_overlap(&hull, 0.5 * geom::TOUCH_EPS, true).is_none(),
+            Proof::Contact { cap } => cap,
+        };
+        // The bound first: it is what fails while a contact deepens (its depth the axial
+        // extent, which the hull overstates).
+        let deepest = self
+            .stock_overlap(&hull, geom::TOUCH_EPS, false)
+            .map_or(0.0, |h| h.depth);
+        if deepest > cap {
+            return false;
         }
+        self.instant = b;
+        geom::convex::convex_pieces(pose_a.points()).iter().any(|k| {
+            let moved: Vec<P2> = k.iter().map(|q| q + d).collect();
+            let common = geom::convex::clip_convex(k, &moved);
+            common.len() >= 3 && self.stock_overlap(&common, geom::TOUCH_EPS, true).is_some()
+        })
     }
 
     /// A bound of the depth of every pose of the part against the stock along a stretch

@@ -81,11 +81,19 @@ pub fn sweep_convex(ring: &[P2], a: P2, d: V2, out: &mut Vec<P2>) -> bool {
     if n < 3 {
         return false;
     }
-    let front = |i: usize| {
+    let facing = |i: usize| {
         let (p, q) = (ring[i], ring[(i + 1) % n]);
         // Outward normal of a counter-clockwise edge e: (e.z, -e.x).
         (q.y - p.y) * d.x - (q.x - p.x) * d.y > 0.0
     };
+    // Each edge's side found once (an insert has a few edges; a longer ring asks again).
+    let mut bits = 0u64;
+    if n <= 64 {
+        for i in 0..n {
+            bits |= u64::from(facing(i)) << i;
+        }
+    }
+    let front = |i: usize| if n <= 64 { bits >> i & 1 == 1 } else { facing(i) };
     let changes = (0..n).filter(|&i| front(i) != front((i + 1) % n)).count();
     if changes > 2 {
         return false;

@@ -129,16 +129,17 @@ struct MonotoneChains {
 
 impl MonotoneChains {
     /// The chains of `pts` for columns of width `h`, or `None` (the general crossings take it)
-    /// when it is not monotone in z, has fewer than three vertices or a coordinate that is not
-    /// finite, or lies so far along z that a column's width is below the rounding of its z
-    /// (there `z - h` may equal `z`, and the general way's ranges of columns by edge could
-    /// differ from the polygon's).
+    /// when it is not monotone in z, has fewer than three vertices, lies so far along z that a
+    /// column's width is below the rounding of its z (there `z - h` may equal `z`, and the
+    /// general way's ranges of columns by edge could differ from the polygon's), or so far
+    /// across that a difference of two `x` may overflow (every crossing of a walk is finite, so
+    /// its users may compare where the general way takes `min` and `max`).
     fn of(pts: &[P2], h: f64) -> Option<MonotoneChains> {
         let n = pts.len();
         if n < 3
             || pts
                 .iter()
-                .any(|p| !p.x.is_finite() || !(p.y.abs() < h * (1u64 << 50) as f64))
+                .any(|p| !(p.x.abs() < 1e300) || !(p.y.abs() < h * (1u64 << 50) as f64))
         {
             return None;
         }
@@ -966,9 +967,13 @@ impl DexelStock {
                 _ => &self.cols[col].iv,
             };
             let (r0, r1) = radial_range(x0, x1);
+            // All finite: comparisons give what `max` and `min` do, without their NaN rules.
             let mut o_col: f64 = 0.0;
             for &(lo, hi) in material {
-                o_col = o_col.max(r1.min(hi) - r0.max(lo));
+                let o = if r1 < hi { r1 } else { hi } - if r0 > lo { r0 } else { lo };
+                if o > o_col {
+                    o_col = o;
+                }
             }
             if o_col > eps {
                 best = best.max(o_col);
