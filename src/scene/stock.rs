@@ -127,6 +127,11 @@ struct MonotoneChains {
     zmax: f64,
 }
 
+/// Whether `|v| < bound` (false for NaN).
+fn within(v: f64, bound: f64) -> bool {
+    v.abs() < bound
+}
+
 impl MonotoneChains {
     /// The chains of `pts` for columns of width `h`, or `None` (the general crossings take it)
     /// when it is not monotone in z, has fewer than three vertices, lies so far along z that a
@@ -139,7 +144,7 @@ impl MonotoneChains {
         if n < 3
             || pts
                 .iter()
-                .any(|p| !(p.x.abs() < 1e300) || !(p.y.abs() < h * (1u64 << 50) as f64))
+                .any(|p| !within(p.x, 1e300) || !within(p.y, h * (1u64 << 50) as f64))
         {
             return None;
         }
@@ -2084,7 +2089,8 @@ mod tests {
             proptest::prop_assume!(poly.len() >= 3);
             let fast = s.crossings(&poly, j0, j1).map(|r| (r, s.scratch.clone()));
             let slow = s.crossings_general(&poly, j0, j1).map(|r| (r, s.scratch.clone()));
-            let bits = |v: &Option<((usize, usize), Vec<(u32, f64)>)>| {
+            type Found = Option<((usize, usize), Vec<(u32, f64)>)>;
+            let bits = |v: &Found| {
                 v.as_ref().map(|(r, x)| (*r, x.iter().map(|&(k, x)| (k, x.to_bits())).collect::<Vec<_>>()))
             };
             proptest::prop_assert_eq!(bits(&fast), bits(&slow));
