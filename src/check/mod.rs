@@ -1442,7 +1442,7 @@ impl Checker<'_> {
         if self.record_cuts {
             let index = self.cutting.as_ref().map_or(0, |c| c.index);
             self.cuts
-                .push((index, Removed::Turned(swept.polygons().map(<[_]>::to_vec).collect())));
+                .push((index, Removed::Turned(swept.to_cut().map(<[_]>::to_vec).collect())));
         }
         self.cut_buf = swept;
     }

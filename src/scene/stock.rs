@@ -275,6 +275,12 @@ impl Swept {
         self.polygons().skip(usize::from(self.first_covered))
     }
 
+    /// The indices of the polygons in [`Self::to_cut`]: the stock at an instant takes off
+    /// these, so that at the move's end it is the cut's stock polygon for polygon.
+    fn to_cut_indices(&self) -> std::ops::Range<usize> {
+        usize::from(self.first_covered)..self.len
+    }
+
     pub fn push(&mut self, pts: impl IntoIterator<Item = P2>) {
         if self.len == self.pool.len() {
             self.pool.push((Aabb::empty(), Vec::new()));
@@ -791,7 +797,8 @@ impl DexelStock {
         let mut near = std::mem::take(&mut self.near);
         near.clear();
         if let Some(sw) = swept {
-            for (i, (pb, _)) in sw.live().iter().enumerate() {
+            for i in sw.to_cut_indices() {
+                let pb = &sw.live()[i].0;
                 let (plo, phi) = radial_range(pb.min.x, pb.max.x);
                 if pb.max.y >= bb.min.y && pb.min.y <= bb.max.y && phi > rlo && plo < rhi {
                     near.push(i);
@@ -997,7 +1004,7 @@ impl DexelStock {
         s.journal = Journal::default();
         if let View::Instant(sw) = view {
             if self.journal.active {
-                let all: Vec<usize> = (0..sw.live().len()).collect();
+                let all: Vec<usize> = sw.to_cut_indices().collect();
                 for col in 0..self.cols.len() {
                     if let Some(before) = self.saved(col) {
                         let mut m = before.to_vec();
@@ -1067,7 +1074,8 @@ impl DexelStock {
         let mut near = std::mem::take(&mut self.near);
         near.clear();
         if let Some(sw) = swept {
-            for (i, (pb, _)) in sw.live().iter().enumerate() {
+            for i in sw.to_cut_indices() {
+                let pb = &sw.live()[i].0;
                 let (plo, phi) = radial_range(pb.min.x, pb.max.x);
                 if pb.max.y > bb.min.y - window
                     && pb.min.y < bb.max.y + window
@@ -1325,7 +1333,7 @@ impl DexelStock {
                 let c = self.center(j);
                 let mut near = std::mem::take(&mut self.near);
                 near.clear();
-                near.extend((0..sw.live().len()).filter(|&i| {
+                near.extend(sw.to_cut_indices().filter(|&i| {
                     let bb = &sw.live()[i].0;
                     c >= bb.min.y && c < bb.max.y
                 }));
