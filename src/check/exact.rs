@@ -657,16 +657,9 @@ impl Checker<'_> {
         (a, b): (f64, f64),
         proof: Proof,
     ) -> bool {
-        if o != Obstacle::Stock || !matches!(p, Part::Turret | Part::Holder | Part::Insert) || b <= a {
-            return false;
-        }
-        let Shape::Line { .. } = piece.shape else {
+        let Some((pose_a, d)) = self.stretch_motion(p, o, piece, active, (a, b)) else {
             return false;
         };
-        let Some((Section::Whole(pose_a), _)) = self.pose(p, piece.at(a), active as f64) else {
-            return false;
-        };
-        let d = piece.at(b) - piece.at(a);
         // One query for a clear stretch; two for one in contact (counted whether or not the
         // first one already fails).
         self.stats.pair_tests += if let Proof::Contact { .. } = proof { 2 } else { 1 };
@@ -692,6 +685,29 @@ impl Checker<'_> {
         })
     }
 
+    /// The part's pose at `a` and how it moves to `b` along a stretch of a straight piece, for
+    /// the proofs over a stretch against the stock: the turret, holder and insert only (they
+    /// translate along the piece, whole); `None` for any other pair, piece or stretch.
+    fn stretch_motion(
+        &self,
+        p: Part,
+        o: Obstacle,
+        piece: &Piece,
+        active: u32,
+        (a, b): (f64, f64),
+    ) -> Option<(Polygon, V2)> {
+        if o != Obstacle::Stock || !matches!(p, Part::Turret | Part::Holder | Part::Insert) || b <= a {
+            return None;
+        }
+        let Shape::Line { .. } = piece.shape else {
+            return None;
+        };
+        let Some((Section::Whole(pose_a), _)) = self.pose(p, piece.at(a), active as f64) else {
+            return None;
+        };
+        Some((pose_a, piece.at(b) - piece.at(a)))
+    }
+
     /// A bound of the depth of every pose of the part against the stock along a stretch
     /// `[a, b]` of a straight piece (the turret, holder and insert only): the depth of the hull
     /// of its poses at `a` and `b` against the stock as it is at `a` (see
@@ -704,16 +720,8 @@ impl Checker<'_> {
         active: u32,
         (a, b): (f64, f64),
     ) -> Option<f64> {
-        if o != Obstacle::Stock || !matches!(p, Part::Turret | Part::Holder | Part::Insert) || b <= a {
-            return None;
-        }
-        let Shape::Line { .. } = piece.shape else {
-            return None;
-        };
-        let Some((Section::Whole(pose_a), _)) = self.pose(p, piece.at(a), active as f64) else {
-            return None;
-        };
-        let hull = stretch_hull(&pose_a, piece.at(b) - piece.at(a));
+        let (pose_a, d) = self.stretch_motion(p, o, piece, active, (a, b))?;
+        let hull = stretch_hull(&pose_a, d);
         self.stats.pair_tests += 1;
         self.instant = a;
         Some(

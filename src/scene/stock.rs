@@ -919,15 +919,7 @@ impl DexelStock {
             while k < scratch.len() && scratch[k].0 as usize == col {
                 k += 1;
             }
-            let material: &[(f64, f64)] = match (swept, self.saved(col)) {
-                (Some(sw), Some(before)) => {
-                    mat.clear();
-                    mat.extend_from_slice(before);
-                    remove_swept(mat, sw, near, self.center(col));
-                    mat
-                }
-                _ => &self.cols[col].iv,
-            };
+            let material = self.material_seen(col, swept, near, mat);
             let mut o_col: f64 = 0.0;
             for pair in scratch[i..k].chunks_exact(2) {
                 let (r0, r1) = radial_range(pair[0].1, pair[1].1);
@@ -946,6 +938,27 @@ impl DexelStock {
         }
         self.scratch = scratch;
         first.map(|f| (best, f, last))
+    }
+
+    /// Column `col`'s material as a query sees it: under an instant view (`swept`), a column
+    /// the move changed is its material before the move less the swept polygons `near` (built
+    /// in `mat`); any other is as it is now.
+    fn material_seen<'a>(
+        &'a self,
+        col: usize,
+        swept: Option<&Swept>,
+        near: &[usize],
+        mat: &'a mut Vec<(f64, f64)>,
+    ) -> &'a [(f64, f64)] {
+        match (swept, self.saved(col)) {
+            (Some(sw), Some(before)) => {
+                mat.clear();
+                mat.extend_from_slice(before);
+                remove_swept(mat, sw, near, self.center(col));
+                mat
+            }
+            _ => &self.cols[col].iv,
+        }
     }
 
     /// [`Self::block_overlap`] of a monotone polygon over columns `k0..=k1`: the span at each
@@ -969,15 +982,7 @@ impl DexelStock {
             let Some((x0, x1)) = walk.span(self.center(col))? else {
                 continue;
             };
-            let material: &[(f64, f64)] = match (swept, self.saved(col)) {
-                (Some(sw), Some(before)) => {
-                    mat.clear();
-                    mat.extend_from_slice(before);
-                    remove_swept(mat, sw, near, self.center(col));
-                    mat
-                }
-                _ => &self.cols[col].iv,
-            };
+            let material = self.material_seen(col, swept, near, mat);
             let (r0, r1) = radial_range(x0, x1);
             // All finite: comparisons give what `max` and `min` do, without their NaN rules.
             let mut o_col: f64 = 0.0;
