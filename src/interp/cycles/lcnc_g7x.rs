@@ -37,6 +37,15 @@ fn dist(a: C, b: C) -> f64 {
     (a - b).norm()
 }
 
+/// `dist(a, b) >= m` known without the `hypot`: one coordinate's difference alone reaches `m`
+/// (and neither is NaN). `hypot` is faithfully rounded, so it never returns less than the
+/// larger of its two arguments. `false`: not known this way.
+fn surely_reaches(a: C, b: C, m: f64) -> bool {
+    let d = a - b;
+    let (x, y) = (d.re.abs(), d.im.abs());
+    !x.is_nan() && !y.is_nan() && x.max(y) >= m
+}
+
 impl Piece {
     fn offset(&mut self, d: f64) {
         match self.arc {
@@ -52,6 +61,15 @@ impl Piece {
                 self.e = (self.e - c) * k + c;
             }
         }
+    }
+    /// `self.size() >= m`, mostly without a `hypot` ([`surely_reaches`]); where that does not
+    /// tell, the size itself (NaNs and all).
+    fn size_at_least(&self, m: f64) -> bool {
+        let sure = match self.arc {
+            None => surely_reaches(self.s, self.e, m),
+            Some((c, _)) => surely_reaches(self.s, self.e, m) && surely_reaches(self.s, c, m),
+        };
+        sure || self.size() >= m
     }
     fn size(&self) -> f64 {
         match self.arc {
@@ -145,6 +163,10 @@ impl std::ops::Deref for Levels {
 }
 
 /// Where the passes' output goes, with the point rs274's machine is at.
+/// Room the moves of one cycle are given at once (a typical cycle makes 40–80; the vector
+/// grows past it by doubling).
+const CMDS_AT_ONCE: usize = 128;
+
 struct Out {
     flip: u8,
     at: C,
@@ -227,7 +249,7 @@ impl Path {
         }
     }
     fn drop_tiny(&mut self) {
-        self.v.retain(|p| p.size() >= 1e-3);
+        self.v.retain(|p| p.size_at_least(1e-3));
     }
     fn monotonic(&mut self) -> Result<(), String> {
         let f = &mut self.v[0];
@@ -319,7 +341,7 @@ impl Path {
             for p in &mut v {
                 p.offset(step);
             }
-            v.retain(|p| p.size() >= 1e-3);
+            v.retain(|p| p.size_at_least(1e-3));
             let mut k = 0;
             while k + 1 < v.len() {
                 if (v[k].e - v[k + 1].s).re > 1e-2 {
@@ -359,7 +381,7 @@ impl Path {
                         break;
                     }
                 }
-                if v[k].size() < 1e-3 {
+                if !v[k].size_at_least(1e-3) {
                     v.remove(k);
                     k = 1;
                     continue;
@@ -748,7 +770,7 @@ fn rough_by(
     let mut out = Out {
         flip: path.flip,
         at: path.v[0].s,
-        cmds: Vec::new(),
+        cmds: Vec::with_capacity(cap.min(CMDS_AT_ONCE)),
         cap,
     };
     let mut rough = Rough {
@@ -809,7 +831,7 @@ pub(super) fn finish(
     let mut out = Out {
         flip: this.flip,
         at: this.v[0].s,
-        cmds: Vec::new(),
+        cmds: Vec::with_capacity(cap.min(CMDS_AT_ONCE)),
         cap,
     };
     for pass in (1..=passes).rev() {
@@ -831,6 +853,40 @@ pub(super) fn finish(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    /// Coordinates near the cycle's 1e-3 size limit, far from it, and not numbers at all.
+    fn coord() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            -0.003f64..0.003,
+            -100.0f64..100.0,
+            Just(f64::NAN),
+            Just(f64::INFINITY),
+            Just(0.0),
+            Just(1e-3),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(5000))]
+
+        /// The size test without `hypot` decides as the size itself, NaNs and infinities too.
+        #[test]
+        fn a_piece_is_at_least_a_size_exactly_when_its_size_says_so(
+            s in (coord(), coord()),
+            e in (coord(), coord()),
+            c in proptest::option::of((coord(), coord())),
+            ccw: bool,
+        ) {
+            let p = Piece {
+                s: C::new(s.0, s.1),
+                e: C::new(e.0, e.1),
+                arc: c.map(|c| (C::new(c.0, c.1), ccw)),
+                line: 1,
+            };
+            prop_assert_eq!(p.size_at_least(1e-3), p.size() >= 1e-3, "{:?}", p);
+        }
+    }
 
     fn line(a: (f64, f64), b: (f64, f64)) -> Piece {
         Piece {
