@@ -48,14 +48,20 @@ fn surely_reaches(a: C, b: C, m: f64) -> bool {
 
 impl Piece {
     fn offset(&mut self, d: f64) {
+        let known = self.lengths();
+        self.offset_known(d, known);
+    }
+    /// [`Piece::offset`] with the piece's [`Piece::lengths`] known (found for its size a moment
+    /// before: the same `hypot` of the same points, so the same bits).
+    fn offset_known(&mut self, d: f64, (chord, radius): (f64, f64)) {
         match self.arc {
             None => {
-                let n = J * d * (self.s - self.e) / dist(self.s, self.e);
+                let n = J * d * (self.s - self.e) / chord;
                 self.s += n;
                 self.e += n;
             }
             Some((c, ccw)) => {
-                let r = dist(self.s, c);
+                let r = radius;
                 let k = (r + if ccw { d } else { -d }) / r;
                 self.s = (self.s - c) * k + c;
                 self.e = (self.e - c) * k + c;
@@ -71,11 +77,26 @@ impl Piece {
         };
         sure || self.size() >= m
     }
-    fn size(&self) -> f64 {
+    /// The chord from start to end and, for an arc, the radius at the start (a line: its chord
+    /// again): what [`Piece::size`] and [`Piece::offset`] measure.
+    fn lengths(&self) -> (f64, f64) {
         match self.arc {
-            None => dist(self.s, self.e),
-            Some((c, _)) => dist(self.s, self.e).min(dist(self.s, c)),
+            None => {
+                let chord = dist(self.s, self.e);
+                (chord, chord)
+            }
+            Some((c, _)) => (dist(self.s, self.e), dist(self.s, c)),
         }
+    }
+    /// [`Piece::size`] from its [`Piece::lengths`].
+    fn size_of(&self, (chord, radius): (f64, f64)) -> f64 {
+        match self.arc {
+            None => chord,
+            Some(_) => chord.min(radius),
+        }
+    }
+    fn size(&self) -> f64 {
+        self.size_of(self.lengths())
     }
     fn monotonic(&self) -> bool {
         match self.arc {
@@ -278,7 +299,8 @@ impl Path {
                 (ps + (pe - ps) * f) / rot + n.e
             }
             (Some((c, _)), None) | (None, Some((c, _))) => {
-                if dist(n.s, p.e) < TOL {
+                // (`surely_reaches`: no `hypot` where a coordinate alone is TOL apart.)
+                if !surely_reaches(n.s, p.e, TOL) && dist(n.s, p.e) < TOL {
                     return Ok(());
                 }
                 // The line's carrier against the arc's circle, the meeting nearest n's start.
@@ -325,12 +347,20 @@ impl Path {
         let mut v: Vec<Piece> = self.v[1..].to_vec();
         let mut cur = 0.0;
         let mut rounds = 0u32;
+        let mut lengths: Vec<(f64, f64)> = Vec::with_capacity(v.len() + 8);
         while cur != distance {
             rounds += 1;
             if rounds > 100_000 || v.is_empty() {
                 return Err("the offset of the profile vanishes".into());
             }
-            let mut step = v.iter().map(|p| p.size() / 2.0).fold(1e9, f64::min);
+            // Each piece's lengths once: its size here and its offset below.
+            lengths.clear();
+            lengths.extend(v.iter().map(Piece::lengths));
+            let mut step = v
+                .iter()
+                .zip(&lengths)
+                .map(|(p, &l)| p.size_of(l) / 2.0)
+                .fold(1e9, f64::min);
             step = step.min((distance - cur).abs());
             if distance < 0.0 {
                 step = -step;
@@ -338,8 +368,8 @@ impl Path {
             if !step.is_finite() || step == 0.0 {
                 return Err("the offset of the profile vanishes".into());
             }
-            for p in &mut v {
-                p.offset(step);
+            for (p, &l) in v.iter_mut().zip(&lengths) {
+                p.offset_known(step, l);
             }
             v.retain(|p| p.size_at_least(1e-3));
             let mut k = 0;
