@@ -908,7 +908,9 @@ impl DexelStock {
 
     /// Column `col`'s material as a query sees it: under an instant view (`swept`), a column
     /// the move changed is its material before the move less the swept polygons `near` (built
-    /// in `mat`); any other is as it is now.
+    /// in `mat`); any other is as it is now. Inlined always: it is called once for every column
+    /// a query spans (millions in a long contact), and as a call it cost 5 % more instructions.
+    #[inline(always)]
     fn material_seen<'a>(
         &'a self,
         col: usize,
