@@ -664,17 +664,16 @@ impl Checker<'_> {
         // first one already fails).
         self.stats.pair_tests += if let Proof::Contact { .. } = proof { 2 } else { 1 };
         let hull = stretch_hull(&pose_a, d);
-        self.instant = a;
         let cap = match proof {
-            Proof::Clear => return self.stock_overlap(&hull, 0.5 * geom::TOUCH_EPS, true).is_none(),
+            Proof::Clear => {
+                self.instant = a;
+                return self.stock_overlap(&hull, 0.5 * geom::TOUCH_EPS, true).is_none();
+            }
             Proof::Contact { cap } => cap,
         };
         // The bound first: it is what fails while a contact deepens (its depth the axial
         // extent, which the hull overstates).
-        let deepest = self
-            .stock_overlap(&hull, geom::TOUCH_EPS, false)
-            .map_or(0.0, |h| h.depth);
-        if deepest > cap {
+        if self.hull_depth(&hull, a) > cap {
             return false;
         }
         self.instant = b;
@@ -723,11 +722,16 @@ impl Checker<'_> {
         let (pose_a, d) = self.stretch_motion(p, o, piece, active, (a, b))?;
         let hull = stretch_hull(&pose_a, d);
         self.stats.pair_tests += 1;
+        Some(self.hull_depth(&hull, a))
+    }
+
+    /// The depth of the hull of a stretch's poses against the stock as it is at `a` (the most
+    /// material of the stretch): the bound of [`Self::stretch_depth_bound`] and of a stretch
+    /// proven in contact. 0 when it does not touch.
+    fn hull_depth(&mut self, hull: &[P2], a: f64) -> f64 {
         self.instant = a;
-        Some(
-            self.stock_overlap(&hull, geom::TOUCH_EPS, false)
-                .map_or(0.0, |h| h.depth),
-        )
+        self.stock_overlap(hull, geom::TOUCH_EPS, false)
+            .map_or(0.0, |h| h.depth)
     }
 
     /// How far (mm along the piece, at most `want`, at least the tolerance) a part in contact at

@@ -48,20 +48,24 @@ fn surely_reaches(a: C, b: C, m: f64) -> bool {
 
 impl Piece {
     fn offset(&mut self, d: f64) {
-        let known = self.lengths();
-        self.offset_known(d, known);
+        let by = match self.arc {
+            None => dist(self.s, self.e),
+            Some((c, _)) => dist(self.s, c),
+        };
+        self.offset_by(d, by);
     }
-    /// [`Piece::offset`] with the piece's [`Piece::lengths`] known (found for its size a moment
-    /// before: the same `hypot` of the same points, so the same bits).
-    fn offset_known(&mut self, d: f64, (chord, radius): (f64, f64)) {
+    /// [`Piece::offset`] with the length it divides by known: a line's chord, an arc's radius
+    /// at its start (the second of [`Piece::lengths`], found for its size a moment before: the
+    /// same `hypot` of the same points, so the same bits).
+    fn offset_by(&mut self, d: f64, by: f64) {
         match self.arc {
             None => {
-                let n = J * d * (self.s - self.e) / chord;
+                let n = J * d * (self.s - self.e) / by;
                 self.s += n;
                 self.e += n;
             }
             Some((c, ccw)) => {
-                let r = radius;
+                let r = by;
                 let k = (r + if ccw { d } else { -d }) / r;
                 self.s = (self.s - c) * k + c;
                 self.e = (self.e - c) * k + c;
@@ -77,8 +81,8 @@ impl Piece {
         };
         sure || self.size() >= m
     }
-    /// The chord from start to end and, for an arc, the radius at the start (a line: its chord
-    /// again): what [`Piece::size`] and [`Piece::offset`] measure.
+    /// The chord from start to end and the length an offset divides by (an arc's radius at its
+    /// start, a line's chord again): what [`Piece::size`] and [`Piece::offset`] measure.
     fn lengths(&self) -> (f64, f64) {
         match self.arc {
             None => {
@@ -369,7 +373,7 @@ impl Path {
                 return Err("the offset of the profile vanishes".into());
             }
             for (p, &l) in v.iter_mut().zip(&lengths) {
-                p.offset_known(step, l);
+                p.offset_by(step, l.1);
             }
             v.retain(|p| p.size_at_least(1e-3));
             let mut k = 0;
