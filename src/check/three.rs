@@ -698,9 +698,10 @@ impl Checker<'_> {
         }
     }
 
-    /// [`Checker::probe3`] for a later sample of contact `key`: the stock (with a milled grid) is
-    /// asked how deep only beyond the contact's deepest so far (`mill::Ask::DeepestBeyond`), as
-    /// a depth no deeper leaves the contact's deepest as it is.
+    /// [`Checker::probe3`] for a later sample of contact `key`: the stock (with a milled grid) or
+    /// the other part is asked how deep only beyond the contact's deepest so far
+    /// (`mill::Ask::DeepestBeyond`, `collide3::overlap_beyond`), as a depth no deeper leaves the
+    /// contact's deepest as it is.
     fn probe3_sample(
         &mut self,
         three: &Three,
@@ -713,8 +714,8 @@ impl Checker<'_> {
         self.probe3(three, f, a, b, u, floor)
     }
 
-    /// Overlap of pair (a, b) at fraction `u` (b may be the stock); with `floor`, the stock is
-    /// asked how deep only beyond it (`mill::Ask::DeepestBeyond`).
+    /// Overlap of pair (a, b) at fraction `u` (b may be the stock); with `floor`, asked how deep
+    /// only beyond it (the stock: `mill::Ask::DeepestBeyond`; a pair: `collide3::overlap_beyond`).
     fn probe3(
         &mut self,
         three: &Three,
@@ -738,7 +739,11 @@ impl Checker<'_> {
             let ask = floor.map_or(mill::Ask::Deepest, mill::Ask::DeepestBeyond);
             mill::stock_hit(self.mill.as_ref(), stock, &three.posed(a, sa, &poser), ask)
         } else {
-            collide3::overlap(sa, poser.world(a), three.shapes[b].as_ref()?, poser.world(b), TOUCH_EPS)
+            let (pa, sb, pb) = (poser.world(a), three.shapes[b].as_ref()?, poser.world(b));
+            match floor {
+                Some(floor) => collide3::overlap_beyond(sa, pa, sb, pb, TOUCH_EPS, floor),
+                None => collide3::overlap(sa, pa, sb, pb, TOUCH_EPS),
+            }
         }
     }
 

@@ -72,6 +72,11 @@ thread_local! {
     static TABLE: RefCell<HashMap<Key, Answer>> = RefCell::new(HashMap::new());
 }
 
+/// The answer held for `key`, if any.
+pub(super) fn held(key: &Key) -> Option<Answer> {
+    TABLE.with(|t| t.borrow().get(key).copied())
+}
+
 /// The answer to `key`: the one held when it was asked before (and not since emptied), else
 /// `compute()`'s, then held.
 pub(super) fn answer(key: Key, compute: impl FnOnce() -> Answer) -> Answer {

@@ -12,13 +12,16 @@
 //! triangle and a primitive): a local depth and a lower bound of the solids' penetration depth
 //! (separating the solids separates every pair of their parts; two boxes crossing by 0.5 mm may
 //! report 0.2, the deepest triangle pair); for containment, a lower bound: the distance from the
-//! contained component's test point to the container's surface. `distance` is parry's exact
-//! closest distance between the two boundaries (BVH branch and bound, GJK to about 1e-9 mm), and 0
-//! when the solids overlap by any amount (crossing or containment).
+//! contained component's test point to the container's surface. `distance` is parry's closest
+//! distance between the two boundaries (branch and bound, GJK to about 1e-9 mm) below 10 mm and a
+//! lower bound at least 31/32 of it beyond (`distance_bound`: that bound at any distance), and 0
+//! when the solids overlap by any amount (crossing or containment). Two meshes are answered by
+//! one walk of both their trees (`pairs.rs`), measuring the pairs of triangles as parry does.
 
 mod grid;
 mod memo;
 mod motion;
+mod pairs;
 mod stock;
 mod tess;
 #[cfg(test)]
@@ -85,6 +88,8 @@ pub struct MeshShape {
     mesh: TriMesh,
     /// One vertex per connected component (containment tests).
     reps: Vec<Vector>,
+    /// The tree of the pair walks (`pairs`), built on the first.
+    tree: pairs::LazyTree,
 }
 
 /// The collision shape of one component.
@@ -193,6 +198,7 @@ impl Shape3 {
             id: memo::next_id(),
             mesh,
             reps,
+            tree: pairs::LazyTree::default(),
         })))
     }
 
@@ -411,14 +417,55 @@ pub fn overlap_touch(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> (O
     }
 }
 
+/// Whether [`overlap`] finds an overlap deeper than `eps`: its answer when held (`memo`), else
+/// decided with the least measuring (`pairs::Ask::Over`): the same answer.
+pub fn overlaps(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> bool {
+    let key = memo::Key::new(memo::Query::OverlapTouch, (a.id(), pa), (b.id(), pb), eps);
+    if let Some(memo::Answer::OverlapTouch(hit, _)) = memo::held(&key) {
+        return hit.is_some();
+    }
+    let ask = pairs::Ask::Over {
+        eps,
+        floor: f64::INFINITY,
+    };
+    overlap_asked(a, &to_pose(pa), b, &to_pose(pb), eps, ask).0.is_some()
+}
+
+/// [`overlap_touch`] without the depth and point of the hit: whether it finds an overlap deeper
+/// than `eps`, and whether it finds the parts touching (its answer when held, `memo`).
+pub fn touches(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> (bool, bool) {
+    let key = memo::Key::new(memo::Query::OverlapTouch, (a.id(), pa), (b.id(), pb), eps);
+    if let Some(memo::Answer::OverlapTouch(hit, touch)) = memo::held(&key) {
+        return (hit.is_some(), touch);
+    }
+    let (hit, touch) = overlap_asked(a, &to_pose(pa), b, &to_pose(pb), eps, pairs::Ask::Touch { eps });
+    (hit.is_some(), touch)
+}
+
+/// [`overlap`] where only a depth beyond `floor` counts: `None` exactly when [`overlap`] is;
+/// else [`overlap`]'s hit when its depth is beyond `floor`, and when not, a hit no deeper than
+/// `floor` (a contact's later depth samples, which keep the deepest).
+pub fn overlap_beyond(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64, floor: f64) -> Option<Hit> {
+    let key = memo::Key::new(memo::Query::OverlapTouch, (a.id(), pa), (b.id(), pb), eps);
+    if let Some(memo::Answer::OverlapTouch(hit, _)) = memo::held(&key) {
+        return hit;
+    }
+    overlap_asked(a, &to_pose(pa), b, &to_pose(pb), eps, pairs::Ask::Over { eps, floor }).0
+}
+
 /// [`overlap_touch`] computed (not taken from the answers held, `memo`).
 fn overlap_touch_computed(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> (Option<Hit>, bool) {
-    let (pa, pb) = (to_pose(pa), to_pose(pb));
+    overlap_asked(a, &to_pose(pa), b, &to_pose(pb), eps, pairs::Ask::Deepest)
+}
+
+/// The overlap of two shapes by their kinds, measured as `ask` needs (`pairs::Ask`; the
+/// touching flag with `Deepest` and `Touch`).
+fn overlap_asked(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64, ask: pairs::Ask) -> (Option<Hit>, bool) {
     match (a, b) {
-        (Shape3::Mesh(_), Shape3::Mesh(_)) => mesh_mesh(a, &pa, b, &pb, eps),
-        (Shape3::Mesh(_), Shape3::Convex(_)) => mesh_convex(a, &pa, b, &pb, eps),
-        (Shape3::Convex(_), Shape3::Mesh(_)) => mesh_convex(b, &pb, a, &pa, eps),
-        (Shape3::Convex(_), Shape3::Convex(_)) => convex_convex(a, &pa, b, &pb, eps),
+        (Shape3::Mesh(_), Shape3::Mesh(_)) => mesh_mesh(a, pa, b, pb, eps, ask),
+        (Shape3::Mesh(_), Shape3::Convex(_)) => mesh_convex(a, pa, b, pb, eps),
+        (Shape3::Convex(_), Shape3::Mesh(_)) => mesh_convex(b, pb, a, pa, eps),
+        (Shape3::Convex(_), Shape3::Convex(_)) => convex_convex(a, pa, b, pb, eps),
     }
 }
 
@@ -427,7 +474,7 @@ fn overlap_touch_computed(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) 
 /// enough it keeps the one its traversal meets best, which need not be the same pair the other
 /// way round): the pair is taken in one order, by the poses' positions, so that a query and its
 /// mirror give the same depth.
-fn mesh_mesh(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64) -> (Option<Hit>, bool) {
+fn mesh_mesh(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64, ask: pairs::Ask) -> (Option<Hit>, bool) {
     let key = |p: &Pose| [p.translation.x, p.translation.y, p.translation.z];
     let (ka, kb) = (key(pa), key(pb));
     let later = ka
@@ -437,9 +484,9 @@ fn mesh_mesh(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64) -> (Option<
         .find(|o| o.is_ne())
         .is_some_and(|o| o.is_gt());
     if later {
-        return mesh_mesh(b, pb, a, pa, eps);
+        return mesh_mesh(b, pb, a, pa, eps, ask);
     }
-    let (hit, touch) = crossing(a, pa, b, pb, eps);
+    let (hit, touch) = crossing(a, pa, b, pb, eps, ask);
     let hit = hit
         .or_else(|| contained(a, pa, b, pb, eps))
         .or_else(|| contained(b, pb, a, pa, eps));
@@ -448,7 +495,7 @@ fn mesh_mesh(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64) -> (Option<
 
 /// A mesh and a convex primitive: crossing (triangles against the primitive), then containment.
 fn mesh_convex(m: &Shape3, pm: &Pose, c: &Shape3, pc: &Pose, eps: f64) -> (Option<Hit>, bool) {
-    let (hit, touch) = crossing(m, pm, c, pc, eps);
+    let (hit, touch) = crossing(m, pm, c, pc, eps, pairs::Ask::Deepest);
     let hit = hit
         .or_else(|| contained(m, pm, c, pc, eps))
         .or_else(|| contained(c, pc, m, pm, eps));
@@ -457,15 +504,21 @@ fn mesh_convex(m: &Shape3, pm: &Pose, c: &Shape3, pc: &Pose, eps: f64) -> (Optio
 
 /// Two convex primitives: GJK/EPA sees the solids, containment included.
 fn convex_convex(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64) -> (Option<Hit>, bool) {
-    crossing(a, pa, b, pb, eps)
+    crossing(a, pa, b, pb, eps, pairs::Ask::Deepest)
 }
 
 /// parry's deepest contact between the two shapes' parts, when deeper than `eps`; and whether
-/// parry found the parts touching or crossing at all (a contact at distance ≤ 0).
-fn crossing(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64) -> (Option<Hit>, bool) {
-    let (sa, qa) = a.parts(pa);
-    let (sb, qb) = b.parts(pb);
-    let Some(c) = query::contact(&qa, sa, &qb, sb, 0.0).ok().flatten() else {
+/// parry found the parts touching or crossing at all (a contact at distance ≤ 0). Two meshes
+/// are measured as `ask` needs (`pairs`); other pairs by parry's own query.
+fn crossing(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64, ask: pairs::Ask) -> (Option<Hit>, bool) {
+    let contact = if let (Shape3::Mesh(ma), Shape3::Mesh(mb)) = (a, b) {
+        pairs::mesh_contact(&ma.mesh, &mb.mesh, pa, pb, ask)
+    } else {
+        let (sa, qa) = a.parts(pa);
+        let (sb, qb) = b.parts(pb);
+        query::contact(&qa, sa, &qb, sb, 0.0).ok().flatten()
+    };
+    let Some(c) = contact else {
         return (None, false);
     };
     let depth = -c.dist;
@@ -571,23 +624,47 @@ pub fn swept_clear(a: &Shape3, (pa0, pa1): (&Iso, &Iso), b: &Shape3, (pb0, pb1):
 }
 
 /// Distance between the two solids (0 when they overlap, containment included), mm: parry's
-/// closest distance between their boundaries. A lower bound for skips to within GJK's accuracy.
+/// closest distance between their boundaries, exact below [`EXACT_BELOW`] (the near-miss
+/// clearances), beyond it a lower bound at least `1 − 1/32` of it (`pairs::SLACK`). A lower
+/// bound for skips to within GJK's accuracy.
 pub fn distance(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso) -> f64 {
-    let key = memo::Key::new(memo::Query::Distance, (a.id(), pa), (b.id(), pb), 0.0);
-    match memo::answer(key, || memo::Answer::Distance(distance_computed(a, pa, b, pb))) {
+    distance_asked(a, pa, b, pb, EXACT_BELOW)
+}
+
+/// A lower bound of [`distance`], at least `1 − 1/32` of it at any distance (`pairs::SLACK`):
+/// what conservative advancement needs.
+pub fn distance_bound(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso) -> f64 {
+    distance_asked(a, pa, b, pb, 0.0)
+}
+
+/// Distances below this are measured exactly by [`distance`] (the near-miss clearance is at
+/// most 10 mm).
+pub const EXACT_BELOW: f64 = 10.0;
+
+fn distance_asked(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, exact_below: f64) -> f64 {
+    let key = memo::Key::new(memo::Query::Distance, (a.id(), pa), (b.id(), pb), exact_below);
+    match memo::answer(key, || {
+        memo::Answer::Distance(distance_computed(a, pa, b, pb, exact_below))
+    }) {
         memo::Answer::Distance(d) => d,
         memo::Answer::OverlapTouch(..) => unreachable!("a distance question keyed as an overlap"),
     }
 }
 
-/// [`distance`] computed (not taken from the answers held, `memo`).
-fn distance_computed(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso) -> f64 {
+/// [`distance_asked`] computed (not taken from the answers held, `memo`).
+fn distance_computed(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, exact_below: f64) -> f64 {
     let (pa, pb) = (to_pose(pa), to_pose(pb));
-    let (sa, qa) = a.parts(&pa);
-    let (sb, qb) = b.parts(&pb);
-    let d = match query::distance(&qa, sa, &qb, sb) {
-        Ok(d) => d.distance,
-        Err(_) => return 0.0,
+    let d = if let (Shape3::Mesh(ma), Shape3::Mesh(mb)) = (a, b) {
+        // parry's answer, by one walk of both trees (`pairs`).
+        let (ta, tb) = (ma.tree.get(&ma.mesh), mb.tree.get(&mb.mesh));
+        pairs::mesh_distance((&ma.mesh, ta), (&mb.mesh, tb), &pa.inv_mul(&pb), exact_below)
+    } else {
+        let (sa, qa) = a.parts(&pa);
+        let (sb, qb) = b.parts(&pb);
+        match query::distance(&qa, sa, &qb, sb) {
+            Ok(d) => d.distance,
+            Err(_) => return 0.0,
+        }
     };
     if d > 0.0 {
         // Separate boundaries: the solids are apart unless one holds the other.

@@ -21,7 +21,8 @@
 //! ancestor (the same integral, stopped there).
 //!
 //! **Conservative advancement** ([`first_contact`]). At `u` the pair is apart by the proven
-//! distance `d` (parry's boundary distance; 0 when overlapping); their relative motion over the
+//! distance `d` (a lower bound of the boundaries' distance, `distance_bound`; 0 when
+//! overlapping); their relative motion over the
 //! next `δ` is at most `ρ · δ`, `ρ` the pair's rate ([`pair_bound`]), so no overlap can start
 //! before `d / ρ`: the step is `max(d, m) / ρ`, `m` the caller's minimum step (at least
 //! [`MIN_STEP_MM`]). A step longer than the proven gap moves any point at most `m` further than
@@ -33,13 +34,16 @@
 
 use nalgebra::{Point3, Vector3};
 
-use super::{box_gap, distance, overlap_touch, Hit, Shape3, Sphere};
+use super::{box_gap, distance_bound, overlap, overlaps, touches, Hit, Shape3, Sphere};
 use crate::kin::{AxisKind, CompId, Geometry, Kinematics, Poser};
 
 /// Most probes (overlap or distance tests) on one pair along one move.
 pub const MAX_PROBES: u64 = 100_000;
 /// The smallest advancement step, mm of relative motion.
 pub const MIN_STEP_MM: f64 = 1e-6;
+/// Parts whose measured distance exceeds this (mm) neither touch nor cross: parry's contact
+/// and distance of the same triangles agree far closer than this.
+const APART: f64 = 1e-6;
 /// Bisection of a contact boundary stops at this width in the path parameter.
 const BISECT_U: f64 = 1e-9;
 /// The shortest step (a share of the move's path parameter) the posed boxes' gap is taken for
@@ -384,27 +388,51 @@ fn advance(
     if floor.is_nan() {
         floor = f64::INFINITY;
     }
-    // A probe at `u`: the overlap (`None` when apart), and with `dist` a lower bound of the
-    // gap. The posed boxes' gap (`box_gap`) is that bound at no query's cost when it is at least
-    // `floor` (a step worth taking); else parry's distance — 0 without a query when the overlap
-    // test found the parts touching or crossing.
-    let mut probe = |u: f64, dist: bool, floor: f64, poser: &mut Poser| {
+    // A probe at `u`: whether the parts overlap, and with `dist` a lower bound of the gap. The
+    // posed boxes' gap (`box_gap`) is that bound at no query's cost when it is at least `floor`
+    // (a step worth taking); else, when the last probe found the parts apart, the distance,
+    // which when they are still measured [`APART`] answers the overlap too (none); else the
+    // overlap test (`touches`: whether only), and the distance 0 without a query when it found
+    // the parts touching or crossing. (Measured first on touching parts, the distance is the
+    // dearer.)
+    let mut apart = false;
+    let mut probe = |u: f64, floor: f64, poser: &mut Poser| {
         path.at(u, &mut vals);
         poser.pose(k, &vals);
         let (pa, pb) = (*poser.world(a.0), *poser.world(b.0));
-        if dist {
-            let g = box_gap(a.1, &pa, b.1, &pb);
-            if g > 0.0 && g >= floor {
-                return (None, g);
+        let g = box_gap(a.1, &pa, b.1, &pb);
+        if g > 0.0 && g >= floor {
+            return (false, g);
+        }
+        if apart {
+            let d = distance_bound(a.1, &pa, b.1, &pb);
+            if d > APART {
+                return (false, d);
             }
         }
-        let (hit, touch) = overlap_touch(a.1, &pa, b.1, &pb, eps);
-        let d = if dist && hit.is_none() && !touch {
-            distance(a.1, &pa, b.1, &pb)
-        } else {
+        let (hit, touch) = touches(a.1, &pa, b.1, &pb, eps);
+        let d = if hit || touch {
             0.0
+        } else {
+            distance_bound(a.1, &pa, b.1, &pb)
         };
+        apart = d > APART;
         (hit, d)
+    };
+    // The overlap at `u`: whether only, or the hit.
+    let mut at_vals = Vec::with_capacity(k.axes.len());
+    let mut overlap_at = |u: f64, hit: bool, poser: &mut Poser| {
+        path.at(u, &mut at_vals);
+        poser.pose(k, &at_vals);
+        let (pa, pb) = (poser.world(a.0), poser.world(b.0));
+        if hit {
+            overlap(a.1, pa, b.1, pb, eps)
+        } else {
+            overlaps(a.1, pa, b.1, pb, eps).then_some(Hit {
+                depth: 0.0,
+                point: Point3::origin(),
+            })
+        }
     };
     let mut u = 0.0f64;
     let mut prev = 0.0f64;
@@ -415,14 +443,12 @@ fn advance(
             return (Advance::Unchecked { u }, probes);
         }
         // The move's end measures the gap the next move may carry.
-        let (hit, d) = probe(u, true, if u >= 1.0 { f64::INFINITY } else { floor }, &mut poser);
-        if let Some(h) = hit {
-            if u == 0.0 {
-                return (Advance::Contact { u, hit: h }, probes);
-            }
-            // Bisect the boundary between the last clear probe and this one.
-            let (mut lo, mut hi, mut best) = (prev, u, h);
-            while hi - lo > BISECT_U {
+        let (hit, d) = probe(u, if u >= 1.0 { f64::INFINITY } else { floor }, &mut poser);
+        if hit {
+            // Bisect the boundary between the last clear probe and this one, asking whether
+            // only; then the hit at the boundary found.
+            let (mut lo, mut hi) = (prev, u);
+            while u > 0.0 && hi - lo > BISECT_U {
                 probes += 1;
                 if probes > MAX_PROBES {
                     return (Advance::Unchecked { u: lo }, probes);
@@ -431,11 +457,15 @@ fn advance(
                 if mid <= lo || mid >= hi {
                     break;
                 }
-                match probe(mid, false, f64::INFINITY, &mut poser).0 {
-                    Some(h) => (hi, best) = (mid, h),
-                    None => lo = mid,
+                if overlap_at(mid, false, &mut poser).is_some() {
+                    hi = mid;
+                } else {
+                    lo = mid;
                 }
             }
+            let Some(best) = overlap_at(hi, true, &mut poser) else {
+                return (Advance::Unchecked { u: hi }, probes);
+            };
             return (Advance::Contact { u: hi, hit: best }, probes);
         }
         if u >= 1.0 {

@@ -189,6 +189,124 @@ proptest! {
     }
 }
 
+// ---- the pair walks (`pairs`) against parry's own queries ----
+
+/// The mesh shapes of the pair walks' oracle tests: a sphere, a box, two revolved outlines
+/// (a ring and a stepped cone: fans of long slivers on their faces), scaled.
+fn pair_mesh(kind: usize, scale: f64) -> Shape3 {
+    let g = match kind {
+        0 => sphere_mesh(1.5 * scale, 8),
+        1 => return box_mesh(scale, 0.5 * scale, 2.0 * scale),
+        k => Geometry::Revolved(
+            outlines()[k - 2]
+                .iter()
+                .map(|p| P2::new(p.x * scale / 10.0, p.y * scale / 10.0))
+                .collect(),
+        ),
+    };
+    Shape3::meshed(&g, 0.01 * scale).unwrap()
+}
+
+fn trimesh(s: &Shape3) -> (&TriMesh, &pairs::Tree) {
+    let Shape3::Mesh(m) = s else { panic!("not a mesh") };
+    (&m.mesh, m.tree.get(&m.mesh))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(192))]
+
+    /// The walk of both trees gives parry's distance of two meshes (exact with no slack), and
+    /// with the slack a lower bound no more than the slack short of it.
+    #[test]
+    fn the_pair_walks_distance_is_parrys(
+        ka in 0usize..4, kb in 0usize..4, scale in 0.5f64..20.0, far in 0.0f64..40.0,
+        x in -1.0f64..1.0, y in -1.0f64..1.0, z in -1.0f64..1.0,
+        ax in -3.0f64..3.0, ay in -3.0f64..3.0, az in -3.0f64..3.0
+    ) {
+        let (a, b) = (pair_mesh(ka, scale), pair_mesh(kb, 1.0));
+        let (pa, pb) = (rot(1.0, -2.0, 0.5, 0.3, 0.0, 1.1), rot(x * far, y * far, z * far, ax, ay, az));
+        let (qa, qb) = (to_pose(&pa), to_pose(&pb));
+        let (ma, mb) = (trimesh(&a), trimesh(&b));
+        let parry = query::distance(&qa, ma.0, &qb, mb.0).unwrap().distance;
+        let exact = pairs::mesh_distance(ma, mb, &qa.inv_mul(&qb), f64::INFINITY);
+        prop_assert!((exact - parry).abs() <= 1e-9 * (1.0 + parry), "walk {exact}, parry {parry}");
+        let bound = pairs::mesh_distance(ma, mb, &qa.inv_mul(&qb), 0.0);
+        prop_assert!(bound <= exact + 1e-12 && bound >= (1.0 - pairs::SLACK) * exact - 1e-9, "bound {bound}, exact {exact}");
+        let d = distance(&a, &pa, &b, &pb);
+        if d < EXACT_BELOW || exact < EXACT_BELOW {
+            prop_assert!((d - exact).abs() <= 1e-9 * (1.0 + exact) || (d == 0.0 && overlap(&a, &pa, &b, &pb, -1.0).is_some()));
+        }
+    }
+
+    /// The walk's deepest contact of two meshes is parry's: the same distance and points; the
+    /// lighter questions (`Ask::Over`, `Ask::Touch`) answer what the deepest says, and the
+    /// public queries built on them (`overlaps`, `touches`, `overlap_beyond`) what
+    /// `overlap_touch` says.
+    #[test]
+    fn the_pair_walks_contact_is_parrys(
+        ka in 0usize..4, kb in 0usize..4, scale in 0.5f64..3.0, spread in 0.0f64..3.0,
+        x in -1.0f64..1.0, y in -1.0f64..1.0, z in -1.0f64..1.0,
+        ax in -3.0f64..3.0, ay in -3.0f64..3.0, az in -3.0f64..3.0,
+        eps in 0.0f64..0.5, floor in 0.0f64..1.0
+    ) {
+        let (a, b) = (pair_mesh(ka, scale), pair_mesh(kb, 1.0));
+        let (pa, pb) = (rot(0.2, 0.1, -0.3, 0.0, 0.4, 0.0), rot(x * spread, y * spread, z * spread, ax, ay, az));
+        let (qa, qb) = (to_pose(&pa), to_pose(&pb));
+        let (ma, mb) = (trimesh(&a), trimesh(&b));
+        let parry = query::contact(&qa, ma.0, &qb, mb.0, 0.0).unwrap();
+        let walk = pairs::mesh_contact(ma.0, mb.0, &qa, &qb, pairs::Ask::Deepest);
+        prop_assert_eq!(parry.map(|c| (c.dist, c.point1, c.point2)), walk.map(|c| (c.dist, c.point1, c.point2)));
+        let deepest = parry.map_or(f64::NEG_INFINITY, |c| -c.dist);
+        let over = pairs::mesh_contact(ma.0, mb.0, &qa, &qb, pairs::Ask::Over { eps, floor });
+        let over_depth = over.map_or(f64::NEG_INFINITY, |c| -c.dist);
+        prop_assert_eq!(over_depth > eps, deepest > eps);
+        if deepest > floor.max(eps) {
+            prop_assert_eq!(over_depth, deepest);
+        }
+        let touch = pairs::mesh_contact(ma.0, mb.0, &qa, &qb, pairs::Ask::Touch { eps });
+        prop_assert_eq!(touch.is_some(), parry.is_some());
+        prop_assert_eq!(touch.is_some_and(|c| -c.dist > eps), deepest > eps);
+        // The public queries, asked before the full one is held.
+        let eps = eps + 1e-6;
+        let (whether, touching) = touches(&a, &pa, &b, &pb, eps);
+        let any = overlaps(&a, &pa, &b, &pb, eps);
+        let beyond = overlap_beyond(&a, &pa, &b, &pb, eps, floor);
+        let (hit, full_touch) = overlap_touch(&a, &pa, &b, &pb, eps);
+        prop_assert_eq!((whether, touching), (hit.is_some(), full_touch));
+        prop_assert_eq!(any, hit.is_some());
+        prop_assert_eq!(beyond.is_some(), hit.is_some());
+        if let (Some(h), Some(g)) = (hit, beyond) {
+            if h.depth > floor {
+                prop_assert_eq!(g.depth, h.depth);
+            } else {
+                prop_assert!(g.depth <= floor + 1e-6);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_far_pair_is_measured_to_within_the_slack_and_a_near_one_exactly() {
+    let (a, b) = (pair_mesh(3, 10.0), pair_mesh(2, 10.0));
+    for (gap, exact) in [(5.0, true), (300.0, false)] {
+        let (pa, pb) = (at(0.0, 0.0, 0.0), rot(0.0, 0.0, 40.0 + gap, 0.2, 0.0, 0.0));
+        let (qa, qb) = (to_pose(&pa), to_pose(&pb));
+        let parry = query::distance(&qa, trimesh(&a).0, &qb, trimesh(&b).0)
+            .unwrap()
+            .distance;
+        let d = distance(&a, &pa, &b, &pb);
+        let bound = distance_bound(&a, &pa, &b, &pb);
+        if exact {
+            assert!((d - parry).abs() < 1e-9, "{d} {parry}");
+        }
+        assert!(d <= parry + 1e-9 && d >= (1.0 - pairs::SLACK) * parry, "{d} {parry}");
+        assert!(
+            bound <= parry + 1e-9 && bound >= (1.0 - pairs::SLACK) * parry,
+            "{bound} {parry}"
+        );
+    }
+}
+
 // ---- the stock ----
 
 /// Brute force: the deepest radial depth into the material (`material_at`) of a section point of
@@ -770,7 +888,7 @@ fn a_held_answer_is_the_answer_computed_for_the_same_question_only() {
                         answers.push(bits(held));
                     }
                     let d = distance(a, &pa, b, p);
-                    assert_eq!(d.to_bits(), distance_computed(a, &pa, b, p).to_bits());
+                    assert_eq!(d.to_bits(), distance_computed(a, &pa, b, p, EXACT_BELOW).to_bits());
                 }
             }
         }
