@@ -82,7 +82,7 @@ pub(crate) fn scan(
             if d > 0.0 {
                 (d, false)
             } else {
-                (0.0, collide3::overlap(a.1, &pa, b.1, &pb, eps).is_some())
+                (0.0, collide3::overlaps(a.1, &pa, b.1, &pb, eps))
             }
         };
         if gap.is_nan() {
