@@ -14,7 +14,7 @@
 //! report 0.2, the deepest triangle pair); for containment, a lower bound: the distance from the
 //! contained component's test point to the container's surface. `distance` is parry's closest
 //! distance between the two boundaries (branch and bound, GJK to about 1e-9 mm) below 10 mm and a
-//! lower bound at least 7/8 of it beyond (`distance_bound`: that bound at any distance), and 0
+//! lower bound at least 31/32 of it beyond (`distance_bound`: that bound at any distance), and 0
 //! when the solids overlap by any amount (crossing or containment). Two meshes are answered by
 //! one walk of both their trees (`pairs.rs`), measuring the pairs of triangles as parry does.
 
@@ -625,13 +625,13 @@ pub fn swept_clear(a: &Shape3, (pa0, pa1): (&Iso, &Iso), b: &Shape3, (pb0, pb1):
 
 /// Distance between the two solids (0 when they overlap, containment included), mm: parry's
 /// closest distance between their boundaries, exact below [`EXACT_BELOW`] (the near-miss
-/// clearances), beyond it a lower bound at least `1 − 1/8` of it (`pairs::SLACK`). A lower
+/// clearances), beyond it a lower bound at least `1 − 1/32` of it (`pairs::SLACK`). A lower
 /// bound for skips to within GJK's accuracy.
 pub fn distance(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso) -> f64 {
     distance_asked(a, pa, b, pb, EXACT_BELOW)
 }
 
-/// A lower bound of [`distance`], at least `1 − 1/8` of it at any distance (`pairs::SLACK`):
+/// A lower bound of [`distance`], at least `1 − 1/32` of it at any distance (`pairs::SLACK`):
 /// what conservative advancement needs.
 pub fn distance_bound(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso) -> f64 {
     distance_asked(a, pa, b, pb, 0.0)

@@ -115,7 +115,7 @@ impl Tree {
 }
 
 /// A distance measured with slack may come out this share short of the exact one.
-pub(super) const SLACK: f64 = 1.0 / 8.0;
+pub(super) const SLACK: f64 = 1.0 / 32.0;
 
 /// `b`'s posing in `a`'s frame, for boxes: the rotation, its entries' absolute values and the
 /// translation.
