@@ -417,11 +417,19 @@ pub fn overlap_touch(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> (O
     }
 }
 
+/// [`overlap_touch`]'s answer when it is held (`memo`), for the lighter questions below.
+fn overlap_held(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> Option<(Option<Hit>, bool)> {
+    let key = memo::Key::new(memo::Query::OverlapTouch, (a.id(), pa), (b.id(), pb), eps);
+    match memo::held(&key)? {
+        memo::Answer::OverlapTouch(hit, touch) => Some((hit, touch)),
+        memo::Answer::Distance(_) => None,
+    }
+}
+
 /// Whether [`overlap`] finds an overlap deeper than `eps`: its answer when held (`memo`), else
 /// decided with the least measuring (`pairs::Ask::Over`): the same answer.
 pub fn overlaps(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> bool {
-    let key = memo::Key::new(memo::Query::OverlapTouch, (a.id(), pa), (b.id(), pb), eps);
-    if let Some(memo::Answer::OverlapTouch(hit, _)) = memo::held(&key) {
+    if let Some((hit, _)) = overlap_held(a, pa, b, pb, eps) {
         return hit.is_some();
     }
     let ask = pairs::Ask::Over {
@@ -434,8 +442,7 @@ pub fn overlaps(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> bool {
 /// [`overlap_touch`] without the depth and point of the hit: whether it finds an overlap deeper
 /// than `eps`, and whether it finds the parts touching (its answer when held, `memo`).
 pub fn touches(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> (bool, bool) {
-    let key = memo::Key::new(memo::Query::OverlapTouch, (a.id(), pa), (b.id(), pb), eps);
-    if let Some(memo::Answer::OverlapTouch(hit, touch)) = memo::held(&key) {
+    if let Some((hit, touch)) = overlap_held(a, pa, b, pb, eps) {
         return (hit.is_some(), touch);
     }
     let (hit, touch) = overlap_asked(a, &to_pose(pa), b, &to_pose(pb), eps, pairs::Ask::Touch { eps });
@@ -446,8 +453,7 @@ pub fn touches(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64) -> (bool, b
 /// else [`overlap`]'s hit when its depth is beyond `floor`, and when not, a hit no deeper than
 /// `floor` (a contact's later depth samples, which keep the deepest).
 pub fn overlap_beyond(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, eps: f64, floor: f64) -> Option<Hit> {
-    let key = memo::Key::new(memo::Query::OverlapTouch, (a.id(), pa), (b.id(), pb), eps);
-    if let Some(memo::Answer::OverlapTouch(hit, _)) = memo::held(&key) {
+    if let Some((hit, _)) = overlap_held(a, pa, b, pb, eps) {
         return hit;
     }
     overlap_asked(a, &to_pose(pa), b, &to_pose(pb), eps, pairs::Ask::Over { eps, floor }).0
@@ -655,7 +661,7 @@ fn distance_asked(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, exact_below: f64) 
 fn distance_computed(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, exact_below: f64) -> f64 {
     let (pa, pb) = (to_pose(pa), to_pose(pb));
     let d = if let (Shape3::Mesh(ma), Shape3::Mesh(mb)) = (a, b) {
-        // parry's answer, by one walk of both trees (`pairs`).
+        // parry's distance (exact below `exact_below`), by one walk of both trees (`pairs`).
         let (ta, tb) = (ma.tree.get(&ma.mesh), mb.tree.get(&mb.mesh));
         pairs::mesh_distance((&ma.mesh, ta), (&mb.mesh, tb), &pa.inv_mul(&pb), exact_below)
     } else {

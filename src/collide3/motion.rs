@@ -388,7 +388,7 @@ fn advance(
     if floor.is_nan() {
         floor = f64::INFINITY;
     }
-    // A probe at `u`: whether the parts overlap, and with `dist` a lower bound of the gap. The
+    // A step's probe at `u`: whether the parts overlap, and a lower bound of the gap. The
     // posed boxes' gap (`box_gap`) is that bound at no query's cost when it is at least `floor`
     // (a step worth taking); else, when the last probe found the parts apart, the distance,
     // which when they are still measured [`APART`] answers the overlap too (none); else the
@@ -419,20 +419,12 @@ fn advance(
         apart = d > APART;
         (hit, d)
     };
-    // The overlap at `u`: whether only, or the hit.
+    // The pair's poses at `u` (the bisection's).
     let mut at_vals = Vec::with_capacity(k.axes.len());
-    let mut overlap_at = |u: f64, hit: bool, poser: &mut Poser| {
+    let mut poses_at = |u: f64, poser: &mut Poser| {
         path.at(u, &mut at_vals);
         poser.pose(k, &at_vals);
-        let (pa, pb) = (poser.world(a.0), poser.world(b.0));
-        if hit {
-            overlap(a.1, pa, b.1, pb, eps)
-        } else {
-            overlaps(a.1, pa, b.1, pb, eps).then_some(Hit {
-                depth: 0.0,
-                point: Point3::origin(),
-            })
-        }
+        (*poser.world(a.0), *poser.world(b.0))
     };
     let mut u = 0.0f64;
     let mut prev = 0.0f64;
@@ -457,13 +449,15 @@ fn advance(
                 if mid <= lo || mid >= hi {
                     break;
                 }
-                if overlap_at(mid, false, &mut poser).is_some() {
+                let (pa, pb) = poses_at(mid, &mut poser);
+                if overlaps(a.1, &pa, b.1, &pb, eps) {
                     hi = mid;
                 } else {
                     lo = mid;
                 }
             }
-            let Some(best) = overlap_at(hi, true, &mut poser) else {
+            let (pa, pb) = poses_at(hi, &mut poser);
+            let Some(best) = overlap(a.1, &pa, b.1, &pb, eps) else {
                 return (Advance::Unchecked { u: hi }, probes);
             };
             return (Advance::Contact { u: hi, hit: best }, probes);

@@ -1,4 +1,5 @@
-//! The distance between two triangle meshes by one walk of the pair of their trees.
+//! The distance and the contact between two triangle meshes by one walk of the pair of their
+//! trees.
 //!
 //! parry answers a mesh–mesh distance by walking the first mesh's tree against the second
 //! mesh's whole box, and for every triangle that walk reaches, a full branch-and-bound walk of
@@ -34,7 +35,7 @@ struct Node {
 }
 
 /// A binary tree of boxes over a mesh's triangles, one triangle per leaf (root at 0).
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(super) struct Tree {
     nodes: Vec<Node>,
 }
@@ -136,28 +137,32 @@ impl Frame {
         }
     }
 
-    /// The squared distance between `a`'s box and the box holding `b`'s box posed in `a`'s
-    /// frame: a lower bound of the squared distance between anything the two boxes hold.
-    fn gap2(&self, a: &Node, b: &Node) -> f64 {
+    /// The distance between `a`'s box and the box holding `b`'s box posed in `a`'s frame: a
+    /// lower bound of the distance between anything the two boxes hold.
+    fn gap(&self, a: &Node, b: &Node) -> f64 {
         let (c, h) = (self.r * b.c + self.t, self.abs * b.h);
         let g = ((c - a.c).abs() - a.h - h).max(Vector::ZERO);
-        g.length_squared()
+        g.length()
     }
+}
+
+/// The signed gap between the shadows of two triangles (one frame) on the axis `n`: positive
+/// apart, negative by how much they overlap. `None` when `n` is no longer than `min_len`.
+fn shadow_gap(n: Vector, a: &[Vector; 3], b: &[Vector; 3], min_len: f64) -> Option<f64> {
+    let len = n.length();
+    if !super::positive(len - min_len) {
+        return None;
+    }
+    let (pa, pb) = (a.map(|p| n.dot(p)), b.map(|p| n.dot(p)));
+    let (a0, a1) = (pa[0].min(pa[1]).min(pa[2]), pa[0].max(pa[1]).max(pa[2]));
+    let (b0, b1) = (pb[0].min(pb[1]).min(pb[2]), pb[0].max(pb[1]).max(pb[2]));
+    Some((b0 - a1).max(a0 - b1) / len)
 }
 
 /// A lower bound of the distance between two triangles (one frame): the gap between their
 /// shadows on the line through their centroids and on each one's normal (0 where they meet).
 fn triangle_gap(a: &[Vector; 3], b: &[Vector; 3]) -> f64 {
-    let shadow_gap = |n: Vector| {
-        let len = n.length();
-        if !super::positive(len) {
-            return 0.0;
-        }
-        let (pa, pb) = (a.map(|p| n.dot(p)), b.map(|p| n.dot(p)));
-        let (a0, a1) = (pa[0].min(pa[1]).min(pa[2]), pa[0].max(pa[1]).max(pa[2]));
-        let (b0, b1) = (pb[0].min(pb[1]).min(pb[2]), pb[0].max(pb[1]).max(pb[2]));
-        (b0 - a1).max(a0 - b1).max(0.0) / len
-    };
+    let shadow_gap = |n: Vector| shadow_gap(n, a, b, 0.0).map_or(0.0, |g| g.max(0.0));
     let centre = |t: &[Vector; 3]| (t[0] + t[1] + t[2]) / 3.0;
     let normal = |t: &[Vector; 3]| (t[1] - t[0]).cross(t[2] - t[0]);
     shadow_gap(centre(b) - centre(a))
@@ -187,15 +192,21 @@ pub(super) fn mesh_distance(a: (&TriMesh, &Tree), b: (&TriMesh, &Tree), pos12: &
     // The least gap of the pairs of boxes left closed by the slack (see `SLACK`).
     let mut closed = f64::INFINITY;
     let mut stack: Vec<(u32, u32, f64)> = Vec::with_capacity(64);
-    stack.push((0, 0, frame.gap2(&ta[0], &tb[0]).sqrt()));
-    while let Some((i, j, gap)) = stack.pop() {
-        // A pair of boxes at least the best found apart holds no better pair; one far and
-        // within the slack of it is left closed, its gap kept as a bound.
+    stack.push((0, 0, frame.gap(&ta[0], &tb[0])));
+    // Whether a pair whose distance is at least `gap` is left: it holds no better pair than the
+    // best found, or it is far and within the slack of it (its gap then kept as a bound).
+    let left = |gap: f64, best: f64, closed: &mut f64| {
         if gap >= best {
-            continue;
+            return true;
         }
-        if gap >= exact_below && gap >= best * (1.0 - SLACK) {
-            closed = closed.min(gap);
+        let far = gap >= exact_below && gap >= best * (1.0 - SLACK);
+        if far {
+            *closed = closed.min(gap);
+        }
+        far
+    };
+    while let Some((i, j, gap)) = stack.pop() {
+        if left(gap, best, &mut closed) {
             continue;
         }
         let (na, nb) = (&ta[i as usize], &tb[j as usize]);
@@ -204,12 +215,7 @@ pub(super) fn mesh_distance(a: (&TriMesh, &Tree), b: (&TriMesh, &Tree), pos12: &
             let (tra, trb) = (a.0.triangle(na.tri), b.0.triangle(nb.tri));
             // The triangles' own gap along three axes, at a fraction of GJK's cost.
             let posed = [trb.a, trb.b, trb.c].map(|p| frame.r * p + frame.t);
-            let gap = triangle_gap(&[tra.a, tra.b, tra.c], &posed);
-            if gap >= best {
-                continue;
-            }
-            if gap >= exact_below && gap >= best * (1.0 - SLACK) {
-                closed = closed.min(gap);
+            if left(triangle_gap(&[tra.a, tra.b, tra.c], &posed), best, &mut closed) {
                 continue;
             }
             if let Ok(d) = DefaultQueryDispatcher.distance(&pos21, &trb, &tra) {
@@ -226,7 +232,7 @@ pub(super) fn mesh_distance(a: (&TriMesh, &Tree), b: (&TriMesh, &Tree), pos12: &
         } else {
             [(i, nb.kids), (i, nb.kids + 1)]
         };
-        let gaps = pairs.map(|(p, q)| frame.gap2(&ta[p as usize], &tb[q as usize]).sqrt());
+        let gaps = pairs.map(|(p, q)| frame.gap(&ta[p as usize], &tb[q as usize]));
         // The nearer pair is walked first (pushed last).
         let (near, far) = if gaps[0] <= gaps[1] { (0, 1) } else { (1, 0) };
         stack.push((pairs[far].0, pairs[far].1, gaps[far]));
@@ -242,17 +248,9 @@ pub(super) fn mesh_distance(a: (&TriMesh, &Tree), b: (&TriMesh, &Tree), pos12: &
 /// penetration depth when those axes are all there: the faces of the Minkowski difference of
 /// two triangles are normal to them.)
 fn crossing_bound(a: &[Vector; 3], b: &[Vector; 3]) -> f64 {
-    let overlap = |n: Vector| {
-        let len = n.length();
-        // A cross of nearly parallel edges has no direction to trust.
-        if !super::positive(len - 1e-12 * (1.0 + a[0].length() + b[0].length())) {
-            return f64::INFINITY;
-        }
-        let (pa, pb) = (a.map(|p| n.dot(p)), b.map(|p| n.dot(p)));
-        let (a0, a1) = (pa[0].min(pa[1]).min(pa[2]), pa[0].max(pa[1]).max(pa[2]));
-        let (b0, b1) = (pb[0].min(pb[1]).min(pb[2]), pb[0].max(pb[1]).max(pb[2]));
-        ((a1 - b0).min(b1 - a0) / len).max(0.0)
-    };
+    // A cross of nearly parallel edges has no direction to trust.
+    let min_len = 1e-12 * (1.0 + a[0].length() + b[0].length());
+    let overlap = |n: Vector| shadow_gap(n, a, b, min_len).map_or(f64::INFINITY, |g| (-g).max(0.0));
     let edges = |t: &[Vector; 3]| [t[1] - t[0], t[2] - t[1], t[0] - t[2]];
     let (ea, eb) = (edges(a), edges(b));
     let mut bound = overlap(ea[0].cross(ea[1])).min(overlap(eb[0].cross(eb[1])));
