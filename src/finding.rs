@@ -303,18 +303,28 @@ pub fn push_capped(list: &mut Vec<Finding>, left_out: &mut LeftOut, f: Finding) 
     list.push(f);
 }
 
-/// Findings in report order: by line, then column, then time (findings with no time first), then
-/// kind.
+/// Findings in report order: by line, then column, then time to the microsecond the reports
+/// print (findings with no time first), then kind and message.
+///
+/// The time is compared as printed, not by its bits: two contacts that begin in the same printed
+/// microsecond (two symmetric parts meeting a chuck at once) are ordered by what they are, not by
+/// which one's contact time came out a few ulps earlier — a difference any change to where the
+/// search's probes fall can turn round.
 pub fn sort_findings(findings: &mut [Finding]) {
     findings.sort_by(|a, b| {
         (a.line, a.col)
             .cmp(&(b.line, b.col))
             .then_with(|| match (a.time_s, b.time_s) {
-                (Some(x), Some(y)) => x.total_cmp(&y),
+                (Some(x), Some(y)) => printed_us(x).total_cmp(&printed_us(y)),
                 (x, y) => x.is_some().cmp(&y.is_some()),
             })
             .then_with(|| (a.kind, &a.message).cmp(&(b.kind, &b.message)))
     });
+}
+
+/// A time in whole microseconds, as the reports print it.
+fn printed_us(t: f64) -> f64 {
+    (t * 1e6).round()
 }
 
 /// A short stable code per kind (for SARIF rule ids and the docs): never reuse one.
@@ -387,5 +397,29 @@ mod tests {
         );
         f.follow_on = None;
         assert_eq!(f.follow_on_note(), None);
+    }
+
+    /// Two findings at one line whose times print alike are ordered by what they say, whichever
+    /// time's last bits came out earlier; times a printed microsecond apart keep their order.
+    #[test]
+    fn findings_of_the_same_printed_instant_are_ordered_by_what_they_say() {
+        let at = |t: f64, msg: &str| {
+            let mut f = Finding::at(Kind::Collision, Severity::Error, 12, 0, msg);
+            f.time_s = Some(t);
+            f
+        };
+        let messages = |v: &[Finding]| v.iter().map(|f| f.message.clone()).collect::<Vec<_>>();
+        let want = ["the T03 holder hits the chuck", "the T09 holder hits the chuck"];
+        for (ta, tb) in [
+            (68.012_001_000_1, 68.012_000_999_9),
+            (68.012_000_999_9, 68.012_001_000_1),
+        ] {
+            let mut v = vec![at(tb, want[1]), at(ta, want[0])];
+            sort_findings(&mut v);
+            assert_eq!(messages(&v), want);
+        }
+        let mut v = vec![at(68.012_002, want[0]), at(68.012_001, want[1])];
+        sort_findings(&mut v);
+        assert_eq!(messages(&v), [want[1], want[0]]);
     }
 }
