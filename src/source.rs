@@ -193,17 +193,21 @@ impl ColCursor {
         }
     }
 
-    /// [`LineIndex::col_of`], counted from the last offset when it is on the same line.
-    pub fn col_of(&mut self, lines: &LineIndex, src: &[u8], offset: u32) -> u32 {
+    /// [`col_of`], counted from the last offset when it is on the same line (no line starts
+    /// between them: the bytes between are looked at once).
+    pub fn col_of(&mut self, src: &[u8], offset: u32) -> u32 {
         let offset = offset.min(src.len() as u32);
-        let line = lines.line_of(offset);
-        let start = lines.starts[(line - 1) as usize];
-        let col = if start != self.line_start {
-            chars(&src[start as usize..offset as usize]) + 1
-        } else if offset >= self.offset {
-            self.col + chars(&src[self.offset as usize..offset as usize])
-        } else {
-            self.col - chars(&src[offset as usize..self.offset as usize])
+        let on_from_last = self.line_start != u32::MAX && offset >= self.offset;
+        let (start, col) = match on_from_last.then(|| line_start_after(src, offset as usize, self.offset as usize)) {
+            Some(None) => (
+                self.line_start,
+                self.col + chars(&src[self.offset as usize..offset as usize]),
+            ),
+            Some(Some(start)) => (start as u32, chars(&src[start..offset as usize]) + 1),
+            None => {
+                let start = line_start_after(src, offset as usize, 0).unwrap_or(0);
+                (start as u32, chars(&src[start..offset as usize]) + 1)
+            }
         };
         *self = ColCursor {
             line_start: start,
@@ -212,6 +216,28 @@ impl ColCursor {
         };
         col
     }
+}
+
+/// 1-based column, in characters, of byte `offset` on its line (as [`LineIndex::col_of`] counts
+/// it), found by looking back from the offset to the line's start: no index of the lines needed.
+pub fn col_of(src: &[u8], offset: u32) -> u32 {
+    ColCursor::new().col_of(src, offset)
+}
+
+/// Where the line holding byte `offset` starts, as [`lines`] cuts the text, when that is after
+/// byte `floor`: `None` when no line starts in `floor + 1 ..= offset`. A line starts after an LF,
+/// and after a CR not followed by an LF; never at the end of the text (a terminator there starts
+/// no further line).
+fn line_start_after(src: &[u8], offset: usize, floor: usize) -> Option<usize> {
+    let mut k = offset.min(src.len());
+    while k > floor {
+        let b = src[k - 1];
+        if k < src.len() && (b == b'\n' || (b == b'\r' && src[k] != b'\n')) {
+            return Some(k);
+        }
+        k -= 1;
+    }
+    None
 }
 
 #[cfg(test)]
@@ -243,21 +269,30 @@ mod tests {
 
     #[test]
     fn column_cursor_agrees_with_counting_from_the_line_start() {
-        let text = "a\u{e9}b (\u{20ac}x) c\r\nxy\u{1F600}z\rq\n\u{e9}\u{e9}";
-        let src = text.as_bytes();
-        let li = super::LineIndex::new(src);
-        let mut cur = super::ColCursor::new();
-        // Forward, backward, across lines, repeated and past the end.
-        let mut offsets: Vec<u32> = (0..=src.len() as u32 + 2).collect();
-        offsets.extend((0..=src.len() as u32).rev());
-        offsets.extend([5, 5, 0, 17, 3, 20, 2]);
-        for o in offsets {
-            let o = o.min(src.len() as u32 + 2);
-            assert_eq!(
-                cur.col_of(&li, src, o),
-                li.col_of(src, o.min(src.len() as u32)),
-                "offset {o}"
-            );
+        let texts = [
+            "a\u{e9}b (\u{20ac}x) c\r\nxy\u{1F600}z\rq\n\u{e9}\u{e9}",
+            "",
+            "\n",
+            "\r",
+            "\r\n",
+            "a\r\r\nb\n",
+            "\n\nab\r\n\r\n",
+            "x\ry\r",
+        ];
+        for text in texts {
+            let src = text.as_bytes();
+            let li = super::LineIndex::new(src);
+            let mut cur = super::ColCursor::new();
+            // Forward, backward, across lines, repeated and past the end.
+            let n = src.len() as u32;
+            let mut offsets: Vec<u32> = (0..=n + 2).collect();
+            offsets.extend((0..=n).rev());
+            offsets.extend([5, 5, 0, 17, 3, 20, 2, 1, 1, 0]);
+            for o in offsets {
+                let want = li.col_of(src, o.min(n));
+                assert_eq!(cur.col_of(src, o), want, "{text:?} offset {o}");
+                assert_eq!(super::col_of(src, o), want, "{text:?} offset {o}");
+            }
         }
     }
 

@@ -27,7 +27,7 @@ fuzz_target!(|data: &[u8]| {
 });
 
 fn check(data: &[u8], prog: Program) {
-    let lines = prog.lines.line_count() as u32;
+    let lines = prog.line_count();
     for e in &prog.errors {
         assert!(e.line >= 1 && e.line <= lines && e.col >= 1);
     }

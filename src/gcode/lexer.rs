@@ -1,6 +1,6 @@
 //! The line reader: bytes → blocks. See the module docs of [`crate::gcode`].
 //!
-//! One [`Reader`] walks the physical lines given by the [`LineIndex`] and reads each line in a
+//! One [`Reader`] walks the physical lines given by [`crate::source::lines`] and reads each line in a
 //! single left-to-right pass with a cursor that steps over spaces and tabs wherever it looks for
 //! the next byte (rs274ngc removes them before reading, so `X1 0.5` is `X10.5`). Items are read
 //! in place — no copy of the line, no per-line allocation — and pushed straight into the arenas of
@@ -12,7 +12,7 @@ use super::shape;
 use super::window::{Mark, Store, Window, CACHED_WINDOWS, WINDOW_BLOCKS};
 use super::{Assign, Block, Comment, Expr, NameId, OName, OOp, OWord, Program, Rare, Value, Word};
 use crate::finding::{push_capped, Finding};
-use crate::source::{count_lf, lines, lines_from, LineIndex, Span};
+use crate::source::{count_lf, lines, lines_from, Span};
 use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 use std::rc::Rc;
@@ -46,10 +46,11 @@ pub fn parse_windowed(src: &[u8], macro_b: bool, per_window: usize) -> Program<'
 /// the two), `per_window` blocks a window.
 pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_window: usize) -> Program<'_> {
     let per_window = per_window.max(1);
-    // One pass over the lines reads each as it is found; the line starts it records are the
-    // program's `LineIndex`. (Files with lone CRs grow the vector instead.)
+    // One pass over the lines reads each as it is found. No index of the lines is kept: a
+    // window's mark keeps where its first line starts, and a column is counted back from its
+    // offset to the line's start (`source::ColCursor`).
     let terminators = count_lf(src);
-    let mut starts: Vec<u32> = Vec::with_capacity(terminators + 1);
+    let mut line_count = 0u32;
     let mut reader = Reader::new(src);
     reader.plain_lines_fast = plain_lines_fast;
     reader.macro_b = macro_b;
@@ -64,6 +65,7 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
     let mut marks = vec![Mark {
         first_block: 0,
         line: 1,
+        start: 0,
         expr_base: 0,
         rare: false,
     }];
@@ -73,7 +75,7 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
     // are dropped, so a plain line there is only counted (`shape.rs`: it adds nothing else).
     let mut skimmed = 0;
     for (line, (line_start, end)) in (1u32..).zip(lines(src)) {
-        starts.push(line_start as u32);
+        line_count = line;
         let skim = plain_lines_fast && kept.len() == CACHED_WINDOWS;
         match skim.then(|| shape::plain_shape(&src[line_start..end])).flatten() {
             Some(block) => skimmed += block as usize,
@@ -91,9 +93,12 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
                 reader.prog.assigns.clear();
                 skimmed = 0;
             }
+            // The next line starts after this one's terminator (as `source::lines` steps on).
+            let crlf = src.get(end) == Some(&b'\r') && src.get(end + 1) == Some(&b'\n');
             marks.push(Mark {
                 first_block: len,
                 line: line + 1,
+                start: (end + 1 + crlf as usize).min(src.len()) as u32,
                 expr_base: reader.prog.exprs.len() as u32,
                 rare: false,
             });
@@ -125,7 +130,7 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
         errors,
         errors_left_out,
         comments,
-        lines: LineIndex::from_starts(starts, src.len()),
+        line_count,
         store: Store {
             len,
             marks,
@@ -182,8 +187,7 @@ pub(super) fn reread(
     reader.rereading = true;
     std::mem::swap(&mut reader.interned, interned);
     reader.prog.blocks.reserve(count);
-    let first = prog.lines.line_span(src, mark.line).start;
-    for (line, (line_start, end)) in (mark.line..).zip(lines_from(src, first as usize)) {
+    for (line, (line_start, end)) in (mark.line..).zip(lines_from(src, mark.start as usize)) {
         reader.read_line(line, line_start, end);
         if reader.prog.blocks.len() == count {
             break;

@@ -68,7 +68,7 @@ mod tests;
 mod window;
 
 use crate::finding::Finding;
-use crate::source::{LineIndex, Span};
+use crate::source::Span;
 use std::ops::Range;
 
 pub use lexer::{parse, parse_fanuc, parse_windowed, MAX_NESTING};
@@ -96,11 +96,17 @@ pub struct Program<'s> {
     /// reporters that echo comments (rs274ngc's `COMMENT(…)` canonical call). `;` comments are not
     /// kept.
     pub comments: Vec<Comment>,
-    pub lines: LineIndex,
+    /// Physical lines in the source (LF, CRLF and lone CR end one; an empty source is one line).
+    line_count: u32,
     store: window::Store,
 }
 
 impl Program<'_> {
+    /// Physical lines in the source, as [`crate::source::lines`] cuts it.
+    pub fn line_count(&self) -> u32 {
+        self.line_count
+    }
+
     pub fn expr(&self, id: ExprId) -> &Expr {
         &self.exprs[id as usize]
     }

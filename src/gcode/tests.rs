@@ -379,7 +379,7 @@ fn crlf_and_lone_cr_end_lines() {
     assert_eq!(lines, [1, 2, 3, 5]);
     let spans: Vec<&str> = prog.blocks().map(|b| text(src, b.span)).collect();
     assert_eq!(spans, ["G1 X1", "G2 X2", "G3 X3", "G4 (c)"]);
-    assert_eq!(prog.lines.line_count(), 5);
+    assert_eq!(prog.line_count(), 5);
     let (line, col, _) = error(b"G1\r\rG1\r\nX.\r");
     assert_eq!((line, col), (4, 2));
 }
@@ -845,7 +845,7 @@ fn assert_windows_read_as_whole(src: &[u8], per_window: usize) {
             assert_eq!(b.index(), i);
             assert_eq!(show_block(&a), show_block(&b));
         }
-        for line in 0..=whole.lines.line_count() as u32 + 1 {
+        for line in 0..=whole.line_count() + 1 {
             let at = |p: &Program| p.block_at_line(line).map(|b| b.index());
             assert_eq!(at(&whole), at(&windowed), "line {line}");
         }
@@ -938,7 +938,7 @@ fn a_window_read_again_is_counted_and_a_small_program_is_read_once() {
 }
 
 fn check_invariants_of(src: &[u8], prog: Program) {
-    let lines = prog.lines.line_count() as u32;
+    let lines = prog.line_count();
     for e in &prog.errors {
         assert!(e.line >= 1 && e.line <= lines, "finding line {} of {lines}", e.line);
         assert!(e.col >= 1);

@@ -53,6 +53,8 @@ pub(super) struct Mark {
     pub first_block: usize,
     /// The physical line its reading starts at (the line after the previous window's last block).
     pub line: u32,
+    /// The byte that line starts at (the end of the source when no line follows).
+    pub start: u32,
     /// The id its first expression takes.
     pub expr_base: u32,
     /// Some block of it has assignments, an O-word, a message or a macro statement

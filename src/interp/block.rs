@@ -154,7 +154,7 @@ impl Run<'_> {
     /// A `program` warning, unless the same one was just reported for this line (a line in a
     /// loop would repeat it on every pass).
     pub(crate) fn warn_once(&mut self, b: &Block, col_offset: Option<u32>, msg: String) {
-        let col = col_offset.map_or(0, |o| self.prog.lines.col_of(self.src, o));
+        let col = col_offset.map_or(0, |o| crate::source::col_of(self.src, o));
         let repeat = self
             .findings
             .iter()

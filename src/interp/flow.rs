@@ -439,7 +439,7 @@ impl<'a> Run<'a> {
             self.unsupported(b, col_offset, msg, true);
             return;
         }
-        let col = col_offset.map_or(0, |o| self.cols.col_of(&self.prog.lines, self.src, o));
+        let col = col_offset.map_or(0, |o| self.cols.col_of(self.src, o));
         self.report(Finding::program(b.line, col, msg).with_n(b.n()));
     }
 
@@ -484,7 +484,7 @@ impl<'a> Run<'a> {
     /// An `unsupported` finding: an error when the code moves the machine (the checked path is
     /// then incomplete), a warning when it does not.
     pub(crate) fn unsupported(&mut self, b: &Block, col_offset: Option<u32>, msg: String, moves_machine: bool) {
-        let col = col_offset.map_or(0, |o| self.cols.col_of(&self.prog.lines, self.src, o));
+        let col = col_offset.map_or(0, |o| self.cols.col_of(self.src, o));
         let sev = if moves_machine {
             Severity::Error
         } else {
