@@ -222,11 +222,13 @@ pub fn interpret<'s>(src: &'s [u8], machine: &Machine) -> (gcode::Program<'s>, I
 
 /// Read a program as the machine's dialect reads it (Fanuc: with macro B statements).
 pub fn read<'s>(src: &'s [u8], machine: &Machine) -> gcode::Program<'s> {
-    if machine.dialect == crate::machine::Dialect::Fanuc {
-        gcode::parse_fanuc(src)
-    } else {
-        gcode::parse(src)
-    }
+    read_by(src, machine, gcode::WINDOW_BLOCKS)
+}
+
+/// [`read`], holding `per_window` blocks a window (the blocks read are the same; a smaller window
+/// holds less memory and reads more windows again when the program jumps far back and forth).
+pub fn read_by<'s>(src: &'s [u8], machine: &Machine, per_window: usize) -> gcode::Program<'s> {
+    gcode::parse_windowed(src, machine.dialect == crate::machine::Dialect::Fanuc, per_window)
 }
 
 /// The reader's and the interpreter's findings, taken out of `prog` and `run`, with the count of

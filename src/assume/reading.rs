@@ -55,6 +55,14 @@ impl Seg {
     }
 }
 
+/// Blocks a window of the program holds while it is read for its setup: a quarter of what the
+/// check holds (the reading runs the program once and keeps none of its blocks, so its windows
+/// are read again only where the program jumps back more than 8 of them).
+const READ_WINDOW: usize = crate::gcode::WINDOW_BLOCKS / 4;
+
+/// Moves the interpreter hands the reading at a time.
+const READ_CHUNK: usize = 256;
+
 /// Chords an arc is read as.
 const ARC_CHORDS: usize = 8;
 
@@ -162,21 +170,25 @@ impl<'s> Reading<'s> {
     /// program's signs choose) and keep its moves in program coordinates.
     pub fn of(src: &'s [u8], machine: &Machine) -> Reading<'s> {
         let lines = Lines::of(src);
-        // Index = 1-based line: the line holds a G70–G73 word.
-        let cycle_lines: Vec<bool> = std::iter::once(false)
-            .chain(lines.iter().map(|l| {
-                let code = super::words::code_of(&l);
-                super::words::g_codes(&code)
-                    .iter()
-                    .any(|g| [700, 710, 720, 730].contains(g))
-            }))
-            .collect();
+        // The 1-based lines that hold a G70–G73 word, a bit each.
+        let mut cycle_lines = LineSet::with_lines(lines.len());
+        for (i, l) in lines.iter().enumerate() {
+            let code = super::words::code_of(&l);
+            if super::words::g_codes(&code)
+                .iter()
+                .any(|g| [700, 710, 720, 730].contains(g))
+            {
+                cycle_lines.insert(i as u32 + 1);
+            }
+        }
         let mut segs = Segs::new();
         // The moves are read as the interpreter makes them, and dropped: only the segments stay.
         let (machine, _) = crate::pipeline::resolve(src, machine);
         let machine = machine.as_ref();
-        let prog = crate::pipeline::read(src, machine);
-        let run = crate::interp::interpret_streaming(&prog, src, machine, |c| {
+        let prog = crate::pipeline::read_by(src, machine, READ_WINDOW);
+        // In chunks of a few hundred moves: the reading keeps none of them, so a larger chunk
+        // only holds more memory (4096 moves hold 1 MB).
+        let run = crate::interp::interpret_streaming_by(&prog, src, machine, READ_CHUNK, |c| {
             for m in c.moves {
                 read_move(m, &c.states[m.state as usize].frame, &cycle_lines, &mut segs);
             }
@@ -204,9 +216,34 @@ impl<'s> Reading<'s> {
     }
 }
 
-/// The segments of one move `m` in `frame`, appended to `segs`; `cycle_lines[line]` says whether
-/// the 1-based line holds a G70–G73 word.
-fn read_move(m: &crate::interp::Move, frame: &crate::interp::ProgFrame, cycle_lines: &[bool], segs: &mut Segs) {
+/// A set of 1-based line numbers of a program, a bit a line (a long program's per-line facts
+/// in an eighth of the bytes a `Vec<bool>` takes).
+#[derive(Clone, Debug, Default)]
+pub struct LineSet(Vec<u64>);
+
+impl LineSet {
+    /// An empty set of the lines `1..=n`.
+    pub fn with_lines(n: usize) -> LineSet {
+        LineSet(vec![0; n / 64 + 1])
+    }
+
+    /// Adds `line` (a line past the set's lines is left out).
+    pub fn insert(&mut self, line: u32) {
+        if let Some(w) = self.0.get_mut(line as usize / 64) {
+            *w |= 1 << (line % 64);
+        }
+    }
+
+    pub fn contains(&self, line: u32) -> bool {
+        self.0
+            .get(line as usize / 64)
+            .is_some_and(|w| w >> (line % 64) & 1 == 1)
+    }
+}
+
+/// The segments of one move `m` in `frame`, appended to `segs`; `cycle_lines` holds the 1-based
+/// lines with a G70–G73 word.
+fn read_move(m: &crate::interp::Move, frame: &crate::interp::ProgFrame, cycle_lines: &LineSet, segs: &mut Segs) {
     // A tool working beyond the axis (negative X) is read as its mirror image: the bar
     // is the same on both sides.
     let side = if m.start.x + m.end.x < 2.0 * frame.origin.x - 1e-9 {
@@ -220,7 +257,7 @@ fn read_move(m: &crate::interp::Move, frame: &crate::interp::ProgFrame, cycle_li
         MoveKind::Line | MoveKind::Arc { .. } => SegKind::Feed,
         _ => return,
     };
-    let cycle = cycle_lines.get(m.line as usize).copied().unwrap_or(false);
+    let cycle = cycle_lines.contains(m.line);
     let per_rev = match m.feed {
         Feed::PerRev(f) => Some(f),
         _ => None,

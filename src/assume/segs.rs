@@ -6,12 +6,18 @@
 //! the one before it: it starts where the last one ended, at the same station, in the same
 //! mode, on the next line, and one of its end's coordinates is its start's or one met a few
 //! segments ago (a retract plane, a pass's radius). So each segment is written as what differs:
-//! a two-byte header of flags, then only the fields the flags do not give. Every
-//! [`CHECKPOINT`]th segment is written whole (nothing taken from earlier ones), so a walk can
-//! start there; [`Segs::get`] and [`Segs::iter_from`] decode from the checkpoint before.
+//! a two-byte header of flags (one byte when the pair was met before and still holds its slot in a
+//! table of 64), then only the
+//! fields the flags do not give. A coordinate that is none of those it may repeat is written as
+//! the shortest of: an XOR with its reference, a whole number of 1e-4 mm less its reference's (a
+//! word's decimals, 2–3 bytes), the difference of its bits from where the two segments before
+//! it lead (an arc's chords: the next chord turns as the last one did, a byte or two), or its 8
+//! bytes. Every [`CHECKPOINT`]th segment is written whole (nothing taken from earlier ones), so
+//! a walk can start there; [`Segs::get`] and [`Segs::iter_from`] decode from the checkpoint
+//! before.
 //!
 //! Invariant: decoding gives exactly the segments pushed, in order (`f64`s by their bits); the
-//! property test in `assume::tests` holds it against a `Vec<Seg>` on random runs.
+//! property tests below hold it against a `Vec<Seg>` on random runs and on arcs' chords.
 
 use super::reading::{Seg, SegKind};
 
@@ -33,7 +39,34 @@ const PROFILE: u8 = 1 << 3;
 /// The segment starts where the one before ended (bit for bit).
 const JOINED: u8 = 1 << 4;
 const SAME_STATION: u8 = 1 << 5;
+/// The segment's line is the one after the segment before's (a program read line by line).
+const NEXT_LINE: u8 = 1 << 6;
 const SAME_LINE: u8 = 1 << 7;
+/// A first byte with both line flags (which never go together) stands for both header bytes:
+/// its low six bits are the slot of the pair in the table of header pairs met ([`Headers`]). A
+/// program's segments mostly repeat a few headers (a rapid, a feed, a chord, a retract).
+const REPEAT: u8 = SAME_LINE | NEXT_LINE;
+
+/// Slots of the table of header pairs.
+const HEADERS: usize = 64;
+
+/// The header pairs met, each in the slot its bits hash to (the last one met there): a pair is
+/// found or replaced in one look, so packing and decoding cost the same whatever the table holds.
+#[derive(Clone, Copy, Debug)]
+struct Headers([Option<(u8, u8)>; HEADERS]);
+
+impl Default for Headers {
+    fn default() -> Headers {
+        Headers([None; HEADERS])
+    }
+}
+
+impl Headers {
+    fn slot(pair: (u8, u8)) -> usize {
+        // Fibonacci hashing of the two bytes into 6 bits.
+        ((u32::from(pair.0) << 8 | u32::from(pair.1)).wrapping_mul(0x9E37_79B1) >> 26) as usize
+    }
+}
 
 // Header, second byte: a tag for each end coordinate (r in bits 0–2, z in bits 3–5) and one for
 // the mode (bits 6–7); a third byte, when the segment does not start where the one before ended,
@@ -41,13 +74,43 @@ const SAME_LINE: u8 = 1 << 7;
 // the end, the end before for the start.
 /// The coordinate is its reference.
 const SAME: u8 = 0;
-// 1..=RECENT: the coordinate is the recent value at that place (1 the newest).
+/// The coordinate is its prediction from the two segments before ([`predict`], an arc's chords):
+/// the difference of their bits, zigzag and varint (a byte or two on a circle). (The recent value
+/// at place 1, the newest, is the reference: the position the tool is at.)
+const PREDICTED: u8 = 1;
+// 2..=RECENT: the coordinate is the recent value at that place (1 the newest).
 /// Its bits differ from the reference's in the low 16 only: those written (2 bytes).
 const XOR2: u8 = 5;
-/// Its bits differ from the reference's in the low 32 only: those written (4 bytes).
-const XOR4: u8 = 6;
+/// A whole number of 1e-4 mm ([`DECIMAL_UNITS`] a mm; divided by the unit's count per mm it gives its bits
+/// back): that number less the reference's nearest whole number of units, zigzag and varint
+/// (2–3 bytes for a program's coordinates, whose words have a few decimals).
+const DECIMAL: u8 = 6;
 /// Written in full.
 const LITERAL: u8 = 7;
+
+/// Units per mm of a [`DECIMAL`] coordinate: 1e-4 mm (a diameter word's 3 decimals halved).
+const DECIMAL_UNITS: f64 = 1e4;
+
+/// `v` as a whole number of 1e-4 mm, when dividing that number back gives `v`'s bits.
+fn decimal_of(v: u64) -> Option<i64> {
+    let f = f64::from_bits(v);
+    let q = (f * DECIMAL_UNITS).round();
+    // Whole numbers to 2^53 are exact in an f64 (and the division is correctly rounded); the
+    // number as the decoder makes it must give the bits back (-0 comes back as +0: written whole).
+    let q = (q.abs() < 9e15).then_some(q as i64)?;
+    ((q as f64 / DECIMAL_UNITS).to_bits() == v).then_some(q)
+}
+
+/// The nearest whole number of 1e-4 mm to a reference (0 for none, or one too large to be a
+/// coordinate): what a [`DECIMAL`] coordinate is written against.
+fn decimal_ref(reference: Option<u64>) -> i64 {
+    let q = reference.map_or(0.0, |r| (f64::from_bits(r) * DECIMAL_UNITS).round());
+    if q.abs() < 9e15 {
+        q as i64
+    } else {
+        0
+    }
+}
 /// 0..MODES: the mode is the recent one at that place (0 the newest); this: written in full.
 const NEW_MODE: u8 = 3;
 
@@ -104,8 +167,12 @@ impl Pages {
 #[derive(Clone, Debug, Default)]
 struct Context {
     prev: Option<Seg>,
+    /// The segment before `prev`.
+    prev2: Option<Seg>,
     recent: [Recent<u64, RECENT>; 2],
     modes: Recent<Mode, MODES>,
+    /// The two header bytes of segments met.
+    headers: Headers,
 }
 
 /// A segment's feed per revolution and scale, by their bits.
@@ -199,10 +266,13 @@ impl Segs {
         let tm = ctx.modes.find(mode).map_or(NEW_MODE, |i| i as u8);
         if p.is_some_and(|p| p.line == s.line) {
             h0 |= SAME_LINE;
+        } else if p.is_some_and(|p| p.line.checked_add(1) == Some(s.line)) {
+            h0 |= NEXT_LINE;
         }
         // Each coordinate's tag against its reference and the recent values, in this order
         // (the start's r and z, then the end's): the decoder keeps the recent values the same
         // way.
+        let predicted = if joined { predict(ctx.prev2, ctx.prev) } else { None };
         let mut payload = [(SAME, 0u64); 4];
         for (n, k) in [(0, 0), (1, 1), (2, 0), (3, 1)] {
             let (v, reference) = if n < 2 {
@@ -213,14 +283,22 @@ impl Segs {
             } else {
                 (s.b[k].to_bits(), Some(s.a[k].to_bits()))
             };
-            payload[n] = tag_of(v, reference, &mut ctx.recent[k]);
+            let guess = if n < 2 { None } else { predicted.map(|g| g[k]) };
+            payload[n] = tag_of(v, reference, guess, &mut ctx.recent[k]);
         }
-        out.push(h0);
-        out.push(payload[2].0 | payload[3].0 << 3 | tm << 6);
+        let h1 = payload[2].0 | payload[3].0 << 3 | tm << 6;
+        let slot = Headers::slot((h0, h1));
+        if ctx.headers.0[slot] == Some((h0, h1)) {
+            out.push(REPEAT | slot as u8);
+        } else {
+            out.push(h0);
+            out.push(h1);
+            ctx.headers.0[slot] = Some((h0, h1));
+        }
         if !joined {
             out.push(payload[0].0 | payload[1].0 << 3);
         }
-        if h0 & SAME_LINE == 0 {
+        if h0 & (SAME_LINE | NEXT_LINE) == 0 {
             let d = i64::from(s.line) - p.map_or(0, |p| i64::from(p.line));
             varint(out, zigzag(d));
         }
@@ -241,12 +319,12 @@ impl Segs {
         for (t, x) in payload {
             match t {
                 XOR2 => out.extend_from_slice(&(x as u16).to_le_bytes()),
-                XOR4 => out.extend_from_slice(&(x as u32).to_le_bytes()),
+                DECIMAL | PREDICTED => varint(out, x),
                 LITERAL => out.extend_from_slice(&x.to_le_bytes()),
                 _ => {}
             }
         }
-        ctx.prev = Some(s);
+        ctx.prev2 = ctx.prev.replace(s);
         self.len += 1;
     }
 
@@ -300,20 +378,64 @@ impl Segs {
     }
 }
 
-/// The tag of a coordinate's bits `v` against its reference and the recent values (which it
-/// then joins), and what is written for it (the XOR with the reference, or the bits).
-fn tag_of(v: u64, reference: Option<u64>, recent: &mut Recent<u64, RECENT>) -> (u8, u64) {
+/// The tag of a coordinate's bits `v` against its reference, its prediction (`guess`, the bits
+/// [`predict`] gives) and the recent values (which it then joins), and what is written for it:
+/// the shortest of the XOR with the reference, the zigzag difference of whole units or of the
+/// prediction's bits, and the bits.
+fn tag_of(v: u64, reference: Option<u64>, guess: Option<u64>, recent: &mut Recent<u64, RECENT>) -> (u8, u64) {
     if reference == Some(v) {
         return (SAME, 0);
     }
-    let out = match (recent.find(v), reference.map(|r| r ^ v)) {
-        (Some(i), _) => (i as u8 + 1, 0),
-        (None, Some(x)) if x >> 16 == 0 => (XOR2, x),
-        (None, Some(x)) if x >> 32 == 0 => (XOR4, x),
-        _ => (LITERAL, v),
+    let out = match recent.find(v) {
+        // Place 1 is the reference (see `PREDICTED`), and tag 1 the prediction.
+        Some(i) if i > 0 => (i as u8 + 1, 0),
+        _ => {
+            let mut best = (LITERAL, v, 8);
+            let mut offer = |tag: u8, x: u64, len: usize| {
+                if len < best.2 {
+                    best = (tag, x, len);
+                }
+            };
+            if let Some(x) = reference.map(|r| r ^ v).filter(|x| x >> 16 == 0) {
+                offer(XOR2, x, 2);
+            }
+            if let Some(q) = decimal_of(v) {
+                let x = zigzag(q.wrapping_sub(decimal_ref(reference)));
+                offer(DECIMAL, x, varint_len(x));
+            }
+            if let Some(g) = guess {
+                let x = zigzag((v as i64).wrapping_sub(g as i64));
+                offer(PREDICTED, x, varint_len(x));
+            }
+            (best.0, best.1)
+        }
     };
     recent.touch(v);
     out
+}
+
+/// Where a segment joined to `prev` would end if it turned from `prev` as `prev` turned from
+/// `prev2` (the same turn and the same change of length: on an arc read as equal chords, the next
+/// chord), as the bits of its `[r, z]`; `None` unless `prev` starts where `prev2` ends and the
+/// guess is finite. Encoder and decoder compute it from the same bits, so it is the same guess.
+fn predict(prev2: Option<Seg>, prev: Option<Seg>) -> Option<[u64; 2]> {
+    let (p2, p) = (prev2?, prev?);
+    if bits2(p2.b) != bits2(p.a) {
+        return None;
+    }
+    let v1 = [p2.b[0] - p2.a[0], p2.b[1] - p2.a[1]];
+    let v2 = [p.b[0] - p.a[0], p.b[1] - p.a[1]];
+    let d = v1[0] * v1[0] + v1[1] * v1[1];
+    // v2 / v1 as complex numbers: the turn and the change of length from one to the next.
+    let wr = (v2[0] * v1[0] + v2[1] * v1[1]) / d;
+    let wi = (v2[1] * v1[0] - v2[0] * v1[1]) / d;
+    let g = [p.b[0] + (v2[0] * wr - v2[1] * wi), p.b[1] + (v2[0] * wi + v2[1] * wr)];
+    (g[0].is_finite() && g[1].is_finite()).then(|| bits2(g))
+}
+
+/// Bytes of `v` as a varint.
+fn varint_len(v: u64) -> usize {
+    (64 - v.leading_zeros() as usize).max(1).div_ceil(7)
 }
 
 fn bits2(p: [f64; 2]) -> [u64; 2] {
@@ -365,16 +487,20 @@ impl Iter<'_> {
     }
 
     /// A coordinate of axis `k` written with tag `t` against `reference` (see [`tag_of`]).
-    fn coordinate(&mut self, t: u8, reference: Option<u64>, k: usize) -> f64 {
+    fn coordinate(&mut self, t: u8, reference: Option<u64>, guess: Option<u64>, k: usize) -> f64 {
         let v = match t {
             SAME => return f64::from_bits(reference.unwrap_or(0)),
             XOR2 => {
                 let x = u16::from_le_bytes([self.byte(), self.byte()]);
                 reference.unwrap_or(0) ^ u64::from(x)
             }
-            XOR4 => {
-                let x = u32::from_le_bytes([self.byte(), self.byte(), self.byte(), self.byte()]);
-                reference.unwrap_or(0) ^ u64::from(x)
+            PREDICTED => {
+                let g = guess.unwrap_or(0) as i64;
+                g.wrapping_add(unzigzag(self.varint())) as u64
+            }
+            DECIMAL => {
+                let q = decimal_ref(reference).wrapping_add(unzigzag(self.varint()));
+                (q as f64 / DECIMAL_UNITS).to_bits()
             }
             LITERAL => self.f64().to_bits(),
             i => self.ctx.recent[k].vals[i as usize - 1],
@@ -407,12 +533,20 @@ impl Iterator for Iter<'_> {
             self.ctx = Context::default();
         }
         let p = self.ctx.prev;
-        let h0 = self.byte();
-        let h1 = self.byte();
+        let first = self.byte();
+        let (h0, h1) = if first & REPEAT == REPEAT {
+            self.ctx.headers.0[(first & !REPEAT) as usize].unwrap_or_default()
+        } else {
+            let pair = (first, self.byte());
+            self.ctx.headers.0[Headers::slot(pair)] = Some(pair);
+            pair
+        };
         let joined = p.filter(|_| h0 & JOINED != 0);
         let h2 = if joined.is_some() { 0 } else { self.byte() };
         let line = if h0 & SAME_LINE != 0 {
             p.map_or(0, |p| p.line)
+        } else if h0 & NEXT_LINE != 0 {
+            p.map_or(0, |p| p.line + 1)
         } else {
             let d = unzigzag(self.varint());
             (p.map_or(0, |p| i64::from(p.line)) + d) as u32
@@ -433,12 +567,17 @@ impl Iterator for Iter<'_> {
         let mut a = joined.map_or([0.0; 2], |p| p.b);
         if joined.is_none() {
             for (k, t) in [(0, h2 & 7), (1, (h2 >> 3) & 7)] {
-                a[k] = self.coordinate(t, p.map(|p| p.b[k].to_bits()), k);
+                a[k] = self.coordinate(t, p.map(|p| p.b[k].to_bits()), None, k);
             }
         }
         let mut b = a;
+        // Worked out only when an end coordinate is written as its prediction.
+        let predicted = [h1 & 7, (h1 >> 3) & 7].contains(&PREDICTED);
+        let guess = joined
+            .filter(|_| predicted)
+            .and_then(|_| predict(self.ctx.prev2, self.ctx.prev));
         for (k, t) in [(0, h1 & 7), (1, (h1 >> 3) & 7)] {
-            b[k] = self.coordinate(t, Some(a[k].to_bits()), k);
+            b[k] = self.coordinate(t, Some(a[k].to_bits()), guess.map(|g| g[k]), k);
         }
         let s = Seg {
             line,
@@ -452,7 +591,7 @@ impl Iterator for Iter<'_> {
             cycle: h0 & CYCLE != 0,
             profile: h0 & PROFILE != 0,
         };
-        self.ctx.prev = Some(s);
+        self.ctx.prev2 = self.ctx.prev.replace(s);
         self.index += 1;
         Some(s)
     }
@@ -539,6 +678,12 @@ mod tests {
     fn value() -> impl Strategy<Value = f64> {
         prop_oneof![
             4 => prop::sample::select(vec![0.0, 2.0, 25.0, 24.5, -30.0, 52.01]),
+            // Words with a few decimals (a diameter's halved), a few ulps off them (an offset
+            // added and taken away), and whole units past where an f64 holds them exactly.
+            3 => (-20_000_000i64..20_000_000).prop_map(|q| q as f64 / 1e4),
+            1 => ((-20_000_000i64..20_000_000), -3i64..=3)
+                .prop_map(|(q, ulps)| f64::from_bits(((q as f64 / 1e4).to_bits() as i64 + ulps) as u64)),
+            1 => prop::sample::select(vec![9.007e11, -9.007e11, 1e12, 4.5e15, 0.00005, -0.00005, 1e-300]),
             1 => prop::sample::select(vec![-0.0, f64::NAN, f64::INFINITY, -f64::INFINITY, 5e-324, f64::MAX]),
             2 => any::<f64>(),
         ]
@@ -621,6 +766,96 @@ mod tests {
                 prop_assert_eq!(st.find_after(f).map(|n| bits(&n)), want[i + 1..].iter().find(|n| f(n)).map(bits));
             }
         }
+    }
+
+    /// Arcs read as chords (as `reading::read_move` reads them: circles and spirals, any centre,
+    /// radius and sweep, some mirrored), between straight moves.
+    fn arcs() -> impl Strategy<Value = Vec<Seg>> {
+        let arc = (
+            (-200.0f64..200.0, -300.0f64..300.0),
+            (0.01f64..150.0, prop_oneof![Just(0.0), -5.0f64..5.0]),
+            (-3.2f64..3.2, prop_oneof![-6.3f64..6.3, Just(std::f64::consts::PI)]),
+            any::<bool>(),
+        );
+        prop::collection::vec(arc, 1..12).prop_map(|v| {
+            let mut out: Vec<Seg> = Vec::new();
+            for (n, ((cx, cz), (r0, dr), (a0, sweep), mirror)) in v.into_iter().enumerate() {
+                let side = if mirror { -1.0 } else { 1.0 };
+                let at = |t: f64| {
+                    let (r, a) = (r0 + t * dr, a0 + t * sweep);
+                    [side * (cx + r * a.cos()), cz + r * a.sin()]
+                };
+                let seg = |line: u32, a: [f64; 2], b: [f64; 2]| Seg {
+                    line,
+                    station: 1,
+                    kind: SegKind::Feed,
+                    a,
+                    b,
+                    per_rev: Some(0.2),
+                    scale: 1.0,
+                    diameter: true,
+                    cycle: false,
+                    profile: false,
+                };
+                let line = 2 * n as u32 + 1;
+                // A straight move to the arc's start, then its chords.
+                let from = out.last().map_or([0.0, 0.0], |s| s.b);
+                out.push(seg(line, from, at(0.0)));
+                for k in 1..=8 {
+                    out.push(seg(line + 1, at((k - 1) as f64 / 8.0), at(k as f64 / 8.0)));
+                }
+            }
+            out
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+
+        /// Chords of arcs come back bit for bit, and a circle's chords after its first two take
+        /// a few bytes (their ends predicted from the two chords before).
+        #[test]
+        fn the_chords_of_arcs_decode_to_what_was_pushed(want in arcs()) {
+            let mut segs = Segs::new();
+            for s in &want {
+                segs.push(*s);
+            }
+            same(&segs.iter().collect::<Vec<_>>(), &want);
+            for i in (0..want.len()).step_by(5) {
+                same(&segs.iter_from(i).collect::<Vec<_>>(), &want[i..]);
+            }
+        }
+    }
+
+    /// A circle's chords pack small: past the first two of an arc, each chord's end is its
+    /// prediction less a few ulps (16 bytes written whole).
+    #[test]
+    fn the_chords_of_a_circle_are_packed_as_their_predictions() {
+        let mut segs = Segs::new();
+        let at = |t: f64| {
+            let a = 0.3 + t * 1.7;
+            [12.5 + 23.0 * a.cos(), -40.0 + 23.0 * a.sin()]
+        };
+        let n = 8;
+        for k in 1..=n {
+            segs.push(Seg {
+                line: 7,
+                station: 1,
+                kind: SegKind::Feed,
+                a: at((k - 1) as f64 / n as f64),
+                b: at(k as f64 / n as f64),
+                per_rev: None,
+                scale: 1.0,
+                diameter: false,
+                cycle: false,
+                profile: false,
+            });
+        }
+        let whole = 2 + 1 + 1 + 1 + 1 + 8 + 32; // the first: header, start tags, line, station, mode, coordinates
+        let rest = segs.packed_bytes() - std::mem::size_of::<usize>() - whole;
+        // The second chord: its end's two coordinates whole (18 bytes with its header); the six
+        // after it: a header and two short differences each.
+        assert!(rest <= 18 + 6 * 5, "{rest} bytes for the chords after the first");
     }
 
     /// A turning program's segments pack into a fraction of their size (the point of packing).

@@ -114,7 +114,7 @@ fn evidence(said: Option<&comment::Said>, work: &moves::Work) -> Option<Evidence
 /// What the comments say of each station, each line's threading and tapping modes
 /// ([`moves::thread_modes`], read once for every station), and the stations the program's moves
 /// run at, in order.
-type StationsRead = (BTreeMap<u32, comment::Said>, Vec<(bool, bool)>, Vec<u32>);
+type StationsRead = (BTreeMap<u32, comment::Said>, moves::ThreadModes, Vec<u32>);
 
 fn stations_read(r: &Reading, machine: &Machine) -> StationsRead {
     let scale = r.segs.first().map_or(1.0, |s| s.scale);

@@ -1,7 +1,7 @@
 //! What a station does, read from its moves below the bar's face: the kind of tool it takes, the
 //! line and words of the evidence, and the sizes the tool is chosen by.
 
-use super::super::reading::{Reading, Seg, SegKind};
+use super::super::reading::{LineSet, Reading, Seg, SegKind};
 use super::super::segs::Step;
 use super::ToolKind;
 use crate::assume::words::{code_of, g_codes};
@@ -97,40 +97,65 @@ fn next_of(st: &Step) -> Option<Seg> {
 /// (G33.1, G84 and its kin, until G80 or another motion code). A feed alone never makes a
 /// thread: a turning or drilling feed per revolution can be as large as a fine thread's lead
 /// (0.02 in a revolution is 0.508 mm), and a control cuts a thread only in a threading code.
-pub fn thread_modes(r: &Reading, fanuc: bool) -> Vec<(bool, bool)> {
+pub fn thread_modes(r: &Reading, fanuc: bool) -> ThreadModes {
     let (mut threading, mut tapping) = (false, false);
-    r.lines
-        .iter()
-        .map(|l| {
-            let g = g_codes(&code_of(&l));
-            let mut once = false;
-            for c in &g {
-                match *c {
-                    320 | 330 => (threading, tapping) = (true, false),
-                    920 if fanuc => (threading, tapping) = (true, false),
-                    760 | 780 => once = true,
-                    331 | 840 | 842 | 843 | 880 => (threading, tapping) = (false, true),
-                    0 | 10 | 20 | 30 | 700 | 710 | 720 | 730 | 740 | 750 | 800 | 810 | 820 | 830 | 850 | 860 | 870
-                    | 890 => (threading, tapping) = (false, false),
-                    900 | 940 if fanuc => (threading, tapping) = (false, false),
-                    _ => {}
-                }
+    let mut out = ThreadModes {
+        threading: LineSet::with_lines(r.lines.len()),
+        tapping: LineSet::with_lines(r.lines.len()),
+    };
+    let modes = r.lines.iter().map(|l| {
+        let g = g_codes(&code_of(&l));
+        let mut once = false;
+        for c in &g {
+            match *c {
+                320 | 330 => (threading, tapping) = (true, false),
+                920 if fanuc => (threading, tapping) = (true, false),
+                760 | 780 => once = true,
+                331 | 840 | 842 | 843 | 880 => (threading, tapping) = (false, true),
+                0 | 10 | 20 | 30 | 700 | 710 | 720 | 730 | 740 | 750 | 800 | 810 | 820 | 830 | 850 | 860 | 870
+                | 890 => (threading, tapping) = (false, false),
+                900 | 940 if fanuc => (threading, tapping) = (false, false),
+                _ => {}
             }
-            (threading || once, tapping)
-        })
-        .collect()
+        }
+        (threading || once, tapping)
+    });
+    for (i, (threads, taps)) in modes.enumerate() {
+        let line = i as u32 + 1;
+        if threads {
+            out.threading.insert(line);
+        }
+        if taps {
+            out.tapping.insert(line);
+        }
+    }
+    out
+}
+
+/// Which lines thread and which tap ([`thread_modes`]), a bit a line each.
+#[derive(Clone, Debug, Default)]
+pub struct ThreadModes {
+    threading: LineSet,
+    tapping: LineSet,
+}
+
+impl ThreadModes {
+    /// Whether 1-based `line` threads, and whether it taps (neither past the program's lines).
+    pub fn at(&self, line: u32) -> (bool, bool) {
+        (self.threading.contains(line), self.tapping.contains(line))
+    }
 }
 
 /// Whether piece `s` is a thread pass: along Z in a threading code.
-fn thread_pass(s: &Seg, modes: &[(bool, bool)]) -> bool {
+fn thread_pass(s: &Seg, modes: &ThreadModes) -> bool {
     let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
-    let threading = modes.get(s.line.saturating_sub(1) as usize).is_some_and(|m| m.0);
+    let threading = modes.at(s.line).0;
     threading && dz.abs() > dr.abs() && dz.abs() > 1e-3
 }
 
 /// Read each piece of each of `stations`' moves (in increasing order) below `face` (program Z,
 /// mm), in one walk of the segments; `modes` is the program's [`thread_modes`].
-pub fn works(r: &Reading, stations: &[u32], face: f64, modes: &[(bool, bool)]) -> Vec<(u32, Work)> {
+pub fn works(r: &Reading, stations: &[u32], face: f64, modes: &ThreadModes) -> Vec<(u32, Work)> {
     debug_assert!(stations.windows(2).all(|w| w[0] < w[1]), "{stations:?}");
     let mut out: Vec<(u32, Work)> = stations.iter().map(|&s| (s, Work::default())).collect();
     for st in r.segs.walk() {
@@ -142,7 +167,7 @@ pub fn works(r: &Reading, stations: &[u32], face: f64, modes: &[(bool, bool)]) -
 }
 
 /// Read piece `st` of its station's moves into `w`.
-fn take(w: &mut Work, st: &Step, face: f64, modes: &[(bool, bool)]) {
+fn take(w: &mut Work, st: &Step, face: f64, modes: &ThreadModes) {
     let station = st.seg.station;
     let below = face - INSIDE;
     let (i, s) = (st.index, &st.seg);
@@ -153,10 +178,7 @@ fn take(w: &mut Work, st: &Step, face: f64, modes: &[(bool, bool)]) {
     let (dr, dz) = (s.b[0] - s.a[0], s.b[1] - s.a[1]);
     let zlo = s.a[1].min(s.b[1]);
     w.deepest = Some(w.deepest.map_or(zlo, |d: f64| d.min(zlo)));
-    let (thread_code, tap_code) = modes
-        .get(s.line.saturating_sub(1) as usize)
-        .copied()
-        .unwrap_or_default();
+    let (thread_code, tap_code) = modes.at(s.line);
     let lead = s
         .per_rev
         .filter(|f| (THREAD_LEAD..=MAX_LEAD).contains(f) && (thread_code || tap_code));
