@@ -451,12 +451,72 @@ impl Query<'_> {
 
     /// How many rays of `rays` meet the box's material, counting no further than `cap`.
     fn count(&self, rays: Rays, cap: usize) -> usize {
+        self.count_walk(&self.walk(rays), cap)
+    }
+
+    /// How many rays of the walk meet the box's material, counting no further than `cap` (past
+    /// it, `cap + 1`).
+    fn count_walk(&self, w: &Walk, cap: usize) -> usize {
         let mut n = 0;
-        self.each(&self.walk(rays), |_, _| {
+        self.each(w, |_, _| {
             n += 1;
             n <= cap
         });
         n
+    }
+
+    /// The grid of `options` whose rays meet the box's material fewest times (the first such in
+    /// the order given), with its count and walk; `None` when one grid has no such ray (the box
+    /// is clear).
+    ///
+    /// The grids are counted smallest walk first, each no further than it could still win, so
+    /// a large walk is cut short by a small one's count; the grid chosen and its count are those
+    /// of counting each in full in the order given (a grid before the best so far wins a tie,
+    /// one after it must count fewer).
+    fn fewest(&self, options: &[Rays]) -> Option<(Rays, usize, Walk)> {
+        let walks = options.iter().map(|&r| self.walk(r)).collect();
+        fewest_of(walks, Walk::len, |w, cap| self.count_walk(w, cap)).map(|(i, n, w)| (options[i], n, w))
+    }
+}
+
+/// Of `items` (in their order), the first whose count is least, with its index and count; `None`
+/// when one counts none (or there are none). `count(item, cap)` counts no further than `cap`
+/// (past it, `cap + 1`). The items are counted in increasing `size` (a bound of their count),
+/// each no further than it could still win: one before the best so far wins a tie, one after it
+/// must count fewer. So the answer is counting each in full in order's.
+fn fewest_of<W>(
+    items: Vec<W>,
+    size: impl Fn(&W) -> usize,
+    mut count: impl FnMut(&W, usize) -> usize,
+) -> Option<(usize, usize, W)> {
+    let mut items: Vec<(usize, W)> = items.into_iter().enumerate().collect();
+    items.sort_by_key(|(_, w)| size(w));
+    let mut best: Option<(usize, usize, W)> = None;
+    for (i, w) in items {
+        let cap = match &best {
+            None => usize::MAX,
+            Some((b, n, _)) if i < *b => *n,
+            Some((_, n, _)) => n - 1,
+        };
+        let n = count(&w, cap);
+        if n == 0 {
+            return None;
+        }
+        if n <= cap {
+            best = Some((i, n, w));
+        }
+    }
+    best
+}
+
+impl Walk {
+    /// Node rays the walk may visit.
+    fn len(&self) -> usize {
+        match self {
+            Walk::None => 0,
+            Walk::Cyl { j0, j1, dirs, .. } => (j1 - j0 + 1) * dirs.len(),
+            Walk::Face { i0, i1, j0, j1, .. } => (i1 - i0 + 1) * (j1 - j0 + 1),
+        }
     }
 }
 
@@ -605,17 +665,7 @@ fn overlap_by(
     }
     let q = Query { stock, dexel, min, max };
     let (touched, options) = walks(stock, &min, &max);
-    let mut best_rays = *options.first()?;
-    let mut best_n = usize::MAX;
-    for &r in &options {
-        let n = q.count(r, best_n);
-        if n == 0 {
-            return None;
-        }
-        if n < best_n {
-            (best_rays, best_n) = (r, n);
-        }
-    }
+    let (best_rays, best_n, walk) = q.fewest(&options)?;
     // Whether a point is material by the grids other than the walked one (and the dexel stock,
     // unless the walk already holds to its intervals).
     let others: Vec<usize> = touched
@@ -751,7 +801,6 @@ fn overlap_by(
         // Asked only whether: the first contact deeper than `eps` answers it.
         !(any && best.hit.is_some())
     };
-    let walk = q.walk(best_rays);
     let inner = inner.as_ref();
     if any || rank.map_or(true, |r| best_n > r) {
         // Asked only whether: the walk in its order, to the first contact. (And so the oracle,
@@ -1072,6 +1121,78 @@ mod tests {
             }
         }
         assert!(hits > 10 && hits < 150, "{hits}");
+    }
+
+    /// The grid a query walks, counted smallest walk first and cut short, is the one counting
+    /// every grid in full in order picks (the first with the fewest rays), with the same count:
+    /// boxes of every size over a bar milled through its side and a face grid of its own.
+    #[test]
+    fn the_grid_with_the_fewest_rays_is_the_one_a_full_count_picks() {
+        let mut s = milled_bar();
+        let c = Cutter::new(CutterKind::Flat, 10.0, 30.0).unwrap();
+        let face = Sweep::new(
+            &c,
+            Vector3::z(),
+            Vector3::new(-8.0, -6.0, 57.0),
+            Vector3::new(4.0, -6.0, 57.0),
+            0.1,
+        )
+        .unwrap();
+        s.cut(&face);
+        let mut seed = 7u64;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut walked, mut clear) = (std::collections::BTreeSet::new(), 0);
+        for _ in 0..300 {
+            let c = Vector3::new(40.0 * rnd() - 20.0, 40.0 * rnd() - 20.0, 70.0 * rnd() - 5.0);
+            let h = Vector3::new(0.2 + 12.0 * rnd(), 0.2 + 12.0 * rnd(), 0.2 + 12.0 * rnd());
+            let q = Query {
+                stock: &s,
+                dexel: None,
+                min: c - h,
+                max: c + h,
+            };
+            let (_, options) = walks(&s, &q.min, &q.max);
+            // Every grid counted in full, in order: the first with the fewest wins.
+            let counts: Vec<usize> = options.iter().map(|&r| q.count(r, usize::MAX)).collect();
+            let want = match counts.iter().min() {
+                Some(&0) | None => None,
+                Some(&n) => Some((options[counts.iter().position(|&k| k == n).unwrap()], n)),
+            };
+            let got = q.fewest(&options).map(|(r, n, _)| (r, n));
+            assert_eq!(got, want, "box {c:?} ± {h:?}, counts {counts:?} of {options:?}");
+            match got {
+                Some((r, _)) => {
+                    walked.insert(format!("{r:?}"));
+                }
+                None => clear += 1,
+            }
+        }
+        // Both kinds of grid were walked, and some boxes were clear.
+        assert!(walked.len() >= 2 && clear > 0, "{walked:?}, {clear} clear");
+    }
+
+    proptest::proptest! {
+        /// The first of the fewest, counted smallest bound first and cut short, is the one a full
+        /// count in order picks, ties and all.
+        #[test]
+        fn the_fewest_counted_short_is_the_first_of_the_fewest(
+            items in proptest::collection::vec((0usize..6, 0usize..4), 0..7)
+        ) {
+            // (count, slack of the size bound over it); small counts make ties.
+            let want = match items.iter().map(|&(c, _)| c).min() {
+                Some(0) | None => None,
+                Some(n) => Some((items.iter().position(|&(c, _)| c == n).unwrap(), n)),
+            };
+            let got = fewest_of(
+                items.clone(),
+                |&(c, slack)| c + slack,
+                |&(c, _), cap| c.min(cap.saturating_add(1)),
+            );
+            proptest::prop_assert_eq!(got.map(|(i, n, _)| (i, n)), want);
+        }
     }
 
     /// Against the grid query itself: wherever the dexel stock proves the part clear, the grid
