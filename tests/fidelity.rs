@@ -45,9 +45,11 @@ fn rs274_ends(name: &str, src: &str) -> Option<Vec<(f64, f64)>> {
         println!("{name}: rs274 comparison skipped: rs274 is not unpacked");
         return None;
     }
-    let dir = std::env::temp_dir().join(format!("latheguard-fidelity-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join(format!("{name}.ngc"));
+    let dir = tempfile::Builder::new()
+        .prefix("latheguard-fidelity-")
+        .tempdir()
+        .unwrap();
+    let file = dir.path().join(format!("{name}.ngc"));
     std::fs::write(&file, src).unwrap();
     let out = std::process::Command::new(root().join("scripts/rs274-ref.sh"))
         .arg("-g")

@@ -24,25 +24,21 @@ fn run(args: &[&str]) -> (String, String, Option<i32>) {
     )
 }
 
-/// A program in a temporary file (removed when dropped).
-struct Temp(std::path::PathBuf);
+/// A program in a temporary folder of its own (both removed when dropped).
+struct Temp {
+    _dir: tempfile::TempDir,
+    path: std::path::PathBuf,
+}
 
 impl Temp {
     fn new(name: &str, text: &str) -> Temp {
-        let dir = std::env::temp_dir().join(format!("lg-live-drilling-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join(name);
-        std::fs::write(&p, text).unwrap();
-        Temp(p)
+        let dir = tempfile::Builder::new().prefix("lg-live-drilling-").tempdir().unwrap();
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        Temp { _dir: dir, path }
     }
     fn path(&self) -> &str {
-        self.0.to_str().unwrap()
-    }
-}
-
-impl Drop for Temp {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_file(&self.0);
+        self.path.to_str().unwrap()
     }
 }
 

@@ -888,18 +888,20 @@ fn example(name: &str, want: Option<(u64, &str, [&str; 2], f64, f64)>) -> Vec<St
     effects
 }
 
-/// A copy of an example in a fresh folder with `job` beside it (`None`: no job), for variants.
-fn example_variant(name: &str, job: Option<&str>, tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("lg-ends-{}-{tag}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::copy(root().join(MILL).join(name), dir.join(name)).unwrap();
+/// A copy of an example in a fresh folder with `job` beside it (`None`: no job), for variants
+/// (removed when dropped; each call its own, so tests running at once never share one).
+fn example_variant(name: &str, job: Option<&str>, tag: &str) -> tempfile::TempDir {
+    let dir = tempfile::Builder::new()
+        .prefix(&format!("lg-ends-{tag}-"))
+        .tempdir()
+        .unwrap();
+    std::fs::copy(root().join(MILL).join(name), dir.path().join(name)).unwrap();
     let stem = name.trim_end_matches(".nc");
-    let _ = std::fs::remove_file(dir.join(format!("{stem}.job.toml")));
     if let Some(j) = job {
-        std::fs::write(dir.join(format!("{stem}.job.toml")), j).unwrap();
+        std::fs::write(dir.path().join(format!("{stem}.job.toml")), j).unwrap();
     }
     std::fs::write(
-        dir.join("latheguard.toml"),
+        dir.path().join("latheguard.toml"),
         format!("machine = {:?}\n", root().join("machines/turn-mill.toml")),
     )
     .unwrap();
@@ -913,7 +915,7 @@ fn a_ball_end_mill_beside_the_front_edge_is_clean_where_a_flat_end_is_a_crash() 
     let fx = example("ball_past_the_front_edge.nc", None);
     assert!(fx.iter().any(|e| e == "kinematic_3d"), "{fx:?}");
     let dir = example_variant("ball_past_the_front_edge.nc", Some("program_zero_z = 80.0\n"), "flat");
-    let (errs, _) = cli_errors(&dir, &["ball_past_the_front_edge.nc"], "step");
+    let (errs, _) = cli_errors(dir.path(), &["ball_past_the_front_edge.nc"], "step");
     assert_eq!(errs.len(), 1, "{errs:?}");
     assert_eq!((errs[0].0, errs[0].1.as_str()), (16, "rapid_into_stock"));
     assert_eq!(errs[0].2, vec!["t11_mill".to_string(), "stock".to_string()]);
@@ -960,7 +962,7 @@ fn a_flat_end_mill_lowered_into_a_drills_cone_is_a_rapid_into_the_stock() {
         .unwrap()
         .replace("type = \"drill\",", "type = \"drill\", point_angle = 180,");
     let dir = example_variant("crash_flat_mill_into_drill_point.nc", Some(&job), "drill180");
-    let (errs, _) = cli_errors(&dir, &["crash_flat_mill_into_drill_point.nc"], "step");
+    let (errs, _) = cli_errors(dir.path(), &["crash_flat_mill_into_drill_point.nc"], "step");
     assert!(errs.is_empty(), "{errs:?}");
 }
 
@@ -977,7 +979,7 @@ fn a_flat_end_mill_lowered_onto_a_bull_noses_fillet_is_a_rapid_into_the_stock() 
         .replace("type = \"bull\"", "type = \"flat\"")
         .replace("corner_radius = 2, ", "");
     let dir = example_variant("crash_flat_mill_into_bull_corner.nc", Some(&job), "flat");
-    let (errs, _) = cli_errors(&dir, &["crash_flat_mill_into_bull_corner.nc"], "step");
+    let (errs, _) = cli_errors(dir.path(), &["crash_flat_mill_into_bull_corner.nc"], "step");
     assert!(errs.is_empty(), "{errs:?}");
 }
 
@@ -1024,7 +1026,7 @@ fn a_square_bar_is_milled_passed_over_and_crashed_into_at_its_corner() {
     // (Shorter: Ø56.569 does not pass the chuck's Ø50 bore.)
     let round = "[stock]\ndiameter = 56.569\nlength = 85.0\nstick_out = 80.0\n";
     let dir = example_variant("block_rapid_over_flat_side.nc", Some(round), "round");
-    let (errs, _) = cli_errors(&dir, &["block_rapid_over_flat_side.nc"], "step");
+    let (errs, _) = cli_errors(dir.path(), &["block_rapid_over_flat_side.nc"], "step");
     assert_eq!(errs.len(), 1, "{errs:?}");
     assert_eq!((errs[0].0, errs[0].1.as_str()), (17, "rapid_into_stock"));
     assert!((errs[0].3 - 7.284).abs() < 0.05, "{errs:?}");
@@ -1034,8 +1036,8 @@ fn a_square_bar_is_milled_passed_over_and_crashed_into_at_its_corner() {
 /// and the run says so (`block_envelope`).
 #[test]
 fn a_block_on_a_two_axis_lathe_is_checked_as_its_envelope_and_says_so() {
-    let dir = std::env::temp_dir().join(format!("lg-block2d-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new().prefix("lg-block2d-").tempdir().unwrap();
+    let dir = tmp.path();
     std::fs::write(
         dir.join("p.job.toml"),
         "[stock]\nblock = { width = 30, height = 30 }\nlength = 80.0\nstick_out = 50.0\n",
@@ -1048,7 +1050,7 @@ fn a_block_on_a_two_axis_lathe_is_checked_as_its_envelope_and_says_so() {
     .unwrap();
     let machine = root().join("machines/generic-slant-bed.toml");
     let m = machine.to_str().unwrap();
-    let (errs, fx) = cli_errors(&dir, &["--machine", m, "p.nc"], "step");
+    let (errs, fx) = cli_errors(dir, &["--machine", m, "p.nc"], "step");
     assert!(fx.iter().any(|e| e == "block_envelope"), "{fx:?}");
     // The rapid at X40 (radius 20) runs through the envelope (R 21.213) after turning only to Z-10.
     assert!(errs.iter().any(|e| e.0 == 6 && e.1 == "rapid_into_stock"), "{errs:?}");
