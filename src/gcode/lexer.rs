@@ -36,8 +36,9 @@ pub fn parse_fanuc(src: &[u8]) -> Program<'_> {
 }
 
 /// [`parse`] (or, with `macro_b`, [`parse_fanuc`]) holding `per_window` blocks a window (at
-/// least 1): the tests read programs a block a window, so that every jump reads windows again.
-#[doc(hidden)]
+/// least 1): the same blocks in less memory, read again more often where the program jumps far.
+/// The setup reading holds a quarter of [`WINDOW_BLOCKS`] (`assume::reading`); the tests read
+/// programs a block a window, so that every jump reads windows again.
 pub fn parse_windowed(src: &[u8], macro_b: bool, per_window: usize) -> Program<'_> {
     parse_with(src, true, macro_b, per_window)
 }
