@@ -1042,11 +1042,7 @@ mod tests {
     /// on face grids turned every way, under boxes of every size; and it leaves out most nodes.
     #[test]
     fn a_face_grids_row_keeps_every_node_whose_ray_meets_the_box() {
-        let mut seed = 7u64;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::test_util::unit_random(7u64);
         let mut s = milled_bar();
         for _ in 0..4 {
             let a = Vector3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize();
@@ -1096,11 +1092,7 @@ mod tests {
     fn the_grid_query_agrees_with_sampling_the_box() {
         let s = milled_bar();
         let b = cube(1.5);
-        let mut seed = 99u64;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::test_util::unit_random(99u64);
         let mut hits = 0;
         for _ in 0..150 {
             let c = Vector3::new(10.0 + 12.0 * rnd(), 8.0 * rnd() - 4.0, 15.0 + 30.0 * rnd());
@@ -1139,11 +1131,7 @@ mod tests {
         )
         .unwrap();
         s.cut(&face);
-        let mut seed = 7u64;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::test_util::unit_random(7u64);
         let (mut walked, mut clear) = (std::collections::BTreeSet::new(), 0);
         for _ in 0..300 {
             let c = Vector3::new(40.0 * rnd() - 20.0, 40.0 * rnd() - 20.0, 70.0 * rnd() - 5.0);
@@ -1204,11 +1192,7 @@ mod tests {
         let mut dexel = DexelStock::new(40.0, 0.0, 60.0, 60.0, 0.05);
         let b = cube(1.5);
         let touch = 2.0 * s.spacing();
-        let mut seed = 7u64;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::test_util::unit_random(7u64);
         let (mut cleared, mut hits) = (0, 0);
         for _ in 0..400 {
             let c = Vector3::new(14.0 + 10.0 * rnd(), 6.0 * rnd() - 3.0, -3.0 + 66.0 * rnd());
@@ -1268,11 +1252,7 @@ mod tests {
         )
         .unwrap();
         let shapes = [cube(4.0), prim];
-        let mut seed = 11u64;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::test_util::unit_random(11u64);
         let (mut hits, mut cases) = (0, 0);
         for i in 0..40 {
             let c = Vector3::new(30.0 * rnd() - 10.0, 30.0 * rnd() - 15.0, 70.0 * rnd() - 5.0);

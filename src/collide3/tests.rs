@@ -755,11 +755,7 @@ fn stretches_proven_by_the_swept_pair_change_no_answer() {
             z1: 30.0,
         },
     ];
-    let mut seed = 5u64;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = crate::test_util::unit_random(5u64);
     let (mut proofs, mut contacts, mut clear) = (0, 0, 0);
     for i in 0..160 {
         let k = machine(tools[i % 2].clone(), boxg(60.0, 1.0, 60.0));
@@ -809,11 +805,7 @@ fn stretches_proven_by_the_swept_pair_change_no_answer() {
 #[test]
 fn a_swept_pair_called_clear_overlaps_at_no_sampled_pose() {
     let tools = [boxg(2.0, 4.0, 20.0), boxg(0.3, 0.3, 0.3)];
-    let mut seed = 17u64;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = crate::test_util::unit_random(17u64);
     let (mut yes, mut no) = (0, 0);
     for i in 0..300 {
         let k = machine(tools[i % 2].clone(), boxg(60.0, 1.0, 60.0));

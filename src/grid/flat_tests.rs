@@ -202,11 +202,7 @@ fn a_block_pocketed_on_its_top_face_keeps_the_pocket() {
 /// the surface closed with its volume and area, and leaves alone what it cannot prove.
 #[test]
 fn random_milled_bars_stay_closed_with_their_volume() {
-    let mut seed = 99u64;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = crate::test_util::unit_random(99u64);
     let tol = 0.25;
     let (mut merged_faces, mut kept) = (0, 0);
     for _ in 0..6 {

@@ -237,11 +237,7 @@ fn a_ball_end_groove_along_the_bar_is_a_half_round() {
 /// removed), on random radial and axial cuts.
 #[test]
 fn the_grids_never_remove_what_no_sweep_holds() {
-    let mut seed = 12345u64;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = crate::test_util::unit_random(12345u64);
     let tol = 0.2;
     let mut s = bar(15.0, 40.0, tol);
     let mut sweeps = Vec::new();
@@ -377,11 +373,7 @@ fn a_block_milled_on_two_faces_loses_both_pockets() {
 
 /// A random cutter of every kind, and a random move of it near a Ø40 bar.
 fn random_sweeps(n: usize) -> Vec<Sweep> {
-    let mut seed = 987_654_321u64;
-    let mut rnd = move || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = crate::test_util::unit_random(987_654_321u64);
     let mut out = Vec::new();
     while out.len() < n {
         let d = 2.0 + 14.0 * rnd();
@@ -413,11 +405,7 @@ fn random_sweeps(n: usize) -> Vec<Sweep> {
 fn a_ray_skipping_pieces_by_their_bounds_meets_the_sweep_where_every_piece_does() {
     // Oracle: every piece measured exactly. The skips (a piece whose outer bound lies within
     // the interval so far, a ray that misses the hull) may never change the answer.
-    let mut seed = 42u64;
-    let mut rnd = move || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = crate::test_util::unit_random(42u64);
     let mut hits = 0;
     for sw in random_sweeps(300) {
         for _ in 0..200 {
@@ -810,11 +798,7 @@ fn node_bits(s: &Stock) -> Vec<u64> {
 /// as polar interpolation's chords are, short and long, some through the axis, some standing
 /// still on it), with a few others (tilted, plunging, radial; ball and drill ends).
 fn sweeps_at_the_axis(n: usize, seed: u64) -> Vec<Sweep> {
-    let mut seed = seed;
-    let mut rnd = move || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = crate::test_util::unit_random(seed);
     let mut out = Vec::new();
     while out.len() < n {
         let d = 2.0 + 10.0 * rnd();

@@ -367,11 +367,7 @@ mod section_box_tests {
     fn the_section_box_is_every_edges_box_and_holds_the_section_over_a_move() {
         let machine = crate::machine::Machine::builtin();
         let scene = Scene::new(&machine, 0.01);
-        let mut seed = 7u64;
-        let mut rnd = move || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::test_util::unit_random(7u64);
         let (mut checked, mut dips) = (0, 0);
         for t in &scene.tools {
             for (shape, extent) in [(&t.holder, &t.holder_extent), (&t.insert, &t.insert_extent)] {

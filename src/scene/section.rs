@@ -241,11 +241,7 @@ mod tests {
     /// radius `r` and `z` is the image of the station's plane's points at `d* ± sqrt(r² − h²)`.
     #[test]
     fn a_tool_across_the_fold_of_its_station_plane_has_the_section_its_points_map_to() {
-        let mut seed = 7u64;
-        let mut rnd = move || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::test_util::unit_random(7u64);
         let tol = 0.01;
         let (mut folded, mut poses) = (0, 0);
         let mut files: Vec<_> = std::fs::read_dir("machines")
@@ -380,11 +376,7 @@ mod tests {
             p(((d - d_star).powi(2) + h * h).sqrt(), r_ref.y + q.y + tip.y)
         };
         let pts = shape.points();
-        let mut seed = 5u64;
-        let mut rnd = move || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::test_util::unit_random(5u64);
         let mut images = Vec::new();
         for _ in 0..2000 {
             let (u, v) = (rnd(), rnd());

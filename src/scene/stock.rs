@@ -1780,11 +1780,7 @@ mod tests {
         let mut s = DexelStock::new(40.0, 10.0, 100.0, 0.0, 0.1);
         s.cut(&rect(15.0, -30.0, 25.0, -20.0));
         s.cut(&rect(4.0, -60.0, 8.0, -50.0));
-        let mut seed = 11u64;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::test_util::unit_random(11u64);
         let mut held = 0;
         for k in 0..4000 {
             let (r0, z0) = (22.0 * rnd(), -105.0 * rnd() + 2.0);

@@ -103,11 +103,10 @@ pub fn thread_modes(r: &Reading, fanuc: bool) -> ThreadModes {
         threading: LineSet::with_lines(r.lines.len()),
         tapping: LineSet::with_lines(r.lines.len()),
     };
-    let modes = r.lines.iter().map(|l| {
-        let g = g_codes(&code_of(&l));
+    for (i, l) in r.lines.iter().enumerate() {
         let mut once = false;
-        for c in &g {
-            match *c {
+        for c in g_codes(&code_of(&l)) {
+            match c {
                 320 | 330 => (threading, tapping) = (true, false),
                 920 if fanuc => (threading, tapping) = (true, false),
                 760 | 780 => once = true,
@@ -118,14 +117,11 @@ pub fn thread_modes(r: &Reading, fanuc: bool) -> ThreadModes {
                 _ => {}
             }
         }
-        (threading || once, tapping)
-    });
-    for (i, (threads, taps)) in modes.enumerate() {
         let line = i as u32 + 1;
-        if threads {
+        if threading || once {
             out.threading.insert(line);
         }
-        if taps {
+        if tapping {
             out.tapping.insert(line);
         }
     }
