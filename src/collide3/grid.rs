@@ -195,13 +195,13 @@ struct Query<'a> {
 /// (`Query::each`) so that one can be asked for by its number (`Query::ray`).
 enum Walk {
     None,
-    /// Columns `j0..=j1`, and in each the angles `dirs` (index, direction); `reach`: the box's
-    /// nearest approach to the axis.
+    /// Columns `j0..=j1`, and in each the angles `dirs`; `reach`: the box's nearest approach to
+    /// the axis.
     Cyl {
         j0: usize,
         j1: usize,
         reach: f64,
-        dirs: Vec<(usize, Vector3<f64>)>,
+        dirs: Vec<Dir>,
     },
     /// Face grid `k`'s nodes `i0..=i1` by `j0..=j1` (i fastest); `n1`: the box's reach along its
     /// normal.
@@ -213,6 +213,40 @@ enum Walk {
         j1: usize,
         n1: f64,
     },
+}
+
+/// An angle of the cylindrical grid's walk: its index `i`, its direction `u` (from the axis,
+/// across it), and the stretch `[t0, t1]` of its rays within the box's x and y slabs, which is
+/// the same for every column (the rays start on the axis and keep their z): [`slab`]'s x and y
+/// steps, taken once per angle instead of once per ray; `None` when a slab the direction runs
+/// along misses the axis. A column's ray is then the z slab's test and two comparisons, the
+/// same stretch `slab` gives (the max and min of the same numbers, in any order).
+#[derive(Clone, Copy, Debug)]
+struct Dir {
+    i: usize,
+    u: Vector3<f64>,
+    across: Option<(f64, f64)>,
+}
+
+impl Dir {
+    fn new(i: usize, u: Vector3<f64>, min: &Vector3<f64>, max: &Vector3<f64>) -> Dir {
+        let (mut t0, mut t1) = (f64::NEG_INFINITY, f64::INFINITY);
+        let mut across = true;
+        for k in 0..2 {
+            if u[k].abs() < 1e-15 {
+                across &= !(0.0 < min[k] || 0.0 > max[k]);
+            } else {
+                let (x0, x1) = ((min[k] - 0.0) / u[k], (max[k] - 0.0) / u[k]);
+                t0 = t0.max(x0.min(x1));
+                t1 = t1.min(x0.max(x1));
+            }
+        }
+        Dir {
+            i,
+            u,
+            across: across.then_some((t0, t1)),
+        }
+    }
 }
 
 /// A node ray: the point `o`, the direction `u`, the stretch `[t0, t1]` of its material in the
@@ -240,7 +274,7 @@ impl Query<'_> {
                     .flat_map(|(a, b)| a..=b)
                     .map(|i| {
                         let (s, co) = c.theta(i).sin_cos();
-                        (i, Vector3::new(co, s, 0.0))
+                        Dir::new(i, Vector3::new(co, s, 0.0), min, max)
                     })
                     .collect();
                 Walk::Cyl {
@@ -277,14 +311,20 @@ impl Query<'_> {
 
     /// The cylindrical grid's ray of column `j` at angle `i` (direction `u`), when its material
     /// meets the box.
-    fn cyl_ray(&self, j: usize, (i, u): (usize, Vector3<f64>), reach: f64) -> Option<NodeRay> {
+    /// (`slab` of the ray `o + t·u` within `[inner, R]`, its x and y steps taken from `dir`.)
+    fn cyl_ray(&self, j: usize, dir: &Dir, reach: f64) -> Option<NodeRay> {
         let c = self.stock.cyl.as_ref()?;
-        let r = c.radius(i, j);
+        let r = c.radius(dir.i, j);
         if r <= c.inner[j].max(reach) {
             return None;
         }
-        let o = Vector3::new(0.0, 0.0, c.z(j));
-        slab(o, u, &self.min, &self.max, c.inner[j], r).map(|(t0, t1)| (o, u, t0, t1))
+        let (a0, a1) = dir.across?;
+        let z = c.z(j);
+        if z < self.min.z || z > self.max.z {
+            return None;
+        }
+        let (t0, t1) = (c.inner[j].max(a0), r.min(a1));
+        (t1 > t0).then_some((Vector3::new(0.0, 0.0, z), dir.u, t0, t1))
     }
 
     /// Face grid `k`'s ray of node `(i, j)`, when its material meets the box.
@@ -355,7 +395,7 @@ impl Query<'_> {
                 if !self.column_live(j, *reach) {
                     return None;
                 }
-                self.cyl_ray(j, dirs[id % dirs.len()], *reach)
+                self.cyl_ray(j, &dirs[id % dirs.len()], *reach)
             }
             Walk::Face { k, i0, i1, j0, n1, .. } => {
                 let w = i1 - i0 + 1;
@@ -390,7 +430,7 @@ impl Query<'_> {
                         let arcs = c.angles(lo, hi);
                         let keep: Vec<bool> = dirs
                             .iter()
-                            .map(|&(i, _)| arcs.iter().any(|&(a, b)| (a..=b).contains(&i)))
+                            .map(|&Dir { i, .. }| arcs.iter().any(|&(a, b)| (a..=b).contains(&i)))
                             .collect();
                         (ja.max(*j0), jb.min(*j1), Some(keep))
                     }
@@ -401,7 +441,7 @@ impl Query<'_> {
                         continue;
                     }
                     let base = (j - j0) * dirs.len();
-                    for (d, &dir) in dirs.iter().enumerate() {
+                    for (d, dir) in dirs.iter().enumerate() {
                         if keep.as_ref().is_some_and(|k| !k[d]) {
                             continue;
                         }
@@ -613,13 +653,17 @@ pub fn grid_overlap(
 
 /// [`grid_overlap`] asked how deep only beyond `floor` (the deepest depth already known, say, of
 /// a contact whose samples are being taken): the same hit as [`grid_overlap`] when that lies
-/// deeper than `floor`; else whether there is contact at all, as a hit no deeper than `floor`
-/// (the first the walk finds), or `None`.
+/// deeper than `floor`; else whether there is contact at all, as a hit deeper than `eps` and no
+/// deeper than `floor`, or `None`.
 ///
 /// Why the first answer is [`grid_overlap`]'s: its search skips only rays, stretches and runs
 /// whose bound cannot beat the best so far or `eps`; raising `eps` to `floor` skips besides only
 /// those that hold no point deeper than `floor`, so the points deeper than `floor` it measures
 /// are the same, and so is the deepest of them (ties to the same ray).
+///
+/// The second: a point that search measured deeper than `eps` (kept as it goes: a contact held
+/// at one depth measures many just short of `floor`) is a contact; when it measured none, the
+/// walk asked only whether, on the same choice of grid (made once for the pose).
 #[allow(clippy::too_many_arguments)]
 pub fn grid_overlap_beyond(
     shape: &Shape3,
@@ -633,8 +677,10 @@ pub fn grid_overlap_beyond(
     if floor <= eps {
         return grid_overlap(shape, pose, part, stock, eps, dexel, false);
     }
-    overlap_by(shape, pose, part, stock, floor, dexel, false, Some(MAX_RANKED))
-        .or_else(|| grid_overlap(shape, pose, part, stock, eps, dexel, true))
+    let mut at = At::new(shape, pose, part, stock, dexel);
+    let (deep, touch) = at.search(shape, part, (floor, eps), false, Some(MAX_RANKED));
+    deep.or(touch)
+        .or_else(|| at.search(shape, part, (eps, eps), true, Some(MAX_RANKED)).0)
 }
 
 /// [`grid_overlap`], ranking at most `rank` rays by their bound (more: the walk in its order,
@@ -651,46 +697,92 @@ fn overlap_by(
     any: bool,
     rank: Option<usize>,
 ) -> Option<Hit> {
-    let prune = rank.is_some();
-    // The shape in the part's frame.
-    let local = part.inverse() * pose;
-    let (min, max) = part_box(shape, &local, 0.0);
-    // A point deeper than `eps` in the shape lies deeper than `eps` in its box, so inside the box
-    // shrunk by `eps` on every side: a ray that misses that inner box (shrunk a little less, far
-    // more than rounding) has no point the search could keep, and is not enumerated (the rays
-    // left keep their numbers and order, so the answer is the same); with no inner box, none has.
-    let inner = if prune { inner_box(&min, &max, eps) } else { None };
-    if inner.is_some_and(|(a, b)| (0..3).any(|i| a[i] > b[i])) {
-        return None;
+    At::new(shape, pose, part, stock, dexel)
+        .search(shape, part, (eps, eps), any, rank)
+        .0
+}
+
+/// A component posed against the stock: its box in the part's frame, and the grid its searches
+/// walk (chosen by the first search that needs one: `Query::fewest` depends on the box alone).
+struct At<'a> {
+    local: Iso,
+    q: Query<'a>,
+    /// The face grids a cut changed near the box, and the grids that may carry the walk.
+    touched: Vec<usize>,
+    options: Vec<Rays>,
+    chosen: Option<Option<(Rays, usize, Walk)>>,
+}
+
+impl<'a> At<'a> {
+    fn new(shape: &Shape3, pose: &Iso, part: &Iso, stock: &'a Stock, dexel: Option<&'a DexelStock>) -> At<'a> {
+        // The shape in the part's frame.
+        let local = part.inverse() * pose;
+        let (min, max) = part_box(shape, &local, 0.0);
+        let (touched, options) = walks(stock, &min, &max);
+        At {
+            local,
+            q: Query { stock, dexel, min, max },
+            touched,
+            options,
+            chosen: None,
+        }
     }
-    let q = Query { stock, dexel, min, max };
-    let (touched, options) = walks(stock, &min, &max);
-    let (best_rays, best_n, walk) = q.fewest(&options)?;
-    // Whether a point is material by the grids other than the walked one (and the dexel stock,
-    // unless the walk already holds to its intervals).
-    let others: Vec<usize> = touched
-        .iter()
-        .copied()
-        .filter(|&k| Rays::Face(k) != best_rays)
-        .collect();
-    let sample_cyl = best_rays != Rays::Cyl && stock.cyl.is_some();
-    // `sure`: whether the point is known to be material by the cylindrical grid, and by the
-    // dexel stock (`surely_material`).
-    let material = |p: Vector3<f64>, (cyl, dex): (bool, bool)| {
-        (!sample_cyl || cyl || stock.cyl.as_ref().is_some_and(|c| c.contains(p)))
-            && others.iter().all(|&k| stock.faces[k].contains(p))
-            && (best_rays == Rays::Cyl || dex || dexel.map_or(true, |d| d.holds(p.x.hypot(p.y), p.z)))
-    };
-    let needs_samples = sample_cyl || !others.is_empty() || (dexel.is_some() && best_rays != Rays::Cyl);
-    let ppose = to_pose(&local);
-    let step = stock.tolerance.max(1e-3);
-    // A run `[a, b]` of material inside the shape's stretch `[c0, c1]` of the ray: no point of it
-    // lies deeper in the shape than its distance along the ray to the stretch's ends (they are on
-    // the surface), so a run that cannot beat the best so far (or `eps`) is not measured. Its
-    // deepest point is at one of its ends (where the material ends inside the shape) or, on a run
-    // through the shape, near its middle.
-    let keep_run =
-        |best: &mut Deepest, ray: usize, o: Vector3<f64>, u: Vector3<f64>, (a, b): (f64, f64), (c0, c1): (f64, f64)| {
+
+    /// The deepest point deeper than `eps` (with `any`, the first found), and the first point
+    /// measured deeper than `touch` (at most `eps`: a contact however deep): see [`overlap_by`].
+    fn search(
+        &mut self,
+        shape: &Shape3,
+        part: &Iso,
+        (eps, touch): (f64, f64),
+        any: bool,
+        rank: Option<usize>,
+    ) -> (Option<Hit>, Option<Hit>) {
+        let prune = rank.is_some();
+        let (min, max) = (self.q.min, self.q.max);
+        // A point deeper than `eps` in the shape lies deeper than `eps` in its box, so inside the box
+        // shrunk by `eps` on every side: a ray that misses that inner box (shrunk a little less, far
+        // more than rounding) has no point the search could keep, and is not enumerated (the rays
+        // left keep their numbers and order, so the answer is the same); with no inner box, none has.
+        let inner = if prune { inner_box(&min, &max, eps) } else { None };
+        if inner.is_some_and(|(a, b)| (0..3).any(|i| a[i] > b[i])) {
+            return (None, None);
+        }
+        let q = &self.q;
+        let Some((best_rays, best_n, walk)) = self.chosen.get_or_insert_with(|| q.fewest(&self.options)) else {
+            return (None, None);
+        };
+        let (best_rays, best_n, walk) = (*best_rays, *best_n, &*walk);
+        let (stock, dexel, local, touched) = (q.stock, q.dexel, &self.local, &self.touched);
+        // Whether a point is material by the grids other than the walked one (and the dexel stock,
+        // unless the walk already holds to its intervals).
+        let others: Vec<usize> = touched
+            .iter()
+            .copied()
+            .filter(|&k| Rays::Face(k) != best_rays)
+            .collect();
+        let sample_cyl = best_rays != Rays::Cyl && stock.cyl.is_some();
+        // `sure`: whether the point is known to be material by the cylindrical grid, and by the
+        // dexel stock (`surely_material`).
+        let material = |p: Vector3<f64>, (cyl, dex): (bool, bool)| {
+            (!sample_cyl || cyl || stock.cyl.as_ref().is_some_and(|c| c.contains(p)))
+                && others.iter().all(|&k| stock.faces[k].contains(p))
+                && (best_rays == Rays::Cyl || dex || dexel.map_or(true, |d| d.holds(p.x.hypot(p.y), p.z)))
+        };
+        let needs_samples = sample_cyl || !others.is_empty() || (dexel.is_some() && best_rays != Rays::Cyl);
+        let ppose = to_pose(local);
+        let step = stock.tolerance.max(1e-3);
+        // A run `[a, b]` of material inside the shape's stretch `[c0, c1]` of the ray: no point of it
+        // lies deeper in the shape than its distance along the ray to the stretch's ends (they are on
+        // the surface), so a run that cannot beat the best so far (or `eps`) is not measured. Its
+        // deepest point is at one of its ends (where the material ends inside the shape) or, on a run
+        // through the shape, near its middle.
+        let keep_run = |best: &mut Deepest,
+                        ray: usize,
+                        o: Vector3<f64>,
+                        u: Vector3<f64>,
+                        (a, b): (f64, f64),
+                        (c0, c1): (f64, f64)| {
             let m = ((c0 + c1) / 2.0).clamp(a, b);
             if best.beats((m - c0).min(c1 - m), ray) {
                 return;
@@ -701,133 +793,136 @@ fn overlap_by(
                 best.offer(depth, part * nalgebra::Point3::from(p0), ray);
             }
         };
-    let mut best = Deepest {
-        eps,
-        prune,
-        hit: None,
-        ray: 0,
-    };
-    let mut spans = Vec::new();
-    let mut pieces: Vec<(f64, f64)> = Vec::new();
-    // One node ray (the `ray`-th of the walk).
-    let mut visit = |best: &mut Deepest, ray: usize, o: Vector3<f64>, u: Vector3<f64>, t0: f64, t1: f64| {
-        // No point of the ray's material in the box can lie deeper than the box allows: when
-        // that cannot beat the best so far (or `eps`), the ray is not cast.
-        if best.beats(box_depth_bound(&min, &max, o, u, t0, t1), ray) {
-            return true;
-        }
-        // Cast from outside the component's box (its faces may be the component's own: a start
-        // on the boundary would leave the parity to chance), then keep the node's material.
-        let Some((b0, b1)) = slab(o, u, &min, &max, f64::NEG_INFINITY, f64::INFINITY) else {
-            return true;
+        let mut best = Deepest {
+            eps,
+            prune,
+            hit: None,
+            ray: 0,
+            touch,
+            touched: None,
         };
-        inside_stretches(shape, &ppose, o, u, b0 - 1.0, b1 + 1.0, &mut spans);
-        for &(c0, c1) in &spans {
-            let (s0, s1) = (c0.max(t0), c1.min(t1));
-            if s1 <= s0 {
-                continue;
+        let mut spans = Vec::new();
+        let mut pieces: Vec<(f64, f64)> = Vec::new();
+        // One node ray (the `ray`-th of the walk).
+        let mut visit = |best: &mut Deepest, ray: usize, o: Vector3<f64>, u: Vector3<f64>, t0: f64, t1: f64| {
+            // No point of the ray's material in the box can lie deeper than the box allows: when
+            // that cannot beat the best so far (or `eps`), the ray is not cast.
+            if best.beats(box_depth_bound(&min, &max, o, u, t0, t1), ray) {
+                return true;
             }
-            // No point of the stretch lies deeper in the shape than half its length (its ends are
-            // on the surface): when that cannot beat the best so far (or `eps`), no run in it is
-            // measured (`keep_run`'s bound is at most that), so its samples are not taken.
-            if best.beats((c1 - c0) / 2.0, ray) {
-                continue;
-            }
-            pieces.clear();
-            // Along a radial ray the dexel stock's material is its column's radial intervals.
-            match (best_rays, dexel) {
-                (Rays::Cyl, Some(d)) => pieces.extend(
-                    d.material_at(o.z)
-                        .iter()
-                        .map(|&(lo, hi)| (s0.max(lo), s1.min(hi)))
-                        .filter(|(a, b)| b > a),
-                ),
-                _ => pieces.push((s0, s1)),
-            }
-            for &(a, b) in &pieces {
-                // No run of the piece can beat the best so far (or `eps`): the box's depth and the
-                // distance along the ray to the stretch's ends bound every point of it.
-                let m = ((c0 + c1) / 2.0).clamp(a, b);
-                let along = (m - c0).min(c1 - m);
-                if best.beats(along.min(box_depth_bound(&min, &max, o, u, a, b)), ray) {
+            // Cast from outside the component's box (its faces may be the component's own: a start
+            // on the boundary would leave the parity to chance), then keep the node's material.
+            let Some((b0, b1)) = slab(o, u, &min, &max, f64::NEG_INFINITY, f64::INFINITY) else {
+                return true;
+            };
+            inside_stretches(shape, &ppose, o, u, b0 - 1.0, b1 + 1.0, &mut spans);
+            for &(c0, c1) in &spans {
+                let (s0, s1) = (c0.max(t0), c1.min(t1));
+                if s1 <= s0 {
                     continue;
                 }
-                if !needs_samples {
-                    keep_run(best, ray, o, u, (a, b), (c0, c1));
+                // No point of the stretch lies deeper in the shape than half its length (its ends are
+                // on the surface): when that cannot beat the best so far (or `eps`), no run in it is
+                // measured (`keep_run`'s bound is at most that), so its samples are not taken.
+                if best.beats((c1 - c0) / 2.0, ray) {
                     continue;
                 }
-                // Runs of material by the other grids, sampled at the stock's tolerance: only
-                // within the cylindrical grid's reach when it is sampled (outside it no sample
-                // is material, so the runs are every sample's).
-                let n = (((b - a) / step).ceil() as usize).clamp(1, 4096);
-                let dt = (b - a) / n as f64;
-                let (mut k, n) = match (sample_cyl, stock.cyl.as_ref()) {
-                    (true, Some(c)) => match c.may_hold(o, u, a, b) {
-                        None => continue,
-                        Some((lo, hi)) => {
-                            let r = crate::grid::samples_within(a, b, n, lo, hi);
-                            (r.start, r.end)
-                        }
-                    },
-                    _ => (0, n),
-                };
-                // Where the cylindrical grid and the dexel stock surely hold the ray, its
-                // samples need not ask them (the oracle asks every sample).
-                let sure = match (prune && sample_cyl, stock.cyl.as_ref()) {
-                    (true, Some(c)) => surely_material(c, dexel, o, u, a, b),
-                    _ => None,
-                };
-                let mat = |k: usize| {
-                    let t = a + (k as f64 + 0.5) * dt;
-                    let known = |(lo, hi): (f64, f64)| t >= lo && t <= hi;
-                    material(
-                        o + t * u,
-                        sure.map_or((false, false), |(s, dex)| (known(s), dex && known(s))),
-                    )
-                };
-                while k < n {
-                    if !mat(k) {
-                        k += 1;
+                pieces.clear();
+                // Along a radial ray the dexel stock's material is its column's radial intervals.
+                match (best_rays, dexel) {
+                    (Rays::Cyl, Some(d)) => pieces.extend(
+                        d.material_at(o.z)
+                            .iter()
+                            .map(|&(lo, hi)| (s0.max(lo), s1.min(hi)))
+                            .filter(|(a, b)| b > a),
+                    ),
+                    _ => pieces.push((s0, s1)),
+                }
+                for &(a, b) in &pieces {
+                    // No run of the piece can beat the best so far (or `eps`): the box's depth and the
+                    // distance along the ray to the stretch's ends bound every point of it.
+                    let m = ((c0 + c1) / 2.0).clamp(a, b);
+                    let along = (m - c0).min(c1 - m);
+                    if best.beats(along.min(box_depth_bound(&min, &max, o, u, a, b)), ray) {
                         continue;
                     }
-                    let first = k;
-                    while k < n && mat(k) {
-                        k += 1;
+                    if !needs_samples {
+                        keep_run(best, ray, o, u, (a, b), (c0, c1));
+                        continue;
                     }
-                    keep_run(best, ray, o, u, (a + first as f64 * dt, a + k as f64 * dt), (c0, c1));
+                    // Runs of material by the other grids, sampled at the stock's tolerance: only
+                    // within the cylindrical grid's reach when it is sampled (outside it no sample
+                    // is material, so the runs are every sample's).
+                    let n = (((b - a) / step).ceil() as usize).clamp(1, 4096);
+                    let dt = (b - a) / n as f64;
+                    let (mut k, n) = match (sample_cyl, stock.cyl.as_ref()) {
+                        (true, Some(c)) => match c.may_hold(o, u, a, b) {
+                            None => continue,
+                            Some((lo, hi)) => {
+                                let r = crate::grid::samples_within(a, b, n, lo, hi);
+                                (r.start, r.end)
+                            }
+                        },
+                        _ => (0, n),
+                    };
+                    // Where the cylindrical grid and the dexel stock surely hold the ray, its
+                    // samples need not ask them (the oracle asks every sample).
+                    let sure = match (prune && sample_cyl, stock.cyl.as_ref()) {
+                        (true, Some(c)) => surely_material(c, dexel, o, u, a, b),
+                        _ => None,
+                    };
+                    let mat = |k: usize| {
+                        let t = a + (k as f64 + 0.5) * dt;
+                        let known = |(lo, hi): (f64, f64)| t >= lo && t <= hi;
+                        material(
+                            o + t * u,
+                            sure.map_or((false, false), |(s, dex)| (known(s), dex && known(s))),
+                        )
+                    };
+                    while k < n {
+                        if !mat(k) {
+                            k += 1;
+                            continue;
+                        }
+                        let first = k;
+                        while k < n && mat(k) {
+                            k += 1;
+                        }
+                        keep_run(best, ray, o, u, (a + first as f64 * dt, a + k as f64 * dt), (c0, c1));
+                    }
                 }
             }
+            // Asked only whether: the first contact deeper than `eps` answers it.
+            !(any && best.hit.is_some())
+        };
+        let inner = inner.as_ref();
+        if any || rank.map_or(true, |r| best_n > r) {
+            // Asked only whether: the walk in its order, to the first contact. (And so the oracle,
+            // and a walk too long to rank in bounded memory, the bounds still skipping.)
+            q.each_within(walk, inner, |id, (o, u, t0, t1)| visit(&mut best, id, o, u, t0, t1));
+            return (best.hit, best.touched);
         }
-        // Asked only whether: the first contact deeper than `eps` answers it.
-        !(any && best.hit.is_some())
-    };
-    let inner = inner.as_ref();
-    if any || rank.map_or(true, |r| best_n > r) {
-        // Asked only whether: the walk in its order, to the first contact. (And so the oracle,
-        // and a walk too long to rank in bounded memory, the bounds still skipping.)
-        q.each_within(&walk, inner, |id, (o, u, t0, t1)| visit(&mut best, id, o, u, t0, t1));
-        return best.hit;
+        // Asked how deep: the rays by how deep the box lets their material lie, deepest first, until
+        // no ray left can beat the best (`Deepest` answers as the walk in its order would).
+        let mut ranked = Vec::with_capacity(best_n);
+        q.each_within(walk, inner, |id, (o, u, t0, t1)| {
+            let bound = box_depth_bound(&min, &max, o, u, t0, t1);
+            if bound > eps {
+                ranked.push(Ranked(bound, id));
+            }
+            true
+        });
+        let mut order = std::collections::BinaryHeap::from(ranked);
+        while let Some(Ranked(bound, id)) = order.pop() {
+            if best.hit.is_some_and(|h| bound < h.depth) {
+                break;
+            }
+            if let Some((o, u, t0, t1)) = q.ray(walk, id) {
+                visit(&mut best, id, o, u, t0, t1);
+            }
+        }
+        (best.hit, best.touched)
     }
-    // Asked how deep: the rays by how deep the box lets their material lie, deepest first, until
-    // no ray left can beat the best (`Deepest` answers as the walk in its order would).
-    let mut ranked = Vec::with_capacity(best_n);
-    q.each_within(&walk, inner, |id, (o, u, t0, t1)| {
-        let bound = box_depth_bound(&min, &max, o, u, t0, t1);
-        if bound > eps {
-            ranked.push(Ranked(bound, id));
-        }
-        true
-    });
-    let mut order = std::collections::BinaryHeap::from(ranked);
-    while let Some(Ranked(bound, id)) = order.pop() {
-        if best.hit.is_some_and(|h| bound < h.depth) {
-            break;
-        }
-        if let Some((o, u, t0, t1)) = q.ray(&walk, id) {
-            visit(&mut best, id, o, u, t0, t1);
-        }
-    }
-    best.hit
 }
 
 /// A part `[lo, hi]` of `[a, b]` on which every point `o + t·u` is material by the cylindrical
@@ -905,6 +1000,9 @@ struct Deepest {
     prune: bool,
     hit: Option<Hit>,
     ray: usize,
+    /// The first point offered deeper than `touch` (a contact, however deep).
+    touch: f64,
+    touched: Option<Hit>,
 }
 
 impl Deepest {
@@ -925,6 +1023,9 @@ impl Deepest {
             None => true,
             Some(h) => depth > h.depth || (depth == h.depth && ray < self.ray),
         };
+        if depth > self.touch && self.touched.is_none() {
+            self.touched = Some(Hit { depth, point });
+        }
         if depth > self.eps && better {
             (self.hit, self.ray) = (Some(Hit { depth, point }), ray);
         }
@@ -1206,6 +1307,75 @@ mod tests {
             hits += usize::from(got.is_some());
         }
         assert!(cleared > 50 && hits > 50, "cleared {cleared}, hits {hits}");
+    }
+
+    /// A cylindrical grid's ray with its x and y slabs taken once per angle (`Dir`) is bit for
+    /// bit `slab` of the whole ray within its material: boxes at random (across the axis, off
+    /// it, beside it, thin in x or y), every angle of the walk, its columns and the columns
+    /// just beyond them (whose middle lies outside the box's z).
+    #[test]
+    fn a_radial_ray_slabbed_per_angle_is_the_whole_slab() {
+        let s = milled_bar();
+        let c = s.cyl.as_ref().unwrap();
+        let mut rnd = crate::test_util::unit_random(23u64);
+        let mut met = 0;
+        for n in 0..200 {
+            let lo = Vector3::new(50.0 * rnd() - 30.0, 50.0 * rnd() - 30.0, 70.0 * rnd() - 5.0);
+            let mut size = Vector3::new(20.0 * rnd(), 20.0 * rnd(), 5.0 * rnd());
+            if n % 5 == 0 {
+                size[n % 2] = 0.0;
+            }
+            let q = Query {
+                stock: &s,
+                dexel: None,
+                min: lo,
+                max: lo + size,
+            };
+            let Walk::Cyl { j0, j1, reach, dirs } = q.walk(Rays::Cyl) else {
+                continue;
+            };
+            // The walk's columns and two beyond each end (their middles outside the box's z).
+            for j in j0.saturating_sub(2)..=(j1 + 2).min(c.nz - 1) {
+                for d in &dirs {
+                    let got = q.cyl_ray(j, d, reach);
+                    let r = c.radius(d.i, j);
+                    let o = Vector3::new(0.0, 0.0, c.z(j));
+                    let want = (r > c.inner[j].max(reach))
+                        .then(|| slab(o, d.u, &q.min, &q.max, c.inner[j], r))
+                        .flatten()
+                        .map(|(t0, t1)| (o, d.u, t0, t1));
+                    let bits = |x: Option<NodeRay>| {
+                        x.map(|(o, u, a, b)| (o.map(f64::to_bits), u.map(f64::to_bits), a.to_bits(), b.to_bits()))
+                    };
+                    assert_eq!(bits(got), bits(want), "column {j}, angle {}", d.i);
+                    met += usize::from(got.is_some());
+                }
+            }
+        }
+        assert!(met > 1000, "{met} rays met a box");
+    }
+
+    /// A contact held at the floor's depth (a block pressed into the bar, sampled again at the
+    /// deepest depth its contact reached) is answered by the deep search's own measures: a point
+    /// deeper than the touch depth, no deeper than the floor, with no second walk; and the same
+    /// pose lifted clear answers none.
+    #[test]
+    fn a_contact_at_the_floor_is_answered_by_the_deep_search() {
+        let s = Stock::turned(0.0, 60.0, 20.0, 0.1, |_| Some((0.0, 20.0))).unwrap();
+        let b = cube(3.0);
+        let eps = 2.0 * s.spacing();
+        let pose = at(21.0, 0.0, 30.0);
+        let deepest = grid_overlap(&b, &pose, &Iso::identity(), &s, eps, None, false).unwrap();
+        assert!(deepest.depth > 1.5, "{deepest:?}");
+        let mut q = At::new(&b, &pose, &Iso::identity(), &s, None);
+        let (deep, touched) = q.search(&b, &Iso::identity(), (deepest.depth, eps), false, Some(MAX_RANKED));
+        assert!(deep.is_none(), "{deep:?}");
+        let t = touched.expect("the deep search measured a contact");
+        assert!(t.depth > eps && t.depth <= deepest.depth, "{t:?}");
+        let beyond = grid_overlap_beyond(&b, &pose, &Iso::identity(), &s, eps, None, deepest.depth);
+        assert!(beyond.is_some_and(|h| h.depth <= deepest.depth), "{beyond:?}");
+        let clear = at(24.0, 0.0, 30.0);
+        assert!(grid_overlap_beyond(&b, &clear, &Iso::identity(), &s, eps, None, deepest.depth).is_none());
     }
 
     /// The deepest search (rays by their box's bound, deepest first; rays, stretches, pieces and
