@@ -121,6 +121,17 @@ impl Stock {
         let cols: Vec<Option<(f64, f64)>> = (0..nz).map(|j| profile(z0 + (j as f64 + 0.5) * dzc)).collect();
         // Beyond every column's outer radius no ray meets material: no search.
         let r_top = cols.iter().flatten().map(|c| c.1).fold(0.0, f64::max);
+        // Per block of columns, the least inner and the largest outer radius: a radius outside
+        // them is held by none of its columns.
+        const BLOCK: usize = 64;
+        let blocks: Vec<(f64, f64)> = cols
+            .chunks(BLOCK)
+            .map(|c| {
+                c.iter()
+                    .flatten()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(ri, ro)| (lo.min(ri), hi.max(ro)))
+            })
+            .collect();
         let face = FaceGrid::flat(origin, Vector3::x(), -Vector3::y(), (df, df), (nf, nf), len).with_start(|u, v| {
             // e_v = −y so that e_u × e_v = −z (inward from the front face).
             let (x, y) = (-r_max + u, r_max - v);
@@ -128,10 +139,17 @@ impl Stock {
             if rho > r_top {
                 return None;
             }
-            (0..nz).rev().find_map(|j| {
-                cols[j]
-                    .filter(|&(ri, ro)| rho >= ri && rho <= ro)
-                    .map(|_| z_hi - (z0 + (j as f64 + 1.0) * dzc))
+            // The frontmost column holding the radius, blocks that cannot hold it passed over.
+            (0..blocks.len()).rev().find_map(|b| {
+                let (lo, hi) = blocks[b];
+                if !(rho >= lo && rho <= hi) {
+                    return None;
+                }
+                (b * BLOCK..((b + 1) * BLOCK).min(nz)).rev().find_map(|j| {
+                    cols[j]
+                        .filter(|&(ri, ro)| rho >= ri && rho <= ro)
+                        .map(|_| z_hi - (z0 + (j as f64 + 1.0) * dzc))
+                })
             })
         });
         Ok(Stock {

@@ -961,3 +961,38 @@ fn a_rays_answer_from_the_memo_is_the_answer_cast() {
     }
     assert!(memo_hits > 100_000, "the memo answers: {memo_hits}");
 }
+
+/// A turned part's front face grid starts each node's material at the frontmost column that
+/// holds its radius: the same depths as scanning every column from the front, on a profile of
+/// steps, a bore and an empty stretch over hundreds of columns (blocks of columns passed over
+/// whole where none holds the radius).
+#[test]
+fn a_turned_parts_face_starts_at_the_frontmost_column_holding_each_radius() {
+    let profile = |z: f64| -> Option<(f64, f64)> {
+        match z {
+            z if z > 95.0 => Some((4.0, 6.0)),
+            z if z > 80.0 => None,
+            z if z > 60.0 => Some((3.0, 12.0)),
+            z if z > 20.0 => Some((0.0, 9.0 + (z * 0.7).sin())),
+            _ => Some((0.0, 15.0)),
+        }
+    };
+    let s = Stock::turned(0.0, 100.0, 15.0, 0.1, profile).unwrap();
+    let c = s.cyl.as_ref().unwrap();
+    let g = &s.faces[0];
+    assert!(c.nz > 512, "{} columns", c.nz);
+    let mut held = 0;
+    for j in 0..g.nv {
+        for i in 0..g.nu {
+            let p = g.node(i, j);
+            let rho = p.x.hypot(p.y);
+            let want = (0..c.nz)
+                .rev()
+                .find(|&k| profile(c.z(k)).is_some_and(|(ri, ro)| rho >= ri && rho <= ro))
+                .map_or(g.thickness, |k| (100.0 - (c.z0 + (k as f64 + 1.0) * c.dz)).clamp(0.0, g.thickness));
+            assert_eq!(g.depth(i, j).to_bits(), want.to_bits(), "node ({i}, {j}) at radius {rho}");
+            held += usize::from(want < g.thickness);
+        }
+    }
+    assert!(held > 1000, "{held}");
+}
