@@ -772,6 +772,19 @@ impl<'a> At<'a> {
         let needs_samples = sample_cyl || !others.is_empty() || (dexel.is_some() && best_rays != Rays::Cyl);
         let ppose = to_pose(local);
         let step = stock.tolerance.max(1e-3);
+        // A bound of how deep the points of a ray's stretch `[t0, t1]` the search may measure lie
+        // in the box. When the cylindrical grid is sampled, every point kept is material by it,
+        // so within its reach (`CylGrid::may_hold`) grown by a sample's spacing (a run's ends
+        // lie up to half a sample beyond its samples): a face grid's ray crossing the bar (its
+        // material runs to the stock box's far side) is bounded by its chord through the bar.
+        // Only bounds: the stretches, pieces and samples measured stay the ray's own.
+        let ray_bound = |o: Vector3<f64>, u: Vector3<f64>, t0: f64, t1: f64| {
+            let reach = match (sample_cyl, stock.cyl.as_ref()) {
+                (true, Some(c)) => c.may_hold(o, u, t0, t1).map(|(lo, hi)| (t0.max(lo - step), t1.min(hi + step))),
+                _ => Some((t0, t1)),
+            };
+            reach.map_or(f64::NEG_INFINITY, |(a, b)| box_depth_bound(&min, &max, o, u, a, b))
+        };
         // A run `[a, b]` of material inside the shape's stretch `[c0, c1]` of the ray: no point of it
         // lies deeper in the shape than its distance along the ray to the stretch's ends (they are on
         // the surface), so a run that cannot beat the best so far (or `eps`) is not measured. Its
@@ -807,7 +820,7 @@ impl<'a> At<'a> {
         let mut visit = |best: &mut Deepest, ray: usize, o: Vector3<f64>, u: Vector3<f64>, t0: f64, t1: f64| {
             // No point of the ray's material in the box can lie deeper than the box allows: when
             // that cannot beat the best so far (or `eps`), the ray is not cast.
-            if best.beats(box_depth_bound(&min, &max, o, u, t0, t1), ray) {
+            if best.beats(ray_bound(o, u, t0, t1), ray) {
                 return true;
             }
             // Cast from outside the component's box (its faces may be the component's own: a start
@@ -906,7 +919,7 @@ impl<'a> At<'a> {
         // no ray left can beat the best (`Deepest` answers as the walk in its order would).
         let mut ranked = Vec::with_capacity(best_n);
         q.each_within(walk, inner, |id, (o, u, t0, t1)| {
-            let bound = box_depth_bound(&min, &max, o, u, t0, t1);
+            let bound = ray_bound(o, u, t0, t1);
             if bound > eps {
                 ranked.push(Ranked(bound, id));
             }
