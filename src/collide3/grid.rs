@@ -780,7 +780,9 @@ impl<'a> At<'a> {
         // Only bounds: the stretches, pieces and samples measured stay the ray's own.
         let ray_bound = |o: Vector3<f64>, u: Vector3<f64>, t0: f64, t1: f64| {
             let reach = match (sample_cyl, stock.cyl.as_ref()) {
-                (true, Some(c)) => c.may_hold(o, u, t0, t1).map(|(lo, hi)| (t0.max(lo - step), t1.min(hi + step))),
+                (true, Some(c)) => c
+                    .may_hold(o, u, t0, t1)
+                    .map(|(lo, hi)| (t0.max(lo - step), t1.min(hi + step))),
                 _ => Some((t0, t1)),
             };
             reach.map_or(f64::NEG_INFINITY, |(a, b)| box_depth_bound(&min, &max, o, u, a, b))

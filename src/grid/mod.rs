@@ -129,7 +129,9 @@ impl Stock {
             .map(|c| {
                 c.iter()
                     .flatten()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(ri, ro)| (lo.min(ri), hi.max(ro)))
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(ri, ro)| {
+                        (lo.min(ri), hi.max(ro))
+                    })
             })
             .collect();
         let face = FaceGrid::flat(origin, Vector3::x(), -Vector3::y(), (df, df), (nf, nf), len).with_start(|u, v| {

@@ -989,8 +989,14 @@ fn a_turned_parts_face_starts_at_the_frontmost_column_holding_each_radius() {
             let want = (0..c.nz)
                 .rev()
                 .find(|&k| profile(c.z(k)).is_some_and(|(ri, ro)| rho >= ri && rho <= ro))
-                .map_or(g.thickness, |k| (100.0 - (c.z0 + (k as f64 + 1.0) * c.dz)).clamp(0.0, g.thickness));
-            assert_eq!(g.depth(i, j).to_bits(), want.to_bits(), "node ({i}, {j}) at radius {rho}");
+                .map_or(g.thickness, |k| {
+                    (100.0 - (c.z0 + (k as f64 + 1.0) * c.dz)).clamp(0.0, g.thickness)
+                });
+            assert_eq!(
+                g.depth(i, j).to_bits(),
+                want.to_bits(),
+                "node ({i}, {j}) at radius {rho}"
+            );
             held += usize::from(want < g.thickness);
         }
     }
