@@ -678,9 +678,9 @@ pub fn grid_overlap_beyond(
         return grid_overlap(shape, pose, part, stock, eps, dexel, false);
     }
     let mut at = At::new(shape, pose, part, stock, dexel);
-    let (deep, touch) = at.search(shape, part, (floor, eps), false, Some(MAX_RANKED));
+    let (deep, touch) = at.search((floor, eps), false, Some(MAX_RANKED));
     deep.or(touch)
-        .or_else(|| at.search(shape, part, (eps, eps), true, Some(MAX_RANKED)).0)
+        .or_else(|| at.search((eps, eps), true, Some(MAX_RANKED)).0)
 }
 
 /// [`grid_overlap`], ranking at most `rank` rays by their bound (more: the walk in its order,
@@ -697,14 +697,15 @@ fn overlap_by(
     any: bool,
     rank: Option<usize>,
 ) -> Option<Hit> {
-    At::new(shape, pose, part, stock, dexel)
-        .search(shape, part, (eps, eps), any, rank)
-        .0
+    At::new(shape, pose, part, stock, dexel).search((eps, eps), any, rank).0
 }
 
 /// A component posed against the stock: its box in the part's frame, and the grid its searches
 /// walk (chosen by the first search that needs one: `Query::fewest` depends on the box alone).
 struct At<'a> {
+    shape: &'a Shape3,
+    /// The part's frame, and the shape's pose in it.
+    part: &'a Iso,
     local: Iso,
     q: Query<'a>,
     /// The face grids a cut changed near the box, and the grids that may carry the walk.
@@ -714,12 +715,14 @@ struct At<'a> {
 }
 
 impl<'a> At<'a> {
-    fn new(shape: &Shape3, pose: &Iso, part: &Iso, stock: &'a Stock, dexel: Option<&'a DexelStock>) -> At<'a> {
+    fn new(shape: &'a Shape3, pose: &Iso, part: &'a Iso, stock: &'a Stock, dexel: Option<&'a DexelStock>) -> At<'a> {
         // The shape in the part's frame.
         let local = part.inverse() * pose;
         let (min, max) = part_box(shape, &local, 0.0);
         let (touched, options) = walks(stock, &min, &max);
         At {
+            shape,
+            part,
             local,
             q: Query { stock, dexel, min, max },
             touched,
@@ -730,14 +733,7 @@ impl<'a> At<'a> {
 
     /// The deepest point deeper than `eps` (with `any`, the first found), and the first point
     /// measured deeper than `touch` (at most `eps`: a contact however deep): see [`overlap_by`].
-    fn search(
-        &mut self,
-        shape: &Shape3,
-        part: &Iso,
-        (eps, touch): (f64, f64),
-        any: bool,
-        rank: Option<usize>,
-    ) -> (Option<Hit>, Option<Hit>) {
+    fn search(&mut self, (eps, touch): (f64, f64), any: bool, rank: Option<usize>) -> (Option<Hit>, Option<Hit>) {
         let prune = rank.is_some();
         let (min, max) = (self.q.min, self.q.max);
         // A point deeper than `eps` in the shape lies deeper than `eps` in its box, so inside the box
@@ -754,6 +750,7 @@ impl<'a> At<'a> {
         };
         let (best_rays, best_n, walk) = (*best_rays, *best_n, &*walk);
         let (stock, dexel, local, touched) = (q.stock, q.dexel, &self.local, &self.touched);
+        let (shape, part) = (self.shape, self.part);
         // Whether a point is material by the grids other than the walked one (and the dexel stock,
         // unless the walk already holds to its intervals).
         let others: Vec<usize> = touched
@@ -1382,8 +1379,9 @@ mod tests {
         let pose = at(21.0, 0.0, 30.0);
         let deepest = grid_overlap(&b, &pose, &Iso::identity(), &s, eps, None, false).unwrap();
         assert!(deepest.depth > 1.5, "{deepest:?}");
-        let mut q = At::new(&b, &pose, &Iso::identity(), &s, None);
-        let (deep, touched) = q.search(&b, &Iso::identity(), (deepest.depth, eps), false, Some(MAX_RANKED));
+        let identity = Iso::identity();
+        let mut q = At::new(&b, &pose, &identity, &s, None);
+        let (deep, touched) = q.search((deepest.depth, eps), false, Some(MAX_RANKED));
         assert!(deep.is_none(), "{deep:?}");
         let t = touched.expect("the deep search measured a contact");
         assert!(t.depth > eps && t.depth <= deepest.depth, "{t:?}");
