@@ -14,8 +14,14 @@
 //!    and the same moves turning clear of everything, for the cost of a block in contact against
 //!    a clean one.
 //!
-//! `-- --stock-only` runs section 3 alone; `-- --contact-only` section 4 alone. Figures are medians of several runs; compare ratios
-//! within one run (shared, noisy machines).
+//! 5. Turn-mill programs on their machines, each the binary's `check` as the README's speed table
+//!    gives it (wall time, median of 3): the NX Mori Seiki NL1500Y listing of the corpus (when
+//!    `../shared/corpus-extra` is there: the corpus is kept out of the repository), the G12.1
+//!    face pocket through the spindle axis and `programs/turn-mill/crash_live_drill_into_jaws.nc`.
+//!
+//! `-- --stock-only` runs section 3 alone; `-- --contact-only` section 4 alone; `-- --turn-mill-only`
+//! section 5 alone. Figures are medians of several runs; compare ratios within one run (shared,
+//! noisy machines).
 
 #[allow(dead_code)]
 #[path = "../examples/gen_program.rs"]
@@ -61,14 +67,76 @@ fn main() {
 
     let stock_only = std::env::args().any(|a| a == "--stock-only");
     let contact_only = std::env::args().any(|a| a == "--contact-only");
-    if !stock_only && !contact_only {
+    let turn_mill_only = std::env::args().any(|a| a == "--turn-mill-only");
+    let all = !stock_only && !contact_only && !turn_mill_only;
+    if all {
         sections_1_and_2(quick, &m, &step, &exact);
     }
-    if !contact_only {
+    if all || stock_only {
         section_3(quick, &m, &step);
     }
-    if !stock_only {
+    if all || contact_only {
         section_4(quick, &m, &step, &exact);
+    }
+    if all || turn_mill_only {
+        section_5();
+    }
+}
+
+/// The README's turn-mill rows: each program checked by the binary on its machine.
+fn section_5() {
+    println!("5. turn-mill programs on their machines (the binary's check, wall time, median of 3)");
+    let root = env!("CARGO_MANIFEST_DIR");
+    let nx = format!("{root}/../shared/corpus-extra/unigraphics-nx-postprocessor/MoriSeiki_NL1500Y_output.txt");
+    let rows: [(&str, Vec<String>); 3] = [
+        (
+            "the NX Mori Seiki NL1500Y listing (396 lines)",
+            vec![
+                "-m".into(),
+                format!("{root}/tests/corpus-jobs/machines/mori-seiki-nl1500y.toml"),
+                nx.clone(),
+            ],
+        ),
+        (
+            "a G12.1 face pocket through the spindle axis",
+            vec![
+                "-m".into(),
+                format!("{root}/machines/turn-mill.toml"),
+                format!("{root}/tests/fixtures/polar/face_pocket_through_axis.nc"),
+            ],
+        ),
+        (
+            "programs/turn-mill/crash_live_drill_into_jaws.nc",
+            vec![format!("{root}/programs/turn-mill/crash_live_drill_into_jaws.nc")],
+        ),
+    ];
+    let exe = env!("CARGO_BIN_EXE_latheguard");
+    for (what, args) in rows {
+        if args.last().is_some_and(|p| !std::path::Path::new(p).exists()) {
+            println!("   {what}: skipped (no {})", args.last().map_or("", String::as_str));
+            continue;
+        }
+        let mut times = Vec::new();
+        for _ in 0..3 {
+            let t = Instant::now();
+            let status = std::process::Command::new(exe)
+                .arg("check")
+                .arg("-q")
+                .args(&args)
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .status();
+            // A program with findings exits 1; anything else is no measurement.
+            if !status.as_ref().is_ok_and(|s| matches!(s.code(), Some(0 | 1))) {
+                println!("   {what}: the check failed ({status:?})");
+                break;
+            }
+            times.push(t.elapsed().as_secs_f64());
+        }
+        if times.len() == 3 {
+            times.sort_by(f64::total_cmp);
+            println!("   {what}: {:.3} s", times[1]);
+        }
     }
 }
 
