@@ -58,11 +58,18 @@ impl Iterator for Lines<'_> {
         }
         let (src, start) = (self.src, self.next);
         let end = line_end(src, start).unwrap_or(src.len());
-        let crlf = src.get(end) == Some(&b'\r') && src.get(end + 1) == Some(&b'\n');
-        self.next = end + 1 + crlf as usize;
+        self.next = after_terminator(src, end);
         self.done = self.next >= src.len();
         Some((start, end))
     }
+}
+
+/// Where the line after the one ending at byte `end` (its terminator's first byte, or the end
+/// of the text) starts: past its LF, CRLF or lone CR (past the text's end when none follows).
+#[inline]
+pub(crate) fn after_terminator(src: &[u8], end: usize) -> usize {
+    let crlf = src.get(end) == Some(&b'\r') && src.get(end + 1) == Some(&b'\n');
+    end + 1 + crlf as usize
 }
 
 /// Eight copies of a byte.

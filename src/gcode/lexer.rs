@@ -12,7 +12,7 @@ use super::shape;
 use super::window::{Mark, Store, Window, CACHED_WINDOWS, WINDOW_BLOCKS};
 use super::{Assign, Block, Comment, Expr, NameId, OName, OOp, OWord, Program, Rare, Value, Word};
 use crate::finding::{push_capped, Finding};
-use crate::source::{count_lf, lines, lines_from, Span};
+use crate::source::{after_terminator, count_lf, lines, lines_from, Span};
 use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 use std::rc::Rc;
@@ -94,12 +94,10 @@ pub(super) fn parse_with(src: &[u8], plain_lines_fast: bool, macro_b: bool, per_
                 reader.prog.assigns.clear();
                 skimmed = 0;
             }
-            // The next line starts after this one's terminator (as `source::lines` steps on).
-            let crlf = src.get(end) == Some(&b'\r') && src.get(end + 1) == Some(&b'\n');
             marks.push(Mark {
                 first_block: len,
                 line: line + 1,
-                start: (end + 1 + crlf as usize).min(src.len()) as u32,
+                start: after_terminator(src, end).min(src.len()) as u32,
                 expr_base: reader.prog.exprs.len() as u32,
                 rare: false,
             });
