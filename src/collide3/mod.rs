@@ -14,7 +14,8 @@
 //! report 0.2, the deepest triangle pair); for containment, a lower bound: the distance from the
 //! contained component's test point to the container's surface. `distance` is parry's closest
 //! distance between the two boundaries (branch and bound, GJK to about 1e-9 mm) below 10 mm and a
-//! lower bound at least 31/32 of it beyond (`distance_bound`: that bound at any distance), and 0
+//! lower bound at least 31/32 of it beyond (`distance_bound`: a bound at least 3/4 of it at any
+//! distance, the advancement's), and 0
 //! when the solids overlap by any amount (crossing or containment). Two meshes are answered by
 //! one walk of both their trees (`pairs.rs`), measuring the pairs of triangles as parry does.
 
@@ -637,10 +638,20 @@ pub fn distance(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso) -> f64 {
     distance_asked(a, pa, b, pb, EXACT_BELOW)
 }
 
-/// A lower bound of [`distance`], at least `1 − 1/32` of it at any distance (`pairs::SLACK`):
-/// what conservative advancement needs.
+/// A lower bound of [`distance`], at least `1 − 1/4` of it at any distance
+/// (`pairs::ADVANCE_SLACK`): what conservative advancement needs.
 pub fn distance_bound(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso) -> f64 {
     distance_asked(a, pa, b, pb, 0.0)
+}
+
+/// The slack of a distance measured exactly below `exact_below`: [`distance`]'s beyond its
+/// exact range, [`distance_bound`]'s (exact nowhere) at any distance.
+fn slack_of(exact_below: f64) -> f64 {
+    if exact_below > 0.0 {
+        pairs::SLACK
+    } else {
+        pairs::ADVANCE_SLACK
+    }
 }
 
 /// Distances below this are measured exactly by [`distance`] (the near-miss clearance is at
@@ -663,7 +674,8 @@ fn distance_computed(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso, exact_below: f6
     let d = if let (Shape3::Mesh(ma), Shape3::Mesh(mb)) = (a, b) {
         // parry's distance (exact below `exact_below`), by one walk of both trees (`pairs`).
         let (ta, tb) = (ma.tree.get(&ma.mesh), mb.tree.get(&mb.mesh));
-        pairs::mesh_distance((&ma.mesh, ta), (&mb.mesh, tb), &pa.inv_mul(&pb), exact_below)
+        let slack = slack_of(exact_below);
+        pairs::mesh_distance((&ma.mesh, ta), (&mb.mesh, tb), &pa.inv_mul(&pb), exact_below, slack)
     } else {
         let (sa, qa) = a.parts(&pa);
         let (sb, qb) = b.parts(&pb);

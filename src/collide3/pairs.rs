@@ -115,8 +115,15 @@ impl Tree {
     }
 }
 
-/// A distance measured with slack may come out this share short of the exact one.
+/// The share [`super::distance`] may come out short of the exact distance beyond the range
+/// it measures exactly (the near-miss clearances are below it).
 pub(super) const SLACK: f64 = 1.0 / 32.0;
+
+/// The share [`super::distance_bound`] may come out short of the exact distance, at any
+/// distance: the advancement's bound. Its steps are then at most a quarter shorter, and the
+/// walk behind each far cheaper: it leaves closed a pair of boxes within a quarter of the best
+/// found, not within a 32nd (measured on the NL1500Y sample; docs/turn-mill.md).
+pub(super) const ADVANCE_SLACK: f64 = 1.0 / 4.0;
 
 /// `b`'s posing in `a`'s frame, for boxes: the rotation, its entries' absolute values and the
 /// translation.
@@ -171,17 +178,24 @@ fn triangle_gap(a: &[Vector; 3], b: &[Vector; 3]) -> f64 {
 }
 
 /// The distance between the boundaries of two meshes, `b` posed at `pos12` in `a`'s frame,
-/// exact below `exact_below` and beyond it a lower bound at least `1 − SLACK` of it; exact: the
+/// exact below `exact_below` and beyond it a lower bound at least `1 − slack` of it; exact: the
 /// least distance of a pair of triangles, measured as parry measures it (see the module docs).
 /// `f64::MAX` when no pair of triangles has one.
 ///
 /// Why the slack is sound: a pair of boxes is left closed only when its gap is at least
-/// `exact_below` and at least `1 − SLACK` of the best found then (no less than the best at the
+/// `exact_below` and at least `1 − slack` of the best found then (no less than the best at the
 /// end); the answer is the least of the best and the closed gaps, a lower bound of every
 /// pair's distance (each pair's is at least its boxes' gap, or its triangles' shadows' gap on
 /// an axis, [`triangle_gap`]), and it is a closed gap only when
-/// that is at least `exact_below` and at least `1 − SLACK` of the best, so of the exact one.
-pub(super) fn mesh_distance(a: (&TriMesh, &Tree), b: (&TriMesh, &Tree), pos12: &Pose, exact_below: f64) -> f64 {
+/// that is at least `exact_below` and at least `1 − slack` of the best, so of the exact one.
+/// `slack` is below 1 ([`SLACK`], [`ADVANCE_SLACK`]).
+pub(super) fn mesh_distance(
+    a: (&TriMesh, &Tree),
+    b: (&TriMesh, &Tree),
+    pos12: &Pose,
+    exact_below: f64,
+    slack: f64,
+) -> f64 {
     let (ta, tb) = (&a.1.nodes, &b.1.nodes);
     if ta.is_empty() || tb.is_empty() {
         return f64::MAX;
@@ -189,7 +203,7 @@ pub(super) fn mesh_distance(a: (&TriMesh, &Tree), b: (&TriMesh, &Tree), pos12: &
     let frame = Frame::new(pos12);
     let pos21 = pos12.inverse();
     let mut best = f64::MAX;
-    // The least gap of the pairs of boxes left closed by the slack (see `SLACK`).
+    // The least gap of the pairs of boxes left closed by the slack.
     let mut closed = f64::INFINITY;
     let mut stack: Vec<(u32, u32, f64)> = Vec::with_capacity(64);
     stack.push((0, 0, frame.gap(&ta[0], &tb[0])));
@@ -199,7 +213,7 @@ pub(super) fn mesh_distance(a: (&TriMesh, &Tree), b: (&TriMesh, &Tree), pos12: &
         if gap >= best {
             return true;
         }
-        let far = gap >= exact_below && gap >= best * (1.0 - SLACK);
+        let far = gap >= exact_below && gap >= best * (1.0 - slack);
         if far {
             *closed = closed.min(gap);
         }
@@ -246,11 +260,12 @@ pub(super) fn mesh_distance(a: (&TriMesh, &Tree), b: (&TriMesh, &Tree), pos12: &
 /// the nine crosses of an edge of one with an edge of the other): moving one triangle along
 /// such an axis by its overlap leaves the shadows apart, so the triangles too. (It is their
 /// penetration depth when those axes are all there: the faces of the Minkowski difference of
-/// two triangles are normal to them.)
-fn crossing_bound(a: &[Vector; 3], b: &[Vector; 3]) -> f64 {
+/// two triangles are normal to them.) Signed: when the shadows are apart on an axis, minus the
+/// widest such gap (the triangles are at least that far apart).
+pub(super) fn crossing_bound(a: &[Vector; 3], b: &[Vector; 3]) -> f64 {
     // A cross of nearly parallel edges has no direction to trust.
     let min_len = 1e-12 * (1.0 + a[0].length() + b[0].length());
-    let overlap = |n: Vector| shadow_gap(n, a, b, min_len).map_or(f64::INFINITY, |g| (-g).max(0.0));
+    let overlap = |n: Vector| shadow_gap(n, a, b, min_len).map_or(f64::INFINITY, |g| -g);
     let edges = |t: &[Vector; 3]| [t[1] - t[0], t[2] - t[1], t[0] - t[2]];
     let (ea, eb) = (edges(a), edges(b));
     let mut bound = overlap(ea[0].cross(ea[1])).min(overlap(eb[0].cross(eb[1])));
@@ -286,7 +301,9 @@ pub(super) enum Ask {
 /// `b`'s frame) overlap along some axis by less than a depth, or whose triangles' shadows do
 /// on an axis that can separate them ([`crossing_bound`]), less a margin, cannot cross deeper
 /// than it (moving one triangle that far along that axis separates them): with a
-/// contact found, the pairs that cannot beat it are not measured. [`Ask::Over`]: a contact
+/// contact found, the pairs that cannot beat it are not measured; nor, whatever is asked, a pair
+/// whose triangles' shadows are apart on one of those axes by more than the margin (parry finds
+/// no contact there at prediction 0). [`Ask::Over`]: a contact
 /// deeper than `eps` when there is one, the deepest when it is deeper than `floor`; the pairs
 /// that can neither beat the floor or the deepest found nor (while none is found) reach `eps`
 /// are not measured. [`Ask::Touch`]: a contact deeper than `eps` when there is one, else a
@@ -328,7 +345,10 @@ pub(super) fn mesh_contact(a: &TriMesh, b: &TriMesh, pa: &Pose, pb: &Pose, ask: 
         }
         let (tri_a, tri_b) = (a.triangle(i), b.triangle(j));
         let va = [tri_a.a, tri_a.b, tri_a.c].map(|p| pos21 * p);
-        if idle(over.min(crossing_bound(&va, &[tri_b.a, tri_b.b, tri_b.c]))) {
+        let bound = over.min(crossing_bound(&va, &[tri_b.a, tri_b.b, tri_b.c]));
+        // Triangles apart by more than the margin have no contact at prediction 0 (GJK finds
+        // them apart): whatever is asked, measuring them changes nothing.
+        if bound < -DEPTH_MARGIN || idle(bound) {
             continue;
         }
         let Ok(Some(c)) = DefaultQueryDispatcher.contact(&pos21, &tri_b, &tri_a, 0.0) else {

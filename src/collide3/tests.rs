@@ -228,10 +228,12 @@ proptest! {
         let (qa, qb) = (to_pose(&pa), to_pose(&pb));
         let (ma, mb) = (trimesh(&a), trimesh(&b));
         let parry = query::distance(&qa, ma.0, &qb, mb.0).unwrap().distance;
-        let exact = pairs::mesh_distance(ma, mb, &qa.inv_mul(&qb), f64::INFINITY);
+        let exact = pairs::mesh_distance(ma, mb, &qa.inv_mul(&qb), f64::INFINITY, pairs::SLACK);
         prop_assert!((exact - parry).abs() <= 1e-9 * (1.0 + parry), "walk {exact}, parry {parry}");
-        let bound = pairs::mesh_distance(ma, mb, &qa.inv_mul(&qb), 0.0);
-        prop_assert!(bound <= exact + 1e-12 && bound >= (1.0 - pairs::SLACK) * exact - 1e-9, "bound {bound}, exact {exact}");
+        for slack in [pairs::SLACK, pairs::ADVANCE_SLACK] {
+            let bound = pairs::mesh_distance(ma, mb, &qa.inv_mul(&qb), 0.0, slack);
+            prop_assert!(bound <= exact + 1e-12 && bound >= (1.0 - slack) * exact - 1e-9, "bound {bound}, exact {exact}, slack {slack}");
+        }
         let d = distance(&a, &pa, &b, &pb);
         if d < EXACT_BELOW || exact < EXACT_BELOW {
             prop_assert!((d - exact).abs() <= 1e-9 * (1.0 + exact) || (d == 0.0 && overlap(&a, &pa, &b, &pb, -1.0).is_some()));
@@ -285,6 +287,42 @@ proptest! {
     }
 }
 
+/// Two triangles apart get a crossing bound of at most minus their gap (the contact query skips
+/// them by it), and two crossing ones a bound of at least their depth.
+#[test]
+fn triangles_apart_are_bounded_by_minus_their_gap() {
+    use parry3d_f64::math::Vector;
+    use parry3d_f64::shape::Triangle;
+    let a = [
+        Vector::new(0.0, 0.0, 0.0),
+        Vector::new(4.0, 0.0, 0.0),
+        Vector::new(0.0, 4.0, 0.0),
+    ];
+    let lift = |z: f64| {
+        [
+            Vector::new(0.5, 0.5, z),
+            Vector::new(3.0, 0.5, z),
+            Vector::new(0.5, 3.0, z + 0.2),
+        ]
+    };
+    let apart = lift(1.5);
+    let bound = pairs::crossing_bound(&a, &apart);
+    assert!(bound <= -1.5 + 1e-12, "{bound}");
+    let tri = |t: &[Vector; 3]| Triangle::new(t[0], t[1], t[2]);
+    let none = query::contact(&Pose::IDENTITY, &tri(&a), &Pose::IDENTITY, &tri(&apart), 0.0).unwrap();
+    assert!(none.is_none());
+    // A triangle standing through the other: crossing, so the bound is no less than the depth.
+    let through = [
+        Vector::new(1.0, 1.0, -1.0),
+        Vector::new(2.0, 1.0, -1.0),
+        Vector::new(1.5, 1.0, 1.0),
+    ];
+    let c = query::contact(&Pose::IDENTITY, &tri(&a), &Pose::IDENTITY, &tri(&through), 0.0)
+        .unwrap()
+        .unwrap();
+    assert!(pairs::crossing_bound(&a, &through) >= -c.dist - 1e-9);
+}
+
 #[test]
 fn a_far_pair_is_measured_to_within_the_slack_and_a_near_one_exactly() {
     let (a, b) = (pair_mesh(3, 10.0), pair_mesh(2, 10.0));
@@ -301,7 +339,7 @@ fn a_far_pair_is_measured_to_within_the_slack_and_a_near_one_exactly() {
         }
         assert!(d <= parry + 1e-9 && d >= (1.0 - pairs::SLACK) * parry, "{d} {parry}");
         assert!(
-            bound <= parry + 1e-9 && bound >= (1.0 - pairs::SLACK) * parry,
+            bound <= parry + 1e-9 && bound >= (1.0 - pairs::ADVANCE_SLACK) * parry,
             "{bound} {parry}"
         );
     }
