@@ -165,8 +165,11 @@ impl Cutter {
 /// One ray's answer kept for the rays that share its key ([`Sweep::ray_memo`]).
 pub(crate) type RayMemo = Option<([u64; 8], Option<(f64, f64)>)>;
 
-/// A cutter moved along a straight line with its axis fixed: the tip from `p0` to `p1`, the
-/// axis `axis` (unit, from the tip toward the shank).
+/// A cutter moved along a straight line with its axis fixed: the tip from `p0` to `p0 + v`,
+/// the axis `axis` (unit, from the tip toward the shank). The swept solid has no direction, and
+/// the segment is kept from its lesser end (by x, then y, then z): a move and the move that
+/// retraces it (a drill's plunge and its retract) are one sweep, bit for bit, and their rays'
+/// answers are the same numbers (`FaceGrid`'s retrace).
 #[derive(Clone, Debug)]
 pub struct Sweep {
     pub(crate) pieces: Vec<Piece>,
@@ -192,6 +195,14 @@ impl Sweep {
             return None;
         }
         let axis = axis / n;
+        let key = |p: &Vector3<f64>| [p.x, p.y, p.z];
+        let later = key(&p0)
+            .iter()
+            .zip(key(&p1).iter())
+            .map(|(a, b)| a.total_cmp(b))
+            .find(|o| o.is_ne())
+            .is_some_and(|o| o.is_gt());
+        let (p0, p1) = if later { (p1, p0) } else { (p0, p1) };
         let r = cutter.diameter / 2.0;
         let l = cutter.flute_length;
         let mut min = Vector3::repeat(f64::INFINITY);

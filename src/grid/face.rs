@@ -30,7 +30,23 @@ pub struct FaceGrid {
     pub(crate) touched: Option<(Vector3<f64>, Vector3<f64>)>,
     /// Rays cast by cuts so far (`Stock::rays`).
     pub(crate) rays: u64,
+    /// What the last cut left for lack of air, while nothing else has changed the grid since.
+    retrace: Option<Box<Retrace>>,
 }
+
+/// The nodes a cut left as they were for lack of air: the sweep held their ray from beyond where
+/// the material begins, with material between by the stock's other grids. With that sweep, all a
+/// cut by the same sweep again (a retract along a plunge) must look at (see
+/// [`FaceGrid::cut_nodes`]).
+#[derive(Clone, Debug)]
+struct Retrace {
+    sweep: Sweep,
+    /// The node, and where its ray enters and leaves the sweep.
+    nodes: Vec<(u32, f64, f64)>,
+}
+
+/// The most nodes a retrace keeps (24 bytes each); a cut that leaves more keeps none.
+const MAX_RETRACE_NODES: usize = 1 << 18;
 
 impl FaceGrid {
     /// This face with its material from depth `start(u, v)` (`None`: no material on that ray) to
@@ -72,6 +88,7 @@ impl FaceGrid {
             d: vec![0.0; nu * nv],
             touched: None,
             rays: 0,
+            retrace: None,
         }
     }
 
@@ -90,6 +107,7 @@ impl FaceGrid {
             d: Vec::new(),
             touched: None,
             rays: 0,
+            retrace: None,
         }
     }
 
@@ -144,6 +162,83 @@ impl FaceGrid {
         apply: bool,
         known_exits: bool,
     ) -> f64 {
+        if apply && known_exits {
+            if let Some(r) = self.retrace.take().filter(|r| r.sweep.same_bits(sw)) {
+                return self.cut_retrace(r, air, span, step);
+            }
+        }
+        // The nodes left for lack of air (kept when the cut applies and leaves nodes by their
+        // known exits: the memo's cut, not the oracle's).
+        let mut left = (apply && known_exits).then(Vec::new);
+        let removed = self.cut_every_node(sw, air, span, step, apply, known_exits, &mut left);
+        if apply {
+            self.retrace = left.filter(|l| l.len() <= MAX_RETRACE_NODES).map(|nodes| {
+                Box::new(Retrace {
+                    sweep: sw.clone(),
+                    nodes,
+                })
+            });
+        }
+        removed
+    }
+
+    /// A cut by the sweep of the last cut, nothing else having changed the grid since: only the
+    /// nodes that cut left for lack of air can change (`Retrace`), and they are asked again
+    /// whether the stretch above the sweep is air now.
+    ///
+    /// Why that is the cut: every other node's depth is what that cut left, and the same sweep
+    /// gives its ray the same answer (bit for bit, the same numbers), so it is left again: the
+    /// ray missed the sweep or left it at or before the node's depth (the cut left it so, or
+    /// moved the depth to where the ray leaves); or the new depth was within 1e-9 of the old.
+    /// A node's own grid never answers its air, so the order of the nodes does not matter.
+    fn cut_retrace(
+        &mut self,
+        mut r: Box<Retrace>,
+        air: &dyn Fn(Vector3<f64>) -> bool,
+        span: Span<'_>,
+        step: f64,
+    ) -> f64 {
+        let mut removed = 0.0;
+        let mut kept = 0;
+        for x in 0..r.nodes.len() {
+            let (k, t_in, t_out) = r.nodes[x];
+            let k = k as usize;
+            let d = self.d[k];
+            let o = self.node(k % self.nu, k / self.nu);
+            if !air_along(o, self.n, d, t_in, step, air, span) {
+                r.nodes[kept] = r.nodes[x];
+                kept += 1;
+                continue;
+            }
+            let nd = t_out.min(self.thickness);
+            if nd <= d + 1e-9 {
+                continue;
+            }
+            removed += (nd - d) * self.du * self.dv;
+            self.d[k] = nd;
+        }
+        r.nodes.truncate(kept);
+        if removed > 0.0 {
+            let (a, b) = self.touched.unwrap_or((r.sweep.min, r.sweep.max));
+            self.touched = Some((a.inf(&r.sweep.min), b.sup(&r.sweep.max)));
+        }
+        self.retrace = Some(r);
+        removed
+    }
+
+    /// [`FaceGrid::cut_nodes`] casting the ray of every node under the sweep; the nodes it
+    /// leaves for lack of air pushed on `left`, when given.
+    #[allow(clippy::too_many_arguments)]
+    fn cut_every_node(
+        &mut self,
+        sw: &Sweep,
+        air: &dyn Fn(Vector3<f64>) -> bool,
+        span: Span<'_>,
+        step: f64,
+        apply: bool,
+        known_exits: bool,
+        left: &mut Option<Vec<(u32, f64, f64)>>,
+    ) -> f64 {
         // The sweep's box in face coordinates.
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
@@ -189,6 +284,9 @@ impl FaceGrid {
                     continue;
                 }
                 if t_in > d + 1e-9 && !air_along(o, self.n, d, t_in, step, air, span) {
+                    if let Some(l) = left.as_mut() {
+                        l.push((k as u32, t_in, t_out));
+                    }
                     continue;
                 }
                 let nd = t_out.min(self.thickness);

@@ -893,6 +893,53 @@ fn the_memo_and_the_known_exits_cut_the_nodes_every_ray_cast_cuts() {
 }
 
 #[test]
+fn a_retract_along_its_plunge_cuts_what_casting_every_ray_cuts() {
+    // Radial drills at several angles into a bar (each gets a side grid across its axis, and
+    // every grid sees every drill), each plunge followed by its retract, then a deeper one and
+    // its retract. Oracle: the same cuts with every ray cast; the same nodes, bit for bit, after
+    // each cut. A retract is its plunge's sweep (`Sweep::new` keeps the lesser end first), so
+    // the face grids cast no ray for it, yet some retracts still remove material: nodes the
+    // plunge left for the material another grid held above them, that grid cut by the plunge
+    // after them.
+    let drill = Cutter::new(CutterKind::Drill { point_angle_deg: 118.0 }, 6.0, 40.0).unwrap();
+    let (mut fast, mut slow) = (bar(20.0, 40.0, 0.2), bar(20.0, 40.0, 0.2));
+    let face_rays = |s: &Stock| s.faces.iter().map(|f| f.rays).sum::<u64>();
+    let mut retraced = 0.0;
+    for (k, deg) in [0.0f64, 45.0, 90.0, 135.0, 30.0, 60.0].iter().enumerate() {
+        let (c, s) = (deg.to_radians().cos(), deg.to_radians().sin());
+        let at = |r: f64| [r * c, r * s, 8.0 + 5.0 * k as f64];
+        let axis = [c, s, 0.0];
+        assert!(sweep(&drill, axis, at(30.0), at(12.0), 0.05).same_bits(&sweep(
+            &drill,
+            axis,
+            at(12.0),
+            at(30.0),
+            0.05
+        )));
+        for (from, to) in [(30.0, 12.0), (12.0, 30.0), (30.0, 3.0), (3.0, 30.0)] {
+            let sw = sweep(&drill, axis, at(from), at(to), 0.05);
+            let rays = face_rays(&fast);
+            let (a, b) = (fast.cut(&sw), slow.cut_casting_every_ray(&sw));
+            assert_eq!(
+                a.to_bits(),
+                b.to_bits(),
+                "drill {k}, {from} to {to}: removed {a} against {b}"
+            );
+            assert!(node_bits(&fast) == node_bits(&slow), "drill {k}, {from} to {to}");
+            if from < to {
+                assert_eq!(face_rays(&fast), rays, "drill {k}: the retract to {to} cast face rays");
+                retraced += a;
+            }
+        }
+    }
+    assert!(
+        retraced > 0.0,
+        "no retract removed anything: the nodes asked again are never air"
+    );
+    assert!(face_rays(&fast) < face_rays(&slow));
+}
+
+#[test]
 fn a_sweep_repeated_in_a_run_is_cut_once_it_changes_nothing() {
     // A C turn with the tip on the spindle axis: the same sweep for every chord. Oracle: every
     // chord cut; the same stock, bit for bit, after each chord, with far fewer rays.
