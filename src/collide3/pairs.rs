@@ -262,7 +262,14 @@ pub(super) fn mesh_distance(
 /// penetration depth when those axes are all there: the faces of the Minkowski difference of
 /// two triangles are normal to them.) Signed: when the shadows are apart on an axis, minus the
 /// widest such gap (the triangles are at least that far apart).
+#[cfg(test)]
 pub(super) fn crossing_bound(a: &[Vector; 3], b: &[Vector; 3]) -> f64 {
+    crossing_bound_below(a, b, f64::NEG_INFINITY)
+}
+
+/// [`crossing_bound`], or, as soon as an axis shows a bound below `below`, that bound (also below
+/// it): whether the bound is below `below` is answered the same, with fewer axes measured.
+fn crossing_bound_below(a: &[Vector; 3], b: &[Vector; 3], below: f64) -> f64 {
     // A cross of nearly parallel edges has no direction to trust.
     let min_len = 1e-12 * (1.0 + a[0].length() + b[0].length());
     let overlap = |n: Vector| shadow_gap(n, a, b, min_len).map_or(f64::INFINITY, |g| -g);
@@ -271,6 +278,9 @@ pub(super) fn crossing_bound(a: &[Vector; 3], b: &[Vector; 3]) -> f64 {
     let mut bound = overlap(ea[0].cross(ea[1])).min(overlap(eb[0].cross(eb[1])));
     for x in ea {
         for y in eb {
+            if bound < below {
+                return bound;
+            }
             bound = bound.min(overlap(x.cross(y)));
         }
     }
@@ -331,24 +341,27 @@ pub(super) fn mesh_contact(a: &TriMesh, b: &TriMesh, pa: &Pose, pb: &Pose, ask: 
     for k in order {
         let (over, i, j) = pairs[k as usize];
         let deepest = best.as_ref().map_or(f64::NEG_INFINITY, |(c, _)| -c.dist);
-        // Whether a pair crossing at most `bound` deep can change the answer.
-        let idle = |bound: f64| match ask {
-            Ask::Deepest => best.is_some() && bound < deepest - DEPTH_MARGIN,
-            Ask::Over { eps, floor } => {
-                bound < deepest.max(floor) - DEPTH_MARGIN && (deepest > eps || bound < eps - DEPTH_MARGIN)
-            }
-            Ask::Touch { eps } => deepest > eps || (best.is_some() && bound < eps - DEPTH_MARGIN),
+        // A pair crossing at most `bound` deep cannot change the answer when `bound` is below
+        // this (+∞: nothing can; −∞: anything may).
+        let idle_below = match ask {
+            Ask::Deepest if best.is_some() => deepest - DEPTH_MARGIN,
+            Ask::Deepest => f64::NEG_INFINITY,
+            Ask::Over { eps, floor } if deepest > eps => deepest.max(floor) - DEPTH_MARGIN,
+            Ask::Over { eps, floor } => (deepest.max(floor) - DEPTH_MARGIN).min(eps - DEPTH_MARGIN),
+            Ask::Touch { eps } if deepest > eps => f64::INFINITY,
+            Ask::Touch { eps } if best.is_some() => eps - DEPTH_MARGIN,
+            Ask::Touch { .. } => f64::NEG_INFINITY,
         };
         // No pair left can (their boxes' bounds are no larger).
-        if idle(over) {
+        if over < idle_below {
             break;
         }
         let (tri_a, tri_b) = (a.triangle(i), b.triangle(j));
         let va = [tri_a.a, tri_a.b, tri_a.c].map(|p| pos21 * p);
-        let bound = over.min(crossing_bound(&va, &[tri_b.a, tri_b.b, tri_b.c]));
         // Triangles apart by more than the margin have no contact at prediction 0 (GJK finds
         // them apart): whatever is asked, measuring them changes nothing.
-        if bound < -DEPTH_MARGIN || idle(bound) {
+        let skip_below = idle_below.max(-DEPTH_MARGIN);
+        if over.min(crossing_bound_below(&va, &[tri_b.a, tri_b.b, tri_b.c], skip_below)) < skip_below {
             continue;
         }
         let Ok(Some(c)) = DefaultQueryDispatcher.contact(&pos21, &tri_b, &tri_a, 0.0) else {
