@@ -45,7 +45,7 @@ struct Retrace {
     nodes: Vec<(u32, f64, f64)>,
 }
 
-/// The most nodes a retrace keeps (24 bytes each); a cut that leaves more keeps none.
+/// The most nodes a retrace keeps (24 bytes each, 6 MiB); a cut that leaves more keeps none.
 const MAX_RETRACE_NODES: usize = 1 << 18;
 
 impl FaceGrid {
@@ -172,7 +172,7 @@ impl FaceGrid {
         let mut left = (apply && known_exits).then(Vec::new);
         let removed = self.cut_every_node(sw, air, span, step, apply, known_exits, &mut left);
         if apply {
-            self.retrace = left.filter(|l| l.len() <= MAX_RETRACE_NODES).map(|nodes| {
+            self.retrace = left.map(|nodes| {
                 Box::new(Retrace {
                     sweep: sw.clone(),
                     nodes,
@@ -219,8 +219,7 @@ impl FaceGrid {
         }
         r.nodes.truncate(kept);
         if removed > 0.0 {
-            let (a, b) = self.touched.unwrap_or((r.sweep.min, r.sweep.max));
-            self.touched = Some((a.inf(&r.sweep.min), b.sup(&r.sweep.max)));
+            self.note_touched(&r.sweep);
         }
         self.retrace = Some(r);
         removed
@@ -284,8 +283,10 @@ impl FaceGrid {
                     continue;
                 }
                 if t_in > d + 1e-9 && !air_along(o, self.n, d, t_in, step, air, span) {
-                    if let Some(l) = left.as_mut() {
-                        l.push((k as u32, t_in, t_out));
+                    // Past the most a retrace keeps, none is kept.
+                    match left {
+                        Some(l) if l.len() < MAX_RETRACE_NODES => l.push((k as u32, t_in, t_out)),
+                        _ => *left = None,
                     }
                     continue;
                 }
@@ -300,10 +301,15 @@ impl FaceGrid {
             }
         }
         if apply && removed > 0.0 {
-            let (a, b) = self.touched.unwrap_or((sw.min, sw.max));
-            self.touched = Some((a.inf(&sw.min), b.sup(&sw.max)));
+            self.note_touched(sw);
         }
         removed
+    }
+
+    /// A sweep removed something: [`FaceGrid::touched`] grown to hold its box.
+    fn note_touched(&mut self, sw: &Sweep) {
+        let (a, b) = self.touched.unwrap_or((sw.min, sw.max));
+        self.touched = Some((a.inf(&sw.min), b.sup(&sw.max)));
     }
 
     /// Whether the point is material by this grid.
