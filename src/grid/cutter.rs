@@ -356,6 +356,11 @@ impl Sweep {
         }
         for p in &self.pieces {
             let iv = match *p {
+                // A lone piece in closed form: its bound would cost what its interval does (and
+                // holds it: a bound that misses is an interval that misses).
+                Piece::Disc { r, h0, h1 } if self.pieces.len() == 1 && across.closed_form() => {
+                    across.disc((t0, t1), r, (h0, h1))
+                }
                 Piece::Disc { r, h0, h1 } => {
                     // A piece whose outer bound lies within the interval so far cannot widen it:
                     // the union's interval is the same without its exact (costly) interval.

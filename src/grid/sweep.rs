@@ -286,6 +286,13 @@ impl Across {
         (lo <= hi + pad).then_some((lo - pad, hi + pad))
     }
 
+    /// Whether [`Across::disc`] answers in closed form (a ray along the axis, a motion along or
+    /// across it alone): then it costs about what [`Across::disc_bound`] does, and the bound is
+    /// no cheaper test of a miss.
+    pub(crate) fn closed_form(&self) -> bool {
+        self.pu.norm_squared() < 1e-24 || self.pv.norm_squared() <= STILL_MM * STILL_MM || self.va.abs() <= STILL_MM
+    }
+
     /// The `t ∈ [t0, t1]` where the ray is inside the disc piece (radius `r` about the axis, from
     /// height `h0` to `h1` above the tip) at some instant of the move.
     pub(crate) fn disc(&self, (t0, t1): (f64, f64), r: f64, (h0, h1): (f64, f64)) -> Option<(f64, f64)> {
