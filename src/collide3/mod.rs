@@ -483,14 +483,7 @@ fn overlap_asked(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64, ask: pa
 /// mirror give the same depth.
 fn mesh_mesh(a: &Shape3, pa: &Pose, b: &Shape3, pb: &Pose, eps: f64, ask: pairs::Ask) -> (Option<Hit>, bool) {
     let key = |p: &Pose| [p.translation.x, p.translation.y, p.translation.z];
-    let (ka, kb) = (key(pa), key(pb));
-    let later = ka
-        .iter()
-        .zip(kb.iter())
-        .map(|(x, y)| x.total_cmp(y))
-        .find(|o| o.is_ne())
-        .is_some_and(|o| o.is_gt());
-    if later {
+    if crate::geom::after(key(pa), key(pb)) {
         return mesh_mesh(b, pb, a, pa, eps, ask);
     }
     let (hit, touch) = crossing(a, pa, b, pb, eps, ask);

@@ -37,6 +37,17 @@ pub fn p2(x: f64, z: f64) -> P2 {
     P2::new(x, z)
 }
 
+/// Whether the point `a` comes after `b` in the total order of their coordinates taken in turn
+/// (`f64::total_cmp` on x, then y, then z): an order that does not depend on which was given
+/// first (a pair of parts asked either way round, a segment given from either end).
+pub fn after(a: [f64; 3], b: [f64; 3]) -> bool {
+    a.iter()
+        .zip(b.iter())
+        .map(|(x, y)| x.total_cmp(y))
+        .find(|o| o.is_ne())
+        .is_some_and(|o| o.is_gt())
+}
+
 /// Golden-section search for the largest value of `f` on `[lo, hi]`, stopping when the bracket is
 /// no wider than `width` or after `steps` steps. Returns the better point of the last bracket and
 /// the largest value met on the way (every evaluation counts: where `f` has more than one peak

@@ -195,14 +195,11 @@ impl Sweep {
             return None;
         }
         let axis = axis / n;
-        let key = |p: &Vector3<f64>| [p.x, p.y, p.z];
-        let later = key(&p0)
-            .iter()
-            .zip(key(&p1).iter())
-            .map(|(a, b)| a.total_cmp(b))
-            .find(|o| o.is_ne())
-            .is_some_and(|o| o.is_gt());
-        let (p0, p1) = if later { (p1, p0) } else { (p0, p1) };
+        let (p0, p1) = if crate::geom::after(p0.into(), p1.into()) {
+            (p1, p0)
+        } else {
+            (p0, p1)
+        };
         let r = cutter.diameter / 2.0;
         let l = cutter.flute_length;
         let mut min = Vector3::repeat(f64::INFINITY);

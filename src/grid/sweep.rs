@@ -235,7 +235,7 @@ impl Across {
     /// across its axis: a node whose material already begins past the exit is left as it is,
     /// met or not). `None`: not such a ray.
     pub(crate) fn exit_along_axis(&self, (h0, h1): (f64, f64), t1: f64) -> Option<f64> {
-        if !(self.pu.norm_squared() < 1e-24 && self.va == 0.0) {
+        if !(self.form() == Form::RayAlongAxis && self.va == 0.0) {
             return None;
         }
         let hi = [h0, h1]
@@ -286,55 +286,68 @@ impl Across {
         (lo <= hi + pad).then_some((lo - pad, hi + pad))
     }
 
+    /// Which way [`Across::disc`] answers for this ray and motion.
+    fn form(&self) -> Form {
+        if self.pu.norm_squared() < 1e-24 {
+            Form::RayAlongAxis
+        } else if self.pv.norm_squared() <= STILL_MM * STILL_MM {
+            Form::MotionAlongAxis
+        } else if self.va.abs() <= STILL_MM {
+            Form::MotionAcrossAxis
+        } else {
+            Form::General
+        }
+    }
+
     /// Whether [`Across::disc`] answers in closed form (a ray along the axis, a motion along or
     /// across it alone): then it costs about what [`Across::disc_bound`] does, and the bound is
     /// no cheaper test of a miss.
     pub(crate) fn closed_form(&self) -> bool {
-        self.pu.norm_squared() < 1e-24 || self.pv.norm_squared() <= STILL_MM * STILL_MM || self.va.abs() <= STILL_MM
+        self.form() != Form::General
     }
 
     /// The `t ∈ [t0, t1]` where the ray is inside the disc piece (radius `r` about the axis, from
     /// height `h0` to `h1` above the tip) at some instant of the move.
-    pub(crate) fn disc(&self, (t0, t1): (f64, f64), r: f64, (h0, h1): (f64, f64)) -> Option<(f64, f64)> {
-        let Across { pw, pu, pv, ha, ua, va } = *self;
-        if pu.norm_squared() < 1e-24 {
-            // The ray along the cutter's axis (a face grid under an end mill): the
-            // fractions s that put the ray inside the disc's circle, then the heights at their ends.
-            let (qq, qw, ww) = (pv.norm_squared(), pw.dot(&pv), pw.norm_squared() - r * r);
-            let (s0, s1) = if qq < 1e-24 {
-                if ww > 0.0 {
-                    return None;
-                }
-                (0.0, 1.0)
-            } else {
-                let (rt, n) = roots(qq, -qw, ww);
-                if n == 0 {
-                    return None;
-                }
-                (rt[0].max(0.0), rt[n - 1].min(1.0))
-            };
-            if s0 > s1 {
+    pub(crate) fn disc(&self, t: (f64, f64), r: f64, h: (f64, f64)) -> Option<(f64, f64)> {
+        match self.form() {
+            Form::RayAlongAxis => self.disc_ray_along_axis(t, r, h),
+            Form::MotionAlongAxis => self.disc_along_axis(t, r, h),
+            Form::MotionAcrossAxis => self.disc_across_axis(t, r, h),
+            Form::General => self.disc_general(t, r, h),
+        }
+    }
+
+    /// [`Across::disc`] for a ray along the cutter's axis (a face grid under an end mill): the
+    /// fractions `s` that put the ray inside the disc's circle, then the heights at their ends.
+    fn disc_ray_along_axis(&self, (t0, t1): (f64, f64), r: f64, (h0, h1): (f64, f64)) -> Option<(f64, f64)> {
+        let Across { pw, pv, ha, ua, va, .. } = *self;
+        let (qq, qw, ww) = (pv.norm_squared(), pw.dot(&pv), pw.norm_squared() - r * r);
+        let (s0, s1) = if qq < 1e-24 {
+            if ww > 0.0 {
                 return None;
             }
-            let mut lo = f64::INFINITY;
-            let mut hi = f64::NEG_INFINITY;
-            for s in [s0, s1] {
-                for h in [h0, h1] {
-                    let t = (h - ha + s * va) / ua;
-                    lo = lo.min(t);
-                    hi = hi.max(t);
-                }
+            (0.0, 1.0)
+        } else {
+            let (rt, n) = roots(qq, -qw, ww);
+            if n == 0 {
+                return None;
             }
-            let (lo, hi) = (lo.max(t0), hi.min(t1));
-            return (lo <= hi).then_some((lo, hi));
+            (rt[0].max(0.0), rt[n - 1].min(1.0))
+        };
+        if s0 > s1 {
+            return None;
         }
-        if pv.norm_squared() <= STILL_MM * STILL_MM {
-            return self.disc_along_axis((t0, t1), r, (h0, h1));
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        for s in [s0, s1] {
+            for h in [h0, h1] {
+                let t = (h - ha + s * va) / ua;
+                lo = lo.min(t);
+                hi = hi.max(t);
+            }
         }
-        if va.abs() <= STILL_MM {
-            return self.disc_across_axis((t0, t1), r, (h0, h1));
-        }
-        self.disc_general((t0, t1), r, (h0, h1))
+        let (lo, hi) = (lo.max(t0), hi.min(t1));
+        (lo <= hi).then_some((lo, hi))
     }
 
     /// [`Across::disc`] by the general method: the extreme `t` of the convex set of `(t, s)`
@@ -383,6 +396,18 @@ impl Across {
         let (lo, hi) = (lo.max(a), hi.min(b));
         (lo <= hi).then_some((lo, hi))
     }
+}
+
+/// How [`Across::disc`] answers: three closed forms, else the general method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Form {
+    /// The ray along the cutter's axis (`pu` 0).
+    RayAlongAxis,
+    /// The motion along the axis alone (`pv` below [`STILL_MM`]).
+    MotionAlongAxis,
+    /// The motion across the axis alone (`va` below [`STILL_MM`]).
+    MotionAcrossAxis,
+    General,
 }
 
 /// A motion shorter than this (mm) across the cutter's axis, or along it, is taken as none by
