@@ -15,7 +15,9 @@
 //! parry measures it inside its own walk (GJK on the two triangles, the second mesh's triangle
 //! first, posed by the inverse of the first's pose of the second), so the answer is parry's:
 //! the least of the same triangle distances over the pairs either walk reaches (both prune only
-//! pairs whose boxes are at least the best found apart). `tests.rs` holds the oracle test.
+//! pairs whose boxes are at least the best found apart; a pair whose triangles' shadows on the
+//! eleven separating axes lie beyond the best is not measured either, [`beyond_best`], as its
+//! distance could not better the best). `tests.rs` holds the oracle test.
 
 use std::sync::OnceLock;
 
@@ -229,7 +231,11 @@ pub(super) fn mesh_distance(
             let (tra, trb) = (a.0.triangle(na.tri), b.0.triangle(nb.tri));
             // The triangles' own gap along three axes, at a fraction of GJK's cost.
             let posed = [trb.a, trb.b, trb.c].map(|p| frame.r * p + frame.t);
-            if left(triangle_gap(&[tra.a, tra.b, tra.c], &posed), best, &mut closed) {
+            let own = [tra.a, tra.b, tra.c];
+            if left(triangle_gap(&own, &posed), best, &mut closed) {
+                continue;
+            }
+            if beyond_best(&own, &posed, best) {
                 continue;
             }
             if let Ok(d) = DefaultQueryDispatcher.distance(&pos21, &trb, &tra) {
@@ -253,6 +259,22 @@ pub(super) fn mesh_distance(
         stack.push((pairs[near].0, pairs[near].1, gaps[near]));
     }
     best.min(closed)
+}
+
+/// Whether two triangles (one frame) lie further apart than `best` by more than rounding, by the
+/// widest gap of their shadows on the eleven axes that separate two triangles when anything does
+/// ([`crossing_bound_below`]): a lower bound of their distance, dearer than [`triangle_gap`]'s
+/// three axes and far cheaper than GJK. GJK's distance is that of two points of the triangles
+/// (an upper bound of theirs, to rounding), so it would come out at least `best` and leave the
+/// walk's answer as it is: skipping it changes nothing, bit for bit. The margin, 1e-9 mm and a
+/// billionth of `best`, is far above the roundings of either measure. (On the NL1500Y sample,
+/// 132k of the 311k GJK runs of the advancement's distances.)
+pub(super) fn beyond_best(a: &[Vector; 3], b: &[Vector; 3], best: f64) -> bool {
+    if best == f64::MAX {
+        return false;
+    }
+    let below = -(best + 1e-9 * (1.0 + best));
+    crossing_bound_below(a, b, below) < below
 }
 
 /// An upper bound of how deep two triangles (one frame) cross: the least overlap of their

@@ -930,3 +930,51 @@ fn a_held_answer_is_the_answer_computed_for_the_same_question_only() {
     distinct.dedup();
     assert!(distinct.len() >= 10, "{} of {}", distinct.len(), answers.len());
 }
+
+/// Two triangles that `pairs::beyond_best` says lie further apart than a best distance are at
+/// least that far apart by GJK, as the pair walk measures them (its triangle second, posed back
+/// into its frame): the walk may skip their GJK without changing its answer. Random triangles
+/// at random distances, with the best just below, at and just above the widest gap of their
+/// shadows; the skip must fire on some.
+#[test]
+fn triangles_beyond_the_best_by_their_shadows_are_beyond_it_by_gjk() {
+    use parry3d_f64::math::Vector;
+    use parry3d_f64::query::{DefaultQueryDispatcher, QueryDispatcher};
+    use parry3d_f64::shape::Triangle;
+    let mut rnd = crate::test_util::unit_random(17u64);
+    let mut point = |c: Vector, s: f64| c + Vector::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * s;
+    let (mut fired, mut cases) = (0, 0);
+    for i in 0..3000 {
+        let scale = [0.1, 1.0, 20.0, 300.0][i % 4];
+        let ca = Vector::new(100.0, -50.0, 30.0);
+        let cb = point(ca, 4.0 * scale);
+        let a = [point(ca, scale), point(ca, scale), point(ca, scale)];
+        let b = [point(cb, scale), point(cb, scale), point(cb, scale)];
+        let gjk = DefaultQueryDispatcher
+            .distance(
+                &Pose::IDENTITY,
+                &Triangle::new(b[0], b[1], b[2]),
+                &Triangle::new(a[0], a[1], a[2]),
+            )
+            .unwrap()
+            .distance;
+        let widest = -pairs::crossing_bound(&a, &b);
+        for best in [
+            0.5 * widest,
+            widest * (1.0 - 1e-12),
+            widest,
+            widest * (1.0 + 1e-12),
+            2.0 * widest,
+        ] {
+            if best <= 0.0 {
+                continue;
+            }
+            cases += 1;
+            if pairs::beyond_best(&a, &b, best) {
+                fired += 1;
+                assert!(gjk >= best, "GJK {gjk} below the best {best} (shadows {widest})");
+            }
+        }
+    }
+    assert!(fired > cases / 10 && fired < cases, "{fired} of {cases}");
+}
