@@ -253,6 +253,108 @@ impl Dir {
 /// box.
 type NodeRay = (Vector3<f64>, Vector3<f64>, f64, f64);
 
+/// One row of a face grid against a query's box, as linear functions of the node's index `i`:
+/// where each node's ray enters and leaves the box's slab along each axis the normal crosses,
+/// and where the node lies along each axis the normal runs along (within 1e-15). With them,
+/// [`RowLines::decide`] answers whether [`Query::face_ray`] is `Some` for most nodes with a few
+/// multiplications instead of its divisions, and says when it cannot tell.
+///
+/// Why an answer is `face_ray`'s: `face_ray` is `Some` exactly when `d` is below the thickness
+/// and the box's reach, the node lies in the box's slab of each axis the normal runs along, and
+/// the latest entry (`d` or a slab's) comes before the earliest exit (the thickness or a
+/// slab's): maxima and minima of computed numbers, which round nothing. The lines give each
+/// slab's entry and exit, and the node's place, to within `err` (`err_o`) of the numbers
+/// `face_ray` computes: both are a few roundings of magnitudes no larger than the box's
+/// corners, the face's origin and its extent along the row (relative 1e-16 each), and the
+/// allowance is 1e-12 of them, divided by the normal's component where `slab` divides. A
+/// comparison is decided only when its sides lie further apart than the two allowances;
+/// otherwise `decide` gives `None` and the caller asks `face_ray`.
+struct RowLines {
+    /// Per crossed axis: entry at `i = 0`, exit at `i = 0`, and their common slope.
+    lines: [(f64, f64, f64); 3],
+    crossed: usize,
+    /// Per axis the normal runs along: the node's coordinate at `i = 0`, its slope, the slab.
+    flats: [(f64, f64, f64, f64); 3],
+    flat: usize,
+    err: f64,
+    err_o: f64,
+    /// The ray's reach: the thickness, and the least of it and the box's reach along the
+    /// normal (`face_ray`'s rejection of `d`).
+    thickness: f64,
+    reach: f64,
+}
+
+impl RowLines {
+    fn new(q: &Query<'_>, k: usize, j: usize, n1: f64) -> RowLines {
+        let g = &q.stock.faces[k];
+        let (min, max) = (&q.min, &q.max);
+        let a = g.node(0, j);
+        let step = g.du * g.eu;
+        let mut lines = [(0.0, 0.0, 0.0); 3];
+        let mut flats = [(0.0, 0.0, 0.0, 0.0); 3];
+        let (mut crossed, mut flat) = (0, 0);
+        let (mut err, mut err_o) = (0.0f64, 0.0f64);
+        for m in 0..3 {
+            // The largest magnitude of the numbers `face_ray` computes along this axis.
+            let extent = g.origin[m].abs()
+                + (g.nu as f64 + 1.0) * g.du * g.eu[m].abs()
+                + (g.nv as f64 + 1.0) * g.dv * g.ev[m].abs();
+            let size = 1.0 + min[m].abs() + max[m].abs() + extent + a[m].abs();
+            let u = g.n[m];
+            if u.abs() < 1e-15 {
+                flats[flat] = (a[m], step[m], min[m], max[m]);
+                flat += 1;
+                err_o = err_o.max(1e-12 * size);
+            } else {
+                let (x0, x1) = ((min[m] - a[m]) / u, (max[m] - a[m]) / u);
+                lines[crossed] = (x0.min(x1), x0.max(x1), -step[m] / u);
+                crossed += 1;
+                err = err.max(1e-12 * size / u.abs());
+            }
+        }
+        RowLines {
+            lines,
+            crossed,
+            flats,
+            flat,
+            err,
+            err_o,
+            thickness: g.thickness,
+            reach: g.thickness.min(n1),
+        }
+    }
+
+    /// Whether [`Query::face_ray`] of node `i` (its depth `d`) is `Some`; `None` when the lines
+    /// cannot tell.
+    fn decide(&self, i: usize, d: f64) -> Option<bool> {
+        if d >= self.reach {
+            return Some(false);
+        }
+        let x = i as f64;
+        let mut sure = true;
+        for &(o, s, lo, hi) in &self.flats[..self.flat] {
+            let at = o + s * x;
+            if at < lo - self.err_o || at > hi + self.err_o {
+                return Some(false);
+            }
+            sure &= at >= lo + self.err_o && at <= hi - self.err_o;
+        }
+        let (mut t0, mut t1) = (d, self.thickness);
+        for &(a, b, s) in &self.lines[..self.crossed] {
+            t0 = t0.max(a + s * x);
+            t1 = t1.min(b + s * x);
+        }
+        let gap = t1 - t0;
+        if gap < -2.0 * self.err {
+            Some(false)
+        } else if sure && gap > 2.0 * self.err {
+            Some(true)
+        } else {
+            None
+        }
+    }
+}
+
 impl Query<'_> {
     fn walk(&self, rays: Rays) -> Walk {
         let (min, max) = (&self.min, &self.max);
@@ -498,6 +600,29 @@ impl Query<'_> {
     /// it, `cap + 1`).
     fn count_walk(&self, w: &Walk, cap: usize) -> usize {
         let mut n = 0;
+        if let Walk::Face { k, i0, i1, j0, j1, n1 } = *w {
+            // Row by row, each node decided by the row's lines where they can tell
+            // ([`RowLines`]), else by its ray: the count `each` gives.
+            let g = &self.stock.faces[k];
+            for j in j0..=j1 {
+                let Some((ra, rb)) = self.face_row(k, j, i0, i1) else {
+                    continue;
+                };
+                let lines = RowLines::new(self, k, j, n1);
+                let row = &g.d[j * g.nu..(j + 1) * g.nu];
+                for (i, &d) in row.iter().enumerate().take(rb + 1).skip(ra) {
+                    let some = match lines.decide(i, d) {
+                        Some(b) => b,
+                        None => self.face_ray(k, i, j, n1).is_some(),
+                    };
+                    n += usize::from(some);
+                    if n > cap {
+                        return n;
+                    }
+                }
+            }
+            return n;
+        }
         self.each(w, |_, _| {
             n += 1;
             n <= cap
@@ -651,15 +776,24 @@ pub fn grid_overlap(
     overlap_by(shape, pose, part, stock, eps, dexel, any, Some(MAX_RANKED))
 }
 
+/// How much deeper than the floor a point must lie for [`grid_overlap_beyond`] to measure it as
+/// deeper (mm): far below what the reports print (four significant digits) and what the grid
+/// resolves (a node spacing), and above the margin of a ray's depth bound
+/// (`box_depth_bound`'s, a few 1e-7 mm on a machine's scale). A contact held at one depth (a
+/// block pressed flat against the part's face) has every ray along the face tie the floor
+/// within that margin; with the floor exact, each such ray was cast and sampled to prove it no
+/// deeper, 64 samples of 750 rays each on the NL1500Y sample.
+pub const BEYOND_MM: f64 = 1e-6;
+
 /// [`grid_overlap`] asked how deep only beyond `floor` (the deepest depth already known, say, of
 /// a contact whose samples are being taken): the same hit as [`grid_overlap`] when that lies
-/// deeper than `floor`; else whether there is contact at all, as a hit deeper than `eps` and no
-/// deeper than `floor`, or `None`.
+/// deeper than `floor + BEYOND_MM` ([`BEYOND_MM`]); else whether there is contact at all, as a
+/// hit deeper than `eps` and no deeper than `floor + BEYOND_MM`, or `None`.
 ///
 /// Why the first answer is [`grid_overlap`]'s: its search skips only rays, stretches and runs
-/// whose bound cannot beat the best so far or `eps`; raising `eps` to `floor` skips besides only
-/// those that hold no point deeper than `floor`, so the points deeper than `floor` it measures
-/// are the same, and so is the deepest of them (ties to the same ray).
+/// whose bound cannot beat the best so far or `eps`; raising `eps` to `floor + BEYOND_MM` skips
+/// besides only those that hold no point deeper than that, so the points deeper than it the
+/// search measures are the same, and so is the deepest of them (ties to the same ray).
 ///
 /// The second: a point that search measured deeper than `eps` (kept as it goes: a contact held
 /// at one depth measures many just short of `floor`) is a contact; when it measured none, the
@@ -678,7 +812,7 @@ pub fn grid_overlap_beyond(
         return grid_overlap(shape, pose, part, stock, eps, dexel, false);
     }
     let mut at = At::new(shape, pose, part, stock, dexel);
-    let (deep, touch) = at.search((floor, eps), false, Some(MAX_RANKED));
+    let (deep, touch) = at.search((floor + BEYOND_MM, eps), false, Some(MAX_RANKED));
     deep.or(touch)
         .or_else(|| at.search((eps, eps), true, Some(MAX_RANKED)).0)
 }
@@ -1275,6 +1409,94 @@ mod tests {
         assert!(walked.len() >= 2 && clear > 0, "{walked:?}, {clear} clear");
     }
 
+    /// A face grid's row lines ([`RowLines`]) decide a node only as its ray does, and decide
+    /// nearly all of them; so a walk's count row by row is the count of its rays, capped alike.
+    /// On a bar with a flat (the turned part's face grids), a radial hole at 45° (a side grid
+    /// oblique to the part's axes) and a face pocket, against random boxes, every fourth with a
+    /// face where a node's material begins, across the normal (the node's ray leaves the box
+    /// where its material begins: `face_ray`'s answer is its rounding's, and the lines cannot
+    /// tell), and every fourth with a face through a node along the normal.
+    #[test]
+    fn a_face_rows_lines_decide_its_nodes_as_their_rays_do() {
+        let mut s = milled_bar();
+        let drill = Cutter::new(CutterKind::Flat, 10.0, 40.0).unwrap();
+        let d = Vector3::new(1.0, 1.0, 0.0).normalize();
+        let z12 = Vector3::new(0.0, 0.0, 12.0);
+        s.cut(&Sweep::new(&drill, -d, 30.0 * d + z12, 12.0 * d + z12, 0.1).unwrap());
+        let mill = Cutter::new(CutterKind::Flat, 12.0, 30.0).unwrap();
+        let (p0, p1) = (Vector3::new(-8.0, -6.0, 57.0), Vector3::new(4.0, -6.0, 57.0));
+        s.cut(&Sweep::new(&mill, Vector3::z(), p0, p1, 0.1).unwrap());
+        assert!(s.faces.len() >= 2, "{} face grids", s.faces.len());
+        let mut rnd = crate::test_util::unit_random(5u64);
+        let (mut decided, mut asked, mut some) = (0usize, 0usize, 0usize);
+        for case in 0..160 {
+            let k = case % s.faces.len();
+            let g = &s.faces[k];
+            let mut c = Vector3::new(40.0 * rnd() - 20.0, 40.0 * rnd() - 20.0, 70.0 * rnd() - 5.0);
+            let h = Vector3::new(0.2 + 8.0 * rnd(), 0.2 + 8.0 * rnd(), 0.2 + 8.0 * rnd());
+            // A node near the walk's middle, and where its material begins.
+            let (i, j) = ((rnd() * g.nu as f64) as usize, (rnd() * g.nv as f64) as usize);
+            let start = g.node(i, j) + g.depth(i, j) * g.n;
+            if case % 4 >= 2 {
+                c = start;
+            }
+            let (mut min, mut max) = (c - h, c + h);
+            let m = (0..3).max_by(|&a, &b| g.n[a].abs().total_cmp(&g.n[b].abs())).unwrap();
+            match case % 4 {
+                2 if g.n[m] > 0.0 => max[m] = start[m],
+                2 => min[m] = start[m],
+                3 => {
+                    let o = g.node(i, j);
+                    let across = (0..3).find(|&a| g.n[a].abs() < 1e-15 && a != m);
+                    if let Some(a) = across {
+                        min[a] = o[a];
+                    }
+                }
+                _ => {}
+            }
+            let q = Query {
+                stock: &s,
+                dexel: None,
+                min,
+                max,
+            };
+            let w = q.walk(Rays::Face(k));
+            let Walk::Face { i0, i1, j0, j1, n1, .. } = w else {
+                continue;
+            };
+            for j in j0..=j1 {
+                let Some((ra, rb)) = q.face_row(k, j, i0, i1) else {
+                    continue;
+                };
+                let lines = RowLines::new(&q, k, j, n1);
+                for i in ra..=rb {
+                    let ray = q.face_ray(k, i, j, n1).is_some();
+                    some += usize::from(ray);
+                    match lines.decide(i, g.depth(i, j)) {
+                        Some(b) => {
+                            assert_eq!(b, ray, "node ({i}, {j}) of grid {k}, box {min:?} {max:?}");
+                            decided += 1;
+                        }
+                        None => asked += 1,
+                    }
+                }
+            }
+            let mut every = 0;
+            q.each(&w, |_, _| {
+                every += 1;
+                true
+            });
+            assert_eq!(q.count_walk(&w, usize::MAX), every, "box {min:?} {max:?}");
+            for cap in [0, every / 2, every] {
+                assert_eq!(q.count_walk(&w, cap), every.min(cap + 1), "cap {cap}");
+            }
+        }
+        assert!(
+            some > 1000 && decided > 10 * asked,
+            "{decided} decided, {asked} asked, {some} rays"
+        );
+    }
+
     proptest::proptest! {
         /// The first of the fewest, counted smallest bound first and cut short, is the one a full
         /// count in order picks, ties and all.
@@ -1470,17 +1692,27 @@ mod tests {
                     assert_eq!(bits(long), bits(slow), "at {c:?}: {long:?} against {slow:?}");
                     let any = grid_overlap(shape, &pose, &part, &s, eps, dexel.as_ref(), true);
                     assert_eq!(any.is_some(), slow.is_some(), "at {c:?}");
-                    // Asked only beyond a floor: the same hit where it lies deeper, else whether
-                    // there is one (floors below, at and above the deepest depth).
+                    // Asked only beyond a floor: the same hit where it lies deeper by more than
+                    // `BEYOND_MM`, else whether there is one (floors below, within `BEYOND_MM`
+                    // of, at and above the deepest depth).
                     let deepest = slow.map_or(0.0, |h| h.depth);
-                    for floor in [0.0, 0.5 * deepest, deepest, deepest + 1e-9, 2.0 * deepest + 0.5] {
+                    let floors = [
+                        0.0,
+                        0.5 * deepest,
+                        deepest - 2.0 * BEYOND_MM,
+                        deepest - 0.5 * BEYOND_MM,
+                        deepest,
+                        deepest + 1e-9,
+                        2.0 * deepest + 0.5,
+                    ];
+                    for floor in floors {
                         let beyond = grid_overlap_beyond(shape, &pose, &part, &s, eps, dexel.as_ref(), floor);
-                        if slow.is_some_and(|h| h.depth > floor) {
+                        if slow.is_some_and(|h| h.depth > floor + BEYOND_MM || floor <= eps) {
                             assert_eq!(bits(beyond), bits(slow), "at {c:?} beyond {floor}");
                         } else {
                             assert_eq!(beyond.is_some(), slow.is_some(), "at {c:?} beyond {floor}");
                             assert!(
-                                beyond.map_or(true, |h| h.depth <= floor.max(eps)),
+                                beyond.map_or(true, |h| h.depth <= (floor + BEYOND_MM).max(eps)),
                                 "at {c:?} beyond {floor}"
                             );
                         }

@@ -28,7 +28,7 @@ mod tess;
 #[cfg(test)]
 mod tests;
 
-pub use grid::{dexel_clears_grid, grid_clear, grid_overlap, grid_overlap_beyond};
+pub use grid::{dexel_clears_grid, grid_clear, grid_overlap, grid_overlap_beyond, BEYOND_MM};
 pub use motion::{
     bound_from, first_contact, first_contact_from, first_contact_proving, geometry_sphere, motion_bound, pair_bound,
     Advance, LinearPath, Path, Stretches, MAX_PROBES, MIN_STEP_MM,

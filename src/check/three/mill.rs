@@ -177,8 +177,9 @@ pub(super) enum Ask {
     /// How deep the contact goes: its deepest point.
     Deepest,
     /// How deep, only where deeper than this many mm (a contact's later samples, whose depths
-    /// only raise the deepest so far): the deepest point when it lies deeper, else any contact
-    /// (a hit no deeper), else none (`collide3::grid_overlap_beyond`).
+    /// only raise the deepest so far): the deepest point when it lies deeper (by more than
+    /// `collide3::BEYOND_MM`), else any contact (a hit no deeper), else none
+    /// (`collide3::grid_overlap_beyond`).
     DeepestBeyond(f64),
 }
 
