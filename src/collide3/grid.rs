@@ -15,7 +15,7 @@ use nalgebra::Vector3;
 use parry3d_f64::math::Vector;
 use parry3d_f64::query::Ray;
 
-use super::{to_pose, Hit, Shape3};
+use super::{to_pose, Hit, Shape3, BEYOND_MM};
 use crate::grid::Stock;
 use crate::kin::Iso;
 use crate::scene::DexelStock;
@@ -775,15 +775,6 @@ pub fn grid_overlap(
 ) -> Option<Hit> {
     overlap_by(shape, pose, part, stock, eps, dexel, any, Some(MAX_RANKED))
 }
-
-/// How much deeper than the floor a point must lie for [`grid_overlap_beyond`] to measure it as
-/// deeper (mm): far below what the reports print (four significant digits) and what the grid
-/// resolves (a node spacing), and above the margin of a ray's depth bound
-/// (`box_depth_bound`'s, a few 1e-7 mm on a machine's scale). A contact held at one depth (a
-/// block pressed flat against the part's face) has every ray along the face tie the floor
-/// within that margin; with the floor exact, each such ray was cast and sampled to prove it no
-/// deeper, 64 samples of 750 rays each on the NL1500Y sample.
-pub const BEYOND_MM: f64 = 1e-6;
 
 /// [`grid_overlap`] asked how deep only beyond `floor` (the deepest depth already known, say, of
 /// a contact whose samples are being taken): the same hit as [`grid_overlap`] when that lies
