@@ -1488,6 +1488,56 @@ mod tests {
         );
     }
 
+    /// A walk's count (a face grid's by rows of lines, [`RowLines`]) is the number of rays `each`
+    /// visits, capped alike: every grid of a milled bar (a flat, a radial hole at 45°, a face
+    /// pocket), against random boxes, with and without a dexel stock turned down under them
+    /// (columns with no material).
+    #[test]
+    fn a_walks_count_is_the_number_of_rays_it_visits() {
+        let mut s = milled_bar();
+        let drill = Cutter::new(CutterKind::Flat, 10.0, 40.0).unwrap();
+        let d = Vector3::new(1.0, 1.0, 0.0).normalize();
+        let z12 = Vector3::new(0.0, 0.0, 12.0);
+        s.cut(&Sweep::new(&drill, -d, 30.0 * d + z12, 12.0 * d + z12, 0.1).unwrap());
+        let mill = Cutter::new(CutterKind::Flat, 12.0, 30.0).unwrap();
+        let (p0, p1) = (Vector3::new(-8.0, -6.0, 57.0), Vector3::new(4.0, -6.0, 57.0));
+        s.cut(&Sweep::new(&mill, Vector3::z(), p0, p1, 0.1).unwrap());
+        let mut dexel = DexelStock::new(40.0, 0.0, 60.0, 60.0, 0.05);
+        let groove = [(0.0, 20.0), (25.0, 20.0), (25.0, 40.0), (0.0, 40.0)];
+        dexel.cut(&groove.map(|(x, z)| crate::geom::p2(x, z)));
+        let mut rnd = crate::test_util::unit_random(9u64);
+        let mut kinds = std::collections::BTreeSet::new();
+        for case in 0..200 {
+            let c = Vector3::new(40.0 * rnd() - 20.0, 40.0 * rnd() - 20.0, 70.0 * rnd() - 5.0);
+            let h = Vector3::new(0.2 + 10.0 * rnd(), 0.2 + 10.0 * rnd(), 0.2 + 10.0 * rnd());
+            let q = Query {
+                stock: &s,
+                dexel: (case % 2 == 1).then_some(&dexel),
+                min: c - h,
+                max: c + h,
+            };
+            for r in walks(&s, &q.min, &q.max).1 {
+                let w = q.walk(r);
+                let mut every = 0;
+                q.each(&w, |_, _| {
+                    every += 1;
+                    true
+                });
+                if every > 0 {
+                    kinds.insert(format!("{r:?}"));
+                }
+                for cap in [usize::MAX, every, every / 2, 0] {
+                    assert_eq!(
+                        q.count_walk(&w, cap),
+                        every.min(cap.saturating_add(1)),
+                        "{r:?}, cap {cap}, box {c:?} ± {h:?}"
+                    );
+                }
+            }
+        }
+        assert!(kinds.len() >= 3, "{kinds:?}");
+    }
+
     proptest::proptest! {
         /// The first of the fewest, counted smallest bound first and cut short, is the one a full
         /// count in order picks, ties and all.
