@@ -14,7 +14,7 @@
 //! report 0.2, the deepest triangle pair); for containment, a lower bound: the distance from the
 //! contained component's test point to the container's surface. `distance` is parry's closest
 //! distance between the two boundaries (branch and bound, GJK to about 1e-9 mm) below 10 mm and a
-//! lower bound at least 31/32 of it beyond (`distance_bound`: a bound at least 3/4 of it at any
+//! lower bound at least 31/32 of it beyond (`distance_bound`: a bound at least 1/2 of it at any
 //! distance, the advancement's), and 0
 //! when the solids overlap by any amount (crossing or containment). Two meshes are answered by
 //! one walk of both their trees (`pairs.rs`), measuring the pairs of triangles as parry does.
@@ -645,7 +645,7 @@ pub fn distance(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso) -> f64 {
     distance_asked(a, pa, b, pb, EXACT_BELOW)
 }
 
-/// A lower bound of [`distance`], at least `1 − 1/4` of it at any distance
+/// A lower bound of [`distance`], at least `1 − 1/2` of it at any distance
 /// (`pairs::ADVANCE_SLACK`): what conservative advancement needs.
 pub fn distance_bound(a: &Shape3, pa: &Iso, b: &Shape3, pb: &Iso) -> f64 {
     distance_asked(a, pa, b, pb, 0.0)

@@ -122,10 +122,10 @@ impl Tree {
 pub(super) const SLACK: f64 = 1.0 / 32.0;
 
 /// The share [`super::distance_bound`] may come out short of the exact distance, at any
-/// distance: the advancement's bound. Its steps are then at most a quarter shorter, and the
-/// walk behind each far cheaper: it leaves closed a pair of boxes within a quarter of the best
-/// found, not within a 32nd (measured on the NL1500Y sample; docs/turn-mill.md).
-pub(super) const ADVANCE_SLACK: f64 = 1.0 / 4.0;
+/// distance: the advancement's bound. Its steps are then at most half as long, and the walk
+/// behind each far cheaper: it leaves closed a pair of boxes within half of the best found,
+/// not within a 32nd (measured on the NL1500Y sample; docs/turn-mill.md).
+pub(super) const ADVANCE_SLACK: f64 = 1.0 / 2.0;
 
 /// `b`'s posing in `a`'s frame, for boxes: the rotation, its entries' absolute values and the
 /// translation.
