@@ -1192,6 +1192,20 @@ mod tests {
         s
     }
 
+    /// [`milled_bar`] with a radial hole at 45° (a side grid oblique to the part's axes) and a
+    /// face pocket.
+    fn holed_bar() -> Stock {
+        let mut s = milled_bar();
+        let drill = Cutter::new(CutterKind::Flat, 10.0, 40.0).unwrap();
+        let d = Vector3::new(1.0, 1.0, 0.0).normalize();
+        let z12 = Vector3::new(0.0, 0.0, 12.0);
+        s.cut(&Sweep::new(&drill, -d, 30.0 * d + z12, 12.0 * d + z12, 0.1).unwrap());
+        let mill = Cutter::new(CutterKind::Flat, 12.0, 30.0).unwrap();
+        let (p0, p1) = (Vector3::new(-8.0, -6.0, 57.0), Vector3::new(4.0, -6.0, 57.0));
+        s.cut(&Sweep::new(&mill, Vector3::z(), p0, p1, 0.1).unwrap());
+        s
+    }
+
     fn cube(half: f64) -> Shape3 {
         Shape3::meshed(
             &Geometry::Cuboid {
@@ -1409,14 +1423,7 @@ mod tests {
     /// tell), and every fourth with a face through a node along the normal.
     #[test]
     fn a_face_rows_lines_decide_its_nodes_as_their_rays_do() {
-        let mut s = milled_bar();
-        let drill = Cutter::new(CutterKind::Flat, 10.0, 40.0).unwrap();
-        let d = Vector3::new(1.0, 1.0, 0.0).normalize();
-        let z12 = Vector3::new(0.0, 0.0, 12.0);
-        s.cut(&Sweep::new(&drill, -d, 30.0 * d + z12, 12.0 * d + z12, 0.1).unwrap());
-        let mill = Cutter::new(CutterKind::Flat, 12.0, 30.0).unwrap();
-        let (p0, p1) = (Vector3::new(-8.0, -6.0, 57.0), Vector3::new(4.0, -6.0, 57.0));
-        s.cut(&Sweep::new(&mill, Vector3::z(), p0, p1, 0.1).unwrap());
+        let s = holed_bar();
         assert!(s.faces.len() >= 2, "{} face grids", s.faces.len());
         let mut rnd = crate::test_util::unit_random(5u64);
         let (mut decided, mut asked, mut some) = (0usize, 0usize, 0usize);
@@ -1494,14 +1501,7 @@ mod tests {
     /// (columns with no material).
     #[test]
     fn a_walks_count_is_the_number_of_rays_it_visits() {
-        let mut s = milled_bar();
-        let drill = Cutter::new(CutterKind::Flat, 10.0, 40.0).unwrap();
-        let d = Vector3::new(1.0, 1.0, 0.0).normalize();
-        let z12 = Vector3::new(0.0, 0.0, 12.0);
-        s.cut(&Sweep::new(&drill, -d, 30.0 * d + z12, 12.0 * d + z12, 0.1).unwrap());
-        let mill = Cutter::new(CutterKind::Flat, 12.0, 30.0).unwrap();
-        let (p0, p1) = (Vector3::new(-8.0, -6.0, 57.0), Vector3::new(4.0, -6.0, 57.0));
-        s.cut(&Sweep::new(&mill, Vector3::z(), p0, p1, 0.1).unwrap());
+        let s = holed_bar();
         let mut dexel = DexelStock::new(40.0, 0.0, 60.0, 60.0, 0.05);
         let groove = [(0.0, 20.0), (25.0, 20.0), (25.0, 40.0), (0.0, 40.0)];
         dexel.cut(&groove.map(|(x, z)| crate::geom::p2(x, z)));
