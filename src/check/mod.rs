@@ -808,6 +808,11 @@ impl Checker<'_> {
 
     /// Rebuild the swept region of the cutting move for the current `instant` when it changed.
     fn refresh_swept(&mut self) {
+        // A move whose cut took nothing off (a retrace, `DexelStock::cut`) has the stock at
+        // every instant as it is now: no instant view reads the swept region.
+        if self.stock.as_ref().is_some_and(|s| !s.move_changed_any()) {
+            return;
+        }
         let f = self.instant;
         let Some(mut c) = self.cutting.take() else { return };
         if c.f != f {

@@ -7,6 +7,7 @@
 //! turret rotated about its axis, out of the working plane; they are mapped into the radial
 //! section `(r, z)` (docs/checking.md), which is exact for collisions with revolved parts.
 
+mod cleared;
 pub mod section;
 pub mod snapshot;
 pub mod stock;

@@ -16,6 +16,7 @@
 //! Rotating parts see the material through the radial section: a point `(x, z)` of a part is in
 //! the stock when `(|x|, z)` is, so parts in the working plane are folded about the axis.
 
+use super::cleared::Cleared;
 use crate::geom::{point_segment_distance, Aabb, P2};
 
 /// Columns per block of the quick-reject summary.
@@ -53,6 +54,8 @@ pub struct DexelStock {
     near: Vec<usize>,
     /// Scratch buffer of a gap query: the blocks to visit, nearest first.
     order: Vec<(f64, usize)>,
+    /// The last few regions cut off whole, which a cut held by one takes off nothing from.
+    cleared: Cleared,
 }
 
 /// The columns the current move's cut changed, as they were before the move (see
@@ -384,6 +387,7 @@ impl DexelStock {
             mat: Vec::new(),
             near: Vec::new(),
             order: Vec::new(),
+            cleared: Cleared::default(),
         };
         for b in 0..nb {
             s.refresh_block(b);
@@ -594,6 +598,13 @@ impl DexelStock {
         j.active = true;
     }
 
+    /// Whether the cut of the move begun with [`Self::begin_move`] changed any column. When it
+    /// did not, the stock at every instant of the move is the stock as it is now: an instant
+    /// view reads only the columns (and blocks) the move changed.
+    pub fn move_changed_any(&self) -> bool {
+        self.journal.active && self.journal.used > 0
+    }
+
     /// End the move begun with [`Self::begin_move`]: queries see the stock as it is now.
     pub fn end_move(&mut self) {
         self.journal.active = false;
@@ -751,7 +762,7 @@ impl DexelStock {
         let (rlo, rhi) = radial_range(bb.min.x, bb.max.x);
         let (j0, j1) = self.column_range(bb.min.y, bb.max.y)?;
         let swept = match view {
-            View::Instant(sw) if self.journal.active => Some(sw),
+            View::Instant(sw) if self.move_changed_any() => Some(sw),
             _ => None,
         };
         let pre = swept.is_some();
@@ -1033,7 +1044,7 @@ impl DexelStock {
             return window;
         };
         let swept = match view {
-            View::Instant(sw) if self.journal.active => Some(sw),
+            View::Instant(sw) if self.move_changed_any() => Some(sw),
             _ => None,
         };
         // A cheap lower bound of the distance from the part to the box [r0, r1] x [z0, z1].
@@ -1141,8 +1152,16 @@ impl DexelStock {
 
     /// Remove the material inside a polygon (working plane, folded about the axis).
     /// Returns whether anything was removed.
+    ///
+    /// A region equal to one of the last few cut takes off nothing and is not walked (see
+    /// [`Cleared`]).
     pub fn cut(&mut self, pts: &[P2]) -> bool {
-        self.cut_by(pts, true)
+        if self.cleared.holds(pts) {
+            return false;
+        }
+        let changed = self.cut_by(pts, true);
+        self.cleared.remember(pts);
+        changed
     }
 
     /// [`Self::cut`], walking the chains of a monotone polygon when `walk` (else the crossings
@@ -2145,6 +2164,47 @@ mod tests {
                     let axial = (s.center(last) - s.center(first) + s.h).min(height);
                     proptest::prop_assert_eq!(g.depth, best.min(axial));
                 }
+            }
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+
+        /// A cut that repeats one of the last few (`Cleared`) is left out, and the stock is bit
+        /// for bit what cutting it again gives: every cut of a sequence in which tool-like
+        /// quadrilaterals come back (as a pass run back and forth does), some of them within a
+        /// journaled move, against the same sequence cut without the memory. A move whose cuts
+        /// all repeat changes no column (`move_changed_any`).
+        #[test]
+        fn a_cut_repeating_one_before_leaves_the_stock_as_cutting_it_again(
+            quads in proptest::collection::vec((0.0f64..30.0, -100.0f64..0.0, 0.05f64..20.0, 0.5f64..30.0, -3.0f64..3.0), 1..6),
+            order in proptest::collection::vec((0usize..6, proptest::bool::ANY), 1..24),
+        ) {
+            let quads: Vec<Vec<P2>> = quads
+                .iter()
+                .map(|&(x, z, w, d, lean)| vec![p2(x, z), p2(x + d, z + lean), p2(x + d, z + w + lean), p2(x, z + w)])
+                .collect();
+            let mut remembered = DexelStock::new(50.0, 8.0, 100.0, 0.0, 0.05);
+            let mut plain = remembered.clone();
+            for &(k, journaled) in &order {
+                let q = &quads[k % quads.len()];
+                let repeat = remembered.cleared.holds(q);
+                if journaled {
+                    remembered.begin_move();
+                    plain.begin_move();
+                }
+                let (a, b) = (remembered.cut(q), plain.cut_by(q, true));
+                proptest::prop_assert_eq!(a, b);
+                if repeat {
+                    proptest::prop_assert!(!b, "a repeated cut took material off");
+                    if journaled {
+                        proptest::prop_assert!(!remembered.move_changed_any());
+                    }
+                }
+                remembered.end_move();
+                plain.end_move();
+                proptest::prop_assert!(same_stock(&remembered, &plain));
             }
         }
     }
