@@ -442,6 +442,50 @@ fn a_holder_dragged_along_long_passes_is_stepped_over_by_proofs() {
     );
 }
 
+/// The bench's contact row in small: T01 fed back and forth along the bar with its holder
+/// buried in it, a contact beginning and ending on every other move. Each stretch in contact is
+/// proven with the probe at its end taken into the proof's depth (a contact deepening as the
+/// holder enters is no deeper than its end), the first proof of a contact reaches to the end of
+/// its move, and a stretch that ends clear bounds where the contact ends: the same findings as
+/// probing stretch by stretch, and per move the 40 bisections of a boundary and a dozen other
+/// queries (there were over a hundred, most of them probes and strides every half depth).
+#[test]
+fn a_holder_buried_along_its_passes_is_proven_in_a_few_queries_a_move() {
+    for mode in [Mode::Step, Mode::Exact] {
+        let settings = Settings {
+            mode,
+            ..Settings::default()
+        };
+        let proven = hostile_with("holder_buried_back_and_forth.nc", settings);
+        let probed = hostile_with(
+            "holder_buried_back_and_forth.nc",
+            Settings {
+                prove_stretches: false,
+                ..settings
+            },
+        );
+        let facts = |o: &pipeline::Outcome| {
+            o.findings
+                .iter()
+                .map(|f| (f.line, f.kind, f.objects.clone(), f.severity))
+                .collect::<std::collections::BTreeSet<_>>()
+        };
+        let holder = proven
+            .findings
+            .iter()
+            .filter(|f| f.kind == Kind::Collision && f.objects.first().is_some_and(|o| o.contains("holder")))
+            .count();
+        assert_eq!(holder, 20, "{:?}", proven.findings);
+        assert_eq!(facts(&proven), facts(&probed), "{mode:?}");
+        for (a, b) in proven.findings.iter().zip(&probed.findings) {
+            let (da, db) = (a.depth_mm.unwrap_or(0.0), b.depth_mm.unwrap_or(0.0));
+            assert!((da - db).abs() <= 0.5 * settings.tolerance_mm, "{a:?} against {b:?}");
+        }
+        let per_move = proven.stats.pair_tests as f64 / proven.stats.moves as f64;
+        assert!(per_move < 64.0, "{mode:?}: {per_move:.1} pair tests a move");
+    }
+}
+
 #[test]
 fn a_macro_loop_that_marches_off_the_machine_costs_little_per_move() {
     // Found by the `check` fuzz target: a WHILE whose condition never changes while a counter

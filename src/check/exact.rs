@@ -207,6 +207,20 @@ enum Proof {
     Contact { cap: f64 },
 }
 
+/// What [`Checker::prove_ahead`] found of a stretch ahead.
+#[derive(Clone, Copy)]
+enum Ahead {
+    /// Proven; for a stretch in contact, the probe at its end.
+    Proven(Option<Result<f64, f64>>),
+    /// The stretch in contact ends clear: the part is clear at every instant of the stretch
+    /// within this distance (mm) of its end, 0 when nothing is known.
+    EndsClear(f64),
+    /// Not proven.
+    Failed,
+    /// Not tried (no stretch left short of where the contact ends).
+    Skipped,
+}
+
 /// How closely conservative advancement measures the contacts it finds.
 #[derive(Clone, Copy)]
 enum Measure {
@@ -493,8 +507,13 @@ impl Checker<'_> {
         // Proofs of a stretch in contact that failed in a row, and how many probes in contact
         // are still to pass before the next attempt: 1, 3, 7, … after one, two, three failures
         // (a contact whose depth is its axial extent fails each proof, as the stretch's hull
-        // overstates that extent; an attempt costs two stock queries).
+        // overstates that extent; an attempt costs a probe and two stock queries).
         let (mut failed, mut wait) = (0u32, 0u32);
+        // The probe at `u` when a proof of the stretch up to it already made it.
+        let mut known: Option<Result<f64, f64>> = None;
+        // A path fraction the open contact ends before (a proof ahead found the part clear
+        // there at every instant since).
+        let mut ends_by = f64::INFINITY;
         // Most pieces pass the material at a distance, or slide along it: the hull of their
         // poses proves the whole of them clear before any probe. Whether the rest of the piece
         // was tried as one clear stretch since the last contact ended (a failed try costs one
@@ -514,7 +533,10 @@ impl Checker<'_> {
                 }
                 return false;
             }
-            let res = self.probe(p, o, piece, u, active);
+            let res = match known.take() {
+                Some(r) => r,
+                None => self.probe(p, o, piece, u, active),
+            };
             match res {
                 Ok(d) => {
                     peak.probe(prev_u, u, d);
@@ -528,6 +550,11 @@ impl Checker<'_> {
                                 // among others of its own move, all left out too.
                                 Measure::Coarse { .. } => u,
                             };
+                            ends_by = f64::INFINITY;
+                            // The first proof of a new contact tries the rest of the span: a
+                            // part buried along its move is proven at once, and one leaving the
+                            // material on the way tells where it is clear (`Ahead::EndsClear`).
+                            ahead = ahead.max((b - u) * len);
                             open = Some(Interval {
                                 t0: piece.time(u0),
                                 t1: piece.time(u),
@@ -541,6 +568,7 @@ impl Checker<'_> {
                 Err(_) => {
                     if let Some(mut iv) = open.take() {
                         tried_rest = false;
+                        ends_by = f64::INFINITY;
                         peak.probe(prev_u, u, 0.0);
                         let u1 = match measure {
                             // Ends (before this clear probe) well before the move does: no
@@ -598,19 +626,41 @@ impl Checker<'_> {
             };
             if let Some(proof) = proof {
                 ahead = ahead.max(2.0 * advance);
-                let to = (u + ahead / len).min(b);
-                if self.stretch_proven(p, o, piece, active, (u, to), proof) {
-                    *probes += 1;
-                    ahead *= 2.0;
-                    failed = 0;
-                    prev_u = u;
-                    u = to;
-                    continue;
-                }
-                ahead = (0.25 * ahead).max(CONTACT_AHEAD * step);
+                let mut to = (u + ahead / len).min(b);
                 if let Proof::Contact { .. } = proof {
-                    failed = (failed + 1).min(6);
-                    wait = (1 << failed) - 1;
+                    to = to.min(ends_by - 1.5 * step / len);
+                }
+                let found = if to > u {
+                    self.prove_ahead(p, o, piece, active, (u, to), proof, probes)
+                } else {
+                    Ahead::Skipped
+                };
+                match found {
+                    Ahead::Skipped => {}
+                    Ahead::Proven(at_to) => {
+                        *probes += 1;
+                        ahead *= 2.0;
+                        failed = 0;
+                        prev_u = u;
+                        u = to;
+                        known = at_to;
+                        continue;
+                    }
+                    // The contact ends before the part comes within `g` of where it is clear:
+                    // the next proof reaches to a tolerance and a half short of that (where a
+                    // column's centre is still in the part), no further.
+                    Ahead::EndsClear(g) if g > 0.0 => {
+                        ends_by = ends_by.min(to - g / len);
+                        known = Some(res);
+                        continue;
+                    }
+                    _ => {
+                        ahead = (0.25 * ahead).max(CONTACT_AHEAD * step);
+                        if let Proof::Contact { .. } = proof {
+                            failed = (failed + 1).min(6);
+                            wait = (1 << failed) - 1;
+                        }
+                    }
                 }
             }
             let advance = match res {
@@ -682,6 +732,63 @@ impl Checker<'_> {
             let common = geom::convex::clip_convex(k, &moved);
             common.len() >= 3 && self.stock_overlap(&common, geom::TOUCH_EPS, true).is_some()
         })
+    }
+
+    /// [`Self::stretch_proven`] of the stretch `[u, to]`; for one in contact, the probe at `to`
+    /// first, which the proof then takes as part of the contact: a stretch that ends clear is
+    /// not in contact throughout, and one whose end is in contact may be as deep inside as that
+    /// end is (a contact deepening along the stretch is proven no deeper than its end within
+    /// half the tolerance, and the end's depth is the contact's from then on).
+    #[allow(clippy::too_many_arguments)]
+    fn prove_ahead(
+        &mut self,
+        p: Part,
+        o: Obstacle,
+        piece: &Piece,
+        active: u32,
+        (u, to): (f64, f64),
+        proof: Proof,
+        probes: &mut u64,
+    ) -> Ahead {
+        let Proof::Contact { cap } = proof else {
+            return match self.stretch_proven(p, o, piece, active, (u, to), proof) {
+                true => Ahead::Proven(None),
+                false => Ahead::Failed,
+            };
+        };
+        // Only where a proof can be made at all (else the probe would be spent for nothing).
+        let Some((_, d)) = self.stretch_motion(p, o, piece, active, (u, to)) else {
+            return Ahead::Failed;
+        };
+        *probes += 1;
+        let at_to = self.probe(p, o, piece, to, active);
+        let d_to = match at_to {
+            Ok(d_to) => d_to,
+            Err(_) => return Ahead::EndsClear(self.gap_since(p, o, piece, active, (u, to), d.norm())),
+        };
+        let cap = cap.max(d_to + 0.5 * self.settings.tolerance_mm);
+        match self.stretch_proven(p, o, piece, active, (u, to), Proof::Contact { cap }) {
+            true => Ahead::Proven(Some(at_to)),
+            false => Ahead::Failed,
+        }
+    }
+
+    /// How far before `to` (mm along a straight piece) the part is surely clear at every
+    /// instant from `u` on: the gap of its pose at `to` against the stock as it is at `u` (the
+    /// most material from then on). A pose within that distance of the pose at `to` is nearer
+    /// to it than the gap, so clear of that material. 0 when nothing is known; at most `moved`
+    /// (the stretch's length).
+    fn gap_since(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, (u, to): (f64, f64), moved: f64) -> f64 {
+        let Some((posed, in_plane)) = self.pose(p, piece.at(to), active as f64) else {
+            return 0.0;
+        };
+        self.instant = u;
+        let g = self.gap_lower_bound(&posed, in_plane, o);
+        if g.is_finite() && g > 0.0 {
+            g.min(moved)
+        } else {
+            0.0
+        }
     }
 
     /// The part's pose at `a` and how it moves to `b` along a stretch of a straight piece, for
