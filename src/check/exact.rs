@@ -20,6 +20,11 @@ use crate::motion::Path;
 const GAP_WINDOW: f64 = 20.0;
 /// Bisection steps refining a sampled contact boundary (2^-40 of a step).
 const REFINE: usize = 40;
+/// Most steps by a proven gap from the clear end of a contact boundary before its bisection.
+const GAP_STEPS: usize = 1;
+/// Probes galloping from a touch toward a contact boundary (1 and 4 units of the resolution
+/// past it: where a touch is no boundary, a holder sliding along a face, each is one probe lost).
+const GALLOP: usize = 2;
 /// Golden-section steps seeking the deepest point of a contact interval.
 const PEAK_STEPS: usize = 24;
 /// The first stretch (in tolerances) conservative advancement tries to prove in contact ahead
@@ -514,6 +519,8 @@ impl Checker<'_> {
         // A path fraction the open contact ends before (a proof ahead found the part clear
         // there at every instant since).
         let mut ends_by = f64::INFINITY;
+        // The gap the probe at `prev_u` proved (NaN: it was in contact, or none).
+        let mut prev_gap = f64::NAN;
         // Most pieces pass the material at a distance, or slide along it: the hull of their
         // poses proves the whole of them clear before any probe. Whether the rest of the piece
         // was tried as one clear stretch since the last contact ended (a failed try costs one
@@ -545,7 +552,7 @@ impl Checker<'_> {
                         None => {
                             let u0 = match measure {
                                 _ if u <= a => a,
-                                Measure::Full => self.refine(p, o, piece, active, prev_u, u, true),
+                                Measure::Full => self.refine(p, o, piece, active, prev_u, u, true, prev_gap),
                                 // The first probe in contact: the start only orders this contact
                                 // among others of its own move, all left out too.
                                 Measure::Coarse { .. } => u,
@@ -576,7 +583,7 @@ impl Checker<'_> {
                             // lines, in other moves). The last probe in contact stands for the
                             // end: it never merges with a contact after it.
                             Measure::Coarse { duration, .. } if piece.time(u) < duration - 1e-8 => prev_u,
-                            _ => self.refine(p, o, piece, active, prev_u, u, false),
+                            _ => self.refine(p, o, piece, active, prev_u, u, false, res.err().unwrap_or(f64::NAN)),
                         };
                         iv.t1 = piece.time(u1);
                         iv.depth = self.final_depth(p, o, piece, active, measure, iv.depth, &peak);
@@ -644,6 +651,7 @@ impl Checker<'_> {
                         prev_u = u;
                         u = to;
                         known = at_to;
+                        prev_gap = res.err().unwrap_or(f64::NAN);
                         continue;
                     }
                     // The contact ends before the part comes within `g` of where it is clear:
@@ -674,6 +682,7 @@ impl Checker<'_> {
             };
 
             prev_u = u;
+            prev_gap = res.err().unwrap_or(f64::NAN);
             u = (u + advance / len).min(b);
         }
         if let Some(mut iv) = open {
@@ -982,12 +991,85 @@ impl Checker<'_> {
     }
 
     /// The boundary between `a` (one state) and `b` (the other) on a piece: the first fraction in
-    /// contact when `entering`, the last one in contact otherwise.
+    /// contact when `entering`, the last one in contact otherwise, within 2^-40 of `b - a`.
+    ///
+    /// `clear_gap` is a proven gap of the part at the clear end (`a` when entering, `b`
+    /// otherwise; NaN when none): every pose nearer to it than that along the piece is clear
+    /// (forward in time always, the stock only losing material; backward only while the
+    /// obstacle's material stands still, [`Self::material_stands_still`]). The clear end first
+    /// steps toward the contact by such gaps, a probe each; where it touches (a gap of 0: an
+    /// exact gap took it onto the material, as advancement does to a face it approaches
+    /// square), the boundary is usually at once beyond it: one probe at the resolution's
+    /// distance settles it. What is left is bisected.
     #[allow(clippy::too_many_arguments)]
-    fn refine(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, a: f64, b: f64, entering: bool) -> f64 {
-        let (mut lo, mut hi) = (a, b);
+    fn refine(
+        &mut self,
+        p: Part,
+        o: Obstacle,
+        piece: &Piece,
+        active: u32,
+        a: f64,
+        b: f64,
+        entering: bool,
+        clear_gap: f64,
+    ) -> f64 {
+        let width = (b - a) / (1u64 << REFINE) as f64;
+        let len = piece.length();
+        // The clear end, the contact end, and the way from one to the other.
+        let (mut c, mut k) = if entering { (a, b) } else { (b, a) };
+        let toward = if entering { 1.0 } else { -1.0 };
+        let usable = entering || self.material_stands_still(o);
+        let mut g = if usable { clear_gap } else { f64::NAN };
+        let mut stepped = false;
+        for _ in 0..GAP_STEPS {
+            if !(g > 0.0 && g.is_finite() && len > 0.0) {
+                break;
+            }
+            let next = c + toward * g / len;
+            if (k - next) * toward <= width {
+                break;
+            }
+            stepped = true;
+            match self.probe(p, o, piece, next, active) {
+                Err(gap) => {
+                    c = next;
+                    g = gap;
+                }
+                // Rounding put the pose just past the gap in contact: a tighter bracket.
+                Ok(_) => {
+                    k = next;
+                    g = f64::NAN;
+                }
+            }
+        }
+        // Touching where the steps ended (an exact gap took the part onto the material): the
+        // boundary is usually a few units of rounding beyond. Gallop there by fours.
+        if g == 0.0 {
+            let mut ahead = width;
+            for _ in 0..GALLOP {
+                let t = c + toward * ahead;
+                if (k - t) * toward <= 0.0 {
+                    break;
+                }
+                stepped = true;
+                if self.probe_hit(p, o, piece, t, active) {
+                    k = t;
+                    break;
+                }
+                c = t;
+                ahead *= 4.0;
+            }
+        }
+        let (mut lo, mut hi) = if entering { (c, k) } else { (k, c) };
         for _ in 0..REFINE {
+            if stepped && hi - lo <= width {
+                break;
+            }
             let mid = 0.5 * (lo + hi);
+            // Adjacent values: a probe at either end gives what it gave (nothing changes).
+            if mid <= lo || mid >= hi {
+                break;
+            }
             let hit = self.probe_hit(p, o, piece, mid, active);
             if hit == entering {
                 hi = mid;
@@ -995,11 +1077,55 @@ impl Checker<'_> {
                 lo = mid;
             }
         }
-        if entering {
-            hi
-        } else {
-            lo
+        let found = if entering { hi } else { lo };
+        #[cfg(test)]
+        self.audit_refine(p, o, piece, active, (a, b), entering, found);
+        found
+    }
+
+    /// With [`refine_audit::on`], bisects the bracket `[a, b]` of [`Self::refine`] 40 times as
+    /// it did before its gap steps and gallop (the slow, plain oracle), and records how far
+    /// apart the two boundaries are in units of the resolution (2^-40 of the bracket, or a unit
+    /// of rounding where that is coarser).
+    #[cfg(test)]
+    #[allow(clippy::too_many_arguments)]
+    fn audit_refine(
+        &mut self,
+        p: Part,
+        o: Obstacle,
+        piece: &Piece,
+        active: u32,
+        (a, b): (f64, f64),
+        entering: bool,
+        found: f64,
+    ) {
+        if !refine_audit::enabled() {
+            return;
         }
+        let (saved_stats, saved_instant) = (self.stats.clone(), self.instant);
+        let (mut lo, mut hi) = (a, b);
+        for _ in 0..REFINE {
+            let mid = 0.5 * (lo + hi);
+            if self.probe_hit(p, o, piece, mid, active) == entering {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        let plain = if entering { hi } else { lo };
+        // The resolution, or the spacing of doubles there when that is coarser (a bracket
+        // near 1 of 1e-4 has its 2^-40 below one unit of rounding).
+        let unit = ((b - a) / (1u64 << REFINE) as f64).max(f64::EPSILON * plain.abs());
+        refine_audit::record((found - plain).abs() / unit.max(f64::MIN_POSITIVE));
+        self.stats = saved_stats;
+        self.instant = saved_instant;
+    }
+
+    /// Whether an obstacle's material is the same at every instant of the current move (so a
+    /// gap proven at one instant holds backward too): a polygon obstacle; the stock when the
+    /// move's cut changed no column (or the move cuts nothing).
+    fn material_stands_still(&self, o: Obstacle) -> bool {
+        o != Obstacle::Stock || !self.stock.as_ref().is_some_and(|s| s.move_changed_any())
     }
 
     /// Near misses in exact mode: the gap sampled every tolerance along the move.
@@ -1072,6 +1198,38 @@ fn stretch_hull(pose: &Polygon, d: V2) -> Vec<P2> {
     let mut pts: Vec<P2> = pose.points().to_vec();
     pts.extend(pose.points().iter().map(|q| q + d));
     crate::tooling::outline::hull(&pts)
+}
+
+/// The audit of contact boundaries against plain bisection, for tests: off unless a test turns
+/// it on for its thread.
+#[cfg(test)]
+pub(super) mod refine_audit {
+    use std::cell::RefCell;
+
+    thread_local! {
+        static AUDIT: RefCell<Option<Vec<f64>>> = const { RefCell::new(None) };
+    }
+
+    pub fn on() {
+        AUDIT.with(|a| *a.borrow_mut() = Some(Vec::new()));
+    }
+
+    /// How far each boundary found lay from plain bisection's, in units of the resolution.
+    pub fn take() -> Vec<f64> {
+        AUDIT.with(|a| a.borrow_mut().take().unwrap_or_default())
+    }
+
+    pub(super) fn enabled() -> bool {
+        AUDIT.with(|a| a.borrow().is_some())
+    }
+
+    pub(super) fn record(apart: f64) {
+        AUDIT.with(|a| {
+            if let Some(v) = a.borrow_mut().as_mut() {
+                v.push(apart);
+            }
+        });
+    }
 }
 
 /// The audit of strides in contact, for tests: off unless a test turns it on for its thread.

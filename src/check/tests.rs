@@ -181,6 +181,52 @@ fn strides_in_contact_step_over_no_separation_on_any_program_or_case() {
     assert!(strides > 1000, "only {strides} strides in contact audited");
 }
 
+/// Every contact boundary `refine` finds by stepping the clear end by proven gaps and galloping
+/// from a touch lies where plain bisection of the same bracket lands, within 2^-30 of the
+/// bracket, on the programs and cases of the repository, the hostile holder-dragging G71 and the
+/// holder buried along its passes, in both modes. (Not to the unit of 2^-40: where an insert
+/// slides along a face its overlap flickers about the touch tolerance at the level of rounding,
+/// and the two land on flickers 9 units apart, 1e-13 mm.) A gap stepped past the boundary would
+/// put them a gap apart. The shortcut is taken: the buried holder's boundaries cost a few probes
+/// (`tests/hostile_check.rs`, its pair tests a move).
+#[test]
+fn contact_boundaries_lie_where_plain_bisection_puts_them() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    for dir in ["programs", "tests/cases"] {
+        let mut stack = vec![root.join(dir)];
+        while let Some(d) = stack.pop() {
+            for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+                let p = e.path();
+                if p.is_dir() {
+                    stack.push(p);
+                } else if p.extension().is_some_and(|e| e == "nc" || e == "ngc") {
+                    files.push(p);
+                }
+            }
+        }
+    }
+    files.sort();
+    files.push(root.join("tests/fixtures/hostile/g71_profile_run_first_drags_the_holder.nc"));
+    files.push(root.join("tests/fixtures/hostile/holder_buried_back_and_forth.nc"));
+    let (mut boundaries, mut far) = (0usize, Vec::new());
+    for f in &files {
+        let src = std::fs::read_to_string(f).unwrap_or_default();
+        for mode in [Mode::Exact, Mode::Step] {
+            exact::refine_audit::on();
+            run(&src, &settings(mode, 1.0), MAX_FINDINGS);
+            for apart in exact::refine_audit::take() {
+                boundaries += 1;
+                if apart > 1024.0 {
+                    far.push(format!("{}: {mode:?}: {apart:.1} units apart", f.display()));
+                }
+            }
+        }
+    }
+    assert!(far.is_empty(), "{far:#?}");
+    assert!(boundaries > 500, "only {boundaries} boundaries audited");
+}
+
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig::with_cases(400))]
 
