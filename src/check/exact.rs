@@ -267,7 +267,7 @@ impl Checker<'_> {
             return;
         }
         for &(p, o) in cands {
-            self.exact_pair(m, item, &pieces, p, o, active, insert_rule);
+            self.exact_pair(m, item, &pieces, p, o, active, insert_rule, false);
             if self.settings.clearance_mm > 0.0 && o != Obstacle::Stock {
                 self.exact_near_miss(m, item, &pieces, p, o, active);
             }
@@ -289,10 +289,11 @@ impl Checker<'_> {
         insert_rule: Option<Kind>,
     ) -> bool {
         let pieces = pieces(m, item);
-        !pieces.is_empty() && self.exact_pair(m, item, &pieces, p, o, active, insert_rule)
+        !pieces.is_empty() && self.exact_pair(m, item, &pieces, p, o, active, insert_rule, true)
     }
 
     /// The contact episodes of one pair over one move. Returns whether it found any.
+    /// `in_contact`: a sample of step mode found the pair in contact during the move.
     #[allow(clippy::too_many_arguments)]
     fn exact_pair(
         &mut self,
@@ -303,6 +304,7 @@ impl Checker<'_> {
         o: Obstacle,
         active: u32,
         insert_rule: Option<Kind>,
+        in_contact: bool,
     ) -> bool {
         let dur = item.duration;
         let Some(kind) = rule(p, o, insert_rule) else {
@@ -329,7 +331,9 @@ impl Checker<'_> {
             if rigid {
                 self.swept(p, o, piece, active, &mut found);
             } else {
-                self.advanced(p, o, piece, active, measure, &mut found);
+                // A move of one piece found in contact is in contact somewhere on it.
+                let sure = in_contact && pieces.len() == 1;
+                self.advanced(p, o, piece, active, measure, sure, &mut found);
             }
         }
         found.sort_by(|a, b| a.t0.total_cmp(&b.t0));
@@ -436,7 +440,9 @@ impl Checker<'_> {
     }
 
     /// Conservative advancement along a piece: steps of at least the tolerance, and as long as
-    /// the proven gap allows; contact boundaries refined by bisection.
+    /// the proven gap allows; contact boundaries refined by bisection. `in_contact`: the pair is
+    /// known to be in contact somewhere on the piece.
+    #[allow(clippy::too_many_arguments)]
     fn advanced(
         &mut self,
         p: Part,
@@ -444,11 +450,16 @@ impl Checker<'_> {
         piece: &Piece,
         active: u32,
         measure: Measure,
+        in_contact: bool,
         out: &mut Vec<Interval>,
     ) {
         let mut probes = 0u64;
-        for (a, b) in self.spans(p, o, piece, active) {
-            if !self.advanced_span(p, o, piece, active, measure, a, b, out, &mut probes) {
+        let spans = self.spans(p, o, piece, active);
+        // The contact lies in one of the spans (elsewhere the part cannot reach the obstacle):
+        // when there is only one, it cannot be proven clear whole, and is not tried.
+        let try_whole = !(in_contact && spans.len() == 1);
+        for (a, b) in spans {
+            if !self.advanced_span(p, o, piece, active, measure, (a, b), try_whole, out, &mut probes) {
                 return;
             }
         }
@@ -486,7 +497,8 @@ impl Checker<'_> {
     }
 
     /// Conservative advancement from `a` to `b` of a piece. Returns false when the probe budget
-    /// ran out (the rest of the move is then unchecked, and a finding says so).
+    /// ran out (the rest of the move is then unchecked, and a finding says so). `try_whole`:
+    /// whether to try first to prove the whole stretch clear at once.
     #[allow(clippy::too_many_arguments)]
     fn advanced_span(
         &mut self,
@@ -495,8 +507,8 @@ impl Checker<'_> {
         piece: &Piece,
         active: u32,
         measure: Measure,
-        a: f64,
-        b: f64,
+        (a, b): (f64, f64),
+        try_whole: bool,
         out: &mut Vec<Interval>,
         probes: &mut u64,
     ) -> bool {
@@ -525,8 +537,10 @@ impl Checker<'_> {
         // poses proves the whole of them clear before any probe. Whether the rest of the piece
         // was tried as one clear stretch since the last contact ended (a failed try costs one
         // stock query, so it is tried once from the start and once after each contact).
+        // (Where the stretch is known to hold a contact the try would fail: it is taken as
+        // made.)
         let mut tried_rest = self.settings.prove_stretches && len > 0.0 && b > a;
-        if tried_rest && self.stretch_proven(p, o, piece, active, (a, b), Proof::Clear) {
+        if tried_rest && try_whole && self.stretch_proven(p, o, piece, active, (a, b), Proof::Clear) {
             *probes += 1;
             return true;
         }
