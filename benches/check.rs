@@ -179,7 +179,7 @@ fn section_4(quick: bool, m: &Machine, step: &Settings, exact: &Settings) {
     let (tc, outc) = median_run(3, &clean, m, step);
     assert!(outc.findings.is_empty(), "{:?}", outc.findings);
     println!(
-        "   the same moves turning clear of everything, step dt=1ms: {:.3} s; a block in contact costs {:.0}x a clean block",
+        "   the same moves turning clear of everything, step dt=1ms: {:.4} s; a block in contact costs {:.0}x a clean block",
         tc,
         ts / tc
     );
