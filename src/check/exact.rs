@@ -1074,27 +1074,52 @@ impl Checker<'_> {
                 ahead *= 4.0;
             }
         }
-        let (mut lo, mut hi) = if entering { (c, k) } else { (k, c) };
+        let bracket = if entering { (c, k) } else { (k, c) };
+        let found = self.bisect(
+            p,
+            o,
+            piece,
+            active,
+            bracket,
+            entering,
+            if stepped { width } else { 0.0 },
+        );
+        #[cfg(test)]
+        self.audit_refine(p, o, piece, active, (a, b), entering, found);
+        found
+    }
+
+    /// Bisection of a bracket `(lo, hi)` of a contact boundary (`lo` in the state before it):
+    /// 40 halvings, fewer once it is no wider than `until` or its ends are adjacent doubles (a
+    /// probe at either end gives what it gave). The first fraction in contact when `entering`,
+    /// the last one in contact otherwise.
+    #[allow(clippy::too_many_arguments)]
+    fn bisect(
+        &mut self,
+        p: Part,
+        o: Obstacle,
+        piece: &Piece,
+        active: u32,
+        (mut lo, mut hi): (f64, f64),
+        entering: bool,
+        until: f64,
+    ) -> f64 {
         for _ in 0..REFINE {
-            if stepped && hi - lo <= width {
-                break;
-            }
             let mid = 0.5 * (lo + hi);
-            // Adjacent values: a probe at either end gives what it gave (nothing changes).
-            if mid <= lo || mid >= hi {
+            if hi - lo <= until || mid <= lo || mid >= hi {
                 break;
             }
-            let hit = self.probe_hit(p, o, piece, mid, active);
-            if hit == entering {
+            if self.probe_hit(p, o, piece, mid, active) == entering {
                 hi = mid;
             } else {
                 lo = mid;
             }
         }
-        let found = if entering { hi } else { lo };
-        #[cfg(test)]
-        self.audit_refine(p, o, piece, active, (a, b), entering, found);
-        found
+        if entering {
+            hi
+        } else {
+            lo
+        }
     }
 
     /// With [`refine_audit::on`], bisects the bracket `[a, b]` of [`Self::refine`] 40 times as
@@ -1117,16 +1142,7 @@ impl Checker<'_> {
             return;
         }
         let (saved_stats, saved_instant) = (self.stats.clone(), self.instant);
-        let (mut lo, mut hi) = (a, b);
-        for _ in 0..REFINE {
-            let mid = 0.5 * (lo + hi);
-            if self.probe_hit(p, o, piece, mid, active) == entering {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
-        let plain = if entering { hi } else { lo };
+        let plain = self.bisect(p, o, piece, active, (a, b), entering, 0.0);
         // The resolution, or the spacing of doubles there when that is coarser (a bracket
         // near 1 of 1e-4 has its 2^-40 below one unit of rounding).
         let unit = ((b - a) / (1u64 << REFINE) as f64).max(f64::EPSILON * plain.abs());
