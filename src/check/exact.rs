@@ -780,14 +780,14 @@ impl Checker<'_> {
             };
         };
         // Only where a proof can be made at all (else the probe would be spent for nothing).
-        let Some((_, d)) = self.stretch_motion(p, o, piece, active, (u, to)) else {
+        if !stretch_provable(p, o, piece) || to <= u {
             return Ahead::Failed;
-        };
+        }
         *probes += 1;
         let at_to = self.probe(p, o, piece, to, active);
         let d_to = match at_to {
             Ok(d_to) => d_to,
-            Err(_) => return Ahead::EndsClear(self.gap_since(p, o, piece, active, (u, to), d.norm())),
+            Err(_) => return Ahead::EndsClear(self.gap_since(p, o, piece, active, (u, to), (to - u) * piece.length())),
         };
         let cap = cap.max(d_to + 0.5 * self.settings.tolerance_mm);
         match self.stretch_proven(p, o, piece, active, (u, to), Proof::Contact { cap }) {
@@ -825,12 +825,9 @@ impl Checker<'_> {
         active: u32,
         (a, b): (f64, f64),
     ) -> Option<(Polygon, V2)> {
-        if o != Obstacle::Stock || !matches!(p, Part::Turret | Part::Holder | Part::Insert) || b <= a {
+        if !stretch_provable(p, o, piece) || b <= a {
             return None;
         }
-        let Shape::Line { .. } = piece.shape else {
-            return None;
-        };
         let Some((Section::Whole(pose_a), _)) = self.pose(p, piece.at(a), active as f64) else {
             return None;
         };
@@ -1221,6 +1218,15 @@ impl Checker<'_> {
         );
         self.budget.push((line, message));
     }
+}
+
+/// Whether a part's stretches against an obstacle along a piece can be proven at once
+/// ([`Checker::stretch_motion`]): the turret, holder and insert (they translate whole) against
+/// the stock, along a straight piece.
+fn stretch_provable(p: Part, o: Obstacle, piece: &Piece) -> bool {
+    o == Obstacle::Stock
+        && matches!(p, Part::Turret | Part::Holder | Part::Insert)
+        && matches!(piece.shape, Shape::Line { .. })
 }
 
 /// The convex hull of a pose and of the pose moved by `d`: it holds every pose between.

@@ -31,10 +31,14 @@ impl Cleared {
         self.rings.iter().any(|q| q.as_slice() == pts)
     }
 
-    /// Remember a region just cut.
-    pub(super) fn remember(&mut self, pts: &[P2]) {
-        if pts.is_empty() || self.holds(pts) {
-            return;
+    /// Whether `pts` was cut before (as [`Self::holds`]); when not, it is remembered, as the
+    /// region about to be cut. One pass over the remembered regions for each cut.
+    pub(super) fn seen_or_remember(&mut self, pts: &[P2]) -> bool {
+        if self.holds(pts) {
+            return true;
+        }
+        if pts.is_empty() {
+            return false;
         }
         if self.rings.len() < KEPT {
             self.rings.push(pts.to_vec());
@@ -43,6 +47,7 @@ impl Cleared {
             self.rings[self.next].extend_from_slice(pts);
             self.next = (self.next + 1) % KEPT;
         }
+        false
     }
 }
 
@@ -62,7 +67,7 @@ mod tests {
     #[test]
     fn only_a_region_equal_to_one_cut_is_held() {
         let mut c = Cleared::default();
-        c.remember(&square(10.0, 0.0, 5.0));
+        assert!(!c.seen_or_remember(&square(10.0, 0.0, 5.0)));
         assert!(c.holds(&square(10.0, 0.0, 5.0)));
         // Inside it, or the same points from another vertex: not the same spans by the same
         // arithmetic, so not held.
@@ -77,7 +82,7 @@ mod tests {
     fn only_the_last_few_regions_are_remembered() {
         let mut c = Cleared::default();
         for k in 0..=KEPT {
-            c.remember(&square(10.0 * k as f64, 0.0, 1.0));
+            c.seen_or_remember(&square(10.0 * k as f64, 0.0, 1.0));
         }
         assert!(!c.holds(&square(0.0, 0.0, 1.0)), "the oldest is forgotten");
         for k in 1..=KEPT {

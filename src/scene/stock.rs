@@ -1156,12 +1156,10 @@ impl DexelStock {
     /// A region equal to one of the last few cut takes off nothing and is not walked (see
     /// [`Cleared`]).
     pub fn cut(&mut self, pts: &[P2]) -> bool {
-        if self.cleared.holds(pts) {
+        if self.cleared.seen_or_remember(pts) {
             return false;
         }
-        let changed = self.cut_by(pts, true);
-        self.cleared.remember(pts);
-        changed
+        self.cut_by(pts, true)
     }
 
     /// [`Self::cut`], walking the chains of a monotone polygon when `walk` (else the crossings
