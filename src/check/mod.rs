@@ -1147,6 +1147,11 @@ impl Checker<'_> {
             if o != Obstacle::Stock || matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_)) {
                 continue;
             }
+            // In contact at the previous move's end, so at this one's start (the same pose,
+            // the same stock): its hull, which holds that pose, cannot be clear.
+            if self.episodes.is_open(key(p, active, o, kind)) {
+                continue;
+            }
             if self.stretch_clear(p, o, active, (t0, r0), (t1, r1), way, item) {
                 self.episodes.clear(key(p, active, o, kind));
                 self.episodes.clear(key(p, active, o, Kind::NearMiss));
