@@ -126,6 +126,8 @@ impl Reach {
 struct MonotoneChains {
     /// Index of a lowest vertex.
     low: usize,
+    /// Index of the highest vertex the rising chain reaches (where the falling one begins).
+    high: usize,
     zmin: f64,
     zmax: f64,
 }
@@ -153,6 +155,7 @@ impl MonotoneChains {
         }
         let low = (0..n).min_by(|&a, &b| pts[a].y.total_cmp(&pts[b].y))?;
         let (zmin, mut zmax) = (pts[low].y, pts[low].y);
+        let mut high = low;
         // Rising from the lowest vertex, then falling back to it: at most one turn.
         let mut falling = false;
         for s in 0..n {
@@ -162,12 +165,37 @@ impl MonotoneChains {
                     return None;
                 }
                 zmax = b;
+                high = (low + s + 1) % n;
             } else if b < a {
                 falling = true;
             }
         }
-        Some(MonotoneChains { low, zmin, zmax })
+        Some(MonotoneChains { low, high, zmin, zmax })
     }
+}
+
+/// Which ends of a block's columns in contact a scan must find (the deepest column it finds
+/// always).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Scan {
+    /// The first column in contact, and the last.
+    BothEnds,
+    /// The first column in contact only (the last returned is the last scanned).
+    FirstOnly,
+    /// The last column in contact only, scanning from the block's end down (the first returned
+    /// is the first scanned).
+    FromLast,
+}
+
+/// What a walk over a block's columns compares: the part (a monotone polygon), the depth a
+/// column must exceed, the block's bound, and the swept polygons of an instant view.
+struct ColumnWalk<'a> {
+    pts: &'a [P2],
+    chains: &'a MonotoneChains,
+    eps: f64,
+    bound: f64,
+    swept: Option<&'a Swept>,
+    near: &'a [usize],
 }
 
 /// A chain walk lost its way (a chain ran out of edges), which the chains of a monotone polygon
@@ -185,20 +213,43 @@ struct ChainWalk<'a> {
     down: (usize, (P2, P2)),
     /// Edges the chains may still pass (each passes each edge at most once).
     budget: usize,
+    /// Whether the walk goes down the column centres (from the top) instead of up.
+    descending: bool,
 }
 
 impl<'a> ChainWalk<'a> {
+    /// A walk up from the lowest column centre: each call's `c` at least the last one's.
     fn new(pts: &'a [P2], chains: &MonotoneChains) -> ChainWalk<'a> {
         let n = pts.len();
         // The rising chain runs forward from the lowest vertex, the falling one backward.
         let (up, down) = (chains.low, (chains.low + n - 1) % n);
+        Self::from_edges(pts, chains, (up, down), false)
+    }
+
+    /// A walk down from the highest column centre: each call's `c` at most the last one's. The
+    /// spans are those of [`Self::new`]'s walk, bit for bit (a centre lies in the half-open
+    /// range of one edge of each chain, whichever way the chain is walked to it).
+    fn new_descending(pts: &'a [P2], chains: &MonotoneChains) -> ChainWalk<'a> {
+        let n = pts.len();
+        // The rising chain's last edge ends at the highest vertex; the falling one leaves it.
+        let (up, down) = ((chains.high + n - 1) % n, chains.high);
+        Self::from_edges(pts, chains, (up, down), true)
+    }
+
+    fn from_edges(
+        pts: &'a [P2],
+        chains: &MonotoneChains,
+        (up, down): (usize, usize),
+        descending: bool,
+    ) -> ChainWalk<'a> {
         ChainWalk {
             pts,
             zmin: chains.zmin,
             zmax: chains.zmax,
             up: (up, Self::edge(pts, up)),
             down: (down, Self::edge(pts, down)),
-            budget: 2 * n,
+            budget: 2 * pts.len(),
+            descending,
         }
     }
 
@@ -214,23 +265,33 @@ impl<'a> ChainWalk<'a> {
 
     /// The polygon's two crossings with the plane `z = c` in the order the general crossings
     /// give them (`None` outside the polygon's half-open z range). `c` never decreases from
-    /// one call to the next.
+    /// one call to the next (never increases, for a descending walk).
     #[inline]
     fn span(&mut self, c: f64) -> Result<Option<(f64, f64)>, Lost> {
         if c < self.zmin || c >= self.zmax {
             return Ok(None);
         }
         let n = self.pts.len();
+        let next = |i: usize| if i + 1 == n { 0 } else { i + 1 };
+        let prev = |i: usize| if i == 0 { n - 1 } else { i - 1 };
         // Step each chain to the edge whose half-open z range holds c (horizontal edges hold
         // none and are passed over).
         while !(self.up.1 .0.y <= c && c < self.up.1 .1.y) {
             self.budget = self.budget.checked_sub(1).ok_or(Lost)?;
-            self.up.0 = if self.up.0 + 1 == n { 0 } else { self.up.0 + 1 };
+            self.up.0 = if self.descending {
+                prev(self.up.0)
+            } else {
+                next(self.up.0)
+            };
             self.up.1 = Self::edge(self.pts, self.up.0);
         }
         while !(self.down.1 .0.y <= c && c < self.down.1 .1.y) {
             self.budget = self.budget.checked_sub(1).ok_or(Lost)?;
-            self.down.0 = if self.down.0 == 0 { n - 1 } else { self.down.0 - 1 };
+            self.down.0 = if self.descending {
+                next(self.down.0)
+            } else {
+                prev(self.down.0)
+            };
             self.down.1 = Self::edge(self.pts, self.down.0);
         }
         let at = |(lo, hi): (P2, P2)| lo.x + (hi.x - lo.x) * ((c - lo.y) / (hi.y - lo.y));
@@ -545,18 +606,6 @@ impl DexelStock {
         (a <= b).then_some((a, b))
     }
 
-    /// Whether the part's radial range within block `b`'s slab of z can overlap the block's
-    /// material by more than `eps` (with `pre`, the material before the move).
-    ///
-    /// Exact as a filter: the crossings of an edge at the column centres lie within the values
-    /// the same arithmetic gives at the slab's ends (IEEE rounding is monotone), so a block
-    /// turned away here holds no column that a scan would find overlapped by more than `eps`.
-    fn block_candidate(&self, pts: &[P2], b: usize, eps: f64, pre: bool) -> bool {
-        let reach = self.reach(b, pre);
-        self.slab_range(pts, b)
-            .is_some_and(|(rlo, rhi)| reach.overlap_bound(rlo, rhi) > eps)
-    }
-
     /// The part's radial range (folded) within block `b`'s slab of z; `None` when the part does
     /// not reach the slab.
     fn slab_range(&self, pts: &[P2], b: usize) -> Option<(f64, f64)> {
@@ -785,8 +834,19 @@ impl DexelStock {
         let mut mat = std::mem::take(&mut self.mat);
         let (b0, b1) = (j0 / BLOCK, j1 / BLOCK);
         let chains = MonotoneChains::of(pts, self.h);
-        let mut scan = |s: &mut Self, b: usize| {
-            s.block_overlap(pts, b, (j0, j1), eps, pre, chains.as_ref(), swept, &near, &mut mat)
+        let mut scan = |s: &mut Self, b: usize, ends: Scan| {
+            s.block_overlap(
+                pts,
+                b,
+                (j0, j1),
+                eps,
+                pre,
+                chains.as_ref(),
+                swept,
+                &near,
+                &mut mat,
+                ends,
+            )
         };
         // The first block in contact from either end gives the first and last columns in
         // contact (the axial extent); the blocks between can only raise the greatest radial
@@ -794,8 +854,9 @@ impl DexelStock {
         // against the block's material) could: the result is what a scan of every column gives.
         let mut found: Option<(f64, usize, usize)> = None;
         let mut lo_block = b1 + 1;
+        let lo_ends = if first_only { Scan::FirstOnly } else { Scan::BothEnds };
         for b in b0..=b1 {
-            if let Some(hit) = scan(self, b) {
+            if let Some(hit) = scan(self, b, lo_ends) {
                 found = Some(hit);
                 lo_block = b;
                 break;
@@ -805,7 +866,7 @@ impl DexelStock {
             if !first_only {
                 let mut hi_block = lo_block;
                 for b in (lo_block + 1..=b1).rev() {
-                    if let Some((bb, _, l)) = scan(self, b) {
+                    if let Some((bb, _, l)) = scan(self, b, Scan::FromLast) {
                         *best = best.max(bb);
                         *last = l;
                         hi_block = b;
@@ -828,7 +889,7 @@ impl DexelStock {
                         if ub <= *best || *best >= cap {
                             break;
                         }
-                        if let Some((bb, _, _)) = scan(self, b) {
+                        if let Some((bb, _, _)) = scan(self, b, Scan::FirstOnly) {
                             *best = best.max(bb);
                         }
                     }
@@ -855,13 +916,19 @@ impl DexelStock {
     /// radial range over the block's slab of `z` against the block's material (as it was before
     /// the current move with `pre`, which holds the material at every instant of it). `None`
     /// when the part does not reach the slab.
+    ///
+    /// Exact as a bound: the crossings of an edge at the column centres lie within the values
+    /// the same arithmetic gives at the slab's ends (IEEE rounding is monotone), and so does
+    /// each column's overlap (a difference of a `min` and a `max`) within the bound's; a block
+    /// whose bound is at most `eps` holds no column that a scan would find overlapped by more.
     fn block_bound(&self, pts: &[P2], b: usize, pre: bool) -> Option<f64> {
         let (rlo, rhi) = self.slab_range(pts, b)?;
         Some(self.reach(b, pre).overlap_bound(rlo, rhi))
     }
 
     /// The part's overlap with the columns of block `b` (within `j0..=j1`) deeper than `eps`:
-    /// the greatest radial overlap of one column, and the first and last columns that have one.
+    /// the greatest radial overlap of one column, and the first and last columns that have one
+    /// (as `scan` asks for them: see [`Scan`]).
     #[allow(clippy::too_many_arguments)]
     fn block_overlap(
         &mut self,
@@ -874,13 +941,21 @@ impl DexelStock {
         swept: Option<&Swept>,
         near: &[usize],
         mat: &mut Vec<(f64, f64)>,
+        scan: Scan,
     ) -> Option<(f64, usize, usize)> {
-        if !self.block_candidate(pts, b, eps, pre) {
-            return None;
-        }
+        // The block's bound (as `block_candidate` filters by it): no column overlaps more.
+        let bound = self.block_bound(pts, b, pre).filter(|&ub| ub > eps)?;
         let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
         if let Some(chains) = chains {
-            if let Ok(found) = self.block_overlap_walking(pts, chains, (k0, k1), eps, swept, near, mat) {
+            let walked = ColumnWalk {
+                pts,
+                chains,
+                eps,
+                bound,
+                swept,
+                near,
+            };
+            if let Ok(found) = self.block_overlap_walking(&walked, (k0, k1), scan, mat) {
                 return found;
             }
         }
@@ -942,44 +1017,96 @@ impl DexelStock {
 
     /// [`Self::block_overlap`] of a monotone polygon over columns `k0..=k1`: the span at each
     /// column's centre from a walk along its chains, the same spans the crossings give.
-    #[allow(clippy::too_many_arguments)]
+    ///
+    /// No column of the block overlaps the part more than the block's bound (the part's radial
+    /// range over the slab against the block's material: every column's span lies in that range
+    /// and its material in the block's, and IEEE subtraction is monotone). So once the deepest
+    /// column found reaches the bound, no column left can be deeper: the scan stops, and only
+    /// the end it still owes is sought, walking in from that end. The depth and columns are
+    /// those of a scan of every column, bit for bit.
     fn block_overlap_walking(
         &self,
-        pts: &[P2],
-        chains: &MonotoneChains,
+        w: &ColumnWalk,
         (k0, k1): (usize, usize),
-        eps: f64,
-        swept: Option<&Swept>,
-        near: &[usize],
+        scan: Scan,
         mat: &mut Vec<(f64, f64)>,
     ) -> Result<Option<(f64, usize, usize)>, Lost> {
-        let mut walk = ChainWalk::new(pts, chains);
+        let descending = scan == Scan::FromLast;
+        let mut walk = if descending {
+            ChainWalk::new_descending(w.pts, w.chains)
+        } else {
+            ChainWalk::new(w.pts, w.chains)
+        };
         let mut best: f64 = 0.0;
-        let mut first: Option<usize> = None;
-        let mut last = 0usize;
-        for col in k0..=k1 {
-            let Some((x0, x1)) = walk.span(self.center(col))? else {
-                continue;
-            };
-            let material = self.material_seen(col, swept, near, mat);
-            let (r0, r1) = radial_range(x0, x1);
-            // All finite: comparisons give what `max` and `min` do, without their NaN rules.
-            let mut o_col: f64 = 0.0;
-            for &(lo, hi) in material {
-                let o = if r1 < hi { r1 } else { hi } - if r0 > lo { r0 } else { lo };
-                if o > o_col {
-                    o_col = o;
+        // The first and last columns in contact among those scanned.
+        let mut seen: Option<(usize, usize)> = None;
+        // Where the scan stopped, the deepest column having reached the bound.
+        let mut stopped = None;
+        let mut step = |col: usize| -> Result<bool, Lost> {
+            let o_col = self.column_overlap(w, &mut walk, col, mat)?;
+            if o_col > w.eps {
+                best = best.max(o_col);
+                seen = Some(seen.map_or((col, col), |(f, l)| (f.min(col), l.max(col))));
+                if best >= w.bound {
+                    stopped = Some(col);
+                    return Ok(true);
                 }
             }
-            if o_col > eps {
-                best = best.max(o_col);
-                if first.is_none() {
-                    first = Some(col);
+            Ok(false)
+        };
+        if descending {
+            for col in (k0..=k1).rev() {
+                if step(col)? {
+                    break;
                 }
-                last = col;
+            }
+        } else {
+            for col in k0..=k1 {
+                if step(col)? {
+                    break;
+                }
             }
         }
-        Ok(first.map(|f| (best, f, last)))
+        let Some((first, mut last)) = seen else {
+            return Ok(None);
+        };
+        // Stopped early going up: the last column in contact, walking down to where it stopped.
+        if let (Scan::BothEnds, Some(at)) = (scan, stopped) {
+            let mut back = ChainWalk::new_descending(w.pts, w.chains);
+            for col in (at + 1..=k1).rev() {
+                if self.column_overlap(w, &mut back, col, mat)? > w.eps {
+                    last = col;
+                    break;
+                }
+            }
+        }
+        Ok(Some((best, first, last)))
+    }
+
+    /// The radial overlap of the part's span at column `col`'s centre (from `walk`) with the
+    /// column's material as the query sees it; 0 where the part does not reach the column.
+    #[inline(always)]
+    fn column_overlap(
+        &self,
+        w: &ColumnWalk,
+        walk: &mut ChainWalk,
+        col: usize,
+        mat: &mut Vec<(f64, f64)>,
+    ) -> Result<f64, Lost> {
+        let Some((x0, x1)) = walk.span(self.center(col))? else {
+            return Ok(0.0);
+        };
+        let material = self.material_seen(col, w.swept, w.near, mat);
+        let (r0, r1) = radial_range(x0, x1);
+        // All finite: comparisons give what `max` and `min` do, without their NaN rules.
+        let mut o_col: f64 = 0.0;
+        for &(lo, hi) in material {
+            let o = if r1 < hi { r1 } else { hi } - if r0 > lo { r0 } else { lo };
+            if o > o_col {
+                o_col = o;
+            }
+        }
+        Ok(o_col)
     }
 
     /// A copy of the stock as `view` sees it (for pictures).
@@ -1882,6 +2009,18 @@ mod tests {
         assert!(s.overlap(&tool, 1e-6).is_none());
     }
 
+    /// A part whose first column in contact already reaches its block's bound stops the scan
+    /// there; the column after it, the last in contact, is still found (walking down to it).
+    #[test]
+    fn a_scan_stopped_at_the_blocks_bound_still_finds_the_last_column_in_contact() {
+        let mut s = DexelStock::new(50.0, 0.0, 100.0, 0.0, 1.0);
+        // Columns 10 and 11 (centres z = -89.5 and -88.5), each 5 mm deep, of block 0.
+        let tool = rect(20.0, -90.2, 30.0, -88.2);
+        let hit = s.overlap(&tool, 1e-6).expect("in the bar");
+        assert_eq!(hit.cols, (10, 11));
+        assert_eq!(Some((5.0, 10, 11)), overlap_by_every_column(&s, &tool, 1e-6));
+    }
+
     #[test]
     fn removed_area_matches_a_rectangle() {
         let mut s = DexelStock::new(50.0, 0.0, 100.0, 0.0, 0.01);
@@ -2065,9 +2204,10 @@ mod tests {
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
 
-        /// The spans a walk along the two chains of a polygon monotone in z gives are bit for
-        /// bit the crossings found edge by edge (the oracle): the same columns, the same values
-        /// in the same order; and a polygon that is not monotone is told apart.
+        /// The spans a walk along the two chains of a polygon monotone in z gives, up the column
+        /// centres or down them, are bit for bit the crossings found edge by edge (the oracle):
+        /// the same columns, the same values in the same order; and a polygon that is not
+        /// monotone is told apart.
         #[test]
         fn the_crossings_of_a_monotone_polygon_are_those_found_edge_by_edge(
             raw in proptest::collection::vec((-30.0f64..30.0, -20.0f64..20.0, proptest::bool::ANY), 3..12),
@@ -2101,7 +2241,20 @@ mod tests {
                     walked.push((k as u32, x1.to_bits()));
                 }
             }
-            proptest::prop_assert_eq!(walked, general);
+            proptest::prop_assert_eq!(&walked, &general);
+            // Walked down from the top, the same spans in the opposite order.
+            let mut down = ChainWalk::new_descending(&poly, &chains);
+            let mut descended: Vec<(u32, u64)> = Vec::new();
+            for k in (j0..=j1).rev() {
+                let span = down.span(s.center(k));
+                proptest::prop_assert!(span.is_ok(), "a monotone polygon's descending walk lost its way");
+                if let Ok(Some((x0, x1))) = span {
+                    descended.push((k as u32, x1.to_bits()));
+                    descended.push((k as u32, x0.to_bits()));
+                }
+            }
+            descended.reverse();
+            proptest::prop_assert_eq!(descended, general);
         }
     }
 
@@ -2143,9 +2296,16 @@ mod tests {
             cuts in proptest::collection::vec((0.0f64..30.0, -100.0f64..0.0, 0.05f64..20.0, 0.5f64..30.0, -3.0f64..3.0), 0..10),
             part in proptest::collection::vec((-40.0f64..40.0, -110.0f64..10.0), 3..10),
             first_only in proptest::bool::ANY,
+            square in proptest::bool::ANY,
         ) {
             let mut s = cut_tube(&cuts);
-            let pts: Vec<P2> = part.into_iter().map(|(x, z)| p2(x, z)).collect();
+            let mut pts: Vec<P2> = part.into_iter().map(|(x, z)| p2(x, z)).collect();
+            if square {
+                // A holder's block, square to the axis: its span is the same at every column,
+                // so a block's deepest column reaches the block's bound and the scan stops.
+                let (a, b) = (pts[0], pts[1]);
+                pts = rect(a.x.min(b.x), a.y.min(b.y), a.x.max(b.x), a.y.max(b.y));
+            }
             let hull = crate::tooling::outline::hull(&pts);
             proptest::prop_assume!(hull.len() >= 3);
             let eps = crate::geom::TOUCH_EPS;
