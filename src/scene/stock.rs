@@ -52,8 +52,8 @@ pub struct DexelStock {
     /// the part.
     mat: Vec<(f64, f64)>,
     near: Vec<usize>,
-    /// Scratch buffer of a gap query: the blocks to visit, nearest first.
-    order: Vec<(f64, usize)>,
+    /// Scratch buffer of a gap query: the blocks to visit.
+    order: Vec<Near>,
     /// The last few regions cut off whole, which a cut held by one takes off nothing from.
     cleared: Cleared,
 }
@@ -197,6 +197,32 @@ struct ColumnWalk<'a> {
     swept: Option<&'a Swept>,
     near: &'a [usize],
 }
+
+/// A block a gap query may visit, with the bound of its distance to the part: ordered so that
+/// a max-heap gives the nearest first (the least bound, then the least index: the order of a
+/// sort by both).
+#[derive(Clone, Copy, Debug)]
+struct Near(f64, usize);
+
+impl Ord for Near {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        other.0.total_cmp(&self.0).then(other.1.cmp(&self.1))
+    }
+}
+
+impl PartialOrd for Near {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl PartialEq for Near {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other).is_eq()
+    }
+}
+
+impl Eq for Near {}
 
 /// A chain walk lost its way (a chain ran out of edges), which the chains of a monotone polygon
 /// never do: the caller takes the general crossings instead.
@@ -1221,54 +1247,68 @@ impl DexelStock {
                 box_bound(mn, mx, z0, z1)
             };
             if bound < best {
-                order.push((bound, b));
+                order.push(Near(bound, b));
             }
         }
-        if nearest_first {
-            order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        }
-        for &(bound, b) in &order {
-            if bound >= best {
-                if nearest_first {
-                    break; // and every block after it
-                }
-                continue;
-            }
+        // One block: the least distance to its material, when less than the best so far.
+        let mut visit = |s: &Self, b: usize, best: &mut f64| {
             let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
-            let journaled = swept.is_some() && self.journal.blk_gen[b] == self.journal.gen;
+            let journaled = swept.is_some() && s.journal.blk_gen[b] == s.journal.gen;
             if !journaled {
                 // Unchanged by the move: the block's material now is its material at every
                 // instant of the move, inside the box of its extremes and column centres.
-                let (mn, mx) = (self.blk[b].min, self.blk[b].max);
-                let (z0, z1) = (self.center(k0), self.center(k1));
-                best = best.min(poly_box_distance(pts, &bb, mn, mx, z0, z1, best));
-            } else {
-                for col in k0..=k1 {
-                    let c = self.center(col);
-                    if box_bound(f64::NEG_INFINITY, f64::INFINITY, c, c) >= best {
-                        continue;
+                let (mn, mx) = (s.blk[b].min, s.blk[b].max);
+                let (z0, z1) = (s.center(k0), s.center(k1));
+                *best = best.min(poly_box_distance(pts, &bb, mn, mx, z0, z1, *best));
+                return;
+            }
+            for col in k0..=k1 {
+                let c = s.center(col);
+                if box_bound(f64::NEG_INFINITY, f64::INFINITY, c, c) >= *best {
+                    continue;
+                }
+                let material: &[(f64, f64)] = match (swept, s.saved(col)) {
+                    (Some(sw), Some(before)) => {
+                        mat.clear();
+                        mat.extend_from_slice(before);
+                        remove_swept(&mut mat, sw, &near, c);
+                        &mat
                     }
-                    let material: &[(f64, f64)] = match (swept, self.saved(col)) {
-                        (Some(sw), Some(before)) => {
-                            mat.clear();
-                            mat.extend_from_slice(before);
-                            remove_swept(&mut mat, sw, &near, c);
-                            &mat
-                        }
-                        _ => &self.cols[col].iv,
-                    };
-                    for &(lo, hi) in material {
-                        if box_bound(lo, hi, c, c) < best {
-                            best = best.min(poly_box_distance(pts, &bb, lo, hi, c, c, best));
-                        }
-                    }
-                    if best <= 0.0 {
-                        break;
+                    _ => &s.cols[col].iv,
+                };
+                for &(lo, hi) in material {
+                    if box_bound(lo, hi, c, c) < *best {
+                        *best = best.min(poly_box_distance(pts, &bb, lo, hi, c, c, *best));
                     }
                 }
+                if *best <= 0.0 {
+                    break;
+                }
             }
-            if best <= 0.0 {
-                break;
+        };
+        if nearest_first {
+            // Taken from a heap, nearest first: usually a few blocks are taken before the next
+            // one's bound passes the distance found, and the rest are never ordered (a sort of
+            // every block in the window cost a tenth of a long contact's time).
+            let mut heap = std::collections::BinaryHeap::from(order);
+            while let Some(Near(bound, b)) = heap.pop() {
+                if bound >= best {
+                    break; // and every block after it
+                }
+                visit(self, b, &mut best);
+                if best <= 0.0 {
+                    break;
+                }
+            }
+            order = heap.into_vec();
+        } else {
+            for &Near(bound, b) in &order {
+                if bound < best {
+                    visit(self, b, &mut best);
+                }
+                if best <= 0.0 {
+                    break;
+                }
             }
         }
         self.order = order;
