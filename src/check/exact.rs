@@ -44,6 +44,9 @@ struct Peak {
     at: f64,
     after: Option<f64>,
     depth: f64,
+    /// A stretch `(a, b)` of the contact and a bound of every pose's depth along it (from the
+    /// last proof of a stretch in contact).
+    bound: Option<(f64, f64, f64)>,
 }
 
 impl Peak {
@@ -55,6 +58,7 @@ impl Peak {
                 at: u,
                 after: None,
                 depth: d,
+                bound: self.bound,
             };
         } else if self.after.is_none() && u > self.at {
             self.after = Some(u);
@@ -215,8 +219,9 @@ enum Proof {
 /// What [`Checker::prove_ahead`] found of a stretch ahead.
 #[derive(Clone, Copy)]
 enum Ahead {
-    /// Proven; for a stretch in contact, the probe at its end.
-    Proven(Option<Result<f64, f64>>),
+    /// Proven; for a stretch in contact, the probe at its end and the bound of every pose's
+    /// depth along the stretch.
+    Proven(Option<(Result<f64, f64>, f64)>),
     /// The stretch in contact ends clear: the part is clear at every instant of the stretch
     /// within this distance (mm) of its end, 0 when nothing is known.
     EndsClear(f64),
@@ -540,7 +545,7 @@ impl Checker<'_> {
         // (Where the stretch is known to hold a contact the try would fail: it is taken as
         // made.)
         let mut tried_rest = self.settings.prove_stretches && len > 0.0 && b > a;
-        if tried_rest && try_whole && self.stretch_proven(p, o, piece, active, (a, b), Proof::Clear) {
+        if tried_rest && try_whole && self.stretch_proven(p, o, piece, active, (a, b), Proof::Clear).is_some() {
             *probes += 1;
             return true;
         }
@@ -628,7 +633,7 @@ impl Checker<'_> {
                 && (b - u) * len > 2.0 * advance
             {
                 tried_rest = true;
-                if self.stretch_proven(p, o, piece, active, (u, b), Proof::Clear) {
+                if self.stretch_proven(p, o, piece, active, (u, b), Proof::Clear).is_some() {
                     *probes += 1;
                     break;
                 }
@@ -662,9 +667,12 @@ impl Checker<'_> {
                         *probes += 1;
                         ahead *= 2.0;
                         failed = 0;
+                        if let Some((_, bound)) = at_to {
+                            peak.bound = Some((u, to, bound));
+                        }
                         prev_u = u;
                         u = to;
-                        known = at_to;
+                        known = at_to.map(|(r, _)| r);
                         prev_gap = res.err().unwrap_or(f64::NAN);
                         continue;
                     }
@@ -721,6 +729,9 @@ impl Checker<'_> {
     ///   and nowhere deeper than `cap`: the hull's depth against the stock at `a` bounds every
     ///   pose's (a column's radial overlap and the axial extent of the overlapping columns only
     ///   grow with the part).
+    ///
+    /// Returns, when proven, that bound of every pose's depth along the stretch (0 for a clear
+    /// one).
     fn stretch_proven(
         &mut self,
         p: Part,
@@ -729,10 +740,8 @@ impl Checker<'_> {
         active: u32,
         (a, b): (f64, f64),
         proof: Proof,
-    ) -> bool {
-        let Some((pose_a, d)) = self.stretch_motion(p, o, piece, active, (a, b)) else {
-            return false;
-        };
+    ) -> Option<f64> {
+        let (pose_a, d) = self.stretch_motion(p, o, piece, active, (a, b))?;
         // One query for a clear stretch; two for one in contact (counted whether or not the
         // first one already fails).
         self.stats.pair_tests += if let Proof::Contact { .. } = proof { 2 } else { 1 };
@@ -740,21 +749,26 @@ impl Checker<'_> {
         let cap = match proof {
             Proof::Clear => {
                 self.instant = a;
-                return self.stock_overlap(&hull, 0.5 * geom::TOUCH_EPS, true).is_none();
+                return self
+                    .stock_overlap(&hull, 0.5 * geom::TOUCH_EPS, true)
+                    .is_none()
+                    .then_some(0.0);
             }
             Proof::Contact { cap } => cap,
         };
         // The bound first: it is what fails while a contact deepens (its depth the axial
         // extent, which the hull overstates).
-        if self.hull_depth(&hull, a) > cap {
-            return false;
+        let bound = self.hull_depth(&hull, a);
+        if bound > cap {
+            return None;
         }
         self.instant = b;
-        geom::convex::convex_pieces(pose_a.points()).iter().any(|k| {
+        let held = geom::convex::convex_pieces(pose_a.points()).iter().any(|k| {
             let moved: Vec<P2> = k.iter().map(|q| q + d).collect();
             let common = geom::convex::clip_convex(k, &moved);
             common.len() >= 3 && self.stock_overlap(&common, geom::TOUCH_EPS, true).is_some()
-        })
+        });
+        held.then_some(bound)
     }
 
     /// [`Self::stretch_proven`] of the stretch `[u, to]`; for one in contact, the probe at `to`
@@ -775,8 +789,8 @@ impl Checker<'_> {
     ) -> Ahead {
         let Proof::Contact { cap } = proof else {
             return match self.stretch_proven(p, o, piece, active, (u, to), proof) {
-                true => Ahead::Proven(None),
-                false => Ahead::Failed,
+                Some(_) => Ahead::Proven(None),
+                None => Ahead::Failed,
             };
         };
         // Only where a proof can be made at all (else the probe would be spent for nothing).
@@ -791,8 +805,8 @@ impl Checker<'_> {
         };
         let cap = cap.max(d_to + 0.5 * self.settings.tolerance_mm);
         match self.stretch_proven(p, o, piece, active, (u, to), Proof::Contact { cap }) {
-            true => Ahead::Proven(Some(at_to)),
-            false => Ahead::Failed,
+            Some(bound) => Ahead::Proven(Some((at_to, bound))),
+            None => Ahead::Failed,
         }
     }
 
@@ -987,7 +1001,16 @@ impl Checker<'_> {
             return best;
         }
         // The deepest probe is the peak when nothing between its neighbours can be deeper: the
-        // search could only find what the bound allows, and keeps the deeper of the two.
+        // search could only find what the bound allows, and keeps the deeper of the two. A proof
+        // of a stretch holding both neighbours bounds them already (the hull of a part of the
+        // stretch lies in the stretch's hull, and the stock at a later instant in the stock at
+        // an earlier one: the depth only grows with either).
+        if peak
+            .bound
+            .is_some_and(|(pa, pb, bound)| pa <= a && b <= pb && bound <= best)
+        {
+            return best;
+        }
         if self
             .stretch_depth_bound(p, o, piece, active, (a, b))
             .is_some_and(|bound| bound <= best)
