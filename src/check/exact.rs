@@ -1254,9 +1254,7 @@ fn stretch_provable(p: Part, o: Obstacle, piece: &Piece) -> bool {
 
 /// The convex hull of a pose and of the pose moved by `d`: it holds every pose between.
 fn stretch_hull(pose: &Polygon, d: V2) -> Vec<P2> {
-    let mut pts: Vec<P2> = pose.points().to_vec();
-    pts.extend(pose.points().iter().map(|q| q + d));
-    crate::tooling::outline::hull(&pts)
+    crate::tooling::outline::hull_of_translates(pose.points(), true, &[d])
 }
 
 /// The audit of contact boundaries against plain bisection, for tests: off unless a test turns

@@ -1206,11 +1206,11 @@ impl Checker<'_> {
             }
             None => return false,
         };
-        let mut pts = Vec::with_capacity(poly.points().len() * corners.len());
-        for c in &corners {
-            pts.extend(poly.points().iter().map(|q| q + c));
-        }
-        let Ok(hull) = Polygon::new(&crate::tooling::outline::hull(&pts)) else {
+        let Ok(hull) = Polygon::new(&crate::tooling::outline::hull_of_translates(
+            poly.points(),
+            false,
+            &corners,
+        )) else {
             return false;
         };
         self.stats.pair_tests += 1;

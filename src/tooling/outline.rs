@@ -5,7 +5,7 @@
 //! left-hand tool is its mirror in z, a boring bar its mirror in x (the bar then lies along +z
 //! on the −x side of the tip).
 
-use crate::geom::{Polygon, P2};
+use crate::geom::{Polygon, P2, V2};
 
 /// Angles in degrees, measured counter-clockwise from +x toward +z (the kernel's x and y).
 pub fn dir(deg: f64) -> P2 {
@@ -38,20 +38,30 @@ pub fn hull(points: &[P2]) -> Vec<P2> {
         .copied()
         .filter(|q| q.x.is_finite() && q.y.is_finite())
         .collect();
-    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    p.sort_by(by_x_then_y);
+    hull_of_sorted(p)
+}
+
+/// The order [`hull`] sorts its points in.
+fn by_x_then_y(a: &P2, b: &P2) -> std::cmp::Ordering {
+    a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y))
+}
+
+/// [`hull`] of finite points already in its order: Andrew's monotone chains.
+fn hull_of_sorted(mut p: Vec<P2>) -> Vec<P2> {
     p.dedup();
     if p.len() < 3 {
         return p;
     }
     let cross = |o: P2, a: P2, b: P2| (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-    let mut lower: Vec<P2> = Vec::new();
+    let mut lower: Vec<P2> = Vec::with_capacity(p.len() + 1);
     for &q in &p {
         while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], q) <= 0.0 {
             lower.pop();
         }
         lower.push(q);
     }
-    let mut upper: Vec<P2> = Vec::new();
+    let mut upper: Vec<P2> = Vec::with_capacity(p.len());
     for &q in p.iter().rev() {
         while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], q) <= 0.0 {
             upper.pop();
@@ -62,6 +72,54 @@ pub fn hull(points: &[P2]) -> Vec<P2> {
     upper.pop();
     lower.extend(upper);
     lower
+}
+
+/// [`hull`] of the points of `base` (with `with_base`) and of `q + c` for every `q` of `base`
+/// and `c` of `offsets` (a part's poses along a path, translated): the same polygon, bit for
+/// bit, without sorting them all. The translates of one sorted `base` are sorted too (rounding
+/// is monotone) unless a rounding tie reorders two of them, which a check finds and a sort
+/// mends; sorted runs merge in linear time.
+pub fn hull_of_translates(base: &[P2], with_base: bool, offsets: &[V2]) -> Vec<P2> {
+    let n = base.len();
+    let mut all: Vec<P2> = Vec::with_capacity(n * (offsets.len() + 1));
+    if with_base {
+        all.extend_from_slice(base);
+    }
+    for c in offsets {
+        all.extend(base.iter().map(|q| q + c));
+    }
+    let runs = all.len() / n.max(1);
+    if n == 0 || all.iter().any(|q| !(q.x.is_finite() && q.y.is_finite())) {
+        return hull(&all);
+    }
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| by_x_then_y(&all[i], &all[j]));
+    let mut merged: Vec<P2> = Vec::with_capacity(all.len());
+    let mut run: Vec<P2> = Vec::with_capacity(n);
+    let mut out: Vec<P2> = Vec::with_capacity(all.len());
+    for k in 0..runs {
+        run.clear();
+        run.extend(order.iter().map(|&i| all[k * n + i]));
+        if run.windows(2).any(|w| by_x_then_y(&w[0], &w[1]).is_gt()) {
+            run.sort_by(by_x_then_y);
+        }
+        // Merge the run into what is merged so far.
+        out.clear();
+        let (mut i, mut j) = (0, 0);
+        while i < merged.len() && j < run.len() {
+            if by_x_then_y(&run[j], &merged[i]).is_lt() {
+                out.push(run[j]);
+                j += 1;
+            } else {
+                out.push(merged[i]);
+                i += 1;
+            }
+        }
+        out.extend_from_slice(&merged[i..]);
+        out.extend_from_slice(&run[j..]);
+        std::mem::swap(&mut merged, &mut out);
+    }
+    hull_of_sorted(merged)
 }
 
 /// Whether `p` lies in the closed cone from direction `lo` counter-clockwise to `hi` (degrees,
@@ -112,4 +170,38 @@ pub fn strictly_inside_convex(poly: &[P2], p: P2) -> bool {
             let b = poly[(i + 1) % n];
             (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x) > 1e-9
         })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
+
+        /// The hull of a part's translates, merged from sorted runs, is bit for bit the hull of
+        /// all their points sorted together (the oracle): on coordinates snapped to a grid (ties,
+        /// repeated points, collinear edges), zeros of either sign, and offsets of zero.
+        #[test]
+        fn the_hull_of_translates_is_the_hull_of_all_their_points(
+            raw in proptest::collection::vec((-30.0f64..30.0, -30.0f64..30.0), 1..12),
+            offsets in proptest::collection::vec((-20.0f64..20.0, -20.0f64..20.0), 1..5),
+            grid in proptest::sample::select(vec![0.0, 0.5, 1.0]),
+            with_base in proptest::bool::ANY,
+            negative_zero in proptest::bool::ANY,
+        ) {
+            let snap = |v: f64| {
+                let v = if grid > 0.0 { (v / grid).round() * grid } else { v };
+                if v == 0.0 && negative_zero { -0.0 } else { v }
+            };
+            let base: Vec<P2> = raw.iter().map(|&(x, y)| P2::new(snap(x), snap(y))).collect();
+            let offsets: Vec<V2> = offsets.iter().map(|&(x, y)| V2::new(snap(x), snap(y))).collect();
+            let mut all: Vec<P2> = if with_base { base.clone() } else { Vec::new() };
+            for c in &offsets {
+                all.extend(base.iter().map(|q| q + c));
+            }
+            let bits = |h: Vec<P2>| -> Vec<(u64, u64)> { h.iter().map(|q| (q.x.to_bits(), q.y.to_bits())).collect() };
+            proptest::prop_assert_eq!(bits(hull_of_translates(&base, with_base, &offsets)), bits(hull(&all)));
+        }
+    }
 }
