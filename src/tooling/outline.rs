@@ -81,25 +81,32 @@ fn hull_of_sorted(mut p: Vec<P2>) -> Vec<P2> {
 /// mends; sorted runs merge in linear time.
 pub fn hull_of_translates(base: &[P2], with_base: bool, offsets: &[V2]) -> Vec<P2> {
     let n = base.len();
-    let mut all: Vec<P2> = Vec::with_capacity(n * (offsets.len() + 1));
+    let finite = |q: &P2| q.x.is_finite() && q.y.is_finite();
+    let plain = || {
+        let mut all: Vec<P2> = if with_base { base.to_vec() } else { Vec::new() };
+        for c in offsets {
+            all.extend(base.iter().map(|q| q + c));
+        }
+        hull(&all)
+    };
+    if !base.iter().all(finite) {
+        return plain();
+    }
+    let mut sorted = base.to_vec();
+    sorted.sort_by(by_x_then_y);
+    let total = n * (offsets.len() + usize::from(with_base));
+    let mut merged: Vec<P2> = Vec::with_capacity(total);
+    let mut out: Vec<P2> = Vec::with_capacity(total);
+    let mut run: Vec<P2> = Vec::with_capacity(n);
     if with_base {
-        all.extend_from_slice(base);
+        merged.extend_from_slice(&sorted);
     }
     for c in offsets {
-        all.extend(base.iter().map(|q| q + c));
-    }
-    let runs = all.len() / n.max(1);
-    if n == 0 || all.iter().any(|q| !(q.x.is_finite() && q.y.is_finite())) {
-        return hull(&all);
-    }
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&i, &j| by_x_then_y(&all[i], &all[j]));
-    let mut merged: Vec<P2> = Vec::with_capacity(all.len());
-    let mut run: Vec<P2> = Vec::with_capacity(n);
-    let mut out: Vec<P2> = Vec::with_capacity(all.len());
-    for k in 0..runs {
         run.clear();
-        run.extend(order.iter().map(|&i| all[k * n + i]));
+        run.extend(sorted.iter().map(|q| q + c));
+        if !run.iter().all(finite) {
+            return plain();
+        }
         if run.windows(2).any(|w| by_x_then_y(&w[0], &w[1]).is_gt()) {
             run.sort_by(by_x_then_y);
         }
