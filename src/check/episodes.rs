@@ -34,8 +34,6 @@ struct Open {
     max_depth: Option<f64>,
     /// Smallest gap seen, for near misses.
     min_gap: Option<f64>,
-    /// The episode was touched in the current round.
-    seen: bool,
     /// Time of the last contact seen.
     end_time: f64,
     /// The job's operation when it began (0: the job has none).
@@ -101,7 +99,6 @@ impl Episodes {
             Some(o) => {
                 o.end_line = c.line;
                 o.end_time = o.end_time.max(c.time);
-                o.seen = true;
                 if c.kind == Kind::NearMiss {
                     o.min_gap = Some(
                         o.min_gap
@@ -123,7 +120,6 @@ impl Episodes {
                         max_depth: depth,
                         min_gap: gap,
                         first: c,
-                        seen: true,
                         end_time: time,
                         operation,
                     },

@@ -361,23 +361,28 @@ impl Checker<'_> {
             if iv.t0 > 1e-12 {
                 self.episodes.clear(k); // a contact from the previous move ended at its end
             }
-            let mut c = self.contact(m, iv.at, p, o, kind, Some(iv.depth), item.t0 + iv.t0, active);
-            if self.settings.snapshots && !coarse && !self.episodes.is_open(k) {
-                self.instant = iv.u;
-                self.refresh_swept();
-                if let Some((poly, in_plane)) = self.pose(p, iv.at, active as f64) {
-                    c.snapshot = Some(Box::new(self.snapshot(
-                        m,
-                        item,
-                        iv.at,
-                        active,
-                        &poly,
-                        Some(o),
-                        in_plane,
-                    )));
+            // A contact going on from the previous move extends its episode: no finding to build
+            // (its name, message and picture are the episode's first contact's).
+            let near_miss = kind == Kind::NearMiss;
+            if !self.episodes.extend(k, m.line, item.t0 + iv.t0, iv.depth, near_miss) {
+                let mut c = self.contact(m, iv.at, p, o, kind, Some(iv.depth), item.t0 + iv.t0, active);
+                if self.settings.snapshots && !coarse {
+                    self.instant = iv.u;
+                    self.refresh_swept();
+                    if let Some((poly, in_plane)) = self.pose(p, iv.at, active as f64) {
+                        c.snapshot = Some(Box::new(self.snapshot(
+                            m,
+                            item,
+                            iv.at,
+                            active,
+                            &poly,
+                            Some(o),
+                            in_plane,
+                        )));
+                    }
                 }
+                self.episodes.contact(k, c);
             }
-            self.episodes.contact(k, c);
             self.episodes.lasts_until(k, item.t0 + iv.t1);
             if iv.t1 < dur - 1e-12 {
                 self.episodes.clear(k);
