@@ -180,10 +180,11 @@ impl MonotoneChains {
 enum Scan {
     /// The first column in contact, and the last.
     BothEnds,
-    /// The first column in contact only (the last returned is the last scanned).
+    /// The first column in contact only (the last returned is the last one the scan found, not
+    /// always the block's last).
     FirstOnly,
     /// The last column in contact only, scanning from the block's end down (the first returned
-    /// is the first scanned).
+    /// is the lowest one the scan found, not always the block's first).
     FromLast,
 }
 
@@ -969,7 +970,8 @@ impl DexelStock {
         mat: &mut Vec<(f64, f64)>,
         scan: Scan,
     ) -> Option<(f64, usize, usize)> {
-        // The block's bound (as `block_candidate` filters by it): no column overlaps more.
+        // The block's bound: no column overlaps more, and a block it keeps at `eps` holds none
+        // deeper than that.
         let bound = self.block_bound(pts, b, pre).filter(|&ub| ub > eps)?;
         let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
         if let Some(chains) = chains {
