@@ -804,9 +804,15 @@ impl Checker<'_> {
         }
         *probes += 1;
         let at_to = self.probe(p, o, piece, to, active);
+        let moved = (to - u) * piece.length();
         let d_to = match at_to {
             Ok(d_to) => d_to,
-            Err(_) => return Ahead::EndsClear(self.gap_since(p, o, piece, active, (u, to), (to - u) * piece.length())),
+            // While the material stands still the stock at `u` is the stock at `to`: the probe
+            // measured what `gap_since` would (unless the window capped it).
+            Err(g) if g < GAP_WINDOW && self.material_stands_still(o) => {
+                return Ahead::EndsClear(if g > 0.0 { g.min(moved) } else { 0.0 });
+            }
+            Err(_) => return Ahead::EndsClear(self.gap_since(p, o, piece, active, (u, to), moved)),
         };
         let cap = cap.max(d_to + 0.5 * self.settings.tolerance_mm);
         match self.stretch_proven(p, o, piece, active, (u, to), Proof::Contact { cap }) {
