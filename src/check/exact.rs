@@ -804,15 +804,12 @@ impl Checker<'_> {
         }
         *probes += 1;
         let at_to = self.probe(p, o, piece, to, active);
-        let moved = (to - u) * piece.length();
         let d_to = match at_to {
             Ok(d_to) => d_to,
-            // While the material stands still the stock at `u` is the stock at `to`: the probe
-            // measured what `gap_since` would (unless the window capped it).
-            Err(g) if g < GAP_WINDOW && self.material_stands_still(o) => {
-                return Ahead::EndsClear(if g > 0.0 { g.min(moved) } else { 0.0 });
+            Err(g_to) => {
+                let moved = (to - u) * piece.length();
+                return Ahead::EndsClear(self.gap_since(p, o, piece, active, (u, to), moved, g_to));
             }
-            Err(_) => return Ahead::EndsClear(self.gap_since(p, o, piece, active, (u, to), moved)),
         };
         let cap = cap.max(d_to + 0.5 * self.settings.tolerance_mm);
         match self.stretch_proven(p, o, piece, active, (u, to), Proof::Contact { cap }) {
@@ -825,13 +822,29 @@ impl Checker<'_> {
     /// instant from `u` on: the gap of its pose at `to` against the stock as it is at `u` (the
     /// most material from then on). A pose within that distance of the pose at `to` is nearer
     /// to it than the gap, so clear of that material. 0 when nothing is known; at most `moved`
-    /// (the stretch's length).
-    fn gap_since(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, (u, to): (f64, f64), moved: f64) -> f64 {
-        let Some((posed, in_plane)) = self.pose(p, piece.at(to), active as f64) else {
-            return 0.0;
+    /// (the stretch's length). `probed`: the gap a probe at `to` found (against the stock at
+    /// `to`), which is that gap while the material stands still (the stock at `u` is then the
+    /// stock at `to`) unless the probe's window capped it.
+    #[allow(clippy::too_many_arguments)]
+    fn gap_since(
+        &mut self,
+        p: Part,
+        o: Obstacle,
+        piece: &Piece,
+        active: u32,
+        (u, to): (f64, f64),
+        moved: f64,
+        probed: f64,
+    ) -> f64 {
+        let g = if probed < GAP_WINDOW && self.material_stands_still(o) {
+            probed
+        } else {
+            let Some((posed, in_plane)) = self.pose(p, piece.at(to), active as f64) else {
+                return 0.0;
+            };
+            self.instant = u;
+            self.gap_lower_bound(&posed, in_plane, o)
         };
-        self.instant = u;
-        let g = self.gap_lower_bound(&posed, in_plane, o);
         if g.is_finite() && g > 0.0 {
             g.min(moved)
         } else {
