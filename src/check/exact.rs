@@ -331,13 +331,16 @@ impl Checker<'_> {
             Measure::Full
         };
         let rigid = o != Obstacle::Stock && !matches!(p, Part::OtherHolder(_) | Part::OtherInsert(_));
+        // In contact at the previous move's end, so at this one's start (the same pose, the same
+        // stock): its first piece holds a contact.
+        let open_at_start = self.episodes.is_open(k);
         let mut found: Vec<Interval> = Vec::new();
-        for piece in pieces {
+        for (i, piece) in pieces.iter().enumerate() {
             if rigid {
                 self.swept(p, o, piece, active, &mut found);
             } else {
                 // A move of one piece found in contact is in contact somewhere on it.
-                let sure = in_contact && pieces.len() == 1;
+                let sure = (in_contact && pieces.len() == 1) || (open_at_start && i == 0);
                 self.advanced(p, o, piece, active, measure, sure, &mut found);
             }
         }
@@ -357,6 +360,7 @@ impl Checker<'_> {
             self.episodes.clear(k);
             return false;
         }
+        self.contact_in_move(k, item.index);
         for iv in merged {
             if iv.t0 > 1e-12 {
                 self.episodes.clear(k); // a contact from the previous move ended at its end

@@ -148,6 +148,10 @@ struct Checker<'a> {
     current_line: u32,
     /// The index of the last feed move whose cut changed the stock's journal (`scrape.rs`).
     last_cut: Option<usize>,
+    /// Per pair key, the index of the last move whose exact measure found it in contact (step
+    /// mode measures a pair in contact during the previous move exactly at once, see
+    /// [`Checker::measure_likely_contacts`]).
+    contact_moves: Vec<(u64, usize)>,
     /// Moves whose check ran out of its work budget: (line, message).
     budget: Vec<(u32, String)>,
     /// Moves step mode checked as exact mode does because they had too many samples.
@@ -348,6 +352,7 @@ fn checker<'a>(machine: &'a Machine, settings: &Settings, three: bool) -> Checke
         current_line: 0,
         budget: Vec::new(),
         last_cut: None,
+        contact_moves: Vec::new(),
         long_moves: false,
         tailstock_in: machine.tailstock_advanced,
         three: machine.kinematics.as_ref().filter(|_| three).map(|k| {
@@ -929,6 +934,7 @@ impl Checker<'_> {
         let r_end = motion::reference_at(m, item, t1 - item.t0);
         let whole = (r_start, r_end, travel(item.t0, r_start, t1, r_end));
         self.prove_whole_move(m, item, cands, (active, insert_rule), whole, &mut resume);
+        self.measure_likely_contacts(m, item, cands, (active, insert_rule), &mut resume, &mut tried);
         let mut last = false;
         while !last {
             let at_start = start_pass;
@@ -1157,6 +1163,57 @@ impl Checker<'_> {
                 self.episodes.clear(key(p, active, o, Kind::NearMiss));
                 resume[ci] = u64::MAX;
             }
+        }
+    }
+
+    /// Step mode: the stock pairs likely in contact during this move are measured exactly at
+    /// once ([`Self::follow_exact`]), instead of after an approach by samples that the measure
+    /// then repeats. Likely: in contact at the move's start (its episode is open: the previous
+    /// move ended in contact, and this one starts at the same pose against the same stock), or
+    /// found in contact by the previous move's measure (a holder buried in the bar across a
+    /// roughing cycle enters and leaves it on every pass).
+    ///
+    /// What the measure finds does not depend on when it is taken: it looks at the whole move,
+    /// at the stock as it is at each instant, and settles the pair's episode itself (extended
+    /// from a contact at the move's start, else closed). Before the contact a stock pair's
+    /// samples only close that episode (a stock pair has no near miss). So this saves the
+    /// approach's tests and changes no finding; a pair the measure finds clear goes on being
+    /// sampled, as one whose measure found nothing does after a contact sample.
+    fn measure_likely_contacts(
+        &mut self,
+        m: &Move,
+        item: &Timed,
+        cands: &[(Part, Obstacle)],
+        (active, insert_rule): (u32, Option<Kind>),
+        resume: &mut [u64],
+        tried: &mut [bool],
+    ) {
+        for (ci, &(p, o)) in cands.iter().enumerate() {
+            if o != Obstacle::Stock || resume[ci] == u64::MAX {
+                continue;
+            }
+            let Some(kind) = rule(p, o, insert_rule) else { continue };
+            let k = key(p, active, o, kind);
+            let before = item.index.checked_sub(1);
+            let likely =
+                self.episodes.is_open(k) || self.contact_moves.iter().any(|&(kk, at)| kk == k && Some(at) == before);
+            if !likely {
+                continue;
+            }
+            tried[ci] = true;
+            let instant = self.instant;
+            if self.follow_exact(m, item, p, o, active, insert_rule) {
+                resume[ci] = u64::MAX;
+            }
+            self.instant = instant;
+        }
+    }
+
+    /// The exact measure of pair `key` found it in contact during move `index`.
+    fn contact_in_move(&mut self, key: u64, index: usize) {
+        match self.contact_moves.iter_mut().find(|(k, _)| *k == key) {
+            Some(e) => e.1 = index,
+            None => self.contact_moves.push((key, index)),
         }
     }
 
