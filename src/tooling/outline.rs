@@ -49,36 +49,63 @@ fn by_x_then_y(a: &P2, b: &P2) -> std::cmp::Ordering {
 
 /// [`hull`] of finite points already in its order: Andrew's monotone chains.
 fn hull_of_sorted(mut p: Vec<P2>) -> Vec<P2> {
-    p.dedup();
+    let n = dedup_sorted(&mut p);
+    hull_of_deduped(&p[..n])
+}
+
+/// Drops the repeats of sorted points in place (as `Vec::dedup` does); returns how many are
+/// left at the front.
+fn dedup_sorted(p: &mut [P2]) -> usize {
+    if p.is_empty() {
+        return 0;
+    }
+    let mut n = 1;
+    for i in 1..p.len() {
+        if p[i] != p[n - 1] {
+            p[n] = p[i];
+            n += 1;
+        }
+    }
+    n
+}
+
+/// Andrew's monotone chains over sorted points without repeats, into one buffer: the lower
+/// chain, then the upper one pushed onto it (popping only its own points), less the first
+/// point it comes back to. The same vertices, in the same order, as a lower and an upper
+/// chain built apart and joined.
+fn hull_of_deduped(p: &[P2]) -> Vec<P2> {
     if p.len() < 3 {
-        return p;
+        return p.to_vec();
     }
     let cross = |o: P2, a: P2, b: P2| (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-    let mut lower: Vec<P2> = Vec::with_capacity(p.len() + 1);
-    for &q in &p {
-        while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], q) <= 0.0 {
-            lower.pop();
+    let mut h: Vec<P2> = Vec::with_capacity(2 * p.len());
+    for &q in p {
+        while h.len() >= 2 && cross(h[h.len() - 2], h[h.len() - 1], q) <= 0.0 {
+            h.pop();
         }
-        lower.push(q);
+        h.push(q);
     }
-    let mut upper: Vec<P2> = Vec::with_capacity(p.len());
-    for &q in p.iter().rev() {
-        while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], q) <= 0.0 {
-            upper.pop();
+    // The upper chain begins at the last point, the lower chain's end.
+    let base = h.len();
+    for &q in p.iter().rev().skip(1) {
+        while h.len() > base && cross(h[h.len() - 2], h[h.len() - 1], q) <= 0.0 {
+            h.pop();
         }
-        upper.push(q);
+        h.push(q);
     }
-    lower.pop();
-    upper.pop();
-    lower.extend(upper);
-    lower
+    h.pop();
+    h
 }
+
+/// How many points [`hull_of_translates`] merges on the stack (a holder's or an insert's
+/// outline and one or two translates of it).
+const SMALL_HULL: usize = 24;
 
 /// [`hull`] of the points of `base` (with `with_base`) and of `q + c` for every `q` of `base`
 /// and `c` of `offsets` (a part's poses along a path, translated): the same polygon, bit for
 /// bit, without sorting them all. The translates of one sorted `base` are sorted too (rounding
 /// is monotone) unless a rounding tie reorders two of them, which a check finds and a sort
-/// mends; sorted runs merge in linear time.
+/// mends; sorted runs merge in linear time. A few points are merged on the stack.
 pub fn hull_of_translates(base: &[P2], with_base: bool, offsets: &[V2]) -> Vec<P2> {
     let n = base.len();
     let finite = |q: &P2| q.x.is_finite() && q.y.is_finite();
@@ -92,11 +119,43 @@ pub fn hull_of_translates(base: &[P2], with_base: bool, offsets: &[V2]) -> Vec<P
     if !base.iter().all(finite) {
         return plain();
     }
+    let total = n * (offsets.len() + usize::from(with_base));
+    if total <= SMALL_HULL {
+        let origin = P2::origin();
+        let mut sorted = [origin; SMALL_HULL];
+        let mut run = [origin; SMALL_HULL];
+        let mut a = [origin; SMALL_HULL];
+        let mut b = [origin; SMALL_HULL];
+        let sorted = &mut sorted[..n];
+        sorted.copy_from_slice(base);
+        sorted.sort_by(by_x_then_y);
+        let (mut merged, mut out) = (&mut a, &mut b);
+        let mut len = 0;
+        if with_base {
+            merged[..n].copy_from_slice(sorted);
+            len = n;
+        }
+        for c in offsets {
+            let run = &mut run[..n];
+            for (r, q) in run.iter_mut().zip(sorted.iter()) {
+                *r = q + c;
+            }
+            if !run.iter().all(finite) {
+                return plain();
+            }
+            if run.windows(2).any(|w| by_x_then_y(&w[0], &w[1]).is_gt()) {
+                run.sort_by(by_x_then_y);
+            }
+            len = merge_sorted(&merged[..len], run, &mut out[..]);
+            std::mem::swap(&mut merged, &mut out);
+        }
+        let kept = dedup_sorted(&mut merged[..len]);
+        return hull_of_deduped(&merged[..kept]);
+    }
     let mut sorted = base.to_vec();
     sorted.sort_by(by_x_then_y);
-    let total = n * (offsets.len() + usize::from(with_base));
     let mut merged: Vec<P2> = Vec::with_capacity(total);
-    let mut out: Vec<P2> = Vec::with_capacity(total);
+    let mut out: Vec<P2> = vec![P2::origin(); total];
     let mut run: Vec<P2> = Vec::with_capacity(n);
     if with_base {
         merged.extend_from_slice(&sorted);
@@ -110,23 +169,32 @@ pub fn hull_of_translates(base: &[P2], with_base: bool, offsets: &[V2]) -> Vec<P
         if run.windows(2).any(|w| by_x_then_y(&w[0], &w[1]).is_gt()) {
             run.sort_by(by_x_then_y);
         }
-        // Merge the run into what is merged so far.
-        out.clear();
-        let (mut i, mut j) = (0, 0);
-        while i < merged.len() && j < run.len() {
-            if by_x_then_y(&run[j], &merged[i]).is_lt() {
-                out.push(run[j]);
-                j += 1;
-            } else {
-                out.push(merged[i]);
-                i += 1;
-            }
-        }
-        out.extend_from_slice(&merged[i..]);
-        out.extend_from_slice(&run[j..]);
-        std::mem::swap(&mut merged, &mut out);
+        let len = merge_sorted(&merged, &run, &mut out);
+        merged.clear();
+        merged.extend_from_slice(&out[..len]);
     }
     hull_of_sorted(merged)
+}
+
+/// Merges two sorted runs into `out` (long enough for both), a point of `run` before an equal
+/// one of `merged`; returns how many points it wrote.
+fn merge_sorted(merged: &[P2], run: &[P2], out: &mut [P2]) -> usize {
+    let (mut i, mut j, mut k) = (0, 0, 0);
+    while i < merged.len() && j < run.len() {
+        if by_x_then_y(&run[j], &merged[i]).is_lt() {
+            out[k] = run[j];
+            j += 1;
+        } else {
+            out[k] = merged[i];
+            i += 1;
+        }
+        k += 1;
+    }
+    for &q in merged[i..].iter().chain(&run[j..]) {
+        out[k] = q;
+        k += 1;
+    }
+    k
 }
 
 /// Whether `p` lies in the closed cone from direction `lo` counter-clockwise to `hi` (degrees,
@@ -185,6 +253,47 @@ mod tests {
 
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
+
+        /// The monotone chains built in one buffer are the textbook's two chains joined, bit for
+        /// bit (the oracle), on points snapped to grids (collinear runs, ties in x).
+        #[test]
+        fn the_one_buffer_chains_are_the_two_chains_joined(
+            raw in proptest::collection::vec((-30.0f64..30.0, -30.0f64..30.0), 0..40),
+            grid in proptest::sample::select(vec![0.0, 0.5, 1.0, 5.0]),
+        ) {
+            let snap = |v: f64| if grid > 0.0 { (v / grid).round() * grid } else { v };
+            let mut p: Vec<P2> = raw.iter().map(|&(x, y)| P2::new(snap(x), snap(y))).collect();
+            p.sort_by(by_x_then_y);
+            p.dedup();
+            // The chains built apart, the lower one's last point and the upper one's last
+            // dropped where they join (the textbook form of Andrew's algorithm).
+            let two_chains = |p: &[P2]| -> Vec<P2> {
+                if p.len() < 3 {
+                    return p.to_vec();
+                }
+                let cross = |o: P2, a: P2, b: P2| (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+                let mut lower: Vec<P2> = Vec::new();
+                for &q in p {
+                    while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], q) <= 0.0 {
+                        lower.pop();
+                    }
+                    lower.push(q);
+                }
+                let mut upper: Vec<P2> = Vec::new();
+                for &q in p.iter().rev() {
+                    while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], q) <= 0.0 {
+                        upper.pop();
+                    }
+                    upper.push(q);
+                }
+                lower.pop();
+                upper.pop();
+                lower.extend(upper);
+                lower
+            };
+            let bits = |h: Vec<P2>| -> Vec<(u64, u64)> { h.iter().map(|q| (q.x.to_bits(), q.y.to_bits())).collect() };
+            proptest::prop_assert_eq!(bits(hull_of_deduped(&p)), bits(two_chains(&p)));
+        }
 
         /// The hull of a part's translates, merged from sorted runs, is bit for bit the hull of
         /// all their points sorted together (the oracle): on coordinates snapped to a grid (ties,
