@@ -487,6 +487,46 @@ fn a_holder_buried_along_its_passes_is_proven_in_a_few_queries_a_move() {
     }
 }
 
+/// Step mode measures a pair in contact at a move's start, or during the move before, exactly
+/// at once (`Checker::measure_likely_contacts`): it does not sample the approach that the
+/// measure makes again. A holder buried along its passes then has exact mode's facts, bit for
+/// bit, for about the pair tests exact mode spends.
+#[test]
+fn a_holder_buried_along_its_passes_costs_step_mode_what_it_costs_exact_mode() {
+    let step = hostile_with("holder_buried_back_and_forth.nc", Settings::default());
+    let exact = hostile_with(
+        "holder_buried_back_and_forth.nc",
+        Settings {
+            mode: Mode::Exact,
+            ..Settings::default()
+        },
+    );
+    let facts = |o: &pipeline::Outcome| {
+        o.findings
+            .iter()
+            .map(|f| {
+                (
+                    f.line,
+                    f.kind,
+                    f.objects.clone(),
+                    f.time_s.map(f64::to_bits),
+                    f.depth_mm.map(f64::to_bits),
+                    f.end_line,
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(facts(&step), facts(&exact));
+    // Exact mode tests nothing of the sampler's; step mode at most about one a move beyond.
+    assert!(
+        step.stats.pair_tests <= exact.stats.pair_tests + step.stats.moves,
+        "step mode {} pair tests, exact mode {}, {} moves",
+        step.stats.pair_tests,
+        exact.stats.pair_tests,
+        step.stats.moves
+    );
+}
+
 #[test]
 fn a_macro_loop_that_marches_off_the_machine_costs_little_per_move() {
     // Found by the `check` fuzz target: a WHILE whose condition never changes while a counter
