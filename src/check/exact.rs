@@ -545,6 +545,11 @@ impl Checker<'_> {
         // A path fraction the open contact ends before (a proof ahead found the part clear
         // there at every instant since).
         let mut ends_by = f64::INFINITY;
+        // Where the rest of the span is proven clear from: a proof ahead that reached the span's
+        // end found the part clear there, and every pose within that clear pose's gap of it is
+        // clear at every instant since the proof's stretch began (see `gap_since`). Kept once
+        // the contact has ended: past it, the rest of the span holds nothing.
+        let mut clear_from = f64::INFINITY;
         // The gap the probe at `prev_u` proved (NaN: it was in contact, or none).
         let mut prev_gap = f64::NAN;
         // Most pieces pass the material at a distance, or slide along it: the hull of their
@@ -632,6 +637,10 @@ impl Checker<'_> {
                 Ok(d) => (0.5 * d.min(GAP_WINDOW)).max(step),
                 _ => step,
             };
+            // Clear past where the rest of the span was proven clear: nothing is left to find.
+            if matches!((res, &open), (Err(_), None)) && u >= clear_from {
+                break;
+            }
             // A stretch ahead proven clear throughout (a part sliding along what it touches),
             // or in contact throughout and no deeper than the contact already is (within half
             // the tolerance), holds nothing a probe could add: step over it, and try twice as
@@ -690,6 +699,9 @@ impl Checker<'_> {
                     // column's centre is still in the part), no further.
                     Ahead::EndsClear(g) if g > 0.0 => {
                         ends_by = ends_by.min(to - g / len);
+                        if to >= b {
+                            clear_from = clear_from.min(to - g / len);
+                        }
                         known = Some(res);
                         continue;
                     }
