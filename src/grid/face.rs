@@ -363,6 +363,7 @@ pub(crate) fn anywhere(_: Vector3<f64>, _: Vector3<f64>, a: f64, b: f64) -> Opti
 /// Whether the ray `o + t·u` is air by `air` over `[a, b)`, sampled every `step` (at most 4096
 /// samples: past them, not air). Only the samples within `span`'s part of the ray are asked: the
 /// others are air by it, so the answer is every sample's.
+#[inline]
 pub(crate) fn air_along(
     o: Vector3<f64>,
     u: Vector3<f64>,
