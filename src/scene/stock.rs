@@ -1032,14 +1032,15 @@ impl DexelStock {
         near: &[usize],
         mat: &'a mut Vec<(f64, f64)>,
     ) -> &'a [(f64, f64)] {
-        match (swept, self.saved(col)) {
-            (Some(sw), Some(before)) => {
+        // The journal is looked up only under an instant view.
+        match swept.and_then(|sw| Some((sw, self.saved(col)?))) {
+            Some((sw, before)) => {
                 mat.clear();
                 mat.extend_from_slice(before);
                 remove_swept(mat, sw, near, self.center(col));
                 mat
             }
-            _ => &self.cols[col].iv,
+            None => &self.cols[col].iv,
         }
     }
 
