@@ -1236,21 +1236,23 @@ impl DexelStock {
         // over in the other).
         let mut order = std::mem::take(&mut self.order);
         order.clear();
-        for b in j0 / BLOCK..=j1 / BLOCK {
+        // Block `b`'s bound, `None` when it holds no material.
+        let block_bound = |s: &Self, b: usize| -> Option<f64> {
             let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
-            let (z0, z1) = (self.center(k0), self.center(k1));
-            let journaled = swept.is_some() && self.journal.blk_gen[b] == self.journal.gen;
-            let bound = if journaled {
-                box_bound(f64::NEG_INFINITY, f64::INFINITY, z0, z1)
-            } else {
-                let (mn, mx) = (self.blk[b].min, self.blk[b].max);
-                if mn > mx {
-                    continue; // no material in this block
+            let (z0, z1) = (s.center(k0), s.center(k1));
+            let journaled = swept.is_some() && s.journal.blk_gen[b] == s.journal.gen;
+            if journaled {
+                return Some(box_bound(f64::NEG_INFINITY, f64::INFINITY, z0, z1));
+            }
+            let (mn, mx) = (s.blk[b].min, s.blk[b].max);
+            (mn <= mx).then(|| box_bound(mn, mx, z0, z1))
+        };
+        let (bl0, bl1) = (j0 / BLOCK, j1 / BLOCK);
+        if !nearest_first {
+            for b in bl0..=bl1 {
+                if let Some(bound) = block_bound(self, b).filter(|&bound| bound < best) {
+                    order.push(Near(bound, b));
                 }
-                box_bound(mn, mx, z0, z1)
-            };
-            if bound < best {
-                order.push(Near(bound, b));
             }
         }
         // One block: the least distance to its material, when less than the best so far.
@@ -1292,9 +1294,59 @@ impl DexelStock {
         if nearest_first {
             // Taken from a heap, nearest first: usually a few blocks are taken before the next
             // one's bound passes the distance found, and the rest are never ordered (a sort of
-            // every block in the window cost a tenth of a long contact's time).
+            // every block in the window cost a tenth of a long contact's time). A block's bound
+            // is at least its distance in z from the part's box, which grows outward from the
+            // block at the box's middle: the blocks are bounded from there outward, each side
+            // only while its next block's distance in z (a little less, for rounding) could come
+            // before the heap's nearest, so the heap gives them in the order it would give them
+            // all in, and the blocks past the distance found are never bounded.
+            let mid = ((0.5 * (bb.min.y + bb.max.y) - self.z0) / self.h / BLOCK as f64).floor();
+            let mid = if mid.is_finite() {
+                (mid.max(0.0) as usize).clamp(bl0, bl1)
+            } else {
+                bl0
+            };
+            // The least distance in z from the box that block `b` can have, a shade under its
+            // bound's own (0 beside the box).
+            let dz_under = |s: &Self, b: usize| -> f64 {
+                let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
+                let dz = (s.center(k0) - bb.max.y).max(bb.min.y - s.center(k1)).max(0.0);
+                if dz > 1e-100 {
+                    dz * (1.0 - 1e-9)
+                } else {
+                    0.0
+                }
+            };
+            // The middle block and its neighbours are bounded at once (the box's middle may round
+            // into the block beside the nearest); then the next block to bound below them
+            // (`None` past the first) and above them.
             let mut heap = std::collections::BinaryHeap::from(order);
-            while let Some(Near(bound, b)) = heap.pop() {
+            let first = mid.saturating_sub(1).max(bl0);
+            for b in first..=(mid + 1).min(bl1) {
+                if let Some(bound) = block_bound(self, b).filter(|&bound| bound < best) {
+                    heap.push(Near(bound, b));
+                }
+            }
+            let (mut down, mut up) = (first.checked_sub(1).filter(|&d| d >= bl0), mid + 2);
+            loop {
+                let next_down = down.map(|b| (dz_under(self, b), b));
+                let next_up = (up <= bl1).then(|| (dz_under(self, up), up));
+                let nearest = match (next_down, next_up) {
+                    (Some(d), Some(u)) => Some(if u.0 < d.0 { u } else { d }),
+                    (d, u) => d.or(u),
+                };
+                if let Some((_, b)) = nearest.filter(|&(dz, _)| dz < best && heap.peek().map_or(true, |t| dz <= t.0)) {
+                    if b == up {
+                        up += 1;
+                    } else {
+                        down = b.checked_sub(1).filter(|&d| d >= bl0);
+                    }
+                    if let Some(bound) = block_bound(self, b).filter(|&bound| bound < best) {
+                        heap.push(Near(bound, b));
+                    }
+                    continue;
+                }
+                let Some(Near(bound, b)) = heap.pop() else { break };
                 if bound >= best {
                     break; // and every block after it
                 }
