@@ -1327,19 +1327,17 @@ impl DexelStock {
                     heap.push(Near(bound, b));
                 }
             }
-            let (mut down, mut up) = (first.checked_sub(1).filter(|&d| d >= bl0), mid + 2);
+            // Each side's next block with its distance in z (infinite past the window's end).
+            let next = |s: &Self, b: Option<usize>| b.map_or((f64::INFINITY, 0), |b| (dz_under(s, b), b));
+            let mut down = next(self, first.checked_sub(1).filter(|&d| d >= bl0));
+            let mut up = next(self, Some(mid + 2).filter(|&u| u <= bl1));
             loop {
-                let next_down = down.map(|b| (dz_under(self, b), b));
-                let next_up = (up <= bl1).then(|| (dz_under(self, up), up));
-                let nearest = match (next_down, next_up) {
-                    (Some(d), Some(u)) => Some(if u.0 < d.0 { u } else { d }),
-                    (d, u) => d.or(u),
-                };
-                if let Some((_, b)) = nearest.filter(|&(dz, _)| dz < best && heap.peek().map_or(true, |t| dz <= t.0)) {
-                    if b == up {
-                        up += 1;
+                let (dz, b) = if up.0 < down.0 { up } else { down };
+                if dz < best && heap.peek().map_or(true, |t| dz <= t.0) {
+                    if up.0 < down.0 {
+                        up = next(self, Some(b + 1).filter(|&u| u <= bl1));
                     } else {
-                        down = b.checked_sub(1).filter(|&d| d >= bl0);
+                        down = next(self, b.checked_sub(1).filter(|&d| d >= bl0));
                     }
                     if let Some(bound) = block_bound(self, b).filter(|&bound| bound < best) {
                         heap.push(Near(bound, b));
