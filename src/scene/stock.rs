@@ -1318,8 +1318,8 @@ impl DexelStock {
                 }
             };
             // The middle block and its neighbours are bounded at once (the box's middle may round
-            // into the block beside the nearest); then the next block to bound below them
-            // (`None` past the first) and above them.
+            // into the block beside the nearest); then the blocks below them and above them,
+            // one side at a time.
             let mut heap = std::collections::BinaryHeap::from(order);
             let first = mid.saturating_sub(1).max(bl0);
             for b in first..=(mid + 1).min(bl1) {
