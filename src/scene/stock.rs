@@ -1236,10 +1236,14 @@ impl DexelStock {
         // over in the other).
         let mut order = std::mem::take(&mut self.order);
         order.clear();
-        // Block `b`'s bound, `None` when it holds no material.
-        let block_bound = |s: &Self, b: usize| -> Option<f64> {
+        // The `z` of block `b`'s first and last column centres in the window.
+        let slab = |s: &Self, b: usize| -> (f64, f64) {
             let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
-            let (z0, z1) = (s.center(k0), s.center(k1));
+            (s.center(k0), s.center(k1))
+        };
+        // Block `b`'s bound (its column centres from `z0` to `z1`), `None` when it holds no
+        // material.
+        let block_bound = |s: &Self, b: usize, (z0, z1): (f64, f64)| -> Option<f64> {
             let journaled = swept.is_some() && s.journal.blk_gen[b] == s.journal.gen;
             if journaled {
                 return Some(box_bound(f64::NEG_INFINITY, f64::INFINITY, z0, z1));
@@ -1250,7 +1254,7 @@ impl DexelStock {
         let (bl0, bl1) = (j0 / BLOCK, j1 / BLOCK);
         if !nearest_first {
             for b in bl0..=bl1 {
-                if let Some(bound) = block_bound(self, b).filter(|&bound| bound < best) {
+                if let Some(bound) = block_bound(self, b, slab(self, b)).filter(|&bound| bound < best) {
                     order.push(Near(bound, b));
                 }
             }
@@ -1306,11 +1310,10 @@ impl DexelStock {
             } else {
                 bl0
             };
-            // The least distance in z from the box that block `b` can have, a shade under its
-            // bound's own (0 beside the box).
-            let dz_under = |s: &Self, b: usize| -> f64 {
-                let (k0, k1) = ((b * BLOCK).max(j0), ((b + 1) * BLOCK - 1).min(j1));
-                let dz = (s.center(k0) - bb.max.y).max(bb.min.y - s.center(k1)).max(0.0);
+            // The least distance in z from the box that a block whose column centres run from
+            // `z0` to `z1` can have, a shade under its bound's own (0 beside the box).
+            let dz_under = |(z0, z1): (f64, f64)| -> f64 {
+                let dz = (z0 - bb.max.y).max(bb.min.y - z1).max(0.0);
                 if dz > 1e-100 {
                     dz * (1.0 - 1e-9)
                 } else {
@@ -1323,23 +1326,29 @@ impl DexelStock {
             let mut heap = std::collections::BinaryHeap::from(order);
             let first = mid.saturating_sub(1).max(bl0);
             for b in first..=(mid + 1).min(bl1) {
-                if let Some(bound) = block_bound(self, b).filter(|&bound| bound < best) {
+                if let Some(bound) = block_bound(self, b, slab(self, b)).filter(|&bound| bound < best) {
                     heap.push(Near(bound, b));
                 }
             }
-            // Each side's next block with its distance in z (infinite past the window's end).
-            let next = |s: &Self, b: Option<usize>| b.map_or((f64::INFINITY, 0), |b| (dz_under(s, b), b));
+            // Each side's next block: its distance in z (infinite past the window's end), its
+            // index and its column centres' `z`.
+            let next = |s: &Self, b: Option<usize>| {
+                b.map_or((f64::INFINITY, 0, (0.0, 0.0)), |b| {
+                    let z = slab(s, b);
+                    (dz_under(z), b, z)
+                })
+            };
             let mut down = next(self, first.checked_sub(1).filter(|&d| d >= bl0));
             let mut up = next(self, Some(mid + 2).filter(|&u| u <= bl1));
             loop {
-                let (dz, b) = if up.0 < down.0 { up } else { down };
+                let (dz, b, z) = if up.0 < down.0 { up } else { down };
                 if dz < best && heap.peek().map_or(true, |t| dz <= t.0) {
                     if up.0 < down.0 {
                         up = next(self, Some(b + 1).filter(|&u| u <= bl1));
                     } else {
                         down = next(self, b.checked_sub(1).filter(|&d| d >= bl0));
                     }
-                    if let Some(bound) = block_bound(self, b).filter(|&bound| bound < best) {
+                    if let Some(bound) = block_bound(self, b, z).filter(|&bound| bound < best) {
                         heap.push(Near(bound, b));
                     }
                     continue;

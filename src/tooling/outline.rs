@@ -120,60 +120,65 @@ pub fn hull_of_translates(base: &[P2], with_base: bool, offsets: &[V2]) -> Vec<P
         return plain();
     }
     let total = n * (offsets.len() + usize::from(with_base));
-    if n <= SMALL_HULL && total <= SMALL_HULL {
-        let origin = P2::origin();
-        let mut sorted = [origin; SMALL_HULL];
-        let mut run = [origin; SMALL_HULL];
-        let mut a = [origin; SMALL_HULL];
-        let mut b = [origin; SMALL_HULL];
-        let sorted = &mut sorted[..n];
-        sorted.copy_from_slice(base);
-        sorted.sort_by(by_x_then_y);
-        let (mut merged, mut out) = (&mut a, &mut b);
-        let mut len = 0;
-        if with_base {
-            merged[..n].copy_from_slice(sorted);
-            len = n;
-        }
-        for c in offsets {
-            let run = &mut run[..n];
-            for (r, q) in run.iter_mut().zip(sorted.iter()) {
-                *r = q + c;
-            }
-            if !run.iter().all(finite) {
-                return plain();
-            }
-            if run.windows(2).any(|w| by_x_then_y(&w[0], &w[1]).is_gt()) {
-                run.sort_by(by_x_then_y);
-            }
-            len = merge_sorted(&merged[..len], run, &mut out[..]);
-            std::mem::swap(&mut merged, &mut out);
-        }
-        let kept = dedup_sorted(&mut merged[..len]);
-        return hull_of_deduped(&merged[..kept]);
-    }
-    let mut sorted = base.to_vec();
+    // The buffers: on the stack for a few points, else on the heap.
+    let origin = P2::origin();
+    let (mut small, mut large);
+    let [sorted, run, a, b]: [&mut [P2]; 4] = if n <= SMALL_HULL && total <= SMALL_HULL {
+        small = [[origin; SMALL_HULL]; 4];
+        let [s, r, a, b] = &mut small;
+        [&mut s[..n], &mut r[..n], &mut a[..], &mut b[..]]
+    } else {
+        large = [
+            vec![origin; n],
+            vec![origin; n],
+            vec![origin; total],
+            vec![origin; total],
+        ];
+        let [s, r, a, b] = &mut large;
+        [&mut s[..], &mut r[..], &mut a[..], &mut b[..]]
+    };
+    let Some(merged) = merge_translates(base, with_base, offsets, sorted, run, a, b) else {
+        return plain();
+    };
+    let kept = dedup_sorted(merged);
+    hull_of_deduped(&merged[..kept])
+}
+
+/// The points of `base` (with `with_base`) and its translates by `offsets`, merged in the order
+/// [`hull`] sorts them into one of `a` and `b` (each long enough for all of them; `sorted` and
+/// `run` as long as `base`): the points, or `None` when a translate is not finite.
+fn merge_translates<'a>(
+    base: &[P2],
+    with_base: bool,
+    offsets: &[V2],
+    sorted: &mut [P2],
+    run: &mut [P2],
+    a: &'a mut [P2],
+    b: &'a mut [P2],
+) -> Option<&'a mut [P2]> {
+    let n = base.len();
+    sorted.copy_from_slice(base);
     sorted.sort_by(by_x_then_y);
-    let mut merged: Vec<P2> = Vec::with_capacity(total);
-    let mut out: Vec<P2> = vec![P2::origin(); total];
-    let mut run: Vec<P2> = Vec::with_capacity(n);
+    let (mut merged, mut out) = (a, b);
+    let mut len = 0;
     if with_base {
-        merged.extend_from_slice(&sorted);
+        merged[..n].copy_from_slice(sorted);
+        len = n;
     }
     for c in offsets {
-        run.clear();
-        run.extend(sorted.iter().map(|q| q + c));
-        if !run.iter().all(finite) {
-            return plain();
+        for (r, q) in run.iter_mut().zip(sorted.iter()) {
+            *r = q + c;
+        }
+        if !run.iter().all(|q| q.x.is_finite() && q.y.is_finite()) {
+            return None;
         }
         if run.windows(2).any(|w| by_x_then_y(&w[0], &w[1]).is_gt()) {
             run.sort_by(by_x_then_y);
         }
-        let len = merge_sorted(&merged, &run, &mut out);
-        merged.clear();
-        merged.extend_from_slice(&out[..len]);
+        len = merge_sorted(&merged[..len], run, out);
+        std::mem::swap(&mut merged, &mut out);
     }
-    hull_of_sorted(merged)
+    Some(&mut merged[..len])
 }
 
 /// Merges two sorted runs into `out` (long enough for both), a point of `run` before an equal
