@@ -56,6 +56,16 @@ pub struct DexelStock {
     order: Vec<Near>,
     /// The last few regions cut off whole, which a cut held by one takes off nothing from.
     cleared: Cleared,
+    /// Names the material the columns hold: a fresh stamp each time any of them changes (see
+    /// [`Self::stamp`]).
+    stamp: u64,
+}
+
+/// The next stamp of [`DexelStock::stamp`]: one counter for every stock, so no two states of
+/// any two stocks share one.
+fn fresh_stamp() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 /// The columns the current move's cut changed, as they were before the move (see
@@ -476,6 +486,7 @@ impl DexelStock {
             near: Vec::new(),
             order: Vec::new(),
             cleared: Cleared::default(),
+            stamp: fresh_stamp(),
         };
         for b in 0..nb {
             s.refresh_block(b);
@@ -517,6 +528,14 @@ impl DexelStock {
             s.refresh_block(b);
         }
         s
+    }
+
+    /// A name of the material the columns hold now: two calls that return the same stamp see
+    /// the same material in every column (any change takes a stamp no stock had before; a clone
+    /// keeps the stamp with the material). The journal of a move under way is not part of it:
+    /// an instant view ([`View::Instant`] while [`Self::move_changed_any`]) sees less.
+    pub fn stamp(&self) -> u64 {
+        self.stamp
     }
 
     pub fn column_width(&self) -> f64 {
@@ -721,8 +740,10 @@ impl DexelStock {
         }
     }
 
-    /// Recompute block `b`'s reach from its columns.
+    /// Recompute block `b`'s reach from its columns. Every change of a column's material is
+    /// followed by this (the reach must hold it), so it also takes a fresh stamp.
     fn refresh_block(&mut self, b: usize) {
+        self.stamp = fresh_stamp();
         let (lo, hi) = (b * BLOCK, ((b + 1) * BLOCK).min(self.cols.len()));
         let mut mx = f64::NEG_INFINITY;
         let mut mn = f64::INFINITY;
@@ -2014,6 +2035,47 @@ mod tests {
         assert!((pa + sa + 20.0 * 2.5 - before).abs() < 0.5, "{pa} + {sa} vs {before}");
         assert!(s.material_at(-10.0).is_empty() && !piece.material_at(-10.0).is_empty());
         assert!(piece.material_at(-50.0).is_empty() && !s.material_at(-50.0).is_empty());
+    }
+
+    /// The stamp names the material: a cut that takes some off, a part-off, a copy of the
+    /// stock as it was before a move under way each give one no stock had; a cut into air or
+    /// into what is already gone, a query, a move begun and ended without a cut keep it, and so
+    /// do a clone and a copy of the stock as it is (the same material).
+    #[test]
+    fn the_stamp_changes_with_the_material_and_only_with_it() {
+        let mut s = DexelStock::new(40.0, 0.0, 100.0, 0.0, 0.1);
+        let first = s.stamp();
+        assert_ne!(
+            DexelStock::new(40.0, 0.0, 100.0, 0.0, 0.1).stamp(),
+            first,
+            "another stock"
+        );
+        assert!(!s.cut(&rect(30.0, -30.0, 35.0, -20.0)), "air");
+        s.begin_move();
+        s.end_move();
+        assert!(s.overlap(&rect(15.0, -30.0, 25.0, -20.0), 0.0).is_some());
+        assert_eq!(s.stamp(), first);
+        assert_eq!(s.clone().stamp(), first);
+        assert!(s.cut(&rect(15.0, -30.0, 25.0, -20.0)));
+        let cut = s.stamp();
+        assert_ne!(cut, first);
+        // Taking off what is already gone changes nothing (the cut is remembered, or walked).
+        assert!(!s.cut(&rect(15.0, -30.0, 25.0, -20.0)));
+        assert!(!s.cut(&rect(16.0, -29.0, 24.0, -21.0)));
+        assert_eq!(s.stamp(), cut);
+        s.cut(&rect(-1.0, -60.0, 25.0, -57.5));
+        let severed = s.stamp();
+        assert_ne!(severed, cut);
+        let piece = s.split_off_beyond().expect("severed");
+        assert!(s.stamp() != severed && piece.stamp() != severed && piece.stamp() != s.stamp());
+        let now = s.stamp();
+        assert_eq!(s.view_copy(View::Now).stamp(), now, "a copy as it is");
+        // Partway through a move: the material before it is not the material now.
+        s.begin_move();
+        assert!(s.cut(&rect(12.0, -80.0, 25.0, -70.0)));
+        let copy = s.view_copy(View::Instant(&NO_SWEEP));
+        assert!(copy.stamp() != s.stamp() && copy.stamp() != now);
+        s.end_move();
     }
 
     /// `holds_all` lets the milled stock's query take a stretch of samples as material without
