@@ -246,6 +246,17 @@ enum Measure {
     Coarse { duration: f64, min_depth: f64 },
 }
 
+/// A probe's question, as far as its answer depends on it (see [`Checker::probe_key`]): the
+/// part and the station it is posed for, the reference point (its bits: the pose is computed
+/// from them), and the stock's material ([`crate::scene::DexelStock::stamp`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct ProbeKey {
+    p: Part,
+    active: u32,
+    at: (u64, u64),
+    stamp: u64,
+}
+
 /// A contact interval found in one move: times in seconds from the move's start.
 struct Interval {
     t0: f64,
@@ -341,7 +352,13 @@ impl Checker<'_> {
             } else {
                 // A move of one piece found in contact is in contact somewhere on it.
                 let sure = (in_contact && pieces.len() == 1) || (open_at_start && i == 0);
-                self.advanced(p, o, piece, active, measure, sure, &mut found);
+                // The depth the contact going on from the previous move has reached: a first
+                // piece buried no deeper than that all along adds nothing to measure.
+                let floor = match self.episodes.max_depth(k) {
+                    Some(d) if open_at_start && i == 0 && pieces.len() == 1 => d,
+                    _ => 0.0,
+                };
+                self.advanced(p, o, piece, active, measure, (sure, floor), &mut found);
             }
         }
         found.sort_by(|a, b| a.t0.total_cmp(&b.t0));
@@ -422,8 +439,65 @@ impl Checker<'_> {
     }
 
     /// Depth of a pair at path fraction `u` of a piece, or the gap when clear (a lower bound).
-    /// The stock is seen as it is at that instant of the move.
+    /// The stock is seen as it is at that instant of the move. A probe that repeats one of the
+    /// last two exactly ([`ProbeKey`]) gives its answer again without a query.
     fn probe(&mut self, p: Part, o: Obstacle, piece: &Piece, u: f64, active: u32) -> Result<f64, f64> {
+        let memo = self.probe_key(p, o, piece.at(u), active);
+        if let Some(res) = memo.and_then(|k| self.recalled(k)) {
+            self.instant = u;
+            return res;
+        }
+        let res = self.probe_now(p, o, piece, u, active);
+        if let Some(k) = memo {
+            self.remember(k, res);
+        }
+        res
+    }
+
+    /// Whether a pair is in contact at path fraction `u` of a piece (the stock's scan stops at
+    /// the first column in contact), else the gap [`Self::probe`] gives there (and remembers).
+    fn touches_at(&mut self, p: Part, o: Obstacle, piece: &Piece, u: f64, active: u32) -> Result<(), f64> {
+        let memo = self.probe_key(p, o, piece.at(u), active);
+        if let Some(res) = memo.and_then(|k| self.recalled(k)) {
+            self.instant = u;
+            return res.map(|_| ());
+        }
+        let Some((poly, in_plane)) = self.posed_at(p, piece, u, active) else {
+            return Err(f64::INFINITY);
+        };
+        if self.test_with(&poly, in_plane, o, true).0.is_some() {
+            return Ok(());
+        }
+        // No column in contact: what a full probe finds too (it scans for the same columns).
+        let gap = self.gap_lower_bound(&poly, in_plane, o).min(GAP_WINDOW);
+        if let Some(k) = memo {
+            self.remember(k, Err(gap));
+        }
+        Err(gap)
+    }
+
+    /// The answer of a probe made before with the same key (see [`ProbeKey`]).
+    fn recalled(&self, k: ProbeKey) -> Option<Result<f64, f64>> {
+        let found = self
+            .last_probes
+            .iter()
+            .flatten()
+            .find(|(kk, _)| *kk == k)
+            .map(|&(_, r)| r);
+        #[cfg(test)]
+        if found.is_some() {
+            shortcuts::taken(true);
+        }
+        found
+    }
+
+    /// Keep a probe's answer, in place of the older of the two kept.
+    fn remember(&mut self, k: ProbeKey, res: Result<f64, f64>) {
+        self.last_probes.swap(0, 1);
+        self.last_probes[0] = Some((k, res));
+    }
+
+    fn probe_now(&mut self, p: Part, o: Obstacle, piece: &Piece, u: f64, active: u32) -> Result<f64, f64> {
         let Some((poly, in_plane)) = self.posed_at(p, piece, u, active) else {
             return Err(f64::INFINITY);
         };
@@ -432,6 +506,32 @@ impl Checker<'_> {
             return Ok(d);
         }
         Err(self.gap_lower_bound(&poly, in_plane, o).min(GAP_WINDOW))
+    }
+
+    /// What names a probe's answer, where one can be named: a rigid part (the turret, or the
+    /// active tool's holder or insert: its pose is its shape moved to the reference point) against
+    /// the stock while the stock's material stands still (the current move cuts none of it, so
+    /// every instant of the move sees the columns as they are, and the stamp names them). Two
+    /// probes with the same key pose the same shape at the same point against the same
+    /// material, with the same arithmetic: the same answer.
+    fn probe_key(&self, p: Part, o: Obstacle, at: P2, active: u32) -> Option<ProbeKey> {
+        #[cfg(test)]
+        if shortcuts::off() {
+            return None;
+        }
+        if o != Obstacle::Stock || !matches!(p, Part::Turret | Part::Holder | Part::Insert) {
+            return None;
+        }
+        let stock = self.stock.as_ref()?;
+        if stock.move_changed_any() {
+            return None;
+        }
+        Some(ProbeKey {
+            p,
+            active,
+            at: (at.x.to_bits(), at.y.to_bits()),
+            stamp: stock.stamp(),
+        })
     }
 
     /// Whether a pair is in contact at path fraction `u` of a piece (as [`Self::probe`] finds it,
@@ -455,7 +555,8 @@ impl Checker<'_> {
 
     /// Conservative advancement along a piece: steps of at least the tolerance, and as long as
     /// the proven gap allows; contact boundaries refined by bisection. `in_contact`: the pair is
-    /// known to be in contact somewhere on the piece.
+    /// known to be in contact somewhere on the piece. `floor`: the depth the pair's contact going
+    /// on from the previous move has reached (0: none goes on), see [`Self::buried_no_deeper`].
     #[allow(clippy::too_many_arguments)]
     fn advanced(
         &mut self,
@@ -464,9 +565,19 @@ impl Checker<'_> {
         piece: &Piece,
         active: u32,
         measure: Measure,
-        in_contact: bool,
+        (in_contact, floor): (bool, f64),
         out: &mut Vec<Interval>,
     ) {
+        if let Some(bound) = self.buried_no_deeper(p, o, piece, active, floor) {
+            out.push(Interval {
+                t0: piece.time(0.0),
+                t1: piece.time(1.0),
+                depth: bound,
+                at: piece.at(0.0),
+                u: 0.0,
+            });
+            return;
+        }
         let mut probes = 0u64;
         let spans = self.spans(p, o, piece, active);
         // The contact lies in one of the spans (elsewhere the part cannot reach the obstacle):
@@ -790,13 +901,57 @@ impl Checker<'_> {
         if bound > cap {
             return None;
         }
+        self.held_throughout(&pose_a, d, b).then_some(bound)
+    }
+
+    /// Whether a part translating by `d` from `pose_a` along a stretch that ends at fraction `b`
+    /// is in contact with the stock at every instant of it: a convex piece `K` of the part is
+    /// held by every pose as `K ∩ (K + δ)`, and that region overlaps the stock as it is at `b`
+    /// (the least material of the stretch). See [`Self::stretch_proven`].
+    fn held_throughout(&mut self, pose_a: &Polygon, d: V2, b: f64) -> bool {
         self.instant = b;
-        let held = geom::convex::convex_pieces(pose_a.points()).iter().any(|k| {
+        geom::convex::convex_pieces(pose_a.points()).iter().any(|k| {
             let moved: Vec<P2> = k.iter().map(|q| q + d).collect();
             let common = geom::convex::clip_convex(k, &moved);
             common.len() >= 3 && self.stock_overlap(&common, geom::TOUCH_EPS, true).is_some()
-        });
-        held.then_some(bound)
+        })
+    }
+
+    /// A first piece of a move (the whole move, straight) along which the pair's contact going
+    /// on from the previous move goes on to the end and is nowhere deeper than `floor`, the
+    /// depth that contact has already reached: then this move adds nothing to the contact's
+    /// facts but its end (the depth shown is the deepest of the whole contact), and the bound
+    /// of the depth is returned (at most `floor`), to stand for the depth. `None` when that is
+    /// not proven; the measure then goes on as usual, and finds what it would have.
+    ///
+    /// Three queries, each what a proof ahead of conservative advancement makes: a probe at the
+    /// end that only asks whether it is in contact (stopping at the first column in contact;
+    /// when it is clear, its gap is what a probe there gives, and is kept for the measure that
+    /// follows); the hull of the poses against the stock at the start, whose depth bounds every
+    /// pose's; the region every pose holds against the stock at the end (contact throughout).
+    /// Contact throughout is what the measure's probes would find everywhere (no separation, so
+    /// one contact from the start to the end), and no pose deeper than the hull, so no probe nor
+    /// search deeper than `floor`: the facts the measure would give.
+    fn buried_no_deeper(&mut self, p: Part, o: Obstacle, piece: &Piece, active: u32, floor: f64) -> Option<f64> {
+        #[cfg(test)]
+        if shortcuts::off() {
+            return None;
+        }
+        if floor.is_nan() || floor <= 0.0 || !self.settings.prove_stretches {
+            return None;
+        }
+        let (pose_a, d) = self.stretch_motion(p, o, piece, active, (0.0, 1.0))?;
+        if self.touches_at(p, o, piece, 1.0, active).is_err() {
+            return None;
+        }
+        self.stats.pair_tests += 2;
+        let bound = self.hull_depth(&stretch_hull(&pose_a, d), 0.0);
+        let proven = bound <= floor && self.held_throughout(&pose_a, d, 1.0);
+        #[cfg(test)]
+        if proven {
+            shortcuts::taken(false);
+        }
+        proven.then_some(bound)
     }
 
     /// [`Self::stretch_proven`] of the stretch `[u, to]`; for one in contact, the probe at `to`
@@ -1302,6 +1457,43 @@ fn stretch_provable(p: Part, o: Obstacle, piece: &Piece) -> bool {
 /// The convex hull of a pose and of the pose moved by `d`: it holds every pose between.
 fn stretch_hull(pose: &Polygon, d: V2) -> Vec<P2> {
     crate::tooling::outline::hull_of_translates(pose.points(), true, &[d])
+}
+
+/// The shortcuts of the measure that must change no finding — a probe answered again
+/// ([`Checker::probe`]) and a move proven buried no deeper than its contact already was
+/// ([`Checker::buried_no_deeper`]) — turned off for a thread, for tests that compare them with
+/// the plain measure, and counted where taken.
+#[cfg(test)]
+pub(super) mod shortcuts {
+    use std::cell::Cell;
+
+    thread_local! {
+        static OFF: Cell<bool> = const { Cell::new(false) };
+        static TAKEN: Cell<(u64, u64)> = const { Cell::new((0, 0)) };
+    }
+
+    /// Turn the shortcuts off (or on again) for this thread, and zero the counts.
+    pub fn set_off(off: bool) {
+        OFF.with(|o| o.set(off));
+        TAKEN.with(|t| t.set((0, 0)));
+    }
+
+    pub(super) fn off() -> bool {
+        OFF.with(|o| o.get())
+    }
+
+    /// A probe answered again (`recalled`), else a move proven buried no deeper.
+    pub(super) fn taken(recalled: bool) {
+        TAKEN.with(|t| {
+            let (a, b) = t.get();
+            t.set(if recalled { (a + 1, b) } else { (a, b + 1) });
+        });
+    }
+
+    /// How many probes were answered again, and how many moves proven buried, since `set_off`.
+    pub fn counts() -> (u64, u64) {
+        TAKEN.with(|t| t.get())
+    }
 }
 
 /// The audit of contact boundaries against plain bisection, for tests: off unless a test turns

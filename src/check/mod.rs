@@ -152,6 +152,10 @@ struct Checker<'a> {
     /// mode measures a pair in contact during the previous move exactly at once, see
     /// [`Checker::measure_likely_contacts`]).
     contact_moves: Vec<(u64, usize)>,
+    /// The last two probes of conservative advancement whose answers can be named (see
+    /// [`exact::ProbeKey`]), newest first: a move in contact at its end is probed at the same
+    /// pose when the next move starts.
+    last_probes: [Option<(exact::ProbeKey, Result<f64, f64>)>; 2],
     /// Moves whose check ran out of its work budget: (line, message).
     budget: Vec<(u32, String)>,
     /// Moves step mode checked as exact mode does because they had too many samples.
@@ -353,6 +357,7 @@ fn checker<'a>(machine: &'a Machine, settings: &Settings, three: bool) -> Checke
         budget: Vec::new(),
         last_cut: None,
         contact_moves: Vec::new(),
+        last_probes: [None; 2],
         long_moves: false,
         tailstock_in: machine.tailstock_advanced,
         three: machine.kinematics.as_ref().filter(|_| three).map(|k| {

@@ -68,6 +68,79 @@ fn an_insert_sliding_out_along_the_faces_it_cut_is_proven_clear_without_exact_me
     }
 }
 
+/// Every program of `programs/` and `tests/cases/` (sorted), then the named files of
+/// `tests/fixtures/hostile/`.
+fn repository_programs(hostile: &[&str]) -> Vec<std::path::PathBuf> {
+    fn nc_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+        let Ok(rd) = std::fs::read_dir(dir) else { return };
+        let mut entries: Vec<_> = rd.flatten().map(|e| e.path()).collect();
+        entries.sort();
+        for p in entries {
+            if p.is_dir() {
+                nc_files(&p, out);
+            } else if p.extension().is_some_and(|e| e == "nc" || e == "ngc") {
+                out.push(p);
+            }
+        }
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    nc_files(&root.join("programs"), &mut files);
+    nc_files(&root.join("tests/cases"), &mut files);
+    files.extend(hostile.iter().map(|f| root.join("tests/fixtures/hostile").join(f)));
+    files
+}
+
+/// The measure's shortcuts change no finding: a probe answered again (where a move starts in
+/// contact at the pose the last one ended at, against the same material) and a move proven
+/// buried no deeper than its contact already was. Every program and case of the repository and
+/// the hostile fixtures that bury the holder give the same findings, fact for fact, with them
+/// and without, in both modes. Not vacuous: the holder buried all along its passes is proven
+/// move by move (with fewer pair tests), and the one that leaves the bar on every return pass
+/// has the probe at each return's start answered again.
+#[test]
+fn the_measures_shortcuts_change_no_finding_on_any_program_or_case() {
+    let files = repository_programs(&[
+        "g71_profile_run_first_drags_the_holder.nc",
+        "holder_buried_back_and_forth.nc",
+        "holder_buried_all_along.nc",
+    ]);
+    let mut differ = Vec::new();
+    let mut taken = std::collections::BTreeMap::new();
+    for f in &files {
+        let src = std::fs::read_to_string(f).unwrap_or_default();
+        for mode in [Mode::Exact, Mode::Step] {
+            exact::shortcuts::set_off(true);
+            let plain = run(&src, &settings(mode, 1.0), MAX_FINDINGS);
+            exact::shortcuts::set_off(false);
+            let short = run(&src, &settings(mode, 1.0), MAX_FINDINGS);
+            let name = f.file_name().unwrap_or_default().to_string_lossy().to_string();
+            taken.insert(format!("{name} {mode:?}"), exact::shortcuts::counts());
+            if format!("{:?}", plain.findings) != format!("{:?}", short.findings) {
+                differ.push(format!("{}: {mode:?}", f.display()));
+            }
+            if name == "holder_buried_all_along.nc" {
+                assert!(
+                    short.stats.pair_tests < plain.stats.pair_tests,
+                    "{mode:?}: {} pair tests with the shortcuts, {} without",
+                    short.stats.pair_tests,
+                    plain.stats.pair_tests
+                );
+            }
+        }
+    }
+    exact::shortcuts::set_off(false);
+    assert!(differ.is_empty(), "{differ:#?}");
+    for mode in [Mode::Exact, Mode::Step] {
+        // 40 moves in the bar: all but the first proven buried, none of them probed.
+        let (_, buried) = taken[&format!("holder_buried_all_along.nc {mode:?}")];
+        assert!(buried >= 35, "{mode:?}: {buried} moves proven buried");
+        // Each return pass starts in contact where the pass before ended.
+        let (recalled, _) = taken[&format!("holder_buried_back_and_forth.nc {mode:?}")];
+        assert!(recalled >= 30, "{mode:?}: {recalled} recalled");
+    }
+}
+
 /// `n` rapids into the bar and back out, every third one only grazing its front corner.
 fn crashing_rapids(n: usize) -> String {
     let mut s = String::from("G21 G18 G99\nT0101\nG97 S800 M3\nG0 X60 Z2\n");
@@ -141,23 +214,7 @@ fn strides_in_contact_step_over_no_separation_on_any_program_or_case() {
     // probed every half tolerance: none may find the pair apart, on every program and case of
     // the repository and the hostile holder-dragging G71, in both modes, on the built-in
     // machine (the scenes differ from the cases' own machines; the strides are what is tested).
-    fn nc_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
-        let Ok(rd) = std::fs::read_dir(dir) else { return };
-        let mut entries: Vec<_> = rd.flatten().map(|e| e.path()).collect();
-        entries.sort();
-        for p in entries {
-            if p.is_dir() {
-                nc_files(&p, out);
-            } else if p.extension().is_some_and(|e| e == "nc" || e == "ngc") {
-                out.push(p);
-            }
-        }
-    }
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut files = Vec::new();
-    nc_files(&root.join("programs"), &mut files);
-    nc_files(&root.join("tests/cases"), &mut files);
-    files.push(root.join("tests/fixtures/hostile/g71_profile_run_first_drags_the_holder.nc"));
+    let files = repository_programs(&["g71_profile_run_first_drags_the_holder.nc"]);
     assert!(files.len() > 100, "{}", files.len());
     let mut strides = 0;
     let mut misses = Vec::new();
@@ -191,24 +248,10 @@ fn strides_in_contact_step_over_no_separation_on_any_program_or_case() {
 /// (`tests/hostile_check.rs`, its pair tests a move).
 #[test]
 fn contact_boundaries_lie_where_plain_bisection_puts_them() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut files = Vec::new();
-    for dir in ["programs", "tests/cases"] {
-        let mut stack = vec![root.join(dir)];
-        while let Some(d) = stack.pop() {
-            for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
-                let p = e.path();
-                if p.is_dir() {
-                    stack.push(p);
-                } else if p.extension().is_some_and(|e| e == "nc" || e == "ngc") {
-                    files.push(p);
-                }
-            }
-        }
-    }
-    files.sort();
-    files.push(root.join("tests/fixtures/hostile/g71_profile_run_first_drags_the_holder.nc"));
-    files.push(root.join("tests/fixtures/hostile/holder_buried_back_and_forth.nc"));
+    let files = repository_programs(&[
+        "g71_profile_run_first_drags_the_holder.nc",
+        "holder_buried_back_and_forth.nc",
+    ]);
     let (mut boundaries, mut far) = (0usize, Vec::new());
     for f in &files {
         let src = std::fs::read_to_string(f).unwrap_or_default();
