@@ -745,7 +745,10 @@ impl Checker<'_> {
             // deepest probe.
             let advance = match res {
                 Err(gap) if open.is_none() => gap.max(step),
-                Ok(d) => (0.5 * d.min(GAP_WINDOW)).max(step),
+                // Half a depth no longer than the tolerance but for rounding is the tolerance
+                // (no stride to prove: see `contact_stride`).
+                Ok(d) if 0.5 * d.min(GAP_WINDOW) <= step * (1.0 + 1e-9) => step,
+                Ok(d) => 0.5 * d.min(GAP_WINDOW),
                 _ => step,
             };
             // Clear past where the rest of the span was proven clear: nothing is left to find.
@@ -845,6 +848,11 @@ impl Checker<'_> {
             prev_u = u;
             prev_gap = res.err().unwrap_or(f64::NAN);
             u = (u + advance / len).min(b);
+            // In contact, and the step would pass where the contact is known to have ended: the
+            // next probe is there instead (a shorter step), the boundary's clear end.
+            if res.is_ok() && open.is_some() && prev_u < ends_by && ends_by < u {
+                u = ends_by;
+            }
         }
         if let Some(mut iv) = open {
             iv.t1 = piece.time(b);
