@@ -937,6 +937,8 @@ impl Checker<'_> {
     /// when it is clear, its gap is what a probe there gives, and is kept for the measure that
     /// follows); the hull of the poses against the stock at the start, whose depth bounds every
     /// pose's; the region every pose holds against the stock at the end (contact throughout).
+    /// Right after a move of the pair proven so, two: the held region (which holds the end's
+    /// contact too) and the hull.
     /// Contact throughout is what the measure's probes would find everywhere (no separation, so
     /// one contact from the start to the end), and no pose deeper than the hull, so no probe nor
     /// search deeper than `floor`: the facts the measure would give.
@@ -949,17 +951,28 @@ impl Checker<'_> {
             return None;
         }
         let (pose_a, d) = self.stretch_motion(p, o, piece, active, (0.0, 1.0))?;
-        if self.touches_at(p, o, piece, 1.0, active).is_err() {
+        // After a move proven so, the region held throughout first: it proves the end in
+        // contact too, and only the move where the contact ends pays for it. Else the end
+        // first: where the contact ends in this move, its gap serves the measure.
+        let index = self.move_index;
+        let after_buried = self.buried == Some((p, o, active, index.wrapping_sub(1)));
+        self.stats.pair_tests += 2;
+        if after_buried {
+            if !self.held_throughout(&pose_a, d, 1.0) {
+                return None;
+            }
+        } else if self.touches_at(p, o, piece, 1.0, active).is_err() {
             return None;
         }
-        self.stats.pair_tests += 2;
         let bound = self.hull_depth(&stretch_hull(&pose_a, d), 0.0);
-        let proven = bound <= floor && self.held_throughout(&pose_a, d, 1.0);
-        #[cfg(test)]
-        if proven {
-            shortcuts::taken(false);
+        let proven = bound <= floor && (after_buried || self.held_throughout(&pose_a, d, 1.0));
+        if !proven {
+            return None;
         }
-        proven.then_some(bound)
+        #[cfg(test)]
+        shortcuts::taken(false);
+        self.buried = Some((p, o, active, index));
+        Some(bound)
     }
 
     /// [`Self::stretch_proven`] of the stretch `[u, to]`; for one in contact, the probe at `to`

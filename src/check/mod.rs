@@ -156,6 +156,10 @@ struct Checker<'a> {
     /// [`exact::ProbeKey`]), newest first: a move in contact at its end is probed at the same
     /// pose when the next move starts.
     last_probes: [Option<(exact::ProbeKey, Result<f64, f64>)>; 2],
+    /// The pair (part, obstacle, station) and move index of the last move proven buried no
+    /// deeper than its contact already was (`Checker::buried_no_deeper`): the next move of that
+    /// pair is likely buried too, and is tried in the order that costs least when it is.
+    buried: Option<(Part, Obstacle, u32, usize)>,
     /// Moves whose check ran out of its work budget: (line, message).
     budget: Vec<(u32, String)>,
     /// Moves step mode checked as exact mode does because they had too many samples.
@@ -358,6 +362,7 @@ fn checker<'a>(machine: &'a Machine, settings: &Settings, three: bool) -> Checke
         last_cut: None,
         contact_moves: Vec::new(),
         last_probes: [None; 2],
+        buried: None,
         long_moves: false,
         tailstock_in: machine.tailstock_advanced,
         three: machine.kinematics.as_ref().filter(|_| three).map(|k| {
