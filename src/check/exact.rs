@@ -497,6 +497,7 @@ impl Checker<'_> {
         self.last_probes[0] = Some((k, res));
     }
 
+    /// [`Self::probe`] made now, with its queries.
     fn probe_now(&mut self, p: Part, o: Obstacle, piece: &Piece, u: f64, active: u32) -> Result<f64, f64> {
         let Some((poly, in_plane)) = self.posed_at(p, piece, u, active) else {
             return Err(f64::INFINITY);
