@@ -375,7 +375,7 @@ impl CylGrid {
         }
         // The largest radius of the columns the clipped ray spans (a few: a ray across the axis)
         // or the bound of all of them (a ray along it).
-        let col = |t: f64| ((o.z + t * u.z - self.z0) / self.dz).floor();
+        let col = |t: f64| super::floor((o.z + t * u.z - self.z0) / self.dz);
         let (c0, c1) = (col(lo).min(col(hi)) - 1.0, col(lo).max(col(hi)) + 1.0);
         let r = if c1 - c0 <= 64.0 && c0.is_finite() && c1.is_finite() {
             let (j0, j1) = (
@@ -471,7 +471,7 @@ impl CylGrid {
 
     /// Whether the point is material by this grid (the node of its cell in θ and z).
     pub fn contains(&self, p: Vector3<f64>) -> bool {
-        let j = ((p.z - self.z0) / self.dz).floor();
+        let j = super::floor((p.z - self.z0) / self.dz);
         if !(0.0..self.nz as f64).contains(&j) {
             return false;
         }
@@ -481,7 +481,7 @@ impl CylGrid {
         if rho2 < ri * ri || rho2 > self.col_max[j] * self.col_max[j] {
             return false;
         }
-        let i = ((angle(p.x, p.y) / std::f64::consts::TAU * self.nth as f64).floor() as usize).min(self.nth - 1);
+        let i = (super::floor(angle(p.x, p.y) / std::f64::consts::TAU * self.nth as f64) as usize).min(self.nth - 1);
         let r = self.radius(i, j);
         rho2 <= r * r
     }

@@ -316,7 +316,7 @@ impl FaceGrid {
     pub fn contains(&self, p: Vector3<f64>) -> bool {
         let w = p - self.origin;
         let (u, v, t) = (w.dot(&self.eu), w.dot(&self.ev), w.dot(&self.n));
-        let (i, j) = ((u / self.du).floor(), (v / self.dv).floor());
+        let (i, j) = (super::floor(u / self.du), super::floor(v / self.dv));
         if !(0.0..self.nu as f64).contains(&i) || !(0.0..self.nv as f64).contains(&j) {
             // Outside the face: this grid takes nothing there.
             return t >= 0.0;
@@ -339,7 +339,7 @@ impl FaceGrid {
 /// each side (rounding never leaves one out).
 pub(crate) fn samples_within(a: f64, b: f64, n: usize, lo: f64, hi: f64) -> std::ops::Range<usize> {
     let per = n as f64 / (b - a).max(f64::MIN_POSITIVE);
-    let first = ((lo - a) * per - 0.5).floor() - 1.0;
+    let first = super::floor((lo - a) * per - 0.5) - 1.0;
     let end = ((hi - a) * per - 0.5).ceil() + 2.0;
     let clamp = |x: f64, or: usize| {
         if x.is_finite() {
