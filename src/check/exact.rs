@@ -355,7 +355,7 @@ impl Checker<'_> {
                 // The depth the contact going on from the previous move has reached: a first
                 // piece buried no deeper than that all along adds nothing to measure.
                 let floor = match self.episodes.max_depth(k) {
-                    Some(d) if open_at_start && i == 0 && pieces.len() == 1 => d,
+                    Some(d) if open_at_start && pieces.len() == 1 => d,
                     _ => 0.0,
                 };
                 self.advanced(p, o, piece, active, measure, (sure, floor), &mut found);
