@@ -599,6 +599,15 @@ impl Query<'_> {
     /// How many rays of the walk meet the box's material, counting no further than `cap` (past
     /// it, `cap + 1`).
     fn count_walk(&self, w: &Walk, cap: usize) -> usize {
+        if let Walk::Cyl {
+            j0,
+            j1,
+            reach,
+            ref dirs,
+        } = *w
+        {
+            return self.count_cyl(j0, j1, reach, dirs, cap);
+        }
         let mut n = 0;
         if let Walk::Face { k, i0, i1, j0, j1, n1 } = *w {
             // Row by row, each node decided by the row's lines where they can tell
@@ -627,6 +636,39 @@ impl Query<'_> {
             n += 1;
             n <= cap
         });
+        n
+    }
+
+    /// [`Query::count_walk`] of the cylindrical grid's walk: [`Query::cyl_ray`]'s tests, column
+    /// by column, those that hang on the column alone (its height, inner radius and nodes) taken
+    /// once for all its angles, and the angles whose direction misses the box's x and y slabs
+    /// left out beforehand. The same comparisons of the same numbers, so the same count; the cap
+    /// is looked at once a column.
+    fn count_cyl(&self, j0: usize, j1: usize, reach: f64, dirs: &[Dir], cap: usize) -> usize {
+        let Some(c) = self.stock.cyl.as_ref() else {
+            return 0;
+        };
+        let across: Vec<(usize, f64, f64)> = dirs
+            .iter()
+            .filter_map(|d| d.across.map(|(a0, a1)| (d.i, a0, a1)))
+            .collect();
+        let mut n = 0;
+        for j in j0..=j1 {
+            let z = c.z(j);
+            if z < self.min.z || z > self.max.z || !self.column_live(j, reach) {
+                continue;
+            }
+            let inner = c.inner[j];
+            let floor = inner.max(reach);
+            let meets = |r: f64, a0: f64, a1: f64| if r <= floor { false } else { r.min(a1) > inner.max(a0) };
+            n += match c.column_nodes(j) {
+                Ok(nodes) => across.iter().filter(|&&(i, a0, a1)| meets(nodes[i], a0, a1)).count(),
+                Err(r) => across.iter().filter(|&&(_, a0, a1)| meets(r, a0, a1)).count(),
+            };
+            if n > cap {
+                return cap + 1;
+            }
+        }
         n
     }
 
@@ -1498,10 +1540,22 @@ mod tests {
     /// A walk's count (a face grid's by rows of lines, [`RowLines`]) is the number of rays `each`
     /// visits, capped alike: every grid of a milled bar (a flat, a radial hole at 45°, a face
     /// pocket), against random boxes, with and without a dexel stock turned down under them
-    /// (columns with no material).
+    /// (columns with no material); and a bored bar with a flat milled on it (inner radii, and
+    /// columns of uniform nodes beside columns a cut wrote).
     #[test]
     fn a_walks_count_is_the_number_of_rays_it_visits() {
-        let s = holed_bar();
+        let mut bored =
+            Stock::turned(0.0, 60.0, 20.0, 0.1, |z| Some((if z > 20.0 { 9.0 } else { 0.0 }, 20.0))).unwrap();
+        let c = Cutter::new(CutterKind::Flat, 16.0, 30.0).unwrap();
+        let (p0, p1) = (Vector3::new(16.0, -30.0, 40.0), Vector3::new(16.0, 30.0, 40.0));
+        assert!(bored.cut(&Sweep::new(&c, Vector3::x(), p0, p1, 0.1).unwrap()) > 0.0);
+        let kinds = walks_count_their_rays(&holed_bar());
+        assert!(kinds.len() >= 3, "{kinds:?}");
+        assert!(walks_count_their_rays(&bored).contains("Cyl"));
+    }
+
+    /// The kinds of walk that visited a ray.
+    fn walks_count_their_rays(s: &Stock) -> std::collections::BTreeSet<String> {
         let mut dexel = DexelStock::new(40.0, 0.0, 60.0, 60.0, 0.05);
         let groove = [(0.0, 20.0), (25.0, 20.0), (25.0, 40.0), (0.0, 40.0)];
         dexel.cut(&groove.map(|(x, z)| crate::geom::p2(x, z)));
@@ -1511,12 +1565,12 @@ mod tests {
             let c = Vector3::new(40.0 * rnd() - 20.0, 40.0 * rnd() - 20.0, 70.0 * rnd() - 5.0);
             let h = Vector3::new(0.2 + 10.0 * rnd(), 0.2 + 10.0 * rnd(), 0.2 + 10.0 * rnd());
             let q = Query {
-                stock: &s,
+                stock: s,
                 dexel: (case % 2 == 1).then_some(&dexel),
                 min: c - h,
                 max: c + h,
             };
-            for r in walks(&s, &q.min, &q.max).1 {
+            for r in walks(s, &q.min, &q.max).1 {
                 let w = q.walk(r);
                 let mut every = 0;
                 q.each(&w, |_, _| {
@@ -1535,7 +1589,7 @@ mod tests {
                 }
             }
         }
-        assert!(kinds.len() >= 3, "{kinds:?}");
+        kinds
     }
 
     proptest::proptest! {

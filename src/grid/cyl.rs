@@ -113,6 +113,16 @@ impl CylGrid {
         }
     }
 
+    /// Column `j`'s `R` per node (θ fastest) when a cut has reached it (`Ok`), else the one `R`
+    /// all its nodes hold (`Err`).
+    pub(crate) fn column_nodes(&self, j: usize) -> Result<&[f64], f64> {
+        if self.ready[j] {
+            Ok(&self.r[j * self.nth..(j + 1) * self.nth])
+        } else {
+            Err(self.uniform[j])
+        }
+    }
+
     /// Whether columns `a` and `b` hold the same `R` at every node.
     pub(crate) fn same_nodes(&self, a: usize, b: usize) -> bool {
         match (self.ready[a], self.ready[b]) {
