@@ -23,7 +23,7 @@ use std::sync::OnceLock;
 
 use parry3d_f64::math::{Matrix, Pose, Vector};
 use parry3d_f64::query::{Contact, DefaultQueryDispatcher, QueryDispatcher};
-use parry3d_f64::shape::{Shape, TriMesh};
+use parry3d_f64::shape::{Shape, TriMesh, Triangle};
 
 /// A node of a mesh's tree: its box (centre, half extents; own frame) and either two children
 /// (`kids`, `kids + 1`) or one triangle.
@@ -309,6 +309,34 @@ fn crossing_bound_below(a: &[Vector; 3], b: &[Vector; 3], below: f64) -> f64 {
     bound
 }
 
+thread_local! {
+    /// The EPA of this thread's triangle contacts, kept between them for its buffers (every
+    /// query starts by clearing them).
+    static EPA: std::cell::RefCell<parry3d_f64::query::epa::EPA> = Default::default();
+}
+
+/// parry's contact between two triangles at prediction 0 (`b` posed at `pos12` in `a`'s frame)
+/// as its query dispatcher answers it: GJK from the direction between the frames, and EPA when
+/// the triangles cross. The same steps on the same numbers, so the same contact; only the EPA's
+/// buffers are kept from one query to the next, where the dispatcher allocates them afresh for
+/// every pair that crosses.
+fn triangle_contact(pos12: &Pose, a: &Triangle, b: &Triangle) -> Option<Contact> {
+    use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
+    let dir = pos12.translation.try_normalize().unwrap_or(Vector::X);
+    let mut simplex = VoronoiSimplex::new();
+    simplex.reset(CsoPoint::from_shapes(pos12, a, b, dir));
+    let found = match gjk::closest_points(pos12, a, b, 0.0, true, &mut simplex) {
+        GJKResult::Intersection => EPA.with_borrow_mut(|epa| epa.closest_points(pos12, a, b, &simplex)),
+        GJKResult::ClosestPoints(p1, p2, n) => Some((p1, p2, n)),
+        _ => None,
+    };
+    let (point1, point2_1, normal1) = found?;
+    let dist = (point2_1 - point1).dot(normal1);
+    let point2 = pos12.inverse_transform_point(point2_1);
+    let normal2 = pos12.rotation.inverse() * -normal1;
+    Some(Contact::new(point1, point2, normal1, normal2, dist))
+}
+
 /// EPA's depths are trusted to within this (mm) when a pair of triangles is left out for being
 /// unable to go deeper than a depth that matters.
 const DEPTH_MARGIN: f64 = 1e-6;
@@ -386,7 +414,7 @@ pub(super) fn mesh_contact(a: &TriMesh, b: &TriMesh, pa: &Pose, pb: &Pose, ask: 
         if over.min(crossing_bound_below(&va, &[tri_b.a, tri_b.b, tri_b.c], skip_below)) < skip_below {
             continue;
         }
-        let Ok(Some(c)) = DefaultQueryDispatcher.contact(&pos21, &tri_b, &tri_a, 0.0) else {
+        let Some(c) = triangle_contact(&pos21, &tri_b, &tri_a) else {
             continue;
         };
         let better = match &best {
