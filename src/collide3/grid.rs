@@ -480,7 +480,7 @@ impl Query<'_> {
             }
             let (x0, x1) = ((-reach - alpha) / beta, (reach - alpha) / beta);
             lo = lo.max(x0.min(x1).floor() - 1.0);
-            hi = hi.min(x0.max(x1).ceil() + 1.0);
+            hi = hi.min(crate::grid::ceil(x0.max(x1)) + 1.0);
             if lo > hi {
                 return None;
             }
@@ -1032,7 +1032,7 @@ impl<'a> At<'a> {
                     // Runs of material by the other grids, sampled at the stock's tolerance: only
                     // within the cylindrical grid's reach when it is sampled (outside it no sample
                     // is material, so the runs are every sample's).
-                    let n = (((b - a) / step).ceil() as usize).clamp(1, 4096);
+                    let n = (crate::grid::ceil((b - a) / step) as usize).clamp(1, 4096);
                     let dt = (b - a) / n as f64;
                     let (mut k, n) = match (sample_cyl, stock.cyl.as_ref()) {
                         (true, Some(c)) => match c.may_hold(o, u, a, b) {

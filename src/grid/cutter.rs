@@ -272,8 +272,13 @@ impl Sweep {
 
     /// The interval of `t ∈ [t0, t1]` where the ray `o + t·u` is inside the swept solid.
     pub fn ray(&self, o: Vector3<f64>, u: Vector3<f64>, t0: f64, t1: f64) -> Option<(f64, f64)> {
-        let across = Across::new(o, u, self.p0, self.v, self.axis, self.across);
-        self.ray_across(&across, o, u, t0, t1)
+        self.ray_across(&self.across_of(o, u), o, u, t0, t1)
+    }
+
+    /// The ray `o + t·u` in the sweep's frame ([`Across`]): what [`Sweep::ray_across`] and
+    /// [`Sweep::exit_along_axis`] take, worked out once for both.
+    pub(crate) fn across_of(&self, o: Vector3<f64>, u: Vector3<f64>) -> Across {
+        Across::new(o, u, self.p0, self.v, self.axis, self.across)
     }
 
     /// Whether `other` is this sweep, every number bit for bit (a cut is a function of the stock
@@ -299,11 +304,11 @@ impl Sweep {
     /// For a sweep of one disc piece (a flat end mill, a tap) moved square to its axis and a ray
     /// along that axis: the `t` at which the ray leaves the sweep whenever [`Sweep::ray`] (to
     /// `t1`) says it meets it ([`Across::exit_along_axis`]); `None` for any other sweep or ray.
-    pub(crate) fn exit_along_axis(&self, o: Vector3<f64>, u: Vector3<f64>, t1: f64) -> Option<f64> {
+    pub(crate) fn exit_along_axis(&self, across: &Across, t1: f64) -> Option<f64> {
         let [Piece::Disc { h0, h1, .. }] = self.pieces.as_slice() else {
             return None;
         };
-        Across::new(o, u, self.p0, self.v, self.axis, self.across).exit_along_axis((*h0, *h1), t1)
+        across.exit_along_axis((*h0, *h1), t1)
     }
 
     /// Whether the cutter is one disc piece (a flat end mill, a tap): the sweeps whose rays
@@ -341,7 +346,15 @@ impl Sweep {
         (answer, true)
     }
 
-    fn ray_across(&self, across: &Across, o: Vector3<f64>, u: Vector3<f64>, t0: f64, t1: f64) -> Option<(f64, f64)> {
+    /// [`Sweep::ray`] of the ray whose [`Sweep::across_of`] is `across`.
+    pub(crate) fn ray_across(
+        &self,
+        across: &Across,
+        o: Vector3<f64>,
+        u: Vector3<f64>,
+        t0: f64,
+        t1: f64,
+    ) -> Option<(f64, f64)> {
         let mut lo = f64::INFINITY;
         let mut hi = f64::NEG_INFINITY;
         // A stacked end (more pieces than a shank and an end) lies inside the cutter's

@@ -272,11 +272,12 @@ impl FaceGrid {
                     continue;
                 }
                 let o = self.node(i, j);
-                if known_exits && sw.exit_along_axis(o, self.n, self.thickness).is_some_and(|t| t <= d) {
+                let across = sw.across_of(o, self.n);
+                if known_exits && sw.exit_along_axis(&across, self.thickness).is_some_and(|t| t <= d) {
                     continue;
                 }
                 self.rays += 1;
-                let Some((t_in, t_out)) = sw.ray(o, self.n, lo[2].max(0.0), self.thickness) else {
+                let Some((t_in, t_out)) = sw.ray_across(&across, o, self.n, lo[2].max(0.0), self.thickness) else {
                     continue;
                 };
                 if t_out <= d {
@@ -340,7 +341,7 @@ impl FaceGrid {
 pub(crate) fn samples_within(a: f64, b: f64, n: usize, lo: f64, hi: f64) -> std::ops::Range<usize> {
     let per = n as f64 / (b - a).max(f64::MIN_POSITIVE);
     let first = super::floor((lo - a) * per - 0.5) - 1.0;
-    let end = ((hi - a) * per - 0.5).ceil() + 2.0;
+    let end = super::ceil((hi - a) * per - 0.5) + 2.0;
     let clamp = |x: f64, or: usize| {
         if x.is_finite() {
             x.clamp(0.0, n as f64) as usize
@@ -373,7 +374,7 @@ pub(crate) fn air_along(
     air: &dyn Fn(Vector3<f64>) -> bool,
     span: Span<'_>,
 ) -> bool {
-    let n = ((b - a) / step.max(1e-6)).ceil();
+    let n = super::ceil((b - a) / step.max(1e-6));
     if !(n.is_finite() && n <= 4096.0) {
         return false;
     }

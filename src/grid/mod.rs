@@ -61,6 +61,14 @@ pub(crate) fn floor(x: f64) -> f64 {
     }
 }
 
+/// `x.ceil()`, bit for bit, without a call ([`floor`]): the ceiling is minus the floor of minus
+/// the argument, both exact operations, the signed zeros included (`ceil(-0.5)` is `-0.0`, minus
+/// `floor(0.5)`).
+#[inline(always)]
+pub(crate) fn ceil(x: f64) -> f64 {
+    -floor(-x)
+}
+
 /// A stock that could not be built.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GridError(pub String);

@@ -1053,19 +1053,20 @@ fn a_turned_parts_face_starts_at_the_frontmost_column_holding_each_radius() {
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig::with_cases(20_000))]
 
-    /// The grids' inline floor is `f64::floor` bit for bit: any bit pattern (NaNs, infinities,
+    /// The grids' inline floor and ceiling are `f64::floor` and `f64::ceil` bit for bit: any bit pattern (NaNs, infinities,
     /// subnormals, signed zeros, whole numbers past 2^52), and values within a few units of
     /// rounding of a whole number, where truncation and flooring part.
     #[test]
-    fn the_inline_floor_is_f64_floor_bit_for_bit(bits in proptest::prelude::any::<u64>(), k in -1e6f64..1e6, ulps in -4i64..=4) {
+    fn the_inline_floor_and_ceil_are_f64s_bit_for_bit(bits in proptest::prelude::any::<u64>(), k in -1e6f64..1e6, ulps in -4i64..=4) {
         let x = f64::from_bits(bits);
         let y = f64::from_bits((k.round().to_bits() as i64 + ulps) as u64);
         for v in [x, y, -y, x / 1e300, k] {
-            let (fast, slow) = (super::floor(v), v.floor());
-            proptest::prop_assert!(
-                fast.to_bits() == slow.to_bits() || (fast.is_nan() && slow.is_nan()),
-                "{v:e}: {fast:e} against {slow:e}"
-            );
+            for (fast, slow) in [(super::floor(v), v.floor()), (super::ceil(v), v.ceil())] {
+                proptest::prop_assert!(
+                    fast.to_bits() == slow.to_bits() || (fast.is_nan() && slow.is_nan()),
+                    "{v:e}: {fast:e} against {slow:e}"
+                );
+            }
         }
     }
 }
