@@ -169,13 +169,24 @@ fn box_depth_bound(min: &Vector3<f64>, max: &Vector3<f64>, o: Vector3<f64>, u: V
     }
     let at = |t: f64| lines.iter().fold(f64::INFINITY, |m, &(c, s)| m.min(c + s * t));
     let mut best = at(lo).max(at(hi));
-    for &(c1, s1) in &lines {
-        for &(c2, s2) in &lines {
-            if s1 > 0.0 && s2 < 0.0 {
-                let t = (c2 - c1) / (s1 - s2);
-                if t > lo && t < hi {
-                    best = best.max(at(t));
-                }
+    // The rising lines and the falling ones (at most three of each: an axis's two faces have
+    // opposite slopes), so that only the pairs of one of each are looked at.
+    let (mut rising, mut falling) = ([(0.0, 0.0); 3], [(0.0, 0.0); 3]);
+    let (mut nr, mut nf) = (0, 0);
+    for &(c, s) in &lines {
+        if s > 0.0 {
+            rising[nr] = (c, s);
+            nr += 1;
+        } else if s < 0.0 {
+            falling[nf] = (c, s);
+            nf += 1;
+        }
+    }
+    for &(c1, s1) in &rising[..nr] {
+        for &(c2, s2) in &falling[..nf] {
+            let t = (c2 - c1) / (s1 - s2);
+            if t > lo && t < hi {
+                best = best.max(at(t));
             }
         }
     }
@@ -1535,6 +1546,77 @@ mod tests {
             some > 1000 && decided > 10 * asked,
             "{decided} decided, {asked} asked, {some} rays"
         );
+    }
+
+    /// The box's depth bound along a segment is the one that looks at every pair of faces (a
+    /// rising and a falling one cross), bit for bit, and no point of the segment sampled lies
+    /// deeper in the box: random boxes and segments, some of them along an axis or in a plane
+    /// of two (slopes of zero, and of minus zero).
+    #[test]
+    fn the_box_depth_bound_pairs_only_rising_and_falling_faces() {
+        fn every_pair(
+            min: &Vector3<f64>,
+            max: &Vector3<f64>,
+            o: Vector3<f64>,
+            u: Vector3<f64>,
+            lo: f64,
+            hi: f64,
+        ) -> f64 {
+            let mut lines = [(0.0, 0.0); 6];
+            let mut scale = 1.0f64;
+            for k in 0..3 {
+                lines[2 * k] = (o[k] - min[k], u[k]);
+                lines[2 * k + 1] = (max[k] - o[k], -u[k]);
+                scale = scale.max(min[k].abs()).max(max[k].abs());
+            }
+            let at = |t: f64| lines.iter().fold(f64::INFINITY, |m, &(c, s)| m.min(c + s * t));
+            let mut best = at(lo).max(at(hi));
+            for &(c1, s1) in &lines {
+                for &(c2, s2) in &lines {
+                    if s1 > 0.0 && s2 < 0.0 {
+                        let t = (c2 - c1) / (s1 - s2);
+                        if t > lo && t < hi {
+                            best = best.max(at(t));
+                        }
+                    }
+                }
+            }
+            best + 1e-9 * (scale + lo.abs() + hi.abs())
+        }
+        let mut rnd = crate::test_util::unit_random(31u64);
+        let mut crossings = 0;
+        for case in 0..4000 {
+            let c = Vector3::new(100.0 * rnd() - 50.0, 100.0 * rnd() - 50.0, 100.0 * rnd() - 50.0);
+            let h = Vector3::new(0.1 + 20.0 * rnd(), 0.1 + 20.0 * rnd(), 0.1 + 20.0 * rnd());
+            let (min, max) = (c - h, c + h);
+            let o = c + Vector3::new(60.0 * rnd() - 30.0, 60.0 * rnd() - 30.0, 60.0 * rnd() - 30.0);
+            let mut u = Vector3::new(2.0 * rnd() - 1.0, 2.0 * rnd() - 1.0, 2.0 * rnd() - 1.0);
+            for k in 0..3 {
+                match (case + k) % 5 {
+                    0 => u[k] = 0.0,
+                    1 if case % 3 == 0 => u[k] = -0.0,
+                    _ => {}
+                }
+            }
+            let (lo, hi) = (-40.0 * rnd(), 40.0 * rnd());
+            let bound = box_depth_bound(&min, &max, o, u, lo, hi);
+            assert_eq!(
+                bound.to_bits(),
+                every_pair(&min, &max, o, u, lo, hi).to_bits(),
+                "case {case}"
+            );
+            let depth = |p: Vector3<f64>| {
+                (0..3)
+                    .map(|k| (p[k] - min[k]).min(max[k] - p[k]))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            for s in 0..=200 {
+                let t = lo + (hi - lo) * s as f64 / 200.0;
+                assert!(depth(o + t * u) <= bound, "case {case}, t {t}");
+            }
+            crossings += usize::from(bound > depth(o + lo * u).max(depth(o + hi * u)) + 1e-6);
+        }
+        assert!(crossings > 500, "{crossings} segments deepest inside");
     }
 
     /// A walk's count (a face grid's by rows of lines, [`RowLines`]) is the number of rays `each`
