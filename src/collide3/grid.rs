@@ -336,7 +336,9 @@ impl RowLines {
     }
 
     /// Whether [`Query::face_ray`] of node `i` (its depth `d`) is `Some`; `None` when the lines
-    /// cannot tell.
+    /// cannot tell. (The count takes its tests apart, [`RowLines::flat_spans`] and
+    /// [`RowLines::decide_crossed`]; this is their oracle.)
+    #[cfg(test)]
     fn decide(&self, i: usize, d: f64) -> Option<bool> {
         if d >= self.reach {
             return Some(false);
@@ -350,6 +352,43 @@ impl RowLines {
             }
             sure &= at >= lo + self.err_o && at <= hi - self.err_o;
         }
+        self.decide_crossed(i, d, sure)
+    }
+
+    /// Of the nodes `a..=b`, those no flat rules out ([`RowLines::decide`]'s test of the node's
+    /// place), and of those the ones every flat is sure of; `None`: no node is left. Each test
+    /// is a comparison of `o + s·i` with a fixed number, and that expression, rounded, never
+    /// falls as `i` grows when `s ≥ 0` (nor rises when `s ≤ 0`): a product and a sum round
+    /// monotonically. So each test holds on a prefix or a suffix of the nodes, found by halving
+    /// with the very expression `decide` computes: the same answer for every node. A flat whose
+    /// numbers are not finite leaves every node to the per-node tests (none sure).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    fn flat_spans(&self, a: usize, b: usize) -> Option<((usize, usize), Option<(usize, usize)>)> {
+        let (mut live, mut sure) = (Some((a, b)), Some((a, b)));
+        for &(o, s, lo, hi) in &self.flats[..self.flat] {
+            if !(o.is_finite() && s.is_finite()) {
+                return Some(((a, b), None));
+            }
+            let at = |i: usize| o + s * i as f64;
+            let e = self.err_o;
+            live = live
+                .and_then(|span| true_span(span, |i| !(at(i) < lo - e)))
+                .and_then(|span| true_span(span, |i| !(at(i) > hi + e)));
+            sure = sure
+                .and_then(|span| true_span(span, |i| at(i) >= lo + e))
+                .and_then(|span| true_span(span, |i| at(i) <= hi - e));
+        }
+        let (a, b) = live?;
+        Some(((a, b), sure.filter(|&(c, d)| c.max(a) <= d.min(b))))
+    }
+
+    /// [`RowLines::decide`] once the node's place is known in the box's flat slabs (`sure`:
+    /// inside each by more than the allowance).
+    fn decide_crossed(&self, i: usize, d: f64, sure: bool) -> Option<bool> {
+        if d >= self.reach {
+            return Some(false);
+        }
+        let x = i as f64;
         let (mut t0, mut t1) = (d, self.thickness);
         for &(a, b, s) in &self.lines[..self.crossed] {
             t0 = t0.max(a + s * x);
@@ -629,9 +668,15 @@ impl Query<'_> {
                     continue;
                 };
                 let lines = RowLines::new(self, k, j, n1);
+                // The nodes the flats rule out are none of the count; of the others, those
+                // every flat is sure of need only the crossed axes' tests.
+                let Some(((ra, rb), sure)) = lines.flat_spans(ra, rb) else {
+                    continue;
+                };
+                let (sa, sb) = sure.unwrap_or((1, 0));
                 let row = &g.d[j * g.nu..(j + 1) * g.nu];
                 for (i, &d) in row.iter().enumerate().take(rb + 1).skip(ra) {
-                    let some = match lines.decide(i, d) {
+                    let some = match lines.decide_crossed(i, d, sa <= i && i <= sb) {
                         Some(b) => b,
                         None => self.face_ray(k, i, j, n1).is_some(),
                     };
@@ -694,6 +739,28 @@ impl Query<'_> {
     fn fewest(&self, options: &[Rays]) -> Option<(Rays, usize, Walk)> {
         let walks = options.iter().map(|&r| self.walk(r)).collect();
         fewest_of(walks, Walk::len, |w, cap| self.count_walk(w, cap)).map(|(i, n, w)| (options[i], n, w))
+    }
+}
+
+/// Of the indices `a..=b`, the span where `p` holds, `p` holding on a prefix or a suffix of them
+/// (`None`: nowhere): its ends looked at, and the change between them found by halving.
+fn true_span((a, b): (usize, usize), p: impl Fn(usize) -> bool) -> Option<(usize, usize)> {
+    match (p(a), p(b)) {
+        (true, true) => Some((a, b)),
+        (false, false) => None,
+        // Between `lo` (where `p` is as at `a`) and `hi` (as at `b`), the last of the first kind.
+        (first, _) => {
+            let (mut lo, mut hi) = (a, b);
+            while hi - lo > 1 {
+                let m = lo + (hi - lo) / 2;
+                if p(m) == first {
+                    lo = m;
+                } else {
+                    hi = m;
+                }
+            }
+            Some(if first { (a, lo) } else { (hi, b) })
+        }
     }
 }
 
@@ -1520,9 +1587,19 @@ mod tests {
                     continue;
                 };
                 let lines = RowLines::new(&q, k, j, n1);
+                let spans = lines.flat_spans(ra, rb);
                 for i in ra..=rb {
                     let ray = q.face_ray(k, i, j, n1).is_some();
                     some += usize::from(ray);
+                    // The flats' spans and the crossed axes' tests decide as `decide` does.
+                    let apart = match spans {
+                        Some(((a, b), sure)) if (a..=b).contains(&i) => {
+                            let sure = sure.is_some_and(|(c, d)| (c..=d).contains(&i));
+                            lines.decide_crossed(i, g.depth(i, j), sure)
+                        }
+                        _ => Some(false),
+                    };
+                    assert_eq!(apart, lines.decide(i, g.depth(i, j)), "node ({i}, {j}) of grid {k}");
                     match lines.decide(i, g.depth(i, j)) {
                         Some(b) => {
                             assert_eq!(b, ray, "node ({i}, {j}) of grid {k}, box {min:?} {max:?}");
@@ -1546,6 +1623,28 @@ mod tests {
             some > 1000 && decided > 10 * asked,
             "{decided} decided, {asked} asked, {some} rays"
         );
+    }
+
+    /// The span where a predicate true on a prefix or a suffix holds is the one looking at
+    /// every index gives: every range and every place of the change, both ways round.
+    #[test]
+    fn a_true_span_is_where_the_predicate_holds() {
+        for a in 0..6usize {
+            for b in a..a + 12 {
+                for cut in a.saturating_sub(1)..=b + 1 {
+                    for prefix in [true, false] {
+                        let p = |i: usize| (i < cut) == prefix;
+                        let held: Vec<usize> = (a..=b).filter(|&i| p(i)).collect();
+                        let want = held.first().map(|&f| (f, *held.last().unwrap()));
+                        assert_eq!(
+                            true_span((a, b), p),
+                            want,
+                            "{a}..={b}, change at {cut}, prefix {prefix}"
+                        );
+                    }
+                }
+            }
+        }
     }
 
     /// The box's depth bound along a segment is the one that looks at every pair of faces (a
