@@ -362,8 +362,9 @@ pub(crate) fn anywhere(_: Vector3<f64>, _: Vector3<f64>, a: f64, b: f64) -> Opti
 }
 
 /// Whether the ray `o + t·u` is air by `air` over `[a, b)`, sampled every `step` (at most 4096
-/// samples: past them, not air). Only the samples within `span`'s part of the ray are asked: the
-/// others are air by it, so the answer is every sample's.
+/// samples: past them, not air). The middle sample is asked first, then only the samples within
+/// `span`'s part of the ray: the others are air by it, so the answer is every sample's. No
+/// sample is asked twice.
 #[inline]
 pub(crate) fn air_along(
     o: Vector3<f64>,
@@ -379,6 +380,13 @@ pub(crate) fn air_along(
         return false;
     }
     let n = n.max(1.0) as usize;
+    let sample = |k: usize| air(o + (a + (b - a) * (k as f64 + 0.5) / n as f64) * u);
+    // The middle sample first, before the span is worked out: a stretch through the bar is
+    // most often material there, and a sample that is material answers for all of them. (One
+    // outside the span is air by it, so asking it changes nothing.)
+    if !sample(n / 2) {
+        return false;
+    }
     let Some((lo, hi)) = span(o, u, a, b) else {
         return true;
     };
@@ -387,7 +395,8 @@ pub(crate) fn air_along(
         return true;
     }
     let (first, m) = (within.start, within.len());
-    let at = |k: usize| air(o + (a + (b - a) * ((first + k) as f64 + 0.5) / n as f64) * u);
+    // The middle is known air now: not asked again.
+    let at = |k: usize| first + k == n / 2 || sample(first + k);
     // Every sample must be air, so the order does not change the answer, only how soon
     // material is met: coarse to fine, so that a stretch of material of any width is met
     // after about `m / width` samples, not after every sample before it.
