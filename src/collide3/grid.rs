@@ -425,7 +425,7 @@ impl Query<'_> {
                     .into_iter()
                     .flat_map(|(a, b)| a..=b)
                     .map(|i| {
-                        let (s, co) = c.theta(i).sin_cos();
+                        let (co, s) = c.direction(i);
                         Dir::new(i, Vector3::new(co, s, 0.0), min, max)
                     })
                     .collect();

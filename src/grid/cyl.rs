@@ -49,7 +49,7 @@ pub struct CylGrid {
     memo: Vec<RayMemo>,
     /// `(cos θ_i, sin θ_i)` of the first node angles (at most `MEMO_ANGLES`), computed once as
     /// each ray of a cut computes them.
-    dirs: Vec<(f64, f64)>,
+    pub(super) dirs: Vec<(f64, f64)>,
 }
 
 impl CylGrid {
@@ -89,6 +89,18 @@ impl CylGrid {
 
     pub fn theta(&self, i: usize) -> f64 {
         (i as f64 + 0.5) * std::f64::consts::TAU / self.nth as f64
+    }
+
+    /// `(cos θ_i, sin θ_i)`: from the table the cuts keep once a cut has made it, else worked
+    /// out as the table's entries are.
+    pub(crate) fn direction(&self, i: usize) -> (f64, f64) {
+        match self.dirs.get(i) {
+            Some(&cs) => cs,
+            None => {
+                let th = self.theta(i);
+                (th.cos(), th.sin())
+            }
+        }
     }
 
     pub fn z(&self, j: usize) -> f64 {

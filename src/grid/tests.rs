@@ -1070,3 +1070,30 @@ proptest::proptest! {
         }
     }
 }
+
+/// A node angle's direction is its cosine and sine as `sin_cos` gives them, bit for bit, before
+/// a cut has made the table of them and after (the stock queries take it from there, the cuts
+/// compute it the other way round).
+#[test]
+fn a_node_angles_direction_is_its_sin_cos_with_the_table_or_without() {
+    let mut s = bar(20.0, 30.0, 0.1);
+    let same = |s: &Stock| {
+        let c = s.cyl.as_ref().unwrap();
+        (0..c.nth).all(|i| {
+            let (sin, cos) = c.theta(i).sin_cos();
+            let (x, y) = c.direction(i);
+            x.to_bits() == cos.to_bits() && y.to_bits() == sin.to_bits()
+        })
+    };
+    assert!(same(&s));
+    assert!(s.cyl.as_ref().unwrap().dirs.is_empty());
+    s.cut(&sweep(
+        &flat(16.0, 30.0),
+        [1.0, 0.0, 0.0],
+        [15.0, -30.0, 15.0],
+        [15.0, 30.0, 15.0],
+        0.1,
+    ));
+    assert!(!s.cyl.as_ref().unwrap().dirs.is_empty(), "the cut made the table");
+    assert!(same(&s));
+}
