@@ -342,6 +342,13 @@ impl Shape3 {
 
     /// The solid holds the world point (shape posed at `pose`).
     fn contains(&self, pose: &Pose, p: Vector) -> bool {
+        // A point beyond the shape's own box, by far more than rounding, is outside the solid
+        // (which the box holds): answered without projecting it onto the surface.
+        let (b, q) = (self.local_box(), pose.inverse_transform_point(p));
+        let margin = 1e-7 + 1e-12 * (b.mins.abs().max(b.maxs.abs()).max_element() + q.abs().max_element());
+        if (q.cmplt(b.mins - margin) | q.cmpgt(b.maxs + margin)).any() {
+            return false;
+        }
         let (s, pos) = self.parts(pose);
         s.contains_point(&pos, p)
     }

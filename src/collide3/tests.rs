@@ -978,3 +978,27 @@ fn triangles_beyond_the_best_by_their_shadows_are_beyond_it_by_gjk() {
     }
     assert!(fired > cases / 10 && fired < cases, "{fired} of {cases}");
 }
+
+proptest! {
+    /// A shape holds a point exactly when parry's point query says so: the box's early answer
+    /// (a point beyond the shape's own box is outside) changes none. Meshes (a sphere, a box,
+    /// revolved outlines) and primitives (a box, a cylinder), posed anyhow, against points near
+    /// their boxes' faces, inside them and beyond.
+    #[test]
+    fn a_shape_holds_a_point_as_parrys_query_says(
+        x in -3.0f64..3.0, y in -3.0f64..3.0, z in -3.0f64..3.0,
+        ax in -3.0f64..3.0, ay in -3.0f64..3.0, az in -3.0f64..3.0, kind in 0usize..7,
+        scale in 0.5f64..1.5,
+    ) {
+        let s = match kind {
+            0..=4 => pair_mesh(kind.min(3), scale),
+            5 => shape(&boxg(scale, 0.5 * scale, 2.0 * scale)),
+            _ => shape(&Geometry::Cylinder { radius: 0.8 * scale, z0: -scale, z1: 1.5 * scale }),
+        };
+        let pose = to_pose(&rot(0.3, -0.2, 0.1, ax, ay, az));
+        let b = s.local_box();
+        let p = pose * ((b.mins + b.maxs) * 0.5 + Vector::new(x, y, z) * ((b.maxs - b.mins).max_element() / 4.0));
+        let (sh, pos) = s.parts(&pose);
+        prop_assert_eq!(s.contains(&pose, p), sh.contains_point(&pos, p));
+    }
+}
