@@ -385,16 +385,37 @@ impl RowLines {
     /// [`RowLines::decide`] once the node's place is known in the box's flat slabs (`sure`:
     /// inside each by more than the allowance).
     fn decide_crossed(&self, i: usize, d: f64, sure: bool) -> Option<bool> {
+        let x = i as f64;
+        let (mut enter, mut leave) = (f64::NEG_INFINITY, self.thickness);
+        for &(a, b, s) in &self.lines[..self.crossed] {
+            enter = enter.max(a + s * x);
+            leave = leave.min(b + s * x);
+        }
+        self.decide_level(d, sure, (enter, leave))
+    }
+
+    /// The slabs' latest entry and earliest exit (the thickness among them) when they are the
+    /// same for every node of the row: every crossed axis's slope is zero (a face square to an
+    /// axis of the box), so `a + s·i` is `a` (to the sign of a zero, which no comparison, maximum
+    /// or difference here sees).
+    fn level(&self) -> Option<(f64, f64)> {
+        let lines = &self.lines[..self.crossed];
+        lines.iter().all(|&(_, _, s)| s == 0.0).then(|| {
+            lines
+                .iter()
+                .fold((f64::NEG_INFINITY, self.thickness), |(e, l), &(a, b, _)| {
+                    (e.max(a), l.min(b))
+                })
+        })
+    }
+
+    /// [`RowLines::decide_crossed`] given the slabs' latest entry and earliest exit at the node.
+    #[inline]
+    fn decide_level(&self, d: f64, sure: bool, (enter, leave): (f64, f64)) -> Option<bool> {
         if d >= self.reach {
             return Some(false);
         }
-        let x = i as f64;
-        let (mut t0, mut t1) = (d, self.thickness);
-        for &(a, b, s) in &self.lines[..self.crossed] {
-            t0 = t0.max(a + s * x);
-            t1 = t1.min(b + s * x);
-        }
-        let gap = t1 - t0;
+        let gap = leave - d.max(enter);
         if gap < -2.0 * self.err {
             Some(false)
         } else if sure && gap > 2.0 * self.err {
@@ -675,8 +696,14 @@ impl Query<'_> {
                 };
                 let (sa, sb) = sure.unwrap_or((1, 0));
                 let row = &g.d[j * g.nu..(j + 1) * g.nu];
+                let level = lines.level();
                 for (i, &d) in row.iter().enumerate().take(rb + 1).skip(ra) {
-                    let some = match lines.decide_crossed(i, d, sa <= i && i <= sb) {
+                    let sure = sa <= i && i <= sb;
+                    let decided = match level {
+                        Some(level) => lines.decide_level(d, sure, level),
+                        None => lines.decide_crossed(i, d, sure),
+                    };
+                    let some = match decided {
                         Some(b) => b,
                         None => self.face_ray(k, i, j, n1).is_some(),
                     };
@@ -1546,7 +1573,7 @@ mod tests {
         let s = holed_bar();
         assert!(s.faces.len() >= 2, "{} face grids", s.faces.len());
         let mut rnd = crate::test_util::unit_random(5u64);
-        let (mut decided, mut asked, mut some) = (0usize, 0usize, 0usize);
+        let (mut decided, mut asked, mut some, mut levels) = (0usize, 0usize, 0usize, 0usize);
         for case in 0..160 {
             let k = case % s.faces.len();
             let g = &s.faces[k];
@@ -1595,7 +1622,24 @@ mod tests {
                     let apart = match spans {
                         Some(((a, b), sure)) if (a..=b).contains(&i) => {
                             let sure = sure.is_some_and(|(c, d)| (c..=d).contains(&i));
-                            lines.decide_crossed(i, g.depth(i, j), sure)
+                            let crossed = lines.decide_crossed(i, g.depth(i, j), sure);
+                            // A row whose slabs are level is decided by its one entry and exit.
+                            // (Of any depth, not only the node's.)
+                            if let Some(level) = lines.level() {
+                                let x = i as f64;
+                                let at = lines.lines[..lines.crossed]
+                                    .iter()
+                                    .fold((f64::NEG_INFINITY, g.thickness), |(e, l), &(a, b, s)| {
+                                        (e.max(a + s * x), l.min(b + s * x))
+                                    });
+                                assert!(at.0 == level.0 && at.1 == level.1, "{at:?} against {level:?}");
+                                let t = g.thickness;
+                                for d in [g.depth(i, j), 0.0, 0.3 * t, 0.5 * t, 0.9 * t] {
+                                    assert_eq!(lines.decide_level(d, sure, level), lines.decide_crossed(i, d, sure));
+                                }
+                                levels += 1;
+                            }
+                            crossed
                         }
                         _ => Some(false),
                     };
@@ -1620,8 +1664,8 @@ mod tests {
             }
         }
         assert!(
-            some > 1000 && decided > 10 * asked,
-            "{decided} decided, {asked} asked, {some} rays"
+            some > 1000 && decided > 10 * asked && levels > 1000,
+            "{decided} decided, {asked} asked, {some} rays, {levels} nodes of level rows"
         );
     }
 
