@@ -363,7 +363,7 @@ impl RowLines {
     /// with the very expression `decide` computes: the same answer for every node. A flat whose
     /// numbers are not finite leaves every node to the per-node tests (none sure).
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    fn flat_spans(&self, a: usize, b: usize) -> Option<((usize, usize), Option<(usize, usize)>)> {
+    fn flat_spans(&self, a: usize, b: usize) -> Option<(NodeSpan, Option<NodeSpan>)> {
         let (mut live, mut sure) = (Some((a, b)), Some((a, b)));
         for &(o, s, lo, hi) in &self.flats[..self.flat] {
             if !(o.is_finite() && s.is_finite()) {
@@ -769,9 +769,12 @@ impl Query<'_> {
     }
 }
 
+/// The nodes `a..=b` of a row, as `(a, b)`.
+type NodeSpan = (usize, usize);
+
 /// Of the indices `a..=b`, the span where `p` holds, `p` holding on a prefix or a suffix of them
 /// (`None`: nowhere): its ends looked at, and the change between them found by halving.
-fn true_span((a, b): (usize, usize), p: impl Fn(usize) -> bool) -> Option<(usize, usize)> {
+fn true_span((a, b): NodeSpan, p: impl Fn(usize) -> bool) -> Option<NodeSpan> {
     match (p(a), p(b)) {
         (true, true) => Some((a, b)),
         (false, false) => None,
