@@ -159,14 +159,7 @@ fn extent(min: &Vector3<f64>, max: &Vector3<f64>, o: &Vector3<f64>, e: &Vector3<
 /// inside the box lies no deeper in the solid than in the box (a ball inside the solid is inside
 /// the box).
 fn box_depth_bound(min: &Vector3<f64>, max: &Vector3<f64>, o: Vector3<f64>, u: Vector3<f64>, lo: f64, hi: f64) -> f64 {
-    // Each face's distance as `c + s·t`.
-    let mut lines = [(0.0, 0.0); 6];
-    let mut scale = 1.0f64;
-    for k in 0..3 {
-        lines[2 * k] = (o[k] - min[k], u[k]);
-        lines[2 * k + 1] = (max[k] - o[k], -u[k]);
-        scale = scale.max(min[k].abs()).max(max[k].abs());
-    }
+    let (lines, scale) = box_face_lines(min, max, o, u);
     let at = |t: f64| lines.iter().fold(f64::INFINITY, |m, &(c, s)| m.min(c + s * t));
     let mut best = at(lo).max(at(hi));
     // The rising lines and the falling ones (at most three of each: an axis's two faces have
@@ -192,6 +185,19 @@ fn box_depth_bound(min: &Vector3<f64>, max: &Vector3<f64>, o: Vector3<f64>, u: V
     }
     // The crossings' own rounding is far below this margin.
     best + 1e-9 * (scale + lo.abs() + hi.abs())
+}
+
+/// The distance of `o + t·u` to each face of the box `[min, max]` as `c + s·t`, and the box's
+/// largest coordinate (at least 1): what [`box_depth_bound`]'s margin scales with.
+fn box_face_lines(min: &Vector3<f64>, max: &Vector3<f64>, o: Vector3<f64>, u: Vector3<f64>) -> ([(f64, f64); 6], f64) {
+    let mut lines = [(0.0, 0.0); 6];
+    let mut scale = 1.0f64;
+    for k in 0..3 {
+        lines[2 * k] = (o[k] - min[k], u[k]);
+        lines[2 * k + 1] = (max[k] - o[k], -u[k]);
+        scale = scale.max(min[k].abs()).max(max[k].abs());
+    }
+    (lines, scale)
 }
 
 /// A stock query: the box of the posed component in the part's frame and what it needs.
@@ -1708,13 +1714,7 @@ mod tests {
             lo: f64,
             hi: f64,
         ) -> f64 {
-            let mut lines = [(0.0, 0.0); 6];
-            let mut scale = 1.0f64;
-            for k in 0..3 {
-                lines[2 * k] = (o[k] - min[k], u[k]);
-                lines[2 * k + 1] = (max[k] - o[k], -u[k]);
-                scale = scale.max(min[k].abs()).max(max[k].abs());
-            }
+            let (lines, scale) = box_face_lines(min, max, o, u);
             let at = |t: f64| lines.iter().fold(f64::INFINITY, |m, &(c, s)| m.min(c + s * t));
             let mut best = at(lo).max(at(hi));
             for &(c1, s1) in &lines {
