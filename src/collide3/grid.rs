@@ -584,7 +584,9 @@ impl Query<'_> {
     }
 
     /// Calls `f(id, ray)` for each node ray of the walk whose material meets the box, in the
-    /// order of their numbers, stopping when `f` returns false.
+    /// order of their numbers, stopping when `f` returns false. (The searches walk with
+    /// [`Query::each_within`]; this is the counts' oracle.)
+    #[cfg(test)]
     fn each(&self, w: &Walk, f: impl FnMut(usize, NodeRay) -> bool) {
         self.each_within(w, None, f);
     }
@@ -676,55 +678,52 @@ impl Query<'_> {
     /// How many rays of the walk meet the box's material, counting no further than `cap` (past
     /// it, `cap + 1`).
     fn count_walk(&self, w: &Walk, cap: usize) -> usize {
-        if let Walk::Cyl {
-            j0,
-            j1,
-            reach,
-            ref dirs,
-        } = *w
-        {
-            return self.count_cyl(j0, j1, reach, dirs, cap);
+        match *w {
+            Walk::None => 0,
+            Walk::Cyl {
+                j0,
+                j1,
+                reach,
+                ref dirs,
+            } => self.count_cyl(j0, j1, reach, dirs, cap),
+            Walk::Face { k, i0, i1, j0, j1, n1 } => self.count_face(k, (i0, i1), (j0, j1), n1, cap),
         }
+    }
+
+    /// [`Query::count_walk`] of face grid `k`'s walk, row by row, each node decided by the row's
+    /// lines where they can tell ([`RowLines`]), else by its ray: the count `each` gives.
+    fn count_face(&self, k: usize, (i0, i1): NodeSpan, (j0, j1): NodeSpan, n1: f64, cap: usize) -> usize {
+        let g = &self.stock.faces[k];
         let mut n = 0;
-        if let Walk::Face { k, i0, i1, j0, j1, n1 } = *w {
-            // Row by row, each node decided by the row's lines where they can tell
-            // ([`RowLines`]), else by its ray: the count `each` gives.
-            let g = &self.stock.faces[k];
-            for j in j0..=j1 {
-                let Some((ra, rb)) = self.face_row(k, j, i0, i1) else {
-                    continue;
+        for j in j0..=j1 {
+            let Some((ra, rb)) = self.face_row(k, j, i0, i1) else {
+                continue;
+            };
+            let lines = RowLines::new(self, k, j, n1);
+            // The nodes the flats rule out are none of the count; of the others, those every
+            // flat is sure of need only the crossed axes' tests.
+            let Some(((ra, rb), sure)) = lines.flat_spans(ra, rb) else {
+                continue;
+            };
+            let (sa, sb) = sure.unwrap_or((1, 0));
+            let row = &g.d[j * g.nu..(j + 1) * g.nu];
+            let level = lines.level();
+            for (i, &d) in row.iter().enumerate().take(rb + 1).skip(ra) {
+                let sure = sa <= i && i <= sb;
+                let decided = match level {
+                    Some(level) => lines.decide_level(d, sure, level),
+                    None => lines.decide_crossed(i, d, sure),
                 };
-                let lines = RowLines::new(self, k, j, n1);
-                // The nodes the flats rule out are none of the count; of the others, those
-                // every flat is sure of need only the crossed axes' tests.
-                let Some(((ra, rb), sure)) = lines.flat_spans(ra, rb) else {
-                    continue;
+                let some = match decided {
+                    Some(b) => b,
+                    None => self.face_ray(k, i, j, n1).is_some(),
                 };
-                let (sa, sb) = sure.unwrap_or((1, 0));
-                let row = &g.d[j * g.nu..(j + 1) * g.nu];
-                let level = lines.level();
-                for (i, &d) in row.iter().enumerate().take(rb + 1).skip(ra) {
-                    let sure = sa <= i && i <= sb;
-                    let decided = match level {
-                        Some(level) => lines.decide_level(d, sure, level),
-                        None => lines.decide_crossed(i, d, sure),
-                    };
-                    let some = match decided {
-                        Some(b) => b,
-                        None => self.face_ray(k, i, j, n1).is_some(),
-                    };
-                    n += usize::from(some);
-                    if n > cap {
-                        return n;
-                    }
+                n += usize::from(some);
+                if n > cap {
+                    return n;
                 }
             }
-            return n;
         }
-        self.each(w, |_, _| {
-            n += 1;
-            n <= cap
-        });
         n
     }
 

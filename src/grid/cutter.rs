@@ -329,7 +329,7 @@ impl Sweep {
         t1: f64,
         memo: &mut RayMemo,
     ) -> (Option<(f64, f64)>, bool) {
-        let across = Across::new(o, u, self.p0, self.v, self.axis, self.across);
+        let across = self.across_of(o, u);
         let key = match self.pieces.as_slice() {
             [Piece::Disc { h0, h1, .. }] => across.level_key((*h0, *h1), (t0, t1)),
             _ => None,
